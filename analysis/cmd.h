@@ -1,0 +1,13 @@
+/*
+ * cmd.h — the subcommands of brdfkit; each takes the arguments after its name
+ * and returns the exit status (0 ok, 1 failure at run time, 2 bad usage).
+ */
+#ifndef ANALYSIS_CMD_H
+#define ANALYSIS_CMD_H
+
+int cmd_terms(int argc, char **argv);
+int cmd_dfg(int argc, char **argv);
+int cmd_lut(int argc, char **argv);
+int cmd_albedo(int argc, char **argv);
+
+#endif

@@ -1,0 +1,55 @@
+/*
+ * cmd_terms.c — brdfkit terms: the registry, readable or as CSV.
+ */
+#include "brdf.h"
+#include "cli.h"
+#include "cmd.h"
+
+#include <string.h>
+
+int cmd_terms(int argc, char **argv)
+{
+	const char *role = NULL;
+	int csv = 0;
+	cli_opt opts[] = {
+		{.name = "--role", .kind = CLI_STR, .metavar = "D|V|F|Fd", .help = "only terms of this role", .dest = &role},
+		{.name = "--csv", .kind = CLI_FLAG, .help = "CSV with header name,role,args,summary,convention,citation", .dest = &csv},
+	};
+	cli_cmd cmd = {"terms", "Lists every term of libbrdf: name (as the formula language spells it), "
+	               "arguments,\nwhat it computes, its convention and its citation.",
+	               "[--role D|V|F|Fd] [--csv]", NULL, opts, 2};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	int want = -1;
+	if (role) {
+		for (int r = BK_ROLE_D; r <= BK_ROLE_FD; r++)
+			if (strcmp(role, bk_role_name((bk_role)r)) == 0)
+				want = r;
+		if (want < 0) {
+			fprintf(stderr, "brdfkit terms: --role: unknown role '%s' (expected D, V, F or Fd)\n", role);
+			return 2;
+		}
+	}
+	if (csv)
+		puts("name,role,args,summary,convention,citation");
+	for (size_t i = 0; i < bk_term_count(); i++) {
+		const bk_term *t = bk_term_at(i);
+		if (want >= 0 && (int)t->role != want)
+			continue;
+		if (csv) {
+			const char *f[6] = {t->name, bk_role_name(t->role), t->args, t->summary,
+			                    t->convention, t->citation};
+			for (int k = 0; k < 6; k++) {
+				if (k)
+					putchar(',');
+				cli_csv_field(stdout, f[k]);
+			}
+			putchar('\n');
+		} else {
+			printf("%s(%s)  [%s]\n    %s\n    convention: %s\n    source: %s\n", t->name,
+			       t->args, bk_role_name(t->role), t->summary, t->convention, t->citation);
+		}
+	}
+	return 0;
+}

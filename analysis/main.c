@@ -1,0 +1,52 @@
+/*
+ * main.c — brdfkit, the one command-line tool: a table of subcommands.
+ */
+#include "brdf.h"
+#include "cmd.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static const struct {
+	const char *name;
+	int (*run)(int argc, char **argv);
+	const char *summary;
+} commands[] = {
+	{"terms", cmd_terms, "list every term: name, what it computes, convention, citation"},
+	{"dfg", cmd_dfg, "split-sum environment BRDF A, B at given NoV and roughness"},
+	{"lut", cmd_lut, "write the DFG look-up table as OpenEXR (+ CSV)"},
+	{"albedo", cmd_albedo, "directional albedo of any D·V·F combination"},
+};
+
+static void usage(FILE *out)
+{
+	fprintf(out, "usage: brdfkit COMMAND [options]   (brdfkit COMMAND --help for each)\n\n"
+	             "brdfkit %s — exact BRDF terms, reference integrals and their approximations.\n"
+	             "Conventions: r perceptual roughness, a = r^2, V = G/(4 NoL NoV), F Schlick\n"
+	             "with f90 = 1, split sum f0·A + B (see brdf/brdf.h).\n\ncommands:\n",
+	        BK_VERSION);
+	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+		fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		usage(stderr);
+		return 2;
+	}
+	if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+	    strcmp(argv[1], "help") == 0) {
+		usage(stdout);
+		return 0;
+	}
+	if (strcmp(argv[1], "--version") == 0) {
+		printf("brdfkit %s\n", BK_VERSION);
+		return 0;
+	}
+	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+		if (strcmp(argv[1], commands[i].name) == 0)
+			return commands[i].run(argc - 2, argv + 2);
+	fprintf(stderr, "brdfkit: unknown command '%s' (see brdfkit --help)\n", argv[1]);
+	return 2;
+}

@@ -1,0 +1,187 @@
+/*
+ * brdf.h — libbrdf: exact BRDF terms, published approximations, reference integrals.
+ *
+ * CONVENTIONS (every function in this library follows them; a term that takes a
+ * source's own convention says so in its name and its comment)
+ *
+ *   r      perceptual roughness in [0, 1] (what artists paint).
+ *   a      alpha = r*r. GGX, Beckmann and Smith terms take a; a2 = a*a.
+ *   NoV, NoL, NoH, LoH
+ *          cosines on the upper hemisphere of a +Z normal N; V is the view
+ *          direction, L the light direction, H = normalize(V + L), so LoH = VoH.
+ *   D      normal distribution, normalised so that ∫ D(h) NoH dω_h = 1.
+ *   V      visibility G / (4 NoL NoV): the 1/4 is folded in. (Hable's and the
+ *          mobile talk's printed "V" leave the 1/4 out; their entries here add it.)
+ *   F      Fresnel. Schlick: F = f0 + (f90 - f0)(1 - LoH)^5, f90 = 1 unless a term
+ *          says otherwise; f0 is the normal-incidence reflectance (0.04 for common
+ *          dielectrics, glass of index 1.5).
+ *   Fd     diffuse, with the 1/π included (Lambert = 1/π), albedo multiplied outside.
+ *   specular BRDF = D·V·F; the rendered quantity is BRDF·NoL.
+ *   Split-sum environment BRDF (Karis 2013): for Schlick F with f90 = 1,
+ *          ∫ D·V·F·NoL dω_l = f0·A(NoV, r) + B(NoV, r), where
+ *          A = ∫ D·V·NoL·(1 - Fc), B = ∫ D·V·NoL·Fc, Fc = (1 - LoH)^5.
+ *   All values are physical (no π-scaled "Unity" BRDF values, no 1/4 dropped).
+ *
+ * Glossary of prefixes: bk_D_ (distribution), bk_Lambda_/bk_G1_ (Smith masking),
+ * bk_V_ (visibility), bk_F_ (Fresnel), bk_Fd_ (diffuse), bk_term_ (the registry),
+ * bk_dfg_ (split-sum integrals), bk_albedo (directional albedo).
+ */
+#ifndef BRDF_H
+#define BRDF_H
+
+#include <stddef.h>
+
+#define BK_VERSION "0.1.0"
+#define BK_PI 3.14159265358979323846
+
+/* ---- D: normal distributions --------------------------------------------- */
+
+double bk_D_ggx(double NoH, double a);
+double bk_D_beckmann(double NoH, double a);
+double bk_D_blinn_phong(double NoH, double a);
+double bk_D_blinn_phong_sg(double NoH, double a);
+/* Blinn-Phong exponent for a given alpha (Walter et al. 2007): n = 2/a^2 - 2. */
+double bk_blinn_phong_exponent(double a);
+
+/* ---- Smith masking: Lambda, G1, and the visibility built from them ------- */
+
+double bk_Lambda_ggx(double NoX, double a);
+double bk_G1_ggx(double NoX, double a);
+double bk_Lambda_beckmann(double NoX, double a);
+double bk_G1_beckmann(double NoX, double a);
+
+double bk_V_smith_ggx_separable(double NoV, double NoL, double a);
+double bk_V_smith_ggx_correlated(double NoV, double NoL, double a);
+/* H with density D_ggx(h) NoH from two uniform numbers in [0, 1). */
+void bk_ggx_sample_h(double u1, double u2, double a, double h[3]);
+
+/* ---- V: published approximations ------------------------------------------ */
+
+double bk_V_schlick_ggx(double NoV, double NoL, double k);
+double bk_V_schlick_ggx_ibl(double NoV, double NoL, double a);     /* k = a/2 */
+double bk_V_schlick_ggx_direct(double NoV, double NoL, double r);  /* k = (r+1)^2/8 */
+double bk_V_kelemen(double LoH);
+double bk_V_kelemen_hable(double LoH, double a);
+double bk_V_kelemen_talk(double LoH, double r);
+double bk_V_neubelt(double NoV, double NoL);
+double bk_V_neumann(double NoV, double NoL);
+double bk_V_implicit(void);
+double bk_V_cook_torrance(double NoV, double NoL, double NoH, double VoH);
+double bk_V_hammon(double NoV, double NoL, double a);
+
+/* ---- F: Fresnel ------------------------------------------------------------ */
+
+double bk_F_schlick(double f0, double f90, double LoH);
+double bk_F_schlick_sg(double f0, double f90, double LoH);
+double bk_F_schuler(double f0, double LoH);
+/* Exact dielectric reflectance for relative index eta (transmitted / incident
+ * side); the s and p reflectances separately, and their unpolarised mean. */
+void bk_fresnel_dielectric_sp(double cos_i, double eta, double *Rs, double *Rp);
+double bk_F_dielectric(double cos_i, double eta);
+double bk_F_conductor(double cos_i, double eta, double k);
+/* Normal-incidence reflectance of a complex index n + ik, and the real index of a
+ * dielectric with reflectance f0: n = (1 + sqrt f0)/(1 - sqrt f0), f0 < 1. */
+double bk_f0_from_ior(double eta, double k);
+double bk_ior_from_f0(double f0);
+
+/* ---- Fd: diffuse ---------------------------------------------------------- */
+
+double bk_Fd_lambert(void);
+double bk_Fd_burley(double NoV, double NoL, double LoH, double r);
+double bk_Fd_oren_nayar(double NoV, double NoL, double VoL, double sigma);
+
+/* ---- The term registry ---------------------------------------------------
+ * Every term above, by name, with one uniform evaluator so that integrators,
+ * the command-line tool and (later) the formula IR reach them the same way.
+ * Names are the IR's spelling: "D_ggx", "V_smith_ggx_correlated", "F_schlick".
+ */
+
+typedef enum bk_role { BK_ROLE_D, BK_ROLE_V, BK_ROLE_F, BK_ROLE_FD } bk_role;
+
+/* One evaluation point. The geometry cosines must be mutually consistent
+ * (bk_sample_from_angles builds them); a = r*r is derived, never set alone. */
+typedef struct bk_sample {
+	double NoV, NoL, NoH, LoH; /* LoH = VoH */
+	double r, a;               /* perceptual roughness and alpha = r*r */
+	double f0, f90;            /* Schlick parameters */
+	double eta, k;             /* complex index n + ik for the exact Fresnel terms */
+} bk_sample;
+
+typedef struct bk_term {
+	const char *name;       /* IR spelling, e.g. "V_smith_ggx_correlated" */
+	bk_role role;
+	const char *args;       /* the C function's arguments, e.g. "NoV,NoL,a" */
+	const char *summary;    /* what it computes, one line */
+	const char *convention; /* roughness meaning, 1/4 and π conventions */
+	const char *citation;   /* authors, year, title; "unverified" where so */
+	double (*eval)(const bk_sample *s);
+} bk_term;
+
+size_t bk_term_count(void);
+const bk_term *bk_term_at(size_t i);
+/* Finds a term by its full name ("D_ggx") or, when role is given, by the name
+ * without the role prefix ("ggx"). Returns NULL when none matches. */
+const bk_term *bk_term_find(const char *name);
+const bk_term *bk_term_find_role(bk_role role, const char *name);
+const char *bk_role_name(bk_role role);
+
+/* Fills the geometry of s from the polar angle of V, the polar angle of L and
+ * their azimuth difference phi (radians), and sets a = r*r. */
+void bk_sample_geometry(bk_sample *s, double theta_v, double theta_l, double phi);
+void bk_sample_roughness(bk_sample *s, double r);
+
+/* ---- Reference integrals ---------------------------------------------------
+ * Deterministic: nested adaptive Gauss-Kronrod quadrature over the half vector.
+ * See brdf/integrate.c for the parametrisation and the error control.
+ */
+
+typedef enum bk_smith {
+	BK_SMITH_CORRELATED, /* bk_V_smith_ggx_correlated (Heitz 2014) */
+	BK_SMITH_SEPARABLE,  /* bk_V_smith_ggx_separable */
+	BK_SMITH_SCHLICK,    /* bk_V_schlick_ggx_ibl, k = a/2 (Karis 2013) */
+	BK_SMITH_COUNT
+} bk_smith;
+
+const char *bk_smith_name(bk_smith m);            /* "correlated", ... */
+int bk_smith_parse(const char *s, bk_smith *out); /* 0 on success */
+
+typedef struct bk_quad_stats {
+	double err;   /* the quadrature's own absolute error estimate */
+	long evals;   /* integrand evaluations */
+	int converged;/* 1 if the requested tolerance was met */
+} bk_quad_stats;
+
+/* Default absolute tolerance of the reference integrals. The outer and inner
+ * quadratures share it; the tests check the result against an independent
+ * brute-force integration to 1e-6, the accuracy the library promises. */
+#define BK_DFG_TOL 1e-8
+
+/* Split-sum A and B for GGX D, Schlick F (f90 = 1) and the given Smith model.
+ * NoV in (0, 1], r in [0, 1]; r = 0 returns the exact smooth limit
+ * A = 1 - (1 - NoV)^5, B = (1 - NoV)^5. stats may be NULL. Returns 0, or -1 on
+ * an argument out of range. */
+int bk_dfg(double NoV, double r, bk_smith m, double tol, double *A, double *B,
+           bk_quad_stats *stats);
+
+/* The engines' usual bake: n Hammersley points, GGX importance sampling of H,
+ * as in Karis 2013's IntegrateBRDF. Deterministic, but with Monte Carlo error. */
+int bk_dfg_hammersley(double NoV, double r, bk_smith m, unsigned n, double *A,
+                      double *B);
+
+/* Directional albedo ∫ D·V·F·NoL dω_l of any registered D, V and F at the
+ * material in s (r, f0, f90, eta, k; the geometry of s is ignored). */
+int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
+              const bk_sample *material, double NoV, double tol, double *out,
+              bk_quad_stats *stats);
+
+/* ---- DFG look-up table ---------------------------------------------------
+ * size x size texels; texel (i, j) holds NoV = (i + 0.5)/size and perceptual
+ * roughness r = (j + 0.5)/size, both at texel centres. Arrays are row-major in
+ * j (roughness); the file writer decides which row is on top. samples = 0 uses
+ * the deterministic integrator, otherwise the Hammersley bake with that many
+ * samples. progress, if not NULL, is called after each row. */
+typedef void (*bk_progress_fn)(void *ctx, int done, int total);
+int bk_dfg_lut(int size, bk_smith m, unsigned samples, double tol, double *A,
+               double *B, bk_progress_fn progress, void *ctx);
+
+#endif
