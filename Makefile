@@ -25,7 +25,7 @@ DEBS = libopenexr-dev libcriterion-dev pkg-config
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
 TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c)))
 TEST_SRC = $(sort $(wildcard tests/*.c))
-SUPPORT  = analysis/exr.c analysis/cli.c   # tool modules the tests link too
+SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c   # tool modules the tests link too
 
 obj = $(patsubst %.c,$(1)/%.o,$(2))
 

@@ -1,0 +1,82 @@
+#!/bin/sh
+# cli.sh — the command-line contract of brdfkit: help, exact values where a
+# closed form exists, one-line errors naming the bad input with a non-zero exit,
+# nothing left on disk after a failure, and the same bytes for the same command.
+# usage: sh tests/cli.sh path/to/brdfkit
+set -u
+BK=${1:?usage: cli.sh path/to/brdfkit}
+T=$(mktemp -d /tmp/bk_cli_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# expect_out NAME EXPECTED CMD...: stdout equals EXPECTED, exit 0.
+expect_out() {
+	name=$1 want=$2; shift 2
+	got=$("$@" 2>"$T/err") && [ "$got" = "$want" ] && ok || bad "$name: got '$got' $(cat "$T/err")"
+}
+
+# expect_error NAME TOKEN CMD...: non-zero exit, one line on stderr naming TOKEN.
+expect_error() {
+	name=$1 token=$2; shift 2
+	if "$@" >"$T/out" 2>"$T/err"; then bad "$name: exit 0"; return; fi
+	lines=$(wc -l <"$T/err")
+	if [ "$lines" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok; else bad "$name: stderr '$(cat "$T/err")'"; fi
+}
+
+# help on every command
+for c in "" terms dfg lut albedo; do
+	if $BK $c --help >"$T/out" 2>&1 && grep -q '^usage: brdfkit' "$T/out"; then ok; else bad "help $c"; fi
+done
+
+# closed forms: r = 0 is the mirror, A = 1 - (1 - NoV)^5 = 0.96875 at NoV = 0.5
+expect_out "dfg smooth limit" "nov,roughness,A,B
+0.5,0,0.96875,0.03125" $BK dfg --nov 0.5 --roughness 0
+# albedo at r = 0 with implicit V (1/4) and F = 1: V F NoL 4 VoH / NoH = NoV^2
+expect_out "albedo smooth limit" "D,V,F,nov,roughness,f0,f90,eta,k,albedo
+D_ggx,V_implicit,F_schlick,0.5,0,1,1,inf,0,0.25" \
+	$BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0 --f0 1
+# glass: --ior 1.5 gives f0 = ((1.5 - 1)/(1.5 + 1))^2 = 0.04
+$BK albedo --d ggx --v implicit --f dielectric --nov 1 --roughness 0 --ior 1.5 >"$T/out" 2>&1
+grep -q '^D_ggx,V_implicit,F_dielectric,1,0,0.04,1,1.5,0,0.04$' "$T/out" && ok || bad "ior 1.5: $(cat "$T/out")"
+
+# terms: every role present, 24 terms
+n=$($BK terms --csv | tail -n +2 | wc -l)
+[ "$n" -eq 24 ] && ok || bad "terms --csv: $n rows"
+for r in D V F Fd; do $BK terms --role $r | grep -q "\[$r\]" && ok || bad "terms --role $r"; done
+
+# bad input: one line naming it, non-zero exit
+expect_error "nov text" "'abc'" $BK dfg --nov abc --roughness 0.5
+expect_error "nov nan" "'nan'" $BK dfg --nov nan --roughness 0.5
+expect_error "nov range" "1.5" $BK dfg --nov 1.5 --roughness 0.5
+expect_error "nov zero" "--nov" $BK dfg --nov 0 --roughness 0.5
+expect_error "roughness inf" "'inf'" $BK dfg --nov 0.5 --roughness inf
+expect_error "smith" "'foo'" $BK dfg --nov 0.5 --roughness 0.5 --smith foo
+expect_error "missing" "--roughness" $BK dfg --nov 0.5
+expect_error "unknown option" "'--bogus'" $BK dfg --nov 0.5 --roughness 0.5 --bogus 1
+expect_error "unknown command" "'frobnicate'" $BK frobnicate
+expect_error "unknown D" "'nope'" $BK albedo --d nope --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04
+expect_error "role mismatch" "'F_schlick'" $BK albedo --d ggx --v F_schlick --f schlick --nov 0.5 --roughness 0.5 --f0 0.04
+expect_error "f0 and ior" "--ior" $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --ior 1.5
+expect_error "lut size" "--size" $BK lut --size 0 --out "$T/a.exr"
+expect_error "lut suffix" "'$T/a.png'" $BK lut --size 4 --out "$T/a.png"
+expect_error "lut origin" "'left'" $BK lut --size 4 --origin left --out "$T/a.exr"
+expect_error "lut unwritable" "$T/no/dir/a" $BK lut --size 4 --out "$T/no/dir/a.exr"
+expect_error "albedo unwritable" "$T/no/x.csv" $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --out "$T/no/x.csv"
+# nothing half-written: the failed commands above left no file or temporary
+[ -z "$(ls -A "$T" | grep -v '^out$\|^err$')" ] && ok || bad "left behind: $(ls -A "$T")"
+
+# determinism: the same command gives the same bytes
+# (the command line is recorded in the files, so both runs use one path)
+for k in 1 2; do
+	$BK lut --size 8 --half --out "$T/d.exr" 2>/dev/null && cp "$T/d.exr" "$T/d$k.exr" && cp "$T/d.csv" "$T/d$k.csv"
+	$BK albedo --d all --v hammon --f schlick --nov 0.3 --roughness 0.6 --f0 0.04 --out "$T/alb.csv" && cp "$T/alb.csv" "$T/alb$k.csv"
+done
+cmp -s "$T/d1.exr" "$T/d2.exr" && ok || bad "lut exr differs between runs"
+cmp -s "$T/d1.csv" "$T/d2.csv" && ok || bad "lut csv differs between runs"
+cmp -s "$T/alb1.csv" "$T/alb2.csv" && ok || bad "albedo csv differs between runs"
+
+echo "cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]

@@ -1,0 +1,180 @@
+/*
+ * test_lut.c — the DFG LUT as files: orientation self-checks on what a reader
+ * gets back from the EXR, float and half round trips, the CSV beside it, the
+ * conventions in the header, and nothing left behind on failure.
+ */
+#include "brdf.h"
+#include "exr.h"
+#include "lut.h"
+
+#include <criterion/criterion.h>
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define N 16
+
+static double A[N * N], B[N * N];
+static char dir[] = "/tmp/bk_lut_XXXXXX";
+
+static void setup(void)
+{
+	cr_assert_not_null(mkdtemp(dir));
+	cr_assert_eq(bk_dfg_lut(N, BK_SMITH_CORRELATED, 0, 1e-7, A, B, NULL, NULL), 0);
+}
+
+static void teardown(void)
+{
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
+	cr_assert_eq(system(cmd), 0);
+}
+
+static void write_read(int top, int half, bk_exr_image *img, char *path)
+{
+	char err[256];
+	bk_lut_desc d = {.size = N, .half = half, .origin_top = top, .smith = BK_SMITH_CORRELATED, .tol = 1e-7, .command = "test"};
+	sprintf(path, "%s/lut_%d_%d.exr", dir, top, half);
+	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(bk_exr_read(path, img, err, sizeof err), 0, "%s", err);
+	cr_assert(img->width == N && img->height == N);
+}
+
+/* Pixel (x, y) of channel name, y = 0 being the first scanline. */
+static float px(const bk_exr_image *img, const char *name, int x, int y)
+{
+	int c = bk_exr_channel_index(img, name);
+	cr_assert(c >= 0, "channel %s missing", name);
+	return img->data[c][(size_t)y * img->width + x];
+}
+
+/* What the physics says about each corner, read from the file as an engine
+ * would: at r -> 0 and NoV = 1 the split sum is F(1) = f0 alone, A + B -> 1 and
+ * B -> 0; at grazing NoV, smooth surfaces reflect almost everything through B
+ * ((1 - NoV)^5 ≈ 0.97 at NoV = 1/32); in every row the Fresnel part B is
+ * largest on the grazing edge x = 0; rough surfaces lose energy at NoV = 1
+ * (A + B ≈ 0.31 at r = 1, the single-scattering loss of GGX). */
+static void check_corners(const bk_exr_image *img, int y_smooth, int y_rough)
+{
+	float a = px(img, "R", N - 1, y_smooth), b = px(img, "G", N - 1, y_smooth);
+	cr_assert(fabsf(a + b - 1.0f) < 2e-3f && b < 1e-6f, "smooth, NoV≈1: A %g B %g", a, b);
+	float ag = px(img, "R", 0, y_smooth), bg = px(img, "G", 0, y_smooth);
+	cr_assert(bg > 0.85f && ag < 0.15f, "smooth, grazing: A %g B %g", ag, bg);
+	float ar = px(img, "R", N - 1, y_rough);
+	cr_assert(ar < 0.5f, "rough: A(NoV=1) %g", ar);
+	for (int y = 0; y < N; y++)
+		cr_assert(px(img, "G", 0, y) > px(img, "G", N - 1, y), "row %d: B not largest at grazing", y);
+}
+
+Test(lut, origin_top_puts_smooth_row_first, .init = setup, .fini = teardown)
+{
+	bk_exr_image img;
+	char path[256];
+	write_read(1, 0, &img, path);
+	check_corners(&img, 0, N - 1);
+	bk_exr_image_free(&img);
+}
+
+Test(lut, origin_bottom_is_the_vertical_flip, .init = setup, .fini = teardown)
+{
+	bk_exr_image top, bot;
+	char p1[256], p2[256];
+	write_read(1, 0, &top, p1);
+	write_read(0, 0, &bot, p2);
+	check_corners(&bot, N - 1, 0);
+	for (int y = 0; y < N; y++)
+		for (int x = 0; x < N; x++)
+			cr_assert(px(&top, "R", x, y) == px(&bot, "R", x, N - 1 - y) &&
+			          px(&top, "G", x, y) == px(&bot, "G", x, N - 1 - y));
+	bk_exr_image_free(&top);
+	bk_exr_image_free(&bot);
+}
+
+/* Float32 read back bit-equal to the doubles rounded once; half equal to the
+ * doubles rounded to binary16 (gcc's _Float16 rounds to nearest even). */
+Test(lut, float_and_half_round_trip, .init = setup, .fini = teardown)
+{
+	bk_exr_image f, h;
+	char p1[256], p2[256];
+	write_read(1, 0, &f, p1);
+	write_read(1, 1, &h, p2);
+	cr_assert(!f.half[0] && h.half[0] && h.half[1]);
+	for (int j = 0; j < N; j++)
+		for (int i = 0; i < N; i++) {
+			double a = A[j * N + i], b = B[j * N + i];
+			cr_assert(px(&f, "R", i, j) == (float)a && px(&f, "G", i, j) == (float)b);
+			__extension__ _Float16 ha = (_Float16)(float)a, hb = (_Float16)(float)b;
+			cr_assert(px(&h, "R", i, j) == (float)ha && px(&h, "G", i, j) == (float)hb,
+			          "half (%d,%d): %g vs %g", i, j, px(&h, "R", i, j), (float)ha);
+		}
+	bk_exr_image_free(&f);
+	bk_exr_image_free(&h);
+}
+
+/* The conventions travel with the file. */
+Test(lut, header_states_conventions, .init = setup, .fini = teardown)
+{
+	bk_exr_image img;
+	char path[256], buf[512];
+	write_read(1, 0, &img, path);
+	bk_exr_image_free(&img);
+	const char *want[][2] = {{"brdfkit:axes", "x: NoV"}, {"brdfkit:origin", "top"},
+	                         {"brdfkit:roughness", "perceptual"}, {"brdfkit:channels", "never load as sRGB"},
+	                         {"brdfkit:smith", "correlated"}, {"brdfkit:method", "deterministic"},
+	                         {"brdfkit:samples", "0"}};
+	for (size_t k = 0; k < sizeof want / sizeof want[0]; k++) {
+		cr_assert_eq(bk_exr_read_attr(path, want[k][0], buf, sizeof buf), 0, "%s missing", want[k][0]);
+		cr_assert_not_null(strstr(buf, want[k][1]), "%s = '%s'", want[k][0], buf);
+	}
+}
+
+/* The CSV holds the same table at full precision, header after comments. */
+Test(lut, csv_beside_exr, .init = setup, .fini = teardown)
+{
+	bk_exr_image img;
+	char path[256], csv[260], line[256];
+	write_read(1, 0, &img, path);
+	bk_exr_image_free(&img);
+	cr_assert_eq(bk_lut_csv_path(path, csv, sizeof csv), 0);
+	FILE *f = fopen(csv, "r");
+	cr_assert_not_null(f);
+	while (fgets(line, sizeof line, f) && line[0] == '#')
+		;
+	cr_assert_str_eq(line, "nov,roughness,A,B\n");
+	int rows = 0;
+	double nov, r, a, b;
+	while (fscanf(f, "%lf,%lf,%lf,%lf", &nov, &r, &a, &b) == 4) {
+		int i = rows % N, j = rows / N;
+		cr_assert(fabs(nov - (i + 0.5) / N) < 1e-9 && fabs(r - (j + 0.5) / N) < 1e-9);
+		cr_assert(fabs(a - A[j * N + i]) < 1e-8 && fabs(b - B[j * N + i]) < 1e-8);
+		rows++;
+	}
+	fclose(f);
+	cr_assert_eq(rows, N * N);
+}
+
+static int entries(const char *d)
+{
+	DIR *dp = opendir(d);
+	int n = 0;
+	for (struct dirent *e; (e = readdir(dp));)
+		n += e->d_name[0] != '.';
+	closedir(dp);
+	return n;
+}
+
+/* A failure leaves neither file nor temporary behind. */
+Test(lut, failed_write_leaves_nothing, .init = setup, .fini = teardown)
+{
+	char err[256], path[300];
+	bk_lut_desc d = {.size = N, .origin_top = 1};
+	snprintf(path, sizeof path, "%s/missing_dir/x.exr", dir);
+	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "missing_dir"), "%s", err);
+	snprintf(path, sizeof path, "%s/x.png", dir);
+	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), -1);
+	cr_assert_eq(entries(dir), 0);
+}
