@@ -87,6 +87,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench_dfg.c) $(LIB)
 test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
 

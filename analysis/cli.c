@@ -13,6 +13,16 @@
 
 static const char *cur_cmd = "brdfkit";
 
+/* strerror, lowercased so that every message reads "what: detail". */
+static const char *errtext(int e)
+{
+	static char buf[128];
+	snprintf(buf, sizeof buf, "%s", strerror(e));
+	if (buf[0] >= 'A' && buf[0] <= 'Z')
+		buf[0] = (char)(buf[0] - 'A' + 'a');
+	return buf;
+}
+
 void cli_set_name(const char *cmd) { cur_cmd = cmd; }
 
 int cli_fail(const char *cmd, const char *fmt, ...)
@@ -205,7 +215,7 @@ int cli_out_open(cli_out *o, const char *path, char *err, size_t errlen)
 	snprintf(o->tmp, sizeof o->tmp, "%s.tmpXXXXXX", path);
 	int fd = mkstemp(o->tmp);
 	if (fd < 0) {
-		snprintf(err, errlen, "%s: cannot create: %s", path, strerror(errno));
+		snprintf(err, errlen, "%s: cannot create: %s", path, errtext(errno));
 		return -1;
 	}
 	/* mkstemp creates 0600; give the file the mode a plain fopen would. */
@@ -214,7 +224,7 @@ int cli_out_open(cli_out *o, const char *path, char *err, size_t errlen)
 	fchmod(fd, 0666 & ~um);
 	o->f = fdopen(fd, "w");
 	if (!o->f) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
+		snprintf(err, errlen, "%s: %s", path, errtext(errno));
 		close(fd);
 		unlink(o->tmp);
 		return -1;
@@ -226,13 +236,13 @@ int cli_out_commit(cli_out *o, char *err, size_t errlen)
 {
 	int bad = ferror(o->f);
 	if (fclose(o->f) != 0 || bad) {
-		snprintf(err, errlen, "%s: write failed: %s", o->path, strerror(errno));
+		snprintf(err, errlen, "%s: write failed: %s", o->path, errtext(errno));
 		unlink(o->tmp);
 		return -1;
 	}
 	o->f = NULL;
 	if (rename(o->tmp, o->path) != 0) {
-		snprintf(err, errlen, "%s: cannot rename into place: %s", o->path, strerror(errno));
+		snprintf(err, errlen, "%s: cannot rename into place: %s", o->path, errtext(errno));
 		unlink(o->tmp);
 		return -1;
 	}

@@ -88,7 +88,10 @@ int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
 	to_rows(d, A, B, R, G);
 
 	cli_out co;
-	int rc = cli_out_open(&co, csv, err, errlen);
+	char why[512];
+	int rc = cli_out_open(&co, csv, why, sizeof why);
+	if (rc)
+		snprintf(err, errlen, "%s: its CSV: %s", exr_path, why);
 	if (rc == 0) {
 		write_csv(co.f, d, method, A, B);
 		const bk_exr_attr attrs[] = {

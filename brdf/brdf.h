@@ -37,6 +37,9 @@
 /* ---- D: normal distributions --------------------------------------------- */
 
 double bk_D_ggx(double NoH, double a);
+/* The same with sin^2 of the half-vector angle given, for callers that know the
+ * angle: keeps full precision at the peak of very smooth surfaces. */
+double bk_D_ggx_sin2(double sin2h, double NoH, double a);
 double bk_D_beckmann(double NoH, double a);
 double bk_D_blinn_phong(double NoH, double a);
 double bk_D_blinn_phong_sg(double NoH, double a);
@@ -169,7 +172,9 @@ int bk_dfg_hammersley(double NoV, double r, bk_smith m, unsigned n, double *A,
                       double *B);
 
 /* Directional albedo ∫ D·V·F·NoL dω_l of any registered D, V and F at the
- * material in s (r, f0, f90, eta, k; the geometry of s is ignored). */
+ * material in s (r, f0, f90, eta, k; the geometry of s is ignored). Registry
+ * D terms see only NoH, whose rounding limits them near the peak to a relative
+ * error of about 1e-16/a2 (1e-6 at r = 0.003); bk_dfg does not have this limit. */
 int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
               const bk_sample *material, double NoV, double tol, double *out,
               bk_quad_stats *stats);

@@ -18,19 +18,26 @@ static double one_minus_sq(double c) { return (1.0 - c) * (1.0 + c); }
 
 /*
  * D_ggx — Walter et al. 2007, eq. 33: a2 / (π (NoH^2 (a2 - 1) + 1)^2).
- * The denominator is rewritten (1 - NoH^2) + NoH^2·a2 so that it does not cancel
- * at the peak. Precision: NoH itself carries the limit — for a2 below ~1e-12 the
- * rounding of NoH (2^-53) is comparable to sin^2 at the peak, so the peak value
- * is only as good as the caller's NoH. a = 0 is a delta: returns 0 (integrators
- * take the smooth limit analytically). In fp16, D reaches 1/(π a2) at the peak,
- * above 65504 once a2 < 4.9e-6 (r < 0.047): a shader must clamp.
+ * The denominator is rewritten sin^2θh + NoH^2·a2 so that it does not cancel at
+ * the peak. Precision: NoH itself carries the limit — with sin^2θh taken as
+ * 1 - NoH^2, the rounding of NoH (2^-53) makes a relative error of about
+ * 2^-53/a2 at the peak, where sin^2θh ~ a2 (1e-6 at r = 0.003), so callers that
+ * know the angle pass its sine to bk_D_ggx_sin2 instead. a = 0 is a delta: returns 0
+ * (integrators take the smooth limit analytically). In fp16, D reaches 1/(π a2)
+ * at the peak, above 65504 once a2 < 4.9e-6 (r < 0.047): a shader must clamp.
  */
 double bk_D_ggx(double NoH, double a)
+{
+	return bk_D_ggx_sin2(one_minus_sq(NoH), NoH, a);
+}
+
+/* D_ggx with sin^2θh supplied by a caller that has it to full precision. */
+double bk_D_ggx_sin2(double sin2h, double NoH, double a)
 {
 	if (NoH <= 0.0 || a <= 0.0)
 		return 0.0;
 	double a2 = a * a;
-	double d = one_minus_sq(NoH) + NoH * NoH * a2;
+	double d = sin2h + NoH * NoH * a2;
 	return a2 / (BK_PI * d * d);
 }
 

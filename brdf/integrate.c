@@ -100,7 +100,7 @@ static void outer_fn(double theta, void *ctx, double *y)
 		return;
 	double d;
 	if (h->ncomp == 2) {
-		d = bk_D_ggx(h->cos_h, h->s.a);
+		d = bk_D_ggx_sin2(h->sin_h * h->sin_h, h->cos_h, h->s.a);
 	} else {
 		h->s.NoH = h->cos_h;
 		d = h->D->eval(&h->s);

@@ -7,7 +7,12 @@
 #include "brdf.h"
 
 #define BK_QUAD_MAXCOMP 2  /* components of a vector integrand */
-#define BK_QUAD_MAXINT 400 /* intervals before giving up (converged = 0) */
+/* Intervals before giving up (converged = 0): 400 panels are 6000 evaluations;
+ * the reference integrals at tol 1e-10 need at most 32 panels over NoV in
+ * [0.01, 1] and r in [0.004, 1] (measured), so the budget only stops integrands
+ * that never settle (a singularity the breakpoints miss, or rounding noise above
+ * the tolerance), and the caller is told. */
+#define BK_QUAD_MAXINT 400
 
 /* Writes ncomp values of the integrand at x into y. */
 typedef void (*bk_quad_fn)(double x, void *ctx, double *y);
