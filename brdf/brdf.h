@@ -146,6 +146,7 @@ typedef enum bk_smith {
 } bk_smith;
 
 const char *bk_smith_name(bk_smith m);            /* "correlated", ... */
+double bk_V_smith(bk_smith m, double NoV, double NoL, double a);
 int bk_smith_parse(const char *s, bk_smith *out); /* 0 on success */
 
 typedef struct bk_quad_stats {

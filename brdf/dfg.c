@@ -40,7 +40,8 @@ static double radical_inverse2(unsigned i)
 	return (double)i * 0x1p-32;
 }
 
-static double smith_v(bk_smith m, double NoV, double NoL, double a)
+/* The visibility of each Smith model the split sum is tabulated for. */
+double bk_V_smith(bk_smith m, double NoV, double NoL, double a)
 {
 	switch (m) {
 	case BK_SMITH_SEPARABLE: return bk_V_smith_ggx_separable(NoV, NoL, a);
@@ -65,7 +66,7 @@ int bk_dfg_hammersley(double NoV, double r, bk_smith m, unsigned n, double *A,
 		double NoL = 2.0 * VoH * h[2] - NoV;
 		if (NoL <= 0.0 || VoH <= 0.0)
 			continue;
-		double g = smith_v(m, NoV, NoL, a) * NoL * 4.0 * VoH / h[2];
+		double g = bk_V_smith(m, NoV, NoL, a) * NoL * 4.0 * VoH / h[2];
 		double x = 1.0 - VoH, x2 = x * x, fc = x2 * x2 * x;
 		sa += (1.0 - fc) * g;
 		sb += fc * g;

@@ -37,15 +37,6 @@ typedef struct hemi {
 	bk_quad_stats inner;
 } hemi;
 
-static double smith_v(bk_smith m, double NoV, double NoL, double a)
-{
-	switch (m) {
-	case BK_SMITH_SEPARABLE: return bk_V_smith_ggx_separable(NoV, NoL, a);
-	case BK_SMITH_SCHLICK: return bk_V_schlick_ggx_ibl(NoV, NoL, a);
-	default: return bk_V_smith_ggx_correlated(NoV, NoL, a);
-	}
-}
-
 /* Inner integrand in φ at the current θh. */
 static void inner_fn(double phi, void *ctx, double *y)
 {
@@ -60,7 +51,7 @@ static void inner_fn(double phi, void *ctx, double *y)
 	}
 	double jac = NoL * 4.0 * VoH; /* NoL · dω_l/dω_h */
 	if (h->ncomp == 2) {
-		double vis = smith_v(h->smith, h->cos_v, NoL, h->s.a) * jac;
+		double vis = bk_V_smith(h->smith, h->cos_v, NoL, h->s.a) * jac;
 		double m = 1.0 - VoH, m2 = m * m;
 		double fc = m2 * m2 * m;
 		y[0] = vis * (1.0 - fc);
