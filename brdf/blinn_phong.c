@@ -35,7 +35,8 @@ double bk_D_blinn_phong(double NoH, double a)
  * (primary post read through a secondary copy; consistent with Unreal's
  * PhongApprox, whose 0.39674113·ln 2 = 0.275 = 0.775 - 0.5 for the Phong exponent
  * n/4). Not exactly normalised: ∫ D NoH dω = (n+2)(1/λ - (1 - e^-λ)/λ^2) with
- * λ = n + 0.775 (→ 1 + 0.225/n for large n); the tests check that closed form.
+ * λ = n + 0.775 (→ 1 + 0.225/n for large n, but 0.785 at a = 1, n = 0); the
+ * tests check that closed form.
  */
 double bk_D_blinn_phong_sg(double NoH, double a)
 {

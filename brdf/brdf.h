@@ -102,7 +102,8 @@ double bk_Fd_oren_nayar(double NoV, double NoL, double VoL, double sigma);
 typedef enum bk_role { BK_ROLE_D, BK_ROLE_V, BK_ROLE_F, BK_ROLE_FD } bk_role;
 
 /* One evaluation point. The geometry cosines must be mutually consistent
- * (bk_sample_from_angles builds them); a = r*r is derived, never set alone. */
+ * (bk_sample_geometry builds them); a = r*r is derived, never set alone
+ * (bk_sample_roughness sets both). */
 typedef struct bk_sample {
 	double NoV, NoL, NoH, LoH; /* LoH = VoH */
 	double r, a;               /* perceptual roughness and alpha = r*r */
@@ -128,8 +129,9 @@ const bk_term *bk_term_find(const char *name);
 const bk_term *bk_term_find_role(bk_role role, const char *name);
 const char *bk_role_name(bk_role role);
 
-/* Fills the geometry of s from the polar angle of V, the polar angle of L and
- * their azimuth difference phi (radians), and sets a = r*r. */
+/* Fills the geometry of s (NoV, NoL, NoH, LoH) from the polar angle of V, the
+ * polar angle of L and their azimuth difference phi (radians); the material
+ * fields are left as they are. */
 void bk_sample_geometry(bk_sample *s, double theta_v, double theta_l, double phi);
 void bk_sample_roughness(bk_sample *s, double r);
 

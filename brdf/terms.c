@@ -54,7 +54,7 @@ static const bk_term terms[] = {
 	 A_ "n = 2/a^2 - 2 (Walter 2007); normalised",
 	 "Blinn 1977, Models of Light Reflection for Computer Synthesized Pictures", d_bp},
 	{"D_blinn_phong_sg", BK_ROLE_D, "NoH,a", "spherical-Gaussian Blinn-Phong, (n+2)/(2π) exp((n+0.775)(NoH-1))",
-	 A_ "n = 2/a^2 - 2; not exactly normalised (≈ 1 + 0.225/n)",
+	 A_ "n = 2/a^2 - 2; not exactly normalised (1 + 0.225/n for large n, 0.785 at r = 1)",
 	 "Lagarde 2012, Spherical Gaussian approximation for Blinn-Phong, Phong and Fresnel (read via a secondary copy)", d_bp_sg},
 
 	{"V_smith_ggx_separable", BK_ROLE_V, "NoV,NoL,a", "exact Smith GGX, separable G1(v) G1(l) / (4 NoL NoV)",
