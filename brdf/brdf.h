@@ -192,4 +192,100 @@ typedef void (*bk_progress_fn)(void *ctx, int done, int total);
 int bk_dfg_lut(int size, bk_smith m, unsigned samples, double tol, double *A,
                double *B, bk_progress_fn progress, void *ctx);
 
+/* ---- Formula IR -------------------------------------------------------------
+ * A candidate form typed as text, e.g. "1/(LoH*LoH*(r+p0))", compiled once to a
+ * flat SSA instruction list (brdf/ir_ops.h documents the format) that drives
+ * evaluation in three precisions, derivatives, op counts and code generation.
+ *
+ * Language: inputs NoV NoL NoH LoH VoH (= LoH) r a f0 (a = r*r is an input, not
+ * a parameter); parameters p0..p15; numbers; + - * / ^ with the usual precedence
+ * (^ binds tighter than unary minus: -x^2 = -(x^2); ^ is right-associative);
+ * functions sqrt rsqrt rcp exp exp2 log log2 pow min max clamp saturate mix abs
+ * sq; and every term of the registry by name, e.g. D_ggx(NoH, a).
+ */
+
+typedef enum bk_input {
+	BK_IN_NOV, BK_IN_NOL, BK_IN_NOH, BK_IN_LOH, BK_IN_R, BK_IN_A, BK_IN_F0, BK_IN_COUNT
+} bk_input;
+
+#define BK_MAX_PARAMS 16
+
+typedef struct bk_form bk_form;
+
+/* The first error of a parse: 1-based column and "what: detail near 'token'". */
+typedef struct bk_form_error {
+	int column;
+	char message[200];
+} bk_form_error;
+
+bk_form *bk_form_parse(const char *text, bk_form_error *err);
+void bk_form_free(bk_form *f);
+const char *bk_form_text(const bk_form *f);
+int bk_form_nparams(const bk_form *f);     /* highest p index used + 1 */
+unsigned bk_form_inputs(const bk_form *f); /* bit i set: input i is read */
+const char *bk_input_name(bk_input i);
+
+typedef enum bk_precision { BK_F64, BK_F32, BK_F16 } bk_precision;
+const char *bk_precision_name(bk_precision p);
+
+/* IEEE binary16 rounding of x (nearest, ties to even; overflow to ±inf;
+ * subnormals kept), returned as a double. */
+double bk_half_round(double x);
+
+/* Evaluates f at n samples. in[i] holds n values of input i (NULL if the form
+ * does not read it), params the form's parameters. In BK_F32 and BK_F16 inputs,
+ * parameters and constants are rounded to the precision on load and every
+ * operation's result is rounded (BK_F16: what a mediump GPU does). Returns 0,
+ * or -1 if an input the form reads is NULL. */
+int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
+                 const double *const in[BK_IN_COUNT], const double *params, double *out);
+
+/* Values and the Jacobian d out[k] / d p_j into jac[k * nparams + j], double
+ * precision, reverse mode over the same blocks. */
+int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
+                      const double *params, double *out, double *jac);
+
+/* Op counts by class, after constant folding, common subexpressions, small
+ * integer powers to multiplies and a*b + c to one multiply-add. */
+typedef enum bk_opclass {
+	BK_K_FREE, BK_K_ADD, BK_K_MUL, BK_K_MAD, BK_K_MINMAX, BK_K_SATURATE,
+	BK_K_RCP, BK_K_DIV, BK_K_SQRT, BK_K_RSQRT, BK_K_EXP2, BK_K_LOG2, BK_K_COUNT
+} bk_opclass;
+
+typedef struct bk_ops {
+	int n[BK_K_COUNT];
+	int simple, complex; /* complex: rcp div sqrt rsqrt exp2 log2 */
+} bk_ops;
+
+/* The cost model: one number per form, simple * simple_cost + complex *
+ * complex_cost (the talk: many simple ops per cycle, only one complex). */
+#define BK_COST_SIMPLE 1.0
+#define BK_COST_COMPLEX 4.0
+
+void bk_form_count(const bk_form *f, bk_ops *ops);
+const char *bk_opclass_name(bk_opclass k);
+int bk_opclass_is_complex(bk_opclass k);
+double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost);
+
+/* Code generation: one function evaluating f, its parameters baked in as
+ * constants, deterministic text. Every function opens with a provenance
+ * comment (form, source, conventions, fitted domain and error when known, op
+ * counts, the command that made it) and says DO NOT EDIT. */
+typedef enum bk_lang { BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL } bk_lang;
+
+typedef struct bk_emit_info {
+	const char *name;        /* function name; "brdfkit_form" if NULL */
+	const char *source;      /* citation or "user form"; may be NULL */
+	const char *conventions; /* roughness meaning, 1/4 in V, NoL in or out; may be NULL */
+	const char *domain;      /* fitted domain, when known; may be NULL */
+	const char *error;       /* fitted error, when known; may be NULL */
+	const char *command;     /* the command line that produced it; may be NULL */
+} bk_emit_info;
+
+/* Returns malloc'd source text, or NULL (out of memory, or params missing for
+ * a form that has parameters). half: GLSL mediump / HLSL half instead of
+ * highp / float (C is always float). */
+char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
+                   const bk_emit_info *info);
+
 #endif

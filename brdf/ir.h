@@ -1,0 +1,56 @@
+/*
+ * ir.h — internals of the formula IR shared by ir_*.c (not installed).
+ */
+#ifndef BRDF_IR_H
+#define BRDF_IR_H
+
+#include "brdf.h"
+
+typedef enum bk_op {
+#define OP(e, name, arity, c, glsl, hlsl, ...) BK_OP_##e,
+#include "ir_ops.h"
+	BK_OP_COUNT
+} bk_op;
+
+typedef struct bk_opinfo {
+	const char *name; /* language spelling, "" if none */
+	int arity;
+	const char *spell[3]; /* C, GLSL, HLSL templates */
+	bk_opclass cls[3];    /* what it executes; BK_K_FREE pads */
+} bk_opinfo;
+
+extern const bk_opinfo bk_opinfo_table[BK_OP_COUNT];
+
+/* R[i] := op(R[a], R[b], R[c]); CONST holds k, INPUT and PARAM their slot. */
+typedef struct bk_instr {
+	bk_op op;
+	int a, b, c;
+	int slot;
+	double k;
+} bk_instr;
+
+struct bk_form {
+	char *text;
+	bk_instr *code;
+	int n, cap;
+	int out;           /* the result register; after bk_ir_finish, n - 1 */
+	int nparams;
+	unsigned inputs;
+};
+
+/* Appends op (or finds an identical instruction: common subexpressions are
+ * shared as they are built), folding constants where that is exact in all three
+ * precisions. Returns the register, or -1 when out of memory. */
+int bk_ir_emit(bk_form *f, bk_op op, int a, int b, int c);
+int bk_ir_const(bk_form *f, double k);
+int bk_ir_input(bk_form *f, bk_input in);
+int bk_ir_param(bk_form *f, int p);
+
+/* After parsing: fuses single-use a*b + c into MAD, drops what the result does
+ * not use, and renumbers so that the result is the last instruction. */
+int bk_ir_finish(bk_form *f, int out);
+
+/* One operation in double precision, for folding and the f64 kernel. */
+double bk_ir_apply(bk_op op, double a, double b, double c);
+
+#endif
