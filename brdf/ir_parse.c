@@ -359,6 +359,8 @@ static int statements(parser *P)
 		sc->reg[sc->n++] = r;
 	}
 	int r = subexpr(P, 0);
+	if (r >= 0 && P->lx.tok.type == TK_BAD)
+		return error(P, "invalid character");
 	if (r >= 0 && P->lx.tok.type != TK_EOF)
 		return error(P, "expected an operator or the end of the form");
 	return r;

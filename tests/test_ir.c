@@ -1,0 +1,341 @@
+/*
+ * test_ir.c — the formula IR: the half rounding rule against the compiler's
+ * binary16, parse errors (their text is part of the contract), precedence,
+ * what the compiler produced (op lists and counts, the talk's claims),
+ * agreement of every term's definition with its C function, and derivatives
+ * against central differences.
+ */
+#include "brdf.h"
+#include "ir.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+static bk_form *parse_ok(const char *text)
+{
+	bk_form_error e;
+	bk_form *f = bk_form_parse(text, &e);
+	cr_assert_not_null(f, "'%s': col %d: %s", text, e.column, e.message);
+	return f;
+}
+
+static double eval1(const char *text, bk_precision p, const double *params)
+{
+	double NoV = 0.5, NoL = 0.7, NoH = 0.9, LoH = 0.8, r = 0.5, a = 0.25, f0 = 0.04, out;
+	const double *in[BK_IN_COUNT] = {&NoV, &NoL, &NoH, &LoH, &r, &a, &f0};
+	bk_form *f = parse_ok(text);
+	cr_assert_eq(bk_form_eval(f, p, 1, in, params, &out), 0);
+	bk_form_free(f);
+	return out;
+}
+
+/* ---- half precision -------------------------------------------------------- */
+
+/* The rule written in half.c against gcc's _Float16 conversion (round to
+ * nearest even, IEEE binary16), over 200k float bit patterns spread across all
+ * exponents, and the landmarks: max 65504, the overflow tie 65520, the
+ * smallest normal 2^-14 and subnormal 2^-24. */
+Test(half, rounding_matches_binary16)
+{
+	unsigned s = 1;
+	for (int i = 0; i < 200000; i++) {
+		s = s * 1664525u + 1013904223u;
+		float x;
+		unsigned bits = s & 0xC7FFFFFFu; /* keep exponents within half's reach and beyond */
+		memcpy(&x, &bits, sizeof x);
+		if (!isfinite(x))
+			continue;
+		__extension__ _Float16 h = (_Float16)x;
+		cr_assert(bk_half_round(x) == (double)h || (isnan(bk_half_round(x)) && isnan((double)h)),
+		          "x = %a: %a vs %a", (double)x, bk_half_round(x), (double)h);
+	}
+	cr_assert_eq(bk_half_round(65504.0), 65504.0);
+	cr_assert(isinf(bk_half_round(65520.0)) && bk_half_round(65519.99) == 65504.0);
+	cr_assert_eq(bk_half_round(0x1p-14), 0x1p-14);
+	cr_assert_eq(bk_half_round(0x1p-24), 0x1p-24);
+	cr_assert_eq(bk_half_round(0x1p-26), 0.0);
+	cr_assert_eq(bk_half_round(1.0 + 0x1p-11), 1.0); /* tie to even */
+	cr_assert_eq(bk_half_round(1.0 + 3 * 0x1p-11), 1.0 + 0x1p-9);
+}
+
+/* In half, 1/(LoH^2 (r + 0.5)) overflows past 65504 where single does not:
+ * the reason the talk's Unity version clamps LoH^2. */
+Test(half, overflow_shows_in_f16_only)
+{
+	double LoH = 0.003, r = 0.1, p = 0.5, o16, o32;
+	const double *in[BK_IN_COUNT] = {NULL, NULL, NULL, &LoH, &r, NULL, NULL};
+	bk_form *f = parse_ok("1/(LoH*LoH*(r+p0))");
+	bk_form_eval(f, BK_F16, 1, in, &p, &o16);
+	bk_form_eval(f, BK_F32, 1, in, &p, &o32);
+	bk_form_free(f);
+	cr_assert(isinf(o16) && isfinite(o32) && fabs(o32 - 1.0 / (LoH * LoH * 0.6)) < 1e-2 * o32, "%g %g", o16, o32);
+}
+
+/* f32 is single precision after every operation: NoV*NoL + f0 in float. */
+Test(half, f32_rounds_like_float)
+{
+	float want = (float)0.5 * (float)0.7;
+	want = want + (float)0.04;
+	cr_assert_eq(eval1("NoV*NoL + f0", BK_F32, NULL), (double)want);
+	double h = bk_half_round(bk_half_round(bk_half_round(0.5) * bk_half_round(0.7)) + bk_half_round(0.04));
+	cr_assert_eq(eval1("NoV*NoL + f0", BK_F16, NULL), h);
+}
+
+/* ---- parsing ----------------------------------------------------------------- */
+
+static void expect_error(const char *text, int column, const char *message)
+{
+	bk_form_error e;
+	bk_form *f = bk_form_parse(text, &e);
+	cr_assert_null(f, "'%s' parsed", text);
+	cr_assert_eq(e.column, column, "'%s': column %d, want %d (%s)", text, e.column, column, e.message);
+	cr_assert_str_eq(e.message, message, "'%s'", text);
+}
+
+Test(parse, errors_name_column_and_expectation)
+{
+	expect_error("1/(LoH*LoH*(r+p0)", 18, "expected ')' at end of form");
+	expect_error("NoV +", 6, "expected a number, a name or '(' at end of form");
+	expect_error("NoV * * 2", 7, "expected a number, a name or '(' near '*'");
+	expect_error("sqrt(1, 2)", 1, "'sqrt' takes 1 argument, got 2 near 'sqrt'");
+	expect_error("D_ggx(NoH)", 1, "'D_ggx' takes 2 arguments (NoH,a), got 1 near 'D_ggx'");
+	expect_error("foo(1)", 1, "unknown function near 'foo'");
+	expect_error("NoV + x", 7, "unknown name (inputs: NoV NoL NoH LoH VoH r a f0; parameters p0..p15) near 'x'");
+	expect_error("p16 * 2", 1, "parameter out of range (p0..p15) near 'p16'");
+	expect_error("NoV # 2", 5, "invalid character near '#'");
+	expect_error("NoV NoL", 5, "expected an operator or the end of the form near 'NoL'");
+	expect_error("(NoV", 5, "expected ')' at end of form");
+	expect_error("min(NoV NoL)", 9, "expected ')' or ',' near 'NoL'");
+	expect_error("", 1, "expected a number, a name or '(' at end of form");
+	expect_error("inf", 1, "unknown name (inputs: NoV NoL NoH LoH VoH r a f0; parameters p0..p15) near 'inf'");
+}
+
+Test(parse, nesting_is_bounded)
+{
+	char buf[1200];
+	memset(buf, '(', 600);
+	strcpy(buf + 600, "1");
+	memset(buf + 601, ')', 599);
+	buf[1200 - 1] = '\0';
+	bk_form_error e;
+	cr_assert_null(bk_form_parse(buf, &e));
+	cr_assert_str_eq(e.message, "expression nested too deeply near '('");
+}
+
+/* Precedence: ^ over unary minus over * / over + -; ^ right-associative. */
+Test(parse, precedence_and_associativity)
+{
+	cr_assert_eq(eval1("-2^2", BK_F64, NULL), -4.0);
+	cr_assert_eq(eval1("2^3^2", BK_F64, NULL), 512.0);
+	cr_assert_eq(eval1("2*-3", BK_F64, NULL), -6.0);
+	cr_assert_eq(eval1("1 - 2 - 3", BK_F64, NULL), -4.0);
+	cr_assert_eq(eval1("8 / 2 / 2", BK_F64, NULL), 2.0);
+	cr_assert_eq(eval1("2 + 3 * 4 ^ 2", BK_F64, NULL), 50.0);
+	cr_assert_eq(eval1("2^-1", BK_F64, NULL), 0.5);
+	cr_assert_eq(eval1("1.5e1 + .5", BK_F64, NULL), 15.5);
+	cr_assert_eq(eval1("VoH", BK_F64, NULL), 0.8); /* = LoH */
+}
+
+/* ---- what the compiler produced ------------------------------------------------ */
+
+static int count_op(const bk_form *f, bk_op op)
+{
+	int n = 0;
+	for (int i = 0; i < f->n; i++)
+		n += f->code[i].op == op;
+	return n;
+}
+
+Test(code, sharing_folding_powers_and_fusion)
+{
+	bk_form *f = parse_ok("NoV*NoV + NoV*NoV"); /* shared product used twice: no MAD */
+	cr_assert(count_op(f, BK_OP_MUL) == 1 && count_op(f, BK_OP_ADD) == 1 && f->n == 3);
+	bk_form_free(f);
+	f = parse_ok("NoV*NoL + f0");
+	cr_assert(count_op(f, BK_OP_MAD) == 1 && count_op(f, BK_OP_MUL) == 0 && f->n == 4);
+	bk_form_free(f);
+	f = parse_ok("f0 - NoV*NoL"); /* c - a*b = mad(-a, b, c) */
+	cr_assert(count_op(f, BK_OP_MAD) == 1 && count_op(f, BK_OP_NEG) == 1);
+	bk_form_free(f);
+	f = parse_ok("NoV^5"); /* x^5 = (x^2)^2 x: three multiplies */
+	cr_assert(count_op(f, BK_OP_MUL) == 3 && count_op(f, BK_OP_POW) == 0);
+	bk_form_free(f);
+	f = parse_ok("pow(NoV, -2)");
+	cr_assert(count_op(f, BK_OP_MUL) == 1 && count_op(f, BK_OP_RCP) == 1);
+	bk_form_free(f);
+	f = parse_ok("pow(NoV, 2.5)");
+	cr_assert(count_op(f, BK_OP_POW) == 1);
+	bk_form_free(f);
+	f = parse_ok("NoL * NoV - NoV * NoL"); /* commutative operands are one register */
+	cr_assert(count_op(f, BK_OP_MUL) == 1);
+	bk_form_free(f);
+	f = parse_ok("(1 + 2) * NoV * 1 + 0"); /* 3 folds; *1 and +0 vanish */
+	cr_assert(f->n == 3 && count_op(f, BK_OP_CONST) == 1 && f->code[0].k == 3.0);
+	bk_form_free(f);
+}
+
+/* Folding only where every precision agrees: 1/3 rounds once either way and
+ * folds; 0.1*3 in half would round 0.1 first, so it stays a multiply. */
+Test(code, folding_respects_every_precision)
+{
+	bk_form *f = parse_ok("1/3");
+	cr_assert(f->n == 1 && f->code[0].op == BK_OP_CONST);
+	bk_form_free(f);
+	f = parse_ok("0.1*3");
+	cr_assert(count_op(f, BK_OP_MUL) == 1);
+	cr_assert_eq(eval1("0.1*3", BK_F16, NULL), bk_half_round(bk_half_round(0.1) * 3.0));
+	bk_form_free(f);
+	f = parse_ok("0*-1"); /* -0.0 is never folded into */
+	cr_assert(count_op(f, BK_OP_CONST) != f->n);
+	bk_form_free(f);
+	f = parse_ok("1/0"); /* nor an infinity */
+	cr_assert(count_op(f, BK_OP_DIV) == 1);
+	bk_form_free(f);
+}
+
+static bk_ops ops_of(const char *text)
+{
+	bk_ops o;
+	bk_form *f = parse_ok(text);
+	bk_form_count(f, &o);
+	bk_form_free(f);
+	return o;
+}
+
+/* The talk's claims, out of the counter. Its specular BRDF (printed form,
+ * r perceptual) has one division and no other complex op; its environment
+ * BRDF has none; Karis's EnvBRDFApprox (the A term) has one exp2. */
+Test(count, the_talks_claims)
+{
+	bk_ops o = ops_of("r^4 / (4*3.14159265*sq(NoH*NoH*(r^4 - 1) + 1) * LoH*LoH*(r + 0.5)) * f0");
+	cr_assert(o.complex == 1 && o.n[BK_K_DIV] == 1, "complex %d div %d", o.complex, o.n[BK_K_DIV]);
+	o = ops_of("(1 - max(r, NoV))^3 + f0");
+	cr_assert(o.complex == 0 && o.simple > 0);
+	o = ops_of("-1.04*(min((r*-1 + 1)^2, exp2(-9.28*NoV))*(r*-1 + 1) + (r*-0.0275 + 0.0425)) + (r*-0.572 + 1.04)");
+	cr_assert(o.complex == 1 && o.n[BK_K_EXP2] == 1);
+	cr_assert_eq(bk_ops_cost(&o, BK_COST_SIMPLE, BK_COST_COMPLEX), o.simple + 4.0);
+	/* pow = log2 + mul + exp2; exp = mul + exp2; saturate and min are their own classes */
+	o = ops_of("pow(NoV, p0)");
+	cr_assert(o.n[BK_K_LOG2] == 1 && o.n[BK_K_MUL] == 1 && o.n[BK_K_EXP2] == 1 && o.complex == 2);
+	o = ops_of("saturate(NoV) + min(NoL, 1)");
+	cr_assert(o.n[BK_K_SATURATE] == 1 && o.n[BK_K_MINMAX] == 1 && o.n[BK_K_ADD] == 1);
+}
+
+/* ---- terms in the language ----------------------------------------------------- */
+
+/* Every registry term's IR definition agrees with its C function to 1e-12
+ * relative over a grid of the physical domain (cosines in (0, 1], r in
+ * (0, 1]), in double precision. The argument names of the C function map to
+ * the sample; Oren-Nayar takes VoL = 2 LoH^2 - 1 and sigma = r as the
+ * registry does. */
+Test(terms, ir_definitions_match_c)
+{
+	const double th[] = {0.1, 0.6, 1.2, 1.5}, rs[] = {0.05, 0.3, 0.7, 1.0}, phis[] = {0.0, 1.0, 3.0};
+	for (size_t t = 0; t < bk_term_count(); t++) {
+		const bk_term *term = bk_term_at(t);
+		for (size_t i = 0; i < 4; i++)
+			for (size_t j = 0; j < 4; j++)
+				for (size_t q = 0; q < 3; q++)
+					for (size_t m = 0; m < 4; m++) {
+						bk_sample s = {.f0 = 0.04, .f90 = 1.0, .eta = 1.5, .k = 0.0};
+						if (strcmp(term->name, "F_conductor") == 0)
+							s.eta = 0.2, s.k = 3.0;
+						bk_sample_geometry(&s, th[i], th[j], phis[q]);
+						bk_sample_roughness(&s, rs[m]);
+						if (s.NoV <= 0 || s.NoL <= 0)
+							continue;
+						char call[256], args[160] = "";
+						const char *p = term->args;
+						while (*p) {
+							const char *e = strchr(p, ',');
+							size_t len = e ? (size_t)(e - p) : strlen(p);
+							double v = 0;
+							if (!strncmp(p, "NoV", len)) v = s.NoV;
+							else if (!strncmp(p, "NoL", len)) v = s.NoL;
+							else if (!strncmp(p, "NoH", len)) v = s.NoH;
+							else if (!strncmp(p, "LoH", len) || !strncmp(p, "VoH", len)) v = s.LoH;
+							else if (!strncmp(p, "r", len) || !strncmp(p, "sigma", len)) v = s.r;
+							else if (!strncmp(p, "a", len)) v = s.a;
+							else if (!strncmp(p, "f0", len)) v = s.f0;
+							else if (!strncmp(p, "f90", len)) v = s.f90;
+							else if (!strncmp(p, "eta", len)) v = s.eta;
+							else if (!strncmp(p, "k", len)) v = s.k;
+							else if (!strncmp(p, "VoL", len)) v = 2 * s.LoH * s.LoH - 1;
+							else cr_assert_fail("%s: unmapped argument %.*s", term->name, (int)len, p);
+							size_t k = strlen(args);
+							snprintf(args + k, sizeof args - k, "%s%.17g", k ? ", " : "", v);
+							p += len + (e != NULL);
+						}
+						snprintf(call, sizeof call, "%s(%s)", term->name, args);
+						double want = term->eval(&s), got = eval1(call, BK_F64, NULL);
+						if (!isfinite(want) || !isfinite(got))
+							continue;
+						cr_assert(fabs(got - want) <= 1e-12 * fabs(want) + 1e-300, "%s: %.17g vs %.17g", call, got, want);
+					}
+	}
+}
+
+/* ---- derivatives ----------------------------------------------------------------- */
+
+/* Reverse mode against central differences, h = 1e-6·max(1, |p|): truncation
+ * error ~h^2 f''' and rounding ~ε f/h, about 1e-9 relative here. */
+Test(diff, matches_central_differences)
+{
+	const char *forms[] = {
+		"1/(LoH*LoH*(r + p0))",
+		"p0 + p1*exp2((p2*LoH + p3)*LoH)",
+		"mix(p0, sqrt(p1 + NoV), saturate(p2*NoL)) / max(p3, a)",
+		"pow(NoV, p0) * rsqrt(p1 + NoL*NoL) + log(p2 + r) - abs(p3 - NoH) + min(p0, p1)*rcp(p2)",
+		"F_schlick(p0, p1, LoH) * V_smith_ggx_correlated(NoV, NoL, p2*p2)",
+	};
+	const double P[4] = {0.45, 0.9, 0.35, 0.2};
+	enum { N = 64 };
+	double NoV[N], NoL[N], NoH[N], LoH[N], r[N], a[N], f0[N];
+	for (int k = 0; k < N; k++) {
+		NoV[k] = 0.05 + 0.9 * k / N;
+		NoL[k] = 0.95 - 0.8 * k / N;
+		NoH[k] = 0.6 + 0.35 * ((k * 7) % N) / N;
+		LoH[k] = 0.2 + 0.7 * ((k * 13) % N) / N;
+		r[k] = 0.1 + 0.8 * ((k * 5) % N) / N;
+		a[k] = r[k] * r[k];
+		f0[k] = 0.04;
+	}
+	const double *in[BK_IN_COUNT] = {NoV, NoL, NoH, LoH, r, a, f0};
+	for (size_t i = 0; i < sizeof forms / sizeof forms[0]; i++) {
+		bk_form *f = parse_ok(forms[i]);
+		int np = bk_form_nparams(f);
+		double out[N], jac[N * 4], hi[N], lo[N], plain[N];
+		cr_assert_eq(bk_form_eval_diff(f, N, in, P, out, jac), 0);
+		bk_form_eval(f, BK_F64, N, in, P, plain);
+		for (int k = 0; k < N; k++)
+			cr_assert_eq(out[k], plain[k], "%s: value differs from eval", forms[i]);
+		for (int j = 0; j < np; j++) {
+			double p2[4];
+			memcpy(p2, P, sizeof p2);
+			double h = 1e-6 * fmax(1.0, fabs(P[j]));
+			p2[j] = P[j] + h;
+			bk_form_eval(f, BK_F64, N, in, p2, hi);
+			p2[j] = P[j] - h;
+			bk_form_eval(f, BK_F64, N, in, p2, lo);
+			for (int k = 0; k < N; k++) {
+				double fd = (hi[k] - lo[k]) / (2 * h), d = jac[k * np + j];
+				cr_assert(fabs(d - fd) <= 1e-6 * (fabs(fd) + fabs(out[k])) + 1e-9,
+				          "%s: d/dp%d at %d: %.12g vs %.12g", forms[i], j, k, d, fd);
+			}
+		}
+		bk_form_free(f);
+	}
+}
+
+/* An input the form reads must be supplied. */
+Test(eval, missing_input_is_an_error)
+{
+	double x = 0.5, out;
+	const double *in[BK_IN_COUNT] = {&x};
+	bk_form *f = parse_ok("NoV * NoL");
+	cr_assert_eq(bk_form_eval(f, BK_F64, 1, in, NULL, &out), -1);
+	cr_assert_eq(bk_form_inputs(f), (1u << BK_IN_NOV) | (1u << BK_IN_NOL));
+	bk_form_free(f);
+}
