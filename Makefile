@@ -13,19 +13,21 @@ PREFIX ?= /usr/local
 OPT    ?= -O2 -g
 CSTD    = -std=c11 -D_POSIX_C_SOURCE=200809L
 WARN    = -Wall -Wextra -Werror
-INC     = -Ibrdf -Ianalysis -I/usr/include/OpenEXR
+INC     = -Ibrdf -Ifit -Ianalysis -I/usr/include/OpenEXR
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
-# Debian packages this tree needs now (Ceres, libpng and glslang join with the
-# fitter, the heatmaps and the code generator).
-DEBS = libopenexr-dev libcriterion-dev pkg-config
+# Debian packages this tree needs now (Ceres and libpng join with the fitter and
+# the heatmaps; glslang-tools proves generated GLSL/HLSL compiles).
+DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools
+FUZZ_DEBS = clang libclang-rt-14-dev
 
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
-TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c)))
+FIT_SRC  = $(sort $(wildcard fit/*.c))
+TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c))) $(FIT_SRC)
 TEST_SRC = $(sort $(wildcard tests/*.c))
-SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c   # tool modules the tests link too
+SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c $(FIT_SRC)   # modules the tests link too
 
 obj = $(patsubst %.c,$(1)/%.o,$(2))
 
@@ -37,12 +39,14 @@ SLIB  = build/san/libbrdf.a
 STOOL = build/san/brdfkit
 STEST = build/san/test_brdfkit
 
-.PHONY: all deps test bench results install clean
+.PHONY: all deps test bench results install clean fuzz
 all: $(LIB) $(TOOL)
 
-deps:
+# need: install the listed Debian packages that are missing (apt-get as root,
+# otherwise print the line to run and fail).
+define need
 	@missing=""; \
-	for p in $(DEBS); do \
+	for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' $$p 2>/dev/null | grep -q 'ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -54,6 +58,10 @@ deps:
 	    echo "  run: sudo apt-get install -y$$missing"; exit 1; \
 	  fi; \
 	fi
+endef
+
+deps:
+	$(call need,$(DEBS))
 
 build/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
@@ -91,8 +99,19 @@ test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 	UBSAN_OPTIONS=print_stacktrace=1 $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
 
-bench: $(BENCH)
+# bench_ir times the IR against bk_form_emit's C for the same forms, compiled
+# with the flags above: one source built twice, first as the generator of that
+# C (-DBENCH_IR_EMIT), then including its output byte for byte.
+build/bench_ir_emit: analysis/bench_ir.c $(LIB)
+	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -DBENCH_IR_EMIT $^ -lm -o $@
+build/bench_ir_gen.h: build/bench_ir_emit
+	$< > $@.tmp && mv $@.tmp $@
+build/bench_ir: analysis/bench_ir.c build/bench_ir_gen.h $(LIB)
+	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -Ibuild $< $(LIB) -lm -o $@
+
+bench: $(BENCH) build/bench_ir
 	$(BENCH)
+	build/bench_ir
 
 results: $(TOOL)
 	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated.exr
@@ -100,6 +119,19 @@ results: $(TOOL)
 	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick.exr
 	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
 	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
+
+# libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
+# from the seed corpus; a crashing input lands in build/ as crash-*.
+FUZZ_RUNS ?= 1000000
+build/fuzz_ir: tests/fuzz/fuzz_ir.c $(LIB_SRC)
+	$(call need,$(FUZZ_DEBS))
+	@mkdir -p build
+	clang -std=c11 -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer,address,undefined \
+	  -fno-sanitize-recover=all -Ibrdf $^ -lm -o $@
+
+fuzz: build/fuzz_ir
+	rm -rf build/fuzz-corpus && mkdir -p build/fuzz-corpus && cp tests/fuzz/corpus/* build/fuzz-corpus/
+	build/fuzz_ir -runs=$(FUZZ_RUNS) -max_len=256 -artifact_prefix=build/ build/fuzz-corpus
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/bin

@@ -158,6 +158,12 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 			cli_help(cmd, stdout);
 			return 1;
 		}
+		if (strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
+			if (cmd->npos >= cmd->max_pos || cmd->npos == 32)
+				return usage_error(cmd, "unexpected argument '%s'", arg);
+			cmd->pos[cmd->npos++] = argv[i];
+			continue;
+		}
 		/* --name=value is accepted as well as --name value. */
 		const char *eq = strchr(arg, '=');
 		size_t nlen = eq ? (size_t)(eq - arg) : strlen(arg);

@@ -38,6 +38,9 @@ typedef struct cli_cmd {
 	const char *details;/* paragraph printed after the options, may be NULL */
 	cli_opt *opts;
 	int nopts;
+	int max_pos;        /* positional arguments allowed (0: none) */
+	int npos;           /* set by the parser */
+	char *pos[32];
 } cli_cmd;
 
 /* Parses argv (after the subcommand) into the option table. Returns 0, 1 when

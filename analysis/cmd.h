@@ -9,5 +9,9 @@ int cmd_terms(int argc, char **argv);
 int cmd_dfg(int argc, char **argv);
 int cmd_lut(int argc, char **argv);
 int cmd_albedo(int argc, char **argv);
+int cmd_eval(int argc, char **argv);
+int cmd_ops(int argc, char **argv);
+int cmd_codegen(int argc, char **argv);
+int cmd_catalog(int argc, char **argv);
 
 #endif

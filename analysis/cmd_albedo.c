@@ -105,7 +105,7 @@ int cmd_albedo(int argc, char **argv)
 	cli_cmd cmd = {"albedo", "Directional albedo ∫ D·V·F·NoL dω_l of a D·V·F combination, as CSV with header\n"
 	               "D,V,F,nov,roughness,f0,f90,eta,k,albedo. 'all' and comma lists make a grid.",
 	               "--d NAME --v NAME --f NAME --nov X --roughness R (--f0 F | --ior N [--k K])",
-	               NULL, opts, 11};
+	               NULL, opts, 11, 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;

@@ -39,7 +39,7 @@ int cmd_dfg(int argc, char **argv)
 	               "--nov X[,X...] --roughness R[,R...] [--smith MODEL] [--tol T | --samples N]",
 	               "The deterministic integrator (default) is accurate to 1e-6 absolute for\n"
 	               "r in [0.02, 1], NoV in [0.01, 1]; r = 0 is the exact smooth limit.",
-	               opts, 5};
+	               opts, 5, 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
@@ -93,7 +93,7 @@ int cmd_lut(int argc, char **argv)
 	               "r = 0.5/N, so texture(lut, vec2(NoV, r)) is right wherever uv (0,0) is the first\n"
 	               "texel in memory (D3D, Vulkan, Metal, and GL when rows are uploaded in file order).\n"
 	               "origin bottom: the last scanline is r = 0.5/N, for loaders that flip images.",
-	               opts, 7};
+	               opts, 7, 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;

@@ -17,7 +17,7 @@ int cmd_terms(int argc, char **argv)
 	};
 	cli_cmd cmd = {"terms", "Lists every term of libbrdf: name (as the formula language spells it), "
 	               "arguments,\nwhat it computes, its convention and its citation.",
-	               "[--role D|V|F|Fd] [--csv]", NULL, opts, 2};
+	               "[--role D|V|F|Fd] [--csv]", NULL, opts, 2, 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;

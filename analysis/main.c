@@ -16,6 +16,10 @@ static const struct {
 	{"dfg", cmd_dfg, "split-sum environment BRDF A, B at given NoV and roughness"},
 	{"lut", cmd_lut, "write the DFG look-up table as OpenEXR (+ CSV)"},
 	{"albedo", cmd_albedo, "directional albedo of any D·V·F combination"},
+	{"eval", cmd_eval, "evaluate a form in double, single and half precision"},
+	{"ops", cmd_ops, "op counts per class and the cost of a form"},
+	{"codegen", cmd_codegen, "generate a C, GLSL or HLSL function from a form"},
+	{"catalog", cmd_catalog, "the published forms, as CSV"},
 };
 
 static void usage(FILE *out)

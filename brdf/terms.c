@@ -77,7 +77,7 @@ static const bk_term terms[] = {
 	 "Hable 2014, Optimizing GGX Shaders with dot(L,H)", v_hable},
 	{"V_kelemen_talk", BK_ROLE_V, "LoH,r", "modified KSK as the mobile talk prints it, 0.25/(LoH^2(1-r^2)+r^2)",
 	 "talk's roughness read as perceptual r; the talk omits the 1/4, added here",
-	 "McAuley et al. (Unity) 2015, Optimizing PBR for Mobile, SIGGRAPH course (seed 001)", v_talk},
+	 "Unity 2015, Optimizing PBR for Mobile, SIGGRAPH 2015 course Moving Mobile Graphics (seed 001; author R. Zioma from memory, unverified)", v_talk},
 	{"V_neubelt", BK_ROLE_V, "NoV,NoL", "1/(4(NoL + NoV - NoL NoV))",
 	 "no roughness; V includes 1/4",
 	 "Neubelt & Pettineo 2013, Crafting a Next-Gen Material Pipeline for The Order: 1886", v_neubelt},

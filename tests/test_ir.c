@@ -9,6 +9,8 @@
 #include "ir.h"
 
 #include <criterion/criterion.h>
+#include <dirent.h>
+#include <stdlib.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -338,4 +340,72 @@ Test(eval, missing_input_is_an_error)
 	cr_assert_eq(bk_form_eval(f, BK_F64, 1, in, NULL, &out), -1);
 	cr_assert_eq(bk_form_inputs(f), (1u << BK_IN_NOV) | (1u << BK_IN_NOL));
 	bk_form_free(f);
+}
+
+/* ---- fuzzing regressions ---------------------------------------------------------- */
+
+/* What the fuzz harness does to one input; crashes and sanitizer reports are
+ * the failure (the sanitized run of make test). Returns 1 if it parsed. */
+static int exercise(const char *text)
+{
+	bk_form_error e;
+	bk_form *f = bk_form_parse(text, &e);
+	if (!f) {
+		cr_assert(e.column >= 1 && e.message[0], "no error text for '%s'", text);
+		return 0;
+	}
+	enum { N = 4 };
+	static const double NoV[N] = {0.5, 1.0, 1e-4, 0.0}, NoL[N] = {0.7, 0.0, 1.0, 0.3},
+	                    NoH[N] = {0.9, 1.0, 0.0, 0.5}, LoH[N] = {0.8, 0.0, 1.0, 0.1},
+	                    r[N] = {0.5, 0.0, 1.0, 0.089}, a[N] = {0.25, 0.0, 1.0, 0.007921},
+	                    f0[N] = {0.04, 1.0, 0.0, 0.5};
+	const double *in[BK_IN_COUNT] = {NoV, NoL, NoH, LoH, r, a, f0};
+	double params[BK_MAX_PARAMS], out[N], jac[N * BK_MAX_PARAMS];
+	for (int i = 0; i < BK_MAX_PARAMS; i++)
+		params[i] = 0.25 * (i + 1);
+	for (int p = BK_F64; p <= BK_F16; p++)
+		cr_assert_eq(bk_form_eval(f, (bk_precision)p, N, in, params, out), 0);
+	cr_assert_eq(bk_form_eval_diff(f, N, in, params, out, jac), 0);
+	bk_ops ops;
+	bk_form_count(f, &ops);
+	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++) {
+		char *code = bk_form_emit(f, (bk_lang)lang, lang != BK_LANG_C, params, NULL);
+		cr_assert_not_null(code);
+		free(code);
+	}
+	bk_form_free(f);
+	return 1;
+}
+
+static int replay_dir(const char *dir)
+{
+	DIR *d = opendir(dir);
+	cr_assert_not_null(d, "%s missing (run make test from the top of the tree)", dir);
+	int n = 0;
+	for (struct dirent *e; (e = readdir(d));) {
+		if (e->d_name[0] == '.' || !strcmp(e->d_name, "README"))
+			continue;
+		char path[512], text[4097];
+		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+		FILE *fp = fopen(path, "rb");
+		cr_assert_not_null(fp);
+		size_t len = fread(text, 1, sizeof text - 1, fp);
+		fclose(fp);
+		text[len] = '\0';
+		exercise(text);
+		n++;
+	}
+	closedir(d);
+	return n;
+}
+
+Test(fuzz, replay_corpus_and_regressions)
+{
+	cr_assert(replay_dir("tests/fuzz/corpus") >= 9);
+	replay_dir("tests/fuzz/regress");
+	/* inputs of the kinds the fuzzer found worth keeping: empty, deep, long */
+	cr_assert_eq(exercise("(((((((((((((((((((((NoV)))))))))))))))))))))"), 1);
+	cr_assert_eq(exercise("NoV/0 + log(-1) + sqrt(-NoL) + pow(0, -1) + rsqrt(0)"), 1);
+	cr_assert_eq(exercise("p15*p0 - p15*p0"), 1);
+	cr_assert_eq(exercise("\x01\xff"), 0);
 }

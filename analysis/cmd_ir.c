@@ -1,0 +1,335 @@
+/*
+ * cmd_ir.c — the formula IR on the command line: brdfkit eval, ops, codegen and
+ * catalog. A FORM argument is either formula text or a catalog entry's name
+ * (an environment entry's two forms are NAME:A and NAME:B).
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A parsed FORM argument with the parameter values that go with it. */
+typedef struct form_arg {
+	bk_form *f;
+	const bk_catalog_entry *entry; /* NULL for typed text */
+	double params[BK_MAX_PARAMS];
+	int have[BK_MAX_PARAMS];
+	char label[160];
+} form_arg;
+
+static int load_form(const char *cmd, const char *arg, form_arg *fa)
+{
+	memset(fa, 0, sizeof *fa);
+	char name[128];
+	const char *colon = strchr(arg, ':');
+	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
+	const char *text = arg;
+	if (len < sizeof name) {
+		memcpy(name, arg, len);
+		name[len] = '\0';
+		fa->entry = bk_catalog_find(name);
+	}
+	if (fa->entry) {
+		const bk_catalog_entry *e = fa->entry;
+		int want_b = colon && (strcmp(colon + 1, "B") == 0 || strcmp(colon + 1, "b") == 0);
+		if (e->form_b && !colon) {
+			fprintf(stderr, "brdfkit %s: '%s' has two forms (split sum): write %s:A or %s:B\n", cmd,
+			        name, name, name);
+			return 2;
+		}
+		if (colon && (!e->form_b || (!want_b && strcmp(colon + 1, "A") && strcmp(colon + 1, "a")))) {
+			fprintf(stderr, "brdfkit %s: '%s': unknown part '%s'\n", cmd, name, colon + 1);
+			return 2;
+		}
+		text = want_b ? e->form_b : e->form;
+		for (int i = 0; i < e->nparams; i++) {
+			fa->params[i] = e->defaults[i];
+			fa->have[i] = 1;
+		}
+		snprintf(fa->label, sizeof fa->label, "%s%s", arg, "");
+	} else {
+		snprintf(fa->label, sizeof fa->label, "user form");
+	}
+	bk_form_error err;
+	fa->f = bk_form_parse(text, &err);
+	if (!fa->f) {
+		fprintf(stderr, "brdfkit %s: %s:1:%d: %s\n", cmd, fa->entry ? name : "form", err.column, err.message);
+		return 2;
+	}
+	return 0;
+}
+
+/* NAME=VALUE with a strict finite number. */
+static int assignment(const char *cmd, const char *arg, char *name, size_t nlen, double *v)
+{
+	const char *eq = strchr(arg, '=');
+	char *end;
+	if (!eq || eq == arg || (size_t)(eq - arg) >= nlen) {
+		fprintf(stderr, "brdfkit %s: expected NAME=VALUE, got '%s'\n", cmd, arg);
+		return 2;
+	}
+	memcpy(name, arg, (size_t)(eq - arg));
+	name[eq - arg] = '\0';
+	errno = 0;
+	*v = strtod(eq + 1, &end);
+	if (end == eq + 1 || *end || errno == ERANGE || !isfinite(*v)) {
+		fprintf(stderr, "brdfkit %s: %s: expected a finite number, got '%s'\n", cmd, name, eq + 1);
+		return 2;
+	}
+	return 0;
+}
+
+/* p0..p15 from NAME=VALUE arguments; other names go to inputs (if not NULL). */
+static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inputs, int *given)
+{
+	for (int i = 0; i < npos; i++) {
+		char name[32];
+		double v;
+		if (assignment(cmd, pos[i], name, sizeof name, &v))
+			return 2;
+		char *end;
+		if (name[0] == 'p' && name[1] >= '0' && name[1] <= '9') {
+			long k = strtol(name + 1, &end, 10);
+			if (*end || k >= BK_MAX_PARAMS) {
+				fprintf(stderr, "brdfkit %s: unknown parameter '%s' (p0..p%d)\n", cmd, name, BK_MAX_PARAMS - 1);
+				return 2;
+			}
+			fa->params[k] = v;
+			fa->have[k] = 1;
+			continue;
+		}
+		int found = 0;
+		for (int k = 0; inputs && k < BK_IN_COUNT; k++)
+			if (strcmp(name, bk_input_name((bk_input)k)) == 0 ||
+			    (k == BK_IN_LOH && strcmp(name, "VoH") == 0)) {
+				inputs[k] = v;
+				given[k] = 1;
+				found = 1;
+			}
+		if (!found) {
+			fprintf(stderr, "brdfkit %s: unknown name '%s' (%s)\n", cmd, name,
+			        inputs ? "inputs NoV NoL NoH LoH VoH r a f0, parameters p0..p15" : "parameters p0..p15");
+			return 2;
+		}
+	}
+	for (int k = 0; k < bk_form_nparams(fa->f); k++)
+		if (!fa->have[k]) {
+			fprintf(stderr, "brdfkit %s: missing p%d=VALUE (the form uses p0..p%d)\n", cmd, k,
+			        bk_form_nparams(fa->f) - 1);
+			return 2;
+		}
+	return 0;
+}
+
+int cmd_eval(int argc, char **argv)
+{
+	cli_cmd cmd = {"eval", "Evaluates a form at one point in double, single and half precision (half:\n"
+	               "IEEE binary16 with rounding after every operation, as a mediump GPU).",
+	               "'FORM'|NAME [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
+	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.",
+	               NULL, 0, 33, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (cmd.npos < 1) {
+		fprintf(stderr, "brdfkit eval: missing FORM (see brdfkit eval --help)\n");
+		return 2;
+	}
+	form_arg fa;
+	if ((rc = load_form("eval", cmd.pos[0], &fa)))
+		return rc;
+	double in[BK_IN_COUNT] = {0};
+	int given[BK_IN_COUNT] = {0};
+	if ((rc = bind("eval", cmd.pos + 1, cmd.npos - 1, &fa, in, given))) {
+		bk_form_free(fa.f);
+		return rc;
+	}
+	if (given[BK_IN_R] && !given[BK_IN_A]) {
+		in[BK_IN_A] = in[BK_IN_R] * in[BK_IN_R];
+		given[BK_IN_A] = 1;
+	}
+	const double *ptr[BK_IN_COUNT];
+	for (int k = 0; k < BK_IN_COUNT; k++) {
+		ptr[k] = &in[k];
+		if ((bk_form_inputs(fa.f) >> k & 1) && !given[k]) {
+			fprintf(stderr, "brdfkit eval: missing %s=VALUE (the form reads it)\n", bk_input_name((bk_input)k));
+			bk_form_free(fa.f);
+			return 2;
+		}
+	}
+	/* digits that round-trip each precision: 17, 9 and 5 significant */
+	static const char *const fmt[3] = {"%s %.17g\n", "%s %.9g\n", "%s %.5g\n"};
+	for (int p = BK_F64; p <= BK_F16; p++) {
+		double v;
+		bk_form_eval(fa.f, (bk_precision)p, 1, ptr, fa.params, &v);
+		printf(fmt[p], bk_precision_name((bk_precision)p), v);
+	}
+	bk_form_free(fa.f);
+	return 0;
+}
+
+int cmd_ops(int argc, char **argv)
+{
+	int csv = 0;
+	double cs = BK_COST_SIMPLE, cc = BK_COST_COMPLEX;
+	cli_opt opts[] = {
+		{.name = "--csv", .kind = CLI_FLAG, .help = "rows class,count (with simple, complex, cost)", .dest = &csv},
+		{.name = "--simple-cost", .kind = CLI_NUM, .metavar = "C", .help = "cost of a simple op (default 1)", .dest = &cs, .lo = 0, .hi = 1e6},
+		{.name = "--complex-cost", .kind = CLI_NUM, .metavar = "C", .help = "cost of a complex op (default 4)", .dest = &cc, .lo = 0, .hi = 1e6},
+	};
+	cli_cmd cmd = {"ops", "Counts a form's operations per class after constant folding, sharing of common\n"
+	               "subexpressions, small integer powers to multiplies and a*b+c to one multiply-add.",
+	               "'FORM'|NAME [--csv] [--simple-cost C] [--complex-cost C]",
+	               "Complex ops (transcendental unit): rcp div sqrt rsqrt exp2 log2; pow = log2+mul+exp2,\n"
+	               "exp = mul+exp2, log = log2+mul; negation and abs are free source modifiers.\n"
+	               "cost = simple * simple-cost + complex * complex-cost (the talk: many simple ops per\n"
+	               "cycle, only one complex).",
+	               opts, 3, 1, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (cmd.npos != 1) {
+		fprintf(stderr, "brdfkit ops: missing FORM (see brdfkit ops --help)\n");
+		return 2;
+	}
+	form_arg fa;
+	if ((rc = load_form("ops", cmd.pos[0], &fa)))
+		return rc;
+	bk_ops o;
+	bk_form_count(fa.f, &o);
+	bk_form_free(fa.f);
+	double cost = bk_ops_cost(&o, cs, cc);
+	if (csv)
+		puts("class,count");
+	for (int k = 1; k < BK_K_COUNT; k++)
+		printf(csv ? "%s,%d\n" : "%-10s %d\n", bk_opclass_name((bk_opclass)k), o.n[k]);
+	if (csv)
+		printf("simple,%d\ncomplex,%d\ncost,%g\n", o.simple, o.complex, cost);
+	else
+		printf("%-10s %d\n%-10s %d\n%-10s %g   (simple x %g + complex x %g)\n", "simple", o.simple,
+		       "complex", o.complex, "cost", cost, cs, cc);
+	return 0;
+}
+
+int cmd_codegen(int argc, char **argv)
+{
+	const char *lang = NULL, *precision = "highp", *fname = NULL, *out = NULL;
+	cli_opt opts[] = {
+		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; C is float)", .dest = &precision},
+		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
+		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
+	};
+	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
+	               "with a provenance comment (form, source, conventions, op counts).",
+	               "--lang c|glsl|hlsl [--precision mediump|highp] 'FORM'|NAME [p0=X ...]",
+	               "Catalog entries use their published constants unless p0=... overrides them.",
+	               opts, 4, 33, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	bk_lang L;
+	if (!strcmp(lang, "c")) L = BK_LANG_C;
+	else if (!strcmp(lang, "glsl")) L = BK_LANG_GLSL;
+	else if (!strcmp(lang, "hlsl")) L = BK_LANG_HLSL;
+	else {
+		fprintf(stderr, "brdfkit codegen: --lang: expected c, glsl or hlsl, got '%s'\n", lang);
+		return 2;
+	}
+	int half = !strcmp(precision, "mediump");
+	if (!half && strcmp(precision, "highp")) {
+		fprintf(stderr, "brdfkit codegen: --precision: expected mediump or highp, got '%s'\n", precision);
+		return 2;
+	}
+	if (half && L == BK_LANG_C) {
+		fprintf(stderr, "brdfkit codegen: --precision mediump: C output is float only\n");
+		return 2;
+	}
+	if (cmd.npos < 1) {
+		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
+		return 2;
+	}
+	form_arg fa;
+	if ((rc = load_form("codegen", cmd.pos[0], &fa)))
+		return rc;
+	if ((rc = bind("codegen", cmd.pos + 1, cmd.npos - 1, &fa, NULL, NULL))) {
+		bk_form_free(fa.f);
+		return rc;
+	}
+	char name[128], command[2048];
+	if (!fname && fa.entry) {
+		snprintf(name, sizeof name, "%s", cmd.pos[0]);
+		for (char *c = name; *c; c++)
+			if (*c == ':')
+				*c = '_';
+		fname = name;
+	}
+	size_t k = (size_t)snprintf(command, sizeof command, "brdfkit codegen");
+	for (int i = 0; i < argc && k < sizeof command; i++)
+		k += (size_t)snprintf(command + k, sizeof command - k, " %s", argv[i]);
+	bk_emit_info info = {
+		.name = fname,
+		.source = fa.entry ? fa.entry->source : "user form",
+		.conventions = fa.entry ? fa.entry->convention
+		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
+		.command = command,
+	};
+	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
+	bk_form_free(fa.f);
+	if (!text)
+		return cli_fail("codegen", "code generation failed (out of memory)");
+	rc = 0;
+	if (!out) {
+		fputs(text, stdout);
+	} else {
+		cli_out co;
+		char err[512];
+		if (cli_out_open(&co, out, err, sizeof err) == 0) {
+			fputs(text, co.f);
+			if (cli_out_commit(&co, err, sizeof err))
+				rc = cli_fail("codegen", "%s", err);
+		} else {
+			rc = cli_fail("codegen", "%s", err);
+		}
+	}
+	free(text);
+	return rc;
+}
+
+static void params_text(const bk_catalog_entry *e, char *buf, size_t len)
+{
+	size_t k = 0;
+	buf[0] = '\0';
+	for (int i = 0; i < e->nparams && k < len; i++)
+		k += (size_t)snprintf(buf + k, len - k, "%sp%d=%.9g", i ? ";" : "", i, e->defaults[i]);
+}
+
+int cmd_catalog(int argc, char **argv)
+{
+	cli_cmd cmd = {"catalog", "Lists the published forms as CSV: name,target,form,parameters,source, then\n"
+	               "form_b (B of a split-sum entry) and convention. Parameters are p0=...;p1=... with\n"
+	               "the published constants.",
+	               "", NULL, NULL, 0, 0, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	puts("name,target,form,parameters,source,form_b,convention");
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		char params[BK_MAX_PARAMS * 24];
+		params_text(e, params, sizeof params);
+		const char *f[7] = {e->name, e->target, e->form, params, e->source, e->form_b ? e->form_b : "", e->convention};
+		for (int k = 0; k < 7; k++) {
+			if (k)
+				putchar(',');
+			cli_csv_field(stdout, f[k]);
+		}
+		putchar('\n');
+	}
+	return 0;
+}
