@@ -216,6 +216,34 @@ int cmd_ops(int argc, char **argv)
 	return 0;
 }
 
+/* The command line as a shell would need it back: arguments with anything
+ * but [A-Za-z0-9_./=:,+-] in single quotes, so provenance can be pasted. */
+static void shell_words(char *buf, size_t len, const char *head, int argc, char **argv)
+{
+	size_t k = (size_t)snprintf(buf, len, "%s", head);
+	for (int i = 0; i < argc && k < len; i++) {
+		const char *a = argv[i];
+		int plain = *a != '\0' && strspn(a, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./=:,+-") == strlen(a);
+		if (plain) {
+			k += (size_t)snprintf(buf + k, len - k, " %s", a);
+			continue;
+		}
+		k += (size_t)snprintf(buf + k, len - k, " '");
+		for (; *a && k < len; a++)
+			k += (size_t)(*a == '\'' ? snprintf(buf + k, len - k, "'\\''") : snprintf(buf + k, len - k, "%c", *a));
+		if (k < len)
+			k += (size_t)snprintf(buf + k, len - k, "'");
+	}
+}
+
+/* C, GLSL and HLSL identifiers: [A-Za-z_][A-Za-z0-9_]*. */
+static int identifier(const char *s)
+{
+	if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || *s == '_'))
+		return 0;
+	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
+}
+
 int cmd_codegen(int argc, char **argv)
 {
 	const char *lang = NULL, *precision = "highp", *fname = NULL, *out = NULL;
@@ -254,6 +282,10 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
 		return 2;
 	}
+	if (fname && !identifier(fname)) {
+		fprintf(stderr, "brdfkit codegen: --name: not an identifier: '%s'\n", fname);
+		return 2;
+	}
 	form_arg fa;
 	if ((rc = load_form("codegen", cmd.pos[0], &fa)))
 		return rc;
@@ -269,9 +301,7 @@ int cmd_codegen(int argc, char **argv)
 				*c = '_';
 		fname = name;
 	}
-	size_t k = (size_t)snprintf(command, sizeof command, "brdfkit codegen");
-	for (int i = 0; i < argc && k < sizeof command; i++)
-		k += (size_t)snprintf(command + k, sizeof command - k, " %s", argv[i]);
+	shell_words(command, sizeof command, "brdfkit codegen", argc, argv);
 	bk_emit_info info = {
 		.name = fname,
 		.source = fa.entry ? fa.entry->source : "user form",

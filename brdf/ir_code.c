@@ -161,6 +161,8 @@ int bk_ir_emit(bk_form *f, bk_op op, int a, int b, int c)
 	int same = identity(f, op, a, b);
 	if (same >= 0)
 		return same;
+	if (op == BK_OP_NEG && f->code[a].op == BK_OP_NEG)
+		return f->code[a].a; /* -(-x) = x, exact in every precision */
 	if (commutative(op) && b < a) {
 		arg[0] = b;
 		arg[1] = a;

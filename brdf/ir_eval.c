@@ -21,43 +21,84 @@ static float round16(float x) { return (float)bk_half_round(x); }
 static float round32(float x) { return x; }
 static double round64(double x) { return x; }
 
+/*
+ * Why the kernel is shaped as it is (speed, not semantics: every result is
+ * still rounded by R): each op runs over a whole BLOCK — a constant trip count
+ * — inside a function whose register pointers are restrict (a result register
+ * never overlaps its operands, which come earlier in the list; two operands
+ * may be the same register, which restrict allows as both are only read).
+ * Those two facts are what gcc -O2's cheap vectoriser needs to vectorise the
+ * arithmetic loops without runtime alias checks or a scalar epilogue; with a
+ * variable count and plain pointers every loop stayed scalar and the IR ran
+ * about 4-5x slower than the same form compiled (analysis/bench_ir.c). The
+ * lanes past the last sample of a partial block hold copies of that sample's
+ * inputs; they are computed and never copied out.
+ *
+ * The inputs come from arrays far larger than the caches, a block at a time:
+ * asking for the next block's lines while this one computes hides the memory
+ * latency that otherwise took ~40% of the f32 time (perf on bench_ir). A hint
+ * only, on addresses inside the caller's arrays; where the compiler has no
+ * prefetch builtin it compiles to nothing.
+ */
+#if defined(__GNUC__)
+#define PREFETCH(p) __builtin_prefetch(p)
+#else
+#define PREFETCH(p) ((void)(p))
+#endif
+#define LINE 8 /* doubles per 64-byte cache line */
+
 /* KERNEL(name, T, R): R rounds a T to the precision being modelled. */
 #define KERNEL(NAME, T, R)                                                               \
-	static void NAME(const bk_form *f, size_t n, const double *const *in,                \
-	                 const double *par, T *reg, double *out)                             \
+	static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
+	                             const T *restrict B, const T *restrict C)              \
+	{                                                                                    \
+		size_t k;                                                                        \
+		switch (c->op) {                                                                 \
+		case BK_OP_ADD: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] + B[k]); break;       \
+		case BK_OP_SUB: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] - B[k]); break;       \
+		case BK_OP_MUL: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] * B[k]); break;       \
+		case BK_OP_DIV: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] / B[k]); break;       \
+		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
+		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
+		case BK_OP_POW: for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); break;   \
+		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
+		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
+		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
+		case BK_OP_EXP: for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); break;         \
+		case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) r[k] = R(exp2(A[k])); break;       \
+		case BK_OP_LOG: for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); break;         \
+		case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) r[k] = R(log2(A[k])); break;       \
+		case BK_OP_MIN: for (k = 0; k < BLOCK; k++) r[k] = fmin(A[k], B[k]); break;     \
+		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = fmax(A[k], B[k]); break;     \
+		case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) r[k] = fmin(fmax(A[k], B[k]), C[k]); break; \
+		case BK_OP_SATURATE: for (k = 0; k < BLOCK; k++) r[k] = fmin(fmax(A[k], (T)0), (T)1); break; \
+		case BK_OP_MIX: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] + R(R(B[k] - A[k]) * C[k])); break; \
+		case BK_OP_ABS: for (k = 0; k < BLOCK; k++) r[k] = fabs(A[k]); break;           \
+		default: for (k = 0; k < BLOCK; k++) r[k] = (T)NAN; break;                       \
+		}                                                                                \
+	}                                                                                    \
+	/* n samples from in; ahead more follow them (prefetched). first: the first \
+	 * block of a call, when constants and parameters are loaded; they stay in  \
+	 * their registers for the blocks after it. */                                \
+	static void NAME(const bk_form *f, size_t n, size_t ahead, int first,                \
+	                 const double *const *in, const double *par, T *reg, double *out)    \
 	{                                                                                    \
 		for (int i = 0; i < f->n; i++) {                                                 \
 			const bk_instr *c = &f->code[i];                                             \
 			T *r = reg + (size_t)i * BLOCK;                                              \
-			const T *A = reg + (size_t)(c->a < 0 ? 0 : c->a) * BLOCK;                    \
-			const T *B = reg + (size_t)(c->b < 0 ? 0 : c->b) * BLOCK;                    \
-			const T *C = reg + (size_t)(c->c < 0 ? 0 : c->c) * BLOCK;                    \
 			size_t k;                                                                    \
 			switch (c->op) {                                                             \
-			case BK_OP_CONST: { T v = R((T)c->k); for (k = 0; k < n; k++) r[k] = v; } break; \
-			case BK_OP_PARAM: { T v = R((T)par[c->slot]); for (k = 0; k < n; k++) r[k] = v; } break; \
-			case BK_OP_INPUT: for (k = 0; k < n; k++) r[k] = R((T)in[c->slot][k]); break; \
-			case BK_OP_ADD: for (k = 0; k < n; k++) r[k] = R(A[k] + B[k]); break;       \
-			case BK_OP_SUB: for (k = 0; k < n; k++) r[k] = R(A[k] - B[k]); break;       \
-			case BK_OP_MUL: for (k = 0; k < n; k++) r[k] = R(A[k] * B[k]); break;       \
-			case BK_OP_DIV: for (k = 0; k < n; k++) r[k] = R(A[k] / B[k]); break;       \
-			case BK_OP_NEG: for (k = 0; k < n; k++) r[k] = -A[k]; break;                \
-			case BK_OP_MAD: for (k = 0; k < n; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
-			case BK_OP_POW: for (k = 0; k < n; k++) r[k] = R(pow(A[k], B[k])); break;   \
-			case BK_OP_SQRT: for (k = 0; k < n; k++) r[k] = R(sqrt(A[k])); break;       \
-			case BK_OP_RSQRT: for (k = 0; k < n; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
-			case BK_OP_RCP: for (k = 0; k < n; k++) r[k] = R((T)1 / A[k]); break;       \
-			case BK_OP_EXP: for (k = 0; k < n; k++) r[k] = R(exp(A[k])); break;         \
-			case BK_OP_EXP2: for (k = 0; k < n; k++) r[k] = R(exp2(A[k])); break;       \
-			case BK_OP_LOG: for (k = 0; k < n; k++) r[k] = R(log(A[k])); break;         \
-			case BK_OP_LOG2: for (k = 0; k < n; k++) r[k] = R(log2(A[k])); break;       \
-			case BK_OP_MIN: for (k = 0; k < n; k++) r[k] = fmin(A[k], B[k]); break;     \
-			case BK_OP_MAX: for (k = 0; k < n; k++) r[k] = fmax(A[k], B[k]); break;     \
-			case BK_OP_CLAMP: for (k = 0; k < n; k++) r[k] = fmin(fmax(A[k], B[k]), C[k]); break; \
-			case BK_OP_SATURATE: for (k = 0; k < n; k++) r[k] = fmin(fmax(A[k], (T)0), (T)1); break; \
-			case BK_OP_MIX: for (k = 0; k < n; k++) r[k] = R(A[k] + R(R(B[k] - A[k]) * C[k])); break; \
-			case BK_OP_ABS: for (k = 0; k < n; k++) r[k] = fabs(A[k]); break;           \
-			default: for (k = 0; k < n; k++) r[k] = (T)NAN; break;                       \
+			case BK_OP_CONST: if (first) { T v = R((T)c->k); for (k = 0; k < BLOCK; k++) r[k] = v; } break; \
+			case BK_OP_PARAM: if (first) { T v = R((T)par[c->slot]); for (k = 0; k < BLOCK; k++) r[k] = v; } break; \
+			case BK_OP_INPUT:                                                            \
+				for (k = 0; k < ahead; k += LINE) PREFETCH(in[c->slot] + n + k);         \
+				for (k = 0; k < n; k++) r[k] = R((T)in[c->slot][k]);                     \
+				for (; k < BLOCK; k++) r[k] = r[n - 1];                                  \
+				break;                                                                   \
+			default:                                                                     \
+				NAME##_op(c, r, reg + (size_t)(c->a < 0 ? 0 : c->a) * BLOCK,             \
+				          reg + (size_t)(c->b < 0 ? 0 : c->b) * BLOCK,                   \
+				          reg + (size_t)(c->c < 0 ? 0 : c->c) * BLOCK);                  \
 			}                                                                            \
 		}                                                                                \
 		const T *res = reg + (size_t)f->out * BLOCK;                                     \
@@ -87,14 +128,15 @@ int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
 	const double *blk[BK_IN_COUNT];
 	for (size_t s = 0; s < n; s += BLOCK) {
 		size_t m = n - s < BLOCK ? n - s : BLOCK;
+		size_t ahead = n - s - m < BLOCK ? n - s - m : BLOCK;
 		for (int i = 0; i < BK_IN_COUNT; i++)
 			blk[i] = in[i] ? in[i] + s : NULL;
 		if (prec == BK_F64)
-			run64(f, m, blk, params, reg, out + s);
+			run64(f, m, ahead, s == 0, blk, params, reg, out + s);
 		else if (prec == BK_F32)
-			run32(f, m, blk, params, reg, out + s);
+			run32(f, m, ahead, s == 0, blk, params, reg, out + s);
 		else
-			run16(f, m, blk, params, reg, out + s);
+			run16(f, m, ahead, s == 0, blk, params, reg, out + s);
 	}
 	free(reg);
 	return 0;

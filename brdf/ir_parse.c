@@ -118,7 +118,8 @@ static int power(parser *P, int x, int y)
 {
 	const bk_instr *yi = &P->f->code[y];
 	double k = yi->k;
-	if (yi->op != BK_OP_CONST || k != (int)k || k < -8 || k > 8)
+	/* range first: converting an out-of-range double to int is undefined */
+	if (yi->op != BK_OP_CONST || !(k >= -8 && k <= 8) || k != (int)k)
 		return bk_ir_emit(P->f, BK_OP_POW, x, y, -1);
 	int n = k < 0 ? -(int)k : (int)k;
 	int acc = -1, sq = x;
