@@ -68,6 +68,34 @@ expect_error "albedo unwritable" "$T/no/x.csv" $BK albedo --d ggx --v implicit -
 # nothing half-written: the failed commands above left no file or temporary
 [ -z "$(ls -A "$T" | grep -v '^out$\|^err$')" ] && ok || bad "left behind: $(ls -A "$T")"
 
+# the formula IR: 1/(0.5^2 (0.5 + 0.5)) = 4 exactly in every precision
+expect_out "eval exact" "f64 4
+f32 4
+f16 4" $BK eval '1/(LoH*LoH*(r+p0))' LoH=0.5 r=0.5 p0=0.5
+# 1/(0.003^2 * 0.6) = 185185 > 65504: only half precision overflows
+$BK eval '1/(LoH*LoH*(r+p0))' LoH=0.003 r=0.1 p0=0.5 >"$T/out" 2>&1
+grep -q '^f16 inf$' "$T/out" && grep -q '^f32 185185' "$T/out" && ok || bad "eval overflow: $(cat "$T/out")"
+# the talk's claims from the counter: one division, no other complex op ...
+$BK ops 'r^4 / (4*3.14159265*sq(NoH*NoH*(r^4 - 1) + 1) * LoH*LoH*(r + 0.5))' --csv >"$T/out"
+grep -q '^div,1$' "$T/out" && grep -q '^complex,1$' "$T/out" && ok || bad "ops talk specular: $(tr '\n' ' ' <"$T/out")"
+# ... none in its environment BRDF; Karis's EnvBRDFApprox has one exp2
+$BK ops env_talk_r:B --csv | grep -q '^complex,0$' && ok || bad "ops env_talk_r:B"
+$BK ops env_karis2014 --csv >"$T/out"
+grep -q '^exp2,1$' "$T/out" && grep -q '^complex,1$' "$T/out" && ok || bad "ops env_karis2014"
+n=$($BK catalog | tail -n +2 | wc -l)
+[ "$n" -ge 15 ] && ok || bad "catalog: $n entries"
+$BK catalog | head -1 | grep -q '^name,target,form,parameters,source' && ok || bad "catalog header"
+$BK codegen --lang glsl --precision mediump vf_talk_r >"$T/a.glsl" && $BK codegen --lang glsl --precision mediump vf_talk_r >"$T/b.glsl"
+cmp -s "$T/a.glsl" "$T/b.glsl" && grep -q 'DO NOT EDIT' "$T/a.glsl" && grep -q 'mediump float vf_talk_r' "$T/a.glsl" && ok || bad "codegen glsl"
+rm -f "$T/a.glsl" "$T/b.glsl"
+expect_error "eval parse" "form:1:18: expected ')' at end of form" $BK eval '1/(LoH*LoH*(r+p0)' LoH=0.5
+expect_error "eval missing input" "NoH" $BK eval 'D_ggx(NoH, a)' r=0.5
+expect_error "eval missing param" "p0" $BK eval 'NoV + p0' NoV=0.5
+expect_error "eval bad value" "'x'" $BK eval 'NoV' NoV=x
+expect_error "codegen lang" "'fortran'" $BK codegen --lang fortran NoV
+expect_error "codegen env needs part" "env_talk_r:A" $BK codegen --lang c env_talk_r
+expect_error "ops unknown function" "near 'foo'" $BK ops 'foo(NoV)'
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
