@@ -7,6 +7,7 @@
  * i.e. a far finer quadrature than any row compared (the "4x finer" reference
  * of issue 2, for an adaptive rule: its tolerance is 10^4..10^6 x tighter).
  */
+#include "bench.h"
 #include "brdf.h"
 
 #include <math.h>
@@ -24,27 +25,6 @@ typedef struct method {
 	double times[REPS], err, err_nov, err_r;
 } method;
 
-static double now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return (x > y) - (x < y);
-}
-
-static double median(const double *v)
-{
-	double s[REPS];
-	for (int i = 0; i < REPS; i++)
-		s[i] = v[i];
-	qsort(s, REPS, sizeof s[0], cmp_double);
-	return s[REPS / 2];
-}
 
 static void max_error(method *m, const double *A, const double *B, const double *rA, const double *rB)
 {
@@ -70,15 +50,15 @@ int main(void)
 	const int nm = (int)(sizeof ms / sizeof ms[0]);
 
 	fprintf(stderr, "bench_dfg: reference %dx%d LUT at tol 1e-10 (height-correlated Smith)...\n", SIZE, SIZE);
-	double t0 = now();
+	double t0 = bench_now();
 	bk_dfg_lut(SIZE, BK_SMITH_CORRELATED, 0, 1e-10, rA, rB, NULL, NULL);
-	fprintf(stderr, "bench_dfg: reference took %.1f s; timing %d runs of each\n", now() - t0, REPS);
+	fprintf(stderr, "bench_dfg: reference took %.1f s; timing %d runs of each\n", bench_now() - t0, REPS);
 
 	for (int rep = 0; rep < REPS; rep++)
 		for (int i = 0; i < nm; i++) {
-			double t = now();
+			double t = bench_now();
 			bk_dfg_lut(SIZE, BK_SMITH_CORRELATED, ms[i].samples, ms[i].tol, A, B, NULL, NULL);
-			ms[i].times[rep] = now() - t;
+			ms[i].times[rep] = bench_now() - t;
 			if (rep == 0)
 				max_error(&ms[i], A, B, rA, rB);
 		}
@@ -87,9 +67,9 @@ int main(void)
 	       SIZE, SIZE, REPS);
 	printf("%-40s %10s %12s   %s\n", "method", "time (ms)", "max |error|", "worst texel (NoV, r)");
 	for (int i = 0; i < nm; i++)
-		printf("%-40s %10.1f %12.3g   (%.4f, %.4f)\n", ms[i].name, 1e3 * median(ms[i].times), ms[i].err,
+		printf("%-40s %10.1f %12.3g   (%.4f, %.4f)\n", ms[i].name, 1e3 * bench_median(ms[i].times, REPS), ms[i].err,
 		       ms[i].err_nov, ms[i].err_r);
-	double tmc = median(ms[0].times), tdet = median(ms[1].times);
+	double tmc = bench_median(ms[0].times, REPS), tdet = bench_median(ms[1].times, REPS);
 	double ratio = ms[0].err / ms[1].err;
 	printf("\ntarget: deterministic error >= 100x lower than the 1024-sample bake at no more than its time\n");
 	printf("        tol 1e-4: error %.0fx lower, time %.2fx the bake's -> %s\n", ratio, tdet / tmc,

@@ -12,6 +12,7 @@
  * sample loop calling it; the second build includes that output
  * (build/bench_ir_gen.h) and times it.
  */
+#include "bench.h"
 #include "brdf.h"
 
 #include <math.h>
@@ -98,26 +99,6 @@ int main(void)
 enum { IR64, IR32, IR16, COMPILED, NMETHODS };
 static const char *const method_name[NMETHODS] = {"IR f64", "IR f32", "IR f16", "emitted C, -O2"};
 
-static double now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-	double x = *(const double *)a, y = *(const double *)b;
-	return (x > y) - (x < y);
-}
-
-static double median(const double *v)
-{
-	double s[REPS];
-	memcpy(s, v, sizeof s);
-	qsort(s, REPS, sizeof s[0], cmp_double);
-	return s[REPS / 2];
-}
 
 /* Cosines in (0, 1], r in [0.02, 1] (a = r*r), f0 in [0.02, 1]: the physical
  * domain, from a fixed sequence so that every run times the same samples. */
@@ -136,7 +117,7 @@ static void fill_inputs(double *in[BK_IN_COUNT])
 
 static double run(int method, const bk_form *f, int form, const double *const *in, double *out)
 {
-	double t = now();
+	double t = bench_now();
 	if (method == COMPILED)
 		compiled[form](N, in, out);
 	else if (bk_form_eval(f, method == IR64 ? BK_F64 : method == IR32 ? BK_F32 : BK_F16, N, in,
@@ -144,7 +125,7 @@ static double run(int method, const bk_form *f, int form, const double *const *i
 		fprintf(stderr, "bench_ir: bk_form_eval failed\n");
 		exit(1);
 	}
-	return now() - t;
+	return bench_now() - t;
 }
 
 /* The emitted C and the f32 kernel do the same float operations: they should
@@ -193,10 +174,10 @@ int main(void)
 		printf("\n%s: %s\n  %s\n  %d ops (%d simple, %d complex); emitted C vs IR f32: max rel diff %.3g\n",
 		       forms[j].name, forms[j].what, forms[j].text, ops.simple + ops.complex, ops.simple,
 		       ops.complex, max_rel_diff(out[IR32], out[COMPILED]));
-		double tc = median(times[j][COMPILED]);
+		double tc = bench_median(times[j][COMPILED], REPS);
 		printf("  %-16s %12s %14s\n", "method", "ns/sample", "x emitted C");
 		for (int m = 0; m < NMETHODS; m++) {
-			double t = median(times[j][m]);
+			double t = bench_median(times[j][m], REPS);
 			printf("  %-16s %12.2f %14.2f\n", method_name[m], 1e9 * t / N, t / tc);
 			if ((m == IR64 || m == IR32) && t > 3 * tc)
 				met = 0;

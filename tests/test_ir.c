@@ -7,6 +7,7 @@
  */
 #include "brdf.h"
 #include "ir.h"
+#include "fuzz/exercise.h"
 
 #include <criterion/criterion.h>
 #include <dirent.h>
@@ -344,37 +345,13 @@ Test(eval, missing_input_is_an_error)
 
 /* ---- fuzzing regressions ---------------------------------------------------------- */
 
-/* What the fuzz harness does to one input; crashes and sanitizer reports are
- * the failure (the sanitized run of make test). Returns 1 if it parsed. */
+/* The harness's own steps on one input; crashes and sanitizer reports are
+ * the failure (the sanitized run of make test). */
 static int exercise(const char *text)
 {
-	bk_form_error e;
-	bk_form *f = bk_form_parse(text, &e);
-	if (!f) {
-		cr_assert(e.column >= 1 && e.message[0], "no error text for '%s'", text);
-		return 0;
-	}
-	enum { N = 4 };
-	static const double NoV[N] = {0.5, 1.0, 1e-4, 0.0}, NoL[N] = {0.7, 0.0, 1.0, 0.3},
-	                    NoH[N] = {0.9, 1.0, 0.0, 0.5}, LoH[N] = {0.8, 0.0, 1.0, 0.1},
-	                    r[N] = {0.5, 0.0, 1.0, 0.089}, a[N] = {0.25, 0.0, 1.0, 0.007921},
-	                    f0[N] = {0.04, 1.0, 0.0, 0.5};
-	const double *in[BK_IN_COUNT] = {NoV, NoL, NoH, LoH, r, a, f0};
-	double params[BK_MAX_PARAMS], out[N], jac[N * BK_MAX_PARAMS];
-	for (int i = 0; i < BK_MAX_PARAMS; i++)
-		params[i] = 0.25 * (i + 1);
-	for (int p = BK_F64; p <= BK_F16; p++)
-		cr_assert_eq(bk_form_eval(f, (bk_precision)p, N, in, params, out), 0);
-	cr_assert_eq(bk_form_eval_diff(f, N, in, params, out, jac), 0);
-	bk_ops ops;
-	bk_form_count(f, &ops);
-	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++) {
-		char *code = bk_form_emit(f, (bk_lang)lang, lang != BK_LANG_C, params, NULL);
-		cr_assert_not_null(code);
-		free(code);
-	}
-	bk_form_free(f);
-	return 1;
+	int rc = bk_exercise_form(text);
+	cr_assert(rc >= 0, "a step failed on '%s'", text);
+	return rc;
 }
 
 static int replay_dir(const char *dir)

@@ -1,0 +1,35 @@
+/*
+ * bench.h — what every benchmark program shares: a monotonic clock and the
+ * median of repeated runs (medians, not means: one preempted run must not move
+ * the figure).
+ */
+#ifndef ANALYSIS_BENCH_H
+#define ANALYSIS_BENCH_H
+
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static inline double bench_now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static inline int bench_cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+/* Median of n <= 64 values (the upper middle one for even n). */
+static inline double bench_median(const double *v, int n)
+{
+	double s[64];
+	memcpy(s, v, sizeof(double) * (size_t)n);
+	qsort(s, (size_t)n, sizeof s[0], bench_cmp_double);
+	return s[n / 2];
+}
+
+#endif
