@@ -9,27 +9,33 @@
 # packages with apt-get when run as root, otherwise prints the apt-get line.
 
 CC      = gcc
+CXX     = g++
 PREFIX ?= /usr/local
 OPT    ?= -O2 -g
 CSTD    = -std=c11 -D_POSIX_C_SOURCE=200809L
 WARN    = -Wall -Wextra -Werror
 INC     = -Ibrdf -Ifit -Ianalysis -I/usr/include/OpenEXR
+CXXSTD  = -std=c++17
+# Eigen as a system header: gcc 12 warns inside it (maybe-uninitialized)
+EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3))
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
+# Ceres ships no pkg-config file (toolchain.md); its headers inline glog, so glog is named
+LIBS    = -lceres -lglog -lpng $(EXR_LIB) -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
-# Debian packages this tree needs now (Ceres and libpng join with the fitter and
-# the heatmaps; glslang-tools proves generated GLSL/HLSL compiles).
-DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools
+# Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
+# compiles; Ceres is the least-squares solver, libpng the heatmaps).
+DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools libceres-dev libpng-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
 
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
-FIT_SRC  = $(sort $(wildcard fit/*.c))
+FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
 TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c))) $(FIT_SRC)
 TEST_SRC = $(sort $(wildcard tests/*.c))
-SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c $(FIT_SRC)   # modules the tests link too
+SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c analysis/heatmap.c $(FIT_SRC)   # modules the tests link too
 
-obj = $(patsubst %.c,$(1)/%.o,$(2))
+obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 
 LIB   = build/libbrdf.a
 TOOL  = build/brdfkit
@@ -71,20 +77,29 @@ build/san/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) -O1 -g $(SAN) $(INC) -MMD -MP -c $< -o $@
 
+# C++: the Ceres bridge and Eigen, nothing else (fit/*.cc)
+build/obj/%.o: %.cc | deps
+	@mkdir -p $(dir $@)
+	$(CXX) $(CXXSTD) $(WARN) $(OPT) $(EIGEN) $(INC) -MMD -MP -c $< -o $@
+
+build/san/obj/%.o: %.cc | deps
+	@mkdir -p $(dir $@)
+	$(CXX) $(CXXSTD) $(WARN) -O1 -g $(SAN) $(EIGEN) $(INC) -MMD -MP -c $< -o $@
+
 $(LIB): $(call obj,build/obj,$(LIB_SRC))
 	ar rcs $@ $^
 $(SLIB): $(call obj,build/san/obj,$(LIB_SRC))
 	ar rcs $@ $^
 
 $(TOOL): $(call obj,build/obj,$(TOOL_SRC)) $(LIB)
-	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
 $(STOOL): $(call obj,build/san/obj,$(TOOL_SRC)) $(SLIB)
-	$(CC) $(SAN) $^ $(EXR_LIB) -lm -o $@
+	$(CXX) $(SAN) $^ $(LIBS) -o $@
 
 $(TESTS): $(call obj,build/obj,$(TEST_SRC) $(SUPPORT)) $(LIB)
-	$(CC) $(OPT) $^ -lcriterion $(EXR_LIB) -lm -o $@
+	$(CXX) $(OPT) $^ -lcriterion $(LIBS) -o $@
 $(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
-	$(CC) $(SAN) $^ -lcriterion $(EXR_LIB) -lm -o $@
+	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
 
 $(BENCH): $(call obj,build/obj,analysis/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@

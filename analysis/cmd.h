@@ -13,5 +13,6 @@ int cmd_eval(int argc, char **argv);
 int cmd_ops(int argc, char **argv);
 int cmd_codegen(int argc, char **argv);
 int cmd_catalog(int argc, char **argv);
+int cmd_fit(int argc, char **argv);
 
 #endif

@@ -20,6 +20,7 @@ static const struct {
 	{"ops", cmd_ops, "op counts per class and the cost of a form"},
 	{"codegen", cmd_codegen, "generate a C, GLSL or HLSL function from a form"},
 	{"catalog", cmd_catalog, "the published forms, as CSV"},
+	{"fit", cmd_fit, "fit a form to a target with Ceres; tables, heatmaps, shaders"},
 };
 
 static void usage(FILE *out)

@@ -1,0 +1,587 @@
+/*
+ * cmd_fit.c — brdfkit fit: a form (or a split-sum pair) fitted to a target,
+ * with coefficient and metric tables, error heatmaps and shaders written into
+ * one directory, whole or not at all.
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "fit.h"
+#include "heatmap.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+typedef struct fit_cli {
+	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
+	const char *r_range, *x_range, *bounds, *talk, *smith, *hold;
+	cli_list f0;
+	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
+	double loss_scale, ior, k;
+	int relative;
+} fit_cli;
+
+static int range(const char *opt, const char *text, double *lo, double *hi)
+{
+	char *end;
+	*lo = strtod(text, &end);
+	if (end == text || *end != ':' || (*hi = strtod(end + 1, &end), *end) || !(*lo < *hi) ||
+	    !isfinite(*lo) || !isfinite(*hi)) {
+		fprintf(stderr, "brdfkit fit: %s: expected LO:HI with LO < HI, got '%s'\n", opt, text);
+		return 2;
+	}
+	return 0;
+}
+
+/* --bound p0=lo:hi[,p1=lo:hi...] */
+static int bounds(const char *text, double *lower, double *upper)
+{
+	char buf[1024];
+	snprintf(buf, sizeof buf, "%s", text);
+	char *save = NULL;
+	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		char *eq = strchr(t, '=');
+		char *end;
+		long j = (t[0] == 'p' && eq) ? strtol(t + 1, &end, 10) : -1;
+		if (j < 0 || j >= BK_MAX_PARAMS || end != eq) {
+			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", t);
+			return 2;
+		}
+		if (range("--bound", eq + 1, &lower[j], &upper[j]))
+			return 2;
+	}
+	return 0;
+}
+
+static int parse_form(const char *what, const char *text, bk_form **f)
+{
+	bk_form_error e;
+	*f = bk_form_parse(text, &e);
+	if (!*f) {
+		fprintf(stderr, "brdfkit fit: %s:1:%d: %s\n", what, e.column, e.message);
+		return 2;
+	}
+	return 0;
+}
+
+/* Which forms, and their published constants when they come from the catalog. */
+typedef struct forms {
+	bk_form *f[2];
+	const char *text[2];
+	const bk_catalog_entry *entry;
+	int split;
+} forms;
+
+static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
+{
+	memset(fs, 0, sizeof *fs);
+	if (!!a->form == !!(a->form_a || a->form_b) || (!a->form && !(a->form_a && a->form_b))) {
+		fprintf(stderr, "brdfkit fit: give --form FORM|NAME, or --form-a and --form-b\n");
+		return 2;
+	}
+	if (a->form && (fs->entry = bk_catalog_find(a->form))) {
+		fs->text[0] = fs->entry->form;
+		fs->text[1] = fs->entry->form_b;
+	} else if (a->form) {
+		fs->text[0] = a->form;
+	} else {
+		fs->text[0] = a->form_a;
+		fs->text[1] = a->form_b;
+	}
+	fs->split = fs->text[1] != NULL;
+	if (fs->split && kind != BK_TARGET_ENV) {
+		fprintf(stderr, "brdfkit fit: two forms (A and B) fit only the env target\n");
+		return 2;
+	}
+	if (parse_form(fs->split ? "form-a" : "form", fs->text[0], &fs->f[0]))
+		return 2;
+	if (fs->split && parse_form("form-b", fs->text[1], &fs->f[1])) {
+		bk_form_free(fs->f[0]);
+		return 2;
+	}
+	return 0;
+}
+
+static int parse_enum(const char *opt, const char *text, const char *const *names, int n, int *out)
+{
+	for (int i = 0; i < n; i++)
+		if (!strcmp(text, names[i])) {
+			*out = i;
+			return 0;
+		}
+	fprintf(stderr, "brdfkit fit: %s: unknown value '%s'\n", opt, text);
+	return 2;
+}
+
+/* ---- outputs ------------------------------------------------------------ */
+
+static void metrics_row(FILE *f, const char *label, const bk_fit_metrics *m)
+{
+	fprintf(f, "%s,%.9g,%.9g,%.9g,%.9g,%.9g,", label, m->cost, m->rmse, m->weighted_rmse, m->max_abs,
+	        m->max_rel);
+	if (isfinite(m->albedo_max_abs))
+		fprintf(f, "%.9g", m->albedo_max_abs);
+	fputc('\n', f);
+}
+
+typedef struct run {
+	const fit_cli *a;
+	forms fs;
+	bk_target_options to;
+	bk_samples s;
+	bk_fit_spec spec;
+	bk_fit_result res;
+	int has_published;
+	char command[2048];
+} run;
+
+static FILE *open_in(const char *dir, const char *name)
+{
+	char path[4200];
+	snprintf(path, sizeof path, "%.4000s/%.150s", dir, name);
+	return fopen(path, "w");
+}
+
+static void header(FILE *f, const run *R, const char *what)
+{
+	fprintf(f, "# brdfkit %s %s\n# command: %s\n# target: %s\n", BK_VERSION, what, R->command, R->s.description);
+	fprintf(f, "# residuals: %s; conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
+	        R->spec.relative ? "relative (f - y)/|y|" : "absolute f - y");
+}
+
+static int write_tables(const run *R, const char *dir)
+{
+	FILE *f = open_in(dir, "coefficients.csv");
+	if (!f)
+		return -1;
+	header(f, R, "fitted coefficients");
+	fputs("form,parameter,value,standard_error\n", f);
+	const char *form = R->fs.entry ? R->fs.entry->name : R->fs.split ? "form-a/form-b" : R->fs.text[0];
+	for (int j = 0; j < R->spec.np; j++) {
+		cli_csv_field(f, form);
+		fprintf(f, ",p%d,%.9g,", j, R->res.p[j]);
+		if (isfinite(R->res.se[j]))
+			fprintf(f, "%.3g", R->res.se[j]);
+		fputc('\n', f);
+	}
+	int bad = ferror(f);
+	bad |= fclose(f);
+	if (!(f = open_in(dir, "metrics.csv")))
+		return -1;
+	header(f, R, "fit metrics");
+	fputs("constants,cost,rmse,weighted_rmse,max_abs,max_rel,albedo_max_abs\n", f);
+	metrics_row(f, "fitted", &R->res.fitted);
+	if (R->has_published)
+		metrics_row(f, "published", &R->res.published);
+	if (R->spec.digits)
+		metrics_row(f, "unrounded", &R->res.before_digits);
+	bad |= ferror(f);
+	bad |= fclose(f);
+	if (R->s.ncomp == 2) { /* env split: A, B and A + B (the albedo at f0 = 1) */
+		if (!(f = open_in(dir, "metrics_env.csv")))
+			return -1;
+		header(f, R, "split-sum errors");
+		fputs("constants,component,rmse,max_abs\n", f);
+		static const char *const comp[3] = {"A", "B", "A+B"};
+		for (int k = 0; k < 3; k++)
+			fprintf(f, "fitted,%s,%.9g,%.9g\n", comp[k], R->res.fitted.comp_rmse[k], R->res.fitted.comp_max_abs[k]);
+		for (int k = 0; R->has_published && k < 3; k++)
+			fprintf(f, "published,%s,%.9g,%.9g\n", comp[k], R->res.published.comp_rmse[k],
+			        R->res.published.comp_max_abs[k]);
+		bad |= ferror(f);
+		bad |= fclose(f);
+	}
+	return bad ? -1 : 0;
+}
+
+static int write_heatmap(const run *R, const char *dir, char *err, size_t errlen)
+{
+	const bk_samples *s = &R->s;
+	size_t cells = (size_t)s->plane_nx * s->plane_ny;
+	double *v = malloc(sizeof(double) * cells);
+	if (!v)
+		return -1;
+	bk_fit_plane_error(&R->spec, R->res.p, v);
+	int albedo = R->res.fitted.albedo_max_abs == R->res.fitted.albedo_max_abs;
+	char title[256], value_name[64];
+	snprintf(title, sizeof title, "%s fitted on %s: %s", R->fs.entry ? R->fs.entry->name : "form",
+	         bk_target_name(R->to.kind),
+	         albedo ? "directional albedo error" : s->ncomp == 2 ? "A+B error (albedo at f0 = 1)" : "error (approx - exact)");
+	snprintf(value_name, sizeof value_name, "%s", albedo ? "albedo_error" : "error");
+	bk_heatmap h = {s->plane_nx, s->plane_ny, v, s->plane_x0, s->plane_x1, s->plane_y0, s->plane_y1,
+	                s->plane_xname, s->plane_yname, title, value_name, s->description};
+	int rc = bk_heatmap_write(&h, dir, "heatmap", err, errlen);
+	free(v);
+	return rc;
+}
+
+static int write_shaders(const run *R, const char *dir)
+{
+	static const struct { const char *file; bk_lang lang; } out[] = {
+		{"shader.c", BK_LANG_C}, {"shader.glsl", BK_LANG_GLSL}, {"shader.hlsl", BK_LANG_HLSL}};
+	char domain[600], error[200];
+	snprintf(domain, sizeof domain, "%s", R->s.description);
+	snprintf(error, sizeof error, "rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
+	         R->res.fitted.rmse, R->res.fitted.max_abs, R->res.fitted.max_rel, R->spec.relative ? "relative" : "absolute");
+	for (size_t k = 0; k < 3; k++) {
+		FILE *f = open_in(dir, out[k].file);
+		if (!f)
+			return -1;
+		for (int q = 0; q < (R->fs.split ? 2 : 1); q++) {
+			char name[64];
+			snprintf(name, sizeof name, "%s%s", R->fs.entry ? R->fs.entry->name : "brdfkit_fit",
+			         R->fs.split ? (q ? "_B" : "_A") : "");
+			bk_emit_info info = {name, R->fs.entry ? R->fs.entry->source : "user form",
+			                     R->fs.entry ? R->fs.entry->convention : "as the target's units (see domain)",
+			                     domain, error, R->command};
+			char *text = bk_form_emit(R->fs.f[q], out[k].lang, 0, R->res.p, &info);
+			if (!text) {
+				fclose(f);
+				return -1;
+			}
+			fprintf(f, "%s%s", q ? "\n" : "", text);
+			free(text);
+		}
+		if (ferror(f) | fclose(f))
+			return -1;
+	}
+	return 0;
+}
+
+static void remove_dir(const char *dir)
+{
+	static const char *const files[] = {"coefficients.csv", "metrics.csv", "metrics_env.csv", "heatmap.exr",
+	                                    "heatmap.png", "heatmap.csv", "shader.c", "shader.glsl", "shader.hlsl"};
+	char path[4200];
+	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
+		snprintf(path, sizeof path, "%.4000s/%.150s", dir, files[k]);
+		unlink(path);
+	}
+	rmdir(dir);
+}
+
+/* Everything into DIR.tmpXXXXXX, then renamed to DIR (an older DIR is set
+ * aside first and removed after): the directory is whole or absent. */
+static int write_outputs(const run *R, const char *out)
+{
+	char tmp[4200], old[4200], err[512] = "";
+	snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
+	if (!mkdtemp(tmp))
+		return cli_fail("fit", "%s: cannot create: %s", out, strerror(errno));
+	int rc = write_tables(R, tmp);
+	if (rc == 0 && (rc = write_heatmap(R, tmp, err, sizeof err)) == 0)
+		rc = write_shaders(R, tmp);
+	if (rc) {
+		remove_dir(tmp);
+		return cli_fail("fit", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
+	}
+	struct stat st;
+	int had = stat(out, &st) == 0;
+	if (had && !S_ISDIR(st.st_mode)) {
+		remove_dir(tmp);
+		return cli_fail("fit", "%s: exists and is not a directory", out);
+	}
+	snprintf(old, sizeof old, "%s.oldXXXXXX", out);
+	if (had && (!mkdtemp(old) || rmdir(old) || rename(out, old))) {
+		remove_dir(tmp);
+		return cli_fail("fit", "%s: cannot replace: %s", out, strerror(errno));
+	}
+	if (rename(tmp, out)) {
+		int e = errno;
+		remove_dir(tmp);
+		if (had)
+			rename(old, out);
+		return cli_fail("fit", "%s: %s", out, strerror(e));
+	}
+	if (had)
+		remove_dir(old);
+	return 0;
+}
+
+/* ---- the command ---------------------------------------------------------- */
+
+static int setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
+{
+	bk_target_defaults(kind, to);
+	if (a->r_range && range("--r-range", a->r_range, &to->r_lo, &to->r_hi))
+		return 2;
+	if (a->x_range && range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
+		return 2;
+	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
+		fprintf(stderr, "brdfkit fit: ranges must lie in [0, 1] (cosines and perceptual roughness)\n");
+		return 2;
+	}
+	if (a->nx) to->nx = (int)a->nx;
+	if (a->nr) to->nr = (int)a->nr;
+	if (a->nu) to->nu = (int)a->nu;
+	if (a->nphi) to->nphi = (int)a->nphi;
+	if (a->f0.n) {
+		if (a->f0.n > BK_TARGET_MAX_F0) {
+			fprintf(stderr, "brdfkit fit: --f0: at most %d values\n", BK_TARGET_MAX_F0);
+			return 2;
+		}
+		to->nf0 = a->f0.n;
+		memcpy(to->f0, a->f0.v, sizeof(double) * (size_t)a->f0.n);
+	}
+	int v;
+	static const char *const talk[] = {"r", "a"};
+	if (a->talk && parse_enum("--talk-roughness", a->talk, talk, 2, &v))
+		return 2;
+	to->talk_alpha = a->talk && v == 1;
+	if (a->smith && bk_smith_parse(a->smith, &to->smith)) {
+		fprintf(stderr, "brdfkit fit: --smith: unknown model '%s'\n", a->smith);
+		return 2;
+	}
+	if (a->ior > 0)
+		to->eta = a->ior, to->k = a->k;
+	return 0;
+}
+
+static int setup_spec(run *R, char **pos, int npos)
+{
+	const fit_cli *a = R->a;
+	bk_fit_spec *sp = &R->spec;
+	bk_fit_options defaults = BK_FIT_OPTIONS_INIT;
+	sp->opt = defaults;
+	sp->s = &R->s;
+	sp->form[0] = R->fs.f[0];
+	sp->form[1] = R->fs.f[1];
+	sp->np = bk_form_nparams(R->fs.f[0]);
+	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > sp->np)
+		sp->np = bk_form_nparams(R->fs.f[1]);
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		sp->lower[j] = -HUGE_VAL;
+		sp->upper[j] = HUGE_VAL;
+		sp->start[j] = R->fs.entry && j < R->fs.entry->nparams ? R->fs.entry->defaults[j] : NAN;
+	}
+	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
+		char *end;
+		long j = pos[i][0] == 'p' ? strtol(pos[i] + 1, &end, 10) : -1;
+		double v = j >= 0 && *end == '=' ? strtod(end + 1, &end) : NAN;
+		if (j < 0 || j >= BK_MAX_PARAMS || *end || !isfinite(v)) {
+			fprintf(stderr, "brdfkit fit: expected pN=VALUE (a starting value), got '%s'\n", pos[i]);
+			return 2;
+		}
+		sp->start[j] = v;
+	}
+	for (int j = 0; j < sp->np; j++)
+		if (!isfinite(sp->start[j])) {
+			fprintf(stderr, "brdfkit fit: no starting value for p%d: give p%d=VALUE\n", j, j);
+			return 2;
+		}
+	if (a->bounds && bounds(a->bounds, sp->lower, sp->upper))
+		return 2;
+	if (a->hold) {
+		char buf[256], *save = NULL;
+		snprintf(buf, sizeof buf, "%s", a->hold);
+		for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+			char *end;
+			long j = t[0] == 'p' ? strtol(t + 1, &end, 10) : -1;
+			if (j < 0 || j >= sp->np || *end) {
+				fprintf(stderr, "brdfkit fit: --hold: expected parameters of the form (p0..p%d), got '%s'\n",
+				        sp->np - 1, t);
+				return 2;
+			}
+			sp->hold[j] = 1;
+		}
+	}
+	sp->relative = a->relative;
+	sp->starts = (int)a->starts;
+	sp->seed = (unsigned long)a->seed;
+	int v;
+	static const char *const losses[] = {"none", "huber", "cauchy", "softl1"};
+	static const char *const trs[] = {"lm", "dogleg"};
+	static const char *const objs[] = {"lsq", "minimax"};
+	if (parse_enum("--loss", a->loss, losses, 4, &v))
+		return 2;
+	sp->opt.loss = (bk_loss)v;
+	sp->opt.loss_scale = a->loss_scale;
+	if (parse_enum("--trust-region", a->tr, trs, 2, &v))
+		return 2;
+	sp->opt.trust_region = (bk_trust_region)v;
+	if (parse_enum("--objective", a->objective, objs, 2, &v))
+		return 2;
+	sp->minimax = v;
+	sp->opt.max_iterations = (int)a->max_iter;
+	sp->opt.num_threads = (int)a->threads;
+	if (a->digits) {
+		char *end;
+		sp->digits = !strcmp(a->digits, "half") ? -1 : (int)strtol(a->digits, &end, 10);
+		if (sp->digits == 0 || (sp->digits > 0 && (*end || sp->digits > 17))) {
+			fprintf(stderr, "brdfkit fit: --digits: expected 1..17 or half, got '%s'\n", a->digits);
+			return 2;
+		}
+	}
+	return 0;
+}
+
+/* Forms may read only what the target provides; a non-finite form fails. */
+static int check_forms(run *R)
+{
+	const bk_samples *s = &R->s;
+	for (int q = 0; q < s->ncomp; q++) {
+		unsigned extra = bk_form_inputs(R->spec.form[q]) & ~s->provides;
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			if (extra >> k & 1)
+				return cli_fail("fit", "the form reads %s, which target %s does not provide",
+				                bk_input_name((bk_input)k), bk_target_name(R->to.kind));
+	}
+	char where[256];
+	size_t bad = bk_fit_nonfinite(&R->spec, R->spec.start, where, sizeof where);
+	if (bad)
+		return cli_fail("fit", "the form is NaN or infinite at %zu of %zu samples where the target is finite "
+		                "(first at %s): fix the form or the domain", bad, s->n, where);
+	int edge = bk_fit_edge_check(&R->spec, R->spec.start, where, sizeof where);
+	if (edge)
+		fprintf(stderr, "brdfkit fit: warning: the form is infinite at %d points on the edge of the domain, "
+		        "where the target is finite (e.g. %s); near there it rules a least-squares fit\n", edge, where);
+	return 0;
+}
+
+static void report(const run *R, int rc)
+{
+	const bk_fit_result *res = &R->res;
+	static const char *const term[] = {"converged", "did not converge", "failed"};
+	printf("fit %s on %s: %s after %d iterations (%d bound re-solves), cost %.6g -> %.6g, %.2f s\n",
+	       R->fs.entry ? R->fs.entry->name : "form", bk_target_name(R->to.kind), term[res->summary.termination],
+	       res->summary.iterations, res->summary.bound_resolves, res->summary.initial_cost,
+	       res->summary.final_cost, res->summary.seconds);
+	if (R->spec.starts > 1)
+		printf("starts: %d, best cost %.6g, worst %.6g, failed %d\n", R->spec.starts, res->start_cost_min,
+		       res->start_cost_max, res->starts_failed);
+	for (int j = 0; j < R->spec.np; j++) {
+		printf("  p%-2d = %-14.9g", j, res->p[j]);
+		if (isfinite(res->se[j]))
+			printf(" ± %.2g", res->se[j]);
+		if (res->unidentified[j])
+			printf("  not identifiable (the data do not pin it)");
+		if (R->has_published && j < R->fs.entry->nparams)
+			printf("  (published %.9g)", R->fs.entry->defaults[j]);
+		putchar('\n');
+	}
+	printf("fitted:    rmse %.4g, max |err| %.4g, max rel %.4g", res->fitted.rmse, res->fitted.max_abs, res->fitted.max_rel);
+	if (isfinite(res->fitted.albedo_max_abs))
+		printf(", albedo max |err| %.4g", res->fitted.albedo_max_abs);
+	putchar('\n');
+	if (R->has_published) {
+		printf("published: rmse %.4g, max |err| %.4g, max rel %.4g", res->published.rmse, res->published.max_abs,
+		       res->published.max_rel);
+		if (isfinite(res->published.albedo_max_abs))
+			printf(", albedo max |err| %.4g", res->published.albedo_max_abs);
+		putchar('\n');
+	}
+	if (R->s.ncomp == 2)
+		printf("split sum: max |err| A %.4g, B %.4g, A+B %.4g\n", res->fitted.comp_max_abs[0],
+		       res->fitted.comp_max_abs[1], res->fitted.comp_max_abs[2]);
+	if (rc == 1)
+		printf("warning: the best start did not converge (iteration limit): raise --max-iterations\n");
+}
+
+int cmd_fit(int argc, char **argv)
+{
+	fit_cli a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
+	             .threads = 1, .loss_scale = 1.0};
+	cli_opt opts[] = {
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d or f", .dest = &a.target, .required = 1},
+		{.name = "--form", .kind = CLI_STR, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
+		{.name = "--form-a", .kind = CLI_STR, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
+		{.name = "--form-b", .kind = CLI_STR, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
+		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "perceptual roughness range (default 0:1)", .dest = &a.r_range},
+		{.name = "--x-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "LoH (vf2d, f), NoV (vf, spec, env) or NoH (d) range", .dest = &a.x_range},
+		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x", .dest = &a.nx, .lo = 1, .hi = 4096},
+		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness", .dest = &a.nr, .lo = 1, .hi = 4096},
+		{.name = "--nu", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: half-vector cells (GGX CDF)", .dest = &a.nu, .lo = 1, .hi = 1024},
+		{.name = "--nphi", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: azimuth cells", .dest = &a.nphi, .lo = 1, .hi = 1024},
+		{.name = "--f0", .kind = CLI_LIST, .metavar = "F[,F...]", .help = "f0 (first used; env forms in f0 use all)", .dest = &a.f0, .lo = 0, .hi = 1},
+		{.name = "--talk-roughness", .kind = CLI_STR, .metavar = "r|a", .help = "vf2d: read the talk's roughness as r (default) or alpha", .dest = &a.talk},
+		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.smith},
+		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index of the exact Fresnel (default 1.5)", .dest = &a.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
+		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.k, .lo = 0, .hi = 1e6},
+		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals (f - y)/|y|", .dest = &a.relative},
+		{.name = "--weight", .kind = CLI_STR, .metavar = "none|dnol|FORM", .help = "weight: none, D*NoL (vf default), or a formula multiplying it", .dest = &a.weight},
+		{.name = "--loss", .kind = CLI_STR, .metavar = "L", .help = "none (default), huber, cauchy, softl1 (per residual)", .dest = &a.loss},
+		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale of the robust loss (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
+		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},
+		{.name = "--max-iterations", .kind = CLI_INT, .metavar = "N", .help = "per solve (default 200)", .dest = &a.max_iter, .lo = 1, .hi = 100000},
+		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "Ceres threads (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
+		{.name = "--bound", .kind = CLI_STR, .metavar = "pN=LO:HI[,...]", .help = "parameter bounds", .dest = &a.bounds},
+		{.name = "--hold", .kind = CLI_STR, .metavar = "pN[,pM...]", .help = "keep these parameters at their start values", .dest = &a.hold},
+		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},
+		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the starts (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
+		{.name = "--objective", .kind = CLI_STR, .metavar = "lsq|minimax", .help = "least squares (default) or minimise the max error", .dest = &a.objective},
+		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits or to fp16, refitting the rest", .dest = &a.digits},
+	};
+	cli_cmd cmd = {"fit", "Fits a form to a target with Ceres and writes coefficients.csv, metrics.csv,\n"
+	               "heatmap.{exr,png,csv} and shader.{c,glsl,hlsl} into DIR.",
+	               "--target T (--form FORM|NAME | --form-a A --form-b B) --out DIR [p0=START ...] [options]",
+	               "Exit status: 0 converged, 3 did not converge (results written), 1 failed, 2 bad usage.",
+	               opts, (int)(sizeof opts / sizeof opts[0]), 16, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	run R;
+	memset(&R, 0, sizeof R);
+	R.a = &a;
+	size_t k = (size_t)snprintf(R.command, sizeof R.command, "brdfkit fit");
+	for (int i = 0; i < argc && k < sizeof R.command; i++)
+		k += (size_t)snprintf(R.command + k, sizeof R.command - k, " %s", argv[i]);
+	bk_target_kind kind;
+	if (bk_target_parse(a.target, &kind)) {
+		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f)\n", a.target);
+		return 2;
+	}
+	if ((rc = setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
+		return rc;
+	R.to.env_f0_form = kind == BK_TARGET_ENV && !R.fs.split;
+	bk_form *wform = NULL;
+	if (a.weight && !strcmp(a.weight, "none"))
+		R.to.weight = BK_WEIGHT_NONE;
+	else if (a.weight && !strcmp(a.weight, "dnol"))
+		R.to.weight = BK_WEIGHT_DNOL;
+	else if (a.weight && (rc = parse_form("weight", a.weight, &wform)))
+		goto done;
+	char err[512];
+	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)))
+		goto done;
+	R.spec.weight = wform;
+	char why[200];
+	if (!bk_fit_options_valid(&R.spec.opt, why, sizeof why)) {
+		fprintf(stderr, "brdfkit fit: %s\n", why);
+		rc = 2;
+		goto done;
+	}
+	if (bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err)) {
+		rc = cli_fail("fit", "%s", err);
+		goto done;
+	}
+	if ((rc = check_forms(&R)))
+		goto samples;
+	R.has_published = R.fs.entry != NULL;
+	if (R.has_published)
+		bk_fit_evaluate(&R.spec, R.spec.start, &R.res.published);
+	bk_fit_metrics published = R.res.published;
+	rc = bk_fit_run(&R.spec, &R.res);
+	R.res.published = published;
+	if (rc < 0) {
+		rc = cli_fail("fit", "%s", R.res.message);
+		goto samples;
+	}
+	report(&R, rc);
+	int status = rc == 1 ? 3 : 0;
+	rc = write_outputs(&R, a.out);
+	if (rc == 0)
+		rc = status;
+samples:
+	bk_samples_free(&R.s);
+done:
+	bk_form_free(R.fs.f[0]);
+	bk_form_free(R.fs.f[1]);
+	bk_form_free(wform);
+	return rc;
+}

@@ -1,0 +1,83 @@
+/*
+ * heatmap.h — error maps of a fitted approximation over a 2-D plane, written three
+ * ways: a PNG for a person (diverging colours, colour bar, labelled axes), a FLOAT
+ * OpenEXR for tools, and a tidy CSV for any plotting program. All three share one
+ * convention, stated in each file:
+ *
+ *   cells      value[j * nx + i], i = 0..nx-1 along x, j = 0..ny-1 along y
+ *   ranges     x0, x1, y0, y1 are the outer cell EDGES of the plane, so cell (i, j)
+ *              covers [x0 + i dx, x0 + (i + 1) dx] and its centre is
+ *              x = x0 + (i + 0.5) dx, dx = (x1 - x0)/nx (likewise y with dy, j, ny)
+ *   origin     y0 at the bottom, as a person reads a plot: in the PNG and the EXR the
+ *              last (bottom) row holds j = 0, the first (top) row j = ny - 1;
+ *              x0 is on the left
+ *   value      signed, e.g. error = approximation - target; NaN = no data
+ */
+#ifndef ANALYSIS_HEATMAP_H
+#define ANALYSIS_HEATMAP_H
+
+#include <stddef.h>
+
+typedef struct bk_heatmap {
+	int nx, ny;                /* cells, each 1..BK_HEATMAP_MAX_CELLS */
+	const double *value;       /* nx * ny values, value[j * nx + i]; NaN = no data */
+	double x0, x1, y0, y1;     /* cell edges (see above); finite, x0 != x1, y0 != y1 */
+	const char *xname, *yname; /* axis labels, units in brackets: "theta (deg)" */
+	const char *title;         /* PNG title, EXR/CSV provenance */
+	const char *value_name;    /* what value is: CSV column, colour bar label */
+	const char *conventions;   /* free text into the EXR header and CSV comments */
+} bk_heatmap;
+
+/* Cells per axis; keeps every size computation far from int overflow. */
+#define BK_HEATMAP_MAX_CELLS 16384
+
+/*
+ * Writes DIR/<stem>.exr, DIR/<stem>.png and DIR/<stem>.csv.
+ *   EXR  nx x ny, one FLOAT channel "Y" = value (signed, NaN kept), ZIP, with string
+ *        attributes brdfkit:title, brdfkit:axes, brdfkit:origin, brdfkit:value,
+ *        brdfkit:conventions, brdfkit:version.
+ *   PNG  8-bit sRGB, cells drawn as nearest-neighbour blocks (plot area at least 512
+ *        px wide), colour scale symmetric about zero: ColorBrewer RdBu, blue =
+ *        -max|value|, near white = 0, red = +max|value| over the finite values;
+ *        NaN grey (128,128,128), +-inf the extreme colours. Title above, x and y
+ *        tick values and names, a vertical colour bar labelled +max, 0, -max with
+ *        value_name beside it, a "no data" swatch when some cell is NaN. Text is a
+ *        built-in 5x9 bitmap font, printable ASCII (anything else shows as a box);
+ *        the image grows to fit long labels. Title and a description go in tEXt.
+ *        Same bytes for the same input (no time chunk, fixed compression level).
+ *   CSV  '#' comment lines (title, axes, conventions), a header naming the columns
+ *        after xname, yname and value_name (sanitised to [A-Za-z0-9_]), then one row
+ *        per cell, x fastest, cell-centre coordinates, %.9g, NaN as an empty field.
+ * NULL names fall back to "x", "y", "value"; NULL title and conventions to "".
+ *
+ * All or nothing: the three files are first written completely to temporary files
+ * (mkstemp, "<final>.tmpXXXXXX" in DIR), then renamed into place one after another.
+ * Every write error happens before the first rename, and then existing files are
+ * untouched. Should a rename itself fail (say a directory stands at DIR/<stem>.png),
+ * the files already renamed and the older files at the remaining names are removed,
+ * so the stem is never left with a mix of old and new files. No temporary survives.
+ * Returns 0, or -1 with one lowercase line "path: what went wrong" in err (errlen
+ * bytes, always NUL-terminated when errlen > 0).
+ */
+int bk_heatmap_write(const bk_heatmap *h, const char *dir, const char *stem, char *err,
+                     size_t errlen);
+
+/* Where things land in the PNG, in pixels from its top-left corner. Inside the plot
+ * rectangle, the pixel s columns right of plot_x and q rows up from its bottom row
+ * shows cell i = s * nx / plot_w, j = q * ny / plot_h (integer division): whole
+ * k x k blocks when plot_w and plot_h are multiples of nx and ny, which they are up
+ * to 2048 cells a side; beyond that a pixel shows one sampled cell. The colour bar's
+ * top row is +max|value|, its bottom row -max|value|. A one-pixel black frame
+ * surrounds both, just outside these rectangles. */
+typedef struct bk_heatmap_layout {
+	int width, height;
+	int plot_x, plot_y, plot_w, plot_h;
+	int bar_x, bar_y, bar_w, bar_h;
+} bk_heatmap_layout;
+
+/* The layout bk_heatmap_write uses for h. Returns 0, or -1 with a message as above
+ * (path replaced by "heatmap") when h is not valid. */
+int bk_heatmap_png_layout(const bk_heatmap *h, bk_heatmap_layout *out, char *err,
+                          size_t errlen);
+
+#endif

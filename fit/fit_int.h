@@ -1,0 +1,28 @@
+/*
+ * fit_int.h — what fit.c and fit_stats.c share (internal).
+ */
+#ifndef FIT_FIT_INT_H
+#define FIT_FIT_INT_H
+
+#include "fit.h"
+
+typedef struct bk_fit_ctx {
+	const bk_fit_spec *spec;
+	double *sw;   /* sqrt of the weight in use (minimax changes it) */
+	double *inv;  /* 1, or 1/|y| for relative residuals */
+	double *base; /* the target's weight times the user's */
+	int nblocks;
+	size_t *lo;   /* first sample of each block */
+	int *size;
+	int *comp;    /* which form a block evaluates */
+} bk_fit_ctx;
+
+int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec);
+void bk_fit_ctx_free(bk_fit_ctx *c);
+int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *sum);
+/* Values of the forms at every sample (each component its form). */
+int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v);
+void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res);
+int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, double *jac);
+
+#endif

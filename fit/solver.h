@@ -1,0 +1,91 @@
+/*
+ * solver.h — the C face of the Ceres bridge (fit/solver.cc, the project's only
+ * C++): nonlinear least squares over blocks of residuals whose values and
+ * Jacobians come from a C callback (in brdfkit, the formula IR over blocks of
+ * samples). Three steps as in Ceres: residuals (bk_residual_fn), problem
+ * (bk_problem), solve (bk_solve); options with documented defaults and a
+ * validity check; a summary.
+ */
+#ifndef FIT_SOLVER_H
+#define FIT_SOLVER_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum bk_loss {
+	BK_LOSS_NONE,   /* rho(s) = s */
+	BK_LOSS_HUBER,  /* rho(s) = s for s <= c^2, 2c sqrt(s) - c^2 beyond */
+	BK_LOSS_CAUCHY, /* rho(s) = c^2 log(1 + s/c^2) */
+	BK_LOSS_SOFTL1  /* rho(s) = 2c^2 (sqrt(1 + s/c^2) - 1) */
+} bk_loss;
+
+typedef enum bk_trust_region { BK_TR_LEVENBERG_MARQUARDT, BK_TR_DOGLEG } bk_trust_region;
+
+/* Options. Tolerances as Ceres states them:
+ *   function:  |Δcost| / cost <= function_tolerance
+ *   gradient:  max_i |x_i - Π(x_i - g_i)| <= gradient_tolerance  (Π: projection on the bounds)
+ *   parameter: |Δx| <= parameter_tolerance (|x| + parameter_tolerance)
+ */
+typedef struct bk_fit_options {
+	bk_trust_region trust_region; /* default Levenberg-Marquardt */
+	bk_loss loss;                 /* default none; applied to EACH residual, not per block */
+	double loss_scale;            /* c above, > 0; default 1 */
+	int max_iterations;           /* default 200 */
+	double function_tolerance;    /* default 1e-12 */
+	double gradient_tolerance;    /* default 1e-12 */
+	double parameter_tolerance;   /* default 1e-10 */
+	int num_threads;              /* Ceres' own threads; default 1 */
+} bk_fit_options;
+
+#define BK_FIT_OPTIONS_INIT {BK_TR_LEVENBERG_MARQUARDT, BK_LOSS_NONE, 1.0, 200, 1e-12, 1e-12, 1e-10, 1}
+
+/* 1 if the options are usable; otherwise 0 and a one-line reason in why. */
+int bk_fit_options_valid(const bk_fit_options *o, char *why, size_t len);
+
+/* Values of one block's residuals, and (when jacobian is not NULL) their
+ * derivatives, row-major: jacobian[i * np + j] = d residual_i / d param_j.
+ * Must be thread-safe when num_threads > 1. Return 0, or non-zero to make the
+ * solve fail (e.g. a non-finite value: the caller decides). */
+typedef int (*bk_residual_fn)(void *ctx, int block, const double *params, double *residuals,
+                              double *jacobian);
+
+typedef struct bk_problem {
+	int np;                 /* parameters, 1..16 */
+	int nblocks;            /* residual blocks */
+	const int *block_size;  /* residuals in each block, >= 1 */
+	bk_residual_fn fn;
+	void *ctx;
+	const double *lower;    /* NULL, or np bounds (-HUGE_VAL for none) */
+	const double *upper;    /* NULL, or np bounds (+HUGE_VAL for none) */
+	const int *constant;    /* NULL, or np flags: 1 holds the parameter fixed */
+} bk_problem;
+
+typedef enum bk_termination {
+	BK_TERM_CONVERGENCE,    /* a tolerance was met */
+	BK_TERM_NO_CONVERGENCE, /* iteration or time limit */
+	BK_TERM_FAILURE         /* the solver or the callback failed */
+} bk_termination;
+
+typedef struct bk_fit_summary {
+	bk_termination termination;
+	char message[256];
+	double initial_cost, final_cost; /* 1/2 sum rho(r_i^2), Ceres' convention */
+	int iterations;                  /* over all solves */
+	int bound_resolves;              /* extra solves with active bounds held (see solver.cc) */
+	double seconds;
+} bk_fit_summary;
+
+/* Minimises 1/2 sum_i rho(r_i^2) from params (in: start, out: solution).
+ * Validates everything first (Ceres aborts the process on misuse): returns 0,
+ * or -1 with the reason in summary->message and params untouched. */
+int bk_solve(const bk_problem *p, const bk_fit_options *o, double *params,
+             bk_fit_summary *summary);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

@@ -1,0 +1,341 @@
+/*
+ * target.c — samples of the exact quantities a fit approximates.
+ *
+ * vf and spec sample the half vector on a grid in the GGX CDF variable u
+ * (tan^2 θh = a^2 u / (1 - u), where D NoH dω_h = du dφ / 2π) and reflect the
+ * view direction about it: the grid then follows the highlight at every
+ * roughness, which a grid over the light hemisphere cannot do for r -> 0. With
+ * dω_l = 4 VoH dω_h, each sample stands for
+ *     D·NoL·dω_l = NoL · 4 VoH / NoH · du dφ / 2π
+ * of "highlight energy", and for dω_l = 4 VoH / (D NoH) · du dφ / 2π of solid
+ * angle; those are its weights (D·NoL or none) and, summed over a (NoV, r)
+ * cell, they turn errors into directional-albedo errors.
+ */
+#include "target.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f"};
+
+const char *bk_target_name(bk_target_kind k) { return names[k]; }
+
+int bk_target_parse(const char *name, bk_target_kind *kind)
+{
+	for (int k = 0; k < BK_TARGET_COUNT; k++)
+		if (strcmp(name, names[k]) == 0) {
+			*kind = (bk_target_kind)k;
+			return 0;
+		}
+	return -1;
+}
+
+void bk_target_defaults(bk_target_kind kind, bk_target_options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->kind = kind;
+	o->r_lo = 0.0;
+	o->r_hi = 1.0;
+	o->x_lo = 0.0;
+	o->x_hi = 1.0;
+	o->nx = o->nr = 64;
+	o->nu = 32;
+	o->nphi = 16;
+	o->f0[0] = 0.04;
+	o->nf0 = 1;
+	o->smith = BK_SMITH_CORRELATED;
+	o->eta = 1.5;
+	switch (kind) {
+	case BK_TARGET_VF2D:
+		/* LoH^2 >= 0.1: the clamp Unity ships with the talk's form, without
+		 * which its 1/LoH^2 pole rules a least-squares fit (see README) */
+		o->x_lo = sqrt(0.1);
+		o->nx = o->nr = 256;
+		break;
+	case BK_TARGET_VF:
+	case BK_TARGET_SPEC:
+		o->nx = o->nr = 16;
+		break;
+	case BK_TARGET_ENV:
+		o->f0[0] = 0.04, o->f0[1] = 0.5, o->f0[2] = 1.0;
+		o->nf0 = 3;
+		break;
+	case BK_TARGET_F:
+		o->nx = 256;
+		o->nr = 1;
+		break;
+	default:
+		break;
+	}
+}
+
+static int alloc(bk_samples *s, size_t n, char *err, size_t errlen)
+{
+	memset(s->in, 0, sizeof s->in);
+	s->y = calloc(n ? n : 1, sizeof *s->y);
+	s->w = calloc(n ? n : 1, sizeof *s->w);
+	s->measure = calloc(n ? n : 1, sizeof *s->measure);
+	s->cell = calloc(n ? n : 1, sizeof *s->cell);
+	int ok = s->y && s->w && s->measure && s->cell;
+	for (int i = 0; i < BK_IN_COUNT && ok; i++)
+		ok = (s->in[i] = calloc(n ? n : 1, sizeof(double))) != NULL;
+	if (!ok) {
+		bk_samples_free(s);
+		snprintf(err, errlen, "out of memory for %zu samples", n);
+		return -1;
+	}
+	return 0;
+}
+
+void bk_samples_free(bk_samples *s)
+{
+	for (int i = 0; i < BK_IN_COUNT; i++) {
+		free(s->in[i]);
+		s->in[i] = NULL;
+	}
+	free(s->y);
+	free(s->w);
+	free(s->measure);
+	free(s->cell);
+	s->y = s->w = s->measure = NULL;
+	s->cell = NULL;
+}
+
+static double centre(double lo, double hi, int i, int n) { return lo + (i + 0.5) * (hi - lo) / n; }
+
+static void put(bk_samples *s, size_t i, double NoV, double NoL, double NoH, double LoH, double r,
+                double f0)
+{
+	double v[BK_IN_COUNT] = {NoV, NoL, NoH, LoH, r, r * r, f0};
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		s->in[k][i] = v[k];
+}
+
+/* Each roughness row weighs the same: its weights sum to 1/nr. */
+static void normalise_rows(bk_samples *s, size_t lo, size_t hi, int nr, int nx)
+{
+	double *sum = calloc((size_t)nr, sizeof *sum);
+	if (!sum)
+		return;
+	for (size_t i = lo; i < hi; i++)
+		sum[s->cell[i] / nx] += s->w[i];
+	for (size_t i = lo; i < hi; i++) {
+		double t = sum[s->cell[i] / nx];
+		s->w[i] = t > 0.0 ? s->w[i] / (t * nr) : 0.0;
+	}
+	free(sum);
+}
+
+static void plane(bk_samples *s, int nx, int ny, double x0, double x1, double y0, double y1,
+                  const char *xn, const char *yn)
+{
+	/* the axes as inputs, for the fitter's check of the domain's edges */
+	static const struct { const char *name; int in; } axes[] = {
+		{"LoH", BK_IN_LOH}, {"NoV", BK_IN_NOV}, {"NoH", BK_IN_NOH}, {"r", BK_IN_R}};
+	s->plane_x_input = s->plane_y_input = -1;
+	for (size_t k = 0; k < sizeof axes / sizeof axes[0]; k++) {
+		if (!strcmp(xn, axes[k].name))
+			s->plane_x_input = axes[k].in;
+		if (!strcmp(yn, axes[k].name))
+			s->plane_y_input = axes[k].in;
+	}
+	s->plane_nx = nx, s->plane_ny = ny;
+	s->plane_x0 = x0, s->plane_x1 = x1, s->plane_y0 = y0, s->plane_y1 = y1;
+	s->plane_xname = xn, s->plane_yname = yn;
+}
+
+static int build_vf2d(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double f0 = o->f0[0];
+	for (int j = 0; j < o->nr; j++)
+		for (int k = 0; k < o->nx; k++, i++) {
+			double LoH = centre(o->x_lo, o->x_hi, k, o->nx), r = centre(o->r_lo, o->r_hi, j, o->nr);
+			double talk_r = o->talk_alpha ? r * r : r;
+			put(s, i, NAN, NAN, NAN, LoH, r, f0);
+			s->y[i] = bk_V_kelemen_talk(LoH, talk_r) * bk_F_schlick(f0, 1.0, LoH);
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+	s->n = n;
+	s->provides = (1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A | 1u << BK_IN_F0);
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, o->x_lo, o->x_hi, o->r_lo, o->r_hi, "LoH", "r");
+	snprintf(s->description, sizeof s->description,
+	         "vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = %s, times Schlick F "
+	         "with f0 = %g, f90 = 1, on LoH in [%g, %g] x r in [%g, %g] (%dx%d cell centres); V includes "
+	         "the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))",
+	         o->talk_alpha ? "a = r^2 (the alpha reading)" : "r (perceptual)", f0, o->x_lo, o->x_hi,
+	         o->r_lo, o->r_hi, o->nx, o->nr);
+	return 0;
+}
+
+/* vf and spec: (r, NoV, u, φ) grid, φ in [0, π] (the integrand is even in φ). */
+static int build_lobe(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	size_t cap = (size_t)o->nr * o->nx * o->nu * o->nphi, i = 0;
+	if (alloc(s, cap, err, errlen))
+		return -1;
+	int spec = o->kind == BK_TARGET_SPEC;
+	bk_weight_kind wk = o->weight == BK_WEIGHT_DEFAULT ? (spec ? BK_WEIGHT_NONE : BK_WEIGHT_DNOL) : o->weight;
+	double f0 = o->f0[0], du = 1.0 / o->nu, dphi = BK_PI / o->nphi;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr), a = r * r, a2 = a * a;
+		for (int k = 0; k < o->nx; k++) {
+			double NoV = centre(o->x_lo, o->x_hi, k, o->nx), sv = sqrt((1 - NoV) * (1 + NoV));
+			for (int q = 0; q < o->nu; q++) {
+				double u = centre(0, 1, q, o->nu), tan2 = a2 * u / (1 - u);
+				double NoH = 1 / sqrt(1 + tan2), sh = sqrt(tan2) * NoH;
+				for (int p = 0; p < o->nphi; p++) {
+					double phi = centre(0, BK_PI, p, o->nphi);
+					double VoH = sv * sh * cos(phi) + NoV * NoH, NoL = 2 * VoH * NoH - NoV;
+					if (NoL <= 0 || VoH <= 0)
+						continue;
+					/* ×2: φ in [0, π] stands for both halves */
+					double energy = NoL * 4 * VoH / NoH * du * dphi * 2 / (2 * BK_PI);
+					double D = bk_D_ggx_sin2(sh * sh, NoH, a);
+					double vf = bk_V_smith_ggx_correlated(NoV, NoL, a) * bk_F_schlick(f0, 1, VoH);
+					put(s, i, NoV, NoL, NoH, VoH, r, f0);
+					s->y[i] = spec ? D * vf * NoL : vf;
+					double solid = energy / (D * NoL); /* dω_l */
+					s->measure[i] = spec ? solid : energy;
+					s->w[i] = wk == BK_WEIGHT_DNOL ? energy : solid;
+					s->cell[i] = j * o->nx + k;
+					i++;
+				}
+			}
+		}
+	}
+	s->n = i;
+	s->provides = (1u << BK_IN_COUNT) - 1;
+	normalise_rows(s, 0, i, o->nr, o->nx);
+	plane(s, o->nx, o->nr, o->x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "%s: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = %g, f90 = 1)%s over "
+	         "NoV in [%g, %g] (%d), r in [%g, %g] (%d), H on a %dx%d grid in the GGX CDF and azimuth; weight %s, "
+	         "each roughness weighing the same",
+	         names[o->kind], f0, spec ? " x GGX D x NoL (the whole rendered lobe)" : "", o->x_lo, o->x_hi, o->nx,
+	         o->r_lo, o->r_hi, o->nr, o->nu, o->nphi,
+	         wk == BK_WEIGHT_DNOL ? "D*NoL*dω (where the highlight's energy is)" : "dω (solid angle)");
+	return 0;
+}
+
+static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                     char *err, size_t errlen)
+{
+	size_t cells = (size_t)o->nx * o->nr;
+	int nf = o->env_f0_form ? o->nf0 : 2; /* in-f0 form: one sample per f0; split: A then B */
+	if (alloc(s, cells * (size_t)nf, err, errlen))
+		return -1;
+	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr);
+		for (int k = 0; k < o->nx; k++) {
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), A, B;
+			if (bk_dfg(NoV, r, o->smith, 1e-8, &A, &B, NULL)) {
+				snprintf(err, errlen, "env: reference integral failed at NoV %g, r %g", NoV, r);
+				bk_samples_free(s);
+				return -1;
+			}
+			size_t c = (size_t)j * o->nx + k;
+			for (int q = 0; q < nf; q++) {
+				size_t i = (size_t)q * cells + c;
+				double f0 = o->env_f0_form ? o->f0[q] : 0.0;
+				put(s, i, NoV, NAN, NAN, NAN, r, o->env_f0_form ? f0 : NAN);
+				s->y[i] = o->env_f0_form ? f0 * A + B : (q == 0 ? A : B);
+				s->w[i] = 1.0;
+				s->cell[i] = (int)c;
+			}
+		}
+		if (progress)
+			progress(ctx, j + 1, o->nr);
+	}
+	s->n = cells * (size_t)nf;
+	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A | (o->env_f0_form ? 1u << BK_IN_F0 : 0u);
+	s->ncomp = o->env_f0_form ? 1 : 2;
+	for (int q = 0; q < nf; q++)
+		normalise_rows(s, (size_t)q * cells, (size_t)(q + 1) * cells, o->nr, o->nx);
+	if (!o->env_f0_form) {
+		s->start[1] = cells;
+		s->start[2] = 2 * cells;
+	}
+	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, %s Smith, Schlick F, "
+	         "f90 = 1), reference integrator at tol 1e-8, on NoV in [%g, %g] x r in [%g, %g] (%dx%d cell "
+	         "centres); %s",
+	         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr,
+	         o->env_f0_form ? "one form in f0 fitted to f0 A + B over the f0 list" : "forms A and B share parameters");
+	return 0;
+}
+
+static int build_d(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	for (int j = 0; j < o->nr; j++)
+		for (int k = 0; k < o->nx; k++, i++) {
+			double NoH = centre(o->x_lo, o->x_hi, k, o->nx), r = centre(o->r_lo, o->r_hi, j, o->nr);
+			put(s, i, NAN, NAN, NoH, NAN, r, o->f0[0]);
+			s->y[i] = bk_D_ggx(NoH, r * r);
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+	s->n = n;
+	s->provides = 1u << BK_IN_NOH | 1u << BK_IN_R | 1u << BK_IN_A | 1u << BK_IN_F0;
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, o->x_lo, o->x_hi, o->r_lo, o->r_hi, "NoH", "r");
+	snprintf(s->description, sizeof s->description,
+	         "d: GGX D (Walter 2007, a = r^2, normalised, 1/π included) on NoH in [%g, %g] x r in [%g, %g] "
+	         "(%dx%d cell centres)", o->x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	return 0;
+}
+
+static int build_f(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double f0 = bk_f0_from_ior(o->eta, o->k);
+	for (int k = 0; k < o->nx; k++) {
+		double LoH = centre(o->x_lo, o->x_hi, k, o->nx);
+		put(s, (size_t)k, NAN, NAN, NAN, LoH, 0.5, f0);
+		s->y[k] = o->k > 0 ? bk_F_conductor(LoH, o->eta, o->k) : bk_F_dielectric(LoH, o->eta);
+		s->w[k] = 1.0 / o->nx;
+		s->cell[k] = k;
+	}
+	s->n = n;
+	s->provides = (1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A | 1u << BK_IN_F0);
+	plane(s, o->nx, 1, o->x_lo, o->x_hi, 0, 1, "LoH", "-");
+	snprintf(s->description, sizeof s->description,
+	         "f: exact unpolarised Fresnel of index %g + %gi (f0 = %.6g, the input f0 of forms) on LoH in "
+	         "[%g, %g] (%d cell centres)", o->eta, o->k, f0, o->x_lo, o->x_hi, o->nx);
+	return 0;
+}
+
+int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                    char *err, size_t errlen)
+{
+	memset(s, 0, sizeof *s);
+	s->ncomp = 1;
+	int rc;
+	switch (o->kind) {
+	case BK_TARGET_VF2D: rc = build_vf2d(o, s, err, errlen); break;
+	case BK_TARGET_VF:
+	case BK_TARGET_SPEC: rc = build_lobe(o, s, err, errlen); break;
+	case BK_TARGET_ENV: rc = build_env(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
+	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
+	default: snprintf(err, errlen, "unknown target"); return -1;
+	}
+	if (rc == 0 && s->ncomp == 1) {
+		s->start[0] = 0;
+		s->start[1] = s->n;
+	}
+	return rc;
+}

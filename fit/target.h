@@ -1,0 +1,72 @@
+/*
+ * target.h — what a fit approximates: samples of an exact quantity from
+ * brdf/ (inputs, value, weight) over a domain, and the 2-D plane its error is
+ * shown on.
+ */
+#ifndef FIT_TARGET_H
+#define FIT_TARGET_H
+
+#include "brdf.h"
+
+#include <stddef.h>
+
+typedef enum bk_target_kind {
+	BK_TARGET_VF2D, /* talk's modified Kelemen V × Schlick F on (LoH, r) */
+	BK_TARGET_VF,   /* exact correlated Smith V × Schlick F over (NoV, L, r), D·NoL weighted */
+	BK_TARGET_SPEC, /* the whole D·V·F·NoL over the same configurations */
+	BK_TARGET_ENV,  /* split-sum A, B over (NoV, r) */
+	BK_TARGET_D,    /* GGX D over (NoH, r) */
+	BK_TARGET_F,    /* exact Fresnel over LoH */
+	BK_TARGET_COUNT
+} bk_target_kind;
+
+typedef enum bk_weight_kind { BK_WEIGHT_DEFAULT, BK_WEIGHT_NONE, BK_WEIGHT_DNOL } bk_weight_kind;
+
+#define BK_TARGET_MAX_F0 8
+
+typedef struct bk_target_options {
+	bk_target_kind kind;
+	double r_lo, r_hi;   /* perceptual roughness range */
+	double x_lo, x_hi;   /* LoH (vf2d, f), NoV (vf, spec, env), NoH (d) */
+	int nx, nr;          /* grid cells along x and r */
+	int nu, nphi;        /* vf/spec: half-vector cells (GGX CDF) and azimuths */
+	double f0[BK_TARGET_MAX_F0];
+	int nf0;             /* vf2d, vf, spec use f0[0]; env in-f0 forms use all */
+	int talk_alpha;      /* vf2d: read the talk's "roughness" as alpha */
+	bk_smith smith;      /* env */
+	double eta, k;       /* f: complex index (k = 0: dielectric) */
+	bk_weight_kind weight;
+	int env_f0_form;     /* env: one form in f0, fitted to f0 A + B */
+} bk_target_options;
+
+/* Defaults for a kind (domain, sizes): the and the talk's. */
+void bk_target_defaults(bk_target_kind kind, bk_target_options *o);
+const char *bk_target_name(bk_target_kind kind);
+int bk_target_parse(const char *name, bk_target_kind *kind);
+
+/* Samples: component c (0 or 1: A and B of a split-sum fit) occupies
+ * [start[c], start[c + 1]); cell[i] is the plane cell a sample's error goes to. */
+typedef struct bk_samples {
+	size_t n;
+	double *in[BK_IN_COUNT];
+	double *y;         /* the exact value */
+	double *w;         /* least-squares weight (each roughness weighs the same) */
+	double *measure;   /* what turns a sum over a cell into an integral (albedo), or 0 */
+	int *cell;
+	size_t start[3];
+	int ncomp;
+	unsigned provides; /* bit i: input i is meaningful for this target (others are NaN) */
+	int plane_nx, plane_ny;
+	double plane_x0, plane_x1, plane_y0, plane_y1;
+	const char *plane_xname, *plane_yname;
+	int plane_x_input, plane_y_input; /* the input each plane axis is, or -1 */
+	char description[512]; /* the target, its units and conventions, one paragraph */
+} bk_samples;
+
+/* Builds the samples; progress (may be NULL) for the slow env reference.
+ * Returns 0, or -1 with a message. */
+int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress,
+                    void *ctx, char *err, size_t errlen);
+void bk_samples_free(bk_samples *s);
+
+#endif
