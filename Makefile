@@ -28,6 +28,8 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # compiles; Ceres is the least-squares solver, libpng the heatmaps).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools libceres-dev libpng-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
+# make bench only: bench_fit runs the same fit with SciPy's least_squares
+BENCH_DEBS = python3-scipy
 
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
 FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
@@ -124,9 +126,15 @@ build/bench_ir_gen.h: build/bench_ir_emit
 build/bench_ir: analysis/bench_ir.c build/bench_ir_gen.h $(LIB)
 	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -Ibuild $< $(LIB) -lm -o $@
 
-bench: $(BENCH) build/bench_ir
+# bench_fit: the fitter against SciPy's least_squares (analysis/bench_fit_scipy.py)
+build/bench_fit: $(call obj,build/obj,analysis/bench_fit.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit
+	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
+	build/bench_fit
 
 results: $(TOOL)
 	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated.exr
@@ -134,6 +142,14 @@ results: $(TOOL)
 	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick.exr
 	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
 	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
+	@mkdir -p results/fits
+	# the seeds reproduced: the talk's V·F constant freed on its plane and on the
+	# whole configuration space; Karis's EnvBRDFApprox with its eight constants freed
+	$(TOOL) fit --target vf2d --form vf_talk_r --out results/fits/vf2d_talk_r
+	$(TOOL) fit --target vf2d --form vf_talk_r --relative --out results/fits/vf2d_talk_r_relative
+	$(TOOL) fit --target vf --form vf_talk_r --out results/fits/vf_talk_r
+	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
+	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*.

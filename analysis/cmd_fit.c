@@ -199,24 +199,34 @@ static int write_tables(const run *R, const char *dir)
 	return bad ? -1 : 0;
 }
 
-static int write_heatmap(const run *R, const char *dir, char *err, size_t errlen)
+/* The error over the target's plane with constants p, as DIR/<stem>.{exr,png,csv}. */
+static int write_heatmap(const run *R, const char *dir, const char *stem, const double *p, const char *which,
+                         char *err, size_t errlen)
 {
 	const bk_samples *s = &R->s;
 	size_t cells = (size_t)s->plane_nx * s->plane_ny;
 	double *v = malloc(sizeof(double) * cells);
 	if (!v)
 		return -1;
-	bk_fit_plane_error(&R->spec, R->res.p, v);
+	bk_fit_plane_error(&R->spec, p, v);
 	int albedo = R->res.fitted.albedo_max_abs == R->res.fitted.albedo_max_abs;
 	char title[256], value_name[64];
-	snprintf(title, sizeof title, "%s fitted on %s: %s", R->fs.entry ? R->fs.entry->name : "form",
+	snprintf(title, sizeof title, "%s %s on %s: %s", R->fs.entry ? R->fs.entry->name : "form", which,
 	         bk_target_name(R->to.kind),
 	         albedo ? "directional albedo error" : s->ncomp == 2 ? "A+B error (albedo at f0 = 1)" : "error (approx - exact)");
 	snprintf(value_name, sizeof value_name, "%s", albedo ? "albedo_error" : "error");
 	bk_heatmap h = {s->plane_nx, s->plane_ny, v, s->plane_x0, s->plane_x1, s->plane_y0, s->plane_y1,
 	                s->plane_xname, s->plane_yname, title, value_name, s->description};
-	int rc = bk_heatmap_write(&h, dir, "heatmap", err, errlen);
+	int rc = bk_heatmap_write(&h, dir, stem, err, errlen);
 	free(v);
+	return rc;
+}
+
+static int write_heatmaps(const run *R, const char *dir, char *err, size_t errlen)
+{
+	int rc = write_heatmap(R, dir, "heatmap", R->res.p, "fitted", err, errlen);
+	if (rc == 0 && R->has_published) /* the published constants on the same samples, same colour rule */
+		rc = write_heatmap(R, dir, "heatmap_published", R->spec.start, "published", err, errlen);
 	return rc;
 }
 
@@ -256,7 +266,8 @@ static int write_shaders(const run *R, const char *dir)
 static void remove_dir(const char *dir)
 {
 	static const char *const files[] = {"coefficients.csv", "metrics.csv", "metrics_env.csv", "heatmap.exr",
-	                                    "heatmap.png", "heatmap.csv", "shader.c", "shader.glsl", "shader.hlsl"};
+	                                    "heatmap.png", "heatmap.csv", "heatmap_published.exr", "heatmap_published.png",
+	                                    "heatmap_published.csv", "shader.c", "shader.glsl", "shader.hlsl"};
 	char path[4200];
 	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
 		snprintf(path, sizeof path, "%.4000s/%.150s", dir, files[k]);
@@ -273,8 +284,11 @@ static int write_outputs(const run *R, const char *out)
 	snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
 	if (!mkdtemp(tmp))
 		return cli_fail("fit", "%s: cannot create: %s", out, strerror(errno));
+	mode_t um = umask(0); /* mkdtemp makes 0700; give DIR the mode mkdir would */
+	umask(um);
+	chmod(tmp, 0777 & ~um);
 	int rc = write_tables(R, tmp);
-	if (rc == 0 && (rc = write_heatmap(R, tmp, err, sizeof err)) == 0)
+	if (rc == 0 && (rc = write_heatmaps(R, tmp, err, sizeof err)) == 0)
 		rc = write_shaders(R, tmp);
 	if (rc) {
 		remove_dir(tmp);

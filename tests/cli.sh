@@ -96,6 +96,25 @@ expect_error "codegen lang" "'fortran'" $BK codegen --lang fortran NoV
 expect_error "codegen env needs part" "env_talk_r:A" $BK codegen --lang c env_talk_r
 expect_error "ops unknown function" "near 'foo'" $BK ops 'foo(NoV)'
 
+# fit: the talk's constant refitted on its own plane; every output file, the
+# published row, and the exit status
+if $BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 --out "$T/fit" >"$T/out" 2>"$T/err"; then ok; else bad "fit vf2d: $(cat "$T/err")"; fi
+for f in coefficients.csv metrics.csv heatmap.exr heatmap.png heatmap.csv shader.c shader.glsl shader.hlsl; do
+	[ -s "$T/fit/$f" ] && ok || bad "fit: missing $f"
+done
+grep -qx 'constants,cost,rmse,weighted_rmse,max_abs,max_rel,albedo_max_abs' "$T/fit/metrics.csv" && ok || bad "metrics header"
+grep -q '^published,' "$T/fit/metrics.csv" && grep -q '^fitted,' "$T/fit/metrics.csv" && ok || bad "metrics rows"
+grep -q '^form,parameter,value,standard_error$' "$T/fit/coefficients.csv" && ok || bad "coefficients header"
+cp "$T/fit/coefficients.csv" "$T/c1.csv"; cp "$T/fit/heatmap.png" "$T/h1.png"
+$BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 --out "$T/fit" >/dev/null 2>&1
+cmp -s "$T/c1.csv" "$T/fit/coefficients.csv" && cmp -s "$T/h1.png" "$T/fit/heatmap.png" && ok || bad "fit not deterministic"
+rm -rf "$T/fit" "$T/c1.csv" "$T/h1.png"
+expect_error "fit nonfinite" "NaN or infinite at 16 of 32 samples" $BK fit --target f --nx 32 --form 'log(LoH - 0.5) + p0' p0=0 --out "$T/bad"
+[ ! -e "$T/bad" ] && ok || bad "failed fit left $T/bad"
+expect_error "fit input" "reads NoV, which target vf2d does not provide" $BK fit --target vf2d --form 'NoV*p0' p0=1 --out "$T/bad"
+expect_error "fit target" "'nope'" $BK fit --target nope --form 'p0' --out "$T/bad"
+expect_error "fit start" "p0=VALUE" $BK fit --target f --form 'p0*LoH' --out "$T/bad"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

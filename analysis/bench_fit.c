@@ -1,0 +1,254 @@
+/*
+ * bench_fit.c — make bench: the fitter (bk_fit_run: formula IR residuals and
+ * Jacobians through the Ceres bridge) against SciPy's least_squares on the
+ * same fit, side by side: identical samples, weights, starting point and
+ * tolerances. Two problems, as the fitter issue names them:
+ *   - vf2d at 256x256 (65,536 residuals) with the talk's V·F form vf_talk_r,
+ *     f0/(4*LoH*LoH*(r + p0)), from p0 = 0.5;
+ *   - env at 64x64, split sum (A and B: 8,192 residuals) with Karis's
+ *     env_karis2014_split, all 11 constants free, from the published ones.
+ *
+ * The samples each fit sees are written to build/bench_fit_<name>.bin (inputs
+ * used, y and sqrt(weight) per sample, the start and the tolerances) and
+ * analysis/bench_fit_scipy.py fits them with least_squares(method='lm', an
+ * analytic Jacobian vectorised in NumPy, x_scale=1). Both residuals are
+ * sqrt(w)·(f - y) and both costs are 1/2 Σ r², so the final costs compare
+ * directly; each side also evaluates the other's solution as a check that the
+ * two objectives are the same function.
+ *
+ * Timing: median of REPS runs after one warm-up, single thread on both sides
+ * (Ceres num_threads = 1; SciPy with BLAS threads pinned to 1). brdfkit's time
+ * excludes building the target (the reference integrals of env take far
+ * longer than the fit), SciPy's excludes loading the file and importing:
+ * each times its fit call alone. For brdfkit two figures are given: bk_solve
+ * (the Ceres solve: problem set-up, iterations, the bounds guard; the analogue
+ * of the least_squares call) and the whole bk_fit_run, which also computes the
+ * standard errors and the metrics that least_squares does not. The target
+ * is judged on the solve; the whole call is shown beside it.
+ *
+ * Tolerances (the fitter's defaults, BK_FIT_OPTIONS_INIT), mapped as closely as
+ * the two libraries allow:
+ *   - function: Ceres stops when |Δcost|/cost <= ftol on a step; MINPACK's ftol
+ *     stops when both the actual and the predicted relative reduction of the
+ *     sum of squares are <= ftol. The same relative quantity (the 1/2 cancels):
+ *     ftol = 1e-12 to both.
+ *   - parameter: Ceres |Δx| <= ptol (|x| + ptol); MINPACK's xtol: the trust
+ *     region radius <= xtol |D x| (D = 1/x_scale = 1), the relative change of
+ *     the iterate. ptol = xtol = 1e-10.
+ *   - gradient: Ceres max_i |g_i| <= gtol, g = Jᵀr absolute (no bounds here,
+ *     so the projection is the identity); MINPACK's gtol is the largest cosine
+ *     |J_jᵀ r| / (|J_j| |r|), scale-free. No exact map exists; both get 1e-12.
+ *   - iterations: Ceres at most 200; SciPy its default max_nfev = 100·n
+ *     function evaluations (n parameters).
+ */
+#include "bench.h"
+#include "brdf.h"
+#include "catalog.h"
+#include "fit.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define REPS 9
+#define SCIPY "/usr/bin/python3 analysis/bench_fit_scipy.py"
+#define SLACK 1e-9 /* relative: brdfkit's cost <= SciPy's (1 + SLACK) counts as no higher */
+
+typedef struct problem {
+	const char *name, *entry;
+	bk_target_kind kind;
+	int size;
+	int format; /* in the file: 0 vf2d (LoH, r, f0), 1 env split (NoV, r) */
+} problem;
+
+static const problem problems[] = {
+	{"vf2d", "vf_talk_r", BK_TARGET_VF2D, 256, 0},
+	{"env", "env_karis2014_split", BK_TARGET_ENV, 64, 1},
+};
+enum { NPROBLEMS = sizeof problems / sizeof problems[0] };
+
+typedef struct scipy_result {
+	double cost, seconds, cost_at_bk, jac_err;
+	int nfev, njev, status;
+	double p[BK_MAX_PARAMS];
+} scipy_result;
+
+static void die(const char *what)
+{
+	fprintf(stderr, "bench_fit: %s\n", what);
+	exit(1);
+}
+
+/* Header of 32 little-endian doubles: version 1, format, n, samples of the
+ * first component, np, ftol, xtol, gtol, max iterations, reps, 6 unused, the
+ * start (16). Then six columns of n doubles: NoV, LoH, r, f0, y, sqrt(w)
+ * (NaN where the target does not provide the input). */
+static void write_samples(const char *path, const problem *pb, const bk_fit_spec *spec)
+{
+	const bk_samples *s = spec->s;
+	const uint16_t one = 1;
+	if (*(const unsigned char *)&one != 1)
+		die("the sample file is written little-endian only");
+	double h[32] = {1, pb->format, (double)s->n, (double)(s->start[1] - s->start[0]), spec->np,
+	                spec->opt.function_tolerance, spec->opt.parameter_tolerance, spec->opt.gradient_tolerance,
+	                spec->opt.max_iterations, REPS};
+	memcpy(h + 16, spec->start, sizeof(double) * BK_MAX_PARAMS);
+	FILE *f = fopen(path, "wb");
+	if (!f)
+		die("cannot write the sample file in build/");
+	fwrite(h, sizeof h, 1, f);
+	const double *col[4] = {s->in[BK_IN_NOV], s->in[BK_IN_LOH], s->in[BK_IN_R], s->in[BK_IN_F0]};
+	for (int c = 0; c < 4; c++)
+		fwrite(col[c], sizeof(double), s->n, f);
+	fwrite(s->y, sizeof(double), s->n, f);
+	for (size_t i = 0; i < s->n; i++) {
+		double sw = sqrt(s->w[i]); /* as the fitter's residuals: no user weight, absolute */
+		fwrite(&sw, sizeof sw, 1, f);
+	}
+	if (ferror(f) | fclose(f))
+		die("writing the sample file failed");
+}
+
+static void run_scipy(const char *path, const bk_fit_spec *spec, const double *p_bk, scipy_result *sr)
+{
+	char cmd[4096];
+	int k = snprintf(cmd, sizeof cmd, "OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1 %s %s", SCIPY,
+	                 path);
+	for (int j = 0; j < spec->np; j++)
+		k += snprintf(cmd + k, sizeof cmd - (size_t)k, " %.17g", p_bk[j]);
+	FILE *f = popen(cmd, "r");
+	if (!f)
+		die("cannot run " SCIPY);
+	char line[4096];
+	int ok = fgets(line, sizeof line, f) &&
+	         sscanf(line, "%lf %lf %d %d %d %lf %lf", &sr->cost, &sr->seconds, &sr->nfev, &sr->njev,
+	                &sr->status, &sr->cost_at_bk, &sr->jac_err) == 7 &&
+	         fgets(line, sizeof line, f);
+	char *t = line;
+	for (int j = 0; ok && j < spec->np; j++) {
+		char *end;
+		sr->p[j] = strtod(t, &end);
+		ok = end != t;
+		t = end;
+	}
+	if ((pclose(f) != 0) | !ok)
+		die("the SciPy side failed (python3-scipy installed? see its message above)");
+}
+
+/* One problem: returns 1 if the 10x target and the cost condition were met. */
+static int bench(const problem *pb)
+{
+	bk_target_options to;
+	bk_target_defaults(pb->kind, &to);
+	to.nx = to.nr = pb->size;
+	const bk_catalog_entry *e = bk_catalog_find(pb->entry);
+	if (!e)
+		die("catalog entry missing");
+	bk_form *f[2] = {NULL, NULL};
+	bk_form_error fe;
+	if (!(f[0] = bk_form_parse(e->form, &fe)) || (e->form_b && !(f[1] = bk_form_parse(e->form_b, &fe))))
+		die("catalog form does not parse");
+	to.env_f0_form = 0; /* env: the split pair */
+
+	bk_samples s;
+	char err[512];
+	fprintf(stderr, "bench_fit: building the %s target (%dx%d)...\n", pb->name, pb->size, pb->size);
+	if (bk_target_build(&to, &s, NULL, NULL, err, sizeof err))
+		die(err);
+
+	bk_fit_spec spec;
+	memset(&spec, 0, sizeof spec);
+	bk_fit_options defaults = BK_FIT_OPTIONS_INIT;
+	spec.opt = defaults;
+	spec.s = &s;
+	spec.form[0] = f[0];
+	spec.form[1] = f[1];
+	spec.np = bk_form_nparams(f[0]);
+	if (f[1] && bk_form_nparams(f[1]) > spec.np)
+		spec.np = bk_form_nparams(f[1]);
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		spec.lower[j] = -HUGE_VAL;
+		spec.upper[j] = HUGE_VAL;
+		spec.start[j] = j < e->nparams ? e->defaults[j] : 0.0;
+	}
+	spec.starts = 1;
+	spec.seed = 1;
+
+	char path[256];
+	snprintf(path, sizeof path, "build/bench_fit_%s.bin", pb->name);
+	write_samples(path, pb, &spec);
+
+	/* brdfkit: one warm-up, then REPS timed runs; the runs must agree exactly */
+	static bk_fit_result res, first;
+	double wall[REPS], solve[REPS];
+	if (bk_fit_run(&spec, &first) < 0)
+		die(first.message);
+	for (int rep = 0; rep < REPS; rep++) {
+		double t = bench_now();
+		int rc = bk_fit_run(&spec, &res);
+		wall[rep] = bench_now() - t;
+		solve[rep] = res.summary.seconds;
+		if (rc < 0)
+			die(res.message);
+		if (memcmp(res.p, first.p, sizeof res.p) || res.summary.final_cost != first.summary.final_cost)
+			die("brdfkit's fit is not deterministic");
+	}
+	double t_solve = bench_median(solve, REPS), t_whole = bench_median(wall, REPS);
+
+	fprintf(stderr, "bench_fit: SciPy on the same samples...\n");
+	scipy_result sr;
+	run_scipy(path, &spec, res.p, &sr);
+	bk_fit_metrics at_scipy; /* SciPy's solution under brdfkit's objective */
+	bk_fit_evaluate(&spec, sr.p, &at_scipy);
+
+	double c_bk = res.summary.final_cost, c_sp = sr.cost;
+	int cost_ok = c_bk <= c_sp * (1 + SLACK);
+	double ratio = sr.seconds / t_solve, ratio_whole = sr.seconds / t_whole;
+	static const char *const term[] = {"converged", "did not converge", "failed"};
+
+	printf("\n%s %dx%d: %s = %s%s%s\n", pb->name, pb->size, pb->size, e->name, e->form, e->form_b ? "; B = " : "",
+	       e->form_b ? e->form_b : "");
+	printf("  %zu residuals, %d parameters, start at the published constants; ftol %g, xtol %g, gtol %g\n", s.n,
+	       spec.np, spec.opt.function_tolerance, spec.opt.parameter_tolerance, spec.opt.gradient_tolerance);
+	printf("  %-44s %24s %12s   %s\n", "method", "final cost", "median ms", "work");
+	printf("  %-44s %24.17g %12.3f   %d iterations, %s\n", "brdfkit bk_solve (Ceres LM, IR Jacobian)", c_bk,
+	       1e3 * t_solve, res.summary.iterations, term[res.summary.termination]);
+	printf("  %-44s %24s %12.3f   + standard errors, metrics\n", "brdfkit bk_fit_run, whole", "(same)",
+	       1e3 * t_whole);
+	printf("  %-44s %24.17g %12.3f   %d f-evals, %d J-evals, status %d\n",
+	       "SciPy least_squares lm, analytic NumPy J", c_sp, 1e3 * sr.seconds, sr.nfev, sr.njev, sr.status);
+	printf("  p brdfkit:");
+	for (int j = 0; j < spec.np; j++)
+		printf(" %.9g", res.p[j]);
+	printf("\n  p SciPy:  ");
+	for (int j = 0; j < spec.np; j++)
+		printf(" %.9g", sr.p[j]);
+	printf("\n  same objective: SciPy's cost of brdfkit's p %.17g (rel diff %.1e), brdfkit's cost of SciPy's p "
+	       "%.17g (rel diff %.1e); NumPy J vs central differences at the start: max column rel err %.1e\n",
+	       sr.cost_at_bk, fabs(sr.cost_at_bk - c_bk) / c_bk, at_scipy.cost, fabs(at_scipy.cost - c_sp) / c_sp,
+	       sr.jac_err);
+	printf("  ratio SciPy / brdfkit: %.2fx on the solve (%.2fx on the whole bk_fit_run)\n", ratio, ratio_whole);
+	printf("  final cost: brdfkit %s SciPy's (relative difference %+.2e; slack %.0e relative) -> %s\n",
+	       c_bk <= c_sp ? "<=" : ">", (c_bk - c_sp) / c_sp, SLACK, cost_ok ? "met" : "NOT met");
+	printf("  target 10x: %s (%.2fx)\n", ratio >= 10.0 ? "met" : "not met", ratio);
+
+	bk_samples_free(&s);
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+	return cost_ok && ratio >= 10.0;
+}
+
+int main(void)
+{
+	printf("fit: brdfkit (Ceres %s, IR residuals) vs SciPy least_squares (method lm), same samples, weights, start\n"
+	       "and tolerances; median of %d runs after a warm-up, single thread, the solve timed alone\n",
+	       "LM, DENSE_QR", REPS);
+	int met = 0;
+	for (int i = 0; i < NPROBLEMS; i++)
+		met += bench(&problems[i]);
+	printf("\ntarget (both problems: cost no higher than SciPy's, >= 10x faster): %s\n",
+	       met == NPROBLEMS ? "met" : "NOT met");
+	return 0;
+}
