@@ -3,6 +3,12 @@
 
 usage: /usr/bin/python3 analysis/bench_fit_scipy.py build/bench_fit_NAME.bin [P0 P1 ...]
 
+Driven by build/bench_fit over a pipe: after loading, checking the Jacobian
+and one warm-up fit it prints "ready", answers each "run" line with the
+seconds of one least_squares call, and at "end" (or end of input) prints its
+summary. Run by hand (a terminal on stdin, or no P0...), it times the runs
+itself and reports their median on stderr.
+
 Fits the samples build/bench_fit writes with scipy.optimize.least_squares in
 its best configuration for these problems: method 'lm' (MINPACK lmder), an
 analytic Jacobian vectorised with NumPy, x_scale=1, the tolerances in the
@@ -17,8 +23,8 @@ start and at the solution (assert), so that a wrong Jacobian cannot slip
 into the comparison unnoticed. P0 P1 ...: brdfkit's solution, evaluated with
 this residual as a check that both sides minimise the same function.
 
-Prints two lines on stdout: "cost median_seconds nfev njev status
-cost_at_brdfkit_p jacobian_check_error", then the solution.
+The summary is two lines: "cost nfev njev status cost_at_brdfkit_p
+jacobian_check_error", then the solution.
 """
 import sys
 import time
@@ -137,20 +143,29 @@ def main():
         return least_squares(prob.fun, x0, jac=prob.jac, method='lm', ftol=ftol, xtol=xtol, gtol=gtol,
                              x_scale=1.0)
 
-    fit()  # warm-up, as the C side
-    times = []
-    for _ in range(reps):
-        t = time.perf_counter()
-        res = fit()
-        times.append(time.perf_counter() - t)
+    res = fit()  # warm-up, as the C side
+    if sys.stdin.isatty() or len(sys.argv) < 3:  # by hand: time it here
+        times = []
+        for _ in range(reps):
+            t = time.perf_counter()
+            res = fit()
+            times.append(time.perf_counter() - t)
+        print(f"median of {reps}: {1e3 * sorted(times)[reps // 2]:.3f} ms, cost {res.cost:.17g}", file=sys.stderr)
+    else:
+        print("ready", flush=True)
+        for line in sys.stdin:
+            if line.strip() != "run":
+                break
+            t = time.perf_counter()
+            res = fit()
+            print(f"{time.perf_counter() - t:.9g}", flush=True)
     err1 = jacobian_error(prob, res.x)
     assert err1 < 1e-6, f"analytic Jacobian disagrees with central differences at the solution: {err1:.3g}"
-    median = sorted(times)[reps // 2]  # the upper middle for even counts, as bench_median
     r_bk = prob.fun(p_bk) if p_bk is not None else np.array([np.nan])
     cost_bk = 0.5 * float(np.dot(r_bk, r_bk))
     njev = res.njev if res.njev is not None else -1
-    print(f"{res.cost:.17g} {median:.9g} {res.nfev} {njev} {res.status} {cost_bk:.17g} {max(err0, err1):.3g}")
-    print(" ".join(f"{v:.17g}" for v in res.x))
+    print(f"{res.cost:.17g} {res.nfev} {njev} {res.status} {cost_bk:.17g} {max(err0, err1):.3g}")
+    print(" ".join(f"{v:.17g}" for v in res.x), flush=True)
 
 
 if __name__ == "__main__":

@@ -452,8 +452,9 @@ static int check_forms(run *R)
 		                "(first at %s): fix the form or the domain", bad, s->n, where);
 	int edge = bk_fit_edge_check(&R->spec, R->spec.start, where, sizeof where);
 	if (edge)
-		fprintf(stderr, "brdfkit fit: warning: the form is infinite at %d points on the edge of the domain, "
-		        "where the target is finite (e.g. %s); near there it rules a least-squares fit\n", edge, where);
+		fprintf(stderr, "brdfkit fit: warning: the form is infinite at %d points on the closed edge of the domain "
+		        "(e.g. %s); where the target stays finite there, the samples next to them rule a least-squares fit\n",
+		        edge, where);
 	return 0;
 }
 

@@ -50,6 +50,15 @@ int bk_ir_param(bk_form *f, int p);
  * not use, and renumbers so that the result is the last instruction. */
 int bk_ir_finish(bk_form *f, int out);
 
+/* Samples per block of the evaluators: registers are BLOCK values wide. */
+#define BK_IR_BLOCK 128
+
+/* The f64 kernel on one block of n <= BK_IR_BLOCK samples, leaving every
+ * register's values in reg (f->n x BK_IR_BLOCK); first loads constants and
+ * parameters (they stay for later blocks); ahead samples follow (prefetch). */
+void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
+                     const double *par, double *reg);
+
 /* One operation in double precision, for folding and the f64 kernel. */
 double bk_ir_apply(bk_op op, double a, double b, double c);
 

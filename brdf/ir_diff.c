@@ -1,9 +1,14 @@
 /*
  * ir_diff.c — derivatives of a form with respect to its parameters, reverse
- * mode over the same blocks: a forward sweep keeps every register's values, a
- * backward sweep carries adjoints from the result to the operands, and each
- * PARAM register's adjoint is its column of the Jacobian. One backward sweep
- * gives all parameters at once, whatever their number. Double precision only.
+ * mode over the same blocks: the f64 kernel's forward sweep leaves every
+ * register's values, a backward sweep carries adjoints from the result to the
+ * operands, and each PARAM register's adjoint is its column of the Jacobian.
+ * One backward sweep gives all parameters at once, whatever their number.
+ *
+ * Only instructions that depend on a parameter carry adjoints (the rest are
+ * constants of the fit); each op's adjoint update runs over a whole block, as
+ * the forward kernel does, so that it vectorises. Operands may be the same
+ * register (x*x), so the adjoint pointers are not restrict.
  *
  * At the kinks of min, max, clamp, saturate and abs the derivative of the
  * branch taken is used (the subgradient a fitter expects).
@@ -14,89 +19,109 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define BLOCK 128
+#define BLOCK BK_IR_BLOCK
 #define LN2 0.693147180559945309417 /* ln 2 (M_LN2 is POSIX, not C11) */
 
-static void forward(const bk_form *f, size_t n, const double *const *in, const double *par, double *v)
+/* dep[i]: instruction i depends on a parameter. */
+static void dependence(const bk_form *f, char *dep)
 {
 	for (int i = 0; i < f->n; i++) {
 		const bk_instr *c = &f->code[i];
-		double *r = v + (size_t)i * BLOCK;
-		for (size_t k = 0; k < n; k++) {
-			double a = c->a >= 0 ? v[(size_t)c->a * BLOCK + k] : 0.0;
-			double b = c->b >= 0 ? v[(size_t)c->b * BLOCK + k] : 0.0;
-			double cc = c->c >= 0 ? v[(size_t)c->c * BLOCK + k] : 0.0;
-			switch (c->op) {
-			case BK_OP_CONST: r[k] = c->k; break;
-			case BK_OP_PARAM: r[k] = par[c->slot]; break;
-			case BK_OP_INPUT: r[k] = in[c->slot][k]; break;
-			default: r[k] = bk_ir_apply(c->op, a, b, cc); break;
-			}
-		}
+		dep[i] = c->op == BK_OP_PARAM || (c->a >= 0 && dep[c->a]) || (c->b >= 0 && dep[c->b]) ||
+		         (c->c >= 0 && dep[c->c]);
 	}
 }
 
-/* Adds g·∂R/∂operand to each operand's adjoint, for one sample. */
-static void backward_one(const bk_instr *c, double r, double a, double b, double cc, double g,
-                         double *ga, double *gb, double *gc)
+/* Adjoint update of one instruction over a block: ga, gb, gc are NULL for
+ * operands that do not depend on a parameter. */
+static void backward_op(const bk_instr *c, const double *g, const double *r, const double *A, const double *B,
+                        const double *C, double *ga, double *gb, double *gc)
 {
+	size_t k;
 	switch (c->op) {
-	case BK_OP_ADD: *ga += g; *gb += g; break;
-	case BK_OP_SUB: *ga += g; *gb -= g; break;
-	case BK_OP_MUL: *ga += g * b; *gb += g * a; break;
-	case BK_OP_DIV: *ga += g / b; *gb -= g * r / b; break;
-	case BK_OP_NEG: *ga -= g; break;
-	case BK_OP_MAD: *ga += g * b; *gb += g * a; *gc += g; break;
+	case BK_OP_ADD:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += g[k];
+		break;
+	case BK_OP_SUB:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] -= g[k];
+		break;
+	case BK_OP_MUL:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k] * B[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += g[k] * A[k];
+		break;
+	case BK_OP_DIV:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k] / B[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] -= g[k] * r[k] / B[k];
+		break;
+	case BK_OP_NEG:
+		for (k = 0; k < BLOCK; k++) ga[k] -= g[k];
+		break;
+	case BK_OP_MAD:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k] * B[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += g[k] * A[k];
+		if (gc) for (k = 0; k < BLOCK; k++) gc[k] += g[k];
+		break;
 	case BK_OP_POW:
-		*ga += g * b * pow(a, b - 1.0);
-		if (a > 0.0)
-			*gb += g * r * log(a);
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k] * B[k] * pow(A[k], B[k] - 1.0);
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += A[k] > 0.0 ? g[k] * r[k] * log(A[k]) : 0.0;
 		break;
-	case BK_OP_SQRT: *ga += g * 0.5 / r; break;
-	case BK_OP_RSQRT: *ga -= g * 0.5 * r / a; break;
-	case BK_OP_RCP: *ga -= g * r * r; break;
-	case BK_OP_EXP: *ga += g * r; break;
-	case BK_OP_EXP2: *ga += g * r * LN2; break;
-	case BK_OP_LOG: *ga += g / a; break;
-	case BK_OP_LOG2: *ga += g / (a * LN2); break;
-	case BK_OP_MIN: if (a <= b) *ga += g; else *gb += g; break;
-	case BK_OP_MAX: if (a >= b) *ga += g; else *gb += g; break;
+	case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * 0.5 / r[k]; break;
+	case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) ga[k] -= g[k] * 0.5 * r[k] / A[k]; break;
+	case BK_OP_RCP: for (k = 0; k < BLOCK; k++) ga[k] -= g[k] * r[k] * r[k]; break;
+	case BK_OP_EXP: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * r[k]; break;
+	case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * r[k] * LN2; break;
+	case BK_OP_LOG: for (k = 0; k < BLOCK; k++) ga[k] += g[k] / A[k]; break;
+	case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) ga[k] += g[k] / (A[k] * LN2); break;
+	case BK_OP_MIN:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += A[k] <= B[k] ? g[k] : 0.0;
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += A[k] <= B[k] ? 0.0 : g[k];
+		break;
+	case BK_OP_MAX:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += A[k] >= B[k] ? g[k] : 0.0;
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += A[k] >= B[k] ? 0.0 : g[k];
+		break;
 	case BK_OP_CLAMP:
-		if (a < b) *gb += g;
-		else if (a > cc) *gc += g;
-		else *ga += g;
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += A[k] < B[k] || A[k] > C[k] ? 0.0 : g[k];
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += A[k] < B[k] ? g[k] : 0.0;
+		if (gc) for (k = 0; k < BLOCK; k++) gc[k] += A[k] < B[k] || !(A[k] > C[k]) ? 0.0 : g[k];
 		break;
-	case BK_OP_SATURATE: if (a > 0.0 && a < 1.0) *ga += g; break;
-	case BK_OP_MIX: *ga += g * (1.0 - cc); *gb += g * cc; *gc += g * (b - a); break;
-	case BK_OP_ABS: *ga += a < 0.0 ? -g : g; break;
+	case BK_OP_SATURATE: for (k = 0; k < BLOCK; k++) ga[k] += A[k] > 0.0 && A[k] < 1.0 ? g[k] : 0.0; break;
+	case BK_OP_MIX:
+		if (ga) for (k = 0; k < BLOCK; k++) ga[k] += g[k] * (1.0 - C[k]);
+		if (gb) for (k = 0; k < BLOCK; k++) gb[k] += g[k] * C[k];
+		if (gc) for (k = 0; k < BLOCK; k++) gc[k] += g[k] * (B[k] - A[k]);
+		break;
+	case BK_OP_ABS: for (k = 0; k < BLOCK; k++) ga[k] += A[k] < 0.0 ? -g[k] : g[k]; break;
 	default: break;
 	}
 }
 
-static void backward(const bk_form *f, size_t n, const double *v, double *adj, double *jac, int np)
+static void backward(const bk_form *f, const char *dep, size_t n, const double *v, double *adj, double *jac, int np)
 {
-	memset(adj, 0, sizeof(double) * (size_t)f->n * BLOCK);
-	for (size_t k = 0; k < n; k++)
-		adj[(size_t)f->out * BLOCK + k] = 1.0;
-	static double sink; /* adjoint target for absent operands */
+	for (int i = 0; i < f->n; i++)
+		if (dep[i])
+			memset(adj + (size_t)i * BLOCK, 0, sizeof(double) * BLOCK);
+	double *gout = adj + (size_t)f->out * BLOCK;
+	for (size_t k = 0; k < BLOCK; k++)
+		gout[k] = 1.0;
 	for (int i = f->n - 1; i >= 0; i--) {
 		const bk_instr *c = &f->code[i];
+		if (!dep[i])
+			continue;
 		const double *g = adj + (size_t)i * BLOCK;
 		if (c->op == BK_OP_PARAM) {
 			for (size_t k = 0; k < n; k++)
 				jac[k * (size_t)np + (size_t)c->slot] += g[k];
 			continue;
 		}
-		for (size_t k = 0; k < n; k++) {
-			if (g[k] == 0.0)
-				continue;
-			double *ga = c->a >= 0 ? &adj[(size_t)c->a * BLOCK + k] : &sink;
-			double *gb = c->b >= 0 ? &adj[(size_t)c->b * BLOCK + k] : &sink;
-			double *gc = c->c >= 0 ? &adj[(size_t)c->c * BLOCK + k] : &sink;
-			backward_one(c, v[(size_t)i * BLOCK + k], c->a >= 0 ? v[(size_t)c->a * BLOCK + k] : 0.0,
-			             c->b >= 0 ? v[(size_t)c->b * BLOCK + k] : 0.0,
-			             c->c >= 0 ? v[(size_t)c->c * BLOCK + k] : 0.0, g[k], ga, gb, gc);
-		}
+#define OPND(x) ((x) >= 0 ? v + (size_t)(x) * BLOCK : NULL)
+#define ADJ(x) ((x) >= 0 && dep[x] ? adj + (size_t)(x) * BLOCK : NULL)
+		backward_op(c, g, v + (size_t)i * BLOCK, OPND(c->a), OPND(c->b), OPND(c->c), ADJ(c->a), ADJ(c->b),
+		            ADJ(c->c));
+#undef OPND
+#undef ADJ
 	}
 }
 
@@ -108,26 +133,30 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 			return -1;
 	double *v = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	double *adj = malloc(sizeof(double) * (size_t)f->n * BLOCK);
-	if (!v || !adj) {
+	char *dep = malloc((size_t)f->n);
+	if (!v || !adj || !dep) {
 		free(v);
 		free(adj);
+		free(dep);
 		return -1;
 	}
+	dependence(f, dep);
 	int np = f->nparams;
 	if (np)
 		memset(jac, 0, sizeof(double) * n * (size_t)np);
 	const double *blk[BK_IN_COUNT];
 	for (size_t s = 0; s < n; s += BLOCK) {
 		size_t m = n - s < BLOCK ? n - s : BLOCK;
+		size_t ahead = n - s - m < BLOCK ? n - s - m : BLOCK;
 		for (int i = 0; i < BK_IN_COUNT; i++)
 			blk[i] = in[i] ? in[i] + s : NULL;
-		forward(f, m, blk, params, v);
-		for (size_t k = 0; k < m; k++)
-			out[s + k] = v[(size_t)f->out * BLOCK + k];
-		if (np)
-			backward(f, m, v, adj, jac + s * (size_t)np, np);
+		bk_ir_forward64(f, m, ahead, s == 0, blk, params, v);
+		memcpy(out + s, v + (size_t)f->out * BLOCK, sizeof(double) * m);
+		if (np && dep[f->out])
+			backward(f, dep, m, v, adj, jac + s * (size_t)np, np);
 	}
 	free(v);
 	free(adj);
+	free(dep);
 	return 0;
 }

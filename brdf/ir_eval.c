@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <tgmath.h>
 
-#define BLOCK 128
+#define BLOCK BK_IR_BLOCK
 
 static float round16(float x) { return (float)bk_half_round(x); }
 static float round32(float x) { return x; }
@@ -102,13 +102,19 @@ static double round64(double x) { return x; }
 			}                                                                            \
 		}                                                                                \
 		const T *res = reg + (size_t)f->out * BLOCK;                                     \
-		for (size_t k = 0; k < n; k++)                                                   \
+		for (size_t k = 0; out && k < n; k++)                                            \
 			out[k] = (double)res[k];                                                     \
 	}
 
 KERNEL(run64, double, round64)
 KERNEL(run32, float, round32)
 KERNEL(run16, float, round16)
+
+void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
+                     const double *par, double *reg)
+{
+	run64(f, n, ahead, first, in, par, reg, NULL);
+}
 
 const char *bk_precision_name(bk_precision p)
 {

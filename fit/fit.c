@@ -146,7 +146,7 @@ static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 	res->start_cost_min = INFINITY;
 	res->start_cost_max = -INFINITY;
 	for (int k = 0; k < spec->starts; k++) {
-		double p[BK_MAX_PARAMS];
+		double p[BK_MAX_PARAMS] = {0};
 		bk_fit_summary sum;
 		start_point(spec, k, p);
 		if (bk_fit_solve(c, p, spec->hold, &sum) || sum.termination == BK_TERM_FAILURE) {

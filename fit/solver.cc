@@ -331,12 +331,21 @@ public:
 		so.trust_region_strategy_type = enum_value(&o_.trust_region) == BK_TR_DOGLEG
 		                                        ? ceres::DOGLEG
 		                                        : ceres::LEVENBERG_MARQUARDT;
-		so.linear_solver_type = ceres::DENSE_QR; /* at most 16 parameters */
+		/* At most 16 parameters against up to ~10^6 residuals: forming JᵀJ
+		 * (m p² flops, no copy of J) beats QR of J (2 m p² and a copy); 2.2x
+		 * faster on Karis's 11-parameter env fit (make bench). The squared
+		 * condition number is harmless here: LM adds λD to JᵀJ, which keeps it
+		 * positive definite even when parameters are not identifiable. */
+		so.linear_solver_type = ceres::DENSE_NORMAL_CHOLESKY;
 		/* Ceres tests the function and parameter tolerances on a candidate step
 		 * and stops WITHOUT taking it, so with a non-zero optimal cost C the
 		 * answer is as close as a step that changes C by function_tolerance·C. */
 		so.max_num_iterations = o_.max_iterations;
-		so.function_tolerance = o_.function_tolerance;
+		/* ... so ask Ceres for 1/100 of the tolerance: the step it then declines
+		 * changes the cost by at most ftol/100, and the point returned is at
+		 * least as converged as MINPACK's (which takes its last step, then
+		 * tests). About one more iteration; measured in make bench. */
+		so.function_tolerance = o_.function_tolerance / 100.0;
 		so.gradient_tolerance = o_.gradient_tolerance;
 		so.parameter_tolerance = o_.parameter_tolerance;
 		so.num_threads = o_.num_threads;
