@@ -26,8 +26,10 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
 # compiles; Ceres is the least-squares solver, libpng the heatmaps).
-DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools libceres-dev libpng-dev
+DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
+       libxml2-utils
 FUZZ_DEBS = clang libclang-rt-14-dev
+PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -35,7 +37,8 @@ LIB_SRC  = $(sort $(wildcard brdf/*.c))
 FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
 TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c))) $(FIT_SRC)
 TEST_SRC = $(sort $(wildcard tests/*.c))
-SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c analysis/heatmap.c $(FIT_SRC)   # modules the tests link too
+SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c analysis/heatmap.c analysis/timing.c \
+           analysis/report.c analysis/lutscore.c $(FIT_SRC)   # modules the tests link too
 
 obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 
@@ -115,6 +118,8 @@ test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
+	$(call need,$(PAGE_DEBS))
+	sh tests/page.sh results/index.html
 
 # bench_ir times the IR against bk_form_emit's C for the same forms, compiled
 # with the flags above: one source built twice, first as the generator of that
@@ -150,6 +155,18 @@ results: $(TOOL)
 	$(TOOL) fit --target vf --form vf_talk_r --out results/fits/vf_talk_r
 	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
 	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
+	# error against cost: every catalog form, its refit and the LUTs, one page
+	@mkdir -p results/compare
+	$(TOOL) compare --target vf2d --out results/compare/vf2d --link-prefix compare/vf2d/
+	$(TOOL) compare --target vf --out results/compare/vf --link-prefix compare/vf/
+	$(TOOL) compare --target env --out results/compare/env --link-prefix compare/env/
+	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
+	  results/compare/vf/section.html results/compare/env/section.html
+	for t in vf2d vf env; do \
+	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
+	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
+	done
+	cp results/albedo.csv notebooks_data/albedo.csv
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*.

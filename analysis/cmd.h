@@ -14,5 +14,8 @@ int cmd_ops(int argc, char **argv);
 int cmd_codegen(int argc, char **argv);
 int cmd_catalog(int argc, char **argv);
 int cmd_fit(int argc, char **argv);
+int cmd_time(int argc, char **argv);
+int cmd_compare(int argc, char **argv);
+int cmd_report(int argc, char **argv);
 
 #endif

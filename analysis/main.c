@@ -21,6 +21,9 @@ static const struct {
 	{"codegen", cmd_codegen, "generate a C, GLSL or HLSL function from a form"},
 	{"catalog", cmd_catalog, "the published forms, as CSV"},
 	{"fit", cmd_fit, "fit a form to a target with Ceres; tables, heatmaps, shaders"},
+	{"time", cmd_time, "CPU ns per evaluation of forms (generated C, cc -O2) and SPIR-V size"},
+	{"report", cmd_report, "the study's page from the compare sections"},
+	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 };
 
 static void usage(FILE *out)

@@ -1,0 +1,501 @@
+/*
+ * cmd_compare.c — brdfkit compare: every candidate for a target on the same
+ * samples — published constants, their refits, the LUT alternative — with
+ * error, ALU cost, texture fetches, CPU run time and SPIR-V size, the Pareto
+ * front, CSV tables, SVG plots and an HTML section for the report page.
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "compare.h"
+#include "fit.h"
+#include "heatmap.h"
+
+#include <dirent.h>
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define MAX_ROWS 128
+
+typedef struct study {
+	bk_target_options to;
+	bk_samples s;
+	bk_compare_row rows[MAX_ROWS];
+	int n;
+	int relative, refit, timing, tier;
+	long reps;
+} study;
+
+/* Which catalog entries answer a target. env: every entry becomes one form in
+ * f0 (a split entry as f0*(A) + (B)), so all are scored on f0·A + B over the
+ * same f0 list, the quantity a shader computes. */
+static int entry_fits(bk_target_kind k, const bk_catalog_entry *e)
+{
+	switch (k) {
+	case BK_TARGET_VF2D:
+	case BK_TARGET_VF: return !strcmp(e->target, "VF") || !strcmp(e->target, "V");
+	case BK_TARGET_SPEC: return !strcmp(e->target, "DVF");
+	case BK_TARGET_ENV: return !strcmp(e->target, "env") || !strcmp(e->target, "env_f0");
+	case BK_TARGET_D: return !strcmp(e->target, "D");
+	case BK_TARGET_F: return !strcmp(e->target, "F");
+	default: return 0;
+	}
+}
+
+static void row_text(bk_compare_row *r, const char *name, const char *kind, const char *source)
+{
+	snprintf(r->name, sizeof r->name, "%s", name);
+	snprintf(r->kind, sizeof r->kind, "%s", kind);
+	snprintf(r->source, sizeof r->source, "%s", source);
+}
+
+/* The form a row is scored with: a V entry times Schlick F on V·F targets,
+ * an env split entry as one form in f0. */
+static void entry_form(bk_target_kind k, const bk_catalog_entry *e, char *buf, size_t len)
+{
+	if (!strcmp(e->target, "V"))
+		snprintf(buf, len, "(%s)*F_schlick(f0, 1, LoH)", e->form);
+	else if (k == BK_TARGET_ENV && e->form_b)
+		snprintf(buf, len, "f0*(%s) + (%s)", e->form, e->form_b);
+	else
+		snprintf(buf, len, "%s", e->form);
+}
+
+static void score(study *S, bk_compare_row *r, const bk_form *f)
+{
+	bk_fit_spec sp;
+	memset(&sp, 0, sizeof sp);
+	sp.s = &S->s;
+	sp.form[0] = f;
+	sp.np = bk_form_nparams(f);
+	sp.relative = S->relative;
+	memcpy(sp.start, r->params, sizeof sp.start);
+	bk_fit_evaluate(&sp, r->params, &r->m);
+	bk_form_count(f, &r->ops);
+	r->cost = bk_ops_cost(&r->ops, BK_COST_SIMPLE, BK_COST_COMPLEX);
+	char err[256];
+	r->spirv = bk_spirv_count(f, r->params, err, sizeof err);
+	for (int t = 0; t < BK_TIERS; t++)
+		r->cheaper_than_fetch[t] = r->cost < bk_tier_alu_per_tex[t];
+}
+
+/* The refit of a row: its constants freed, from the published ones. */
+static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compare_row *r)
+{
+	bk_fit_spec sp;
+	bk_fit_options o = BK_FIT_OPTIONS_INIT;
+	memset(&sp, 0, sizeof sp);
+	sp.s = &S->s;
+	sp.form[0] = f;
+	sp.np = bk_form_nparams(f);
+	sp.opt = o;
+	sp.relative = S->relative;
+	sp.starts = 2;
+	sp.seed = 1;
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		sp.start[j] = pub->params[j];
+		sp.lower[j] = -HUGE_VAL;
+		sp.upper[j] = HUGE_VAL;
+	}
+	char where[128];
+	if (sp.np == 0 || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
+		return -1;
+	bk_fit_result res;
+	if (bk_fit_run(&sp, &res) < 0)
+		return -1;
+	*r = *pub;
+	memcpy(r->params, res.p, sizeof r->params);
+	char name[96];
+	snprintf(name, sizeof name, "%.80s (refit)", pub->name);
+	row_text(r, name, "refit", "brdfkit fit, constants freed from the published ones");
+	score(S, r, f);
+	return 0;
+}
+
+static int add_entry(study *S, const bk_catalog_entry *e)
+{
+	if (S->n + 2 > MAX_ROWS)
+		return -1;
+	bk_compare_row *r = &S->rows[S->n];
+	memset(r, 0, sizeof *r);
+	entry_form(S->to.kind, e, r->form, sizeof r->form);
+	bk_form_error err;
+	bk_form *f = bk_form_parse(r->form, &err);
+	if (!f || (bk_form_inputs(f) & ~S->s.provides)) {
+		bk_form_free(f); /* reads what this target does not provide (e.g. NoV on vf2d) */
+		return 0;
+	}
+	row_text(r, !strcmp(e->target, "V") ? e->name : e->name, "published", e->source);
+	if (!strcmp(e->target, "V")) {
+		char name[96];
+		snprintf(name, sizeof name, "%.70s x F_schlick", e->name);
+		snprintf(r->name, sizeof r->name, "%s", name);
+	}
+	r->nparams = e->nparams;
+	memcpy(r->params, e->defaults, sizeof r->params);
+	r->ns = r->ns_min = r->ns_max = NAN;
+	score(S, r, f);
+	S->n++;
+	if (S->refit && refit(S, r, f, &S->rows[S->n]) == 0)
+		S->n++;
+	bk_form_free(f);
+	return 0;
+}
+
+static void add_luts(study *S)
+{
+	static const int sizes[] = {16, 32, 64, 128};
+	for (int q = 0; q < 4; q++)
+		for (int fm = 0; fm < BK_LUT_FORMATS && S->n < MAX_ROWS; fm++) {
+			bk_compare_row *r = &S->rows[S->n];
+			memset(r, 0, sizeof *r);
+			char name[96];
+			snprintf(name, sizeof name, "LUT %dx%d %s", sizes[q], sizes[q], bk_lut_format_name((bk_lut_format)fm));
+			row_text(r, name, "lut", "DFG texture from the reference integrator, bilinear, clamp to edge");
+			if (bk_lut_score(sizes[q], (bk_lut_format)fm, S->to.smith, &S->s, &r->m, NULL))
+				continue;
+			r->tex_fetches = 1;
+			r->sampler_slots = 1;
+			r->spirv = -1;
+			r->ns = r->ns_min = r->ns_max = NAN;
+			S->n++;
+		}
+}
+
+/* "LUT 64x64 half" -> "lut_64x64_half": file names for a row. */
+static void slug(const char *name, char *buf, size_t len)
+{
+	size_t k = 0;
+	for (; *name && k + 1 < len; name++) {
+		char c = *name;
+		if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')
+			buf[k++] = c;
+		else if (c >= 'A' && c <= 'Z')
+			buf[k++] = (char)(c - 'A' + 'a');
+		else if (k && buf[k - 1] != '_')
+			buf[k++] = '_';
+	}
+	while (k && buf[k - 1] == '_')
+		k--;
+	buf[k] = '\0';
+}
+
+static void html_text(FILE *f, const char *s)
+{
+	for (; *s; s++)
+		switch (*s) {
+		case '&': fputs("&amp;", f); break;
+		case '<': fputs("&lt;", f); break;
+		case '>': fputs("&gt;", f); break;
+		case '"': fputs("&quot;", f); break;
+		default: fputc(*s, f);
+		}
+}
+
+static void cat_file(FILE *out, const char *path)
+{
+	FILE *in = fopen(path, "r");
+	char buf[8192];
+	size_t n;
+	if (!in)
+		return;
+	while ((n = fread(buf, 1, sizeof buf, in)) > 0)
+		fwrite(buf, 1, n, out);
+	fclose(in);
+}
+
+/* The published row a refit came from (the row just before it). */
+static const bk_compare_row *published_of(const study *S, int i)
+{
+	return i > 0 && !strcmp(S->rows[i].kind, "refit") ? &S->rows[i - 1] : NULL;
+}
+
+static void write_section(const study *S, FILE *f, const char *dir, const char *prefix)
+{
+	char svg[4400];
+	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
+	        bk_target_name(S->to.kind));
+	html_text(f, S->s.description);
+	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples.</p>\n",
+	        S->relative ? "relative" : "absolute");
+	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
+	cat_file(f, svg);
+	fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
+	           "<a href=\"%spareto_ns.svg\">pareto_ns.svg</a>; tables: <a href=\"%scompare.csv\">compare.csv</a>, "
+	           "<a href=\"%stiming.csv\">timing.csv</a>.</p>\n", prefix, prefix, prefix);
+	fputs("<p><b>On the Pareto front</b> (no other entry both cheaper and more accurate; a texture fetch priced "
+	      "at 16 simple ops, the talk's lowest ALU:TEX tier): ", f);
+	int first = 1;
+	for (int i = 0; i < S->n; i++)
+		if (S->rows[i].pareto_cost) {
+			fputs(first ? "" : ", ", f);
+			html_text(f, S->rows[i].name);
+			first = 0;
+		}
+	fputs(".</p>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
+	      "<th>ALU cost</th><th>simple</th><th>complex</th><th>fetches</th><th>SPIR-V</th>"
+	      "<th>cheaper than a fetch at 16/32/48/64</th><th>front</th><th>heatmap</th></tr>\n", f);
+	for (int i = 0; i < S->n; i++) {
+		const bk_compare_row *r = &S->rows[i], *p = published_of(S, i);
+		char sl[128];
+		slug(r->name, sl, sizeof sl);
+		fputs("<tr><td>", f);
+		html_text(f, r->name);
+		fprintf(f, "</td><td>%s</td><td>%.3g</td><td>%.3g</td><td>", r->kind, r->m.max_abs, r->m.rmse);
+		if (p && p->m.max_abs > 0)
+			fprintf(f, "%+.0f %% max, %+.0f %% rmse", 100 * (r->m.max_abs / p->m.max_abs - 1),
+			        100 * (r->m.rmse / p->m.rmse - 1));
+		fprintf(f, "</td><td>%g</td><td>%d</td><td>%d</td><td>%d</td><td>", r->cost, r->ops.simple, r->ops.complex,
+		        r->tex_fetches);
+		if (r->spirv >= 0)
+			fprintf(f, "%d", r->spirv);
+		fputs("</td><td>", f);
+		for (int t = 0; t < BK_TIERS; t++)
+			fprintf(f, "%s%s", t ? "/" : "", r->tex_fetches ? "-" : r->cheaper_than_fetch[t] ? "yes" : "no");
+		fprintf(f, "</td><td>%s</td><td><a href=\"%sheatmaps/%s.png\"><img src=\"%sheatmaps/%s.png\" width=\"120\" "
+		        "alt=\"heatmap\"></a></td></tr>\n", r->pareto_cost ? "&#9733;" : "", prefix, sl, prefix, sl);
+	}
+	fputs("</table>\n</section>\n", f);
+}
+
+/* Removes dir and the files in it and in its subdirectories (two levels:
+ * what compare writes). */
+static void rm_tree(const char *dir)
+{
+	DIR *d = opendir(dir);
+	if (d) {
+		for (struct dirent *e; (e = readdir(d));) {
+			if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+				continue;
+			char path[4400];
+			snprintf(path, sizeof path, "%.4000s/%.255s", dir, e->d_name);
+			struct stat st;
+			if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+				rm_tree(path);
+			else
+				unlink(path);
+		}
+		closedir(d);
+	}
+	rmdir(dir);
+}
+
+static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
+{
+	char sl[128], path[4400];
+	slug(r->name, sl, sizeof sl);
+	size_t cells = (size_t)S->s.plane_nx * S->s.plane_ny;
+	double *v = malloc(sizeof(double) * cells);
+	if (!v)
+		return -1;
+	bk_form *f = NULL;
+	if (r->form[0]) {
+		bk_form_error fe;
+		if (!(f = bk_form_parse(r->form, &fe))) {
+			free(v);
+			return -1;
+		}
+		bk_fit_spec sp;
+		memset(&sp, 0, sizeof sp);
+		sp.s = &S->s;
+		sp.form[0] = f;
+		sp.np = bk_form_nparams(f);
+		bk_fit_plane_error(&sp, r->params, v);
+	} else {
+		bk_fit_metrics m;
+		int size = 0;
+		char fmt[16] = "";
+		sscanf(r->name, "LUT %dx%*d %15s", &size, fmt);
+		bk_lut_format lf = BK_LUT_FLOAT;
+		for (int k = 0; k < BK_LUT_FORMATS; k++)
+			if (!strcmp(fmt, bk_lut_format_name((bk_lut_format)k)))
+				lf = (bk_lut_format)k;
+		bk_lut_score(size, lf, S->to.smith, &S->s, &m, v);
+	}
+	int albedo = isfinite(r->m.albedo_max_abs);
+	char title[200];
+	snprintf(title, sizeof title, "%.90s on %s: %s", r->name, bk_target_name(S->to.kind),
+	         albedo ? "directional albedo error" : "error (approx - exact)");
+	bk_heatmap h = {S->s.plane_nx, S->s.plane_ny, v, S->s.plane_x0, S->s.plane_x1, S->s.plane_y0,
+	                S->s.plane_y1, S->s.plane_xname, S->s.plane_yname, title,
+	                albedo ? "albedo_error" : "error", S->s.description};
+	snprintf(path, sizeof path, "%.4000s/heatmaps", dir);
+	int rc = bk_heatmap_write(&h, path, sl, err, errlen);
+	free(v);
+	/* Per row, the EXR (every value) and the PNG (for a person) are kept; the
+	 * per-cell CSV would be 19 MB over the study's ~90 rows, and the tables a
+	 * notebook wants are compare.csv and the fits' heatmap.csv. */
+	snprintf(path, sizeof path, "%.4000s/heatmaps/%.120s.csv", dir, sl);
+	if (rc == 0)
+		unlink(path);
+	/* shaders for every form row: published and refit constants alike */
+	static const struct { const char *ext; bk_lang lang; } langs[] = {
+		{"c", BK_LANG_C}, {"glsl", BK_LANG_GLSL}, {"hlsl", BK_LANG_HLSL}};
+	for (size_t k = 0; f && rc == 0 && k < 3; k++) {
+		char domain[600], error[160], fname[128];
+		snprintf(domain, sizeof domain, "%s", S->s.description);
+		snprintf(error, sizeof error, "max |error| %.3g, rmse %.3g", r->m.max_abs, r->m.rmse);
+		snprintf(fname, sizeof fname, "%s", sl);
+		bk_emit_info info = {fname, r->source, "brdfkit conventions: r perceptual, a = r^2, V includes 1/4",
+		                     domain, error, "brdfkit compare (see results/index.html)"};
+		char *text = bk_form_emit(f, langs[k].lang, 0, r->params, &info);
+		snprintf(path, sizeof path, "%.4000s/shaders/%.120s.%s", dir, sl, langs[k].ext);
+		FILE *o = text ? fopen(path, "w") : NULL;
+		if (!o || fputs(text, o) < 0 || fclose(o))
+			rc = -1;
+		free(text);
+	}
+	bk_form_free(f);
+	return rc;
+}
+
+static int write_dir(study *S, const char *out, const char *prefix)
+{
+	char tmp[4200], path[4400], err[512] = "";
+	snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
+	if (!mkdtemp(tmp))
+		return cli_fail("compare", "%s: cannot create: %s", out, strerror(errno));
+	mode_t um = umask(0);
+	umask(um);
+	chmod(tmp, 0777 & ~um);
+	snprintf(path, sizeof path, "%s/heatmaps", tmp);
+	int rc = mkdir(path, 0777);
+	snprintf(path, sizeof path, "%s/shaders", tmp);
+	rc |= mkdir(path, 0777);
+	static const char *const files[] = {"compare.csv", "timing.csv", "pareto_cost.svg", "pareto_ns.svg", "section.html"};
+	FILE *f[5] = {0};
+	for (int k = 0; k < 5 && rc == 0; k++) {
+		snprintf(path, sizeof path, "%s/%s", tmp, files[k]);
+		if (!(f[k] = fopen(path, "w")))
+			rc = -1;
+	}
+	if (rc == 0) {
+		char title[160];
+		bk_compare_csv(f[0], S->rows, S->n);
+		bk_timing_csv(f[1], S->rows, S->n);
+		snprintf(title, sizeof title, "%s: max |error| against cost", bk_target_name(S->to.kind));
+		bk_compare_svg(f[2], S->rows, S->n, 0, title);
+		snprintf(title, sizeof title, "%s: max |error| against CPU ns per evaluation", bk_target_name(S->to.kind));
+		bk_compare_svg(f[3], S->rows, S->n, 1, title);
+		fclose(f[2]);
+		f[2] = NULL;
+		write_section(S, f[4], tmp, prefix);
+	}
+	for (int k = 0; k < 5; k++)
+		if (f[k] && (ferror(f[k]) | fclose(f[k])))
+			rc = -1;
+	for (int i = 0; i < S->n && rc == 0; i++) {
+		rc = write_row_files(S, &S->rows[i], tmp, err, sizeof err);
+		cli_progress("compare: heatmaps and shaders", i + 1, S->n);
+	}
+	if (rc) {
+		rm_tree(tmp);
+		return cli_fail("compare", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
+	}
+	rm_tree(out); /* replaced whole: what it held was this command's own output */
+	if (rename(tmp, out)) {
+		int e = errno;
+		rm_tree(tmp);
+		return cli_fail("compare", "%s: %s", out, strerror(e));
+	}
+	return 0;
+}
+
+int cmd_compare(int argc, char **argv)
+{
+	const char *target = NULL, *out = NULL, *prefix = "";
+	long nx = 0, nr = 0, reps = 7, tier = 16;
+	int relative = 0, no_refit = 0, no_time = 0, no_lut = 0;
+	cli_opt opts[] = {
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d or f", .dest = &target, .required = 1},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &out, .required = 1},
+		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x (default: the target's)", .dest = &nx, .lo = 1, .hi = 1024},
+		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness", .dest = &nr, .lo = 1, .hi = 1024},
+		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals for the refits", .dest = &relative},
+		{.name = "--no-refit", .kind = CLI_FLAG, .help = "published constants only", .dest = &no_refit},
+		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip CPU timing", .dest = &no_time},
+		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env: leave out the LUT rows", .dest = &no_lut},
+		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
+		{.name = "--tier", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "ALU:TEX ratio pricing a fetch for the front (default 16)", .dest = &tier, .lo = 16, .hi = 64},
+		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page)", .dest = &prefix},
+	};
+	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env) the LUT alternative on\n"
+	               "the same samples: error, ALU cost, texture fetches, CPU ns, SPIR-V size, the Pareto front.",
+	               "--target T --out DIR [FORM ...] [options]",
+	               "Writes DIR/compare.csv, timing.csv, pareto_cost.svg, pareto_ns.svg, section.html (for the\n"
+	               "report page), heatmaps/ and shaders/. Extra FORM arguments are scored as typed forms.",
+	               opts, (int)(sizeof opts / sizeof opts[0]), 32, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	static study S;
+	memset(&S, 0, sizeof S);
+	bk_target_kind kind;
+	if (bk_target_parse(target, &kind)) {
+		fprintf(stderr, "brdfkit compare: --target: unknown target '%s'\n", target);
+		return 2;
+	}
+	int t = -1;
+	for (int k = 0; k < BK_TIERS; k++)
+		if (bk_tier_alu_per_tex[k] == tier)
+			t = k;
+	if (t < 0) {
+		fprintf(stderr, "brdfkit compare: --tier: expected 16, 32, 48 or 64, got %ld\n", tier);
+		return 2;
+	}
+	bk_target_defaults(kind, &S.to);
+	S.to.env_f0_form = kind == BK_TARGET_ENV;
+	if (kind == BK_TARGET_VF2D)
+		S.to.nx = S.to.nr = 128; /* the study's grid: 128² keeps every heatmap CSV under 1 MB */
+	if (kind == BK_TARGET_ENV)
+		S.to.nx = S.to.nr = 100; /* cell centres that are no LUT's texel centres (16..128): a
+		                          * LUT scored at its own texels would show no interpolation error */
+	if (nx) S.to.nx = (int)nx;
+	if (nr) S.to.nr = (int)nr;
+	S.relative = relative;
+	S.refit = !no_refit;
+	char err[512];
+	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
+		return cli_fail("compare", "%s", err);
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		if (entry_fits(kind, e))
+			add_entry(&S, e);
+		cli_progress("compare: catalog forms and refits", (int)i + 1, (int)bk_catalog_count());
+	}
+	for (int i = 0; i < cmd.npos && S.n < MAX_ROWS; i++) {
+		bk_compare_row *r = &S.rows[S.n];
+		memset(r, 0, sizeof *r);
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
+		if (!f) {
+			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
+			bk_samples_free(&S.s);
+			return 2;
+		}
+		snprintf(r->form, sizeof r->form, "%s", cmd.pos[i]);
+		row_text(r, cmd.pos[i], "form", "typed on the command line");
+		score(&S, r, f);
+		bk_form_free(f);
+		S.n++;
+	}
+	if (kind == BK_TARGET_ENV && !no_lut)
+		add_luts(&S);
+	for (int i = 0; i < S.n; i++)
+		if (!strcmp(S.rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
+			S.rows[i].ops.n[BK_K_MAD] = 1;
+			S.rows[i].ops.simple = 1;
+			S.rows[i].cost = 1;
+		}
+	if (!no_time && bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err))
+		fprintf(stderr, "brdfkit compare: warning: timing skipped: %s\n", err);
+	bk_pareto(S.rows, S.n, t);
+	rc = write_dir(&S, out, prefix);
+	bk_samples_free(&S.s);
+	return rc;
+}

@@ -1,0 +1,274 @@
+/*
+ * cmd_time.c — brdfkit time: what forms cost, measured (CPU ns per evaluation
+ * of the generated C) and counted (IR op classes, SPIR-V instructions), one
+ * CSV row per form. The measuring is analysis/timing.c's; this file turns
+ * arguments into rows and rows into CSV.
+ */
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "compare.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define TIME_MAX_ROWS 32 /* cli_parse keeps at most 32 positionals */
+
+/* The rows, contiguous as bk_time_rows takes them, and for each which
+ * parameters the command line or the catalog gave. */
+typedef struct time_table {
+	bk_compare_row rows[TIME_MAX_ROWS];
+	int have[TIME_MAX_ROWS][BK_MAX_PARAMS];
+	int typed[TIME_MAX_ROWS]; /* formula text, not a catalog name: takes p0=... */
+	int n;
+} time_table;
+
+/* pN=VALUE: 1 and the index and value; 0 when arg is not of that shape;
+ * 2 after an error message. */
+static int param_arg(const char *arg, int *k, double *v)
+{
+	if (arg[0] != 'p' || arg[1] < '0' || arg[1] > '9' || !strchr(arg, '='))
+		return 0;
+	char *end;
+	long i = strtol(arg + 1, &end, 10);
+	if (*end != '=')
+		return 0;
+	if (i >= BK_MAX_PARAMS) {
+		fprintf(stderr, "brdfkit time: unknown parameter 'p%ld' (p0..p%d)\n", i, BK_MAX_PARAMS - 1);
+		return 2;
+	}
+	errno = 0;
+	*v = strtod(end + 1, &end);
+	if (end == strchr(arg, '=') + 1 || *end || errno == ERANGE || !isfinite(*v)) {
+		fprintf(stderr, "brdfkit time: p%ld: expected a finite number, got '%s'\n", i, strchr(arg, '=') + 1);
+		return 2;
+	}
+	*k = (int)i;
+	return 1;
+}
+
+/* NAME, NAME:A or NAME:B from the catalog; 0 when arg names no entry, 1 when
+ * it does, 2 after an error message. A split-sum entry without a part is
+ * timed as one evaluation of A and B. */
+static int catalog_row(const char *arg, bk_compare_row *r, int *have)
+{
+	char name[128];
+	const char *colon = strchr(arg, ':');
+	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
+	if (len >= sizeof name)
+		return 0;
+	memcpy(name, arg, len);
+	name[len] = '\0';
+	const bk_catalog_entry *e = bk_catalog_find(name);
+	if (!e)
+		return 0;
+	const char *part = colon ? colon + 1 : "";
+	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
+	if (colon && (!e->form_b || !(a || b))) {
+		fprintf(stderr, "brdfkit time: '%s': unknown part '%s'\n", name, part);
+		return 2;
+	}
+	snprintf(r->form, sizeof r->form, "%s", b ? e->form_b : e->form);
+	if (!colon && e->form_b)
+		snprintf(r->form_b, sizeof r->form_b, "%s", e->form_b);
+	snprintf(r->name, sizeof r->name, "%s", arg);
+	snprintf(r->kind, sizeof r->kind, "published");
+	snprintf(r->source, sizeof r->source, "%s", e->source);
+	r->nparams = e->nparams;
+	for (int i = 0; i < e->nparams; i++) {
+		r->params[i] = e->defaults[i];
+		have[i] = 1;
+	}
+	return 1;
+}
+
+static int typed_row(const char *arg, int index, bk_compare_row *r)
+{
+	if (strlen(arg) >= sizeof r->form) {
+		fprintf(stderr, "brdfkit time: form %d: longer than %zu characters\n", index, sizeof r->form - 1);
+		return 2;
+	}
+	snprintf(r->form, sizeof r->form, "%s", arg);
+	snprintf(r->name, sizeof r->name, "form%d", index);
+	snprintf(r->kind, sizeof r->kind, "form");
+	snprintf(r->source, sizeof r->source, "typed on the command line");
+		return 0;
+}
+
+/* Positionals into rows: FORM|NAME starts a row, pN=V binds to the typed
+ * form before it. */
+static int read_rows(char **pos, int npos, time_table *T)
+{
+	for (int i = 0; i < npos; i++) {
+		int k, rc, last = T->n - 1;
+		double v;
+		if ((rc = param_arg(pos[i], &k, &v)) == 2)
+			return 2;
+		if (rc == 1) {
+			if (last < 0 || !T->typed[last]) {
+				fprintf(stderr, "brdfkit time: '%s' must follow a typed form (catalog entries use their "
+				                "published constants)\n", pos[i]);
+				return 2;
+			}
+			T->rows[last].params[k] = v;
+			T->have[last][k] = 1;
+			continue;
+		}
+		int j = T->n++;
+		if ((rc = catalog_row(pos[i], &T->rows[j], T->have[j])) == 2)
+			return 2;
+		T->typed[j] = rc == 0;
+		if (rc == 0 && typed_row(pos[i], T->n, &T->rows[j]))
+			return 2;
+	}
+	return 0;
+}
+
+/* Parses a row's form(s): the column of a syntax error, missing parameters;
+ * op counts and cost of A and B together. */
+static int check_row(time_table *T, int i)
+{
+	bk_compare_row *r = &T->rows[i];
+	const char *text[2] = {r->form, r->form_b};
+	memset(&r->ops, 0, sizeof r->ops);
+	for (int p = 0; p < 2 && text[p][0]; p++) {
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(text[p], &fe);
+		if (!f) {
+			fprintf(stderr, "brdfkit time: %s:1:%d: %s\n", T->typed[i] ? "form" : r->name, fe.column, fe.message);
+			return 2;
+		}
+		int np = bk_form_nparams(f);
+		for (int k = 0; k < np; k++)
+			if (!T->have[i][k]) {
+				fprintf(stderr, "brdfkit time: %s: missing p%d=VALUE after it (the form uses p0..p%d)\n",
+				        r->name, k, np - 1);
+				bk_form_free(f);
+				return 2;
+			}
+		r->nparams = r->nparams > np ? r->nparams : np;
+		bk_ops o;
+		bk_form_count(f, &o);
+		for (int k = 0; k < BK_K_COUNT; k++)
+			r->ops.n[k] += o.n[k];
+		r->ops.simple += o.simple;
+		r->ops.complex += o.complex;
+		bk_form_free(f);
+	}
+	r->cost = bk_ops_cost(&r->ops, BK_COST_SIMPLE, BK_COST_COMPLEX);
+	for (int k = 0; T->typed[i] && k < r->nparams; k++) /* "form2 (p0=0.5;p1=2)" */
+		snprintf(r->name + strlen(r->name), sizeof r->name - strlen(r->name), "%sp%d=%.9g%s", k ? ";" : " (", k,
+		         r->params[k], k + 1 == r->nparams ? ")" : "");
+	return 0;
+}
+
+/* SPIR-V instructions of A (+ B); -1 with one warning when the tools are missing. */
+static void spirv_row(bk_compare_row *r, int *warned)
+{
+	const char *text[2] = {r->form, r->form_b};
+	r->spirv = 0;
+	for (int p = 0; p < 2 && text[p][0] && r->spirv >= 0; p++) {
+		char err[512];
+		bk_form *f = bk_form_parse(text[p], NULL);
+		int k = f ? bk_spirv_count(f, r->params, err, sizeof err) : -1;
+		bk_form_free(f);
+		if (k < 0 && !*warned) {
+			fprintf(stderr, "brdfkit time: warning: spirv column is -1: %s\n", f ? err : "parse failed");
+			*warned = 1;
+		}
+		r->spirv = k < 0 ? -1 : r->spirv + k;
+	}
+}
+
+static void write_csv(FILE *f, const bk_compare_row *rows, int n)
+{
+	fputs("name,form,ns_per_eval,ns_min,ns_max", f);
+	for (int k = 1; k < BK_K_COUNT; k++)
+		fprintf(f, ",%s", bk_opclass_name((bk_opclass)k));
+	fputs(",simple,complex,cost,spirv\n", f);
+	for (int i = 0; i < n; i++) {
+		const bk_compare_row *r = &rows[i];
+		char form[2 * sizeof r->form + 4];
+		snprintf(form, sizeof form, "%s%s%s", r->form, r->form_b[0] ? "; " : "", r->form_b);
+		cli_csv_field(f, r->name);
+		fputc(',', f);
+		cli_csv_field(f, form);
+		fprintf(f, ",%.4g,%.4g,%.4g", r->ns, r->ns_min, r->ns_max);
+		for (int k = 1; k < BK_K_COUNT; k++)
+			fprintf(f, ",%d", r->ops.n[k]);
+		fprintf(f, ",%d,%d,%g,%d\n", r->ops.simple, r->ops.complex, r->cost, r->spirv);
+	}
+}
+
+static int output(const char *path, const bk_compare_row *rows, int n)
+{
+	if (!path) {
+		write_csv(stdout, rows, n);
+		return fflush(stdout) ? cli_fail("time", "stdout: write failed") : 0;
+	}
+	cli_out o;
+	char err[512];
+	if (cli_out_open(&o, path, err, sizeof err))
+		return cli_fail("time", "%s", err);
+	write_csv(o.f, rows, n);
+	if (cli_out_commit(&o, err, sizeof err))
+		return cli_fail("time", "%s", err);
+	return 0;
+}
+
+int cmd_time(int argc, char **argv)
+{
+	long reps = 15;
+	const char *out = NULL;
+	cli_opt opts[] = {
+		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timed runs per form (default 15)", .dest = &reps, .lo = 1, .hi = 1000},
+		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write the CSV there (atomically) instead of stdout", .dest = &out},
+	};
+	cli_cmd cmd = {"time", "Measures what forms cost: CPU ns per evaluation of the generated C (cc -std=c11 -O2,\n"
+	               "no fast-math, scalar), the IR's op counts and the SPIR-V instructions of the\n"
+	               "generated GLSL after spirv-opt -O. One CSV row per form.",
+	               "'FORM'|NAME [p0=X ...] ['FORM'|NAME [p0=X ...] ...] [--reps N] [--out FILE]",
+	               "NAME is a catalog entry (brdfkit catalog) with its published constants; a split-sum\n"
+	               "entry is timed as one evaluation of A and B together (form column 'A; B', op counts\n"
+	               "and SPIR-V summed), NAME:A or NAME:B for one part. pN=X after a typed FORM gives its\n"
+	               "parameters. Every form runs over the same 2^20 inputs (cosines in (0.01, 1],\n"
+	               "r in (0.02, 1], a = r^2, f0 in [0.02, 1]); after a warm-up, N runs with the forms\n"
+	               "interleaved; ns_per_eval is their median, ns_min and ns_max the extremes. Compare\n"
+	               "rows of one run on one machine only. spirv: instructions in the optimised\n"
+	               "shader's functions net of a load/store-only baseline (-1 without glslang-tools and\n"
+	               "spirv-tools). Columns: name,form,ns_per_eval,ns_min,ns_max, the op classes of\n"
+	               "brdfkit ops, simple,complex,cost,spirv.",
+	               opts, 2, TIME_MAX_ROWS, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	time_table *T = calloc(1, sizeof *T);
+	if (!T)
+		return cli_fail("time", "out of memory");
+	rc = read_rows(cmd.pos, cmd.npos, T);
+	if (!rc && T->n == 0) {
+		fprintf(stderr, "brdfkit time: missing FORM (see brdfkit time --help)\n");
+		rc = 2;
+	}
+	for (int i = 0; !rc && i < T->n; i++)
+		rc = check_row(T, i);
+	int warned = 0;
+	for (int i = 0; !rc && i < T->n; i++) {
+		spirv_row(&T->rows[i], &warned);
+		cli_progress("time: spirv", i + 1, T->n);
+	}
+	char err[512];
+	if (!rc) {
+		cli_progress("time: timing", 0, 1);
+		int bad = bk_time_rows(T->rows, T->n, (int)reps, err, sizeof err);
+		cli_progress("time: timing", 1, 1);
+		if (bad)
+			rc = cli_fail("time", "%s", err);
+	}
+	if (!rc)
+		rc = output(out, T->rows, T->n);
+	free(T);
+	return rc;
+}

@@ -1,0 +1,84 @@
+/*
+ * compare.h — one row of the error-against-cost table (brdfkit compare), and
+ * the modules that fill and draw it: run time (timing.c), the LUT alternative
+ * (lutscore.c), plots and the report page (report.c).
+ */
+#ifndef ANALYSIS_COMPARE_H
+#define ANALYSIS_COMPARE_H
+
+#include "brdf.h"
+#include "fit.h"
+
+#include <stdio.h>
+
+/* The talk's ALU:TEX ratios: simple ALU ops one bilinear fetch costs, per tier. */
+#define BK_TIERS 4
+extern const int bk_tier_alu_per_tex[BK_TIERS]; /* {16, 32, 48, 64} */
+
+typedef struct bk_compare_row {
+	char name[96];          /* catalog name, "name (refit)", or "LUT 64x64 half" */
+	char kind[16];          /* "published", "refit", "lut", "form" */
+	char source[256];       /* citation, or how the row was made */
+	char form[1024];        /* formula text (A; B for split sums in form_b), "" for LUTs */
+	char form_b[1024];
+	double params[BK_MAX_PARAMS];
+	int nparams;
+	bk_fit_metrics m;       /* on the target's samples; NaN where not applicable */
+	bk_ops ops;             /* zero for LUTs */
+	double cost;            /* simple + 4 complex (ALU only) */
+	int tex_fetches;        /* bilinear fetches per evaluation */
+	int sampler_slots;
+	double ns, ns_min, ns_max; /* CPU ns per evaluation (generated C, -O2); NaN if not timed */
+	int spirv;              /* SPIR-V instructions of the GLSL after spirv-opt -O; -1 if none */
+	int cheaper_than_fetch[BK_TIERS]; /* ALU cost below one fetch at that tier (LUT rows: 0) */
+	int pareto_cost, pareto_ns; /* on the front of error vs cost / vs ns */
+} bk_compare_row;
+
+/* ---- timing.c ---------------------------------------------------------------- */
+
+/* Generates C for each row's form(s) (params baked in), compiles them into
+ * one shared object with the system compiler (cc -O2 -fPIC -shared), loads it
+ * and measures ns per evaluation over the same stream of varied inputs
+ * (warm-up, reps runs, rows interleaved; median, min, max) into rows[i].ns*.
+ * Rows without a form (LUTs) are skipped. Returns 0, or -1 with a message. */
+int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen);
+
+/* SPIR-V instruction count of the form's generated GLSL (highp) after
+ * glslangValidator -V and spirv-opt -O, counted by spirv-dis; -1 and a message
+ * when the tools are missing. */
+int bk_spirv_count(const bk_form *f, const double *params, char *err, size_t errlen);
+
+/* ---- lutscore.c ---------------------------------------------------------------- */
+
+typedef enum bk_lut_format { BK_LUT_UNORM8, BK_LUT_HALF, BK_LUT_FLOAT, BK_LUT_FORMATS } bk_lut_format;
+const char *bk_lut_format_name(bk_lut_format f); /* "unorm8", "half", "float" */
+
+/* A size x size DFG LUT (texel centres, as brdfkit lut writes it) stored in
+ * format, sampled the way a GPU does (bilinear between texel centres, clamp to
+ * edge), scored on the env target's samples s (split A/B, or f0 A + B) into m
+ * like bk_fit_evaluate (cost NaN). plane, if not NULL, gets the error per
+ * plane cell as bk_fit_plane_error would. Returns 0 or -1. */
+int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *s, bk_fit_metrics *m,
+                 double *plane);
+
+/* ---- report.c ------------------------------------------------------------------- */
+
+/* Marks rows[i].pareto_cost / pareto_ns: no other row both at most as costly
+ * (ALU cost plus fetches at the given tier's ratio) and at most as wrong
+ * (error = m.max_abs), one of them strictly. */
+void bk_pareto(bk_compare_row *rows, int n, int tier);
+
+/* The table as CSV, deterministic: everything but timings (and so without
+ * pareto_ns). Header: name,kind,source,form,form_b,parameters,rmse,
+ * weighted_rmse,max_abs,max_rel,albedo_max_abs,<one column per op class>,
+ * simple,complex,cost,tex_fetches,sampler_slots,spirv,cheaper_than_fetch_16,
+ * _32,_48,_64,pareto_cost. Parameters as p0=..;p1=.. (%.9g). */
+void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n);
+/* Timings in a file of their own: name,ns_per_eval,ns_min,ns_max,pareto_ns. */
+void bk_timing_csv(FILE *f, const bk_compare_row *rows, int n);
+
+/* Self-contained SVG: error (max_abs, log axis) against cost (xaxis 0) or
+ * ns/eval (xaxis 1), the front highlighted and joined, every point labelled. */
+void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title);
+
+#endif

@@ -1,0 +1,195 @@
+/*
+ * lutscore.c — the LUT alternative, scored honestly. For the environment BRDF
+ * the competitor of every formula is a texture: a size x size DFG LUT (texel
+ * centres, as brdfkit lut writes it) stored as 8-bit unorm, half or float and
+ * sampled the way a GPU does, scored on the same samples and with the same
+ * metrics as a fitted form (bk_fit_evaluate, bk_fit_plane_error).
+ *
+ * The texels are baked with the deterministic reference integrator
+ * (bk_dfg_lut, samples = 0, tol BK_DFG_TOL = 1e-8): the best a baked LUT can
+ * be. An engine's Hammersley bake adds its Monte Carlo error on top, so these
+ * rows are a lower bound on what a shipped LUT gets wrong; what is left is
+ * storage (quantisation) and filtering (interpolation, clamp to edge).
+ */
+#include "compare.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+/* Sub-texel precision of the bilinear weights. GPUs do not filter with the
+ * float coordinate: they convert it to fixed point first. Direct3D 11 requires
+ * at least 8 fractional bits (D3D11_SUBTEXEL_FRACTIONAL_BIT_COUNT = 8 in
+ * d3d11.h; D3D10 asked for 6), and the CUDA programming guide (texture
+ * fetching, linear filtering) states that the weights are stored in 9-bit
+ * fixed point with 8 fractional bits, so 1.0 is exact; most hardware has
+ * exactly 8. Modelled here as the texel-space coordinate rounded to the
+ * nearest 1/256 (hardware that truncates differs by one step of the weight). */
+#define LUT_SUBTEXEL_BITS 8
+#define LUT_SUBTEXEL_STEPS (1 << LUT_SUBTEXEL_BITS)
+
+const char *bk_lut_format_name(bk_lut_format f)
+{
+	static const char *const names[BK_LUT_FORMATS] = {"unorm8", "half", "float"};
+	return (unsigned)f < BK_LUT_FORMATS ? names[f] : "?";
+}
+
+/* The reference texels of the last (size, smith) asked for, A then B: a 128²
+ * bake takes seconds and a table scores three formats of it. One per thread,
+ * kept until exit. */
+static _Thread_local struct {
+	int size;
+	bk_smith smith;
+	double *AB;
+} cache;
+
+static const double *reference(int size, bk_smith smith)
+{
+	if (cache.AB && cache.size == size && cache.smith == smith)
+		return cache.AB;
+	size_t n = (size_t)size * (size_t)size;
+	double *AB = malloc(sizeof(double) * 2 * n);
+	if (!AB || bk_dfg_lut(size, smith, 0, BK_DFG_TOL, AB, AB + n, NULL, NULL)) {
+		free(AB);
+		return NULL;
+	}
+	free(cache.AB);
+	cache.AB = AB, cache.size = size, cache.smith = smith;
+	return AB;
+}
+
+/* The stored value. unorm8 saturates to [0, 1] as a GPU's conversion does: A
+ * and B of the reference are in [0, 1] (each is an integral of a non-negative
+ * integrand, and A + B is the albedo at f0 = 1, at most 1), so the clamp never
+ * acts on them. */
+static double quantise(double x, bk_lut_format fmt)
+{
+	switch (fmt) {
+	case BK_LUT_UNORM8: return round(fmin(fmax(x, 0.0), 1.0) * 255.0) / 255.0;
+	case BK_LUT_HALF: return bk_half_round(x);
+	default: return (float)x;
+	}
+}
+
+static int clampi(int i, int size) { return i < 0 ? 0 : i >= size ? size - 1 : i; }
+
+/* One axis of the filter: x in [0, 1] to texel space (u = x size - 0.5 puts
+ * texel centres on integers), the coordinate to fixed point, the two texels
+ * either side clamped to the edge, and the weight of the second. */
+static double axis(double x, int size, int *i0, int *i1)
+{
+	double u = fmin(fmax(x * size - 0.5, -1.0), (double)size); /* beyond that the clamp gives the same */
+	u = round(u * LUT_SUBTEXEL_STEPS) / LUT_SUBTEXEL_STEPS;
+	double f = floor(u);
+	*i0 = clampi((int)f, size);
+	*i1 = clampi((int)f + 1, size);
+	return u - f;
+}
+
+static double lerp(double a, double b, double t) { return a + t * (b - a); } /* t = 0 or a = b: a exactly */
+
+/* Bilinear fetch of t (size x size, row-major in r) at (NoV, r). */
+static double sample(const double *t, int size, double NoV, double r)
+{
+	if (isnan(NoV) || isnan(r))
+		return NAN;
+	int i0, i1, j0, j1;
+	double s = axis(NoV, size, &i0, &i1), w = axis(r, size, &j0, &j1);
+	const double *row0 = t + (size_t)j0 * (size_t)size, *row1 = t + (size_t)j1 * (size_t)size;
+	return lerp(lerp(row0[i0], row0[i1], s), lerp(row1[i0], row1[i1], s), w);
+}
+
+/* bk_fit_evaluate's metrics with the values v in place of the forms' (weights
+ * s->w, no user weight; no cost and no albedo for a LUT). */
+static void metrics(const bk_samples *s, const double *v, bk_fit_metrics *m)
+{
+	*m = (bk_fit_metrics){0};
+	m->cost = m->albedo_max_abs = NAN;
+	double se = 0, swe = 0, sw = 0, comp_se[2] = {0, 0}, ymax = 0;
+	for (size_t i = 0; i < s->n; i++)
+		ymax = fmax(ymax, fabs(s->y[i]));
+	for (size_t i = 0; i < s->n; i++) {
+		double e = v[i] - s->y[i];
+		if (!isfinite(e)) {
+			m->nonfinite++;
+			continue;
+		}
+		se += e * e;
+		swe += s->w[i] * e * e;
+		sw += s->w[i];
+		m->max_abs = fmax(m->max_abs, fabs(e));
+		if (fabs(s->y[i]) >= BK_REL_METRIC * ymax && s->y[i] != 0)
+			m->max_rel = fmax(m->max_rel, fabs(e / s->y[i]));
+		int q = s->ncomp == 2 && i >= s->start[1];
+		comp_se[q] += e * e;
+		m->comp_max_abs[q] = fmax(m->comp_max_abs[q], fabs(e));
+	}
+	m->rmse = sqrt(se / (double)s->n);
+	m->weighted_rmse = sw > 0 ? sqrt(swe / sw) : NAN;
+	if (s->ncomp == 2) {
+		size_t na = s->start[1], nb = s->n - na;
+		m->comp_rmse[0] = sqrt(comp_se[0] / (double)na);
+		m->comp_rmse[1] = sqrt(comp_se[1] / (double)nb);
+		double sab = 0;
+		for (size_t i = 0; i < na; i++) { /* A and B samples are the same cells in order */
+			double e = (v[i] - s->y[i]) + (v[na + i] - s->y[na + i]);
+			sab += e * e;
+			m->comp_max_abs[2] = fmax(m->comp_max_abs[2], fabs(e));
+		}
+		m->comp_rmse[2] = sqrt(sab / (double)na);
+	}
+}
+
+/* bk_fit_plane_error for an env target: split, A + B per cell; in f0, the
+ * last f0's samples, which come last and overwrite the earlier ones. */
+static int plane_error(const bk_samples *s, const double *v, double *cells)
+{
+	size_t nc = (size_t)s->plane_nx * (size_t)s->plane_ny;
+	char *seen = calloc(nc ? nc : 1, 1);
+	if (!seen)
+		return -1;
+	for (size_t k = 0; k < nc; k++)
+		cells[k] = NAN;
+	for (size_t i = 0; i < s->n; i++) {
+		int k = s->cell[i];
+		double e = v[i] - s->y[i];
+		cells[k] = s->ncomp == 2 && seen[k] ? cells[k] + e : e;
+		seen[k] = 1;
+	}
+	free(seen);
+	return 0;
+}
+
+int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *s, bk_fit_metrics *m,
+                 double *plane)
+{
+	if (size < 1 || (unsigned)fmt >= BK_LUT_FORMATS || (unsigned)smith >= BK_SMITH_COUNT || !s || !m || !s->n)
+		return -1;
+	/* an env target: (NoV, r), and f0 for the one-form variant */
+	unsigned need = 1u << BK_IN_NOV | 1u << BK_IN_R | (s->ncomp == 1 ? 1u << BK_IN_F0 : 0u);
+	if ((s->provides & need) != need || (s->ncomp == 2 ? s->start[2] != s->n || 2 * s->start[1] != s->n
+	                                                   : s->ncomp != 1))
+		return -1;
+	const double *ref = reference(size, smith);
+	size_t n = (size_t)size * (size_t)size;
+	double *tex = malloc(sizeof(double) * 2 * n), *v = malloc(sizeof(double) * s->n);
+	if (!ref || !tex || !v) {
+		free(tex);
+		free(v);
+		return -1;
+	}
+	for (size_t k = 0; k < 2 * n; k++)
+		tex[k] = quantise(ref[k], fmt);
+	const double *A = tex, *B = tex + n;
+	for (size_t i = 0; i < s->n; i++) {
+		double NoV = s->in[BK_IN_NOV][i], r = s->in[BK_IN_R][i];
+		if (s->ncomp == 2)
+			v[i] = sample(i < s->start[1] ? A : B, size, NoV, r);
+		else /* the shader's f0 A + B from one fetch of both channels */
+			v[i] = s->in[BK_IN_F0][i] * sample(A, size, NoV, r) + sample(B, size, NoV, r);
+	}
+	metrics(s, v, m);
+	int rc = plane ? plane_error(s, v, plane) : 0;
+	free(tex);
+	free(v);
+	return rc;
+}

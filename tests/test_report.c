@@ -1,0 +1,456 @@
+/*
+ * test_report.c — analysis/report.c: the Pareto fronts, the CSV tables and the
+ * SVG plot of error against cost.
+ *
+ * Seven hand-made rows whose fronts can be read off by eye (cost, max |error|, ns):
+ *   A (1, 0.5, 1)    on both fronts: the cheapest placeable row
+ *   B (2, 0.1, 2)    on both
+ *   C (3, 0.2, 1.5)  dominated by B on cost; on the ns front (faster than B, better than A)
+ *   D (4, 0.01, 4)   on both
+ *   E (5, 0.01, 5)   dominated by D: equal error, more cost
+ *   F (0.5, NaN, .5) never on a front, although cheapest
+ *   G (6, 0.001, NaN) on the cost front; untimed, so not on the ns front
+ * A LUT row (no ALU, one fetch, error 0.002) between an ALU row P (20, 0.01)
+ * and Q (40, 0.001): at 16 ops a fetch it costs 16 and beats P; at 32 all three
+ * are on the front; at 48 and 64 Q beats it.
+ * The SVG is checked as text (title escaped, one circle per placed row, the
+ * front's staircase, a label per name) and by xmllint as XML; two writes give
+ * the same bytes.
+ */
+#include "compare.h"
+
+#include <criterion/criterion.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static bk_compare_row make_row(const char *name, const char *kind, double cost, double err, double ns)
+{
+	bk_compare_row r;
+	memset(&r, 0, sizeof r);
+	snprintf(r.name, sizeof r.name, "%s", name);
+	snprintf(r.kind, sizeof r.kind, "%s", kind);
+	r.cost = cost;
+	r.m.max_abs = err;
+	r.m.rmse = err / 2;
+	r.m.weighted_rmse = err / 3;
+	r.m.max_rel = err * 4;
+	r.m.albedo_max_abs = NAN;
+	r.ns = ns;
+	r.ns_min = ns * 0.9;
+	r.ns_max = ns * 1.2;
+	r.spirv = -1;
+	return r;
+}
+
+enum { NBASIC = 7 };
+
+static void basic_rows(bk_compare_row *rows)
+{
+	rows[0] = make_row("A", "published", 1, 0.5, 1);
+	rows[1] = make_row("B", "refit", 2, 0.1, 2);
+	rows[2] = make_row("C", "form", 3, 0.2, 1.5);
+	rows[3] = make_row("D", "published", 4, 0.01, 4);
+	rows[4] = make_row("E", "refit", 5, 0.01, 5);
+	rows[5] = make_row("F", "form", 0.5, NAN, 0.5);
+	rows[6] = make_row("G", "form", 6, 0.001, NAN);
+}
+
+static void lut_rows(bk_compare_row *rows)
+{
+	rows[0] = make_row("P", "published", 20, 0.01, 3);
+	rows[1] = make_row("LUT 64x64 half", "lut", 0, 0.002, NAN);
+	rows[1].tex_fetches = 1;
+	rows[1].sampler_slots = 1;
+	rows[2] = make_row("Q", "form", 40, 0.001, 6);
+}
+
+static void expect_flags(const bk_compare_row *rows, int n, const int *cost, const int *ns)
+{
+	for (int i = 0; i < n; i++) {
+		cr_expect_eq(rows[i].pareto_cost, cost[i], "%s: pareto_cost %d, expected %d", rows[i].name,
+		             rows[i].pareto_cost, cost[i]);
+		if (ns)
+			cr_expect_eq(rows[i].pareto_ns, ns[i], "%s: pareto_ns %d, expected %d", rows[i].name,
+			             rows[i].pareto_ns, ns[i]);
+	}
+}
+
+Test(report, ratios_are_the_talks)
+{
+	cr_expect_eq(bk_tier_alu_per_tex[0], 16);
+	cr_expect_eq(bk_tier_alu_per_tex[1], 32);
+	cr_expect_eq(bk_tier_alu_per_tex[2], 48);
+	cr_expect_eq(bk_tier_alu_per_tex[3], 64);
+}
+
+Test(report, pareto_fronts_by_inspection)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	rows[4].pareto_cost = rows[4].pareto_ns = 7; /* stale flags are overwritten */
+	bk_pareto(rows, NBASIC, 0);
+	static const int cost[NBASIC] = {1, 1, 0, 1, 0, 0, 1};
+	static const int ns[NBASIC] = {1, 1, 1, 1, 0, 0, 0};
+	expect_flags(rows, NBASIC, cost, ns);
+
+	/* The order of the rows does not matter. */
+	bk_compare_row rev[NBASIC];
+	for (int i = 0; i < NBASIC; i++)
+		rev[i] = rows[NBASIC - 1 - i];
+	bk_pareto(rev, NBASIC, 0);
+	for (int i = 0; i < NBASIC; i++) {
+		cr_expect_eq(rev[i].pareto_cost, cost[NBASIC - 1 - i], "%s reversed", rev[i].name);
+		cr_expect_eq(rev[i].pareto_ns, ns[NBASIC - 1 - i], "%s reversed", rev[i].name);
+	}
+}
+
+Test(report, pareto_ties_and_degenerate_tables)
+{
+	bk_compare_row rows[3];
+	rows[0] = make_row("twin 1", "form", 2, 0.1, 1);
+	rows[1] = make_row("twin 2", "form", 2, 0.1, 1);
+	rows[2] = make_row("inf", "form", 0, INFINITY, 0);
+	bk_pareto(rows, 3, 0);
+	static const int both[3] = {1, 1, 0}; /* exact ties: neither dominates; inf error never */
+	expect_flags(rows, 3, both, both);
+
+	rows[0] = make_row("alone", "form", 2, 0.0, 1); /* a zero error is an error like any other */
+	bk_pareto(rows, 1, 0);
+	cr_expect_eq(rows[0].pareto_cost, 1);
+	cr_expect_eq(rows[0].pareto_ns, 1);
+	bk_pareto(rows, 0, 0); /* nothing to do, nothing touched */
+}
+
+Test(report, lut_priced_per_tier)
+{
+	bk_compare_row rows[3];
+	lut_rows(rows);
+	static const int front[BK_TIERS][3] = {{0, 1, 1}, {1, 1, 1}, {1, 0, 1}, {1, 0, 1}};
+	for (int t = 0; t < BK_TIERS; t++) {
+		bk_pareto(rows, 3, t);
+		for (int i = 0; i < 3; i++)
+			cr_expect_eq(rows[i].pareto_cost, front[t][i], "tier %d (%d ops a fetch), %s: %d",
+			             t, bk_tier_alu_per_tex[t], rows[i].name, rows[i].pareto_cost);
+		/* untimed LUT is off the ns front whatever the tier; P and Q are both on it */
+		cr_expect_eq(rows[0].pareto_ns, 1);
+		cr_expect_eq(rows[1].pareto_ns, 0);
+		cr_expect_eq(rows[2].pareto_ns, 1);
+	}
+}
+
+/* ---- CSV ---------------------------------------------------------------------------- */
+
+/* The writer's output in a malloc'd string. */
+typedef void (*table_fn)(FILE *, const bk_compare_row *, int);
+
+static char *capture_table(table_fn fn, const bk_compare_row *rows, int n)
+{
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&buf, &len);
+	cr_assert_not_null(f);
+	fn(f, rows, n);
+	cr_assert_eq(fclose(f), 0);
+	return buf;
+}
+
+static int count_lines(const char *s)
+{
+	int n = 0;
+	for (; *s; s++)
+		n += *s == '\n';
+	return n;
+}
+
+/* Field col (0-based) of the line starting at line, quotes understood, into out. */
+static void csv_field(const char *line, int col, char *out, size_t len)
+{
+	size_t o = 0;
+	int c = 0, quoted = 0;
+	for (const char *p = line; *p && (quoted || *p != '\n'); p++) {
+		if (*p == '"') {
+			if (quoted && p[1] == '"') {
+				if (c == col && o + 1 < len)
+					out[o++] = '"';
+				p++;
+			} else
+				quoted = !quoted;
+		} else if (*p == ',' && !quoted)
+			c++;
+		else if (c == col && o + 1 < len)
+			out[o++] = *p;
+	}
+	out[o] = '\0';
+}
+
+/* Fields on the line starting at line. */
+static int csv_ncols(const char *line)
+{
+	int n = 1, quoted = 0;
+	for (const char *p = line; *p && (quoted || *p != '\n'); p++) {
+		if (*p == '"')
+			quoted = !quoted; /* a doubled quote toggles twice */
+		else if (*p == ',' && !quoted)
+			n++;
+	}
+	return n;
+}
+
+static int header_col(const char *csv, const char *name)
+{
+	char field[64];
+	for (int c = 0; c < 100; c++) {
+		csv_field(csv, c, field, sizeof field);
+		if (strcmp(field, name) == 0)
+			return c;
+	}
+	cr_assert_fail("no column %s", name);
+	return -1;
+}
+
+static const char *nth_line(const char *s, int k)
+{
+	for (; k > 0 && s; k--) {
+		s = strchr(s, '\n');
+		s = s ? s + 1 : NULL;
+	}
+	cr_assert_not_null(s);
+	return s;
+}
+
+static void expect_field(const char *csv, int line, const char *col, const char *want)
+{
+	char got[1200];
+	csv_field(nth_line(csv, line), header_col(csv, col), got, sizeof got);
+	cr_expect_str_eq(got, want, "line %d, %s", line, col);
+}
+
+Test(report, compare_csv)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	snprintf(rows[0].source, sizeof rows[0].source, "Karis 2014, \"Real Shading\"");
+	snprintf(rows[0].form, sizeof rows[0].form, "1/(LoH*LoH*(r+p0))");
+	rows[0].params[0] = 0.5;
+	rows[0].params[1] = -2;
+	rows[0].nparams = 2;
+	rows[0].ops.n[BK_K_MAD] = 3;
+	rows[0].ops.n[BK_K_RCP] = 1;
+	rows[0].ops.simple = 3;
+	rows[0].ops.complex = 1;
+	rows[0].spirv = 12;
+	rows[0].cheaper_than_fetch[0] = 1;
+	rows[0].m.albedo_max_abs = 0.25;
+	bk_pareto(rows, NBASIC, 0);
+	char *csv = capture_table(bk_compare_csv, rows, NBASIC);
+
+	const char header[] =
+		"name,kind,source,form,form_b,parameters,rmse,weighted_rmse,max_abs,max_rel,"
+		"albedo_max_abs,add,mul,mad,minmax,saturate,rcp,div,sqrt,rsqrt,exp2,log2,simple,"
+		"complex,cost,tex_fetches,sampler_slots,spirv,cheaper_than_fetch_16,"
+		"cheaper_than_fetch_32,cheaper_than_fetch_48,cheaper_than_fetch_64,pareto_cost\n";
+	cr_assert_eq(strncmp(csv, header, strlen(header)), 0, "header:\n%.400s", csv);
+	cr_expect_eq(count_lines(csv), NBASIC + 1);
+
+	expect_field(csv, 1, "name", "A");
+	expect_field(csv, 1, "source", "Karis 2014, \"Real Shading\"");
+	expect_field(csv, 1, "form", "1/(LoH*LoH*(r+p0))");
+	expect_field(csv, 1, "parameters", "p0=0.5;p1=-2");
+	expect_field(csv, 1, "max_abs", "0.5");
+	expect_field(csv, 1, "albedo_max_abs", "0.25");
+	expect_field(csv, 1, "mad", "3");
+	expect_field(csv, 1, "rcp", "1");
+	expect_field(csv, 1, "cost", "1");
+	expect_field(csv, 1, "spirv", "12");
+	expect_field(csv, 1, "cheaper_than_fetch_16", "1");
+	expect_field(csv, 1, "pareto_cost", "1");
+	expect_field(csv, 2, "albedo_max_abs", ""); /* NaN */
+	expect_field(csv, 2, "parameters", "");
+	expect_field(csv, 2, "spirv", "");          /* -1: no SPIR-V */
+	expect_field(csv, 5, "pareto_cost", "0");   /* E */
+	expect_field(csv, 6, "max_abs", "");        /* F */
+	expect_field(csv, 6, "rmse", "");
+	expect_field(csv, 7, "max_abs", "0.001");   /* G */
+	/* The quoted source holds a comma: every line still has the header's column count. */
+	int ncols = csv_ncols(csv);
+	cr_expect_eq(ncols, header_col(csv, "pareto_cost") + 1);
+	for (int l = 1; l <= NBASIC; l++)
+		cr_expect_eq(csv_ncols(nth_line(csv, l)), ncols, "line %d", l);
+
+	char *again = capture_table(bk_compare_csv, rows, NBASIC);
+	cr_expect_str_eq(csv, again);
+	free(again);
+	free(csv);
+}
+
+Test(report, timing_csv)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	snprintf(rows[1].name, sizeof rows[1].name, "B, refit");
+	bk_pareto(rows, NBASIC, 0);
+	char *csv = capture_table(bk_timing_csv, rows, NBASIC);
+	cr_assert_eq(strncmp(csv, "name,ns_per_eval,ns_min,ns_max,pareto_ns\n", 41), 0, "%.200s", csv);
+	cr_expect_eq(count_lines(csv), NBASIC + 1);
+	const char *b = nth_line(csv, 2);
+	cr_expect_eq(strncmp(b, "\"B, refit\",2,1.8,2.4,1\n", 23), 0, "%.40s", b);
+	cr_expect_eq(strncmp(nth_line(csv, 7), "G,,,,0\n", 7), 0, "%.40s", nth_line(csv, 7));
+	free(csv);
+}
+
+/* ---- SVG ------------------------------------------------------------------------------ */
+
+static char *capture_svg(const bk_compare_row *rows, int n, int xaxis, const char *title)
+{
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&buf, &len);
+	cr_assert_not_null(f);
+	bk_compare_svg(f, rows, n, xaxis, title);
+	cr_assert_eq(fclose(f), 0);
+	return buf;
+}
+
+static int count_of(const char *s, const char *what)
+{
+	int n = 0;
+	for (const char *p = strstr(s, what); p; p = strstr(p + 1, what))
+		n++;
+	return n;
+}
+
+/* xmllint --noout on the text, when xmllint is there (Debian libxml2-utils). */
+static void expect_well_formed(const char *svg)
+{
+	if (system("command -v xmllint >/dev/null 2>&1") != 0) {
+		cr_log_warn("xmllint not installed (libxml2-utils): well-formedness not checked");
+		return;
+	}
+	char path[] = "/tmp/bk_test_report_XXXXXX";
+	int fd = mkstemp(path);
+	cr_assert_geq(fd, 0);
+	FILE *f = fdopen(fd, "w");
+	cr_assert_not_null(f);
+	fputs(svg, f);
+	cr_assert_eq(fclose(f), 0);
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "xmllint --noout %s", path);
+	int rc = system(cmd);
+	unlink(path);
+	cr_expect_eq(rc, 0, "xmllint rejected the SVG");
+}
+
+static const char title[] = "V & F <fit> \"vf_talk_r\"";
+static const char title_xml[] = "V &amp; F &lt;fit&gt; &quot;vf_talk_r&quot;";
+
+/* The front's staircase: k points give 2k - 1 vertices. */
+static int polyline_vertices(const char *svg)
+{
+	const char *p = strstr(svg, "<polyline class=\"front\" points=\"");
+	cr_assert_not_null(p, "no front polyline");
+	p += strlen("<polyline class=\"front\" points=\"");
+	int n = 0;
+	for (; *p && *p != '"'; p++)
+		n += *p == ',';
+	return n;
+}
+
+Test(report, svg_cost_axis)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	snprintf(rows[2].name, sizeof rows[2].name, "C<1> & \"2\"");
+	char *svg = capture_svg(rows, NBASIC, 0, title);
+
+	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
+	cr_expect_not_null(strstr(svg, "viewBox=\"0 0 760 520\""));
+	cr_expect_not_null(strstr(svg, "font-family=\"sans-serif\""));
+	cr_expect_not_null(strstr(svg, title_xml), "title not escaped");
+	cr_expect_null(strstr(svg, "<fit>"));
+	cr_expect_null(strstr(svg, "href"), "no external resources");
+	cr_expect_null(strstr(svg, "nan"));
+	cr_expect_eq(count_of(svg, "<circle"), NBASIC - 1, "one circle per row with a finite error");
+	cr_expect_eq(count_of(svg, "r=\"4.5\" stroke"), 4, "front points A B D G drawn larger, filled");
+	cr_expect_eq(polyline_vertices(svg), 2 * 4 - 1);
+	cr_expect_not_null(strstr(svg, "per bilinear fetch"), "x axis says how fetches are priced");
+	cr_expect_not_null(strstr(svg, "+ 16 per bilinear fetch"));
+	const char *labels[] = {">A</text>", ">B</text>", ">C&lt;1&gt; &amp; &quot;2&quot;</text>",
+	                        ">D</text>", ">E</text>", ">G</text>"};
+	for (size_t i = 0; i < sizeof labels / sizeof labels[0]; i++)
+		cr_expect_not_null(strstr(svg, labels[i]), "no label %s", labels[i]);
+	cr_expect_null(strstr(svg, ">F</text>"), "F has no error and is not drawn");
+	cr_expect_not_null(strstr(svg, "1 not shown"));
+	expect_well_formed(svg);
+
+	char *again = capture_svg(rows, NBASIC, 0, title);
+	cr_expect_str_eq(svg, again, "two writes differ");
+	free(again);
+	free(svg);
+}
+
+Test(report, svg_ns_axis)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	char *svg = capture_svg(rows, NBASIC, 1, title);
+	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
+	cr_expect_eq(count_of(svg, "<circle"), NBASIC - 2, "F (no error) and G (no timing) not drawn");
+	cr_expect_eq(count_of(svg, "r=\"4.5\" stroke"), 4, "front points A C B D");
+	cr_expect_eq(polyline_vertices(svg), 2 * 4 - 1);
+	cr_expect_eq(count_of(svg, "class=\"range\""), NBASIC - 2, "min..max bar per timed point");
+	cr_expect_not_null(strstr(svg, "ns"));
+	cr_expect_not_null(strstr(svg, "2 not shown"));
+	expect_well_formed(svg);
+	free(svg);
+}
+
+Test(report, svg_zero_errors_and_collisions)
+{
+	bk_compare_row rows[5];
+	rows[0] = make_row("exact", "form", 3, 0.0, 1);
+	rows[1] = make_row("close", "published", 5, 0.02, 1);
+	rows[2] = make_row("twin", "refit", 8, 0.003, 1); /* three labels at one point */
+	rows[3] = make_row("twin", "refit", 8, 0.003, 1);
+	rows[4] = make_row("twin", "lut", 8, 0.003, 1);
+	char *svg = capture_svg(rows, 5, 0, "zeros");
+	cr_expect_eq(count_of(svg, "<circle"), 5);
+	cr_expect_not_null(strstr(svg, "text-anchor=\"end\">0</text>"), "zero level labelled 0");
+	cr_expect_not_null(strstr(svg, "class=\"break\""), "axis break above the zero level");
+	cr_expect_not_null(strstr(svg, "stroke-dasharray=\"2 1\""), "zero-error point marked");
+	/* the three twins' labels were nudged apart: three different y */
+	const char *p = svg;
+	double ys[3];
+	for (int k = 0; k < 3; k++) {
+		p = strstr(p, ">twin</text>");
+		cr_assert_not_null(p);
+		const char *q = p;
+		while (q > svg && strncmp(q, " y=\"", 4) != 0)
+			q--;
+		ys[k] = atof(q + 4);
+		p++;
+	}
+	cr_expect(ys[0] != ys[1] && ys[1] != ys[2] && ys[0] != ys[2], "labels at %g %g %g", ys[0], ys[1],
+	          ys[2]);
+	expect_well_formed(svg);
+	free(svg);
+}
+
+Test(report, svg_empty_and_bad_text)
+{
+	char *svg = capture_svg(NULL, 0, 0, NULL);
+	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
+	cr_expect_eq(count_of(svg, "<circle"), 0);
+	cr_expect_null(strstr(svg, "<polyline"));
+	expect_well_formed(svg);
+	free(svg);
+
+	bk_compare_row row = make_row("bad \x01 \xff \xed\xa0\x80 utf-8 \xc3\xa9", "other kind", 1, 0.1, 1);
+	svg = capture_svg(&row, 1, 0, "t\x02");
+	cr_expect_not_null(strstr(svg, ">bad ? ? ??? utf-8 \xc3\xa9</text>"), "%s", svg);
+	expect_well_formed(svg);
+	free(svg);
+}

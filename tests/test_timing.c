@@ -1,0 +1,154 @@
+/*
+ * test_timing.c — run time and SPIR-V size of forms (analysis/timing.c).
+ *
+ * Timings are checked as properties only (finite, positive, min <= median <=
+ * max, NaN where nothing is timed): a machine under load may reorder any two
+ * forms, so which form is cheaper is asserted on the SPIR-V counts, which are
+ * deterministic, never on nanoseconds.
+ */
+#include "catalog.h"
+#include "compare.h"
+
+#include <criterion/criterion.h>
+
+#include <dirent.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#define GGX "D_ggx(NoH,a)*V_smith_ggx_correlated(NoV,NoL,a)*F_schlick(f0,1,LoH)"
+/* pow, exp and exp2 with parameters: libm calls in C, transcendental ops on a GPU */
+#define POWY "pow(1 - LoH, p0) * exp2(p1*NoV) + pow(r, 2.5) * exp(-a)"
+
+static void set_row(bk_compare_row *r, const char *name, const char *form, const char *form_b, int np, ...)
+{
+	memset(r, 0, sizeof *r);
+	snprintf(r->name, sizeof r->name, "%s", name);
+	snprintf(r->form, sizeof r->form, "%s", form);
+	snprintf(r->form_b, sizeof r->form_b, "%s", form_b ? form_b : "");
+	va_list ap;
+	va_start(ap, np);
+	for (int i = 0; i < np; i++)
+		r->params[i] = va_arg(ap, double);
+	va_end(ap);
+	r->nparams = np;
+	r->ns = r->ns_min = r->ns_max = -1; /* must be overwritten */
+}
+
+static int spirv(const char *text, const double *params)
+{
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(text, &fe);
+	cr_assert_not_null(f, "%s: %s", text, fe.message);
+	char err[512] = "";
+	int k = bk_spirv_count(f, params, err, sizeof err);
+	bk_form_free(f);
+	cr_assert_geq(k, 0, "bk_spirv_count(%s): %s (Debian packages glslang-tools, spirv-tools)", text, err);
+	return k;
+}
+
+Test(timing, rows_timed_and_lut_skipped)
+{
+	const bk_catalog_entry *env = bk_catalog_find("env_karis2014_split");
+	cr_assert_not_null(env);
+	bk_compare_row rows[5];
+	set_row(&rows[0], "trivial", "NoV", NULL, 0);
+	set_row(&rows[1], "LUT 64x64 half", "", NULL, 0);
+	set_row(&rows[2], "ggx", GGX, NULL, 0);
+	set_row(&rows[3], "pow", POWY, NULL, 2, 5.0, -3.0);
+	set_row(&rows[4], "split", env->form, env->form_b, 0); /* A and B, one evaluation */
+	rows[4].nparams = env->nparams;
+	memcpy(rows[4].params, env->defaults, sizeof rows[4].params);
+	char err[512] = "";
+	cr_assert_eq(bk_time_rows(rows, 5, 5, err, sizeof err), 0, "%s", err);
+	for (int i = 0; i < 5; i++) {
+		const bk_compare_row *r = &rows[i];
+		if (i == 1) {
+			cr_expect(isnan(r->ns) && isnan(r->ns_min) && isnan(r->ns_max), "LUT row timed");
+			continue;
+		}
+		cr_expect(isfinite(r->ns) && r->ns > 0, "%s: ns %g", r->name, r->ns);
+		cr_expect(r->ns_min > 0 && r->ns_min <= r->ns && r->ns <= r->ns_max && isfinite(r->ns_max),
+		          "%s: min %g median %g max %g", r->name, r->ns_min, r->ns, r->ns_max);
+		cr_expect_lt(r->ns, 1e4, "%s: %g ns per evaluation", r->name, r->ns);
+	}
+}
+
+/* Which form is costlier, asserted where it is deterministic. */
+Test(timing, spirv_orders_forms)
+{
+	double p[BK_MAX_PARAMS] = {5.0, -3.0};
+	int trivial = spirv("NoV", NULL), ggx = spirv(GGX, NULL), powy = spirv(POWY, p);
+	cr_expect(trivial >= 0 && trivial <= 2, "NoV: %d instructions net of the baseline", trivial);
+	cr_expect_gt(ggx, trivial + 10, "GGX %d vs NoV %d", ggx, trivial);
+	cr_expect_gt(powy, trivial + 3, "pow form %d vs NoV %d", powy, trivial);
+	cr_expect_eq(spirv(GGX, NULL), ggx, "not deterministic");
+	cr_expect_eq(spirv("1", NULL), 0, "a constant costs nothing");
+}
+
+Test(timing, errors_are_one_line_messages)
+{
+	bk_compare_row rows[2];
+	char err[512] = "";
+	set_row(&rows[0], "good", "NoV", NULL, 0);
+	set_row(&rows[1], "bad", "NoV +* 2", NULL, 0);
+	cr_assert_eq(bk_time_rows(rows, 2, 3, err, sizeof err), -1);
+	cr_expect(strstr(err, "bad: form:1:6:") != NULL, "message: %s", err);
+	cr_expect(strchr(err, '\n') == NULL, "message: %s", err);
+	set_row(&rows[1], "params", "NoV*p1", NULL, 1, 2.0);
+	cr_assert_eq(bk_time_rows(rows, 2, 3, err, sizeof err), -1);
+	cr_expect(strstr(err, "p0..p1") != NULL, "message: %s", err);
+	cr_assert_eq(bk_time_rows(rows, 1, 0, err, sizeof err), -1);
+	cr_expect(strstr(err, "reps") != NULL, "message: %s", err);
+}
+
+static int dir_empty(const char *path)
+{
+	DIR *d = opendir(path);
+	cr_assert_not_null(d);
+	int n = 0;
+	for (struct dirent *e; (e = readdir(d));)
+		n += strcmp(e->d_name, ".") && strcmp(e->d_name, "..");
+	closedir(d);
+	return n == 0;
+}
+
+/* Each test runs in its own process (Criterion forks), so TMPDIR and PATH
+ * changes stay here. */
+Test(timing, temporary_files_removed)
+{
+	char dir[] = "/tmp/bk_test_timing_XXXXXX";
+	cr_assert_not_null(mkdtemp(dir));
+	setenv("TMPDIR", dir, 1);
+	bk_compare_row row;
+	set_row(&row, "one", "NoV*NoL", NULL, 0);
+	char err[512] = "";
+	int rc = bk_time_rows(&row, 1, 1, err, sizeof err);
+	int ok1 = dir_empty(dir);
+	set_row(&row, "bad", "NoV*", NULL, 0);
+	bk_time_rows(&row, 1, 1, err, sizeof err);
+	int ok2 = dir_empty(dir);
+	spirv("NoV*NoL", NULL);
+	int ok3 = dir_empty(dir);
+	rmdir(dir);
+	cr_assert_eq(rc, 0, "%s", err);
+	cr_expect(ok1 && ok2 && ok3, "files left in %s: after timing %d, after a failure %d, after spirv %d", dir,
+	          !ok1, !ok2, !ok3);
+}
+
+Test(timing, missing_tools_named)
+{
+	setenv("PATH", "/nonexistent", 1);
+	bk_compare_row row;
+	set_row(&row, "one", "NoV", NULL, 0);
+	char err[512] = "";
+	cr_assert_eq(bk_time_rows(&row, 1, 1, err, sizeof err), -1);
+	cr_expect(strstr(err, "cc not found") != NULL, "message: %s", err);
+	bk_form *f = bk_form_parse("NoV", NULL);
+	cr_assert_eq(bk_spirv_count(f, NULL, err, sizeof err), -1);
+	cr_expect(strstr(err, "glslangValidator not found") && strstr(err, "glslang-tools"), "message: %s", err);
+	bk_form_free(f);
+}
