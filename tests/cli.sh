@@ -115,6 +115,18 @@ expect_error "fit input" "reads NoV, which target vf2d does not provide" $BK fit
 expect_error "fit target" "'nope'" $BK fit --target nope --form 'p0' --out "$T/bad"
 expect_error "fit start" "p0=VALUE" $BK fit --target f --form 'p0*LoH' --out "$T/bad"
 
+# compare and report: the tables, plots and page section, whole
+if $BK compare --target vf2d --nx 8 --nr 8 --no-time --out "$T/cmp" >/dev/null 2>"$T/err"; then ok; else bad "compare: $(cat "$T/err")"; fi
+for f in compare.csv timing.csv pareto_cost.svg pareto_ns.svg section.html heatmaps/vf_talk_r.png shaders/vf_talk_r_refit.glsl; do
+	[ -s "$T/cmp/$f" ] && ok || bad "compare: missing $f"
+done
+head -1 "$T/cmp/compare.csv" | grep -q '^name,kind,source,form,form_b,parameters,rmse,' && ok || bad "compare.csv header"
+grep -q '<svg' "$T/cmp/section.html" && ok || bad "section without its plot"
+$BK report --out "$T/page.html" "$T/cmp/section.html" && grep -q '<h2>Target <code>vf2d</code></h2>' "$T/page.html" && ok || bad "report"
+rm -rf "$T/cmp" "$T/page.html"
+expect_error "compare target" "'nope'" $BK compare --target nope --out "$T/x"
+expect_error "time parse" "form:1:" $BK time 'NoV +'
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
