@@ -160,9 +160,12 @@ results: $(TOOL)
 	$(TOOL) compare --target vf2d --out results/compare/vf2d --link-prefix compare/vf2d/
 	$(TOOL) compare --target vf --out results/compare/vf --link-prefix compare/vf/
 	$(TOOL) compare --target env --out results/compare/env --link-prefix compare/env/
+	$(TOOL) compare --target spec --out results/compare/spec --link-prefix compare/spec/
+	$(TOOL) compare --target f --out results/compare/f --link-prefix compare/f/
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
-	  results/compare/vf/section.html results/compare/env/section.html
-	for t in vf2d vf env; do \
+	  results/compare/vf/section.html results/compare/env/section.html \
+	  results/compare/spec/section.html results/compare/f/section.html
+	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
 	done

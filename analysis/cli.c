@@ -203,8 +203,11 @@ void cli_progress(void *label, int done, int total)
 	static int tty = -1;
 	if (tty < 0)
 		tty = isatty(fileno(stderr));
-	if (!tty)
+	if (!tty) { /* logs get one line per finished stage, not a counter */
+		if (done == total)
+			fprintf(stderr, "%s: %d/%d done\n", (const char *)label, done, total);
 		return;
+	}
 	fprintf(stderr, "\r%s: %d/%d", (const char *)label, done, total);
 	if (done == total)
 		fputc('\n', stderr);

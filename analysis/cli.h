@@ -54,7 +54,8 @@ int cli_fail(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 void cli_set_name(const char *cmd);
 
-/* Progress on stderr, only when it is a terminal (pipes and CI logs stay clean). */
+/* Progress on stderr: a live counter on a terminal, one line per finished stage
+ * otherwise (logs stay short). */
 void cli_progress(void *label, int done, int total);
 
 /* Atomic output: text goes to a temporary file beside path; cli_out_commit

@@ -60,6 +60,8 @@ static void entry_form(bk_target_kind k, const bk_catalog_entry *e, char *buf, s
 {
 	if (!strcmp(e->target, "V"))
 		snprintf(buf, len, "(%s)*F_schlick(f0, 1, LoH)", e->form);
+	else if (k == BK_TARGET_SPEC) /* the spec target is the rendered lobe: BRDF times NoL */
+		snprintf(buf, len, "(%s)*NoL", e->form);
 	else if (k == BK_TARGET_ENV && e->form_b)
 		snprintf(buf, len, "f0*(%s) + (%s)", e->form, e->form_b);
 	else

@@ -131,7 +131,7 @@ expect_error "time parse" "form:1:" $BK time 'NoV +'
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
 	$BK lut --size 8 --half --out "$T/d.exr" 2>/dev/null && cp "$T/d.exr" "$T/d$k.exr" && cp "$T/d.csv" "$T/d$k.csv"
-	$BK albedo --d all --v hammon --f schlick --nov 0.3 --roughness 0.6 --f0 0.04 --out "$T/alb.csv" && cp "$T/alb.csv" "$T/alb$k.csv"
+	$BK albedo --d all --v hammon --f schlick --nov 0.3 --roughness 0.6 --f0 0.04 --out "$T/alb.csv" 2>/dev/null && cp "$T/alb.csv" "$T/alb$k.csv"
 done
 cmp -s "$T/d1.exr" "$T/d2.exr" && ok || bad "lut exr differs between runs"
 cmp -s "$T/d1.csv" "$T/d2.csv" && ok || bad "lut csv differs between runs"
