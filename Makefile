@@ -38,7 +38,7 @@ FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
 TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c))) $(FIT_SRC)
 TEST_SRC = $(sort $(wildcard tests/*.c))
 SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c analysis/heatmap.c analysis/timing.c \
-           analysis/report.c analysis/lutscore.c $(FIT_SRC)   # modules the tests link too
+           analysis/report.c analysis/lutscore.c analysis/stability.c $(FIT_SRC)   # modules the tests link too
 
 obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 
@@ -162,14 +162,17 @@ results: $(TOOL)
 	$(TOOL) compare --target env --out results/compare/env --link-prefix compare/env/
 	$(TOOL) compare --target spec --out results/compare/spec --link-prefix compare/spec/
 	$(TOOL) compare --target f --out results/compare/f --link-prefix compare/f/
+	$(TOOL) stability --all --out results/stability --link-prefix stability/
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
-	  results/compare/spec/section.html results/compare/f/section.html
+	  results/compare/spec/section.html results/compare/f/section.html \
+	  results/stability/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
 	done
 	cp results/albedo.csv notebooks_data/albedo.csv
+	cp results/stability/stability.csv notebooks_data/stability.csv
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*.

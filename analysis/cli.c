@@ -3,6 +3,7 @@
  */
 #include "cli.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -280,3 +281,24 @@ void cli_csv_field(FILE *f, const char *s)
 	}
 	fputc('"', f);
 }
+
+void cli_rm_tree(const char *dir)
+{
+	DIR *d = opendir(dir);
+	if (d) {
+		for (struct dirent *e; (e = readdir(d));) {
+			if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
+				continue;
+			char path[4400];
+			snprintf(path, sizeof path, "%.4000s/%.255s", dir, e->d_name);
+			struct stat st;
+			if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+				cli_rm_tree(path);
+			else
+				unlink(path);
+		}
+		closedir(d);
+	}
+	rmdir(dir);
+}
+

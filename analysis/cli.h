@@ -70,6 +70,10 @@ int cli_out_open(cli_out *o, const char *path, char *err, size_t errlen);
 int cli_out_commit(cli_out *o, char *err, size_t errlen);
 void cli_out_abort(cli_out *o);
 
+/* Removes dir with the files and directories under it (what a command wrote:
+ * results directories are replaced whole). */
+void cli_rm_tree(const char *dir);
+
 /* Writes s as one CSV field, quoted when it holds a comma, quote or newline. */
 void cli_csv_field(FILE *f, const char *s);
 

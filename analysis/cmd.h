@@ -17,5 +17,6 @@ int cmd_fit(int argc, char **argv);
 int cmd_time(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_report(int argc, char **argv);
+int cmd_stability(int argc, char **argv);
 
 #endif

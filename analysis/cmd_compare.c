@@ -265,28 +265,6 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	fputs("</table>\n</section>\n", f);
 }
 
-/* Removes dir and the files in it and in its subdirectories (two levels:
- * what compare writes). */
-static void rm_tree(const char *dir)
-{
-	DIR *d = opendir(dir);
-	if (d) {
-		for (struct dirent *e; (e = readdir(d));) {
-			if (!strcmp(e->d_name, ".") || !strcmp(e->d_name, ".."))
-				continue;
-			char path[4400];
-			snprintf(path, sizeof path, "%.4000s/%.255s", dir, e->d_name);
-			struct stat st;
-			if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-				rm_tree(path);
-			else
-				unlink(path);
-		}
-		closedir(d);
-	}
-	rmdir(dir);
-}
-
 static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
 {
 	char sl[128], path[4400];
@@ -396,13 +374,13 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		cli_progress("compare: heatmaps and shaders", i + 1, S->n);
 	}
 	if (rc) {
-		rm_tree(tmp);
+		cli_rm_tree(tmp);
 		return cli_fail("compare", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 	}
-	rm_tree(out); /* replaced whole: what it held was this command's own output */
+	cli_rm_tree(out); /* replaced whole: what it held was this command's own output */
 	if (rename(tmp, out)) {
 		int e = errno;
-		rm_tree(tmp);
+		cli_rm_tree(tmp);
 		return cli_fail("compare", "%s: %s", out, strerror(e));
 	}
 	return 0;

@@ -22,6 +22,7 @@ static const struct {
 	{"catalog", cmd_catalog, "the published forms, as CSV"},
 	{"fit", cmd_fit, "fit a form to a target with Ceres; tables, heatmaps, shaders"},
 	{"time", cmd_time, "CPU ns per evaluation of forms (generated C, cc -O2) and SPIR-V size"},
+	{"stability", cmd_stability, "half/single/double precision on stiff and extreme inputs; guards"},
 	{"report", cmd_report, "the study's page from the compare sections"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 };

@@ -224,8 +224,13 @@ const char *bk_form_text(const bk_form *f);
 int bk_form_nparams(const bk_form *f);     /* highest p index used + 1 */
 unsigned bk_form_inputs(const bk_form *f); /* bit i set: input i is read */
 const char *bk_input_name(bk_input i);
+/* The constants the compiled form uses (after folding), up to max of them;
+ * returns how many there are. What a shader will spell as literals. */
+int bk_form_constants(const bk_form *f, double *k, int max);
 
-typedef enum bk_precision { BK_F64, BK_F32, BK_F16 } bk_precision;
+/* BK_FLD: long double, the reference the stability analysis measures the
+ * others against (x87 80-bit on x86-64: 64-bit significand). */
+typedef enum bk_precision { BK_F64, BK_F32, BK_F16, BK_FLD } bk_precision;
 const char *bk_precision_name(bk_precision p);
 
 /* IEEE binary16 rounding of x (nearest, ties to even; overflow to ±inf;
@@ -239,6 +244,18 @@ double bk_half_round(double x);
  * or -1 if an input the form reads is NULL. */
 int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
                  const double *const in[BK_IN_COUNT], const double *params, double *out);
+
+/* What happened inside an evaluation, per sample (bits of flags[k]): an
+ * operation made a NaN from non-NaN operands, overflowed to infinity from
+ * finite operands (past 65504 in half), or gave a nonzero result below the
+ * precision's smallest normal (flushed to zero on GPUs that flush). first_op
+ * holds, per bit, the first instruction index it happened at (-1: never). */
+#define BK_FLAG_NAN 1u
+#define BK_FLAG_OVERFLOW 2u
+#define BK_FLAG_SUBNORMAL 4u
+int bk_form_eval_flags(const bk_form *f, bk_precision prec, size_t n,
+                       const double *const in[BK_IN_COUNT], const double *params, double *out,
+                       unsigned char *flags, int first_op[3]);
 
 /* Values and the Jacobian d out[k] / d p_j into jac[k * nparams + j], double
  * precision, reverse mode over the same blocks. */

@@ -284,3 +284,15 @@ int bk_ir_finish(bk_form *f, int out)
 			f->inputs |= 1u << dst[i].slot;
 	return 0;
 }
+
+int bk_form_constants(const bk_form *f, double *k, int max)
+{
+	int n = 0;
+	for (int i = 0; i < f->n; i++)
+		if (f->code[i].op == BK_OP_CONST) {
+			if (n < max)
+				k[n] = f->code[i].k;
+			n++;
+		}
+	return n;
+}

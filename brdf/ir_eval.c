@@ -20,6 +20,7 @@
 static float round16(float x) { return (float)bk_half_round(x); }
 static float round32(float x) { return x; }
 static double round64(double x) { return x; }
+static long double roundld(long double x) { return x; }
 
 /*
  * Why the kernel is shaped as it is (speed, not semantics: every result is
@@ -109,6 +110,7 @@ static double round64(double x) { return x; }
 KERNEL(run64, double, round64)
 KERNEL(run32, float, round32)
 KERNEL(run16, float, round16)
+KERNEL(runld, long double, roundld)
 
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg)
@@ -118,32 +120,114 @@ void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const 
 
 const char *bk_precision_name(bk_precision p)
 {
-	return p == BK_F64 ? "f64" : p == BK_F32 ? "f32" : "f16";
+	return p == BK_F64 ? "f64" : p == BK_F32 ? "f32" : p == BK_F16 ? "f16" : "fld";
 }
 
-int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
-                 const double *const in[BK_IN_COUNT], const double *params, double *out)
+static size_t width_of(bk_precision p)
+{
+	return p == BK_F64 ? sizeof(double) : p == BK_FLD ? sizeof(long double) : sizeof(float);
+}
+
+/* One block in the chosen precision; reg keeps every register's values. */
+static void run_block(const bk_form *f, bk_precision prec, size_t m, size_t ahead, int first,
+                      const double *const *blk, const double *params, void *reg, double *out)
+{
+	switch (prec) {
+	case BK_F64: run64(f, m, ahead, first, blk, params, reg, out); break;
+	case BK_F32: run32(f, m, ahead, first, blk, params, reg, out); break;
+	case BK_F16: run16(f, m, ahead, first, blk, params, reg, out); break;
+	default: runld(f, m, ahead, first, blk, params, reg, out); break;
+	}
+}
+
+static long double reg_at(const void *reg, bk_precision prec, int i, size_t k)
+{
+	size_t at = (size_t)i * BLOCK + k;
+	switch (prec) {
+	case BK_F64: return ((const double *)reg)[at];
+	case BK_FLD: return ((const long double *)reg)[at];
+	default: return ((const float *)reg)[at];
+	}
+}
+
+/* Smallest normal of each precision: where flush-to-zero hardware drops results. */
+static long double min_normal(bk_precision p)
+{
+	return p == BK_F16 ? 0x1p-14L : p == BK_F32 ? 0x1p-126L : p == BK_F64 ? 0x1p-1022L : 0x1p-16382L;
+}
+
+/* Flags of one block, from the registers the kernel left. */
+static void block_flags(const bk_form *f, bk_precision prec, size_t m, const void *reg, unsigned char *flags,
+                        int first_op[3])
+{
+	long double tiny = min_normal(prec);
+	for (int i = 0; i < f->n; i++) {
+		const bk_instr *c = &f->code[i];
+		if (c->op == BK_OP_CONST || c->op == BK_OP_PARAM || c->op == BK_OP_INPUT)
+			continue;
+		int ops[3] = {c->a, c->b, c->c}, ar = bk_opinfo_table[c->op].arity;
+		for (size_t k = 0; k < m; k++) {
+			long double r = reg_at(reg, prec, i, k);
+			int any_nan = 0, all_finite = 1;
+			for (int j = 0; j < ar; j++) {
+				long double x = reg_at(reg, prec, ops[j], k);
+				any_nan |= isnan(x);
+				all_finite &= isfinite(x);
+			}
+			unsigned bit = 0;
+			if (isnan(r) && !any_nan)
+				bit = BK_FLAG_NAN;
+			else if (isinf(r) && all_finite)
+				bit = BK_FLAG_OVERFLOW;
+			else if (r != 0 && fabsl(r) < tiny)
+				bit = BK_FLAG_SUBNORMAL;
+			if (!bit)
+				continue;
+			flags[k] |= (unsigned char)bit;
+			int b = bit == BK_FLAG_NAN ? 0 : bit == BK_FLAG_OVERFLOW ? 1 : 2;
+			if (first_op && first_op[b] < 0)
+				first_op[b] = i;
+		}
+	}
+}
+
+static int eval(const bk_form *f, bk_precision prec, size_t n, const double *const in[BK_IN_COUNT],
+                const double *params, double *out, unsigned char *flags, int first_op[3])
 {
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return -1;
-	size_t width = prec == BK_F64 ? sizeof(double) : sizeof(float);
-	void *reg = malloc((size_t)f->n * BLOCK * width);
+	void *reg = malloc((size_t)f->n * BLOCK * width_of(prec));
 	if (!reg)
 		return -1;
+	if (first_op)
+		first_op[0] = first_op[1] = first_op[2] = -1;
 	const double *blk[BK_IN_COUNT];
 	for (size_t s = 0; s < n; s += BLOCK) {
 		size_t m = n - s < BLOCK ? n - s : BLOCK;
 		size_t ahead = n - s - m < BLOCK ? n - s - m : BLOCK;
 		for (int i = 0; i < BK_IN_COUNT; i++)
 			blk[i] = in[i] ? in[i] + s : NULL;
-		if (prec == BK_F64)
-			run64(f, m, ahead, s == 0, blk, params, reg, out + s);
-		else if (prec == BK_F32)
-			run32(f, m, ahead, s == 0, blk, params, reg, out + s);
-		else
-			run16(f, m, ahead, s == 0, blk, params, reg, out + s);
+		run_block(f, prec, m, ahead, s == 0, blk, params, reg, out + s);
+		if (flags) {
+			for (size_t k = 0; k < m; k++)
+				flags[s + k] = 0;
+			block_flags(f, prec, m, reg, flags + s, first_op);
+		}
 	}
 	free(reg);
 	return 0;
+}
+
+int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
+                 const double *const in[BK_IN_COUNT], const double *params, double *out)
+{
+	return eval(f, prec, n, in, params, out, NULL, NULL);
+}
+
+int bk_form_eval_flags(const bk_form *f, bk_precision prec, size_t n,
+                       const double *const in[BK_IN_COUNT], const double *params, double *out,
+                       unsigned char *flags, int first_op[3])
+{
+	return eval(f, prec, n, in, params, out, flags, first_op);
 }

@@ -1,0 +1,358 @@
+/*
+ * cmd_stability.c — brdfkit stability: a form, catalog entry or registry term
+ * under stress in half, single and double precision (analysis/stability.c);
+ * --all runs every term and catalog form and writes the table and the page
+ * section of the study.
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "heatmap.h"
+#include "stability.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* A registry term as a call in the language: its C arguments mapped to the
+ * inputs, fixed material values where the argument is not an input
+ * (f90 = 1, glass eta = 1.5, a conductor 0.2 + 3i, sigma = r, VoL from LoH). */
+static void term_call(const bk_term *t, char *buf, size_t len)
+{
+	size_t k = (size_t)snprintf(buf, len, "%s(", t->name);
+	const char *p = t->args;
+	int first = 1;
+	while (*p && k < len) {
+		const char *e = strchr(p, ',');
+		size_t n = e ? (size_t)(e - p) : strlen(p);
+		char arg[16];
+		snprintf(arg, sizeof arg, "%.*s", (int)n, p);
+		const char *v = arg;
+		if (!strcmp(arg, "f90")) v = "1";
+		else if (!strcmp(arg, "eta")) v = strcmp(t->name, "F_conductor") ? "1.5" : "0.2";
+		else if (!strcmp(arg, "k")) v = "3";
+		else if (!strcmp(arg, "sigma")) v = "r";
+		else if (!strcmp(arg, "VoL")) v = "2*LoH*LoH - 1";
+		k += (size_t)snprintf(buf + k, len - k, "%s%s", first ? "" : ", ", v);
+		first = 0;
+		p += n + (e != NULL);
+	}
+	snprintf(buf + k, len - k, ")");
+}
+
+typedef struct item {
+	char name[96], text[2048];
+	double params[BK_MAX_PARAMS];
+} item;
+
+static int resolve(const char *arg, item *it)
+{
+	memset(it, 0, sizeof *it);
+	snprintf(it->name, sizeof it->name, "%s", arg);
+	const bk_catalog_entry *e = bk_catalog_find(arg);
+	const bk_term *t = bk_term_find(arg);
+	if (e) {
+		if (e->form_b)
+			snprintf(it->text, sizeof it->text, "f0*(%s) + (%s)", e->form, e->form_b);
+		else
+			snprintf(it->text, sizeof it->text, "%s", e->form);
+		memcpy(it->params, e->defaults, sizeof it->params);
+	} else if (t) {
+		term_call(t, it->text, sizeof it->text);
+	} else {
+		snprintf(it->name, sizeof it->name, "form");
+		snprintf(it->text, sizeof it->text, "%s", arg);
+	}
+	return 0;
+}
+
+static void csv_header(FILE *f)
+{
+	fputs("name,form,precision,samples,nan,inf,overflow,subnormal,zeroed,well_conditioned,wrong,max_rel,"
+	      "ill_conditioned,max_rel_ill,region\n", f);
+}
+
+static void csv_rows(FILE *f, const bk_stability *st, const char *text)
+{
+	static const char *const pn[3] = {"f64", "f32", "f16"};
+	for (int p = 0; p < 3; p++) {
+		const bk_stab_prec *s = &st->p[p];
+		cli_csv_field(f, st->name);
+		fputc(',', f);
+		cli_csv_field(f, text);
+		fprintf(f, ",%s,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%.3g,%zu,%.3g,", pn[p], s->n, s->nan, s->inf, s->overflow,
+		        s->subnormal, s->zeroed, s->well, s->wrong, s->max_rel, s->ill, s->max_rel_ill);
+		cli_csv_field(f, s->region);
+		fputc('\n', f);
+	}
+}
+
+static void summary_header(FILE *f)
+{
+	fputs("name,form,f16_wrong,f16_nan,f16_inf,f16_overflow,f16_subnormal,f16_max_rel,f32_max_rel,f64_max_rel,"
+	      "f16_ill_conditioned,r_min,cos_min,r_min_cos0,r_min_cos1e-4,r_min_cos1e-3,r_min_cos1e-2,r_min_cos0.1,"
+	      "safe_in_half,guards,guard_error_r,guard_error_cos,guard_error_clamp,guarded_form,constants,advice\n", f);
+}
+
+static void num(FILE *f, double x)
+{
+	if (isfinite(x))
+		fprintf(f, ",%.4g", x);
+	else
+		fputs(",", f);
+}
+
+static void summary_row(FILE *f, const bk_stability *st, const char *text)
+{
+	cli_csv_field(f, st->name);
+	fputc(',', f);
+	cli_csv_field(f, text);
+	const bk_stab_prec *h = &st->p[2];
+	fprintf(f, ",%zu,%zu,%zu,%zu,%zu", h->wrong, h->nan, h->inf, h->overflow, h->subnormal);
+	num(f, h->max_rel);
+	num(f, st->p[1].max_rel);
+	num(f, st->p[0].max_rel);
+	fprintf(f, ",%zu", h->ill);
+	num(f, st->r_min);
+	num(f, st->cos_min);
+	for (int i = 0; i < 5; i++)
+		num(f, st->floor_r[i]);
+	fprintf(f, ",%s,", h->wrong == 0 ? "as is" : st->guarded_ok ? "with guards" : "no");
+	cli_csv_field(f, st->guards);
+	num(f, st->guard_error[0]);
+	num(f, st->guard_error[1]);
+	num(f, st->guard_error[2]);
+	fputc(',', f);
+	cli_csv_field(f, st->guarded);
+	fputc(',', f);
+	cli_csv_field(f, st->constants);
+	fputc(',', f);
+	cli_csv_field(f, st->advice);
+	fputc('\n', f);
+}
+
+static void slug(const char *name, char *buf, size_t len)
+{
+	size_t k = 0;
+	for (; *name && k + 1 < len; name++) {
+		char c = *name;
+		if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')
+			buf[k++] = c;
+		else if (c >= 'A' && c <= 'Z')
+			buf[k++] = (char)(c - 'A' + 'a');
+		else if (k && buf[k - 1] != '_')
+			buf[k++] = '_';
+	}
+	buf[k] = '\0';
+}
+
+static int write_map(const bk_stability *st, const char *dir, char *err, size_t errlen)
+{
+	char title[160], stem[128];
+	snprintf(title, sizeof title, "%.80s: share of wrong half-precision results", st->name);
+	slug(st->name, stem, sizeof stem);
+	bk_heatmap h = {st->map_nx, st->map_ny, st->map, 0, st->map_nx, 0, st->map_ny,
+	                "first cosine: index in 0,1e-7,1e-4,1e-3,0.01,0.1,0.5,0.9,0.999,0.99999,1",
+	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
+	                "fraction of samples of the cell (over the other inputs) whose half-precision value is not finite "
+	                "or off by more than 2 % from the long-double reference at the same half-rounded inputs"};
+	return bk_heatmap_write(&h, dir, stem, err, errlen);
+}
+
+static void html_text(FILE *f, const char *s)
+{
+	for (; *s; s++)
+		if (*s == '&') fputs("&amp;", f);
+		else if (*s == '<') fputs("&lt;", f);
+		else if (*s == '>') fputs("&gt;", f);
+		else fputc(*s, f);
+}
+
+static void section_row(FILE *f, const bk_stability *st, const char *prefix)
+{
+	char stem[128];
+	slug(st->name, stem, sizeof stem);
+	const bk_stab_prec *h = &st->p[2];
+	fputs("<tr><td>", f);
+	html_text(f, st->name);
+	fprintf(f, "</td><td>%s</td><td>%zu / %zu</td><td>%zu / %zu</td><td>%.2g</td><td>",
+	        h->wrong == 0 ? "safe as is" : st->guarded_ok ? "safe with guards" : "<b>not safe</b>", h->wrong, h->n,
+	        h->nan + h->inf, h->overflow, h->max_rel);
+	if (isfinite(st->r_min))
+		fprintf(f, "r &ge; %.3g with cosines &ge; %.3g", st->r_min, st->cos_min);
+	else
+		fputs("none found", f);
+	fputs("</td><td>", f);
+	html_text(f, h->wrong ? st->guards : "");
+	if (st->advice[0]) {
+		fputs("<br><i>", f);
+		html_text(f, st->advice);
+		fputs("</i>", f);
+	}
+	if (st->constants[0]) {
+		fputs("<br>constants: ", f);
+		html_text(f, st->constants);
+	}
+	fprintf(f, "</td><td><a href=\"%smaps/%s.png\"><img src=\"%smaps/%s.png\" width=\"100\" alt=\"map\"></a></td></tr>\n",
+	        prefix, stem, prefix, stem);
+}
+
+static void print_one(const bk_stability *st, const char *text)
+{
+	static const char *const pn[3] = {"f64", "f32", "f16"};
+	printf("%s: %s\n", st->name, text);
+	printf("precision  samples  wrong  nan  inf  overflow  subnormal  zeroed  max_rel(well)  ill  where it breaks\n");
+	for (int p = 2; p >= 0; p--) {
+		const bk_stab_prec *s = &st->p[p];
+		printf("%-9s  %7zu  %5zu  %3zu  %3zu  %8zu  %9zu  %6zu  %13.3g  %3zu  %s\n", pn[p], s->n, s->wrong, s->nan,
+		       s->inf, s->overflow, s->subnormal, s->zeroed, s->max_rel, s->ill, s->region);
+	}
+	if (st->p[2].ill)
+		printf("ill conditioned in half (input rounding alone moves the value by up to %.3g): %s\n",
+		       st->p[2].max_rel_ill, st->p[2].ill_region);
+	printf("minimum safe inputs in half (cosine floor: smallest safe r):");
+	for (int i = 0; i < 5; i++)
+		printf(" %g: %s%.4g", st->floor_cos[i], isnan(st->floor_r[i]) ? "" : "", st->floor_r[i]);
+	printf("\n");
+	if (st->p[2].wrong) {
+		printf("guards: %s (%s)\n", st->guards, st->guarded_ok ? "passes in half" : "still fails");
+		printf("error each guard adds alone: r floor %.3g, cosine floor %.3g, clamp %.3g\n", st->guard_error[0],
+		       st->guard_error[1], st->guard_error[2]);
+		printf("guarded form: %s\n", st->guarded);
+	} else {
+		printf("safe in half as is\n");
+	}
+	if (st->advice[0])
+		printf("advice: %s\n", st->advice);
+	if (st->constants[0])
+		printf("constants a half shader cannot hold: %s\n", st->constants);
+}
+
+int cmd_stability(int argc, char **argv)
+{
+	const char *out = NULL, *prefix = "";
+	int all = 0;
+	double tol = BK_STAB_TOL;
+	cli_opt opts[] = {
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write stability.csv, maps/ (EXR + PNG) and section.html", .dest = &out},
+		{.name = "--all", .kind = CLI_FLAG, .help = "every registry term and catalog form", .dest = &all},
+		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "relative error that counts as wrong (default 0.02)", .dest = &tol, .lo = 1e-6, .hi = 1},
+		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
+	};
+	cli_cmd cmd = {"stability", "Evaluates forms on a stress grid with the extremes (r from 0, cosines from 0 and up to\n"
+	               "0.99999, f0 from 0) in half, single and double precision against long double; reports\n"
+	               "NaN, Inf, overflow past 65504, subnormals, the largest error, where it breaks, the minimum\n"
+	               "safe inputs in half, and guards that fix it with the error each adds.",
+	               "FORM|NAME|TERM ... [--out DIR] | --all --out DIR",
+	               "A precision is judged against the long-double value at inputs rounded as it holds them\n"
+	               "(half: mediump); where that rounding alone moves the value by more than the tolerance\n"
+	               "the sample is ill conditioned (reported apart: 1 - NoH^2 near the highlight).",
+	               opts, 4, 32, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (!all && cmd.npos == 0) {
+		fprintf(stderr, "brdfkit stability: give FORM|NAME|TERM or --all (see brdfkit stability --help)\n");
+		return 2;
+	}
+	if (all && !out) {
+		fprintf(stderr, "brdfkit stability: --all needs --out DIR\n");
+		return 2;
+	}
+	int n = all ? (int)(bk_term_count() + bk_catalog_count()) : cmd.npos;
+	item *items = calloc((size_t)n, sizeof *items);
+	bk_stability *st = calloc((size_t)n, sizeof *st);
+	if (!items || !st) {
+		free(items);
+		free(st);
+		return cli_fail("stability", "out of memory");
+	}
+	for (int i = 0; i < n; i++) {
+		if (!all)
+			resolve(cmd.pos[i], &items[i]);
+		else if ((size_t)i < bk_term_count())
+			resolve(bk_term_at((size_t)i)->name, &items[i]);
+		else
+			resolve(bk_catalog_at((size_t)i - bk_term_count())->name, &items[i]);
+	}
+	char err[512];
+	for (int i = 0; i < n; i++) {
+		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {
+			fprintf(stderr, "brdfkit stability: %s\n", err);
+			free(items);
+			free(st);
+			return 2;
+		}
+		cli_progress("stability", i + 1, n);
+	}
+	if (!all)
+		for (int i = 0; i < n; i++)
+			print_one(&st[i], items[i].text);
+	rc = 0;
+	if (out) {
+		char tmp[4200], path[4400];
+		snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
+		if (!mkdtemp(tmp)) {
+			rc = cli_fail("stability", "%s: cannot create: %s", out, strerror(errno));
+		} else {
+			mode_t um = umask(0);
+			umask(um);
+			chmod(tmp, 0777 & ~um);
+			snprintf(path, sizeof path, "%s/maps", tmp);
+			mkdir(path, 0777);
+			snprintf(path, sizeof path, "%s/stability.csv", tmp);
+			FILE *f = fopen(path, "w");
+			snprintf(path, sizeof path, "%s/details.csv", tmp);
+			FILE *d = fopen(path, "w");
+			snprintf(path, sizeof path, "%s/section.html", tmp);
+			FILE *h = fopen(path, "w");
+			if (!f || !d || !h)
+				rc = -1;
+			if (rc == 0) {
+				summary_header(f);
+				csv_header(d);
+				fputs("<section id=\"stability\">\n<h2>Numerical stability in half precision</h2>\n<p>Every term and "
+				      "catalog form on a stress grid with the extremes included, in half (IEEE binary16, rounded "
+				      "after every operation, inputs rounded to half as mediump holds them), single and double, "
+				      "against long double at the same rounded inputs. <i>Wrong</i>: not finite where the reference "
+				      "is a normal number, or off by more than 2 %. The minimum safe inputs are computed, and the "
+				      "guard proposed is the floor or clamp that makes the form pass with the smallest error of its "
+				      "own. Table: <a href=\"", h);
+				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<table>\n<tr><th>term or form</th><th>half</th>"
+				           "<th>wrong / samples</th><th>non-finite / overflows</th><th>max rel. error (well "
+				           "conditioned)</th><th>safe from</th><th>guard</th><th>map</th></tr>\n", prefix);
+				for (int i = 0; i < n && rc == 0; i++) {
+					summary_row(f, &st[i], items[i].text);
+					csv_rows(d, &st[i], items[i].text);
+					section_row(h, &st[i], prefix);
+					snprintf(path, sizeof path, "%s/maps", tmp);
+					if (write_map(&st[i], path, err, sizeof err))
+						rc = -1;
+				}
+				fputs("</table>\n</section>\n", h);
+			}
+			if (f && (ferror(f) | fclose(f)))
+				rc = -1;
+			if (d && (ferror(d) | fclose(d)))
+				rc = -1;
+			if (h && (ferror(h) | fclose(h)))
+				rc = -1;
+			if (rc == 0) {
+				cli_rm_tree(out); /* replaced whole: it held this command's own output */
+				if (rename(tmp, out))
+					rc = -1;
+			}
+			if (rc) {
+				cli_rm_tree(tmp);
+				rc = cli_fail("stability", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
+			}
+		}
+	}
+	free(items);
+	free(st);
+	return rc;
+}

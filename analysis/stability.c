@@ -1,0 +1,536 @@
+/*
+ * stability.c — a form under stress (see stability.h).
+ *
+ * The grid crosses every input the form reads: perceptual roughness from 0
+ * through 1e-4 to 1 (a = r^2 follows it), each cosine from 0 through 1e-7 to 1
+ * (and up to 0.99999, where 1 - NoH^2 cancels), f0 in {0, 0.02, 0.04, 1}. Each
+ * precision's value is compared with long double. A sample counts against a
+ * precision only where the comparison means something: the reference is
+ * finite, at least half's smallest normal (2^-14, below which no precision
+ * keeps relative accuracy in half), and well conditioned — moving any input by
+ * half's rounding (2^-11 relative) moves the reference by at most 8 x that.
+ * Elsewhere a large error is the problem's, not the precision's.
+ */
+#include "stability.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const double bk_stab_r[] = {0, 1e-4, 1e-3, 0.01, 0.02, 0.05, 0.089, 0.1, 0.2, 0.3, 0.5, 0.7, 1};
+const int bk_stab_nr = (int)(sizeof bk_stab_r / sizeof bk_stab_r[0]);
+const double bk_stab_cos[] = {0, 1e-7, 1e-4, 1e-3, 0.01, 0.1, 0.5, 0.9, 0.999, 0.99999, 1};
+const int bk_stab_ncos = (int)(sizeof bk_stab_cos / sizeof bk_stab_cos[0]);
+static const double f0s[] = {0, 0.02, 0.04, 1};
+
+#define HALF_NORMAL 0x1p-14 /* half's smallest normal */
+#define HALF_MAX 65504.0
+#define MAX_SAMPLES 400000  /* cosine combinations are strided beyond this */
+
+static const int cosine_inputs[4] = {BK_IN_NOV, BK_IN_NOL, BK_IN_NOH, BK_IN_LOH};
+
+/* The samples: the cross product of the inputs the form reads. */
+typedef struct grid {
+	size_t n;
+	double *in[BK_IN_COUNT];
+	int *cell_c, *cell_r; /* indices of the first cosine and of r, for the map */
+} grid;
+
+static void grid_free(grid *g)
+{
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		free(g->in[i]);
+	free(g->cell_c);
+	free(g->cell_r);
+	memset(g, 0, sizeof *g);
+}
+
+/* rs, coss: the values to cross (nr, nc of them). */
+static int grid_build(unsigned reads, const double *rs, int nr, const double *coss, int nc, grid *g)
+{
+	int ncos = 0, idx[4] = {0};
+	int cin[4];
+	for (int k = 0; k < 4; k++)
+		if (reads >> cosine_inputs[k] & 1)
+			cin[ncos++] = cosine_inputs[k];
+	int nf = reads >> BK_IN_F0 & 1 ? 4 : 1;
+	size_t combos = 1;
+	for (int k = 0; k < ncos; k++)
+		combos *= (size_t)nc;
+	size_t stride = 1;
+	while ((size_t)nr * nf * ((combos + stride - 1) / stride) > MAX_SAMPLES)
+		stride++;
+	size_t cap = (size_t)nr * nf * ((combos + stride - 1) / stride);
+	memset(g, 0, sizeof *g);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (!(g->in[i] = malloc(sizeof(double) * cap)))
+			return -1;
+	g->cell_c = malloc(sizeof(int) * cap);
+	g->cell_r = malloc(sizeof(int) * cap);
+	if (!g->cell_c || !g->cell_r)
+		return -1;
+	size_t n = 0;
+	for (int j = 0; j < nr; j++)
+		for (size_t c = 0; c < combos; c += stride)
+			for (int q = 0; q < nf; q++) {
+				size_t rest = c;
+				for (int k = 0; k < ncos; k++) {
+					idx[k] = (int)(rest % (size_t)nc);
+					rest /= (size_t)nc;
+				}
+				for (int i = 0; i < BK_IN_COUNT; i++)
+					g->in[i][n] = 0.5; /* inputs the form does not read */
+				for (int k = 0; k < ncos; k++)
+					g->in[cin[k]][n] = coss[idx[k]];
+				g->in[BK_IN_R][n] = rs[j];
+				g->in[BK_IN_A][n] = rs[j] * rs[j];
+				g->in[BK_IN_F0][n] = nf > 1 ? f0s[q] : 0.04;
+				g->cell_c[n] = ncos ? idx[0] : 0;
+				g->cell_r[n] = j;
+				n++;
+			}
+	g->n = n;
+	return 0;
+}
+
+/* Long-double references: at the exact inputs, and at the inputs rounded to
+ * half and to single as a shader holds them. A precision's arithmetic is
+ * judged against the reference at its own rounded inputs; what the rounding
+ * of the inputs alone does (1 - NoH^2 near the highlight) is the difference
+ * between the references: the sample is ill conditioned in that precision. */
+typedef struct ref {
+	double *v, *vp[3]; /* exact; at inputs rounded like BK_F64, BK_F32, BK_F16 */
+} ref;
+
+static int reference(const bk_form *f, const double *params, grid *g, ref *R)
+{
+	size_t n = g->n;
+	double *rin[BK_IN_COUNT] = {0};
+	int rc = 0;
+	memset(R, 0, sizeof *R);
+	R->v = malloc(sizeof(double) * n);
+	for (int p = 0; p < 3; p++)
+		R->vp[p] = malloc(sizeof(double) * n);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		rin[i] = malloc(sizeof(double) * n);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		rc |= !rin[i];
+	if (rc || !R->v || !R->vp[0] || !R->vp[1] || !R->vp[2])
+		rc = -1;
+	else {
+		bk_form_eval(f, BK_FLD, n, (const double *const *)g->in, params, R->v);
+		memcpy(R->vp[0], R->v, sizeof(double) * n); /* double inputs are exact */
+		for (int p = 1; p < 3; p++) {
+			for (int i = 0; i < BK_IN_COUNT; i++)
+				for (size_t k = 0; k < n; k++)
+					rin[i][k] = p == 2 ? bk_half_round(g->in[i][k]) : (double)(float)g->in[i][k];
+			bk_form_eval(f, BK_FLD, n, (const double *const *)rin, params, R->vp[p]);
+		}
+	}
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		free(rin[i]);
+	return rc;
+}
+
+static void ref_free(ref *R)
+{
+	free(R->v);
+	for (int p = 0; p < 3; p++)
+		free(R->vp[p]);
+}
+
+/* A number to compare with: finite and at least half's smallest normal
+ * (below it no precision keeps relative accuracy in half). */
+static int normal(double r)
+{
+	return isfinite(r) && fabs(r) >= HALF_NORMAL;
+}
+
+/* A value is wrong: not finite where its reference is a normal number, or
+ * off from it by more than tol. */
+static int wrong(double v, double r, double tol)
+{
+	return normal(r) && (!isfinite(v) || fabs(v - r) > tol * fabs(r));
+}
+
+static void describe_region(const bk_form *f, const grid *g, const unsigned char *bad, char *buf, size_t len)
+{
+	unsigned reads = bk_form_inputs(f);
+	size_t k = 0;
+	buf[0] = '\0';
+	for (int i = 0; i < BK_IN_COUNT; i++) {
+		if (!(reads >> i & 1) || (i == BK_IN_A && reads >> BK_IN_R & 1))
+			continue;
+		double lo = INFINITY, hi = -INFINITY;
+		for (size_t s = 0; s < g->n; s++)
+			if (bad[s])
+				lo = fmin(lo, g->in[i][s]), hi = fmax(hi, g->in[i][s]);
+		if (lo <= hi && k < len)
+			k += (size_t)snprintf(buf + k, len - k, "%s%s in [%.3g, %.3g]", k ? ", " : "", bk_input_name((bk_input)i), lo, hi);
+	}
+}
+
+/* One precision over the grid: counts, max relative error, where it breaks. */
+static void score(const bk_form *f, const double *params, bk_precision prec, int pi, const grid *g, const ref *R,
+                  double tol, bk_stab_prec *sp)
+{
+	size_t n = g->n;
+	double *v = malloc(sizeof(double) * n);
+	const double *rp = R->vp[pi];
+	unsigned char *fl = malloc(n), *bad = calloc(n, 1), *ill = calloc(n, 1);
+	memset(sp, 0, sizeof *sp);
+	sp->n = n;
+	sp->ill_noh_min = NAN;
+	if (!v || !fl || !bad || !ill)
+		goto out;
+	int first[3];
+	bk_form_eval_flags(f, prec, n, (const double *const *)g->in, params, v, fl, first);
+	for (size_t k = 0; k < n; k++) {
+		int rf = isfinite(rp[k]);
+		sp->nan += rf && isnan(v[k]);
+		sp->inf += rf && isinf(v[k]);
+		sp->overflow += (fl[k] & BK_FLAG_OVERFLOW) != 0;
+		sp->subnormal += (fl[k] & BK_FLAG_SUBNORMAL) != 0;
+		sp->zeroed += v[k] == 0 && normal(rp[k]);
+		bad[k] = (unsigned char)wrong(v[k], rp[k], tol);
+		sp->wrong += bad[k];
+		if (!normal(R->v[k]))
+			continue;
+		double moved = fabs(rp[k] - R->v[k]) / fabs(R->v[k]); /* what input rounding alone does */
+		if (moved <= tol) {
+			sp->well++;
+			if (isfinite(v[k]))
+				sp->max_rel = fmax(sp->max_rel, fabs(v[k] - R->v[k]) / fabs(R->v[k]));
+		} else {
+			ill[k] = 1;
+			sp->ill++;
+			sp->max_rel_ill = fmax(sp->max_rel_ill, moved);
+		}
+	}
+	if (sp->wrong)
+		describe_region(f, g, bad, sp->region, sizeof sp->region);
+	if (sp->ill) {
+		describe_region(f, g, ill, sp->ill_region, sizeof sp->ill_region);
+		if (bk_form_inputs(f) >> BK_IN_NOH & 1)
+			for (size_t k = 0; k < n; k++)
+				if (ill[k])
+					sp->ill_noh_min = isnan(sp->ill_noh_min) ? g->in[BK_IN_NOH][k] : fmin(sp->ill_noh_min, g->in[BK_IN_NOH][k]);
+	}
+out:
+	free(v);
+	free(fl);
+	free(bad);
+	free(ill);
+}
+
+/* Does half precision get every meaningful sample right on this grid? */
+static int half_ok(const bk_form *f, const double *params, const double *rs, int nr, const double *coss, int nc,
+                   double tol)
+{
+	grid g;
+	ref R = {0};
+	int ok = -1;
+	if (grid_build(bk_form_inputs(f), rs, nr, coss, nc, &g) == 0 && reference(f, params, &g, &R) == 0) {
+		double *v = malloc(sizeof(double) * g.n);
+		if (v) {
+			bk_form_eval(f, BK_F16, g.n, (const double *const *)g.in, params, v);
+			ok = 1;
+			for (size_t k = 0; k < g.n && ok; k++)
+				ok = !wrong(v[k], R.vp[2][k], tol);
+			free(v);
+		}
+	}
+	ref_free(&R);
+	grid_free(&g);
+	return ok;
+}
+
+static int isalnum_c(char c)
+{
+	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+/* Replaces the identifier id by repl wherever it stands as a whole word. */
+static int substitute(const char *text, const char *id, const char *repl, char *out, size_t len)
+{
+	size_t k = 0, m = strlen(id);
+	for (const char *p = text; *p;) {
+		int word = !strncmp(p, id, m) && (p == text || !(isalnum_c(p[-1]))) && !isalnum_c(p[m]);
+		const char *put = word ? repl : NULL;
+		size_t add = put ? strlen(put) : 1;
+		if (k + add + 1 > len)
+			return -1;
+		if (put)
+			memcpy(out + k, put, add), p += m;
+		else
+			out[k] = *p++;
+		k += add;
+	}
+	out[k] = '\0';
+	return 0;
+}
+
+/* The smallest half-precision value >= x: guards are written in literals a
+ * mediump shader holds exactly. */
+static double half_at_least(double x)
+{
+	double h = bk_half_round(x);
+	while (h < x)
+		h = bk_half_round(h + fmax(h * 0x1p-11, 0x1p-24));
+	return h;
+}
+
+/* Smallest value of the ascending list from which every later one passes
+ * (NaN if the last fails, list[0] if all pass). */
+static double safe_from(const double *list, const int *ok, int n)
+{
+	if (n == 0 || ok[n - 1] != 1)
+		return NAN;
+	int i = n - 1;
+	while (i > 0 && ok[i - 1] == 1)
+		i--;
+	return list[i];
+}
+
+#define FINE 24
+
+/* Smallest r of a fine log grid from which half is right with every cosine
+ * >= cfloor (the list's values above it, and cfloor itself). */
+static double min_safe_r(const bk_form *f, const double *params, double cfloor, double tol)
+{
+	double rs[FINE + 1], coss[32];
+	int ok[FINE + 1], nc = 0;
+	coss[nc++] = cfloor;
+	for (int k = 0; k < bk_stab_ncos; k++)
+		if (bk_stab_cos[k] > cfloor)
+			coss[nc++] = bk_stab_cos[k];
+	rs[0] = 0;
+	for (int i = 1; i <= FINE; i++)
+		rs[i] = 1e-4 * pow(1e4, (double)(i - 1) / (FINE - 1)); /* 1e-4 .. 1, log-spaced */
+	for (int i = 0; i <= FINE; i++)
+		ok[i] = half_ok(f, params, &rs[i], 1, coss, nc, tol);
+	return safe_from(rs, ok, FINE + 1);
+}
+
+/* Largest relative change a guarded form makes to the unguarded one in long
+ * double, where the unguarded reference is meaningful: the guard's own error. */
+static double guard_cost(const bk_form *f, const char *guarded, const double *params, const grid *g, const ref *R)
+{
+	bk_form_error e;
+	bk_form *h = bk_form_parse(guarded, &e);
+	double *v = h ? malloc(sizeof(double) * g->n) : NULL, worst = NAN;
+	(void)f;
+	if (v && bk_form_eval(h, BK_FLD, g->n, (const double *const *)g->in, params, v) == 0) {
+		worst = 0; /* where the value is one half can hold: beyond 65504 nothing can be kept */
+		for (size_t k = 0; k < g->n; k++)
+			if (normal(R->v[k]) && fabs(R->v[k]) <= HALF_MAX)
+				worst = fmax(worst, fabs(v[k] - R->v[k]) / fabs(R->v[k]));
+	}
+	free(v);
+	bk_form_free(h);
+	return worst;
+}
+
+static int guard_r(const char *text, double R, char *out, size_t len)
+{
+	char tmp[2048], rep[64];
+	snprintf(rep, sizeof rep, "max(r, %.9g)", R);
+	if (substitute(text, "r", rep, tmp, sizeof tmp))
+		return -1;
+	snprintf(rep, sizeof rep, "max(a, %.9g)", half_at_least(R * R));
+	return substitute(tmp, "a", rep, out, len);
+}
+
+static int guard_cos(const char *text, unsigned reads, double C, char *out, size_t len)
+{
+	static const char *const names[5] = {"NoV", "NoL", "NoH", "LoH", "VoH"}; /* VoH is LoH */
+	static const int in_of[5] = {BK_IN_NOV, BK_IN_NOL, BK_IN_NOH, BK_IN_LOH, BK_IN_LOH};
+	char a[2048], b[2048], rep[64];
+	snprintf(a, sizeof a, "%s", text);
+	for (int k = 0; k < 5; k++) {
+		if (!(reads >> in_of[k] & 1))
+			continue;
+		snprintf(rep, sizeof rep, "max(%s, %.9g)", names[k], C);
+		if (substitute(a, names[k], rep, b, sizeof b))
+			return -1;
+		memcpy(a, b, sizeof a);
+	}
+	snprintf(out, len, "%s", a);
+	return 0;
+}
+
+static void check_constants(const bk_form *f, const double *params, char *buf, size_t len)
+{
+	double k[256];
+	int n = bk_form_constants(f, k, 256), at = 0;
+	for (int j = 0; j < bk_form_nparams(f) && n < 256; j++)
+		k[n++] = params[j];
+	buf[0] = '\0';
+	for (int i = 0; i < n && i < 256; i++) {
+		double x = fabs(k[i]);
+		const char *why = x > HALF_MAX ? "infinite in half" : x != 0 && x < HALF_NORMAL ? "subnormal in half: 0 where GPUs flush" : NULL;
+		if (why && at < (int)len)
+			at += snprintf(buf + at, len - (size_t)at, "%s%.3g (%s)", at ? "; " : "", k[i], why);
+	}
+}
+
+static void failure_map(const bk_form *f, const double *params, const grid *g, const ref *R, double tol,
+                        bk_stability *st)
+{
+	st->map_nx = bk_stab_ncos;
+	st->map_ny = bk_stab_nr;
+	double *v = malloc(sizeof(double) * g->n);
+	int count[16 * 16] = {0}, badc[16 * 16] = {0};
+	if (!v)
+		return;
+	bk_form_eval(f, BK_F16, g->n, (const double *const *)g->in, params, v);
+	for (size_t k = 0; k < g->n; k++) {
+		int c = g->cell_r[k] * st->map_nx + g->cell_c[k];
+		count[c]++;
+		badc[c] += wrong(v[k], R->vp[2][k], tol);
+	}
+	for (int c = 0; c < st->map_nx * st->map_ny; c++)
+		st->map[c] = count[c] ? (double)badc[c] / count[c] : NAN;
+	free(v);
+}
+
+/* One candidate: a cosine floor C (0: none), a roughness floor R (0: none),
+ * the clamp of the result to half's largest value. */
+static int build_guarded(const char *text, unsigned reads, double R, double C, int clamp, char *out, size_t len)
+{
+	char a[2048], b[2048];
+	snprintf(a, sizeof a, "%s", text);
+	if (R > 0 && (guard_r(a, R, b, sizeof b) || (memcpy(a, b, sizeof a), 0)))
+		return -1;
+	if (C > 0 && (guard_cos(a, reads, C, b, sizeof b) || (memcpy(a, b, sizeof a), 0)))
+		return -1;
+	if (clamp)
+		snprintf(out, len, "min(%s, 65504)", a);
+	else
+		snprintf(out, len, "%s", a);
+	return 0;
+}
+
+/* The guards that can be written into the form: for each cosine floor of the
+ * minimum-safe-inputs table, that floor with its roughness floor, with and
+ * without a clamp of the result to 65504, and the clamp alone. Each guard's
+ * error is measured alone against the unguarded form; the passing candidate
+ * whose worst guard error is smallest wins. */
+static void propose_guards(const bk_form *f, const char *text, const double *params, const grid *g, const ref *R,
+                           double tol, bk_stability *st)
+{
+	unsigned reads = bk_form_inputs(f);
+	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
+	char one[2048], cur[2048];
+	double best_err = INFINITY, clamp_err;
+	snprintf(one, sizeof one, "min(%s, 65504)", text);
+	clamp_err = guard_cost(f, one, params, g, R);
+	st->guarded_ok = 0;
+	snprintf(st->guards, sizeof st->guards, "none of the floors and the clamp fixes it");
+	snprintf(st->guarded, sizeof st->guarded, "%s", text);
+	st->guard_error[0] = st->guard_error[1] = st->guard_error[2] = NAN;
+	for (int i = -1; i < 5; i++) {
+		double Cf = i < 0 ? 0 : st->floor_cos[i], Rf = i < 0 ? 0 : st->floor_r[i];
+		if (i >= 0 && isnan(Rf))
+			continue;
+		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
+		double er = 0, ec = 0;
+		if (Rr > 0 && build_guarded(text, reads, Rr, 0, 0, one, sizeof one) == 0)
+			er = guard_cost(f, one, params, g, R);
+		if (C > 0 && build_guarded(text, reads, 0, C, 0, one, sizeof one) == 0)
+			ec = guard_cost(f, one, params, g, R);
+		for (int clamp = 0; clamp < 2; clamp++) {
+			if (i < 0 && !clamp)
+				continue;
+			double err = fmax(fmax(er, ec), clamp ? clamp_err : 0);
+			if (!(err < best_err) || build_guarded(text, reads, Rr, C, clamp, cur, sizeof cur))
+				continue;
+			bk_form_error e;
+			bk_form *h = bk_form_parse(cur, &e);
+			int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
+			bk_form_free(h);
+			if (ok != 1)
+				continue;
+			best_err = err;
+			st->guarded_ok = 1;
+			snprintf(st->guarded, sizeof st->guarded, "%s", cur);
+			st->guard_error[0] = Rr > 0 ? er : NAN;
+			st->guard_error[1] = C > 0 ? ec : NAN;
+			st->guard_error[2] = clamp ? clamp_err : NAN;
+			size_t k = 0;
+			st->guards[0] = '\0';
+			if (Rr > 0)
+				k += (size_t)snprintf(st->guards + k, sizeof st->guards - k, "roughness floor r >= %.4g", Rr);
+			if (C > 0)
+				k += (size_t)snprintf(st->guards + k, sizeof st->guards - k, "%scosines >= %.4g", k ? ", " : "", C);
+			if (clamp)
+				snprintf(st->guards + k, sizeof st->guards - k, "%sresult <= 65504", k ? ", " : "");
+		}
+	}
+	bk_form_error e;
+	bk_form *h = bk_form_parse(st->guarded, &e);
+	if (h)
+		check_constants(h, params, st->constants, sizeof st->constants);
+	bk_form_free(h);
+}
+
+int bk_stability_run(const char *name, const char *text, const double *params, double tol, bk_stability *st,
+                     char *err, size_t errlen)
+{
+	memset(st, 0, sizeof *st);
+	snprintf(st->name, sizeof st->name, "%s", name);
+	bk_form_error e;
+	bk_form *f = bk_form_parse(text, &e);
+	if (!f) {
+		snprintf(err, errlen, "%s:1:%d: %s", name, e.column, e.message);
+		return -1;
+	}
+	double none[BK_MAX_PARAMS] = {0};
+	if (!params)
+		params = none;
+	grid g;
+	ref R = {0};
+	if (grid_build(bk_form_inputs(f), bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, &g) ||
+	    reference(f, params, &g, &R)) {
+		grid_free(&g);
+		ref_free(&R);
+		bk_form_free(f);
+		snprintf(err, errlen, "%s: out of memory", name);
+		return -1;
+	}
+	for (size_t k = 0; k < g.n; k++)
+		st->ref_nonfinite += !isfinite(R.v[k]);
+	static const bk_precision order[3] = {BK_F64, BK_F32, BK_F16};
+	for (int p = 0; p < 3; p++)
+		score(f, params, order[p], p, &g, &R, tol, &st->p[p]);
+	/* minimum safe inputs: for each cosine floor, the smallest safe roughness */
+	static const double floors[5] = {0, 1e-4, 1e-3, 1e-2, 0.1};
+	unsigned reads = bk_form_inputs(f);
+	int reads_cos = (reads & (1u << BK_IN_NOV | 1u << BK_IN_NOL | 1u << BK_IN_NOH | 1u << BK_IN_LOH)) != 0;
+	st->r_min = st->cos_min = NAN;
+	for (int i = 0; i < 5; i++) {
+		st->floor_cos[i] = floors[i];
+		st->floor_r[i] = (i == 0 || reads_cos) ? min_safe_r(f, params, floors[i], tol) : st->floor_r[0];
+		if (isnan(st->r_min) && !isnan(st->floor_r[i])) {
+			st->r_min = st->floor_r[i];
+			st->cos_min = floors[i];
+		}
+	}
+	failure_map(f, params, &g, &R, tol, st);
+	if (st->p[2].ill && st->p[2].ill_noh_min >= 0.9)
+		snprintf(st->advice, sizeof st->advice,
+		         "compute 1 - NoH^2 as |N x H|^2 from the vectors (Filament's mobile path): NoH rounded to half "
+		         "loses sin^2 of the half angle near the highlight (errors up to %.2g at NoH >= %.3g)",
+		         st->p[2].max_rel_ill, st->p[2].ill_noh_min);	if (st->p[2].wrong)
+		propose_guards(f, text, params, &g, &R, tol, st);
+	else {
+		st->guarded_ok = 1;
+		snprintf(st->guarded, sizeof st->guarded, "%s", text);
+		check_constants(f, params, st->constants, sizeof st->constants);
+	}
+	grid_free(&g);
+	ref_free(&R);
+	bk_form_free(f);
+	return 0;
+}
