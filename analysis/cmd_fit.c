@@ -475,6 +475,8 @@ static void report(const run *R, int rc)
 			printf(" ± %.2g", res->se[j]);
 		if (res->unidentified[j])
 			printf("  not identifiable (the data do not pin it)");
+		else if (res->collinear[j])
+			printf("  nearly collinear with others");
 		if (R->has_published && j < R->fs.entry->nparams)
 			printf("  (published %.9g)", R->fs.entry->defaults[j]);
 		putchar('\n');
@@ -493,8 +495,13 @@ static void report(const run *R, int rc)
 	if (R->s.ncomp == 2)
 		printf("split sum: max |err| A %.4g, B %.4g, A+B %.4g\n", res->fitted.comp_max_abs[0],
 		       res->fitted.comp_max_abs[1], res->fitted.comp_max_abs[2]);
+	if (isfinite(res->condition))
+		printf("condition of the scaled JᵀJ: %.3g%s\n", res->condition,
+		       res->condition > BK_FIT_COND_MAX ? " (ill-conditioned: nearly collinear parameters are marked)" : "");
+	if (res->message[0])
+		printf("note: %s\n", res->message);
 	if (rc == 1)
-		printf("warning: the best start did not converge (iteration limit): raise --max-iterations\n");
+		printf("warning: did not converge (%s)\n", res->summary.message);
 }
 
 int cmd_fit(int argc, char **argv)

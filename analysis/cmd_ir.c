@@ -309,6 +309,18 @@ int cmd_codegen(int argc, char **argv)
 		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
 		.command = command,
 	};
+	if (half) { /* every literal of a mediump/half shader must be a half number */
+		double k[256];
+		int nk = bk_form_constants(fa.f, k, 256);
+		for (int j = 0; j < bk_form_nparams(fa.f) && nk < 256; j++)
+			k[nk++] = fa.params[j];
+		for (int j = 0; j < nk && j < 256; j++) {
+			double x = fabs(k[j]);
+			if (x > 65504.0 || (x != 0 && x < 0x1p-14))
+				fprintf(stderr, "brdfkit codegen: warning: constant %.9g is %s in half precision\n", k[j],
+				        x > 65504.0 ? "infinite" : "subnormal (0 on GPUs that flush)");
+		}
+	}
 	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);
 	if (!text)

@@ -7,6 +7,7 @@
 #include "fit_int.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -172,6 +173,129 @@ static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 	return 0;
 }
 
+/* ---- honest convergence (fit.h: BK_FIT_GRAD_TOL, BK_FIT_COND_MAX) ------------------ */
+
+/* Appends "; text" (or text) to res->message. */
+static void note(bk_fit_result *res, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static void note(bk_fit_result *res, const char *fmt, ...)
+{
+	size_t k = strlen(res->message);
+	if (k + 3 >= sizeof res->message)
+		return;
+	if (k)
+		k += (size_t)snprintf(res->message + k, sizeof res->message - k, "; ");
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(res->message + k, sizeof res->message - k, fmt, ap);
+	va_end(ap);
+}
+
+/* Extra solves from a point that fails the optimality check although Ceres
+ * reported CONVERGENCE. A fresh solve restarts Ceres' trust region, which is
+ * what a stop on a damped step too short to change the cost needs (the common
+ * wrong stop); a point that is still not a minimum after two is reported as
+ * such rather than chased further. The polish solves see the residuals
+ * multiplied by 1/||ŷ|| (the weighted target scaled to unit norm): the
+ * minimiser is the same, but Ceres' gradient_tolerance, an absolute bound on
+ * max |g_j|, then no longer stops at once on data of small magnitude (y ~ 1e-8
+ * gives a cost ~ 1e-16 and gradients below 1e-12 anywhere). Not with a robust
+ * loss, whose scale c is in the residuals' units. */
+#define POLISH 2
+
+/* ||ŷ||: the target as the residuals weight it */
+static double target_norm(const bk_fit_ctx *c)
+{
+	const bk_samples *s = c->spec->s;
+	double t = 0;
+	for (size_t i = 0; i < s->n; i++) {
+		double v = c->sw[i] * c->inv[i] * s->y[i];
+		t += v * v;
+	}
+	return sqrt(t);
+}
+
+/* Checks first-order optimality at res->p (the weights in c->sw, held[]
+ * fixed); with polish, re-solves as above. A point that fails is reported
+ * NO_CONVERGENCE whatever Ceres said, and the message names the parameters
+ * whose gradient is not small. */
+static void check_optimality(bk_fit_ctx *c, bk_fit_result *res, const int *held, int polish)
+{
+	const bk_samples *s = c->spec->s;
+	int worst = bk_fit_optimality(c, res->p, held, res);
+	char first[sizeof res->summary.message];
+	memcpy(first, res->summary.message, sizeof first);
+	if (polish && worst >= 0 && res->summary.termination == BK_TERM_CONVERGENCE) {
+		double norm = target_norm(c), k2 = 1.0;
+		if (c->spec->opt.loss == BK_LOSS_NONE && norm > 0 && isfinite(1 / norm)) {
+			for (size_t i = 0; i < s->n; i++)
+				c->sw[i] /= norm;
+			k2 = 1 / (norm * norm); /* costs of the polish solves are k2 times the fit's */
+		}
+		for (int k = 0; k < POLISH && worst >= 0 && res->summary.termination == BK_TERM_CONVERGENCE; k++) {
+			double p[BK_MAX_PARAMS];
+			bk_fit_summary sum;
+			memcpy(p, res->p, sizeof p);
+			if (bk_fit_solve(c, p, held, &sum) || sum.termination == BK_TERM_FAILURE)
+				break;
+			res->polish_solves++;
+			res->summary.iterations += sum.iterations;
+			res->summary.bound_resolves += sum.bound_resolves;
+			res->summary.seconds += sum.seconds;
+			if (!(sum.final_cost / k2 <= res->summary.final_cost * (1 + 1e-12)))
+				break; /* Ceres never returns a worse point; a guard (and the rounding of k2) */
+			int moved = memcmp(p, res->p, sizeof p) != 0;
+			memcpy(res->p, p, sizeof p);
+			res->summary.final_cost = sum.final_cost / k2;
+			res->summary.termination = sum.termination;
+			memcpy(res->summary.message, sum.message, sizeof sum.message);
+			worst = bk_fit_optimality(c, res->p, held, res); /* scale-free: same with sw scaled */
+			if (!moved)
+				break; /* the same solve again would stop at the same place */
+		}
+		if (k2 != 1.0)
+			for (size_t i = 0; i < s->n; i++)
+				c->sw[i] *= norm;
+		worst = bk_fit_optimality(c, res->p, held, res);
+	}
+	if (worst == -1 && res->polish_solves)
+		note(res, "converged after %d re-solve%s from a point that was not a minimum (the solver had stopped with: "
+		     "%.120s)", res->polish_solves, res->polish_solves > 1 ? "s" : "", first);
+	if (worst < 0)
+		return; /* optimal, or not evaluated (optimal = -1) */
+	char list[320];
+	size_t k = 0;
+	list[0] = '\0';
+	for (int j = 0; j < c->spec->np && k < sizeof list; j++)
+		if (res->grad_rel[j] > BK_FIT_GRAD_TOL)
+			k += (size_t)snprintf(list + k, sizeof list - k, "%s|∂cost/∂p%d| = %.3g, relative %.3g", k ? "; " : "",
+			                      j, fabs(res->grad[j]), res->grad_rel[j]);
+	note(res, "stopped at a point that is not a minimum (relative gradient > %g): %s (solver: %.120s)",
+	     BK_FIT_GRAD_TOL, list, res->summary.message);
+	if (res->summary.termination != BK_TERM_CONVERGENCE)
+		return; /* the solver says so itself (iteration limit) */
+	res->summary.termination = BK_TERM_NO_CONVERGENCE;
+	snprintf(res->summary.message, sizeof res->summary.message,
+	         "not a minimum: p%d has relative gradient %.3g > %g although the solver reported convergence", worst,
+	         res->grad_rel[worst], BK_FIT_GRAD_TOL);
+}
+
+/* Names ill-conditioning (condition above BK_FIT_COND_MAX) in the message. */
+static void note_conditioning(bk_fit_result *res, int np)
+{
+	if (!(res->condition > BK_FIT_COND_MAX))
+		return;
+	char weak[160] = "", none[160] = "";
+	size_t kw = 0, kn = 0;
+	for (int j = 0; j < np; j++) {
+		if (res->collinear[j] && kw < sizeof weak)
+			kw += (size_t)snprintf(weak + kw, sizeof weak - kw, "%sp%d", kw ? ", " : "", j);
+		if (res->unidentified[j] && kn < sizeof none)
+			kn += (size_t)snprintf(none + kn, sizeof none - kn, "%sp%d", kn ? ", " : "", j);
+	}
+	note(res, "ill-conditioned: cond(JᵀJ) = %.3g with unit-norm columns (> %g); nearly collinear: %s%s%s",
+	     res->condition, BK_FIT_COND_MAX, kw ? weak : "none named", kn ? "; not identifiable: " : "", none);
+}
+
 /* Lawson 1961 (as in Rice & Usow 1968): weights u_i <- u_i |e_i| / sum u |e|
  * drive weighted least squares toward the minimax solution; each step is one
  * Ceres solve from the previous point. The best max |e| seen is kept. */
@@ -191,7 +315,9 @@ static double max_error(bk_fit_ctx *c, const double *p)
 	return e;
 }
 
-static int minimax(bk_fit_ctx *c, bk_fit_result *res)
+/* noted: the length of res->message before the least-squares point's check,
+ * whose note no longer applies once a minimax step replaces that point */
+static int minimax(bk_fit_ctx *c, bk_fit_result *res, size_t noted)
 {
 	const bk_fit_spec *spec = c->spec;
 	const bk_samples *s = spec->s;
@@ -207,6 +333,7 @@ static int minimax(bk_fit_ctx *c, bk_fit_result *res)
 	for (size_t i = 0; i < s->n; i++)
 		u[i] = c->base[i] > 0 ? 1.0 / (double)live : 0.0;
 	double p[BK_MAX_PARAMS], best = max_error(c, res->p);
+	double *best_sw = NULL; /* the weights of the step that gave the best point */
 	memcpy(p, res->p, sizeof p);
 	for (int step = 0; step < MINIMAX_STEPS; step++) {
 		for (size_t i = 0; i < s->n; i++)
@@ -228,14 +355,27 @@ static int minimax(bk_fit_ctx *c, bk_fit_result *res)
 			best = e;
 			memcpy(res->p, p, sizeof p);
 			res->summary = sum;
+			if (!best_sw)
+				best_sw = malloc(sizeof(double) * s->n);
+			if (best_sw)
+				memcpy(best_sw, c->sw, sizeof(double) * s->n);
 		}
 		if (!(total > 0))
 			break;
 		for (size_t i = 0; i < s->n; i++)
 			u[i] /= total;
 	}
+	/* the point kept is the minimum of the weighted problem of its step:
+	 * checked with those weights (no polish: the point was chosen by its max
+	 * error, which a re-solve would change) */
+	if (best_sw) {
+		res->message[noted] = '\0';
+		memcpy(c->sw, best_sw, sizeof(double) * s->n);
+		check_optimality(c, res, spec->hold, 0);
+	}
 	for (size_t i = 0; i < s->n; i++)
 		c->sw[i] = sqrt(c->base[i]);
+	free(best_sw);
 	free(u);
 	free(v);
 	return 0;
@@ -295,16 +435,25 @@ int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res)
 		return -1;
 	}
 	memcpy(res->p, spec->start, sizeof res->p);
+	res->optimal = -1;
+	res->condition = NAN;
+	for (int j = 0; j < BK_MAX_PARAMS; j++)
+		res->grad[j] = res->grad_rel[j] = NAN;
 	if (spec->np == 0) { /* nothing to fit: metrics only */
 		bk_fit_evaluate(spec, res->p, &res->fitted);
 		bk_fit_ctx_free(&c);
 		return 0;
 	}
 	rc = multi_start(&c, res);
-	if (rc == 0 && spec->minimax)
-		rc = minimax(&c, res);
+	size_t noted = strlen(res->message);
 	if (rc == 0)
+		check_optimality(&c, res, spec->hold, 1);
+	if (rc == 0 && spec->minimax)
+		rc = minimax(&c, res, noted);
+	if (rc == 0) {
 		bk_fit_stderr(&c, res);
+		note_conditioning(res, spec->np);
+	}
 	if (rc == 0 && spec->digits)
 		round_digits(&c, res);
 	bk_fit_ctx_free(&c);

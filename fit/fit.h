@@ -32,6 +32,60 @@ typedef struct bk_fit_spec {
  * would put it at 1e8) */
 #define BK_REL_METRIC 1e-3
 
+/* First-order optimality test (fit_stats.c, bk_fit_optimality). At the point
+ * returned, with s the residuals as Ceres sees them (weighted, relative,
+ * robustified) and J their Jacobian, g = Jᵀs is the gradient of the cost
+ * 1/2 ||s||². By Cauchy-Schwarz |g_j| <= ||J_j|| ||s||, so
+ *     cos_j = |g_j| / (||J_j|| ||s||)  in [0, 1]
+ * is scale-free (units of p_j and of the data cancel), and cos_j² · cost is
+ * the cost that re-optimising p_j alone would still remove (Gauss-Newton
+ * model: g_j² / (2 ||J_j||²)). The test is cos_j <= BK_FIT_GRAD_TOL = 1e-4:
+ * moving one parameter could lower the cost by at most 1e-8 of itself.
+ * Why 1e-4:
+ *   - a legitimate stop passes with a wide margin. Ceres stops when a step
+ *     changes the cost by <= ftol' cost (the bridge asks ftol' = ftol/100 =
+ *     1e-14 by default); near a minimum that step is the Gauss-Newton one,
+ *     which lowers the cost by 1/2 gᵀ(JᵀJ)⁻¹g, and |g_j| <= ||J_j||
+ *     sqrt(gᵀ(JᵀJ)⁻¹g) (Cauchy-Schwarz in the JᵀJ norm), so cos_j <=
+ *     sqrt(ftol') = 1e-7. Rounding of a cost C > 0 pins the gradient to
+ *     sqrt(2 k eps C h) (test_solver.c), cos_j ~ sqrt(k eps) ~ 1e-7, k = 64;
+ *   - a wrong stop (a damped step too short to make progress, Ceres' absolute
+ *     gradient_tolerance on a badly scaled problem, a function_tolerance
+ *     looser than 1e-6) leaves cos_j far above it;
+ * and the make results fits that converge all pass with cos_j <= 1.1e-7.
+ * Two floors, for exact data where ||s|| -> 0 and its direction is noise, make
+ * the test |g_j| <= ||J_j|| (tol ||s|| + floor) with
+ *     floor = ptol Σ_j ||J_j|| |p_j| + 1e-12 ||ŷ||
+ * (free j; ptol: the options' parameter_tolerance; ŷ: the target as the
+ * residuals weight it). The first is how far from an exact fit a stop on
+ * Ceres' parameter tolerance legitimately leaves the residuals, a step of ptol
+ * relative in each parameter moving s by at most that (triangle inequality);
+ * relative per parameter, so that a parameter of size 1e-10 is not forgiven
+ * a step of 1e-10. The second is rounding: residuals below 1e-12 of the
+ * target are an exact fit to what a double evaluation of a form guarantees.
+ * grad_rel_j = |g_j| / (||J_j|| (||s|| + floor / tol)): the test is
+ * grad_rel_j <= tol. A fit that fails it after Ceres reported CONVERGENCE is
+ * re-solved from there (at most twice, fit.c POLISH), then reported as
+ * NO_CONVERGENCE with the parameters named in the message. */
+#define BK_FIT_GRAD_TOL 1e-4
+#define BK_FIT_EXACT 1e-12 /* the rounding floor above, relative to ||ŷ|| */
+
+/* Ill-conditioning: cond(JᵀJ) of the column-scaled Jacobian (unit-norm
+ * columns: the number no longer depends on the parameters' units, and is
+ * within a factor np of the best diagonal scaling, van der Sluis 1969) above
+ * BK_FIT_COND_MAX = 1 / BK_FIT_GRAD_TOL² = 1e8 is flagged in the message, and
+ * the parameters of the weak directions in collinear[]. Why 1e8:
+ *   - the optimality test then stops meaning "at the minimum": with every
+ *     cos_j <= tol the cost is within n tol² cond C of the minimum (the
+ *     excess 1/2 gᵀ(JᵀJ)⁻¹g of the scaled problem), which at 1e8 is n C;
+ *   - rounding of the cost pins a parameter to sqrt(2 k eps C / h); along the
+ *     weakest direction h is 1/cond of the strongest, so the weak combination
+ *     is only known to sqrt(cond k eps) ~ 1e-3 of its scale at 1e8.
+ * Below 1e-10 of the largest eigenvalue (cond > 1e10) a direction is not
+ * identifiable at all (unidentified[], NaN standard errors); between 1e8 and
+ * 1e10 the standard errors are large but finite. */
+#define BK_FIT_COND_MAX 1e8
+
 typedef struct bk_fit_metrics {
 	double cost, rmse, weighted_rmse, max_abs, albedo_max_abs; /* albedo: NaN if none */
 	double max_rel; /* over samples with |y| >= BK_REL_METRIC of the largest |y| */
@@ -41,14 +95,34 @@ typedef struct bk_fit_metrics {
 
 typedef struct bk_fit_result {
 	double p[BK_MAX_PARAMS];
-	double se[BK_MAX_PARAMS];          /* standard errors; NaN where not identifiable */
+	double se[BK_MAX_PARAMS];          /* standard errors; NaN where not identifiable; 0 where held
+	                                      (hold, or lower == upper: not fitted, and the others'
+	                                      are conditional on them) */
 	int unidentified[BK_MAX_PARAMS];   /* 1: in the null space of the Jacobian */
 	bk_fit_summary summary;            /* of the best start (and later stages) */
 	double start_cost_min, start_cost_max; /* spread of final costs over the starts */
 	int starts_failed;
 	bk_fit_metrics fitted, published, before_digits;
 	double unrounded[BK_MAX_PARAMS];
-	char message[512];                 /* why a fit failed */
+	char message[512];                 /* why a fit failed; notes on optimality and conditioning */
+	/* First-order optimality at the returned point, checked independently of
+	 * Ceres' own stop (see BK_FIT_GRAD_TOL). With minimax, of the weighted
+	 * least-squares problem of the Lawson step that gave the point; with
+	 * digits, of the unrounded solution (rounding leaves the minimum on
+	 * purpose, and holds every rounded constant). */
+	double grad[BK_MAX_PARAMS];        /* ∂cost/∂p_j, cost = 1/2 sum rho(r_i^2) as Ceres sees it */
+	double grad_rel[BK_MAX_PARAMS];    /* |∂cost/∂p_j| on its scale, compared with BK_FIT_GRAD_TOL;
+	                                      NaN: excluded (held, or on a bound with the gradient
+	                                      pointing out of the box) */
+	int optimal;                       /* 1: every grad_rel <= BK_FIT_GRAD_TOL; 0: not a minimum
+	                                      (then termination is not CONVERGENCE); -1: not checked */
+	int polish_solves;                 /* extra solves from a point that failed the check */
+	/* Conditioning of the fit (see BK_FIT_COND_MAX): cond(JᵀJ) with the columns
+	 * of J scaled to unit norm, over the free parameters; +inf when a column
+	 * is zero, NaN when nothing is free. */
+	double condition;
+	int collinear[BK_MAX_PARAMS];      /* 1: loads >= 0.3 on a direction whose eigenvalue is below
+	                                      1/BK_FIT_COND_MAX of the largest (unidentified included) */
 } bk_fit_result;
 
 /* Metrics of the forms with parameters p on the samples. */

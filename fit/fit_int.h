@@ -24,5 +24,11 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v);
 void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res);
 int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, double *jac);
+/* First-order optimality at p with the weights in use (c->sw) and the
+ * parameters in held[] fixed: fills res->grad, grad_rel, optimal (see
+ * BK_FIT_GRAD_TOL). Returns the index of the parameter with the largest
+ * grad_rel among those failing, -1 if none fails, -2 if the residuals could not
+ * be evaluated (optimal = -1). */
+int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res);
 
 #endif

@@ -5,7 +5,6 @@
  */
 #include "fit.h"
 #include "fit_int.h"
-#include "linalg.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -126,55 +125,283 @@ void bk_fit_plane_error(const bk_fit_spec *spec, const double *p, double *cells)
 	free(count);
 }
 
-/* Standard errors from J at the solution: cov = σ² (JᵀJ)⁺, σ² = Σ r² / (m - p).
- * Directions with eigenvalue below 1e-10 of the largest are not identifiable
- * (the data do not pin them: 1e-10 is ~sqrt of double epsilon squared, where
+/* ---- the Jacobian at the solution: standard errors, identifiability, condition ---- */
+
+/* Standard errors from J at the solution: cov = σ² (JᵀJ)⁺ over the free
+ * parameters, σ² = Σ r² / (m - free). JᵀJ is never formed: J is reduced to its
+ * triangular factor R (Householder QR, a block of rows at a time, so JᵀJ =
+ * RᵀR), the columns of R are scaled to unit norm (the norms of J's columns:
+ * D = diag ||J_j||), and the scaled R = U Σ Vᵀ comes from one-sided Jacobi,
+ * which gives even the smallest singular values to high relative accuracy
+ * (Demmel & Veselić 1992) where the eigenvalues of a formed JᵀJ are lost below
+ * eps of the largest. The eigenvalues of the scaled JᵀJ are λ_k = σ_k², its
+ * eigenvectors V, and (JᵀJ)⁻¹ = D⁻¹ V Σ⁻² Vᵀ D⁻¹.
+ * Directions with λ below 1e-10 of the largest are not identifiable (the data
+ * do not pin them: 1e-10 is ~sqrt of double epsilon squared, where a formed
  * JᵀJ's own rounding begins); the parameters with weight >= 0.3 in such a
- * direction are named, and their standard errors are NaN. */
+ * direction are named, and their standard errors are NaN. Directions below
+ * 1/BK_FIT_COND_MAX mark their parameters collinear[] (fit.h). Scaling the
+ * columns makes both tests independent of the parameters' units: unscaled, a
+ * parameter whose column is 1e-5 of another's would read as unidentified
+ * however well the data pin it. A zero column (a parameter no form reads) is
+ * unidentified and makes the condition infinite. */
 #define NULL_RATIO 1e-10
 #define NULL_LOADING 0.3
+
+/* Householder QR of the rows-by-n row-major matrix a in place; the
+ * first n rows end as R (upper triangle; below it, zeros). */
+static void householder(int rows, int n, double *a)
+{
+	for (int k = 0; k < n && k < rows; k++) {
+		double norm = 0;
+		for (int i = k; i < rows; i++)
+			norm += a[(size_t)i * n + k] * a[(size_t)i * n + k];
+		if (norm == 0)
+			continue;
+		norm = sqrt(norm);
+		double alpha = a[(size_t)k * n + k] > 0 ? -norm : norm;
+		double v0 = a[(size_t)k * n + k] - alpha; /* v = (v0, a[k+1.., k]); vᵀv = -2 alpha v0 */
+		double beta = -alpha * v0;                /* vᵀv / 2 */
+		for (int j = k + 1; j < n; j++) {
+			double t = v0 * a[(size_t)k * n + j];
+			for (int i = k + 1; i < rows; i++)
+				t += a[(size_t)i * n + k] * a[(size_t)i * n + j];
+			t /= beta;
+			a[(size_t)k * n + j] -= t * v0;
+			for (int i = k + 1; i < rows; i++)
+				a[(size_t)i * n + j] -= t * a[(size_t)i * n + k];
+		}
+		a[(size_t)k * n + k] = alpha;
+		for (int i = k + 1; i < rows; i++)
+			a[(size_t)i * n + k] = 0;
+	}
+}
+
+/* One-sided Jacobi SVD of the rows x n row-major b (Hestenes): rotates pairs
+ * of columns until all are orthogonal to rounding; then the column norms are
+ * the singular values and v (n x n, row-major, v[i * n + k]: component i of
+ * vector k) holds the right singular vectors. */
+static void jacobi_svd(int rows, int n, double *b, double *sigma, double *v)
+{
+	for (int i = 0; i < n * n; i++)
+		v[i] = i % (n + 1) == 0;
+	for (int sweep = 0; sweep < 60; sweep++) {
+		int rotated = 0;
+		for (int p = 0; p < n - 1; p++)
+			for (int q = p + 1; q < n; q++) {
+				double a = 0, d = 0, c = 0;
+				for (int i = 0; i < rows; i++) {
+					a += b[i * n + p] * b[i * n + p];
+					d += b[i * n + q] * b[i * n + q];
+					c += b[i * n + p] * b[i * n + q];
+				}
+				if (c == 0 || fabs(c) <= 1e-15 * sqrt(a * d))
+					continue;
+				rotated = 1;
+				double zeta = (d - a) / (2 * c);
+				double t = fabs(zeta) > 1e150 ? 0.5 / zeta
+				                              : copysign(1.0, zeta) / (fabs(zeta) + sqrt(1 + zeta * zeta));
+				double cs = 1 / sqrt(1 + t * t), sn = cs * t;
+				for (int i = 0; i < rows; i++) {
+					double x = b[i * n + p], y = b[i * n + q];
+					b[i * n + p] = cs * x - sn * y;
+					b[i * n + q] = sn * x + cs * y;
+				}
+				for (int i = 0; i < n; i++) {
+					double x = v[i * n + p], y = v[i * n + q];
+					v[i * n + p] = cs * x - sn * y;
+					v[i * n + q] = sn * x + cs * y;
+				}
+			}
+		if (!rotated)
+			break;
+	}
+	for (int k = 0; k < n; k++) {
+		double s = 0;
+		for (int i = 0; i < rows; i++)
+			s += b[i * n + k] * b[i * n + k];
+		sigma[k] = sqrt(s);
+	}
+}
 
 void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 {
 	const bk_fit_spec *spec = c->spec;
-	int np = spec->np;
-	double jtj[BK_MAX_PARAMS * BK_MAX_PARAMS] = {0}, rss = 0;
+	int np = spec->np, nf = 0, col[BK_MAX_PARAMS];
+	for (int j = 0; j < np; j++) {
+		res->se[j] = NAN;
+		res->unidentified[j] = res->collinear[j] = 0;
+		if (spec->hold[j] || spec->lower[j] == spec->upper[j])
+			res->se[j] = 0.0; /* held: not fitted */
+		else
+			col[nf++] = j;
+	}
+	res->condition = NAN;
+	if (nf == 0)
+		return;
+	int maxsz = 0;
+	for (int b = 0; b < c->nblocks; b++)
+		maxsz = c->size[b] > maxsz ? c->size[b] : maxsz;
+	/* a: R on top of the next block's rows (free columns only) */
+	double *a = malloc(sizeof(double) * ((size_t)(nf + maxsz) * (size_t)nf + (size_t)maxsz * (size_t)(np + 1)));
+	if (!a)
+		return;
+	double *r = a + (size_t)(nf + maxsz) * (size_t)nf, *J = r + maxsz, rss = 0;
+	memset(a, 0, sizeof(double) * (size_t)nf * (size_t)nf);
 	size_t m = 0;
 	for (int b = 0; b < c->nblocks; b++) {
 		int sz = c->size[b];
-		double *r = malloc(sizeof(double) * (size_t)sz * (size_t)(np + 1));
-		if (!r)
-			return;
-		double *J = r + sz;
-		if (bk_fit_residual_block(c, b, res->p, r, J) == 0) {
-			for (int i = 0; i < sz; i++) {
-				rss += r[i] * r[i];
-				for (int a = 0; a < np; a++)
-					for (int d = 0; d < np; d++)
-						jtj[a * np + d] += J[(size_t)i * np + a] * J[(size_t)i * np + d];
-			}
-			m += (size_t)sz;
+		if (bk_fit_residual_block(c, b, res->p, r, J))
+			continue;
+		for (int i = 0; i < sz; i++) {
+			rss += r[i] * r[i];
+			for (int k = 0; k < nf; k++)
+				a[(size_t)(nf + i) * nf + k] = J[(size_t)i * np + col[k]];
 		}
-		free(r);
+		householder(nf + sz, nf, a);
+		m += (size_t)sz;
 	}
-	double val[BK_MAX_PARAMS], vec[BK_MAX_PARAMS * BK_MAX_PARAMS];
-	for (int j = 0; j < np; j++)
-		res->se[j] = NAN;
-	if (m <= (size_t)np || bk_sym_eigen(np, jtj, val, vec))
+	/* D: column norms of J (= those of R); scale R's columns to unit norm */
+	double d[BK_MAX_PARAMS], sigma[BK_MAX_PARAMS], v[BK_MAX_PARAMS * BK_MAX_PARAMS], bm[BK_MAX_PARAMS * BK_MAX_PARAMS];
+	int live[BK_MAX_PARAMS], nl = 0;
+	for (int k = 0; k < nf; k++) {
+		d[k] = 0;
+		for (int i = 0; i <= k; i++)
+			d[k] += a[(size_t)i * nf + k] * a[(size_t)i * nf + k];
+		d[k] = sqrt(d[k]);
+		if (d[k] > 0 && isfinite(d[k]))
+			live[nl++] = k;
+		else
+			res->unidentified[col[k]] = res->collinear[col[k]] = 1; /* no form reads it */
+	}
+	/* all nf rows of R: a zero column leaves entries in its row of the others */
+	for (int i = 0; i < nf; i++)
+		for (int k = 0; k < nl; k++)
+			bm[i * nl + k] = a[(size_t)i * nf + live[k]] / d[live[k]];
+	free(a);
+	if (m == 0)
 		return;
-	double sigma2 = rss / (double)(m - (size_t)np), top = val[np - 1];
-	for (int j = 0; j < np; j++) {
+	if (nl > 0)
+		jacobi_svd(nf, nl, bm, sigma, v);
+	double top = 0, bottom = INFINITY;
+	for (int k = 0; k < nl; k++)
+		top = fmax(top, sigma[k]), bottom = fmin(bottom, sigma[k]);
+	res->condition = nl < nf || bottom == 0 ? INFINITY : (top / bottom) * (top / bottom);
+	double sigma2 = m > (size_t)nf ? rss / (double)(m - (size_t)nf) : NAN;
+	for (int i = 0; i < nl; i++) {
+		int j = col[live[i]];
 		double var = 0;
-		for (int k = 0; k < np; k++) {
-			if (val[k] > NULL_RATIO * top)
-				var += vec[j * np + k] * vec[j * np + k] / val[k];
-			else if (fabs(vec[j * np + k]) >= NULL_LOADING)
+		for (int k = 0; k < nl; k++) {
+			double lam = sigma[k] * sigma[k], load = fabs(v[i * nl + k]);
+			if (lam > NULL_RATIO * top * top)
+				var += v[i * nl + k] * v[i * nl + k] / lam;
+			else if (load >= NULL_LOADING)
 				res->unidentified[j] = 1;
+			if (lam * BK_FIT_COND_MAX < top * top && load >= NULL_LOADING)
+				res->collinear[j] = 1;
 		}
-		res->se[j] = res->unidentified[j] ? NAN : sqrt(sigma2 * var);
-		if (spec->hold[j])
-			res->se[j] = 0.0, res->unidentified[j] = 0;
+		res->collinear[j] |= res->unidentified[j];
+		res->se[j] = res->unidentified[j] ? NAN : sqrt(sigma2 * var) / d[live[i]];
 	}
+}
+
+/* ---- first-order optimality (fit.h, BK_FIT_GRAD_TOL) ------------------------------ */
+
+/* The per-residual robust loss exactly as the bridge applies it (solver.cc,
+ * robustify): s = sign(r) sqrt(rho(r²)), ds = rho'(r²) |r| / sqrt(rho(r²)) dr,
+ * so that 1/2 Σ s² is the cost Ceres minimises and Jᵀs its gradient. */
+static void robustify(bk_loss loss, double c, int m, int np, double *r, double *jac)
+{
+	if (loss == BK_LOSS_NONE)
+		return;
+	for (int i = 0; i < m; i++) {
+		double a = fabs(r[i]), u = (r[i] / c) * (r[i] / c), rho, drho;
+		if (loss == BK_LOSS_HUBER) {
+			if (a <= c)
+				continue;
+			rho = 2 * c * a - c * c, drho = c / a;
+		} else if (loss == BK_LOSS_CAUCHY) {
+			rho = c * c * log1p(u), drho = 1 / (1 + u);
+		} else {
+			double q = sqrt(1 + u);
+			rho = 2 * r[i] * r[i] / (q + 1), drho = 1 / q;
+		}
+		if (drho == 1.0)
+			continue;
+		double root = sqrt(rho), k = drho * a / root;
+		r[i] = copysign(root, r[i]);
+		for (int j = 0; j < np; j++)
+			jac[(size_t)i * np + j] *= k;
+	}
+}
+
+/* Ceres' "sits on a bound" (solver.cc, kOnBound) */
+#define ON_BOUND 1e-12
+
+int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res)
+{
+	const bk_fit_spec *spec = c->spec;
+	const bk_samples *s = spec->s;
+	int np = spec->np, maxsz = 0;
+	double g[BK_MAX_PARAMS] = {0}, cn[BK_MAX_PARAMS] = {0}, ss = 0, yy = 0;
+	for (int j = 0; j < np; j++)
+		res->grad[j] = res->grad_rel[j] = NAN;
+	res->optimal = -1;
+	for (int b = 0; b < c->nblocks; b++)
+		maxsz = c->size[b] > maxsz ? c->size[b] : maxsz;
+	double *r = malloc(sizeof(double) * (size_t)maxsz * (size_t)(np + 1));
+	if (!r)
+		return -2;
+	double *J = r + maxsz;
+	for (int b = 0; b < c->nblocks; b++) {
+		int sz = c->size[b];
+		size_t lo = c->lo[b];
+		if (bk_fit_residual_block(c, b, p, r, J)) {
+			free(r);
+			return -2;
+		}
+		robustify(spec->opt.loss, spec->opt.loss_scale, sz, np, r, J);
+		for (int i = 0; i < sz; i++) {
+			double yh = c->sw[lo + i] * c->inv[lo + i] * s->y[lo + i];
+			ss += r[i] * r[i];
+			yy += yh * yh;
+			for (int j = 0; j < np; j++) {
+				double e = J[(size_t)i * np + j];
+				g[j] += e * r[i];
+				cn[j] += e * e;
+			}
+		}
+	}
+	free(r);
+	int fixed[BK_MAX_PARAMS];
+	double step = 0; /* ||J Δp|| <= Σ ||J_j|| |Δp_j| for |Δp_j| = |p_j|: see fit.h */
+	for (int j = 0; j < np; j++) {
+		fixed[j] = (held && held[j]) || spec->lower[j] == spec->upper[j];
+		if (!fixed[j])
+			step += sqrt(cn[j]) * fabs(p[j]);
+	}
+	double floor = spec->opt.parameter_tolerance * step + BK_FIT_EXACT * sqrt(yy);
+	double scale = sqrt(ss) + floor / BK_FIT_GRAD_TOL;
+	int worst = -1;
+	res->optimal = 1;
+	for (int j = 0; j < np; j++) {
+		res->grad[j] = g[j];
+		if (fixed[j])
+			continue;
+		double lo = spec->lower[j], hi = spec->upper[j];
+		int on_lower = isfinite(lo) && p[j] - lo <= ON_BOUND * fmax(1, fabs(lo));
+		int on_upper = isfinite(hi) && hi - p[j] <= ON_BOUND * fmax(1, fabs(hi));
+		if ((on_lower && g[j] >= 0) || (on_upper && g[j] <= 0))
+			continue; /* the descent direction leaves the box: KKT holds */
+		double den = sqrt(cn[j]) * scale;
+		res->grad_rel[j] = g[j] == 0 ? 0.0 : den > 0 ? fabs(g[j]) / den : INFINITY;
+		if (!(res->grad_rel[j] <= BK_FIT_GRAD_TOL)) {
+			res->optimal = 0;
+			if (worst < 0 || !(res->grad_rel[j] <= res->grad_rel[worst]))
+				worst = j;
+		}
+	}
+	return worst;
 }
 
 static void describe_sample(const bk_samples *s, size_t i, char *buf, size_t len)
