@@ -302,3 +302,33 @@ void cli_rm_tree(const char *dir)
 	rmdir(dir);
 }
 
+
+void cli_slug(const char *name, char *buf, size_t len)
+{
+	size_t k = 0;
+	for (; *name && k + 1 < len; name++) {
+		char c = *name;
+		if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')
+			buf[k++] = c;
+		else if (c >= 'A' && c <= 'Z')
+			buf[k++] = (char)(c - 'A' + 'a');
+		else if (k && buf[k - 1] != '_')
+			buf[k++] = '_';
+	}
+	while (k && buf[k - 1] == '_')
+		k--;
+	buf[k] = '\0';
+}
+
+void cli_html_text(FILE *f, const char *s)
+{
+	for (; *s; s++)
+		switch (*s) {
+		case '&': fputs("&amp;", f); break;
+		case '<': fputs("&lt;", f); break;
+		case '>': fputs("&gt;", f); break;
+		case '"': fputs("&quot;", f); break;
+		default: fputc(*s, f);
+		}
+}
+

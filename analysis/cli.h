@@ -74,6 +74,11 @@ void cli_out_abort(cli_out *o);
  * results directories are replaced whole). */
 void cli_rm_tree(const char *dir);
 
+/* "LUT 64x64 half" -> "lut_64x64_half": a name as a file name. */
+void cli_slug(const char *name, char *buf, size_t len);
+/* s escaped for HTML text and attribute values. */
+void cli_html_text(FILE *f, const char *s);
+
 /* Writes s as one CSV field, quoted when it holds a comma, quote or newline. */
 void cli_csv_field(FILE *f, const char *s);
 

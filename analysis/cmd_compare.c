@@ -169,36 +169,6 @@ static void add_luts(study *S)
 		}
 }
 
-/* "LUT 64x64 half" -> "lut_64x64_half": file names for a row. */
-static void slug(const char *name, char *buf, size_t len)
-{
-	size_t k = 0;
-	for (; *name && k + 1 < len; name++) {
-		char c = *name;
-		if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')
-			buf[k++] = c;
-		else if (c >= 'A' && c <= 'Z')
-			buf[k++] = (char)(c - 'A' + 'a');
-		else if (k && buf[k - 1] != '_')
-			buf[k++] = '_';
-	}
-	while (k && buf[k - 1] == '_')
-		k--;
-	buf[k] = '\0';
-}
-
-static void html_text(FILE *f, const char *s)
-{
-	for (; *s; s++)
-		switch (*s) {
-		case '&': fputs("&amp;", f); break;
-		case '<': fputs("&lt;", f); break;
-		case '>': fputs("&gt;", f); break;
-		case '"': fputs("&quot;", f); break;
-		default: fputc(*s, f);
-		}
-}
-
 static void cat_file(FILE *out, const char *path)
 {
 	FILE *in = fopen(path, "r");
@@ -222,7 +192,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	char svg[4400];
 	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
 	        bk_target_name(S->to.kind));
-	html_text(f, S->s.description);
+	cli_html_text(f, S->s.description);
 	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples.</p>\n",
 	        S->relative ? "relative" : "absolute");
 	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
@@ -236,7 +206,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	for (int i = 0; i < S->n; i++)
 		if (S->rows[i].pareto_cost) {
 			fputs(first ? "" : ", ", f);
-			html_text(f, S->rows[i].name);
+			cli_html_text(f, S->rows[i].name);
 			first = 0;
 		}
 	fputs(".</p>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
@@ -245,9 +215,9 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	for (int i = 0; i < S->n; i++) {
 		const bk_compare_row *r = &S->rows[i], *p = published_of(S, i);
 		char sl[128];
-		slug(r->name, sl, sizeof sl);
+		cli_slug(r->name, sl, sizeof sl);
 		fputs("<tr><td>", f);
-		html_text(f, r->name);
+		cli_html_text(f, r->name);
 		fprintf(f, "</td><td>%s</td><td>%.3g</td><td>%.3g</td><td>", r->kind, r->m.max_abs, r->m.rmse);
 		if (p && p->m.max_abs > 0)
 			fprintf(f, "%+.0f %% max, %+.0f %% rmse", 100 * (r->m.max_abs / p->m.max_abs - 1),
@@ -268,7 +238,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
 {
 	char sl[128], path[4400];
-	slug(r->name, sl, sizeof sl);
+	cli_slug(r->name, sl, sizeof sl);
 	size_t cells = (size_t)S->s.plane_nx * S->s.plane_ny;
 	double *v = malloc(sizeof(double) * cells);
 	if (!v)

@@ -135,26 +135,11 @@ static void summary_row(FILE *f, const bk_stability *st, const char *text)
 	fputc('\n', f);
 }
 
-static void slug(const char *name, char *buf, size_t len)
-{
-	size_t k = 0;
-	for (; *name && k + 1 < len; name++) {
-		char c = *name;
-		if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_')
-			buf[k++] = c;
-		else if (c >= 'A' && c <= 'Z')
-			buf[k++] = (char)(c - 'A' + 'a');
-		else if (k && buf[k - 1] != '_')
-			buf[k++] = '_';
-	}
-	buf[k] = '\0';
-}
-
 static int write_map(const bk_stability *st, const char *dir, char *err, size_t errlen)
 {
 	char title[160], stem[128];
 	snprintf(title, sizeof title, "%.80s: share of wrong half-precision results", st->name);
-	slug(st->name, stem, sizeof stem);
+	cli_slug(st->name, stem, sizeof stem);
 	bk_heatmap h = {st->map_nx, st->map_ny, st->map, 0, st->map_nx, 0, st->map_ny,
 	                "first cosine: index in 0,1e-7,1e-4,1e-3,0.01,0.1,0.5,0.9,0.999,0.99999,1",
 	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
@@ -163,22 +148,13 @@ static int write_map(const bk_stability *st, const char *dir, char *err, size_t 
 	return bk_heatmap_write(&h, dir, stem, err, errlen);
 }
 
-static void html_text(FILE *f, const char *s)
-{
-	for (; *s; s++)
-		if (*s == '&') fputs("&amp;", f);
-		else if (*s == '<') fputs("&lt;", f);
-		else if (*s == '>') fputs("&gt;", f);
-		else fputc(*s, f);
-}
-
 static void section_row(FILE *f, const bk_stability *st, const char *prefix)
 {
 	char stem[128];
-	slug(st->name, stem, sizeof stem);
+	cli_slug(st->name, stem, sizeof stem);
 	const bk_stab_prec *h = &st->p[2];
 	fputs("<tr><td>", f);
-	html_text(f, st->name);
+	cli_html_text(f, st->name);
 	fprintf(f, "</td><td>%s</td><td>%zu / %zu</td><td>%zu / %zu</td><td>%.2g</td><td>",
 	        h->wrong == 0 ? "safe as is" : st->guarded_ok ? "safe with guards" : "<b>not safe</b>", h->wrong, h->n,
 	        h->nan + h->inf, h->overflow, h->max_rel);
@@ -187,15 +163,15 @@ static void section_row(FILE *f, const bk_stability *st, const char *prefix)
 	else
 		fputs("none found", f);
 	fputs("</td><td>", f);
-	html_text(f, h->wrong ? st->guards : "");
+	cli_html_text(f, h->wrong ? st->guards : "");
 	if (st->advice[0]) {
 		fputs("<br><i>", f);
-		html_text(f, st->advice);
+		cli_html_text(f, st->advice);
 		fputs("</i>", f);
 	}
 	if (st->constants[0]) {
 		fputs("<br>constants: ", f);
-		html_text(f, st->constants);
+		cli_html_text(f, st->constants);
 	}
 	fprintf(f, "</td><td><a href=\"%smaps/%s.png\"><img src=\"%smaps/%s.png\" width=\"100\" alt=\"map\"></a></td></tr>\n",
 	        prefix, stem, prefix, stem);
