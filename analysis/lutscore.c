@@ -98,67 +98,6 @@ static double sample(const double *t, int size, double NoV, double r)
 	return lerp(lerp(row0[i0], row0[i1], s), lerp(row1[i0], row1[i1], s), w);
 }
 
-/* bk_fit_evaluate's metrics with the values v in place of the forms' (weights
- * s->w, no user weight; no cost and no albedo for a LUT). */
-static void metrics(const bk_samples *s, const double *v, bk_fit_metrics *m)
-{
-	*m = (bk_fit_metrics){0};
-	m->cost = m->albedo_max_abs = NAN;
-	double se = 0, swe = 0, sw = 0, comp_se[2] = {0, 0}, ymax = 0;
-	for (size_t i = 0; i < s->n; i++)
-		ymax = fmax(ymax, fabs(s->y[i]));
-	for (size_t i = 0; i < s->n; i++) {
-		double e = v[i] - s->y[i];
-		if (!isfinite(e)) {
-			m->nonfinite++;
-			continue;
-		}
-		se += e * e;
-		swe += s->w[i] * e * e;
-		sw += s->w[i];
-		m->max_abs = fmax(m->max_abs, fabs(e));
-		if (fabs(s->y[i]) >= BK_REL_METRIC * ymax && s->y[i] != 0)
-			m->max_rel = fmax(m->max_rel, fabs(e / s->y[i]));
-		int q = s->ncomp == 2 && i >= s->start[1];
-		comp_se[q] += e * e;
-		m->comp_max_abs[q] = fmax(m->comp_max_abs[q], fabs(e));
-	}
-	m->rmse = sqrt(se / (double)s->n);
-	m->weighted_rmse = sw > 0 ? sqrt(swe / sw) : NAN;
-	if (s->ncomp == 2) {
-		size_t na = s->start[1], nb = s->n - na;
-		m->comp_rmse[0] = sqrt(comp_se[0] / (double)na);
-		m->comp_rmse[1] = sqrt(comp_se[1] / (double)nb);
-		double sab = 0;
-		for (size_t i = 0; i < na; i++) { /* A and B samples are the same cells in order */
-			double e = (v[i] - s->y[i]) + (v[na + i] - s->y[na + i]);
-			sab += e * e;
-			m->comp_max_abs[2] = fmax(m->comp_max_abs[2], fabs(e));
-		}
-		m->comp_rmse[2] = sqrt(sab / (double)na);
-	}
-}
-
-/* bk_fit_plane_error for an env target: split, A + B per cell; in f0, the
- * last f0's samples, which come last and overwrite the earlier ones. */
-static int plane_error(const bk_samples *s, const double *v, double *cells)
-{
-	size_t nc = (size_t)s->plane_nx * (size_t)s->plane_ny;
-	char *seen = calloc(nc ? nc : 1, 1);
-	if (!seen)
-		return -1;
-	for (size_t k = 0; k < nc; k++)
-		cells[k] = NAN;
-	for (size_t i = 0; i < s->n; i++) {
-		int k = s->cell[i];
-		double e = v[i] - s->y[i];
-		cells[k] = s->ncomp == 2 && seen[k] ? cells[k] + e : e;
-		seen[k] = 1;
-	}
-	free(seen);
-	return 0;
-}
-
 int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *s, bk_fit_metrics *m,
                  double *plane)
 {
@@ -187,8 +126,10 @@ int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *
 		else /* the shader's f0 A + B from one fetch of both channels */
 			v[i] = s->in[BK_IN_F0][i] * sample(A, size, NoV, r) + sample(B, size, NoV, r);
 	}
-	metrics(s, v, m);
-	int rc = plane ? plane_error(s, v, plane) : 0;
+	bk_samples_metrics(s, v, NULL, m);
+	if (plane)
+		bk_samples_plane_error(s, v, plane);
+	int rc = 0;
 	free(tex);
 	free(v);
 	return rc;

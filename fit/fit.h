@@ -125,6 +125,13 @@ typedef struct bk_fit_result {
 	                                      1/BK_FIT_COND_MAX of the largest (unidentified included) */
 } bk_fit_result;
 
+/* Metrics of values v (one per sample) against the samples: everything of
+ * bk_fit_metrics but the cost (NaN). weight: per-sample weights for the
+ * weighted rmse, or NULL for the target's. */
+void bk_samples_metrics(const bk_samples *s, const double *v, const double *weight, bk_fit_metrics *m);
+/* The signed error of values v per plane cell, by bk_fit_plane_error's rule. */
+void bk_samples_plane_error(const bk_samples *s, const double *v, double *cells);
+
 /* Metrics of the forms with parameters p on the samples. */
 void bk_fit_evaluate(const bk_fit_spec *spec, const double *p, bk_fit_metrics *m);
 

@@ -25,32 +25,24 @@ int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v)
 	return 0;
 }
 
-void bk_fit_evaluate(const bk_fit_spec *spec, const double *p, bk_fit_metrics *m)
+/* Metrics of values v against the samples (fit.h): the part of
+ * bk_fit_evaluate that does not need forms, shared with the LUT scoring. */
+void bk_samples_metrics(const bk_samples *s, const double *v, const double *weight, bk_fit_metrics *m)
 {
-	const bk_samples *s = spec->s;
 	memset(m, 0, sizeof *m);
-	m->albedo_max_abs = NAN;
-	double *v = malloc(sizeof(double) * s->n);
-	bk_fit_ctx c;
-	if (!v || bk_fit_ctx_init(&c, spec) || bk_fit_eval_forms(spec, p, v)) {
-		free(v);
-		m->cost = m->rmse = NAN;
-		return;
-	}
-	double se = 0, swe = 0, sw = 0, cost = 0, comp_se[2] = {0, 0}, ymax = 0;
+	m->cost = m->albedo_max_abs = NAN;
+	double se = 0, swe = 0, sw = 0, comp_se[2] = {0, 0}, ymax = 0;
 	for (size_t i = 0; i < s->n; i++)
 		ymax = fmax(ymax, fabs(s->y[i]));
 	for (size_t i = 0; i < s->n; i++) {
-		double e = v[i] - s->y[i];
+		double e = v[i] - s->y[i], w = weight ? weight[i] : s->w[i];
 		if (!isfinite(e)) {
 			m->nonfinite++;
 			continue;
 		}
 		se += e * e;
-		swe += c.base[i] * e * e;
-		sw += c.base[i];
-		double ri = c.sw[i] * c.inv[i] * e;
-		cost += 0.5 * ri * ri;
+		swe += w * e * e;
+		sw += w;
 		m->max_abs = fmax(m->max_abs, fabs(e));
 		if (fabs(s->y[i]) >= BK_REL_METRIC * ymax && s->y[i] != 0)
 			m->max_rel = fmax(m->max_rel, fabs(e / s->y[i]));
@@ -58,7 +50,6 @@ void bk_fit_evaluate(const bk_fit_spec *spec, const double *p, bk_fit_metrics *m
 		comp_se[q] += e * e;
 		m->comp_max_abs[q] = fmax(m->comp_max_abs[q], fabs(e));
 	}
-	m->cost = cost;
 	m->rmse = sqrt(se / (double)s->n);
 	m->weighted_rmse = sw > 0 ? sqrt(swe / sw) : NAN;
 	if (s->ncomp == 2) {
@@ -88,23 +79,41 @@ void bk_fit_evaluate(const bk_fit_spec *spec, const double *p, bk_fit_metrics *m
 			free(acc);
 		}
 	}
+}
+
+void bk_fit_evaluate(const bk_fit_spec *spec, const double *p, bk_fit_metrics *m)
+{
+	const bk_samples *s = spec->s;
+	double *v = malloc(sizeof(double) * s->n);
+	bk_fit_ctx c;
+	if (!v || bk_fit_ctx_init(&c, spec) || bk_fit_eval_forms(spec, p, v)) {
+		free(v);
+		memset(m, 0, sizeof *m);
+		m->cost = m->rmse = m->albedo_max_abs = NAN;
+		return;
+	}
+	/* the weighted rmse uses the target's weight times the user's */
+	bk_samples_metrics(s, v, c.base, m);
+	double cost = 0;
+	for (size_t i = 0; i < s->n; i++) {
+		double ri = c.sw[i] * c.inv[i] * (v[i] - s->y[i]);
+		if (isfinite(ri))
+			cost += 0.5 * ri * ri;
+	}
+	m->cost = cost;
 	bk_fit_ctx_free(&c);
 	free(v);
 }
 
-void bk_fit_plane_error(const bk_fit_spec *spec, const double *p, double *cells)
+/* The error per plane cell of values v (fit.h). */
+void bk_samples_plane_error(const bk_samples *s, const double *v, double *cells)
 {
-	const bk_samples *s = spec->s;
 	size_t nc = (size_t)s->plane_nx * s->plane_ny;
-	double *v = malloc(sizeof(double) * s->n);
-	int *count = calloc(nc, sizeof *count);
+	int *count = calloc(nc ? nc : 1, sizeof *count);
 	for (size_t k = 0; k < nc; k++)
 		cells[k] = NAN;
-	if (!v || !count || bk_fit_eval_forms(spec, p, v)) {
-		free(v);
-		free(count);
+	if (!count)
 		return;
-	}
 	int albedo = 0;
 	for (size_t i = 0; i < s->n && !albedo; i++)
 		albedo = s->measure[i] != 0.0;
@@ -121,11 +130,23 @@ void bk_fit_plane_error(const bk_fit_spec *spec, const double *p, double *cells)
 			cells[k] = e;
 		count[k]++;
 	}
-	free(v);
 	free(count);
 }
 
-/* ---- the Jacobian at the solution: standard errors, identifiability, condition ---- */
+void bk_fit_plane_error(const bk_fit_spec *spec, const double *p, double *cells)
+{
+	const bk_samples *s = spec->s;
+	double *v = malloc(sizeof(double) * s->n);
+	size_t nc = (size_t)s->plane_nx * s->plane_ny;
+	if (!v || bk_fit_eval_forms(spec, p, v)) {
+		for (size_t k = 0; k < nc; k++)
+			cells[k] = NAN;
+		free(v);
+		return;
+	}
+	bk_samples_plane_error(s, v, cells);
+	free(v);
+}
 
 /* Standard errors from J at the solution: cov = σ² (JᵀJ)⁺ over the free
  * parameters, σ² = Σ r² / (m - free). JᵀJ is never formed: J is reduced to its
