@@ -6,9 +6,10 @@
  * Samples are taken BLOCK at a time; each instruction runs over the whole block
  * before the next (the per-sample tree walk this replaces is what a fit with
  * 10^6 samples per iteration cannot afford). Half precision stores floats and
- * rounds every result with bk_half_round — what a mediump GPU does; the
+ * rounds every result with the rule of half.h — what a mediump GPU does; the
  * transcendental ops are computed in single precision first, as GPUs do.
  */
+#include "half.h"
 #include "ir.h"
 
 #include <math.h>
@@ -17,7 +18,7 @@
 
 #define BLOCK BK_IR_BLOCK
 
-static float round16(float x) { return (float)bk_half_round(x); }
+static float round16(float x) { return (float)bk_half_round_inline(x); }
 static float round32(float x) { return x; }
 static double round64(double x) { return x; }
 static long double roundld(long double x) { return x; }
