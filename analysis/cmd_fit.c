@@ -528,7 +528,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals (f - y)/|y|", .dest = &a.relative},
 		{.name = "--weight", .kind = CLI_STR, .metavar = "none|dnol|FORM", .help = "weight: none, D*NoL (vf default), or a formula multiplying it", .dest = &a.weight},
 		{.name = "--loss", .kind = CLI_STR, .metavar = "L", .help = "none (default), huber, cauchy, softl1 (per residual)", .dest = &a.loss},
-		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale of the robust loss (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
+		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale c of the robust loss, in units of the weighted residual sqrt(w)·(f - y) (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
 		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},
 		{.name = "--max-iterations", .kind = CLI_INT, .metavar = "N", .help = "per solve (default 200)", .dest = &a.max_iter, .lo = 1, .hi = 100000},
 		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "Ceres threads (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
