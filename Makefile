@@ -82,7 +82,7 @@ build/san/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) -O1 -g $(SAN) $(INC) -MMD -MP -c $< -o $@
 
-# C++: the Ceres bridge and Eigen, nothing else (fit/*.cc)
+# C++: the Ceres bridge only (fit/*.cc); Ceres' headers pull in Eigen
 build/obj/%.o: %.cc | deps
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXSTD) $(WARN) $(OPT) $(EIGEN) $(INC) -MMD -MP -c $< -o $@
