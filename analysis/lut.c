@@ -17,8 +17,6 @@ static const char *const smith_text[BK_SMITH_COUNT] = {
 	"schlick: Schlick-GGX with k = a/2 (Karis 2013)",
 };
 
-const char *bk_lut_smith_text(bk_smith m) { return smith_text[m]; }
-
 int bk_lut_csv_path(const char *exr, char *buf, size_t len)
 {
 	size_t n = strlen(exr);

@@ -19,9 +19,6 @@ typedef struct bk_lut_desc {
 	const char *command; /* the command line, recorded for provenance */
 } bk_lut_desc;
 
-/* One line per Smith model, as the files state it. */
-const char *bk_lut_smith_text(bk_smith m);
-
 /* "x.exr" -> "x.csv" into buf; -1 if path does not end in ".exr". */
 int bk_lut_csv_path(const char *exr_path, char *buf, size_t len);
 

@@ -61,6 +61,3 @@ const bk_ir_term *bk_ir_term_find(const char *name, size_t len)
 			return &terms[i];
 	return NULL;
 }
-
-size_t bk_ir_term_count(void) { return sizeof terms / sizeof terms[0]; }
-const bk_ir_term *bk_ir_term_at(size_t i) { return i < bk_ir_term_count() ? &terms[i] : NULL; }

@@ -13,7 +13,5 @@ typedef struct bk_ir_term {
 } bk_ir_term;
 
 const bk_ir_term *bk_ir_term_find(const char *name, size_t len);
-size_t bk_ir_term_count(void);
-const bk_ir_term *bk_ir_term_at(size_t i);
 
 #endif
