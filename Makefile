@@ -33,12 +33,15 @@ PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
+# brdf/ libbrdf · fit/ the fitter · analysis/ the analysis library ·
+# analysis/cli/ the brdfkit tool · analysis/bench/ the benchmarks
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
 FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
-TOOL_SRC = $(filter-out analysis/bench_%.c,$(sort $(wildcard analysis/*.c))) $(FIT_SRC)
+ANA_SRC  = $(sort $(wildcard analysis/*.c))
+CLI_SRC  = $(sort $(wildcard analysis/cli/*.c))
+TOOL_SRC = $(CLI_SRC) $(ANA_SRC) $(FIT_SRC)
 TEST_SRC = $(sort $(wildcard tests/*.c))
-SUPPORT  = analysis/exr.c analysis/cli.c analysis/lut.c analysis/heatmap.c analysis/timing.c \
-           analysis/report.c analysis/lutscore.c analysis/stability.c $(FIT_SRC)   # modules the tests link too
+SUPPORT  = $(ANA_SRC) $(FIT_SRC)   # the library modules the tests link
 
 obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 
@@ -106,7 +109,7 @@ $(TESTS): $(call obj,build/obj,$(TEST_SRC) $(SUPPORT)) $(LIB)
 $(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
 	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
 
-$(BENCH): $(call obj,build/obj,analysis/bench_dfg.c) $(LIB)
+$(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 
 # Unit tests, the command-line contract, then both again under the sanitizers.
@@ -124,15 +127,15 @@ test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 # bench_ir times the IR against bk_form_emit's C for the same forms, compiled
 # with the flags above: one source built twice, first as the generator of that
 # C (-DBENCH_IR_EMIT), then including its output byte for byte.
-build/bench_ir_emit: analysis/bench_ir.c $(LIB)
+build/bench_ir_emit: analysis/bench/bench_ir.c $(LIB)
 	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -DBENCH_IR_EMIT $^ -lm -o $@
 build/bench_ir_gen.h: build/bench_ir_emit
 	$< > $@.tmp && mv $@.tmp $@
-build/bench_ir: analysis/bench_ir.c build/bench_ir_gen.h $(LIB)
+build/bench_ir: analysis/bench/bench_ir.c build/bench_ir_gen.h $(LIB)
 	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -Ibuild $< $(LIB) -lm -o $@
 
-# bench_fit: the fitter against SciPy's least_squares (analysis/bench_fit_scipy.py)
-build/bench_fit: $(call obj,build/obj,analysis/bench_fit.c $(FIT_SRC)) $(LIB)
+# bench_fit: the fitter against SciPy's least_squares (analysis/bench/bench_fit_scipy.py)
+build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
 bench: $(BENCH) build/bench_ir build/bench_fit

@@ -4,7 +4,7 @@
  * EXR header says which is which, and the CSV carries the same in comments.
  */
 #include "lut.h"
-#include "cli.h"
+#include "out.h"
 #include "exr.h"
 
 #include <stdio.h>
@@ -85,9 +85,9 @@ int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
 	describe(d, method, sizeof method, origin, sizeof origin);
 	to_rows(d, A, B, R, G);
 
-	cli_out co;
+	bk_out co;
 	char why[512];
-	int rc = cli_out_open(&co, csv, why, sizeof why);
+	int rc = bk_out_open(&co, csv, why, sizeof why);
 	if (rc)
 		snprintf(err, errlen, "%s: its CSV: %s", exr_path, why);
 	if (rc == 0) {
@@ -108,8 +108,8 @@ int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
 		rc = bk_exr_write(exr_path, d->size, d->size, 2, names, data, d->half, attrs,
 		                  (int)(sizeof attrs / sizeof attrs[0]), err, errlen);
 		if (rc)
-			cli_out_abort(&co);
-		else if ((rc = cli_out_commit(&co, err, errlen)))
+			bk_out_abort(&co);
+		else if ((rc = bk_out_commit(&co, err, errlen)))
 			remove(exr_path); /* keep the pair together: no EXR without its CSV */
 	}
 	free(R);

@@ -6,7 +6,7 @@
  * the same bytes.
  */
 #include "compare.h"
-#include "cli.h"
+#include "out.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -82,7 +82,7 @@ static void csv_num(FILE *f, double v)
 static void csv_text(FILE *f, const char *s)
 {
 	fputc(',', f);
-	cli_csv_field(f, s);
+	bk_csv_field(f, s);
 }
 
 static void csv_params(FILE *f, const bk_compare_row *r)
@@ -110,7 +110,7 @@ static void csv_header(FILE *f)
 
 static void csv_row(FILE *f, const bk_compare_row *r)
 {
-	cli_csv_field(f, r->name);
+	bk_csv_field(f, r->name);
 	csv_text(f, r->kind);
 	csv_text(f, r->source);
 	csv_text(f, r->form);
@@ -144,7 +144,7 @@ void bk_timing_csv(FILE *f, const bk_compare_row *rows, int n)
 {
 	fputs("name,ns_per_eval,ns_min,ns_max,pareto_ns\n", f);
 	for (int i = 0; i < n; i++) {
-		cli_csv_field(f, rows[i].name);
+		bk_csv_field(f, rows[i].name);
 		csv_num(f, rows[i].ns);
 		csv_num(f, rows[i].ns_min);
 		csv_num(f, rows[i].ns_max);

@@ -44,7 +44,7 @@
  */
 #include "compare.h"
 
-#include "bench.h"
+#include "clock.h"
 
 #include <dirent.h>
 #include <dlfcn.h>
@@ -399,15 +399,15 @@ static void run_passes(const timed *t, int m, int reps, float *const in[BK_IN_CO
 	for (int j = 0; j < reps; j++)
 		for (int q = 0; q < m; q++) {
 			int i = (q + j) % m;
-			double t0 = bench_now();
+			double t0 = bk_clock_now();
 			call_batch(&t[i], in, TIME_N, out);
-			ns[i * reps + j] = (bench_now() - t0) * 1e9 / (double)TIME_N;
+			ns[i * reps + j] = (bk_clock_now() - t0) * 1e9 / (double)TIME_N;
 		}
 }
 
 static void summarise(bk_compare_row *r, double *v, int reps)
 {
-	qsort(v, (size_t)reps, sizeof *v, bench_cmp_double);
+	qsort(v, (size_t)reps, sizeof *v, bk_clock_cmp);
 	r->ns = v[reps / 2];
 	r->ns_min = v[0];
 	r->ns_max = v[reps - 1];

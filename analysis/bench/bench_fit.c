@@ -10,7 +10,7 @@
  *
  * The samples each fit sees are written to build/bench_fit_<name>.bin (inputs
  * used, y and sqrt(weight) per sample, the start and the tolerances) and
- * analysis/bench_fit_scipy.py fits them with least_squares(method='lm', an
+ * analysis/bench/bench_fit_scipy.py fits them with least_squares(method='lm', an
  * analytic Jacobian vectorised in NumPy, x_scale=1). Both residuals are
  * sqrt(w)·(f - y) and both costs are 1/2 Σ r², so the final costs compare
  * directly; each side also evaluates the other's solution as a check that the
@@ -48,7 +48,7 @@
  * at equal ftol brdfkit's final cost can sit above SciPy's by up to about
  * ftol relative (the last step's gain): hence the SLACK in the cost test.
  */
-#include "bench.h"
+#include "clock.h"
 #include "brdf.h"
 #include "catalog.h"
 #include "fit.h"
@@ -64,7 +64,7 @@
 #include <unistd.h>
 
 #define REPS 15
-#define SCIPY "/usr/bin/python3 analysis/bench_fit_scipy.py"
+#define SCIPY "/usr/bin/python3 analysis/bench/bench_fit_scipy.py"
 #define SLACK 1e-9 /* relative: brdfkit's cost <= SciPy's (1 + SLACK) counts as no higher */
 
 typedef struct problem {
@@ -134,7 +134,7 @@ typedef struct scipy_child {
 static void scipy_start(scipy_child *c, const char *path, const bk_fit_spec *spec, const double *p_bk)
 {
 	char args[BK_MAX_PARAMS][32];
-	char *argv[BK_MAX_PARAMS + 4] = {"/usr/bin/python3", "analysis/bench_fit_scipy.py", (char *)path};
+	char *argv[BK_MAX_PARAMS + 4] = {"/usr/bin/python3", "analysis/bench/bench_fit_scipy.py", (char *)path};
 	for (int j = 0; j < spec->np; j++) {
 		snprintf(args[j], sizeof args[j], "%.17g", p_bk[j]);
 		argv[3 + j] = args[j];
@@ -251,9 +251,9 @@ static int bench(const problem *pb)
 	scipy_start(&child, path, &spec, first.p);
 	for (int rep = 0; rep < REPS; rep++) {
 		sp_t[rep] = scipy_run(&child);
-		double t = bench_now();
+		double t = bk_clock_now();
 		int rc = bk_fit_run(&spec, &res);
-		wall[rep] = bench_now() - t;
+		wall[rep] = bk_clock_now() - t;
 		solve[rep] = res.summary.seconds;
 		if (rc < 0)
 			die(res.message);
@@ -262,11 +262,11 @@ static int bench(const problem *pb)
 		    res.summary.final_cost != first.summary.final_cost)
 			die("brdfkit's fit is not deterministic");
 	}
-	double t_solve = bench_median(solve, REPS), t_whole = bench_median(wall, REPS);
+	double t_solve = bk_clock_median(solve, REPS), t_whole = bk_clock_median(wall, REPS);
 
 	scipy_result sr;
 	scipy_end(&child, spec.np, &sr);
-	sr.seconds = bench_median(sp_t, REPS);
+	sr.seconds = bk_clock_median(sp_t, REPS);
 	bk_fit_metrics at_scipy; /* SciPy's solution under brdfkit's objective */
 	bk_fit_evaluate(&spec, sr.p, &at_scipy);
 

@@ -6,6 +6,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 #include "fit.h"
 #include "heatmap.h"
@@ -163,7 +164,7 @@ static int write_tables(const run *R, const char *dir)
 	fputs("form,parameter,value,standard_error\n", f);
 	const char *form = R->fs.entry ? R->fs.entry->name : R->fs.split ? "form-a/form-b" : R->fs.text[0];
 	for (int j = 0; j < R->spec.np; j++) {
-		cli_csv_field(f, form);
+		bk_csv_field(f, form);
 		fprintf(f, ",p%d,%.9g,", j, R->res.p[j]);
 		if (isfinite(R->res.se[j]))
 			fprintf(f, "%.3g", R->res.se[j]);

@@ -3,6 +3,7 @@
  */
 #include "brdf.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 
 #include <string.h>
@@ -43,7 +44,7 @@ int cmd_terms(int argc, char **argv)
 			for (int k = 0; k < 6; k++) {
 				if (k)
 					putchar(',');
-				cli_csv_field(stdout, f[k]);
+				bk_csv_field(stdout, f[k]);
 			}
 			putchar('\n');
 		} else {

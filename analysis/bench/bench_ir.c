@@ -12,7 +12,7 @@
  * sample loop calling it; the second build includes that output
  * (build/bench_ir_gen.h) and times it.
  */
-#include "bench.h"
+#include "clock.h"
 #include "brdf.h"
 
 #include <math.h>
@@ -117,7 +117,7 @@ static void fill_inputs(double *in[BK_IN_COUNT])
 
 static double run(int method, const bk_form *f, int form, const double *const *in, double *out)
 {
-	double t = bench_now();
+	double t = bk_clock_now();
 	if (method == COMPILED)
 		compiled[form](N, in, out);
 	else if (bk_form_eval(f, method == IR64 ? BK_F64 : method == IR32 ? BK_F32 : BK_F16, N, in,
@@ -125,7 +125,7 @@ static double run(int method, const bk_form *f, int form, const double *const *i
 		fprintf(stderr, "bench_ir: bk_form_eval failed\n");
 		exit(1);
 	}
-	return bench_now() - t;
+	return bk_clock_now() - t;
 }
 
 /* The emitted C and the f32 kernel do the same float operations: they should
@@ -174,10 +174,10 @@ int main(void)
 		printf("\n%s: %s\n  %s\n  %d ops (%d simple, %d complex); emitted C vs IR f32: max rel diff %.3g\n",
 		       forms[j].name, forms[j].what, forms[j].text, ops.simple + ops.complex, ops.simple,
 		       ops.complex, max_rel_diff(out[IR32], out[COMPILED]));
-		double tc = bench_median(times[j][COMPILED], REPS);
+		double tc = bk_clock_median(times[j][COMPILED], REPS);
 		printf("  %-16s %12s %14s\n", "method", "ns/sample", "x emitted C");
 		for (int m = 0; m < NMETHODS; m++) {
-			double t = bench_median(times[j][m], REPS);
+			double t = bk_clock_median(times[j][m], REPS);
 			printf("  %-16s %12.2f %14.2f\n", method_name[m], 1e9 * t / N, t / tc);
 			if ((m == IR64 || m == IR32) && t > 3 * tc)
 				met = 0;

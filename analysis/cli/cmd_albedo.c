@@ -4,6 +4,7 @@
  */
 #include "brdf.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 
 #include <math.h>
@@ -128,15 +129,15 @@ int cmd_albedo(int argc, char **argv)
 	}
 	if (!out)
 		return run_grid(&g, stdout);
-	cli_out co;
+	bk_out co;
 	char err[512];
-	if (cli_out_open(&co, out, err, sizeof err))
+	if (bk_out_open(&co, out, err, sizeof err))
 		return cli_fail("albedo", "%s", err);
 	fprintf(co.f, "# brdfkit %s directional albedo: integral of D*V*F*NoL over the light hemisphere\n", BK_VERSION);
 	fprintf(co.f, "# roughness perceptual (alpha = r^2); V includes 1/(4 NoL NoV); exact Fresnel uses eta + ik; tol %g\n", g.tol);
 	if ((rc = run_grid(&g, co.f))) {
-		cli_out_abort(&co);
+		bk_out_abort(&co);
 		return rc;
 	}
-	return cli_out_commit(&co, err, sizeof err) ? cli_fail("albedo", "%s", err) : 0;
+	return bk_out_commit(&co, err, sizeof err) ? cli_fail("albedo", "%s", err) : 0;
 }

@@ -7,6 +7,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 #include "compare.h"
 #include "fit.h"
@@ -192,7 +193,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	char svg[4400];
 	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
 	        bk_target_name(S->to.kind));
-	cli_html_text(f, S->s.description);
+	bk_html_text(f, S->s.description);
 	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples.</p>\n",
 	        S->relative ? "relative" : "absolute");
 	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
@@ -206,7 +207,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	for (int i = 0; i < S->n; i++)
 		if (S->rows[i].pareto_cost) {
 			fputs(first ? "" : ", ", f);
-			cli_html_text(f, S->rows[i].name);
+			bk_html_text(f, S->rows[i].name);
 			first = 0;
 		}
 	fputs(".</p>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
@@ -215,9 +216,9 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	for (int i = 0; i < S->n; i++) {
 		const bk_compare_row *r = &S->rows[i], *p = published_of(S, i);
 		char sl[128];
-		cli_slug(r->name, sl, sizeof sl);
+		bk_slug(r->name, sl, sizeof sl);
 		fputs("<tr><td>", f);
-		cli_html_text(f, r->name);
+		bk_html_text(f, r->name);
 		fprintf(f, "</td><td>%s</td><td>%.3g</td><td>%.3g</td><td>", r->kind, r->m.max_abs, r->m.rmse);
 		if (p && p->m.max_abs > 0)
 			fprintf(f, "%+.0f %% max, %+.0f %% rmse", 100 * (r->m.max_abs / p->m.max_abs - 1),
@@ -238,7 +239,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
 {
 	char sl[128], path[4400];
-	cli_slug(r->name, sl, sizeof sl);
+	bk_slug(r->name, sl, sizeof sl);
 	size_t cells = (size_t)S->s.plane_nx * S->s.plane_ny;
 	double *v = malloc(sizeof(double) * cells);
 	if (!v)
@@ -344,13 +345,13 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		cli_progress("compare: heatmaps and shaders", i + 1, S->n);
 	}
 	if (rc) {
-		cli_rm_tree(tmp);
+		bk_rm_tree(tmp);
 		return cli_fail("compare", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 	}
-	cli_rm_tree(out); /* replaced whole: what it held was this command's own output */
+	bk_rm_tree(out); /* replaced whole: what it held was this command's own output */
 	if (rename(tmp, out)) {
 		int e = errno;
-		cli_rm_tree(tmp);
+		bk_rm_tree(tmp);
 		return cli_fail("compare", "%s: %s", out, strerror(e));
 	}
 	return 0;

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """bench_fit_scipy.py — the SciPy side of build/bench_fit (make bench).
 
-usage: /usr/bin/python3 analysis/bench_fit_scipy.py build/bench_fit_NAME.bin [P0 P1 ...]
+usage: /usr/bin/python3 analysis/bench/bench_fit_scipy.py build/bench_fit_NAME.bin [P0 P1 ...]
 
 Driven by build/bench_fit over a pipe: after loading, checking the Jacobian
 and one warm-up fit it prints "ready", answers each "run" line with the

@@ -4,6 +4,7 @@
  */
 #include "brdf.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 #include "lut.h"
 
@@ -114,11 +115,11 @@ int cmd_lut(int argc, char **argv)
 	join_command(command, sizeof command, argc, argv);
 
 	{ /* fail before minutes of integration, not after: can the CSV be created there? */
-		cli_out probe;
+		bk_out probe;
 		char why[512];
-		if (cli_out_open(&probe, csv, why, sizeof why))
+		if (bk_out_open(&probe, csv, why, sizeof why))
 			return cli_fail("lut", "%s: its CSV: %s", out, why);
-		cli_out_abort(&probe);
+		bk_out_abort(&probe);
 	}
 	size_t n = (size_t)size * (size_t)size;
 	double *A = malloc(n * sizeof *A), *B = malloc(n * sizeof *B);

@@ -7,6 +7,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 #include "heatmap.h"
 #include "stability.h"
@@ -81,12 +82,12 @@ static void csv_rows(FILE *f, const bk_stability *st, const char *text)
 	static const char *const pn[3] = {"f64", "f32", "f16"};
 	for (int p = 0; p < 3; p++) {
 		const bk_stab_prec *s = &st->p[p];
-		cli_csv_field(f, st->name);
+		bk_csv_field(f, st->name);
 		fputc(',', f);
-		cli_csv_field(f, text);
+		bk_csv_field(f, text);
 		fprintf(f, ",%s,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%.3g,%zu,%.3g,", pn[p], s->n, s->nan, s->inf, s->overflow,
 		        s->subnormal, s->zeroed, s->well, s->wrong, s->max_rel, s->ill, s->max_rel_ill);
-		cli_csv_field(f, s->region);
+		bk_csv_field(f, s->region);
 		fputc('\n', f);
 	}
 }
@@ -108,9 +109,9 @@ static void num(FILE *f, double x)
 
 static void summary_row(FILE *f, const bk_stability *st, const char *text)
 {
-	cli_csv_field(f, st->name);
+	bk_csv_field(f, st->name);
 	fputc(',', f);
-	cli_csv_field(f, text);
+	bk_csv_field(f, text);
 	const bk_stab_prec *h = &st->p[2];
 	fprintf(f, ",%zu,%zu,%zu,%zu,%zu", h->wrong, h->nan, h->inf, h->overflow, h->subnormal);
 	num(f, h->max_rel);
@@ -122,16 +123,16 @@ static void summary_row(FILE *f, const bk_stability *st, const char *text)
 	for (int i = 0; i < 5; i++)
 		num(f, st->floor_r[i]);
 	fprintf(f, ",%s,", h->wrong == 0 ? "as is" : st->guarded_ok ? "with guards" : "no");
-	cli_csv_field(f, st->guards);
+	bk_csv_field(f, st->guards);
 	num(f, st->guard_error[0]);
 	num(f, st->guard_error[1]);
 	num(f, st->guard_error[2]);
 	fputc(',', f);
-	cli_csv_field(f, st->guarded);
+	bk_csv_field(f, st->guarded);
 	fputc(',', f);
-	cli_csv_field(f, st->constants);
+	bk_csv_field(f, st->constants);
 	fputc(',', f);
-	cli_csv_field(f, st->advice);
+	bk_csv_field(f, st->advice);
 	fputc('\n', f);
 }
 
@@ -139,7 +140,7 @@ static int write_map(const bk_stability *st, const char *dir, char *err, size_t 
 {
 	char title[160], stem[128];
 	snprintf(title, sizeof title, "%.80s: share of wrong half-precision results", st->name);
-	cli_slug(st->name, stem, sizeof stem);
+	bk_slug(st->name, stem, sizeof stem);
 	bk_heatmap h = {st->map_nx, st->map_ny, st->map, 0, st->map_nx, 0, st->map_ny,
 	                "first cosine: index in 0,1e-7,1e-4,1e-3,0.01,0.1,0.5,0.9,0.999,0.99999,1",
 	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
@@ -151,10 +152,10 @@ static int write_map(const bk_stability *st, const char *dir, char *err, size_t 
 static void section_row(FILE *f, const bk_stability *st, const char *prefix)
 {
 	char stem[128];
-	cli_slug(st->name, stem, sizeof stem);
+	bk_slug(st->name, stem, sizeof stem);
 	const bk_stab_prec *h = &st->p[2];
 	fputs("<tr><td>", f);
-	cli_html_text(f, st->name);
+	bk_html_text(f, st->name);
 	fprintf(f, "</td><td>%s</td><td>%zu / %zu</td><td>%zu / %zu</td><td>%.2g</td><td>",
 	        h->wrong == 0 ? "safe as is" : st->guarded_ok ? "safe with guards" : "<b>not safe</b>", h->wrong, h->n,
 	        h->nan + h->inf, h->overflow, h->max_rel);
@@ -163,15 +164,15 @@ static void section_row(FILE *f, const bk_stability *st, const char *prefix)
 	else
 		fputs("none found", f);
 	fputs("</td><td>", f);
-	cli_html_text(f, h->wrong ? st->guards : "");
+	bk_html_text(f, h->wrong ? st->guards : "");
 	if (st->advice[0]) {
 		fputs("<br><i>", f);
-		cli_html_text(f, st->advice);
+		bk_html_text(f, st->advice);
 		fputs("</i>", f);
 	}
 	if (st->constants[0]) {
 		fputs("<br>constants: ", f);
-		cli_html_text(f, st->constants);
+		bk_html_text(f, st->constants);
 	}
 	fprintf(f, "</td><td><a href=\"%smaps/%s.png\"><img src=\"%smaps/%s.png\" width=\"100\" alt=\"map\"></a></td></tr>\n",
 	        prefix, stem, prefix, stem);
@@ -318,12 +319,12 @@ int cmd_stability(int argc, char **argv)
 			if (h && (ferror(h) | fclose(h)))
 				rc = -1;
 			if (rc == 0) {
-				cli_rm_tree(out); /* replaced whole: it held this command's own output */
+				bk_rm_tree(out); /* replaced whole: it held this command's own output */
 				if (rename(tmp, out))
 					rc = -1;
 			}
 			if (rc) {
-				cli_rm_tree(tmp);
+				bk_rm_tree(tmp);
 				rc = cli_fail("stability", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 			}
 		}

@@ -6,6 +6,7 @@
  */
 #include "catalog.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 #include "compare.h"
 
@@ -192,9 +193,9 @@ static void write_csv(FILE *f, const bk_compare_row *rows, int n)
 		const bk_compare_row *r = &rows[i];
 		char form[2 * sizeof r->form + 4];
 		snprintf(form, sizeof form, "%s%s%s", r->form, r->form_b[0] ? "; " : "", r->form_b);
-		cli_csv_field(f, r->name);
+		bk_csv_field(f, r->name);
 		fputc(',', f);
-		cli_csv_field(f, form);
+		bk_csv_field(f, form);
 		fprintf(f, ",%.4g,%.4g,%.4g", r->ns, r->ns_min, r->ns_max);
 		for (int k = 1; k < BK_K_COUNT; k++)
 			fprintf(f, ",%d", r->ops.n[k]);
@@ -208,12 +209,12 @@ static int output(const char *path, const bk_compare_row *rows, int n)
 		write_csv(stdout, rows, n);
 		return fflush(stdout) ? cli_fail("time", "stdout: write failed") : 0;
 	}
-	cli_out o;
+	bk_out o;
 	char err[512];
-	if (cli_out_open(&o, path, err, sizeof err))
+	if (bk_out_open(&o, path, err, sizeof err))
 		return cli_fail("time", "%s", err);
 	write_csv(o.f, rows, n);
-	if (cli_out_commit(&o, err, sizeof err))
+	if (bk_out_commit(&o, err, sizeof err))
 		return cli_fail("time", "%s", err);
 	return 0;
 }

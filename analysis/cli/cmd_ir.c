@@ -6,6 +6,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 
 #include <errno.h>
@@ -329,11 +330,11 @@ int cmd_codegen(int argc, char **argv)
 	if (!out) {
 		fputs(text, stdout);
 	} else {
-		cli_out co;
+		bk_out co;
 		char err[512];
-		if (cli_out_open(&co, out, err, sizeof err) == 0) {
+		if (bk_out_open(&co, out, err, sizeof err) == 0) {
 			fputs(text, co.f);
-			if (cli_out_commit(&co, err, sizeof err))
+			if (bk_out_commit(&co, err, sizeof err))
 				rc = cli_fail("codegen", "%s", err);
 		} else {
 			rc = cli_fail("codegen", "%s", err);
@@ -369,7 +370,7 @@ int cmd_catalog(int argc, char **argv)
 		for (int k = 0; k < 7; k++) {
 			if (k)
 				putchar(',');
-			cli_csv_field(stdout, f[k]);
+			bk_csv_field(stdout, f[k]);
 		}
 		putchar('\n');
 	}

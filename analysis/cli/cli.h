@@ -58,28 +58,4 @@ void cli_set_name(const char *cmd);
  * otherwise (logs stay short). */
 void cli_progress(void *label, int done, int total);
 
-/* Atomic output: text goes to a temporary file beside path; cli_out_commit
- * renames it into place, cli_out_abort removes it. Nothing is ever left
- * half-written at path. */
-typedef struct cli_out {
-	FILE *f;
-	char path[4096], tmp[4112];
-} cli_out;
-
-int cli_out_open(cli_out *o, const char *path, char *err, size_t errlen);
-int cli_out_commit(cli_out *o, char *err, size_t errlen);
-void cli_out_abort(cli_out *o);
-
-/* Removes dir with the files and directories under it (what a command wrote:
- * results directories are replaced whole). */
-void cli_rm_tree(const char *dir);
-
-/* "LUT 64x64 half" -> "lut_64x64_half": a name as a file name. */
-void cli_slug(const char *name, char *buf, size_t len);
-/* s escaped for HTML text and attribute values. */
-void cli_html_text(FILE *f, const char *s);
-
-/* Writes s as one CSV field, quoted when it holds a comma, quote or newline. */
-void cli_csv_field(FILE *f, const char *s);
-
 #endif

@@ -6,6 +6,7 @@
  */
 #include "brdf.h"
 #include "cli.h"
+#include "out.h"
 #include "cmd.h"
 
 #include <stdio.h>
@@ -47,9 +48,9 @@ int cmd_report(int argc, char **argv)
 		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");
 		return 2;
 	}
-	cli_out co;
+	bk_out co;
 	char err[512];
-	if (cli_out_open(&co, out, err, sizeof err))
+	if (bk_out_open(&co, out, err, sizeof err))
 		return cli_fail("report", "%s", err);
 	FILE *f = co.f;
 	fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
@@ -77,9 +78,9 @@ int cmd_report(int argc, char **argv)
 	fputs(".</p>\n", f);
 	for (int i = 0; i < cmd.npos; i++)
 		if (copy_into(f, cmd.pos[i])) {
-			cli_out_abort(&co);
+			bk_out_abort(&co);
 			return cli_fail("report", "%s: cannot read", cmd.pos[i]);
 		}
 	fputs("</body></html>\n", f);
-	return cli_out_commit(&co, err, sizeof err) ? cli_fail("report", "%s", err) : 0;
+	return bk_out_commit(&co, err, sizeof err) ? cli_fail("report", "%s", err) : 0;
 }

@@ -7,7 +7,7 @@
  * i.e. a far finer quadrature than any row compared (the "4x finer" reference
  * of issue 2, for an adaptive rule: its tolerance is 10^4..10^6 x tighter).
  */
-#include "bench.h"
+#include "clock.h"
 #include "brdf.h"
 
 #include <math.h>
@@ -50,15 +50,15 @@ int main(void)
 	const int nm = (int)(sizeof ms / sizeof ms[0]);
 
 	fprintf(stderr, "bench_dfg: reference %dx%d LUT at tol 1e-10 (height-correlated Smith)...\n", SIZE, SIZE);
-	double t0 = bench_now();
+	double t0 = bk_clock_now();
 	bk_dfg_lut(SIZE, BK_SMITH_CORRELATED, 0, 1e-10, rA, rB, NULL, NULL);
-	fprintf(stderr, "bench_dfg: reference took %.1f s; timing %d runs of each\n", bench_now() - t0, REPS);
+	fprintf(stderr, "bench_dfg: reference took %.1f s; timing %d runs of each\n", bk_clock_now() - t0, REPS);
 
 	for (int rep = 0; rep < REPS; rep++)
 		for (int i = 0; i < nm; i++) {
-			double t = bench_now();
+			double t = bk_clock_now();
 			bk_dfg_lut(SIZE, BK_SMITH_CORRELATED, ms[i].samples, ms[i].tol, A, B, NULL, NULL);
-			ms[i].times[rep] = bench_now() - t;
+			ms[i].times[rep] = bk_clock_now() - t;
 			if (rep == 0)
 				max_error(&ms[i], A, B, rA, rB);
 		}
@@ -67,9 +67,9 @@ int main(void)
 	       SIZE, SIZE, REPS);
 	printf("%-40s %10s %12s   %s\n", "method", "time (ms)", "max |error|", "worst texel (NoV, r)");
 	for (int i = 0; i < nm; i++)
-		printf("%-40s %10.1f %12.3g   (%.4f, %.4f)\n", ms[i].name, 1e3 * bench_median(ms[i].times, REPS), ms[i].err,
+		printf("%-40s %10.1f %12.3g   (%.4f, %.4f)\n", ms[i].name, 1e3 * bk_clock_median(ms[i].times, REPS), ms[i].err,
 		       ms[i].err_nov, ms[i].err_r);
-	double tmc = bench_median(ms[0].times, REPS), tdet = bench_median(ms[1].times, REPS);
+	double tmc = bk_clock_median(ms[0].times, REPS), tdet = bk_clock_median(ms[1].times, REPS);
 	double ratio = ms[0].err / ms[1].err;
 	printf("\ntarget: deterministic error >= 100x lower than the 1024-sample bake at no more than its time\n");
 	printf("        tol 1e-4: error %.0fx lower, time %.2fx the bake's -> %s\n", ratio, tdet / tmc,
