@@ -40,16 +40,6 @@ static double radical_inverse2(unsigned i)
 	return (double)i * 0x1p-32;
 }
 
-/* The visibility of each Smith model the split sum is tabulated for. */
-double bk_V_smith(bk_smith m, double NoV, double NoL, double a)
-{
-	switch (m) {
-	case BK_SMITH_SEPARABLE: return bk_V_smith_ggx_separable(NoV, NoL, a);
-	case BK_SMITH_SCHLICK: return bk_V_schlick_ggx_ibl(NoV, NoL, a);
-	default: return bk_V_smith_ggx_correlated(NoV, NoL, a);
-	}
-}
-
 int bk_dfg_hammersley(double NoV, double r, bk_smith m, unsigned n, double *A,
                       double *B)
 {

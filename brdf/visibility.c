@@ -109,3 +109,15 @@ double bk_V_hammon(double NoV, double NoL, double a)
 {
 	return 0.5 / (2.0 * NoL * NoV * (1.0 - a) + (NoL + NoV) * a);
 }
+
+/* The visibility of each Smith model the split sum is tabulated for: one
+ * switch shared by the Hammersley bake (dfg.c) and the integrator
+ * (integrate.c), which both call down to here. */
+double bk_V_smith(bk_smith m, double NoV, double NoL, double a)
+{
+	switch (m) {
+	case BK_SMITH_SEPARABLE: return bk_V_smith_ggx_separable(NoV, NoL, a);
+	case BK_SMITH_SCHLICK: return bk_V_schlick_ggx_ibl(NoV, NoL, a);
+	default: return bk_V_smith_ggx_correlated(NoV, NoL, a);
+	}
+}
