@@ -116,6 +116,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # (detect_leaks=0 under Criterion's forked workers would hide nothing of ours:
 # leaks in the tool are caught by the sanitized CLI run, which keeps it on.)
 test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
+	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
