@@ -118,9 +118,11 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
+	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
 
@@ -145,9 +147,16 @@ bench: $(BENCH) build/bench_ir build/bench_fit
 	build/bench_fit
 
 results: $(TOOL)
-	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated.exr
-	$(TOOL) lut --size 128 --smith separable --out results/dfg_separable.exr
-	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick.exr
+	# brdfkit replaces only directories it marked (.brdfkit-output); these were
+	# written before the marker, so they (and the LUT pairs from before the
+	# LUT became a directory) are removed here when they lack it
+	for d in results/fits/* results/compare/* results/stability; do \
+	  [ ! -d "$$d" ] || [ -e "$$d/.brdfkit-output" ] || rm -rf "$$d"; done
+	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
+	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
+	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated
+	$(TOOL) lut --size 128 --smith separable --out results/dfg_separable
+	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick
 	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
 	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
 	@mkdir -p results/fits
