@@ -25,9 +25,10 @@ LIBS    = -lceres -lglog -lpng $(EXR_LIB) -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
-# compiles; Ceres is the least-squares solver, libpng the heatmaps).
+# compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
+# injects the kills of tests/fault.sh).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
-       libxml2-utils
+       libxml2-utils strace
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares

@@ -35,8 +35,8 @@ static const char *errtext(int e)
 
 /* Async-signal safety: the handler reads only this static table and calls only
  * functions POSIX lists as async-signal-safe (kill, waitpid, unlink, openat,
- * unlinkat, close, lseek, signal, sigprocmask, raise, _exit) plus getdents64,
- * a bare system call. A slot's path is written completely before its state
+ * unlinkat, close, lseek, strcmp, signal, sigprocmask, raise, _exit) plus
+ * getdents64, glibc's bare wrapper of the system call. A slot's path is written completely before its state
  * is set (volatile sig_atomic_t, with a fence), and cleared state first, so
  * the handler never reads a half-written path; at worst it removes a path a
  * commit has just renamed away, which names nothing then (or the old result
