@@ -25,9 +25,10 @@ LIBS    = -lceres -lglog -lpng $(EXR_LIB) -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
-# compiles; Ceres is the least-squares solver, libpng the heatmaps).
+# compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
+# injects the kills of tests/fault.sh).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
-       libxml2-utils
+       libxml2-utils strace
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
@@ -119,9 +120,11 @@ test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
+	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
 
@@ -146,9 +149,16 @@ bench: $(BENCH) build/bench_ir build/bench_fit
 	build/bench_fit
 
 results: $(TOOL)
-	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated.exr
-	$(TOOL) lut --size 128 --smith separable --out results/dfg_separable.exr
-	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick.exr
+	# brdfkit replaces only directories it marked (.brdfkit-output); these were
+	# written before the marker, so they (and the LUT pairs from before the
+	# LUT became a directory) are removed here when they lack it
+	for d in results/fits/* results/compare/* results/stability; do \
+	  [ ! -d "$$d" ] || [ -e "$$d/.brdfkit-output" ] || rm -rf "$$d"; done
+	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
+	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
+	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated
+	$(TOOL) lut --size 128 --smith separable --out results/dfg_separable
+	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick
 	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
 	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
 	@mkdir -p results/fits

@@ -752,7 +752,8 @@ static int stage_open(staged *s, int as_file, char *err, size_t errlen)
 
 static int stage_close(staged *s, char *err, size_t errlen)
 {
-	int bad = ferror(s->f);
+	/* fsync before the rename: otherwise a crash can leave a name on an empty file */
+	int bad = fflush(s->f) != 0 || ferror(s->f) || fsync(fileno(s->f)) != 0;
 	int rc = fclose(s->f);
 	s->f = NULL;
 	return bad || rc ? fail_errno(err, errlen, s->final, "write failed", errno) : 0;

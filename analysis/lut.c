@@ -17,15 +17,6 @@ static const char *const smith_text[BK_SMITH_COUNT] = {
 	"schlick: Schlick-GGX with k = a/2 (Karis 2013)",
 };
 
-int bk_lut_csv_path(const char *exr, char *buf, size_t len)
-{
-	size_t n = strlen(exr);
-	if (n <= 4 || strcmp(exr + n - 4, ".exr") != 0)
-		return -1;
-	snprintf(buf, len, "%.*s.csv", (int)(n - 4), exr);
-	return 0;
-}
-
 static void describe(const bk_lut_desc *d, char *method, size_t mlen, char *origin, size_t olen)
 {
 	if (d->samples)
@@ -66,14 +57,12 @@ static void to_rows(const bk_lut_desc *d, const double *A, const double *B, floa
 	}
 }
 
-int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
+int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
                  const double *B, char *err, size_t errlen)
 {
-	char csv[4200], method[160], origin[200];
-	if (bk_lut_csv_path(exr_path, csv, sizeof csv)) {
-		snprintf(err, errlen, "%s: expected a file name ending in .exr", exr_path);
-		return -1;
-	}
+	char csv[4200], exr_path[4200], method[160], origin[200];
+	snprintf(csv, sizeof csv, "%.4000s/" BK_LUT_CSV, dir);
+	snprintf(exr_path, sizeof exr_path, "%.4000s/" BK_LUT_EXR, dir);
 	size_t n = (size_t)d->size * (size_t)d->size;
 	float *R = malloc(n * sizeof *R), *G = malloc(n * sizeof *G);
 	if (!R || !G) {
@@ -86,10 +75,7 @@ int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
 	to_rows(d, A, B, R, G);
 
 	bk_out co;
-	char why[512];
-	int rc = bk_out_open(&co, csv, why, sizeof why);
-	if (rc)
-		snprintf(err, errlen, "%s: its CSV: %s", exr_path, why);
+	int rc = bk_out_open(&co, csv, err, errlen);
 	if (rc == 0) {
 		write_csv(co.f, d, method, A, B);
 		const bk_exr_attr attrs[] = {
@@ -109,8 +95,8 @@ int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
 		                  (int)(sizeof attrs / sizeof attrs[0]), err, errlen);
 		if (rc)
 			bk_out_abort(&co);
-		else if ((rc = bk_out_commit(&co, err, errlen)))
-			remove(exr_path); /* keep the pair together: no EXR without its CSV */
+		else
+			rc = bk_out_commit(&co, err, errlen);
 	}
 	free(R);
 	free(G);

@@ -1,6 +1,8 @@
 /*
- * lut.h — the DFG look-up table on disk: OpenEXR (R = A, G = B) with its
- * conventions as header attributes, and the same table as CSV beside it.
+ * lut.h — the DFG look-up table on disk: a directory holding dfg.exr (OpenEXR,
+ * R = A, G = B, its conventions as header attributes) and dfg.csv (the same
+ * table). The two are one result, so they live in one directory that is
+ * replaced whole (bk_out_dir): a pair of plain files cannot be swapped at once.
  */
 #ifndef ANALYSIS_LUT_H
 #define ANALYSIS_LUT_H
@@ -19,13 +21,14 @@ typedef struct bk_lut_desc {
 	const char *command; /* the command line, recorded for provenance */
 } bk_lut_desc;
 
-/* "x.exr" -> "x.csv" into buf; -1 if path does not end in ".exr". */
-int bk_lut_csv_path(const char *exr_path, char *buf, size_t len);
+#define BK_LUT_EXR "dfg.exr"
+#define BK_LUT_CSV "dfg.csv"
 
-/* Writes exr_path and its CSV from A, B as bk_dfg_lut fills them (row j =
- * roughness (j + 0.5)/size). Both files appear, or neither does. Returns 0, or
- * -1 with a one-line message in err. */
-int bk_lut_write(const bk_lut_desc *d, const char *exr_path, const double *A,
+/* Writes dir/dfg.exr and dir/dfg.csv from A, B as bk_dfg_lut fills them (row
+ * j = roughness (j + 0.5)/size) into the existing directory dir: each file
+ * whole or absent; the pair is made one by writing dir as a bk_out_dir's
+ * temporary. Returns 0, or -1 with a one-line message in err. */
+int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
                  const double *B, char *err, size_t errlen);
 
 #endif

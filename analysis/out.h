@@ -1,6 +1,7 @@
 /*
- * out.h — atomic output files, CSV/HTML escaping and slugs: shared by the
- * analysis modules that write results and by the command-line tool.
+ * out.h — atomic output files and directories, the cleanup of temporaries on
+ * a signal, CSV/HTML escaping and slugs: shared by the analysis modules that
+ * write results and by the command-line tool.
  */
 #ifndef ANALYSIS_OUT_H
 #define ANALYSIS_OUT_H
@@ -9,20 +10,61 @@
 #include <stdio.h>
 
 /* Atomic output: text goes to a temporary file beside path; bk_out_commit
- * renames it into place, bk_out_abort removes it. Nothing is ever left
- * half-written at path. */
+ * flushes it to disk (fsync) and renames it into place, bk_out_abort removes
+ * it. Nothing is ever left half-written at path. */
 typedef struct bk_out {
 	FILE *f;
 	char path[4096], tmp[4112];
+	int slot; /* in the registry of live temporaries (bk_out_track) */
 } bk_out;
 
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen);
 int bk_out_commit(bk_out *o, char *err, size_t errlen);
 void bk_out_abort(bk_out *o);
 
-/* Removes dir with the files and directories under it (what a command wrote:
- * results directories are replaced whole). */
-void bk_rm_tree(const char *dir);
+/* An output directory, replaced whole: begin makes DIR.tmpXXXXXX (d->tmp) for
+ * the caller to fill, commit swaps it in with one rename, abort removes it.
+ * Only a directory brdfkit wrote is ever replaced: it is recognised by the
+ * marker file BK_OUT_MARKER in it, which holds the command line. An absent
+ * path or an empty directory may be used; anything else is refused, and so is
+ * the current directory, one of its parents, or /. Symlinks are never followed
+ * when deleting. While a run lives it holds flock(LOCK_EX) on its marker, so a
+ * later run that can take the lock on a DIR.tmp* or DIR.old* sibling knows the
+ * run that made it is dead and removes it. Messages name path as given; the
+ * commands put "--out " in front. */
+#define BK_OUT_MARKER ".brdfkit-output"
+typedef struct bk_out_dir {
+	char name[4096];  /* the path as given, for messages */
+	char path[4096];  /* the same without trailing slashes */
+	char tmp[4112];   /* where the new result is built */
+	int lock;         /* fd of tmp's marker, held LOCK_EX until the end */
+	int slot;         /* in the registry of live temporaries */
+} bk_out_dir;
+
+/* The checks of begin alone, creating nothing: for a command to refuse a bad
+ * --out before minutes of work. */
+int bk_out_dir_check(const char *path, char *err, size_t errlen);
+/* command: what the marker records; NULL for the command line bk_out_init saw. */
+int bk_out_dir_begin(bk_out_dir *d, const char *path, const char *command, char *err, size_t errlen);
+/* Every file and directory under d->tmp fsync'd, then d->tmp swapped with
+ * path by renameat2(RENAME_EXCHANGE) (where the file system has no exchange:
+ * the old directory moved aside first), the parent fsync'd, the old directory
+ * removed. Two runs committing to one path end with one whole result. */
+int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen);
+void bk_out_dir_abort(bk_out_dir *d);
+
+/* Once, from main: records the command line for markers and installs the
+ * handler that removes the live temporaries on SIGINT, SIGTERM and SIGHUP
+ * before dying of the signal (exit status 128 + signal). */
+void bk_out_init(int argc, char **argv);
+const char *bk_out_command(void);
+/* The registry of live temporaries the handler removes: a file, or a
+ * directory with everything under it. Returns a slot for bk_out_untrack, or
+ * -1 when the registry is full (the temporary is then only not cleaned on a
+ * signal). bk_out_track_child names a child process to kill first (0: none). */
+int bk_out_track(const char *path, int is_dir);
+void bk_out_untrack(int slot);
+void bk_out_track_child(int pid);
 
 /* "LUT 64x64 half" -> "lut_64x64_half": a name as a file name. */
 void bk_slug(const char *name, char *buf, size_t len);

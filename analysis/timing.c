@@ -40,9 +40,11 @@
  * cached per input set for the life of the process.
  *
  * Temporary files live in a mkdtemp directory under $TMPDIR (or /tmp) and are
- * removed on every path out.
+ * removed on every path out, a SIGINT or SIGTERM included: the directory and
+ * the compiler running are in out.c's registry of live temporaries.
  */
 #include "compare.h"
+#include "out.h"
 
 #include "clock.h"
 
@@ -68,6 +70,7 @@ extern char **environ;
 
 typedef struct workdir {
 	char path[512];
+	int slot; /* bk_out_track */
 } workdir;
 
 static int workdir_open(workdir *w, const char *prefix, char *err, size_t errlen)
@@ -76,8 +79,10 @@ static int workdir_open(workdir *w, const char *prefix, char *err, size_t errlen
 	if (!tmp || !*tmp || strlen(tmp) > 400)
 		tmp = "/tmp";
 	snprintf(w->path, sizeof w->path, "%s/%s.XXXXXX", tmp, prefix);
-	if (mkdtemp(w->path))
+	if (mkdtemp(w->path)) {
+		w->slot = bk_out_track(w->path, 1);
 		return 0;
+	}
 	snprintf(err, errlen, "%s: cannot create a temporary directory: %s", tmp, strerror(errno));
 	return -1;
 }
@@ -102,6 +107,7 @@ static void workdir_close(workdir *w)
 		closedir(d);
 	}
 	rmdir(w->path);
+	bk_out_untrack(w->slot);
 }
 
 /* The first non-empty line of a tool's log, for a one-line error message. */
@@ -144,12 +150,15 @@ static int run_tool(char *const argv[], const char *package, const char *log, ch
 			snprintf(err, errlen, "%s: cannot run: %s", argv[0], strerror(rc));
 		return -1;
 	}
+	bk_out_track_child(pid); /* a signal handler kills it before removing its directory */
 	int status;
 	while (waitpid(pid, &status, 0) < 0)
 		if (errno != EINTR) {
+			bk_out_track_child(0);
 			snprintf(err, errlen, "%s: waitpid: %s", argv[0], strerror(errno));
 			return -1;
 		}
+	bk_out_track_child(0);
 	if (WIFEXITED(status) && WEXITSTATUS(status) == 0)
 		return 0;
 	char first[256];
@@ -450,7 +459,7 @@ int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen
 	}
 	int m = 0, rc = parse_rows(rows, n, t, &m, err, errlen);
 	void *so = NULL;
-	workdir w = {{0}};
+	workdir w = {{0}, -1};
 	if (rc == 0 && m > 0 && (rc = workdir_open(&w, "bk_time", err, errlen)) == 0) {
 		rc = build(&w, rows, t, m, &so, err, errlen);
 		workdir_close(&w); /* a loaded object stays mapped */

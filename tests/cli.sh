@@ -61,7 +61,6 @@ expect_error "unknown D" "'nope'" $BK albedo --d nope --v implicit --f schlick -
 expect_error "role mismatch" "'F_schlick'" $BK albedo --d ggx --v F_schlick --f schlick --nov 0.5 --roughness 0.5 --f0 0.04
 expect_error "f0 and ior" "--ior" $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --ior 1.5
 expect_error "lut size" "--size" $BK lut --size 0 --out "$T/a.exr"
-expect_error "lut suffix" "'$T/a.png'" $BK lut --size 4 --out "$T/a.png"
 expect_error "lut origin" "'left'" $BK lut --size 4 --origin left --out "$T/a.exr"
 expect_error "lut unwritable" "$T/no/dir/a" $BK lut --size 4 --out "$T/no/dir/a.exr"
 expect_error "albedo unwritable" "$T/no/x.csv" $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --out "$T/no/x.csv"
@@ -127,10 +126,64 @@ rm -rf "$T/cmp" "$T/page.html"
 expect_error "compare target" "'nope'" $BK compare --target nope --out "$T/x"
 expect_error "time parse" "form:1:" $BK time 'NoV +'
 
+# ---- issue 9 (output directories: only brdfkit's replaced, whole) ----
+# siblings OUT: what a run left beside OUT (temporaries, set-aside copies)
+siblings() { ls -A "$(dirname "$1")" | grep -F "$(basename "$1")." ; }
+in_dir() { (d=$1; shift; cd "$d" && exec "$@"); }
+case $BK in /*) BKA=$BK ;; *) BKA=$PWD/$BK ;; esac
+O="$T/own"; mkdir -p "$O/d/mydocs"; echo x >"$O/d/mydocs/thesis.tex"
+# a user's directory is refused, before any work, and left as it was
+expect_error "stability onto a user's dir" "--out d/mydocs" in_dir "$O" $BKA stability NoV --out d/mydocs
+[ "$(cat "$T/err")" = "brdfkit stability: --out d/mydocs: exists and was not written by brdfkit; choose another path or remove it" ] \
+	&& ok || bad "stability refusal text: $(cat "$T/err")"
+for c in "compare --target vf2d --nx 8 --nr 8 --no-time" "fit --target vf2d --form vf_talk_r --nx 8 --nr 8" "lut --size 4"; do
+	expect_error "${c%% *} onto a user's dir" "--out $O/d/mydocs: exists and was not written by brdfkit" $BK $c --out "$O/d/mydocs"
+done
+[ "$(ls -A "$O/d/mydocs")" = thesis.tex ] && [ "$(cat "$O/d/mydocs/thesis.tex")" = x ] && ok || bad "user's dir touched: $(ls -A "$O/d/mydocs")"
+# fit no longer moves a user's files aside to DIR.oldXXXXXX
+[ -z "$(siblings "$O/d/mydocs")" ] && ok || bad "beside the user's dir: $(siblings "$O/d/mydocs")"
+echo x >"$O/file"
+expect_error "stability onto a file" "--out $O/file: exists and was not written by brdfkit" $BK stability NoV --out "$O/file"
+# the current directory and its parents are refused, whatever they hold (/ is in
+# test_out.c: a broken build must not be let loose on it)
+mkdir -p "$O/cwd/sub"; : >"$O/cwd/sub/keep"
+for o in . .. ../.. ../sub ./; do
+	expect_error "--out $o" "--out $o: is the current directory or one of its parents" in_dir "$O/cwd/sub" $BKA stability NoV --out "$o"
+done
+[ -e "$O/cwd/sub/keep" ] && [ -e "$O/d/mydocs/thesis.tex" ] && ok || bad "--out . emptied the current directory"
+# an empty directory may be used; the result carries the marker with the command
+mkdir "$O/empty"
+$BK stability NoV --out "$O/empty" >/dev/null 2>&1 && [ -s "$O/empty/stability.csv" ] && ok || bad "empty dir not used"
+grep -qx "brdfkit stability NoV --out $O/empty" "$O/empty/.brdfkit-output" && ok || bad "marker: $(cat "$O/empty/.brdfkit-output")"
+# a brdfkit directory is replaced whole: nothing of the old run stays, nothing beside it
+$BK stability D_ggx --out "$O/s" >/dev/null 2>&1 && [ -s "$O/s/maps/d_ggx.png" ] && ok || bad "stability D_ggx"
+$BK stability NoV --out "$O/s" >/dev/null 2>&1 && [ -s "$O/s/maps/form.png" ] && [ ! -e "$O/s/maps/d_ggx.png" ] \
+	&& ok || bad "not replaced whole: $(ls "$O/s/maps")"
+[ -z "$(siblings "$O/s")" ] && ok || bad "left beside: $(siblings "$O/s")"
+# a symlink inside a brdfkit directory: the link goes, what it points to stays
+mkdir "$O/p"; echo keep >"$O/p/keep.txt"; ln -s ../p "$O/s/link"; ln -s ../p/keep.txt "$O/s/maps/file_link"
+$BK stability NoV --out "$O/s" >/dev/null 2>&1 && [ ! -e "$O/s/link" ] && ok || bad "replace with a symlink inside"
+[ "$(cat "$O/p/keep.txt" 2>/dev/null)" = keep ] && ok || bad "symlink followed: $(ls -A "$O/p")"
+# a symlink at --out itself is not brdfkit's directory
+ln -s s "$O/slink"
+expect_error "--out a symlink" "--out $O/slink: exists and was not written by brdfkit" $BK stability NoV --out "$O/slink"
+# a killed run's temporary (marker, no live lock) is removed by the next run;
+# a look-alike without the marker is not brdfkit's and stays
+mkdir "$O/s.tmpAbC123" "$O/s.tmpXyZ789"; : >"$O/s.tmpAbC123/.brdfkit-output"; : >"$O/s.tmpAbC123/stability.csv"
+: >"$O/s.tmpXyZ789/mine.txt"
+$BK stability NoV --out "$O/s" >/dev/null 2>&1 && [ ! -e "$O/s.tmpAbC123" ] && [ -e "$O/s.tmpXyZ789/mine.txt" ] \
+	&& ok || bad "leftovers: $(siblings "$O/s")"
+# lut: the EXR and its CSV are one directory
+$BK lut --size 4 --out "$O/lut" 2>/dev/null && [ "$(ls "$O/lut" | tr '\n' ' ')" = "dfg.csv dfg.exr " ] \
+	&& ok || bad "lut dir: $(ls -A "$O/lut")"
+$BK lut --size 2 --out "$O/lut" 2>/dev/null && grep -q '^# brdfkit .* 2x2' "$O/lut/dfg.csv" && [ -z "$(siblings "$O/lut")" ] \
+	&& ok || bad "lut replaced: $(siblings "$O/lut")"
+rm -rf "$O"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
-	$BK lut --size 8 --half --out "$T/d.exr" 2>/dev/null && cp "$T/d.exr" "$T/d$k.exr" && cp "$T/d.csv" "$T/d$k.csv"
+	$BK lut --size 8 --half --out "$T/d" 2>/dev/null && cp "$T/d/dfg.exr" "$T/d$k.exr" && cp "$T/d/dfg.csv" "$T/d$k.csv"
 	$BK albedo --d all --v hammon --f schlick --nov 0.3 --roughness 0.6 --f0 0.04 --out "$T/alb.csv" 2>/dev/null && cp "$T/alb.csv" "$T/alb$k.csv"
 done
 cmp -s "$T/d1.exr" "$T/d2.exr" && ok || bad "lut exr differs between runs"

@@ -1,7 +1,8 @@
 /*
  * test_lut.c — the DFG LUT as files: orientation self-checks on what a reader
- * gets back from the EXR, float and half round trips, the CSV beside it, the
- * conventions in the header, and nothing left behind on failure.
+ * gets back from the EXR, float and half round trips, the CSV beside it (both
+ * in one directory), the conventions in the header, and nothing left behind on
+ * failure.
  */
 #include "brdf.h"
 #include "exr.h"
@@ -13,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #define N 16
@@ -37,8 +39,11 @@ static void write_read(int top, int half, bk_exr_image *img, char *path)
 {
 	char err[256];
 	bk_lut_desc d = {.size = N, .half = half, .origin_top = top, .smith = BK_SMITH_CORRELATED, .tol = 1e-7, .command = "test"};
-	sprintf(path, "%s/lut_%d_%d.exr", dir, top, half);
-	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), 0, "%s", err);
+	char sub[200];
+	sprintf(sub, "%s/lut_%d_%d", dir, top, half);
+	cr_assert_eq(mkdir(sub, 0777), 0);
+	cr_assert_eq(bk_lut_write(&d, sub, A, B, err, sizeof err), 0, "%s", err);
+	sprintf(path, "%s/" BK_LUT_EXR, sub);
 	cr_assert_eq(bk_exr_read(path, img, err, sizeof err), 0, "%s", err);
 	cr_assert(img->width == N && img->height == N);
 }
@@ -138,7 +143,7 @@ Test(lut, csv_beside_exr, .init = setup, .fini = teardown)
 	char path[256], csv[260], line[256];
 	write_read(1, 0, &img, path);
 	bk_exr_image_free(&img);
-	cr_assert_eq(bk_lut_csv_path(path, csv, sizeof csv), 0);
+	snprintf(csv, sizeof csv, "%s/lut_1_0/" BK_LUT_CSV, dir);
 	FILE *f = fopen(csv, "r");
 	cr_assert_not_null(f);
 	while (fgets(line, sizeof line, f) && line[0] == '#')
@@ -171,10 +176,22 @@ Test(lut, failed_write_leaves_nothing, .init = setup, .fini = teardown)
 {
 	char err[256], path[300];
 	bk_lut_desc d = {.size = N, .origin_top = 1};
-	snprintf(path, sizeof path, "%s/missing_dir/x.exr", dir);
+	snprintf(path, sizeof path, "%s/missing_dir", dir);
 	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), -1);
 	cr_assert_not_null(strstr(err, "missing_dir"), "%s", err);
-	snprintf(path, sizeof path, "%s/x.png", dir);
-	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), -1);
 	cr_assert_eq(entries(dir), 0);
+}
+
+/* The pair written by bk_lut_write is the only content of its directory:
+ * dfg.exr and dfg.csv, no temporaries. */
+Test(lut, writes_the_pair_into_its_directory, .init = setup, .fini = teardown)
+{
+	bk_exr_image img;
+	char path[256], sub[260];
+	write_read(1, 0, &img, path);
+	bk_exr_image_free(&img);
+	snprintf(sub, sizeof sub, "%s/lut_1_0", dir);
+	cr_assert_eq(entries(sub), 2);
+	snprintf(sub, sizeof sub, "%s/lut_1_0/" BK_LUT_CSV, dir);
+	cr_assert_eq(access(sub, R_OK), 0);
 }

@@ -307,13 +307,12 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 
 static int write_dir(study *S, const char *out, const char *prefix)
 {
-	char tmp[4200], path[4400], err[512] = "";
-	snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
-	if (!mkdtemp(tmp))
-		return cli_fail("compare", "%s: cannot create: %s", out, strerror(errno));
-	mode_t um = umask(0);
-	umask(um);
-	chmod(tmp, 0777 & ~um);
+	char path[4400], err[512] = "";
+	bk_out_dir od;
+	if (bk_out_dir_begin(&od, out, NULL, err, sizeof err))
+		return cli_fail("compare", "--out %s", err);
+	const char *tmp = od.tmp;
+	err[0] = '\0';
 	snprintf(path, sizeof path, "%s/heatmaps", tmp);
 	int rc = mkdir(path, 0777);
 	snprintf(path, sizeof path, "%s/shaders", tmp);
@@ -345,16 +344,11 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		cli_progress("compare: heatmaps and shaders", i + 1, S->n);
 	}
 	if (rc) {
-		bk_rm_tree(tmp);
+		bk_out_dir_abort(&od);
 		return cli_fail("compare", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 	}
-	bk_rm_tree(out); /* replaced whole: what it held was this command's own output */
-	if (rename(tmp, out)) {
-		int e = errno;
-		bk_rm_tree(tmp);
-		return cli_fail("compare", "%s: %s", out, strerror(e));
-	}
-	return 0;
+	/* replaced whole, and only if brdfkit wrote what is there */
+	return bk_out_dir_commit(&od, err, sizeof err) ? cli_fail("compare", "--out %s", err) : 0;
 }
 
 int cmd_compare(int argc, char **argv)
@@ -411,6 +405,8 @@ int cmd_compare(int argc, char **argv)
 	S.relative = relative;
 	S.refit = !no_refit;
 	char err[512];
+	if (bk_out_dir_check(out, err, sizeof err)) /* before minutes of work, not after */
+		return cli_fail("compare", "--out %s", err);
 	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
 		return cli_fail("compare", "%s", err);
 	for (size_t i = 0; i < bk_catalog_count(); i++) {

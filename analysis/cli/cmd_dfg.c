@@ -84,12 +84,13 @@ int cmd_lut(int argc, char **argv)
 		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "tolerance of the deterministic integrator (default 1e-6)", .dest = &tol, .lo = 1e-13, .hi = 0.1},
 		{.name = "--half", .kind = CLI_FLAG, .help = "store half floats (default float32)", .dest = &half},
 		{.name = "--origin", .kind = CLI_STR, .metavar = "top|bottom", .help = "which image row holds the smallest roughness (default top)", .dest = &origin},
-		{.name = "--out", .kind = CLI_STR, .metavar = "FILE.exr", .help = "output; FILE.csv is written beside it", .dest = &out, .required = 1},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for " BK_LUT_EXR " and " BK_LUT_CSV " (replaced whole)", .dest = &out, .required = 1},
 	};
 	cli_cmd cmd = {"lut", "Writes the DFG look-up table the way engines sample it: x = NoV, y = perceptual\n"
 	               "roughness, both at texel centres; R = A, G = B; ZIP-compressed OpenEXR with the\n"
-	               "conventions as header attributes, and the same table as CSV (full precision).",
-	               "--size N --out FILE.exr [--smith MODEL] [--samples N | --tol T] [--half] [--origin top|bottom]",
+	               "conventions as header attributes, and the same table as CSV (full precision):\n"
+	               "DIR/" BK_LUT_EXR " and DIR/" BK_LUT_CSV ", one directory so the pair is always from one run.",
+	               "--size N --out DIR [--smith MODEL] [--samples N | --tol T] [--half] [--origin top|bottom]",
 	               "origin top: the first scanline of the file (top of the image as displayed) is\n"
 	               "r = 0.5/N, so texture(lut, vec2(NoV, r)) is right wherever uv (0,0) is the first\n"
 	               "texel in memory (D3D, Vulkan, Metal, and GL when rows are uploaded in file order).\n"
@@ -106,26 +107,20 @@ int cmd_lut(int argc, char **argv)
 		fprintf(stderr, "brdfkit lut: --origin: expected top or bottom, got '%s'\n", origin);
 		return 2;
 	}
-	char csv[4200];
-	if (bk_lut_csv_path(out, csv, sizeof csv)) {
-		fprintf(stderr, "brdfkit lut: --out: expected a file name ending in .exr, got '%s'\n", out);
-		return 2;
-	}
 	d.origin_top = strcmp(origin, "top") == 0;
 	join_command(command, sizeof command, argc, argv);
 
-	{ /* fail before minutes of integration, not after: can the CSV be created there? */
-		bk_out probe;
-		char why[512];
-		if (bk_out_open(&probe, csv, why, sizeof why))
-			return cli_fail("lut", "%s: its CSV: %s", out, why);
-		bk_out_abort(&probe);
-	}
+	/* begun before minutes of integration, so a bad --out fails first */
+	char err[512];
+	bk_out_dir od;
+	if (bk_out_dir_begin(&od, out, NULL, err, sizeof err))
+		return cli_fail("lut", "--out %s", err);
 	size_t n = (size_t)size * (size_t)size;
 	double *A = malloc(n * sizeof *A), *B = malloc(n * sizeof *B);
 	if (!A || !B) {
 		free(A);
 		free(B);
+		bk_out_dir_abort(&od);
 		return cli_fail("lut", "out of memory for a %ldx%ld table", size, size);
 	}
 	rc = bk_dfg_lut((int)size, d.smith, (unsigned)samples, tol, A, B, cli_progress, "lut rows");
@@ -133,11 +128,15 @@ int cmd_lut(int argc, char **argv)
 		for (size_t k = 0; k < n && rc == 0; k++)
 			if (!isfinite(A[k]) || !isfinite(B[k]))
 				rc = -1;
-	char err[512];
-	if (rc)
+	if (rc) {
+		bk_out_dir_abort(&od);
 		rc = cli_fail("lut", "integration failed (non-finite value)");
-	else if (bk_lut_write(&d, out, A, B, err, sizeof err))
-		rc = cli_fail("lut", "%s", err);
+	} else if (bk_lut_write(&d, od.tmp, A, B, err, sizeof err)) {
+		bk_out_dir_abort(&od);
+		rc = cli_fail("lut", "%s: writing the results failed: %s", out, err);
+	} else if (bk_out_dir_commit(&od, err, sizeof err)) {
+		rc = cli_fail("lut", "--out %s", err);
+	}
 	free(A);
 	free(B);
 	return rc;

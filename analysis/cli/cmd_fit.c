@@ -264,58 +264,24 @@ static int write_shaders(const run *R, const char *dir)
 	return 0;
 }
 
-static void remove_dir(const char *dir)
-{
-	static const char *const files[] = {"coefficients.csv", "metrics.csv", "metrics_env.csv", "heatmap.exr",
-	                                    "heatmap.png", "heatmap.csv", "heatmap_published.exr", "heatmap_published.png",
-	                                    "heatmap_published.csv", "shader.c", "shader.glsl", "shader.hlsl"};
-	char path[4200];
-	for (size_t k = 0; k < sizeof files / sizeof files[0]; k++) {
-		snprintf(path, sizeof path, "%.4000s/%.150s", dir, files[k]);
-		unlink(path);
-	}
-	rmdir(dir);
-}
-
-/* Everything into DIR.tmpXXXXXX, then renamed to DIR (an older DIR is set
- * aside first and removed after): the directory is whole or absent. */
+/* Everything into DIR.tmpXXXXXX, then swapped in whole (bk_out_dir): the
+ * directory is the old result or the new one, and only a directory brdfkit
+ * wrote is replaced. */
 static int write_outputs(const run *R, const char *out)
 {
-	char tmp[4200], old[4200], err[512] = "";
-	snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
-	if (!mkdtemp(tmp))
-		return cli_fail("fit", "%s: cannot create: %s", out, strerror(errno));
-	mode_t um = umask(0); /* mkdtemp makes 0700; give DIR the mode mkdir would */
-	umask(um);
-	chmod(tmp, 0777 & ~um);
-	int rc = write_tables(R, tmp);
-	if (rc == 0 && (rc = write_heatmaps(R, tmp, err, sizeof err)) == 0)
-		rc = write_shaders(R, tmp);
+	char err[512];
+	bk_out_dir od;
+	if (bk_out_dir_begin(&od, out, NULL, err, sizeof err))
+		return cli_fail("fit", "--out %s", err);
+	err[0] = '\0';
+	int rc = write_tables(R, od.tmp);
+	if (rc == 0 && (rc = write_heatmaps(R, od.tmp, err, sizeof err)) == 0)
+		rc = write_shaders(R, od.tmp);
 	if (rc) {
-		remove_dir(tmp);
+		bk_out_dir_abort(&od);
 		return cli_fail("fit", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 	}
-	struct stat st;
-	int had = stat(out, &st) == 0;
-	if (had && !S_ISDIR(st.st_mode)) {
-		remove_dir(tmp);
-		return cli_fail("fit", "%s: exists and is not a directory", out);
-	}
-	snprintf(old, sizeof old, "%s.oldXXXXXX", out);
-	if (had && (!mkdtemp(old) || rmdir(old) || rename(out, old))) {
-		remove_dir(tmp);
-		return cli_fail("fit", "%s: cannot replace: %s", out, strerror(errno));
-	}
-	if (rename(tmp, out)) {
-		int e = errno;
-		remove_dir(tmp);
-		if (had)
-			rename(old, out);
-		return cli_fail("fit", "%s: %s", out, strerror(e));
-	}
-	if (had)
-		remove_dir(old);
-	return 0;
+	return bk_out_dir_commit(&od, err, sizeof err) ? cli_fail("fit", "--out %s", err) : 0;
 }
 
 /* ---- the command ---------------------------------------------------------- */

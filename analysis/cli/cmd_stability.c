@@ -240,6 +240,9 @@ int cmd_stability(int argc, char **argv)
 		fprintf(stderr, "brdfkit stability: --all needs --out DIR\n");
 		return 2;
 	}
+	char err[512];
+	if (out && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
+		return cli_fail("stability", "--out %s", err);
 	int n = all ? (int)(bk_term_count() + bk_catalog_count()) : cmd.npos;
 	item *items = calloc((size_t)n, sizeof *items);
 	bk_stability *st = calloc((size_t)n, sizeof *st);
@@ -256,7 +259,6 @@ int cmd_stability(int argc, char **argv)
 		else
 			resolve(bk_catalog_at((size_t)i - bk_term_count())->name, &items[i]);
 	}
-	char err[512];
 	for (int i = 0; i < n; i++) {
 		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {
 			fprintf(stderr, "brdfkit stability: %s\n", err);
@@ -271,14 +273,13 @@ int cmd_stability(int argc, char **argv)
 			print_one(&st[i], items[i].text);
 	rc = 0;
 	if (out) {
-		char tmp[4200], path[4400];
-		snprintf(tmp, sizeof tmp, "%s.tmpXXXXXX", out);
-		if (!mkdtemp(tmp)) {
-			rc = cli_fail("stability", "%s: cannot create: %s", out, strerror(errno));
+		char path[4400];
+		bk_out_dir od;
+		if (bk_out_dir_begin(&od, out, NULL, err, sizeof err)) {
+			rc = cli_fail("stability", "--out %s", err);
 		} else {
-			mode_t um = umask(0);
-			umask(um);
-			chmod(tmp, 0777 & ~um);
+			const char *tmp = od.tmp;
+			err[0] = '\0';
 			snprintf(path, sizeof path, "%s/maps", tmp);
 			mkdir(path, 0777);
 			snprintf(path, sizeof path, "%s/stability.csv", tmp);
@@ -318,14 +319,11 @@ int cmd_stability(int argc, char **argv)
 				rc = -1;
 			if (h && (ferror(h) | fclose(h)))
 				rc = -1;
-			if (rc == 0) {
-				bk_rm_tree(out); /* replaced whole: it held this command's own output */
-				if (rename(tmp, out))
-					rc = -1;
-			}
 			if (rc) {
-				bk_rm_tree(tmp);
+				bk_out_dir_abort(&od);
 				rc = cli_fail("stability", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
+			} else if (bk_out_dir_commit(&od, err, sizeof err)) {
+				rc = cli_fail("stability", "--out %s", err);
 			}
 		}
 	}

@@ -3,6 +3,7 @@
  */
 #include "brdf.h"
 #include "cmd.h"
+#include "out.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -14,7 +15,7 @@ static const struct {
 } commands[] = {
 	{"terms", cmd_terms, "list every term: name, what it computes, convention, citation"},
 	{"dfg", cmd_dfg, "split-sum environment BRDF A, B at given NoV and roughness"},
-	{"lut", cmd_lut, "write the DFG look-up table as OpenEXR (+ CSV)"},
+	{"lut", cmd_lut, "write the DFG look-up table as OpenEXR and CSV into a directory"},
 	{"albedo", cmd_albedo, "directional albedo of any D·V·F combination"},
 	{"eval", cmd_eval, "evaluate a form in double, single and half precision"},
 	{"ops", cmd_ops, "op counts per class and the cost of a form"},
@@ -53,6 +54,8 @@ int main(int argc, char **argv)
 		printf("brdfkit %s\n", BK_VERSION);
 		return 0;
 	}
+	/* the command line for output markers; temporaries removed on SIGINT/SIGTERM */
+	bk_out_init(argc, argv);
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
 		if (strcmp(argv[1], commands[i].name) == 0)
 			return commands[i].run(argc - 2, argv + 2);
