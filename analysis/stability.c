@@ -526,7 +526,11 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 	}
 	double none[BK_MAX_PARAMS] = {0};
 	if (!params && bk_form_nparams(f) > 0) { /* zeros would be a silent guess */
-		snprintf(err, errlen, "%s: the form uses p0..p%d but no values were given", name, bk_form_nparams(f) - 1);
+		int np = bk_form_nparams(f);
+		if (np == 1)
+			snprintf(err, errlen, "%s: the form uses p0 but no value was given", name);
+		else
+			snprintf(err, errlen, "%s: the form uses p0..p%d but no values were given", name, np - 1);
 		bk_form_free(f);
 		return -1;
 	}
