@@ -400,19 +400,34 @@ static char *guard_cos(const char *text, unsigned reads, double C)
 	return a;
 }
 
+/* Constants and parameter values a half shader cannot hold, into buf: every
+ * one of them, or as many as fit and how many more. */
 static void check_constants(const bk_form *f, const double *params, char *buf, size_t len)
 {
-	double k[256];
-	int n = bk_form_constants(f, k, 256), at = 0;
-	for (int j = 0; j < bk_form_nparams(f) && n < 256; j++)
-		k[n++] = params[j];
+	int nk = bk_form_constants(f, NULL, 0), np = bk_form_nparams(f), left = 0;
+	double *k = malloc(sizeof(double) * (size_t)(nk + np + 1));
+	size_t at = 0;
 	buf[0] = '\0';
-	for (int i = 0; i < n && i < 256; i++) {
+	if (!k) {
+		snprintf(buf, len, "not checked: out of memory");
+		return;
+	}
+	bk_form_constants(f, k, nk);
+	for (int j = 0; j < np; j++)
+		k[nk + j] = params[j];
+	for (int i = 0; i < nk + np; i++) {
 		double x = fabs(k[i]);
 		const char *why = x > HALF_MAX ? "infinite in half" : x != 0 && x < HALF_NORMAL ? "subnormal in half: 0 where GPUs flush" : NULL;
-		if (why && at < (int)len)
-			at += snprintf(buf + at, len - (size_t)at, "%s%.3g (%s)", at ? "; " : "", k[i], why);
+		char one[96];
+		int m = why ? snprintf(one, sizeof one, "%s%.3g (%s)", at ? "; " : "", k[i], why) : 0;
+		if (m && at + (size_t)m + 24 < len) /* 24: room for "; and N more" */
+			memcpy(buf + at, one, (size_t)m + 1), at += (size_t)m;
+		else if (m)
+			left++;
 	}
+	if (left)
+		snprintf(buf + at, len - at, "%sand %d more", at ? "; " : "", left);
+	free(k);
 }
 
 static void failure_map(const bk_form *f, const double *params, const grid *g, const ref *R, double tol,

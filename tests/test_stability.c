@@ -174,7 +174,7 @@ Test(stability, a_flush_below_the_smallest_normal_is_not_wrong)
  * 65504, around the whole form. */
 Test(stability, forms_of_any_length)
 {
-	static char text[8192], want[8192];
+	static char text[8192], want[8192 + 16];
 	size_t k = 0;
 	for (int i = 0; i < 700; i++)
 		k += (size_t)snprintf(text + k, sizeof text - k, "0*r + ");
@@ -199,4 +199,24 @@ Test(stability, parameters_without_values_are_refused)
 	cr_assert_str_eq(err, "form: the form uses p0 but no value was given");
 	double p[BK_MAX_PARAMS] = {2};
 	cr_assert_eq(bk_stability_run("form", "p0*NoV", p, BK_STAB_TOL, &st, err, sizeof err), 0, "%s", err);
+}
+
+/* Constants a half shader cannot hold are all accounted for, however many:
+ * i * 1e-9 for i = 1..300 are all below half's smallest normal 2^-14
+ * (3e-7 < 6.1e-5); the list names as many as fit and says how many more. */
+Test(stability, every_constant_half_cannot_hold_is_counted)
+{
+	static char text[8192];
+	size_t k = 0;
+	for (int i = 1; i <= 300; i++)
+		k += (size_t)snprintf(text + k, sizeof text - k, "NoV*%de-9 + ", i);
+	snprintf(text + k, sizeof text - k, "NoV");
+	run(text);
+	int shown = 0, more = 0;
+	for (const char *p = st.constants; (p = strstr(p, "(subnormal in half")); p++)
+		shown++;
+	const char *tail = strstr(st.constants, "and ");
+	cr_assert_not_null(tail, "%s", st.constants);
+	cr_assert_eq(sscanf(tail, "and %d more", &more), 1, "%s", tail);
+	cr_assert_eq(shown + more, 300, "%d shown, %d more", shown, more);
 }
