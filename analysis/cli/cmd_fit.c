@@ -360,6 +360,21 @@ static int setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options
 	return 0;
 }
 
+/* ---- options that would do nothing ---------------------------------------- */
+
+/* Options of the fitter, which a form without parameters never runs. */
+static const char *const fitting_opts[] = {"--loss", "--loss-scale", "--trust-region", "--max-iterations", "--threads",
+                                           "--bound", "--hold", "--starts", "--seed", "--objective", "--digits"};
+
+static int check_fitting_opts(const run *R)
+{
+	for (size_t k = 0; R->spec.np == 0 && k < sizeof fitting_opts / sizeof fitting_opts[0]; k++)
+		if (cli_seen(R->cmd, fitting_opts[k]))
+			return cli_usage(R->cmd, "%s has no effect: the form has no parameters (it is evaluated, not fitted)",
+			                 fitting_opts[k]);
+	return 0;
+}
+
 static int setup_spec(run *R, char **pos, int npos)
 {
 	const fit_cli *a = R->a;
@@ -372,6 +387,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->np = bk_form_nparams(R->fs.f[0]);
 	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > sp->np)
 		sp->np = bk_form_nparams(R->fs.f[1]);
+	if (check_fitting_opts(R))
+		return 2;
 	for (int j = 0; j < BK_MAX_PARAMS; j++) {
 		sp->lower[j] = -HUGE_VAL;
 		sp->upper[j] = HUGE_VAL;
@@ -440,7 +457,6 @@ static int setup_spec(run *R, char **pos, int npos)
 	return 0;
 }
 
-/* ---- options that would do nothing ---------------------------------------- */
 
 #define ON(k) (1u << BK_TARGET_##k)
 
@@ -463,10 +479,6 @@ static const struct {
 	{"--r-range", ~ON(F), "target f has no roughness axis"},
 };
 
-/* Options of the fitter, which a form without parameters never runs. */
-static const char *const fitting_opts[] = {"--loss", "--loss-scale", "--trust-region", "--max-iterations", "--threads",
-                                           "--bound", "--hold", "--starts", "--seed", "--objective", "--digits"};
-
 /* Refuses an option or a value that would change nothing: the run would
  * look as asked for and not be. Returns 0 or 2. */
 static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
@@ -488,10 +500,6 @@ static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 	if (cli_seen(cmd, "--loss-scale") && !strcmp(a->loss, "none"))
 		return cli_usage(cmd, "--loss-scale has no effect without --loss huber|cauchy|softl1");
 	const bk_fit_spec *sp = &R->spec;
-	for (size_t k = 0; sp->np == 0 && k < sizeof fitting_opts / sizeof fitting_opts[0]; k++)
-		if (cli_seen(cmd, fitting_opts[k]))
-			return cli_usage(cmd, "%s has no effect: the form has no parameters (it is evaluated, not fitted)",
-			                 fitting_opts[k]);
 	for (int i = 0; i < npos; i++) { /* pN=VALUE, checked by setup_spec */
 		long j = strtol(pos[i] + 1, NULL, 10);
 		if (j >= sp->np && sp->np == 0)
