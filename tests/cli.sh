@@ -135,8 +135,8 @@ expect_usage_error() {
 	if [ "$rc" -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok
 	else bad "$name: exit $rc, stderr '$(cat "$T/err")'"; fi
 }
-# f16 NAME ARGS...: "samples wrong" of the f16 line of brdfkit stability.
-f16() { $BK stability "$@" 2>/dev/null | awk '$1 == "f16" { print $2, $3 }'; }
+# stab_f16 ARGS...: "samples wrong" of the f16 line of brdfkit stability.
+stab_f16() { $BK stability "$@" 2>/dev/null | awk '$1 == "f16" { print $2, $3 }'; }
 # stability reads the whole form: 240 terms NoV*1e-9 (0 in half, a reference below
 # half's smallest normal: never wrong) and a tail NoV*300*300 = 90000 NoV, past
 # 65504 for NoV > 0.728: the grid's cosines 0.9, 0.999, 0.99999 and 1, at its 13
@@ -145,18 +145,18 @@ f16() { $BK stability "$@" 2>/dev/null | awk '$1 == "f16" { print $2, $3 }'; }
 P="NoV*1e-10+"; i=0
 while [ $i -lt 240 ]; do P="${P}NoV*1e-9+"; i=$((i + 1)); done
 [ ${#P} -gt 2100 ] && ok || bad "long form: ${#P} characters"
-[ "$(f16 "${P}NoV*300*300")" = "143 52" ] && ok || bad "long form: f16 $(f16 "${P}NoV*300*300")"
+[ "$(stab_f16 "${P}NoV*300*300")" = "143 52" ] && ok || bad "long form: f16 $(stab_f16 "${P}NoV*300*300")"
 $BK stability "${P}NoV*300*300" 2>/dev/null | grep -q 'safe in half as is' && bad "long form called safe" || ok
 $BK stability "${P}NoV" 2>/dev/null | grep -q '^safe in half as is$' && ok || bad "long form without its tail"
 # 1e5 is Inf in half and 0*Inf is NaN, where long double gives 0: wrong at all
 # 143 samples, and no clamp fixes it (min(NaN, 65504) is not 0); NoV/NoV is NaN
 # at NoV = 0 in long double too (13 samples): not wrong
-[ "$(f16 '0*(1e5*NoV)')" = "143 143" ] && ok || bad "0*(1e5*NoV): f16 $(f16 '0*(1e5*NoV)')"
+[ "$(stab_f16 '0*(1e5*NoV)')" = "143 143" ] && ok || bad "0*(1e5*NoV): f16 $(stab_f16 '0*(1e5*NoV)')"
 $BK stability '0*(1e5*NoV)' 2>/dev/null | grep -q '^guards: .*(still fails)$' && ok || bad "0*(1e5*NoV) guarded"
-[ "$(f16 'NoV/NoV')" = "143 0" ] && ok || bad "NoV/NoV: f16 $(f16 'NoV/NoV')"
+[ "$(stab_f16 'NoV/NoV')" = "143 0" ] && ok || bad "NoV/NoV: f16 $(stab_f16 'NoV/NoV')"
 # parameters: a value for each, from pN=VALUE or the catalog (overridable)
 expect_usage_error "stability p0 unset" "form uses p0 but no value was given (p0=VALUE)" $BK stability 'p0*1e5*NoV'
-[ "$(f16 'p0*NoV' p0=1e5)" = "143 143" ] && ok || bad "p0=1e5: f16 $(f16 'p0*NoV' p0=1e5)"
+[ "$(stab_f16 'p0*NoV' p0=1e5)" = "143 143" ] && ok || bad "p0=1e5: f16 $(stab_f16 'p0*NoV' p0=1e5)"
 $BK stability 'p0*NoV' p0=2 2>/dev/null | grep -q '^safe in half as is$' && ok || bad "p0=2"
 $BK stability vf_talk_r p0=1e5 2>/dev/null | grep -q '^constants a half shader cannot hold: 1e+05 (infinite in half)$' && ok || bad "vf_talk_r p0=1e5"
 expect_usage_error "stability p1 unused" "p1=VALUE has no effect" $BK stability 'p0*NoV' p0=1 p1=2
