@@ -4,16 +4,20 @@
  * The grid crosses every input the form reads: perceptual roughness from 0
  * through 1e-4 to 1 (a = r^2 follows it), each cosine from 0 through 1e-7 to 1
  * (and up to 0.99999, where 1 - NoH^2 cancels), f0 in {0, 0.02, 0.04, 1}. Each
- * precision's value is compared with long double. A sample counts against a
- * precision only where the comparison means something: the reference is
- * finite, at least half's smallest normal (2^-14, below which no precision
- * keeps relative accuracy in half), and well conditioned — moving any input by
- * half's rounding (2^-11 relative) moves the reference by at most 8 x that.
- * Elsewhere a large error is the problem's, not the precision's.
+ * precision's value is compared with long double. A NaN or an infinity where
+ * the reference is finite always counts against the precision (rounding
+ * never turns a number into NaN). A relative error counts where the
+ * reference is at least half's smallest normal (2^-14, below which no
+ * precision keeps relative accuracy in half; below it only an error larger
+ * than 2^-14 counts), and, for the largest error reported, is well
+ * conditioned — moving any input by half's rounding (2^-11 relative) moves
+ * the reference by at most 8 x that. Elsewhere a large error is the
+ * problem's, not the precision's.
  */
 #include "stability.h"
 
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -147,11 +151,20 @@ static int normal(double r)
 	return isfinite(r) && fabs(r) >= HALF_NORMAL;
 }
 
-/* A value is wrong: not finite where its reference is a normal number, or
- * off from it by more than tol. */
+/* A value is wrong: NaN or infinite where its reference is finite (whatever
+ * the reference's size: no rounding turns a number into NaN, and 0 * Inf in
+ * half is NaN where long double multiplies 0 by 1e5); off by more than tol
+ * relative where the reference is a normal number; below half's smallest
+ * normal, where no precision keeps relative accuracy in half and a GPU may
+ * flush to 0, off by more than that normal: a flush passes, a NaN turned into
+ * 65504 by a clamp where the answer is 0 does not. */
 static int wrong(double v, double r, double tol)
 {
-	return normal(r) && (!isfinite(v) || fabs(v - r) > tol * fabs(r));
+	if (!isfinite(r))
+		return 0; /* the form's own pole: the problem's, not the precision's */
+	if (!isfinite(v))
+		return 1;
+	return normal(r) ? fabs(v - r) > tol * fabs(r) : fabs(v - r) > HALF_NORMAL;
 }
 
 static void describe_region(const bk_form *f, const grid *g, const unsigned char *bad, char *buf, size_t len)
@@ -251,24 +264,49 @@ static int isalnum_c(char c)
 	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
 }
 
-/* Replaces the identifier id by repl wherever it stands as a whole word. */
-static int substitute(const char *text, const char *id, const char *repl, char *out, size_t len)
+/* printf into a new string (NULL if out of memory): forms have no length limit. */
+static char *str_printf(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+static char *str_printf(const char *fmt, ...)
 {
-	size_t k = 0, m = strlen(id);
-	for (const char *p = text; *p;) {
-		int word = !strncmp(p, id, m) && (p == text || !(isalnum_c(p[-1]))) && !isalnum_c(p[m]);
-		const char *put = word ? repl : NULL;
-		size_t add = put ? strlen(put) : 1;
-		if (k + add + 1 > len)
-			return -1;
-		if (put)
-			memcpy(out + k, put, add), p += m;
-		else
-			out[k] = *p++;
-		k += add;
+	va_list ap;
+	va_start(ap, fmt);
+	int n = vsnprintf(NULL, 0, fmt, ap);
+	va_end(ap);
+	char *out = n >= 0 ? malloc((size_t)n + 1) : NULL;
+	if (out) {
+		va_start(ap, fmt);
+		vsnprintf(out, (size_t)n + 1, fmt, ap);
+		va_end(ap);
 	}
-	out[k] = '\0';
-	return 0;
+	return out;
+}
+
+/* The identifier id stands as a whole word at p of text. */
+static int word_at(const char *text, const char *p, const char *id, size_t m)
+{
+	return !strncmp(p, id, m) && (p == text || !isalnum_c(p[-1])) && !isalnum_c(p[m]);
+}
+
+/* text with the identifier id replaced by repl wherever it stands as a whole
+ * word, as a new string (NULL if out of memory). */
+static char *substitute(const char *text, const char *id, const char *repl)
+{
+	size_t m = strlen(id), r = strlen(repl), len = 0;
+	for (const char *p = text; *p;)
+		if (word_at(text, p, id, m))
+			len += r, p += m;
+		else
+			len++, p++;
+	char *out = malloc(len + 1), *o = out;
+	if (!out)
+		return NULL;
+	for (const char *p = text; *p;)
+		if (word_at(text, p, id, m))
+			memcpy(o, repl, r), o += r, p += m;
+		else
+			*o++ = *p++;
+	*o = '\0';
+	return out;
 }
 
 /* The smallest half-precision value >= x: guards are written in literals a
@@ -314,11 +352,13 @@ static double min_safe_r(const bk_form *f, const double *params, double cfloor, 
 }
 
 /* Largest relative change a guarded form makes to the unguarded one in long
- * double, where the unguarded reference is meaningful: the guard's own error. */
-static double guard_cost(const bk_form *f, const char *guarded, const double *params, const grid *g, const ref *R)
+ * double, where the unguarded reference is meaningful: the guard's own error.
+ * Takes guarded (a new string, freed here; NULL: out of memory, NaN). */
+static double guard_cost(const bk_form *f, char *guarded, const double *params, const grid *g, const ref *R)
 {
 	bk_form_error e;
-	bk_form *h = bk_form_parse(guarded, &e);
+	bk_form *h = guarded ? bk_form_parse(guarded, &e) : NULL;
+	free(guarded);
 	double *v = h ? malloc(sizeof(double) * g->n) : NULL, worst = NAN;
 	(void)f;
 	if (v && bk_form_eval(h, BK_FLD, g->n, (const double *const *)g->in, params, v) == 0) {
@@ -332,47 +372,62 @@ static double guard_cost(const bk_form *f, const char *guarded, const double *pa
 	return worst;
 }
 
-static int guard_r(const char *text, double R, char *out, size_t len)
+/* The guarded forms below are new strings (NULL if out of memory). */
+static char *guard_r(const char *text, double R)
 {
-	char tmp[2048], rep[64];
+	char rep[64];
 	snprintf(rep, sizeof rep, "max(r, %.9g)", R);
-	if (substitute(text, "r", rep, tmp, sizeof tmp))
-		return -1;
+	char *tmp = substitute(text, "r", rep);
 	snprintf(rep, sizeof rep, "max(a, %.9g)", half_at_least(R * R));
-	return substitute(tmp, "a", rep, out, len);
+	char *out = tmp ? substitute(tmp, "a", rep) : NULL;
+	free(tmp);
+	return out;
 }
 
-static int guard_cos(const char *text, unsigned reads, double C, char *out, size_t len)
+static char *guard_cos(const char *text, unsigned reads, double C)
 {
 	static const char *const names[5] = {"NoV", "NoL", "NoH", "LoH", "VoH"}; /* VoH is LoH */
 	static const int in_of[5] = {BK_IN_NOV, BK_IN_NOL, BK_IN_NOH, BK_IN_LOH, BK_IN_LOH};
-	char a[2048], b[2048], rep[64];
-	snprintf(a, sizeof a, "%s", text);
-	for (int k = 0; k < 5; k++) {
+	char rep[64], *a = str_printf("%s", text);
+	for (int k = 0; k < 5 && a; k++) {
 		if (!(reads >> in_of[k] & 1))
 			continue;
 		snprintf(rep, sizeof rep, "max(%s, %.9g)", names[k], C);
-		if (substitute(a, names[k], rep, b, sizeof b))
-			return -1;
-		memcpy(a, b, sizeof a);
+		char *b = substitute(a, names[k], rep);
+		free(a);
+		a = b;
 	}
-	snprintf(out, len, "%s", a);
-	return 0;
+	return a;
 }
 
+/* Constants and parameter values a half shader cannot hold, into buf: every
+ * one of them, or as many as fit and how many more. */
 static void check_constants(const bk_form *f, const double *params, char *buf, size_t len)
 {
-	double k[256];
-	int n = bk_form_constants(f, k, 256), at = 0;
-	for (int j = 0; j < bk_form_nparams(f) && n < 256; j++)
-		k[n++] = params[j];
+	int nk = bk_form_constants(f, NULL, 0), np = bk_form_nparams(f), left = 0;
+	double *k = malloc(sizeof(double) * (size_t)(nk + np + 1));
+	size_t at = 0;
 	buf[0] = '\0';
-	for (int i = 0; i < n && i < 256; i++) {
+	if (!k) {
+		snprintf(buf, len, "not checked: out of memory");
+		return;
+	}
+	bk_form_constants(f, k, nk);
+	for (int j = 0; j < np; j++)
+		k[nk + j] = params[j];
+	for (int i = 0; i < nk + np; i++) {
 		double x = fabs(k[i]);
 		const char *why = x > HALF_MAX ? "infinite in half" : x != 0 && x < HALF_NORMAL ? "subnormal in half: 0 where GPUs flush" : NULL;
-		if (why && at < (int)len)
-			at += snprintf(buf + at, len - (size_t)at, "%s%.3g (%s)", at ? "; " : "", k[i], why);
+		char one[96];
+		int m = why ? snprintf(one, sizeof one, "%s%.3g (%s)", at ? "; " : "", k[i], why) : 0;
+		if (m && at + (size_t)m + 24 < len) /* 24: room for "; and N more" */
+			memcpy(buf + at, one, (size_t)m + 1), at += (size_t)m;
+		else if (m)
+			left++;
 	}
+	if (left)
+		snprintf(buf + at, len - at, "%sand %d more", at ? "; " : "", left);
+	free(k);
 }
 
 static void failure_map(const bk_form *f, const double *params, const grid *g, const ref *R, double tol,
@@ -397,19 +452,16 @@ static void failure_map(const bk_form *f, const double *params, const grid *g, c
 
 /* One candidate: a cosine floor C (0: none), a roughness floor R (0: none),
  * the clamp of the result to half's largest value. */
-static int build_guarded(const char *text, unsigned reads, double R, double C, int clamp, char *out, size_t len)
+static char *build_guarded(const char *text, unsigned reads, double R, double C, int clamp)
 {
-	char a[2048], b[2048];
-	snprintf(a, sizeof a, "%s", text);
-	if (R > 0 && (guard_r(a, R, b, sizeof b) || (memcpy(a, b, sizeof a), 0)))
-		return -1;
-	if (C > 0 && (guard_cos(a, reads, C, b, sizeof b) || (memcpy(a, b, sizeof a), 0)))
-		return -1;
-	if (clamp)
-		snprintf(out, len, "min(%s, 65504)", a);
-	else
-		snprintf(out, len, "%s", a);
-	return 0;
+	char *a = str_printf("%s", text), *b;
+	if (a && R > 0)
+		b = guard_r(a, R), free(a), a = b;
+	if (a && C > 0)
+		b = guard_cos(a, reads, C), free(a), a = b;
+	if (a && clamp)
+		b = str_printf("min(%s, 65504)", a), free(a), a = b;
+	return a;
 }
 
 /* The guards that can be written into the form: for each cosine floor of the
@@ -422,13 +474,10 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 {
 	unsigned reads = bk_form_inputs(f);
 	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
-	char one[2048], cur[2048];
-	double best_err = INFINITY, clamp_err;
-	snprintf(one, sizeof one, "min(%s, 65504)", text);
-	clamp_err = guard_cost(f, one, params, g, R);
+	double best_err = INFINITY, clamp_err = guard_cost(f, build_guarded(text, reads, 0, 0, 1), params, g, R);
 	st->guarded_ok = 0;
 	snprintf(st->guards, sizeof st->guards, "none of the floors and the clamp fixes it");
-	snprintf(st->guarded, sizeof st->guarded, "%s", text);
+	st->guarded = str_printf("%s", text);
 	st->guard_error[0] = st->guard_error[1] = st->guard_error[2] = NAN;
 	for (int i = -1; i < 5; i++) {
 		double Cf = i < 0 ? 0 : st->floor_cos[i], Rf = i < 0 ? 0 : st->floor_r[i];
@@ -436,25 +485,29 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 			continue;
 		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
 		double er = 0, ec = 0;
-		if (Rr > 0 && build_guarded(text, reads, Rr, 0, 0, one, sizeof one) == 0)
-			er = guard_cost(f, one, params, g, R);
-		if (C > 0 && build_guarded(text, reads, 0, C, 0, one, sizeof one) == 0)
-			ec = guard_cost(f, one, params, g, R);
+		if (Rr > 0)
+			er = guard_cost(f, build_guarded(text, reads, Rr, 0, 0), params, g, R);
+		if (C > 0)
+			ec = guard_cost(f, build_guarded(text, reads, 0, C, 0), params, g, R);
 		for (int clamp = 0; clamp < 2; clamp++) {
 			if (i < 0 && !clamp)
 				continue;
 			double err = fmax(fmax(er, ec), clamp ? clamp_err : 0);
-			if (!(err < best_err) || build_guarded(text, reads, Rr, C, clamp, cur, sizeof cur))
+			char *cur = err < best_err ? build_guarded(text, reads, Rr, C, clamp) : NULL;
+			if (!cur)
 				continue;
 			bk_form_error e;
 			bk_form *h = bk_form_parse(cur, &e);
 			int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
 			bk_form_free(h);
-			if (ok != 1)
+			if (ok != 1) {
+				free(cur);
 				continue;
+			}
 			best_err = err;
 			st->guarded_ok = 1;
-			snprintf(st->guarded, sizeof st->guarded, "%s", cur);
+			free(st->guarded);
+			st->guarded = cur;
 			st->guard_error[0] = Rr > 0 ? er : NAN;
 			st->guard_error[1] = C > 0 ? ec : NAN;
 			st->guard_error[2] = clamp ? clamp_err : NAN;
@@ -469,7 +522,7 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		}
 	}
 	bk_form_error e;
-	bk_form *h = bk_form_parse(st->guarded, &e);
+	bk_form *h = st->guarded ? bk_form_parse(st->guarded, &e) : NULL;
 	if (h)
 		check_constants(h, params, st->constants, sizeof st->constants);
 	bk_form_free(h);
@@ -487,6 +540,15 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		return -1;
 	}
 	double none[BK_MAX_PARAMS] = {0};
+	if (!params && bk_form_nparams(f) > 0) { /* zeros would be a silent guess */
+		int np = bk_form_nparams(f);
+		if (np == 1)
+			snprintf(err, errlen, "%s: the form uses p0 but no value was given", name);
+		else
+			snprintf(err, errlen, "%s: the form uses p0..p%d but no values were given", name, np - 1);
+		bk_form_free(f);
+		return -1;
+	}
 	if (!params)
 		params = none;
 	grid g;
@@ -522,15 +584,27 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		snprintf(st->advice, sizeof st->advice,
 		         "compute 1 - NoH^2 as |N x H|^2 from the vectors (Filament's mobile path): NoH rounded to half "
 		         "loses sin^2 of the half angle near the highlight (errors up to %.2g at NoH >= %.3g)",
-		         st->p[2].max_rel_ill, st->p[2].ill_noh_min);	if (st->p[2].wrong)
+		         st->p[2].max_rel_ill, st->p[2].ill_noh_min);
+	if (st->p[2].wrong)
 		propose_guards(f, text, params, &g, &R, tol, st);
 	else {
 		st->guarded_ok = 1;
-		snprintf(st->guarded, sizeof st->guarded, "%s", text);
+		st->guarded = str_printf("%s", text);
 		check_constants(f, params, st->constants, sizeof st->constants);
 	}
 	grid_free(&g);
 	ref_free(&R);
 	bk_form_free(f);
+	if (!st->guarded) {
+		bk_stability_free(st);
+		snprintf(err, errlen, "%s: out of memory", name);
+		return -1;
+	}
 	return 0;
+}
+
+void bk_stability_free(bk_stability *st)
+{
+	free(st->guarded);
+	st->guarded = NULL;
 }

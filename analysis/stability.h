@@ -11,9 +11,12 @@
 
 #include <stddef.h>
 
-/* A result is "wrong" in a precision where the reference is finite and well
- * conditioned and the value is not finite or off by more than this, relative
- * (2 % is about 20 half ulps: rounding alone stays far below it). */
+/* A result is "wrong" in a precision where the reference is finite and the
+ * value is NaN or infinite; where the reference is a normal number and the
+ * value is off by more than this, relative (2 % is about 20 half ulps:
+ * rounding alone stays far below it); or where the reference is below half's
+ * smallest normal 2^-14 and the value is off by more than 2^-14 (a flush to
+ * zero passes). */
 #define BK_STAB_TOL 0.02
 
 typedef struct bk_stab_prec {
@@ -23,8 +26,8 @@ typedef struct bk_stab_prec {
 	size_t subnormal;  /* samples with an intermediate below the smallest normal */
 	size_t zeroed;     /* value 0 where the reference is a normal nonzero number */
 	size_t well;       /* samples where the reference is normal, finite and well conditioned */
-	size_t wrong;      /* failures: not finite where the reference is a normal number, or
-	                      off by more than tol where it is also well conditioned */
+	size_t wrong;      /* failures (BK_STAB_TOL's rule) against the reference at the
+	                      inputs as this precision rounds them */
 	double max_rel;    /* largest relative error over the well-conditioned samples */
 	size_t ill;        /* off by more than tol where the reference is ill conditioned
 	                      (input rounding alone moves it: 1 - NoH^2 near the highlight) */
@@ -44,7 +47,8 @@ typedef struct bk_stability {
 	double floor_cos[5], floor_r[5];
 	double r_min;
 	double cos_min;
-	char guarded[2048];       /* the form with the guards it needs */
+	char *guarded;            /* the form with the guards it needs (allocated: forms have no
+	                             length limit; bk_stability_free releases it) */
 	char guards[256];         /* which guards, in words */
 	double guard_error[3];    /* error each guard adds alone (max relative, long double, where the
 	                             reference is within half's range): r floor, cos floor, clamp */
@@ -62,9 +66,11 @@ extern const int bk_stab_nr;
 extern const double bk_stab_cos[];
 extern const int bk_stab_ncos;
 
-/* Runs the analysis of form text with params (NULL if it has none).
- * Returns 0, or -1 with a message. */
+/* Runs the analysis of form text with params (NULL if it has none: then the
+ * form must use none). Returns 0 (release st with bk_stability_free), or -1
+ * with a message. */
 int bk_stability_run(const char *name, const char *text, const double *params, double tol,
                      bk_stability *st, char *err, size_t errlen);
+void bk_stability_free(bk_stability *st);
 
 #endif

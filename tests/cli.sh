@@ -180,6 +180,101 @@ $BK lut --size 2 --out "$O/lut" 2>/dev/null && grep -q '^# brdfkit .* 2x2' "$O/l
 	&& ok || bad "lut replaced: $(siblings "$O/lut")"
 rm -rf "$O"
 
+# ---- issue 9 (fit and stability: no silent wrong answers) ----
+# expect_usage_error NAME TOKEN CMD...: exit 2 (bad usage), one line on stderr naming TOKEN.
+expect_usage_error() {
+	name=$1 token=$2; shift 2
+	"$@" >"$T/out" 2>"$T/err"; rc=$?
+	if [ "$rc" -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok
+	else bad "$name: exit $rc, stderr '$(cat "$T/err")'"; fi
+}
+# stab_f16 ARGS...: "samples wrong" of the f16 line of brdfkit stability.
+stab_f16() { $BK stability "$@" 2>/dev/null | awk '$1 == "f16" { print $2, $3 }'; }
+# stability reads the whole form: 240 terms NoV*1e-9 (0 in half, a reference below
+# half's smallest normal: never wrong) and a tail NoV*300*300 = 90000 NoV, past
+# 65504 for NoV > 0.728: the grid's cosines 0.9, 0.999, 0.99999 and 1, at its 13
+# roughness values, are Inf in half: 52 of 143. A copy cut at 2 KB ends in "+NoV"
+# and is safe in half.
+P="NoV*1e-10+"; i=0
+while [ $i -lt 240 ]; do P="${P}NoV*1e-9+"; i=$((i + 1)); done
+[ ${#P} -gt 2100 ] && ok || bad "long form: ${#P} characters"
+[ "$(stab_f16 "${P}NoV*300*300")" = "143 52" ] && ok || bad "long form: f16 $(stab_f16 "${P}NoV*300*300")"
+$BK stability "${P}NoV*300*300" 2>/dev/null | grep -q 'safe in half as is' && bad "long form called safe" || ok
+$BK stability "${P}NoV" 2>/dev/null | grep -q '^safe in half as is$' && ok || bad "long form without its tail"
+# 1e5 is Inf in half and 0*Inf is NaN, where long double gives 0: wrong at all
+# 143 samples, and no clamp fixes it (min(NaN, 65504) is not 0); NoV/NoV is NaN
+# at NoV = 0 in long double too (13 samples): not wrong
+[ "$(stab_f16 '0*(1e5*NoV)')" = "143 143" ] && ok || bad "0*(1e5*NoV): f16 $(stab_f16 '0*(1e5*NoV)')"
+$BK stability '0*(1e5*NoV)' 2>/dev/null | grep -q '^guards: .*(still fails)$' && ok || bad "0*(1e5*NoV) guarded"
+[ "$(stab_f16 'NoV/NoV')" = "143 0" ] && ok || bad "NoV/NoV: f16 $(stab_f16 'NoV/NoV')"
+# parameters: a value for each, from pN=VALUE or the catalog (overridable)
+expect_usage_error "stability p0 unset" "form uses p0 but no value was given (p0=VALUE)" $BK stability 'p0*1e5*NoV'
+[ "$(stab_f16 'p0*NoV' p0=1e5)" = "143 143" ] && ok || bad "p0=1e5: f16 $(stab_f16 'p0*NoV' p0=1e5)"
+$BK stability 'p0*NoV' p0=2 2>/dev/null | grep -q '^safe in half as is$' && ok || bad "p0=2"
+$BK stability vf_talk_r p0=1e5 2>/dev/null | grep -q '^constants a half shader cannot hold: 1e+05 (infinite in half)$' && ok || bad "vf_talk_r p0=1e5"
+expect_usage_error "stability p1 unused" "p1=VALUE has no effect" $BK stability 'p0*NoV' p0=1 p1=2
+expect_usage_error "stability --all with a form" "'NoV'" $BK stability --all --out "$T/st" NoV
+expect_usage_error "stability --link-prefix" "--link-prefix has no effect without --out" $BK stability NoV --link-prefix x/
+# fit: the published row is at the published constant (0.5) whatever the start;
+# its rmse from the closed forms: V = 0.25/(LoH^2 (1 - r^2) + r^2), F Schlick at
+# f0 = 0.04, form 0.04/(4 LoH^2 (r + 0.5)), 256 x 256 cell centres, LoH from sqrt(0.1)
+want=$(awk 'BEGIN { n = 256; lo = sqrt(0.1); for (j = 0; j < n; j++) for (k = 0; k < n; k++) {
+	r = (j + 0.5) / n; L = lo + (k + 0.5) * (1 - lo) / n; y = 0.25 / (L*L*(1 - r*r) + r*r) * (0.04 + 0.96 * (1 - L)^5)
+	e = 0.04 / (4*L*L*(r + 0.5)) - y; se += e*e }; printf "%.5g", sqrt(se / (n*n)) }')
+$BK fit --target vf2d --form vf_talk_r p0=5 --out "$T/f5" >/dev/null 2>&1 && ok || bad "fit p0=5"
+$BK fit --target vf2d --form vf_talk_r --out "$T/f0" >/dev/null 2>&1 && ok || bad "fit"
+[ "$(grep '^published,' "$T/f5/metrics.csv")" = "$(grep '^published,' "$T/f0/metrics.csv")" ] && ok || bad "published row depends on p0="
+cmp -s "$T/f5/heatmap_published.csv" "$T/f0/heatmap_published.csv" && ok || bad "published heatmap depends on p0="
+got=$(awk -F, '$1 == "published" { printf "%.5g", $3 }' "$T/f5/metrics.csv")
+[ "$got" = "$want" ] && [ "$want" = "0.02861" ] && ok || bad "published rmse $got, closed form $want"
+rm -rf "$T/f5" "$T/f0"
+expect_usage_error "fit digits" "--digits: expected an integer in [1, 17] or half, got '-7xyz'" \
+	$BK fit --target vf2d --form vf_talk_r --digits=-7xyz --out "$T/bad"
+# fits that would do nothing: a zero weight, a form without parameters
+expect_usage_error "fit weight 0" "--weight '0' is not positive at any of the 4096 samples" \
+	$BK fit --target vf2d --form vf_talk_r --nx 64 --nr 64 --weight 0 --out "$T/bad"
+[ ! -e "$T/bad" ] && ok || bad "refused fit left $T/bad"
+$BK fit --target vf2d --form LoH --out "$T/loh" >"$T/out" 2>&1 && ok || bad "fit LoH: $(cat "$T/out")"
+[ "$(head -1 "$T/out")" = "fit form on vf2d: no parameters: evaluated, not fitted" ] && ok || bad "fit LoH: $(head -1 "$T/out")"
+grep -q 'converged' "$T/out" && bad "fit LoH says converged" || ok
+want=$(awk 'BEGIN { n = 256; lo = sqrt(0.1); for (j = 0; j < n; j++) for (k = 0; k < n; k++) {
+	r = (j + 0.5) / n; L = lo + (k + 0.5) * (1 - lo) / n; y = 0.25 / (L*L*(1 - r*r) + r*r) * (0.04 + 0.96 * (1 - L)^5)
+	e = L - y; se += e*e }; printf "%.5g", sqrt(se / (n*n)) }')
+got=$(awk -F, '$1 == "fitted" { printf "%.5g", $3 }' "$T/loh/metrics.csv")
+[ "$got" = "$want" ] && [ -s "$T/loh/shader.c" ] && ok || bad "fit LoH rmse $got, closed form $want"
+rm -rf "$T/loh"
+# a step too small to take from a non-optimal point is no convergence (exit 3)
+$BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 --loss huber --loss-scale 1e-300 --out "$T/ns" >/dev/null 2>&1
+[ $? -eq 3 ] && ok || bad "huber 1e-300 called converged" # needs the fitter's no-step rule (h-numdet)
+$BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 p0=1e308 --out "$T/ns" >/dev/null 2>&1
+[ $? -eq 3 ] && ok || bad "p0=1e308 called converged" # needs the fitter's no-step rule (h-numdet)
+rm -rf "$T/ns"
+# options that would change nothing are refused, naming the conflict
+F="--target vf2d --form vf_talk_r --nx 8 --nr 8 --out $T/bad"
+expect_usage_error "fit ior" "--ior has no effect on target vf2d (it sets the exact Fresnel of target f)" $BK fit $F --ior 1.4
+expect_usage_error "fit nu" "--nu has no effect on target vf2d" $BK fit $F --nu 4
+expect_usage_error "fit smith" "--smith has no effect on target vf2d" $BK fit $F --smith schlick
+expect_usage_error "fit f0 list" "--f0: target vf2d uses one value, got 2" $BK fit $F --f0 0.1,0.2
+expect_usage_error "fit weight dnol" "--weight dnol has no effect on target vf2d" $BK fit $F --weight dnol
+expect_usage_error "fit loss-scale" "--loss-scale has no effect without --loss" $BK fit $F --loss-scale 2
+expect_usage_error "fit p1" "'p1=2' has no effect: the form uses p0 only" $BK fit $F p1=2
+expect_usage_error "fit talk" "--talk-roughness has no effect on target vf" \
+	$BK fit --target vf --form vf_talk_r --talk-roughness a --out "$T/bad"
+expect_usage_error "fit f0 on f" "--f0 has no effect on target f" $BK fit --target f --form 'p0*LoH' p0=1 --f0 0.5 --out "$T/bad"
+expect_usage_error "fit starts, no parameters" "--starts has no effect: the form has no parameters" \
+	$BK fit --target f --form LoH --starts 3 --out "$T/bad"
+# --k applies with the default index 1.5 (it used to need --ior)
+$BK fit --target f --nx 8 --form 'F_schlick(f0, 1, LoH)' --k 3 --out "$T/k" >/dev/null 2>&1 &&
+	grep -q 'index 1.5 + 3i' "$T/k/metrics.csv" && ok || bad "fit --k without --ior"
+rm -rf "$T/k"
+# compare: the same rule, and typed forms it cannot score as written
+expect_usage_error "compare no-lut" "--no-lut has no effect on target vf2d" $BK compare --target vf2d --no-lut --out "$T/bad"
+expect_usage_error "compare reps" "--reps has no effect with --no-time" $BK compare --target vf2d --no-time --reps 3 --out "$T/bad"
+expect_usage_error "compare p0" "'p0*LoH' uses p0" $BK compare --target vf2d --out "$T/bad" 'p0*LoH'
+expect_usage_error "compare input" "'NoV' reads NoV, which target vf2d does not provide" \
+	$BK compare --target vf2d --nx 8 --nr 8 --no-time --out "$T/bad" NoV
+[ ! -e "$T/bad" ] && ok || bad "refused commands left $T/bad"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

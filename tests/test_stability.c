@@ -10,6 +10,7 @@
 
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 static bk_stability st;
@@ -17,6 +18,7 @@ static bk_stability st;
 static void run(const char *text)
 {
 	char err[256];
+	bk_stability_free(&st); /* the previous test's */
 	cr_assert_eq(bk_stability_run(text, text, NULL, BK_STAB_TOL, &st, err, sizeof err), 0, "%s", err);
 }
 
@@ -114,4 +116,107 @@ Test(stability, benign_forms_pass_as_is)
 {
 	run("F_schlick(f0, 1, LoH)");
 	cr_assert(st.p[2].wrong == 0 && st.p[2].max_rel < 0.01 && st.r_min == 0);
+}
+
+/* 1e5 is past half's largest value 65504, so it is infinite in half and
+ * 0 * Inf is NaN, where long double gives 0 * (1e5 NoV) = 0 at every sample:
+ * half is wrong everywhere, though the reference (0) is not a normal number.
+ * No guard fixes it: a clamp min(NaN, 65504) gives 65504 where the answer is
+ * 0, and no floor of NoV or r makes 1e5 finite. */
+Test(stability, nan_where_the_reference_is_finite_is_wrong)
+{
+	cr_assert(isnan(half_eval("0*(1e5*NoV)", 0.5, 0.5, 0.5, 0.5, 0.5)));
+	run("0*(1e5*NoV)");
+	size_t n = (size_t)bk_stab_nr * (size_t)bk_stab_ncos; /* it reads NoV only */
+	cr_assert_eq(st.p[2].n, n);
+	cr_assert_eq(st.p[2].nan, n);
+	cr_assert_eq(st.p[2].wrong, n, "wrong %zu of %zu", st.p[2].wrong, n);
+	cr_assert(st.p[0].wrong == 0 && st.p[1].wrong == 0, "1e5 is finite in single and double");
+	cr_assert_eq(st.ref_nonfinite, 0);
+	cr_assert_eq(st.guarded_ok, 0, "guards claimed to fix it: %s -> %s", st.guards, st.guarded);
+}
+
+/* A NaN swallowed on the way: min(NaN, 1) is 1 (IEEE minNum) where the
+ * answer min(0, 1) is 0: a finite value off by 1 from a reference below
+ * half's smallest normal is wrong too. */
+Test(stability, a_nan_hidden_by_min_is_wrong)
+{
+	cr_assert_eq(half_eval("min(0*(1e5*NoV), 1)", 0.5, 0.5, 0.5, 0.5, 0.5), 1.0);
+	run("min(0*(1e5*NoV), 1)");
+	cr_assert_eq(st.p[2].wrong, st.p[2].n);
+}
+
+/* NoV/NoV is 0/0 = NaN at NoV = 0 in every precision, long double included
+ * (one sample per roughness), and 1 elsewhere: NaN where the reference is NaN
+ * is the form's own, not a precision's failure. */
+Test(stability, nan_where_the_reference_is_nan_is_not_wrong)
+{
+	run("NoV/NoV");
+	cr_assert_eq(st.ref_nonfinite, (size_t)bk_stab_nr);
+	for (int p = 0; p < 3; p++)
+		cr_assert(st.p[p].wrong == 0 && st.p[p].nan == 0, "precision %d: wrong %zu, nan %zu", p, st.p[p].wrong,
+		          st.p[p].nan);
+}
+
+/* Below half's smallest normal 2^-14 a flush to zero is no failure: at NoV = 1,
+ * NoV*1e-4*NoV*1e-4 = 1e-8 rounds to 0 in half (below half the smallest
+ * subnormal, 2^-25), so the value is 0 where the reference is 1e-5. */
+Test(stability, a_flush_below_the_smallest_normal_is_not_wrong)
+{
+	cr_assert_eq(half_eval("NoV*1e-4*NoV*1e-4*1e3", 1, 0.5, 0.5, 0.5, 0.5), 0.0);
+	run("NoV*1e-4*NoV*1e-4*1e3");
+	cr_assert_eq(st.p[2].wrong, 0);
+}
+
+/* The analysis has no form length limit: 700 terms 0*r (0 in every
+ * precision) in front of 1/r^4 make a form of 4 KB that overflows half for
+ * small r like 1/r^4 alone, with the same guard: the result clamped to
+ * 65504, around the whole form. */
+Test(stability, forms_of_any_length)
+{
+	static char text[8192], want[8192 + 16];
+	size_t k = 0;
+	for (int i = 0; i < 700; i++)
+		k += (size_t)snprintf(text + k, sizeof text - k, "0*r + ");
+	snprintf(text + k, sizeof text - k, "1/(r*r*r*r)");
+	cr_assert_gt(strlen(text), 4000);
+	run("1/(r*r*r*r)");
+	cr_assert_str_eq(st.guarded, "min(1/(r*r*r*r), 65504)");
+	size_t wrong = st.p[2].wrong;
+	run(text);
+	cr_assert_eq(st.p[2].wrong, wrong);
+	snprintf(want, sizeof want, "min(%s, 65504)", text);
+	cr_assert(st.guarded_ok, "%s", st.guards);
+	cr_assert_str_eq(st.guarded, want);
+}
+
+/* A form with parameters needs their values: zeros would be a silent guess. */
+Test(stability, parameters_without_values_are_refused)
+{
+	char err[256] = "";
+	bk_stability_free(&st);
+	cr_assert_eq(bk_stability_run("form", "p0*NoV", NULL, BK_STAB_TOL, &st, err, sizeof err), -1);
+	cr_assert_str_eq(err, "form: the form uses p0 but no value was given");
+	double p[BK_MAX_PARAMS] = {2};
+	cr_assert_eq(bk_stability_run("form", "p0*NoV", p, BK_STAB_TOL, &st, err, sizeof err), 0, "%s", err);
+}
+
+/* Constants a half shader cannot hold are all accounted for, however many:
+ * i * 1e-9 for i = 1..300 are all below half's smallest normal 2^-14
+ * (3e-7 < 6.1e-5); the list names as many as fit and says how many more. */
+Test(stability, every_constant_half_cannot_hold_is_counted)
+{
+	static char text[8192];
+	size_t k = 0;
+	for (int i = 1; i <= 300; i++)
+		k += (size_t)snprintf(text + k, sizeof text - k, "NoV*%de-9 + ", i);
+	snprintf(text + k, sizeof text - k, "NoV");
+	run(text);
+	int shown = 0, more = 0;
+	for (const char *p = st.constants; (p = strstr(p, "(subnormal in half")); p++)
+		shown++;
+	const char *tail = strstr(st.constants, "and ");
+	cr_assert_not_null(tail, "%s", st.constants);
+	cr_assert_eq(sscanf(tail, "and %d more", &more), 1, "%s", tail);
+	cr_assert_eq(shown + more, 300, "%d shown, %d more", shown, more);
 }

@@ -59,9 +59,7 @@ void cli_help(const cli_cmd *cmd, FILE *out)
 		fprintf(out, "\n%s\n", cmd->details);
 }
 
-static int usage_error(const cli_cmd *cmd, const char *fmt, ...)
-	__attribute__((format(printf, 2, 3)));
-static int usage_error(const cli_cmd *cmd, const char *fmt, ...)
+int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 {
 	va_list ap;
 	fprintf(stderr, "brdfkit %s: ", cmd->name);
@@ -70,6 +68,15 @@ static int usage_error(const cli_cmd *cmd, const char *fmt, ...)
 	va_end(ap);
 	fprintf(stderr, " (see brdfkit %s --help)\n", cmd->name);
 	return 2;
+}
+#define usage_error cli_usage /* the parser's own name for it */
+
+int cli_seen(const cli_cmd *cmd, const char *name)
+{
+	for (int k = 0; k < cmd->nopts; k++)
+		if (strcmp(cmd->opts[k].name, name) == 0)
+			return cmd->opts[k].seen;
+	return 0;
 }
 
 /* Strict number: the whole text must be a finite number inside the range. */

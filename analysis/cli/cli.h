@@ -53,6 +53,13 @@ void cli_help(const cli_cmd *cmd, FILE *out);
 int cli_fail(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 void cli_set_name(const char *cmd);
+/* A usage error found after cli_parse (a value that conflicts with another,
+ * an option with no effect in context): "brdfkit CMD: message (see brdfkit
+ * CMD --help)" on stderr, one line. Returns 2. */
+int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
+	__attribute__((format(printf, 2, 3)));
+/* Whether option name (e.g. "--ior") was given. */
+int cli_seen(const cli_cmd *cmd, const char *name);
 
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). */

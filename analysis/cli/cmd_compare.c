@@ -351,6 +351,58 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	return bk_out_dir_commit(&od, err, sizeof err) ? cli_fail("compare", "--out %s", err) : 0;
 }
 
+#define ON(k) (1u << BK_TARGET_##k)
+
+/* Options that act on some targets only: elsewhere they would be ignored,
+ * so they are refused. does: what the option does, for the message. */
+static const struct {
+	const char *opt;
+	unsigned targets;
+	const char *does;
+} target_opts[] = {
+	{"--no-lut", ON(ENV), "LUT rows are scored for target env only"},
+	{"--nr", ~ON(F), "target f has no roughness axis"},
+};
+
+/* Refuses what would change nothing, and typed forms that cannot be scored
+ * as written: with parameters (there are no values to give them) or reading
+ * an input the target does not provide (NaN at every sample, which the
+ * metrics skip: rmse 0). provides: the target's inputs, or 0 before the
+ * samples exist. Returns 0 or 2. */
+static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides)
+{
+	for (size_t k = 0; !provides && k < sizeof target_opts / sizeof target_opts[0]; k++)
+		if (cli_seen(cmd, target_opts[k].opt) && !(target_opts[k].targets >> kind & 1))
+			return cli_usage(cmd, "%s has no effect on target %s (%s)", target_opts[k].opt, bk_target_name(kind),
+			                 target_opts[k].does);
+	if (!provides && cli_seen(cmd, "--reps") && cli_seen(cmd, "--no-time"))
+		return cli_usage(cmd, "--reps has no effect with --no-time");
+	if (!provides && cli_seen(cmd, "--relative") && cli_seen(cmd, "--no-refit"))
+		return cli_usage(cmd, "--relative has no effect with --no-refit (it sets the residuals of the refits)");
+	for (int i = 0; i < cmd->npos; i++) {
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(cmd->pos[i], &fe);
+		if (!f) {
+			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
+			return 2;
+		}
+		int np = bk_form_nparams(f);
+		unsigned extra = bk_form_inputs(f) & ~provides;
+		bk_form_free(f);
+		char last[16] = "";
+		if (np > 1)
+			snprintf(last, sizeof last, "..p%d", np - 1);
+		if (np)
+			return cli_usage(cmd, "'%s' uses p0%s: compare scores a typed form as written (write its constants "
+			                 "as numbers, or fit it with brdfkit fit)", cmd->pos[i], last);
+		for (int k = 0; provides && k < BK_IN_COUNT; k++)
+			if (extra >> k & 1)
+				return cli_usage(cmd, "'%s' reads %s, which target %s does not provide", cmd->pos[i],
+				                 bk_input_name((bk_input)k), bk_target_name(kind));
+	}
+	return 0;
+}
+
 int cmd_compare(int argc, char **argv)
 {
 	const char *target = NULL, *out = NULL, *prefix = "";
@@ -393,6 +445,8 @@ int cmd_compare(int argc, char **argv)
 		fprintf(stderr, "brdfkit compare: --tier: expected 16, 32, 48 or 64, got %ld\n", tier);
 		return 2;
 	}
+	if ((rc = check_args(&cmd, kind, 0)))
+		return rc;
 	bk_target_defaults(kind, &S.to);
 	S.to.env_f0_form = kind == BK_TARGET_ENV;
 	if (kind == BK_TARGET_VF2D)
@@ -409,6 +463,10 @@ int cmd_compare(int argc, char **argv)
 		return cli_fail("compare", "--out %s", err);
 	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
 		return cli_fail("compare", "%s", err);
+	if ((rc = check_args(&cmd, kind, S.s.provides))) {
+		bk_samples_free(&S.s);
+		return rc;
+	}
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		if (entry_fits(kind, e))

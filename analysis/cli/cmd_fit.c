@@ -138,6 +138,8 @@ typedef struct run {
 	bk_fit_spec spec;
 	bk_fit_result res;
 	int has_published;
+	double published[BK_MAX_PARAMS]; /* the catalog's constants, whatever start p0=... gives */
+	const cli_cmd *cmd;
 	char command[2048];
 } run;
 
@@ -227,7 +229,7 @@ static int write_heatmaps(const run *R, const char *dir, char *err, size_t errle
 {
 	int rc = write_heatmap(R, dir, "heatmap", R->res.p, "fitted", err, errlen);
 	if (rc == 0 && R->has_published) /* the published constants on the same samples, same colour rule */
-		rc = write_heatmap(R, dir, "heatmap_published", R->spec.start, "published", err, errlen);
+		rc = write_heatmap(R, dir, "heatmap_published", R->published, "published", err, errlen);
 	return rc;
 }
 
@@ -319,7 +321,23 @@ static int setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options
 		return 2;
 	}
 	if (a->ior > 0)
-		to->eta = a->ior, to->k = a->k;
+		to->eta = a->ior;
+	to->k = a->k; /* with or without --ior (then glass's 1.5) */
+	return 0;
+}
+
+/* ---- options that would do nothing ---------------------------------------- */
+
+/* Options of the fitter, which a form without parameters never runs. */
+static const char *const fitting_opts[] = {"--loss", "--loss-scale", "--trust-region", "--max-iterations", "--threads",
+                                           "--bound", "--hold", "--starts", "--seed", "--objective", "--digits"};
+
+static int check_fitting_opts(const run *R)
+{
+	for (size_t k = 0; R->spec.np == 0 && k < sizeof fitting_opts / sizeof fitting_opts[0]; k++)
+		if (cli_seen(R->cmd, fitting_opts[k]))
+			return cli_usage(R->cmd, "%s has no effect: the form has no parameters (it is evaluated, not fitted)",
+			                 fitting_opts[k]);
 	return 0;
 }
 
@@ -335,6 +353,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->np = bk_form_nparams(R->fs.f[0]);
 	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > sp->np)
 		sp->np = bk_form_nparams(R->fs.f[1]);
+	if (check_fitting_opts(R))
+		return 2;
 	for (int j = 0; j < BK_MAX_PARAMS; j++) {
 		sp->lower[j] = -HUGE_VAL;
 		sp->upper[j] = HUGE_VAL;
@@ -390,15 +410,96 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->minimax = v;
 	sp->opt.max_iterations = (int)a->max_iter;
 	sp->opt.num_threads = (int)a->threads;
-	if (a->digits) {
+	if (a->digits) { /* the word half, or an integer 1..17 written plainly (17 digits round-trip a double) */
 		char *end;
-		sp->digits = !strcmp(a->digits, "half") ? -1 : (int)strtol(a->digits, &end, 10);
-		if (sp->digits == 0 || (sp->digits > 0 && (*end || sp->digits > 17))) {
-			fprintf(stderr, "brdfkit fit: --digits: expected 1..17 or half, got '%s'\n", a->digits);
-			return 2;
-		}
+		long d = a->digits[0] >= '1' && a->digits[0] <= '9' ? strtol(a->digits, &end, 10) : 0;
+		if (!strcmp(a->digits, "half"))
+			sp->digits = -1;
+		else if (d >= 1 && d <= 17 && !*end)
+			sp->digits = (int)d;
+		else
+			return cli_usage(R->cmd, "--digits: expected an integer in [1, 17] or half, got '%s'", a->digits);
 	}
 	return 0;
+}
+
+
+#define ON(k) (1u << BK_TARGET_##k)
+
+/* Options that act on some targets only (fit/target.c): given for another
+ * target they would be ignored, so they are refused. does: what the option
+ * does, for the message. */
+static const struct {
+	const char *opt;
+	unsigned targets;
+	const char *does;
+} target_opts[] = {
+	{"--nu", ON(VF) | ON(SPEC), "it sets the half-vector cells of targets vf and spec"},
+	{"--nphi", ON(VF) | ON(SPEC), "it sets the azimuth cells of targets vf and spec"},
+	{"--talk-roughness", ON(VF2D), "it sets how target vf2d reads the talk's roughness"},
+	{"--smith", ON(ENV), "it sets the Smith model of target env"},
+	{"--ior", ON(F), "it sets the exact Fresnel of target f"},
+	{"--k", ON(F), "it sets the exact Fresnel of target f"},
+	{"--f0", ON(VF2D) | ON(VF) | ON(SPEC) | ON(ENV), "it sets f0 of targets vf2d, vf, spec and env"},
+	{"--nr", ~ON(F), "target f has no roughness axis"},
+	{"--r-range", ~ON(F), "target f has no roughness axis"},
+};
+
+/* Refuses an option or a value that would change nothing: the run would
+ * look as asked for and not be. Returns 0 or 2. */
+static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
+{
+	const cli_cmd *cmd = R->cmd;
+	const fit_cli *a = R->a;
+	const char *tn = bk_target_name(kind);
+	for (size_t k = 0; k < sizeof target_opts / sizeof target_opts[0]; k++)
+		if (cli_seen(cmd, target_opts[k].opt) && !(target_opts[k].targets >> kind & 1))
+			return cli_usage(cmd, "%s has no effect on target %s (%s)", target_opts[k].opt, tn, target_opts[k].does);
+	if (a->f0.n && kind == BK_TARGET_ENV && R->fs.split)
+		return cli_usage(cmd, "--f0 has no effect on a split-sum env fit (A and B do not depend on f0; a single "
+		                 "form in f0 is fitted to f0 A + B over the --f0 list)");
+	if (a->f0.n > 1 && kind != BK_TARGET_ENV)
+		return cli_usage(cmd, "--f0: target %s uses one value, got %d", tn, a->f0.n);
+	if (a->weight && !strcmp(a->weight, "dnol") && kind != BK_TARGET_VF && kind != BK_TARGET_SPEC)
+		return cli_usage(cmd, "--weight dnol has no effect on target %s (D*NoL weighs the samples of targets vf and "
+		                 "spec)", tn);
+	if (cli_seen(cmd, "--loss-scale") && !strcmp(a->loss, "none"))
+		return cli_usage(cmd, "--loss-scale has no effect without --loss huber|cauchy|softl1");
+	const bk_fit_spec *sp = &R->spec;
+	for (int i = 0; i < npos; i++) { /* pN=VALUE, checked by setup_spec */
+		long j = strtol(pos[i] + 1, NULL, 10);
+		if (j >= sp->np && sp->np == 0)
+			return cli_usage(cmd, "'%s' has no effect: the form has no parameters", pos[i]);
+		if (j >= sp->np && sp->np == 1)
+			return cli_usage(cmd, "'%s' has no effect: the form uses p0 only", pos[i]);
+		if (j >= sp->np)
+			return cli_usage(cmd, "'%s' has no effect: the form uses p0..p%d", pos[i], sp->np - 1);
+	}
+	for (int j = sp->np; j < BK_MAX_PARAMS; j++)
+		if (isfinite(sp->lower[j]) || isfinite(sp->upper[j]))
+			return cli_usage(cmd, "--bound p%d has no effect: the form has no parameter p%d", j, j);
+	return 0;
+}
+
+/* A weight that is zero (or worse) at every sample leaves nothing to fit:
+ * Ceres would stop at once with cost 0 and call it converged. */
+static int check_weight(const run *R)
+{
+	const bk_samples *s = &R->s;
+	double *uw = R->spec.weight ? malloc(sizeof(double) * s->n) : NULL;
+	if (R->spec.weight && (!uw || bk_form_eval(R->spec.weight, BK_F64, s->n, (const double *const *)s->in,
+	                                           R->spec.start, uw))) {
+		free(uw);
+		return 0; /* the fitter reports it */
+	}
+	size_t positive = 0;
+	for (size_t i = 0; i < s->n; i++)
+		positive += s->w[i] * (uw ? uw[i] : 1.0) > 0; /* false for NaN */
+	free(uw);
+	if (positive)
+		return 0;
+	return cli_usage(R->cmd, "--weight '%s' is not positive at any of the %zu samples: nothing to fit",
+	                 R->a->weight ? R->a->weight : "default", s->n);
 }
 
 /* Forms may read only what the target provides; a non-finite form fails. */
@@ -429,11 +530,17 @@ static void report(const run *R, int rc)
 {
 	const bk_fit_result *res = &R->res;
 	static const char *const term[] = {"converged", "did not converge", "failed"};
-	printf("fit %s on %s: %s after %d iterations (%d bound re-solves), cost %.6g -> %.6g, %.2f s\n",
-	       R->fs.entry ? R->fs.entry->name : "form", bk_target_name(R->to.kind), term[res->summary.termination],
-	       res->summary.iterations, res->summary.bound_resolves, res->summary.initial_cost,
-	       res->summary.final_cost, res->summary.seconds);
-	if (R->spec.starts > 1)
+	unsigned t = (unsigned)res->summary.termination;
+	if (R->spec.np == 0) /* the fitter never ran: no iterations, no cost to lower */
+		printf("fit %s on %s: no parameters: evaluated, not fitted\n", R->fs.entry ? R->fs.entry->name : "form",
+		       bk_target_name(R->to.kind));
+	else
+		printf("fit %s on %s: %s after %d iterations (%d bound re-solves), cost %.6g -> %.6g, %.2f s\n",
+		       R->fs.entry ? R->fs.entry->name : "form", bk_target_name(R->to.kind),
+		       rc == 0 ? term[0] : t < 3 && t ? term[t] : term[1], res->summary.iterations,
+		       res->summary.bound_resolves, res->summary.initial_cost, res->summary.final_cost,
+		       res->summary.seconds);
+	if (R->spec.starts > 1 && R->spec.np > 0)
 		printf("starts: %d, best cost %.6g, worst %.6g, failed %d\n", R->spec.starts, res->start_cost_min,
 		       res->start_cost_max, res->starts_failed);
 	for (int j = 0; j < R->spec.np; j++) {
@@ -448,7 +555,8 @@ static void report(const run *R, int rc)
 			printf("  (published %.9g)", R->fs.entry->defaults[j]);
 		putchar('\n');
 	}
-	printf("fitted:    rmse %.4g, max |err| %.4g, max rel %.4g", res->fitted.rmse, res->fitted.max_abs, res->fitted.max_rel);
+	printf("%-10s rmse %.4g, max |err| %.4g, max rel %.4g", R->spec.np ? "fitted:" : "evaluated:",
+	       res->fitted.rmse, res->fitted.max_abs, res->fitted.max_rel);
 	if (isfinite(res->fitted.albedo_max_abs))
 		printf(", albedo max |err| %.4g", res->fitted.albedo_max_abs);
 	putchar('\n');
@@ -504,12 +612,15 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},
 		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the starts (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "lsq|minimax", .help = "least squares (default) or minimise the max error", .dest = &a.objective},
-		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits or to fp16, refitting the rest", .dest = &a.digits},
+		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits (N in [1, 17]) or to fp16 (half), refitting the rest", .dest = &a.digits},
 	};
 	cli_cmd cmd = {"fit", "Fits a form to a target with Ceres and writes coefficients.csv, metrics.csv,\n"
 	               "heatmap.{exr,png,csv} and shader.{c,glsl,hlsl} into DIR.",
 	               "--target T (--form FORM|NAME | --form-a A --form-b B) --out DIR [p0=START ...] [options]",
-	               "Exit status: 0 converged, 3 did not converge (results written), 1 failed, 2 bad usage.",
+	               "A form without parameters is evaluated, not fitted. Options that would have no effect (on\n"
+	               "this target, without parameters, --loss-scale without --loss) are refused.\n"
+	               "Exit status: 0 converged (or evaluated), 3 did not converge (results written), 1 failed,\n"
+	               "2 bad usage.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 16, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
@@ -517,6 +628,7 @@ int cmd_fit(int argc, char **argv)
 	run R;
 	memset(&R, 0, sizeof R);
 	R.a = &a;
+	R.cmd = &cmd;
 	size_t k = (size_t)snprintf(R.command, sizeof R.command, "brdfkit fit");
 	for (int i = 0; i < argc && k < sizeof R.command; i++)
 		k += (size_t)snprintf(R.command + k, sizeof R.command - k, " %s", argv[i]);
@@ -536,7 +648,7 @@ int cmd_fit(int argc, char **argv)
 	else if (a.weight && (rc = parse_form("weight", a.weight, &wform)))
 		goto done;
 	char err[512];
-	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)))
+	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)) || (rc = check_effect(&R, kind, cmd.pos, cmd.npos)))
 		goto done;
 	R.spec.weight = wform;
 	char why[200];
@@ -549,11 +661,13 @@ int cmd_fit(int argc, char **argv)
 		rc = cli_fail("fit", "%s", err);
 		goto done;
 	}
-	if ((rc = check_forms(&R)))
+	if ((rc = check_weight(&R)) || (rc = check_forms(&R)))
 		goto samples;
 	R.has_published = R.fs.entry != NULL;
-	if (R.has_published)
-		bk_fit_evaluate(&R.spec, R.spec.start, &R.res.published);
+	if (R.has_published) { /* at the catalog's constants, not at a start the user gave */
+		memcpy(R.published, R.fs.entry->defaults, sizeof R.published);
+		bk_fit_evaluate(&R.spec, R.published, &R.res.published);
+	}
 	bk_fit_metrics published = R.res.published;
 	rc = bk_fit_run(&R.spec, &R.res);
 	R.res.published = published;

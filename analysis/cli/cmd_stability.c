@@ -21,35 +21,52 @@
 
 /* A registry term as a call in the language: its C arguments mapped to the
  * inputs, fixed material values where the argument is not an input
- * (f90 = 1, glass eta = 1.5, a conductor 0.2 + 3i, sigma = r, VoL from LoH). */
-static void term_call(const bk_term *t, char *buf, size_t len)
+ * (f90 = 1, glass eta = 1.5, a conductor 0.2 + 3i, sigma = r, VoL from LoH).
+ * Returns a new string, or NULL if out of memory. */
+static char *term_call(const bk_term *t)
 {
-	size_t k = (size_t)snprintf(buf, len, "%s(", t->name);
+	char *buf = NULL;
+	size_t size = 0;
+	FILE *m = open_memstream(&buf, &size);
+	if (!m)
+		return NULL;
+	fprintf(m, "%s(", t->name);
 	const char *p = t->args;
 	int first = 1;
-	while (*p && k < len) {
+	while (*p) {
 		const char *e = strchr(p, ',');
-		size_t n = e ? (size_t)(e - p) : strlen(p);
-		char arg[16];
-		snprintf(arg, sizeof arg, "%.*s", (int)n, p);
-		const char *v = arg;
-		if (!strcmp(arg, "f90")) v = "1";
-		else if (!strcmp(arg, "eta")) v = strcmp(t->name, "F_conductor") ? "1.5" : "0.2";
-		else if (!strcmp(arg, "k")) v = "3";
-		else if (!strcmp(arg, "sigma")) v = "r";
-		else if (!strcmp(arg, "VoL")) v = "2*LoH*LoH - 1";
-		k += (size_t)snprintf(buf + k, len - k, "%s%s", first ? "" : ", ", v);
+		int n = e ? (int)(e - p) : (int)strlen(p);
+		const char *v = NULL;
+		if (!strncmp(p, "f90", 3) && n == 3) v = "1";
+		else if (!strncmp(p, "eta", 3) && n == 3) v = strcmp(t->name, "F_conductor") ? "1.5" : "0.2";
+		else if (!strncmp(p, "k", 1) && n == 1) v = "3";
+		else if (!strncmp(p, "sigma", 5) && n == 5) v = "r";
+		else if (!strncmp(p, "VoL", 3) && n == 3) v = "2*LoH*LoH - 1";
+		if (v)
+			fprintf(m, "%s%s", first ? "" : ", ", v);
+		else
+			fprintf(m, "%s%.*s", first ? "" : ", ", n, p);
 		first = 0;
 		p += n + (e != NULL);
 	}
-	snprintf(buf + k, len - k, ")");
+	fputc(')', m);
+	if (fclose(m)) {
+		free(buf);
+		return NULL;
+	}
+	return buf;
 }
 
+/* One form to analyse: its text (allocated: a form has no length limit) and
+ * the values of its parameters, published (catalog) or given as pN=VALUE. */
 typedef struct item {
-	char name[96], text[2048];
+	char name[96];
+	char *text;
 	double params[BK_MAX_PARAMS];
+	int have[BK_MAX_PARAMS];
 } item;
 
+/* Returns 0, or -1 if out of memory. */
 static int resolve(const char *arg, item *it)
 {
 	memset(it, 0, sizeof *it);
@@ -57,17 +74,66 @@ static int resolve(const char *arg, item *it)
 	const bk_catalog_entry *e = bk_catalog_find(arg);
 	const bk_term *t = bk_term_find(arg);
 	if (e) {
-		if (e->form_b)
-			snprintf(it->text, sizeof it->text, "f0*(%s) + (%s)", e->form, e->form_b);
-		else
-			snprintf(it->text, sizeof it->text, "%s", e->form);
+		size_t n = strlen(e->form) + (e->form_b ? strlen(e->form_b) + 16 : 0) + 1;
+		if ((it->text = malloc(n))) {
+			if (e->form_b)
+				snprintf(it->text, n, "f0*(%s) + (%s)", e->form, e->form_b);
+			else
+				snprintf(it->text, n, "%s", e->form);
+		}
 		memcpy(it->params, e->defaults, sizeof it->params);
+		for (int j = 0; j < e->nparams; j++)
+			it->have[j] = 1;
 	} else if (t) {
-		term_call(t, it->text, sizeof it->text);
+		it->text = term_call(t);
 	} else {
 		snprintf(it->name, sizeof it->name, "form");
-		snprintf(it->text, sizeof it->text, "%s", arg);
+		it->text = malloc(strlen(arg) + 1);
+		if (it->text)
+			strcpy(it->text, arg);
 	}
+	return it->text ? 0 : -1;
+}
+
+/* pN=VALUE: a parameter value for every form given (a catalog entry's
+ * published value is overridden). Returns 0 or 2 (usage error). */
+static int assignment(const cli_cmd *cmd, const char *arg, int *j, double *v)
+{
+	char *end;
+	const char *eq = strchr(arg, '=');
+	long k = arg[0] == 'p' && arg[1] >= '0' && arg[1] <= '9' ? strtol(arg + 1, &end, 10) : -1;
+	if (k < 0 || end != eq || k >= BK_MAX_PARAMS)
+		return cli_usage(cmd, "expected pN=VALUE with N in 0..%d, got '%s'", BK_MAX_PARAMS - 1, arg);
+	errno = 0;
+	*v = strtod(eq + 1, &end);
+	if (end == eq + 1 || *end || errno == ERANGE || !isfinite(*v))
+		return cli_usage(cmd, "p%ld: expected a finite number, got '%s'", k, eq + 1);
+	*j = (int)k;
+	return 0;
+}
+
+/* Every parameter a form uses has a value, and every value given is used by
+ * some form: zeros in place of a missing value, or a value that changes
+ * nothing, would be a silent wrong answer. Returns 0 or 2. */
+static int check_params(const cli_cmd *cmd, const item *items, int n, const int *given)
+{
+	int used = 0;
+	for (int i = 0; i < n; i++) {
+		bk_form_error e;
+		bk_form *f = bk_form_parse(items[i].text, &e);
+		int np = f ? bk_form_nparams(f) : 0; /* a parse error is reported by the run */
+		bk_form_free(f);
+		used = np > used ? np : used;
+		for (int j = 0; j < np; j++)
+			if (!items[i].have[j] && np == 1)
+				return cli_usage(cmd, "%s uses p0 but no value was given (p0=VALUE)", items[i].name);
+			else if (!items[i].have[j])
+				return cli_usage(cmd, "%s uses p0..p%d but no value was given for p%d (p%d=VALUE)", items[i].name,
+				                 np - 1, j, j);
+	}
+	for (int j = used; j < BK_MAX_PARAMS; j++)
+		if (given[j])
+			return cli_usage(cmd, "p%d=VALUE has no effect: no form given uses p%d", j, j);
 	return 0;
 }
 
@@ -144,8 +210,9 @@ static int write_map(const bk_stability *st, const char *dir, char *err, size_t 
 	bk_heatmap h = {st->map_nx, st->map_ny, st->map, 0, st->map_nx, 0, st->map_ny,
 	                "first cosine: index in 0,1e-7,1e-4,1e-3,0.01,0.1,0.5,0.9,0.999,0.99999,1",
 	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
-	                "fraction of samples of the cell (over the other inputs) whose half-precision value is not finite "
-	                "or off by more than 2 % from the long-double reference at the same half-rounded inputs"};
+	                "fraction of samples of the cell (over the other inputs) whose half-precision value is wrong: not "
+	                "finite where the long-double reference at the same half-rounded inputs is finite, or off from it "
+	                "by more than 2 % (by more than 2^-14 where it is below 2^-14)"};
 	return bk_heatmap_write(&h, dir, stem, err, errlen);
 }
 
@@ -209,6 +276,16 @@ static void print_one(const bk_stability *st, const char *text)
 		printf("constants a half shader cannot hold: %s\n", st->constants);
 }
 
+static void free_items(item *items, bk_stability *st, int n)
+{
+	for (int i = 0; i < n; i++) {
+		free(items[i].text);
+		bk_stability_free(&st[i]);
+	}
+	free(items);
+	free(st);
+}
+
 int cmd_stability(int argc, char **argv)
 {
 	const char *out = NULL, *prefix = "";
@@ -224,26 +301,47 @@ int cmd_stability(int argc, char **argv)
 	               "0.99999, f0 from 0) in half, single and double precision against long double; reports\n"
 	               "NaN, Inf, overflow past 65504, subnormals, the largest error, where it breaks, the minimum\n"
 	               "safe inputs in half, and guards that fix it with the error each adds.",
-	               "FORM|NAME|TERM ... [--out DIR] | --all --out DIR",
+	               "FORM|NAME|TERM ... [pN=VALUE ...] [--out DIR] | --all --out DIR",
 	               "A precision is judged against the long-double value at inputs rounded as it holds them\n"
 	               "(half: mediump); where that rounding alone moves the value by more than the tolerance\n"
-	               "the sample is ill conditioned (reported apart: 1 - NoH^2 near the highlight).",
+	               "the sample is ill conditioned (reported apart: 1 - NoH^2 near the highlight). NaN or\n"
+	               "Inf where that value is finite is always wrong.\n"
+	               "Parameters: pN=VALUE, for every form given; a typed form must have a value for each\n"
+	               "parameter it uses, and a catalog entry's published values apply unless pN=VALUE\n"
+	               "overrides them.",
 	               opts, 4, 32, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	if (!all && cmd.npos == 0) {
-		fprintf(stderr, "brdfkit stability: give FORM|NAME|TERM or --all (see brdfkit stability --help)\n");
-		return 2;
+	double values[BK_MAX_PARAMS];
+	int given[BK_MAX_PARAMS] = {0}, nforms = 0;
+	char *forms[32];
+	for (int i = 0; i < cmd.npos; i++) { /* the IR has no '=': an argument with one is pN=VALUE */
+		int j = 0;
+		double v = 0;
+		if (!strchr(cmd.pos[i], '=')) {
+			forms[nforms++] = cmd.pos[i];
+			continue;
+		}
+		if ((rc = assignment(&cmd, cmd.pos[i], &j, &v)))
+			return rc;
+		if (given[j])
+			return cli_usage(&cmd, "p%d given twice", j);
+		values[j] = v;
+		given[j] = 1;
 	}
-	if (all && !out) {
-		fprintf(stderr, "brdfkit stability: --all needs --out DIR\n");
-		return 2;
-	}
+	if (!all && nforms == 0)
+		return cli_usage(&cmd, "give FORM|NAME|TERM or --all");
+	if (all && cmd.npos)
+		return cli_usage(&cmd, "--all analyses the registry and the catalog: '%s' would be ignored", cmd.pos[0]);
+	if (all && !out)
+		return cli_usage(&cmd, "--all needs --out DIR");
+	if (cli_seen(&cmd, "--link-prefix") && !out)
+		return cli_usage(&cmd, "--link-prefix has no effect without --out (it prefixes links in DIR/section.html)");
 	char err[512];
 	if (out && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
 		return cli_fail("stability", "--out %s", err);
-	int n = all ? (int)(bk_term_count() + bk_catalog_count()) : cmd.npos;
+	int n = all ? (int)(bk_term_count() + bk_catalog_count()) : nforms;
 	item *items = calloc((size_t)n, sizeof *items);
 	bk_stability *st = calloc((size_t)n, sizeof *st);
 	if (!items || !st) {
@@ -251,22 +349,31 @@ int cmd_stability(int argc, char **argv)
 		free(st);
 		return cli_fail("stability", "out of memory");
 	}
-	for (int i = 0; i < n; i++) {
+	for (int i = 0; i < n && rc == 0; i++) {
 		if (!all)
-			resolve(cmd.pos[i], &items[i]);
+			rc = resolve(forms[i], &items[i]);
 		else if ((size_t)i < bk_term_count())
-			resolve(bk_term_at((size_t)i)->name, &items[i]);
+			rc = resolve(bk_term_at((size_t)i)->name, &items[i]);
 		else
-			resolve(bk_catalog_at((size_t)i - bk_term_count())->name, &items[i]);
+			rc = resolve(bk_catalog_at((size_t)i - bk_term_count())->name, &items[i]);
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			if (given[j])
+				items[i].params[j] = values[j], items[i].have[j] = 1;
 	}
-	for (int i = 0; i < n; i++) {
+	if (rc)
+		rc = cli_fail("stability", "out of memory");
+	else
+		rc = check_params(&cmd, items, n, given);
+	for (int i = 0; i < n && rc == 0; i++) {
 		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {
 			fprintf(stderr, "brdfkit stability: %s\n", err);
-			free(items);
-			free(st);
-			return 2;
+			rc = 2;
 		}
 		cli_progress("stability", i + 1, n);
+	}
+	if (rc) {
+		free_items(items, st, n);
+		return rc;
 	}
 	if (!all)
 		for (int i = 0; i < n; i++)
@@ -297,7 +404,8 @@ int cmd_stability(int argc, char **argv)
 				      "catalog form on a stress grid with the extremes included, in half (IEEE binary16, rounded "
 				      "after every operation, inputs rounded to half as mediump holds them), single and double, "
 				      "against long double at the same rounded inputs. <i>Wrong</i>: not finite where the reference "
-				      "is a normal number, or off by more than 2 %. The minimum safe inputs are computed, and the "
+				      "is finite, or off by more than 2 % (by more than 2^-14 where the reference is below 2^-14, "
+				      "half's smallest normal). The minimum safe inputs are computed, and the "
 				      "guard proposed is the floor or clamp that makes the form pass with the smallest error of its "
 				      "own. Table: <a href=\"", h);
 				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<table>\n<tr><th>term or form</th><th>half</th>"
@@ -327,7 +435,6 @@ int cmd_stability(int argc, char **argv)
 			}
 		}
 	}
-	free(items);
-	free(st);
+	free_items(items, st, n);
 	return rc;
 }
