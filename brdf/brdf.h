@@ -218,6 +218,14 @@ typedef struct bk_form_error {
 	char message[200];
 } bk_form_error;
 
+/* Limits of a form, each an error naming it rather than a crash or a silent
+ * cut: text length (columns stay ints; the catalog's longest form is a few
+ * hundred characters), nesting of parentheses, calls and operators (the
+ * parser recurses), and instructions after term expansion (ir_code.c). */
+#define BK_FORM_MAX_LEN 16384
+#define BK_FORM_MAX_DEPTH 200
+#define BK_FORM_MAX_INSTR 4096
+
 bk_form *bk_form_parse(const char *text, bk_form_error *err);
 void bk_form_free(bk_form *f);
 const char *bk_form_text(const bk_form *f);

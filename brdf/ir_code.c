@@ -40,10 +40,10 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	}
 }
 
-/* Instructions per form: far above any BRDF term (the largest catalog entry
- * needs ~100), low enough that the recursive renumbering in finish() stays a
- * few hundred kilobytes of stack. */
-#define MAX_INSTR 4096
+/* Instructions per form (BK_FORM_MAX_INSTR): far above any BRDF term (the
+ * largest catalog entry needs ~100), low enough that the recursive
+ * renumbering in finish() stays a few hundred kilobytes of stack. */
+#define MAX_INSTR BK_FORM_MAX_INSTR
 
 static int push(bk_form *f, bk_instr in)
 {
