@@ -232,6 +232,8 @@ int cmd_stability(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	if (!all && cmd.npos == 0) {
 		fprintf(stderr, "brdfkit stability: give FORM|NAME|TERM or --all (see brdfkit stability --help)\n");
 		return 2;
