@@ -350,8 +350,8 @@ int bk_lang_reserved(bk_lang lang, const char *name)
 		if (strcmp(name, bk_input_name((bk_input)i)) == 0)
 			return 1;
 	switch (lang) {
-	case BK_LANG_C: /* C11 7.1.3: _ then a capital or a second _ */
-		return name[0] == '_' && ((name[1] >= 'A' && name[1] <= 'Z') || name[1] == '_');
+	case BK_LANG_C: /* C11 7.1.3: every _name is reserved at file scope, where the function is */
+		return name[0] == '_';
 	case BK_LANG_GLSL: /* GLSL ES 3.00 3.8: gl_ prefix; any __ */
 		return strncmp(name, "gl_", 3) == 0 || strstr(name, "__") != NULL;
 	case BK_LANG_HLSL:

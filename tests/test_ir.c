@@ -124,7 +124,7 @@ Test(parse, nesting_is_bounded)
 	buf[1200 - 1] = '\0';
 	bk_form_error e;
 	cr_assert_null(bk_form_parse(buf, &e));
-	cr_assert_str_eq(e.message, "expression nested too deeply near '('");
+	cr_assert_str_eq(e.message, "expression nested too deeply (more than 200 levels) near '('");
 }
 
 /* Precedence: ^ over unary minus over * / over + -; ^ right-associative. */
