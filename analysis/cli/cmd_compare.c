@@ -430,6 +430,23 @@ int cmd_compare(int argc, char **argv)
 	char err[512];
 	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
 		return cli_fail("compare", "%s", err);
+	for (int i = 0; i < cmd.npos; i++) { /* typed forms, before the minutes of refits */
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
+		const double zero[BK_MAX_PARAMS] = {0};
+		if (!f)
+			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
+		else if (nowhere_finite(&S.s, f, zero)) /* a row of blank metrics is no score */
+			fprintf(stderr, "brdfkit compare: form '%s': not finite at any of the %zu samples of the "
+			                "target\n", cmd.pos[i], S.s.n);
+		else {
+			bk_form_free(f);
+			continue;
+		}
+		bk_form_free(f);
+		bk_samples_free(&S.s);
+		return 2;
+	}
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		if (entry_fits(kind, e))
@@ -443,13 +460,6 @@ int cmd_compare(int argc, char **argv)
 		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
 		if (!f) {
 			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
-			bk_samples_free(&S.s);
-			return 2;
-		}
-		if (nowhere_finite(&S.s, f, r->params)) { /* a row of blank metrics is no score */
-			fprintf(stderr, "brdfkit compare: form '%s': not finite at any of the %zu samples of the "
-			                "target\n", cmd.pos[i], S.s.n);
-			bk_form_free(f);
 			bk_samples_free(&S.s);
 			return 2;
 		}
