@@ -424,6 +424,7 @@ void bk_form_free(bk_form *f)
 		return;
 	free(f->text);
 	free(f->code);
+	free(f->hash);
 	free(f);
 }
 
