@@ -57,6 +57,9 @@ void cli_help(const cli_cmd *cmd, FILE *out)
 	fprintf(out, "  %-22s %s\n", "--help", "this text");
 	if (cmd->details)
 		fprintf(out, "\n%s\n", cmd->details);
+	if (strstr(cmd->usage, "FORM")) /* every command that takes one reads it through cli_form_arg */
+		fprintf(out, "\nA FORM is formula text, @FILE (the file's text) or - (standard input); put --\n"
+		             "before a form that starts with '-'. Numbers: decimal or scientific, finite.\n");
 }
 
 static int usage_error(const cli_cmd *cmd, const char *fmt, ...)
