@@ -134,6 +134,8 @@ expect_error "list empty item" "empty item in the list '0.5,,0.6'" $BK dfg --nov
 expect_error "list leading comma" "empty item in the list ',0.5'" $BK dfg --nov ,0.5 --roughness 0.5
 expect_error "list trailing comma" "empty item in the list '0.5,'" $BK dfg --nov 0.5, --roughness 0.5
 expect_error "option overflow" "'1e999'" $BK dfg --nov 0.5 --roughness 1e999
+expect_error "option underflow to zero" "'1e-400'" $BK dfg --nov 1e-400 --roughness 0.5
+expect_error "option leading space" "' 0.5'" $BK dfg --nov ' 0.5' --roughness 0.5
 expect_error "eval hex input" "NoV: expected a finite number, got '0x1'" $BK eval NoV NoV=0x1
 expect_error "eval inf input" "NoV: expected a finite number, got 'inf'" $BK eval NoV NoV=inf
 expect_error "time hex param" "p0: expected a finite number, got '0x1'" $BK time 'p0*NoV' p0=0x1
