@@ -189,7 +189,9 @@ results: $(TOOL)
 	cp results/stability/stability.csv notebooks_data/stability.csv
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
-# from the seed corpus; a crashing input lands in build/ as crash-*.
+# from the seed corpus; a crashing input lands in build/ as crash-*. -max_len
+# is past the form's length limit (BK_FORM_MAX_LEN = 16384) so that the error
+# paths of every limit are reached.
 FUZZ_RUNS ?= 1000000
 build/fuzz_ir: tests/fuzz/fuzz_ir.c $(LIB_SRC)
 	$(call need,$(FUZZ_DEBS))
@@ -199,7 +201,7 @@ build/fuzz_ir: tests/fuzz/fuzz_ir.c $(LIB_SRC)
 
 fuzz: build/fuzz_ir
 	rm -rf build/fuzz-corpus && mkdir -p build/fuzz-corpus && cp tests/fuzz/corpus/* build/fuzz-corpus/
-	build/fuzz_ir -runs=$(FUZZ_RUNS) -max_len=256 -artifact_prefix=build/ build/fuzz-corpus
+	build/fuzz_ir -runs=$(FUZZ_RUNS) -max_len=20000 -artifact_prefix=build/ build/fuzz-corpus
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/bin

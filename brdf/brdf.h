@@ -218,6 +218,14 @@ typedef struct bk_form_error {
 	char message[200];
 } bk_form_error;
 
+/* Limits of a form, each an error naming it rather than a crash or a silent
+ * cut: text length (columns stay ints; the catalog's longest form is a few
+ * hundred characters), nesting of parentheses, calls and operators (the
+ * parser recurses), and instructions after term expansion (ir_code.c). */
+#define BK_FORM_MAX_LEN 16384
+#define BK_FORM_MAX_DEPTH 200
+#define BK_FORM_MAX_INSTR 4096
+
 bk_form *bk_form_parse(const char *text, bk_form_error *err);
 void bk_form_free(bk_form *f);
 const char *bk_form_text(const bk_form *f);
@@ -299,10 +307,24 @@ typedef struct bk_emit_info {
 	const char *command;     /* the command line that produced it; may be NULL */
 } bk_emit_info;
 
-/* Returns malloc'd source text, or NULL (out of memory, or params missing for
- * a form that has parameters). half: GLSL mediump / HLSL half instead of
- * highp / float (C is always float). */
+/* Returns malloc'd source text, or NULL (out of memory, params missing for a
+ * form that has parameters, or a name bk_lang_reserved refuses). half: GLSL
+ * mediump / HLSL half instead of highp / float (C is always float). */
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
                    const bk_emit_info *info);
+
+/* 1 if name cannot be the generated function's name in lang: a keyword or
+ * reserved word, a type, a library function the code calls, an input or a
+ * temporary tN of the body; 0 if it can. */
+int bk_lang_reserved(bk_lang lang, const char *name);
+/* The i-th entry of lang's table of reserved names, NULL past the end. */
+const char *bk_lang_word(bk_lang lang, size_t i);
+
+/* 1 if the generated code would compute a constant that is not finite: a
+ * literal or parameter past FLT_MAX, or an operation on constants (params
+ * baked in; NULL: parameters are not constants) whose single-precision result
+ * is NaN or infinite, e.g. sqrt(-1), 1/0; what names the first, e.g.
+ * "sqrt(-1) is NaN in single precision". 0 if none, -1 if out of memory. */
+int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len);
 
 #endif

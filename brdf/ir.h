@@ -36,6 +36,7 @@ struct bk_form {
 	int out;           /* the result register; after bk_ir_finish, n - 1 */
 	int nparams;
 	unsigned inputs;
+	int *hash, hcap;   /* while building: register + 1 by instruction hash (0: empty) */
 };
 
 /* Appends op (or finds an identical instruction: common subexpressions are

@@ -5,6 +5,7 @@
 #include "ir.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -40,16 +41,66 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	}
 }
 
-/* Instructions per form: far above any BRDF term (the largest catalog entry
- * needs ~100), low enough that the recursive renumbering in finish() stays a
- * few hundred kilobytes of stack. */
-#define MAX_INSTR 4096
+/* Instructions per form (BK_FORM_MAX_INSTR): far above any BRDF term (the
+ * largest catalog entry needs ~100), low enough that the recursive
+ * renumbering in finish() stays a few hundred kilobytes of stack. */
+#define MAX_INSTR BK_FORM_MAX_INSTR
+
+/* Field by field, k by its bits (one zero: bk_ir_const makes -0.0 +0.0). */
+static int same(const bk_instr *x, const bk_instr *y)
+{
+	uint64_t kx, ky;
+	memcpy(&kx, &x->k, sizeof kx);
+	memcpy(&ky, &y->k, sizeof ky);
+	return x->op == y->op && x->a == y->a && x->b == y->b && x->c == y->c && x->slot == y->slot && kx == ky;
+}
+
+static uint32_t hash(const bk_instr *in)
+{
+	uint64_t k, h = 1469598103934665603u; /* FNV-1a over the fields */
+	memcpy(&k, &in->k, sizeof k);
+	const uint64_t v[6] = {(uint64_t)in->op, (uint64_t)in->a, (uint64_t)in->b, (uint64_t)in->c,
+	                       (uint64_t)in->slot, k};
+	for (int i = 0; i < 6; i++)
+		h = (h ^ v[i]) * 1099511628211u;
+	return (uint32_t)(h ^ h >> 32);
+}
+
+/* Common subexpressions through an open-addressing table kept at most half
+ * full: a linear search made parsing quadratic (a second for a form at
+ * MAX_INSTR under the fuzzer). fuse() rewrites entries in place; a stale slot
+ * then simply never matches, as the linear search would not have matched. */
+static int *slot_of(bk_form *f, const bk_instr *in)
+{
+	unsigned mask = (unsigned)f->hcap - 1, h = hash(in) & mask;
+	while (f->hash[h] && !same(&f->code[f->hash[h] - 1], in))
+		h = (h + 1) & mask;
+	return &f->hash[h];
+}
+
+static int rehash(bk_form *f, int hcap)
+{
+	int *t = calloc((size_t)hcap, sizeof *t);
+	if (!t)
+		return -1;
+	free(f->hash);
+	f->hash = t;
+	f->hcap = hcap;
+	for (int i = 0; i < f->n; i++) {
+		int *s = slot_of(f, &f->code[i]);
+		if (!*s)
+			*s = i + 1;
+	}
+	return 0;
+}
 
 static int push(bk_form *f, bk_instr in)
 {
-	for (int i = 0; i < f->n; i++) /* forms are small: a linear search is enough */
-		if (memcmp(&f->code[i], &in, sizeof in) == 0)
-			return i;
+	if (2 * (f->n + 1) > f->hcap && rehash(f, f->hcap ? 2 * f->hcap : 64))
+		return -1;
+	int *s = slot_of(f, &in);
+	if (*s)
+		return *s - 1;
 	if (f->n == MAX_INSTR)
 		return -1;
 	if (f->n == f->cap) {
@@ -61,6 +112,7 @@ static int push(bk_form *f, bk_instr in)
 		f->cap = cap;
 	}
 	f->code[f->n] = in;
+	*s = f->n + 1;
 	return f->n++;
 }
 
@@ -276,6 +328,9 @@ int bk_ir_finish(bk_form *f, int out)
 	free(f->code);
 	f->code = dst;
 	f->n = f->cap = n;
+	free(f->hash); /* built: nothing is pushed any more */
+	f->hash = NULL;
+	f->hcap = 0;
 	f->out = n - 1;
 	/* Recompute what is read: dead inputs do not count. */
 	f->inputs = 0;

@@ -228,6 +228,200 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 	put(t, "\treturn %s;\n", ops[0]);
 }
 
+/* ---- names the generated function may not have ------------------------------
+ * One table per language: its keywords and reserved words, the type names,
+ * and the library functions and macros the templates of ir_ops.h call (a
+ * function of that name would clash with them). Rules for whole families
+ * (C's _X and __, GLSL's gl_ and __, HLSL's vector and matrix types) are in
+ * bk_lang_reserved. */
+
+static const char *const c_words[] = { /* C11 6.4.1, <math.h> as emitted */
+	"auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum",
+	"extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict",
+	"return", "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union",
+	"unsigned", "void", "volatile", "while", "_Alignas", "_Alignof", "_Atomic", "_Bool",
+	"_Complex", "_Generic", "_Imaginary", "_Noreturn", "_Static_assert", "_Thread_local",
+	"sqrtf", "powf", "expf", "exp2f", "logf", "log2f", "fminf", "fmaxf", "fabsf", "INFINITY", "NAN",
+	NULL,
+};
+
+static const char *const glsl_words[] = { /* GLSL ES 3.00 section 3.8, built-ins as emitted */
+	"const", "uniform", "layout", "centroid", "flat", "smooth", "break", "continue", "do", "for",
+	"while", "switch", "case", "default", "if", "else", "in", "out", "inout", "float", "int",
+	"void", "bool", "true", "false", "invariant", "discard", "return", "mat2", "mat3", "mat4",
+	"mat2x2", "mat2x3", "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4",
+	"vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "bvec2", "bvec3", "bvec4", "uint", "uvec2",
+	"uvec3", "uvec4", "lowp", "mediump", "highp", "precision", "sampler2D", "sampler3D",
+	"samplerCube", "sampler2DShadow", "samplerCubeShadow", "sampler2DArray",
+	"sampler2DArrayShadow", "isampler2D", "isampler3D", "isamplerCube", "isampler2DArray",
+	"usampler2D", "usampler3D", "usamplerCube", "usampler2DArray", "struct",
+	/* reserved for future use */
+	"attribute", "varying", "coherent", "volatile", "restrict", "readonly", "writeonly",
+	"resource", "atomic_uint", "noperspective", "patch", "sample", "subroutine", "common",
+	"partition", "active", "asm", "class", "union", "enum", "typedef", "template", "this", "goto",
+	"inline", "noinline", "public", "static", "extern", "external", "interface", "long", "short",
+	"double", "half", "fixed", "unsigned", "superp", "input", "output", "hvec2", "hvec3", "hvec4",
+	"dvec2", "dvec3", "dvec4", "fvec2", "fvec3", "fvec4", "sampler3DRect", "filter", "image1D",
+	"image2D", "image3D", "imageCube", "iimage1D", "iimage2D", "iimage3D", "iimageCube",
+	"uimage1D", "uimage2D", "uimage3D", "uimageCube", "image1DArray", "image2DArray",
+	"iimage1DArray", "iimage2DArray", "uimage1DArray", "uimage2DArray", "imageBuffer",
+	"iimageBuffer", "uimageBuffer", "sampler1D", "sampler1DShadow", "sampler1DArray",
+	"sampler1DArrayShadow", "isampler1D", "isampler1DArray", "usampler1D", "usampler1DArray",
+	"sampler2DRect", "sampler2DRectShadow", "isampler2DRect", "usampler2DRect", "samplerBuffer",
+	"isamplerBuffer", "usamplerBuffer", "sampler2DMS", "isampler2DMS", "usampler2DMS",
+	"sampler2DMSArray", "isampler2DMSArray", "usampler2DMSArray", "sizeof", "cast", "namespace",
+	"using",
+	/* built-in functions the templates call: redeclaring one is an error */
+	"sqrt", "inversesqrt", "pow", "exp", "exp2", "log", "log2", "min", "max", "clamp", "mix",
+	"abs", "uintBitsToFloat",
+	NULL,
+};
+
+static const char *const hlsl_words[] = { /* HLSL keywords and reserved words, intrinsics as emitted */
+	"AppendStructuredBuffer", "asm", "asm_fragment", "BlendState", "bool", "break", "Buffer",
+	"ByteAddressBuffer", "case", "cbuffer", "centroid", "class", "column_major", "compile",
+	"compile_fragment", "CompileShader", "const", "continue", "ComputeShader",
+	"ConsumeStructuredBuffer", "default", "DepthStencilState", "DepthStencilView", "discard",
+	"do", "double", "DomainShader", "dword", "else", "export", "extern", "false", "float", "for",
+	"fxgroup", "GeometryShader", "groupshared", "half", "Hullshader", "if", "in", "inline",
+	"inout", "InputPatch", "int", "interface", "line", "lineadj", "linear", "LineStream",
+	"matrix", "min16float", "min10float", "min16int", "min12int", "min16uint", "namespace",
+	"nointerpolation", "noperspective", "NULL", "out", "OutputPatch", "packoffset", "pass",
+	"pixelfragment", "PixelShader", "point", "PointStream", "precise", "RasterizerState",
+	"RenderTargetView", "return", "register", "row_major", "RWBuffer", "RWByteAddressBuffer",
+	"RWStructuredBuffer", "RWTexture1D", "RWTexture1DArray", "RWTexture2D", "RWTexture2DArray",
+	"RWTexture3D", "sample", "sampler", "SamplerState", "SamplerComparisonState", "shared",
+	"snorm", "stateblock", "stateblock_state", "static", "string", "struct", "switch",
+	"StructuredBuffer", "tbuffer", "technique", "technique10", "technique11", "texture",
+	"Texture1D", "Texture1DArray", "Texture2D", "Texture2DArray", "Texture2DMS",
+	"Texture2DMSArray", "Texture3D", "TextureCube", "TextureCubeArray", "true", "typedef",
+	"triangle", "triangleadj", "TriangleStream", "uint", "uniform", "unorm", "unsigned", "vector",
+	"vertexfragment", "VertexShader", "void", "volatile", "while",
+	/* reserved words */
+	"auto", "catch", "char", "const_cast", "delete", "dynamic_cast", "enum", "explicit",
+	"friend", "goto", "long", "mutable", "new", "operator", "private", "protected", "public",
+	"reinterpret_cast", "short", "signed", "sizeof", "static_cast", "template", "this", "throw",
+	"try", "typename", "union", "using", "virtual",
+	/* intrinsics the templates call */
+	"sqrt", "rsqrt", "rcp", "pow", "exp", "exp2", "log", "log2", "min", "max", "clamp",
+	"saturate", "lerp", "abs", "mad", "asfloat",
+	NULL,
+};
+
+static const char *const *const lang_words[3] = {c_words, glsl_words, hlsl_words};
+
+const char *bk_lang_word(bk_lang lang, size_t i)
+{
+	if ((unsigned)lang > BK_LANG_HLSL)
+		return NULL;
+	for (size_t k = 0; k <= i; k++)
+		if (!lang_words[lang][k])
+			return NULL;
+	return lang_words[lang][i];
+}
+
+/* HLSL's numeric vector and matrix types: a scalar type then N or NxM, 1..4. */
+static int hlsl_vector_type(const char *s)
+{
+	static const char *const scalar[] = {"bool", "int", "uint", "dword", "half", "float", "double",
+	                                     "min16float", "min10float", "min16int", "min12int", "min16uint"};
+	for (size_t i = 0; i < sizeof scalar / sizeof scalar[0]; i++) {
+		size_t n = strlen(scalar[i]);
+		if (strncmp(s, scalar[i], n) != 0)
+			continue;
+		const char *d = s + n;
+		if (d[0] >= '1' && d[0] <= '4' && (d[1] == '\0' || (d[1] == 'x' && d[2] >= '1' && d[2] <= '4' && !d[3])))
+			return 1;
+	}
+	return 0;
+}
+
+int bk_lang_reserved(bk_lang lang, const char *name)
+{
+	if ((unsigned)lang > BK_LANG_HLSL)
+		return 1;
+	for (const char *const *w = lang_words[lang]; *w; w++)
+		if (strcmp(*w, name) == 0)
+			return 1;
+	/* the body's own names: temporaries tN and the inputs (the parameters) */
+	if (name[0] == 't' && name[1] && strspn(name + 1, "0123456789") == strlen(name + 1))
+		return 1;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (strcmp(name, bk_input_name((bk_input)i)) == 0)
+			return 1;
+	switch (lang) {
+	case BK_LANG_C: /* C11 7.1.3: every _name is reserved at file scope, where the function is */
+		return name[0] == '_';
+	case BK_LANG_GLSL: /* GLSL ES 3.00 3.8: gl_ prefix; any __ */
+		return strncmp(name, "gl_", 3) == 0 || strstr(name, "__") != NULL;
+	case BK_LANG_HLSL:
+		return hlsl_vector_type(name);
+	}
+	return 1;
+}
+
+/* ---- constants the generated code would compute as NaN or infinity -------- */
+
+static void spell_const_op(char *what, size_t len, const bk_instr *in, const double *val)
+{
+	const char *name = bk_opinfo_table[in->op].name;
+	double a = val[in->a], b = in->b >= 0 ? val[in->b] : 0, c = in->c >= 0 ? val[in->c] : 0;
+	static const char infix[] = {[BK_OP_ADD] = '+', [BK_OP_SUB] = '-', [BK_OP_MUL] = '*', [BK_OP_DIV] = '/'};
+	if (in->op == BK_OP_NEG)
+		snprintf(what, len, "-(%.9g)", a);
+	else if (in->op == BK_OP_MAD)
+		snprintf(what, len, "%.9g*%.9g + %.9g", a, b, c);
+	else if (!*name)
+		snprintf(what, len, "%.9g %c %.9g", a, infix[in->op], b);
+	else if (bk_opinfo_table[in->op].arity == 1)
+		snprintf(what, len, "%s(%.9g)", name, a);
+	else if (bk_opinfo_table[in->op].arity == 2)
+		snprintf(what, len, "%s(%.9g, %.9g)", name, a, b);
+	else
+		snprintf(what, len, "%s(%.9g, %.9g, %.9g)", name, a, b, c);
+}
+
+int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len)
+{
+	double *val = malloc(sizeof(double) * (size_t)f->n);
+	char *known = malloc((size_t)f->n);
+	int found = 0;
+	if (!val || !known) {
+		free(val);
+		free(known);
+		return -1;
+	}
+	for (int i = 0; i < f->n && !found; i++) {
+		const bk_instr *in = &f->code[i];
+		int ops[3] = {in->a, in->b, in->c}, ar = bk_opinfo_table[in->op].arity;
+		known[i] = in->op == BK_OP_CONST || (in->op == BK_OP_PARAM && params);
+		for (int j = 0; j < ar; j++)
+			known[i] = (char)(j == 0 ? known[ops[j]] : known[i] && known[ops[j]]);
+		if (!known[i])
+			continue;
+		/* what the float code computes: operands and each result in single */
+		double v = in->op == BK_OP_CONST ? in->k
+		         : in->op == BK_OP_PARAM ? params[in->slot]
+		         : bk_ir_apply(in->op, val[ops[0]], ar > 1 ? val[ops[1]] : 0, ar > 2 ? val[ops[2]] : 0);
+		val[i] = (float)v;
+		if (isfinite(val[i]))
+			continue;
+		found = 1;
+		char op[96];
+		if (in->op == BK_OP_CONST)
+			snprintf(op, sizeof op, "the constant %.9g", v);
+		else if (in->op == BK_OP_PARAM)
+			snprintf(op, sizeof op, "p%d = %.9g", in->slot, v);
+		else
+			spell_const_op(op, sizeof op, in, val);
+		snprintf(what, len, "%s is %s in single precision", op,
+		         isnan(val[i]) ? "NaN" : val[i] > 0 ? "+inf" : "-inf");
+	}
+	free(val);
+	free(known);
+	return found;
+}
+
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
                    const bk_emit_info *info)
 {
@@ -236,6 +430,8 @@ char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *param
 		return NULL;
 	if (!info)
 		info = &none;
+	if (info->name && bk_lang_reserved(lang, info->name))
+		return NULL;
 	const char *type = type_name[lang][lang == BK_LANG_C ? 0 : half != 0];
 	text t = {malloc(1024), 0, 1024, 0};
 	t.failed = !t.s;

@@ -7,12 +7,13 @@
 #include "ir_lex.h"
 #include "ir_terms.h"
 
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_DEPTH 200 /* nesting of parentheses, calls and operators */
+#define MAX_DEPTH BK_FORM_MAX_DEPTH /* nesting of parentheses, calls and operators */
 #define MAX_LOCALS 32
 #define MAX_ARGS 8
 
@@ -96,10 +97,14 @@ static int error(parser *P, const char *fmt, ...)
 	return -1;
 }
 
+/* A failed emit: the instruction limit, or malloc. */
 static int check(parser *P, int reg)
 {
-	if (reg < 0 && !P->failed)
-		return error(P, "out of memory or form too large");
+	if (reg < 0 && !P->failed) {
+		if (P->f->n >= BK_FORM_MAX_INSTR)
+			return error(P, "form too large (more than %d instructions)", BK_FORM_MAX_INSTR);
+		return error(P, "out of memory");
+	}
 	return reg;
 }
 
@@ -279,12 +284,26 @@ static int name(parser *P, bk_token t)
 	                BK_MAX_PARAMS - 1);
 }
 
+/* Whether a number's digits before its exponent are not all zeros. */
+static int nonzero_digits(const char *s, size_t len)
+{
+	for (size_t i = 0; i < len && s[i] != 'e' && s[i] != 'E'; i++)
+		if (s[i] >= '1' && s[i] <= '9')
+			return 1;
+	return 0;
+}
+
 /* primary := NUMBER | NAME | NAME args | '(' expr ')' */
 static int primary(parser *P)
 {
 	bk_token t = P->lx.tok;
 	switch ((int)t.type) {
 	case TK_NUMBER:
+		/* the value typed or an error: never inf (1e999), never a silent 0 (1e-400) */
+		if (!isfinite(t.num))
+			return error(P, "number too large (overflows double)");
+		if (t.num == 0.0 && nonzero_digits(P->lx.src + t.start, t.len))
+			return error(P, "number too small (underflows to zero)");
 		bk_lex_next(&P->lx);
 		return check(P, bk_ir_const(P->f, t.num));
 	case TK_IDENT:
@@ -318,7 +337,7 @@ static int subexpr(parser *P, int limit)
 {
 	if (++P->depth > MAX_DEPTH) {
 		P->depth--;
-		return error(P, "expression nested too deeply");
+		return error(P, "expression nested too deeply (more than %d levels)", MAX_DEPTH);
 	}
 	int r;
 	if (P->lx.tok.type == '-') {
@@ -371,6 +390,13 @@ bk_form *bk_form_parse(const char *text, bk_form_error *err)
 {
 	if (err)
 		*err = (bk_form_error){0, ""};
+	if (strlen(text) > BK_FORM_MAX_LEN) {
+		if (err) {
+			err->column = BK_FORM_MAX_LEN + 1;
+			snprintf(err->message, sizeof err->message, "form longer than %d characters", BK_FORM_MAX_LEN);
+		}
+		return NULL;
+	}
 	bk_form *f = calloc(1, sizeof *f);
 	if (!f || !(f->text = malloc(strlen(text) + 1))) {
 		free(f);
@@ -385,8 +411,7 @@ bk_form *bk_form_parse(const char *text, bk_form_error *err)
 	bk_lex_next(&P.lx);
 	int out = statements(&P);
 	if (out < 0 || bk_ir_finish(f, out) < 0) {
-		if (!P.failed)
-			error(&P, "out of memory");
+		check(&P, -1); /* finish fuses: a NEG it adds can meet the limit */
 		bk_form_free(f);
 		return NULL;
 	}
@@ -399,6 +424,7 @@ void bk_form_free(bk_form *f)
 		return;
 	free(f->text);
 	free(f->code);
+	free(f->hash);
 	free(f);
 }
 

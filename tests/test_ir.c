@@ -124,7 +124,7 @@ Test(parse, nesting_is_bounded)
 	buf[1200 - 1] = '\0';
 	bk_form_error e;
 	cr_assert_null(bk_form_parse(buf, &e));
-	cr_assert_str_eq(e.message, "expression nested too deeply near '('");
+	cr_assert_str_eq(e.message, "expression nested too deeply (more than 200 levels) near '('");
 }
 
 /* Precedence: ^ over unary minus over * / over + -; ^ right-associative. */
@@ -362,14 +362,21 @@ static int replay_dir(const char *dir)
 	for (struct dirent *e; (e = readdir(d));) {
 		if (e->d_name[0] == '.' || !strcmp(e->d_name, "README"))
 			continue;
-		char path[512], text[4097];
+		char path[512];
 		snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
 		FILE *fp = fopen(path, "rb");
 		cr_assert_not_null(fp);
-		size_t len = fread(text, 1, sizeof text - 1, fp);
+		/* whole, as the harness gets it: corpus entries sit past the limits */
+		cr_assert_eq(fseek(fp, 0, SEEK_END), 0);
+		long size = ftell(fp);
+		rewind(fp);
+		char *text = malloc((size_t)size + 1);
+		cr_assert_not_null(text);
+		size_t len = fread(text, 1, (size_t)size, fp);
 		fclose(fp);
 		text[len] = '\0';
 		exercise(text);
+		free(text);
 		n++;
 	}
 	closedir(d);

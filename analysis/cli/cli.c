@@ -57,6 +57,9 @@ void cli_help(const cli_cmd *cmd, FILE *out)
 	fprintf(out, "  %-22s %s\n", "--help", "this text");
 	if (cmd->details)
 		fprintf(out, "\n%s\n", cmd->details);
+	if (strstr(cmd->usage, "FORM")) /* every command that takes one reads it through cli_form_arg */
+		fprintf(out, "\nA FORM is formula text, @FILE (the file's text) or - (standard input); put --\n"
+		             "before a form that starts with '-'. Numbers: decimal or scientific, finite.\n");
 }
 
 int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
@@ -79,16 +82,45 @@ int cli_seen(const cli_cmd *cmd, const char *name)
 	return 0;
 }
 
+int cli_number(const char *text, double *x)
+{
+	static const char digits[] = "0123456789";
+	const char *s = text + (*text == '+' || *text == '-'), *mant = s;
+	s += strspn(s, digits);
+	if (*s == '.')
+		s += 1 + strspn(s + 1, digits);
+	size_t nmant = (size_t)(s - mant);
+	if (nmant == 0 || (nmant == 1 && *mant == '.'))
+		return -1;
+	int nonzero = strcspn(mant, "123456789") < nmant;
+	if (*s == 'e' || *s == 'E') {
+		s += 1 + (s[1] == '+' || s[1] == '-');
+		size_t e = strspn(s, digits);
+		if (e == 0)
+			return -1;
+		s += e;
+	}
+	if (*s)
+		return -1;
+	errno = 0;
+	double v = strtod(text, NULL);
+	/* ERANGE is also how strtod reports a subnormal result, which is a number
+	 * like any other; overflow to inf, and a nonzero text that underflows to
+	 * zero, are not the value typed. */
+	if (!isfinite(v) || (v == 0.0 && nonzero))
+		return -1;
+	*x = v;
+	return 0;
+}
+
 /* Strict number: the whole text must be a finite number inside the range. */
 static int parse_number(const cli_cmd *cmd, const cli_opt *o, const char *text,
                         double *out)
 {
-	char *end;
 	char r[48];
 	range_text(o, r, sizeof r);
-	errno = 0;
-	double x = strtod(text, &end);
-	if (end == text || *end != '\0' || errno == ERANGE || !isfinite(x))
+	double x;
+	if (cli_number(text, &x))
 		return usage_error(cmd, "%s: expected a finite number in %s, got '%s'",
 		                   o->name, r, text);
 	if (o->kind == CLI_INT && x != floor(x))
@@ -102,25 +134,32 @@ static int parse_number(const cli_cmd *cmd, const cli_opt *o, const char *text,
 	return 0;
 }
 
+/* Items between commas, each a number; an empty item (",0.5", "0.5,,1",
+ * "0.5,") is a typing slip, not a value to skip. */
 static int parse_list(const cli_cmd *cmd, const cli_opt *o, const char *text,
                       cli_list *l)
 {
-	char buf[4096];
-	if (strlen(text) >= sizeof buf)
-		return usage_error(cmd, "%s: list too long", o->name);
-	strcpy(buf, text);
+	if (!*text)
+		return usage_error(cmd, "%s: expected a comma-separated list of numbers, got ''", o->name);
 	l->n = 0;
-	char *save = NULL;
-	for (char *tok = strtok_r(buf, ",", &save); tok; tok = strtok_r(NULL, ",", &save)) {
+	for (const char *p = text;;) {
+		const char *comma = strchr(p, ',');
+		size_t n = comma ? (size_t)(comma - p) : strlen(p);
+		if (n == 0)
+			return usage_error(cmd, "%s: empty item in the list '%s'", o->name, text);
 		if (l->n == CLI_LIST_MAX)
 			return usage_error(cmd, "%s: more than %d values", o->name, CLI_LIST_MAX);
-		if (parse_number(cmd, o, tok, &l->v[l->n++]))
+		char *item = strndup(p, n);
+		if (!item)
+			return usage_error(cmd, "%s: out of memory", o->name);
+		int rc = parse_number(cmd, o, item, &l->v[l->n++]);
+		free(item);
+		if (rc)
 			return 2;
+		if (!comma)
+			return 0;
+		p = comma + 1;
 	}
-	if (l->n == 0)
-		return usage_error(cmd, "%s: expected a comma-separated list of numbers, got '%s'",
-		                   o->name, text);
-	return 0;
 }
 
 static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
@@ -144,6 +183,10 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 	case CLI_FLAG:
 		*(int *)o->dest = 1;
 		return 0;
+	case CLI_FORM:
+		if (!*text)
+			return usage_error(cmd, "%s: empty value", o->name);
+		return cli_form_arg(text, o->dest);
 	}
 	return 2;
 }
@@ -151,13 +194,18 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 int cli_parse(cli_cmd *cmd, int argc, char **argv)
 {
 	cli_set_name(cmd->name);
+	int options = 1; /* until "--" */
 	for (int i = 0; i < argc; i++) {
 		const char *arg = argv[i];
-		if (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0) {
+		if (options && strcmp(arg, "--") == 0) {
+			options = 0;
+			continue;
+		}
+		if (options && (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)) {
 			cli_help(cmd, stdout);
 			return 1;
 		}
-		if (strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
+		if (!options || strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
 			if (cmd->npos >= cmd->max_pos || cmd->npos == 32)
 				return usage_error(cmd, "unexpected argument '%s'", arg);
 			cmd->pos[cmd->npos++] = argv[i];
@@ -194,6 +242,143 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 		if (cmd->opts[k].required && !cmd->opts[k].seen)
 			return usage_error(cmd, "missing %s %s", cmd->opts[k].name,
 			                   cmd->opts[k].metavar);
+	return 0;
+}
+
+char *cli_read_file(const char *path, size_t *len)
+{
+	FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
+	if (!f)
+		return NULL;
+	size_t cap = 4096, n = 0;
+	char *buf = malloc(cap);
+	int err = buf ? 0 : ENOMEM;
+	while (!err) {
+		if (cap - n < 2) {
+			char *b = realloc(buf, 2 * cap);
+			if (!b) {
+				err = ENOMEM;
+				break;
+			}
+			buf = b;
+			cap *= 2;
+		}
+		size_t k = fread(buf + n, 1, cap - n - 1, f);
+		n += k;
+		if (k == 0) {
+			if (ferror(f))
+				err = errno ? errno : EIO; /* a directory: EISDIR */
+			break;
+		}
+	}
+	if (f != stdin)
+		fclose(f);
+	if (err) {
+		free(buf);
+		errno = err;
+		return NULL;
+	}
+	buf[n] = '\0';
+	*len = n;
+	return buf;
+}
+
+int cli_check_text(const char *buf, size_t len, char *why, size_t wlen)
+{
+	const unsigned char *s = (const unsigned char *)buf;
+	for (size_t i = 0; i < len;) {
+		unsigned c = s[i], cp, min;
+		size_t n; /* continuation bytes */
+		if (c == 0) {
+			snprintf(why, wlen, "a NUL byte at offset %zu", i);
+			return -1;
+		}
+		if (c < 0x80) {
+			i++;
+			continue;
+		}
+		/* RFC 3629: no overlong forms, no surrogates, nothing past U+10FFFF */
+		if (c >= 0xc2 && c <= 0xdf)
+			n = 1, min = 0x80;
+		else if ((c & 0xf0) == 0xe0)
+			n = 2, min = 0x800;
+		else if (c >= 0xf0 && c <= 0xf4)
+			n = 3, min = 0x10000;
+		else
+			goto bad;
+		cp = c & (0x3fu >> n);
+		for (size_t k = 1; k <= n; k++) {
+			if (i + k >= len || (s[i + k] & 0xc0) != 0x80)
+				goto bad;
+			cp = cp << 6 | (s[i + k] & 0x3f);
+		}
+		if (cp < min || cp > 0x10ffff || (cp >= 0xd800 && cp <= 0xdfff))
+			goto bad;
+		i += n + 1;
+		continue;
+	bad:
+		snprintf(why, wlen, "invalid UTF-8 at offset %zu", i);
+		return -1;
+	}
+	return 0;
+}
+
+/* What cli_form_arg read, freed at exit (the texts live as long as argv). */
+static char **form_texts;
+static size_t nform_texts;
+
+static void free_form_texts(void)
+{
+	for (size_t i = 0; i < nform_texts; i++)
+		free(form_texts[i]);
+	free(form_texts);
+}
+
+int cli_form_arg(const char *arg, const char **text)
+{
+	if (arg[0] != '@' && strcmp(arg, "-") != 0) {
+		*text = arg;
+		return 0;
+	}
+	const char *path = arg[0] == '@' ? arg + 1 : "-";
+	const char *label = arg[0] == '@' ? arg : "standard input";
+	size_t len;
+	char *buf = cli_read_file(path, &len), why[64];
+	if (!buf) {
+		cli_fail(NULL, "%s: cannot read: %s", label, strerror(errno));
+		return 2;
+	}
+	if (cli_check_text(buf, len, why, sizeof why)) {
+		cli_fail(NULL, "%s: not text (%s)", label, why);
+		free(buf);
+		return 2;
+	}
+	if (len && buf[len - 1] == '\n') /* as an editor saves it */
+		buf[--len] = '\0';
+	if (len && buf[len - 1] == '\r')
+		buf[--len] = '\0';
+	char **t = realloc(form_texts, (nform_texts + 1) * sizeof *t);
+	if (!t) {
+		free(buf);
+		cli_fail(NULL, "%s: out of memory", label);
+		return 2;
+	}
+	if (!form_texts)
+		atexit(free_form_texts);
+	form_texts = t;
+	form_texts[nform_texts++] = buf;
+	*text = buf;
+	return 0;
+}
+
+int cli_form_positionals(cli_cmd *cmd, int first)
+{
+	for (int i = first; i < cmd->npos; i++) {
+		const char *text;
+		if (cli_form_arg(cmd->pos[i], &text))
+			return 2;
+		cmd->pos[i] = (char *)text;
+	}
 	return 0;
 }
 

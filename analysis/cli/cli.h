@@ -10,7 +10,8 @@
 
 #define CLI_LIST_MAX 64
 
-typedef enum cli_kind { CLI_NUM, CLI_INT, CLI_STR, CLI_FLAG, CLI_LIST } cli_kind;
+/* CLI_FORM: a string that is a form, read through cli_form_arg (@FILE, -). */
+typedef enum cli_kind { CLI_NUM, CLI_INT, CLI_STR, CLI_FLAG, CLI_LIST, CLI_FORM } cli_kind;
 
 typedef struct cli_list {
 	int n;
@@ -43,10 +44,38 @@ typedef struct cli_cmd {
 	char *pos[32];
 } cli_cmd;
 
-/* Parses argv (after the subcommand) into the option table. Returns 0, 1 when
- * --help was printed (exit 0), or 2 after printing an error (usage error). */
+/* Parses argv (after the subcommand) into the option table; "--" ends the
+ * options (what follows is positional, so a form may start with '-'). Returns
+ * 0, 1 when --help was printed (exit 0), or 2 after printing an error (usage
+ * error). */
 int cli_parse(cli_cmd *cmd, int argc, char **argv);
 void cli_help(const cli_cmd *cmd, FILE *out);
+
+/* The one number syntax of the tool, for option values, list items and
+ * NAME=VALUE: [+-] digits ['.' [digits]] | [+-] '.' digits, then an optional
+ * exponent [eE][+-]digits; nothing before or after. Not hex, inf or nan
+ * (which strtod alone would take). Subnormal values are accepted; a value
+ * that overflows double is not. Returns 0 with *x set, or -1. */
+int cli_number(const char *text, double *x);
+
+/* A FORM argument as text: "@FILE" is the whole file, "-" all of standard
+ * input (one trailing newline dropped), anything else the argument itself.
+ * *text is valid until exit. Returns 0, or 2 after an error naming the file
+ * (cannot be read, or not text: a NUL byte or invalid UTF-8). */
+int cli_form_arg(const char *arg, const char **text);
+
+/* Reads a whole file (path "-": standard input) into a malloc'd, NUL-
+ * terminated buffer; *len excludes the NUL. Returns NULL with errno set. */
+/* cli_form_arg on every positional from the first-th on, in place: for the
+ * commands whose positionals are forms (or NAME=VALUE, which is never '-' or
+ * starts with '@'). Returns 0 or 2 after an error. */
+int cli_form_positionals(cli_cmd *cmd, int first);
+
+char *cli_read_file(const char *path, size_t *len);
+
+/* 0 if buf[0..len) is text: no NUL byte and valid UTF-8; otherwise -1 with
+ * a reason ("a NUL byte at offset 12") in why. */
+int cli_check_text(const char *buf, size_t len, char *why, size_t wlen);
 
 /* "brdfkit CMD: message" on stderr, one line. Returns 1 (runtime failure) so a
  * command can `return cli_fail(...)`; usage errors return 2 from cli_parse. */

@@ -120,6 +120,21 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 	return 0;
 }
 
+/* 1 if f (at params) is NaN or infinite at every sample: 0/0, sqrt(-1), or
+ * an input the target does not provide. */
+static int nowhere_finite(const bk_samples *s, const bk_form *f, const double *params)
+{
+	double *v = malloc(s->n * sizeof *v);
+	const double *in[BK_IN_COUNT];
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		in[k] = s->in[k];
+	int none = v && bk_form_eval(f, BK_F64, s->n, in, params, v) == 0;
+	for (size_t k = 0; none && k < s->n; k++)
+		none = !isfinite(v[k]);
+	free(v);
+	return none;
+}
+
 static int add_entry(study *S, const bk_catalog_entry *e)
 {
 	if (S->n + 2 > MAX_ROWS)
@@ -430,6 +445,8 @@ int cmd_compare(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	static study S;
 	memset(&S, 0, sizeof S);
 	bk_target_kind kind;
@@ -466,6 +483,23 @@ int cmd_compare(int argc, char **argv)
 	if ((rc = check_args(&cmd, kind, S.s.provides))) {
 		bk_samples_free(&S.s);
 		return rc;
+	}
+	for (int i = 0; i < cmd.npos; i++) { /* typed forms, before the minutes of refits */
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
+		const double zero[BK_MAX_PARAMS] = {0};
+		if (!f)
+			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
+		else if (nowhere_finite(&S.s, f, zero)) /* a row of blank metrics is no score */
+			fprintf(stderr, "brdfkit compare: form '%s': not finite at any of the %zu samples of the "
+			                "target\n", cmd.pos[i], S.s.n);
+		else {
+			bk_form_free(f);
+			continue;
+		}
+		bk_form_free(f);
+		bk_samples_free(&S.s);
+		return 2;
 	}
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);

@@ -44,6 +44,11 @@ int cmd_dfg(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (opts[3].seen && opts[4].seen) { /* the bake would silently ignore --tol */
+		fprintf(stderr, "brdfkit dfg: --tol and --samples: the Monte Carlo bake has no tolerance "
+		                "(give one or the other)\n");
+		return 2;
+	}
 	bk_smith m;
 	if (parse_smith("dfg", smith, &m))
 		return 2;

@@ -29,10 +29,11 @@ typedef struct fit_cli {
 
 static int range(const char *opt, const char *text, double *lo, double *hi)
 {
-	char *end;
-	*lo = strtod(text, &end);
-	if (end == text || *end != ':' || (*hi = strtod(end + 1, &end), *end) || !(*lo < *hi) ||
-	    !isfinite(*lo) || !isfinite(*hi)) {
+	const char *colon = strchr(text, ':');
+	char lo_text[64] = "";
+	if (colon && (size_t)(colon - text) < sizeof lo_text)
+		memcpy(lo_text, text, (size_t)(colon - text));
+	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi)) {
 		fprintf(stderr, "brdfkit fit: %s: expected LO:HI with LO < HI, got '%s'\n", opt, text);
 		return 2;
 	}
@@ -363,8 +364,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
 		char *end;
 		long j = pos[i][0] == 'p' ? strtol(pos[i] + 1, &end, 10) : -1;
-		double v = j >= 0 && *end == '=' ? strtod(end + 1, &end) : NAN;
-		if (j < 0 || j >= BK_MAX_PARAMS || *end || !isfinite(v)) {
+		double v = NAN;
+		if (j < 0 || j >= BK_MAX_PARAMS || *end != '=' || cli_number(end + 1, &v)) {
 			fprintf(stderr, "brdfkit fit: expected pN=VALUE (a starting value), got '%s'\n", pos[i]);
 			return 2;
 		}
@@ -585,9 +586,9 @@ int cmd_fit(int argc, char **argv)
 	             .threads = 1, .loss_scale = 1.0};
 	cli_opt opts[] = {
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d or f", .dest = &a.target, .required = 1},
-		{.name = "--form", .kind = CLI_STR, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
-		{.name = "--form-a", .kind = CLI_STR, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
-		{.name = "--form-b", .kind = CLI_STR, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
+		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
+		{.name = "--form-a", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
+		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
 		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "perceptual roughness range (default 0:1)", .dest = &a.r_range},
 		{.name = "--x-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "LoH (vf2d, f), NoV (vf, spec, env) or NoH (d) range", .dest = &a.x_range},
@@ -601,7 +602,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index of the exact Fresnel (default 1.5)", .dest = &a.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.k, .lo = 0, .hi = 1e6},
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals (f - y)/|y|", .dest = &a.relative},
-		{.name = "--weight", .kind = CLI_STR, .metavar = "none|dnol|FORM", .help = "weight: none, D*NoL (vf default), or a formula multiplying it", .dest = &a.weight},
+		{.name = "--weight", .kind = CLI_FORM, .metavar = "none|dnol|FORM", .help = "weight: none, D*NoL (vf default), or a formula multiplying it", .dest = &a.weight},
 		{.name = "--loss", .kind = CLI_STR, .metavar = "L", .help = "none (default), huber, cauchy, softl1 (per residual)", .dest = &a.loss},
 		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale c of the robust loss, in units of the weighted residual sqrt(w)·(f - y) (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
 		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},

@@ -69,16 +69,13 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 static int assignment(const char *cmd, const char *arg, char *name, size_t nlen, double *v)
 {
 	const char *eq = strchr(arg, '=');
-	char *end;
 	if (!eq || eq == arg || (size_t)(eq - arg) >= nlen) {
 		fprintf(stderr, "brdfkit %s: expected NAME=VALUE, got '%s'\n", cmd, arg);
 		return 2;
 	}
 	memcpy(name, arg, (size_t)(eq - arg));
 	name[eq - arg] = '\0';
-	errno = 0;
-	*v = strtod(eq + 1, &end);
-	if (end == eq + 1 || *end || errno == ERANGE || !isfinite(*v)) {
+	if (cli_number(eq + 1, v)) {
 		fprintf(stderr, "brdfkit %s: %s: expected a finite number, got '%s'\n", cmd, name, eq + 1);
 		return 2;
 	}
@@ -93,6 +90,11 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 		double v;
 		if (assignment(cmd, pos[i], name, sizeof name, &v))
 			return 2;
+		for (int j = 0; j < i; j++) /* a second value would silently replace the first */
+			if (strncmp(pos[j], name, strlen(name)) == 0 && pos[j][strlen(name)] == '=') {
+				fprintf(stderr, "brdfkit %s: %s given twice\n", cmd, name);
+				return 2;
+			}
 		char *end;
 		if (name[0] == 'p' && name[1] >= '0' && name[1] <= '9') {
 			long k = strtol(name + 1, &end, 10);
@@ -108,8 +110,14 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 		for (int k = 0; inputs && k < BK_IN_COUNT; k++)
 			if (strcmp(name, bk_input_name((bk_input)k)) == 0 ||
 			    (k == BK_IN_LOH && strcmp(name, "VoH") == 0)) {
+				/* VoH = LoH for the half vector: both may be given, with one value */
+				if (given[k] && inputs[k] != v) {
+					fprintf(stderr, "brdfkit %s: %s and %s differ: for the half vector VoH and LoH are "
+					                "the same cosine\n", cmd, pos[given[k] - 1], pos[i]);
+					return 2;
+				}
 				inputs[k] = v;
-				given[k] = 1;
+				given[k] = i + 1; /* which argument, for the message above */
 				found = 1;
 			}
 		if (!found) {
@@ -127,6 +135,18 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 	return 0;
 }
 
+/* Significant digits that read back as x: 0.1, not 0.10000000000000001. */
+static int shortest(double x)
+{
+	char buf[32];
+	for (int d = 1; d < 17; d++) {
+		snprintf(buf, sizeof buf, "%.*g", d, x);
+		if (strtod(buf, NULL) == x)
+			return d;
+	}
+	return 17;
+}
+
 int cmd_eval(int argc, char **argv)
 {
 	cli_cmd cmd = {"eval", "Evaluates a form at one point in double, single and half precision (half:\n"
@@ -137,6 +157,8 @@ int cmd_eval(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	if (cmd.npos < 1) {
 		fprintf(stderr, "brdfkit eval: missing FORM (see brdfkit eval --help)\n");
 		return 2;
@@ -165,11 +187,25 @@ int cmd_eval(int argc, char **argv)
 	}
 	/* digits that round-trip each precision: 17, 9 and 5 significant */
 	static const char *const fmt[3] = {"%s %.17g\n", "%s %.9g\n", "%s %.5g\n"};
-	for (int p = BK_F64; p <= BK_F16; p++) {
-		double v;
-		bk_form_eval(fa.f, (bk_precision)p, 1, ptr, fa.params, &v);
-		printf(fmt[p], bk_precision_name((bk_precision)p), v);
+	double v[3];
+	for (int p = BK_F64; p <= BK_F16; p++)
+		bk_form_eval(fa.f, (bk_precision)p, 1, ptr, fa.params, &v[p]);
+	/* The value is the product: a NaN or an infinity (a pole) is no answer to
+	 * print. Single and half are shown as they come, overflow included: how
+	 * they differ from double is what they are printed for. */
+	if (!isfinite(v[BK_F64])) {
+		char at[256] = "";
+		size_t k = 0;
+		for (int i = 0; i < BK_IN_COUNT && k < sizeof at; i++)
+			if (bk_form_inputs(fa.f) >> i & 1)
+				k += (size_t)snprintf(at + k, sizeof at - k, "%s %s=%.*g", k ? "" : " at",
+				                      bk_input_name((bk_input)i), shortest(in[i]), in[i]);
+		bk_form_free(fa.f);
+		return cli_fail("eval", "value not finite%s: f64 %s", at,
+		                isnan(v[BK_F64]) ? "nan" : v[BK_F64] > 0 ? "inf" : "-inf");
 	}
+	for (int p = BK_F64; p <= BK_F16; p++)
+		printf(fmt[p], bk_precision_name((bk_precision)p), v[p]);
 	bk_form_free(fa.f);
 	return 0;
 }
@@ -194,6 +230,8 @@ int cmd_ops(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	if (cmd.npos != 1) {
 		fprintf(stderr, "brdfkit ops: missing FORM (see brdfkit ops --help)\n");
 		return 2;
@@ -287,6 +325,13 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: --name: not an identifier: '%s'\n", fname);
 		return 2;
 	}
+	if (fname && bk_lang_reserved(L, fname)) {
+		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, library "
+		                "function or a name the body uses)\n", fname, lang);
+		return 2;
+	}
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	form_arg fa;
 	if ((rc = load_form("codegen", cmd.pos[0], &fa)))
 		return rc;
@@ -321,6 +366,12 @@ int cmd_codegen(int argc, char **argv)
 				fprintf(stderr, "brdfkit codegen: warning: constant %.9g is %s in half precision\n", k[j],
 				        x > 65504.0 ? "infinite" : "subnormal (0 on GPUs that flush)");
 		}
+	}
+	char what[160];
+	if (bk_form_nonfinite(fa.f, fa.params, what, sizeof what) > 0) {
+		bk_form_free(fa.f);
+		fprintf(stderr, "brdfkit codegen: the code would compute a constant that is not finite: %s\n", what);
+		return 2;
 	}
 	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);

@@ -9,7 +9,9 @@
 #include "out.h"
 #include "cmd.h"
 
+#include <errno.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const char *const style =
@@ -19,18 +21,21 @@ static const char *const style =
 	"th{background:#f4f4f4}code{background:#f4f4f4;padding:0 3px}"
 	"section{margin-top:3em}svg{max-width:100%;height:auto}";
 
+/* A section is HTML text: a binary file (an image given by mistake) would
+ * make a page of megabytes of garbage, so it is refused, named. */
 static int copy_into(FILE *out, const char *path)
 {
-	FILE *in = fopen(path, "r");
-	if (!in)
-		return -1;
-	char buf[8192];
-	size_t n;
-	while ((n = fread(buf, 1, sizeof buf, in)) > 0)
-		fwrite(buf, 1, n, out);
-	int bad = ferror(in);
-	fclose(in);
-	return bad ? -1 : 0;
+	size_t len;
+	char *buf = cli_read_file(path, &len), why[64];
+	if (!buf)
+		return cli_fail("report", "%s: cannot read: %s", path, strerror(errno));
+	int bad = cli_check_text(buf, len, why, sizeof why);
+	if (bad)
+		cli_fail("report", "%s: not text (%s)", path, why);
+	else
+		fwrite(buf, 1, len, out);
+	free(buf);
+	return bad ? 1 : 0;
 }
 
 int cmd_report(int argc, char **argv)
@@ -79,7 +84,7 @@ int cmd_report(int argc, char **argv)
 	for (int i = 0; i < cmd.npos; i++)
 		if (copy_into(f, cmd.pos[i])) {
 			bk_out_abort(&co);
-			return cli_fail("report", "%s: cannot read", cmd.pos[i]);
+			return 1;
 		}
 	fputs("</body></html>\n", f);
 	return bk_out_commit(&co, err, sizeof err) ? cli_fail("report", "%s", err) : 0;

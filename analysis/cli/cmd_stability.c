@@ -319,8 +319,11 @@ int cmd_stability(int argc, char **argv)
 	for (int i = 0; i < cmd.npos; i++) { /* the IR has no '=': an argument with one is pN=VALUE */
 		int j = 0;
 		double v = 0;
-		if (!strchr(cmd.pos[i], '=')) {
-			forms[nforms++] = cmd.pos[i];
+		if (!strchr(cmd.pos[i], '=')) { /* a form, a name, @FILE or - */
+			const char *text;
+			if (cli_form_arg(cmd.pos[i], &text))
+				return 2;
+			forms[nforms++] = (char *)text;
 			continue;
 		}
 		if ((rc = assignment(&cmd, cmd.pos[i], &j, &v)))
@@ -368,6 +371,7 @@ int cmd_stability(int argc, char **argv)
 		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {
 			fprintf(stderr, "brdfkit stability: %s\n", err);
 			rc = 2;
+			break; /* the error is the one line on stderr: no progress after it */
 		}
 		cli_progress("stability", i + 1, n);
 	}

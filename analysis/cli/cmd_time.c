@@ -40,9 +40,7 @@ static int param_arg(const char *arg, int *k, double *v)
 		fprintf(stderr, "brdfkit time: unknown parameter 'p%ld' (p0..p%d)\n", i, BK_MAX_PARAMS - 1);
 		return 2;
 	}
-	errno = 0;
-	*v = strtod(end + 1, &end);
-	if (end == strchr(arg, '=') + 1 || *end || errno == ERANGE || !isfinite(*v)) {
+	if (cli_number(end + 1, v)) {
 		fprintf(stderr, "brdfkit time: p%ld: expected a finite number, got '%s'\n", i, strchr(arg, '=') + 1);
 		return 2;
 	}
@@ -245,6 +243,8 @@ int cmd_time(int argc, char **argv)
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
 	time_table *T = calloc(1, sizeof *T);
 	if (!T)
 		return cli_fail("time", "out of memory");

@@ -2,7 +2,8 @@
  * exercise.h — what the fuzz harness does to one input, shared with the
  * replay test in tests/test_ir.c: parse; if it parses, evaluate in the three
  * precisions at points including the edges where forms divide by zero,
- * differentiate, count and emit in the three languages.
+ * differentiate, count, look for constants that are not finite and emit in
+ * the three languages.
  * Returns 1 if the text parsed, 0 if not, -1 if a step that must succeed on a
  * parsed form failed (a bug: the replay test asserts it never happens).
  */
@@ -36,6 +37,9 @@ static int bk_exercise_form(const char *text)
 		rc = -1;
 	bk_ops ops;
 	bk_form_count(f, &ops);
+	char what[160];
+	if (bk_form_nonfinite(f, params, what, sizeof what) < 0 || bk_form_nonfinite(f, NULL, what, sizeof what) < 0)
+		rc = -1;
 	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++) {
 		char *code = bk_form_emit(f, (bk_lang)lang, lang != BK_LANG_C, params, NULL);
 		if (!code)
