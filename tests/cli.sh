@@ -356,6 +356,10 @@ awk 'BEGIN { for (i = 0; i < 300; i++) printf "("; printf "NoV"; for (i = 0; i <
 expect_error "form too deep" "form:1:201: expression nested too deeply (more than 200 levels)" $BK eval "@$T/deep.txt" NoV=1
 rm -f "$T/form.txt" "$T/bad.txt" "$T/nul.txt" "$T/long.txt" "$T/many.txt" "$T/deep.txt"
 
+# a start given twice is refused, not the last one silently taken
+expect_error "fit p0 twice" "p0 given twice" $BK fit --target vf2d --form vf_talk_r p0=1 p0=2 --out "$T/fit2"
+expect_error "fit p-0" "expected pN=VALUE" $BK fit --target vf2d --form vf_talk_r p-0=1 --out "$T/fit2"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

@@ -11,6 +11,7 @@
 #include "fit.h"
 #include "heatmap.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <math.h>
 #include <stdlib.h>
@@ -361,12 +362,17 @@ static int setup_spec(run *R, char **pos, int npos)
 		sp->upper[j] = HUGE_VAL;
 		sp->start[j] = R->fs.entry && j < R->fs.entry->nparams ? R->fs.entry->defaults[j] : NAN;
 	}
+	int given[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
-		char *end;
-		long j = pos[i][0] == 'p' ? strtol(pos[i] + 1, &end, 10) : -1;
+		char *end = NULL;
+		long j = pos[i][0] == 'p' && isdigit((unsigned char)pos[i][1]) ? strtol(pos[i] + 1, &end, 10) : -1;
 		double v = NAN;
 		if (j < 0 || j >= BK_MAX_PARAMS || *end != '=' || cli_number(end + 1, &v)) {
 			fprintf(stderr, "brdfkit fit: expected pN=VALUE (a starting value), got '%s'\n", pos[i]);
+			return 2;
+		}
+		if (given[j]++) {
+			fprintf(stderr, "brdfkit fit: p%ld given twice ('%s')\n", j, pos[i]);
 			return 2;
 		}
 		sp->start[j] = v;
