@@ -1,7 +1,8 @@
 /*
- * fit.c — the fitter: residuals from the formula IR over blocks of samples,
- * handed to the Ceres bridge; several deterministic starts; Lawson's minimax;
- * rounding constants to shader literals. Statistics are in fit_stats.c.
+ * fit.c — the fitter: several deterministic starts of the Ceres problem that
+ * fit_ctx.c builds from the formula IR's residuals; Lawson's minimax; rounding
+ * constants to shader literals. Statistics are in fit_stats.c. Calls run one
+ * way: fit.c -> fit_stats.c -> fit_ctx.c.
  */
 #include "fit.h"
 #include "fit_int.h"
@@ -11,118 +12,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-/* Residuals per Ceres block: ~1000 is where the bridge's overhead stops
- * mattering (toolchain.md: blocks of 100-1000 are ~5x faster than one per
- * residual) while there are still blocks enough to spread over threads. */
-#define BLOCK 1024
-
-/* Relative residuals divide by |y|, floored at 1e-6 of the largest |y|:
- * targets that vanish (B at NoV = 1, Fresnel of f0 = 0) would otherwise give
- * 0/0 or let a handful of samples rule the fit. */
-#define REL_FLOOR 1e-6
-
-static int residuals(void *vctx, int block, const double *p, double *r, double *jac)
-{
-	const bk_fit_ctx *c = vctx;
-	const bk_fit_spec *spec = c->spec;
-	const bk_samples *s = spec->s;
-	size_t lo = c->lo[block];
-	int m = c->size[block], np = spec->np;
-	const bk_form *f = spec->form[c->comp[block]];
-	int npf = bk_form_nparams(f);
-	const double *in[BK_IN_COUNT];
-	for (int k = 0; k < BK_IN_COUNT; k++)
-		in[k] = s->in[k] + lo;
-	double *v = malloc(sizeof(double) * (size_t)m * (size_t)(1 + (npf ? npf : 1)));
-	if (!v)
-		return -1;
-	double *jf = v + m;
-	int bad = jac ? bk_form_eval_diff(f, (size_t)m, in, p, v, jf) : bk_form_eval(f, BK_F64, (size_t)m, in, p, v);
-	for (int i = 0; i < m && !bad; i++) {
-		double k = c->sw[lo + i] * c->inv[lo + i];
-		r[i] = k * (v[i] - s->y[lo + i]);
-		bad |= !isfinite(r[i]);
-		if (jac)
-			for (int j = 0; j < np; j++)
-				jac[(size_t)i * np + j] = j < npf ? k * jf[(size_t)i * npf + j] : 0.0;
-	}
-	free(v);
-	return bad ? -1 : 0;
-}
-
-/* The same residuals for the statistics (all blocks, at the solution). */
-int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, double *jac)
-{
-	return residuals(c, block, p, r, jac);
-}
-
-int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec)
-{
-	const bk_samples *s = spec->s;
-	memset(c, 0, sizeof *c);
-	c->spec = spec;
-	c->sw = malloc(sizeof(double) * s->n);
-	c->inv = malloc(sizeof(double) * s->n);
-	c->base = malloc(sizeof(double) * s->n);
-	size_t nb = 0;
-	for (int q = 0; q < s->ncomp; q++)
-		nb += (s->start[q + 1] - s->start[q] + BLOCK - 1) / BLOCK;
-	c->lo = malloc(sizeof(size_t) * nb);
-	c->size = malloc(sizeof(int) * nb);
-	c->comp = malloc(sizeof(int) * nb);
-	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp)
-		return -1;
-	for (int q = 0; q < s->ncomp; q++)
-		for (size_t lo = s->start[q]; lo < s->start[q + 1]; lo += BLOCK) {
-			c->lo[c->nblocks] = lo;
-			c->size[c->nblocks] = (int)(s->start[q + 1] - lo < BLOCK ? s->start[q + 1] - lo : BLOCK);
-			c->comp[c->nblocks++] = q;
-		}
-	double ymax = 0.0;
-	for (size_t i = 0; i < s->n; i++)
-		ymax = fmax(ymax, fabs(s->y[i]));
-	for (size_t i = 0; i < s->n; i++)
-		c->inv[i] = spec->relative ? 1.0 / fmax(fabs(s->y[i]), REL_FLOOR * ymax) : 1.0;
-	/* the user weight multiplies the target's own */
-	for (size_t i = 0; i < s->n; i++)
-		c->base[i] = s->w[i];
-	if (spec->weight) {
-		double *uw = malloc(sizeof(double) * s->n);
-		if (!uw || bk_form_eval(spec->weight, BK_F64, s->n, (const double *const *)s->in, spec->start, uw)) {
-			free(uw);
-			return -2;
-		}
-		for (size_t i = 0; i < s->n; i++) {
-			if (!(uw[i] >= 0.0) || !isfinite(uw[i])) {
-				free(uw);
-				return -3;
-			}
-			c->base[i] *= uw[i];
-		}
-		free(uw);
-	}
-	for (size_t i = 0; i < s->n; i++)
-		c->sw[i] = sqrt(c->base[i]);
-	return 0;
-}
-
-void bk_fit_ctx_free(bk_fit_ctx *c)
-{
-	free(c->sw);
-	free(c->inv);
-	free(c->base);
-	free(c->lo);
-	free(c->size);
-	free(c->comp);
-}
-
-int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *sum)
-{
-	const bk_fit_spec *spec = c->spec;
-	bk_problem prob = {spec->np, c->nblocks, c->size, residuals, c, spec->lower, spec->upper, constant};
-	return bk_solve(&prob, &spec->opt, p, sum);
-}
 
 /* Start k > 0: each parameter moved by up to ±50 % of its size (at least 0.1),
  * from a fixed LCG seeded by (seed, k): the same command gives the same starts. */

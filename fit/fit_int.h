@@ -1,5 +1,6 @@
 /*
- * fit_int.h — what fit.c and fit_stats.c share (internal).
+ * fit_int.h — what fit.c, fit_stats.c and fit_ctx.c share (internal).
+ * Calls run one way: fit.c -> fit_stats.c -> fit_ctx.c.
  */
 #ifndef FIT_FIT_INT_H
 #define FIT_FIT_INT_H
@@ -17,13 +18,16 @@ typedef struct bk_fit_ctx {
 	int *comp;    /* which form a block evaluates */
 } bk_fit_ctx;
 
+/* fit_ctx.c: the context, its residuals and the Ceres problem */
 int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec);
 void bk_fit_ctx_free(bk_fit_ctx *c);
 int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *sum);
+int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, double *jac);
 /* Values of the forms at every sample (each component its form). */
 int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v);
+
+/* fit_stats.c: what the driver asks of the statistics */
 void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res);
-int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, double *jac);
 /* First-order optimality at p with the weights in use (c->sw) and the
  * parameters in held[] fixed: fills res->grad, grad_rel, optimal (see
  * BK_FIT_GRAD_TOL). Returns the index of the parameter with the largest

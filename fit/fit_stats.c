@@ -11,20 +11,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v)
-{
-	const bk_samples *s = spec->s;
-	for (int q = 0; q < s->ncomp; q++) {
-		size_t lo = s->start[q];
-		const double *in[BK_IN_COUNT];
-		for (int k = 0; k < BK_IN_COUNT; k++)
-			in[k] = s->in[k] + lo;
-		if (bk_form_eval(spec->form[q], BK_F64, s->start[q + 1] - lo, in, p, v + lo))
-			return -1;
-	}
-	return 0;
-}
-
 /* Metrics of values v against the samples (fit.h): the part of
  * bk_fit_evaluate that does not need forms, shared with the LUT scoring. */
 void bk_samples_metrics(const bk_samples *s, const double *v, const double *weight, bk_fit_metrics *m)
