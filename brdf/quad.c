@@ -41,6 +41,7 @@ static void qk15(bk_quad_fn f, void *ctx, int ncomp, interval *iv, long *evals)
 	double y[BK_QUAD_MAXCOMP], y2[BK_QUAD_MAXCOMP];
 
 	f(c, ctx, y);
+	/* all loops here run a fixed count (15 points, ncomp components) */
 	for (int m = 0; m < ncomp; m++) {
 		k[m] = wk[7] * y[m];
 		g[m] = wg[3] * y[m];
@@ -69,6 +70,7 @@ int bk_quad(bk_quad_fn f, void *ctx, const double *pts, int npts, int ncomp,
 	int n = 0;
 	long evals = 0;
 
+	/* bounded by npts */
 	for (int i = 0; i + 1 < npts && n < BK_QUAD_MAXINT; i++) {
 		if (!(pts[i + 1] > pts[i]))
 			continue; /* empty or reversed panel: nothing to integrate */
@@ -77,6 +79,8 @@ int bk_quad(bk_quad_fn f, void *ctx, const double *pts, int npts, int ncomp,
 		qk15(f, ctx, ncomp, &iv[n++], &evals);
 	}
 	int converged = 0;
+	/* Bounded: every pass that does not break adds one interval (n++), and
+	 * n == BK_QUAD_MAXINT breaks, so at most BK_QUAD_MAXINT passes. */
 	for (;;) {
 		double total = 0.0;
 		int worst = 0;

@@ -359,6 +359,17 @@ rm -f "$T/form.txt" "$T/bad.txt" "$T/nul.txt" "$T/long.txt" "$T/many.txt" "$T/de
 # a start given twice is refused, not the last one silently taken
 expect_error "fit p0 twice" "p0 given twice" $BK fit --target vf2d --form vf_talk_r p0=1 p0=2 --out "$T/fit2"
 expect_error "fit p-0" "expected pN=VALUE" $BK fit --target vf2d --form vf_talk_r p-0=1 --out "$T/fit2"
+# ---- issue 9 (numerics: tiny roughness, long fits, CPU-independent fits) ----
+# r too small to resolve (a = r^2 underflows below r ~ 1e-162; 1e-160 gives a
+# subnormal a) is the smooth limit, A = 1 - (1 - NoV)^5 = 0.96875 at NoV = 0.5,
+# and returns (it once looped for ever, or failed at r = 1e-100)
+for r in 1e-300 1e-200 1e-160 1e-100 1e-20 1e-08; do
+	expect_out "dfg tiny r $r" "nov,roughness,A,B
+0.5,$r,0.96875,0.03125" timeout 20 $BK dfg --nov 0.5 --roughness $r
+	expect_out "albedo tiny r $r" "D,V,F,nov,roughness,f0,f90,eta,k,albedo
+D_ggx,V_implicit,F_schlick,0.5,$r,1,1,inf,0,0.25" \
+		timeout 20 $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness $r --f0 1
+done
 
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)

@@ -246,3 +246,64 @@ Test(dfg, rejects_out_of_range)
 	cr_assert_eq(bk_albedo(bk_term_find("V_kelemen"), bk_term_find("V_kelemen"), bk_term_find("F_schlick"),
 	                       &(bk_sample){.r = 0.5}, 0.5, 1e-6, &A, NULL), -1);
 }
+
+/* ---- roughness too small to resolve (issue 9) ---------------------------- */
+
+/* r down to 1e-300 (a = r² underflows to 0 below r ~ 1e-162; 1e-160 gives a
+ * subnormal a) returns the smooth limit F(NoV) of the mirror, for the split
+ * sum and for the albedo of several lobes, and finishes: the outer
+ * breakpoints once looped for ever on b = a/2 = 0 (b *= 8), and at r = 1e-100
+ * D = a²/(π d²) was 0 everywhere. The limit: V F NoL 4 VoH / NoH at H = N,
+ * with every Smith V = 1/(4 NoV²) there, is F_Schlick(NoV) (Karis 2013's A,
+ * B: 1 - (1 - NoV)^5 and (1 - NoV)^5). At r = 1e-8 Schlick's k = a/2 = 5e-17
+ * moves V by ~a/NoV = 1e-14, the lobe's width by ~a² / NoV²: within 1e-12. */
+Test(dfg, tiny_roughness_is_the_smooth_limit, .timeout = 20)
+{
+	const double rs[] = {1e-300, 1e-200, 1e-160, 1e-100, 1e-20, 1e-8};
+	const double novs[] = {1.0, 0.5, 0.1, 0.01};
+	const char *dnames[] = {"D_ggx", "D_beckmann", "D_blinn_phong"};
+	const bk_term *V = bk_term_find("V_smith_ggx_correlated"), *F = bk_term_find("F_schlick");
+	for (size_t i = 0; i < sizeof rs / sizeof rs[0]; i++)
+		for (size_t k = 0; k < sizeof novs / sizeof novs[0]; k++) {
+			double NoV = novs[k], fc = fc5(NoV);
+			for (int m = 0; m < BK_SMITH_COUNT; m++) {
+				double A, B;
+				bk_quad_stats st = {0};
+				cr_assert_eq(bk_dfg(NoV, rs[i], (bk_smith)m, BK_DFG_TOL, &A, &B, &st), 0);
+				cr_assert(st.converged);
+				cr_assert(fabs(A - (1 - fc)) < 1e-12 && fabs(B - fc) < 1e-12, "%s r %g nov %g: A %.17g B %.17g",
+				          bk_smith_name((bk_smith)m), rs[i], NoV, A, B);
+			}
+			for (size_t d = 0; d < sizeof dnames / sizeof dnames[0]; d++) {
+				bk_sample s = {.f0 = 0.04, .f90 = 1.0};
+				bk_sample_roughness(&s, rs[i]);
+				double alb;
+				cr_assert_eq(bk_albedo(bk_term_find(dnames[d]), V, F, &s, NoV, 1e-7, &alb, NULL), 0);
+				cr_assert(fabs(alb - (0.04 + 0.96 * fc)) < 1e-12, "%s r %g nov %g: %.17g", dnames[d], rs[i], NoV, alb);
+			}
+		}
+}
+
+/* Continuity at small a: the integral leaves the limit as the spread of H
+ * about N, E[θh²] ~ a² ln(1/a) for GGX's tail, times the integrand's
+ * curvature ~1/NoV² (the mirror direction's distance from the horizon); so
+ * |∫ - limit| <= a² (1 + ln(1/a)) (1 + 1/NoV²) (integrate.c, smooth_enough),
+ * plus the tolerance. The limit here is the closed form V(NoV, NoV, a) 4 NoV²
+ * F(NoV): V at this a, which for Schlick's k = a/2 is first order in a. */
+Test(dfg, small_roughness_approaches_the_limit, .timeout = 20)
+{
+	const double rs[] = {1e-2, 1e-3, 1e-4, 2e-5, 3e-6}; /* the last two near the switch to the limit */
+	const double novs[] = {1.0, 0.5, 0.1, 0.01};
+	const double tol = 1e-11;
+	for (size_t i = 0; i < sizeof rs / sizeof rs[0]; i++)
+		for (size_t k = 0; k < sizeof novs / sizeof novs[0]; k++)
+			for (int m = 0; m < BK_SMITH_COUNT; m++) {
+				double NoV = novs[k], a = rs[i] * rs[i], fc = fc5(NoV), A, B;
+				double vis = (m == BK_SMITH_SCHLICK ? bk_V_schlick_ggx_ibl(NoV, NoV, a) : 1 / (4 * NoV * NoV)) * 4 * NoV * NoV;
+				double bound = a * a * (1 + log(1 / a)) * (1 + 1 / (NoV * NoV)) + tol;
+				bk_dfg(NoV, rs[i], (bk_smith)m, tol, &A, &B, NULL);
+				cr_assert(fabs(A - vis * (1 - fc)) <= bound && fabs(B - vis * fc) <= bound,
+				          "%s r %g nov %g: A %.3g B %.3g off, bound %.3g", bk_smith_name((bk_smith)m), rs[i], NoV,
+				          A - vis * (1 - fc), B - vis * fc, bound);
+			}
+}
