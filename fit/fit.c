@@ -103,6 +103,38 @@ static double target_norm(const bk_fit_ctx *c)
 	return sqrt(t);
 }
 
+/* The no-step rule: a solve that reported CONVERGENCE without lowering the
+ * cost took no step, so its stop says nothing about the point; it is a
+ * minimum only if the point passes the optimality check by itself. A point
+ * where the check fails, the gradient or the residuals are not finite
+ * (worst = -2), or the cost is flat in a free parameter (a zero Jacobian
+ * column: an overflowed or saturated start such as p0 = 1e308, where a zero
+ * gradient is a plateau, not a minimum) is reported NO_CONVERGENCE with the
+ * reason. Returns 1 if it did so and there is no gradient to name (the
+ * caller names a failing one). */
+static int no_step(bk_fit_result *res, int worst, int flat)
+{
+	bk_fit_summary *sm = &res->summary;
+	if (sm->termination != BK_TERM_CONVERGENCE || sm->final_cost < sm->initial_cost || (worst == -1 && !flat))
+		return 0;
+	char why[200];
+	if (worst == -2)
+		snprintf(why, sizeof why, "the residuals are not finite there");
+	else if (worst >= 0 && !isfinite(res->grad[worst]))
+		snprintf(why, sizeof why, "the gradient in p%d is not finite there", worst);
+	else if (worst >= 0)
+		snprintf(why, sizeof why, "p%d has relative gradient %.3g > %g there", worst, res->grad_rel[worst],
+		         BK_FIT_GRAD_TOL);
+	else
+		snprintf(why, sizeof why, "the cost is flat in %d free parameter%s there (a zero Jacobian column: a "
+		         "plateau, not a minimum)", flat, flat > 1 ? "s" : "");
+	sm->termination = BK_TERM_NO_CONVERGENCE;
+	snprintf(sm->message, sizeof sm->message, "no step taken from a point that is not a minimum: %s", why);
+	if (worst < 0)
+		note(res, "%s", sm->message); /* else check_optimality names the gradients */
+	return worst < 0;
+}
+
 /* Checks first-order optimality at res->p (the weights in c->sw, held[]
  * fixed); with polish, re-solves as above. A point that fails is reported
  * NO_CONVERGENCE whatever Ceres said, and the message names the parameters
@@ -110,7 +142,8 @@ static double target_norm(const bk_fit_ctx *c)
 static void check_optimality(bk_fit_ctx *c, bk_fit_result *res, const int *held, int polish)
 {
 	const bk_samples *s = c->spec->s;
-	int worst = bk_fit_optimality(c, res->p, held, res);
+	int flat = 0;
+	int worst = bk_fit_optimality(c, res->p, held, res, &flat);
 	char first[sizeof res->summary.message];
 	memcpy(first, res->summary.message, sizeof first);
 	if (polish && worst >= 0 && res->summary.termination == BK_TERM_CONVERGENCE) {
@@ -137,15 +170,17 @@ static void check_optimality(bk_fit_ctx *c, bk_fit_result *res, const int *held,
 			res->summary.final_cost = sum.final_cost / k2;
 			res->summary.termination = sum.termination;
 			memcpy(res->summary.message, sum.message, sizeof sum.message);
-			worst = bk_fit_optimality(c, res->p, held, res); /* scale-free: same with sw scaled */
+			worst = bk_fit_optimality(c, res->p, held, res, NULL); /* scale-free: same with sw scaled */
 			if (!moved)
 				break; /* the same solve again would stop at the same place */
 		}
 		if (k2 != 1.0)
 			for (size_t i = 0; i < s->n; i++)
 				c->sw[i] *= norm;
-		worst = bk_fit_optimality(c, res->p, held, res);
+		worst = bk_fit_optimality(c, res->p, held, res, &flat);
 	}
+	if (no_step(res, worst, flat))
+		return; /* not a minimum, and nothing to name (else it goes on below) */
 	if (worst == -1 && res->polish_solves)
 		note(res, "converged after %d re-solve%s from a point that was not a minimum (the solver had stopped with: "
 		     "%.120s)", res->polish_solves, res->polish_solves > 1 ? "s" : "", first);
@@ -168,6 +203,21 @@ static void check_optimality(bk_fit_ctx *c, bk_fit_result *res, const int *held,
 	         res->grad_rel[worst], BK_FIT_GRAD_TOL);
 }
 
+/* Names the parameters hold_unidentified held; they count as not identifiable
+ * (unidentified[]) with standard error 0 (held: not fitted). */
+static void note_held(bk_fit_result *res, int np)
+{
+	char list[160] = "";
+	size_t k = 0;
+	for (int j = 0; j < np; j++)
+		if (res->held[j] && k < sizeof list) {
+			res->unidentified[j] = res->collinear[j] = 1;
+			k += (size_t)snprintf(list + k, sizeof list - k, "%sp%d", k ? ", " : "", j);
+		}
+	if (k)
+		note(res, "not identifiable, held at the start value%s so that the answer is unique: %s", strchr(list, ',') ? "s" : "", list);
+}
+
 /* Names ill-conditioning (condition above BK_FIT_COND_MAX) in the message. */
 static void note_conditioning(bk_fit_result *res, int np)
 {
@@ -183,6 +233,59 @@ static void note_conditioning(bk_fit_result *res, int np)
 	}
 	note(res, "ill-conditioned: cond(JᵀJ) = %.3g with unit-norm columns (> %g); nearly collinear: %s%s%s",
 	     res->condition, BK_FIT_COND_MAX, kw ? weak : "none named", kn ? "; not identifiable: " : "", none);
+}
+
+/* A valley of exact minima (a null space of J: parameters the data do not
+ * pin) leaves the point returned to the path the solver took, which 1-ulp
+ * differences of libm (glibc picks FMA or non-FMA exp/log/pow at run time)
+ * change: the printed constants moved in their first digit between machines.
+ * So the valley is cut: free parameters are tried in index order, and each
+ * whose holding lowers the null space's dimension is held at its start value
+ * (the catalog's published constant, or --p0); the rest are re-solved, and are
+ * then pinned by the data. Only the dimension is used, not the null vectors'
+ * loadings: a null space of dimension k > 1 has no unique basis, its dimension
+ * does. Holding a parameter that does not load on the null space leaves the
+ * dimension as it is, so only parameters of the valley are held; one loading
+ * on a direction whose eigenvalue sits near the threshold (NULL_RATIO) could
+ * flip, which structural null spaces (eigenvalues ~1e-29) never do. */
+static int hold_unidentified(bk_fit_ctx *c, bk_fit_spec *fs, bk_fit_result *res)
+{
+	int nnull = bk_fit_stderr(c, res);
+	if (nnull <= 0)
+		return 0;
+	for (int j = 0; j < fs->np && nnull > 0; j++) {
+		if (fs->hold[j] || fs->lower[j] == fs->upper[j])
+			continue;
+		fs->hold[j] = 1;
+		int k = bk_fit_stderr(c, res);
+		if (k >= 0 && k < nnull) {
+			res->held[j] = 1;
+			nnull = k;
+		} else {
+			fs->hold[j] = 0;
+		}
+	}
+	double p[BK_MAX_PARAMS];
+	memcpy(p, res->p, sizeof p);
+	for (int j = 0; j < fs->np; j++)
+		if (res->held[j])
+			p[j] = fs->start[j];
+	bk_fit_summary sum;
+	if (bk_fit_solve(c, p, fs->hold, &sum) || sum.termination == BK_TERM_FAILURE) {
+		/* keep the valley point; name the parameters, the answer is not unique */
+		for (int j = 0; j < fs->np; j++)
+			fs->hold[j] &= !res->held[j], res->held[j] = 0;
+		note(res, "holding the parameters that are not identifiable failed (%.120s)", sum.message);
+		return 0;
+	}
+	memcpy(res->p, p, sizeof p);
+	res->summary.iterations += sum.iterations;
+	res->summary.bound_resolves += sum.bound_resolves;
+	res->summary.seconds += sum.seconds;
+	res->summary.final_cost = sum.final_cost;
+	res->summary.termination = sum.termination;
+	memcpy(res->summary.message, sum.message, sizeof sum.message);
+	return 1;
 }
 
 /* Lawson 1961 (as in Rice & Usow 1968): weights u_i <- u_i |e_i| / sum u |e|
@@ -281,6 +384,34 @@ static double round_constant(double x, int digits)
 	return round(x / scale) * scale;
 }
 
+/* The reported constants keep the digits their standard errors justify: each
+ * free p_j is rounded to the decade at or below se_j/100 (p0 = -1.66333329
+ * ± 0.0106 is reported -1.6633). The digits below are noise twice over: the
+ * data pin p_j only to ~se_j, and where the solver stops is itself only known
+ * to ~sqrt(ftol (m - n)) se_j (a stop on a relative cost change ftol, with
+ * σ² = 2 cost/(m - n)), which 1-ulp differences of libm move (the env fits
+ * moved ~1e-6 se_j between FMA and non-FMA exp/log/pow). Printed to all nine
+ * digits, those runs differed; rounded here, two runs differ only if a decade
+ * boundary falls between their points (probability ~|Δp|/quantum, ~1e-4 for
+ * well-conditioned fits). The metrics, the CSV and the shaders all use the
+ * rounded values. Held parameters (se 0), exact fits (se 0) and ones without
+ * a standard error keep every digit. */
+static void round_to_se(const bk_fit_spec *spec, bk_fit_result *res)
+{
+	memcpy(res->unrounded, res->p, sizeof res->p);
+	bk_fit_evaluate(spec, res->p, &res->before_digits);
+	for (int j = 0; j < spec->np; j++) {
+		double se = res->se[j];
+		if (spec->hold[j] || !(se > 0) || !isfinite(se) || !isfinite(res->p[j]))
+			continue;
+		double q = pow(10.0, floor(log10(se / 100)));
+		if (!(q > 0) || !isfinite(res->p[j] / q))
+			continue;
+		double v = round(res->p[j] / q) * q;
+		res->p[j] = fmin(fmax(v, spec->lower[j]), spec->upper[j]);
+	}
+}
+
 /* Round one constant at a time, largest standard-error-relative first would
  * be cleverer; index order keeps it predictable. After each, the others are
  * refitted with the rounded ones held. */
@@ -310,9 +441,11 @@ static int round_digits(bk_fit_ctx *c, bk_fit_result *res)
 	return 0;
 }
 
-int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res)
+int bk_fit_run(const bk_fit_spec *spec_in, bk_fit_result *res)
 {
 	memset(res, 0, sizeof *res);
+	bk_fit_spec fs = *spec_in; /* hold_unidentified adds to fs.hold */
+	const bk_fit_spec *spec = &fs;
 	bk_fit_ctx c;
 	int rc = bk_fit_ctx_init(&c, spec);
 	if (rc) {
@@ -334,16 +467,23 @@ int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res)
 		return 0;
 	}
 	rc = multi_start(&c, res);
-	size_t noted = strlen(res->message);
 	if (rc == 0)
 		check_optimality(&c, res, spec->hold, 1);
+	if (rc == 0 && res->summary.termination == BK_TERM_CONVERGENCE && hold_unidentified(&c, &fs, res)) {
+		res->message[0] = '\0'; /* the notes were about the valley point */
+		check_optimality(&c, res, spec->hold, 1);
+	}
+	size_t noted = strlen(res->message);
 	if (rc == 0 && spec->minimax)
 		rc = minimax(&c, res, noted);
 	if (rc == 0) {
 		bk_fit_stderr(&c, res);
+		note_held(res, spec->np);
 		note_conditioning(res, spec->np);
 	}
-	if (rc == 0 && spec->digits)
+	if (rc == 0 && spec->digits == BK_FIT_DIGITS_SE)
+		round_to_se(spec, res);
+	else if (rc == 0 && spec->digits)
 		round_digits(&c, res);
 	bk_fit_ctx_free(&c);
 	if (rc)

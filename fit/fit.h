@@ -24,8 +24,14 @@ typedef struct bk_fit_spec {
 	int starts;              /* deterministic starts, >= 1 */
 	unsigned long seed;
 	int minimax;             /* Lawson's iteratively reweighted least squares */
-	int digits;              /* 0: none; N > 0: significant digits; -1: fp16 values */
+	int digits;              /* 0: none; N > 0: significant digits; -1: fp16 values;
+	                            BK_FIT_DIGITS_SE: the digits the standard errors justify */
 } bk_fit_spec;
+
+/* digits: round each fitted constant to the decade at or below 1/100 of its
+ * standard error (fit.c, round_to_se), without refitting: the digits a
+ * report shows then no longer depend on the CPU's libm. */
+#define BK_FIT_DIGITS_SE (-2)
 
 /* Relative error is reported where the target is at least this fraction of its
  * largest value: below, it measures nothing a viewer sees (B -> 0 at NoV = 1
@@ -95,10 +101,14 @@ typedef struct bk_fit_metrics {
 
 typedef struct bk_fit_result {
 	double p[BK_MAX_PARAMS];
-	double se[BK_MAX_PARAMS];          /* standard errors; NaN where not identifiable; 0 where held
-	                                      (hold, or lower == upper: not fitted, and the others'
-	                                      are conditional on them) */
+	double se[BK_MAX_PARAMS];          /* standard errors; 0 where held (hold, lower == upper, or
+	                                      held[]: not fitted, and the others' are conditional on
+	                                      them); NaN where not identifiable and not held (holding
+	                                      failed) */
 	int unidentified[BK_MAX_PARAMS];   /* 1: in the null space of the Jacobian */
+	int held[BK_MAX_PARAMS];           /* 1: not identifiable, so held at its start value (se 0)
+	                                      and the others re-solved: the answer is then unique
+	                                      (fit.c, hold_unidentified) */
 	bk_fit_summary summary;            /* of the best start (and later stages) */
 	double start_cost_min, start_cost_max; /* spread of final costs over the starts */
 	int starts_failed;

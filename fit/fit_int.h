@@ -27,12 +27,17 @@ int bk_fit_residual_block(bk_fit_ctx *c, int block, const double *p, double *r, 
 int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v);
 
 /* fit_stats.c: what the driver asks of the statistics */
-void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res);
+/* Standard errors, identifiability and condition at res->p (the parameters
+ * in c->spec->hold fixed). Returns the number of directions the data do not
+ * pin (the null space's dimension), -1 if J could not be evaluated. */
+int bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res);
 /* First-order optimality at p with the weights in use (c->sw) and the
  * parameters in held[] fixed: fills res->grad, grad_rel, optimal (see
  * BK_FIT_GRAD_TOL). Returns the index of the parameter with the largest
  * grad_rel among those failing, -1 if none fails, -2 if the residuals could not
- * be evaluated (optimal = -1). */
-int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res);
+ * be evaluated (optimal = -1). flat (may be NULL): the number of free
+ * parameters whose Jacobian column is zero or not finite at p, where a zero
+ * gradient says nothing about a minimum. */
+int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res, int *flat);
 
 #endif

@@ -231,7 +231,7 @@ static void jacobi_svd(int rows, int n, double *b, double *sigma, double *v)
 	}
 }
 
-void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
+int bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 {
 	const bk_fit_spec *spec = c->spec;
 	int np = spec->np, nf = 0, col[BK_MAX_PARAMS];
@@ -245,14 +245,14 @@ void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 	}
 	res->condition = NAN;
 	if (nf == 0)
-		return;
+		return 0;
 	int maxsz = 0;
 	for (int b = 0; b < c->nblocks; b++)
 		maxsz = c->size[b] > maxsz ? c->size[b] : maxsz;
 	/* a: R on top of the next block's rows (free columns only) */
 	double *a = malloc(sizeof(double) * ((size_t)(nf + maxsz) * (size_t)nf + (size_t)maxsz * (size_t)(np + 1)));
 	if (!a)
-		return;
+		return -1;
 	double *r = a + (size_t)(nf + maxsz) * (size_t)nf, *J = r + maxsz, rss = 0;
 	memset(a, 0, sizeof(double) * (size_t)nf * (size_t)nf);
 	size_t m = 0;
@@ -287,12 +287,15 @@ void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 			bm[i * nl + k] = a[(size_t)i * nf + live[k]] / d[live[k]];
 	free(a);
 	if (m == 0)
-		return;
+		return -1;
 	if (nl > 0)
 		jacobi_svd(nf, nl, bm, sigma, v);
 	double top = 0, bottom = INFINITY;
+	int nnull = nf - nl; /* zero columns, then the directions below NULL_RATIO */
 	for (int k = 0; k < nl; k++)
 		top = fmax(top, sigma[k]), bottom = fmin(bottom, sigma[k]);
+	for (int k = 0; k < nl; k++)
+		nnull += !(sigma[k] * sigma[k] > NULL_RATIO * top * top);
 	res->condition = nl < nf || bottom == 0 ? INFINITY : (top / bottom) * (top / bottom);
 	double sigma2 = m > (size_t)nf ? rss / (double)(m - (size_t)nf) : NAN;
 	for (int i = 0; i < nl; i++) {
@@ -310,6 +313,7 @@ void bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 		res->collinear[j] |= res->unidentified[j];
 		res->se[j] = res->unidentified[j] ? NAN : sqrt(sigma2 * var) / d[live[i]];
 	}
+	return nnull;
 }
 
 /* ---- first-order optimality (fit.h, BK_FIT_GRAD_TOL) ------------------------------ */
@@ -345,7 +349,7 @@ static void robustify(bk_loss loss, double c, int m, int np, double *r, double *
 /* Ceres' "sits on a bound" (solver.cc, kOnBound) */
 #define ON_BOUND 1e-12
 
-int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res)
+int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_result *res, int *flat)
 {
 	const bk_fit_spec *spec = c->spec;
 	const bk_samples *s = spec->s;
@@ -369,7 +373,11 @@ int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_re
 		}
 		robustify(spec->opt.loss, spec->opt.loss_scale, sz, np, r, J);
 		for (int i = 0; i < sz; i++) {
-			double yh = c->sw[lo + i] * c->inv[lo + i] * s->y[lo + i];
+			/* the target in the units of s: robustified like a residual (a
+			 * Huber scale of 1e-300 makes s ~ sqrt(2 c |r|) ~ 1e-151, and an
+			 * unrobustified ||ŷ|| ~ 1 would make every gradient look small) */
+			double yh = c->sw[lo + i] * c->inv[lo + i] * s->y[lo + i], zero = 0;
+			robustify(spec->opt.loss, spec->opt.loss_scale, 1, 1, &yh, &zero);
 			ss += r[i] * r[i];
 			yy += yh * yh;
 			for (int j = 0; j < np; j++) {
@@ -391,10 +399,14 @@ int bk_fit_optimality(bk_fit_ctx *c, const double *p, const int *held, bk_fit_re
 	double scale = sqrt(ss) + floor / BK_FIT_GRAD_TOL;
 	int worst = -1;
 	res->optimal = 1;
+	if (flat)
+		*flat = 0;
 	for (int j = 0; j < np; j++) {
 		res->grad[j] = g[j];
 		if (fixed[j])
 			continue;
+		if (flat && !(cn[j] > 0 && isfinite(cn[j])))
+			(*flat)++;
 		double lo = spec->lower[j], hi = spec->upper[j];
 		int on_lower = isfinite(lo) && p[j] - lo <= ON_BOUND * fmax(1, fabs(lo));
 		int on_upper = isfinite(hi) && hi - p[j] <= ON_BOUND * fmax(1, fabs(hi));

@@ -100,6 +100,7 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 	sp.relative = S->relative;
 	sp.starts = 2;
 	sp.seed = 1;
+	sp.digits = BK_FIT_DIGITS_SE; /* the digits shown do not depend on the CPU's libm */
 	for (int j = 0; j < BK_MAX_PARAMS; j++) {
 		sp.start[j] = pub->params[j];
 		sp.lower[j] = -HUGE_VAL;

@@ -165,6 +165,14 @@ static int write_tables(const run *R, const char *dir)
 	if (!f)
 		return -1;
 	header(f, R, "fitted coefficients");
+	for (int j = 0, k = 0; j < R->spec.np; j++) /* standard error 0: held */
+		if (R->res.held[j])
+			fprintf(f, "%sp%d", k++ ? ", " : "# not identifiable, held at the start value: ", j);
+	for (int j = 0; j < R->spec.np; j++)
+		if (R->res.held[j]) {
+			fputc('\n', f);
+			break;
+		}
 	fputs("form,parameter,value,standard_error\n", f);
 	const char *form = R->fs.entry ? R->fs.entry->name : R->fs.split ? "form-a/form-b" : R->fs.text[0];
 	for (int j = 0; j < R->spec.np; j++) {
@@ -183,7 +191,7 @@ static int write_tables(const run *R, const char *dir)
 	metrics_row(f, "fitted", &R->res.fitted);
 	if (R->has_published)
 		metrics_row(f, "published", &R->res.published);
-	if (R->spec.digits)
+	if (R->spec.digits && R->spec.digits != BK_FIT_DIGITS_SE) /* its last digits are the CPU's */
 		metrics_row(f, "unrounded", &R->res.before_digits);
 	bad |= ferror(f);
 	bad |= fclose(f);
@@ -426,6 +434,8 @@ static int setup_spec(run *R, char **pos, int npos)
 			sp->digits = (int)d;
 		else
 			return cli_usage(R->cmd, "--digits: expected an integer in [1, 17] or half, got '%s'", a->digits);
+	} else {
+		sp->digits = BK_FIT_DIGITS_SE;
 	}
 	return 0;
 }
@@ -554,7 +564,9 @@ static void report(const run *R, int rc)
 		printf("  p%-2d = %-14.9g", j, res->p[j]);
 		if (isfinite(res->se[j]))
 			printf(" ± %.2g", res->se[j]);
-		if (res->unidentified[j])
+		if (res->held[j])
+			printf("  not identifiable: held at its start value");
+		else if (res->unidentified[j])
 			printf("  not identifiable (the data do not pin it)");
 		else if (res->collinear[j])
 			printf("  nearly collinear with others");
@@ -619,7 +631,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},
 		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the starts (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "lsq|minimax", .help = "least squares (default) or minimise the max error", .dest = &a.objective},
-		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits (N in [1, 17]) or to fp16 (half), refitting the rest", .dest = &a.digits},
+		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits (N in [1, 17]) or to fp16 (half), refitting the rest (default: to 1/100 of their standard errors, no refit)", .dest = &a.digits},
 	};
 	cli_cmd cmd = {"fit", "Fits a form to a target with Ceres and writes coefficients.csv, metrics.csv,\n"
 	               "heatmap.{exr,png,csv} and shader.{c,glsl,hlsl} into DIR.",
