@@ -383,6 +383,23 @@ cmp -s "$T/fma1.csv" "$T/fma2.csv" && ok || bad "env fit depends on the libm pat
 grep -q '^# not identifiable, held at the start value: p1, p5$' "$T/fma1.csv" && ok || bad "held parameters not named"
 rm -rf "$T/fma" "$T/fma1.csv" "$T/fma2.csv"
 
+# long env fits: the work is stated up front, an unwritable --out is refused
+# before it (at once, not after hours; a path under a regular file fails for
+# root too), and logs (stderr not a terminal) see progress while it runs
+: >"$T/file"
+for cmd in "fit --target env --form env_karis2014_split" "compare --target env --no-time"; do
+	t0=$(date +%s)
+	expect_error "$cmd unwritable out" "--out $T/file/sub: cannot create: not a directory" \
+		timeout 20 $BK $cmd --nx 1024 --nr 1024 --out "$T/file/sub"
+	[ $(($(date +%s) - t0)) -le 1 ] && ok || bad "$cmd: unwritable --out refused only after the work"
+done
+timeout 3 $BK fit --target env --form env_karis2014_split --nx 4096 --nr 4096 --out "$T/big" >/dev/null 2>"$T/err"
+grep -q '^fit: env target 4096x4096 = 16.8M integrals, about [0-9.]* \(s\|min\|h\) on this machine$' "$T/err" && ok \
+	|| bad "no work estimate: $(cat "$T/err")"
+timeout 8 $BK fit --target env --form env_karis2014_split --nx 256 --nr 64 --out "$T/mid" >/dev/null 2>"$T/err"
+grep -q '^reference: [1-5]\?[0-9]/64 ([0-9]* %, [0-9]* s)$' "$T/err" && ok || bad "no progress lines in a log: $(cat "$T/err")"
+rm -rf "$T/file" "$T/big" "$T/mid"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

@@ -3,6 +3,7 @@
  * brdfkit tool.
  */
 #include "cli.h"
+#include "clock.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -382,14 +383,36 @@ int cli_form_positionals(cli_cmd *cmd, int first)
 	return 0;
 }
 
+/* Off a terminal (logs) a counter cannot overwrite itself, so a stage gets a
+ * line when it ends and, while it runs, one at each 10 % once it has run 1 s
+ * and one every 10 s whatever: a quick stage still prints one line, an hour
+ * of integrals says where it is. */
+#define PROGRESS_QUIET_S 1.0
+#define PROGRESS_EVERY_S 10.0
 void cli_progress(void *label, int done, int total)
 {
-	static int tty = -1;
+	static int tty = -1, last_done, last_tenth;
+	static const void *stage;
+	static double t_start, t_line;
 	if (tty < 0)
 		tty = isatty(fileno(stderr));
-	if (!tty) { /* logs get one line per finished stage, not a counter */
+	if (!tty) {
+		double now = bk_clock_now();
+		if (label != stage || done < last_done) { /* a new stage */
+			stage = label;
+			t_start = t_line = now;
+			last_tenth = 0;
+		}
+		int tenth = total > 0 ? (int)((long long)done * 10 / total) : 0;
 		if (done == total)
 			fprintf(stderr, "%s: %d/%d done\n", (const char *)label, done, total);
+		else if ((tenth > last_tenth && now - t_start >= PROGRESS_QUIET_S) || now - t_line >= PROGRESS_EVERY_S) {
+			fprintf(stderr, "%s: %d/%d (%d %%, %.0f s)\n", (const char *)label, done, total,
+			        (int)((long long)done * 100 / total), now - t_start);
+			t_line = now;
+		}
+		last_done = done;
+		last_tenth = tenth;
 		return;
 	}
 	fprintf(stderr, "\r%s: %d/%d", (const char *)label, done, total);

@@ -276,6 +276,27 @@ static int write_shaders(const run *R, const char *dir)
 	return 0;
 }
 
+/* One line on stderr before a reference build that computes integrals: how
+ * many, and how long they will take here (bk_target_estimate times 16). No
+ * size is refused: --nx, --nr <= 4096 bound it, and the line says the cost. */
+static void say_estimate(const bk_target_options *to)
+{
+	double n, sec = bk_target_estimate(to, &n);
+	if (n <= 0)
+		return;
+	char count[32], when[32];
+	if (n < 1e4)
+		snprintf(count, sizeof count, "%.0f", n);
+	else
+		snprintf(count, sizeof count, n < 1e6 ? "%.3gk" : "%.3gM", n < 1e6 ? n / 1e3 : n / 1e6);
+	if (sec < 120)
+		snprintf(when, sizeof when, "%.0f s", ceil(sec));
+	else
+		snprintf(when, sizeof when, sec < 7200 ? "%.0f min" : "%.1f h", sec < 7200 ? sec / 60 : sec / 3600);
+	fprintf(stderr, "fit: %s target %dx%d = %s integrals, about %s on this machine\n", bk_target_name(to->kind),
+	        to->nx, to->nr, count, when);
+}
+
 /* Everything into DIR.tmpXXXXXX, then swapped in whole (bk_out_dir): the
  * directory is the old result or the new one, and only a directory brdfkit
  * wrote is replaced. */
@@ -676,6 +697,11 @@ int cmd_fit(int argc, char **argv)
 		rc = 2;
 		goto done;
 	}
+	if (bk_out_dir_check(a.out, err, sizeof err)) { /* before the work (hours for a big env grid), not after */
+		rc = cli_fail("fit", "--out %s", err);
+		goto done;
+	}
+	say_estimate(&R.to);
 	if (bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err)) {
 		rc = cli_fail("fit", "%s", err);
 		goto done;
