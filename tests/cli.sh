@@ -359,6 +359,7 @@ rm -f "$T/form.txt" "$T/bad.txt" "$T/nul.txt" "$T/long.txt" "$T/many.txt" "$T/de
 # a start given twice is refused, not the last one silently taken
 expect_error "fit p0 twice" "p0 given twice" $BK fit --target vf2d --form vf_talk_r p0=1 p0=2 --out "$T/fit2"
 expect_error "fit p-0" "expected pN=VALUE" $BK fit --target vf2d --form vf_talk_r p-0=1 --out "$T/fit2"
+
 # ---- issue 9 (numerics: tiny roughness, long fits, CPU-independent fits) ----
 # r too small to resolve (a = r^2 underflows below r ~ 1e-162; 1e-160 gives a
 # subnormal a) is the smooth limit, A = 1 - (1 - NoV)^5 = 0.96875 at NoV = 0.5,
