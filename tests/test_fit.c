@@ -85,6 +85,40 @@ Test(fit, linear_regression_closed_form)
 	bk_samples_free(&s);
 }
 
+/* BK_FIT_DIGITS_SE (the CLI's default): the same regression reported to the
+ * decade at or below se/100 of the closed-form se, the metrics at the value
+ * shown; the unrounded point is the closed form's. */
+Test(fit, digits_from_the_standard_error)
+{
+	bk_samples s;
+	samples(BK_TARGET_VF2D, 32, 32, &s);
+	double swgy = 0, swgg = 0, rss = 0;
+	for (size_t i = 0; i < s.n; i++) {
+		double g = g_of(&s, i);
+		swgy += s.w[i] * g * s.y[i];
+		swgg += s.w[i] * g * g;
+	}
+	double p = swgy / swgg;
+	for (size_t i = 0; i < s.n; i++) {
+		double e = p * g_of(&s, i) - s.y[i];
+		rss += s.w[i] * e * e;
+	}
+	double se = sqrt(rss / (double)(s.n - 1) / swgg), q = pow(10, floor(log10(se / 100)));
+	bk_form *f = form("p0*f0/(4*LoH*LoH)");
+	bk_fit_spec sp;
+	bk_fit_result res;
+	bk_fit_metrics at;
+	spec_init(&sp, &s, f, 1.0);
+	sp.digits = BK_FIT_DIGITS_SE;
+	cr_assert_eq(bk_fit_run(&sp, &res), 0, "%s", res.message);
+	cr_assert(fabs(res.unrounded[0] - p) <= 1e-6 * fabs(p), "unrounded %.12g vs %.12g", res.unrounded[0], p);
+	cr_assert_eq(res.p[0], round(p / q) * q, "%.17g vs %.17g (q %g)", res.p[0], round(p / q) * q, q);
+	bk_fit_evaluate(&sp, res.p, &at);
+	cr_assert_eq(res.fitted.cost, at.cost);
+	bk_form_free(f);
+	bk_samples_free(&s);
+}
+
 /* Relative residuals are the same regression with weights w / y^2; a user
  * weight formula multiplies the target's weight. */
 Test(fit, relative_and_user_weight)

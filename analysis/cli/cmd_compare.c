@@ -116,7 +116,16 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 	memcpy(r->params, res.p, sizeof r->params);
 	char name[96];
 	snprintf(name, sizeof name, "%.80s (refit)", pub->name);
-	row_text(r, name, "refit", "brdfkit fit, constants freed from the published ones");
+	char source[200] = "brdfkit fit, constants freed from the published ones";
+	for (int j = 0, k = 0; j < sp.np; j++) /* the ones the data do not pin stay published (fit.c) */
+		if (res.held[j] && strlen(source) + 48 < sizeof source)
+			snprintf(source + strlen(source), sizeof source - strlen(source), "%sp%d", k++ ? ", " : " but ", j);
+	for (int j = 0; j < sp.np; j++)
+		if (res.held[j]) {
+			snprintf(source + strlen(source), sizeof source - strlen(source), " (not identifiable)");
+			break;
+		}
+	row_text(r, name, "refit", source);
 	score(S, r, f);
 	return 0;
 }
