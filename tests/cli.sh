@@ -401,6 +401,17 @@ timeout 8 $BK fit --target env --form env_karis2014_split --nx 256 --nr 64 --out
 grep -q '^reference: [1-5]\?[0-9]/64 ([0-9]* %, [0-9]* s)$' "$T/err" && ok || bad "no progress lines in a log: $(cat "$T/err")"
 rm -rf "$T/file" "$T/big" "$T/mid"
 
+# a fit that took no step from a point that is not a minimum is not converged
+# (exit 3, the reason said): a Huber scale that flattens every residual, and a
+# start where the form is flat (the derivative of 1/(r + p0) underflows)
+for how in "--loss huber --loss-scale 1e-300" "p0=1e308"; do
+	$BK fit --target vf2d --form vf_talk_r $how --out "$T/nostep" >"$T/out" 2>&1
+	st=$?
+	[ $st -eq 3 ] && grep -q '^warning: did not converge (no step taken from a point that is not a minimum: ' "$T/out" && ok \
+		|| bad "fit $how: exit $st: $(tail -1 "$T/out")"
+done
+rm -rf "$T/nostep"
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
