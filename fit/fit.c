@@ -265,6 +265,11 @@ static int hold_unidentified(bk_fit_ctx *c, bk_fit_spec *fs, bk_fit_result *res)
 			fs->hold[j] = 0;
 		}
 	}
+	int any = 0;
+	for (int j = 0; j < fs->np; j++)
+		any |= res->held[j];
+	if (!any)
+		return 0; /* J could not be evaluated: the report names the parameters */
 	double p[BK_MAX_PARAMS];
 	memcpy(p, res->p, sizeof p);
 	for (int j = 0; j < fs->np; j++)
