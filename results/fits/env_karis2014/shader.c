@@ -9,14 +9,14 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
  * fitted error: rmse 0.0555, max |error| 0.301, max relative 28.9 (absolute residuals)
  * parameters baked in:
- *   p0 = -1.66333334
- *   p1 = 0.0363843362
- *   p2 = -0.531132817
- *   p3 = 0.00864968628
- *   p4 = 1.19981735
- *   p5 = 0.00341160178
- *   p6 = 1.10435382
- *   p7 = -0.0133580544
+ *   p0 = -1.6633
+ *   p1 = -0.0275
+ *   p2 = -0.59757
+ *   p3 = 0.07509
+ *   p4 = 1.19982
+ *   p5 = 0.0425
+ *   p6 = 1.14501
+ *   p7 = -0.05401
  *   p8 = -9.28
  *   p9 = -1.04
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -31,14 +31,14 @@
 #include <math.h>
 static inline float env_karis2014_split_A(float NoV, float r)
 {
-	float t4 = (-1.6633333f) * r + 1.1998173f;
+	float t4 = (-1.6633f) * r + 1.19982f;
 	float t5 = t4 * t4;
 	float t8 = (-9.28f) * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.036384337f + 0.0034116018f;
+	float t13 = r * (-0.0275f) + 0.0425f;
 	float t14 = t4 * t10 + t13;
-	float t17 = r * (-0.5311328f) + 1.1043538f;
+	float t17 = r * (-0.59757f) + 1.14501f;
 	float t18 = (-1.04f) * t14 + t17;
 	return t18;
 }
@@ -54,14 +54,14 @@ static inline float env_karis2014_split_A(float NoV, float r)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
  * fitted error: rmse 0.0555, max |error| 0.301, max relative 28.9 (absolute residuals)
  * parameters baked in:
- *   p0 = -1.66333334
- *   p1 = 0.0363843362
- *   p2 = -0.531132817
- *   p3 = 0.00864968628
- *   p4 = 1.19981735
- *   p5 = 0.00341160178
- *   p6 = 1.10435382
- *   p7 = -0.0133580544
+ *   p0 = -1.6633
+ *   p1 = -0.0275
+ *   p2 = -0.59757
+ *   p3 = 0.07509
+ *   p4 = 1.19982
+ *   p5 = 0.0425
+ *   p6 = 1.14501
+ *   p7 = -0.05401
  *   p8 = -9.28
  *   p9 = -1.04
  *   p10 = 1.04
@@ -77,14 +77,14 @@ static inline float env_karis2014_split_A(float NoV, float r)
 #include <math.h>
 static inline float env_karis2014_split_B(float NoV, float r)
 {
-	float t4 = (-1.6633333f) * r + 1.1998173f;
+	float t4 = (-1.6633f) * r + 1.19982f;
 	float t5 = t4 * t4;
 	float t8 = (-9.28f) * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.036384337f + 0.0034116018f;
+	float t13 = r * (-0.0275f) + 0.0425f;
 	float t14 = t4 * t10 + t13;
-	float t17 = r * 0.008649686f + (-0.013358055f);
+	float t17 = r * 0.07509f + (-0.05401f);
 	float t18 = 1.04f * t14 + t17;
 	return t18;
 }

@@ -9,14 +9,14 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
  * fitted error: rmse 0.0555, max |error| 0.301, max relative 28.9 (absolute residuals)
  * parameters baked in:
- *   p0 = -1.66333334
- *   p1 = 0.0363843362
- *   p2 = -0.531132817
- *   p3 = 0.00864968628
- *   p4 = 1.19981735
- *   p5 = 0.00341160178
- *   p6 = 1.10435382
- *   p7 = -0.0133580544
+ *   p0 = -1.6633
+ *   p1 = -0.0275
+ *   p2 = -0.59757
+ *   p3 = 0.07509
+ *   p4 = 1.19982
+ *   p5 = 0.0425
+ *   p6 = 1.14501
+ *   p7 = -0.05401
  *   p8 = -9.28
  *   p9 = -1.04
  * precision: HLSL float (fp32)
@@ -29,14 +29,14 @@
  */
 float env_karis2014_split_A(float NoV, float r)
 {
-	float t4 = mad((-1.6633333), r, 1.1998173);
+	float t4 = mad((-1.6633), r, 1.19982);
 	float t5 = t4 * t4;
 	float t8 = (-9.28) * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.036384337, 0.0034116018);
+	float t13 = mad(r, (-0.0275), 0.0425);
 	float t14 = mad(t4, t10, t13);
-	float t17 = mad(r, (-0.5311328), 1.1043538);
+	float t17 = mad(r, (-0.59757), 1.14501);
 	float t18 = mad((-1.04), t14, t17);
 	return t18;
 }
@@ -52,14 +52,14 @@ float env_karis2014_split_A(float NoV, float r)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
  * fitted error: rmse 0.0555, max |error| 0.301, max relative 28.9 (absolute residuals)
  * parameters baked in:
- *   p0 = -1.66333334
- *   p1 = 0.0363843362
- *   p2 = -0.531132817
- *   p3 = 0.00864968628
- *   p4 = 1.19981735
- *   p5 = 0.00341160178
- *   p6 = 1.10435382
- *   p7 = -0.0133580544
+ *   p0 = -1.6633
+ *   p1 = -0.0275
+ *   p2 = -0.59757
+ *   p3 = 0.07509
+ *   p4 = 1.19982
+ *   p5 = 0.0425
+ *   p6 = 1.14501
+ *   p7 = -0.05401
  *   p8 = -9.28
  *   p9 = -1.04
  *   p10 = 1.04
@@ -73,14 +73,14 @@ float env_karis2014_split_A(float NoV, float r)
  */
 float env_karis2014_split_B(float NoV, float r)
 {
-	float t4 = mad((-1.6633333), r, 1.1998173);
+	float t4 = mad((-1.6633), r, 1.19982);
 	float t5 = t4 * t4;
 	float t8 = (-9.28) * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.036384337, 0.0034116018);
+	float t13 = mad(r, (-0.0275), 0.0425);
 	float t14 = mad(t4, t10, t13);
-	float t17 = mad(r, 0.008649686, (-0.013358055));
+	float t17 = mad(r, 0.07509, (-0.05401));
 	float t18 = mad(1.04, t14, t17);
 	return t18;
 }

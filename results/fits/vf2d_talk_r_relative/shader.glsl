@@ -9,7 +9,7 @@
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
  * fitted error: rmse 0.0353, max |error| 0.311, max relative 0.7 (relative residuals)
  * parameters baked in:
- *   p0 = 0.693258133
+ *   p0 = 0.69326
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -21,7 +21,7 @@ highp float vf_talk_r(highp float LoH, highp float r, highp float f0)
 {
 	highp float t3 = 4.0 * LoH;
 	highp float t4 = LoH * t3;
-	highp float t7 = r + 0.6932581;
+	highp float t7 = r + 0.69326;
 	highp float t8 = t4 * t7;
 	highp float t9 = f0 / t8;
 	return t9;

@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: rmse 29.4, max |error| 1.53e+03, max relative 0.979 (relative residuals)
  * parameters baked in:
- *   p0 = 0.633214675
+ *   p0 = 0.63321
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,7 +23,7 @@ static inline float vf_talk_r(float LoH, float r, float f0)
 {
 	float t3 = 4.0f * LoH;
 	float t4 = LoH * t3;
-	float t7 = r + 0.63321465f;
+	float t7 = r + 0.63321f;
 	float t8 = t4 * t7;
 	float t9 = f0 / t8;
 	return t9;

@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: rmse 29.4, max |error| 1.53e+03, max relative 0.979 (relative residuals)
  * parameters baked in:
- *   p0 = 0.633214675
+ *   p0 = 0.63321
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -21,7 +21,7 @@ highp float vf_talk_r(highp float LoH, highp float r, highp float f0)
 {
 	highp float t3 = 4.0 * LoH;
 	highp float t4 = LoH * t3;
-	highp float t7 = r + 0.63321465;
+	highp float t7 = r + 0.63321;
 	highp float t8 = t4 * t7;
 	highp float t9 = f0 / t8;
 	return t9;

@@ -9,11 +9,11 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.599, rmse 0.309
  * parameters baked in:
- *   p0 = -0.121875829
- *   p1 = -0.339544724
- *   p2 = 0.619925891
- *   p3 = 0.58860451
- *   p4 = -13.6339801
+ *   p0 = -0.1219
+ *   p1 = -0.33954
+ *   p2 = 0.6199
+ *   p3 = 0.5886
+ *   p4 = -13.634
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
@@ -24,12 +24,12 @@
  */
 float env_karis2014_nonmetal_refit(float NoV, float r)
 {
-	float t3 = mad((-0.12187583), r, 0.6199259);
+	float t3 = mad((-0.1219), r, 0.6199);
 	float t4 = t3 * t3;
-	float t7 = (-13.63398) * NoV;
+	float t7 = (-13.634) * NoV;
 	float t8 = exp2(t7);
 	float t9 = min(t4, t8);
-	float t12 = mad(r, (-0.3395447), 0.5886045);
+	float t12 = mad(r, (-0.33954), 0.5886);
 	float t13 = mad(t3, t9, t12);
 	return t13;
 }

@@ -9,13 +9,13 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.428, rmse 0.0535
  * parameters baked in:
- *   p0 = 1.08966733
- *   p1 = 0.768177358
- *   p2 = -0.0203581923
- *   p3 = 0.611537067
- *   p4 = 0.00148830147
- *   p5 = 0.542316388
- *   p6 = -8.91505419
+ *   p0 = 1.0897
+ *   p1 = 0.76818
+ *   p2 = -0.02036
+ *   p3 = 0.61154
+ *   p4 = 0.00149
+ *   p5 = 0.54232
+ *   p6 = -8.915
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -31,15 +31,15 @@
 static inline float env_lazarov2013_g1mr_refit(float NoV, float r, float f0)
 {
 	float t3 = 1.0f - r;
-	float t6 = t3 * 0.61153704f + 0.5423164f;
-	float t8 = 1.0896673f * t3;
-	float t10 = t3 * 0.76817733f;
-	float t13 = (-8.915054f) * NoV;
+	float t6 = t3 * 0.61154f + 0.54232f;
+	float t8 = 1.0897f * t3;
+	float t10 = t3 * 0.76818f;
+	float t13 = (-8.915f) * NoV;
 	float t14 = exp2f(t13);
 	float t15 = fminf(t10, t14);
-	float t17 = t3 * (-0.020358192f);
+	float t17 = t3 * (-0.02036f);
 	float t18 = t8 * t15 + t17;
-	float t20 = t18 + 0.0014883014f;
+	float t20 = t18 + 0.00149f;
 	float t21 = t6 - t20;
 	float t22 = f0 * t21 + t20;
 	float t23 = fminf(fmaxf(t22, 0.0f), 1.0f);

@@ -9,13 +9,13 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.428, rmse 0.0535
  * parameters baked in:
- *   p0 = 1.08966733
- *   p1 = 0.768177358
- *   p2 = -0.0203581923
- *   p3 = 0.611537067
- *   p4 = 0.00148830147
- *   p5 = 0.542316388
- *   p6 = -8.91505419
+ *   p0 = 1.0897
+ *   p1 = 0.76818
+ *   p2 = -0.02036
+ *   p3 = 0.61154
+ *   p4 = 0.00149
+ *   p5 = 0.54232
+ *   p6 = -8.915
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -29,15 +29,15 @@
 highp float env_lazarov2013_g1mr_refit(highp float NoV, highp float r, highp float f0)
 {
 	highp float t3 = 1.0 - r;
-	highp float t6 = t3 * 0.61153704 + 0.5423164;
-	highp float t8 = 1.0896673 * t3;
-	highp float t10 = t3 * 0.76817733;
-	highp float t13 = (-8.915054) * NoV;
+	highp float t6 = t3 * 0.61154 + 0.54232;
+	highp float t8 = 1.0897 * t3;
+	highp float t10 = t3 * 0.76818;
+	highp float t13 = (-8.915) * NoV;
 	highp float t14 = exp2(t13);
 	highp float t15 = min(t10, t14);
-	highp float t17 = t3 * (-0.020358192);
+	highp float t17 = t3 * (-0.02036);
 	highp float t18 = t8 * t15 + t17;
-	highp float t20 = t18 + 0.0014883014;
+	highp float t20 = t18 + 0.00149;
 	highp float t21 = t6 - t20;
 	highp float t22 = f0 * t21 + t20;
 	highp float t23 = clamp(t22, 0.0, 1.0);

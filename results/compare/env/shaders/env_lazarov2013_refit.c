@@ -9,14 +9,14 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.393, rmse 0.0561
  * parameters baked in:
- *   p0 = 0.911667661
- *   p1 = 0.714894372
- *   p2 = -0.0257685327
- *   p3 = 0.49461038
- *   p4 = 0.00705018997
- *   p5 = 0.585098016
- *   p6 = -8.57322282
- *   p7 = 718.731629
+ *   p0 = 0.91167
+ *   p1 = 0.71489
+ *   p2 = -0.02577
+ *   p3 = 0.49461
+ *   p4 = 0.00705
+ *   p5 = 0.5851
+ *   p6 = -8.573
+ *   p7 = 718.7
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -37,18 +37,18 @@ static inline float env_lazarov2013_refit(float NoV, float a, float f0)
 	float t4 = 2.0f / t3;
 	float t5 = t4 - 2.0f;
 	float t6 = log2f(t5);
-	float t8 = log2f(718.7316f);
+	float t8 = log2f(718.7f);
 	float t9 = t6 / t8;
 	float t10 = fminf(fmaxf(t9, 0.0f), 1.0f);
-	float t13 = t10 * 0.49461037f + 0.585098f;
-	float t15 = 0.91166764f * t10;
-	float t17 = t10 * 0.71489435f;
-	float t20 = (-8.573223f) * NoV;
+	float t13 = t10 * 0.49461f + 0.5851f;
+	float t15 = 0.91167f * t10;
+	float t17 = t10 * 0.71489f;
+	float t20 = (-8.573f) * NoV;
 	float t21 = exp2f(t20);
 	float t22 = fminf(t17, t21);
-	float t24 = t10 * (-0.025768533f);
+	float t24 = t10 * (-0.02577f);
 	float t25 = t15 * t22 + t24;
-	float t27 = t25 + 0.00705019f;
+	float t27 = t25 + 0.00705f;
 	float t28 = t13 - t27;
 	float t29 = f0 * t28 + t27;
 	float t30 = fminf(fmaxf(t29, 0.0f), 1.0f);

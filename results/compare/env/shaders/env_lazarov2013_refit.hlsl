@@ -9,14 +9,14 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.393, rmse 0.0561
  * parameters baked in:
- *   p0 = 0.911667661
- *   p1 = 0.714894372
- *   p2 = -0.0257685327
- *   p3 = 0.49461038
- *   p4 = 0.00705018997
- *   p5 = 0.585098016
- *   p6 = -8.57322282
- *   p7 = 718.731629
+ *   p0 = 0.91167
+ *   p1 = 0.71489
+ *   p2 = -0.02577
+ *   p3 = 0.49461
+ *   p4 = 0.00705
+ *   p5 = 0.5851
+ *   p6 = -8.573
+ *   p7 = 718.7
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -35,18 +35,18 @@ float env_lazarov2013_refit(float NoV, float a, float f0)
 	float t4 = 2.0 / t3;
 	float t5 = t4 - 2.0;
 	float t6 = log2(t5);
-	float t8 = log2(718.7316);
+	float t8 = log2(718.7);
 	float t9 = t6 / t8;
 	float t10 = saturate(t9);
-	float t13 = mad(t10, 0.49461037, 0.585098);
-	float t15 = 0.91166764 * t10;
-	float t17 = t10 * 0.71489435;
-	float t20 = (-8.573223) * NoV;
+	float t13 = mad(t10, 0.49461, 0.5851);
+	float t15 = 0.91167 * t10;
+	float t17 = t10 * 0.71489;
+	float t20 = (-8.573) * NoV;
 	float t21 = exp2(t20);
 	float t22 = min(t17, t21);
-	float t24 = t10 * (-0.025768533);
+	float t24 = t10 * (-0.02577);
 	float t25 = mad(t15, t22, t24);
-	float t27 = t25 + 0.00705019;
+	float t27 = t25 + 0.00705;
 	float t28 = t13 - t27;
 	float t29 = mad(f0, t28, t27);
 	float t30 = saturate(t29);

@@ -9,11 +9,11 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.217, rmse 0.0264
  * parameters baked in:
- *   p0 = 7.98249635
- *   p1 = 9.15317587
- *   p2 = 0.297156891
- *   p3 = 0.567866437
- *   p4 = 0.0543753897
+ *   p0 = 7.9825
+ *   p1 = 9.1532
+ *   p2 = 0.29716
+ *   p3 = 0.56787
+ *   p4 = 0.05438
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -29,13 +29,13 @@
 static inline float env_pesce_iwanicki2015_refit(float NoV, float r, float a, float f0)
 {
 	float t2 = -a;
-	float t6 = 9.153176f * a;
-	float t7 = 7.9824963f * NoV + t6;
+	float t6 = 9.1532f * a;
+	float t7 = 7.9825f * NoV + t6;
 	float t8 = -t7;
 	float t9 = exp2f(t8);
-	float t13 = NoV * 0.56786644f + 0.2971569f;
+	float t13 = NoV * 0.56787f + 0.29716f;
 	float t14 = fminf(r, t13);
-	float t16 = t14 - 0.05437539f;
+	float t16 = t14 - 0.05438f;
 	float t17 = fmaxf(t9, t16);
 	float t19 = 1.0f - t9;
 	float t20 = t2 * t17 + t19;

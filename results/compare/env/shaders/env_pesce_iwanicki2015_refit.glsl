@@ -9,11 +9,11 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.217, rmse 0.0264
  * parameters baked in:
- *   p0 = 7.98249635
- *   p1 = 9.15317587
- *   p2 = 0.297156891
- *   p3 = 0.567866437
- *   p4 = 0.0543753897
+ *   p0 = 7.9825
+ *   p1 = 9.1532
+ *   p2 = 0.29716
+ *   p3 = 0.56787
+ *   p4 = 0.05438
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
@@ -27,13 +27,13 @@
 highp float env_pesce_iwanicki2015_refit(highp float NoV, highp float r, highp float a, highp float f0)
 {
 	highp float t2 = -a;
-	highp float t6 = 9.153176 * a;
-	highp float t7 = 7.9824963 * NoV + t6;
+	highp float t6 = 9.1532 * a;
+	highp float t7 = 7.9825 * NoV + t6;
 	highp float t8 = -t7;
 	highp float t9 = exp2(t8);
-	highp float t13 = NoV * 0.56786644 + 0.2971569;
+	highp float t13 = NoV * 0.56787 + 0.29716;
 	highp float t14 = min(r, t13);
-	highp float t16 = t14 - 0.05437539;
+	highp float t16 = t14 - 0.05438;
 	highp float t17 = max(t9, t16);
 	highp float t19 = 1.0 - t9;
 	highp float t20 = t2 * t17 + t19;

@@ -9,9 +9,9 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.687, rmse 0.156
  * parameters baked in:
- *   p0 = -0.931675669
- *   p1 = 25.7128858
- *   p2 = 1.33396826
+ *   p0 = -0.932
+ *   p1 = 25.71
+ *   p2 = 1.334
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -28,13 +28,13 @@
 static inline float env_ross_refit(float NoV, float a, float f0)
 {
 	float t3 = 1.0f - NoV;
-	float t6 = -(-0.9316757f);
+	float t6 = -(-0.932f);
 	float t8 = t6 * a;
 	float t9 = expf(t8);
 	float t10 = 5.0f * t9;
 	float t11 = powf(t3, t10);
-	float t14 = powf(a, 1.3339683f);
-	float t15 = 25.712885f * t14 + 1.0f;
+	float t14 = powf(a, 1.334f);
+	float t15 = 25.71f * t14 + 1.0f;
 	float t16 = t11 / t15;
 	float t17 = 1.0f - t16;
 	float t18 = f0 * t17 + t16;

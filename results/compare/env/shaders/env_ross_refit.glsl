@@ -9,9 +9,9 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.687, rmse 0.156
  * parameters baked in:
- *   p0 = -0.931675669
- *   p1 = 25.7128858
- *   p2 = 1.33396826
+ *   p0 = -0.932
+ *   p1 = 25.71
+ *   p2 = 1.334
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
@@ -26,13 +26,13 @@
 highp float env_ross_refit(highp float NoV, highp float a, highp float f0)
 {
 	highp float t3 = 1.0 - NoV;
-	highp float t6 = -(-0.9316757);
+	highp float t6 = -(-0.932);
 	highp float t8 = t6 * a;
 	highp float t9 = exp(t8);
 	highp float t10 = 5.0 * t9;
 	highp float t11 = pow(t3, t10);
-	highp float t14 = pow(a, 1.3339683);
-	highp float t15 = 25.712885 * t14 + 1.0;
+	highp float t14 = pow(a, 1.334);
+	highp float t15 = 25.71 * t14 + 1.0;
 	highp float t16 = t11 / t15;
 	highp float t17 = 1.0 - t16;
 	highp float t18 = f0 * t17 + t16;

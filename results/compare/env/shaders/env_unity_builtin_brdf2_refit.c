@@ -9,8 +9,8 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.426, rmse 0.0667
  * parameters baked in:
- *   p0 = 1.80572217
- *   p1 = 1.35299214
+ *   p0 = 1.8057
+ *   p1 = 1.353
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,7 +26,7 @@ static inline float env_unity_builtin_brdf2_refit(float NoV, float r, float a, f
 	float t2 = a * r;
 	float t3 = -t2;
 	float t4 = -r;
-	float t7 = t4 * 1.3529922f + 1.8057221f;
+	float t7 = t4 * 1.353f + 1.8057f;
 	float t9 = t3 * t7 + 1.0f;
 	float t11 = 1.0f - r;
 	float t12 = f0 + t11;

@@ -9,8 +9,8 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.426, rmse 0.0667
  * parameters baked in:
- *   p0 = 1.80572217
- *   p1 = 1.35299214
+ *   p0 = 1.8057
+ *   p1 = 1.353
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
@@ -24,7 +24,7 @@ float env_unity_builtin_brdf2_refit(float NoV, float r, float a, float f0)
 	float t2 = a * r;
 	float t3 = -t2;
 	float t4 = -r;
-	float t7 = mad(t4, 1.3529922, 1.8057221);
+	float t7 = mad(t4, 1.353, 1.8057);
 	float t9 = mad(t3, t7, 1.0);
 	float t11 = 1.0 - r;
 	float t12 = f0 + t11;

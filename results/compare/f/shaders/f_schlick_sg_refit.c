@@ -9,8 +9,8 @@
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
  * fitted error: max |error| 0.00533, rmse 0.00305
  * parameters baked in:
- *   p0 = -0.352486753
- *   p1 = -8.38688158
+ *   p0 = -0.3525
+ *   p1 = -8.3869
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,7 +24,7 @@
 static inline float f_schlick_sg_refit(float LoH, float f0)
 {
 	float t2 = 1.0f - f0;
-	float t6 = (-0.35248676f) * LoH + (-8.386882f);
+	float t6 = (-0.3525f) * LoH + (-8.3869f);
 	float t7 = LoH * t6;
 	float t8 = exp2f(t7);
 	float t9 = t2 * t8 + f0;

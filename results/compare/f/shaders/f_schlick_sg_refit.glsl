@@ -9,8 +9,8 @@
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
  * fitted error: max |error| 0.00533, rmse 0.00305
  * parameters baked in:
- *   p0 = -0.352486753
- *   p1 = -8.38688158
+ *   p0 = -0.3525
+ *   p1 = -8.3869
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -22,7 +22,7 @@
 highp float f_schlick_sg_refit(highp float LoH, highp float f0)
 {
 	highp float t2 = 1.0 - f0;
-	highp float t6 = (-0.35248676) * LoH + (-8.386882);
+	highp float t6 = (-0.3525) * LoH + (-8.3869);
 	highp float t7 = LoH * t6;
 	highp float t8 = exp2(t7);
 	highp float t9 = t2 * t8 + f0;

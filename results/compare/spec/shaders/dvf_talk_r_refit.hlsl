@@ -9,7 +9,7 @@
  * fitted domain: spec: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) x GGX D x NoL (the whole rendered lobe) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight dω (solid angle), each roughness weighing the same
  * fitted error: max |error| 8.33e+05, rmse 2.84e+04
  * parameters baked in:
- *   p0 = 0.0431930578
+ *   p0 = 0.043193
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
@@ -30,7 +30,7 @@ float dvf_talk_r_refit(float NoL, float NoH, float LoH, float r, float f0)
 	float t13 = 12.566371 * t12;
 	float t14 = t13 * LoH;
 	float t15 = LoH * t14;
-	float t17 = r + 0.043193057;
+	float t17 = r + 0.043193;
 	float t18 = t15 * t17;
 	float t19 = t4 / t18;
 	float t21 = t19 * NoL;

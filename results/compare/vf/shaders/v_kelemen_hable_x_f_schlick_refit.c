@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 735, rmse 6
  * parameters baked in:
- *   p0 = 0.522361858
+ *   p0 = 0.522362
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,7 +23,7 @@
 static inline float v_kelemen_hable_x_f_schlick_refit(float LoH, float a, float f0)
 {
 	float t2 = LoH * LoH;
-	float t6 = 0.5223619f * a;
+	float t6 = 0.522362f * a;
 	float t7 = t6 * t6;
 	float t8 = 1.0f - t7;
 	float t9 = t2 * t8 + t7;

@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 735, rmse 6
  * parameters baked in:
- *   p0 = 0.522361858
+ *   p0 = 0.522362
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -21,7 +21,7 @@
 float v_kelemen_hable_x_f_schlick_refit(float LoH, float a, float f0)
 {
 	float t2 = LoH * LoH;
-	float t6 = 0.5223619 * a;
+	float t6 = 0.522362 * a;
 	float t7 = t6 * t6;
 	float t8 = 1.0 - t7;
 	float t9 = mad(t2, t8, t7);

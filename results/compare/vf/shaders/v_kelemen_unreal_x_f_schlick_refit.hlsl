@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 1.11e+03, rmse 15.3
  * parameters baked in:
- *   p0 = 0.000950324471
+ *   p0 = 0.00095032
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
@@ -21,7 +21,7 @@
 float v_kelemen_unreal_x_f_schlick_refit(float LoH, float f0)
 {
 	float t3 = 4.0 * LoH;
-	float t5 = mad(LoH, t3, 0.00095032447);
+	float t5 = mad(LoH, t3, 0.00095032);
 	float t6 = 1.0 / t5;
 	float t7 = 1.0 - LoH;
 	float t8 = t7 * t7;

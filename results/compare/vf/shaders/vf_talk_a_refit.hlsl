@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 856, rmse 8.24
  * parameters baked in:
- *   p0 = 0.0457919617
+ *   p0 = 0.045792
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -21,7 +21,7 @@ float vf_talk_a_refit(float LoH, float a, float f0)
 {
 	float t3 = 4.0 * LoH;
 	float t4 = LoH * t3;
-	float t7 = a + 0.04579196;
+	float t7 = a + 0.045792;
 	float t8 = t4 * t7;
 	float t9 = f0 / t8;
 	return t9;

@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 1.21e+03, rmse 17.4
  * parameters baked in:
- *   p0 = 0.0141195966
+ *   p0 = 0.01412
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,7 +23,7 @@ static inline float vf_talk_r_refit(float LoH, float r, float f0)
 {
 	float t3 = 4.0f * LoH;
 	float t4 = LoH * t3;
-	float t7 = r + 0.014119596f;
+	float t7 = r + 0.01412f;
 	float t8 = t4 * t7;
 	float t9 = f0 / t8;
 	return t9;

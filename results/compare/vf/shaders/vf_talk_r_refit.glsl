@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: max |error| 1.21e+03, rmse 17.4
  * parameters baked in:
- *   p0 = 0.0141195966
+ *   p0 = 0.01412
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -21,7 +21,7 @@ highp float vf_talk_r_refit(highp float LoH, highp float r, highp float f0)
 {
 	highp float t3 = 4.0 * LoH;
 	highp float t4 = LoH * t3;
-	highp float t7 = r + 0.014119596;
+	highp float t7 = r + 0.01412;
 	highp float t8 = t4 * t7;
 	highp float t9 = f0 / t8;
 	return t9;

@@ -9,7 +9,7 @@
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (128x128 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
  * fitted error: max |error| 0.0971, rmse 0.0134
  * parameters baked in:
- *   p0 = 2.14763352
+ *   p0 = 2.14763
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,7 +23,7 @@
 static inline float v_kelemen_hable_x_f_schlick_refit(float LoH, float a, float f0)
 {
 	float t2 = LoH * LoH;
-	float t6 = 2.1476336f * a;
+	float t6 = 2.14763f * a;
 	float t7 = t6 * t6;
 	float t8 = 1.0f - t7;
 	float t9 = t2 * t8 + t7;

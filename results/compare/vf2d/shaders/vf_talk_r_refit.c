@@ -9,7 +9,7 @@
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (128x128 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
  * fitted error: max |error| 0.159, rmse 0.0215
  * parameters baked in:
- *   p0 = 0.295140067
+ *   p0 = 0.29514
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,7 +23,7 @@ static inline float vf_talk_r_refit(float LoH, float r, float f0)
 {
 	float t3 = 4.0f * LoH;
 	float t4 = LoH * t3;
-	float t7 = r + 0.29514006f;
+	float t7 = r + 0.29514f;
 	float t8 = t4 * t7;
 	float t9 = f0 / t8;
 	return t9;
