@@ -47,7 +47,7 @@ static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 		}
 		res->start_cost_min = fmin(res->start_cost_min, sum.final_cost);
 		res->start_cost_max = fmax(res->start_cost_max, sum.final_cost);
-		if (sum.final_cost < best) {
+		if (!isfinite(best) || sum.final_cost < best * (1.0 - BK_FIT_COST_TIE)) {
 			best = sum.final_cost;
 			memcpy(res->p, p, sizeof p);
 			res->summary = sum;

@@ -74,6 +74,15 @@ typedef struct bk_fit_spec {
  * re-solved from there (at most twice, fit.c POLISH), then reported as
  * NO_CONVERGENCE with the parameters named in the message. */
 #define BK_FIT_GRAD_TOL 1e-4
+
+/* Two starts whose final costs agree to BK_FIT_COST_TIE (relative) are a tie,
+ * and the earlier start wins (start 0 is the given or published point). The
+ * last digits of a cost follow the CPU's libm (glibc picks FMA or non-FMA exp,
+ * log, pow at run time) and where Ceres stopped within its function tolerance
+ * (1e-12 relative): choosing between two minima on those digits made the
+ * answer depend on the machine. 1e-8 is far above both and far below any
+ * difference that matters in a fit. */
+#define BK_FIT_COST_TIE 1e-8
 #define BK_FIT_EXACT 1e-12 /* the rounding floor above, relative to ||ŷ|| */
 
 /* Ill-conditioning: cond(JᵀJ) of the column-scaled Jacobian (unit-norm

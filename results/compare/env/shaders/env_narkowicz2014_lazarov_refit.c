@@ -11,11 +11,11 @@
  * parameters baked in:
  *   p0 = 1.2526
  *   p1 = 0.7164
- *   p2 = -0.04217
+ *   p2 = -0.04218
  *   p3 = 1.13756
  *   p4 = 0.0601
  *   p5 = 0.3147
- *   p6 = -0.00306
+ *   p6 = -0.00307
  *   p7 = 0.53387
  *   p8 = -7.567
  *   p9 = 50
@@ -43,9 +43,9 @@ static inline float env_narkowicz2014_lazarov_refit(float NoV, float r, float f0
 	float t17 = (-7.567f) * NoV;
 	float t18 = exp2f(t17);
 	float t19 = fminf(t14, t18);
-	float t21 = t5 * (-0.04217f);
+	float t21 = t5 * (-0.04218f);
 	float t22 = t11 * t19 + t21;
-	float t24 = t22 + (-0.00306f);
+	float t24 = t22 + (-0.00307f);
 	float t25 = fminf(fmaxf(t24, 0.0f), 1.0f);
 	float t26 = t8 - t25;
 	float t28 = f0 * 5e+01f;

@@ -11,11 +11,11 @@
  * parameters baked in:
  *   p0 = 1.2526
  *   p1 = 0.7164
- *   p2 = -0.04217
+ *   p2 = -0.04218
  *   p3 = 1.13756
  *   p4 = 0.0601
  *   p5 = 0.3147
- *   p6 = -0.00306
+ *   p6 = -0.00307
  *   p7 = 0.53387
  *   p8 = -7.567
  *   p9 = 50
@@ -41,9 +41,9 @@ highp float env_narkowicz2014_lazarov_refit(highp float NoV, highp float r, high
 	highp float t17 = (-7.567) * NoV;
 	highp float t18 = exp2(t17);
 	highp float t19 = min(t14, t18);
-	highp float t21 = t5 * (-0.04217);
+	highp float t21 = t5 * (-0.04218);
 	highp float t22 = t11 * t19 + t21;
-	highp float t24 = t22 + (-0.00306);
+	highp float t24 = t22 + (-0.00307);
 	highp float t25 = clamp(t24, 0.0, 1.0);
 	highp float t26 = t8 - t25;
 	highp float t28 = f0 * 5e+01;
