@@ -20,6 +20,7 @@
  * noise, hence the margin).
  */
 #include "brdf.h"
+#include "dmath.h"
 #include "quad.h"
 
 #include <math.h>
@@ -41,7 +42,7 @@ typedef struct hemi {
 static void inner_fn(double phi, void *ctx, double *y)
 {
 	hemi *h = ctx;
-	double VoH = h->sin_v * h->sin_h * cos(phi) + h->cos_v * h->cos_h;
+	double VoH = h->sin_v * h->sin_h * bk_dcos(phi) + h->cos_v * h->cos_h;
 	double NoL = 2.0 * VoH * h->cos_h - h->cos_v;
 	if (NoL <= 0.0 || VoH <= 0.0) {
 		y[0] = 0.0;
@@ -75,14 +76,14 @@ static double phi_max(const hemi *h)
 		return BK_PI;
 	if (c >= 1.0)
 		return 0.0;
-	return acos(c);
+	return bk_dacos(c);
 }
 
 static void outer_fn(double theta, void *ctx, double *y)
 {
 	hemi *h = ctx;
-	h->cos_h = cos(theta);
-	h->sin_h = sin(theta);
+	h->cos_h = bk_dcos(theta);
+	h->sin_h = bk_dsin(theta);
 	y[0] = 0.0;
 	if (h->ncomp == 2)
 		y[1] = 0.0;
@@ -115,7 +116,9 @@ static void outer_fn(double theta, void *ctx, double *y)
 static int outer_points(double a, double theta_v, double *pts)
 {
 	double t1 = 0.5 * (0.5 * BK_PI - theta_v), t2 = 0.5 * (0.5 * BK_PI + theta_v);
-	double q = fmax(8.0, pow(t2 / (0.5 * a), 1.0 / OUTER_STEPS));
+	/* x^(1/12) as sqrt(sqrt(cbrt(x))): glibc's pow differs in the last bit
+	 * between CPUs, sqrt and cbrt do not (dmath.h) */
+	double q = fmax(8.0, sqrt(sqrt(cbrt(t2 / (0.5 * a)))));
 	int n = 0;
 	pts[n++] = 0.0;
 	int t1_done = 0;
@@ -155,7 +158,11 @@ static int smooth_enough(double a, double NoV)
 {
 	if (a < 1e-150)
 		return 1;
-	double bound = a * a * (1.0 + log(1.0 / a)) * (1.0 + 1.0 / (NoV * NoV));
+	/* ln(1/a) <= (1 - e) ln 2 for a = m 2^e, m in [0.5, 1): an upper bound
+	 * from the exponent alone, the same on every CPU (glibc's log is not) */
+	int e;
+	frexp(a, &e);
+	double bound = a * a * (1.0 + (1 - e) * 0.69314718055994530942) * (1.0 + 1.0 / (NoV * NoV));
 	return bound <= SMOOTH_EPS;
 }
 
@@ -171,7 +178,7 @@ static int integrate(hemi *h, double NoV, double tol, double *out, bk_quad_stats
 	h->tol = tol;
 	h->s.NoV = NoV;
 	h->inner = (bk_quad_stats){0.0, 0, 1};
-	int n = outer_points(h->s.a, acos(NoV), pts);
+	int n = outer_points(h->s.a, bk_dacos(NoV), pts);
 	bk_quad_stats outer = {0.0, 0, 1};
 	bk_quad(outer_fn, h, pts, n, h->ncomp, tol / 2.0, out, &outer);
 	if (st) {

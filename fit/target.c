@@ -13,6 +13,8 @@
  */
 #include "target.h"
 
+#include "dmath.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -193,7 +195,7 @@ static int build_lobe(const bk_target_options *o, bk_samples *s, char *err, size
 				double NoH = 1 / sqrt(1 + tan2), sh = sqrt(tan2) * NoH;
 				for (int p = 0; p < o->nphi; p++) {
 					double phi = centre(0, BK_PI, p, o->nphi);
-					double VoH = sv * sh * cos(phi) + NoV * NoH, NoL = 2 * VoH * NoH - NoV;
+					double VoH = sv * sh * bk_dcos(phi) + NoV * NoH, NoL = 2 * VoH * NoH - NoV;
 					if (NoL <= 0 || VoH <= 0)
 						continue;
 					/* ×2: φ in [0, π] stands for both halves */

@@ -1,0 +1,121 @@
+/*
+ * dmath.c — sine, cosine and arc cosine that give the same bits on every
+ * x86-64 machine, for the reference integrals.
+ *
+ * Why: glibc picks FMA or non-FMA variants of cos, sin, acos, pow, log, exp at
+ * run time (ifunc on the CPU's features), and they differ in the last bit
+ * (GLIBC_TUNABLES=glibc.cpu.hwcaps=-AVX2,-FMA changes ~1 result in 1,000 of
+ * cos and pow here). The targets' reference values then differ by an ulp,
+ * and a fit whose optimum sits on a kink of saturate() or min() walks to a
+ * different point: make results did not reproduce on another machine. These
+ * functions use only +, -, *, /, sqrt and comparisons in double (C11 with no
+ * -ffp-contract means no fused multiply-add), so their bits depend on nothing
+ * but the input. sqrt is correctly rounded by IEEE 754, hence the same
+ * everywhere.
+ *
+ * Precision (tests/test_dmath.c, against long double): within 1.5 ulp for
+ * sin and cos on [-8, 8] and for acos on [-1, 1] (measured 1.32, 1.46, 1.29). The domain is what the
+ * integrators need (angles of the hemisphere), not the whole real line.
+ */
+#include "dmath.h"
+
+/* π/2 in two parts (fdlibm's pio2_1, pio2_1t): the first has 33 significant
+ * bits, so k·PIO2_HI is exact for |k| < 2^20 and x - k·PIO2_HI is exact
+ * (Sterbenz) for the k nearest x·2/π. */
+#define PIO2_HI 1.57079632673412561417e+00
+#define PIO2_LO 6.07710050650619224932e-11
+/* π/2 as the nearest double and what it misses, for acos. */
+#define PIO2_D 1.57079632679489655800e+00
+#define PIO2_DLO 6.12323399573676603587e-17
+
+/* Taylor coefficients 1/n!, alternating: on |r| <= π/4 the first omitted term
+ * is below r^19/19! < 1e-19 (sin) and r^20/20! < 1e-21 (cos) relative to 1. */
+static double sin_k(double r)
+{
+	double z = r * r;
+	/* Horner from the top; the two largest terms last, so the error is that
+	 * of r - r·z·q with q near 1/6. */
+	double q = -1.0 / 355687428096000.0;
+	q = q * z + 1.0 / 1307674368000.0;
+	q = q * z - 1.0 / 6227020800.0;
+	q = q * z + 1.0 / 39916800.0;
+	q = q * z - 1.0 / 362880.0;
+	q = q * z + 1.0 / 5040.0;
+	q = q * z - 1.0 / 120.0;
+	q = q * z + 1.0 / 6.0;
+	return r - r * z * q;
+}
+
+static double cos_k(double r)
+{
+	double z = r * r;
+	double q = 1.0 / 6402373705728000.0;          /*  1/18! */
+	q = q * z - 1.0 / 20922789888000.0;           /* -1/16! */
+	q = q * z + 1.0 / 87178291200.0;              /*  1/14! */
+	q = q * z - 1.0 / 479001600.0;                /* -1/12! */
+	q = q * z + 1.0 / 3628800.0;                  /*  1/10! */
+	q = q * z - 1.0 / 40320.0;                    /* -1/8!  */
+	q = q * z + 1.0 / 720.0;                      /*  1/6!  */
+	q = q * z - 1.0 / 24.0;                       /* -1/4!  */
+	/* 1 - z/2 + z²·q: 1 - z/2 is formed as (1 - h) + (h - z/2) with h = z/2
+	 * rounded, fdlibm's way of keeping the cancellation exact near r = π/4. */
+	double h = 0.5 * z;
+	double w = 1.0 - h;
+	return w + (((1.0 - w) - h) + z * z * -q);
+}
+
+/* x = k·π/2 + r with |r| <= π/4 (a little more at the rounding edge). */
+static int reduce(double x, double *r)
+{
+	double t = x * 0.63661977236758134308; /* 2/π */
+	int k = (int)(t < 0.0 ? t - 0.5 : t + 0.5);
+	*r = (x - k * PIO2_HI) - k * PIO2_LO;
+	return k;
+}
+
+double bk_dsin(double x)
+{
+	double r;
+	switch (reduce(x, &r) & 3) {
+	case 0: return sin_k(r);
+	case 1: return cos_k(r);
+	case 2: return -sin_k(r);
+	default: return -cos_k(r);
+	}
+}
+
+double bk_dcos(double x)
+{
+	double r;
+	switch (reduce(x, &r) & 3) {
+	case 0: return cos_k(r);
+	case 1: return -sin_k(r);
+	case 2: return -cos_k(r);
+	default: return sin_k(r);
+	}
+}
+
+/* asin on [0, 0.5]: Newton on sin y = s from the series' first two terms
+ * (error < 0.0025 at s = 0.5); the error squares each step (f''/2f' is
+ * below 0.3 there), so four steps reach rounding from any s in range. The
+ * count is fixed: no test on convergence, whose outcome could differ by a
+ * rounding. */
+static double asin_small(double s)
+{
+	double y = s + s * s * s / 6.0;
+	for (int i = 0; i < 4; i++)
+		y -= (sin_k(y) - s) / cos_k(y);
+	return y;
+}
+
+double bk_dacos(double c)
+{
+	if (!(c >= -1.0 && c <= 1.0))
+		return (c - c) / (c - c); /* NaN, as acos outside [-1, 1] */
+	if (c > 0.5) /* acos c = 2 asin sqrt((1 - c)/2): 1 - c is exact here */
+		return 2.0 * asin_small(sqrt(0.5 * (1.0 - c)));
+	if (c < -0.5) /* acos c = π - 2 asin sqrt((1 + c)/2) */
+		return 2.0 * ((PIO2_D - asin_small(sqrt(0.5 * (1.0 + c)))) + PIO2_DLO);
+	double a = c < 0.0 ? -asin_small(-c) : asin_small(c);
+	return (PIO2_D - a) + PIO2_DLO;
+}
