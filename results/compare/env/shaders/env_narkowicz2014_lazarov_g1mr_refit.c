@@ -9,15 +9,15 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.446, rmse 0.0517
  * parameters baked in:
- *   p0 = 1.2646
- *   p1 = 0.7625
- *   p2 = -0.0187
+ *   p0 = 1.2644
+ *   p1 = 0.7626
+ *   p2 = -0.01872
  *   p3 = 0.68087
- *   p4 = -0.1617
- *   p5 = 0.0354
+ *   p4 = -0.1616
+ *   p5 = 0.0353
  *   p6 = 0.00216
  *   p7 = 0.52416
- *   p8 = -8.382
+ *   p8 = -8.381
  *   p9 = 50
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
@@ -36,12 +36,12 @@ static inline float env_narkowicz2014_lazarov_g1mr_refit(float NoV, float r, flo
 	float t4 = 1.0f - r;
 	float t6 = 0.68087f * t4 + 0.52416f;
 	float t7 = fminf(fmaxf(t6, 0.0f), 1.0f);
-	float t10 = t4 * 1.2646f + (-0.1617f);
-	float t13 = t4 * 0.7625f + 0.0354f;
-	float t16 = (-8.382f) * NoV;
+	float t10 = t4 * 1.2644f + (-0.1616f);
+	float t13 = t4 * 0.7626f + 0.0353f;
+	float t16 = (-8.381f) * NoV;
 	float t17 = exp2f(t16);
 	float t18 = fminf(t13, t17);
-	float t20 = t4 * (-0.0187f);
+	float t20 = t4 * (-0.01872f);
 	float t21 = t10 * t18 + t20;
 	float t23 = t21 + 0.00216f;
 	float t24 = fminf(fmaxf(t23, 0.0f), 1.0f);

@@ -9,15 +9,15 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.446, rmse 0.0517
  * parameters baked in:
- *   p0 = 1.2646
- *   p1 = 0.7625
- *   p2 = -0.0187
+ *   p0 = 1.2644
+ *   p1 = 0.7626
+ *   p2 = -0.01872
  *   p3 = 0.68087
- *   p4 = -0.1617
- *   p5 = 0.0354
+ *   p4 = -0.1616
+ *   p5 = 0.0353
  *   p6 = 0.00216
  *   p7 = 0.52416
- *   p8 = -8.382
+ *   p8 = -8.381
  *   p9 = 50
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -34,12 +34,12 @@ highp float env_narkowicz2014_lazarov_g1mr_refit(highp float NoV, highp float r,
 	highp float t4 = 1.0 - r;
 	highp float t6 = 0.68087 * t4 + 0.52416;
 	highp float t7 = clamp(t6, 0.0, 1.0);
-	highp float t10 = t4 * 1.2646 + (-0.1617);
-	highp float t13 = t4 * 0.7625 + 0.0354;
-	highp float t16 = (-8.382) * NoV;
+	highp float t10 = t4 * 1.2644 + (-0.1616);
+	highp float t13 = t4 * 0.7626 + 0.0353;
+	highp float t16 = (-8.381) * NoV;
 	highp float t17 = exp2(t16);
 	highp float t18 = min(t13, t17);
-	highp float t20 = t4 * (-0.0187);
+	highp float t20 = t4 * (-0.01872);
 	highp float t21 = t10 * t18 + t20;
 	highp float t23 = t21 + 0.00216;
 	highp float t24 = clamp(t23, 0.0, 1.0);

@@ -9,15 +9,15 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: max |error| 0.446, rmse 0.0517
  * parameters baked in:
- *   p0 = 1.2646
- *   p1 = 0.7625
- *   p2 = -0.0187
+ *   p0 = 1.2644
+ *   p1 = 0.7626
+ *   p2 = -0.01872
  *   p3 = 0.68087
- *   p4 = -0.1617
- *   p5 = 0.0354
+ *   p4 = -0.1616
+ *   p5 = 0.0353
  *   p6 = 0.00216
  *   p7 = 0.52416
- *   p8 = -8.382
+ *   p8 = -8.381
  *   p9 = 50
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -34,12 +34,12 @@ float env_narkowicz2014_lazarov_g1mr_refit(float NoV, float r, float f0)
 	float t4 = 1.0 - r;
 	float t6 = mad(0.68087, t4, 0.52416);
 	float t7 = saturate(t6);
-	float t10 = mad(t4, 1.2646, (-0.1617));
-	float t13 = mad(t4, 0.7625, 0.0354);
-	float t16 = (-8.382) * NoV;
+	float t10 = mad(t4, 1.2644, (-0.1616));
+	float t13 = mad(t4, 0.7626, 0.0353);
+	float t16 = (-8.381) * NoV;
 	float t17 = exp2(t16);
 	float t18 = min(t13, t17);
-	float t20 = t4 * (-0.0187);
+	float t20 = t4 * (-0.01872);
 	float t21 = mad(t10, t18, t20);
 	float t23 = t21 + 0.00216;
 	float t24 = saturate(t23);
