@@ -420,3 +420,11 @@ void cli_progress(void *label, int done, int total)
 		fputc('\n', stderr);
 	fflush(stderr);
 }
+
+int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name)
+{
+	for (size_t k = 0; k < n; k++)
+		if (cli_seen(cmd, t[k].opt) && !(t[k].targets >> kind & 1))
+			return cli_usage(cmd, "%s has no effect on target %s (%s)", t[k].opt, kind_name, t[k].does);
+	return 0;
+}

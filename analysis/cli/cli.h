@@ -90,6 +90,17 @@ int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 /* Whether option name (e.g. "--ior") was given. */
 int cli_seen(const cli_cmd *cmd, const char *name);
 
+/* An option that acts on some targets only (bit k of targets: target kind k;
+ * does: what it does, for the message). Given for another target it would be
+ * ignored, so cli_scope_check refuses it: returns 2 after a usage error naming
+ * the option and the target, or 0. */
+typedef struct cli_scope {
+	const char *opt;
+	unsigned targets;
+	const char *does;
+} cli_scope;
+int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name);
+
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). */
 void cli_progress(void *label, int done, int total);

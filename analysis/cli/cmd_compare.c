@@ -388,11 +388,7 @@ static int write_dir(study *S, const char *out, const char *prefix)
 
 /* Options that act on some targets only: elsewhere they would be ignored,
  * so they are refused. does: what the option does, for the message. */
-static const struct {
-	const char *opt;
-	unsigned targets;
-	const char *does;
-} target_opts[] = {
+static const cli_scope target_opts[] = {
 	{"--no-lut", ON(ENV), "LUT rows are scored for target env only"},
 	{"--nr", ~ON(F), "target f has no roughness axis"},
 };
@@ -404,10 +400,10 @@ static const struct {
  * samples exist. Returns 0 or 2. */
 static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides)
 {
-	for (size_t k = 0; !provides && k < sizeof target_opts / sizeof target_opts[0]; k++)
-		if (cli_seen(cmd, target_opts[k].opt) && !(target_opts[k].targets >> kind & 1))
-			return cli_usage(cmd, "%s has no effect on target %s (%s)", target_opts[k].opt, bk_target_name(kind),
-			                 target_opts[k].does);
+	int rc;
+	if (!provides && (rc = cli_scope_check(cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)kind,
+	                                       bk_target_name(kind))))
+		return rc;
 	if (!provides && cli_seen(cmd, "--reps") && cli_seen(cmd, "--no-time"))
 		return cli_usage(cmd, "--reps has no effect with --no-time");
 	if (!provides && cli_seen(cmd, "--relative") && cli_seen(cmd, "--no-refit"))

@@ -467,11 +467,7 @@ static int setup_spec(run *R, char **pos, int npos)
 /* Options that act on some targets only (fit/target.c): given for another
  * target they would be ignored, so they are refused. does: what the option
  * does, for the message. */
-static const struct {
-	const char *opt;
-	unsigned targets;
-	const char *does;
-} target_opts[] = {
+static const cli_scope target_opts[] = {
 	{"--nu", ON(VF) | ON(SPEC), "it sets the half-vector cells of targets vf and spec"},
 	{"--nphi", ON(VF) | ON(SPEC), "it sets the azimuth cells of targets vf and spec"},
 	{"--talk-roughness", ON(VF2D), "it sets how target vf2d reads the talk's roughness"},
@@ -490,9 +486,9 @@ static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 	const cli_cmd *cmd = R->cmd;
 	const fit_cli *a = R->a;
 	const char *tn = bk_target_name(kind);
-	for (size_t k = 0; k < sizeof target_opts / sizeof target_opts[0]; k++)
-		if (cli_seen(cmd, target_opts[k].opt) && !(target_opts[k].targets >> kind & 1))
-			return cli_usage(cmd, "%s has no effect on target %s (%s)", target_opts[k].opt, tn, target_opts[k].does);
+	int rc = cli_scope_check(cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)kind, tn);
+	if (rc)
+		return rc;
 	if (a->f0.n && kind == BK_TARGET_ENV && R->fs.split)
 		return cli_usage(cmd, "--f0 has no effect on a split-sum env fit (A and B do not depend on f0; a single "
 		                 "form in f0 is fitted to f0 A + B over the --f0 list)");
