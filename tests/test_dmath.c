@@ -34,7 +34,7 @@ Test(dmath, sin_cos_within_one_and_a_half_ulp_on_their_domain)
 	cr_expect(worst_c <= 1.5, "cos: %.3f ulp", worst_c);
 }
 
-Test(dmath, acos_within_one_and_a_half_ulp_on_minus_one_to_one)
+Test(dmath, acos_within_two_ulp_on_minus_one_to_one)
 {
 	double worst = 0;
 	for (int i = -400000; i <= 400000; i++) {
@@ -45,7 +45,7 @@ Test(dmath, acos_within_one_and_a_half_ulp_on_minus_one_to_one)
 	const double ends[] = {1 - 0x1p-53, 1 - 0x1p-30, -1 + 0x1p-53, -1 + 0x1p-30, 0x1p-1074, -0.5, 0.5};
 	for (size_t k = 0; k < sizeof ends / sizeof ends[0]; k++)
 		worst = fmax(worst, ulps(bk_dacos(ends[k]), acosl(ends[k])));
-	cr_expect(worst <= 1.5, "acos: %.3f ulp", worst);
+	cr_expect(worst <= 2.0, "acos: %.3f ulp", worst);
 }
 
 Test(dmath, exact_angles)
