@@ -194,11 +194,7 @@ static void header(FILE *f, const run *R, const char *what)
 		fputs("# target form: ", f);
 		for (const char *c = R->to.form_text; *c; c++)
 			fputc(*c == '\n' || *c == '\r' ? ' ' : *c, f);
-		fputs("\n# domain:", f);
-		for (int d = 0; d < R->to.ndomain; d++)
-			fprintf(f, " %s in [%.17g, %.17g]", bk_input_name((bk_input)R->to.dom_in[d]), R->to.dom_lo[d],
-			        R->to.dom_hi[d]);
-		fputc('\n', f);
+		fprintf(f, "\n# domain: %s (cell centres, %d per axis)\n", R->a->domain, bk_target_form_cells(&R->to));
 	}
 	fprintf(f, "# residuals: %s; conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
 	        R->spec.relative ? "relative (f - y)/|y|" : "absolute f - y");
