@@ -480,6 +480,9 @@ static int build_form(const bk_target_options *o, bk_samples *s, char *err, size
 	if (w < sizeof s->description)
 		snprintf(s->description + w, sizeof s->description - w, " (%d cell centres per axis%s); uniform weight", n,
 		         s->provides >> BK_IN_R & 1 ? ", a = r^2" : "");
+	for (char *c = s->description; *c; c++) /* a form read from a file may span lines; headers are one */
+		if (*c == '\n' || *c == '\r' || *c == '\t')
+			*c = ' ';
 	return 0;
 }
 

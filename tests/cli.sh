@@ -442,7 +442,14 @@ $BK fit --target form --target-form 'exp2(-5.5*LoH)*0.9*f0 + NoV' --domain LoH=0
 	--form 'p0*f0*exp2(p1*LoH) + NoV' p0=1 p1=-1 --out "$T/ft3" >"$T/out" 2>"$T/err" \
 	&& grep -qx 'no heatmap: target form has 3 inputs; a heatmap needs 1 or 2' "$T/out" && [ ! -e "$T/ft3/heatmap.csv" ] \
 	&& grep -q ',p1,-5.5,' "$T/ft3/coefficients.csv" && ok || bad "form target, 3 inputs: $(cat "$T/out" "$T/err")"
+# a target read from a file over two lines keeps the headers one line each
+printf '0.3/(LoH*LoH +\n 0.7*r*r)\n' >"$T/ft.txt"
+$BK fit --target form --target-form @"$T/ft.txt" --domain LoH=0.3162:1,r=0:1 --form 'p0/(LoH*LoH + p1*r*r)' p0=1 p1=1 \
+	--out "$T/ft" >/dev/null 2>&1 && grep -qxF '# target form: 0.3/(LoH*LoH +  0.7*r*r)' "$T/ft/metrics.csv" \
+	&& [ "$(grep -c '^form,\|^#\|^p0/' "$T/ft/coefficients.csv")" -eq "$(wc -l <"$T/ft/coefficients.csv")" ] && ok \
+	|| bad "form target from a file: $(head -5 "$T/ft/coefficients.csv")"
 rm -rf "$T/ft" "$T/ft3"
+rm -f "$T/ft.txt"
 FF="$BK fit --target form --form p0*LoH p0=1 --out $T/fe"
 expect_error "form target: missing input" \
 	"brdfkit fit: --target-form: the target form reads 'r', which the domain does not give (add r=LO:HI) (see brdfkit fit --help)" \
