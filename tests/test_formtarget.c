@@ -169,8 +169,8 @@ Test(formtarget, refused)
 	form_options(&o, "a*LoH", 2, LR, LR_LO, LR_HI); /* r covers a */
 	cr_assert_eq(bk_target_form_check(&o, err, sizeof err), 0, "%s", err);
 	static const int RA[2] = {BK_IN_R, BK_IN_A};
-	form_options(&o, "a*r", 2, RA, lo, hi);
-	o.dom_lo[1] = 0, o.dom_hi[1] = 1;
+	static const double lo2[2] = {0, 0}, hi2[2] = {1, 1};
+	form_options(&o, "a*r", 2, RA, lo2, hi2);
 	cr_assert_eq(build_fails(&o, err, sizeof err), -1);
 	cr_assert_str_eq(err, "the domain gives both 'r' and 'a': with r, a is r^2 (give one)");
 	/* a pole on a sample: 0.625 is the third of 4 cell centres of [0, 1] */
