@@ -676,7 +676,7 @@ int cmd_fit(int argc, char **argv)
 	cli_opt opts[] = {
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.target, .required = 1},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the target's expression (inputs only, no pN), evaluated in double", .dest = &a.target_form},
-		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI[,...]", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
+		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
 		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
 		{.name = "--form-a", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
 		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
