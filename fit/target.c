@@ -21,7 +21,7 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f"};
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
 
 const char *bk_target_name(bk_target_kind k) { return names[k]; }
 
@@ -67,6 +67,10 @@ void bk_target_defaults(bk_target_kind kind, bk_target_options *o)
 		break;
 	case BK_TARGET_F:
 		o->nx = 256;
+		o->nr = 1;
+		break;
+	case BK_TARGET_FORM:
+		o->nx = 0; /* bk_target_form_cells */
 		o->nr = 1;
 		break;
 	default:
@@ -321,6 +325,167 @@ static int build_f(const bk_target_options *o, bk_samples *s, char *err, size_t 
 	return 0;
 }
 
+/* ---- form: a target given by a formula ----------------------------------- */
+
+/* The inputs a domain gives: r gives a = r^2 too (a form in a reads it). */
+static unsigned form_gives(const bk_target_options *o)
+{
+	unsigned g = 0;
+	for (int d = 0; d < o->ndomain; d++)
+		g |= 1u << o->dom_in[d];
+	if (g >> BK_IN_R & 1)
+		g |= 1u << BK_IN_A;
+	return g;
+}
+
+static bk_form *form_parse_checked(const bk_target_options *o, char *err, size_t errlen)
+{
+	if (!o->form_text) {
+		snprintf(err, errlen, "target form: no expression");
+		return NULL;
+	}
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(o->form_text, &fe);
+	if (!f) {
+		snprintf(err, errlen, "target form:1:%d: %s", fe.column, fe.message);
+		return NULL;
+	}
+	int np = bk_form_nparams(f), fail = 1;
+	unsigned reads = bk_form_inputs(f), gives = 0;
+	for (int d = 0; d < o->ndomain; d++) {
+		bk_input in = (bk_input)o->dom_in[d];
+		if (gives >> in & 1)
+			snprintf(err, errlen, "the domain gives '%s' twice", bk_input_name(in));
+		else if ((in == BK_IN_A && (form_gives(o) >> BK_IN_R & 1)) || (in == BK_IN_R && (gives >> BK_IN_A & 1)))
+			snprintf(err, errlen, "the domain gives both 'r' and 'a': with r, a is r^2 (give one)");
+		else if (!(reads >> in & 1) && !(in == BK_IN_R && (reads >> BK_IN_A & 1)))
+			snprintf(err, errlen, "the domain gives '%s', which the target form does not read", bk_input_name(in));
+		else {
+			gives |= 1u << in;
+			continue;
+		}
+		goto out;
+	}
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		if ((reads >> k & 1) && !(form_gives(o) >> k & 1)) {
+			snprintf(err, errlen, "the target form reads '%s', which the domain does not give (add %s=LO:HI)",
+			         bk_input_name((bk_input)k), bk_input_name((bk_input)k));
+			goto out;
+		}
+	if (np == 1)
+		snprintf(err, errlen, "the target form uses p0: a target has no parameters (write its constants as numbers)");
+	else if (np > 1)
+		snprintf(err, errlen, "the target form uses p0..p%d: a target has no parameters (write its constants as "
+		         "numbers)", np - 1);
+	else if (o->ndomain == 0)
+		snprintf(err, errlen, "the target form reads no input: give a form in the domain's inputs");
+	else
+		fail = 0;
+	for (int d = 0; !fail && d < o->ndomain; d++)
+		if (!(o->dom_lo[d] < o->dom_hi[d])) {
+			snprintf(err, errlen, "the domain of '%s' is empty: [%g, %g]", bk_input_name((bk_input)o->dom_in[d]),
+			         o->dom_lo[d], o->dom_hi[d]);
+			fail = 1;
+		}
+out:
+	if (fail) {
+		bk_form_free(f);
+		return NULL;
+	}
+	return f;
+}
+
+int bk_target_form_check(const bk_target_options *o, char *err, size_t errlen)
+{
+	bk_form *f = form_parse_checked(o, err, errlen);
+	bk_form_free(f);
+	return f ? 0 : -1;
+}
+
+int bk_target_form_cells(const bk_target_options *o)
+{
+	static const int per_axis[BK_IN_COUNT] = {256, 64, 16, 8, 5, 4, 3}; /* about 4096 in all */
+	if (o->nx > 0)
+		return o->nx;
+	return o->ndomain >= 1 && o->ndomain <= BK_IN_COUNT ? per_axis[o->ndomain - 1] : 1;
+}
+
+#define BK_FORM_MAX_SAMPLES (1u << 24)
+
+static int build_form(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	bk_form *f = form_parse_checked(o, err, errlen);
+	if (!f)
+		return -1;
+	int n = bk_target_form_cells(o), k = o->ndomain;
+	double total = pow(n, k);
+	if (total > BK_FORM_MAX_SAMPLES) {
+		snprintf(err, errlen, "target form: %d cells per axis over %d inputs is %.0f samples, more than %u",
+		         n, k, total, BK_FORM_MAX_SAMPLES);
+		bk_form_free(f);
+		return -1;
+	}
+	size_t ns = (size_t)total;
+	if (alloc(s, ns, err, errlen)) {
+		bk_form_free(f);
+		return -1;
+	}
+	for (size_t i = 0; i < ns; i++) {
+		for (int q = 0; q < BK_IN_COUNT; q++)
+			s->in[q][i] = NAN;
+		size_t rest = i;
+		for (int d = 0; d < k; d++, rest /= (size_t)n) /* the first axis varies fastest */
+			s->in[o->dom_in[d]][i] = centre(o->dom_lo[d], o->dom_hi[d], (int)(rest % (size_t)n), n);
+		if (!isnan(s->in[BK_IN_R][i]))
+			s->in[BK_IN_A][i] = s->in[BK_IN_R][i] * s->in[BK_IN_R][i];
+		s->w[i] = 1.0 / (double)ns;
+		s->cell[i] = k <= 2 ? (int)i : 0;
+	}
+	s->n = ns;
+	s->provides = form_gives(o);
+	int rc = bk_form_eval(f, BK_F64, ns, (const double *const *)s->in, NULL, s->y);
+	for (size_t i = 0; rc == 0 && i < ns; i++)
+		if (!isfinite(s->y[i])) {
+			char where[256];
+			size_t w = 0;
+			where[0] = '\0';
+			for (int d = 0; d < k && w < sizeof where; d++)
+				w += (size_t)snprintf(where + w, sizeof where - w, "%s%s = %.9g", d ? ", " : "",
+				                      bk_input_name((bk_input)o->dom_in[d]), s->in[o->dom_in[d]][i]);
+			snprintf(err, errlen, "the target form is %g at %s (sample %zu of %zu): a target must be finite on "
+			         "its domain", s->y[i], where, i + 1, ns);
+			rc = -1;
+		}
+	if (rc) {
+		if (!*err)
+			snprintf(err, errlen, "target form: evaluation failed");
+		bk_form_free(f);
+		bk_samples_free(s);
+		return -1;
+	}
+	bk_form_free(f);
+	/* the plane: one axis (n x 1), two (n x n); three or more have none */
+	const char *xn = bk_input_name((bk_input)o->dom_in[0]), *yn = k >= 2 ? bk_input_name((bk_input)o->dom_in[1]) : "-";
+	if (k == 1)
+		plane(s, n, 1, o->dom_lo[0], o->dom_hi[0], 0, 1, xn, yn);
+	else
+		plane(s, k == 2 ? n : 1, k == 2 ? n : 1, o->dom_lo[0], o->dom_hi[0], o->dom_lo[1], o->dom_hi[1], xn, yn);
+	s->plane_x_input = o->dom_in[0];
+	s->plane_y_input = k >= 2 ? o->dom_in[1] : -1;
+	size_t w = (size_t)snprintf(s->description, sizeof s->description, "form: %.240s%s evaluated in double on ",
+	                            o->form_text, strlen(o->form_text) > 240 ? "..." : "");
+	for (int d = 0; d < k && w < sizeof s->description; d++)
+		w += (size_t)snprintf(s->description + w, sizeof s->description - w, "%s%s in [%g, %g]", d ? " x " : "",
+		                      bk_input_name((bk_input)o->dom_in[d]), o->dom_lo[d], o->dom_hi[d]);
+	if (w < sizeof s->description)
+		snprintf(s->description + w, sizeof s->description - w, " (%d cell centres per axis%s); uniform weight", n,
+		         s->provides >> BK_IN_R & 1 ? ", a = r^2" : "");
+	for (char *c = s->description; *c; c++) /* a form read from a file may span lines; headers are one */
+		if (*c == '\n' || *c == '\r' || *c == '\t')
+			*c = ' ';
+	return 0;
+}
+
 int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                     char *err, size_t errlen)
 {
@@ -334,6 +499,7 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_ENV: rc = build_env(o, s, progress, ctx, err, errlen); break;
 	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
 	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
+	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;
 	}
 	if (rc == 0 && s->ncomp == 1) {

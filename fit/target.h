@@ -17,6 +17,7 @@ typedef enum bk_target_kind {
 	BK_TARGET_ENV,  /* split-sum A, B over (NoV, r) */
 	BK_TARGET_D,    /* GGX D over (NoH, r) */
 	BK_TARGET_F,    /* exact Fresnel over LoH */
+	BK_TARGET_FORM, /* a formula (form_text) on a box of the inputs it reads (domain) */
 	BK_TARGET_COUNT
 } bk_target_kind;
 
@@ -37,6 +38,14 @@ typedef struct bk_target_options {
 	double eta, k;       /* f: complex index (k = 0: dielectric) */
 	bk_weight_kind weight;
 	int env_f0_form;     /* env: one form in f0, fitted to f0 A + B */
+	/* form: the expression (no parameters) and its domain, one closed
+	 * interval per input it reads, axes in the order given (the first varies
+	 * fastest; r stands for a = r^2 too); nx cells per axis (0: about 4096
+	 * samples in all) */
+	const char *form_text;
+	int ndomain;
+	int dom_in[BK_IN_COUNT];
+	double dom_lo[BK_IN_COUNT], dom_hi[BK_IN_COUNT];
 } bk_target_options;
 
 /* Defaults for a kind (domain, sizes): the and the talk's. */
@@ -68,6 +77,14 @@ typedef struct bk_samples {
 int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress,
                     void *ctx, char *err, size_t errlen);
 void bk_samples_free(bk_samples *s);
+
+/* form: checks the expression against the domain before any sample is
+ * built: it parses, has no parameters, every input it reads is in the
+ * domain (a is covered by r) and every domain input is read. Returns 0, or
+ * -1 with a message. */
+int bk_target_form_check(const bk_target_options *o, char *err, size_t errlen);
+/* form: the cells per axis a build will use. */
+int bk_target_form_cells(const bk_target_options *o);
 
 /* The work of bk_target_build up front: *integrals, the reference integrals
  * it will compute (env: one per cell; 0 for the targets whose samples are

@@ -468,6 +468,10 @@ int cmd_compare(int argc, char **argv)
 		fprintf(stderr, "brdfkit compare: --target: unknown target '%s'\n", target);
 		return 2;
 	}
+	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
+		fprintf(stderr, "brdfkit compare: --target form: compare scores the catalog; fit a form target with brdfkit fit\n");
+		return 2;
+	}
 	int t = -1;
 	for (int k = 0; k < BK_TIERS; k++)
 		if (bk_tier_alu_per_tex[k] == tier)

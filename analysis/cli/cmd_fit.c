@@ -21,7 +21,7 @@
 
 typedef struct fit_cli {
 	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
-	const char *r_range, *x_range, *bounds, *talk, *smith, *hold;
+	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;
 	cli_list f0;
 	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
 	double loss_scale, ior, k;
@@ -57,6 +57,41 @@ static int bounds(const char *text, double *lower, double *upper)
 		}
 		if (range("--bound", eq + 1, &lower[j], &upper[j]))
 			return 2;
+	}
+	return 0;
+}
+
+/* --domain NAME=LO:HI[,NAME=LO:HI...]: the inputs of target form, in order. */
+static int domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
+{
+	char buf[1024];
+	if (strlen(text) >= sizeof buf)
+		return cli_usage(cmd, "--domain: longer than %zu characters", sizeof buf - 1);
+	snprintf(buf, sizeof buf, "%s", text);
+	to->ndomain = 0;
+	for (char *t = buf, *next; t; t = next) {
+		if ((next = strchr(t, ',')))
+			*next++ = '\0';
+		char *eq = strchr(t, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
+		if (!colon)
+			return cli_usage(cmd, "--domain: expected NAME=LO:HI, got '%s'", t);
+		*eq = *colon = '\0';
+		int in = -1;
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			if (!strcmp(t, bk_input_name((bk_input)k)))
+				in = k;
+		double lo, hi;
+		if (in < 0)
+			return cli_usage(cmd, "--domain: '%s' is not an input (NoV, NoL, NoH, LoH, r, a, f0)", t);
+		if (cli_number(eq + 1, &lo) || cli_number(colon + 1, &hi))
+			return cli_usage(cmd, "--domain: %s: expected LO:HI (two numbers), got '%s:%s'", t, eq + 1, colon + 1);
+		if (!(lo < hi))
+			return cli_usage(cmd, "--domain: %s: expected LO < HI, got '%s:%s'", t, eq + 1, colon + 1);
+		if (to->ndomain == BK_IN_COUNT)
+			return cli_usage(cmd, "--domain: more than %d inputs", BK_IN_COUNT);
+		to->dom_in[to->ndomain] = in;
+		to->dom_lo[to->ndomain] = lo;
+		to->dom_hi[to->ndomain++] = hi;
 	}
 	return 0;
 }
@@ -155,6 +190,12 @@ static FILE *open_in(const char *dir, const char *name)
 static void header(FILE *f, const run *R, const char *what)
 {
 	fprintf(f, "# brdfkit %s %s\n# command: %s\n# target: %s\n", BK_VERSION, what, R->command, R->s.description);
+	if (R->to.kind == BK_TARGET_FORM) { /* the whole expression (the description may cut it), on one line */
+		fputs("# target form: ", f);
+		for (const char *c = R->to.form_text; *c; c++)
+			fputc(*c == '\n' || *c == '\r' ? ' ' : *c, f);
+		fprintf(f, "\n# domain: %s (cell centres, %d per axis)\n", R->a->domain, bk_target_form_cells(&R->to));
+	}
 	fprintf(f, "# residuals: %s; conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
 	        R->spec.relative ? "relative (f - y)/|y|" : "absolute f - y");
 }
@@ -235,8 +276,14 @@ static int write_heatmap(const run *R, const char *dir, const char *stem, const 
 	return rc;
 }
 
+/* Whether the target has a plane to draw: a form target over three or more
+ * inputs has none (report says so). */
+static int has_plane(const run *R) { return R->to.kind != BK_TARGET_FORM || R->to.ndomain <= 2; }
+
 static int write_heatmaps(const run *R, const char *dir, char *err, size_t errlen)
 {
+	if (!has_plane(R))
+		return 0;
 	int rc = write_heatmap(R, dir, "heatmap", R->res.p, "fitted", err, errlen);
 	if (rc == 0 && R->has_published) /* the published constants on the same samples, same colour rule */
 		rc = write_heatmap(R, dir, "heatmap_published", R->published, "published", err, errlen);
@@ -477,6 +524,11 @@ static const cli_scope target_opts[] = {
 	{"--f0", ON(VF2D) | ON(VF) | ON(SPEC) | ON(ENV), "it sets f0 of targets vf2d, vf, spec and env"},
 	{"--nr", ~ON(F), "target f has no roughness axis"},
 	{"--r-range", ~ON(F), "target f has no roughness axis"},
+	{"--target-form", ON(FORM), "it gives the expression of target form"},
+	{"--domain", ON(FORM), "it gives the domain of target form"},
+	{"--nr", ~ON(FORM), "--domain sets the inputs of target form; --nx the cells per axis"},
+	{"--r-range", ~ON(FORM), "--domain sets the inputs of target form"},
+	{"--x-range", ~ON(FORM), "--domain sets the inputs of target form"},
 };
 
 /* Refuses an option or a value that would change nothing: the run would
@@ -613,6 +665,8 @@ static void report(const run *R, int rc)
 		printf("note: %s\n", res->message);
 	if (rc == 1)
 		printf("warning: did not converge (%s)\n", res->summary.message);
+	if (!has_plane(R))
+		printf("no heatmap: target form has %d inputs; a heatmap needs 1 or 2\n", R->to.ndomain);
 }
 
 int cmd_fit(int argc, char **argv)
@@ -620,14 +674,16 @@ int cmd_fit(int argc, char **argv)
 	fit_cli a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
 	             .threads = 1, .loss_scale = 1.0};
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d or f", .dest = &a.target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.target, .required = 1},
+		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the target's expression (inputs only, no pN), evaluated in double", .dest = &a.target_form},
+		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
 		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
 		{.name = "--form-a", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
 		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
 		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "perceptual roughness range (default 0:1)", .dest = &a.r_range},
 		{.name = "--x-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "LoH (vf2d, f), NoV (vf, spec, env) or NoH (d) range", .dest = &a.x_range},
-		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x", .dest = &a.nx, .lo = 1, .hi = 4096},
+		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x (form: per domain input; default 256, 64, 16, 8 for 1-4 inputs)", .dest = &a.nx, .lo = 1, .hi = 4096},
 		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness", .dest = &a.nr, .lo = 1, .hi = 4096},
 		{.name = "--nu", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: half-vector cells (GGX CDF)", .dest = &a.nu, .lo = 1, .hi = 1024},
 		{.name = "--nphi", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: azimuth cells", .dest = &a.nphi, .lo = 1, .hi = 1024},
@@ -653,6 +709,8 @@ int cmd_fit(int argc, char **argv)
 	cli_cmd cmd = {"fit", "Fits a form to a target with Ceres and writes coefficients.csv, metrics.csv,\n"
 	               "heatmap.{exr,png,csv} and shader.{c,glsl,hlsl} into DIR.",
 	               "--target T (--form FORM|NAME | --form-a A --form-b B) --out DIR [p0=START ...] [options]",
+	               "Target form: --target-form EXPR --domain IN=LO:HI[,...] samples EXPR at cell centres of a\n"
+	               "grid over the domain (uniform weight); no heatmap with more than two inputs.\n"
 	               "A form without parameters is evaluated, not fitted. Options that would have no effect (on\n"
 	               "this target, without parameters, --loss-scale without --loss) are refused.\n"
 	               "Exit status: 0 converged (or evaluated), 3 did not converge (results written), 1 failed,\n"
@@ -670,7 +728,7 @@ int cmd_fit(int argc, char **argv)
 		k += (size_t)snprintf(R.command + k, sizeof R.command - k, " %s", argv[i]);
 	bk_target_kind kind;
 	if (bk_target_parse(a.target, &kind)) {
-		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f)\n", a.target);
+		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)\n", a.target);
 		return 2;
 	}
 	if ((rc = setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
@@ -686,6 +744,19 @@ int cmd_fit(int argc, char **argv)
 	char err[512];
 	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)) || (rc = check_effect(&R, kind, cmd.pos, cmd.npos)))
 		goto done;
+	if (kind == BK_TARGET_FORM) {
+		if (!a.target_form || !a.domain) {
+			rc = cli_usage(&cmd, "target form needs --target-form EXPR and --domain IN=LO:HI[,...]");
+			goto done;
+		}
+		R.to.form_text = a.target_form;
+		if ((rc = domain(&cmd, a.domain, &R.to)))
+			goto done;
+		if (bk_target_form_check(&R.to, err, sizeof err)) {
+			rc = cli_usage(&cmd, "--target-form: %s", err);
+			goto done;
+		}
+	}
 	R.spec.weight = wform;
 	char why[200];
 	if (!bk_fit_options_valid(&R.spec.opt, why, sizeof why)) {
