@@ -4,7 +4,7 @@
  * encoded with libpng; the EXR goes through bk_exr_write; the CSV is plain stdio.
  * Each file is first written whole to a mkstemp temporary beside its final name and
  * only then are the three renamed into place, so a write error never touches the
- * files already at those names. bk_out (cli.h) is not used: its commit renames at
+ * files already at those names. bk_out (out.h) is not used: its commit renames at
  * once, and here no rename may happen before all three files are complete.
  */
 #include "heatmap.h"

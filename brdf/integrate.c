@@ -197,22 +197,15 @@ int bk_dfg(double NoV, double r, bk_smith m, double tol, double *A, double *B,
 {
 	if (bad_nov(NoV) || bad_r(r) || (unsigned)m >= BK_SMITH_COUNT || !(tol > 0.0))
 		return -1;
-	if (r == 0.0) {
-		/* Smooth limit: D is a delta at H = N, L = mirror(V), every Smith V is
-		 * 1/(4 NoV^2) there, so the integrand is F(NoV) exactly. */
-		double m1 = 1.0 - NoV, m2 = m1 * m1, fc = m2 * m2 * m1;
-		*A = 1.0 - fc;
-		*B = fc;
-		if (stats)
-			*stats = (bk_quad_stats){0.0, 0, 1};
-		return 0;
-	}
 	double a = r * r;
-	if (smooth_enough(a, NoV)) {
-		/* The same limit with V at this a (Schlick's k = a/2 moves V by ~a/NoV,
-		 * far more than the lobe's width does) */
+	if (r == 0.0 || smooth_enough(a, NoV)) {
+		/* Smooth limit: D is a delta at H = N, L = mirror(V), so the integrand
+		 * is V F NoL 4 VoH / NoH there. At r = 0 every Smith V is 1/(4 NoV^2)
+		 * and that factor is exactly 1; below what doubles resolve, V is taken
+		 * at this a (Schlick's k = a/2 moves V by ~a/NoV, far more than the
+		 * lobe's width does). */
 		double m1 = 1.0 - NoV, m2 = m1 * m1, fc = m2 * m2 * m1;
-		double vis = bk_V_smith(m, NoV, NoV, a) * 4.0 * NoV * NoV;
+		double vis = r == 0.0 ? 1.0 : bk_V_smith(m, NoV, NoV, a) * 4.0 * NoV * NoV;
 		*A = vis * (1.0 - fc);
 		*B = vis * fc;
 		if (stats)

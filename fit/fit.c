@@ -403,8 +403,7 @@ static double round_constant(double x, int digits)
  * a standard error keep every digit. */
 static void round_to_se(const bk_fit_spec *spec, bk_fit_result *res)
 {
-	memcpy(res->unrounded, res->p, sizeof res->p);
-	bk_fit_evaluate(spec, res->p, &res->before_digits);
+	memcpy(res->unrounded, res->p, sizeof res->p); /* no "unrounded" metrics row: the digits shown are the answer */
 	for (int j = 0; j < spec->np; j++) {
 		double se = res->se[j];
 		if (spec->hold[j] || !(se > 0) || !isfinite(se) || !isfinite(res->p[j]))

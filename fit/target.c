@@ -351,12 +351,12 @@ static bk_form *form_parse_checked(const bk_target_options *o, char *err, size_t
 		return NULL;
 	}
 	int np = bk_form_nparams(f), fail = 1;
-	unsigned reads = bk_form_inputs(f), gives = 0;
+	unsigned reads = bk_form_inputs(f), gives = 0, domain = form_gives(o);
 	for (int d = 0; d < o->ndomain; d++) {
 		bk_input in = (bk_input)o->dom_in[d];
 		if (gives >> in & 1)
 			snprintf(err, errlen, "the domain gives '%s' twice", bk_input_name(in));
-		else if ((in == BK_IN_A && (form_gives(o) >> BK_IN_R & 1)) || (in == BK_IN_R && (gives >> BK_IN_A & 1)))
+		else if (in == BK_IN_A && (domain >> BK_IN_R & 1)) /* whatever the order: domain is all of it */
 			snprintf(err, errlen, "the domain gives both 'r' and 'a': with r, a is r^2 (give one)");
 		else if (!(reads >> in & 1) && !(in == BK_IN_R && (reads >> BK_IN_A & 1)))
 			snprintf(err, errlen, "the domain gives '%s', which the target form does not read", bk_input_name(in));
@@ -367,7 +367,7 @@ static bk_form *form_parse_checked(const bk_target_options *o, char *err, size_t
 		goto out;
 	}
 	for (int k = 0; k < BK_IN_COUNT; k++)
-		if ((reads >> k & 1) && !(form_gives(o) >> k & 1)) {
+		if ((reads >> k & 1) && !(domain >> k & 1)) {
 			snprintf(err, errlen, "the target form reads '%s', which the domain does not give (add %s=LO:HI)",
 			         bk_input_name((bk_input)k), bk_input_name((bk_input)k));
 			goto out;

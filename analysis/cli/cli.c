@@ -5,13 +5,11 @@
 #include "cli.h"
 #include "clock.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 static const char *cur_cmd = "brdfkit";
@@ -73,7 +71,6 @@ int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 	fprintf(stderr, " (see brdfkit %s --help)\n", cmd->name);
 	return 2;
 }
-#define usage_error cli_usage /* the parser's own name for it */
 
 int cli_seen(const cli_cmd *cmd, const char *name)
 {
@@ -122,15 +119,15 @@ static int parse_number(const cli_cmd *cmd, const cli_opt *o, const char *text,
 	range_text(o, r, sizeof r);
 	double x;
 	if (cli_number(text, &x))
-		return usage_error(cmd, "%s: expected a finite number in %s, got '%s'",
+		return cli_usage(cmd, "%s: expected a finite number in %s, got '%s'",
 		                   o->name, r, text);
 	if (o->kind == CLI_INT && x != floor(x))
-		return usage_error(cmd, "%s: expected an integer in %s, got '%s'", o->name,
+		return cli_usage(cmd, "%s: expected an integer in %s, got '%s'", o->name,
 		                   r, text);
 	int below = o->lo_open ? !(x > o->lo) : !(x >= o->lo);
 	int above = o->hi_open ? !(x < o->hi) : !(x <= o->hi);
 	if (below || above)
-		return usage_error(cmd, "%s: %s is out of range %s", o->name, text, r);
+		return cli_usage(cmd, "%s: %s is out of range %s", o->name, text, r);
 	*out = x;
 	return 0;
 }
@@ -141,18 +138,18 @@ static int parse_list(const cli_cmd *cmd, const cli_opt *o, const char *text,
                       cli_list *l)
 {
 	if (!*text)
-		return usage_error(cmd, "%s: expected a comma-separated list of numbers, got ''", o->name);
+		return cli_usage(cmd, "%s: expected a comma-separated list of numbers, got ''", o->name);
 	l->n = 0;
 	for (const char *p = text;;) {
 		const char *comma = strchr(p, ',');
 		size_t n = comma ? (size_t)(comma - p) : strlen(p);
 		if (n == 0)
-			return usage_error(cmd, "%s: empty item in the list '%s'", o->name, text);
+			return cli_usage(cmd, "%s: empty item in the list '%s'", o->name, text);
 		if (l->n == CLI_LIST_MAX)
-			return usage_error(cmd, "%s: more than %d values", o->name, CLI_LIST_MAX);
+			return cli_usage(cmd, "%s: more than %d values", o->name, CLI_LIST_MAX);
 		char *item = strndup(p, n);
 		if (!item)
-			return usage_error(cmd, "%s: out of memory", o->name);
+			return cli_usage(cmd, "%s: out of memory", o->name);
 		int rc = parse_number(cmd, o, item, &l->v[l->n++]);
 		free(item);
 		if (rc)
@@ -178,7 +175,7 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 		return parse_list(cmd, o, text, o->dest);
 	case CLI_STR:
 		if (!*text)
-			return usage_error(cmd, "%s: empty value", o->name);
+			return cli_usage(cmd, "%s: empty value", o->name);
 		*(const char **)o->dest = text;
 		return 0;
 	case CLI_FLAG:
@@ -186,7 +183,7 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 		return 0;
 	case CLI_FORM:
 		if (!*text)
-			return usage_error(cmd, "%s: empty value", o->name);
+			return cli_usage(cmd, "%s: empty value", o->name);
 		return cli_form_arg(text, o->dest);
 	}
 	return 2;
@@ -208,7 +205,7 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 		}
 		if (!options || strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
 			if (cmd->npos >= cmd->max_pos || cmd->npos == 32)
-				return usage_error(cmd, "unexpected argument '%s'", arg);
+				return cli_usage(cmd, "unexpected argument '%s'", arg);
 			cmd->pos[cmd->npos++] = argv[i];
 			continue;
 		}
@@ -221,27 +218,27 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 			    strncmp(cmd->opts[k].name, arg, nlen) == 0)
 				o = &cmd->opts[k];
 		if (!o)
-			return usage_error(cmd, "unknown option '%s'", arg);
+			return cli_usage(cmd, "unknown option '%s'", arg);
 		if (o->seen)
-			return usage_error(cmd, "%s given twice", o->name);
+			return cli_usage(cmd, "%s given twice", o->name);
 		o->seen = 1;
 		const char *val = NULL;
 		if (o->kind == CLI_FLAG) {
 			if (eq)
-				return usage_error(cmd, "%s takes no value", o->name);
+				return cli_usage(cmd, "%s takes no value", o->name);
 		} else if (eq) {
 			val = eq + 1;
 		} else if (i + 1 < argc) {
 			val = argv[++i];
 		} else {
-			return usage_error(cmd, "%s needs a value (%s)", o->name, o->metavar);
+			return cli_usage(cmd, "%s needs a value (%s)", o->name, o->metavar);
 		}
 		if (set_value(cmd, o, val))
 			return 2;
 	}
 	for (int k = 0; k < cmd->nopts; k++)
 		if (cmd->opts[k].required && !cmd->opts[k].seen)
-			return usage_error(cmd, "missing %s %s", cmd->opts[k].name,
+			return cli_usage(cmd, "missing %s %s", cmd->opts[k].name,
 			                   cmd->opts[k].metavar);
 	return 0;
 }

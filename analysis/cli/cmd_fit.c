@@ -175,7 +175,6 @@ typedef struct run {
 	bk_fit_spec spec;
 	bk_fit_result res;
 	int has_published;
-	double published[BK_MAX_PARAMS]; /* the catalog's constants, whatever start p0=... gives */
 	const cli_cmd *cmd;
 	char command[2048];
 } run;
@@ -286,7 +285,7 @@ static int write_heatmaps(const run *R, const char *dir, char *err, size_t errle
 		return 0;
 	int rc = write_heatmap(R, dir, "heatmap", R->res.p, "fitted", err, errlen);
 	if (rc == 0 && R->has_published) /* the published constants on the same samples, same colour rule */
-		rc = write_heatmap(R, dir, "heatmap_published", R->published, "published", err, errlen);
+		rc = write_heatmap(R, dir, "heatmap_published", R->fs.entry->defaults, "published", err, errlen);
 	return rc;
 }
 
@@ -776,10 +775,8 @@ int cmd_fit(int argc, char **argv)
 	if ((rc = check_weight(&R)) || (rc = check_forms(&R)))
 		goto samples;
 	R.has_published = R.fs.entry != NULL;
-	if (R.has_published) { /* at the catalog's constants, not at a start the user gave */
-		memcpy(R.published, R.fs.entry->defaults, sizeof R.published);
-		bk_fit_evaluate(&R.spec, R.published, &R.res.published);
-	}
+	if (R.has_published) /* at the catalog's constants, not at a start the user gave */
+		bk_fit_evaluate(&R.spec, R.fs.entry->defaults, &R.res.published);
 	bk_fit_metrics published = R.res.published;
 	rc = bk_fit_run(&R.spec, &R.res);
 	R.res.published = published;
