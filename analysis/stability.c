@@ -354,13 +354,12 @@ static double min_safe_r(const bk_form *f, const double *params, double cfloor, 
 /* Largest relative change a guarded form makes to the unguarded one in long
  * double, where the unguarded reference is meaningful: the guard's own error.
  * Takes guarded (a new string, freed here; NULL: out of memory, NaN). */
-static double guard_cost(const bk_form *f, char *guarded, const double *params, const grid *g, const ref *R)
+static double guard_cost(char *guarded, const double *params, const grid *g, const ref *R)
 {
 	bk_form_error e;
 	bk_form *h = guarded ? bk_form_parse(guarded, &e) : NULL;
 	free(guarded);
 	double *v = h ? malloc(sizeof(double) * g->n) : NULL, worst = NAN;
-	(void)f;
 	if (v && bk_form_eval(h, BK_FLD, g->n, (const double *const *)g->in, params, v) == 0) {
 		worst = 0; /* where the value is one half can hold: beyond 65504 nothing can be kept */
 		for (size_t k = 0; k < g->n; k++)
@@ -474,7 +473,7 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 {
 	unsigned reads = bk_form_inputs(f);
 	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
-	double best_err = INFINITY, clamp_err = guard_cost(f, build_guarded(text, reads, 0, 0, 1), params, g, R);
+	double best_err = INFINITY, clamp_err = guard_cost(build_guarded(text, reads, 0, 0, 1), params, g, R);
 	st->guarded_ok = 0;
 	snprintf(st->guards, sizeof st->guards, "none of the floors and the clamp fixes it");
 	st->guarded = str_printf("%s", text);
@@ -486,9 +485,9 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
 		double er = 0, ec = 0;
 		if (Rr > 0)
-			er = guard_cost(f, build_guarded(text, reads, Rr, 0, 0), params, g, R);
+			er = guard_cost(build_guarded(text, reads, Rr, 0, 0), params, g, R);
 		if (C > 0)
-			ec = guard_cost(f, build_guarded(text, reads, 0, C, 0), params, g, R);
+			ec = guard_cost(build_guarded(text, reads, 0, C, 0), params, g, R);
 		for (int clamp = 0; clamp < 2; clamp++) {
 			if (i < 0 && !clamp)
 				continue;

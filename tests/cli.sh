@@ -499,6 +499,9 @@ expect_error "form target: compare" \
 $FF --target-form "$FT" --domain LoH=0.3162:1 >/dev/null 2>&1; [ $? -eq 2 ] && ok || bad "form target: usage error is not exit 2"
 [ ! -e "$T/fe" ] && ok || bad "form target: a refused run wrote $T/fe"
 
+# stability's pN= takes the same number syntax as every other command
+expect_error "stability p0 hex" "p0: expected a finite number, got '0x1p3'" $BK stability 'p0*NoV' p0=0x1p3
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

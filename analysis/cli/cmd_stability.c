@@ -104,9 +104,7 @@ static int assignment(const cli_cmd *cmd, const char *arg, int *j, double *v)
 	long k = arg[0] == 'p' && arg[1] >= '0' && arg[1] <= '9' ? strtol(arg + 1, &end, 10) : -1;
 	if (k < 0 || end != eq || k >= BK_MAX_PARAMS)
 		return cli_usage(cmd, "expected pN=VALUE with N in 0..%d, got '%s'", BK_MAX_PARAMS - 1, arg);
-	errno = 0;
-	*v = strtod(eq + 1, &end);
-	if (end == eq + 1 || *end || errno == ERANGE || !isfinite(*v))
+	if (cli_number(eq + 1, v)) /* the one number syntax of every command */
 		return cli_usage(cmd, "p%ld: expected a finite number, got '%s'", k, eq + 1);
 	*j = (int)k;
 	return 0;
