@@ -11,6 +11,11 @@ OBJ=${1:?usage: layers.sh build/obj}
 T=$(mktemp -d /tmp/bk_layers_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 
+# a path with no objects would pass with nothing checked
+for d in brdf fit analysis; do
+	[ -d "$OBJ/$d" ] || { echo "layers: no $OBJ/$d (build first)"; exit 1; }
+done
+
 # one line per object and symbol: "D obj sym" (defines) or "U obj sym" (uses)
 find "$OBJ/brdf" "$OBJ/fit" "$OBJ/analysis" -name '*.o' | sort | while read -r o; do
 	nm "$o" | awk -v o="${o#"$OBJ"/}" '
@@ -24,6 +29,7 @@ awk '
 	$1 == "U" { n++; uo[n] = $2; us[n] = $3 }
 	END { for (i = 1; i <= n; i++) if ((us[i] in def) && def[us[i]] != uo[i]) print uo[i], def[us[i]] }
 ' "$T/syms" | sort -u >"$T/edges"
+[ -s "$T/edges" ] || { echo "layers: no calls between objects found (nm failed?)"; exit 1; }
 
 awk '
 	function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
