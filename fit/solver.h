@@ -84,6 +84,19 @@ typedef struct bk_fit_summary {
 int bk_solve(const bk_problem *p, const bk_fit_options *o, double *params,
              bk_fit_summary *summary);
 
+/* The fast path for small dense problems (fit/tiny.cc): Ceres' TinySolver,
+ * dense Levenberg-Marquardt on the normal equations, no per-block overhead.
+ * Same contract as bk_solve (validation first, params untouched on -1, the
+ * same summary and termination meanings) for problems without bounds and
+ * without a loss: a problem with lower/upper bounds that are not all
+ * infinite, or o->loss != BK_LOSS_NONE, or o->trust_region != LM, is refused
+ * (-1, message). Constant flags hold parameters (solved over the free ones).
+ * Deterministic: one thread, the blocks evaluated in order. */
+int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params,
+                  bk_fit_summary *summary);
+/* 1 if bk_solve_tiny accepts the problem and options. */
+int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *o);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,116 @@
+/*
+ * expr.h — the search's candidates: small formula trees over the IR's own
+ * opcode table (brdf/ir_ops.h, the single source of truth for names, arity
+ * and cost), in prefix order so that a subtree is a contiguous run of nodes
+ * and mutation and crossover are splices. A candidate is always printed to
+ * the formula language and compiled by the IR (bk_form_parse): evaluation,
+ * derivatives, op counts, stability and codegen stay one representation.
+ *
+ * Canonical form (bk_expr_canon) is what makes two spellings one candidate:
+ * constants folded, subtrees that read no input collapsed to one parameter
+ * (p0*p1, sqrt(p0), p0 + 2 are all "a constant to fit"), identities removed
+ * (x*1, x + 0, --x), operands of commutative operations in a fixed order,
+ * parameters renumbered p0, p1, ... in order of first appearance. The
+ * canonical text is the candidate's identity: the cache hashes it, ties
+ * between equally good candidates are broken on it.
+ */
+#ifndef FIT_EXPR_H
+#define FIT_EXPR_H
+
+#include "brdf.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Nodes of one candidate, at most (a candidate of the search is small: the
+ * talk's V·F form is 9 nodes, Karis' env pair about 30). */
+#define BK_EXPR_MAX 64
+
+typedef struct bk_enode {
+	int op;    /* a bk_op of brdf/ir.h: CONST, INPUT, PARAM or an operation */
+	int slot;  /* INPUT: the bk_input; PARAM: the parameter index */
+	double k;  /* CONST: the value */
+} bk_enode;
+
+/* node[0] is the root; the operands of node i follow it in order, each a
+ * whole subtree (prefix / Polish order). */
+typedef struct bk_expr {
+	int n;
+	bk_enode node[BK_EXPR_MAX];
+} bk_expr;
+
+/* What a search may build from. ops: bit i set allows bk_op i (CONST, INPUT
+ * and PARAM are leaves and always allowed); inputs: bit i allows bk_input i;
+ * consts: the literals a leaf may be besides a parameter (e.g. 1, 2, 0.5). */
+typedef struct bk_grammar {
+	uint64_t ops;
+	unsigned inputs;
+	double consts[8];
+	int nconsts;
+	int max_params; /* parameters in one candidate, <= BK_MAX_PARAMS */
+	int max_size;   /* nodes, <= BK_EXPR_MAX */
+} bk_grammar;
+
+/* The default operation set of brdfkit search: + - * / sq sqrt rsqrt rcp
+ * exp2 log2 min max saturate mix (sq is x*x: MUL with equal operands). */
+uint64_t bk_grammar_default_ops(void);
+/* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err. */
+int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen);
+
+/* Number of nodes of the subtree at node i (i itself included). */
+int bk_expr_span(const bk_expr *e, int i);
+/* Highest parameter index + 1. */
+int bk_expr_nparams(const bk_expr *e);
+
+/* Brings e to canonical form (see above). Returns 0, or -1 if the result
+ * would not fit BK_EXPR_MAX (it never grows in practice). */
+int bk_expr_canon(bk_expr *e);
+
+/* The formula-language text of e, fully parenthesised only where the
+ * language needs it, literals with %.17g (round trip). Returns the length,
+ * or -1 if len is too small. */
+int bk_expr_print(const bk_expr *e, char *buf, size_t len);
+
+/* The tree of a compiled form (the IR's code expanded back into a tree:
+ * MAD to a*b + c, shared subexpressions duplicated). Returns 0, or -1 when
+ * the tree would exceed BK_EXPR_MAX nodes or the form uses an op the tree
+ * cannot hold. */
+int bk_expr_from_form(const bk_form *f, bk_expr *e);
+
+/* 64-bit FNV-1a of the canonical text (the cache key). */
+uint64_t bk_expr_hash_text(const char *text);
+
+/* ---- generation ----------------------------------------------------------- */
+
+/* Deterministic generator (splitmix64 seeding xoshiro256**): the same seed
+ * gives the same stream on every machine. */
+typedef struct bk_rng {
+	uint64_t s[4];
+} bk_rng;
+void bk_rng_seed(bk_rng *r, uint64_t seed);
+uint64_t bk_rng_next(bk_rng *r);
+/* Uniform integer in [0, n), n >= 1 (unbiased: rejection). */
+uint32_t bk_rng_below(bk_rng *r, uint32_t n);
+/* Uniform double in [0, 1) with 53 random bits. */
+double bk_rng_unit(bk_rng *r);
+
+/* Every canonical candidate of exactly size nodes over the grammar, each
+ * once, in a fixed order (bottom-up: built from the canonical candidates of
+ * smaller sizes). fn returns non-zero to stop. Returns the number of
+ * candidates visited, or -1 (out of memory). */
+typedef int (*bk_expr_visit)(void *ctx, const bk_expr *e);
+long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx);
+
+/* One offspring of parent by one random mutation: replace a subtree by a
+ * random small one, change an operation to another of the same arity,
+ * replace a leaf, turn a literal into a parameter, wrap a subtree in a unary
+ * operation, or hoist an operand over its parent. The result is canonical
+ * and within the grammar's limits. Returns 0, or -1 if no valid child was
+ * found in a few tries (child is then a copy of parent). */
+int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_expr *child);
+/* Subtree crossover: a random subtree of a replaced by a random subtree of b.
+ * Canonical, within limits; -1 as above. */
+int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b,
+                      bk_expr *child);
+
+#endif
