@@ -1,0 +1,179 @@
+/*
+ * fit_out.c — the files of a fit's result directory (fit_out.h).
+ */
+#include "fit_out.h"
+#include "heatmap.h"
+#include "out.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+static void metrics_row(FILE *f, const char *label, const bk_fit_metrics *m)
+{
+	fprintf(f, "%s,%.9g,%.9g,%.9g,%.9g,%.9g,", label, m->cost, m->rmse, m->weighted_rmse, m->max_abs,
+	        m->max_rel);
+	if (isfinite(m->albedo_max_abs))
+		fprintf(f, "%.9g", m->albedo_max_abs);
+	fputc('\n', f);
+}
+
+
+static FILE *open_in(const char *dir, const char *name)
+{
+	char path[4200];
+	snprintf(path, sizeof path, "%.4000s/%.150s", dir, name);
+	return fopen(path, "w");
+}
+
+static void header(FILE *f, const fit_run *R, const char *what)
+{
+	fprintf(f, "# brdfkit %s %s\n# command: %s\n# target: %s\n", BK_VERSION, what, R->command, R->s->description);
+	if (R->to->kind == BK_TARGET_FORM) { /* the whole expression (the description may cut it), on one line */
+		fputs("# target form: ", f);
+		for (const char *c = R->to->form_text; *c; c++)
+			fputc(*c == '\n' || *c == '\r' ? ' ' : *c, f);
+		fprintf(f, "\n# domain: %s (cell centres, %d per axis)\n", R->domain, bk_target_form_cells(R->to));
+	}
+	fprintf(f, "# residuals: %s; conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
+	        R->spec->relative ? "relative (f - y)/|y|" : "absolute f - y");
+}
+
+static int write_tables(const fit_run *R, const char *dir)
+{
+	FILE *f = open_in(dir, "coefficients.csv");
+	if (!f)
+		return -1;
+	header(f, R, "fitted coefficients");
+	for (int j = 0, k = 0; j < R->spec->np; j++) /* standard error 0: held */
+		if (R->res->held[j])
+			fprintf(f, "%sp%d", k++ ? ", " : "# not identifiable, held at the start value: ", j);
+	for (int j = 0; j < R->spec->np; j++)
+		if (R->res->held[j]) {
+			fputc('\n', f);
+			break;
+		}
+	fputs("form,parameter,value,standard_error\n", f);
+	const char *form = R->name;
+	for (int j = 0; j < R->spec->np; j++) {
+		bk_csv_field(f, form);
+		fprintf(f, ",p%d,%.9g,", j, R->res->p[j]);
+		if (isfinite(R->res->se[j]))
+			fprintf(f, "%.3g", R->res->se[j]);
+		fputc('\n', f);
+	}
+	int bad = ferror(f);
+	bad |= fclose(f);
+	if (!(f = open_in(dir, "metrics.csv")))
+		return -1;
+	header(f, R, "fit metrics");
+	fputs("constants,cost,rmse,weighted_rmse,max_abs,max_rel,albedo_max_abs\n", f);
+	metrics_row(f, "fitted", &R->res->fitted);
+	if ((R->published != NULL))
+		metrics_row(f, "published", &R->res->published);
+	if (R->spec->digits && R->spec->digits != BK_FIT_DIGITS_SE) /* its last digits are the CPU's */
+		metrics_row(f, "unrounded", &R->res->before_digits);
+	bad |= ferror(f);
+	bad |= fclose(f);
+	if (R->s->ncomp == 2) { /* env split: A, B and A + B (the albedo at f0 = 1) */
+		if (!(f = open_in(dir, "metrics_env.csv")))
+			return -1;
+		header(f, R, "split-sum errors");
+		fputs("constants,component,rmse,max_abs\n", f);
+		static const char *const comp[3] = {"A", "B", "A+B"};
+		for (int k = 0; k < 3; k++)
+			fprintf(f, "fitted,%s,%.9g,%.9g\n", comp[k], R->res->fitted.comp_rmse[k], R->res->fitted.comp_max_abs[k]);
+		for (int k = 0; (R->published != NULL) && k < 3; k++)
+			fprintf(f, "published,%s,%.9g,%.9g\n", comp[k], R->res->published.comp_rmse[k],
+			        R->res->published.comp_max_abs[k]);
+		bad |= ferror(f);
+		bad |= fclose(f);
+	}
+	return bad ? -1 : 0;
+}
+
+/* The error over the target's plane with constants p, as DIR/<stem>.{exr,png,csv}. */
+static int write_heatmap(const fit_run *R, const char *dir, const char *stem, const double *p, const char *which,
+                         char *err, size_t errlen)
+{
+	const bk_samples *s = R->s;
+	size_t cells = (size_t)s->plane_nx * s->plane_ny;
+	double *v = malloc(sizeof(double) * cells);
+	if (!v)
+		return -1;
+	bk_fit_plane_error(R->spec, p, v);
+	int albedo = R->res->fitted.albedo_max_abs == R->res->fitted.albedo_max_abs;
+	char title[256], value_name[64];
+	snprintf(title, sizeof title, "%s %s on %s: %s", R->name, which,
+	         bk_target_name(R->to->kind),
+	         albedo ? "directional albedo error" : s->ncomp == 2 ? "A+B error (albedo at f0 = 1)" : "error (approx - exact)");
+	snprintf(value_name, sizeof value_name, "%s", albedo ? "albedo_error" : "error");
+	bk_heatmap h = {s->plane_nx, s->plane_ny, v, s->plane_x0, s->plane_x1, s->plane_y0, s->plane_y1,
+	                s->plane_xname, s->plane_yname, title, value_name, s->description};
+	int rc = bk_heatmap_write(&h, dir, stem, err, errlen);
+	free(v);
+	return rc;
+}
+
+/* Whether the target has a plane to draw: a form target over three or more
+ * inputs has none (report says so). */
+int fit_has_plane(const fit_run *R) { return R->to->kind != BK_TARGET_FORM || R->to->ndomain <= 2; }
+
+static int write_heatmaps(const fit_run *R, const char *dir, char *err, size_t errlen)
+{
+	if (!fit_has_plane(R))
+		return 0;
+	int rc = write_heatmap(R, dir, "heatmap", R->res->p, "fitted", err, errlen);
+	if (rc == 0 && (R->published != NULL)) /* the published constants on the same samples, same colour rule */
+		rc = write_heatmap(R, dir, "heatmap_published", R->published, "published", err, errlen);
+	return rc;
+}
+
+static int write_shaders(const fit_run *R, const char *dir)
+{
+	static const struct { const char *file; bk_lang lang; } out[] = {
+		{"shader.c", BK_LANG_C}, {"shader.glsl", BK_LANG_GLSL}, {"shader.hlsl", BK_LANG_HLSL}};
+	char domain[600], error[200];
+	snprintf(domain, sizeof domain, "%s", R->s->description);
+	snprintf(error, sizeof error, "rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
+	         R->res->fitted.rmse, R->res->fitted.max_abs, R->res->fitted.max_rel, R->spec->relative ? "relative" : "absolute");
+	for (size_t k = 0; k < 3; k++) {
+		FILE *f = open_in(dir, out[k].file);
+		if (!f)
+			return -1;
+		for (int q = 0; q < (R->split ? 2 : 1); q++) {
+			char name[64];
+			snprintf(name, sizeof name, "%s%s", R->fname,
+			         R->split ? (q ? "_B" : "_A") : "");
+			bk_emit_info info = {name, R->source,
+			                     R->convention,
+			                     domain, error, R->command};
+			char *text = bk_form_emit(R->f[q], out[k].lang, 0, R->res->p, &info);
+			if (!text) {
+				fclose(f);
+				return -1;
+			}
+			fprintf(f, "%s%s", q ? "\n" : "", text);
+			free(text);
+		}
+		if (ferror(f) | fclose(f))
+			return -1;
+	}
+	return 0;
+}
+
+
+int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen)
+{
+	int rc = write_tables(R, dir);
+	if (rc == 0 && (rc = write_heatmaps(R, dir, err, errlen)) == 0)
+		rc = write_shaders(R, dir);
+	for (int k = 0; rc == 0 && !R->cell_csv && k < 2; k++) { /* the per-cell tables: regenerated by one fit command */
+		char path[4200];
+		snprintf(path, sizeof path, "%.4000s/%s.csv", dir, k ? "heatmap_published" : "heatmap");
+		unlink(path);
+	}
+	return rc;
+}

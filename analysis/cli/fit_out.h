@@ -1,0 +1,38 @@
+/*
+ * fit_out.h — what `brdfkit fit --out DIR` writes (coefficients.csv,
+ * metrics.csv, metrics_env.csv, heatmap*.{exr,png,csv}, shader.{c,glsl,hlsl}),
+ * shared by fit and by search, which writes the same for each front member.
+ */
+#ifndef ANALYSIS_CLI_FIT_OUT_H
+#define ANALYSIS_CLI_FIT_OUT_H
+
+#include "fit.h"
+
+#include <stddef.h>
+
+typedef struct fit_run {
+	const char *command;          /* the command line, for headers and shaders */
+	const bk_target_options *to;
+	const char *domain;           /* target form: the --domain text */
+	const bk_samples *s;
+	const bk_fit_spec *spec;
+	const bk_fit_result *res;
+	const char *name;             /* the form in tables and titles: catalog name or "form" */
+	const char *fname;            /* the generated function's name */
+	const char *source;           /* citation, "user form", or the search's provenance */
+	const char *convention;
+	const double *published;      /* the catalog's constants, or NULL */
+	int split;                    /* env: two forms A, B */
+	const bk_form *f[2];
+	int cell_csv;                 /* 1: heatmaps also as per-cell CSV */
+} fit_run;
+
+/* Whether the target has a plane to draw: a form target over three or more
+ * inputs has none. */
+int fit_has_plane(const fit_run *R);
+
+/* Writes everything into the existing directory dir. Returns 0, or -1 (err
+ * may then say why). */
+int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,124 @@
+/*
+ * search.h — the search for closed forms: candidates generated over the
+ * formula IR (fit/expr.h), each fitted on a screening sample with the fast
+ * solver, kept in an archive of the best per cost level, the Pareto front of
+ * error against GPU cost read off it.
+ *
+ * How a run goes (search.c):
+ *   1. the seeds (catalog entries of the target, --start forms) are fitted
+ *      first, so the front starts at the published state of the art;
+ *   2. every canonical candidate up to enum_size nodes, bottom-up;
+ *   3. generations of `generation` children of archive members by mutation
+ *      and crossover, until the budget of fits (evals) is spent.
+ * A candidate is fitted once: the cache holds the hash of each canonical
+ * text. Fits of one generation run on threads; their results are merged in
+ * candidate order, so the same seed and budget give the same archive for any
+ * thread count. The archive is MAP-Elites over cost: for each integer cost
+ * level the `per_level` best candidates (error, then canonical text), which
+ * keeps cheap and expensive forms alive together instead of collapsing onto
+ * the currently best trade-off.
+ *
+ * Errors are compared at a stated resolution (BK_SEARCH_ERR_BITS significant
+ * bits) and ties broken by text: no selection hinges on the last bit of a
+ * libm result, so the front does not depend on the CPU (FMA or not).
+ */
+#ifndef FIT_SEARCH_H
+#define FIT_SEARCH_H
+
+#include "expr.h"
+#include "fit.h"
+
+#include <stdio.h>
+
+/* Errors are rounded to this many significant bits before any comparison. */
+#define BK_SEARCH_ERR_BITS 20
+
+typedef enum bk_objective { BK_OBJ_RMSE, BK_OBJ_MAX, BK_OBJ_ALBEDO } bk_objective;
+
+/* How a candidate's trees become the form that is fitted. */
+typedef enum bk_shape {
+	BK_SHAPE_PLAIN, /* the tree is the form */
+	BK_SHAPE_F0,    /* the talk's scalar pipeline: f0*(g), specColor applied at the end */
+	BK_SHAPE_PAIR   /* env split sum: trees A and B, parameters of B after A's */
+} bk_shape;
+
+typedef struct bk_search_options {
+	const bk_samples *screen; /* the screening samples */
+	bk_shape shape;
+	bk_grammar grammar;
+	bk_objective objective;
+	int relative;             /* residuals (f - y)/|y| */
+	bk_precision precision;   /* the candidate's error is that of its evaluation in this */
+	double max_cost;          /* candidates above are not fitted (HUGE_VAL: none) */
+	double simple_cost, complex_cost;
+	int nonneg;               /* reject a candidate negative anywhere on the samples */
+	int env_bound;            /* pair: reject unless A, B >= 0 and A + B <= 1 */
+	long evals;               /* budget: candidate fits */
+	unsigned long seed;
+	int threads;              /* >= 1 */
+	int enum_size;            /* exhaustive up to this many nodes */
+	int generation;           /* children per generation */
+	int per_level;            /* archive entries per integer cost level */
+	int starts;               /* screening starts per candidate (1..4) */
+	const char *const *seeds; /* forms fitted first (pair: "A" then "B" in seeds_b) */
+	const char *const *seeds_b;
+	const char *const *seed_names; /* their names in outputs (catalog names, "start 1", ...) */
+	const double (*seed_p)[BK_MAX_PARAMS]; /* their starting constants (published), or NULL */
+	int nseeds;
+} bk_search_options;
+
+/* Sets the defaults of everything but screen, shape and grammar. */
+void bk_search_defaults(bk_search_options *o);
+
+typedef enum bk_cand_status {
+	BK_CAND_OK,        /* fitted, finite, within the constraints */
+	BK_CAND_NONFINITE, /* not finite somewhere the target is */
+	BK_CAND_CONSTRAINT,/* negative, or env A, B outside [0, 1] */
+	BK_CAND_FAILED     /* the fit failed */
+} bk_cand_status;
+
+typedef struct bk_cand {
+	char *text;               /* the whole form as fitted (shape applied); A for a pair */
+	char *text_b;             /* B for a pair, else NULL */
+	const char *seed_name;    /* a seed's name, else NULL */
+	bk_expr tree[2];          /* the search trees (before the shape) */
+	int np;
+	double p[BK_MAX_PARAMS];
+	bk_ops ops;
+	double cost;
+	bk_cand_status status;
+	double err;               /* the objective, rounded to BK_SEARCH_ERR_BITS; +inf unless OK */
+	double rmse, max_abs, albedo_max_abs; /* on the screening samples, in the search precision */
+	long found_at;            /* 1-based number of the fit */
+} bk_cand;
+
+typedef struct bk_search bk_search;
+
+/* Checks the options and fits nothing yet. NULL with a message on a bad option. */
+bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen);
+void bk_search_free(bk_search *s);
+
+/* Fits the next batch (a generation, or part of the seeds and enumeration).
+ * Returns 1 while budget remains, 0 when the budget is spent or nothing new
+ * can be generated, -1 on an error (message). */
+int bk_search_step(bk_search *s, char *err, size_t errlen);
+
+long bk_search_evals(const bk_search *s);
+/* The distinct candidates fitted so far, in the order they were found. */
+size_t bk_search_count(const bk_search *s);
+const bk_cand *bk_search_at(const bk_search *s, size_t i);
+/* The Pareto front of (cost, err) over the candidates with status OK, by
+ * increasing cost: indices into bk_search_at. Returns how many (<= max). */
+size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);
+
+/* Checkpoint: the state after the last completed step, as text. A search
+ * loaded from it (made by bk_search_new with the same options) continues
+ * exactly as the one that saved it. The options' fingerprint is recorded and
+ * checked. Return 0, or -1 with a message. */
+int bk_search_save(const bk_search *s, FILE *f);
+int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen);
+
+/* Round an error to BK_SEARCH_ERR_BITS significant bits (nan, inf kept). */
+double bk_search_round_err(double e);
+
+#endif
