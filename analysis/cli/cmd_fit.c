@@ -20,16 +20,8 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-typedef struct fit_cli {
-	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
-	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;
-	cli_list f0;
-	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
-	double loss_scale, ior, k;
-	int relative;
-} fit_cli;
 
-static int range(const char *opt, const char *text, double *lo, double *hi)
+int fit_range(const char *opt, const char *text, double *lo, double *hi)
 {
 	const char *colon = strchr(text, ':');
 	char lo_text[64] = "";
@@ -56,14 +48,14 @@ static int bounds(const char *text, double *lower, double *upper)
 			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", t);
 			return 2;
 		}
-		if (range("--bound", eq + 1, &lower[j], &upper[j]))
+		if (fit_range("--bound", eq + 1, &lower[j], &upper[j]))
 			return 2;
 	}
 	return 0;
 }
 
 /* --domain NAME=LO:HI[,NAME=LO:HI...]: the inputs of target form, in order. */
-static int domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
+int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
 {
 	char buf[1024];
 	if (strlen(text) >= sizeof buf)
@@ -224,12 +216,12 @@ static int write_outputs(const run *R, const char *out)
 
 /* ---- the command ---------------------------------------------------------- */
 
-static int setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
+int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
 {
 	bk_target_defaults(kind, to);
-	if (a->r_range && range("--r-range", a->r_range, &to->r_lo, &to->r_hi))
+	if (a->r_range && fit_range("--r-range", a->r_range, &to->r_lo, &to->r_hi))
 		return 2;
-	if (a->x_range && range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
+	if (a->x_range && fit_range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
 		return 2;
 	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
 		fprintf(stderr, "brdfkit fit: ranges must lie in [0, 1] (cosines and perceptual roughness)\n");
@@ -590,7 +582,7 @@ int cmd_fit(int argc, char **argv)
 		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)\n", a.target);
 		return 2;
 	}
-	if ((rc = setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
+	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
 		return rc;
 	R.to.env_f0_form = kind == BK_TARGET_ENV && !R.fs.split;
 	bk_form *wform = NULL;
@@ -609,7 +601,7 @@ int cmd_fit(int argc, char **argv)
 			goto done;
 		}
 		R.to.form_text = a.target_form;
-		if ((rc = domain(&cmd, a.domain, &R.to)))
+		if ((rc = fit_domain(&cmd, a.domain, &R.to)))
 			goto done;
 		if (bk_target_form_check(&R.to, err, sizeof err)) {
 			rc = cli_usage(&cmd, "--target-form: %s", err);

@@ -6,6 +6,7 @@
 #ifndef ANALYSIS_CLI_FIT_OUT_H
 #define ANALYSIS_CLI_FIT_OUT_H
 
+#include "cli.h"
 #include "fit.h"
 
 #include <stddef.h>
@@ -34,5 +35,23 @@ int fit_has_plane(const fit_run *R);
 /* Writes everything into the existing directory dir. Returns 0, or -1 (err
  * may then say why). */
 int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
+
+/* ---- the target options of fit, shared with search (cmd_fit.c) ---------- */
+
+typedef struct fit_cli {
+	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
+	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;
+	cli_list f0;
+	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
+	double loss_scale, ior, k;
+	int relative;
+} fit_cli;
+
+/* LO:HI with LO < HI into lo, hi; 2 after an error naming opt. */
+int fit_range(const char *opt, const char *text, double *lo, double *hi);
+/* --domain NAME=LO:HI[,...] into to's domain; 2 after a usage error. */
+int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to);
+/* Defaults of kind, then the target options of a; 2 after an error. */
+int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to);
 
 #endif
