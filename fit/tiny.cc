@@ -66,7 +66,6 @@
 #include <cstdio>
 #include <cstring>
 #include <new>
-#include <cstdlib>
 #include <vector>
 
 namespace {
@@ -357,6 +356,5 @@ extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, doubl
 		say(summary->message, sizeof summary->message, "out of memory");
 	}
 	summary->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-	if (getenv("TINY_DEBUG")) fprintf(stderr, "TINY %s it %d cost %.17g -> %.17g x %.17g %.17g\n", summary->message, summary->iterations, summary->initial_cost, summary->final_cost, params[0], p->np > 1 ? params[1] : 0.0);
 	return 0;
 }
