@@ -136,6 +136,15 @@ bool refuses(const bk_problem &p, const bk_fit_options &o, char *why, size_t len
 	return false;
 }
 
+/* 1 if every x[0..n) is finite. x * 0 is 0 for a finite x and NaN otherwise,
+ * so one sum tells, with no overflow; Eigen vectorises the sum, which a loop
+ * of isfinite with an early exit is not (this check was ~10 % of a vf2d
+ * solve, perf). */
+bool all_finite(const double *x, size_t n)
+{
+	return std::isfinite((Eigen::Map<const Eigen::ArrayXd>(x, (Eigen::Index)n) * 0.0).sum());
+}
+
 /* What the functor keeps between calls (on bk_solve_tiny's stack). */
 struct State {
 	double x[kMaxParams];      /* the full parameter vector: held ones at their values */
@@ -191,15 +200,17 @@ public:
 			int rc = p_.fn(p_.ctx, b, st_->x, rb, bj);
 			if (rc != 0)
 				fail("callback failed: block %d returned %d", b, rc);
-			for (int i = 0; i < mb; i++)
-				if (!std::isfinite(rb[i]))
-					fail("non-finite residual: block %d, residual %d", b, i);
+			if (!all_finite(rb, (size_t)mb)) /* then the first one is named */
+				for (int i = 0; i < mb; i++)
+					if (!std::isfinite(rb[i]))
+						fail("non-finite residual: block %d, residual %d", b, i);
 			if (bj != nullptr) {
 				/* all np columns checked, as bk_solve checks what Ceres is given */
-				for (int k = 0; k < mb * np; k++)
-					if (!std::isfinite(bj[k]))
-						fail("non-finite jacobian: block %d, residual %d, parameter %d", b, k / np,
-						     k % np);
+				if (!all_finite(bj, (size_t)mb * np))
+					for (int k = 0; k < mb * np; k++)
+						if (!std::isfinite(bj[k]))
+							fail("non-finite jacobian: block %d, residual %d, parameter %d", b, k / np,
+							     k % np);
 				for (int k = 0; k < nfree_; k++) {
 					double *col = jac + (size_t)k * (size_t)m_ + row;
 					for (int i = 0; i < mb; i++)
@@ -218,19 +229,13 @@ private:
 	 * tolerances its next tests read (see the header). */
 	void accepted(const double *r, const double *jac) const
 	{
-		double cost = 0;
-		for (int i = 0; i < m_; i++)
-			cost += r[i] * r[i];
-		cost /= 2;
+		/* Eigen's reductions, as TinySolver's own (vectorised: a plain loop is
+		 * one serial chain of additions) */
+		double cost = Eigen::Map<const Eigen::VectorXd>(r, m_).squaredNorm() / 2;
 		if (!st_->scaled) {
-			double min_scale = 1;
-			for (int k = 0; k < nfree_; k++) {
-				double ss = 0;
-				for (int i = 0; i < m_; i++)
-					ss += jac[(size_t)k * m_ + i] * jac[(size_t)k * m_ + i];
-				min_scale = std::min(min_scale, 1 / (1 + std::sqrt(ss)));
-			}
-			*st_->gradient_tolerance = o_.gradient_tolerance * min_scale;
+			Eigen::Map<const Eigen::MatrixXd> J(jac, m_, nfree_);
+			double max_norm = J.colwise().norm().maxCoeff();
+			*st_->gradient_tolerance = o_.gradient_tolerance / (1 + max_norm);
 			st_->first_cost = cost;
 			st_->scaled = true;
 		}
