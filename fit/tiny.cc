@@ -33,9 +33,12 @@
  *     ABSOLUTE bound (its header's comment says relative; the code is not),
  *     tested on the trial step. Ceres: |Δcost| / cost <= ftol, cost at the
  *     current point. So at each point it accepts, the functor sets
- *     function_tolerance = 2 ftol cost. Unlike Ceres, TinySolver takes a step
- *     that lowered the cost before stopping on it (as MINPACK does), so ftol
- *     is used as given (solver.cc asks Ceres for ftol/100 for that reason).
+ *     function_tolerance = 2 (ftol/100) cost. Unlike Ceres, TinySolver takes
+ *     a step that lowered the cost before stopping on it (as MINPACK does),
+ *     but it is asked for ftol/100 all the same, as solver.cc asks Ceres, so
+ *     that both paths stop on the same relative change of the cost and the
+ *     fast path is never the less converged of the two (the agreement with
+ *     bk_solve in tests/test_tiny.c). About one iteration at the default.
  *   - gradient: TinySolver tests max_j |s_j g_j|, g = Jᵀr, with the Jacobi
  *     scaling s_j = 1/(1 + ||J_j||) of the start's Jacobian; Ceres tests
  *     max_j |g_j| (no bounds here: the projection is the identity). With
@@ -321,6 +324,9 @@ void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summa
 
 } // namespace
 
+/* Valid options and what the fast path itself refuses; the rest of the
+ * problem (and params) is checked by the solve with bk_solve's messages, so a
+ * caller that falls back to bk_solve on 0 gets the same errors either way. */
 extern "C" int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *o)
 {
 	if (p == nullptr || p->np < 1 || p->np > kMaxParams || !bk_fit_options_valid(o, nullptr, 0))

@@ -323,14 +323,14 @@ static int bench(const problem *pb)
 		printf("  B = %s\n", e->form_b);
 	printf("  %zu residuals, %d parameters, start at the published constants; ftol %g, xtol %g, gtol %g\n", s.n,
 	       spec.np, spec.opt.function_tolerance, spec.opt.parameter_tolerance, spec.opt.gradient_tolerance);
-	printf("  %-44s %24s %12s   %s\n", "method", "final cost", "median ms", "work");
-	printf("  %-44s %24.17g %12.3f   %d iterations, %s\n", "brdfkit bk_solve (Ceres LM, IR Jacobian)", c_bk,
+	printf("  %-47s %24s %12s   %s\n", "method", "final cost", "median ms", "work");
+	printf("  %-47s %24.17g %12.3f   %d iterations, %s\n", "brdfkit bk_solve (Ceres LM, IR Jacobian)", c_bk,
 	       1e3 * t_solve, s_ceres.iterations, term[s_ceres.termination]);
-	printf("  %-44s %24.17g %12.3f   %d iterations, %s\n", "brdfkit bk_solve_tiny (TinySolver, IR Jacobian)",
+	printf("  %-47s %24.17g %12.3f   %d iterations, %s\n", "brdfkit bk_solve_tiny (TinySolver, IR Jacobian)",
 	       c_tiny, 1e3 * t_tiny, s_tiny.iterations, term[s_tiny.termination]);
-	printf("  %-44s %24.17g %12.3f   fast path + standard errors, metrics\n", "brdfkit bk_fit_run, whole",
+	printf("  %-47s %24.17g %12.3f   fast path + standard errors, metrics\n", "brdfkit bk_fit_run, whole",
 	       res.summary.final_cost, 1e3 * t_whole);
-	printf("  %-44s %24.17g %12.3f   %d f-evals, %d J-evals, status %d\n",
+	printf("  %-47s %24.17g %12.3f   %d f-evals, %d J-evals, status %d\n",
 	       "SciPy least_squares lm, analytic NumPy J", c_sp, 1e3 * sr.seconds, sr.nfev, sr.njev, sr.status);
 	printf("  p Ceres:  ");
 	for (int j = 0; j < spec.np; j++)
