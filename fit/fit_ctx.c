@@ -119,6 +119,9 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 {
 	const bk_fit_spec *spec = c->spec;
 	bk_problem prob = {spec->np, c->nblocks, c->size, residuals, c, spec->lower, spec->upper, constant};
+	/* the fast path where it applies (no finite bounds, no loss, LM): TinySolver */
+	if (bk_solve_tiny_applies(&prob, &spec->opt))
+		return bk_solve_tiny(&prob, &spec->opt, p, sum);
 	return bk_solve(&prob, &spec->opt, p, sum);
 }
 

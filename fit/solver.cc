@@ -519,6 +519,11 @@ extern "C" int bk_fit_options_valid(const bk_fit_options *o, char *why, size_t l
 	return 1;
 }
 
+extern "C" int bk_problem_valid(const bk_problem *p, const double *params, char *why, size_t len)
+{
+	return validate_problem(p, params, why, len);
+}
+
 extern "C" int bk_solve(const bk_problem *p, const bk_fit_options *o, double *params,
                         bk_fit_summary *summary)
 {

@@ -63,6 +63,10 @@ typedef struct bk_problem {
 	const int *constant;    /* NULL, or np flags: 1 holds the parameter fixed */
 } bk_problem;
 
+/* 1 if the problem and the start params pass bk_solve's checks; otherwise 0
+ * and a one-line reason in why (bk_solve's message). */
+int bk_problem_valid(const bk_problem *p, const double *params, char *why, size_t len);
+
 typedef enum bk_termination {
 	BK_TERM_CONVERGENCE,    /* a tolerance was met */
 	BK_TERM_NO_CONVERGENCE, /* iteration or time limit */

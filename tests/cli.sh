@@ -502,6 +502,20 @@ $FF --target-form "$FT" --domain LoH=0.3162:1 >/dev/null 2>&1; [ $? -eq 2 ] && o
 # stability's pN= takes the same number syntax as every other command
 expect_error "stability p0 hex" "p0: expected a finite number, got '0x1p3'" $BK stability 'p0*NoV' p0=0x1p3
 
+# ---- issue 10 (tiny) ----
+# fit takes the TinySolver fast path where it applies (no finite bound, no
+# loss, Levenberg-Marquardt: fit/tiny.cc) and Ceres elsewhere: stopped by an
+# iteration limit of 1, the warning names the solver that stopped.
+$BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 --starts 1 --max-iterations 1 --out "$T/tiny" >"$T/out" 2>&1
+if grep -qxF 'warning: did not converge (iteration limit reached (TinySolver): 1 iterations)' "$T/out"; then ok
+else bad "fit fast path: $(cat "$T/out")"; fi
+for extra in "--bound p0=0:10" "--loss huber" "--trust-region dogleg"; do
+	$BK fit --target vf2d --form vf_talk_r --nx 32 --nr 32 --starts 1 --max-iterations 1 $extra --out "$T/tiny" \
+		>"$T/out" 2>&1
+	if grep -qxF 'warning: did not converge (Maximum number of iterations reached. Number of iterations: 1.)' "$T/out"
+	then ok; else bad "fit $extra: Ceres path: $(cat "$T/out")"; fi
+done
+
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do

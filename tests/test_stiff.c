@@ -475,9 +475,17 @@ Test(stiff, loose_function_tolerance_trap)
 		spec_init(&sp, &s, f, st);
 		sp.opt.function_tolerance = ftol[k];
 		int rc = honest(bk_fit_run(&sp, &r), &sp, &r, what);
+		/* A loose stop that passes the optimality check is a legitimate answer
+		 * (the fast path, fit/tiny.cc, takes the step that meets ftol and
+		 * stops at ~4e-5 from (1, 1) with ftol 1e-2, no polish needed): it is
+		 * held to what that check promises. cost = 1/4 Rosenbrock + C, so
+		 * H = 1/4 [[802, -400], [-400, 200]] at (1, 1), smallest eigenvalue
+		 * (1002 - sqrt(1002404))/8 = 0.0998; honest() bounds each |g_j| by
+		 * 1e-4 ||J_j|| ||s|| (||J_0||² = 200.5, ||J_1||² = 50, ||s||² = 2C),
+		 * so |p - (1, 1)| <= 1e-4 sqrt(0.05 · 250.5) / 0.0998 = 3.5e-3. */
 		if (rc == 0)
-			cr_assert(fabs(r.p[0] - 1) <= 1e-6 && fabs(r.p[1] - 1) <= 1e-6, "%s: converged at (%.17g, %.17g)", what,
-			          r.p[0], r.p[1]);
+			cr_assert(hypot(r.p[0] - 1, r.p[1] - 1) <= 3.6e-3, "%s: converged at (%.17g, %.17g)", what, r.p[0],
+			          r.p[1]);
 		else {
 			cr_assert_eq(rc, 1, "%s: %s", what, r.message);
 			cr_assert_eq(r.optimal, 0, "%s", what);

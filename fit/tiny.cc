@@ -1,0 +1,371 @@
+/*
+ * tiny.cc — bk_solve_tiny (fit/solver.h): the fast path for small dense
+ * problems, Ceres' TinySolver behind bk_solve's C contract. TinySolver
+ * (ceres/tiny_solver.h) is dense Levenberg-Marquardt on the normal equations,
+ * header-only and built on Eigen alone: one residual vector and one dense
+ * Jacobian per evaluation, no per-block machinery.
+ *
+ * Facts this file relies on (ceres/tiny_solver.h of Ceres 2.1, Debian 12; read
+ * there, it is short):
+ *   - the functor's return value is ignored ("TODO: deal with failure"): a
+ *     false return leaves stale residuals in use, and a NaN residual only makes
+ *     it reject the step and shrink the trust region, over and over. So any
+ *     callback failure or non-finite value throws EvalFailure out of the
+ *     functor and out of Solve (whose state is all in the solver object, freed
+ *     on the way), caught here: FAILURE, with bk_solve's messages;
+ *   - the Jacobian it asks for is column-major (residuals x parameters), and
+ *     it asks for it (jacobian != NULL) exactly at the start and at each point
+ *     it accepts, right before testing the gradient and, on the next step, the
+ *     function tolerance; a step's trial point is evaluated with jacobian =
+ *     NULL. Its `options` are read afresh at every test, so the functor
+ *     refreshes the tolerances that depend on the point (Tolerances below);
+ *   - it neither logs nor prints (it includes only <cassert>, <cmath> and
+ *     Eigen: no glog, so nothing to silence, unlike solver.cc);
+ *   - Eigen without OpenMP (not enabled here) computes on the calling thread,
+ *     and its one piece of global state, the cache-size table of the matrix
+ *     product, is a function-local static initialised once (thread-safely in
+ *     C++11) and only read after: a TinySolver per call, with the functor's
+ *     state on the caller's stack, is thread-safe and deterministic.
+ *
+ * Tolerances: TinySolver's differ from Ceres' (solver.h); mapped so that each
+ * of its stops implies Ceres' condition for the same tolerance:
+ *   - function: TinySolver stops when |2 Δcost| < function_tolerance, an
+ *     ABSOLUTE bound (its header's comment says relative; the code is not),
+ *     tested on the trial step. Ceres: |Δcost| / cost <= ftol, cost at the
+ *     current point. So at each point it accepts, the functor sets
+ *     function_tolerance = 2 (ftol/100) cost. Unlike Ceres, TinySolver takes
+ *     a step that lowered the cost before stopping on it (as MINPACK does),
+ *     but it is asked for ftol/100 all the same, as solver.cc asks Ceres, so
+ *     that both paths stop on the same relative change of the cost and the
+ *     fast path is never the less converged of the two (the agreement with
+ *     bk_solve in tests/test_tiny.c). About one iteration at the default.
+ *   - gradient: TinySolver tests max_j |s_j g_j|, g = Jᵀr, with the Jacobi
+ *     scaling s_j = 1/(1 + ||J_j||) of the start's Jacobian; Ceres tests
+ *     max_j |g_j| (no bounds here: the projection is the identity). With
+ *     gradient_tolerance = gtol min_j s_j its stop implies max_j |g_j| < gtol:
+ *     never looser than Ceres, stricter by the spread of the column norms.
+ *   - parameter: the same inequality as Ceres, |Δx| < ptol (|x| + ptol) on the
+ *     candidate step, not taken; but |x| is over the free parameters only
+ *     (Ceres: the whole block, held coordinates included): never looser.
+ *   - iterations: TinySolver numbers them 1..max_num_iterations - 1, so it is
+ *     given max_iterations + 1; each computes one step, accepted or not, as a
+ *     Ceres iteration does.
+ *   - cost_threshold: TinySolver also stops when the cost falls below an
+ *     absolute threshold (default DBL_EPSILON); Ceres has no such test, so it
+ *     is 0 (a cost of exactly 0 stops on the gradient).
+ *   - the initial trust region radius 1e4 is both libraries' default. What
+ *     still differs: TinySolver accepts any step that lowers the cost (Ceres
+ *     only one with gain ratio > 1e-3) and solves with LDLT (Ceres' dense
+ *     normal Cholesky here): the path may differ, not the minimum.
+ */
+#include "solver.h"
+
+#include <ceres/tiny_solver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <cstring>
+#include <new>
+#include <vector>
+
+namespace {
+
+constexpr int kMaxParams = 16; /* solver.h: np in 1..16 (checked by bk_problem_valid) */
+
+void say(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+
+void say(char *buf, size_t len, const char *fmt, ...)
+{
+	if (buf == nullptr || len == 0)
+		return;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(buf, len, fmt, ap);
+	va_end(ap);
+}
+
+/* An enum field read as the int C stored there (as solver.cc: an out-of-range
+ * value loaded as the enum type is undefined in C++). */
+int enum_value(const void *field)
+{
+	int v;
+	std::memcpy(&v, field, sizeof v);
+	return v;
+}
+
+/* What ends a solve from inside the functor: the first failed evaluation. */
+struct EvalFailure {
+	char text[160];
+};
+
+[[noreturn]] void fail(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+void fail(const char *fmt, ...)
+{
+	EvalFailure f;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(f.text, sizeof f.text, fmt, ap);
+	va_end(ap);
+	throw f;
+}
+
+/* Whether the fast path refuses valid options and a valid problem (a loss,
+ * dogleg, a bound that is not infinite), the reason in why. */
+bool refuses(const bk_problem &p, const bk_fit_options &o, char *why, size_t len)
+{
+	static const char *const kLossName[] = {"NONE", "HUBER", "CAUCHY", "SOFTL1"};
+	int loss = enum_value(&o.loss); /* in range: the options are valid */
+	if (loss != BK_LOSS_NONE)
+		return say(why, len, "loss: bk_solve_tiny takes no robust loss (bk_solve does), got %s",
+		           kLossName[loss]),
+		       true;
+	if (enum_value(&o.trust_region) != BK_TR_LEVENBERG_MARQUARDT)
+		return say(why, len, "trust_region: bk_solve_tiny is Levenberg-Marquardt only, got DOGLEG"),
+		       true;
+	for (int i = 0; i < p.np; i++) {
+		if (p.lower != nullptr && p.lower[i] != -HUGE_VAL)
+			return say(why, len, "lower[%d]: bk_solve_tiny takes no bounds (bk_solve does), got %.17g", i,
+			           p.lower[i]),
+			       true;
+		if (p.upper != nullptr && p.upper[i] != HUGE_VAL)
+			return say(why, len, "upper[%d]: bk_solve_tiny takes no bounds (bk_solve does), got %.17g", i,
+			           p.upper[i]),
+			       true;
+	}
+	return false;
+}
+
+/* 1 if every x[0..n) is finite. x * 0 is 0 for a finite x and NaN otherwise,
+ * so one sum tells, with no overflow; Eigen vectorises the sum, which a loop
+ * of isfinite with an early exit is not (this check was ~10 % of a vf2d
+ * solve, perf). */
+bool all_finite(const double *x, size_t n)
+{
+	return std::isfinite((Eigen::Map<const Eigen::ArrayXd>(x, (Eigen::Index)n) * 0.0).sum());
+}
+
+/* What the functor keeps between calls (on bk_solve_tiny's stack). */
+struct State {
+	double x[kMaxParams];      /* the full parameter vector: held ones at their values */
+	double good[kMaxParams];   /* the last point evaluated with its Jacobian, all finite */
+	double first_cost = NAN;   /* cost at the start (NAN until evaluated) */
+	double good_cost = NAN;    /* cost at good */
+	bool scaled = false;       /* the gradient tolerance is set (first Jacobian seen) */
+	double *function_tolerance = nullptr; /* TinySolver's options, refreshed per point */
+	double *gradient_tolerance = nullptr;
+	std::vector<double> block_jac; /* one block's row-major Jacobian, all np columns */
+};
+
+/* The residuals of all blocks, in order, as one vector over the free
+ * parameters: TinySolver's functor (ceres/tiny_solver.h, dynamic sizes). */
+class Residuals {
+public:
+	using Scalar = double;
+	enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
+
+	Residuals(const bk_problem &p, const bk_fit_options &o, State *st) : p_(p), o_(o), st_(st)
+	{
+		int max_block = 0;
+		for (int b = 0; b < p.nblocks; b++) {
+			m_ += p.block_size[b]; /* <= INT_MAX: bk_problem_valid */
+			max_block = std::max(max_block, p.block_size[b]);
+		}
+		for (int i = 0; i < p.np; i++)
+			if (p.constant == nullptr || !p.constant[i])
+				free_[nfree_++] = i;
+		st->block_jac.resize((size_t)max_block * (size_t)p.np);
+	}
+
+	int NumResiduals() const { return m_; }
+	int NumParameters() const { return nfree_; }
+	int free_index(int k) const { return free_[k]; }
+
+	/* Residuals at the free parameters xf (held ones from st_->x), and the
+	 * column-major Jacobian over the free ones when jac is not NULL. Throws
+	 * EvalFailure (see the header); never returns false. */
+	bool operator()(const double *xf, double *r, double *jac) const
+	{
+		int np = p_.np;
+		for (int k = 0; k < nfree_; k++) {
+			if (!std::isfinite(xf[k]))
+				fail("linear solver failed: non-finite step in parameter %d", free_[k]);
+			st_->x[free_[k]] = xf[k];
+		}
+		double *bj = jac != nullptr ? st_->block_jac.data() : nullptr;
+		size_t row = 0;
+		for (int b = 0; b < p_.nblocks; b++) {
+			int mb = p_.block_size[b];
+			double *rb = r + row;
+			int rc = p_.fn(p_.ctx, b, st_->x, rb, bj);
+			if (rc != 0)
+				fail("callback failed: block %d returned %d", b, rc);
+			if (!all_finite(rb, (size_t)mb)) /* then the first one is named */
+				for (int i = 0; i < mb; i++)
+					if (!std::isfinite(rb[i]))
+						fail("non-finite residual: block %d, residual %d", b, i);
+			if (bj != nullptr) {
+				/* all np columns checked, as bk_solve checks what Ceres is given */
+				if (!all_finite(bj, (size_t)mb * np))
+					for (int k = 0; k < mb * np; k++)
+						if (!std::isfinite(bj[k]))
+							fail("non-finite jacobian: block %d, residual %d, parameter %d", b, k / np,
+							     k % np);
+				for (int k = 0; k < nfree_; k++) {
+					double *col = jac + (size_t)k * (size_t)m_ + row;
+					for (int i = 0; i < mb; i++)
+						col[i] = bj[(size_t)i * np + free_[k]];
+				}
+			}
+			row += (size_t)mb;
+		}
+		if (jac != nullptr)
+			accepted(r, jac);
+		return true;
+	}
+
+private:
+	/* A point TinySolver starts from or accepted: record it and set the
+	 * tolerances its next tests read (see the header). */
+	void accepted(const double *r, const double *jac) const
+	{
+		/* Eigen's reductions, as TinySolver's own (vectorised: a plain loop is
+		 * one serial chain of additions) */
+		double cost = Eigen::Map<const Eigen::VectorXd>(r, m_).squaredNorm() / 2;
+		if (!st_->scaled) {
+			Eigen::Map<const Eigen::MatrixXd> J(jac, m_, nfree_);
+			double max_norm = J.colwise().norm().maxCoeff();
+			*st_->gradient_tolerance = o_.gradient_tolerance / (1 + max_norm);
+			st_->first_cost = cost;
+			st_->scaled = true;
+		}
+		*st_->function_tolerance = 2 * (o_.function_tolerance / 100) * cost;
+		std::copy(st_->x, st_->x + p_.np, st_->good);
+		st_->good_cost = cost;
+	}
+
+	const bk_problem &p_;
+	const bk_fit_options &o_;
+	State *st_;
+	int m_ = 0, nfree_ = 0;
+	int free_[kMaxParams];
+};
+
+using Tiny = ceres::TinySolver<Residuals>;
+
+/* The summary's termination and message from TinySolver's status. */
+void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
+{
+	const Tiny::Summary &ts = t.summary;
+	s->termination = BK_TERM_CONVERGENCE;
+	switch (ts.status) {
+	case Tiny::GRADIENT_TOO_SMALL:
+		say(s->message, sizeof s->message,
+		    "gradient tolerance reached (TinySolver): Jacobi-scaled max |g_j| %.3e < %.3e", ts.gradient_max_norm,
+		    t.options.gradient_tolerance);
+		break;
+	case Tiny::RELATIVE_STEP_SIZE_TOO_SMALL:
+		say(s->message, sizeof s->message,
+		    "parameter tolerance reached (TinySolver): |step| < %.3e (|x| + %.3e)", o.parameter_tolerance,
+		    o.parameter_tolerance);
+		break;
+	case Tiny::COST_CHANGE_TOO_SMALL:
+		say(s->message, sizeof s->message,
+		    "function tolerance reached (TinySolver): |cost change| < %.3e cost", o.function_tolerance);
+		break;
+	case Tiny::COST_TOO_SMALL: /* cost_threshold 0: cannot happen; mapped for completeness */
+		say(s->message, sizeof s->message, "cost below threshold (TinySolver): %.3e", ts.final_cost);
+		break;
+	case Tiny::HIT_MAX_ITERATIONS:
+	default:
+		s->termination = BK_TERM_NO_CONVERGENCE;
+		say(s->message, sizeof s->message, "iteration limit reached (TinySolver): %d iterations",
+		    o.max_iterations);
+		break;
+	}
+}
+
+/* The solve proper, validated; throws EvalFailure or std::bad_alloc. */
+void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s)
+{
+	Tiny tiny;
+	Residuals f(p, o, st);
+	int nfree = f.NumParameters();
+	if (nfree == 0) { /* every parameter held: the cost where it is */
+		Eigen::VectorXd r(f.NumResiduals());
+		f(nullptr, r.data(), nullptr);
+		s->initial_cost = s->final_cost = r.squaredNorm() / 2;
+		s->termination = BK_TERM_CONVERGENCE;
+		say(s->message, sizeof s->message, "every parameter is held: nothing to solve");
+		return;
+	}
+	tiny.options.max_num_iterations = o.max_iterations + 1;
+	tiny.options.parameter_tolerance = o.parameter_tolerance;
+	tiny.options.cost_threshold = 0;
+	/* set by the functor at the start, before TinySolver's first test */
+	tiny.options.function_tolerance = 0;
+	tiny.options.gradient_tolerance = 0;
+	st->function_tolerance = &tiny.options.function_tolerance;
+	st->gradient_tolerance = &tiny.options.gradient_tolerance;
+	Eigen::VectorXd x(nfree);
+	for (int k = 0; k < nfree; k++)
+		x[k] = st->x[f.free_index(k)];
+	tiny.Solve(f, &x);
+	for (int k = 0; k < nfree; k++)
+		st->x[f.free_index(k)] = x[k];
+	s->initial_cost = tiny.summary.initial_cost;
+	s->final_cost = tiny.summary.final_cost;
+	s->iterations = std::min(tiny.summary.iterations, o.max_iterations);
+	report(tiny, o, s);
+}
+
+} // namespace
+
+/* Valid options and what the fast path itself refuses; the rest of the
+ * problem (and params) is checked by the solve with bk_solve's messages, so a
+ * caller that falls back to bk_solve on 0 gets the same errors either way. */
+extern "C" int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *o)
+{
+	if (p == nullptr || p->np < 1 || p->np > kMaxParams || !bk_fit_options_valid(o, nullptr, 0))
+		return 0;
+	return !refuses(*p, *o, nullptr, 0);
+}
+
+extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params,
+                             bk_fit_summary *summary)
+{
+	if (summary == nullptr)
+		return -1;
+	std::memset(summary, 0, sizeof *summary);
+	summary->termination = BK_TERM_FAILURE;
+	char *why = summary->message;
+	size_t len = sizeof summary->message;
+	if (!bk_fit_options_valid(o, why, len) || !bk_problem_valid(p, params, why, len) || refuses(*p, *o, why, len))
+		return -1;
+
+	auto t0 = std::chrono::steady_clock::now();
+	State st;
+	std::copy(params, params + p->np, st.x);
+	std::copy(params, params + p->np, st.good);
+	try {
+		solve(*p, *o, &st, summary);
+		std::copy(st.x, st.x + p->np, params);
+	} catch (const EvalFailure &e) {
+		/* as bk_solve: FAILURE naming the first failure; the point returned is
+		 * the last one whose residuals and Jacobian were evaluated (an accepted
+		 * iterate, or the start) */
+		summary->termination = BK_TERM_FAILURE;
+		say(summary->message, sizeof summary->message, "%s", e.text);
+		summary->initial_cost = st.first_cost;
+		summary->final_cost = st.good_cost;
+		std::copy(st.good, st.good + p->np, params);
+	} catch (const std::bad_alloc &) {
+		summary->termination = BK_TERM_FAILURE;
+		say(summary->message, sizeof summary->message, "out of memory");
+	}
+	summary->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+	return 0;
+}
