@@ -52,7 +52,9 @@ typedef struct bk_grammar {
 } bk_grammar;
 
 /* The default operation set of brdfkit search: + - * / sq sqrt rsqrt rcp
- * exp2 log2 min max saturate mix (sq is x*x: MUL with equal operands). */
+ * exp2 log2 min max saturate mix (sq is x*x: MUL with equal operands; the op
+ * table has no SQ, so its bit in ops is bit 63, which no bk_op reaches; the
+ * bit of MUL allows sq too). */
 uint64_t bk_grammar_default_ops(void);
 /* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err. */
 int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen);
@@ -61,6 +63,10 @@ int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errl
 int bk_expr_span(const bk_expr *e, int i);
 /* Highest parameter index + 1. */
 int bk_expr_nparams(const bk_expr *e);
+/* The grammar's size of e: one per node, except that sq(x) (MUL with two
+ * equal operands) counts 1 + size(x), one operation as the grammar names it.
+ * max_size and the sizes of bk_expr_enumerate are this measure. */
+int bk_expr_size(const bk_expr *e);
 
 /* Brings e to canonical form (see above). Returns 0, or -1 if the result
  * would not fit BK_EXPR_MAX (it never grows in practice). */

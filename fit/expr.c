@@ -1,0 +1,981 @@
+/*
+ * expr.c — the search's candidate trees: canonical form, printing to the
+ * formula language, the tree of a compiled form, bottom-up enumeration,
+ * mutation and crossover (see expr.h).
+ *
+ * Size: the grammar's size of a tree counts one per node, except that
+ * sq(x) (MUL with two equal operands: the op table has no SQ and needs none,
+ * the parser compiles sq(x) to exactly that MUL) counts 1 + size(x), as the
+ * one operation the grammar names. max_size and the enumeration's sizes are
+ * this measure (bk_expr_size); BK_EXPR_MAX bounds the stored nodes.
+ */
+#include "expr.h"
+#include "ir.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int arity(int op) { return bk_opinfo_table[op].arity; }
+
+static int span_at(const bk_enode *s)
+{
+	int need = 1, i = 0;
+	while (need) {
+		need += arity(s[i].op) - 1;
+		i++;
+	}
+	return i;
+}
+
+int bk_expr_span(const bk_expr *e, int i) { return span_at(e->node + i); }
+
+int bk_expr_nparams(const bk_expr *e)
+{
+	int n = 0;
+	for (int i = 0; i < e->n; i++)
+		if (e->node[i].op == BK_OP_PARAM && e->node[i].slot + 1 > n)
+			n = e->node[i].slot + 1;
+	return n;
+}
+
+/* Two subtrees equal node for node (parameters by number: sq needs the same
+ * value twice). */
+static int same(const bk_enode *a, const bk_enode *b)
+{
+	int la = span_at(a);
+	if (la != span_at(b))
+		return 0;
+	for (int i = 0; i < la; i++)
+		if (a[i].op != b[i].op || a[i].slot != b[i].slot || (a[i].op == BK_OP_CONST && a[i].k != b[i].k))
+			return 0;
+	return 1;
+}
+
+static int size_at(const bk_enode *s, int *len)
+{
+	int ar = arity(s->op), pos = 1, sz = 1, l;
+	if (s->op == BK_OP_MUL && same(s + 1, s + 1 + span_at(s + 1))) {
+		sz += size_at(s + 1, &l);
+		*len = 1 + 2 * l;
+		return sz;
+	}
+	for (int j = 0; j < ar; j++) {
+		sz += size_at(s + pos, &l);
+		pos += l;
+	}
+	*len = pos;
+	return sz;
+}
+
+int bk_expr_size(const bk_expr *e)
+{
+	int len;
+	return e->n ? size_at(e->node, &len) : 0;
+}
+
+/* ---- canonical form ------------------------------------------------------- */
+
+/* The order of commutative operands: parameters, then literals (by value),
+ * then inputs (by slot), then operations (by opcode), operands compared in
+ * prefix order. Parameter numbers are ignored, so p0*x and x*p1 sort alike
+ * and renumbering cannot change the order. A prefix code is prefix-free, so
+ * comparing node by node always decides before either tree ends. */
+static int rank(int op)
+{
+	return op == BK_OP_PARAM ? 0 : op == BK_OP_CONST ? 1 : op == BK_OP_INPUT ? 2 : 3 + op;
+}
+
+static int cmp_tree(const bk_enode *a, const bk_enode *b)
+{
+	int la = span_at(a), lb = span_at(b);
+	for (int i = 0; i < la && i < lb; i++) {
+		int ra = rank(a[i].op), rb = rank(b[i].op);
+		if (ra != rb)
+			return ra < rb ? -1 : 1;
+		if (a[i].op == BK_OP_INPUT && a[i].slot != b[i].slot)
+			return a[i].slot < b[i].slot ? -1 : 1;
+		if (a[i].op == BK_OP_CONST && a[i].k != b[i].k)
+			return a[i].k < b[i].k ? -1 : 1;
+	}
+	return 0;
+}
+
+static int commutative(int op)
+{
+	return op == BK_OP_ADD || op == BK_OP_MUL || op == BK_OP_MIN || op == BK_OP_MAX || op == BK_OP_MAD;
+}
+
+static int is_const(const bk_enode *n, double k) { return n->op == BK_OP_CONST && n->k == k; }
+
+/* Replaces the node at d (length len) by its operand at offset off. */
+static int take(bk_enode *d, int off, int len)
+{
+	memmove(d, d + off, sizeof *d * (size_t)len);
+	return len;
+}
+
+/* One bottom-up pass over the subtree s, written to d; returns its length.
+ * The rules, each applied to a node whose operands are already rewritten:
+ *  - all operands literals: folded with bk_ir_apply, kept only if finite
+ *    (sqrt(-1) stays as written: the candidate is then rejected by the fit);
+ *  - no input read but a parameter used: one parameter (a constant to fit;
+ *    p0*p1, sqrt(p0), p0 + 2 and -p0 are all just "a constant");
+ *  - exact identities: x*1, 1*x, x/1, x - 0, x + 0, 0 + x -> x (x + 0 differs
+ *    from x only in the sign of a zero), -(-x) -> x, x - k -> x + (-k) for a
+ *    literal k (exact in IEEE arithmetic: one spelling for x - 1 and x + -1).
+ *    Not x - x -> 0 or x/x -> 1: they are wrong for inf and NaN and for 0/0;
+ *  - a free parameter absorbs what is around it: x - p -> x + p, x / p ->
+ *    x * p (the fit finds -p and 1/p), (x op p) op p' -> x op p for op + and *
+ *    (p0*p1 spread over two levels is one constant);
+ *  - operands of ADD MUL MIN MAX and the first two of MAD in cmp_tree order.
+ * Returns -1 if a rewrite would not fit (none grows the tree). */
+static int pass(const bk_enode *s, bk_enode *d)
+{
+	int op = s->op, ar = arity(op);
+	d[0] = *s;
+	if (ar == 0)
+		return 1;
+	d[0].slot = 0, d[0].k = 0;
+	int off[3] = {1, 1, 1}, len[3] = {0, 0, 0}, pos = 1;
+	const bk_enode *c = s + 1;
+	for (int j = 0; j < ar; j++) {
+		off[j] = pos;
+		if ((len[j] = pass(c, d + pos)) < 0)
+			return -1;
+		pos += len[j];
+		c += span_at(c);
+	}
+	int nconst = 0, input = 0, param = -1;
+	for (int j = 0; j < ar; j++)
+		nconst += d[off[j]].op == BK_OP_CONST;
+	for (int i = 1; i < pos; i++) {
+		input |= d[i].op == BK_OP_INPUT;
+		if (d[i].op == BK_OP_PARAM && param < 0)
+			param = d[i].slot;
+	}
+	if (nconst == ar) {
+		double v = bk_ir_apply((bk_op)op, d[off[0]].k, ar > 1 ? d[off[1]].k : 0, ar > 2 ? d[off[2]].k : 0);
+		if (isfinite(v)) {
+			d[0] = (bk_enode){BK_OP_CONST, 0, v};
+			return 1;
+		}
+	}
+	if (!input && param >= 0) {
+		d[0] = (bk_enode){BK_OP_PARAM, param, 0};
+		return 1;
+	}
+	const bk_enode *a = &d[off[0]], *b = ar > 1 ? &d[off[1]] : NULL;
+	switch (op) {
+	case BK_OP_NEG:
+		if (a->op == BK_OP_NEG)
+			return take(d, off[0] + 1, len[0] - 1);
+		break;
+	case BK_OP_MUL:
+		if (is_const(a, 1))
+			return take(d, off[1], len[1]);
+		if (is_const(b, 1))
+			return take(d, off[0], len[0]);
+		break;
+	case BK_OP_ADD:
+		if (is_const(a, 0))
+			return take(d, off[1], len[1]);
+		if (is_const(b, 0))
+			return take(d, off[0], len[0]);
+		break;
+	case BK_OP_SUB:
+		if (is_const(b, 0))
+			return take(d, off[0], len[0]);
+		if (b->op == BK_OP_PARAM) {
+			d[0].op = BK_OP_ADD;
+		} else if (b->op == BK_OP_CONST) {
+			d[0].op = BK_OP_ADD;
+			d[off[1]].k = -b->k;
+		}
+		break;
+	case BK_OP_DIV:
+		if (is_const(b, 1))
+			return take(d, off[0], len[0]);
+		if (b->op == BK_OP_PARAM)
+			d[0].op = BK_OP_MUL;
+		break;
+	default:
+		break;
+	}
+	op = d[0].op;
+	if (op == BK_OP_ADD || op == BK_OP_MUL) {
+		for (int j = 0; j < 2; j++) {
+			const bk_enode *p = &d[off[j]], *q = &d[off[1 - j]];
+			if (p->op != BK_OP_PARAM || q->op != op)
+				continue;
+			int qa = off[1 - j] + 1, qb = qa + span_at(q + 1);
+			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM)
+				return take(d, off[1 - j], len[1 - j]);
+		}
+	}
+	if (commutative(op) && cmp_tree(&d[off[0]], &d[off[1]]) > 0) {
+		bk_enode tmp[BK_EXPR_MAX];
+		memcpy(tmp, &d[off[0]], sizeof *d * (size_t)len[0]);
+		memmove(&d[1], &d[off[1]], sizeof *d * (size_t)len[1]);
+		memcpy(&d[1 + len[1]], tmp, sizeof *d * (size_t)len[0]);
+	}
+	return pos;
+}
+
+/* Parameters renumbered p0, p1, ... by first appearance in prefix order (a
+ * parameter used twice keeps one number). */
+static void renumber(bk_expr *e)
+{
+	int map[BK_MAX_PARAMS + BK_EXPR_MAX];
+	int next = 0;
+	for (size_t i = 0; i < sizeof map / sizeof map[0]; i++)
+		map[i] = -1;
+	for (int i = 0; i < e->n; i++) {
+		bk_enode *n = &e->node[i];
+		if (n->op != BK_OP_PARAM)
+			continue;
+		int s = n->slot < 0 || n->slot >= (int)(sizeof map / sizeof map[0]) ? 0 : n->slot;
+		if (map[s] < 0)
+			map[s] = next++;
+		n->slot = map[s];
+	}
+}
+
+static int equal_nodes(const bk_expr *a, const bk_expr *b)
+{
+	if (a->n != b->n)
+		return 0;
+	for (int i = 0; i < a->n; i++)
+		if (a->node[i].op != b->node[i].op || a->node[i].slot != b->node[i].slot ||
+		    memcmp(&a->node[i].k, &b->node[i].k, sizeof(double)) != 0)
+			return 0;
+	return 1;
+}
+
+/* Passes until nothing changes: one rewrite can enable another above it
+ * (a swap after renumbering, a fold after an identity), and repeating to a
+ * fixed point is what makes canon(canon(e)) == canon(e). Every rule
+ * shortens the tree or reorders it towards cmp_tree order, so this ends. */
+int bk_expr_canon(bk_expr *e)
+{
+	if (e->n <= 0)
+		return -1;
+	for (int round = 0; round < 32; round++) {
+		bk_expr next;
+		next.n = pass(e->node, next.node);
+		if (next.n < 0)
+			return -1;
+		renumber(&next);
+		int done = equal_nodes(&next, e);
+		*e = next;
+		if (done)
+			return 0;
+	}
+	return 0;
+}
+
+/* ---- printing ------------------------------------------------------------- */
+
+typedef struct writer {
+	char *buf;
+	size_t len, pos;
+} writer;
+
+static void put(writer *w, const char *s)
+{
+	for (; *s; s++, w->pos++)
+		if (w->pos + 1 < w->len)
+			w->buf[w->pos] = *s;
+}
+
+/* The shortest of %.15g, %.16g, %.17g that reads back as k. */
+static void put_number(writer *w, double k)
+{
+	char t[40];
+	for (int p = 15; p <= 17; p++) {
+		snprintf(t, sizeof t, "%.*g", p, k);
+		if (strtod(t, NULL) == k)
+			break;
+	}
+	put(w, t);
+}
+
+/* Priorities as the parser's (ir_parse.c): + - 1, * / 2, unary minus 3,
+ * primaries and calls 5. Left operands need their operator's priority,
+ * right operands one more (a + (b + c) is not (a + b) + c in floating point),
+ * the operand of unary minus more than 3 (-x^2 is -(x^2)). */
+static int prio(const bk_enode *n)
+{
+	switch (n->op) {
+	case BK_OP_ADD: case BK_OP_SUB: return 1;
+	case BK_OP_MUL:
+		return same(n + 1, n + 1 + span_at(n + 1)) ? 5 : 2;
+	case BK_OP_DIV: return 2;
+	case BK_OP_NEG: return 3;
+	case BK_OP_MAD: return 1;
+	case BK_OP_CONST: return n->k < 0 || signbit(n->k) ? 3 : 5;
+	default: return 5;
+	}
+}
+
+static void print_at(writer *w, const bk_enode *n, int need);
+
+static void print_call(writer *w, const char *name, const bk_enode *n, int ar)
+{
+	put(w, name);
+	put(w, "(");
+	const bk_enode *c = n + 1;
+	for (int j = 0; j < ar; j++) {
+		if (j)
+			put(w, ", ");
+		print_at(w, c, 0);
+		c += span_at(c);
+	}
+	put(w, ")");
+}
+
+static void print_at(writer *w, const bk_enode *n, int need)
+{
+	int p = prio(n);
+	if (p < need)
+		put(w, "(");
+	const bk_enode *a = n + 1, *b = a + (arity(n->op) > 1 ? span_at(a) : 0);
+	static const char *const infix[BK_OP_COUNT] = {
+		[BK_OP_ADD] = " + ", [BK_OP_SUB] = " - ", [BK_OP_MUL] = " * ", [BK_OP_DIV] = " / "};
+	switch (n->op) {
+	case BK_OP_CONST:
+		put_number(w, n->k);
+		break;
+	case BK_OP_INPUT:
+		put(w, bk_input_name((bk_input)n->slot));
+		break;
+	case BK_OP_PARAM: {
+		char t[16];
+		snprintf(t, sizeof t, "p%d", n->slot);
+		put(w, t);
+		break;
+	}
+	case BK_OP_NEG:
+		put(w, "-");
+		print_at(w, a, 4);
+		break;
+	case BK_OP_MAD: /* a*b + c: the parser fuses it back */
+		print_at(w, a, 2);
+		put(w, " * ");
+		print_at(w, b, 3);
+		put(w, " + ");
+		print_at(w, b + span_at(b), 2);
+		break;
+	case BK_OP_ADD: case BK_OP_SUB: case BK_OP_MUL: case BK_OP_DIV:
+		if (p == 5) { /* sq */
+			put(w, "sq(");
+			print_at(w, a, 0);
+			put(w, ")");
+			break;
+		}
+		print_at(w, a, p);
+		put(w, infix[n->op]);
+		print_at(w, b, p + 1);
+		break;
+	default:
+		print_call(w, bk_opinfo_table[n->op].name, n, arity(n->op));
+		break;
+	}
+	if (p < need)
+		put(w, ")");
+}
+
+int bk_expr_print(const bk_expr *e, char *buf, size_t len)
+{
+	writer w = {buf, len, 0};
+	if (e->n <= 0)
+		return -1;
+	print_at(&w, e->node, 0);
+	if (w.pos + 1 > len)
+		return -1;
+	buf[w.pos] = 0;
+	return (int)w.pos;
+}
+
+uint64_t bk_expr_hash_text(const char *text)
+{
+	uint64_t h = 14695981039346656037ull;
+	for (; *text; text++) {
+		h ^= (unsigned char)*text;
+		h *= 1099511628211ull;
+	}
+	return h;
+}
+
+/* ---- the tree of a compiled form ------------------------------------------ */
+
+static int expand(const bk_form *f, int r, bk_expr *e)
+{
+	const bk_instr *in = &f->code[r];
+	if (e->n >= BK_EXPR_MAX || in->op >= BK_OP_COUNT)
+		return -1;
+	bk_enode *n = &e->node[e->n++];
+	*n = (bk_enode){(int)in->op, 0, 0};
+	switch (in->op) {
+	case BK_OP_CONST: n->k = in->k; return 0;
+	case BK_OP_INPUT: case BK_OP_PARAM: n->slot = in->slot; return 0;
+	case BK_OP_MAD: /* a*b + c */
+		n->op = BK_OP_ADD;
+		if (e->n >= BK_EXPR_MAX)
+			return -1;
+		e->node[e->n++] = (bk_enode){BK_OP_MUL, 0, 0};
+		return expand(f, in->a, e) || expand(f, in->b, e) || expand(f, in->c, e) ? -1 : 0;
+	default: break;
+	}
+	int ops[3] = {in->a, in->b, in->c};
+	for (int j = 0; j < arity(in->op); j++)
+		if (expand(f, ops[j], e))
+			return -1;
+	return 0;
+}
+
+int bk_expr_from_form(const bk_form *f, bk_expr *e)
+{
+	e->n = 0;
+	if (!f || f->n <= 0 || expand(f, f->out, e)) {
+		e->n = 0;
+		return -1;
+	}
+	return 0;
+}
+
+/* ---- grammar -------------------------------------------------------------- */
+
+/* sq is not an opcode (see the top of the file); its bit is one the op
+ * table never reaches. */
+#define SQ_BIT 63
+_Static_assert(BK_OP_COUNT < SQ_BIT, "the op table reaches the sq bit");
+
+#define BIT(op) ((uint64_t)1 << (op))
+
+uint64_t bk_grammar_default_ops(void)
+{
+	return BIT(BK_OP_ADD) | BIT(BK_OP_SUB) | BIT(BK_OP_MUL) | BIT(BK_OP_DIV) | BIT(SQ_BIT) |
+	       BIT(BK_OP_SQRT) | BIT(BK_OP_RSQRT) | BIT(BK_OP_RCP) | BIT(BK_OP_EXP2) | BIT(BK_OP_LOG2) |
+	       BIT(BK_OP_MIN) | BIT(BK_OP_MAX) | BIT(BK_OP_SATURATE) | BIT(BK_OP_MIX);
+}
+
+int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen)
+{
+	static const struct { const char *name; int bit; } sym[] = {
+		{"+", BK_OP_ADD}, {"-", BK_OP_SUB}, {"*", BK_OP_MUL}, {"/", BK_OP_DIV}, {"sq", SQ_BIT}};
+	uint64_t m = 0;
+	const char *p = list;
+	for (;;) {
+		const char *e = strchr(p, ',');
+		size_t n = e ? (size_t)(e - p) : strlen(p);
+		int bit = -1;
+		for (size_t i = 0; i < sizeof sym / sizeof sym[0] && bit < 0; i++)
+			if (strlen(sym[i].name) == n && strncmp(sym[i].name, p, n) == 0)
+				bit = sym[i].bit;
+		for (int op = 0; op < BK_OP_COUNT && bit < 0; op++) {
+			const char *name = bk_opinfo_table[op].name;
+			if (*name && strlen(name) == n && strncmp(name, p, n) == 0)
+				bit = op;
+		}
+		if (bit < 0) {
+			snprintf(err, errlen, "unknown operation '%.*s' (+ - * / sq or a function name)", (int)(n > 24 ? 24 : n), p);
+			return -1;
+		}
+		m |= BIT(bit);
+		if (!e)
+			break;
+		p = e + 1;
+	}
+	*ops = m;
+	return 0;
+}
+
+/* Whether every operation of e is one the grammar allows (MUL with equal
+ * operands is sq: allowed by either bit). */
+static int within(const bk_grammar *g, const bk_expr *e)
+{
+	if (e->n <= 0 || bk_expr_nparams(e) > g->max_params || bk_expr_size(e) > g->max_size)
+		return 0;
+	for (int i = 0; i < e->n; i++) {
+		int op = e->node[i].op;
+		if (arity(op) == 0)
+			continue;
+		if (op == BK_OP_MUL && same(&e->node[i + 1], &e->node[i + 1 + span_at(&e->node[i + 1])])) {
+			if (!(g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))))
+				return 0;
+		} else if (!(g->ops & BIT(op))) {
+			return 0;
+		}
+	}
+	return 1;
+}
+
+/* The operations a generator may build, by arity; sq is listed as unary
+ * with op -1. MAD is never built (trees hold a*b + c). */
+typedef struct opset {
+	int op[3][BK_OP_COUNT + 1];
+	int n[3];
+} opset;
+
+static void opset_of(const bk_grammar *g, opset *s)
+{
+	memset(s, 0, sizeof *s);
+	for (int op = BK_OP_PARAM + 1; op < BK_OP_COUNT; op++)
+		if ((g->ops & BIT(op)) && op != BK_OP_MAD)
+			s->op[arity(op) - 1][s->n[arity(op) - 1]++] = op;
+	if (g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))) /* x*x is sq's only spelling */
+		s->op[0][s->n[0]++] = -1;
+}
+
+/* ---- rng ------------------------------------------------------------------ */
+
+static uint64_t splitmix64(uint64_t *x)
+{
+	uint64_t z = (*x += 0x9e3779b97f4a7c15ull);
+	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+	return z ^ (z >> 31);
+}
+
+void bk_rng_seed(bk_rng *r, uint64_t seed)
+{
+	for (int i = 0; i < 4; i++)
+		r->s[i] = splitmix64(&seed);
+}
+
+static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+uint64_t bk_rng_next(bk_rng *r)
+{
+	uint64_t *s = r->s;
+	uint64_t out = rotl(s[1] * 5, 7) * 9, t = s[1] << 17;
+	s[2] ^= s[0];
+	s[3] ^= s[1];
+	s[1] ^= s[2];
+	s[0] ^= s[3];
+	s[2] ^= t;
+	s[3] = rotl(s[3], 45);
+	return out;
+}
+
+uint32_t bk_rng_below(bk_rng *r, uint32_t n)
+{
+	/* reject the top 2^32 mod n values of a 32-bit draw: then uniform */
+	uint32_t limit = (uint32_t)(-n) % n;
+	for (;;) {
+		uint32_t x = (uint32_t)(bk_rng_next(r) >> 32);
+		if (x >= limit)
+			return x % n;
+	}
+}
+
+double bk_rng_unit(bk_rng *r) { return (double)(bk_rng_next(r) >> 11) * 0x1p-53; }
+
+/* ---- enumeration ---------------------------------------------------------- */
+
+/* Candidates of one size, their nodes end to end. */
+typedef struct bucket {
+	bk_enode *node;
+	int *start, *len;
+	int n, cap, ncap, nnodes;
+} bucket;
+
+/* Texts seen, by hash (open addressing; 0 marks empty, hash 0 is stored as
+ * 1). A collision of two 64-bit FNV-1a hashes among 10^6 texts has
+ * probability about 10^12 / 2^65, 3e-8. */
+typedef struct seen {
+	uint64_t *h;
+	size_t cap, n;
+} seen;
+
+static int seen_add(seen *s, uint64_t h)
+{
+	h = h ? h : 1;
+	if (2 * (s->n + 1) > s->cap) {
+		size_t cap = s->cap ? 2 * s->cap : 1024;
+		uint64_t *t = calloc(cap, sizeof *t);
+		if (!t)
+			return -1;
+		for (size_t i = 0; i < s->cap; i++)
+			if (s->h[i])
+				for (size_t j = s->h[i] & (cap - 1);; j = (j + 1) & (cap - 1))
+					if (!t[j]) {
+						t[j] = s->h[i];
+						break;
+					}
+		free(s->h);
+		s->h = t, s->cap = cap;
+	}
+	for (size_t j = h & (s->cap - 1);; j = (j + 1) & (s->cap - 1)) {
+		if (s->h[j] == h)
+			return 0;
+		if (!s->h[j]) {
+			s->h[j] = h;
+			s->n++;
+			return 1;
+		}
+	}
+}
+
+static int bucket_add(bucket *b, const bk_expr *e)
+{
+	if (b->n == b->cap) {
+		int cap = b->cap ? 2 * b->cap : 64;
+		int *st = realloc(b->start, sizeof(int) * (size_t)cap);
+		if (st)
+			b->start = st;
+		int *ln = realloc(b->len, sizeof(int) * (size_t)cap);
+		if (ln)
+			b->len = ln;
+		if (!st || !ln)
+			return -1;
+		b->cap = cap;
+	}
+	if (b->nnodes + e->n > b->ncap) {
+		int cap = b->ncap ? 2 * b->ncap : 1024;
+		while (cap < b->nnodes + e->n)
+			cap *= 2;
+		bk_enode *t = realloc(b->node, sizeof *t * (size_t)cap);
+		if (!t)
+			return -1;
+		b->node = t, b->ncap = cap;
+	}
+	memcpy(b->node + b->nnodes, e->node, sizeof *e->node * (size_t)e->n);
+	b->start[b->n] = b->nnodes;
+	b->len[b->n++] = e->n;
+	b->nnodes += e->n;
+	return 0;
+}
+
+typedef struct enumr {
+	const bk_grammar *g;
+	bucket *b;
+	seen s;
+	int size;
+	long count;
+	bk_expr_visit fn;
+	void *ctx;
+	int stop;
+} enumr;
+
+/* Canonicalises a built tree and keeps it if it is new, of the size being
+ * built and within the limits: a tree whose canonical form is smaller is
+ * found at that smaller size, built from its own canonical operands. */
+static int offer(enumr *E, bk_expr *e, int size)
+{
+	char text[4096];
+	if (bk_expr_canon(e) || !within(E->g, e) || bk_expr_size(e) != size)
+		return 0;
+	if (bk_expr_print(e, text, sizeof text) < 0)
+		return 0;
+	int fresh = seen_add(&E->s, bk_expr_hash_text(text));
+	if (fresh <= 0)
+		return fresh;
+	if (size == E->size) {
+		E->count++;
+		if (E->fn && E->fn(E->ctx, e))
+			E->stop = 1;
+		return 0;
+	}
+	return bucket_add(&E->b[size], e);
+}
+
+/* Appends candidate i of size sz to e, its parameters numbered after *np. */
+static int append(bk_expr *e, const bucket *b, int i, int *np)
+{
+	int len = b->len[i], top = 0;
+	if (e->n + len > BK_EXPR_MAX)
+		return -1;
+	for (int k = 0; k < len; k++) {
+		bk_enode n = b->node[b->start[i] + k];
+		if (n.op == BK_OP_PARAM) {
+			if (n.slot + 1 > top)
+				top = n.slot + 1;
+			n.slot += *np;
+		}
+		e->node[e->n++] = n;
+	}
+	*np += top;
+	return 0;
+}
+
+static int nparams_of(const bucket *b, int i)
+{
+	int top = 0;
+	for (int k = 0; k < b->len[i]; k++) {
+		const bk_enode *n = &b->node[b->start[i] + k];
+		if (n->op == BK_OP_PARAM && n->slot + 1 > top)
+			top = n->slot + 1;
+	}
+	return top;
+}
+
+static int build_size(enumr *E, const opset *os, int s)
+{
+	const bk_grammar *g = E->g;
+	bk_expr e;
+	if (s == 1) {
+		e.n = 1;
+		e.node[0] = (bk_enode){BK_OP_PARAM, 0, 0};
+		if (g->max_params >= 1 && offer(E, &e, 1))
+			return -1;
+		for (int i = 0; i < g->nconsts && !E->stop; i++) {
+			e.n = 1, e.node[0] = (bk_enode){BK_OP_CONST, 0, g->consts[i]};
+			if (offer(E, &e, 1))
+				return -1;
+		}
+		for (int in = 0; in < BK_IN_COUNT && !E->stop; in++) {
+			if (!(g->inputs & (1u << in)))
+				continue;
+			e.n = 1, e.node[0] = (bk_enode){BK_OP_INPUT, in, 0};
+			if (offer(E, &e, 1))
+				return -1;
+		}
+		return 0;
+	}
+	/* unary (and sq) from size s - 1 */
+	for (int u = 0; u < os->n[0] && !E->stop; u++) {
+		const bucket *b = &E->b[s - 1];
+		for (int i = 0; i < b->n && !E->stop; i++) {
+			int np = 0, op = os->op[0][u];
+			e.n = 1;
+			e.node[0] = (bk_enode){op < 0 ? BK_OP_MUL : op, 0, 0};
+			if (append(&e, b, i, &np) || (op < 0 && (np = 0, append(&e, b, i, &np))))
+				continue;
+			if (offer(E, &e, s))
+				return -1;
+		}
+	}
+	/* binary: operand sizes x + y = s - 1 */
+	for (int u = 0; u < os->n[1] && !E->stop; u++)
+		for (int x = 1; x <= s - 2 && !E->stop; x++) {
+			const bucket *bx = &E->b[x], *by = &E->b[s - 1 - x];
+			for (int i = 0; i < bx->n && !E->stop; i++) {
+				int pi = nparams_of(bx, i);
+				for (int j = 0; j < by->n && !E->stop; j++) {
+					if (pi + nparams_of(by, j) > g->max_params)
+						continue;
+					int np = 0;
+					e.n = 1;
+					e.node[0] = (bk_enode){os->op[1][u], 0, 0};
+					if (append(&e, bx, i, &np) || append(&e, by, j, &np))
+						continue;
+					if (offer(E, &e, s))
+						return -1;
+				}
+			}
+		}
+	/* ternary: x + y + z = s - 1 */
+	for (int u = 0; u < os->n[2] && !E->stop; u++)
+		for (int x = 1; x <= s - 3; x++)
+			for (int y = 1; x + y <= s - 2; y++) {
+				const bucket *bx = &E->b[x], *by = &E->b[y], *bz = &E->b[s - 1 - x - y];
+				for (int i = 0; i < bx->n; i++)
+					for (int j = 0; j < by->n; j++)
+						for (int k = 0; k < bz->n && !E->stop; k++) {
+							int np = 0;
+							e.n = 1;
+							e.node[0] = (bk_enode){os->op[2][u], 0, 0};
+							if (append(&e, bx, i, &np) || append(&e, by, j, &np) ||
+							    append(&e, bz, k, &np) || np > g->max_params)
+								continue;
+							if (offer(E, &e, s))
+								return -1;
+						}
+			}
+	return 0;
+}
+
+long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx)
+{
+	if (size < 1 || size > g->max_size || size > BK_EXPR_MAX)
+		return 0;
+	opset os;
+	opset_of(g, &os);
+	enumr E = {.g = g, .size = size, .fn = fn, .ctx = ctx};
+	E.b = calloc((size_t)size + 1, sizeof *E.b);
+	long r = 0;
+	if (!E.b)
+		return -1;
+	for (int s = 1; s <= size && !E.stop && r >= 0; s++)
+		if (build_size(&E, &os, s))
+			r = -1;
+	if (r >= 0)
+		r = E.count;
+	for (int s = 0; s <= size; s++) {
+		free(E.b[s].node);
+		free(E.b[s].start);
+		free(E.b[s].len);
+	}
+	free(E.b);
+	free(E.s.h);
+	return r;
+}
+
+/* ---- mutation and crossover ----------------------------------------------- */
+
+/* A random leaf: a fresh parameter (slot np), a literal or an input. */
+static bk_enode random_leaf(const bk_grammar *g, bk_rng *r, int np)
+{
+	int nin = 0, ins[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (g->inputs & (1u << i))
+			ins[nin++] = i;
+	uint32_t k = bk_rng_below(r, (uint32_t)(1 + g->nconsts + nin));
+	if (k == 0 || (int)k > g->nconsts + nin)
+		return (bk_enode){BK_OP_PARAM, np, 0};
+	if ((int)k <= g->nconsts)
+		return (bk_enode){BK_OP_CONST, 0, g->consts[k - 1]};
+	return (bk_enode){BK_OP_INPUT, ins[k - 1 - g->nconsts], 0};
+}
+
+/* A random tree of depth <= depth into d (grow method); returns its length. */
+static int random_tree(const bk_grammar *g, const opset *os, bk_rng *r, int depth, int *np, bk_enode *d,
+                       int room)
+{
+	int nops = os->n[0] + os->n[1] + os->n[2];
+	if (room < 8 || depth == 0 || nops == 0 || bk_rng_below(r, 2) == 0) {
+		d[0] = random_leaf(g, r, (*np)++);
+		return 1;
+	}
+	uint32_t k = bk_rng_below(r, (uint32_t)nops);
+	int ar = k < (uint32_t)os->n[0] ? 1 : k < (uint32_t)(os->n[0] + os->n[1]) ? 2 : 3;
+	int op = ar == 1 ? os->op[0][k] : ar == 2 ? os->op[1][k - os->n[0]] : os->op[2][k - os->n[0] - os->n[1]];
+	int pos = 1;
+	if (op < 0) { /* sq */
+		d[0] = (bk_enode){BK_OP_MUL, 0, 0};
+		int l = random_tree(g, os, r, depth - 1, np, d + 1, (room - 1) / 2);
+		memcpy(d + 1 + l, d + 1, sizeof *d * (size_t)l);
+		return 1 + 2 * l;
+	}
+	d[0] = (bk_enode){op, 0, 0};
+	for (int j = 0; j < ar; j++)
+		pos += random_tree(g, os, r, depth - 1, np, d + pos, (room - pos) / (ar - j));
+	return pos;
+}
+
+/* e with the subtree at i replaced by the len nodes at s; -1 if too big. */
+static int splice(bk_expr *e, int i, const bk_enode *s, int len)
+{
+	int old = span_at(e->node + i);
+	if (e->n - old + len > BK_EXPR_MAX)
+		return -1;
+	bk_enode tmp[BK_EXPR_MAX];
+	memcpy(tmp, s, sizeof *s * (size_t)len);
+	memmove(e->node + i + len, e->node + i + old, sizeof *e->node * (size_t)(e->n - i - old));
+	memcpy(e->node + i, tmp, sizeof *s * (size_t)len);
+	e->n += len - old;
+	return 0;
+}
+
+static int pick_node(bk_rng *r, const bk_expr *e, int want_op)
+{
+	int idx[BK_EXPR_MAX], n = 0;
+	for (int i = 0; i < e->n; i++) {
+		int ar = arity(e->node[i].op);
+		if (want_op < 0 || (want_op == 0 && ar == 0) || (want_op == 1 && ar > 0) ||
+		    (want_op == 2 && e->node[i].op == BK_OP_CONST))
+			idx[n++] = i;
+	}
+	return n ? idx[bk_rng_below(r, (uint32_t)n)] : -1;
+}
+
+/* One raw mutation of c (not yet canonical); -1 if this kind does not apply. */
+static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr *c)
+{
+	bk_enode t[BK_EXPR_MAX];
+	int np = bk_expr_nparams(c), i, l;
+	switch (bk_rng_below(r, 6)) {
+	case 0: /* a subtree replaced by a random small one */
+		i = pick_node(r, c, -1);
+		l = random_tree(g, os, r, 2, &np, t, BK_EXPR_MAX);
+		return splice(c, i, t, l);
+	case 1: { /* an operation changed to another of the same arity */
+		i = pick_node(r, c, 1);
+		if (i < 0)
+			return -1;
+		int ar = arity(c->node[i].op);
+		if (os->n[ar - 1] == 0)
+			return -1;
+		int op = os->op[ar - 1][bk_rng_below(r, (uint32_t)os->n[ar - 1])];
+		if (op < 0) /* sq: unary only */
+			return -1;
+		c->node[i].op = op;
+		return 0;
+	}
+	case 2: /* a leaf replaced */
+		i = pick_node(r, c, 0);
+		c->node[i] = random_leaf(g, r, np);
+		return 0;
+	case 3: /* a literal becomes a parameter */
+		if ((i = pick_node(r, c, 2)) < 0)
+			return -1;
+		c->node[i] = (bk_enode){BK_OP_PARAM, np, 0};
+		return 0;
+	case 4: { /* a subtree wrapped in a unary operation */
+		if (os->n[0] == 0)
+			return -1;
+		i = pick_node(r, c, -1);
+		int op = os->op[0][bk_rng_below(r, (uint32_t)os->n[0])], len = span_at(c->node + i);
+		if (1 + 2 * len > BK_EXPR_MAX)
+			return -1;
+		t[0] = (bk_enode){op < 0 ? BK_OP_MUL : op, 0, 0};
+		memcpy(t + 1, c->node + i, sizeof *t * (size_t)len);
+		if (op < 0)
+			memcpy(t + 1 + len, c->node + i, sizeof *t * (size_t)len);
+		return splice(c, i, t, op < 0 ? 1 + 2 * len : 1 + len);
+	}
+	default: { /* an operand hoisted over its operation */
+		if ((i = pick_node(r, c, 1)) < 0)
+			return -1;
+		int j = i + 1;
+		for (uint32_t k = bk_rng_below(r, (uint32_t)arity(c->node[i].op)); k; k--)
+			j += span_at(c->node + j);
+		l = span_at(c->node + j);
+		memcpy(t, c->node + j, sizeof *t * (size_t)l);
+		return splice(c, i, t, l);
+	}
+	}
+}
+
+/* Canonical, within the grammar, and not the parent itself. */
+static int acceptable(const bk_grammar *g, bk_expr *c, const bk_expr *parent)
+{
+	return bk_expr_canon(c) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
+}
+
+#define TRIES 32
+
+int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_expr *child)
+{
+	opset os;
+	opset_of(g, &os);
+	for (int t = 0; t < TRIES; t++) {
+		*child = *parent;
+		if (mutate_once(g, &os, r, child) == 0 && acceptable(g, child, parent))
+			return 0;
+	}
+	*child = *parent;
+	return -1;
+}
+
+int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b, bk_expr *child)
+{
+	int na = bk_expr_nparams(a);
+	for (int t = 0; t < TRIES; t++) {
+		*child = *a;
+		int i = (int)bk_rng_below(r, (uint32_t)a->n), j = (int)bk_rng_below(r, (uint32_t)b->n);
+		int l = span_at(b->node + j);
+		bk_enode s[BK_EXPR_MAX];
+		memcpy(s, b->node + j, sizeof *s * (size_t)l);
+		for (int k = 0; k < l; k++)
+			if (s[k].op == BK_OP_PARAM)
+				s[k].slot += na; /* b's parameters are not a's */
+		if (splice(child, i, s, l) == 0 && acceptable(g, child, a))
+			return 0;
+	}
+	*child = *a;
+	return -1;
+}

@@ -1,0 +1,546 @@
+/*
+ * test_expr.c — the search's candidate trees (fit/expr.c): enumeration counts
+ * against hand counts, one candidate for two spellings, the printed text
+ * evaluated by the IR against a direct evaluation of the tree, canonical form
+ * idempotent, catalog forms round-tripped through trees, children of mutation
+ * and crossover canonical and within the grammar, and determinism.
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "expr.h"
+#include "ir.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- helpers -------------------------------------------------------------- */
+
+/* The tree evaluated directly, node by node, in double precision: the
+ * independent reading of a tree that the IR's compiled text is compared to. */
+static double eval_at(const bk_enode *n, int *len, const double *in, const double *par)
+{
+	int ar = bk_opinfo_table[n->op].arity, pos = 1, l;
+	double v[3] = {0, 0, 0};
+	switch (n->op) {
+	case BK_OP_CONST: *len = 1; return n->k;
+	case BK_OP_INPUT: *len = 1; return in[n->slot];
+	case BK_OP_PARAM: *len = 1; return par[n->slot];
+	default: break;
+	}
+	for (int j = 0; j < ar; j++) {
+		v[j] = eval_at(n + pos, &l, in, par);
+		pos += l;
+	}
+	*len = pos;
+	return bk_ir_apply((bk_op)n->op, v[0], v[1], v[2]);
+}
+
+static double eval_tree(const bk_expr *e, const double *in, const double *par)
+{
+	int len;
+	return eval_at(e->node, &len, in, par);
+}
+
+static const char *text_of(const bk_expr *e)
+{
+	static char buf[4096];
+	cr_assert(bk_expr_print(e, buf, sizeof buf) >= 0);
+	return buf;
+}
+
+static bk_form *parse_ok(const char *text)
+{
+	bk_form_error err;
+	bk_form *f = bk_form_parse(text, &err);
+	cr_assert_not_null(f, "'%s': col %d: %s", text, err.column, err.message);
+	return f;
+}
+
+static int same_value(double a, double b) { return (isnan(a) && isnan(b)) || a == b; }
+
+#define NPTS 24
+static double pts[BK_IN_COUNT][NPTS];
+static const double par[BK_MAX_PARAMS] = {0.7, -1.3, 2.5, 0.25, 3.0, -0.5, 1.5, 0.1,
+                                          0.9, 1.1, -2.0, 0.3, 0.6, 4.0, -0.2, 0.8};
+
+static void fill_points(void)
+{
+	bk_rng r;
+	bk_rng_seed(&r, 7);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		for (int k = 0; k < NPTS; k++)
+			pts[i][k] = 0.02 + 0.98 * bk_rng_unit(&r);
+}
+
+/* Text of e compiled by the IR and evaluated at the points against the tree
+ * itself, value for value (NaN for NaN). */
+static void check_text_evaluates_as_tree(const bk_expr *e)
+{
+	fill_points();
+	const char *text = text_of(e);
+	bk_form *f = parse_ok(text);
+	const double *in[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		in[i] = pts[i];
+	double out[NPTS];
+	cr_assert_eq(bk_form_eval(f, BK_F64, NPTS, in, par, out), 0);
+	for (int k = 0; k < NPTS; k++) {
+		double x[BK_IN_COUNT];
+		for (int i = 0; i < BK_IN_COUNT; i++)
+			x[i] = pts[i][k];
+		double want = eval_tree(e, x, par);
+		cr_assert(same_value(out[k], want), "'%s' at point %d: IR %.17g, tree %.17g", text, k, out[k], want);
+	}
+	bk_form_free(f);
+}
+
+static bk_expr from_text(const char *text)
+{
+	bk_form *f = parse_ok(text);
+	bk_expr e;
+	cr_assert_eq(bk_expr_from_form(f, &e), 0, "%s", text);
+	bk_form_free(f);
+	return e;
+}
+
+static const char *canon_text(const char *text)
+{
+	bk_expr e = from_text(text);
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	return text_of(&e);
+}
+
+/* Random trees over the whole default operation set plus NEG, DIV, SUB,
+ * literals including negative ones and repeated parameters (the shapes the
+ * generators avoid but catalog seeds and crossovers may have). */
+static int random_tree(bk_rng *r, int depth, bk_enode *d)
+{
+	static const int ops[] = {BK_OP_ADD, BK_OP_SUB, BK_OP_MUL, BK_OP_DIV, BK_OP_NEG, BK_OP_SQRT,
+	                          BK_OP_RSQRT, BK_OP_RCP, BK_OP_EXP2, BK_OP_LOG2, BK_OP_MIN, BK_OP_MAX,
+	                          BK_OP_SATURATE, BK_OP_MIX, BK_OP_ABS, BK_OP_CLAMP, BK_OP_MUL};
+	static const double ks[] = {0, 1, 2, 0.5, -1, -0.25, 3.5, 1e-3};
+	if (depth == 0 || bk_rng_below(r, 3) == 0) {
+		switch (bk_rng_below(r, 3)) {
+		case 0: d[0] = (bk_enode){BK_OP_CONST, 0, ks[bk_rng_below(r, 8)]}; break;
+		case 1: d[0] = (bk_enode){BK_OP_INPUT, (int)bk_rng_below(r, BK_IN_COUNT), 0}; break;
+		default: d[0] = (bk_enode){BK_OP_PARAM, (int)bk_rng_below(r, 4), 0}; break;
+		}
+		return 1;
+	}
+	int k = (int)bk_rng_below(r, sizeof ops / sizeof ops[0]);
+	d[0] = (bk_enode){ops[k], 0, 0};
+	if (k == (int)(sizeof ops / sizeof ops[0]) - 1) { /* sq */
+		int l = random_tree(r, depth - 1, d + 1);
+		memcpy(d + 1 + l, d + 1, sizeof *d * (size_t)l);
+		return 1 + 2 * l;
+	}
+	int pos = 1;
+	for (int j = 0; j < bk_opinfo_table[ops[k]].arity; j++)
+		pos += random_tree(r, depth - 1, d + pos);
+	return pos;
+}
+
+static bk_expr random_expr(bk_rng *r)
+{
+	bk_expr e;
+	do
+		e.n = random_tree(r, 3, e.node);
+	while (e.n > BK_EXPR_MAX);
+	return e;
+}
+
+static int params_used(const bk_expr *e)
+{
+	for (int i = 0; i < e->n; i++)
+		if (e->node[i].op == BK_OP_PARAM)
+			return 1;
+	return 0;
+}
+
+/* ---- one candidate for two spellings ------------------------------------- */
+
+Test(expr, commuted_spellings_are_one_candidate)
+{
+	cr_assert_str_eq(canon_text("p0*LoH"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("LoH*p0"), "p0 * LoH");
+	char t[256];
+	strcpy(t, canon_text("p0*LoH + p1*r"));
+	cr_assert_str_eq(canon_text("p1*r + p0*LoH"), t);
+	cr_assert_str_eq(canon_text("p0*r + p1*LoH"), t);
+	cr_assert_str_eq(canon_text("min(r, NoV)"), canon_text("min(NoV, r)"));
+}
+
+Test(expr, free_parameters_absorb_constant_work)
+{
+	/* each pair is the same model once the parameters are free */
+	cr_assert_str_eq(canon_text("LoH - p0"), "p0 + LoH");
+	cr_assert_str_eq(canon_text("LoH / p3"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("p0*p1*LoH"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("p0*(p1*LoH)"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("(LoH + p0) + p1"), "p0 + LoH");
+	cr_assert_str_eq(canon_text("sqrt(p2) + 2*p0 - exp2(p1)*r"), canon_text("p0 + p1*r"));
+	cr_assert_str_eq(canon_text("p0 + 2"), "p0");
+	cr_assert_str_eq(canon_text("-p1"), "p0");
+}
+
+Test(expr, exact_identities_and_folding)
+{
+	cr_assert_str_eq(canon_text("r*1"), "r");
+	cr_assert_str_eq(canon_text("1*r"), "r");
+	cr_assert_str_eq(canon_text("r/1"), "r");
+	cr_assert_str_eq(canon_text("r + 0"), "r");
+	cr_assert_str_eq(canon_text("r - 0"), "r");
+	cr_assert_str_eq(canon_text("-(-r)"), "r");
+	cr_assert_str_eq(canon_text("r - 1"), "-1 + r"); /* x - k is x + (-k) exactly */
+	cr_assert_str_eq(canon_text("r - 1"), canon_text("r + -1"));
+	/* not rewritten: wrong for inf and NaN */
+	cr_assert_str_eq(canon_text("r - r"), "r - r");
+	cr_assert_str_eq(canon_text("r / r"), "r / r");
+	cr_assert_str_eq(canon_text("sq(r)"), "sq(r)");
+	cr_assert_str_eq(canon_text("r*r"), "sq(r)");
+	/* a fold that would not be finite stays as written */
+	bk_expr e = {3, {{BK_OP_DIV, 0, 0}, {BK_OP_CONST, 0, 1}, {BK_OP_CONST, 0, 0}}};
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "1 / 0");
+	e = (bk_expr){3, {{BK_OP_ADD, 0, 0}, {BK_OP_CONST, 0, 0.5}, {BK_OP_CONST, 0, 0.25}}};
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "0.75");
+}
+
+/* ---- printing ------------------------------------------------------------- */
+
+Test(expr, printing_follows_the_language)
+{
+	/* precedence, left association, -x^2 = -(x^2), sq and literals */
+	bk_expr e = {5, {{BK_OP_SUB, 0, 0}, {BK_OP_INPUT, BK_IN_R, 0}, {BK_OP_SUB, 0, 0},
+	                 {BK_OP_INPUT, BK_IN_NOV, 0}, {BK_OP_CONST, 0, 0.1}}};
+	cr_assert_str_eq(text_of(&e), "r - (NoV - 0.1)");
+	e = (bk_expr){4, {{BK_OP_NEG, 0, 0}, {BK_OP_MUL, 0, 0}, {BK_OP_INPUT, BK_IN_R, 0}, {BK_OP_INPUT, BK_IN_R, 0}}};
+	cr_assert_str_eq(text_of(&e), "-sq(r)");
+	e = (bk_expr){4, {{BK_OP_NEG, 0, 0}, {BK_OP_MUL, 0, 0}, {BK_OP_INPUT, BK_IN_R, 0}, {BK_OP_INPUT, BK_IN_A, 0}}};
+	cr_assert_str_eq(text_of(&e), "-(r * a)");
+	e = (bk_expr){4, {{BK_OP_MIX, 0, 0}, {BK_OP_PARAM, 1, 0}, {BK_OP_CONST, 0, -2}, {BK_OP_INPUT, BK_IN_F0, 0}}};
+	cr_assert_str_eq(text_of(&e), "mix(p1, -2, f0)");
+	char small[4];
+	cr_assert_eq(bk_expr_print(&e, small, sizeof small), -1);
+}
+
+Test(expr, printed_text_evaluates_as_the_tree)
+{
+	bk_rng r;
+	bk_rng_seed(&r, 1);
+	for (int t = 0; t < 2000; t++) {
+		bk_expr e = random_expr(&r);
+		check_text_evaluates_as_tree(&e);
+		bk_expr_canon(&e);
+		check_text_evaluates_as_tree(&e);
+	}
+}
+
+/* ---- canonical form ------------------------------------------------------- */
+
+Test(expr, canon_is_idempotent_and_keeps_values)
+{
+	bk_rng r;
+	bk_rng_seed(&r, 2);
+	fill_points();
+	char a[4096];
+	for (int t = 0; t < 5000; t++) {
+		bk_expr e = random_expr(&r), orig = e;
+		cr_assert_eq(bk_expr_canon(&e), 0);
+		strcpy(a, text_of(&e));
+		bk_expr again = e;
+		cr_assert_eq(bk_expr_canon(&again), 0);
+		cr_assert_str_eq(text_of(&again), a, "canon not idempotent on '%s'", a);
+		cr_assert_eq(bk_expr_canon(&again), 0);
+		/* without parameters canon only folds and applies exact identities:
+		 * the value at every point is the original's (x + 0 may turn -0 into
+		 * +0, which == does not see) */
+		if (!params_used(&orig)) {
+			for (int k = 0; k < NPTS; k++) {
+				double x[BK_IN_COUNT];
+				for (int i = 0; i < BK_IN_COUNT; i++)
+					x[i] = pts[i][k];
+				double v0 = eval_tree(&orig, x, par), v1 = eval_tree(&e, x, par);
+				cr_assert(same_value(v0, v1), "'%s': %.17g became %.17g", a, v0, v1);
+			}
+		}
+		/* parameters numbered p0.. by first appearance, none skipped */
+		int next = 0;
+		for (int i = 0; i < e.n; i++)
+			if (e.node[i].op == BK_OP_PARAM) {
+				cr_assert_leq(e.node[i].slot, next, "'%s'", a);
+				if (e.node[i].slot == next)
+					next++;
+			}
+	}
+}
+
+/* ---- the tree of a compiled form ------------------------------------------ */
+
+Test(expr, catalog_forms_round_trip_through_trees)
+{
+	int converted = 0, refused = 0;
+	fill_points();
+	const double *in[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		in[i] = pts[i];
+	for (size_t c = 0; c < bk_catalog_count(); c++) {
+		const bk_catalog_entry *ce = bk_catalog_at(c);
+		const char *forms[2] = {ce->form, ce->form_b};
+		for (int w = 0; w < 2 && forms[w]; w++) {
+			bk_form *f = parse_ok(forms[w]);
+			bk_expr e;
+			if (bk_expr_from_form(f, &e) != 0) {
+				cr_assert_eq(e.n, 0);
+				refused++;
+				bk_form_free(f);
+				continue;
+			}
+			converted++;
+			bk_form *g = parse_ok(text_of(&e));
+			double want[NPTS], got[NPTS];
+			cr_assert_eq(bk_form_eval(f, BK_F64, NPTS, in, ce->defaults, want), 0);
+			cr_assert_eq(bk_form_eval(g, BK_F64, NPTS, in, ce->defaults, got), 0);
+			for (int k = 0; k < NPTS; k++)
+				cr_assert(same_value(got[k], want[k]), "%s: '%s' at %d: %.17g, form %.17g", ce->name,
+				          text_of(&e), k, got[k], want[k]);
+			bk_form_free(g);
+			bk_form_free(f);
+		}
+	}
+	printf("catalog: %d forms as trees, %d over %d nodes\n", converted, refused, BK_EXPR_MAX);
+	cr_assert_gt(converted, 0);
+}
+
+Test(expr, from_form_expands_mad_and_shared_work)
+{
+	/* a*b + c is one MAD in the IR; sq(r + 1) shares r + 1 */
+	bk_expr e = from_text("NoV*r + a");
+	cr_assert_str_eq(text_of(&e), "NoV * r + a");
+	cr_assert_eq(e.node[0].op, BK_OP_ADD);
+	e = from_text("sq(r + 1)");
+	cr_assert_eq(e.n, 7);
+	cr_assert_str_eq(text_of(&e), "sq(r + 1)");
+	cr_assert_eq(bk_expr_size(&e), 4); /* sq counts once: 1 + size(r + 1) */
+}
+
+/* ---- enumeration ---------------------------------------------------------- */
+
+static int count_cb(void *ctx, const bk_expr *e)
+{
+	(void)e;
+	(*(int *)ctx)++;
+	return 0;
+}
+
+static long count(const bk_grammar *g, int size)
+{
+	int n = 0;
+	long r = bk_expr_enumerate(g, size, count_cb, &n);
+	cr_assert_eq(r, n);
+	return r;
+}
+
+Test(expr, enumeration_counts_plus_times)
+{
+	/* inputs LoH; ops + and * (so sq too: x*x); no literals; one parameter.
+	 *   size 1: p0, LoH                                              -> 2
+	 *   size 2: sq(LoH)            (sq(p0) is p0)                    -> 1
+	 *   size 3: sq(sq(LoH)), p0 + LoH, LoH + LoH, p0 * LoH
+	 *           (p0 + p1 and p0 * p1 have two parameters and are p0;
+	 *            LoH * LoH is sq(LoH), size 2)                       -> 4
+	 *   size 4: sq(sq(sq(LoH))), sq(p0 + LoH), sq(LoH + LoH),
+	 *           sq(p0 * LoH), p0 + sq(LoH), LoH + sq(LoH),
+	 *           p0 * sq(LoH), LoH * sq(LoH)                          -> 8 */
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH, .max_params = 1, .max_size = 8};
+	cr_assert_eq(count(&g, 1), 2);
+	cr_assert_eq(count(&g, 2), 1);
+	cr_assert_eq(count(&g, 3), 4);
+	cr_assert_eq(count(&g, 4), 8);
+}
+
+Test(expr, enumeration_counts_with_a_unary_op)
+{
+	/* inputs LoH; ops + and sqrt; no literals; one parameter.
+	 *   size 1: p0, LoH                                              -> 2
+	 *   size 2: sqrt(LoH)          (sqrt(p0) is p0)                  -> 1
+	 *   size 3: sqrt(sqrt(LoH)), p0 + LoH, LoH + LoH                 -> 3
+	 *   size 4: sqrt(sqrt(sqrt(LoH))), sqrt(p0 + LoH),
+	 *           sqrt(LoH + LoH), p0 + sqrt(LoH), LoH + sqrt(LoH)     -> 5 */
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,sqrt", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH, .max_params = 1, .max_size = 8};
+	cr_assert_eq(count(&g, 1), 2);
+	cr_assert_eq(count(&g, 2), 1);
+	cr_assert_eq(count(&g, 3), 3);
+	cr_assert_eq(count(&g, 4), 5);
+	/* with the literal 1 and two parameters, size 3 adds 1 + LoH, 1 + p0 is
+	 * p0 and p0 + p1 is p0: 3 + 1 = 4 */
+	g.consts[0] = 1, g.nconsts = 1, g.max_params = 2;
+	cr_assert_eq(count(&g, 1), 3);
+	cr_assert_eq(count(&g, 3), 4);
+}
+
+typedef struct collect {
+	char **text;
+	int n, cap;
+	const bk_grammar *g;
+	int size;
+} collect;
+
+static int collect_cb(void *ctx, const bk_expr *e)
+{
+	collect *c = ctx;
+	bk_expr again = *e;
+	cr_assert_eq(bk_expr_canon(&again), 0);
+	char t[4096];
+	strcpy(t, text_of(e));
+	cr_assert_str_eq(text_of(&again), t, "enumerated but not canonical");
+	cr_assert_eq(bk_expr_size(e), c->size, "'%s'", t);
+	cr_assert_leq(bk_expr_nparams(e), c->g->max_params, "'%s'", t);
+	if (c->n == c->cap) {
+		c->cap = c->cap ? 2 * c->cap : 1024;
+		c->text = realloc(c->text, sizeof *c->text * (size_t)c->cap);
+	}
+	c->text[c->n++] = strdup(t);
+	return 0;
+}
+
+static int cmp_str(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+
+Test(expr, enumeration_of_the_default_grammar_has_no_duplicates)
+{
+	bk_grammar g = {.ops = bk_grammar_default_ops(), .inputs = (1u << BK_IN_LOH) | (1u << BK_IN_R),
+	                .consts = {1, 2, 0.5}, .nconsts = 3, .max_params = 2, .max_size = 5};
+	collect c = {.g = &g};
+	for (int s = 1; s <= 5; s++) {
+		int before = c.n;
+		c.size = s;
+		cr_assert_eq(bk_expr_enumerate(&g, s, collect_cb, &c), c.n - before);
+		printf("default grammar on LoH, r, literals 1 2 0.5, 2 parameters: size %d: %d candidates\n", s,
+		       c.n - before);
+	}
+	qsort(c.text, (size_t)c.n, sizeof *c.text, cmp_str);
+	for (int i = 1; i < c.n; i++)
+		cr_assert_str_neq(c.text[i - 1], c.text[i], "enumerated twice");
+	for (int i = 0; i < c.n; i++) {
+		bk_form_free(parse_ok(c.text[i]));
+		free(c.text[i]);
+	}
+	free(c.text);
+}
+
+static int stop_cb(void *ctx, const bk_expr *e)
+{
+	(void)e;
+	return ++*(int *)ctx == 3;
+}
+
+Test(expr, enumeration_stops_when_asked)
+{
+	bk_grammar g = {.ops = bk_grammar_default_ops(), .inputs = 1u << BK_IN_LOH, .max_params = 2, .max_size = 5};
+	int n = 0;
+	cr_assert_eq(bk_expr_enumerate(&g, 4, stop_cb, &n), 3);
+	cr_assert_eq(n, 3);
+}
+
+/* ---- grammar, hash, rng --------------------------------------------------- */
+
+Test(expr, grammar_ops_by_name)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,-,*,/,sq,sqrt,rsqrt,rcp,exp2,log2,min,max,saturate,mix", &ops, err,
+	                                  sizeof err), 0);
+	cr_assert_eq(ops, bk_grammar_default_ops());
+	cr_assert_eq(bk_grammar_parse_ops("+,cube", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "unknown operation 'cube' (+ - * / sq or a function name)");
+	cr_assert_eq(bk_grammar_parse_ops("+,,*", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "unknown operation '' (+ - * / sq or a function name)");
+}
+
+Test(expr, hash_is_fnv1a)
+{
+	/* the published FNV-1a 64 test vectors */
+	cr_assert_eq(bk_expr_hash_text(""), 0xcbf29ce484222325ull);
+	cr_assert_eq(bk_expr_hash_text("a"), 0xaf63dc4c8601ec8cull);
+	cr_assert_eq(bk_expr_hash_text("foobar"), 0x85944171f73967e8ull);
+}
+
+Test(expr, rng_ranges)
+{
+	bk_rng r;
+	bk_rng_seed(&r, 42);
+	int hist[5] = {0};
+	for (int i = 0; i < 50000; i++) {
+		uint32_t k = bk_rng_below(&r, 5);
+		cr_assert_lt(k, 5u);
+		hist[k]++;
+		double u = bk_rng_unit(&r);
+		cr_assert(u >= 0 && u < 1);
+	}
+	for (int k = 0; k < 5; k++) /* 10000 expected, sd 89 */
+		cr_assert(hist[k] > 9500 && hist[k] < 10500, "bin %d: %d", k, hist[k]);
+}
+
+/* ---- mutation and crossover ----------------------------------------------- */
+
+static void check_child(const bk_grammar *g, const bk_expr *c)
+{
+	bk_expr again = *c;
+	char t[4096];
+	strcpy(t, text_of(c));
+	cr_assert_eq(bk_expr_canon(&again), 0);
+	cr_assert_str_eq(text_of(&again), t, "child not canonical");
+	cr_assert_leq(bk_expr_size(c), g->max_size, "'%s'", t);
+	cr_assert_leq(bk_expr_nparams(c), g->max_params, "'%s'", t);
+	uint64_t allowed = g->ops | ((uint64_t)1 << BK_OP_MUL) * (g->ops >> 63);
+	for (int i = 0; i < c->n; i++)
+		if (bk_opinfo_table[c->node[i].op].arity)
+			cr_assert(allowed & ((uint64_t)1 << c->node[i].op), "'%s': op %d", t, c->node[i].op);
+	bk_form_free(parse_ok(t));
+}
+
+static void evolve(uint64_t seed, char out[][256], int n)
+{
+	bk_grammar g = {.ops = bk_grammar_default_ops(), .inputs = (1u << BK_IN_NOV) | (1u << BK_IN_R),
+	                .consts = {1, 2, 0.5}, .nconsts = 3, .max_params = 3, .max_size = 12};
+	bk_rng r;
+	bk_rng_seed(&r, seed);
+	bk_expr pop[8];
+	for (int i = 0; i < 8; i++)
+		pop[i] = from_text(i % 2 ? "NoV" : "r"), bk_expr_canon(&pop[i]);
+	int fails = 0;
+	for (int t = 0; t < n; t++) {
+		bk_expr child;
+		int i = (int)bk_rng_below(&r, 8), j = (int)bk_rng_below(&r, 8);
+		int rc = bk_rng_below(&r, 3) ? bk_expr_mutate(&g, &r, &pop[i], &child)
+		                              : bk_expr_crossover(&g, &r, &pop[i], &pop[j], &child);
+		fails += rc != 0;
+		check_child(&g, &child);
+		strcpy(out[t], text_of(&child));
+		pop[bk_rng_below(&r, 8)] = child;
+	}
+	cr_assert_lt(fails, n / 10, "%d of %d draws found no child", fails, n);
+}
+
+Test(expr, children_are_canonical_within_limits_and_deterministic)
+{
+	static char a[3000][256], b[3000][256];
+	evolve(99, a, 3000);
+	evolve(99, b, 3000);
+	int distinct = 0;
+	for (int i = 0; i < 3000; i++) {
+		cr_assert_str_eq(a[i], b[i], "draw %d differs between runs", i);
+		distinct += i > 0 && strcmp(a[i], a[i - 1]) != 0;
+	}
+	cr_assert_gt(distinct, 1000);
+}
