@@ -184,6 +184,11 @@ Test(expr, free_parameters_absorb_constant_work)
 	cr_assert_str_eq(canon_text("sqrt(p2) + 2*p0 - exp2(p1)*r"), canon_text("p0 + p1*r"));
 	cr_assert_str_eq(canon_text("p0 + 2"), "p0");
 	cr_assert_str_eq(canon_text("-p1"), "p0");
+	cr_assert_str_eq(canon_text("p0 * -LoH"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("-LoH * p0"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("-(p0 * LoH)"), "p0 * LoH");
+	cr_assert_str_eq(canon_text("-(p0 / LoH)"), "p0 / LoH");
+	cr_assert_str_eq(canon_text("r - p0*NoV"), canon_text("r + NoV*p1"));
 }
 
 Test(expr, exact_identities_and_folding)
