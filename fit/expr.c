@@ -128,7 +128,9 @@ static int take(bk_enode *d, int off, int len)
  *    Not x - x -> 0 or x/x -> 1: they are wrong for inf and NaN and for 0/0;
  *  - a free parameter absorbs what is around it: x - p -> x + p, x / p ->
  *    x * p (the fit finds -p and 1/p), (x op p) op p' -> x op p for op + and *
- *    (p0*p1 spread over two levels is one constant);
+ *    (p0*p1 spread over two levels is one constant), p*(-x) -> p*x and
+ *    -(p*x), -(p/x), -(x/p) -> the same without the minus (the sign goes
+ *    into p);
  *  - operands of ADD MUL MIN MAX and the first two of MAD in cmp_tree order.
  * Returns -1 if a rewrite would not fit (none grows the tree). */
 static int pass(const bk_enode *s, bk_enode *d)
@@ -171,12 +173,23 @@ static int pass(const bk_enode *s, bk_enode *d)
 	case BK_OP_NEG:
 		if (a->op == BK_OP_NEG)
 			return take(d, off[0] + 1, len[0] - 1);
+		if (a->op == BK_OP_MUL || a->op == BK_OP_DIV) { /* -(p*x) -> p*x */
+			int qa = off[0] + 1, qb = qa + span_at(&d[qa]);
+			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM)
+				return take(d, off[0], len[0]);
+		}
 		break;
 	case BK_OP_MUL:
 		if (is_const(a, 1))
 			return take(d, off[1], len[1]);
 		if (is_const(b, 1))
 			return take(d, off[0], len[0]);
+		for (int j = 0; j < 2; j++) /* p*(-x) -> p*x; the next pass sorts */
+			if (d[off[j]].op == BK_OP_PARAM && d[off[1 - j]].op == BK_OP_NEG) {
+				int at = off[1 - j];
+				memmove(&d[at], &d[at + 1], sizeof *d * (size_t)(pos - at - 1));
+				return pos - 1;
+			}
 		break;
 	case BK_OP_ADD:
 		if (is_const(a, 0))

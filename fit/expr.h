@@ -72,15 +72,19 @@ int bk_expr_size(const bk_expr *e);
  * would not fit BK_EXPR_MAX (it never grows in practice). */
 int bk_expr_canon(bk_expr *e);
 
-/* The formula-language text of e, fully parenthesised only where the
- * language needs it, literals with %.17g (round trip). Returns the length,
- * or -1 if len is too small. */
+/* The formula-language text of e, parenthesised only where the language
+ * needs it (a + (b + c) keeps its parentheses: it is not (a + b) + c in
+ * floating point), MUL with equal operands as sq(x), literals with the
+ * shortest of %.15g, %.16g, %.17g that reads back as the same double (0.1,
+ * not 0.10000000000000001). Returns the length, or -1 if len is too small. */
 int bk_expr_print(const bk_expr *e, char *buf, size_t len);
 
 /* The tree of a compiled form (the IR's code expanded back into a tree:
  * MAD to a*b + c, shared subexpressions duplicated). Returns 0, or -1 when
  * the tree would exceed BK_EXPR_MAX nodes or the form uses an op the tree
- * cannot hold. */
+ * cannot hold (e->n is then 0). The tree is not canonicalised: canon may
+ * merge parameters (p0*p1 -> p0), so a catalog entry's defaults no longer
+ * index it afterwards. */
 int bk_expr_from_form(const bk_form *f, bk_expr *e);
 
 /* 64-bit FNV-1a of the canonical text (the cache key). */
