@@ -142,11 +142,16 @@ build/bench_ir: analysis/bench/bench_ir.c build/bench_ir_gen.h $(LIB)
 build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit
+# bench_search: screening fits/s on 1 and 2 threads, SciPy on the same candidates
+build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
 	build/bench_fit
+	build/bench_search
 
 results: $(TOOL)
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were

@@ -51,12 +51,16 @@ typedef struct bk_search_options {
 	bk_precision precision;   /* the candidate's error is that of its evaluation in this */
 	double max_cost;          /* candidates above are not fitted (HUGE_VAL: none) */
 	double simple_cost, complex_cost;
+	int scale;                /* linear scaling: each tree g fitted as p*g (search.c, scaled) */
 	int nonneg;               /* reject a candidate negative anywhere on the samples */
 	int env_bound;            /* pair: reject unless A, B >= 0 and A + B <= 1 */
-	long evals;               /* budget: candidate fits */
+	long evals;               /* budget: candidate fits; the search stops after the
+	                             generation that reaches it (whole generations, so
+	                             that a resumed run makes the same batches) */
 	unsigned long seed;
 	int threads;              /* >= 1 */
 	int enum_size;            /* exhaustive up to this many nodes */
+	long enum_max;            /* ... but at most this many fits of them */
 	int generation;           /* children per generation */
 	int per_level;            /* archive entries per integer cost level */
 	int starts;               /* screening starts per candidate (1..4) */

@@ -27,7 +27,7 @@ expect_error() {
 }
 
 # help on every command
-for c in "" terms dfg lut albedo; do
+for c in "" terms dfg lut albedo search; do
 	if $BK $c --help >"$T/out" 2>&1 && grep -q '^usage: brdfkit' "$T/out"; then ok; else bad "help $c"; fi
 done
 
@@ -515,6 +515,90 @@ for extra in "--bound p0=0:10" "--loss huber" "--trust-region dogleg"; do
 	if grep -qxF 'warning: did not converge (Maximum number of iterations reached. Number of iterations: 1.)' "$T/out"
 	then ok; else bad "fit $extra: Ceres path: $(cat "$T/out")"; fi
 done
+
+# ---- issue 10 (search) ----
+# A planted form is recovered: the target is 0.3/(LoH^2 + 0.7 r^2), a seed one
+# mutation away (an r^2 term missing) starts the search, and the front must hold
+# a candidate at rmse <= 1e-9 on the full grid (the exact answer is in the grammar).
+PLANT='0.3/(LoH*LoH + 0.7*r*r)'
+if $BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
+	--ops '+,*,/,sq' --max-params 2 --evals 3000 --threads 2 --out "$T/plant" >"$T/out" 2>"$T/err" &&
+	awk -F, '!/^#/ && NR > 1 && $9 != "" && $9 + 0 <= 1e-9 { found = 1 } END { exit !found }' "$T/plant/front.csv"; then ok
+else bad "planted form not recovered: $(grep -v '^#' "$T/plant/front.csv" | cut -d, -f2,9 | head -20) $(cat "$T/err")"; fi
+# the same run on one thread: the same bytes (threads merge in candidate order)
+$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
+	--ops '+,*,/,sq' --max-params 2 --evals 3000 --threads 1 --out "$T/plant1" >/dev/null 2>&1
+for f in front.csv candidates.csv catalog.csv front/search_form_2/coefficients.csv; do
+	grep -v '^# command' "$T/plant/$f" >"$T/a.csv"; grep -v '^# command' "$T/plant1/$f" >"$T/b.csv"
+	[ -s "$T/a.csv" ] && cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "search --threads 1 and 2 differ in $f"
+done
+# checkpoint and resume: 1200 fits, then on to 3000, equals 3000 at once
+$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
+	--ops '+,*,/,sq' --max-params 2 --evals 1200 --threads 2 --checkpoint "$T/ck" --every 500 --out "$T/part" >/dev/null 2>&1
+$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
+	--ops '+,*,/,sq' --max-params 2 --evals 3000 --threads 2 --resume "$T/ck" --out "$T/resumed" >/dev/null 2>"$T/err"
+for f in front.csv candidates.csv; do
+	grep -v '^# command' "$T/plant/$f" >"$T/a.csv"; grep -v '^# command' "$T/resumed/$f" >"$T/b.csv"
+	cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "resumed search differs in $f: $(cat "$T/err")"
+done
+# a resume with other options is refused, naming the file
+expect_error "resume other options" "$T/ck" $BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+	--ops '+,*' --max-params 2 --evals 3000 --resume "$T/ck" --out "$T/x"
+[ ! -e "$T/x" ] && ok || bad "a refused resume left --out behind"
+# the screening front in candidates.csv is the Pareto front of the ok rows:
+# no ok row is at most as costly and at most as wrong, one strictly
+awk -F, '/^#/ || /^found_at/ { next } $4 == "ok" { n++; c[n] = $2; e[n] = $3 + 0; f[n] = $5 }
+	END { bad = 0
+	      for (i = 1; i <= n; i++) if (f[i] == 1) for (j = 1; j <= n; j++)
+	        if (j != i && c[j] <= c[i] && e[j] <= e[i] && (c[j] < c[i] || e[j] < e[i])) bad++
+	      for (i = 1; i <= n; i++) if (f[i] != 1) { dom = 0
+	        for (j = 1; j <= n; j++) if (f[j] == 1 && c[j] <= c[i] && e[j] <= e[i]) dom = 1
+	        if (!dom) bad++ }
+	      exit bad != 0 }' "$T/plant/candidates.csv" && ok || bad "candidates.csv front is not the Pareto front"
+# every front member's GLSL and HLSL compile (glslangValidator, wrapped in a
+# fragment shader), and its C agrees with the IR's single precision at a point
+n=0
+for d in "$T"/plant/front/*; do
+	name=${d##*/}; n=$((n + 1))
+	# the inputs in order, e.g. "LoH a"; a value for each: cosines 0.5, r 0.5, a 0.25
+	ins=$(sed -n 's/^highp float [A-Za-z0-9_]*(\(.*\))$/\1/p' "$d/shader.glsl" | sed 's/highp float //g; s/,/ /g')
+	glsl_call="" hlsl_call="" c_call="" points="" k=0
+	for v in $ins; do
+		case $v in a) x=0.25 ;; *) x=0.5 ;; esac
+		lane=$(echo "u.x u.y u.z u.w v.x v.y v.z" | cut -d' ' -f$((k + 1)))
+		sep=${glsl_call:+, }
+		glsl_call="$glsl_call${sep}u_$v" hlsl_call="$hlsl_call$sep$lane" c_call="$c_call$sep${x}f" points="$points $v=$x"
+		k=$((k + 1))
+	done
+	{ printf '#version 300 es\nprecision highp float;\n'; cat "$d/shader.glsl"
+	  for v in $ins; do printf 'uniform highp float u_%s;\n' "$v"; done
+	  printf 'out vec4 o;\nvoid main() { o = vec4(%s(%s)); }\n' "$name" "$glsl_call"
+	} >"$T/m.frag"
+	glslangValidator "$T/m.frag" >"$T/glsl.log" 2>&1 && ok || bad "front $name: GLSL does not compile: $(tail -3 "$T/glsl.log")"
+	{ cat "$d/shader.hlsl"; printf 'float4 main(float4 u : TEXCOORD0, float4 v : TEXCOORD1) : SV_Target { return float4(%s(%s), 0, 0, 1); }\n' "$name" "$hlsl_call"; } >"$T/m.hlsl"
+	glslangValidator -V -D -S frag -e main -o "$T/m.spv" "$T/m.hlsl" >"$T/hlsl.log" 2>&1 && ok || bad "front $name: HLSL does not compile: $(tail -3 "$T/hlsl.log")"
+	# the C against brdfkit eval's f32 of the same form and constants
+	row=$(grep "^$name," "$T/plant/front.csv")
+	form=$(echo "$row" | cut -d, -f2); pars=$(echo "$row" | cut -d, -f4 | tr ';' ' ')
+	{ cat "$d/shader.c"; printf '#include <stdio.h>\nint main(void) { printf("%%.9g\\n", (double)%s(%s)); return 0; }\n' "$name" "$c_call"; } >"$T/m.c"
+	want=$($BK eval "$form" $pars $points | sed -n 's/^f32 //p')
+	if cc -std=c11 -O2 "$T/m.c" -lm -o "$T/m" 2>"$T/cc.log" && got=$("$T/m") &&
+		awk -v g="$got" -v w="$want" 'BEGIN { d = g - w; if (d < 0) d = -d; m = w < 0 ? -w : w; exit !(w != "" && d <= 1e-6 * m + 1e-30) }'; then ok
+	else bad "front $name: C gives $got, the IR's f32 $want ($form $pars $points) $(cat "$T/cc.log")"; fi
+done
+[ "$n" -ge 3 ] && ok || bad "the planted search's front has $n members"
+# usage errors: one line naming the bad input, nothing written
+expect_error "search objective" "'worst'" $BK search --target vf2d --objective worst --out "$T/s1"
+expect_error "search albedo on vf2d" "albedo" $BK search --target vf2d --objective albedo --out "$T/s1"
+expect_error "search precision" "'quad'" $BK search --target vf2d --precision quad --out "$T/s1"
+expect_error "search ops" "'cos'" $BK search --target vf2d --ops '+,cos' --out "$T/s1"
+expect_error "search inputs" "'NoX'" $BK search --target vf2d --inputs LoH,NoX --out "$T/s1"
+expect_error "search inputs provided" "NoV" $BK search --target vf2d --inputs NoV --out "$T/s1"
+expect_error "search evals" "--evals" $BK search --target vf2d --evals 0 --out "$T/s1"
+expect_error "search every" "--every" $BK search --target vf2d --every 10 --out "$T/s1"
+expect_error "search start target" "vf_talk_r" $BK search --target env --start vf_talk_r --out "$T/s1"
+expect_error "search weights" "--cost-weights" $BK search --target vf2d --cost-weights simple=-1 --out "$T/s1"
+[ ! -e "$T/s1" ] && ok || bad "a refused search left --out behind"
 
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)

@@ -219,9 +219,10 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 				o = &cmd->opts[k];
 		if (!o)
 			return cli_usage(cmd, "unknown option '%s'", arg);
-		if (o->seen)
-			return cli_usage(cmd, "%s given twice", o->name);
-		o->seen = 1;
+		if (o->seen && o->seen >= (o->repeat > 1 ? o->repeat : 1))
+			return o->repeat > 1 ? cli_usage(cmd, "%s given more than %d times", o->name, o->repeat)
+			                     : cli_usage(cmd, "%s given twice", o->name);
+		o->seen++;
 		const char *val = NULL;
 		if (o->kind == CLI_FLAG) {
 			if (eq)
@@ -233,7 +234,10 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 		} else {
 			return cli_usage(cmd, "%s needs a value (%s)", o->name, o->metavar);
 		}
-		if (set_value(cmd, o, val))
+		cli_opt one = *o; /* a repeatable string or form: the next slot of its array */
+		if (o->repeat > 1)
+			one.dest = (const char **)o->dest + (o->seen - 1);
+		if (set_value(cmd, &one, val))
 			return 2;
 	}
 	for (int k = 0; k < cmd->nopts; k++)

@@ -29,7 +29,9 @@ typedef struct cli_opt {
 	double lo, hi;
 	int lo_open, hi_open;
 	int required;
-	int seen;         /* set by the parser */
+	int repeat;       /* CLI_STR, CLI_FORM: may be given this many times, into
+	                     dest[0..repeat) (const char *[repeat]); 0 or 1: once */
+	int seen;         /* set by the parser: how many times given */
 } cli_opt;
 
 typedef struct cli_cmd {

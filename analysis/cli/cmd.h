@@ -18,5 +18,6 @@ int cmd_time(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
+int cmd_search(int argc, char **argv);
 
 #endif

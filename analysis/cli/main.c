@@ -25,6 +25,7 @@ static const struct {
 	{"time", cmd_time, "CPU ns per evaluation of forms (generated C, cc -O2) and SPIR-V size"},
 	{"stability", cmd_stability, "half/single/double precision on stiff and extreme inputs; guards"},
 	{"report", cmd_report, "the study's page from the compare sections"},
+	{"search", cmd_search, "search closed forms: candidates fitted, the Pareto front of error against cost"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 };
 

@@ -1,0 +1,1016 @@
+/*
+ * cmd_search.c — brdfkit search: the search for closed forms of fit/search.h
+ * on a target, its front refitted in full, written into one directory whole
+ * or not at all: front.csv, candidates.csv, front/NAME/ (what fit writes),
+ * pareto.svg and section.html.
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "clock.h"
+#include "cmd.h"
+#include "fit_out.h"
+#include "out.h"
+#include "search.h"
+#include "stability.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#define MAX_SEEDS 64
+#define MAX_FRONT 48   /* screening front members refitted in full */
+#define PROGRESS_EVERY 10.0 /* seconds between log lines */
+
+typedef struct search_cli {
+	fit_cli t; /* the target options, as fit reads them */
+	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *checkpoint, *resume;
+	const char *start[MAX_SEEDS];
+	int nstart;
+	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation;
+	double seconds, max_cost;
+	int relative, no_constraints;
+} search_cli;
+
+/* A member of the final front, or a catalog form, on the full samples. */
+typedef struct member {
+	const bk_cand *c;              /* NULL for a catalog row */
+	const bk_catalog_entry *entry; /* catalog rows */
+	int refit;                     /* catalog: 0 published constants, 1 refitted */
+	char name[96];
+	const char *text, *text_b;
+	bk_form *f[2];
+	bk_fit_spec spec;
+	bk_fit_result res;
+	double cost;
+	bk_ops ops;
+	double err;                    /* the objective on the full samples, in the search precision */
+	bk_fit_metrics prec;           /* metrics in the search precision */
+	double f16_max;                /* max |error| evaluated in half */
+	char verdict[24];              /* stability in half: safe as is / with guards / no */
+	int status;                    /* 0 ok, 1 dropped (not finite or outside the constraints) */
+	int front;
+} member;
+
+typedef struct job {
+	search_cli *a;
+	const cli_cmd *cmd;
+	bk_target_kind kind;
+	bk_target_options to, to_screen;
+	bk_samples s, screen;
+	bk_search_options so;
+	bk_search *S;
+	member *m;
+	int nm;
+	char command[2048];
+	double seconds;
+	int interrupted;
+} job;
+
+static volatile sig_atomic_t stop_asked;
+static void on_interrupt(int sig)
+{
+	(void)sig;
+	stop_asked = 1;
+}
+
+/* ---- option helpers ------------------------------------------------------- */
+
+static int parse_word(const cli_cmd *cmd, const char *opt, const char *text, const char *const *names, int n,
+                      int *out)
+{
+	for (int i = 0; i < n; i++)
+		if (!strcmp(text, names[i])) {
+			*out = i;
+			return 0;
+		}
+	char list[200] = "";
+	for (int i = 0; i < n; i++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", names[i]);
+	return cli_usage(cmd, "%s: unknown value '%s' (%s)", opt, text, list);
+}
+
+/* --inputs NoV,r,...: bits of bk_input */
+static int parse_inputs(const cli_cmd *cmd, const char *text, unsigned provides, unsigned *bits)
+{
+	char buf[256];
+	snprintf(buf, sizeof buf, "%s", text);
+	*bits = 0;
+	char *save = NULL;
+	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		int in = -1;
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			if (!strcmp(t, bk_input_name((bk_input)k)))
+				in = k;
+		if (in < 0)
+			return cli_usage(cmd, "--inputs: '%s' is not an input (NoV, NoL, NoH, LoH, r, a, f0)", t);
+		if (!(provides >> in & 1))
+			return cli_usage(cmd, "--inputs: the target does not provide %s", t);
+		*bits |= 1u << in;
+	}
+	return *bits ? 0 : cli_usage(cmd, "--inputs: empty list");
+}
+
+/* --cost-weights simple=1,complex=4 */
+static int parse_weights(const cli_cmd *cmd, const char *text, double *simple, double *complex)
+{
+	char buf[128];
+	snprintf(buf, sizeof buf, "%s", text);
+	char *save = NULL;
+	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		char *eq = strchr(t, '=');
+		double v;
+		if (!eq || cli_number(eq + 1, &v) || !(v >= 0))
+			return cli_usage(cmd, "--cost-weights: expected simple=W,complex=W with W >= 0, got '%s'", t);
+		*eq = '\0';
+		if (!strcmp(t, "simple"))
+			*simple = v;
+		else if (!strcmp(t, "complex"))
+			*complex = v;
+		else
+			return cli_usage(cmd, "--cost-weights: '%s' is not simple or complex", t);
+	}
+	return *simple + *complex > 0 ? 0 : cli_usage(cmd, "--cost-weights: both weights are 0");
+}
+
+/* The catalog's tag for the forms of a target, NULL when none fits it. */
+static const char *catalog_tag(bk_target_kind k)
+{
+	switch (k) {
+	case BK_TARGET_VF2D:
+	case BK_TARGET_VF: return "VF";
+	case BK_TARGET_SPEC: return "DVF";
+	case BK_TARGET_ENV: return "env";
+	case BK_TARGET_D: return "D";
+	case BK_TARGET_F: return "F";
+	default: return NULL;
+	}
+}
+
+/* Whether a catalog form reads only what the samples provide. */
+static int entry_fits(const bk_catalog_entry *e, unsigned provides)
+{
+	bk_form_error fe;
+	for (int h = 0; h < 2; h++) {
+		const char *t = h ? e->form_b : e->form;
+		if (!t)
+			continue;
+		bk_form *f = bk_form_parse(t, &fe);
+		int ok = f && !(bk_form_inputs(f) & ~provides);
+		bk_form_free(f);
+		if (!ok)
+			return 0;
+	}
+	return 1;
+}
+
+/* ---- set-up ----------------------------------------------------------------- */
+
+/* The screening grid: about a thousand samples, where a fit takes well under a
+ * millisecond; the front is refitted on the full grid. */
+static void screening_grid(bk_target_options *o)
+{
+	switch (o->kind) {
+	case BK_TARGET_VF2D:
+	case BK_TARGET_D: o->nx = o->nr = 32; break;
+	case BK_TARGET_VF:
+	case BK_TARGET_SPEC: o->nx = o->nr = 8; break;
+	case BK_TARGET_ENV: o->nx = o->nr = 16; break;
+	case BK_TARGET_F: o->nx = 64; break;
+	case BK_TARGET_FORM: {
+		static const int per[5] = {0, 256, 32, 10, 6};
+		o->nx = per[o->ndomain];
+		break;
+	}
+	default: break;
+	}
+}
+
+static int setup(job *J)
+{
+	search_cli *a = J->a;
+	const cli_cmd *cmd = J->cmd;
+	bk_search_options *so = &J->so;
+	bk_search_defaults(so);
+	so->evals = a->evals;
+	so->seed = (unsigned long)a->seed;
+	so->threads = (int)a->threads;
+	so->enum_size = (int)a->enum_size;
+	so->enum_max = a->enum_max;
+	so->generation = (int)a->generation;
+	so->relative = a->relative;
+	so->max_cost = a->max_cost > 0 ? a->max_cost : HUGE_VAL;
+	int v;
+	static const char *const objs[] = {"rmse", "max", "albedo"};
+	if (parse_word(cmd, "--objective", a->objective, objs, 3, &v))
+		return 2;
+	so->objective = (bk_objective)v;
+	if (v == BK_OBJ_ALBEDO && J->kind != BK_TARGET_VF && J->kind != BK_TARGET_SPEC)
+		return cli_usage(cmd, "--objective albedo: only targets vf and spec have a directional albedo");
+	static const char *const precs[] = {"double", "single", "half"};
+	static const bk_precision pv[] = {BK_F64, BK_F32, BK_F16};
+	if (parse_word(cmd, "--precision", a->precision, precs, 3, &v))
+		return 2;
+	so->precision = pv[v];
+	if (a->weights && parse_weights(cmd, a->weights, &so->simple_cost, &so->complex_cost))
+		return 2;
+	bk_grammar *g = &so->grammar;
+	memset(g, 0, sizeof *g);
+	g->ops = bk_grammar_default_ops();
+	char err[256];
+	if (a->ops && bk_grammar_parse_ops(a->ops, &g->ops, err, sizeof err))
+		return cli_usage(cmd, "--ops: %s", err);
+	g->consts[0] = 1.0;
+	g->nconsts = 1;
+	g->max_params = a->max_params >= 0 ? (int)a->max_params : J->kind == BK_TARGET_ENV ? 8 : 4;
+	g->max_size = (int)a->max_size;
+	switch (J->kind) {
+	case BK_TARGET_VF2D:
+	case BK_TARGET_VF:
+	case BK_TARGET_SPEC: so->shape = BK_SHAPE_F0; break;
+	case BK_TARGET_ENV: so->shape = BK_SHAPE_PAIR; break;
+	default: so->shape = BK_SHAPE_PLAIN; break;
+	}
+	/* constraints that hold for the target: on unless --no-constraints */
+	so->nonneg = !a->no_constraints && J->kind != BK_TARGET_FORM;
+	so->env_bound = !a->no_constraints && J->kind == BK_TARGET_ENV;
+	return 0;
+}
+
+/* The inputs a candidate may read: --inputs, or what the target provides
+ * (f0 is the shape's own factor for the F0 shape; a with r: both, the
+ * convention gives shaders both). */
+static int setup_inputs(job *J)
+{
+	unsigned prov = J->screen.provides;
+	if (J->kind == BK_TARGET_F)
+		prov &= 1u << BK_IN_LOH | 1u << BK_IN_F0; /* r is a dummy there */
+	if (J->a->inputs)
+		return parse_inputs(J->cmd, J->a->inputs, prov, &J->so.grammar.inputs);
+	if (J->so.shape == BK_SHAPE_F0)
+		prov &= ~(1u << BK_IN_F0);
+	J->so.grammar.inputs = prov;
+	return 0;
+}
+
+typedef struct seeds {
+	const char *text[MAX_SEEDS], *text_b[MAX_SEEDS], *name[MAX_SEEDS];
+	double p[MAX_SEEDS][BK_MAX_PARAMS];
+	int n;
+} seeds;
+
+static int setup_seeds(job *J, seeds *sd)
+{
+	const char *tag = catalog_tag(J->kind);
+	memset(sd, 0, sizeof *sd);
+	if (J->a->nstart == 0 && tag) /* every catalog entry of the target */
+		for (size_t i = 0; i < bk_catalog_count() && sd->n < MAX_SEEDS; i++) {
+			const bk_catalog_entry *e = bk_catalog_at(i);
+			if (strcmp(e->target, tag) || !entry_fits(e, J->screen.provides)) /* published forms seed whatever their size */
+				continue;
+			sd->text[sd->n] = e->form;
+			sd->text_b[sd->n] = e->form_b;
+			sd->name[sd->n] = e->name;
+			memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
+			sd->n++;
+		}
+	for (int k = 0; k < J->a->nstart; k++) {
+		const bk_catalog_entry *e = bk_catalog_find(J->a->start[k]);
+		if (e && tag && strcmp(e->target, tag))
+			return cli_usage(J->cmd, "--start %s: a %s form, not one of target %s", e->name, e->target,
+			                 bk_target_name(J->kind));
+		if (!e && J->kind == BK_TARGET_ENV)
+			return cli_usage(J->cmd, "--start '%s': target env takes catalog names (A and B)", J->a->start[k]);
+		if (e && !entry_fits(e, J->screen.provides))
+			return cli_usage(J->cmd, "--start %s reads an input target %s does not provide", e->name,
+			                 bk_target_name(J->kind));
+		bk_form_error fe;
+		bk_form *f = e ? NULL : bk_form_parse(J->a->start[k], &fe);
+		if (!e && !f) {
+			fprintf(stderr, "brdfkit search: --start:1:%d: %s\n", fe.column, fe.message);
+			return 2;
+		}
+		if (f && (bk_form_inputs(f) & ~J->screen.provides)) {
+			bk_form_free(f);
+			return cli_usage(J->cmd, "--start '%s' reads an input target %s does not provide", J->a->start[k],
+			                 bk_target_name(J->kind));
+		}
+		bk_form_free(f);
+		sd->text[sd->n] = e ? e->form : J->a->start[k];
+		sd->text_b[sd->n] = e ? e->form_b : NULL;
+		sd->name[sd->n] = e ? e->name : NULL;
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			sd->p[sd->n][j] = e ? e->defaults[j] : 1.0;
+		sd->n++;
+	}
+	J->so.seeds = sd->text;
+	J->so.seeds_b = sd->text_b;
+	J->so.seed_names = sd->name;
+	J->so.seed_p = (const double(*)[BK_MAX_PARAMS])sd->p;
+	J->so.nseeds = sd->n;
+	return 0;
+}
+
+/* ---- the run ------------------------------------------------------------------ */
+
+static void progress(const job *J, int final)
+{
+	size_t idx[MAX_FRONT];
+	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
+	char best[256] = "";
+	size_t k = 0;
+	for (size_t i = 0; i < nf && k < sizeof best - 40; i += (nf + 3) / 4) { /* a few cost levels */
+		const bk_cand *c = bk_search_at(J->S, idx[i]);
+		k += (size_t)snprintf(best + k, sizeof best - k, "%scost %g: %.3g", k ? ", " : "", c->cost, c->err);
+	}
+	double dt = bk_clock_now() - J->seconds;
+	long n = bk_search_evals(J->S);
+	fprintf(stderr, "%ssearch: %ld fits, %.0f fits/s, front %zu (%s)%s", isatty(2) && !final ? "\r" : "", n,
+	        dt > 0 ? n / dt : 0.0, nf, best, isatty(2) && !final ? "\033[K" : "\n");
+}
+
+static int save_checkpoint(const job *J, char *err, size_t errlen)
+{
+	bk_out o;
+	if (bk_out_open(&o, J->a->checkpoint, err, errlen))
+		return -1;
+	if (bk_search_save(J->S, o.f)) {
+		bk_out_abort(&o);
+		snprintf(err, errlen, "%s: write failed", J->a->checkpoint);
+		return -1;
+	}
+	return bk_out_commit(&o, err, errlen);
+}
+
+static int run_search(job *J)
+{
+	char err[512];
+	if (!(J->S = bk_search_new(&J->so, err, sizeof err)))
+		return cli_fail("search", "%s", err);
+	if (J->a->resume) {
+		FILE *f = fopen(J->a->resume, "r");
+		if (!f)
+			return cli_fail("search", "--resume %s: cannot be read", J->a->resume);
+		int rc = bk_search_load(J->S, f, err, sizeof err);
+		fclose(f);
+		if (rc)
+			return cli_fail("search", "--resume %s: %s", J->a->resume, err);
+		fprintf(stderr, "search: resumed at %ld fits\n", bk_search_evals(J->S));
+	}
+	struct sigaction sa, old;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_interrupt;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, &old);
+	J->seconds = bk_clock_now();
+	double last = J->seconds;
+	long next_ck = J->a->every > 0 ? (bk_search_evals(J->S) / J->a->every + 1) * J->a->every : -1;
+	int rc;
+	while ((rc = bk_search_step(J->S, err, sizeof err)) == 1 && !stop_asked) {
+		double now = bk_clock_now();
+		if (now - last >= (isatty(2) ? 0.25 : PROGRESS_EVERY)) {
+			progress(J, 0);
+			last = now;
+		}
+		if (J->a->checkpoint && next_ck > 0 && bk_search_evals(J->S) >= next_ck) {
+			if (save_checkpoint(J, err, sizeof err))
+				break;
+			next_ck = (bk_search_evals(J->S) / J->a->every + 1) * J->a->every;
+		}
+		if (J->a->seconds > 0 && now - J->seconds >= J->a->seconds)
+			break;
+	}
+	sigaction(SIGINT, &old, NULL);
+	J->interrupted = stop_asked;
+	if (rc < 0)
+		return cli_fail("search", "%s", err);
+	progress(J, 1);
+	if (J->a->checkpoint && save_checkpoint(J, err, sizeof err))
+		return cli_fail("search", "--checkpoint %s", err);
+	return 0;
+}
+
+/* Values of the member's forms on the samples in precision prec. */
+static int member_values(const member *m, const bk_samples *s, const double *p, bk_precision prec, double *v)
+{
+	for (int q = 0; q < s->ncomp; q++) {
+		size_t lo = s->start[q];
+		const double *in[BK_IN_COUNT];
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			in[k] = s->in[k] + lo;
+		if (bk_form_eval(m->f[q < 1 || !m->f[1] ? 0 : 1], prec, s->start[q + 1] - lo, in, p, v + lo))
+			return -1;
+	}
+	return 0;
+}
+
+static double objective(const job *J, const bk_fit_metrics *m)
+{
+	switch (J->so.objective) {
+	case BK_OBJ_MAX: return J->so.relative ? m->max_rel : m->max_abs;
+	case BK_OBJ_ALBEDO: return m->albedo_max_abs;
+	default: return m->rmse;
+	}
+}
+
+/* The member on the full samples: fitted with fit's full fitter (several
+ * starts, minimax for the max objective, optimality check, constants rounded
+ * to what their standard errors justify) unless it is a catalog row at its
+ * published constants; then its error in the search precision, constraints
+ * on the denser grid, half-precision error and stability. */
+static int score_member(job *J, member *m, const double *start, int fit)
+{
+	bk_form_error fe;
+	m->f[0] = bk_form_parse(m->text, &fe);
+	m->f[1] = m->text_b ? bk_form_parse(m->text_b, &fe) : NULL;
+	if (!m->f[0] || (m->text_b && !m->f[1]))
+		return -1;
+	bk_fit_spec *sp = &m->spec;
+	memset(sp, 0, sizeof *sp);
+	bk_fit_options o = BK_FIT_OPTIONS_INIT;
+	sp->opt = o;
+	sp->opt.max_iterations = 500;
+	sp->s = &J->s;
+	sp->form[0] = m->f[0];
+	sp->form[1] = m->f[1] ? m->f[1] : m->f[0];
+	sp->np = bk_form_nparams(m->f[0]);
+	if (m->f[1] && bk_form_nparams(m->f[1]) > sp->np)
+		sp->np = bk_form_nparams(m->f[1]);
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		sp->lower[j] = -HUGE_VAL;
+		sp->upper[j] = HUGE_VAL;
+		sp->start[j] = start[j];
+	}
+	sp->relative = J->so.relative;
+	sp->starts = 2;
+	sp->seed = 1;
+	sp->minimax = J->so.objective == BK_OBJ_MAX;
+	sp->digits = BK_FIT_DIGITS_SE;
+	if (fit && sp->np > 0) {
+		if (bk_fit_run(sp, &m->res) < 0)
+			return -1;
+	} else {
+		memset(&m->res, 0, sizeof m->res);
+		memcpy(m->res.p, start, sizeof m->res.p);
+		bk_fit_evaluate(sp, start, &m->res.fitted);
+		m->res.optimal = -1;
+	}
+	bk_fit_evaluate(sp, m->res.p, &m->res.fitted);
+	double *v = malloc(sizeof(double) * J->s.n);
+	if (!v)
+		return -1;
+	int rc = member_values(m, &J->s, m->res.p, J->so.precision, v);
+	m->status = 0;
+	if (rc == 0) {
+		bk_samples_metrics(&J->s, v, NULL, &m->prec);
+		size_t na = J->s.ncomp == 2 ? J->s.start[1] : 0;
+		for (size_t i = 0; i < J->s.n; i++) {
+			if (!isfinite(v[i]) && isfinite(J->s.y[i]))
+				m->status = 1;
+			if (m->c && m->c->seed_name) /* published seeds: kept whatever the constraints (search.c) */
+				continue;
+			if (J->so.nonneg && v[i] < 0)
+				m->status = 1;
+			if (J->so.env_bound && i < na && (v[i] < 0 || v[na + i] < 0 || v[i] + v[na + i] > 1 + 1e-6))
+				m->status = 1;
+		}
+		m->err = bk_search_round_err(objective(J, &m->prec));
+		if (!isfinite(m->err))
+			m->status = 1;
+		bk_fit_metrics h;
+		rc = member_values(m, &J->s, m->res.p, BK_F16, v);
+		bk_samples_metrics(&J->s, v, NULL, &h);
+		m->f16_max = h.nonfinite ? HUGE_VAL : h.max_abs;
+	}
+	free(v);
+	char buf[9000];
+	if (m->text_b)
+		snprintf(buf, sizeof buf, "f0*(%s) + (%s)", m->text, m->text_b);
+	else
+		snprintf(buf, sizeof buf, "%s", m->text);
+	bk_form *whole = bk_form_parse(buf, &fe);
+	if (!whole)
+		return -1;
+	bk_form_count(whole, &m->ops);
+	m->cost = bk_ops_cost(&m->ops, J->so.simple_cost, J->so.complex_cost);
+	bk_form_free(whole);
+	/* stability in half, each half of a pair on its own: the worse verdict */
+	static const char *const verdict[3] = {"as is", "with guards", "no"};
+	int worst = 0, analysed = 1;
+	for (int q = 0; q < (m->text_b ? 2 : 1); q++) {
+		bk_stability st;
+		char e2[256];
+		if (bk_stability_run(m->name, q ? m->text_b : m->text, sp->np ? m->res.p : NULL, BK_STAB_TOL, &st, e2,
+		                     sizeof e2)) {
+			analysed = 0;
+			continue;
+		}
+		const bk_stab_prec *h = &st.p[2];
+		int w = h->wrong == 0 ? 0 : st.guarded_ok ? 1 : 2;
+		if (w > worst) /* the worse of A and B */
+			worst = w;
+		bk_stability_free(&st);
+	}
+	snprintf(m->verdict, sizeof m->verdict, "%s", analysed ? verdict[worst] : "not analysed");
+	return rc;
+}
+
+static void member_free(member *m)
+{
+	bk_form_free(m->f[0]);
+	bk_form_free(m->f[1]);
+}
+
+/* Catalog rows (published and refitted), then the screening front refitted;
+ * the final front: the refitted members no other beats at no greater cost. */
+static int build_members(job *J, const seeds *sd)
+{
+	size_t idx[MAX_FRONT];
+	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
+	J->m = calloc((size_t)(2 * sd->n) + nf + 1, sizeof *J->m);
+	if (!J->m)
+		return -1;
+	for (int k = 0; k < sd->n; k++) {
+		const bk_catalog_entry *e = sd->name[k] ? bk_catalog_find(sd->name[k]) : NULL;
+		if (!e)
+			continue;
+		for (int r = 0; r < 2; r++) {
+			member *m = &J->m[J->nm++];
+			m->entry = e;
+			m->refit = r;
+			snprintf(m->name, sizeof m->name, "%s%s", e->name, r ? " (refit)" : "");
+			m->text = e->form;
+			m->text_b = e->form_b;
+			cli_progress("catalog", J->nm, 2 * sd->n);
+			if (score_member(J, m, e->defaults, r))
+				return -1;
+		}
+	}
+	for (size_t i = 0; i < nf; i++) {
+		const bk_cand *c = bk_search_at(J->S, idx[i]);
+		member *m = &J->m[J->nm++];
+		m->c = c;
+		snprintf(m->name, sizeof m->name, "search_%s_%zu", bk_target_name(J->kind), i + 1);
+		m->text = c->text;
+		m->text_b = c->text_b;
+		cli_progress("refit of the front", (int)i + 1, (int)nf);
+		if (score_member(J, m, c->p, 1))
+			return -1;
+	}
+	/* the final front over the refitted search members */
+	double best = HUGE_VAL;
+	for (int pass = 0; pass < 1; pass++) {
+		int order[MAX_FRONT + 2 * MAX_SEEDS];
+		int n = 0;
+		for (int i = 0; i < J->nm; i++)
+			if (J->m[i].c && J->m[i].status == 0)
+				order[n++] = i;
+		for (int i = 1; i < n; i++) /* by cost, then error, then text (insertion sort: n <= 48) */
+			for (int j = i; j > 0; j--) {
+				const member *x = &J->m[order[j - 1]], *y = &J->m[order[j]];
+				int swap = y->cost < x->cost || (y->cost == x->cost && (y->err < x->err ||
+				           (y->err == x->err && strcmp(y->text, x->text) < 0)));
+				if (!swap)
+					break;
+				int t = order[j - 1];
+				order[j - 1] = order[j];
+				order[j] = t;
+			}
+		for (int i = 0; i < n; i++)
+			if (J->m[order[i]].err < best) {
+				best = J->m[order[i]].err;
+				J->m[order[i]].front = 1;
+			}
+	}
+	return 0;
+}
+
+/* ---- outputs ------------------------------------------------------------------ */
+
+static const char *objective_name(const job *J)
+{
+	static const char *const n[] = {"rmse", "max_abs", "albedo_max_abs"};
+	return J->so.objective == BK_OBJ_MAX && J->so.relative ? "max_rel" : n[J->so.objective];
+}
+
+static void header(FILE *f, const job *J, const char *what)
+{
+	fprintf(f, "# brdfkit %s search %s\n# command: %s\n# target: %s\n", BK_VERSION, what, J->command, J->s.description);
+	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops); "
+	        "error: %s in %s precision on the target's samples; conventions: r perceptual roughness, a = r^2, "
+	        "V includes 1/(4 NoL NoV)\n", J->so.simple_cost, J->so.complex_cost, objective_name(J),
+	        bk_precision_name(J->so.precision));
+}
+
+static void params_field(FILE *f, const double *p, int np)
+{
+	for (int j = 0; j < np; j++)
+		fprintf(f, "%sp%d=%.17g", j ? ";" : "", j, p[j]);
+}
+
+static void write_front_csv(FILE *f, const job *J)
+{
+	header(f, J, "front (refitted on the full samples)");
+	fputs("name,form,form_b,parameters,simple,complex,cost,error,rmse,max_abs,max_rel,albedo_max_abs,f16_max_abs,"
+	      "stability_half,found_at,dominates\n", f);
+	for (int i = 0; i < J->nm; i++) {
+		const member *m = &J->m[i];
+		if (!m->front)
+			continue;
+		bk_csv_field(f, m->name);
+		fputc(',', f);
+		bk_csv_field(f, m->text);
+		fputc(',', f);
+		bk_csv_field(f, m->text_b ? m->text_b : "");
+		fputc(',', f);
+		params_field(f, m->res.p, m->spec.np);
+		fprintf(f, ",%d,%d,%g,%.6g,%.6g,%.6g,%.6g,", m->ops.simple, m->ops.complex, m->cost, m->err, m->prec.rmse,
+		        m->prec.max_abs, m->prec.max_rel);
+		if (isfinite(m->prec.albedo_max_abs))
+			fprintf(f, "%.6g", m->prec.albedo_max_abs);
+		fprintf(f, ",%.6g,%s,%ld,", m->f16_max, m->verdict, m->c->found_at);
+		char dom[2048] = "";
+		for (int k = 0; k < J->nm; k++) { /* catalog rows this member beats on both axes */
+			const member *q = &J->m[k];
+			if (q->c || q->status || !(m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err)))
+				continue;
+			snprintf(dom + strlen(dom), sizeof dom - strlen(dom), "%s%s", *dom ? ";" : "", q->name);
+		}
+		bk_csv_field(f, dom);
+		fputc('\n', f);
+	}
+}
+
+static void write_catalog_csv(FILE *f, const job *J)
+{
+	header(f, J, "published forms on the same samples, published and refitted");
+	fputs("name,form,form_b,parameters,cost,error,rmse,max_abs,albedo_max_abs,f16_max_abs,stability_half\n", f);
+	for (int i = 0; i < J->nm; i++) {
+		const member *m = &J->m[i];
+		if (m->c)
+			continue;
+		bk_csv_field(f, m->name);
+		fputc(',', f);
+		bk_csv_field(f, m->text);
+		fputc(',', f);
+		bk_csv_field(f, m->text_b ? m->text_b : "");
+		fputc(',', f);
+		params_field(f, m->res.p, m->spec.np);
+		fprintf(f, ",%g,%.6g,%.6g,%.6g,", m->cost, m->err, m->prec.rmse, m->prec.max_abs);
+		if (isfinite(m->prec.albedo_max_abs))
+			fprintf(f, "%.6g", m->prec.albedo_max_abs);
+		fprintf(f, ",%.6g,%s\n", m->f16_max, m->verdict);
+	}
+}
+
+static void write_candidates_csv(FILE *f, const job *J)
+{
+	static const char *const st[] = {"ok", "not finite", "constraint", "fit failed"};
+	size_t n = bk_search_count(J->S);
+	size_t *idx = malloc(sizeof(size_t) * (n ? n : 1));
+	char *on = calloc(n ? n : 1, 1);
+	size_t nf = idx && on ? bk_search_front(J->S, idx, n) : 0;
+	for (size_t i = 0; i < nf; i++)
+		on[idx[i]] = 1;
+	header(f, J, "every distinct candidate fitted (screening samples); front: on the screening front");
+	fputs("found_at,cost,error,status,front,seed,form,form_b\n", f);
+	for (size_t i = 0; i < n; i++) {
+		const bk_cand *c = bk_search_at(J->S, i);
+		fprintf(f, "%ld,%g,", c->found_at, c->cost);
+		if (c->status == BK_CAND_OK)
+			fprintf(f, "%.9g", c->err);
+		fprintf(f, ",%s,%d,", st[c->status], on ? on[i] : 0);
+		bk_csv_field(f, c->seed_name ? c->seed_name : "");
+		fputc(',', f);
+		bk_csv_field(f, c->text);
+		fputc(',', f);
+		bk_csv_field(f, c->text_b ? c->text_b : "");
+		fputc('\n', f);
+	}
+	free(idx);
+	free(on);
+}
+
+/* The cloud (grey), the front (joined, blue), the catalog published (red
+ * triangles) and refitted (orange squares): error (log) against cost. */
+static void write_svg(FILE *f, const job *J)
+{
+	const int W = 720, H = 460, L = 70, R = 20, T = 40, B = 50;
+	double cmax = 1, emin = HUGE_VAL, emax = 0;
+	for (int i = 0; i < J->nm; i++)
+		if (J->m[i].status == 0 && (J->m[i].front || !J->m[i].c)) {
+			cmax = fmax(cmax, J->m[i].cost);
+			emin = fmin(emin, J->m[i].err);
+			emax = fmax(emax, J->m[i].err);
+		}
+	if (!(emin < HUGE_VAL)) {
+		emin = 1e-3;
+		emax = 1;
+	}
+	cmax = ceil(cmax * 1.1);
+	double l0 = floor(log10(fmax(emin, 1e-12))), l1 = ceil(log10(fmax(emax, 1e-12)) + 0.3);
+	if (l1 <= l0)
+		l1 = l0 + 1;
+#define X(c) (L + (c) / cmax * (W - L - R))
+#define Y(e) (T + (l1 - log10(e)) / (l1 - l0) * (H - T - B))
+	fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
+	        "font-size=\"11\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n", W, H);
+	fprintf(f, "<text x=\"%d\" y=\"20\" font-size=\"13\">search on %s: %s (%s precision) against cost</text>\n", L,
+	        bk_target_name(J->kind), objective_name(J), bk_precision_name(J->so.precision));
+	for (double d = l0; d <= l1; d++)
+		fprintf(f, "<line x1=\"%d\" x2=\"%d\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%d\" y=\"%.1f\" "
+		        "text-anchor=\"end\">1e%g</text>\n", L, W - R, Y(pow(10, d)), Y(pow(10, d)), L - 4, Y(pow(10, d)) + 4, d);
+	double step = cmax <= 20 ? 2 : cmax <= 60 ? 5 : 10;
+	for (double c = 0; c <= cmax; c += step)
+		fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n", X(c), H - B + 16, c);
+	fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">cost (simple*%g + complex*%g)</text>\n",
+	        (L + W - R) / 2, H - 12, J->so.simple_cost, J->so.complex_cost);
+	fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\"/>\n", L, T,
+	        W - L - R, H - T - B);
+	for (size_t i = 0; i < bk_search_count(J->S); i++) {
+		const bk_cand *c = bk_search_at(J->S, i);
+		if (c->status == BK_CAND_OK && c->cost <= cmax && c->err >= pow(10, l0) && c->err <= pow(10, l1))
+			fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.5\" fill=\"#bbb\"/>\n", X(c->cost), Y(c->err));
+	}
+	fputs("<polyline fill=\"none\" stroke=\"#1f5fbf\" stroke-width=\"1.5\" points=\"", f);
+	for (int i = 0; i < J->nm; i++)
+		if (J->m[i].front)
+			fprintf(f, "%.1f,%.1f ", X(J->m[i].cost), Y(J->m[i].err));
+	fputs("\"/>\n", f);
+	for (int i = 0; i < J->nm; i++) {
+		const member *m = &J->m[i];
+		if (m->status || !(m->front || !m->c) || !(m->err > 0))
+			continue;
+		double x = X(m->cost), y = Y(m->err);
+		if (m->front)
+			fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"#1f5fbf\"><title>", x, y);
+		else if (!m->refit)
+			fprintf(f, "<path d=\"M%.1f %.1f l4 7 h-8 z\" fill=\"#c0392b\"><title>", x, y - 4);
+		else
+			fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"7\" height=\"7\" fill=\"#e67e22\"><title>", x - 3.5, y - 3.5);
+		bk_html_text(f, m->name);
+		fputs(": ", f);
+		bk_html_text(f, m->text);
+		fprintf(f, "</title></%s>\n", m->front ? "circle" : !m->refit ? "path" : "rect");
+	}
+	fprintf(f, "<g transform=\"translate(%d,%d)\"><circle cx=\"0\" cy=\"0\" r=\"3.5\" fill=\"#1f5fbf\"/><text x=\"8\" "
+	        "y=\"4\">search front (refitted)</text><path d=\"M0 10 l4 7 h-8 z\" fill=\"#c0392b\"/><text x=\"8\" y=\"18\">"
+	        "published</text><rect x=\"-3.5\" y=\"24\" width=\"7\" height=\"7\" fill=\"#e67e22\"/><text x=\"8\" "
+	        "y=\"32\">published, refitted</text><circle cx=\"0\" cy=\"42\" r=\"1.5\" fill=\"#bbb\"/><text x=\"8\" "
+	        "y=\"46\">every candidate (screening)</text></g>\n</svg>\n", W - R - 190, T + 12);
+#undef X
+#undef Y
+}
+
+static void write_section(FILE *f, const job *J)
+{
+	fprintf(f, "<section id=\"search-%s\">\n<h3>Search on %s</h3>\n<p>", bk_target_name(J->kind),
+	        bk_target_name(J->kind));
+	bk_html_text(f, J->s.description);
+	fprintf(f, "</p>\n<p>%ld candidate fits (seed %ld); error: %s in %s precision; cost: simple*%g + complex*%g. "
+	        "<code>", bk_search_evals(J->S), J->a->seed, objective_name(J), bk_precision_name(J->so.precision),
+	        J->so.simple_cost, J->so.complex_cost);
+	bk_html_text(f, J->command);
+	const char *P = J->a->prefix ? J->a->prefix : "";
+	fputs("</code></p>\n<img src=\"", f);
+	bk_html_text(f, P);
+	fputs("pareto.svg\" alt=\"error against cost\">\n<table>\n<tr><th>name</th><th>form</th><th>cost</th>"
+	      "<th>error</th><th>rmse</th><th>max |err|</th><th>half</th><th>beats</th><th>files</th></tr>\n", f);
+	for (int pass = 0; pass < 2; pass++)
+		for (int i = 0; i < J->nm; i++) {
+			const member *m = &J->m[i];
+			if (pass == 0 ? !m->front : m->c != NULL)
+				continue;
+			fputs("<tr><td>", f);
+			bk_html_text(f, m->name);
+			fputs("</td><td><code>", f);
+			bk_html_text(f, m->text);
+			if (m->text_b) {
+				fputs(" | ", f);
+				bk_html_text(f, m->text_b);
+			}
+			fprintf(f, "</code></td><td>%g</td><td>%.3g</td><td>%.3g</td><td>%.3g</td><td>%s</td><td>", m->cost,
+			        m->err, m->prec.rmse, m->prec.max_abs, m->verdict);
+			for (int k = 0, first = 1; pass == 0 && k < J->nm; k++) {
+				const member *q = &J->m[k];
+				if (q->c || q->status || !(m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err)))
+					continue;
+				fputs(first ? "" : ", ", f);
+				bk_html_text(f, q->name);
+				first = 0;
+			}
+			fputs("</td><td>", f);
+			for (int k = 0; pass == 0 && k < 3; k++) { /* the member's heatmap and shaders */
+				static const char *const file[3] = {"heatmap.png", "shader.glsl", "shader.hlsl"};
+				if (k == 0 && !(J->to.kind != BK_TARGET_FORM || J->to.ndomain <= 2))
+					continue;
+				fputs("<a href=\"", f);
+				bk_html_text(f, P);
+				fprintf(f, "front/%s/%s\">%s</a> ", m->name, file[k], file[k]);
+			}
+			fputs("</td></tr>\n", f);
+		}
+	fputs("</table>\n</section>\n", f);
+}
+
+static int write_file(const char *dir, const char *name, void (*fn)(FILE *, const job *), const job *J)
+{
+	char path[4300];
+	snprintf(path, sizeof path, "%.4000s/%s", dir, name);
+	FILE *f = fopen(path, "w");
+	if (!f)
+		return -1;
+	fn(f, J);
+	return ferror(f) | fclose(f) ? -1 : 0;
+}
+
+static int write_outputs(const job *J)
+{
+	char err[512] = "";
+	bk_out_dir od;
+	if (bk_out_dir_begin(&od, J->a->out, J->command, err, sizeof err))
+		return cli_fail("search", "--out %s", err);
+	int rc = write_file(od.tmp, "front.csv", write_front_csv, J);
+	rc |= write_file(od.tmp, "catalog.csv", write_catalog_csv, J);
+	rc |= write_file(od.tmp, "candidates.csv", write_candidates_csv, J);
+	rc |= write_file(od.tmp, "pareto.svg", write_svg, J);
+	rc |= write_file(od.tmp, "section.html", write_section, J);
+	char dir[4300];
+	snprintf(dir, sizeof dir, "%.4000s/front", od.tmp);
+	rc |= mkdir(dir, 0777);
+	for (int i = 0; rc == 0 && i < J->nm; i++) {
+		const member *m = &J->m[i];
+		if (!m->front)
+			continue;
+		snprintf(dir, sizeof dir, "%.4000s/front/%s", od.tmp, m->name);
+		char source[512];
+		snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
+		         m->c->found_at, bk_search_evals(J->S));
+		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
+		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0};
+		rc = mkdir(dir, 0777) || fit_write_into(&v, dir, err, sizeof err);
+	}
+	if (rc) {
+		bk_out_dir_abort(&od);
+		return cli_fail("search", "%s: writing the results failed%s%s", J->a->out, *err ? ": " : "", err);
+	}
+	return bk_out_dir_commit(&od, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
+}
+
+static void report(const job *J)
+{
+	printf("search on %s: %ld fits, %zu distinct candidates; front (refitted on %zu samples, %s in %s):\n",
+	       bk_target_name(J->kind), bk_search_evals(J->S), bk_search_count(J->S), J->s.n, objective_name(J),
+	       bk_precision_name(J->so.precision));
+	for (int pass = 0; pass < 2; pass++)
+		for (int i = 0; i < J->nm; i++) {
+			const member *m = &J->m[i];
+			if (pass == 0 ? !m->front : m->c != NULL)
+				continue;
+			printf("  %-28s cost %-4g %s %-10.4g %s%s%s\n", m->name, m->cost, objective_name(J), m->err, m->text,
+			       m->text_b ? " | " : "", m->text_b ? m->text_b : "");
+		}
+}
+
+static const cli_scope target_opts[] = {
+	{"--nu", 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets the half-vector cells of targets vf and spec"},
+	{"--nphi", 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets the azimuth cells of targets vf and spec"},
+	{"--smith", 1u << BK_TARGET_ENV, "it sets the Smith model of target env"},
+	{"--ior", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
+	{"--k", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
+	{"--f0", 1u << BK_TARGET_VF2D | 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets f0 of targets vf2d, vf and spec"},
+	{"--target-form", 1u << BK_TARGET_FORM, "it gives the expression of target form"},
+	{"--domain", 1u << BK_TARGET_FORM, "it gives the domain of target form"},
+	{"--r-range", ~(1u << BK_TARGET_FORM | 1u << BK_TARGET_F), "the target has no roughness axis or takes --domain"},
+	{"--x-range", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form"},
+};
+
+int cmd_search(int argc, char **argv)
+{
+	search_cli a = {.objective = "rmse", .precision = "double", .evals = 20000, .seed = 1, .threads = 0,
+	                .max_params = -1, .max_size = 24, .enum_size = 5, .enum_max = 5000, .every = 5000, .generation = 256};
+	cli_opt opts[] = {
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.t.target, .required = 1},
+		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the expression to approximate (inputs only)", .dest = &a.t.target_form},
+		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads", .dest = &a.t.domain},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
+		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "perceptual roughness range (default 0:1)", .dest = &a.t.r_range},
+		{.name = "--x-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "LoH (vf2d, f), NoV (vf, spec, env) or NoH (d) range", .dest = &a.t.x_range},
+		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x of the full grid the front is refitted on", .dest = &a.t.nx, .lo = 1, .hi = 4096},
+		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness of that grid", .dest = &a.t.nr, .lo = 1, .hi = 4096},
+		{.name = "--nu", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: half-vector cells", .dest = &a.t.nu, .lo = 1, .hi = 1024},
+		{.name = "--nphi", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: azimuth cells", .dest = &a.t.nphi, .lo = 1, .hi = 1024},
+		{.name = "--f0", .kind = CLI_LIST, .metavar = "F", .help = "f0 of vf2d, vf, spec (default 0.04)", .dest = &a.t.f0, .lo = 0, .hi = 1},
+		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.t.smith},
+		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index (default 1.5)", .dest = &a.t.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
+		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.t.k, .lo = 0, .hi = 1e6},
+		{.name = "--evals", .kind = CLI_INT, .metavar = "N", .help = "budget: candidate fits (default 20000; reproducible)", .dest = &a.evals, .lo = 1, .hi = 1e9},
+		{.name = "--seconds", .kind = CLI_NUM, .metavar = "S", .help = "also stop after S seconds (not reproducible)", .dest = &a.seconds, .lo = 0, .hi = 1e7, .lo_open = 1},
+		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the generator (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
+		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "fitting threads (default: all cores); the result does not depend on it", .dest = &a.threads, .lo = 1, .hi = 64},
+		{.name = "--inputs", .kind = CLI_STR, .metavar = "LIST", .help = "inputs a candidate may read (default: what the target provides)", .dest = &a.inputs},
+		{.name = "--ops", .kind = CLI_STR, .metavar = "LIST", .help = "operations (default + - * / sq sqrt rsqrt rcp exp2 log2 min max saturate mix)", .dest = &a.ops},
+		{.name = "--max-cost", .kind = CLI_NUM, .metavar = "C", .help = "candidates costlier than C are not fitted", .dest = &a.max_cost, .lo = 0, .hi = 1e6, .lo_open = 1},
+		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 8, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
+		{.name = "--max-size", .kind = CLI_INT, .metavar = "N", .help = "nodes per tree (default 24)", .dest = &a.max_size, .lo = 1, .hi = BK_EXPR_MAX},
+		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5)", .dest = &a.enum_size, .lo = 0, .hi = 9},
+		{.name = "--enum-max", .kind = CLI_INT, .metavar = "N", .help = "at most N fits of the enumeration (default 5000)", .dest = &a.enum_max, .lo = 0, .hi = 1e9},
+		{.name = "--generation", .kind = CLI_INT, .metavar = "N", .help = "children per generation (default 256)", .dest = &a.generation, .lo = 1, .hi = 65536},
+		{.name = "--objective", .kind = CLI_STR, .metavar = "rmse|max|albedo", .help = "the error of the front (default rmse; albedo: vf, spec)", .dest = &a.objective},
+		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals and errors", .dest = &a.relative},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
+		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
+		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
+		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
+		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "P", .help = "prefix of the links in section.html (its place relative to the page)", .dest = &a.prefix},
+		{.name = "--checkpoint", .kind = CLI_STR, .metavar = "FILE", .help = "write the state here every --every fits and at the end", .dest = &a.checkpoint},
+		{.name = "--every", .kind = CLI_INT, .metavar = "K", .help = "fits between checkpoints (default 5000)", .dest = &a.every, .lo = 1, .hi = 1e9},
+		{.name = "--resume", .kind = CLI_STR, .metavar = "FILE", .help = "continue from a checkpoint (same options; --evals may grow)", .dest = &a.resume},
+	};
+	cli_cmd cmd = {"search", "Searches closed forms for a target: candidates over the formula IR, each fitted,\n"
+	               "the Pareto front of error against GPU cost refitted in full. Writes front.csv,\n"
+	               "catalog.csv, candidates.csv, front/NAME/ (as fit --out), pareto.svg, section.html into DIR.",
+	               "--target T --out DIR [options]",
+	               "The same --seed and --evals give the same files for any --threads. SIGINT stops at the\n"
+	               "end of the current generation, writes the checkpoint and the front so far, exits 130.\n"
+	               "Exit status: 0 done, 1 failed, 2 bad usage, 130 interrupted (results written).",
+	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	job J;
+	memset(&J, 0, sizeof J);
+	J.a = &a;
+	J.cmd = &cmd;
+	a.nstart = cli_seen(&cmd, "--start");
+	if (!a.threads) {
+		long n = sysconf(_SC_NPROCESSORS_ONLN);
+		a.threads = n < 1 ? 1 : n > 64 ? 64 : n;
+	}
+	size_t k = (size_t)snprintf(J.command, sizeof J.command, "brdfkit search");
+	for (int i = 0; i < argc && k < sizeof J.command; i++)
+		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
+	if (bk_target_parse(a.t.target, &J.kind))
+		return cli_usage(&cmd, "--target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)", a.t.target);
+	if ((rc = cli_scope_check(&cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)J.kind,
+	                          bk_target_name(J.kind))))
+		return rc;
+	if (a.t.f0.n > 1)
+		return cli_usage(&cmd, "--f0: one value, got %d", a.t.f0.n);
+	if ((rc = fit_setup_target(&a.t, J.kind, &J.to)))
+		return rc;
+	char err[512];
+	if (J.kind == BK_TARGET_FORM) {
+		if (!a.t.target_form || !a.t.domain)
+			return cli_usage(&cmd, "target form needs --target-form EXPR and --domain IN=LO:HI[,...]");
+		J.to.form_text = a.t.target_form;
+		if ((rc = fit_domain(&cmd, a.t.domain, &J.to)))
+			return rc;
+		if (bk_target_form_check(&J.to, err, sizeof err))
+			return cli_usage(&cmd, "--target-form: %s", err);
+	}
+	if (cli_seen(&cmd, "--every") && !a.checkpoint)
+		return cli_usage(&cmd, "--every has no effect without --checkpoint FILE");
+	if ((rc = setup(&J)))
+		return rc;
+	if (bk_out_dir_check(a.out, err, sizeof err))
+		return cli_fail("search", "--out %s", err);
+	J.to_screen = J.to;
+	screening_grid(&J.to_screen);
+	/* the screening samples first: they are cheap, and the checks of --inputs
+	 * and --start need what the target provides before the long reference */
+	seeds sd;
+	if (bk_target_build(&J.to_screen, &J.screen, NULL, NULL, err, sizeof err)) {
+		rc = cli_fail("search", "%s", err);
+		goto done;
+	}
+	if ((rc = setup_inputs(&J)) || (rc = setup_seeds(&J, &sd)))
+		goto done;
+	if (bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err)) {
+		rc = cli_fail("search", "%s", err);
+		goto done;
+	}
+	J.so.screen = &J.screen;
+	if ((rc = run_search(&J)))
+		goto done;
+	if (build_members(&J, &sd)) {
+		rc = cli_fail("search", "out of memory or a failed refit of the front");
+		goto done;
+	}
+	report(&J);
+	rc = write_outputs(&J);
+	if (rc == 0 && J.interrupted)
+		rc = 130;
+done:
+	for (int i = 0; i < J.nm; i++)
+		member_free(&J.m[i]);
+	free(J.m);
+	bk_search_free(J.S);
+	bk_samples_free(&J.s);
+	bk_samples_free(&J.screen);
+	return rc;
+}

@@ -1,0 +1,246 @@
+/*
+ * test_search.c — the search (fit/search.h): a planted form recovered,
+ * the same bytes for any thread count, a resumed run equal to an
+ * uninterrupted one, the front non-dominated and complete, constraints held
+ * on a denser grid, the error resolution.
+ */
+#include "search.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The planted target 0.3/(LoH^2 + 0.7 r^2) on LoH in [0.3162, 1], r in [0, 1]. */
+static void planted(bk_samples *s, int cells)
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_FORM, &to);
+	to.form_text = "0.3/(LoH*LoH + 0.7*r*r)";
+	to.ndomain = 2;
+	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
+	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
+	to.nx = cells;
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+}
+
+static const char *const plant_seed[] = {"p0/(LoH*LoH + p1)"};
+
+static void plant_options(bk_search_options *o, const bk_samples *s, int threads, long evals)
+{
+	bk_search_defaults(o);
+	o->screen = s;
+	o->shape = BK_SHAPE_PLAIN;
+	memset(&o->grammar, 0, sizeof o->grammar);
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq", &o->grammar.ops, err, sizeof err), 0, "%s", err);
+	o->grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A; /* the domain's r gives a */
+	o->grammar.consts[0] = 1;
+	o->grammar.nconsts = 1;
+	o->grammar.max_params = 2;
+	o->grammar.max_size = 16;
+	o->threads = threads;
+	o->evals = evals;
+	o->seeds = plant_seed;
+	o->nseeds = 1;
+	o->seed = 7;
+}
+
+static bk_search *run(const bk_search_options *o)
+{
+	char err[256];
+	bk_search *s = bk_search_new(o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	int rc;
+	while ((rc = bk_search_step(s, err, sizeof err)) == 1)
+		;
+	cr_assert_eq(rc, 0, "%s", err);
+	return s;
+}
+
+/* Every candidate, field by field, bit for bit. */
+static void same(const bk_search *a, const bk_search *b)
+{
+	cr_assert_eq(bk_search_count(a), bk_search_count(b));
+	for (size_t i = 0; i < bk_search_count(a); i++) {
+		const bk_cand *x = bk_search_at(a, i), *y = bk_search_at(b, i);
+		cr_assert_str_eq(x->text, y->text, "candidate %zu", i);
+		cr_assert_eq(x->found_at, y->found_at);
+		cr_assert_eq(x->status, y->status);
+		cr_assert_eq(memcmp(&x->err, &y->err, sizeof x->err), 0, "%s", x->text);
+		cr_assert_eq(memcmp(x->p, y->p, sizeof(double) * (size_t)x->np), 0, "%s", x->text);
+	}
+}
+
+Test(search, planted_form_recovered)
+{
+	bk_samples s;
+	planted(&s, 32);
+	bk_search_options o;
+	plant_options(&o, &s, 2, 3000);
+	bk_search *S = run(&o);
+	double best = HUGE_VAL;
+	const char *text = "";
+	for (size_t i = 0; i < bk_search_count(S); i++) {
+		const bk_cand *c = bk_search_at(S, i);
+		if (c->status == BK_CAND_OK && c->rmse < best)
+			best = c->rmse, text = c->text;
+	}
+	cr_assert_leq(best, 1e-9, "best %g (%s)", best, text);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+Test(search, threads_do_not_change_the_result)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 1, 1500);
+	bk_search *a = run(&o);
+	o.threads = 2;
+	bk_search *b = run(&o);
+	same(a, b);
+	bk_search_free(a);
+	bk_search_free(b);
+	bk_samples_free(&s);
+}
+
+Test(search, resume_equals_an_uninterrupted_run)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 2, 700);
+	bk_search *part = run(&o);
+	FILE *f = tmpfile();
+	cr_assert(f);
+	cr_assert_eq(bk_search_save(part, f), 0);
+	rewind(f);
+	o.evals = 1500;
+	char err[256];
+	bk_search *resumed = bk_search_new(&o, err, sizeof err);
+	cr_assert_eq(bk_search_load(resumed, f, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	int rc;
+	while ((rc = bk_search_step(resumed, err, sizeof err)) == 1)
+		;
+	cr_assert_eq(rc, 0);
+	bk_search *whole = run(&o);
+	same(whole, resumed);
+	/* a checkpoint of other options is refused */
+	f = tmpfile();
+	bk_search_save(part, f);
+	rewind(f);
+	o.seed = 8;
+	bk_search *other = bk_search_new(&o, err, sizeof err);
+	cr_assert_eq(bk_search_load(other, f, err, sizeof err), -1);
+	cr_assert(strstr(err, "other options"), "%s", err);
+	fclose(f);
+	bk_search_free(other);
+	bk_search_free(part);
+	bk_search_free(resumed);
+	bk_search_free(whole);
+	bk_samples_free(&s);
+}
+
+/* No ok candidate is at most as costly and at most as wrong as a front
+ * member, one of them strictly; and every ok candidate off the front is
+ * matched or beaten by a member (the front is complete). */
+Test(search, front_is_the_pareto_front)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 2, 1500);
+	bk_search *S = run(&o);
+	size_t n = bk_search_count(S), *idx = malloc(sizeof(size_t) * n);
+	size_t nf = bk_search_front(S, idx, n);
+	cr_assert_gt(nf, 1);
+	for (size_t k = 0; k < nf; k++) {
+		const bk_cand *m = bk_search_at(S, idx[k]);
+		cr_assert_eq(m->status, BK_CAND_OK);
+		for (size_t i = 0; i < n; i++) {
+			const bk_cand *c = bk_search_at(S, i);
+			if (c->status != BK_CAND_OK || i == idx[k])
+				continue;
+			cr_assert_not(c->cost <= m->cost && c->err <= m->err && (c->cost < m->cost || c->err < m->err),
+			              "%s dominates front member %s", c->text, m->text);
+		}
+	}
+	for (size_t i = 0; i < n; i++) {
+		const bk_cand *c = bk_search_at(S, i);
+		int covered = c->status != BK_CAND_OK;
+		for (size_t k = 0; k < nf && !covered; k++) {
+			const bk_cand *m = bk_search_at(S, idx[k]);
+			covered = m->cost <= c->cost && m->err <= c->err;
+		}
+		cr_assert(covered, "%s (cost %g, error %g) is neither on the front nor beaten by it", c->text, c->cost, c->err);
+	}
+	free(idx);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* vf2d with the non-negativity constraint: every front member stays finite
+ * and >= 0 on a grid four times denser along each axis than it was fitted on. */
+Test(search, constraints_hold_on_a_denser_grid)
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_VF2D, &to);
+	to.nx = to.nr = 16;
+	bk_samples s, dense;
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, &s, NULL, NULL, err, sizeof err), 0);
+	to.nx = to.nr = 64;
+	cr_assert_eq(bk_target_build(&to, &dense, NULL, NULL, err, sizeof err), 0);
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = &s;
+	o.shape = BK_SHAPE_F0;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	o.grammar.consts[0] = 1;
+	o.grammar.nconsts = 1;
+	o.grammar.max_params = 3;
+	o.grammar.max_size = 16;
+	o.nonneg = 1;
+	o.evals = 1500;
+	o.threads = 2;
+	bk_search *S = run(&o);
+	size_t idx[64], nf = bk_search_front(S, idx, 64);
+	cr_assert_gt(nf, 2);
+	double *v = malloc(sizeof(double) * dense.n);
+	for (size_t k = 0; k < nf; k++) {
+		const bk_cand *m = bk_search_at(S, idx[k]);
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(m->text, &fe);
+		cr_assert(f);
+		bk_form_eval(f, BK_F64, dense.n, (const double *const *)dense.in, m->p, v);
+		for (size_t i = 0; i < dense.n; i++)
+			cr_assert(isfinite(v[i]) && v[i] >= 0, "%s = %g at LoH %g, r %g", m->text, v[i], dense.in[BK_IN_LOH][i],
+			          dense.in[BK_IN_R][i]);
+		bk_form_free(f);
+	}
+	free(v);
+	bk_search_free(S);
+	bk_samples_free(&s);
+	bk_samples_free(&dense);
+}
+
+/* 20 significant bits (the step in [1, 2) is 2^-19), ties to even: values
+ * built from their bits. */
+Test(search, error_resolution)
+{
+	cr_assert_eq(bk_search_round_err(1.0), 1.0);
+	cr_assert_eq(bk_search_round_err(1.0 + ldexp(1, -22)), 1.0);            /* an eighth of a step: down */
+	cr_assert_eq(bk_search_round_err(1.0 + 3 * ldexp(1, -21)), 1.0 + ldexp(1, -19)); /* three quarters: up */
+	cr_assert_eq(bk_search_round_err(1.0 + ldexp(1, -20)), 1.0);            /* a tie: to even, down */
+	cr_assert_eq(bk_search_round_err(1.0 + 3 * ldexp(1, -20)), 1.0 + ldexp(1, -18)); /* a tie: to even, up */
+	cr_assert_eq(bk_search_round_err(0.75 * ldexp(1, -40)), 0.75 * ldexp(1, -40));
+	cr_assert(isinf(bk_search_round_err(HUGE_VAL)));
+	cr_assert_eq(bk_search_round_err(0.0), 0.0);
+}
