@@ -153,6 +153,9 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search
 	build/bench_fit
 	build/bench_search
 
+# candidate fits per search of make results (a budget, so the fronts are reproducible)
+SEARCH_EVALS = 20000
+
 results: $(TOOL)
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were
 	# written before the marker, so they (and the LUT pairs from before the
@@ -182,13 +185,27 @@ results: $(TOOL)
 	$(TOOL) compare --target spec --out results/compare/spec --link-prefix compare/spec/
 	$(TOOL) compare --target f --out results/compare/f --link-prefix compare/f/
 	$(TOOL) stability --all --out results/stability --link-prefix stability/
+	# the search for closed forms: fixed budgets and seeds, so the fronts are
+	# reproducible; each front is refitted in full and compared with the catalog
+	@mkdir -p results/search
+	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --out results/search/vf2d --link-prefix search/vf2d/
+	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS) --out results/search/vf --link-prefix search/vf/
+	$(TOOL) search --target env --evals $(SEARCH_EVALS) --out results/search/env --link-prefix search/env/
+	$(TOOL) search --target f --evals $(SEARCH_EVALS) --out results/search/f_glass --link-prefix search/f_glass/
+	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS) --out results/search/f_gold \
+	  --link-prefix search/f_gold/
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
 	  results/compare/spec/section.html results/compare/f/section.html \
-	  results/stability/section.html
+	  results/stability/section.html results/search/vf2d/section.html results/search/vf/section.html \
+	  results/search/env/section.html results/search/f_glass/section.html results/search/f_gold/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
+	done
+	for t in vf2d vf env f_glass f_gold; do \
+	  cp results/search/$$t/front.csv notebooks_data/search_front_$$t.csv; \
+	  cp results/search/$$t/catalog.csv notebooks_data/search_catalog_$$t.csv; \
 	done
 	cp results/albedo.csv notebooks_data/albedo.csv
 	cp results/stability/stability.csv notebooks_data/stability.csv

@@ -78,6 +78,15 @@ int cmd_report(int argc, char **argv)
 				p--;
 			snprintf(name, sizeof name, "%.*s", (int)(slash - p), p);
 		}
+		FILE *sf = fopen(cmd.pos[i], "r"); /* the section's own id, where it opens with one */
+		char head[256] = "", *id;
+		if (sf) {
+			size_t got = fread(head, 1, sizeof head - 1, sf);
+			head[got] = '\0';
+			fclose(sf);
+		}
+		if (!strncmp(head, "<section id=\"", 13) && (id = strchr(head + 13, '"')) && id - head - 13 < 63)
+			snprintf(name, sizeof name, "%.*s", (int)(id - head - 13), head + 13);
 		fprintf(f, "%s<a href=\"#%s\">%s</a>", i ? ", " : "", name, name);
 	}
 	fputs(".</p>\n", f);

@@ -178,7 +178,7 @@ static void screening_grid(bk_target_options *o)
 	case BK_TARGET_VF2D:
 	case BK_TARGET_D: o->nx = o->nr = 32; break;
 	case BK_TARGET_VF:
-	case BK_TARGET_SPEC: o->nx = o->nr = 8; break;
+	case BK_TARGET_SPEC: o->nx = o->nr = 8, o->nu = 8, o->nphi = 4; break; /* 2,048 samples */
 	case BK_TARGET_ENV: o->nx = o->nr = 16; break;
 	case BK_TARGET_F: o->nx = 64; break;
 	case BK_TARGET_FORM: {
@@ -259,6 +259,7 @@ static int setup_inputs(job *J)
 
 typedef struct seeds {
 	const char *text[MAX_SEEDS], *text_b[MAX_SEEDS], *name[MAX_SEEDS];
+	char *owned[MAX_SEEDS]; /* texts made here (V x Schlick) */
 	double p[MAX_SEEDS][BK_MAX_PARAMS];
 	int n;
 } seeds;
@@ -270,8 +271,23 @@ static int setup_seeds(job *J, seeds *sd)
 	if (J->a->nstart == 0 && tag) /* every catalog entry of the target */
 		for (size_t i = 0; i < bk_catalog_count() && sd->n < MAX_SEEDS; i++) {
 			const bk_catalog_entry *e = bk_catalog_at(i);
-			if (strcmp(e->target, tag) || !entry_fits(e, J->screen.provides)) /* published forms seed whatever their size */
+			/* vf: the V-only entries times Schlick's F, as compare scores them */
+			int v_only = J->kind == BK_TARGET_VF && !strcmp(e->target, "V");
+			if ((strcmp(e->target, tag) && !v_only) || !entry_fits(e, J->screen.provides))
+				continue; /* published forms seed whatever their size */
+			if (v_only) {
+				char *t = malloc(strlen(e->form) + 32);
+				if (!t)
+					return cli_fail("search", "out of memory");
+				sprintf(t, "(%s)*F_schlick(f0, 1, LoH)", e->form);
+				sd->owned[sd->n] = t;
+				sd->text[sd->n] = t;
+				sd->text_b[sd->n] = NULL;
+				sd->name[sd->n] = e->name;
+				memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
+				sd->n++;
 				continue;
+			}
 			sd->text[sd->n] = e->form;
 			sd->text_b[sd->n] = e->form_b;
 			sd->name[sd->n] = e->name;
@@ -534,19 +550,21 @@ static int build_members(job *J, const seeds *sd)
 	J->m = calloc((size_t)(2 * sd->n) + nf + 1, sizeof *J->m);
 	if (!J->m)
 		return -1;
-	for (int k = 0; k < sd->n; k++) {
+	for (int k = 0; k < sd->n; k++) { /* catalog names, and typed --start forms as "start K" */
 		const bk_catalog_entry *e = sd->name[k] ? bk_catalog_find(sd->name[k]) : NULL;
-		if (!e)
-			continue;
 		for (int r = 0; r < 2; r++) {
 			member *m = &J->m[J->nm++];
 			m->entry = e;
 			m->refit = r;
-			snprintf(m->name, sizeof m->name, "%s%s", e->name, r ? " (refit)" : "");
-			m->text = e->form;
-			m->text_b = e->form_b;
+			if (e)
+				snprintf(m->name, sizeof m->name, "%s%s%s", e->name, strcmp(e->form, sd->text[k]) ? " x F_schlick" : "",
+				         r ? " (refit)" : "");
+			else
+				snprintf(m->name, sizeof m->name, "start %d%s", k + 1, r ? " (refit)" : "");
+			m->text = sd->text[k];
+			m->text_b = sd->text_b[k];
 			cli_progress("catalog", J->nm, 2 * sd->n);
-			if (score_member(J, m, e->defaults, r))
+			if (score_member(J, m, sd->p[k], r))
 				return -1;
 		}
 	}
@@ -768,8 +786,12 @@ static void write_svg(FILE *f, const job *J)
 
 static void write_section(FILE *f, const job *J)
 {
-	fprintf(f, "<section id=\"search-%s\">\n<h3>Search on %s</h3>\n<p>", bk_target_name(J->kind),
-	        bk_target_name(J->kind));
+	char base[256], id[256];
+	const char *b = strrchr(J->a->out, '/');
+	snprintf(base, sizeof base, "%s", b && b[1] ? b + 1 : J->a->out);
+	bk_slug(base, id, sizeof id);
+	fprintf(f, "<section id=\"search-%s\">\n<h2>Search on <code>%s</code> (%s)</h2>\n<p>", id,
+	        bk_target_name(J->kind), id);
 	bk_html_text(f, J->s.description);
 	fprintf(f, "</p>\n<p>%ld candidate fits (seed %ld); error: %s in %s precision; cost: simple*%g + complex*%g. "
 	        "<code>", bk_search_evals(J->S), J->a->seed, objective_name(J), bk_precision_name(J->so.precision),
@@ -944,6 +966,8 @@ int cmd_search(int argc, char **argv)
 		return rc == 1 ? 0 : rc;
 	job J;
 	memset(&J, 0, sizeof J);
+	seeds sd;
+	memset(&sd, 0, sizeof sd);
 	J.a = &a;
 	J.cmd = &cmd;
 	a.nstart = cli_seen(&cmd, "--start");
@@ -983,7 +1007,6 @@ int cmd_search(int argc, char **argv)
 	screening_grid(&J.to_screen);
 	/* the screening samples first: they are cheap, and the checks of --inputs
 	 * and --start need what the target provides before the long reference */
-	seeds sd;
 	if (bk_target_build(&J.to_screen, &J.screen, NULL, NULL, err, sizeof err)) {
 		rc = cli_fail("search", "%s", err);
 		goto done;
@@ -1006,6 +1029,8 @@ int cmd_search(int argc, char **argv)
 	if (rc == 0 && J.interrupted)
 		rc = 130;
 done:
+	for (int k = 0; k < sd.n; k++)
+		free(sd.owned[k]);
 	for (int i = 0; i < J.nm; i++)
 		member_free(&J.m[i]);
 	free(J.m);
