@@ -32,20 +32,28 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 	const double *in[BK_IN_COUNT];
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		in[k] = s->in[k] + lo;
-	double *v = malloc(sizeof(double) * (size_t)m * (size_t)(1 + (npf ? npf : 1)));
-	if (!v)
-		return -1;
-	double *jf = v + m;
-	int bad = jac ? bk_form_eval_diff(f, (size_t)m, in, p, v, jf) : bk_form_eval(f, BK_F64, (size_t)m, in, p, v);
+	/* The form's values and Jacobian go straight into r and jac, and are
+	 * scaled there in place (no buffer, no copy: this runs for every block at
+	 * every iteration); only a form with fewer parameters than the fit (one
+	 * component of several) needs its narrower Jacobian apart. */
+	double *jf = jac, *narrow = NULL;
+	if (jac && npf != np) {
+		narrow = malloc(sizeof(double) * (size_t)m * (size_t)(npf ? npf : 1));
+		if (!narrow)
+			return -1;
+		jf = narrow;
+	}
+	int bad = jac ? bk_form_eval_diff(f, (size_t)m, in, p, r, jf) : bk_form_eval(f, BK_F64, (size_t)m, in, p, r);
+	const double *sw = c->sw + lo, *inv = c->inv + lo, *y = s->y + lo;
 	for (int i = 0; i < m && !bad; i++) {
-		double k = c->sw[lo + i] * c->inv[lo + i];
-		r[i] = k * (v[i] - s->y[lo + i]);
+		double k = sw[i] * inv[i];
+		r[i] = k * (r[i] - y[i]);
 		bad |= !isfinite(r[i]);
 		if (jac)
 			for (int j = 0; j < np; j++)
 				jac[(size_t)i * np + j] = j < npf ? k * jf[(size_t)i * npf + j] : 0.0;
 	}
-	free(v);
+	free(narrow);
 	return bad ? -1 : 0;
 }
 
