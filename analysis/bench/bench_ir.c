@@ -14,6 +14,7 @@
  */
 #include "clock.h"
 #include "brdf.h"
+#include "ir.h" /* the instruction count, for node evaluations per second */
 
 #include <math.h>
 #include <stdio.h>
@@ -175,10 +176,16 @@ int main(void)
 		       forms[j].name, forms[j].what, forms[j].text, ops.simple + ops.complex, ops.simple,
 		       ops.complex, max_rel_diff(out[IR32], out[COMPILED]));
 		double tc = bk_clock_median(times[j][COMPILED], REPS);
-		printf("  %-16s %12s %14s\n", "method", "ns/sample", "x emitted C");
+		/* node evaluations per second (the issue-10 figure; PySR publishes
+		 * ~0.5 G per thread): operations x samples / time, and the same
+		 * counting every IR instruction, loads of inputs, constants and
+		 * parameters included (a tree's leaves are nodes too) */
+		int ops_n = ops.simple + ops.complex, instrs = f[j]->n;
+		printf("  %-16s %12s %14s %14s %14s\n", "method", "ns/sample", "x emitted C", "G ops/s", "G instr/s");
 		for (int m = 0; m < NMETHODS; m++) {
 			double t = bk_clock_median(times[j][m], REPS);
-			printf("  %-16s %12.2f %14.2f\n", method_name[m], 1e9 * t / N, t / tc);
+			printf("  %-16s %12.2f %14.2f %14.3f %14.3f\n", method_name[m], 1e9 * t / N, t / tc,
+			       1e-9 * ops_n * N / t, 1e-9 * instrs * N / t);
 			if ((m == IR64 || m == IR32) && t > 3 * tc)
 				met = 0;
 		}
