@@ -153,8 +153,9 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search
 	build/bench_fit
 	build/bench_search
 
-# candidate fits per search of make results (a budget, so the fronts are reproducible)
-SEARCH_EVALS = 20000
+# candidate fits per search of make results (a budget, so the fronts are reproducible;
+# each search writes candidates.csv, every fit, which git ignores: 10 MB for the five)
+SEARCH_EVALS = 100000
 
 results: $(TOOL)
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were

@@ -425,9 +425,11 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 	char a[4200], b[4200];
 	memset(c, 0, sizeof *c);
 	bk_expr t[2] = {t0[0], t0[1]};
-	for (int h = 0; s->o.scale && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++)
-		if (scaled(&t[h]))
-			return 0;
+	for (int h = 0; s->o.scale && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
+		bk_expr w = t[h];
+		if (scaled(&w) == 0 && bk_expr_nparams(&w) <= s->tree_g.max_params) /* room for the scale */
+			t[h] = w;
+	}
 	if (shape_text(s, t, a, b, sizeof a))
 		return 0;
 	char key[8500];

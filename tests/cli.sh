@@ -599,6 +599,15 @@ expect_error "search every" "--every" $BK search --target vf2d --every 10 --out 
 expect_error "search start target" "vf_talk_r" $BK search --target env --start vf_talk_r --out "$T/s1"
 expect_error "search weights" "--cost-weights" $BK search --target vf2d --cost-weights simple=-1 --out "$T/s1"
 [ ! -e "$T/s1" ] && ok || bad "a refused search left --out behind"
+# SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
+$BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
+pid=$!
+sleep 3
+kill -INT $pid
+wait $pid
+st=$?
+[ $st -eq 130 ] && [ -s "$T/int/front.csv" ] && [ -s "$T/int.ck" ] && ok \
+	|| bad "search after SIGINT: exit $st, front.csv $(ls "$T/int" 2>&1 | head -3), checkpoint $(ls -la "$T/int.ck" 2>&1)"
 
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)

@@ -749,11 +749,19 @@ static void write_svg(FILE *f, const job *J)
 	        (L + W - R) / 2, H - 12, J->so.simple_cost, J->so.complex_cost);
 	fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\"/>\n", L, T,
 	        W - L - R, H - T - B);
-	for (size_t i = 0; i < bk_search_count(J->S); i++) {
+	/* the cloud, one dot per pixel it covers (tens of thousands of candidates
+	 * fall on a few thousand pixels: the file stays small) */
+	unsigned char *seen = calloc((size_t)W * H, 1);
+	for (size_t i = 0; seen && i < bk_search_count(J->S); i++) {
 		const bk_cand *c = bk_search_at(J->S, i);
-		if (c->status == BK_CAND_OK && c->cost <= cmax && c->err >= pow(10, l0) && c->err <= pow(10, l1))
-			fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"1.5\" fill=\"#bbb\"/>\n", X(c->cost), Y(c->err));
+		if (c->status != BK_CAND_OK || c->cost > cmax || !(c->err >= pow(10, l0) && c->err <= pow(10, l1)))
+			continue;
+		int px = (int)lround(X(c->cost)), py = (int)lround(Y(c->err));
+		if (px < 0 || px >= W || py < 0 || py >= H || seen[(size_t)py * W + px]++)
+			continue;
+		fprintf(f, "<circle cx=\"%d\" cy=\"%d\" r=\"1.5\" fill=\"#bbb\"/>\n", px, py);
 	}
+	free(seen);
 	fputs("<polyline fill=\"none\" stroke=\"#1f5fbf\" stroke-width=\"1.5\" points=\"", f);
 	for (int i = 0; i < J->nm; i++)
 		if (J->m[i].front)
@@ -1020,6 +1028,12 @@ int cmd_search(int argc, char **argv)
 	J.so.screen = &J.screen;
 	if ((rc = run_search(&J)))
 		goto done;
+	size_t one;
+	if (bk_search_front(J.S, &one, 1) == 0) { /* nothing to write: say why instead of an empty front */
+		rc = cli_fail("search", "no candidate fitted the target within the limits (--max-cost, --max-params, "
+		              "--max-size, --ops, --inputs and the constraints) in %ld fits", bk_search_evals(J.S));
+		goto done;
+	}
 	if (build_members(&J, &sd)) {
 		rc = cli_fail("search", "out of memory or a failed refit of the front");
 		goto done;
