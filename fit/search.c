@@ -15,9 +15,12 @@
 #include <string.h>
 #include <sys/types.h>
 
-/* Screening fits stop early: a candidate only has to be ranked, and the
- * front's members are refitted in full afterwards. */
-#define SCREEN_ITERATIONS 60
+/* Screening fits stop early: a candidate only has to be ranked (errors are
+ * compared at 20 bits, ~1e-6), and the front's members are refitted in full
+ * afterwards with fit's tolerances. */
+#define SCREEN_ITERATIONS 40
+#define SCREEN_FTOL 1e-6
+#define SCREEN_PTOL 1e-8
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
 #define TRIES_PER_CHILD 30
@@ -207,7 +210,8 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	spec.np = c->np;
 	bk_fit_options opt = BK_FIT_OPTIONS_INIT;
 	opt.max_iterations = SCREEN_ITERATIONS;
-	opt.function_tolerance = 1e-10;
+	opt.function_tolerance = SCREEN_FTOL;
+	opt.parameter_tolerance = SCREEN_PTOL;
 	spec.opt = opt;
 	spec.relative = s->o.relative;
 	spec.starts = 1;
@@ -238,6 +242,10 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 			best_cost = sum.final_cost;
 			memcpy(best, p, sizeof best);
 		}
+		/* the next start only where this one did not converge: most candidates
+		 * converge from the first, and a screening fit is most of the search */
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
+			break;
 	}
 	bk_fit_ctx_free(&ctx);
 	if (!(best_cost < HUGE_VAL))

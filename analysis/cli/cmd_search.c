@@ -294,6 +294,14 @@ static int setup_seeds(job *J, seeds *sd)
 			memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
 			sd->n++;
 		}
+	if (J->a->nstart == 0 && J->kind == BK_TARGET_F && sd->n < MAX_SEEDS) { /* the baseline every F form is held to */
+		sd->text[sd->n] = "F_schlick(f0, 1, LoH)";
+		sd->text_b[sd->n] = NULL;
+		sd->name[sd->n] = "F_schlick";
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			sd->p[sd->n][j] = 1.0;
+		sd->n++;
+	}
 	for (int k = 0; k < J->a->nstart; k++) {
 		const bk_catalog_entry *e = bk_catalog_find(J->a->start[k]);
 		if (e && tag && strcmp(e->target, tag))
@@ -559,6 +567,8 @@ static int build_members(job *J, const seeds *sd)
 			if (e)
 				snprintf(m->name, sizeof m->name, "%s%s%s", e->name, strcmp(e->form, sd->text[k]) ? " x F_schlick" : "",
 				         r ? " (refit)" : "");
+			else if (sd->name[k])
+				snprintf(m->name, sizeof m->name, "%s%s", sd->name[k], r ? " (refit)" : "");
 			else
 				snprintf(m->name, sizeof m->name, "start %d%s", k + 1, r ? " (refit)" : "");
 			m->text = sd->text[k];
@@ -572,7 +582,13 @@ static int build_members(job *J, const seeds *sd)
 		const bk_cand *c = bk_search_at(J->S, idx[i]);
 		member *m = &J->m[J->nm++];
 		m->c = c;
-		snprintf(m->name, sizeof m->name, "search_%s_%zu", bk_target_name(J->kind), i + 1);
+		if (c->seed_name) { /* a seed on the front: named after it */
+			char slug[80];
+			bk_slug(c->seed_name, slug, sizeof slug);
+			snprintf(m->name, sizeof m->name, "seed_%s", slug);
+		} else {
+			snprintf(m->name, sizeof m->name, "search_%s_%zu", bk_target_name(J->kind), i + 1);
+		}
 		m->text = c->text;
 		m->text_b = c->text_b;
 		cli_progress("refit of the front", (int)i + 1, (int)nf);
