@@ -24,9 +24,6 @@
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
 #define TRIES_PER_CHILD 30
-/* The pair constraint A + B <= 1 is checked with this slack: the exact
- * A + B reaches 1 at r = 0, NoV = 1 where a fitted form may round above. */
-#define ENV_SLACK 1e-6
 #define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 1"
 
 typedef struct level {
@@ -51,6 +48,7 @@ struct bk_search {
 	int phase;       /* 0 seeds, 1 enumeration, 2 evolution, 3 done */
 	size_t enum_pos;
 	bk_grammar tree_g; /* the grammar of one tree: a pair's halves get half the parameters */
+	bk_grammar feat_g; /* the grammar of a pair's shared feature */
 	bk_expr *en;     /* the enumerated trees, in order */
 	size_t nen;
 };
@@ -133,6 +131,12 @@ static int shape_text(const bk_search *s, const bk_expr *t, char *a, char *b, si
 	case BK_SHAPE_F0:
 		return snprintf(a, len, "f0*(%s)", g) >= (int)len ? -1 : 0;
 	case BK_SHAPE_PAIR: {
+		if (t[1].n == 0) { /* a shared feature s: A and B linear in s and r (Karis' structure) */
+			int k = bk_expr_nparams(&t[0]), r = s->o.grammar.inputs >> BK_IN_R & 1;
+			int ra = snprintf(a, len, r ? "p%d*(%s) + p%d*r + p%d" : "p%d*(%s) + p%d", k, g, k + 1, k + 2);
+			int rb = snprintf(b, len, r ? "p%d*(%s) + p%d*r + p%d" : "p%d*(%s) + p%d", k + 3, g, k + 4, k + 5);
+			return ra >= (int)len || rb >= (int)len ? -1 : 0;
+		}
 		/* B's parameters follow A's: shift them in a copy */
 		bk_expr tb = t[1];
 		int na = bk_expr_nparams(&t[0]);
@@ -273,7 +277,7 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	if (c->status == BK_CAND_OK && s->o.env_bound && sm->ncomp == 2 && !exempt) {
 		size_t na = sm->start[1];
 		for (size_t i = 0; i < na; i++)
-			if (v[i] < 0 || v[na + i] < 0 || v[i] + v[na + i] > 1 + ENV_SLACK)
+			if (v[i] < -BK_SEARCH_ENV_SLACK || v[na + i] < -BK_SEARCH_ENV_SLACK || v[i] + v[na + i] > 1 + BK_SEARCH_ENV_SLACK)
 				c->status = BK_CAND_CONSTRAINT;
 	}
 	if (c->status != BK_CAND_OK)
@@ -433,7 +437,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 	char a[4200], b[4200];
 	memset(c, 0, sizeof *c);
 	bk_expr t[2] = {t0[0], t0[1]};
-	for (int h = 0; s->o.scale && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
+	for (int h = 0; s->o.scale && t[1].n && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
 		bk_expr w = t[h];
 		if (scaled(&w) == 0 && bk_expr_nparams(&w) <= s->tree_g.max_params) /* room for the scale */
 			t[h] = w;
@@ -496,14 +500,23 @@ static int child(bk_search *s, bk_expr *t)
 	int which = s->o.shape == BK_SHAPE_PAIR ? (int)bk_rng_below(&s->rng, 2) : 0;
 	t[0] = a->tree[0];
 	t[1] = a->tree[1];
+	if (s->o.shape == BK_SHAPE_PAIR && a->tree[1].n == 0) { /* a shared feature: its one tree */
+		g = &s->feat_g;
+		which = 0;
+		if (bk_rng_unit(&s->rng) < 0.7)
+			return bk_expr_mutate(g, &s->rng, &a->tree[0], &t[0]);
+		const bk_cand *b = pick(s);
+		return bk_expr_crossover(g, &s->rng, &a->tree[0], &b->tree[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
+	}
 	if (bk_rng_unit(&s->rng) < 0.7)
 		return bk_expr_mutate(g, &s->rng, &a->tree[which], &t[which]);
 	const bk_cand *b = pick(s);
+	const bk_expr *donor = b->tree[which].n ? &b->tree[which] : &b->tree[0]; /* a feature pair has one tree */
 	if (s->o.shape == BK_SHAPE_PAIR && bk_rng_unit(&s->rng) < 0.25) { /* swap a whole half */
-		t[which] = b->tree[which];
+		t[which] = *donor;
 		return 0;
 	}
-	return bk_expr_crossover(g, &s->rng, &a->tree[which], &b->tree[which], &t[which]);
+	return bk_expr_crossover(g, &s->rng, &a->tree[which], donor, &t[which]);
 }
 
 int bk_search_step(bk_search *s, char *err, size_t errlen)
@@ -556,19 +569,24 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		 * larger budget must make the same candidates); the smallest trees come
 		 * first, and a default grammar at 5 nodes holds tens of thousands */
 		long cap = s->o.enum_max;
-		while (n < want && s->evals + (long)n < cap && s->enum_pos < s->nen * (s->o.shape == BK_SHAPE_PAIR ? 2 : 1)) {
+		size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
+		while (n < want && s->evals + (long)n < cap && s->enum_pos < s->nen * kinds) {
 			size_t k = s->enum_pos++;
-			bk_expr t[2] = {s->en[k % s->nen], lone_param()};
-			if (k >= s->nen) { /* pairs: (T, p) first, then (p, T) */
+			bk_expr t[2] = {s->en[k / kinds], lone_param()};
+			if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
 				t[1] = t[0];
 				t[0] = lone_param();
+			} else if (k % kinds == 2) {
+				t[1].n = 0;
+				if (bk_expr_nparams(&t[0]) > s->feat_g.max_params)
+					continue;
 			}
 			int r = prepare(s, t, &c[n]);
 			if (r < 0)
 				goto oom;
 			n += (size_t)r;
 		}
-		if (s->enum_pos >= s->nen * (s->o.shape == BK_SHAPE_PAIR ? 2 : 1) || s->evals + (long)n >= cap)
+		if (s->enum_pos >= s->nen * kinds || s->evals + (long)n >= cap)
 			s->phase = 2;
 	} else { /* evolution */
 		if (s->nlv == 0) {
@@ -700,6 +718,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	bk_rng_seed(&s->rng, o->seed);
 	en_ctx x = {s, 0};
 	bk_grammar g = o->grammar;
+	s->feat_g = g; /* a shared feature leaves 6 parameters to A and B (shape_text) */
+	s->feat_g.max_params = g.max_params > 6 ? g.max_params - 6 : 0;
 	if (s->o.shape == BK_SHAPE_PAIR && g.max_params > 1)
 		g.max_params /= 2;
 	s->tree_g = g;

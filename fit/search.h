@@ -33,13 +33,21 @@
 /* Errors are rounded to this many significant bits before any comparison. */
 #define BK_SEARCH_ERR_BITS 20
 
+/* env's constraints A, B >= 0 and A + B <= 1 hold to half an 8-bit unorm step:
+ * less is invisible in an 8-bit render target, and an exact zero slack rejects
+ * nearly every affine form (the exact A + B reaches 1 at r = 0, NoV = 1, and
+ * Karis' published fit itself dips below 0). */
+#define BK_SEARCH_ENV_SLACK (0.5 / 255)
+
 typedef enum bk_objective { BK_OBJ_RMSE, BK_OBJ_MAX, BK_OBJ_ALBEDO } bk_objective;
 
 /* How a candidate's trees become the form that is fitted. */
 typedef enum bk_shape {
 	BK_SHAPE_PLAIN, /* the tree is the form */
 	BK_SHAPE_F0,    /* the talk's scalar pipeline: f0*(g), specColor applied at the end */
-	BK_SHAPE_PAIR   /* env split sum: trees A and B, parameters of B after A's */
+	BK_SHAPE_PAIR   /* env split sum: trees A and B, parameters of B after A's; or one
+	                   tree s shared by both (tree[1] empty), A = p*s + p'*r + p'',
+	                   B likewise with its own three (Karis' structure, s paid once) */
 } bk_shape;
 
 typedef struct bk_search_options {

@@ -226,7 +226,7 @@ static int setup(job *J)
 		return cli_usage(cmd, "--ops: %s", err);
 	g->consts[0] = 1.0;
 	g->nconsts = 1;
-	g->max_params = a->max_params >= 0 ? (int)a->max_params : J->kind == BK_TARGET_ENV ? 8 : 4;
+	g->max_params = a->max_params >= 0 ? (int)a->max_params : J->kind == BK_TARGET_ENV ? 10 : 4;
 	g->max_size = (int)a->max_size;
 	switch (J->kind) {
 	case BK_TARGET_VF2D:
@@ -499,7 +499,8 @@ static int score_member(job *J, member *m, const double *start, int fit)
 				continue;
 			if (J->so.nonneg && v[i] < 0)
 				m->status = 1;
-			if (J->so.env_bound && i < na && (v[i] < 0 || v[na + i] < 0 || v[i] + v[na + i] > 1 + 1e-6))
+			if (J->so.env_bound && i < na && (v[i] < -BK_SEARCH_ENV_SLACK || v[na + i] < -BK_SEARCH_ENV_SLACK ||
+			                                  v[i] + v[na + i] > 1 + BK_SEARCH_ENV_SLACK))
 				m->status = 1;
 		}
 		m->err = bk_search_round_err(objective(J, &m->prec));
@@ -961,7 +962,7 @@ int cmd_search(int argc, char **argv)
 		{.name = "--inputs", .kind = CLI_STR, .metavar = "LIST", .help = "inputs a candidate may read (default: what the target provides)", .dest = &a.inputs},
 		{.name = "--ops", .kind = CLI_STR, .metavar = "LIST", .help = "operations (default + - * / sq sqrt rsqrt rcp exp2 log2 min max saturate mix)", .dest = &a.ops},
 		{.name = "--max-cost", .kind = CLI_NUM, .metavar = "C", .help = "candidates costlier than C are not fitted", .dest = &a.max_cost, .lo = 0, .hi = 1e6, .lo_open = 1},
-		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 8, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
+		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 10, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
 		{.name = "--max-size", .kind = CLI_INT, .metavar = "N", .help = "nodes per tree (default 24)", .dest = &a.max_size, .lo = 1, .hi = BK_EXPR_MAX},
 		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5)", .dest = &a.enum_size, .lo = 0, .hi = 9},
 		{.name = "--enum-max", .kind = CLI_INT, .metavar = "N", .help = "at most N fits of the enumeration (default 5000)", .dest = &a.enum_max, .lo = 0, .hi = 1e9},
