@@ -437,7 +437,8 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 	char a[4200], b[4200];
 	memset(c, 0, sizeof *c);
 	bk_expr t[2] = {t0[0], t0[1]};
-	for (int h = 0; s->o.scale && t[1].n && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
+	int feature = s->o.shape == BK_SHAPE_PAIR && t[1].n == 0; /* affine in its feature already */
+	for (int h = 0; s->o.scale && !feature && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
 		bk_expr w = t[h];
 		if (scaled(&w) == 0 && bk_expr_nparams(&w) <= s->tree_g.max_params) /* room for the scale */
 			t[h] = w;

@@ -19,6 +19,7 @@
  *     non-finite value aborts the solve and is reported as FAILURE.
  */
 #include "solver.h"
+#include "bridge.h"
 
 #include <ceres/ceres.h>
 #include <glog/logging.h>
@@ -37,6 +38,9 @@
 
 namespace {
 
+using bk_bridge::say;
+using bk_bridge::enum_value;
+
 constexpr int kMaxParams = 16;
 constexpr int kMaxIterations = 100000;
 constexpr int kMaxThreads = 64;
@@ -46,30 +50,6 @@ constexpr int kMaxThreads = 64;
  * exact equality. Ceres projects steps onto the box, so an active coordinate
  * normally equals its bound exactly; the slack only absorbs rounding. */
 constexpr double kOnBound = 1e-12;
-
-void say(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-
-void say(char *buf, size_t len, const char *fmt, ...)
-{
-	if (buf == nullptr || len == 0)
-		return;
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(buf, len, fmt, ap);
-	va_end(ap);
-}
-
-/* An enum field read as the int C stored there: C lets any int live in an enum
- * object, and loading an out-of-range value as the enum type is undefined in
- * C++ (UBSan's -fsanitize=enum reports it). */
-int enum_value(const void *field)
-{
-	static_assert(sizeof(bk_loss) == sizeof(int) && sizeof(bk_trust_region) == sizeof(int),
-	              "the C enums are int-sized");
-	int v;
-	std::memcpy(&v, field, sizeof v);
-	return v;
-}
 
 bool positive_finite(double x) { return std::isfinite(x) && x > 0; }
 

@@ -59,6 +59,7 @@
  *     normal Cholesky here): the path may differ, not the minimum.
  */
 #include "solver.h"
+#include "bridge.h"
 
 #include <ceres/tiny_solver.h>
 
@@ -73,28 +74,10 @@
 
 namespace {
 
+using bk_bridge::say;
+using bk_bridge::enum_value;
+
 constexpr int kMaxParams = 16; /* solver.h: np in 1..16 (checked by bk_problem_valid) */
-
-void say(char *buf, size_t len, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-
-void say(char *buf, size_t len, const char *fmt, ...)
-{
-	if (buf == nullptr || len == 0)
-		return;
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(buf, len, fmt, ap);
-	va_end(ap);
-}
-
-/* An enum field read as the int C stored there (as solver.cc: an out-of-range
- * value loaded as the enum type is undefined in C++). */
-int enum_value(const void *field)
-{
-	int v;
-	std::memcpy(&v, field, sizeof v);
-	return v;
-}
 
 /* What ends a solve from inside the functor: the first failed evaluation. */
 struct EvalFailure {

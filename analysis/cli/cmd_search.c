@@ -647,6 +647,24 @@ static void params_field(FILE *f, const double *p, int np)
 		fprintf(f, "%sp%d=%.17g", j ? ";" : "", j, p[j]);
 }
 
+/* m beats catalog row q: no dearer and no worse, one of them strictly. */
+static int beats(const member *m, const member *q)
+{
+	return !q->c && !q->status && m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err);
+}
+
+/* The first fields of a row: name, form, form_b, parameters. */
+static void row_lead(FILE *f, const member *m)
+{
+	bk_csv_field(f, m->name);
+	fputc(',', f);
+	bk_csv_field(f, m->text);
+	fputc(',', f);
+	bk_csv_field(f, m->text_b ? m->text_b : "");
+	fputc(',', f);
+	params_field(f, m->res.p, m->spec.np);
+}
+
 static void write_front_csv(FILE *f, const job *J)
 {
 	header(f, J, "front (refitted on the full samples)");
@@ -656,25 +674,16 @@ static void write_front_csv(FILE *f, const job *J)
 		const member *m = &J->m[i];
 		if (!m->front)
 			continue;
-		bk_csv_field(f, m->name);
-		fputc(',', f);
-		bk_csv_field(f, m->text);
-		fputc(',', f);
-		bk_csv_field(f, m->text_b ? m->text_b : "");
-		fputc(',', f);
-		params_field(f, m->res.p, m->spec.np);
+		row_lead(f, m);
 		fprintf(f, ",%d,%d,%g,%.6g,%.6g,%.6g,%.6g,", m->ops.simple, m->ops.complex, m->cost, m->err, m->prec.rmse,
 		        m->prec.max_abs, m->prec.max_rel);
 		if (isfinite(m->prec.albedo_max_abs))
 			fprintf(f, "%.6g", m->prec.albedo_max_abs);
 		fprintf(f, ",%.6g,%s,%ld,", m->f16_max, m->verdict, m->c->found_at);
 		char dom[2048] = "";
-		for (int k = 0; k < J->nm; k++) { /* catalog rows this member beats on both axes */
-			const member *q = &J->m[k];
-			if (q->c || q->status || !(m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err)))
-				continue;
-			snprintf(dom + strlen(dom), sizeof dom - strlen(dom), "%s%s", *dom ? ";" : "", q->name);
-		}
+		for (int k = 0; k < J->nm; k++) /* the catalog rows this member beats */
+			if (beats(m, &J->m[k]))
+				snprintf(dom + strlen(dom), sizeof dom - strlen(dom), "%s%s", *dom ? ";" : "", J->m[k].name);
 		bk_csv_field(f, dom);
 		fputc('\n', f);
 	}
@@ -688,13 +697,7 @@ static void write_catalog_csv(FILE *f, const job *J)
 		const member *m = &J->m[i];
 		if (m->c)
 			continue;
-		bk_csv_field(f, m->name);
-		fputc(',', f);
-		bk_csv_field(f, m->text);
-		fputc(',', f);
-		bk_csv_field(f, m->text_b ? m->text_b : "");
-		fputc(',', f);
-		params_field(f, m->res.p, m->spec.np);
+		row_lead(f, m);
 		fprintf(f, ",%g,%.6g,%.6g,%.6g,", m->cost, m->err, m->prec.rmse, m->prec.max_abs);
 		if (isfinite(m->prec.albedo_max_abs))
 			fprintf(f, "%.6g", m->prec.albedo_max_abs);
@@ -842,14 +845,12 @@ static void write_section(FILE *f, const job *J)
 			}
 			fprintf(f, "</code></td><td>%g</td><td>%.3g</td><td>%.3g</td><td>%.3g</td><td>%s</td><td>", m->cost,
 			        m->err, m->prec.rmse, m->prec.max_abs, m->verdict);
-			for (int k = 0, first = 1; pass == 0 && k < J->nm; k++) {
-				const member *q = &J->m[k];
-				if (q->c || q->status || !(m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err)))
-					continue;
-				fputs(first ? "" : ", ", f);
-				bk_html_text(f, q->name);
-				first = 0;
-			}
+			for (int k = 0, first = 1; pass == 0 && k < J->nm; k++)
+				if (beats(m, &J->m[k])) {
+					fputs(first ? "" : ", ", f);
+					bk_html_text(f, J->m[k].name);
+					first = 0;
+				}
 			fputs("</td><td>", f);
 			for (int k = 0; pass == 0 && k < 3; k++) { /* the member's heatmap and shaders */
 				static const char *const file[3] = {"heatmap.png", "shader.glsl", "shader.hlsl"};
