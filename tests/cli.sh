@@ -599,6 +599,12 @@ expect_error "search every" "--every" $BK search --target vf2d --every 10 --out 
 expect_error "search start target" "vf_talk_r" $BK search --target env --start vf_talk_r --out "$T/s1"
 expect_error "search weights" "--cost-weights" $BK search --target vf2d --cost-weights simple=-1 --out "$T/s1"
 [ ! -e "$T/s1" ] && ok || bad "a refused search left --out behind"
+# --fetch-cost puts compare's LUT rows on the search's axis: cost K + 1 (the fetch
+# and the mad of f0 A + B); refused where there is no LUT
+expect_error "search fetch-cost on vf2d" "--fetch-cost" $BK search --target vf2d --fetch-cost 16 --out "$T/s3"
+if $BK search --target env --evals 300 --fetch-cost 16 --out "$T/lut" >/dev/null 2>"$T/err" &&
+	[ "$(grep -c '^LUT [0-9]*x[0-9]* [a-z0-9]*,,,,17,' "$T/lut/catalog.csv")" = 12 ]; then ok
+else bad "search --fetch-cost: $(grep LUT "$T/lut/catalog.csv" | head -3) $(tail -2 "$T/err")"; fi
 # SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
 $BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
 pid=$!

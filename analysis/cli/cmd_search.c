@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "clock.h"
 #include "cmd.h"
+#include "compare.h"
 #include "fit_out.h"
 #include "out.h"
 #include "search.h"
@@ -32,7 +33,7 @@ typedef struct search_cli {
 	const char *start[MAX_SEEDS];
 	int nstart;
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation;
-	double seconds, max_cost;
+	double seconds, max_cost, fetch_cost;
 	int relative, no_constraints;
 } search_cli;
 
@@ -54,6 +55,7 @@ typedef struct member {
 	char verdict[24];              /* stability in half: safe as is / with guards / no */
 	int status;                    /* 0 ok, 1 dropped (not finite or outside the constraints) */
 	int front;
+	int lut;                       /* a DFG texture row (--fetch-cost): no form, one fetch */
 } member;
 
 typedef struct job {
@@ -550,13 +552,38 @@ static void member_free(member *m)
 	bk_form_free(m->f[1]);
 }
 
+/* env --fetch-cost K: the DFG LUTs of compare (16² to 128², unorm8, half,
+ * float, bilinear, clamp to edge) as rows of cost K (the fetch) + 1 (the mad
+ * of f0·A + B), scored on the same samples. */
+static void add_luts(job *J)
+{
+	static const int sizes[] = {16, 32, 64, 128};
+	for (int q = 0; q < 4; q++)
+		for (int fm = 0; fm < BK_LUT_FORMATS; fm++) {
+			member *m = &J->m[J->nm];
+			memset(m, 0, sizeof *m);
+			snprintf(m->name, sizeof m->name, "LUT %dx%d %s", sizes[q], sizes[q], bk_lut_format_name((bk_lut_format)fm));
+			cli_progress("LUT rows", 4 * fm + q + 1, 4 * BK_LUT_FORMATS);
+			if (bk_lut_score(sizes[q], (bk_lut_format)fm, J->to.smith, &J->s, &m->prec, NULL))
+				continue;
+			m->lut = 1;
+			m->text = "";
+			m->ops.n[BK_K_MAD] = m->ops.simple = 1;
+			m->cost = 1 + J->a->fetch_cost;
+			m->err = bk_search_round_err(objective(J, &m->prec));
+			m->f16_max = NAN;
+			snprintf(m->verdict, sizeof m->verdict, "-");
+			J->nm++;
+		}
+}
+
 /* Catalog rows (published and refitted), then the screening front refitted;
  * the final front: the refitted members no other beats at no greater cost. */
 static int build_members(job *J, const seeds *sd)
 {
 	size_t idx[MAX_FRONT];
 	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
-	J->m = calloc((size_t)(2 * sd->n) + nf + 1, sizeof *J->m);
+	J->m = calloc((size_t)(2 * sd->n) + nf + 4 * BK_LUT_FORMATS + 1, sizeof *J->m);
 	if (!J->m)
 		return -1;
 	for (int k = 0; k < sd->n; k++) { /* catalog names, and typed --start forms as "start K" */
@@ -579,6 +606,8 @@ static int build_members(job *J, const seeds *sd)
 				return -1;
 		}
 	}
+	if (J->a->fetch_cost > 0) /* the textures the formulas compete with, on compare's axis */
+		add_luts(J);
 	for (size_t i = 0; i < nf; i++) {
 		const bk_cand *c = bk_search_at(J->S, idx[i]);
 		member *m = &J->m[J->nm++];
@@ -701,7 +730,10 @@ static void write_catalog_csv(FILE *f, const job *J)
 		fprintf(f, ",%g,%.6g,%.6g,%.6g,", m->cost, m->err, m->prec.rmse, m->prec.max_abs);
 		if (isfinite(m->prec.albedo_max_abs))
 			fprintf(f, "%.6g", m->prec.albedo_max_abs);
-		fprintf(f, ",%.6g,%s\n", m->f16_max, m->verdict);
+		fputc(',', f);
+		if (!isnan(m->f16_max)) /* NaN: no form (a LUT row); inf: not finite in half */
+			fprintf(f, "%.6g", m->f16_max);
+		fprintf(f, ",%s\n", m->verdict);
 	}
 }
 
@@ -935,6 +967,7 @@ static const cli_scope target_opts[] = {
 	{"--domain", 1u << BK_TARGET_FORM, "it gives the domain of target form"},
 	{"--r-range", ~(1u << BK_TARGET_FORM | 1u << BK_TARGET_F), "the target has no roughness axis or takes --domain"},
 	{"--x-range", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form"},
+	{"--fetch-cost", 1u << BK_TARGET_ENV, "LUT rows exist for target env only"},
 };
 
 int cmd_search(int argc, char **argv)
@@ -973,6 +1006,7 @@ int cmd_search(int argc, char **argv)
 		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
 		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
+		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "P", .help = "prefix of the links in section.html (its place relative to the page)", .dest = &a.prefix},
 		{.name = "--checkpoint", .kind = CLI_STR, .metavar = "FILE", .help = "write the state here every --every fits and at the end", .dest = &a.checkpoint},
