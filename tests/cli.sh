@@ -597,6 +597,7 @@ expect_error "search inputs provided" "NoV" $BK search --target vf2d --inputs No
 expect_error "search evals" "--evals" $BK search --target vf2d --evals 0 --out "$T/s1"
 expect_error "search every" "--every" $BK search --target vf2d --every 10 --out "$T/s1"
 expect_error "search start target" "vf_talk_r" $BK search --target env --start vf_talk_r --out "$T/s1"
+expect_error "search r-range names search" "brdfkit search: --r-range" $BK search --target vf2d --r-range 1:0 --out "$T/s1"
 expect_error "search weights" "--cost-weights" $BK search --target vf2d --cost-weights simple=-1 --out "$T/s1"
 [ ! -e "$T/s1" ] && ok || bad "a refused search left --out behind"
 # --fetch-cost puts compare's LUT rows on the search's axis: cost K + 1 (the fetch

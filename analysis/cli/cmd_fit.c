@@ -28,7 +28,7 @@ int fit_range(const char *opt, const char *text, double *lo, double *hi)
 	if (colon && (size_t)(colon - text) < sizeof lo_text)
 		memcpy(lo_text, text, (size_t)(colon - text));
 	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi)) {
-		fprintf(stderr, "brdfkit fit: %s: expected LO:HI with LO < HI, got '%s'\n", opt, text);
+		cli_fail(NULL, "%s: expected LO:HI with LO < HI, got '%s'", opt, text); /* fit or search: the command running */
 		return 2;
 	}
 	return 0;
@@ -145,7 +145,7 @@ static int parse_enum(const char *opt, const char *text, const char *const *name
 			*out = i;
 			return 0;
 		}
-	fprintf(stderr, "brdfkit fit: %s: unknown value '%s'\n", opt, text);
+	cli_fail(NULL, "%s: unknown value '%s'", opt, text);
 	return 2;
 }
 
@@ -224,7 +224,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 	if (a->x_range && fit_range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
 		return 2;
 	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
-		fprintf(stderr, "brdfkit fit: ranges must lie in [0, 1] (cosines and perceptual roughness)\n");
+		cli_fail(NULL, "ranges must lie in [0, 1] (cosines and perceptual roughness)");
 		return 2;
 	}
 	if (a->nx) to->nx = (int)a->nx;
@@ -233,7 +233,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 	if (a->nphi) to->nphi = (int)a->nphi;
 	if (a->f0.n) {
 		if (a->f0.n > BK_TARGET_MAX_F0) {
-			fprintf(stderr, "brdfkit fit: --f0: at most %d values\n", BK_TARGET_MAX_F0);
+			cli_fail(NULL, "--f0: at most %d values", BK_TARGET_MAX_F0);
 			return 2;
 		}
 		to->nf0 = a->f0.n;
@@ -245,7 +245,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 		return 2;
 	to->talk_alpha = a->talk && v == 1;
 	if (a->smith && bk_smith_parse(a->smith, &to->smith)) {
-		fprintf(stderr, "brdfkit fit: --smith: unknown model '%s'\n", a->smith);
+		cli_fail(NULL, "--smith: unknown model '%s'", a->smith);
 		return 2;
 	}
 	if (a->ior > 0)
