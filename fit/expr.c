@@ -411,15 +411,17 @@ int bk_expr_print(const bk_expr *e, char *buf, size_t len)
 	return (int)w.pos;
 }
 
-uint64_t bk_expr_hash_text(const char *text)
+uint64_t bk_hash_bytes(uint64_t h, const void *p, size_t n)
 {
-	uint64_t h = 14695981039346656037ull;
-	for (; *text; text++) {
-		h ^= (unsigned char)*text;
+	const unsigned char *b = p;
+	for (size_t i = 0; i < n; i++) {
+		h ^= b[i];
 		h *= 1099511628211ull;
 	}
 	return h;
 }
+
+uint64_t bk_expr_hash_text(const char *text) { return bk_hash_bytes(BK_HASH_INIT, text, strlen(text)); }
 
 /* ---- the tree of a compiled form ------------------------------------------ */
 
@@ -598,12 +600,7 @@ typedef struct bucket {
 /* Texts seen, by hash (open addressing; 0 marks empty, hash 0 is stored as
  * 1). A collision of two 64-bit FNV-1a hashes among 10^6 texts has
  * probability about 10^12 / 2^65, 3e-8. */
-typedef struct seen {
-	uint64_t *h;
-	size_t cap, n;
-} seen;
-
-static int seen_add(seen *s, uint64_t h)
+int bk_hashset_add(bk_hashset *s, uint64_t h)
 {
 	h = h ? h : 1;
 	if (2 * (s->n + 1) > s->cap) {
@@ -630,6 +627,13 @@ static int seen_add(seen *s, uint64_t h)
 			return 1;
 		}
 	}
+}
+
+void bk_hashset_free(bk_hashset *s)
+{
+	free(s->h);
+	s->h = NULL;
+	s->cap = s->n = 0;
 }
 
 static int bucket_add(bucket *b, const bk_expr *e)
@@ -665,7 +669,7 @@ static int bucket_add(bucket *b, const bk_expr *e)
 typedef struct enumr {
 	const bk_grammar *g;
 	bucket *b;
-	seen s;
+	bk_hashset s;
 	int size;
 	long count;
 	bk_expr_visit fn;
@@ -683,7 +687,7 @@ static int offer(enumr *E, bk_expr *e, int size)
 		return 0;
 	if (bk_expr_print(e, text, sizeof text) < 0)
 		return 0;
-	int fresh = seen_add(&E->s, bk_expr_hash_text(text));
+	int fresh = bk_hashset_add(&E->s, bk_expr_hash_text(text));
 	if (fresh <= 0)
 		return fresh;
 	if (size == E->size) {
@@ -823,7 +827,7 @@ long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ct
 		free(E.b[s].len);
 	}
 	free(E.b);
-	free(E.s.h);
+	bk_hashset_free(&E.s);
 	return r;
 }
 

@@ -87,8 +87,22 @@ int bk_expr_print(const bk_expr *e, char *buf, size_t len);
  * index it afterwards. */
 int bk_expr_from_form(const bk_form *f, bk_expr *e);
 
-/* 64-bit FNV-1a of the canonical text (the cache key). */
+/* 64-bit FNV-1a: of the canonical text (the cache key); of n bytes from h
+ * (chained from BK_HASH_INIT: the search's options fingerprint). */
+#define BK_HASH_INIT 14695981039346656037ull
 uint64_t bk_expr_hash_text(const char *text);
+uint64_t bk_hash_bytes(uint64_t h, const void *p, size_t n);
+
+/* A set of 64-bit hashes (open addressing, doubling at half full; a hash of
+ * 0 is stored as 1, 0 marking a free slot): the enumeration's and the
+ * search's caches. Zero-initialise; h[0..cap) may be read (0: free). */
+typedef struct bk_hashset {
+	uint64_t *h;
+	size_t cap, n;
+} bk_hashset;
+/* 1 if h was added, 0 if it was there, -1 when out of memory. */
+int bk_hashset_add(bk_hashset *s, uint64_t h);
+void bk_hashset_free(bk_hashset *s);
 
 /* ---- generation ----------------------------------------------------------- */
 

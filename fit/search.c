@@ -39,8 +39,7 @@ struct bk_search {
 	uint64_t fingerprint;
 	bk_cand *cand;
 	size_t n, cap;
-	uint64_t *seen; /* open addressing on text hashes (0: empty; a hash of 0 is stored as 1) */
-	size_t nseen, seen_cap;
+	bk_hashset seen; /* hashes of the canonical texts tried (fitted or over a limit) */
 	level *lv;
 	int nlv;
 	bk_rng rng;
@@ -52,6 +51,26 @@ struct bk_search {
 	bk_expr *en;     /* the enumerated trees, in order */
 	size_t nen;
 };
+
+double bk_search_error(const bk_search_options *o, const bk_samples *sm, const double *v, const bk_fit_metrics *m)
+{
+	if (o->objective == BK_OBJ_MAX)
+		return o->relative ? m->max_rel : m->max_abs;
+	if (o->objective == BK_OBJ_ALBEDO)
+		return m->albedo_max_abs;
+	if (!o->relative)
+		return m->rmse;
+	if (!v)
+		return NAN;
+	double se = 0, ymax = 0; /* the rmse of the relative residuals, floored as fit's (fit_ctx.c) */
+	for (size_t i = 0; i < sm->n; i++)
+		ymax = fmax(ymax, fabs(sm->y[i]));
+	for (size_t i = 0; i < sm->n; i++) {
+		double r = (v[i] - sm->y[i]) / fmax(fabs(sm->y[i]), 1e-6 * ymax);
+		se += r * r;
+	}
+	return sqrt(se / (double)sm->n);
+}
 
 double bk_search_round_err(double e)
 {
@@ -87,36 +106,6 @@ void bk_search_defaults(bk_search_options *o)
 }
 
 /* ---- the cache ------------------------------------------------------------- */
-
-static int seen_add(bk_search *s, uint64_t h) /* 1 if new */
-{
-	h = h ? h : 1;
-	if (2 * (s->nseen + 1) > s->seen_cap) {
-		size_t cap = s->seen_cap ? 2 * s->seen_cap : 4096;
-		uint64_t *t = calloc(cap, sizeof *t);
-		if (!t)
-			return -1;
-		for (size_t i = 0; i < s->seen_cap; i++)
-			if (s->seen[i])
-				for (size_t j = s->seen[i] & (cap - 1);; j = (j + 1) & (cap - 1))
-					if (!t[j]) {
-						t[j] = s->seen[i];
-						break;
-					}
-		free(s->seen);
-		s->seen = t;
-		s->seen_cap = cap;
-	}
-	for (size_t j = h & (s->seen_cap - 1);; j = (j + 1) & (s->seen_cap - 1)) {
-		if (s->seen[j] == h)
-			return 0;
-		if (!s->seen[j]) {
-			s->seen[j] = h;
-			s->nseen++;
-			return 1;
-		}
-	}
-}
 
 /* ---- candidates: text, cost ---------------------------------------------- */
 
@@ -287,19 +276,7 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	c->rmse = m.rmse;
 	c->max_abs = m.max_abs;
 	c->albedo_max_abs = m.albedo_max_abs;
-	double e = s->o.objective == BK_OBJ_MAX ? (s->o.relative ? m.max_rel : m.max_abs)
-	           : s->o.objective == BK_OBJ_ALBEDO ? m.albedo_max_abs
-	                                              : m.rmse;
-	if (s->o.objective == BK_OBJ_RMSE && s->o.relative) {
-		double se = 0, ymax = 0;
-		for (size_t i = 0; i < sm->n; i++)
-			ymax = fmax(ymax, fabs(sm->y[i]));
-		for (size_t i = 0; i < sm->n; i++) {
-			double r = (v[i] - sm->y[i]) / fmax(fabs(sm->y[i]), 1e-6 * ymax);
-			se += r * r;
-		}
-		e = sqrt(se / (double)sm->n);
-	}
+	double e = bk_search_error(&s->o, sm, v, &m);
 	c->err = isfinite(e) ? bk_search_round_err(e) : HUGE_VAL;
 	if (!isfinite(e))
 		c->status = BK_CAND_NONFINITE;
@@ -447,7 +424,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 		return 0;
 	char key[8500];
 	snprintf(key, sizeof key, "%s;%s", a, b);
-	int fresh = seen_add(s, bk_expr_hash_text(key));
+	int fresh = bk_hashset_add(&s->seen, bk_expr_hash_text(key));
 	if (fresh <= 0)
 		return fresh;
 	if (cost_of(s, a, b, &c->ops, &c->cost, &c->np) || c->cost > s->o.max_cost ||
@@ -540,7 +517,7 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 			memset(q, 0, sizeof *q);
 			char key[8500];
 			snprintf(key, sizeof key, "%s;%s", s->seed_text[k], s->seed_text_b[k] ? s->seed_text_b[k] : "");
-			if (seen_add(s, bk_expr_hash_text(key)) <= 0)
+			if (bk_hashset_add(&s->seen, bk_expr_hash_text(key)) <= 0)
 				continue;
 			if (cost_of(s, s->seed_text[k], s->seed_text_b[k], &q->ops, &q->cost, &q->np))
 				continue;
@@ -648,13 +625,6 @@ static int collect(void *vctx, const bk_expr *e)
 	return 0;
 }
 
-static uint64_t mix64(uint64_t h, const void *p, size_t n)
-{
-	const unsigned char *b = p;
-	for (size_t i = 0; i < n; i++)
-		h = (h ^ b[i]) * 0x100000001b3ull;
-	return h;
-}
 
 /* What must agree between a checkpoint and the run resuming it: everything
  * that decides which candidates are made and how they are scored, not the
@@ -662,23 +632,23 @@ static uint64_t mix64(uint64_t h, const void *p, size_t n)
 static uint64_t fingerprint(const bk_search *s)
 {
 	const bk_search_options *o = &s->o;
-	uint64_t h = 0xcbf29ce484222325ull;
+	uint64_t h = BK_HASH_INIT;
 	int ints[] = {(int)o->enum_max, o->shape, o->scale, o->objective, o->relative, o->precision, o->nonneg, o->env_bound, o->enum_size,
 	              o->generation, o->per_level, o->starts, o->grammar.inputs, o->grammar.max_params,
 	              o->grammar.max_size, o->grammar.nconsts, o->nseeds};
 	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost, (double)o->seed};
-	h = mix64(h, ints, sizeof ints);
-	h = mix64(h, dbl, sizeof dbl);
-	h = mix64(h, &o->grammar.ops, sizeof o->grammar.ops);
-	h = mix64(h, o->grammar.consts, sizeof(double) * (size_t)o->grammar.nconsts);
+	h = bk_hash_bytes(h, ints, sizeof ints);
+	h = bk_hash_bytes(h, dbl, sizeof dbl);
+	h = bk_hash_bytes(h, &o->grammar.ops, sizeof o->grammar.ops);
+	h = bk_hash_bytes(h, o->grammar.consts, sizeof(double) * (size_t)o->grammar.nconsts);
 	for (int k = 0; k < o->nseeds; k++) {
-		h = mix64(h, s->seed_text[k], strlen(s->seed_text[k]) + 1);
+		h = bk_hash_bytes(h, s->seed_text[k], strlen(s->seed_text[k]) + 1);
 		if (s->seed_text_b[k])
-			h = mix64(h, s->seed_text_b[k], strlen(s->seed_text_b[k]) + 1);
+			h = bk_hash_bytes(h, s->seed_text_b[k], strlen(s->seed_text_b[k]) + 1);
 	}
 	const bk_samples *sm = o->screen;
-	h = mix64(h, &sm->n, sizeof sm->n);
-	h = mix64(h, sm->y, sizeof(double) * sm->n);
+	h = bk_hash_bytes(h, &sm->n, sizeof sm->n);
+	h = bk_hash_bytes(h, sm->y, sizeof(double) * sm->n);
 	return h;
 }
 
@@ -746,7 +716,7 @@ void bk_search_free(bk_search *s)
 	for (size_t i = 0; i < s->n; i++)
 		cand_free(&s->cand[i]);
 	free(s->cand);
-	free(s->seen);
+	bk_hashset_free(&s->seen);
 	for (int k = 0; k < s->nlv; k++)
 		free(s->lv[k].idx);
 	free(s->lv);
@@ -850,10 +820,10 @@ int bk_search_save(const bk_search *s, FILE *f)
 	fprintf(f, "%s\nfingerprint %016llx\nrng %016llx %016llx %016llx %016llx\n", CHECKPOINT_MAGIC,
 	        (unsigned long long)s->fingerprint, (unsigned long long)s->rng.s[0], (unsigned long long)s->rng.s[1],
 	        (unsigned long long)s->rng.s[2], (unsigned long long)s->rng.s[3]);
-	fprintf(f, "state %ld %d %zu\nseen %zu\n", s->evals, s->phase, s->enum_pos, s->nseen);
-	for (size_t i = 0; i < s->seen_cap; i++)
-		if (s->seen[i])
-			fprintf(f, "%016llx\n", (unsigned long long)s->seen[i]);
+	fprintf(f, "state %ld %d %zu\nseen %zu\n", s->evals, s->phase, s->enum_pos, s->seen.n);
+	for (size_t i = 0; i < s->seen.cap; i++)
+		if (s->seen.h[i])
+			fprintf(f, "%016llx\n", (unsigned long long)s->seen.h[i]);
 	fprintf(f, "candidates %zu\n", s->n);
 	for (size_t i = 0; i < s->n; i++) {
 		const bk_cand *c = &s->cand[i];
@@ -900,7 +870,7 @@ int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 		s->rng.s[k] = r[k];
 	for (size_t i = 0; i < nseen; i++) {
 		unsigned long long h;
-		if (fscanf(f, " %llx", &h) != 1 || seen_add(s, h) < 0)
+		if (fscanf(f, " %llx", &h) != 1 || bk_hashset_add(&s->seen, h) < 0)
 			goto bad;
 	}
 	if (fscanf(f, " candidates %zu", &ncand) != 1)

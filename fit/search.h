@@ -130,6 +130,12 @@ size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);
 int bk_search_save(const bk_search *s, FILE *f);
 int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen);
 
+/* The objective of o for values v on samples s with metrics m
+ * (bk_samples_metrics of v): rmse (of the relative residuals with
+ * o->relative), max (relative with o->relative) or the albedo's max error.
+ * v may be NULL where the metrics suffice (NaN for the relative rmse). */
+double bk_search_error(const bk_search_options *o, const bk_samples *s, const double *v, const bk_fit_metrics *m);
+
 /* Round an error to BK_SEARCH_ERR_BITS significant bits (nan, inf kept). */
 double bk_search_round_err(double e);
 

@@ -434,14 +434,7 @@ static int member_values(const member *m, const bk_samples *s, const double *p, 
 	return 0;
 }
 
-static double objective(const job *J, const bk_fit_metrics *m)
-{
-	switch (J->so.objective) {
-	case BK_OBJ_MAX: return J->so.relative ? m->max_rel : m->max_abs;
-	case BK_OBJ_ALBEDO: return m->albedo_max_abs;
-	default: return m->rmse;
-	}
-}
+
 
 /* The member on the full samples: fitted with fit's full fitter (several
  * starts, minimax for the max objective, optimality check, constants rounded
@@ -482,7 +475,6 @@ static int score_member(job *J, member *m, const double *start, int fit)
 	} else {
 		memset(&m->res, 0, sizeof m->res);
 		memcpy(m->res.p, start, sizeof m->res.p);
-		bk_fit_evaluate(sp, start, &m->res.fitted);
 		m->res.optimal = -1;
 	}
 	bk_fit_evaluate(sp, m->res.p, &m->res.fitted);
@@ -505,7 +497,7 @@ static int score_member(job *J, member *m, const double *start, int fit)
 			                                  v[i] + v[na + i] > 1 + BK_SEARCH_ENV_SLACK))
 				m->status = 1;
 		}
-		m->err = bk_search_round_err(objective(J, &m->prec));
+		m->err = bk_search_round_err(bk_search_error(&J->so, &J->s, v, &m->prec));
 		if (!isfinite(m->err))
 			m->status = 1;
 		bk_fit_metrics h;
@@ -570,7 +562,7 @@ static void add_luts(job *J)
 			m->text = "";
 			m->ops.n[BK_K_MAD] = m->ops.simple = 1;
 			m->cost = 1 + J->a->fetch_cost;
-			m->err = bk_search_round_err(objective(J, &m->prec));
+			m->err = bk_search_round_err(bk_search_error(&J->so, &J->s, NULL, &m->prec)); /* NaN for a relative rmse: no values */
 			m->f16_max = NAN;
 			snprintf(m->verdict, sizeof m->verdict, "-");
 			J->nm++;
@@ -627,29 +619,27 @@ static int build_members(job *J, const seeds *sd)
 	}
 	/* the final front over the refitted search members */
 	double best = HUGE_VAL;
-	for (int pass = 0; pass < 1; pass++) {
-		int order[MAX_FRONT + 2 * MAX_SEEDS];
-		int n = 0;
-		for (int i = 0; i < J->nm; i++)
-			if (J->m[i].c && J->m[i].status == 0)
-				order[n++] = i;
-		for (int i = 1; i < n; i++) /* by cost, then error, then text (insertion sort: n <= 48) */
-			for (int j = i; j > 0; j--) {
-				const member *x = &J->m[order[j - 1]], *y = &J->m[order[j]];
-				int swap = y->cost < x->cost || (y->cost == x->cost && (y->err < x->err ||
-				           (y->err == x->err && strcmp(y->text, x->text) < 0)));
-				if (!swap)
-					break;
-				int t = order[j - 1];
-				order[j - 1] = order[j];
-				order[j] = t;
-			}
-		for (int i = 0; i < n; i++)
-			if (J->m[order[i]].err < best) {
-				best = J->m[order[i]].err;
-				J->m[order[i]].front = 1;
-			}
-	}
+	int order[MAX_FRONT + 2 * MAX_SEEDS];
+	int n = 0;
+	for (int i = 0; i < J->nm; i++)
+		if (J->m[i].c && J->m[i].status == 0)
+			order[n++] = i;
+	for (int i = 1; i < n; i++) /* by cost, then error, then text (insertion sort: n <= 48) */
+		for (int j = i; j > 0; j--) {
+			const member *x = &J->m[order[j - 1]], *y = &J->m[order[j]];
+			int swap = y->cost < x->cost || (y->cost == x->cost && (y->err < x->err ||
+			           (y->err == x->err && strcmp(y->text, x->text) < 0)));
+			if (!swap)
+				break;
+			int t = order[j - 1];
+			order[j - 1] = order[j];
+			order[j] = t;
+		}
+	for (int i = 0; i < n; i++)
+		if (J->m[order[i]].err < best) {
+			best = J->m[order[i]].err;
+			J->m[order[i]].front = 1;
+		}
 	return 0;
 }
 
@@ -658,7 +648,9 @@ static int build_members(job *J, const seeds *sd)
 static const char *objective_name(const job *J)
 {
 	static const char *const n[] = {"rmse", "max_abs", "albedo_max_abs"};
-	return J->so.objective == BK_OBJ_MAX && J->so.relative ? "max_rel" : n[J->so.objective];
+	if (J->so.relative && J->so.objective != BK_OBJ_ALBEDO)
+		return J->so.objective == BK_OBJ_MAX ? "max_rel" : "rmse_rel";
+	return n[J->so.objective];
 }
 
 static void header(FILE *f, const job *J, const char *what)
