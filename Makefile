@@ -21,14 +21,14 @@ EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/nu
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
 # Ceres ships no pkg-config file (toolchain.md); its headers inline glog, so glog is named
-LIBS    = -lceres -lglog -lpng $(EXR_LIB) -lm
+LIBS    = -lceres -lglog -lpng -ljansson $(EXR_LIB) -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
 # compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
 # injects the kills of tests/fault.sh).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
-       libxml2-utils strace
+       libxml2-utils strace libjansson-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares

@@ -19,5 +19,6 @@ int cmd_compare(int argc, char **argv);
 int cmd_report(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 int cmd_search(int argc, char **argv);
+int cmd_scene(int argc, char **argv);
 
 #endif

@@ -26,6 +26,7 @@ static const struct {
 	{"stability", cmd_stability, "half/single/double precision on stiff and extreme inputs; guards"},
 	{"report", cmd_report, "the study's page from the compare sections"},
 	{"search", cmd_search, "search closed forms: candidates fitted, the Pareto front of error against cost"},
+	{"scene", cmd_scene, "from a scene file to one specialised, refitted shader per feature set"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 };
 

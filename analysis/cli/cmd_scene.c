@@ -1,0 +1,553 @@
+/*
+ * cmd_scene.c — brdfkit scene: from a scene file (analysis/scene.h) to one
+ * specialised shader per feature set, each term the cheapest form that meets
+ * the error budget on the set's own domain (analysis/scene_fit.h), with the
+ * fp16 guards it needs and none it does not, against the generic shader.
+ */
+#include "brdf.h"
+#include "cli.h"
+#include "cmd.h"
+#include "compare.h"
+#include "expr.h"
+#include "out.h"
+#include "scene.h"
+#include "scene_fit.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define TIME_REPS 7
+
+/* What the run decided for one feature set. */
+typedef struct set_result {
+	bk_scene_set set;
+	int has[BK_SCENE_TERMS];
+	bk_scene_choice ch[BK_SCENE_TERMS], gen[BK_SCENE_TERMS];
+	double cost, gen_cost;   /* ALU + fetches, the scene's weights */
+	int spirv, gen_spirv;    /* SPIR-V instructions of the forms (fetches not counted) */
+	double ns, gen_ns;       /* CPU ns per evaluation of the forms, summed */
+} set_result;
+
+static const char *const lang_ext[3] = {"glsl", "hlsl", "c"};
+static const bk_lang lang_of[3] = {BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C};
+
+static void domain_text(const bk_scene *sc, const bk_scene_set *S, char *buf, size_t len)
+{
+	int k = snprintf(buf, len, "r in [%g, %g], NoV in [%g, %g], ", S->r_lo, S->r_hi, sc->nov_lo, sc->nov_hi);
+	if (S->needs.fixed_f0)
+		snprintf(buf + k, len - k, "f0 = %g (folded)", S->needs.f0);
+	else
+		snprintf(buf + k, len - k, "f0 in [%g, %g]", S->f0_lo, S->f0_hi);
+}
+
+static const char *err_unit(bk_scene_term t)
+{
+	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "exact";
+}
+
+/* The functions of one set in one language: the chosen terms, the diffuse,
+ * a comment for a LUT. Returns 0 or -1. */
+static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li, const char *hash, char *err,
+                        size_t errlen)
+{
+	char dom[256];
+	domain_text(sc, &R->set, dom, sizeof dom);
+	const char *c0 = li == 2 ? "/*" : "//", *c1 = li == 2 ? " */" : "";
+	fprintf(f, "%s brdfkit %s: scene '%s' (file hash %s), feature set %s: DO NOT EDIT%s\n", c0, BK_VERSION, sc->name,
+	        hash, R->set.name, c1);
+	fprintf(f, "%s command: %s%s\n", c0, bk_out_command(), c1);
+	fprintf(f, "%s domain: %s; precision %s%s\n", c0, dom, sc->half ? "mediump (binary16)" : "highp", c1);
+	fprintf(f, "%s cost: %g (generic shader: %g); conventions: r perceptual roughness, a = r^2, V includes "
+	           "1/(4 NoL NoV), BRDF without NoL%s\n\n", c0, R->cost, R->gen_cost, c1);
+	for (int t = 0; t < BK_SCENE_TERMS; t++) {
+		if (!R->has[t])
+			continue;
+		const bk_scene_choice *c = &R->ch[t];
+		char fname[96], errtext[160];
+		snprintf(fname, sizeof fname, "%s_%s", R->set.name, bk_scene_term_name(t));
+		if (c->lut) {
+			fprintf(f, "%s %s: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):%s\n", c0, fname, c1);
+			fprintf(f, "%s   %s, made by: brdfkit lut --size %d --out DIR; sample it at (NoV, r) with bilinear%s\n", c0,
+			        c->name, c->lut_size, c1);
+			fprintf(f, "%s   filtering and clamp to edge, then env = f0*A + B; max abs error %.3g on the domain%s\n\n",
+			        c0, c->err, c1);
+			continue;
+		}
+		bk_form_error fe;
+		bk_form *form = bk_form_parse(c->text, &fe);
+		if (!form) {
+			snprintf(err, errlen, "%s: %s", fname, fe.message);
+			return -1;
+		}
+		snprintf(errtext, sizeof errtext, "%s %.3g in %s on the domain (budget %.3g); fp16 guards: %.60s",
+		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
+		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
+		                     errtext, bk_out_command()};
+		char *code = bk_form_emit(form, lang_of[li], sc->half, c->p, &info);
+		bk_form_free(form);
+		if (!code) {
+			snprintf(err, errlen, "%s: code generation failed", fname);
+			return -1;
+		}
+		fprintf(f, "%s\n", code);
+		free(code);
+	}
+	if (R->set.needs.diffuse) {
+		bk_form_error fe;
+		bk_form *form = bk_form_parse("Fd_lambert()", &fe);
+		char fname[96];
+		snprintf(fname, sizeof fname, "%s_diffuse", R->set.name);
+		bk_emit_info info = {fname, "Lambert", "times the diffuse colour (1/pi included)", NULL, "exact", bk_out_command()};
+		char *code = form ? bk_form_emit(form, lang_of[li], sc->half, NULL, &info) : NULL;
+		bk_form_free(form);
+		if (!code) {
+			snprintf(err, errlen, "%s: code generation failed", fname);
+			return -1;
+		}
+		fprintf(f, "%s\n", code);
+		free(code);
+	}
+	return 0;
+}
+
+static void params_text(FILE *f, const bk_scene_choice *c)
+{
+	int np = 0;
+	if (c->text) {
+		bk_form_error fe;
+		bk_form *form = bk_form_parse(c->text, &fe);
+		np = form ? bk_form_nparams(form) : 0;
+		bk_form_free(form);
+	}
+	for (int j = 0; j < np; j++)
+		fprintf(f, "%sp%d=%.9g", j ? ";" : "", j, c->p[j]);
+}
+
+static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset, const char *hash)
+{
+	fprintf(f, "# brdfkit %s scene specialisation: scene '%s' (file hash %s)\n", BK_VERSION, sc->name, hash);
+	fprintf(f, "# command: %s\n", bk_out_command());
+	fprintf(f, "# error: vf = directional-albedo max abs error of D*V*F, env = max abs error of f0*A + B, both at the "
+	           "ends of the set's f0 range on its (NoV, r) domain, in %s; D is exact GGX. cost: simple*%g + "
+	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
+	        sc->half ? "half precision (mediump)" : "single precision (highp)", sc->simple_cost, sc->complex_cost,
+	        sc->fetch_cost);
+	fputs("material,feature_set,term,choice,form,parameters,simple,complex,fetches,cost,error,error_kind,budget,"
+	      "meets_budget,fp16_guards,generic_cost,generic_error\n", f);
+	for (int i = 0; i < nset; i++)
+		for (int m = 0; m < R[i].set.nmat; m++)
+			for (int t = 0; t < BK_SCENE_TERMS; t++) {
+				if (!R[i].has[t])
+					continue;
+				const bk_scene_choice *c = &R[i].ch[t], *g = &R[i].gen[t];
+				bk_csv_field(f, sc->mat[R[i].set.mat[m]].name);
+				fprintf(f, ",%s,%s,", R[i].set.name, bk_scene_term_name(t));
+				bk_csv_field(f, c->name);
+				fputc(',', f);
+				bk_csv_field(f, c->text ? c->text : "");
+				fputc(',', f);
+				params_text(f, c);
+				fprintf(f, ",%d,%d,%d,%g,%.6g,%s,%.6g,%d,", c->ops.simple, c->ops.complex, c->fetches, c->cost,
+				        c->err, err_unit(t), c->budget, c->meets);
+				bk_csv_field(f, c->guards);
+				fprintf(f, ",%g,%.6g\n", g->cost, g->err);
+			}
+}
+
+static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
+{
+	fprintf(f, "# brdfkit %s scene '%s': each feature set's shader against the generic one (GGX D, "
+	           "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
+	           "instructions of the forms' GLSL after spirv-opt -O (fetches not included)\n",
+	        BK_VERSION, sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
+	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv\n", f);
+	for (int i = 0; i < nset; i++) {
+		const set_result *r = &R[i];
+		fprintf(f, "%s,", r->set.name);
+		char names[1024] = "";
+		for (int m = 0; m < r->set.nmat; m++)
+			snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", m ? ";" : "",
+			         sc->mat[r->set.mat[m]].name);
+		bk_csv_field(f, names);
+		fprintf(f, ",%g,%g,%g,%g,%g,%g,%.3g,%d,%d\n", r->set.r_lo, r->set.r_hi, r->set.f0_lo, r->set.f0_hi, r->cost,
+		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+	}
+}
+
+static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nset)
+{
+	fprintf(f, "scene '%s': %d material%s, %d feature set%s; punctual lights %s, image-based lighting %s, diffuse %s; "
+	           "%s; ",
+	        sc->name, sc->nmat, sc->nmat == 1 ? "" : "s", nset, nset == 1 ? "" : "s", sc->punctual ? "yes" : "no",
+	        sc->ibl ? "yes" : "no", sc->diffuse ? "yes" : "no", sc->half ? "mediump (fp16)" : "highp");
+	if (sc->alu_tex)
+		fprintf(f, "ALU:TEX %d\n", sc->alu_tex);
+	else
+		fprintf(f, "costs simple %g, complex %g, fetch %g\n", sc->simple_cost, sc->complex_cost, sc->fetch_cost);
+	if (!sc->punctual)
+		fputs("  no punctual lights: no D*V*F code\n", f);
+	if (!sc->ibl)
+		fputs("  no image-based lighting: no environment BRDF code\n", f);
+	for (int i = 0; i < nset; i++) {
+		const set_result *r = &R[i];
+		char dom[256];
+		domain_text(sc, &r->set, dom, sizeof dom);
+		fprintf(f, "\nfeature set %s (", r->set.name);
+		for (int m = 0; m < r->set.nmat; m++)
+			fprintf(f, "%s%s", m ? ", " : "", sc->mat[r->set.mat[m]].name);
+		fprintf(f, "): %s\n", dom);
+		if (!r->set.needs.vf && !r->set.needs.env)
+			fputs("  no specular (the materials have none): diffuse only\n", f);
+		if (r->set.needs.fixed_f0)
+			fprintf(f, "  one f0 (%g): folded into the constants, no f0 input\n", r->set.needs.f0);
+		for (int t = 0; t < BK_SCENE_TERMS; t++) {
+			if (!r->has[t])
+				continue;
+			const bk_scene_choice *c = &r->ch[t], *g = &r->gen[t];
+			fprintf(f, "  %-3s %s: cost %g (generic %g), %s %.3g (generic %.3g, budget %.3g%s), %d candidates scored\n",
+			        bk_scene_term_name(t), c->name, c->cost, g->cost, err_unit(t), c->err, g->err, c->budget,
+			        c->meets ? "" : ": NOT MET, the most accurate kept", c->scored);
+			fprintf(f, "      fp16 guards: %s\n", c->guards);
+		}
+		if (r->cost > 0)
+			fprintf(f, "  shader cost %g against the generic %g (%.2fx cheaper); SPIR-V %d against %d", r->cost,
+			        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+		else
+			fprintf(f, "  shader: the diffuse term alone, as in the generic shader");
+		if (r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
+			fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
+		fputc('\n', f);
+	}
+}
+
+/* One scene's part of the page: a heading, the choices, the savings. */
+static void section_body(FILE *f, const bk_scene *sc, const set_result *R, int nset, const char *prefix)
+{
+	fputs("<h3>", f);
+	bk_html_text(f, sc->name);
+	fprintf(f, "</h3>\n<p>%d material%s, %s, %s%s%s, ", sc->nmat, sc->nmat == 1 ? "" : "s",
+	        sc->half ? "mediump" : "highp", sc->punctual ? "punctual lights" : "no punctual lights",
+	        sc->ibl ? ", image-based lighting" : ", no IBL", sc->diffuse ? ", diffuse" : "");
+	if (sc->alu_tex)
+		fprintf(f, "ALU:TEX %d", sc->alu_tex);
+	else
+		fprintf(f, "costs simple %g, complex %g, fetch %g", sc->simple_cost, sc->complex_cost, sc->fetch_cost);
+	fprintf(f, ". Tables: <a href=\"%sscene.csv\">scene.csv</a>, <a href=\"%ssets.csv\">sets.csv</a>, "
+	           "<a href=\"%sreport.txt\">report.txt</a>.</p>\n", prefix, prefix, prefix);
+	fputs("<table>\n<tr><th>feature set</th><th>term</th><th>choice</th><th>cost (generic)</th><th>error "
+	      "(generic)</th><th>budget</th><th>fp16 guards</th></tr>\n", f);
+	for (int i = 0; i < nset; i++)
+		for (int t = 0; t < BK_SCENE_TERMS; t++) {
+			if (!R[i].has[t])
+				continue;
+			const bk_scene_choice *c = &R[i].ch[t], *g = &R[i].gen[t];
+			fprintf(f, "<tr><td>%s</td><td>%s</td><td>", R[i].set.name, bk_scene_term_name(t));
+			bk_html_text(f, c->name);
+			fprintf(f, "</td><td>%g (%g)</td><td>%.3g (%.3g)</td><td>%.3g%s</td><td>", c->cost, g->cost, c->err, g->err,
+			        c->budget, c->meets ? "" : " not met");
+			bk_html_text(f, c->guards);
+			fputs("</td></tr>\n", f);
+		}
+	fputs("</table>\n<table>\n<tr><th>feature set</th><th>shader cost</th><th>generic</th><th>ratio</th>"
+	      "<th>SPIR-V</th><th>generic SPIR-V</th><th>shaders</th></tr>\n", f);
+	for (int i = 0; i < nset; i++) {
+		const set_result *r = &R[i];
+		fprintf(f, "<tr><td>%s</td><td>%g</td><td>%g</td><td>%.2fx</td><td>%d</td><td>%d</td><td>", r->set.name, r->cost,
+		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+		for (int li = 0; li < 3; li++)
+			if (sc->languages & (1u << li))
+				fprintf(f, "<a href=\"%s%s/shader.%s\">%s</a> ", prefix, r->set.name, lang_ext[li], lang_ext[li]);
+		fputs("</td></tr>\n", f);
+	}
+	fputs("</table>\n", f);
+}
+
+static void section_open(FILE *f, const char *id)
+{
+	fprintf(f, "<section id=\"%s\">\n<h2>Scenes: shaders specialised to what a scene contains</h2>\n<p>For each scene, "
+	           "materials with the same needs share a feature set and one shader; each term it needs is the cheapest "
+	           "form that meets the scene's error budget on the set's own roughness, f0 and NoV range (catalog forms, "
+	           "published and refitted there, LUTs at the scene's ALU:TEX ratio, a short search for V&middot;F), with "
+	           "the fp16 guards it needs at the scene's precision and none it does not. Errors: V&middot;F, the "
+	           "directional albedo's max abs error of D&middot;V&middot;F; env, the max abs error of f0&middot;A + B. "
+	           "The generic shader: GGX D &middot; height-correlated Smith V &middot; Schlick F and a %d&sup2; half DFG "
+	           "LUT, with the fp16 guards in mediump.</p>\n", id, BK_SCENE_GENERIC_LUT);
+}
+
+/* SPIR-V count of a choice's form (0 for a LUT: the fetch is counted apart). */
+static int spirv_of(const bk_scene_choice *c)
+{
+	if (c->lut || !c->text)
+		return 0;
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(c->text, &fe);
+	char err[256];
+	int n = f ? bk_spirv_count(f, c->p, err, sizeof err) : -1;
+	bk_form_free(f);
+	return n;
+}
+
+/* CPU ns per evaluation of every form of every set and of the generic, timed
+ * together (interleaved) and summed per set. */
+static void time_sets(set_result *R, int nset)
+{
+	size_t cap = (size_t)(nset > 0 ? nset : 1) * BK_SCENE_TERMS * 2;
+	int n = 0;
+	bk_compare_row *rows = calloc(cap, sizeof *rows);
+	int *owner = calloc(cap, sizeof *owner);
+	for (int i = 0; i < nset; i++)
+		R[i].ns = R[i].gen_ns = 0;
+	for (int i = 0; rows && owner && i < nset; i++)
+		for (int t = 0; t < BK_SCENE_TERMS; t++)
+			for (int g = 0; g < 2 && R[i].has[t]; g++) {
+				const bk_scene_choice *c = g ? &R[i].gen[t] : &R[i].ch[t];
+				if (c->lut || !c->text)
+					continue;
+				bk_compare_row *r = &rows[n];
+				snprintf(r->name, sizeof r->name, "%s %s %d", R[i].set.name, bk_scene_term_name(t), g);
+				snprintf(r->form, sizeof r->form, "%s", c->text);
+				memcpy(r->params, c->p, sizeof r->params);
+				bk_form_error fe;
+				bk_form *f = bk_form_parse(c->text, &fe);
+				r->nparams = f ? bk_form_nparams(f) : 0;
+				bk_form_free(f);
+				owner[n++] = i * 2 + g;
+			}
+	char err[256];
+	if (!rows || !owner || bk_time_rows(rows, n, TIME_REPS, err, sizeof err)) {
+		for (int i = 0; i < nset; i++)
+			R[i].ns = R[i].gen_ns = NAN;
+	} else {
+		for (int k = 0; k < n; k++) {
+			set_result *r = &R[owner[k] / 2];
+			*(owner[k] % 2 ? &r->gen_ns : &r->ns) += rows[k].ns;
+		}
+	}
+	free(rows);
+	free(owner);
+}
+
+static void timing_csv(FILE *f, const set_result *R, int nset)
+{
+	fprintf(f, "# CPU ns per evaluation of each feature set's forms (generated C, -O2, median of %d interleaved "
+	           "runs, summed over the set's terms; LUT fetches not included): not reproducible\n", TIME_REPS);
+	fputs("feature_set,ns_per_eval,generic_ns_per_eval\n", f);
+	for (int i = 0; i < nset; i++)
+		fprintf(f, "%s,%.3f,%.3f\n", R[i].set.name, R[i].ns, R[i].gen_ns);
+}
+
+typedef struct scene_run {
+	const char *file;
+	char stem[64];  /* the file's name without directory and .json: its folder when several */
+	char hash[20];  /* FNV-1a of the file's bytes */
+	bk_scene sc;
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	set_result R[BK_SCENE_MAX_MATERIALS];
+	int nset;
+} scene_run;
+
+/* One scene's files into dir (existing). */
+static int write_scene(const char *dir, const scene_run *S, int timed, char *err, size_t errlen)
+{
+	char path[8800];
+	int rc = 0;
+	for (int i = 0; i < S->nset && !rc; i++) {
+		snprintf(path, sizeof path, "%s/%s", dir, S->R[i].set.name);
+		if (mkdir(path, 0777))
+			return -1;
+		for (int li = 0; li < 3 && !rc; li++) {
+			if (!(S->sc.languages & (1u << li)))
+				continue;
+			snprintf(path, sizeof path, "%s/%s/shader.%s", dir, S->R[i].set.name, lang_ext[li]);
+			FILE *f = fopen(path, "w");
+			if (!f)
+				return -1;
+			rc = write_shader(f, &S->sc, &S->R[i], li, S->hash, err, errlen);
+			if (ferror(f) | fclose(f))
+				rc = -1;
+		}
+	}
+	static const char *const files[] = {"scene.csv", "sets.csv", "report.txt", "timing.csv"};
+	for (int k = 0; k < 4 && !rc; k++) {
+		if (k == 3 && !timed)
+			break;
+		snprintf(path, sizeof path, "%s/%s", dir, files[k]);
+		FILE *f = fopen(path, "w");
+		if (!f)
+			return -1;
+		switch (k) {
+		case 0: scene_csv(f, &S->sc, S->R, S->nset, S->hash); break;
+		case 1: sets_csv(f, &S->sc, S->R, S->nset); break;
+		case 2: report_txt(f, &S->sc, S->R, S->nset); break;
+		default: timing_csv(f, S->R, S->nset); break;
+		}
+		if (ferror(f) | fclose(f))
+			rc = -1;
+	}
+	return rc;
+}
+
+static int write_all(const char *dir, const scene_run *S, int n, const char *prefix, const char *id, int timed,
+                     char *err, size_t errlen)
+{
+	char path[4400 + 64];
+	int rc = 0;
+	for (int k = 0; k < n && !rc; k++) {
+		snprintf(path, sizeof path, "%s/%s", dir, S[k].stem);
+		if (n > 1 && mkdir(path, 0777))
+			return -1;
+		rc = write_scene(n > 1 ? path : dir, &S[k], timed, err, errlen);
+	}
+	snprintf(path, sizeof path, "%s/section.html", dir);
+	FILE *f = rc ? NULL : fopen(path, "w");
+	if (!f)
+		return -1;
+	section_open(f, id);
+	for (int k = 0; k < n; k++) {
+		char pre[4400];
+		snprintf(pre, sizeof pre, "%s%s%s", prefix, n > 1 ? S[k].stem : "", n > 1 ? "/" : "");
+		section_body(f, &S[k].sc, S[k].R, S[k].nset, pre);
+	}
+	fputs("</section>\n", f);
+	if (ferror(f) | fclose(f))
+		rc = -1;
+	return rc;
+}
+
+/* Reads and checks one scene file into S. Returns 0 or 1 after an error. */
+static int load(scene_run *S, const char *file)
+{
+	memset(S, 0, sizeof *S);
+	S->file = file;
+	const char *base = strrchr(file, '/') ? strrchr(file, '/') + 1 : file;
+	size_t n = strlen(base);
+	if (n > 5 && !strcmp(base + n - 5, ".json"))
+		n -= 5;
+	snprintf(S->stem, sizeof S->stem, "%.*s", (int)(n < sizeof S->stem ? n : sizeof S->stem - 1), base);
+	size_t len;
+	char *text = cli_read_file(file, &len);
+	if (!text)
+		return cli_fail("scene", "%s: cannot be read", file);
+	char err[512], why[128];
+	if (cli_check_text(text, len, why, sizeof why)) {
+		free(text);
+		return cli_fail("scene", "%s: not a text file (%s)", file, why);
+	}
+	if (bk_scene_parse(text, len, &S->sc, err, sizeof err)) {
+		free(text);
+		return cli_fail("scene", "%s: %s", file, err);
+	}
+	snprintf(S->hash, sizeof S->hash, "%016llx", (unsigned long long)bk_hash_bytes(14695981039346656037ull, text, len));
+	free(text);
+	S->nset = bk_scene_plan(&S->sc, S->sets);
+	return 0;
+}
+
+/* Chooses every term of every set of S. Returns 0 or 1 after an error. */
+static int specialise(scene_run *S)
+{
+	char err[512];
+	for (int i = 0; i < S->nset; i++) {
+		set_result *r = &S->R[i];
+		r->set = S->sets[i];
+		r->ns = r->gen_ns = NAN;
+		r->has[BK_SCENE_TERM_D] = r->has[BK_SCENE_TERM_VF] = r->set.needs.vf;
+		r->has[BK_SCENE_TERM_ENV] = r->set.needs.env;
+		for (int t = 0; t < BK_SCENE_TERMS; t++) {
+			if (!r->has[t])
+				continue;
+			fprintf(stderr, "brdfkit scene: %s: %s: choosing %s\n", S->stem, r->set.name, bk_scene_term_name(t));
+			if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], cli_progress, "scene: env reference", err,
+			                    sizeof err))
+				return cli_fail("scene", "%s: %s: %s", S->file, r->set.name, err);
+			r->cost += r->ch[t].cost;
+			r->gen_cost += r->gen[t].cost;
+			r->spirv += spirv_of(&r->ch[t]);
+			r->gen_spirv += spirv_of(&r->gen[t]);
+		}
+	}
+	return 0;
+}
+
+int cmd_scene(int argc, char **argv)
+{
+	const char *out = NULL, *prefix = "", *id = "scenes";
+	int no_time = 0;
+	cli_opt opts[] = {
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write the shaders, scene.csv, sets.csv, report.txt, section.html", .dest = &out, .required = 1},
+		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
+		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
+		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id (default scenes)", .dest = &id},
+	};
+	cli_cmd cmd = {"scene", "From a scene description (JSON) to one specialised shader per feature set: the terms the\n"
+	               "scene needs and no others, each the cheapest form that meets the error budget on the\n"
+	               "materials' own roughness, f0 and NoV range (catalog forms, published and refitted there;\n"
+	               "for the environment BRDF also LUTs at the scene's ALU:TEX ratio; a short search for V*F),\n"
+	               "with the fp16 guards it needs at the scene's precision and none it does not; against the\n"
+	               "generic shader. Several files: each into DIR/NAME/ (NAME: the file's name without .json),\n"
+	               "one section.html for all.",
+	               "SCENE.json ... --out DIR",
+	               "The scene file (all but materials optional; unknown keys are errors):\n"
+	               "  {\"scene\": NAME, \"materials\": [{\"name\": N, \"roughness\": R, \"f0\": F, \"specular\": true}],\n"
+	               "   \"lighting\": {\"punctual\": true, \"ibl\": true, \"diffuse\": true},\n"
+	               "   \"geometry\": {\"nov\": {\"min\": 0, \"max\": 1}},\n"
+	               "   \"target\": {\"precision\": \"mediump\"|\"highp\", \"alu_tex\": 16|32|48|64 or\n"
+	               "              \"costs\": {\"simple\": 1, \"complex\": 4, \"fetch\": 16},\n"
+	               "              \"languages\": [\"glsl\", \"hlsl\", \"c\"], \"error\": E|\"generic\"|{\"vf\": E, \"env\": E}}}\n"
+	               "R: a number, a list (its hull), {\"min\": x, \"max\": y} or \"texture\" (= [0, 1]).\n"
+	               "F: a number, a list, a range, \"dielectric\" (0.04), \"metal\" ([0.5, 1]) or \"texture\" ([0.02, 1]).\n"
+	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, all languages, error \"generic\"\n"
+	               "(each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
+	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
+	               "f0*A + B; at both ends of the f0 range.",
+	               opts, 4, 16, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (cmd.npos < 1)
+		return cli_usage(&cmd, "give a scene file");
+	int n = cmd.npos;
+	scene_run *S = calloc(n, sizeof *S);
+	if (!S)
+		return cli_fail("scene", "out of memory");
+	for (int k = 0; k < n && !rc; k++) { /* every file checked before any work */
+		rc = load(&S[k], cmd.pos[k]);
+		for (int j = 0; j < k && !rc && n > 1; j++)
+			if (!strcmp(S[j].stem, S[k].stem))
+				rc = cli_usage(&cmd, "'%s' and '%s' would both write DIR/%s/", S[j].file, S[k].file, S[k].stem);
+	}
+	char err[512];
+	if (!rc && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
+		rc = cli_fail("scene", "--out %s", err);
+	for (int k = 0; k < n && !rc; k++)
+		rc = specialise(&S[k]);
+	for (int k = 0; k < n && !rc && !no_time; k++)
+		time_sets(S[k].R, S[k].nset);
+	if (!rc) {
+		bk_out_dir od;
+		if (bk_out_dir_begin(&od, out, NULL, err, sizeof err)) {
+			rc = cli_fail("scene", "--out %s", err);
+		} else {
+			err[0] = 0;
+			if (write_all(od.tmp, S, n, prefix, id, !no_time, err, sizeof err)) {
+				bk_out_dir_abort(&od);
+				rc = cli_fail("scene", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
+			} else if (bk_out_dir_commit(&od, err, sizeof err)) {
+				rc = cli_fail("scene", "--out %s", err);
+			}
+		}
+	}
+	for (int k = 0; k < n; k++) {
+		if (!rc)
+			report_txt(stdout, &S[k].sc, S[k].R, S[k].nset);
+		for (int i = 0; i < S[k].nset; i++)
+			for (int t = 0; t < BK_SCENE_TERMS; t++) {
+				bk_scene_choice_free(&S[k].R[i].ch[t]);
+				bk_scene_choice_free(&S[k].R[i].gen[t]);
+			}
+	}
+	free(S);
+	return rc;
+}

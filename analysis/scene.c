@@ -1,0 +1,482 @@
+/*
+ * scene.c — a scene file read with jansson and checked key by key, and the
+ * plan: what each material needs, and the feature sets that share a shader.
+ * The format is documented in scene.h; every rule here is a line there.
+ */
+#include "scene.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- errors: "PATH: detail", the first one wins ------------------------------ */
+
+typedef struct reader {
+	char *err;
+	size_t errlen;
+	int failed;
+} reader;
+
+static int fail(reader *R, const char *path, const char *fmt, ...)
+{
+	if (R->failed++)
+		return -1;
+	int k = snprintf(R->err, R->errlen, "%s: ", path);
+	if (k < 0 || (size_t)k >= R->errlen)
+		return -1;
+	va_list ap;
+	va_start(ap, fmt);
+	vsnprintf(R->err + k, R->errlen - (size_t)k, fmt, ap);
+	va_end(ap);
+	return -1;
+}
+
+/* A JSON value's kind in words, for "expected a number, got a string". */
+static const char *kind(const json_t *v)
+{
+	switch (json_typeof(v)) {
+	case JSON_OBJECT: return "an object";
+	case JSON_ARRAY: return "a list";
+	case JSON_STRING: return "a string";
+	case JSON_INTEGER:
+	case JSON_REAL: return "a number";
+	case JSON_TRUE:
+	case JSON_FALSE: return "a boolean";
+	default: return "null";
+	}
+}
+
+static void join(char *out, size_t len, const char *path, const char *key)
+{
+	snprintf(out, len, "%s%s%s", path, *path ? "." : "", key);
+}
+
+/* Every key of obj is one of allowed (NULL-terminated). */
+static int only_keys(reader *R, const json_t *obj, const char *path, const char *const *allowed)
+{
+	const char *key;
+	json_t *v;
+	json_object_foreach((json_t *)obj, key, v) {
+		int ok = 0;
+		for (const char *const *a = allowed; *a && !ok; a++)
+			ok = !strcmp(key, *a);
+		if (!ok) {
+			char list[256] = "";
+			for (const char *const *a = allowed; *a; a++)
+				snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", a == allowed ? "" : ", ", *a);
+			return fail(R, *path ? path : "scene", "unknown key '%s' (known: %s)", key, list);
+		}
+	}
+	return 0;
+}
+
+static int object(reader *R, const json_t *v, const char *path)
+{
+	return json_is_object(v) ? 0 : fail(R, path, "expected an object, got %s", kind(v));
+}
+
+static int boolean(reader *R, const json_t *obj, const char *key, const char *path, int *out)
+{
+	json_t *v = json_object_get(obj, key);
+	if (!v)
+		return 0;
+	char p[256];
+	join(p, sizeof p, path, key);
+	if (!json_is_boolean(v))
+		return fail(R, p, "expected true or false, got %s", kind(v));
+	*out = json_is_true(v);
+	return 0;
+}
+
+static int number(reader *R, const json_t *v, const char *path, double lo, double hi, double *out)
+{
+	if (!json_is_number(v))
+		return fail(R, path, "expected a number, got %s", kind(v));
+	double x = json_number_value(v);
+	if (!(x >= lo && x <= hi))
+		return fail(R, path, "%g is outside [%g, %g]", x, lo, hi);
+	*out = x;
+	return 0;
+}
+
+/* A value in [lo, hi] given as a number, a list of numbers (its hull) or
+ * {"min", "max"}; a string is one of names[] (values in nlo[], nhi[]). */
+static int range(reader *R, const json_t *v, const char *path, double lo, double hi, const char *const *names,
+                 const double *nlo, const double *nhi, double *rlo, double *rhi)
+{
+	char p[256];
+	if (json_is_number(v)) {
+		if (number(R, v, path, lo, hi, rlo))
+			return -1;
+		*rhi = *rlo;
+		return 0;
+	}
+	if (json_is_string(v)) {
+		const char *s = json_string_value(v);
+		char list[128] = "";
+		for (int i = 0; names[i]; i++) {
+			if (!strcmp(s, names[i])) {
+				*rlo = nlo[i];
+				*rhi = nhi[i];
+				return 0;
+			}
+			snprintf(list + strlen(list), sizeof list - strlen(list), "%s'%s'", i ? ", " : "", names[i]);
+		}
+		return fail(R, path, "unknown value '%s' (known: a number, a list, {\"min\", \"max\"}, %s)", s, list);
+	}
+	if (json_is_array(v)) {
+		if (!json_array_size(v))
+			return fail(R, path, "the list is empty");
+		*rlo = HUGE_VAL;
+		*rhi = -HUGE_VAL;
+		size_t i;
+		json_t *e;
+		json_array_foreach(v, i, e) {
+			double x;
+			snprintf(p, sizeof p, "%s[%zu]", path, i);
+			if (number(R, e, p, lo, hi, &x))
+				return -1;
+			*rlo = fmin(*rlo, x);
+			*rhi = fmax(*rhi, x);
+		}
+		return 0;
+	}
+	if (json_is_object(v)) {
+		static const char *const keys[] = {"min", "max", NULL};
+		if (only_keys(R, v, path, keys))
+			return -1;
+		for (int k = 0; k < 2; k++) {
+			json_t *e = json_object_get(v, keys[k]);
+			join(p, sizeof p, path, keys[k]);
+			if (!e)
+				return fail(R, p, "missing (a range needs \"min\" and \"max\")");
+			if (number(R, e, p, lo, hi, k ? rhi : rlo))
+				return -1;
+		}
+		if (*rlo > *rhi)
+			return fail(R, path, "min %g is above max %g", *rlo, *rhi);
+		return 0;
+	}
+	return fail(R, path, "expected a number, a list or {\"min\", \"max\"}, got %s", kind(v));
+}
+
+/* ---- the sections -------------------------------------------------------------- */
+
+static int material(reader *R, const json_t *v, const char *path, bk_scene_material *m)
+{
+	static const char *const keys[] = {"name", "roughness", "f0", "specular", NULL};
+	static const char *const rnames[] = {"texture", NULL};
+	static const double rlo[] = {0}, rhi[] = {1};
+	static const char *const fnames[] = {"dielectric", "metal", "texture", NULL};
+	static const double flo[] = {BK_SCENE_DIELECTRIC_F0, BK_SCENE_METAL_F0_LO, BK_SCENE_TEXTURE_F0_LO};
+	static const double fhi[] = {BK_SCENE_DIELECTRIC_F0, 1, 1};
+	char p[256];
+	if (object(R, v, path) || only_keys(R, v, path, keys))
+		return -1;
+	json_t *name = json_object_get(v, "name");
+	join(p, sizeof p, path, "name");
+	if (!name)
+		return fail(R, p, "missing (every material has a name)");
+	if (!json_is_string(name))
+		return fail(R, p, "expected a string, got %s", kind(name));
+	const char *s = json_string_value(name);
+	if (!*s || strlen(s) >= sizeof m->name)
+		return fail(R, p, "'%s' must have 1 to %zu characters", s, sizeof m->name - 1);
+	for (const char *c = s; *c; c++)
+		if ((unsigned char)*c < 0x20 || *c == 0x7f)
+			return fail(R, p, "a control character in the name");
+	strcpy(m->name, s);
+	m->r_lo = 0;
+	m->r_hi = 1;
+	m->f0_lo = m->f0_hi = BK_SCENE_DIELECTRIC_F0;
+	m->specular = 1;
+	json_t *e;
+	if ((e = json_object_get(v, "roughness"))) {
+		join(p, sizeof p, path, "roughness");
+		if (range(R, e, p, 0, 1, rnames, rlo, rhi, &m->r_lo, &m->r_hi))
+			return -1;
+	}
+	if ((e = json_object_get(v, "f0"))) {
+		join(p, sizeof p, path, "f0");
+		if (range(R, e, p, 0, 1, fnames, flo, fhi, &m->f0_lo, &m->f0_hi))
+			return -1;
+	}
+	return boolean(R, v, "specular", path, &m->specular);
+}
+
+static int materials(reader *R, const json_t *v, bk_scene *sc)
+{
+	if (!v)
+		return fail(R, "materials", "missing (a scene lists its materials)");
+	if (!json_is_array(v))
+		return fail(R, "materials", "expected a list, got %s", kind(v));
+	size_t n = json_array_size(v);
+	if (!n)
+		return fail(R, "materials", "the list is empty");
+	if (n > BK_SCENE_MAX_MATERIALS)
+		return fail(R, "materials", "%zu materials, at most %d", n, BK_SCENE_MAX_MATERIALS);
+	for (size_t i = 0; i < n; i++) {
+		char p[64];
+		snprintf(p, sizeof p, "materials[%zu]", i);
+		if (material(R, json_array_get(v, i), p, &sc->mat[i]))
+			return -1;
+		for (size_t j = 0; j < i; j++)
+			if (!strcmp(sc->mat[j].name, sc->mat[i].name))
+				return fail(R, p, "name '%s' is also materials[%zu]'s", sc->mat[i].name, j);
+		sc->nmat++;
+	}
+	return 0;
+}
+
+static int lighting(reader *R, const json_t *v, bk_scene *sc)
+{
+	static const char *const keys[] = {"punctual", "ibl", "diffuse", NULL};
+	if (!v)
+		return 0;
+	if (object(R, v, "lighting") || only_keys(R, v, "lighting", keys))
+		return -1;
+	if (boolean(R, v, "punctual", "lighting", &sc->punctual) || boolean(R, v, "ibl", "lighting", &sc->ibl) ||
+	    boolean(R, v, "diffuse", "lighting", &sc->diffuse))
+		return -1;
+	if (!sc->punctual && !sc->ibl)
+		return fail(R, "lighting", "neither punctual lights nor image-based lighting: nothing lights the scene");
+	return 0;
+}
+
+static int geometry(reader *R, const json_t *v, bk_scene *sc)
+{
+	static const char *const keys[] = {"nov", NULL};
+	static const char *const none[] = {NULL};
+	if (!v)
+		return 0;
+	if (object(R, v, "geometry") || only_keys(R, v, "geometry", keys))
+		return -1;
+	json_t *e = json_object_get(v, "nov");
+	if (e && range(R, e, "geometry.nov", 0, 1, none, NULL, NULL, &sc->nov_lo, &sc->nov_hi))
+		return -1;
+	if (sc->nov_hi - sc->nov_lo < 0.01)
+		return fail(R, "geometry.nov", "[%g, %g] is narrower than 0.01: give the range the geometry produces",
+		            sc->nov_lo, sc->nov_hi);
+	return 0;
+}
+
+static int budget(reader *R, const json_t *v, bk_scene *sc)
+{
+	static const char *const keys[] = {"vf", "env", NULL};
+	if (json_is_string(v)) {
+		if (strcmp(json_string_value(v), "generic"))
+			return fail(R, "target.error", "unknown value '%s' (known: a number, {\"vf\", \"env\"}, 'generic')",
+			            json_string_value(v));
+		sc->budget_vf = sc->budget_env = BK_SCENE_BUDGET_GENERIC;
+		return 0;
+	}
+	if (json_is_number(v)) {
+		if (number(R, v, "target.error", 1e-6, 1, &sc->budget_vf))
+			return -1;
+		sc->budget_env = sc->budget_vf;
+		return 0;
+	}
+	if (!json_is_object(v))
+		return fail(R, "target.error", "expected a number, 'generic' or {\"vf\", \"env\"}, got %s", kind(v));
+	if (only_keys(R, v, "target.error", keys))
+		return -1;
+	json_t *e;
+	if ((e = json_object_get(v, "vf")) && number(R, e, "target.error.vf", 1e-6, 1, &sc->budget_vf))
+		return -1;
+	if ((e = json_object_get(v, "env")) && number(R, e, "target.error.env", 1e-6, 1, &sc->budget_env))
+		return -1;
+	return 0;
+}
+
+static int costs(reader *R, const json_t *v, bk_scene *sc)
+{
+	static const char *const keys[] = {"simple", "complex", "fetch", NULL};
+	double *dest[] = {&sc->simple_cost, &sc->complex_cost, &sc->fetch_cost};
+	if (object(R, v, "target.costs") || only_keys(R, v, "target.costs", keys))
+		return -1;
+	for (int k = 0; k < 3; k++) {
+		char p[64];
+		json_t *e = json_object_get(v, keys[k]);
+		join(p, sizeof p, "target.costs", keys[k]);
+		if (!e)
+			return fail(R, p, "missing (explicit costs give simple, complex and fetch)");
+		if (number(R, e, p, 0, 1e4, dest[k]))
+			return -1;
+	}
+	if (!(sc->simple_cost > 0))
+		return fail(R, "target.costs.simple", "must be above 0");
+	return 0;
+}
+
+static int target(reader *R, const json_t *v, bk_scene *sc)
+{
+	static const char *const keys[] = {"precision", "alu_tex", "costs", "lut", "languages", "error", NULL};
+	if (!v)
+		return 0;
+	if (object(R, v, "target") || only_keys(R, v, "target", keys))
+		return -1;
+	json_t *e;
+	if ((e = json_object_get(v, "precision"))) {
+		const char *s = json_is_string(e) ? json_string_value(e) : NULL;
+		if (!s)
+			return fail(R, "target.precision", "expected a string, got %s", kind(e));
+		if (strcmp(s, "mediump") && strcmp(s, "highp"))
+			return fail(R, "target.precision", "unknown value '%s' (known: 'mediump', 'highp')", s);
+		sc->half = !strcmp(s, "mediump");
+	}
+	if (boolean(R, v, "lut", "target", &sc->lut))
+		return -1;
+	json_t *tex = json_object_get(v, "alu_tex"), *c = json_object_get(v, "costs");
+	if (tex && c)
+		return fail(R, "target", "'alu_tex' and 'costs' both given: give one (alu_tex N is costs simple 1, complex 4, fetch N)");
+	if (tex) {
+		if (!json_is_integer(tex))
+			return fail(R, "target.alu_tex", "expected 16, 32, 48 or 64, got %s", kind(tex));
+		json_int_t t = json_integer_value(tex);
+		if (t != 16 && t != 32 && t != 48 && t != 64)
+			return fail(R, "target.alu_tex", "%lld is not a tier of the talk's table (16, 32, 48, 64)", (long long)t);
+		sc->alu_tex = (int)t;
+		sc->fetch_cost = (double)t;
+	}
+	if (c) {
+		sc->alu_tex = 0;
+		if (costs(R, c, sc))
+			return -1;
+	}
+	if ((e = json_object_get(v, "languages"))) {
+		static const char *const langs[] = {"glsl", "hlsl", "c"};
+		if (!json_is_array(e))
+			return fail(R, "target.languages", "expected a list, got %s", kind(e));
+		if (!json_array_size(e))
+			return fail(R, "target.languages", "the list is empty");
+		sc->languages = 0;
+		size_t i;
+		json_t *l;
+		json_array_foreach(e, i, l) {
+			char p[64];
+			snprintf(p, sizeof p, "target.languages[%zu]", i);
+			const char *s = json_is_string(l) ? json_string_value(l) : NULL;
+			int k = 0;
+			while (s && k < 3 && strcmp(s, langs[k]))
+				k++;
+			if (!s || k == 3)
+				return s ? fail(R, p, "unknown language '%s' (known: 'glsl', 'hlsl', 'c')", s)
+				         : fail(R, p, "expected a string, got %s", kind(l));
+			sc->languages |= 1u << k;
+		}
+	}
+	if ((e = json_object_get(v, "error")) && budget(R, e, sc))
+		return -1;
+	return 0;
+}
+
+int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t errlen)
+{
+	reader R = {err, errlen, 0};
+	memset(sc, 0, sizeof *sc);
+	snprintf(sc->name, sizeof sc->name, "scene");
+	sc->punctual = sc->ibl = sc->diffuse = 1;
+	sc->nov_lo = 0;
+	sc->nov_hi = 1;
+	sc->alu_tex = 32;
+	sc->simple_cost = 1;
+	sc->complex_cost = 4;
+	sc->fetch_cost = 32;
+	sc->lut = 1;
+	sc->languages = BK_SCENE_GLSL | BK_SCENE_HLSL | BK_SCENE_C;
+	sc->budget_vf = sc->budget_env = BK_SCENE_BUDGET_GENERIC;
+
+	json_error_t je;
+	json_t *root = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
+	if (!root) {
+		snprintf(err, errlen, "line %d, column %d: %s", je.line, je.column, je.text);
+		return -1;
+	}
+	static const char *const keys[] = {"scene", "materials", "lighting", "geometry", "target", NULL};
+	if (object(&R, root, "scene") || only_keys(&R, root, "", keys))
+		goto done;
+	json_t *e = json_object_get(root, "scene");
+	if (e) {
+		if (!json_is_string(e))
+			fail(&R, "scene", "expected a string, got %s", kind(e));
+		else if (!*json_string_value(e) || strlen(json_string_value(e)) >= sizeof sc->name)
+			fail(&R, "scene", "the name must have 1 to %zu characters", sizeof sc->name - 1);
+		else
+			strcpy(sc->name, json_string_value(e));
+	}
+	if (R.failed || materials(&R, json_object_get(root, "materials"), sc) ||
+	    lighting(&R, json_object_get(root, "lighting"), sc) || geometry(&R, json_object_get(root, "geometry"), sc) ||
+	    target(&R, json_object_get(root, "target"), sc))
+		goto done;
+	/* conflicts between sections */
+	for (int m = 0; m < sc->nmat && !R.failed; m++)
+		if (!sc->mat[m].specular && !sc->diffuse) {
+			char p[64];
+			snprintf(p, sizeof p, "materials[%d].specular", m);
+			fail(&R, p, "false, and lighting.diffuse is false: material '%s' would not be shaded at all",
+			     sc->mat[m].name);
+		}
+done:
+	json_decref(root);
+	return R.failed ? -1 : 0;
+}
+
+/* ---- the plan ---------------------------------------------------------------- */
+
+void bk_scene_material_needs(const bk_scene *sc, int m, bk_scene_needs *n)
+{
+	const bk_scene_material *M = &sc->mat[m];
+	memset(n, 0, sizeof *n);
+	n->vf = M->specular && sc->punctual;
+	n->env = M->specular && sc->ibl;
+	n->diffuse = sc->diffuse;
+	n->fixed_f0 = (n->vf || n->env) && M->f0_lo == M->f0_hi; /* f0 means nothing to a diffuse-only set */
+	n->f0 = n->fixed_f0 ? M->f0_lo : NAN;
+}
+
+static int same_needs(const bk_scene_needs *a, const bk_scene_needs *b)
+{
+	return a->vf == b->vf && a->env == b->env && a->diffuse == b->diffuse && a->fixed_f0 == b->fixed_f0 &&
+	       (!a->fixed_f0 || a->f0 == b->f0);
+}
+
+int bk_scene_plan(const bk_scene *sc, bk_scene_set *sets)
+{
+	int nset = 0;
+	for (int m = 0; m < sc->nmat; m++) {
+		bk_scene_needs n;
+		bk_scene_material_needs(sc, m, &n);
+		const bk_scene_material *M = &sc->mat[m];
+		int k = 0;
+		while (k < nset && !same_needs(&sets[k].needs, &n))
+			k++;
+		bk_scene_set *S = &sets[k];
+		if (k == nset) {
+			memset(S, 0, sizeof *S);
+			S->needs = n;
+			S->r_lo = M->r_lo;
+			S->r_hi = M->r_hi;
+			S->f0_lo = M->f0_lo;
+			S->f0_hi = M->f0_hi;
+			/* a name from the needs, parts joined by '_': a C/GLSL/HLSL identifier prefix */
+			const char *part[4] = {n.vf ? "spec" : NULL, n.env ? "ibl" : NULL, n.diffuse ? "diffuse" : NULL,
+			                       n.vf || n.env ? (n.fixed_f0 ? "f0" : "anyf0") : NULL};
+			for (int p = 0; p < 4; p++)
+				if (part[p])
+					snprintf(S->name + strlen(S->name), sizeof S->name - strlen(S->name), "%s%s",
+					         S->name[0] ? "_" : "", part[p]);
+			if (n.fixed_f0)
+				snprintf(S->name + strlen(S->name), sizeof S->name - strlen(S->name), "_%03ld",
+				         lround(n.f0 * 1000));
+			nset++;
+		}
+		S->r_lo = fmin(S->r_lo, M->r_lo);
+		S->r_hi = fmax(S->r_hi, M->r_hi);
+		S->f0_lo = fmin(S->f0_lo, M->f0_lo);
+		S->f0_hi = fmax(S->f0_hi, M->f0_hi);
+		S->mat[S->nmat++] = m;
+	}
+	return nset;
+}

@@ -1,0 +1,105 @@
+/*
+ * scene.h — a scene description (what its materials, lights and target GPU
+ * are) read from JSON with jansson, and the plan it implies: which terms each
+ * material needs, and the feature sets (materials with the same needs share
+ * one shader, after the embedded-PBR thesis, seed 000, chapter 4).
+ *
+ * The file (every key but "materials" optional; unknown keys are errors):
+ *
+ *   { "scene": "car paint",
+ *     "materials": [ { "name": "paint",
+ *                      "roughness": 0.5 | [0.1, 0.4, 0.7] | {"min": 0.05, "max": 0.3} | "texture",
+ *                      "f0": 0.04 | {"min": .., "max": ..} | "dielectric" | "metal" | "texture",
+ *                      "specular": true } ],
+ *     "lighting": { "punctual": true, "ibl": true, "diffuse": true },
+ *     "geometry": { "nov": {"min": 0.1, "max": 1} },
+ *     "target": { "precision": "mediump" | "highp",
+ *                 "alu_tex": 16 | 32 | 48 | 64,            (or)
+ *                 "costs": {"simple": 1, "complex": 4, "fetch": 16},
+ *                 "lut": true,
+ *                 "languages": ["glsl", "hlsl", "c"],
+ *                 "error": 0.01 | "generic" | {"vf": 0.01, "env": 0.02} } }
+ *
+ * Meanings: a roughness list is fitted on its hull (the values between are
+ * cheap to cover and a texture may blend them); "texture" is the full range
+ * [0, 1]. f0 "dielectric" is 0.04, "metal" the range [0.5, 1] (the
+ * reflectances of common metals, iron 0.56 to silver 0.97), "texture" the
+ * metalness workflow's [0.02, 1]. "specular": false leaves the material
+ * diffuse only. "lut": false forbids a texture for the environment BRDF (the
+ * thesis's "no LUT" variant: no sampler to spare). The error budget is per term, in the unit of each term's
+ * error (scene_fit.h); "generic" asks each term to be as accurate as the
+ * generic shader is on the scene's domain in the scene's precision.
+ */
+#ifndef ANALYSIS_SCENE_H
+#define ANALYSIS_SCENE_H
+
+#include <stddef.h>
+
+#define BK_SCENE_NAME_MAX 64
+#define BK_SCENE_MAX_MATERIALS 64
+
+/* The defaults of the named values (documented above). */
+#define BK_SCENE_DIELECTRIC_F0 0.04
+#define BK_SCENE_METAL_F0_LO 0.5
+#define BK_SCENE_TEXTURE_F0_LO 0.02
+
+typedef struct bk_scene_material {
+	char name[BK_SCENE_NAME_MAX];
+	double r_lo, r_hi;   /* perceptual roughness, hull of what was given */
+	double f0_lo, f0_hi; /* equal: one f0, folded into the constants */
+	int specular;
+} bk_scene_material;
+
+enum { BK_SCENE_GLSL = 1, BK_SCENE_HLSL = 2, BK_SCENE_C = 4 };
+
+/* Error budget: a number per term, or the generic shader's error. */
+#define BK_SCENE_BUDGET_GENERIC (-1.0)
+
+typedef struct bk_scene {
+	char name[BK_SCENE_NAME_MAX];
+	int nmat;
+	bk_scene_material mat[BK_SCENE_MAX_MATERIALS];
+	int punctual, ibl, diffuse;
+	double nov_lo, nov_hi;
+	int half;            /* mediump: binary16 arithmetic */
+	int alu_tex;         /* simple ALU ops one bilinear fetch costs (0: explicit costs) */
+	double simple_cost, complex_cost, fetch_cost;
+	int lut;             /* a DFG texture may replace the environment BRDF's math */
+	unsigned languages;  /* BK_SCENE_GLSL | ... */
+	double budget_vf, budget_env; /* or BK_SCENE_BUDGET_GENERIC */
+} bk_scene;
+
+/* Reads and checks a scene from JSON text. A syntax error names its line and
+ * column (jansson's); a bad value names its key by its path in the document,
+ * "materials[1].roughness.max: 1.3 is outside [0, 1]" (jansson keeps no
+ * positions of values, and the path is what a user searches for). Returns 0,
+ * or -1 with the message. */
+int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t errlen);
+
+/* ---- the plan --------------------------------------------------------------- */
+
+/* What one material needs. */
+typedef struct bk_scene_needs {
+	int vf;       /* punctual specular: D · V·F */
+	int env;      /* image-based specular: the environment BRDF */
+	int diffuse;  /* Lambert */
+	int fixed_f0; /* one f0: folded into the constants, no f0 input (specular only) */
+	double f0;    /* that f0 */
+} bk_scene_needs;
+
+void bk_scene_material_needs(const bk_scene *sc, int m, bk_scene_needs *n);
+
+/* Materials with equal needs (and, for a folded f0, the same f0) share a
+ * feature set; its domain is the hull of its materials' domains. */
+typedef struct bk_scene_set {
+	char name[BK_SCENE_NAME_MAX]; /* from its needs: "spec_ibl_f0", "ibl_dielectric", ... */
+	bk_scene_needs needs;
+	double r_lo, r_hi, f0_lo, f0_hi;
+	int nmat;
+	int mat[BK_SCENE_MAX_MATERIALS];
+} bk_scene_set;
+
+/* The feature sets in order of their first material. Returns how many. */
+int bk_scene_plan(const bk_scene *sc, bk_scene_set *sets);
+
+#endif

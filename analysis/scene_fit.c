@@ -1,0 +1,662 @@
+/*
+ * scene_fit.c — the cheapest form of a term that meets a scene's error
+ * budget on its own domain (scene_fit.h): candidates from the catalog,
+ * published and refitted on the set's domain, LUTs for the environment BRDF,
+ * scored in the scene's precision; then the fp16 guards the choice needs.
+ */
+#include "scene_fit.h"
+
+#include "catalog.h"
+#include "fit.h"
+#include "search.h"
+#include "stability.h"
+
+#include <ctype.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *bk_scene_term_name(bk_scene_term t)
+{
+	static const char *const n[] = {"D", "vf", "env"};
+	return (unsigned)t < BK_SCENE_TERMS ? n[t] : "?";
+}
+
+/* ---- text rewrites -------------------------------------------------------------- */
+
+/* text with every whole-word occurrence of word replaced by with; allocated. */
+static char *replace_word(const char *text, const char *word, const char *with)
+{
+	size_t wl = strlen(word), n = 0;
+	for (const char *p = strstr(text, word); p; p = strstr(p + wl, word))
+		n++;
+	char *out = malloc(strlen(text) + n * strlen(with) + 1), *o = out;
+	if (!out)
+		return NULL;
+	for (const char *p = text; *p;) {
+		int start = p == text || !(isalnum((unsigned char)p[-1]) || p[-1] == '_');
+		if (start && !strncmp(p, word, wl) && !(isalnum((unsigned char)p[wl]) || p[wl] == '_')) {
+			o += sprintf(o, "%s", with);
+			p += wl;
+		} else {
+			*o++ = *p++;
+		}
+	}
+	*o = 0;
+	return out;
+}
+
+char *bk_scene_fold_f0(const char *text, double f0)
+{
+	char lit[40];
+	snprintf(lit, sizeof lit, "(%.9g)", f0);
+	return replace_word(text, "f0", lit);
+}
+
+/* Every cosine the form reads floored at c: the guard that alone makes it
+ * right in half where the stability analysis found one suffices. */
+static char *floor_cosines(const char *text, double c)
+{
+	static const char *const cos_in[] = {"NoV", "NoL", "NoH", "LoH", "VoH"};
+	char *t = strdup(text);
+	for (int k = 0; t && k < 5; k++) {
+		char with[48];
+		snprintf(with, sizeof with, "max(%s, %.9g)", cos_in[k], c);
+		char *u = replace_word(t, cos_in[k], with);
+		free(t);
+		t = u;
+	}
+	return t;
+}
+
+/* ---- the samples of a term on a set's domain ----------------------------------- */
+
+typedef struct domain {
+	bk_samples s[2]; /* vf: one per end of the f0 range; env: one holding both ends */
+	int ns;
+	bk_precision prec;
+} domain;
+
+static void domain_free(domain *d)
+{
+	for (int k = 0; k < d->ns; k++)
+		bk_samples_free(&d->s[k]);
+}
+
+/* A roughness or f0 range of one value gets a little width: a target is a
+ * box of cells. */
+static void widen(double *lo, double *hi)
+{
+	if (*hi - *lo < 0.01) {
+		double m = 0.5 * (*lo + *hi);
+		*lo = fmax(0, m - 0.005);
+		*hi = fmin(1, m + 0.005);
+	}
+}
+
+static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, domain *d,
+                        bk_progress_fn progress, void *ctx, char *err, size_t errlen)
+{
+	memset(d, 0, sizeof *d);
+	d->prec = sc->half ? BK_F16 : BK_F32;
+	double ends[2] = {set->f0_hi, set->f0_lo};
+	int nends = set->f0_lo == set->f0_hi ? 1 : 2;
+	bk_target_options o;
+	bk_target_defaults(term == BK_SCENE_TERM_ENV ? BK_TARGET_ENV : BK_TARGET_VF, &o);
+	o.r_lo = set->r_lo;
+	o.r_hi = set->r_hi;
+	widen(&o.r_lo, &o.r_hi);
+	o.x_lo = sc->nov_lo;
+	o.x_hi = sc->nov_hi;
+	if (term == BK_SCENE_TERM_ENV) {
+		/* 40x40 cells: centres that are no LUT's texel centres on [0, 1] */
+		o.nx = o.nr = 40;
+		o.env_f0_form = 1;
+		o.nf0 = nends;
+		memcpy(o.f0, ends, sizeof ends);
+		d->ns = 1;
+		return bk_target_build(&o, &d->s[0], progress, ctx, err, errlen);
+	}
+	for (int k = 0; k < nends; k++) {
+		o.f0[0] = ends[k];
+		if (bk_target_build(&o, &d->s[k], NULL, NULL, err, errlen)) {
+			domain_free(d);
+			return -1;
+		}
+		d->ns++;
+	}
+	return 0;
+}
+
+/* The term's error of values of form f (params p) in the domain's precision:
+ * the largest over the sample sets; HUGE_VAL where it is not finite. */
+static double score(const domain *d, bk_scene_term term, const bk_form *f, const double *p)
+{
+	double worst = 0;
+	for (int k = 0; k < d->ns; k++) {
+		const bk_samples *s = &d->s[k];
+		if (bk_form_inputs(f) & ~s->provides)
+			return HUGE_VAL;
+		double *v = malloc(s->n * sizeof *v);
+		const double *in[BK_IN_COUNT];
+		for (int i = 0; i < BK_IN_COUNT; i++)
+			in[i] = s->in[i];
+		if (!v || bk_form_eval(f, d->prec, s->n, in, p, v)) {
+			free(v);
+			return HUGE_VAL;
+		}
+		bk_fit_metrics m;
+		bk_samples_metrics(s, v, NULL, &m);
+		free(v);
+		double e = term == BK_SCENE_TERM_VF ? m.albedo_max_abs : m.max_abs;
+		if (m.nonfinite || !isfinite(e))
+			return HUGE_VAL;
+		worst = fmax(worst, e);
+	}
+	return worst;
+}
+
+/* Least squares on the set's domain (the last sample set: vf at the low end
+ * of f0, where most dielectrics are), from the published constants; for env
+ * minimax, the error it is scored on. */
+static int refit(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p)
+{
+	bk_fit_spec sp;
+	memset(&sp, 0, sizeof sp);
+	sp.s = &d->s[d->ns - 1];
+	sp.form[0] = f;
+	sp.np = bk_form_nparams(f);
+	sp.opt = (bk_fit_options)BK_FIT_OPTIONS_INIT;
+	sp.opt.max_iterations = 2000; /* room to converge: a cut-off solve depends on libm */
+	sp.starts = 2;
+	sp.seed = 1;
+	sp.digits = BK_FIT_DIGITS_SE;
+	/* env is scored on its max error: minimise that (Lawson's reweighting) */
+	sp.minimax = term == BK_SCENE_TERM_ENV;
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		sp.start[j] = start[j];
+		sp.lower[j] = -HUGE_VAL;
+		sp.upper[j] = HUGE_VAL;
+	}
+	char where[128];
+	if (!sp.np || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
+		return -1;
+	bk_fit_result res;
+	if (bk_fit_run(&sp, &res) < 0)
+		return -1;
+	memcpy(p, res.p, sizeof res.p);
+	return 0;
+}
+
+/* ---- candidates ------------------------------------------------------------- */
+
+typedef struct cand {
+	char name[128], source[256];
+	char *text;
+	double p[BK_MAX_PARAMS];
+	double cost, err;
+	bk_ops ops;
+	int lut, lut_size;
+	bk_lut_format fmt;
+	double lut_bytes;
+} cand;
+
+typedef struct pool {
+	cand *c;
+	int n, cap;
+} pool;
+
+static cand *pool_add(pool *P)
+{
+	if (P->n == P->cap) {
+		int cap = P->cap ? 2 * P->cap : 32;
+		cand *c = realloc(P->c, cap * sizeof *c);
+		if (!c)
+			return NULL;
+		P->c = c;
+		P->cap = cap;
+	}
+	cand *c = &P->c[P->n++];
+	memset(c, 0, sizeof *c);
+	return c;
+}
+
+static void pool_free(pool *P)
+{
+	for (int i = 0; i < P->n; i++)
+		free(P->c[i].text);
+	free(P->c);
+}
+
+static double form_cost(const bk_scene *sc, const bk_form *f, bk_ops *ops)
+{
+	bk_form_count(f, ops);
+	return bk_ops_cost(ops, sc->simple_cost, sc->complex_cost);
+}
+
+/* Scores text (f0 folded where the set has one) at params, and its refit when
+ * it has parameters; adds what is finite on the domain. */
+static int add_form(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_scene_term term,
+                    const char *name, const char *source, const char *text, const double *params)
+{
+	char *t = set->needs.fixed_f0 ? bk_scene_fold_f0(text, set->needs.f0) : strdup(text);
+	bk_form_error fe;
+	bk_form *f = t ? bk_form_parse(t, &fe) : NULL;
+	if (!f) {
+		free(t);
+		return t ? 0 : -1;
+	}
+	double zero[BK_MAX_PARAMS] = {0};
+	const double *p0 = params ? params : zero;
+	for (int pass = 0; pass < 2; pass++) {
+		double p[BK_MAX_PARAMS];
+		memcpy(p, p0, sizeof p);
+		if (pass == 1 && (!bk_form_nparams(f) || refit(d, term, f, p0, p)))
+			break;
+		double e = score(d, term, f, p);
+		if (!isfinite(e))
+			continue;
+		cand *c = pool_add(P);
+		if (!c || !(c->text = strdup(t))) {
+			bk_form_free(f);
+			free(t);
+			return -1;
+		}
+		snprintf(c->name, sizeof c->name, "%.100s%s", name, pass ? " (refit)" : "");
+		snprintf(c->source, sizeof c->source, "%.180s%s", source, pass ? "; refitted on the scene's domain" : "");
+		memcpy(c->p, p, sizeof p);
+		c->err = e;
+		c->cost = form_cost(sc, f, &c->ops);
+	}
+	bk_form_free(f);
+	free(t);
+	return 0;
+}
+
+static int add_luts(pool *P, const bk_scene *sc, const domain *d, bk_smith smith)
+{
+	static const int sizes[] = {16, 32, 64, 128};
+	static const double texel_bytes[BK_LUT_FORMATS] = {2, 4, 8}; /* two channels */
+	for (int i = 0; i < 4; i++)
+		for (int fmt = 0; fmt < BK_LUT_FORMATS; fmt++) {
+			bk_fit_metrics m;
+			if (bk_lut_score(sizes[i], (bk_lut_format)fmt, smith, &d->s[0], &m, NULL))
+				return -1;
+			cand *c = pool_add(P);
+			if (!c)
+				return -1;
+			snprintf(c->name, sizeof c->name, "LUT %dx%d %s", sizes[i], sizes[i], bk_lut_format_name(fmt));
+			snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)", sizes[i]);
+			c->lut = 1;
+			c->lut_size = sizes[i];
+			c->fmt = (bk_lut_format)fmt;
+			c->lut_bytes = sizes[i] * sizes[i] * texel_bytes[fmt];
+			/* one fetch, then f0 A + B: one multiply-add */
+			c->ops.n[BK_K_MAD] = 1;
+			c->ops.simple = 1;
+			c->cost = sc->fetch_cost + sc->simple_cost;
+			c->err = m.max_abs;
+		}
+	return 0;
+}
+
+/* Better choice first: cheaper; at equal cost more accurate; LUTs: smaller. */
+static int better(const cand *a, const cand *b)
+{
+	if (a->cost != b->cost)
+		return a->cost < b->cost;
+	if (a->lut && b->lut && a->lut_bytes != b->lut_bytes)
+		return a->lut_bytes < b->lut_bytes;
+	if (a->err != b->err)
+		return a->err < b->err;
+	return strcmp(a->name, b->name) < 0;
+}
+
+/* ---- a short search ----------------------------------------------------------- */
+
+/* vf when nothing cheaper than the exact form meets the budget: brdfkit
+ * search's albedo objective on the set's domain (screening grid, f0 at the
+ * low end), a small fixed budget, the catalog as seeds; the front members
+ * cheaper than max_cost scored as every candidate is. */
+static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, double max_cost)
+{
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_VF, &o);
+	o.r_lo = set->r_lo;
+	o.r_hi = set->r_hi;
+	widen(&o.r_lo, &o.r_hi);
+	o.x_lo = sc->nov_lo;
+	o.x_hi = sc->nov_hi;
+	o.f0[0] = set->f0_lo;
+	o.nx = o.nr = 8, o.nu = 8, o.nphi = 4; /* search's screening grid for vf */
+	bk_samples screen;
+	char err[256];
+	if (bk_target_build(&o, &screen, NULL, NULL, err, sizeof err))
+		return -1;
+	const char *seeds[64];
+	char *owned[64];
+	double seed_p[64][BK_MAX_PARAMS];
+	int ns = 0;
+	for (size_t i = 0; i < bk_catalog_count() && ns < 64; i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		int v = !strcmp(e->target, "V");
+		if (!v && strcmp(e->target, "VF"))
+			continue;
+		owned[ns] = malloc(strlen(e->form) + 32);
+		if (!owned[ns])
+			break;
+		sprintf(owned[ns], v ? "(%s)*F_schlick(f0, 1, LoH)" : "%s", e->form);
+		seeds[ns] = owned[ns];
+		memcpy(seed_p[ns], e->defaults, sizeof e->defaults);
+		ns++;
+	}
+	bk_search_options so;
+	bk_search_defaults(&so);
+	so.screen = &screen;
+	so.shape = BK_SHAPE_F0;
+	so.objective = BK_OBJ_ALBEDO;
+	so.precision = d->prec;
+	so.simple_cost = sc->simple_cost;
+	so.complex_cost = sc->complex_cost;
+	so.max_cost = max_cost;
+	so.nonneg = 1;
+	so.evals = BK_SCENE_SEARCH_EVALS;
+	so.enum_max = BK_SCENE_SEARCH_EVALS / 2;
+	so.threads = 2; /* the answer does not depend on it (search.h) */
+	so.seeds = seeds;
+	so.seed_p = (const double (*)[BK_MAX_PARAMS])seed_p;
+	so.nseeds = ns;
+	memset(&so.grammar, 0, sizeof so.grammar);
+	so.grammar.ops = bk_grammar_default_ops();
+	so.grammar.consts[0] = 1.0;
+	so.grammar.nconsts = 1;
+	so.grammar.max_params = 4;
+	so.grammar.max_size = 12;
+	so.grammar.inputs = screen.provides & ~(1u << BK_IN_F0);
+	int rc = -1;
+	bk_search *S = bk_search_new(&so, err, sizeof err);
+	if (S) {
+		int k;
+		while ((k = bk_search_step(S, err, sizeof err)) == 1)
+			;
+		rc = k < 0 ? -1 : 0;
+		size_t idx[64], nf = rc ? 0 : bk_search_front(S, idx, 64);
+		for (size_t i = 0; i < nf; i++) {
+			const bk_cand *c = bk_search_at(S, idx[i]);
+			if (c->seed_name || c->cost >= max_cost)
+				continue;
+			char name[64], source[128];
+			snprintf(name, sizeof name, "search #%ld", c->found_at);
+			snprintf(source, sizeof source, "brdfkit search on the set's domain (albedo objective, %d fits, seed 1)",
+			         BK_SCENE_SEARCH_EVALS);
+			if (add_form(P, sc, set, d, BK_SCENE_TERM_VF, name, source, c->text, c->p)) {
+				rc = -1;
+				break;
+			}
+		}
+		bk_search_free(S);
+	}
+	for (int i = 0; i < ns; i++)
+		free(owned[i]);
+	bk_samples_free(&screen);
+	return rc;
+}
+
+/* ---- guards ---------------------------------------------------------------- */
+
+/* The fp16 guards text needs on the set (half only): none when the set's
+ * roughness is above what the stability analysis finds safe without a
+ * floor; a cosine floor when that suffices; else the analysis's guarded
+ * form. *out: the text to emit (allocated). */
+static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, const char *text, const double *p,
+                 int always, char **out, char *why, size_t whylen, char *err, size_t errlen)
+{
+	*out = NULL;
+	if (!sc->half) {
+		snprintf(why, whylen, "none: highp, no half-precision guard");
+		*out = strdup(text);
+		return *out ? 0 : -1;
+	}
+	bk_stability st;
+	if (bk_stability_run(name, text, p, BK_STAB_TOL, &st, err, errlen))
+		return -1;
+	const bk_stab_prec *h = &st.p[2];
+	int i = 0;
+	while (i < 5 && !(st.floor_r[i] <= set->r_lo))
+		i++;
+	if (!always && h->wrong == 0 && h->nan == 0 && h->inf == 0) {
+		snprintf(why, whylen, "none: right in half on the whole stress grid");
+		*out = strdup(text);
+	} else if (!always && i == 0) {
+		snprintf(why, whylen, "none: r >= %g on this set, and half is right from r >= %.3g", set->r_lo, st.floor_r[0]);
+		*out = strdup(text);
+	} else if (!always && i < 5) {
+		snprintf(why, whylen, "cosines floored at %g (half is right from r >= %.3g with it; r >= %g here)",
+		         st.floor_cos[i], st.floor_r[i], set->r_lo);
+		*out = floor_cosines(text, st.floor_cos[i]);
+	} else if (st.guarded && st.guarded_ok) {
+		snprintf(why, whylen, "%.200s", st.guards[0] ? st.guards : "guarded");
+		*out = strdup(st.guarded);
+	} else {
+		snprintf(why, whylen, "not safe in half even with the guards brdfkit knows (%.150s)",
+		         st.guards[0] ? st.guards : "none apply");
+		*out = strdup(st.guarded ? st.guarded : text);
+	}
+	bk_stability_free(&st);
+	return *out ? 0 : -1;
+}
+
+/* Fills ch from candidate c: guards, then the final text's cost and error. */
+static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_scene_term term, const cand *c,
+                  int always_guard, bk_scene_choice *ch, char *err, size_t errlen)
+{
+	snprintf(ch->name, sizeof ch->name, "%s", c->name);
+	snprintf(ch->source, sizeof ch->source, "%s", c->source);
+	memcpy(ch->p, c->p, sizeof ch->p);
+	ch->lut = c->lut;
+	ch->lut_size = c->lut_size;
+	ch->lut_fmt = c->fmt;
+	ch->ops = c->ops;
+	ch->cost = c->cost;
+	ch->err = c->err;
+	ch->fetches = c->lut;
+	if (c->lut) {
+		snprintf(ch->guards, sizeof ch->guards, "none: a texture fetch and one multiply-add");
+		return 0;
+	}
+	if (guard(sc, set, c->name, c->text, c->p, always_guard, &ch->text, ch->guards, sizeof ch->guards, err, errlen))
+		return -1;
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(ch->text, &fe);
+	if (!f) {
+		snprintf(err, errlen, "%s: the guarded form does not parse: %s", c->name, fe.message);
+		return -1;
+	}
+	ch->cost = form_cost(sc, f, &ch->ops);
+	if (d)
+		ch->err = score(d, term, f, ch->p);
+	bk_form_free(f);
+	return 0;
+}
+
+int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
+                    bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen)
+{
+	memset(ch, 0, sizeof *ch);
+	ch->term = term;
+	if (generic) {
+		memset(generic, 0, sizeof *generic);
+		generic->term = term;
+	}
+	if (term == BK_SCENE_TERM_D) { /* exact GGX: only the guards are decided */
+		cand c;
+		memset(&c, 0, sizeof c);
+		snprintf(c.name, sizeof c.name, "D_ggx");
+		snprintf(c.source, sizeof c.source, "Walter et al. 2007 (exact GGX)");
+		c.text = BK_SCENE_GENERIC_D;
+		c.err = 0;
+		if (finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
+		    (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen)))
+			return -1;
+		ch->err = 0;
+		ch->budget = 0;
+		ch->meets = 1;
+		ch->scored = 1;
+		if (generic) {
+			snprintf(generic->name, sizeof generic->name, "generic");
+			generic->err = 0;
+			generic->meets = 1;
+		}
+		return 0;
+	}
+	domain d;
+	if (domain_build(sc, set, term, &d, progress, ctx, err, errlen))
+		return -1;
+	pool P = {0};
+	int rc = -1;
+	/* the generic term first: its error is the "generic" budget */
+	cand gen;
+	memset(&gen, 0, sizeof gen);
+	bk_scene_choice g;
+	memset(&g, 0, sizeof g);
+	if (term == BK_SCENE_TERM_VF) {
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(BK_SCENE_GENERIC_VF, &fe);
+		snprintf(gen.name, sizeof gen.name, "generic");
+		snprintf(gen.source, sizeof gen.source, "exact height-correlated Smith GGX V x Schlick F");
+		gen.text = BK_SCENE_GENERIC_VF;
+		gen.cost = f ? form_cost(sc, f, &gen.ops) : HUGE_VAL;
+		bk_form_free(f);
+		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
+			goto done;
+	} else {
+		bk_fit_metrics m;
+		if (bk_lut_score(BK_SCENE_GENERIC_LUT, BK_LUT_HALF, BK_SMITH_CORRELATED, &d.s[0], &m, NULL)) {
+			snprintf(err, errlen, "env: the generic LUT could not be scored");
+			goto done;
+		}
+		snprintf(gen.name, sizeof gen.name, "generic (LUT %dx%d half)", BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
+		snprintf(gen.source, sizeof gen.source, "DFG texture, bilinear");
+		gen.lut = 1;
+		gen.lut_size = BK_SCENE_GENERIC_LUT;
+		gen.fmt = BK_LUT_HALF;
+		gen.ops.n[BK_K_MAD] = 1;
+		gen.ops.simple = 1;
+		gen.cost = sc->fetch_cost + sc->simple_cost;
+		gen.err = m.max_abs;
+		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
+			goto done;
+	}
+	double budget = term == BK_SCENE_TERM_VF ? sc->budget_vf : sc->budget_env;
+	if (budget == BK_SCENE_BUDGET_GENERIC)
+		budget = g.err;
+	/* the candidates */
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		char text[4096];
+		if (term == BK_SCENE_TERM_VF && !strcmp(e->target, "VF"))
+			snprintf(text, sizeof text, "%s", e->form);
+		else if (term == BK_SCENE_TERM_VF && !strcmp(e->target, "V"))
+			snprintf(text, sizeof text, "(%s)*F_schlick(f0, 1, LoH)", e->form);
+		else if (term == BK_SCENE_TERM_ENV && !strcmp(e->target, "env"))
+			snprintf(text, sizeof text, "f0*(%s) + (%s)", e->form, e->form_b);
+		else if (term == BK_SCENE_TERM_ENV && !strcmp(e->target, "env_f0"))
+			snprintf(text, sizeof text, "%s", e->form);
+		else
+			continue;
+		if (add_form(&P, sc, set, &d, term, e->name, e->source, text, e->defaults)) {
+			snprintf(err, errlen, "%s: out of memory", e->name);
+			goto done;
+		}
+	}
+	if (term == BK_SCENE_TERM_VF && add_form(&P, sc, set, &d, term, "exact", gen.source, BK_SCENE_GENERIC_VF, NULL))
+		goto done;
+	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, &d, BK_SMITH_CORRELATED)) {
+		snprintf(err, errlen, "env: a LUT could not be scored");
+		goto done;
+	}
+	/* the cheapest that meets the budget; else the most accurate */
+	/* indices, not pointers: the short search grows the pool */
+	int b = -1;
+	for (int i = 0; i < P.n; i++)
+		if (P.c[i].err <= budget && (b < 0 || better(&P.c[i], &P.c[b])))
+			b = i;
+	int meets = b >= 0;
+	for (int i = 0; !meets && i < P.n; i++)
+		if (b < 0 || P.c[i].err < P.c[b].err || (P.c[i].err == P.c[b].err && better(&P.c[i], &P.c[b])))
+			b = i;
+	/* vf: the exact form (or nothing) meets it: a short search for a cheaper one */
+	if (term == BK_SCENE_TERM_VF && (!meets || !strcmp(P.c[b].name, "exact"))) {
+		int before = P.n;
+		if (short_search(&P, sc, set, &d, b >= 0 ? P.c[b].cost : HUGE_VAL)) {
+			snprintf(err, errlen, "vf: the short search failed");
+			goto done;
+		}
+		for (int i = before; i < P.n; i++)
+			if (P.c[i].err <= budget && (!meets || better(&P.c[i], &P.c[b]))) {
+				b = i;
+				meets = 1;
+			}
+	}
+	if (b < 0) {
+		snprintf(err, errlen, "%s: no candidate is finite on the set's domain", bk_scene_term_name(term));
+		goto done;
+	}
+	if (finish(sc, set, &d, term, &P.c[b], 0, ch, err, errlen))
+		goto done;
+	ch->budget = budget;
+	ch->meets = ch->err <= budget;
+	ch->scored = P.n;
+	g.budget = budget;
+	g.meets = g.err <= budget;
+	if (generic)
+		*generic = g;
+	else
+		bk_scene_choice_free(&g);
+	memset(&g, 0, sizeof g);
+	rc = 0;
+done:
+	bk_scene_choice_free(&g);
+	pool_free(&P);
+	domain_free(&d);
+	return rc;
+}
+
+void bk_scene_choice_free(bk_scene_choice *ch)
+{
+	free(ch->text);
+	ch->text = NULL;
+}
+
+int bk_scene_form_error(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, const char *text, double *p,
+                        int refit_first, double *err_out, char *err, size_t errlen)
+{
+	if (term == BK_SCENE_TERM_D) {
+		snprintf(err, errlen, "D: exact, nothing to score");
+		return -1;
+	}
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(text, &fe);
+	if (!f) {
+		snprintf(err, errlen, "%s", fe.message);
+		return -1;
+	}
+	domain d;
+	if (domain_build(sc, set, term, &d, NULL, NULL, err, errlen)) {
+		bk_form_free(f);
+		return -1;
+	}
+	int rc = 0;
+	double start[BK_MAX_PARAMS];
+	memcpy(start, p, sizeof start);
+	if (refit_first && refit(&d, term, f, start, p)) {
+		snprintf(err, errlen, "the refit failed");
+		rc = -1;
+	}
+	if (!rc)
+		*err_out = score(&d, term, f, p);
+	domain_free(&d);
+	bk_form_free(f);
+	return rc;
+}

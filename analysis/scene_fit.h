@@ -1,0 +1,74 @@
+/*
+ * scene_fit.h — for one feature set of a scene (scene.h) and one term it
+ * needs, the cheapest form that meets the error budget on the set's own
+ * domain: the catalog at its published constants and refitted on that
+ * domain, the LUT at the scene's ALU:TEX tier for the environment BRDF, and
+ * the generic shader's term for reference; then the fp16 guards the chosen
+ * form needs at the scene's precision, and none it does not.
+ *
+ * The error of each term, in the scene's precision (binary16 for mediump):
+ *   vf   the directional albedo's max abs error of D · V·F over the set's
+ *        (NoV, r) cells, at each end of its f0 range (Schlick is linear in
+ *        f0, so the ends bound every f0 between for the forms that are too);
+ *   env  the max abs error of f0 A + B at the ends of the f0 range;
+ *   D    exact GGX (brdfkit has no cheaper D): the guards alone are decided.
+ */
+#ifndef ANALYSIS_SCENE_FIT_H
+#define ANALYSIS_SCENE_FIT_H
+
+#include "brdf.h"
+#include "compare.h"
+#include "scene.h"
+
+typedef enum bk_scene_term { BK_SCENE_TERM_D, BK_SCENE_TERM_VF, BK_SCENE_TERM_ENV, BK_SCENE_TERMS } bk_scene_term;
+const char *bk_scene_term_name(bk_scene_term t); /* "D", "vf", "env" */
+
+/* The generic shader's terms: GGX D, height-correlated Smith V x Schlick F,
+ * a 128x128 half DFG LUT, with the fp16 guards in mediump. */
+#define BK_SCENE_GENERIC_D "D_ggx(NoH, a)"
+#define BK_SCENE_GENERIC_VF "V_smith_ggx_correlated(NoV, NoL, a)*F_schlick(f0, 1, LoH)"
+#define BK_SCENE_GENERIC_LUT 128
+
+/* The fits of the short search for vf when only the exact form meets the
+ * budget (brdfkit search's albedo objective on the set's domain). */
+#define BK_SCENE_SEARCH_EVALS 5000
+
+typedef struct bk_scene_choice {
+	bk_scene_term term;
+	char name[128];       /* catalog name, "NAME (refit)", "LUT 32x32 half", "generic" */
+	char source[256];
+	int lut;              /* 1: the environment BRDF is a LUT fetch */
+	int lut_size;
+	bk_lut_format lut_fmt;
+	char *text;           /* the form as emitted: f0 folded where the set has one, guards
+	                         applied; NULL for a LUT (allocated) */
+	double p[BK_MAX_PARAMS];
+	bk_ops ops;
+	int fetches;
+	double cost;          /* ALU cost with the scene's weights, plus fetches x fetch cost */
+	double err;           /* on the set's domain, in the scene's precision (after guards) */
+	double budget;        /* what it had to meet */
+	int meets;
+	int scored;           /* candidates scored for this choice */
+	char guards[256];     /* which fp16 guards, and why (or why none) */
+} bk_scene_choice;
+
+/* Chooses the term for the set; generic (may be NULL) gets the generic
+ * shader's term on the same domain. progress (may be NULL) reports the env
+ * reference integrals. Returns 0, or -1 with a message. */
+int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
+                    bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen);
+void bk_scene_choice_free(bk_scene_choice *ch);
+
+/* The error of form text (constants p, BK_MAX_PARAMS of them) for term on
+ * the set's domain in the scene's precision, as bk_scene_choose scores a
+ * candidate; with refit, p is first refitted there from its values. Returns
+ * 0, or -1 with a message. */
+int bk_scene_form_error(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, const char *text, double *p,
+                        int refit, double *err_out, char *err, size_t errlen);
+
+/* text with the input f0 replaced by the literal value (a whole-word
+ * replacement: "f0" inside a longer name is left); allocated. */
+char *bk_scene_fold_f0(const char *text, double f0);
+
+#endif

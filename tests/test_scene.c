@@ -1,0 +1,273 @@
+/*
+ * test_scene.c — scene files (analysis/scene.c): what each key means, the
+ * exact error for each kind of bad file; the plan's decision rules on
+ * minimal scenes; and the specialisation (analysis/scene_fit.c): guards only
+ * where half needs them, f0 folded away, and a refit on a restricted domain
+ * no worse there than the fit on the whole one.
+ */
+#include "brdf.h"
+#include "scene.h"
+#include "scene_fit.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <string.h>
+
+static bk_scene sc;
+static char err[512];
+
+static int parse(const char *text)
+{
+	err[0] = 0;
+	return bk_scene_parse(text, strlen(text), &sc, err, sizeof err);
+}
+
+static void expect_error(const char *text, const char *message)
+{
+	cr_assert_eq(parse(text), -1, "accepted: %s", text);
+	cr_expect_str_eq(err, message);
+}
+
+/* ---- reading ------------------------------------------------------------- */
+
+Test(scene, defaults_of_a_minimal_scene)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}]}"), 0, "%s", err);
+	cr_expect_eq(sc.nmat, 1);
+	cr_expect_str_eq(sc.mat[0].name, "m");
+	cr_expect_eq(sc.mat[0].r_lo, 0);
+	cr_expect_eq(sc.mat[0].r_hi, 1);
+	cr_expect_eq(sc.mat[0].f0_lo, 0.04); /* a dielectric unless told */
+	cr_expect_eq(sc.mat[0].f0_hi, 0.04);
+	cr_expect(sc.mat[0].specular && sc.punctual && sc.ibl && sc.diffuse);
+	cr_expect_eq(sc.half, 0);
+	cr_expect_eq(sc.alu_tex, 32);
+	cr_expect_eq(sc.fetch_cost, 32);
+	cr_expect_eq(sc.languages, BK_SCENE_GLSL | BK_SCENE_HLSL | BK_SCENE_C);
+	cr_expect_eq(sc.budget_vf, BK_SCENE_BUDGET_GENERIC);
+	cr_expect_eq(sc.nov_lo, 0);
+	cr_expect_eq(sc.nov_hi, 1);
+}
+
+Test(scene, value_forms)
+{
+	cr_assert_eq(parse("{\"scene\": \"s\", \"materials\": ["
+	                   "{\"name\": \"list\", \"roughness\": [0.7, 0.2, 0.5], \"f0\": \"metal\"},"
+	                   "{\"name\": \"range\", \"roughness\": {\"min\": 0.3, \"max\": 0.6}, \"f0\": {\"min\": 0.02, \"max\": 0.05}},"
+	                   "{\"name\": \"tex\", \"roughness\": \"texture\", \"f0\": \"texture\", \"specular\": false}],"
+	                   "\"lighting\": {\"ibl\": false},"
+	                   "\"geometry\": {\"nov\": {\"min\": 0.1, \"max\": 1}},"
+	                   "\"target\": {\"precision\": \"mediump\", \"alu_tex\": 16, \"languages\": [\"glsl\"], "
+	                   "\"error\": {\"vf\": 0.02, \"env\": 0.03}}}"),
+	             0, "%s", err);
+	cr_expect_str_eq(sc.name, "s");
+	cr_expect_eq(sc.mat[0].r_lo, 0.2); /* a list: its hull */
+	cr_expect_eq(sc.mat[0].r_hi, 0.7);
+	cr_expect_eq(sc.mat[0].f0_lo, 0.5);
+	cr_expect_eq(sc.mat[0].f0_hi, 1);
+	cr_expect_eq(sc.mat[1].f0_lo, 0.02);
+	cr_expect_eq(sc.mat[1].f0_hi, 0.05);
+	cr_expect_eq(sc.mat[2].r_lo, 0);
+	cr_expect_eq(sc.mat[2].r_hi, 1);
+	cr_expect_eq(sc.mat[2].f0_lo, 0.02);
+	cr_expect_eq(sc.mat[2].specular, 0);
+	cr_expect(sc.punctual && !sc.ibl && sc.diffuse);
+	cr_expect_eq(sc.nov_lo, 0.1);
+	cr_expect(sc.half);
+	cr_expect_eq(sc.fetch_cost, 16);
+	cr_expect_eq(sc.languages, BK_SCENE_GLSL);
+	cr_expect_eq(sc.budget_vf, 0.02);
+	cr_expect_eq(sc.budget_env, 0.03);
+}
+
+Test(scene, explicit_costs)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"costs\": {\"simple\": 1, \"complex\": 2, "
+	                   "\"fetch\": 40}}}"),
+	             0, "%s", err);
+	cr_expect_eq(sc.alu_tex, 0);
+	cr_expect_eq(sc.lut, 1);
+	cr_expect_eq(sc.complex_cost, 2);
+	cr_expect_eq(sc.fetch_cost, 40);
+}
+
+Test(scene, bad_files_name_the_key)
+{
+	expect_error("{\"materials\": [{\"name\": \"m\", \"rougness\": 0.3}]}",
+	             "materials[0]: unknown key 'rougness' (known: name, roughness, f0, specular)");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.2, \"max\": 1.3}}]}",
+	             "materials[0].roughness.max: 1.3 is outside [0, 1]");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.6, \"max\": 0.2}}]}",
+	             "materials[0].roughness: min 0.6 is above max 0.2");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"f0\": -0.1}]}", "materials[0].f0: -0.1 is outside [0, 1]");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"f0\": \"gold\"}]}",
+	             "materials[0].f0: unknown value 'gold' (known: a number, a list, {\"min\", \"max\"}, 'dielectric', "
+	             "'metal', 'texture')");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": []}]}", "materials[0].roughness: the list is empty");
+	expect_error("{\"materials\": []}", "materials: the list is empty");
+	expect_error("{}", "materials: missing (a scene lists its materials)");
+	expect_error("{\"materials\": [{\"roughness\": 0.5}]}", "materials[0].name: missing (every material has a name)");
+	expect_error("{\"materials\": [{\"name\": \"a\"}, {\"name\": \"a\"}]}", "materials[1]: name 'a' is also materials[0]'s");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"alu_tex\": 16, \"costs\": {}}}",
+	             "target: 'alu_tex' and 'costs' both given: give one (alu_tex N is costs simple 1, complex 4, fetch N)");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"alu_tex\": 20}}",
+	             "target.alu_tex: 20 is not a tier of the talk's table (16, 32, 48, 64)");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"precision\": \"lowp\"}}",
+	             "target.precision: unknown value 'lowp' (known: 'mediump', 'highp')");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"punctual\": false, \"ibl\": false}}",
+	             "lighting: neither punctual lights nor image-based lighting: nothing lights the scene");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"specular\": false}], \"lighting\": {\"diffuse\": false}}",
+	             "materials[0].specular: false, and lighting.diffuse is false: material 'm' would not be shaded at all");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"ibl\": \"yes\"}}",
+	             "lighting.ibl: expected true or false, got a string");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"languages\": [\"msl\"]}}",
+	             "target.languages[0]: unknown language 'msl' (known: 'glsl', 'hlsl', 'c')");
+	expect_error("[1, 2]", "scene: expected an object, got a list");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"lut\": 0}}",
+	             "target.lut: expected true or false, got a number");
+}
+
+Test(scene, syntax_errors_have_a_line_and_column)
+{
+	cr_assert_eq(parse("{\"materials\": [\n  {\"name\": \"m\",}\n]}"), -1);
+	cr_expect(!strncmp(err, "line 2, column ", 15), "%s", err);
+	/* a key twice is an error, not "the last one wins" */
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\", \"name\": \"n\"}]}"), -1);
+	cr_expect(strstr(err, "duplicate") != NULL, "%s", err);
+}
+
+/* ---- the plan --------------------------------------------------------------- */
+
+Test(scene, plan_groups_equal_needs)
+{
+	cr_assert_eq(parse("{\"materials\": ["
+	                   "{\"name\": \"a\", \"roughness\": {\"min\": 0.5, \"max\": 0.8}},"
+	                   "{\"name\": \"metal\", \"f0\": \"metal\"},"
+	                   "{\"name\": \"b\", \"roughness\": {\"min\": 0.3, \"max\": 0.6}},"
+	                   "{\"name\": \"chalk\", \"specular\": false}]}"),
+	             0, "%s", err);
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	int n = bk_scene_plan(&sc, sets);
+	cr_assert_eq(n, 3);
+	/* a and b: one dielectric f0, so one shader, fitted on the hull of their roughness */
+	cr_expect_eq(sets[0].nmat, 2);
+	cr_expect_eq(sets[0].mat[1], 2);
+	cr_expect_eq(sets[0].r_lo, 0.3);
+	cr_expect_eq(sets[0].r_hi, 0.8);
+	cr_expect(sets[0].needs.fixed_f0 && sets[0].needs.f0 == 0.04);
+	cr_expect(sets[0].needs.vf && sets[0].needs.env && sets[0].needs.diffuse);
+	cr_expect_str_eq(sets[0].name, "spec_ibl_diffuse_f0_040");
+	/* metal: f0 is an input */
+	cr_expect(!sets[1].needs.fixed_f0);
+	cr_expect_str_eq(sets[1].name, "spec_ibl_diffuse_anyf0");
+	/* no specular: neither D*V*F nor the environment BRDF, and f0 means nothing */
+	cr_expect(!sets[2].needs.vf && !sets[2].needs.env && sets[2].needs.diffuse && !sets[2].needs.fixed_f0);
+	cr_expect_str_eq(sets[2].name, "diffuse");
+}
+
+Test(scene, no_ibl_no_env_no_punctual_no_vf)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"ibl\": false}}"), 0, "%s", err);
+	bk_scene_needs n;
+	bk_scene_material_needs(&sc, 0, &n);
+	cr_expect(n.vf && !n.env);
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"punctual\": false, \"diffuse\": false}}"),
+	             0, "%s", err);
+	bk_scene_material_needs(&sc, 0, &n);
+	cr_expect(!n.vf && n.env && !n.diffuse);
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	cr_assert_eq(bk_scene_plan(&sc, sets), 1);
+	cr_expect_str_eq(sets[0].name, "ibl_f0_040");
+}
+
+Test(scene, fold_f0_whole_words_only)
+{
+	char *t = bk_scene_fold_f0("f0*(1 - f0) + F_schlick(f0, 1, LoH) + f0x", 0.04);
+	cr_expect_str_eq(t, "(0.04)*(1 - (0.04)) + F_schlick((0.04), 1, LoH) + f0x");
+	free(t);
+}
+
+/* ---- specialisation ------------------------------------------------------------ */
+
+static bk_scene_set one_set(double r_lo)
+{
+	bk_scene_set s;
+	memset(&s, 0, sizeof s);
+	strcpy(s.name, "t");
+	s.r_lo = r_lo;
+	s.r_hi = 1;
+	s.f0_lo = s.f0_hi = 0.04;
+	s.needs.vf = 1;
+	s.needs.fixed_f0 = 1;
+	s.needs.f0 = 0.04;
+	return s;
+}
+
+/* GGX D at r = 0 is a delta: no half evaluation near it is right, so a
+ * mediump scene reaching r = 0 needs a guard; from r = 0.4 it needs none
+ * (its peak 1/(pi a^2) = 12.4 is far inside half's range), and highp none. */
+Test(scene, guards_only_where_half_needs_them)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"precision\": \"mediump\"}}"), 0, "%s", err);
+	bk_scene_choice ch;
+	bk_scene_set s = one_set(0);
+	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect(strcmp(ch.text, BK_SCENE_GENERIC_D) != 0, "no guard at r = 0: %s", ch.text);
+	cr_expect(strstr(ch.guards, "none") == NULL, "%s", ch.guards);
+	bk_scene_choice_free(&ch);
+	s = one_set(0.4);
+	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect_str_eq(ch.text, BK_SCENE_GENERIC_D);
+	cr_expect(!strncmp(ch.guards, "none: r >= 0.4", 14), "%s", ch.guards);
+	bk_scene_choice_free(&ch);
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"precision\": \"highp\"}}"), 0, "%s", err);
+	s = one_set(0);
+	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect_str_eq(ch.text, BK_SCENE_GENERIC_D);
+	cr_expect_str_eq(ch.guards, "none: highp, no half-precision guard");
+	bk_scene_choice_free(&ch);
+}
+
+/* One dielectric f0: the chosen V*F does not read f0, and still matches
+ * the exact V x Schlick at f0 = 0.04 to its budget. */
+Test(scene, one_f0_is_folded, .timeout = 120)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.3, \"max\": 1}}], "
+	                   "\"target\": {\"error\": {\"vf\": 0.05, \"env\": 0.05}}}"),
+	             0, "%s", err);
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	cr_assert_eq(bk_scene_plan(&sc, sets), 1);
+	bk_scene_choice ch, gen;
+	cr_assert_eq(bk_scene_choose(&sc, &sets[0], BK_SCENE_TERM_VF, &ch, &gen, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(ch.text, &fe);
+	cr_assert(f, "%s", ch.text);
+	cr_expect_eq(bk_form_inputs(f) & (1u << BK_IN_F0), 0u, "reads f0: %s", ch.text);
+	cr_expect(ch.meets && ch.err <= 0.05, "%s: %g", ch.name, ch.err);
+	cr_expect(ch.cost < gen.cost, "%s costs %g, the generic %g", ch.name, ch.cost, gen.cost);
+	bk_form_free(f);
+	bk_scene_choice_free(&ch);
+	bk_scene_choice_free(&gen);
+}
+
+/* A form refitted on r in [0.3, 1] is, there, at least as accurate as the
+ * same form fitted on [0, 1] (the env refit minimises the max error it is
+ * scored on, so this is the property of a minimum, up to the solver's
+ * tolerance). */
+Test(scene, refit_on_the_scene_domain_is_no_worse_there, .timeout = 240)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}]}"), 0, "%s", err);
+	const char *form = "min((p0*r + p2)*(p0*r + p2), exp2(p4*NoV))*(p0*r + p2) + (p1*r + p3)"; /* Karis' nonmetal */
+	double pub[BK_MAX_PARAMS] = {-1, -0.0275, 1, 0.0425, -9.28};
+	bk_scene_set full = one_set(0), part = one_set(0.3);
+	full.needs.env = part.needs.env = 1;
+	double p_full[BK_MAX_PARAMS], p_part[BK_MAX_PARAMS], e_full_there, e_part;
+	memcpy(p_full, pub, sizeof pub);
+	memcpy(p_part, pub, sizeof pub);
+	cr_assert_eq(bk_scene_form_error(&sc, &full, BK_SCENE_TERM_ENV, form, p_full, 1, &e_part, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(bk_scene_form_error(&sc, &part, BK_SCENE_TERM_ENV, form, p_full, 0, &e_full_there, err, sizeof err), 0,
+	             "%s", err);
+	cr_assert_eq(bk_scene_form_error(&sc, &part, BK_SCENE_TERM_ENV, form, p_part, 1, &e_part, err, sizeof err), 0, "%s", err);
+	cr_expect(e_part <= e_full_there * (1 + 1e-6), "refit there %g, whole-domain fit there %g", e_part, e_full_there);
+	cr_expect(e_part < 0.9 * e_full_there, "no gain: %g against %g", e_part, e_full_there);
+}
