@@ -33,27 +33,33 @@ const char *bk_lut_format_name(bk_lut_format f)
 	return (unsigned)f < BK_LUT_FORMATS ? names[f] : "?";
 }
 
-/* The reference texels of the last (size, smith) asked for, A then B: a 128²
- * bake takes seconds and a table scores three formats of it. One per thread,
- * kept until exit. */
+/* The reference texels of the (size, smith) pairs asked for, A then B: a 128²
+ * bake takes seconds, a table scores three formats of it and brdfkit scene
+ * every size for each feature set. One table per thread, a few entries (the
+ * oldest replaced), kept until exit. */
+#define LUT_CACHE 8
 static _Thread_local struct {
 	int size;
 	bk_smith smith;
 	double *AB;
-} cache;
+} cache[LUT_CACHE];
+static _Thread_local int cache_next;
 
 static const double *reference(int size, bk_smith smith)
 {
-	if (cache.AB && cache.size == size && cache.smith == smith)
-		return cache.AB;
+	for (int k = 0; k < LUT_CACHE; k++)
+		if (cache[k].AB && cache[k].size == size && cache[k].smith == smith)
+			return cache[k].AB;
 	size_t n = (size_t)size * (size_t)size;
 	double *AB = malloc(sizeof(double) * 2 * n);
 	if (!AB || bk_dfg_lut(size, smith, 0, BK_DFG_TOL, AB, AB + n, NULL, NULL)) {
 		free(AB);
 		return NULL;
 	}
-	free(cache.AB);
-	cache.AB = AB, cache.size = size, cache.smith = smith;
+	int k = cache_next;
+	cache_next = (cache_next + 1) % LUT_CACHE;
+	free(cache[k].AB);
+	cache[k].AB = AB, cache[k].size = size, cache[k].smith = smith;
 	return AB;
 }
 

@@ -603,8 +603,46 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(err, errlen, "%s: no candidate is finite on the set's domain", bk_scene_term_name(term));
 		goto done;
 	}
-	if (finish(sc, set, &d, term, &P.c[b], 0, ch, err, errlen))
-		goto done;
+	/* the guards a form needs in half can cost accuracy (a roughness floor):
+	 * the candidates that meet the budget as fitted are tried in order of
+	 * preference until one still meets it guarded */
+	if (meets) {
+		int *order = malloc(P.n * sizeof *order), no = 0;
+		if (!order) {
+			snprintf(err, errlen, "out of memory");
+			goto done;
+		}
+		for (int i = 0; i < P.n; i++)
+			if (P.c[i].err <= budget) {
+				int k = no++;
+				while (k > 0 && better(&P.c[i], &P.c[order[k - 1]])) {
+					order[k] = order[k - 1];
+					k--;
+				}
+				order[k] = i;
+			}
+		int ok = 0;
+		for (int k = 0; k < no && !ok; k++) {
+			bk_scene_choice_free(ch);
+			if (finish(sc, set, &d, term, &P.c[order[k]], 0, ch, err, errlen)) {
+				free(order);
+				goto done;
+			}
+			ok = ch->err <= budget;
+		}
+		free(order);
+		if (!ok) { /* none does: the most accurate as fitted */
+			meets = 0;
+			for (int i = 0; i < P.n; i++)
+				if (P.c[i].err < P.c[b].err || (P.c[i].err == P.c[b].err && better(&P.c[i], &P.c[b])))
+					b = i;
+		}
+	}
+	if (!meets) {
+		bk_scene_choice_free(ch);
+		if (finish(sc, set, &d, term, &P.c[b], 0, ch, err, errlen))
+			goto done;
+	}
 	ch->budget = budget;
 	ch->meets = ch->err <= budget;
 	ch->scored = P.n;
