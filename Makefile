@@ -26,7 +26,7 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
 # compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
-# injects the kills of tests/fault.sh).
+# injects the kills of tests/fault.sh; jansson reads scene files).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
@@ -199,11 +199,15 @@ results: $(TOOL)
 	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --out results/search/f_glass --link-prefix search/f_glass/
 	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --out results/search/f_gold \
 	  --link-prefix search/f_gold/
+	# scene specialisation: each example scene's feature sets, their terms chosen and
+	# refitted on the scene's own domain, shaders and the saving against the generic one
+	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --out results/scenes --link-prefix scenes/
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
 	  results/compare/spec/section.html results/compare/f/section.html \
 	  results/stability/section.html results/search/vf2d/section.html results/search/vf/section.html \
-	  results/search/env/section.html results/search/f_glass/section.html results/search/f_gold/section.html
+	  results/search/env/section.html results/search/f_glass/section.html results/search/f_gold/section.html \
+	  results/scenes/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
@@ -212,6 +216,8 @@ results: $(TOOL)
 	  cp results/search/$$t/front.csv notebooks_data/search_front_$$t.csv; \
 	  cp results/search/$$t/catalog.csv notebooks_data/search_catalog_$$t.csv; \
 	done
+	for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
+	  cp results/scenes/$$s/scene.csv notebooks_data/scene_$$s.csv; done
 	cp results/albedo.csv notebooks_data/albedo.csv
 	cp results/stability/stability.csv notebooks_data/stability.csv
 

@@ -408,11 +408,14 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 /* The fp16 guards text needs on the set (half only): none when the set's
  * roughness is above what the stability analysis finds safe without a
  * floor; a cosine floor when that suffices; else the analysis's guarded
- * form. *out: the text to emit (allocated). */
+ * form. generic: the guards a shader that knows nothing of the scene needs,
+ * as for r from 0. *out: the text to emit (allocated); *added: the largest
+ * relative error the guard adds on its own (stability.h), 0 for none. */
 static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, const char *text, const double *p,
-                 int always, char **out, char *why, size_t whylen, char *err, size_t errlen)
+                 int generic, char **out, double *added, char *why, size_t whylen, char *err, size_t errlen)
 {
 	*out = NULL;
+	*added = 0;
 	if (!sc->half) {
 		snprintf(why, whylen, "none: highp, no half-precision guard");
 		*out = strdup(text);
@@ -422,22 +425,26 @@ static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, 
 	if (bk_stability_run(name, text, p, BK_STAB_TOL, &st, err, errlen))
 		return -1;
 	const bk_stab_prec *h = &st.p[2];
+	double r_lo = generic ? 0 : set->r_lo;
 	int i = 0;
-	while (i < 5 && !(st.floor_r[i] <= set->r_lo))
+	while (i < 5 && !(st.floor_r[i] <= r_lo))
 		i++;
-	if (!always && h->wrong == 0 && h->nan == 0 && h->inf == 0) {
+	if (h->wrong == 0 && h->nan == 0 && h->inf == 0) {
 		snprintf(why, whylen, "none: right in half on the whole stress grid");
 		*out = strdup(text);
-	} else if (!always && i == 0) {
-		snprintf(why, whylen, "none: r >= %g on this set, and half is right from r >= %.3g", set->r_lo, st.floor_r[0]);
+	} else if (i == 0) {
+		snprintf(why, whylen, "none: r >= %g on this set, and half is right from r >= %.3g", r_lo, st.floor_r[0]);
 		*out = strdup(text);
-	} else if (!always && i < 5) {
+	} else if (i < 5) {
 		snprintf(why, whylen, "cosines floored at %g (half is right from r >= %.3g with it; r >= %g here)",
-		         st.floor_cos[i], st.floor_r[i], set->r_lo);
+		         st.floor_cos[i], st.floor_r[i], r_lo);
 		*out = floor_cosines(text, st.floor_cos[i]);
+		*added = isfinite(st.guard_error[1]) ? st.guard_error[1] : 0;
 	} else if (st.guarded && st.guarded_ok) {
-		snprintf(why, whylen, "%.200s", st.guards[0] ? st.guards : "guarded");
+		snprintf(why, whylen, "%.120s (adds up to %.3g relative error where it acts)", st.guards[0] ? st.guards : "guarded",
+		         st.guard_error[0]);
 		*out = strdup(st.guarded);
+		*added = st.guard_error[0];
 	} else {
 		snprintf(why, whylen, "not safe in half even with the guards brdfkit knows (%.150s)",
 		         st.guards[0] ? st.guards : "none apply");
@@ -449,7 +456,7 @@ static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, 
 
 /* Fills ch from candidate c: guards, then the final text's cost and error. */
 static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_scene_term term, const cand *c,
-                  int always_guard, bk_scene_choice *ch, char *err, size_t errlen)
+                  int generic, bk_scene_choice *ch, char *err, size_t errlen)
 {
 	snprintf(ch->name, sizeof ch->name, "%s", c->name);
 	snprintf(ch->source, sizeof ch->source, "%s", c->source);
@@ -465,8 +472,12 @@ static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, 
 		snprintf(ch->guards, sizeof ch->guards, "none: a texture fetch and one multiply-add");
 		return 0;
 	}
-	if (guard(sc, set, c->name, c->text, c->p, always_guard, &ch->text, ch->guards, sizeof ch->guards, err, errlen))
+	double added;
+	if (guard(sc, set, c->name, c->text, c->p, generic, &ch->text, &added, ch->guards, sizeof ch->guards, err,
+	          errlen))
 		return -1;
+	if (!d) /* D is exact: its error is what the guard adds */
+		ch->err = added;
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(ch->text, &fe);
 	if (!f) {
@@ -499,13 +510,12 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		if (finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
 		    (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen)))
 			return -1;
-		ch->err = 0;
-		ch->budget = 0;
+		ch->budget = NAN; /* nothing to choose: no budget applies */
 		ch->meets = 1;
 		ch->scored = 1;
 		if (generic) {
 			snprintf(generic->name, sizeof generic->name, "generic");
-			generic->err = 0;
+			generic->budget = NAN;
 			generic->meets = 1;
 		}
 		return 0;

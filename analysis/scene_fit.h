@@ -11,7 +11,9 @@
  *        (NoV, r) cells, at each end of its f0 range (Schlick is linear in
  *        f0, so the ends bound every f0 between for the forms that are too);
  *   env  the max abs error of f0 A + B at the ends of the f0 range;
- *   D    exact GGX (brdfkit has no cheaper D): the guards alone are decided.
+ *   D    exact GGX (brdfkit has no cheaper D): the guards alone are decided,
+ *        and its error is the largest relative error they add where they act
+ *        (a roughness floor changes D below it: stability.h's guard_error).
  */
 #ifndef ANALYSIS_SCENE_FIT_H
 #define ANALYSIS_SCENE_FIT_H

@@ -44,7 +44,7 @@ static void domain_text(const bk_scene *sc, const bk_scene_set *S, char *buf, si
 
 static const char *err_unit(bk_scene_term t)
 {
-	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "exact";
+	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
 }
 
 /* The functions of one set in one language: the chosen terms, the diffuse,
@@ -130,7 +130,7 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 	fprintf(f, "# brdfkit %s scene specialisation: scene '%s' (file hash %s)\n", BK_VERSION, sc->name, hash);
 	fprintf(f, "# command: %s\n", bk_out_command());
 	fprintf(f, "# error: vf = directional-albedo max abs error of D*V*F, env = max abs error of f0*A + B, both at the "
-	           "ends of the set's f0 range on its (NoV, r) domain, in %s; D is exact GGX. cost: simple*%g + "
+	           "ends of the set's f0 range on its (NoV, r) domain, in %s; D is exact GGX, its error the largest relative error its fp16 guard adds where it acts. cost: simple*%g + "
 	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
 	        sc->half ? "half precision (mediump)" : "single precision (highp)", sc->simple_cost, sc->complex_cost,
 	        sc->fetch_cost);
@@ -149,8 +149,11 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 				bk_csv_field(f, c->text ? c->text : "");
 				fputc(',', f);
 				params_text(f, c);
-				fprintf(f, ",%d,%d,%d,%g,%.6g,%s,%.6g,%d,", c->ops.simple, c->ops.complex, c->fetches, c->cost,
-				        c->err, err_unit(t), c->budget, c->meets);
+				fprintf(f, ",%d,%d,%d,%g,%.6g,%s,", c->ops.simple, c->ops.complex, c->fetches, c->cost, c->err,
+				        err_unit(t));
+				if (isfinite(c->budget))
+					fprintf(f, "%.6g", c->budget);
+				fprintf(f, ",%d,", c->meets);
 				bk_csv_field(f, c->guards);
 				fprintf(f, ",%g,%.6g\n", g->cost, g->err);
 			}
@@ -206,6 +209,10 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 			if (!r->has[t])
 				continue;
 			const bk_scene_choice *c = &r->ch[t], *g = &r->gen[t];
+			if (t == BK_SCENE_TERM_D) {
+				fprintf(f, "  D   exact GGX: cost %g (generic %g)\n      fp16 guards: %s\n", c->cost, g->cost, c->guards);
+				continue;
+			}
 			fprintf(f, "  %-3s %s: cost %g (generic %g), %s %.3g (generic %.3g, budget %.3g%s), %d candidates scored\n",
 			        bk_scene_term_name(t), c->name, c->cost, g->cost, err_unit(t), c->err, g->err, c->budget,
 			        c->meets ? "" : ": NOT MET, the most accurate kept", c->scored);
@@ -245,8 +252,10 @@ static void section_body(FILE *f, const bk_scene *sc, const set_result *R, int n
 			const bk_scene_choice *c = &R[i].ch[t], *g = &R[i].gen[t];
 			fprintf(f, "<tr><td>%s</td><td>%s</td><td>", R[i].set.name, bk_scene_term_name(t));
 			bk_html_text(f, c->name);
-			fprintf(f, "</td><td>%g (%g)</td><td>%.3g (%.3g)</td><td>%.3g%s</td><td>", c->cost, g->cost, c->err, g->err,
-			        c->budget, c->meets ? "" : " not met");
+			fprintf(f, "</td><td>%g (%g)</td><td>%.3g (%.3g)</td><td>", c->cost, g->cost, c->err, g->err);
+			if (isfinite(c->budget))
+				fprintf(f, "%.3g%s", c->budget, c->meets ? "" : " not met");
+			fputs("</td><td>", f);
 			bk_html_text(f, c->guards);
 			fputs("</td></tr>\n", f);
 		}
