@@ -179,7 +179,8 @@ static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 	}
 }
 
-static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nset)
+/* with_time: the CPU timings too (stdout; report.txt stays reproducible) */
+static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nset, int with_time)
 {
 	fprintf(f, "scene '%s': %d material%s, %d feature set%s; punctual lights %s, image-based lighting %s, diffuse %s; "
 	           "%s; ",
@@ -223,7 +224,7 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 			        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
 		else
 			fprintf(f, "  shader: the diffuse term alone, as in the generic shader");
-		if (r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
+		if (with_time && r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
 			fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
 		fputc('\n', f);
 	}
@@ -389,7 +390,7 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		switch (k) {
 		case 0: scene_csv(f, &S->sc, S->R, S->nset, S->hash); break;
 		case 1: sets_csv(f, &S->sc, S->R, S->nset); break;
-		case 2: report_txt(f, &S->sc, S->R, S->nset); break;
+		case 2: report_txt(f, &S->sc, S->R, S->nset, 0); break;
 		default: timing_csv(f, S->R, S->nset); break;
 		}
 		if (ferror(f) | fclose(f))
@@ -504,11 +505,14 @@ int cmd_scene(int argc, char **argv)
 	               "   \"geometry\": {\"nov\": {\"min\": 0, \"max\": 1}},\n"
 	               "   \"target\": {\"precision\": \"mediump\"|\"highp\", \"alu_tex\": 16|32|48|64 or\n"
 	               "              \"costs\": {\"simple\": 1, \"complex\": 4, \"fetch\": 16},\n"
-	               "              \"languages\": [\"glsl\", \"hlsl\", \"c\"], \"error\": E|\"generic\"|{\"vf\": E, \"env\": E}}}\n"
+	               "              \"lut\": true, \"languages\": [\"glsl\", \"hlsl\", \"c\"],\n"
+	               "              \"error\": E|\"generic\"|{\"vf\": E, \"env\": E}}}\n"
 	               "R: a number, a list (its hull), {\"min\": x, \"max\": y} or \"texture\" (= [0, 1]).\n"
 	               "F: a number, a list, a range, \"dielectric\" (0.04), \"metal\" ([0.5, 1]) or \"texture\" ([0.02, 1]).\n"
-	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, all languages, error \"generic\"\n"
-	               "(each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
+	               "\"lut\": false: no DFG texture for the environment BRDF (no sampler to spare).\n"
+	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, LUT allowed, all languages,\n"
+	               "error \"generic\""
+	               " (each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
 	               "f0*A + B; at both ends of the f0 range.",
 	               opts, 4, 16, 0, {0}};
@@ -550,7 +554,7 @@ int cmd_scene(int argc, char **argv)
 	}
 	for (int k = 0; k < n; k++) {
 		if (!rc)
-			report_txt(stdout, &S[k].sc, S[k].R, S[k].nset);
+			report_txt(stdout, &S[k].sc, S[k].R, S[k].nset, 1);
 		for (int i = 0; i < S[k].nset; i++)
 			for (int t = 0; t < BK_SCENE_TERMS; t++) {
 				bk_scene_choice_free(&S[k].R[i].ch[t]);
