@@ -7,6 +7,7 @@
 #include "scene_fit.h"
 
 #include "catalog.h"
+#include "albfit.h"
 #include "fit.h"
 #include "search.h"
 #include "stability.h"
@@ -186,6 +187,15 @@ static int refit(const domain *d, bk_scene_term term, const bk_form *f, const do
 	if (bk_fit_run(&sp, &res) < 0)
 		return -1;
 	memcpy(p, res.p, sizeof res.p);
+	/* vf is scored on the directional albedo's max error: from the least
+	 * squares point, minimise that (albfit.h) */
+	bk_albfit *af = term == BK_SCENE_TERM_VF ? bk_albfit_new(sp.s, f, sp.np) : NULL;
+	if (af) {
+		bk_fit_options o = BK_FIT_OPTIONS_INIT;
+		o.max_iterations = 500;
+		bk_albfit_run(af, p, 1, &o, NULL);
+		bk_albfit_free(af);
+	}
 	return 0;
 }
 

@@ -4,6 +4,7 @@
  * archive on cost; every candidate fitted once, on threads, merged in order.
  */
 #include "search.h"
+#include "albfit.h"
 #include "fit_int.h"
 #include "ir.h" /* the opcode enum the trees are made of */
 
@@ -243,6 +244,17 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	bk_fit_ctx_free(&ctx);
 	if (!(best_cost < HUGE_VAL))
 		goto done;
+	/* the albedo objective: one more solve, least squares of the cells'
+	 * albedo errors from the values' fit (fit/albfit.h), kept where it lowers
+	 * the albedo's max error (the front's refit then goes on to its minimax) */
+	if (s->o.objective == BK_OBJ_ALBEDO && c->np && sm->ncomp == 1 && !s->o.relative) {
+		bk_albfit *af = bk_albfit_new(sm, f[0], c->np);
+		double q[BK_MAX_PARAMS], e1;
+		memcpy(q, best, sizeof q);
+		if (af && bk_albfit_run(af, q, 0, &opt, &e1) == 0 && e1 < bk_albfit_max(af, best))
+			memcpy(best, q, sizeof best);
+		bk_albfit_free(af);
+	}
 	memcpy(c->p, best, sizeof c->p);
 	for (int q = 0; q < sm->ncomp; q++) { /* the values in the search's precision */
 		size_t lo = sm->start[q];

@@ -4,6 +4,7 @@
  * or not at all: front.csv, candidates.csv, front/NAME/ (what fit writes),
  * pareto.svg and section.html.
  */
+#include "albfit.h"
 #include "brdf.h"
 #include "catalog.h"
 #include "cli.h"
@@ -345,8 +346,19 @@ static int setup_seeds(job *J, seeds *sd)
 
 static void progress(const job *J, int final)
 {
-	size_t idx[MAX_FRONT];
+	/* the screening front, and every seed that fitted: the published forms
+	 * compete for the final front on the full samples, refitted, even where
+	 * a generated form beat them on the screening grid */
+	size_t idx[MAX_FRONT + MAX_SEEDS];
 	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
+	for (size_t i = 0, n = bk_search_count(J->S); i < n && nf < MAX_FRONT + MAX_SEEDS; i++) {
+		const bk_cand *c = bk_search_at(J->S, i);
+		int on = 0;
+		for (size_t k = 0; k < nf && !on; k++)
+			on = idx[k] == i;
+		if (c->seed_name && c->status == BK_CAND_OK && !on)
+			idx[nf++] = i;
+	}
 	char best[256] = "";
 	size_t k = 0;
 	for (size_t i = 0; i < nf && k < sizeof best - 40; i += (nf + 3) / 4) { /* a few cost levels */
@@ -436,6 +448,37 @@ static int member_values(const member *m, const bk_samples *s, const double *p, 
 
 
 
+/* --objective albedo: the least-squares point of fit's fitter minimises the
+ * values' error, not the albedo's; from it, Lawson's minimax on the cells'
+ * albedo errors (fit/albfit.h). The constants are rounded to 7 significant
+ * digits (a float literal, and no last-bit difference of libm survives it)
+ * and kept where they lower the albedo's max error; the standard errors stay
+ * those of the least-squares point, and the message says so. */
+static void albedo_minimax(job *J, member *m)
+{
+	bk_albfit *af = bk_albfit_new(&J->s, m->f[0], m->spec.np);
+	if (!af)
+		return;
+	double p[BK_MAX_PARAMS], before = bk_albfit_max(af, m->res.p), after;
+	memcpy(p, m->res.p, sizeof p);
+	bk_fit_options o = BK_FIT_OPTIONS_INIT;
+	o.max_iterations = 500;
+	if (bk_albfit_run(af, p, 1, &o, &after) == 0 && after < before) {
+		for (int j = 0; j < m->spec.np; j++) {
+			char lit[32];
+			snprintf(lit, sizeof lit, "%.7g", p[j]);
+			p[j] = strtod(lit, NULL);
+		}
+		if (bk_albfit_max(af, p) < before) {
+			memcpy(m->res.p, p, sizeof p);
+			size_t k = strlen(m->res.message);
+			snprintf(m->res.message + k, sizeof m->res.message - k, "%sconstants moved from the least-squares point "
+			         "by the albedo minimax (standard errors: of that point)", k ? "; " : "");
+		}
+	}
+	bk_albfit_free(af);
+}
+
 /* The member on the full samples: fitted with fit's full fitter (several
  * starts, minimax for the max objective, optimality check, constants rounded
  * to what their standard errors justify) unless it is a catalog row at its
@@ -470,8 +513,21 @@ static int score_member(job *J, member *m, const double *start, int fit)
 	sp->minimax = J->so.objective == BK_OBJ_MAX;
 	sp->digits = BK_FIT_DIGITS_SE;
 	if (fit && sp->np > 0) {
-		if (bk_fit_run(sp, &m->res) < 0)
-			return -1;
+		if (bk_fit_run(sp, &m->res) < 0) {
+			if (!m->c)
+				return -1;
+			/* a screening member the full fitter cannot start from (not finite
+			 * on the denser grid: a pole between the screening samples) is
+			 * dropped, not the search */
+			memset(&m->res, 0, sizeof m->res);
+			memcpy(m->res.p, start, sizeof m->res.p);
+			m->status = 1;
+			m->err = HUGE_VAL;
+			snprintf(m->verdict, sizeof m->verdict, "not analysed");
+			return 0;
+		}
+		if (J->so.objective == BK_OBJ_ALBEDO && !m->f[1])
+			albedo_minimax(J, m);
 	} else {
 		memset(&m->res, 0, sizeof m->res);
 		memcpy(m->res.p, start, sizeof m->res.p);
@@ -573,8 +629,19 @@ static void add_luts(job *J)
  * the final front: the refitted members no other beats at no greater cost. */
 static int build_members(job *J, const seeds *sd)
 {
-	size_t idx[MAX_FRONT];
+	/* the screening front, and every seed that fitted: the published forms
+	 * compete for the final front on the full samples, refitted, even where
+	 * a generated form beat them on the screening grid */
+	size_t idx[MAX_FRONT + MAX_SEEDS];
 	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
+	for (size_t i = 0, n = bk_search_count(J->S); i < n && nf < MAX_FRONT + MAX_SEEDS; i++) {
+		const bk_cand *c = bk_search_at(J->S, i);
+		int on = 0;
+		for (size_t k = 0; k < nf && !on; k++)
+			on = idx[k] == i;
+		if (c->seed_name && c->status == BK_CAND_OK && !on)
+			idx[nf++] = i;
+	}
 	J->m = calloc((size_t)(2 * sd->n) + nf + 4 * BK_LUT_FORMATS + 1, sizeof *J->m);
 	if (!J->m)
 		return -1;
@@ -619,7 +686,7 @@ static int build_members(job *J, const seeds *sd)
 	}
 	/* the final front over the refitted search members */
 	double best = HUGE_VAL;
-	int order[MAX_FRONT + 2 * MAX_SEEDS];
+	int order[MAX_FRONT + 3 * MAX_SEEDS];
 	int n = 0;
 	for (int i = 0; i < J->nm; i++)
 		if (J->m[i].c && J->m[i].status == 0)
