@@ -9,7 +9,7 @@
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
  * fitted error: rmse 31.4, max |error| 1.58e+03, max relative 1 (absolute residuals)
  * parameters baked in:
- *   p0 = 1.9097
+ *   p0 = 5.976684
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -19,6 +19,6 @@
 #include <math.h>
 static inline float search_vf_1(float f0)
 {
-	float t2 = f0 * 1.9097f;
+	float t2 = f0 * 5.976684f;
 	return t2;
 }

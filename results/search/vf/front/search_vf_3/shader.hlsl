@@ -7,9 +7,9 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
- * fitted error: rmse 31.4, max |error| 1.58e+03, max relative 1 (absolute residuals)
+ * fitted error: rmse 31.2, max |error| 1.58e+03, max relative 0.999 (absolute residuals)
  * parameters baked in:
- *   p0 = -14.143
+ *   p0 = -37.87033
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -19,7 +19,7 @@
 float search_vf_3(float LoH, float f0)
 {
 	float t4 = (-1.0) + LoH;
-	float t5 = (-14.143) * t4;
+	float t5 = (-37.87033) * t4;
 	float t6 = f0 * t5;
 	return t6;
 }
