@@ -47,6 +47,27 @@ static const char *err_unit(bk_scene_term t)
 	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
 }
 
+/* One generated function of text (constants p) into f. Returns 0 or -1. */
+static int emit(FILE *f, const char *text, const double *p, bk_lang lang, int half, const bk_emit_info *info, char *err,
+                size_t errlen)
+{
+	bk_form_error fe;
+	bk_form *form = bk_form_parse(text, &fe);
+	if (!form) {
+		snprintf(err, errlen, "%s: %s", info->name, fe.message);
+		return -1;
+	}
+	char *code = bk_form_emit(form, lang, half, p, info);
+	bk_form_free(form);
+	if (!code) {
+		snprintf(err, errlen, "%s: code generation failed", info->name);
+		return -1;
+	}
+	fprintf(f, "%s\n", code);
+	free(code);
+	return 0;
+}
+
 /* The functions of one set in one language: the chosen terms, the diffuse,
  * a comment for a LUT. Returns 0 or -1. */
 static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li, const char *hash, char *err,
@@ -75,39 +96,19 @@ static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li
 			        c0, c->err, c1);
 			continue;
 		}
-		bk_form_error fe;
-		bk_form *form = bk_form_parse(c->text, &fe);
-		if (!form) {
-			snprintf(err, errlen, "%s: %s", fname, fe.message);
-			return -1;
-		}
 		snprintf(errtext, sizeof errtext, "%s %.3g in %s on the domain (budget %.3g); fp16 guards: %.60s",
 		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
 		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
 		                     errtext, bk_out_command()};
-		char *code = bk_form_emit(form, lang_of[li], sc->half, c->p, &info);
-		bk_form_free(form);
-		if (!code) {
-			snprintf(err, errlen, "%s: code generation failed", fname);
+		if (emit(f, c->text, c->p, lang_of[li], sc->half, &info, err, errlen))
 			return -1;
-		}
-		fprintf(f, "%s\n", code);
-		free(code);
 	}
 	if (R->set.needs.diffuse) {
-		bk_form_error fe;
-		bk_form *form = bk_form_parse("Fd_lambert()", &fe);
 		char fname[96];
 		snprintf(fname, sizeof fname, "%s_diffuse", R->set.name);
 		bk_emit_info info = {fname, "Lambert", "times the diffuse colour (1/pi included)", NULL, "exact", bk_out_command()};
-		char *code = form ? bk_form_emit(form, lang_of[li], sc->half, NULL, &info) : NULL;
-		bk_form_free(form);
-		if (!code) {
-			snprintf(err, errlen, "%s: code generation failed", fname);
+		if (emit(f, "Fd_lambert()", NULL, lang_of[li], sc->half, &info, err, errlen))
 			return -1;
-		}
-		fprintf(f, "%s\n", code);
-		free(code);
 	}
 	return 0;
 }

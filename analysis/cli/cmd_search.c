@@ -346,19 +346,8 @@ static int setup_seeds(job *J, seeds *sd)
 
 static void progress(const job *J, int final)
 {
-	/* the screening front, and every seed that fitted: the published forms
-	 * compete for the final front on the full samples, refitted, even where
-	 * a generated form beat them on the screening grid */
-	size_t idx[MAX_FRONT + MAX_SEEDS];
+	size_t idx[MAX_FRONT];
 	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
-	for (size_t i = 0, n = bk_search_count(J->S); i < n && nf < MAX_FRONT + MAX_SEEDS; i++) {
-		const bk_cand *c = bk_search_at(J->S, i);
-		int on = 0;
-		for (size_t k = 0; k < nf && !on; k++)
-			on = idx[k] == i;
-		if (c->seed_name && c->status == BK_CAND_OK && !on)
-			idx[nf++] = i;
-	}
 	char best[256] = "";
 	size_t k = 0;
 	for (size_t i = 0; i < nf && k < sizeof best - 40; i += (nf + 3) / 4) { /* a few cost levels */
