@@ -26,9 +26,10 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
 # compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
-# injects the kills of tests/fault.sh; jansson reads scene files).
+# injects the kills of tests/fault.sh; jansson reads scene files; Open MPI
+# runs the search's islands across processes and machines, build/brdfkit-mpi).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
-       libxml2-utils strace libjansson-dev
+       libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
@@ -41,6 +42,8 @@ FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
 ANA_SRC  = $(sort $(wildcard analysis/*.c))
 CLI_SRC  = $(sort $(wildcard analysis/cli/*.c))
 TOOL_SRC = $(CLI_SRC) $(ANA_SRC) $(FIT_SRC)
+# build/brdfkit-mpi: the same tool with the MPI islands for the one process
+MPI_SRC  = $(filter-out analysis/cli/islands_one.c,$(TOOL_SRC)) analysis/cli/mpi/islands_mpi.c
 TEST_SRC = $(sort $(wildcard tests/*.c))
 SUPPORT  = $(ANA_SRC) $(FIT_SRC)   # the library modules the tests link
 
@@ -48,6 +51,10 @@ obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 
 LIB   = build/libbrdf.a
 TOOL  = build/brdfkit
+MPI_TOOL = build/brdfkit-mpi
+# deferred (=): read when a recipe runs, after `deps` has installed the MPI
+MPI_CFLAGS = $(shell pkg-config --cflags mpi-c)
+MPI_LIBS   = $(shell pkg-config --libs mpi-c)
 TESTS = build/test_brdfkit
 BENCH = build/bench_dfg
 SLIB  = build/san/libbrdf.a
@@ -55,7 +62,7 @@ STOOL = build/san/brdfkit
 STEST = build/san/test_brdfkit
 
 .PHONY: all deps test bench results install clean fuzz
-all: $(LIB) $(TOOL)
+all: $(LIB) $(TOOL) $(MPI_TOOL)
 
 # need: install the listed Debian packages that are missing (apt-get as root,
 # otherwise print the line to run and fail).
@@ -105,6 +112,13 @@ $(TOOL): $(call obj,build/obj,$(TOOL_SRC)) $(LIB)
 $(STOOL): $(call obj,build/san/obj,$(TOOL_SRC)) $(SLIB)
 	$(CXX) $(SAN) $^ $(LIBS) -o $@
 
+# the MPI side of the islands alone sees mpi.h (islands.h keeps it out of the rest)
+build/obj/analysis/cli/mpi/islands_mpi.o: analysis/cli/mpi/islands_mpi.c | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CSTD) $(WARN) $(OPT) $(INC) -Ianalysis/cli $(MPI_CFLAGS) -MMD -MP -c $< -o $@
+$(MPI_TOOL): $(call obj,build/obj,$(MPI_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) $(MPI_LIBS) -o $@
+
 $(TESTS): $(call obj,build/obj,$(TEST_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ -lcriterion $(LIBS) -o $@
 $(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
@@ -113,13 +127,17 @@ $(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 
-# Unit tests, the command-line contract, then both again under the sanitizers.
+# Unit tests, the command-line contract, the MPI islands (not sanitized: Open
+# MPI's own start-up allocations are reported as leaks; the search code they
+# drive is the one the sanitized CLI run exercises with one island), then
+# both again under the sanitizers.
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.)
-test: $(TESTS) $(TOOL) $(STEST) $(STOOL)
+test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL)
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2

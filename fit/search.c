@@ -25,7 +25,8 @@
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
 #define TRIES_PER_CHILD 30
-#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 1"
+#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 2"
+#define MIGRANTS_MAGIC "brdfkit-search-migrants 1"
 
 typedef struct level {
 	int cost;     /* floor(cost) */
@@ -37,7 +38,8 @@ struct bk_search {
 	bk_search_options o;
 	char **seed_text, **seed_text_b, **seed_name; /* copies */
 	double (*seed_p)[BK_MAX_PARAMS];
-	uint64_t fingerprint;
+	uint64_t fingerprint;     /* this island's options (checkpoints) */
+	uint64_t fingerprint_all; /* what all islands share: not the seed or the island (migrants) */
 	bk_cand *cand;
 	size_t n, cap;
 	bk_hashset seen; /* hashes of the canonical texts tried (fitted or over a limit) */
@@ -104,6 +106,8 @@ void bk_search_defaults(bk_search_options *o)
 	o->seeds = o->seeds_b = o->seed_names = NULL;
 	o->seed_p = NULL;
 	o->nseeds = 0;
+	o->island = 0;
+	o->islands = 1;
 }
 
 /* ---- the cache ------------------------------------------------------------- */
@@ -562,6 +566,8 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
 		while (n < want && s->evals + (long)n < cap && s->enum_pos < s->nen * kinds) {
 			size_t k = s->enum_pos++;
+			if ((k / kinds) % (size_t)s->o.islands != (size_t)s->o.island)
+				continue; /* another island's share of the enumeration */
 			bk_expr t[2] = {s->en[k / kinds], lone_param()};
 			if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
 				t[1] = t[0];
@@ -598,6 +604,7 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	fit_batch(s, c, sp, n);
 	for (size_t i = 0; i < n; i++) { /* merged in candidate order */
 		c[i].found_at = ++s->evals;
+		c[i].island = s->o.island;
 		if (push(s, &c[i]))
 			goto oom;
 		c[i].text = c[i].text_b = NULL;
@@ -640,17 +647,23 @@ static int collect(void *vctx, const bk_expr *e)
 
 /* What must agree between a checkpoint and the run resuming it: everything
  * that decides which candidates are made and how they are scored, not the
- * budget or the thread count. */
-static uint64_t fingerprint(const bk_search *s)
+ * budget or the thread count. Without own: what the islands of one run share
+ * (all of it but the seed and the island), so that migrants are comparable. */
+static uint64_t fingerprint(const bk_search *s, int own)
 {
 	const bk_search_options *o = &s->o;
 	uint64_t h = BK_HASH_INIT;
 	int ints[] = {(int)o->enum_max, o->shape, o->scale, o->objective, o->relative, o->precision, o->nonneg, o->env_bound, o->enum_size,
 	              o->generation, o->per_level, o->starts, o->grammar.inputs, o->grammar.max_params,
-	              o->grammar.max_size, o->grammar.nconsts, o->nseeds};
-	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost, (double)o->seed};
+	              o->grammar.max_size, o->grammar.nconsts, o->nseeds, o->islands};
+	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost};
 	h = bk_hash_bytes(h, ints, sizeof ints);
 	h = bk_hash_bytes(h, dbl, sizeof dbl);
+	if (own) {
+		double seed = (double)o->seed;
+		h = bk_hash_bytes(h, &o->island, sizeof o->island);
+		h = bk_hash_bytes(h, &seed, sizeof seed);
+	}
 	h = bk_hash_bytes(h, &o->grammar.ops, sizeof o->grammar.ops);
 	h = bk_hash_bytes(h, o->grammar.consts, sizeof(double) * (size_t)o->grammar.nconsts);
 	for (int k = 0; k < o->nseeds; k++) {
@@ -669,7 +682,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	if (o->evals < 1 || o->threads < 1 || o->threads > 64 || o->generation < 1 || o->per_level < 1 ||
 	    o->starts < 1 || o->starts > 4 || o->enum_size < 0 || o->enum_size > BK_EXPR_MAX ||
 	    o->grammar.max_params < 0 || o->grammar.max_params > BK_MAX_PARAMS || o->grammar.max_size < 1 ||
-	    o->grammar.max_size > BK_EXPR_MAX || !(o->max_cost > 0)) {
+	    o->grammar.max_size > BK_EXPR_MAX || !(o->max_cost > 0) || o->islands < 1 || o->island < 0 ||
+	    o->island >= o->islands) {
 		snprintf(err, errlen, "search options out of range");
 		return NULL;
 	}
@@ -713,7 +727,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 			x.fail = 1;
 	if (x.fail)
 		goto oom;
-	s->fingerprint = fingerprint(s);
+	s->fingerprint = fingerprint(s, 1);
+	s->fingerprint_all = fingerprint(s, 0);
 	return s;
 oom:
 	snprintf(err, errlen, "out of memory setting up the search");
@@ -827,6 +842,60 @@ static char *get_text(FILE *f)
 	return line;
 }
 
+/* One candidate: a line of numbers (exact: %a), its trees, then its texts on
+ * lines of their own. The format of checkpoints and of migrants. */
+static void put_cand(const bk_search *s, FILE *f, const bk_cand *c)
+{
+	fprintf(f, "c %ld %d %d %d %a %a %a %a %a", c->found_at, c->island, (int)c->status, c->np, c->cost, c->err,
+	        c->rmse, c->max_abs, c->albedo_max_abs);
+	for (int k = 0; k < BK_K_COUNT; k++)
+		fprintf(f, " %d", c->ops.n[k]);
+	fprintf(f, " %d %d", c->ops.simple, c->ops.complex);
+	for (int j = 0; j < c->np; j++)
+		fprintf(f, " %a", c->p[j]);
+	put_tree(f, &c->tree[0]);
+	put_tree(f, &c->tree[1]);
+	int seed = -1;
+	for (int k = 0; c->seed_name && k < s->o.nseeds; k++)
+		if (c->seed_name == s->seed_name[k])
+			seed = k;
+	fprintf(f, " %d %d\n", seed, c->text_b != NULL);
+	put_text(f, c->text);
+	if (c->text_b)
+		put_text(f, c->text_b);
+}
+
+/* Reads one candidate into c (its texts allocated). 0, or -1 if damaged. */
+static int get_cand(const bk_search *s, FILE *f, bk_cand *c)
+{
+	memset(c, 0, sizeof *c);
+	int status, seed, has_b;
+	if (fscanf(f, " c %ld %d %d %d %la %la %la %la %la", &c->found_at, &c->island, &status, &c->np, &c->cost, &c->err,
+	           &c->rmse, &c->max_abs, &c->albedo_max_abs) != 9 || c->np < 0 || c->np > BK_MAX_PARAMS || status < 0 ||
+	    status > BK_CAND_FAILED || c->island < 0)
+		return -1;
+	c->status = (bk_cand_status)status;
+	for (int k = 0; k < BK_K_COUNT; k++)
+		if (fscanf(f, " %d", &c->ops.n[k]) != 1)
+			return -1;
+	if (fscanf(f, " %d %d", &c->ops.simple, &c->ops.complex) != 2)
+		return -1;
+	for (int j = 0; j < c->np; j++)
+		if (fscanf(f, " %la", &c->p[j]) != 1)
+			return -1;
+	if (get_tree(f, &c->tree[0]) || get_tree(f, &c->tree[1]) || fscanf(f, " %d %d", &seed, &has_b) != 2 ||
+	    seed >= s->o.nseeds || fgetc(f) != '\n')
+		return -1;
+	c->seed_name = seed >= 0 ? s->seed_name[seed] : NULL;
+	c->text = get_text(f);
+	c->text_b = has_b ? get_text(f) : NULL;
+	if (!c->text || (has_b && !c->text_b)) {
+		cand_free(c);
+		return -1;
+	}
+	return 0;
+}
+
 int bk_search_save(const bk_search *s, FILE *f)
 {
 	fprintf(f, "%s\nfingerprint %016llx\nrng %016llx %016llx %016llx %016llx\n", CHECKPOINT_MAGIC,
@@ -837,26 +906,8 @@ int bk_search_save(const bk_search *s, FILE *f)
 		if (s->seen.h[i])
 			fprintf(f, "%016llx\n", (unsigned long long)s->seen.h[i]);
 	fprintf(f, "candidates %zu\n", s->n);
-	for (size_t i = 0; i < s->n; i++) {
-		const bk_cand *c = &s->cand[i];
-		fprintf(f, "c %ld %d %d %a %a %a %a %a", c->found_at, (int)c->status, c->np, c->cost, c->err, c->rmse,
-		        c->max_abs, c->albedo_max_abs);
-		for (int k = 0; k < BK_K_COUNT; k++)
-			fprintf(f, " %d", c->ops.n[k]);
-		fprintf(f, " %d %d", c->ops.simple, c->ops.complex);
-		for (int j = 0; j < c->np; j++)
-			fprintf(f, " %a", c->p[j]);
-		put_tree(f, &c->tree[0]);
-		put_tree(f, &c->tree[1]);
-		int seed = -1;
-		for (int k = 0; c->seed_name && k < s->o.nseeds; k++)
-			if (c->seed_name == s->seed_name[k])
-				seed = k;
-		fprintf(f, " %d %d\n", seed, c->text_b != NULL);
-		put_text(f, c->text);
-		if (c->text_b)
-			put_text(f, c->text_b);
-	}
+	for (size_t i = 0; i < s->n; i++)
+		put_cand(s, f, &s->cand[i]);
 	fputs("end\n", f);
 	return ferror(f) ? -1 : 0;
 }
@@ -867,7 +918,7 @@ int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 	unsigned long long fp, r[4];
 	size_t nseen, ncand;
 	if (!fgets(magic, sizeof magic, f) || strncmp(magic, CHECKPOINT_MAGIC, strlen(CHECKPOINT_MAGIC))) {
-		snprintf(err, errlen, "not a brdfkit search checkpoint");
+		snprintf(err, errlen, "not a brdfkit search checkpoint (of this version)");
 		return -1;
 	}
 	if (fscanf(f, " fingerprint %llx rng %llx %llx %llx %llx state %ld %d %zu seen %zu", &fp, &r[0], &r[1], &r[2],
@@ -889,28 +940,9 @@ int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 		goto bad;
 	for (size_t i = 0; i < ncand; i++) {
 		bk_cand c;
-		memset(&c, 0, sizeof c);
-		int status, seed, has_b;
-		if (fscanf(f, " c %ld %d %d %la %la %la %la %la", &c.found_at, &status, &c.np, &c.cost, &c.err, &c.rmse,
-		           &c.max_abs, &c.albedo_max_abs) != 8 || c.np < 0 || c.np > BK_MAX_PARAMS || status < 0 ||
-		    status > BK_CAND_FAILED)
+		if (get_cand(s, f, &c))
 			goto bad;
-		c.status = (bk_cand_status)status;
-		for (int k = 0; k < BK_K_COUNT; k++)
-			if (fscanf(f, " %d", &c.ops.n[k]) != 1)
-				goto bad;
-		if (fscanf(f, " %d %d", &c.ops.simple, &c.ops.complex) != 2)
-			goto bad;
-		for (int j = 0; j < c.np; j++)
-			if (fscanf(f, " %la", &c.p[j]) != 1)
-				goto bad;
-		if (get_tree(f, &c.tree[0]) || get_tree(f, &c.tree[1]) || fscanf(f, " %d %d", &seed, &has_b) != 2 ||
-		    seed >= s->o.nseeds || fgetc(f) != '\n')
-			goto bad;
-		c.seed_name = seed >= 0 ? s->seed_name[seed] : NULL;
-		c.text = get_text(f);
-		c.text_b = has_b ? get_text(f) : NULL;
-		if (!c.text || (has_b && !c.text_b) || push(s, &c)) {
+		if (push(s, &c)) {
 			cand_free(&c);
 			goto bad;
 		}
@@ -921,5 +953,65 @@ int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 	return 0;
 bad:
 	snprintf(err, errlen, "the checkpoint is damaged or cut short");
+	return -1;
+}
+
+/* ---- migrants (islands) ---------------------------------------------------- */
+
+int bk_search_export(const bk_search *s, const size_t *idx, size_t n, FILE *f)
+{
+	fprintf(f, "%s\nfingerprint %016llx\ncandidates %zu\n", MIGRANTS_MAGIC, (unsigned long long)s->fingerprint_all,
+	        n);
+	for (size_t i = 0; i < n; i++)
+		put_cand(s, f, &s->cand[idx[i]]);
+	fputs("end\n", f);
+	return ferror(f) ? -1 : 0;
+}
+
+int bk_search_import(bk_search *s, FILE *f, size_t *added, char *err, size_t errlen)
+{
+	char magic[64];
+	unsigned long long fp;
+	size_t n;
+	*added = 0;
+	if (!fgets(magic, sizeof magic, f) || strncmp(magic, MIGRANTS_MAGIC, strlen(MIGRANTS_MAGIC)) ||
+	    fscanf(f, " fingerprint %llx candidates %zu", &fp, &n) != 2)
+		goto bad;
+	if (fp != s->fingerprint_all) {
+		snprintf(err, errlen, "migrants from a search with other options or another target");
+		return -1;
+	}
+	for (size_t i = 0; i < n; i++) {
+		bk_cand c;
+		if (get_cand(s, f, &c))
+			goto bad;
+		/* the cache's key (prepare, the seeds): a candidate this island has
+		 * already fitted or received is not taken twice */
+		size_t la = strlen(c.text), lb = c.text_b ? strlen(c.text_b) : 0;
+		char *key = malloc(la + lb + 2);
+		int fresh = -1;
+		if (key) {
+			memcpy(key, c.text, la);
+			key[la] = ';';
+			memcpy(key + la + 1, c.text_b ? c.text_b : "", lb + 1);
+			fresh = bk_hashset_add(&s->seen, bk_expr_hash_text(key));
+			free(key);
+		}
+		if (fresh < 0 || (fresh > 0 && push(s, &c))) {
+			cand_free(&c);
+			snprintf(err, errlen, "out of memory taking migrants");
+			return -1;
+		}
+		if (fresh == 0)
+			cand_free(&c);
+		else
+			++*added;
+	}
+	char end[8];
+	if (fscanf(f, " %7s", end) != 1 || strcmp(end, "end"))
+		goto bad;
+	return 0;
+bad:
+	snprintf(err, errlen, "the migrants are damaged or cut short");
 	return -1;
 }

@@ -77,6 +77,9 @@ typedef struct bk_search_options {
 	const char *const *seed_names; /* their names in outputs (catalog names, "start 1", ...) */
 	const double (*seed_p)[BK_MAX_PARAMS]; /* their starting constants (published), or NULL */
 	int nseeds;
+	int island, islands;      /* this search is island `island` of `islands` (an
+	                             MPI rank of a run): it enumerates only its share
+	                             of the trees (every islands-th, from island) */
 } bk_search_options;
 
 /* Sets the defaults of everything but screen, shape and grammar. */
@@ -101,7 +104,8 @@ typedef struct bk_cand {
 	bk_cand_status status;
 	double err;               /* the objective, rounded to BK_SEARCH_ERR_BITS; +inf unless OK */
 	double rmse, max_abs, albedo_max_abs; /* on the screening samples, in the search precision */
-	long found_at;            /* 1-based number of the fit */
+	long found_at;            /* 1-based number of the fit, on its island */
+	int island;               /* the island that fitted it (0 without islands) */
 } bk_cand;
 
 typedef struct bk_search bk_search;
@@ -129,6 +133,15 @@ size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);
  * checked. Return 0, or -1 with a message. */
 int bk_search_save(const bk_search *s, FILE *f);
 int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen);
+
+/* Islands (an island model across processes: analysis/cli/islands.h).
+ * export writes the candidates idx[0..n) as text; import reads such a text
+ * from another island of the same run (the options but seed and island
+ * checked) and adds the candidates this one has not fitted or received, as
+ * they were fitted there: they join the archive and become parents, and
+ * cost no fit. *added: how many were new. Return 0, or -1 (message). */
+int bk_search_export(const bk_search *s, const size_t *idx, size_t n, FILE *f);
+int bk_search_import(bk_search *s, FILE *f, size_t *added, char *err, size_t errlen);
 
 /* The objective of o for values v on samples s with metrics m
  * (bk_samples_metrics of v): rmse (of the relative residuals with

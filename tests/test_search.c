@@ -2,7 +2,8 @@
  * test_search.c — the search (fit/search.h): a planted form recovered,
  * the same bytes for any thread count, a resumed run equal to an
  * uninterrupted one, the front non-dominated and complete, constraints held
- * on a denser grid, the error resolution.
+ * on a denser grid, the error resolution; islands sharing out the
+ * enumeration and taking each other's migrants.
  */
 #include "search.h"
 
@@ -243,4 +244,125 @@ Test(search, error_resolution)
 	cr_assert_eq(bk_search_round_err(0.75 * ldexp(1, -40)), 0.75 * ldexp(1, -40));
 	cr_assert(isinf(bk_search_round_err(HUGE_VAL)));
 	cr_assert_eq(bk_search_round_err(0.0), 0.0);
+}
+
+/* The texts of the enumeration a search fitted (found after the seed, up to
+ * the end of the exhaustive phase: enum_max caps it below the budget). */
+static size_t enumerated(const bk_search *s, char ***out)
+{
+	size_t n = 0;
+	char **t = malloc(sizeof(char *) * (bk_search_count(s) + 1));
+	for (size_t i = 0; i < bk_search_count(s); i++)
+		if (!bk_search_at(s, i)->seed_name)
+			t[n++] = bk_search_at(s, i)->text;
+	*out = t;
+	return n;
+}
+
+static int by_text(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
+
+/* Islands share out the enumeration: together two islands' enumerated
+ * candidates are the one island's, text for text. */
+Test(search, islands_share_the_enumeration)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 2, 100000);
+	o.enum_size = 3;
+	o.enum_max = 100000;
+	o.generation = 100000; /* one batch holds the whole enumeration: no evolution after it */
+	bk_search *one = bk_search_new(&o, (char[256]){0}, 256);
+	char err[256];
+	cr_assert_eq(bk_search_step(one, err, sizeof err), 1, "%s", err); /* the seed */
+	cr_assert_geq(bk_search_step(one, err, sizeof err), 0, "%s", err); /* the enumeration */
+	bk_search *isl[2];
+	for (int k = 0; k < 2; k++) {
+		o.islands = 2;
+		o.island = k;
+		isl[k] = bk_search_new(&o, err, sizeof err);
+		cr_assert(isl[k], "%s", err);
+		cr_assert_eq(bk_search_step(isl[k], err, sizeof err), 1, "%s", err);
+		cr_assert_geq(bk_search_step(isl[k], err, sizeof err), 0, "%s", err);
+	}
+	char **a, **b, **c;
+	size_t na = enumerated(one, &a), nb = enumerated(isl[0], &b), nc = enumerated(isl[1], &c);
+	cr_assert(nb > 0 && nb < na && nc > 0 && nc < na, "each island its share: %zu and %zu of %zu", nb, nc, na);
+	/* two trees the islands enumerate apart may scale to one candidate, which
+	 * one island fits once (its cache) and two islands each fit: so the sets
+	 * are compared, duplicates merged */
+	char **u = malloc(sizeof(char *) * (nb + nc + 1));
+	memcpy(u, b, sizeof(char *) * nb);
+	memcpy(u + nb, c, sizeof(char *) * nc);
+	qsort(u, nb + nc, sizeof *u, by_text);
+	qsort(a, na, sizeof *a, by_text);
+	size_t nu = 0;
+	for (size_t i = 0; i < nb + nc; i++)
+		if (nu == 0 || strcmp(u[nu - 1], u[i]))
+			u[nu++] = u[i];
+	cr_assert_eq(nu, na, "islands %zu + %zu (%zu distinct), one island %zu", nb, nc, nu, na);
+	for (size_t i = 0; i < na; i++)
+		cr_assert_str_eq(u[i], a[i], "candidate %zu", i);
+	free(a), free(b), free(c), free(u);
+	bk_search_free(one);
+	bk_search_free(isl[0]);
+	bk_search_free(isl[1]);
+	bk_samples_free(&s);
+}
+
+/* Migrants: island 1's front taken by island 0 as fitted there (same error,
+ * constants and island), once only; a search with other options is refused. */
+Test(search, migrants_are_taken_once)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 2, 1500);
+	o.islands = 2;
+	o.island = 1;
+	o.seed = 11;
+	bk_search *from = run(&o);
+	o.island = 0;
+	o.seed = 7;
+	bk_search *to = run(&o);
+	size_t idx[64];
+	size_t nf = bk_search_front(from, idx, 64);
+	cr_assert_gt(nf, 2);
+	char *buf = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&buf, &len);
+	cr_assert_eq(bk_search_export(from, idx, nf, f), 0);
+	fclose(f);
+	size_t before = bk_search_count(to), added = 0;
+	char err[256];
+	f = fmemopen(buf, len, "r");
+	cr_assert_eq(bk_search_import(to, f, &added, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	cr_assert_eq(bk_search_count(to), before + added);
+	for (size_t i = before; i < bk_search_count(to); i++) { /* each new one is one of the front, bit for bit */
+		const bk_cand *c = bk_search_at(to, i);
+		int found = 0;
+		for (size_t k = 0; k < nf && !found; k++) {
+			const bk_cand *q = bk_search_at(from, idx[k]);
+			found = !strcmp(q->text, c->text) && !memcmp(&q->err, &c->err, sizeof c->err) &&
+			        !memcmp(q->p, c->p, sizeof(double) * (size_t)q->np) && q->found_at == c->found_at;
+		}
+		cr_assert(found, "%s", c->text);
+		cr_assert_eq(c->island, 1);
+	}
+	f = fmemopen(buf, len, "r"); /* the same migrants again: nothing new */
+	cr_assert_eq(bk_search_import(to, f, &added, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	cr_assert_eq(added, 0);
+	o.grammar.max_params = 1; /* other options: refused */
+	bk_search *other = bk_search_new(&o, err, sizeof err);
+	f = fmemopen(buf, len, "r");
+	cr_assert_eq(bk_search_import(other, f, &added, err, sizeof err), -1);
+	fclose(f);
+	cr_assert(strstr(err, "other options"), "%s", err);
+	free(buf);
+	bk_search_free(from);
+	bk_search_free(to);
+	bk_search_free(other);
+	bk_samples_free(&s);
 }

@@ -12,11 +12,14 @@
 #include "cmd.h"
 #include "compare.h"
 #include "fit_out.h"
+#include "islands.h"
 #include "out.h"
 #include "search.h"
 #include "stability.h"
 
 #include <ctype.h>
+#include <errno.h>
+#include <stdint.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -33,7 +36,7 @@ typedef struct search_cli {
 	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
-	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation;
+	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
 	int relative, no_constraints;
 } search_cli;
@@ -72,6 +75,7 @@ typedef struct job {
 	char command[2048];
 	double seconds;
 	int interrupted;
+	long total_evals;  /* over all islands */
 } job;
 
 static volatile sig_atomic_t stop_asked;
@@ -193,14 +197,32 @@ static void screening_grid(bk_target_options *o)
 	}
 }
 
+/* The seed of island r > 0: splitmix64 of (seed, r), folded to 32 bits as
+ * --seed is; distinct islands draw distinct streams. */
+static unsigned long island_seed(unsigned long seed, int r)
+{
+	uint64_t z = (uint64_t)seed + 0x9e3779b97f4a7c15ull * (uint64_t)(r + 1);
+	z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+	z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+	z ^= z >> 31;
+	return (unsigned long)(z & 0xffffffffu);
+}
+
 static int setup(job *J)
 {
 	search_cli *a = J->a;
 	const cli_cmd *cmd = J->cmd;
 	bk_search_options *so = &J->so;
 	bk_search_defaults(so);
-	so->evals = a->evals;
-	so->seed = (unsigned long)a->seed;
+	/* islands: --evals is the budget of the whole run, shared out; island 0
+	 * keeps --seed, so one rank is the run brdfkit makes */
+	int K = isl_size(), R = isl_rank();
+	if (a->evals < K) /* decided alike on every rank: no rank may leave alone */
+		return cli_usage(cmd, "--evals %ld: fewer fits than the %d islands", a->evals, K);
+	so->islands = K;
+	so->island = R;
+	so->evals = a->evals / K + (R < a->evals % K);
+	so->seed = R == 0 ? (unsigned long)a->seed : island_seed((unsigned long)a->seed, R);
 	so->threads = (int)a->threads;
 	so->enum_size = (int)a->enum_size;
 	so->enum_max = a->enum_max;
@@ -419,6 +441,293 @@ static int run_search(job *J)
 	if (J->a->checkpoint && save_checkpoint(J, err, sizeof err))
 		return cli_fail("search", "--checkpoint %s", err);
 	return 0;
+}
+
+/* ---- islands (an MPI job: analysis/cli/islands.h) --------------------------- */
+
+/* A rank's checkpoint is FILE.RANK, with the previous round kept as
+ * FILE.RANK.prev: a job killed while the ranks commit a round leaves each
+ * rank the round before it at least, and a resume takes the newest round
+ * every rank has (save_islands, load_islands). */
+#define ISLAND_MAGIC "brdfkit-island-checkpoint 1"
+
+static void island_path(const char *base, int r, const char *suffix, char *buf, size_t len)
+{
+	snprintf(buf, len, "%s.%d%s", base, r, suffix);
+}
+
+/* Every rank's failure text (empty: none) printed by rank 0, one line each.
+ * Collective. Returns 1. */
+static int islands_fail(const char *what, const char *mine)
+{
+	int K = isl_size();
+	char (*all)[256] = isl_rank() == 0 ? calloc((size_t)K, 256) : NULL;
+	isl_gather_text(mine, all);
+	for (int r = 0; all && r < K; r++)
+		if (all[r][0])
+			fprintf(stderr, "search: %s: rank %d: %s\n", what, r, all[r]);
+	if (isl_rank() == 0 && !all)
+		fprintf(stderr, "search: %s failed on some rank (out of memory for the messages)\n", what);
+	free(all);
+	return 1;
+}
+
+/* The round a checkpoint file holds: -1 absent, -2 not one of this job's. */
+static long island_round(const char *path, const job *J)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return errno == ENOENT ? -1 : -2;
+	int r, k;
+	long round, m, n;
+	int ok = fscanf(f, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld", &r, &k, &round, &m, &n) == 5;
+	fclose(f);
+	return ok && r == isl_rank() && k == isl_size() && m == J->a->migrate && n == J->a->migrants ? round : -2;
+}
+
+/* Two phases, so that no rank moves to round `round` before all have it on
+ * disk: each writes a temporary; only when all succeeded does each keep its
+ * last round as .prev and rename the new one into place. Collective. */
+static int save_islands(const job *J, long round)
+{
+	char path[4096], prev[4112], err[256] = "";
+	int R = isl_rank();
+	island_path(J->a->checkpoint, R, "", path, sizeof path);
+	island_path(J->a->checkpoint, R, ".prev", prev, sizeof prev);
+	bk_out o;
+	struct stat st;
+	int ok = 1;
+	for (int k = 0; k < 2 && ok; k++) /* what is moved or replaced is a file, never a directory or a link */
+		if (lstat(k ? prev : path, &st) == 0 && !S_ISREG(st.st_mode)) {
+			snprintf(err, sizeof err, "%.200s: exists and is not a regular file", k ? prev : path);
+			ok = 0;
+		}
+	ok = ok && bk_out_open(&o, path, err, sizeof err) == 0;
+	if (ok) {
+		fprintf(o.f, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld\n", R, isl_size(), round,
+		        J->a->migrate, J->a->migrants);
+		if (bk_search_save(J->S, o.f) || fflush(o.f)) {
+			bk_out_abort(&o);
+			snprintf(err, sizeof err, "%.200s: write failed", path);
+			ok = 0;
+		}
+	}
+	if (isl_any(!ok)) {
+		if (ok)
+			bk_out_abort(&o);
+		return islands_fail("--checkpoint", ok ? "" : err);
+	}
+	if (rename(path, prev) && errno != ENOENT) {
+		snprintf(err, sizeof err, "%.90s: cannot keep it as %.90s: %.40s", path, prev,
+		         strerror(errno));
+		bk_out_abort(&o);
+		ok = 0;
+	} else {
+		ok = bk_out_commit(&o, err, sizeof err) == 0;
+	}
+	return isl_any(!ok) ? islands_fail("--checkpoint", ok ? "" : err) : 0;
+}
+
+/* The newest round every rank has, loaded. Collective. */
+static int load_islands(job *J, long *round)
+{
+	char path[4096], prev[4112], err[512] = "";
+	int R = isl_rank();
+	island_path(J->a->resume, R, "", path, sizeof path);
+	island_path(J->a->resume, R, ".prev", prev, sizeof prev);
+	long cur = island_round(path, J), old = island_round(prev, J);
+	long want = isl_min(cur > old ? cur : old);
+	const char *from = cur == want ? path : old == want ? prev : NULL;
+	int ok = want >= 0 && from;
+	if (!ok)
+		snprintf(err, sizeof err, "%.200s: no checkpoint of this job's round %ld (island %d of %d, --migrate %ld, "
+		         "--migrants %ld; a resume needs the same ranks and options)", path, want, R, isl_size(),
+		         J->a->migrate, J->a->migrants);
+	if (ok) {
+		FILE *f = fopen(from, "r");
+		char line[256];
+		ok = f && fgets(line, sizeof line, f) && bk_search_load(J->S, f, err, sizeof err) == 0;
+		if (!ok && f) {
+			char why[400];
+			snprintf(why, sizeof why, "%s", err);
+			snprintf(err, sizeof err, "%.100s: %.300s", from, why);
+		} else if (!f) {
+			snprintf(err, sizeof err, "%.200s: cannot be read", from);
+		}
+		if (f)
+			fclose(f);
+	}
+	if (isl_any(!ok))
+		return islands_fail("--resume", ok ? "" : err);
+	*round = want;
+	if (R == 0)
+		fprintf(stderr, "search: resumed %d islands at round %ld (%ld fits)\n", isl_size(), want,
+		        isl_sum(bk_search_evals(J->S)));
+	else
+		isl_sum(bk_search_evals(J->S));
+	return 0;
+}
+
+/* Writes the candidates idx[0..n) of the search to a buffer (malloc'd). */
+static char *export_text(const bk_search *S, const size_t *idx, size_t n, size_t *len)
+{
+	char *buf = NULL;
+	FILE *f = open_memstream(&buf, len);
+	if (!f)
+		return NULL;
+	int bad = bk_search_export(S, idx, n, f);
+	if (fclose(f) || bad) {
+		free(buf);
+		return NULL;
+	}
+	return buf;
+}
+
+static int import_text(bk_search *S, const char *in, size_t n, char *err, size_t errlen)
+{
+	FILE *f = fmemopen((void *)in, n, "r");
+	if (!f) {
+		snprintf(err, errlen, "out of memory reading migrants");
+		return -1;
+	}
+	size_t added;
+	int rc = bk_search_import(S, f, &added, err, errlen);
+	fclose(f);
+	return rc;
+}
+
+/* Migration: up to --migrants members of this island's front, spread over
+ * its cost range, to the next rank of the ring. Collective. */
+static int migrate(job *J)
+{
+	size_t front[MAX_FRONT], pick[MAX_FRONT];
+	size_t nf = bk_search_front(J->S, front, MAX_FRONT), n = 0;
+	size_t want = (size_t)J->a->migrants < nf ? (size_t)J->a->migrants : nf;
+	for (size_t i = 0; i < want; i++) /* evenly over the front, its ends included */
+		pick[n++] = front[want > 1 ? i * (nf - 1) / (want - 1) : 0];
+	size_t len = 0, nin = 0;
+	char *out = export_text(J->S, pick, n, &len), *in = NULL, err[256] = "";
+	int ok = out != NULL;
+	if (isl_any(!ok)) {
+		free(out);
+		return islands_fail("migration", ok ? "" : "out of memory");
+	}
+	ok = isl_ring(out, len, &in, &nin) == 0;
+	free(out);
+	if (ok && import_text(J->S, in, nin, err, sizeof err))
+		ok = 0;
+	free(in);
+	return isl_any(!ok) ? islands_fail("migration", ok ? "" : *err ? err : "out of memory") : 0;
+}
+
+static int take_island(void *ctx, int rank, const char *in, size_t n)
+{
+	job *J = ctx;
+	char err[256];
+	if (rank == 0) /* rank 0's own candidates are already in its search */
+		return 0;
+	if (import_text(J->S, in, n, err, sizeof err)) {
+		fprintf(stderr, "search: merging island %d: %s\n", rank, err);
+		return -1;
+	}
+	return 0;
+}
+
+/* The final merge: every island's candidates into rank 0's search, in rank
+ * order (a candidate found on several islands is kept as the lowest rank
+ * found it). Collective. */
+static int merge_islands(job *J)
+{
+	size_t n = bk_search_count(J->S), len = 0;
+	size_t *all = malloc(sizeof(size_t) * (n ? n : 1));
+	for (size_t i = 0; all && i < n; i++)
+		all[i] = i;
+	char *out = all ? export_text(J->S, all, n, &len) : NULL;
+	free(all);
+	int ok = out != NULL;
+	if (isl_any(!ok)) {
+		free(out);
+		return islands_fail("merge", ok ? "" : "out of memory");
+	}
+	double t0 = bk_clock_now();
+	ok = isl_gather(out, len, take_island, J) == 0;
+	long bytes = isl_sum((long)len);
+	free(out);
+	if (!ok)
+		return 1; /* rank 0 said why */
+	if (isl_rank() == 0)
+		fprintf(stderr, "search: merged %d islands: %ld bytes, %.3f s\n", isl_size(), bytes, bk_clock_now() - t0);
+	return 0;
+}
+
+/* The search as an island of an MPI job: rounds of --migrate fits per
+ * island, a migration after each, checkpoints at round ends, the merge into
+ * rank 0. Every rank runs this; each decision that ends a round is agreed
+ * (isl_any), so the ranks always make the same collective calls. */
+static int run_islands(job *J)
+{
+	char err[512] = "";
+	int R = isl_rank();
+	J->S = bk_search_new(&J->so, err, sizeof err);
+	if (isl_any(!J->S))
+		return islands_fail("setting up", J->S ? "" : err);
+	long round = 0;
+	if (J->a->resume && load_islands(J, &round))
+		return 1;
+	struct sigaction sa, old;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_interrupt;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, &old);
+	J->seconds = bk_clock_now();
+	double last = J->seconds;
+	long every = J->a->every, M = J->a->migrate, start_evals = isl_sum(bk_search_evals(J->S));
+	int done = 0, rc = 0;
+	for (;;) {
+		round++;
+		int failed = 0;
+		while (!done && bk_search_evals(J->S) < round * M) {
+			int st = bk_search_step(J->S, err, sizeof err);
+			failed = st < 0;
+			done = st != 1;
+		}
+		if (isl_any(failed)) {
+			rc = islands_fail("search", failed ? err : "");
+			break;
+		}
+		if (migrate(J)) {
+			rc = 1;
+			break;
+		}
+		long total = isl_sum(bk_search_evals(J->S));
+		double now = bk_clock_now();
+		int more = isl_any(!done);
+		int stop = isl_any(stop_asked || (R == 0 && J->a->seconds > 0 && now - J->seconds >= J->a->seconds));
+		if (R == 0 && (now - last >= (isatty(2) ? 0.25 : PROGRESS_EVERY) || !more || stop)) {
+			size_t one;
+			double dt = now - J->seconds;
+			fprintf(stderr, "%ssearch: round %ld, %ld fits on %d islands, %.0f fits/s, island 0's front %zu%s",
+			        isatty(2) && more && !stop ? "\r" : "", round, total, isl_size(),
+			        dt > 0 ? (double)(total - start_evals) / dt : 0.0, bk_search_front(J->S, &one, MAX_FRONT),
+			        isatty(2) && more && !stop ? "\033[K" : "\n");
+			last = now;
+		}
+		int last_round = !more || stop;
+		if (J->a->checkpoint && (last_round || (round * M) / every > ((round - 1) * M) / every) &&
+		    save_islands(J, round)) {
+			rc = 1;
+			break;
+		}
+		if (last_round) {
+			J->interrupted = isl_any(stop_asked);
+			break;
+		}
+	}
+	sigaction(SIGINT, &old, NULL);
+	if (rc)
+		return rc;
+	J->total_evals = isl_sum(bk_search_evals(J->S));
+	return merge_islands(J);
 }
 
 /* Values of the member's forms on the samples in precision prec. */
@@ -712,6 +1021,10 @@ static const char *objective_name(const job *J)
 static void header(FILE *f, const job *J, const char *what)
 {
 	fprintf(f, "# brdfkit %s search %s\n# command: %s\n# target: %s\n", BK_VERSION, what, J->command, J->s.description);
+	if (J->so.islands > 1)
+		fprintf(f, "# islands: %d MPI ranks (%s), --evals shared out, --migrate %ld fits per island between "
+		        "migrations of %ld front members round a ring; found_at counts the fits of the member's island\n",
+		        J->so.islands, isl_name(), J->a->migrate, J->a->migrants);
 	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops); "
 	        "error: %s in %s precision on the target's samples; conventions: r perceptual roughness, a = r^2, "
 	        "V includes 1/(4 NoL NoV)\n", J->so.simple_cost, J->so.complex_cost, objective_name(J),
@@ -745,8 +1058,8 @@ static void row_lead(FILE *f, const member *m)
 static void write_front_csv(FILE *f, const job *J)
 {
 	header(f, J, "front (refitted on the full samples)");
-	fputs("name,form,form_b,parameters,simple,complex,cost,error,rmse,max_abs,max_rel,albedo_max_abs,f16_max_abs,"
-	      "stability_half,found_at,dominates\n", f);
+	fprintf(f, "name,form,form_b,parameters,simple,complex,cost,error,rmse,max_abs,max_rel,albedo_max_abs,f16_max_abs,"
+	        "stability_half,found_at,%sdominates\n", J->so.islands > 1 ? "island," : "");
 	for (int i = 0; i < J->nm; i++) {
 		const member *m = &J->m[i];
 		if (!m->front)
@@ -757,6 +1070,8 @@ static void write_front_csv(FILE *f, const job *J)
 		if (isfinite(m->prec.albedo_max_abs))
 			fprintf(f, "%.6g", m->prec.albedo_max_abs);
 		fprintf(f, ",%.6g,%s,%ld,", m->f16_max, m->verdict, m->c->found_at);
+		if (J->so.islands > 1)
+			fprintf(f, "%d,", m->c->island);
 		char dom[2048] = "";
 		for (int k = 0; k < J->nm; k++) /* the catalog rows this member beats */
 			if (beats(m, &J->m[k]))
@@ -795,10 +1110,13 @@ static void write_candidates_csv(FILE *f, const job *J)
 	for (size_t i = 0; i < nf; i++)
 		on[idx[i]] = 1;
 	header(f, J, "every distinct candidate fitted (screening samples); front: on the screening front");
-	fputs("found_at,cost,error,status,front,seed,form,form_b\n", f);
+	fprintf(f, "found_at,%scost,error,status,front,seed,form,form_b\n", J->so.islands > 1 ? "island," : "");
 	for (size_t i = 0; i < n; i++) {
 		const bk_cand *c = bk_search_at(J->S, i);
-		fprintf(f, "%ld,%g,", c->found_at, c->cost);
+		fprintf(f, "%ld,", c->found_at);
+		if (J->so.islands > 1)
+			fprintf(f, "%d,", c->island);
+		fprintf(f, "%g,", c->cost);
 		if (c->status == BK_CAND_OK)
 			fprintf(f, "%.9g", c->err);
 		fprintf(f, ",%s,%d,", st[c->status], on ? on[i] : 0);
@@ -902,7 +1220,7 @@ static void write_section(FILE *f, const job *J)
 	        bk_target_name(J->kind), id);
 	bk_html_text(f, J->s.description);
 	fprintf(f, "</p>\n<p>%ld candidate fits (seed %ld); error: %s in %s precision; cost: simple*%g + complex*%g. "
-	        "<code>", bk_search_evals(J->S), J->a->seed, objective_name(J), bk_precision_name(J->so.precision),
+	        "<code>", J->total_evals, J->a->seed, objective_name(J), bk_precision_name(J->so.precision),
 	        J->so.simple_cost, J->so.complex_cost);
 	bk_html_text(f, J->command);
 	const char *P = J->a->prefix ? J->a->prefix : "";
@@ -976,8 +1294,12 @@ static int write_outputs(const job *J)
 			continue;
 		snprintf(dir, sizeof dir, "%.4000s/front/%s", od.tmp, m->name);
 		char source[512];
-		snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
-		         m->c->found_at, bk_search_evals(J->S));
+		if (J->so.islands > 1)
+			snprintf(source, sizeof source, "found by brdfkit search on %d islands (seed %ld, island %d's fit %ld; "
+			         "%ld fits in all)", J->so.islands, J->a->seed, m->c->island, m->c->found_at, J->total_evals);
+		else
+			snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
+			         m->c->found_at, J->total_evals);
 		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
 		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0};
 		rc = mkdir(dir, 0777) || fit_write_into(&v, dir, err, sizeof err);
@@ -992,7 +1314,7 @@ static int write_outputs(const job *J)
 static void report(const job *J)
 {
 	printf("search on %s: %ld fits, %zu distinct candidates; front (refitted on %zu samples, %s in %s):\n",
-	       bk_target_name(J->kind), bk_search_evals(J->S), bk_search_count(J->S), J->s.n, objective_name(J),
+	       bk_target_name(J->kind), J->total_evals, bk_search_count(J->S), J->s.n, objective_name(J),
 	       bk_precision_name(J->so.precision));
 	for (int pass = 0; pass < 2; pass++)
 		for (int i = 0; i < J->nm; i++) {
@@ -1018,10 +1340,11 @@ static const cli_scope target_opts[] = {
 	{"--fetch-cost", 1u << BK_TARGET_ENV, "LUT rows exist for target env only"},
 };
 
-int cmd_search(int argc, char **argv)
+static int search_main(int argc, char **argv)
 {
 	search_cli a = {.objective = "rmse", .precision = "double", .evals = 20000, .seed = 1, .threads = 0,
-	                .max_params = -1, .max_size = 24, .enum_size = 5, .enum_max = 5000, .every = 5000, .generation = 256};
+	                .max_params = -1, .max_size = 24, .enum_size = 5, .enum_max = 5000, .every = 5000, .generation = 256,
+	                .migrate = 2000, .migrants = 8};
 	cli_opt opts[] = {
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.t.target, .required = 1},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the expression to approximate (inputs only)", .dest = &a.t.target_form},
@@ -1060,6 +1383,8 @@ int cmd_search(int argc, char **argv)
 		{.name = "--checkpoint", .kind = CLI_STR, .metavar = "FILE", .help = "write the state here every --every fits and at the end", .dest = &a.checkpoint},
 		{.name = "--every", .kind = CLI_INT, .metavar = "K", .help = "fits between checkpoints (default 5000)", .dest = &a.every, .lo = 1, .hi = 1e9},
 		{.name = "--resume", .kind = CLI_STR, .metavar = "FILE", .help = "continue from a checkpoint (same options; --evals may grow)", .dest = &a.resume},
+		{.name = "--migrate", .kind = CLI_INT, .metavar = "M", .help = "MPI: fits per island between migrations (default 2000)", .dest = &a.migrate, .lo = 1, .hi = 1e9},
+		{.name = "--migrants", .kind = CLI_INT, .metavar = "N", .help = "MPI: front members each island sends round the ring (default 8)", .dest = &a.migrants, .lo = 0, .hi = MAX_FRONT},
 	};
 	cli_cmd cmd = {"search", "Searches closed forms for a target: candidates over the formula IR, each fitted,\n"
 	               "the Pareto front of error against GPU cost refitted in full. Writes front.csv,\n"
@@ -1067,6 +1392,9 @@ int cmd_search(int argc, char **argv)
 	               "--target T --out DIR [options]",
 	               "The same --seed and --evals give the same files for any --threads. SIGINT stops at the\n"
 	               "end of the current generation, writes the checkpoint and the front so far, exits 130.\n"
+	               "On a cluster: mpirun -np K build/brdfkit-mpi search ... runs K islands (--evals shared\n"
+	               "out, --migrate, --migrants; checkpoints FILE.RANK); rank 0 merges and writes DIR. The\n"
+	               "same --seed, --evals and K give the same files for any --threads (README).\n"
 	               "Exit status: 0 done, 1 failed, 2 bad usage, 130 interrupted (results written).",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
@@ -1083,7 +1411,9 @@ int cmd_search(int argc, char **argv)
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		a.threads = n < 1 ? 1 : n > 64 ? 64 : n;
 	}
-	size_t k = (size_t)snprintf(J.command, sizeof J.command, "brdfkit search");
+	size_t k = isl_size() > 1 ? (size_t)snprintf(J.command, sizeof J.command, "mpirun -np %d brdfkit-mpi search",
+	                                             isl_size())
+	                          : (size_t)snprintf(J.command, sizeof J.command, "brdfkit search");
 	for (int i = 0; i < argc && k < sizeof J.command; i++)
 		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
 	if (bk_target_parse(a.t.target, &J.kind))
@@ -1109,8 +1439,14 @@ int cmd_search(int argc, char **argv)
 		return cli_usage(&cmd, "--every has no effect without --checkpoint FILE");
 	if ((rc = setup(&J)))
 		return rc;
-	if (bk_out_dir_check(a.out, err, sizeof err))
-		return cli_fail("search", "--out %s", err);
+	/* rank 0 alone writes DIR and refits the front on the full samples:
+	 * what it alone checks or builds is agreed on before the first exchange */
+	int R = isl_rank(), K = isl_size();
+	rc = R == 0 && bk_out_dir_check(a.out, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
+	if (K > 1 && isl_any(rc))
+		return 1;
+	if (rc)
+		return rc;
 	J.to_screen = J.to;
 	screening_grid(&J.to_screen);
 	/* the screening samples first: they are cheap, and the checks of --inputs
@@ -1121,17 +1457,21 @@ int cmd_search(int argc, char **argv)
 	}
 	if ((rc = setup_inputs(&J)) || (rc = setup_seeds(&J, &sd)))
 		goto done;
-	if (bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err)) {
+	if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
+	if (K > 1 && isl_any(rc))
+		rc = 1;
+	if (rc)
 		goto done;
-	}
 	J.so.screen = &J.screen;
-	if ((rc = run_search(&J)))
+	if ((rc = K > 1 ? run_islands(&J) : run_search(&J)) || R > 0)
 		goto done;
+	if (K == 1)
+		J.total_evals = bk_search_evals(J.S);
 	size_t one;
 	if (bk_search_front(J.S, &one, 1) == 0) { /* nothing to write: say why instead of an empty front */
 		rc = cli_fail("search", "no candidate fitted the target within the limits (--max-cost, --max-params, "
-		              "--max-size, --ops, --inputs and the constraints) in %ld fits", bk_search_evals(J.S));
+		              "--max-size, --ops, --inputs and the constraints) in %ld fits", J.total_evals);
 		goto done;
 	}
 	if (build_members(&J, &sd)) {
@@ -1151,5 +1491,14 @@ done:
 	bk_search_free(J.S);
 	bk_samples_free(&J.s);
 	bk_samples_free(&J.screen);
+	return rc;
+}
+
+int cmd_search(int argc, char **argv)
+{
+	if (isl_init(&argc, &argv))
+		return 1;
+	int rc = search_main(argc, argv);
+	isl_end(rc);
 	return rc;
 }

@@ -1,0 +1,115 @@
+#!/bin/sh
+# mpi.sh — the search's islands under MPI (issue 12): a planted form recovered
+# by 2 and 3 ranks, the same front.csv whatever the threads per rank and from
+# one run to the next, a job with a rank killed mid-run resumed to the same
+# front as a job never stopped, a rank that cannot write its checkpoint failing
+# the job with one line from rank 0, one rank equal to brdfkit itself, and
+# brdfkit itself free of MPI.
+# usage: sh tests/mpi.sh build/brdfkit-mpi build/brdfkit
+set -u
+BKM=${1:?usage: mpi.sh path/to/brdfkit-mpi path/to/brdfkit}
+BK=${2:?usage: mpi.sh path/to/brdfkit-mpi path/to/brdfkit}
+T=$(mktemp -d /tmp/bk_mpi_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# Open MPI refuses root without its two variables, and more ranks than cores
+# without --oversubscribe (CI runs as root on 2 cores); MPICH's mpirun needs
+# neither and knows no such flag
+MPIRUN="mpirun"
+if mpirun --version 2>/dev/null | grep -q "Open MPI"; then
+	MPIRUN="mpirun --oversubscribe"
+	export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+
+# the planted form of tests/cli.sh: 0.3/(LoH^2 + 0.7 r^2), one mutation from the seed
+PLANT='0.3/(LoH*LoH + 0.7*r*r)'
+search() { # search NP OUT [options]
+	np=$1 out=$2; shift 2
+	$MPIRUN -np "$np" "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --migrate 500 --out "$out" "$@"
+}
+# the files compared without their command lines (they name --out)
+same() { # same DIR1 DIR2 FILE
+	grep -v '^# command' "$1/$3" >"$T/a" 2>/dev/null; grep -v '^# command' "$2/$3" >"$T/b" 2>/dev/null
+	[ -s "$T/a" ] && cmp -s "$T/a" "$T/b"
+}
+recovered() { # the front holds the planted form: rmse (column 9) <= 1e-9 on the full grid
+	awk -F, '!/^#/ && NR > 1 && $9 != "" && $9 + 0 <= 1e-9 { f = 1 } END { exit !f }' "$1/front.csv"
+}
+
+# brdfkit itself needs no MPI runtime
+if ldd "$BK" | grep -q libmpi; then bad "brdfkit links MPI: $(ldd "$BK" | grep libmpi)"; else ok; fi
+
+for np in 2 3; do
+	if search $np "$T/p$np" --evals 3000 --threads 1 >"$T/out" 2>"$T/err" && recovered "$T/p$np"; then ok
+	else bad "$np ranks: planted form not recovered: $(cat "$T/err" | head -5)"; fi
+	# the same seed, budget and ranks: the same bytes with 2 threads per rank
+	search $np "$T/q$np" --evals 3000 --threads 2 >/dev/null 2>&1
+	for f in front.csv candidates.csv; do
+		same "$T/p$np" "$T/q$np" $f && ok || bad "$np ranks: --threads 1 and 2 differ in $f"
+	done
+	# the islands' work reaches the output: candidates of every rank, and the
+	# header and column that say so
+	for r in $(seq 0 $((np - 1))); do
+		awk -F, -v r=$r '!/^#/ && NR > 1 && $2 == r { f = 1 } END { exit !f }' "$T/p$np/candidates.csv" && ok ||
+			bad "$np ranks: no candidate of island $r in candidates.csv"
+	done
+	grep -q "^# islands: $np MPI ranks" "$T/p$np/front.csv" && grep -q ',found_at,island,' "$T/p$np/front.csv" && ok ||
+		bad "$np ranks: front.csv does not state the islands"
+done
+# a second run of 3 ranks: the same bytes (determinism across runs)
+search 3 "$T/p3b" --evals 3000 --threads 1 >/dev/null 2>&1
+same "$T/p3" "$T/p3b" front.csv && ok || bad "3 ranks: two runs differ in front.csv"
+
+# one rank is brdfkit: the same files, every byte but the command lines
+$MPIRUN -np 1 "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+	--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --evals 3000 --out "$T/one" >/dev/null 2>&1
+$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+	--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --evals 3000 --out "$T/plain" >/dev/null 2>&1
+for f in front.csv candidates.csv catalog.csv; do
+	same "$T/one" "$T/plain" $f && ok || bad "1 rank and brdfkit differ in $f"
+done
+
+# a rank killed mid-run (SIGKILL: MPI aborts the whole job), then resumed from
+# the checkpoints with the same ranks: the front of a job never stopped
+search 3 "$T/full" --evals 20000 --threads 1 >/dev/null 2>&1
+search 3 "$T/part" --evals 20000 --threads 1 --checkpoint "$T/ck" --every 1000 >/dev/null 2>&1 &
+job=$!
+n=0
+while [ ! -e "$T/ck.2" ] && [ $n -lt 600 ]; do sleep 0.05; n=$((n + 1)); done
+victim=$(pgrep -f "^$BKM search .*$T/ck" | sed -n 2p) # rank 1 or 2: not the first started
+[ -n "$victim" ] && kill -9 "$victim"
+if wait $job; then bad "killed job: mpirun exited 0 (the kill came too late?)"; else ok; fi
+[ ! -e "$T/part" ] && ok || bad "killed job: --out written"
+if search 3 "$T/resumed" --evals 20000 --threads 1 --checkpoint "$T/ck" --every 1000 --resume "$T/ck" \
+	>/dev/null 2>"$T/err"; then ok; else bad "resume after the kill failed: $(head -3 "$T/err")"; fi
+grep -q '^search: resumed 3 islands at round' "$T/err" && ok || bad "resume: no 'resumed' line: $(head -3 "$T/err")"
+for f in front.csv candidates.csv; do
+	same "$T/full" "$T/resumed" $f && ok || bad "killed and resumed job differs from the uninterrupted one in $f"
+done
+# a resume with other ranks is refused, on rank 0, naming the file
+if search 2 "$T/x" --evals 20000 --resume "$T/ck" >/dev/null 2>"$T/err"; then bad "resume with 2 of 3 ranks: exit 0"
+else grep -q "^search: --resume: rank 0: $T/ck.0: no checkpoint of this job" "$T/err" && ok ||
+	bad "resume with other ranks: $(head -3 "$T/err")"; fi
+
+# a rank that cannot write its checkpoint fails the job: one line from rank 0
+# naming the rank and the file; nothing written to --out, nothing moved
+mkdir "$T/bad.1"
+if search 3 "$T/bout" --evals 3000 --checkpoint "$T/bad" --every 500 >/dev/null 2>"$T/err"; then
+	bad "unwritable checkpoint: exit 0"
+else
+	n=$(grep -c '^search:' "$T/err")
+	[ "$n" -eq 1 ] && grep -qxF "search: --checkpoint: rank 1: $T/bad.1: exists and is not a regular file" "$T/err" &&
+		ok || bad "unwritable checkpoint: $(head -3 "$T/err")"
+fi
+[ ! -e "$T/bout" ] && [ -d "$T/bad.1" ] && [ ! -e "$T/bad.1.prev" ] && ok || bad "unwritable checkpoint: files moved or written"
+
+# a budget the islands cannot share
+if search 3 "$T/y" --evals 2 >/dev/null 2>"$T/err"; then bad "--evals 2 on 3 ranks: exit 0"
+else grep -q -- "--evals 2: fewer fits than the 3 islands" "$T/err" && ok || bad "--evals 2 on 3 ranks: $(head -3 "$T/err")"; fi
+
+echo "mpi: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
