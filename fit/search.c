@@ -648,12 +648,13 @@ static int collect(void *vctx, const bk_expr *e)
 /* What must agree between a checkpoint and the run resuming it: everything
  * that decides which candidates are made and how they are scored, not the
  * budget or the thread count. Without own: what the islands of one run share
- * (all of it but the seed and the island), so that migrants are comparable. */
+ * (all of it but the seed, the island and its share of the enumeration), so
+ * that migrants are comparable. */
 static uint64_t fingerprint(const bk_search *s, int own)
 {
 	const bk_search_options *o = &s->o;
 	uint64_t h = BK_HASH_INIT;
-	int ints[] = {(int)o->enum_max, o->shape, o->scale, o->objective, o->relative, o->precision, o->nonneg, o->env_bound, o->enum_size,
+	int ints[] = {o->shape, o->scale, o->objective, o->relative, o->precision, o->nonneg, o->env_bound, o->enum_size,
 	              o->generation, o->per_level, o->starts, o->grammar.inputs, o->grammar.max_params,
 	              o->grammar.max_size, o->grammar.nconsts, o->nseeds, o->islands};
 	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost};
@@ -663,6 +664,7 @@ static uint64_t fingerprint(const bk_search *s, int own)
 		double seed = (double)o->seed;
 		h = bk_hash_bytes(h, &o->island, sizeof o->island);
 		h = bk_hash_bytes(h, &seed, sizeof seed);
+		h = bk_hash_bytes(h, &o->enum_max, sizeof o->enum_max); /* the island's share of the enumeration */
 	}
 	h = bk_hash_bytes(h, &o->grammar.ops, sizeof o->grammar.ops);
 	h = bk_hash_bytes(h, o->grammar.consts, sizeof(double) * (size_t)o->grammar.nconsts);

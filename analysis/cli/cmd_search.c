@@ -222,10 +222,13 @@ static int setup(job *J)
 	so->islands = K;
 	so->island = R;
 	so->evals = a->evals / K + (R < a->evals % K);
+	/* and so is the enumeration's cap: the islands together fit the trees one
+	 * process would, each its share, and the mix of enumerated and evolved
+	 * fits stays that of one process at the same total budget */
+	so->enum_max = a->enum_max / K + (R < a->enum_max % K);
 	so->seed = R == 0 ? (unsigned long)a->seed : island_seed((unsigned long)a->seed, R);
 	so->threads = (int)a->threads;
 	so->enum_size = (int)a->enum_size;
-	so->enum_max = a->enum_max;
 	so->generation = (int)a->generation;
 	so->relative = a->relative;
 	so->max_cost = a->max_cost > 0 ? a->max_cost : HUGE_VAL;
@@ -549,7 +552,7 @@ static int load_islands(job *J, long *round)
 		ok = f && fgets(line, sizeof line, f) && bk_search_load(J->S, f, err, sizeof err) == 0;
 		if (!ok && f) {
 			char why[400];
-			snprintf(why, sizeof why, "%s", err);
+			snprintf(why, sizeof why, "%.390s", err);
 			snprintf(err, sizeof err, "%.100s: %.300s", from, why);
 		} else if (!f) {
 			snprintf(err, sizeof err, "%.200s: cannot be read", from);
