@@ -164,12 +164,13 @@ build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(L
 build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
 	build/bench_fit
 	build/bench_search
+	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;
 # each search writes candidates.csv, every fit, which git ignores: 10 MB for the five)
@@ -259,6 +260,7 @@ install: all
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libbrdf.a
 	install -m 644 brdf/brdf.h $(DESTDIR)$(PREFIX)/include/brdf.h
 	install -m 755 $(TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit
+	install -m 755 $(MPI_TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit-mpi
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' brdf/brdfkit.pc.in \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/brdfkit.pc
 

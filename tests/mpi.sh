@@ -63,6 +63,16 @@ done
 # a second run of 3 ranks: the same bytes (determinism across runs)
 search 3 "$T/p3b" --evals 3000 --threads 1 >/dev/null 2>&1
 same "$T/p3" "$T/p3b" front.csv && ok || bad "3 ranks: two runs differ in front.csv"
+# --merge-fronts: rank 0 takes the islands' fronts alone, and the front is
+# the same (a member of the front of a union is on the front of its part),
+# every row of it; candidates.csv is smaller, the header says why
+search 3 "$T/p3f" --evals 3000 --threads 1 --merge-fronts >/dev/null 2>"$T/err"
+grep -v '^#' "$T/p3/front.csv" >"$T/a"; grep -v '^#' "$T/p3f/front.csv" >"$T/b" 2>/dev/null
+[ -s "$T/a" ] && cmp -s "$T/a" "$T/b" && ok || bad "3 ranks: --merge-fronts changes front.csv: $(head -3 "$T/err")"
+nall=$(grep -vc '^#' "$T/p3/candidates.csv"); nfr=$(grep -vc '^#' "$T/p3f/candidates.csv" 2>/dev/null)
+[ "${nfr:-0}" -gt 1 ] && [ "$nfr" -lt "$nall" ] && grep -q 'merge-fronts: the candidates of island 0' "$T/p3f/candidates.csv" &&
+	grep -q 'merged 3 islands (fronts)' "$T/err" && ok ||
+	bad "3 ranks: --merge-fronts: candidates.csv has $nfr rows (all: $nall) or the header or log does not say so"
 
 # one rank is brdfkit: the same files, every byte but the command lines
 $MPIRUN -np 1 "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \

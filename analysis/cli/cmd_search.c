@@ -38,7 +38,7 @@ typedef struct search_cli {
 	int nstart;
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
-	int relative, no_constraints;
+	int relative, no_constraints, merge_fronts;
 } search_cli;
 
 /* A member of the final front, or a catalog form, on the full samples. */
@@ -638,15 +638,23 @@ static int take_island(void *ctx, int rank, const char *in, size_t n)
 
 /* The final merge: every island's candidates into rank 0's search, in rank
  * order (a candidate found on several islands is kept as the lowest rank
- * found it). Collective. */
+ * found it). With --merge-fronts each island sends its screening front alone:
+ * the final front is drawn from the screening front of the merged candidates,
+ * and a member of the front of a union is on the front of its own part, so
+ * front.csv is the same (tests/mpi.sh) for a merge of O(K x front) candidates
+ * instead of O(fits) (README "On a cluster"). Rank 0 sends nothing: its
+ * candidates are already in its search. Collective. */
 static int merge_islands(job *J)
 {
-	size_t n = bk_search_count(J->S), len = 0;
-	size_t *all = malloc(sizeof(size_t) * (n ? n : 1));
-	for (size_t i = 0; all && i < n; i++)
-		all[i] = i;
-	char *out = all ? export_text(J->S, all, n, &len) : NULL;
-	free(all);
+	size_t n = isl_rank() == 0 ? 0 : bk_search_count(J->S), len = 0;
+	size_t *idx = malloc(sizeof(size_t) * (n ? n : 1));
+	if (idx && J->a->merge_fronts)
+		n = bk_search_front(J->S, idx, n); /* the whole front: its every member, not MAX_FRONT */
+	else
+		for (size_t i = 0; idx && i < n; i++)
+			idx[i] = i;
+	char *out = idx ? export_text(J->S, idx, n, &len) : NULL;
+	free(idx);
 	int ok = out != NULL;
 	if (isl_any(!ok)) {
 		free(out);
@@ -659,7 +667,8 @@ static int merge_islands(job *J)
 	if (!ok)
 		return 1; /* rank 0 said why */
 	if (isl_rank() == 0)
-		fprintf(stderr, "search: merged %d islands: %ld bytes, %.3f s\n", isl_size(), bytes, bk_clock_now() - t0);
+		fprintf(stderr, "search: merged %d islands%s: %ld bytes, %.3f s\n", isl_size(),
+		        J->a->merge_fronts ? " (fronts)" : "", bytes, bk_clock_now() - t0);
 	return 0;
 }
 
@@ -1026,8 +1035,10 @@ static void header(FILE *f, const job *J, const char *what)
 	fprintf(f, "# brdfkit %s search %s\n# command: %s\n# target: %s\n", BK_VERSION, what, J->command, J->s.description);
 	if (J->so.islands > 1)
 		fprintf(f, "# islands: %d MPI ranks (%s), --evals shared out, --migrate %ld fits per island between "
-		        "migrations of %ld front members round a ring; found_at counts the fits of the member's island\n",
-		        J->so.islands, isl_name(), J->a->migrate, J->a->migrants);
+		        "migrations of %ld front members round a ring; found_at counts the fits of the member's island%s\n",
+		        J->so.islands, isl_name(), J->a->migrate, J->a->migrants,
+		        J->a->merge_fronts ? "; --merge-fronts: the candidates of island 0, and of the others their "
+		                             "screening fronts" : "");
 	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops); "
 	        "error: %s in %s precision on the target's samples; conventions: r perceptual roughness, a = r^2, "
 	        "V includes 1/(4 NoL NoV)\n", J->so.simple_cost, J->so.complex_cost, objective_name(J),
@@ -1387,6 +1398,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--every", .kind = CLI_INT, .metavar = "K", .help = "fits between checkpoints (default 5000)", .dest = &a.every, .lo = 1, .hi = 1e9},
 		{.name = "--resume", .kind = CLI_STR, .metavar = "FILE", .help = "continue from a checkpoint (same options; --evals may grow)", .dest = &a.resume},
 		{.name = "--migrate", .kind = CLI_INT, .metavar = "M", .help = "MPI: fits per island between migrations (default 2000)", .dest = &a.migrate, .lo = 1, .hi = 1e9},
+		{.name = "--merge-fronts", .kind = CLI_FLAG, .help = "MPI: rank 0 takes each island's front, not all its candidates (the same front.csv; fewer rows in candidates.csv)", .dest = &a.merge_fronts},
 		{.name = "--migrants", .kind = CLI_INT, .metavar = "N", .help = "MPI: front members each island sends round the ring (default 8)", .dest = &a.migrants, .lo = 0, .hi = MAX_FRONT},
 	};
 	cli_cmd cmd = {"search", "Searches closed forms for a target: candidates over the formula IR, each fitted,\n"

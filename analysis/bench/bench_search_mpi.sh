@@ -1,0 +1,107 @@
+#!/bin/sh
+# bench_search_mpi.sh — make bench: the search's islands under MPI (issue 12).
+#
+# One target (vf2d, --objective max, the screening grid of 32x32 cells), run
+# on 1, 2 and 4 ranks of one thread each (4 is oversubscribed on a 2-core
+# machine: the curve must bend there), REPS times each, the rank counts
+# interleaved so that machine noise hits them alike. Two budgets:
+#   - strong: one total budget of EVALS fits shared out over the ranks. Printed:
+#     the median screening fits/s of the whole job, the median wall time of the
+#     job (reference build and final refits, rank 0's alone, included), and the
+#     front's error at the issue's cost levels (deterministic: one value per
+#     rank count) — does the front improve with islands at equal fits?
+#   - weak: PER fits on every rank. A search's fits/s falls as it goes on (the
+#     enumerated small trees come first, the archive then breeds larger forms),
+#     so islands that each run a shorter search fit faster per fit: the strong
+#     figures mix that with the parallel speed-up. At equal fits per island the
+#     fits/s is the machine's own scaling (--enum-max 1000 per rank, so that
+#     every island enumerates as many trees as the one rank does).
+# Then the bytes of one migration and of the final merge, and the merge's time.
+# README "On a cluster" extrapolates these to 64 and 1,024 ranks.
+# usage: sh analysis/bench/bench_search_mpi.sh build/brdfkit-mpi build/brdfkit
+set -u
+BKM=${1:?usage: bench_search_mpi.sh build/brdfkit-mpi build/brdfkit}
+BK=${2:?usage: bench_search_mpi.sh build/brdfkit-mpi build/brdfkit}
+EVALS=${EVALS:-20000}
+PER=${PER:-6000}
+REPS=${REPS:-3}
+T=$(mktemp -d /tmp/bk_bench_mpi_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+MPIRUN="mpirun"
+if mpirun --version 2>/dev/null | grep -q "Open MPI"; then
+	MPIRUN="mpirun --oversubscribe"
+	export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+fi
+ARGS="--target vf2d --objective max --threads 1 --nx 64 --nr 64"
+
+echo "bench_search_mpi: vf2d, --objective max, 1 thread per rank, $(nproc) cores; strong: $EVALS fits in all;" \
+	"weak: $PER fits per rank; median of $REPS runs, rank counts interleaved"
+# run NAME NP EVALS [OPTIONS]: one job, its stderr in $T/e.NAME, its wall seconds in $T/w.NAME
+run() {
+	t0=$(date +%s.%N)
+	if [ "$2" = 1 ]; then # one rank is brdfkit itself: no MPI at all
+		$BK search $ARGS --evals "$3" ${4:-} --out "$T/o" >/dev/null 2>"$T/e.$1" || { cat "$T/e.$1"; exit 1; }
+	else
+		$MPIRUN -np "$2" "$BKM" search $ARGS --evals "$3" ${4:-} --out "$T/o" >/dev/null 2>"$T/e.$1" ||
+			{ cat "$T/e.$1"; exit 1; }
+	fi
+	echo "$(date +%s.%N) $t0" | awk '{ print $1 - $2 }' >"$T/w.$1"
+	rm -rf "$T/o.keep"; mv "$T/o" "$T/o.keep"
+}
+for rep in $(seq 1 "$REPS"); do
+	for np in 1 2 4; do
+		run "s$np.$rep" "$np" "$EVALS"
+		cp "$T/o.keep/front.csv" "$T/front$np.csv"
+		run "w$np.$rep" "$np" "$((PER * np))" "--enum-max $((1000 * np))"
+	done
+done
+
+# the last progress line of a run: "..., N fits/s, ..."
+rate() { grep -o '[0-9.]* fits/s' "$1" | tail -1 | cut -d' ' -f1; }
+median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+# the front's error column is named for the objective: find it by name
+best() { awk -F, -v c="$2" '/^#/ { next } !h { for (i = 1; i <= NF; i++) { if ($i == "cost") ci = i; if ($i == "max_abs") ei = i }; h = 1; next }
+	$ci + 0 <= c { if (b == "" || $ei + 0 < b) b = $ei + 0 } END { print (b == "" ? "-" : b) }' "$1"; }
+med() { for rep in $(seq 1 "$REPS"); do $1 "$T/$2.$rep"; done | median; }
+wall() { cat "$(echo "$1" | sed 's|/e\.|/w.|')"; }
+merge_s() { grep -o 'bytes, [0-9.]* s' "$1" | awk '{ print $2 }'; }
+
+printf '\n  strong: %s fits in all\n  %-6s %10s %9s %9s %14s %15s %14s %10s\n' "$EVALS" ranks "fits/s" ratio "wall s" \
+	"max @ cost<=8" "max @ cost<=12" "merge bytes" "merge s"
+base=""
+for np in 1 2 4; do
+	r=$(med rate "e.s$np")
+	[ -n "$base" ] || base=$r
+	mb=$(grep -o 'merged [0-9]* islands: [0-9]* bytes' "$T/e.s$np.1" | awk '{ print $4 }')
+	ms=$(med merge_s "e.s$np")
+	printf '  %-6s %10.0f %8.2fx %9.1f %14s %15s %14s %10s\n' "$np" "$r" "$(echo "$r $base" | awk '{ print $1 / $2 }')" \
+		"$(med wall "e.s$np")" "$(best "$T/front$np.csv" 8)" "$(best "$T/front$np.csv" 12)" "${mb:--}" "${ms:--}"
+done
+printf '\n  weak: %s fits per rank (fits/s of the search phase; fits per wall second of the whole job)\n  %-6s %10s %9s %9s %13s %9s\n' "$PER" ranks "fits/s" speed-up "wall s" "fits/wall-s" speed-up
+base="" wbase=""
+for np in 1 2 4; do
+	r=$(med rate "e.w$np")
+	[ -n "$base" ] || base=$r
+	w=$(med wall "e.w$np")
+	fw=$(echo "$PER $np $w" | awk '{ print $1 * $2 / $3 }')
+	[ -n "$wbase" ] || wbase=$fw
+	printf '  %-6s %10.0f %8.2fx %9.1f %13.0f %8.2fx\n' "$np" "$r" "$(echo "$r $base" | awk '{ print $1 / $2 }')" "$w" \
+		"$fw" "$(echo "$fw $wbase" | awk '{ print $1 / $2 }')"
+done
+
+# the merge with --merge-fronts: the islands' fronts alone (the same front.csv)
+run mf 4 "$EVALS" --merge-fronts
+grep -v '^#' "$T/front4.csv" >"$T/fa"; grep -v '^#' "$T/o.keep/front.csv" >"$T/fb"
+printf '  4, --merge-fronts: merge %s bytes, %s s; front.csv %s\n' \
+	"$(grep -o 'merged [0-9]* islands (fronts): [0-9]* bytes' "$T/e.mf" | awk '{ print $5 }')" "$(merge_s "$T/e.mf")" \
+	"$(cmp -s "$T/fa" "$T/fb" && echo "the same as the full merge's" || echo "DIFFERS from the full merge's")"
+
+# one migration: the text of --migrants (8) front members, measured on a front
+$BK search --target vf2d --objective max --evals 3000 --threads 1 --nx 32 --nr 32 --checkpoint "$T/ck" \
+	--out "$T/m" >/dev/null 2>&1
+per=$(awk '/^c / { n++; b += length($0) + 1; getline; b += length($0) + 1 } END { printf "%.0f", b / n }' "$T/ck")
+echo
+echo "  one candidate as text: ~$per bytes; one migration: 8 members, ~$((8 * per)) bytes and 2 messages per rank"
+echo "  (its size, then the bytes) to one neighbour; per round also 4 allreduces of one word (done, stop,"
+echo "  failure, the fit count); the final merge sends every island's candidates (--merge-fronts: its front)"
+echo "  to rank 0, one rank at a time"
