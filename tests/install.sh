@@ -10,7 +10,7 @@ ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 
 ${MAKE:-make} -s install PREFIX=/opt/bk DESTDIR="$T/stage" >/dev/null || bad "make install"
-for f in lib/libbrdf.a include/brdf.h lib/pkgconfig/brdfkit.pc bin/brdfkit; do
+for f in lib/libbrdf.a include/brdf.h lib/pkgconfig/brdfkit.pc bin/brdfkit bin/brdfkit-mpi; do
 	[ -f "$T/stage/opt/bk/$f" ] && ok || bad "missing $f under DESTDIR/PREFIX"
 done
 grep -q '^prefix=/opt/bk$' "$T/stage/opt/bk/lib/pkgconfig/brdfkit.pc" && ok || bad "pc prefix"
