@@ -21,15 +21,23 @@ EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/nu
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
 # Ceres ships no pkg-config file (toolchain.md); its headers inline glog, so glog is named
-LIBS    = -lceres -lglog -lpng -ljansson $(EXR_LIB) -lm
+# glslang (static, C++ inside, C interface used) and the SPIR-V optimizer it
+# calls, grouped: the archives reference each other; the Vulkan loader for gpucost
+GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
+              -lOGLCompiler -lSPIRV -lglslang-default-resource-limits -lSPIRV-Tools-opt -lSPIRV-Tools \
+              -Wl,--end-group
+LIBS    = -lceres -lglog -lpng -ljansson $(EXR_LIB) $(GLSLANG_LIB) -lvulkan -lpthread -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
 # compiles; Ceres is the least-squares solver, libpng the heatmaps; strace
 # injects the kills of tests/fault.sh; jansson reads scene files; Open MPI
-# runs the search's islands across processes and machines, build/brdfkit-mpi).
+# runs the search's islands across processes and machines, build/brdfkit-mpi;
+# brdfkit gpucost: glslang-dev compiles GLSL in-process, libvulkan-dev links the
+# loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
-       libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin
+       libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
+       mesa-vulkan-drivers
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares

@@ -20,5 +20,6 @@ int cmd_report(int argc, char **argv);
 int cmd_stability(int argc, char **argv);
 int cmd_search(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
+int cmd_gpucost(int argc, char **argv);
 
 #endif

@@ -28,6 +28,7 @@ static const struct {
 	{"search", cmd_search, "search closed forms: candidates fitted, the Pareto front of error against cost"},
 	{"scene", cmd_scene, "from a scene file to one specialised, refitted shader per feature set"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
+	{"gpucost", cmd_gpucost, "AMD machine code of forms (Mesa RADV null device, ACO), net of a baseline"},
 };
 
 static void usage(FILE *out)

@@ -1,0 +1,255 @@
+/*
+ * cmd_gpucost.c — brdfkit gpucost: forms compiled to AMD machine code by Mesa
+ * RADV's null device, one CSV row per form and chip, net of a load/store
+ * baseline. The compiling and counting is analysis/gpucost.c's; this file
+ * turns arguments into jobs and jobs into CSV.
+ */
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "gpucost.h"
+#include "out.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define GC_MAX_ROWS 32 /* cli_parse keeps at most 32 positionals */
+
+typedef struct gc_row {
+	char name[160];
+	const char *text[2]; /* formula text of A (and B for a split-sum entry) */
+	double params[BK_MAX_PARAMS];
+	int have[BK_MAX_PARAMS];
+	int typed;           /* typed on the command line: takes p0=... */
+	bk_form *f[2];
+} gc_row;
+
+/* pN=VALUE after a typed form: 1 when arg is one (stored), 0 when not, 2 after an error. */
+static int param_arg(const char *arg, gc_row *last)
+{
+	if (arg[0] != 'p' || arg[1] < '0' || arg[1] > '9' || !strchr(arg, '='))
+		return 0;
+	char *end;
+	long i = strtol(arg + 1, &end, 10);
+	double v;
+	if (*end != '=')
+		return 0;
+	if (i >= BK_MAX_PARAMS) {
+		fprintf(stderr, "brdfkit gpucost: unknown parameter 'p%ld' (p0..p%d)\n", i, BK_MAX_PARAMS - 1);
+		return 2;
+	}
+	if (cli_number(end + 1, &v)) {
+		fprintf(stderr, "brdfkit gpucost: p%ld: expected a finite number, got '%.100s'\n", i, end + 1);
+		return 2;
+	}
+	if (!last || !last->typed) {
+		fprintf(stderr, "brdfkit gpucost: '%.100s' must follow a typed form (catalog entries use their "
+		                "published constants)\n", arg);
+		return 2;
+	}
+	last->params[i] = v;
+	last->have[i] = 1;
+	return 1;
+}
+
+/* NAME, NAME:A or NAME:B from the catalog, else the argument as formula
+ * text; 2 after an error. A split-sum entry without a part is one shader
+ * evaluating A and B. */
+static int read_row(const char *arg, int index, gc_row *r)
+{
+	char name[128];
+	const char *colon = strchr(arg, ':');
+	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
+	const bk_catalog_entry *e = NULL;
+	if (len < sizeof name) {
+		memcpy(name, arg, len);
+		name[len] = '\0';
+		e = bk_catalog_find(name);
+	}
+	if (!e) {
+		r->text[0] = arg;
+		r->typed = 1;
+		snprintf(r->name, sizeof r->name, "form%d", index);
+		return 0;
+	}
+	const char *part = colon ? colon + 1 : "";
+	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
+	if (colon && (!e->form_b || !(a || b))) {
+		fprintf(stderr, "brdfkit gpucost: '%s': unknown part '%.20s'\n", name, part);
+		return 2;
+	}
+	r->text[0] = b ? e->form_b : e->form;
+	r->text[1] = !colon ? e->form_b : NULL;
+	snprintf(r->name, sizeof r->name, "%.150s", arg);
+	for (int i = 0; i < e->nparams; i++) {
+		r->params[i] = e->defaults[i];
+		r->have[i] = 1;
+	}
+	return 0;
+}
+
+/* Parses a row's form(s): the column of a syntax error, missing parameters. */
+static int parse_row(gc_row *r)
+{
+	for (int p = 0; p < 2 && r->text[p]; p++) {
+		bk_form_error fe;
+		if (!(r->f[p] = bk_form_parse(r->text[p], &fe))) {
+			fprintf(stderr, "brdfkit gpucost: %s:1:%d: %s\n", r->typed ? "form" : r->name, fe.column, fe.message);
+			return 2;
+		}
+		int np = bk_form_nparams(r->f[p]);
+		for (int k = 0; k < np; k++)
+			if (!r->have[k]) {
+				fprintf(stderr, "brdfkit gpucost: %s: missing p%d=VALUE after it (the form uses p0..p%d)\n",
+				        r->name, k, np - 1);
+				return 2;
+			}
+	}
+	return 0;
+}
+
+/* --chips a,b,c into names (pointing into buf); 2 after a usage error. */
+static int read_chips(const cli_cmd *cmd, char *buf, const char **chip, int *n)
+{
+	*n = 0;
+	for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		const char *gfx;
+		if (bk_gpucost_chip(t, &gfx))
+			return cli_usage(cmd, "--chips: unknown chip '%.60s' (known: %s)", t, bk_gpucost_chip_list());
+		if (*n == BK_GPUCOST_MAX_CHIPS)
+			return cli_usage(cmd, "--chips: at most %d chips", BK_GPUCOST_MAX_CHIPS);
+		chip[(*n)++] = t;
+	}
+	return *n ? 0 : cli_usage(cmd, "--chips: no chip named");
+}
+
+static void write_csv(FILE *f, const gc_row *rows, const bk_gpucost_job *jobs, int n, const char *const *chip,
+                      int nchips, int fp16, const char *driver)
+{
+	fprintf(f, "# brdfkit %s gpucost: AMD machine code from Mesa RADV's null device and its ACO compiler "
+	           "(driver: %s), %s\n",
+	        BK_VERSION, driver, fp16 ? "fp16 (float16_t arithmetic)" : "fp32");
+	fputs("# every figure is the form's compute shader minus a load/store baseline with the same inputs: "
+	      "instructions, vgprs, sgprs, latency and inv_throughput from ACO's statistics (latency and "
+	      "throughput are ACO's cycle estimates, dominated by the buffer load in both shaders: use "
+	      "differences); transcendental (v_rcp v_exp v_sqrt v_rsq v_log, f32 and f16), fma (float "
+	      "multiply-adds, fused or not, packed included), packed (v_pk_*), convert (v_cvt_*) counted in "
+	      "the disassembly. AMD only: no mobile GPU compiler runs offline\n", f);
+	if (fp16)
+		fputs("# fp16: AMD fp16 figures are packed-math opportunities, not a proxy for mediump on mobile "
+		      "GPUs; empty fields: the chip has no shaderFloat16\n", f);
+	fputs("name,form,chip,gfx,precision,instructions,vgprs,sgprs,latency,inv_throughput,transcendental,fma,"
+	      "packed,convert\n", f);
+	for (int i = 0; i < n; i++)
+		for (int c = 0; c < nchips; c++) {
+			const gc_row *r = &rows[i];
+			const bk_gpucost_stats *s = &jobs[i].net[c];
+			const char *gfx = "";
+			char form[4096];
+			snprintf(form, sizeof form, "%.2000s%s%.2000s", r->text[0], r->text[1] ? "; " : "",
+			         r->text[1] ? r->text[1] : "");
+			bk_gpucost_chip(chip[c], &gfx);
+			bk_csv_field(f, r->name);
+			fputc(',', f);
+			bk_csv_field(f, form);
+			fprintf(f, ",%s,%s,%s", chip[c], gfx, fp16 ? "fp16" : "fp32");
+			if (!jobs[i].ok[c])
+				fputs(",,,,,,,,,\n", f);
+			else
+				fprintf(f, ",%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld\n", s->instructions, s->vgprs, s->sgprs,
+				        s->latency, s->throughput, s->transcendental, s->fma, s->packed, s->convert);
+		}
+}
+
+static int output(const char *path, const gc_row *rows, const bk_gpucost_job *jobs, int n,
+                  const char *const *chip, int nchips, int fp16, const char *driver)
+{
+	if (!path) {
+		write_csv(stdout, rows, jobs, n, chip, nchips, fp16, driver);
+		return fflush(stdout) ? cli_fail("gpucost", "stdout: write failed") : 0;
+	}
+	bk_out o;
+	char err[512];
+	if (bk_out_open(&o, path, err, sizeof err))
+		return cli_fail("gpucost", "%s", err);
+	write_csv(o.f, rows, jobs, n, chip, nchips, fp16, driver);
+	if (bk_out_commit(&o, err, sizeof err))
+		return cli_fail("gpucost", "%s", err);
+	return 0;
+}
+
+static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chips, const char *precision,
+               const char *out)
+{
+	int fp16 = !strcmp(precision, "fp16");
+	if (!fp16 && strcmp(precision, "fp32"))
+		return cli_usage(cmd, "--precision: expected fp32 or fp16, got '%.40s'", precision);
+	char chipbuf[1024];
+	const char *chip[BK_GPUCOST_MAX_CHIPS];
+	int nchips, n = 0;
+	snprintf(chipbuf, sizeof chipbuf, "%s", chips);
+	if (read_chips(cmd, chipbuf, chip, &nchips))
+		return 2;
+	for (int i = 0; i < cmd->npos; i++) {
+		int rc = param_arg(cmd->pos[i], n ? &rows[n - 1] : NULL);
+		if (rc == 2)
+			return 2;
+		if (rc == 0 && read_row(cmd->pos[i], n + 1, &rows[n]))
+			return 2;
+		n += rc == 0;
+	}
+	if (n == 0)
+		return cli_usage(cmd, "missing FORM");
+	for (int i = 0; i < n; i++) {
+		if (parse_row(&rows[i]))
+			return 2;
+		jobs[i].form[0] = rows[i].f[0];
+		jobs[i].form[1] = rows[i].f[1];
+		jobs[i].params = rows[i].params;
+	}
+	char driver[256] = "", err[600];
+	int rc = bk_gpucost_run(jobs, n, chip, nchips, fp16, driver, sizeof driver, NULL, err, sizeof err);
+	if (rc)
+		return cli_fail("gpucost", "%s", err);
+	return output(out, rows, jobs, n, chip, nchips, fp16, driver);
+}
+
+int cmd_gpucost(int argc, char **argv)
+{
+	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "fp32", *out = NULL;
+	cli_opt opts[] = {
+		{.name = "--chips", .kind = CLI_STR, .metavar = "LIST", .help = "RADV chip names, comma-separated (default " BK_GPUCOST_DEFAULT_CHIPS ")", .dest = &chips},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "fp32|fp16", .help = "float or float16_t arithmetic (default fp32)", .dest = &precision},
+		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write the CSV there (atomically) instead of stdout", .dest = &out},
+	};
+	cli_cmd cmd = {"gpucost", "Compiles each form to AMD machine code with Mesa RADV's null device (the ACO\n"
+	               "compiler; no GPU needed) for each chip, and counts what it costs net of a\n"
+	               "load/store baseline shader: one CSV row per form and chip.",
+	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision fp32|fp16] [--out FILE]",
+	               "NAME is a catalog entry with its published constants (NAME:A, NAME:B for one part\n"
+	               "of a split-sum entry; without a part both are evaluated in one shader). The form's\n"
+	               "GLSL runs in a compute shader that reads its inputs from a storage buffer and\n"
+	               "stores the result, compiled in-process by glslang. Columns: name,form,chip,gfx,\n"
+	               "precision,instructions,vgprs,sgprs,latency,inv_throughput (ACO's statistics),\n"
+	               "transcendental,fma,packed,convert (counted in the disassembly), each net of the\n"
+	               "baseline; '# ' lines first state the driver and what the columns mean. fp16:\n"
+	               "float16_t arithmetic (packed-math opportunities on AMD, not a proxy for mediump on\n"
+	               "mobile GPUs); a chip without shaderFloat16 gets empty fields. Needs\n"
+	               "mesa-vulkan-drivers; VK_ICD_FILENAMES is set to RADV's unless already set.",
+	               opts, 3, GC_MAX_ROWS, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (cli_form_positionals(&cmd, 0))
+		return 2;
+	gc_row *rows = calloc(GC_MAX_ROWS, sizeof *rows);
+	bk_gpucost_job *jobs = calloc(GC_MAX_ROWS, sizeof *jobs);
+	rc = rows && jobs ? run(&cmd, rows, jobs, chips, precision, out) : cli_fail("gpucost", "out of memory");
+	for (int i = 0; rows && i < GC_MAX_ROWS; i++) {
+		bk_form_free(rows[i].f[0]);
+		bk_form_free(rows[i].f[1]);
+	}
+	free(rows);
+	free(jobs);
+	return rc;
+}

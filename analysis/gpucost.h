@@ -1,0 +1,76 @@
+/*
+ * gpucost.h — what a form costs in real GPU machine code: its GLSL inside a
+ * compute shader, compiled to SPIR-V in-process (glslang's C interface), then
+ * to AMD ISA by Mesa RADV's null device (the ACO compiler, no GPU needed), one
+ * RADV_FORCE_FAMILY chip at a time. Figures are read from
+ * VK_KHR_pipeline_executable_properties (statistics and the disassembly) and
+ * reported net of a load/store baseline shader with the same inputs.
+ *
+ * AMD only: no mobile compiler runs offline on Debian amd64
+ * (shared/references/gpu_compilers.md).
+ */
+#ifndef ANALYSIS_GPUCOST_H
+#define ANALYSIS_GPUCOST_H
+
+#include "brdf.h"
+
+#include <stddef.h>
+
+#define BK_GPUCOST_MAX_CHIPS 16
+#define BK_GPUCOST_DEFAULT_CHIPS "polaris10,vega10,navi21,gfx1100"
+
+/* The one line a missing driver gets (bk_gpucost_run returns BK_GPUCOST_NO_DRIVER). */
+#define BK_GPUCOST_INSTALL "install it: apt-get install mesa-vulkan-drivers"
+#define BK_GPUCOST_NO_DRIVER 1
+
+/* One shader's figures. The first five come from ACO's statistics, the rest
+ * are counted in the disassembly (repeats expanded): transcendental v_rcp,
+ * v_exp, v_sqrt, v_rsq, v_log in any float width; fma every float multiply-add
+ * (v_fma*, v_mad*, v_mac*, v_fmac, v_fmaak, v_fmamk, v_pk_fma); packed v_pk_*;
+ * convert v_cvt_*. In a result they are the form's shader minus the baseline. */
+typedef struct bk_gpucost_stats {
+	long instructions, vgprs, sgprs, latency, throughput;
+	long transcendental, fma, packed, convert;
+} bk_gpucost_stats;
+
+/* One job: a form (a split-sum entry: A and B, evaluated in one shader, both
+ * stored) with its parameters baked in. bk_gpucost_run fills net[] per chip;
+ * ok[c] is 0 where the chip cannot run it (fp16 on a chip without
+ * shaderFloat16). */
+typedef struct bk_gpucost_job {
+	const bk_form *form[2]; /* form[1] NULL unless split */
+	const double *params;   /* may be NULL for a form without parameters */
+	bk_gpucost_stats net[BK_GPUCOST_MAX_CHIPS];
+	int ok[BK_GPUCOST_MAX_CHIPS];
+} bk_gpucost_job;
+
+/* 0 if chip is a name RADV's null device takes (case-insensitive; Mesa
+ * aborts on any other), with its generation ("gfx10.3") in *gfx; -1 if not.
+ * bk_gpucost_chip_list: the accepted names, comma-separated. */
+int bk_gpucost_chip(const char *chip, const char **gfx);
+const char *bk_gpucost_chip_list(void);
+
+/* The compute shader of a job (form NULL: the baseline for the given input
+ * set and part count), fp16: float16_t arithmetic. Malloc'd GLSL, or NULL when
+ * code generation fails (out of memory, parameters missing). */
+char *bk_gpucost_glsl(const bk_form *const form[2], const double *params, unsigned inputs, int nparts,
+                      int fp16);
+
+/* GLSL to SPIR-V in-process. Returns malloc'd words and their count in *n, or
+ * NULL with glslang's log in err. */
+unsigned *bk_gpucost_spirv(const char *glsl, size_t *n, char *err, size_t errlen);
+
+/* Adds the counts of one ISA listing into s (the last four fields only). */
+void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
+
+/* Compiles every job and its baseline for every chip (one Vulkan instance
+ * per chip: RADV reads RADV_FORCE_FAMILY when the instance enumerates its
+ * devices). Sets VK_ICD_FILENAMES (unless already set) and
+ * MESA_SHADER_CACHE_DISABLE for this process. driver gets the driver's name
+ * and version ("radv Mesa 22.3.6"). Returns 0; BK_GPUCOST_NO_DRIVER with one
+ * line in err naming the package to install; -1 with a message. isa, if not
+ * NULL, gets a malloc'd copy of the first job's disassembly on the first chip. */
+int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
+                   size_t driverlen, char **isa, char *err, size_t errlen);
+
+#endif
