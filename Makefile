@@ -145,11 +145,13 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL)
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	sh tests/gpucost.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
+	UBSAN_OPTIONS=print_stacktrace=1 sh tests/gpucost.sh $(STOOL)
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html

@@ -171,8 +171,10 @@ char *bk_gpucost_glsl(const bk_form *const form[2], const double *params, unsign
 			free(b.s);
 			return NULL;
 		}
-		if (fp16)
+		if (fp16) {
+			sb_put(&b, "// float16_t rewrite of bk_form_emit's highp text (its comment says highp)\n");
 			put_half(&b, fn);
+		}
 		else
 			sb_put(&b, "%s", fn);
 		sb_put(&b, "\n");

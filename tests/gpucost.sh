@@ -1,0 +1,95 @@
+#!/bin/sh
+# gpucost.sh — the contract of brdfkit gpucost: the CSV's header and columns,
+# counts that are facts of AMD's instruction set (a/b is one v_rcp_f32, exp2
+# one v_exp_f32, a*b + c one multiply-add, an input alone the baseline), the
+# talk's claims in real ISA, the same bytes twice, one-line errors, and the
+# install line when the driver is missing.
+# usage: sh tests/gpucost.sh path/to/brdfkit
+set -u
+BK=${1:?usage: gpucost.sh path/to/brdfkit}
+T=$(mktemp -d /tmp/bk_gpucost_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+# expect_error NAME STATUS TOKEN CMD...: exit STATUS, one line on stderr naming TOKEN.
+expect_error() {
+	name=$1 status=$2 token=$3; shift 3
+	"$@" >"$T/out" 2>"$T/err"
+	rc=$?
+	lines=$(wc -l <"$T/err")
+	if [ "$rc" -eq "$status" ] && [ "$lines" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok
+	else bad "$name: exit $rc, stderr '$(cat "$T/err")'"; fi
+}
+
+# col FILE NAME CHIP COLUMN: the value of COLUMN in the row of form NAME on CHIP
+col() {
+	awk -F, -v n="$2" -v c="$3" -v k="$4" '
+		/^#/ { next }
+		!h { for (i = 1; i <= NF; i++) idx[$i] = i; h = 1; next }
+		$1 == n && $(NF - 11) == c { print $(idx[k] - 14 + NF) }' "$1"
+}
+# (columns are counted from the right: the form column may hold quoted commas)
+
+# expect_col FILE NAME CHIP COLUMN VALUE
+expect_col() {
+	got=$(col "$1" "$2" "$3" "$4")
+	[ "$got" = "$5" ] && ok || bad "$2 on $3: $4 = '$got', want $5"
+}
+
+CHIPS=polaris10,vega10,navi21,gfx1100
+$BK gpucost 'NoV*NoL + f0' 'NoV/NoL' 'exp2(NoV)' NoV vf_talk_r dvf_talk_r env_talk_r env_talk_a \
+	env_karis2014 --chips $CHIPS --out "$T/a.csv" 2>"$T/err" && ok || bad "run: $(cat "$T/err")"
+
+# header: provenance lines, then the columns
+head -1 "$T/a.csv" | grep -q '^# brdfkit .* gpucost: .*radv Mesa' && ok || bad "provenance line: $(head -1 "$T/a.csv")"
+grep -q '^# every figure is .* minus a load/store baseline' "$T/a.csv" && ok || bad "net-of-baseline line"
+want="name,form,chip,gfx,precision,instructions,vgprs,sgprs,latency,inv_throughput,transcendental,fma,packed,convert"
+[ "$(grep -v '^#' "$T/a.csv" | head -1)" = "$want" ] && ok || bad "columns: $(grep -v '^#' "$T/a.csv" | head -1)"
+[ "$(grep -vc '^#' "$T/a.csv")" -eq $((1 + 9 * 4)) ] && ok || bad "rows: one per form and chip"
+
+for c in polaris10 vega10 navi21 gfx1100; do
+	expect_col "$T/a.csv" form1 $c fma 1
+	expect_col "$T/a.csv" form1 $c transcendental 0
+	expect_col "$T/a.csv" form2 $c transcendental 1
+	expect_col "$T/a.csv" form3 $c transcendental 1
+	expect_col "$T/a.csv" form3 $c instructions 1
+	for k in instructions vgprs sgprs latency inv_throughput transcendental fma packed convert; do
+		expect_col "$T/a.csv" form4 $c $k 0
+	done
+	# the talk: one division in its specular term, no transcendental in its env BRDF
+	expect_col "$T/a.csv" vf_talk_r $c transcendental 1
+	expect_col "$T/a.csv" dvf_talk_r $c transcendental 1
+	expect_col "$T/a.csv" env_talk_r $c transcendental 0
+	expect_col "$T/a.csv" env_talk_a $c transcendental 0
+	# Karis's EnvBRDFApprox: one exp2
+	expect_col "$T/a.csv" env_karis2014 $c transcendental 1
+done
+
+# same bytes twice (no timing in the CSV); stdout is the same text
+$BK gpucost 'NoV*NoL + f0' 'NoV/NoL' 'exp2(NoV)' NoV vf_talk_r dvf_talk_r env_talk_r env_talk_a \
+	env_karis2014 --chips $CHIPS >"$T/b.csv" 2>/dev/null
+cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "not deterministic"
+
+# fp16: the packed-math caveat in the header; gfx8 without shaderFloat16 gets empty fields
+$BK gpucost --precision fp16 'NoV*NoL + f0' --chips polaris10,navi21 >"$T/h.csv" 2>"$T/err" && ok || bad "fp16: $(cat "$T/err")"
+grep -q '^# fp16: AMD fp16 figures are packed-math opportunities, not a proxy for mediump' "$T/h.csv" && ok || bad "fp16 caveat"
+expect_col "$T/h.csv" form1 polaris10 instructions ""
+expect_col "$T/h.csv" form1 navi21 fma 1
+
+# errors: one line naming the bad input; usage errors exit 2
+expect_error "unknown chip" 2 "'navi31'" $BK gpucost NoV --chips navi21,navi31
+expect_error "precision" 2 "'fp64'" $BK gpucost NoV --precision fp64
+expect_error "syntax" 2 "form:1:" $BK gpucost 'NoV +'
+expect_error "missing param" 2 "missing p0" $BK gpucost 'NoV*p0'
+expect_error "no form" 2 "missing FORM" $BK gpucost
+expect_error "unknown part" 2 "unknown part" $BK gpucost env_talk_r:C
+expect_error "missing driver" 1 "apt-get install mesa-vulkan-drivers" env VK_ICD_FILENAMES=/nonexistent $BK gpucost NoV
+VK_ICD_FILENAMES=/nonexistent $BK gpucost NoV --out "$T/none.csv" 2>/dev/null
+[ ! -e "$T/none.csv" ] && ok || bad "a failed run left its --out file"
+ls "$T" | grep -q 'tmp' && bad "temporary left behind" || ok
+
+echo "gpucost.sh: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
