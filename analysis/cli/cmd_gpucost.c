@@ -137,7 +137,9 @@ static void write_csv(FILE *f, const gc_row *rows, const bk_gpucost_job *jobs, i
 	      "the disassembly. AMD only: no mobile GPU compiler runs offline\n", f);
 	if (fp16)
 		fputs("# fp16: AMD fp16 figures are packed-math opportunities, not a proxy for mediump on mobile "
-		      "GPUs; empty fields: the chip has no shaderFloat16\n", f);
+		      "GPUs; inputs are converted to half on load and results to float on store, in the baseline "
+		      "too, but the baseline shares its result's conversion with an input's, so convert counts one "
+		      "v_cvt per result; empty fields: the chip has no shaderFloat16\n", f);
 	fputs("name,form,chip,gfx,precision,instructions,vgprs,sgprs,latency,inv_throughput,transcendental,fma,"
 	      "packed,convert\n", f);
 	for (int i = 0; i < n; i++)
