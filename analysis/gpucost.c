@@ -13,6 +13,7 @@
 #include <vulkan/vulkan.h>
 
 #include <ctype.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -655,4 +656,61 @@ int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chip, int nch
 	free(sj);
 	free(sb);
 	return rc;
+}
+
+/* ---- calibration ------------------------------------------------------------------ */
+
+/* Average ranks (1-based) of x into r: O(n^2), n is a catalog's size. */
+static void ranks(const double *x, int n, double *r)
+{
+	for (int i = 0; i < n; i++) {
+		int below = 0, equal = 0;
+		for (int j = 0; j < n; j++) {
+			below += x[j] < x[i];
+			equal += x[j] == x[i];
+		}
+		r[i] = below + (equal + 1) / 2.0;
+	}
+}
+
+double bk_gpucost_spearman(const double *x, const double *y, int n)
+{
+	if (n < 2)
+		return NAN;
+	double *rx = malloc(2 * (size_t)n * sizeof *rx);
+	if (!rx)
+		return NAN;
+	double *ry = rx + n, mx = 0, my = 0, sxy = 0, sxx = 0, syy = 0;
+	ranks(x, n, rx);
+	ranks(y, n, ry);
+	for (int i = 0; i < n; i++) {
+		mx += rx[i] / n;
+		my += ry[i] / n;
+	}
+	for (int i = 0; i < n; i++) {
+		sxy += (rx[i] - mx) * (ry[i] - my);
+		sxx += (rx[i] - mx) * (rx[i] - mx);
+		syy += (ry[i] - my) * (ry[i] - my);
+	}
+	free(rx);
+	return sxx > 0 && syy > 0 ? sxy / sqrt(sxx * syy) : NAN;
+}
+
+int bk_gpucost_fit2(const double *a, const double *b, const double *y, int n, double *wa, double *wb)
+{
+	double aa = 0, ab = 0, bb = 0, ay = 0, by = 0;
+	for (int i = 0; i < n; i++) {
+		aa += a[i] * a[i];
+		ab += a[i] * b[i];
+		bb += b[i] * b[i];
+		ay += a[i] * y[i];
+		by += b[i] * y[i];
+	}
+	double det = aa * bb - ab * ab;
+	/* relative to the scale of the sums: collinear columns leave only rounding */
+	if (!(fabs(det) > 1e-12 * (aa * bb)))
+		return -1;
+	*wa = (ay * bb - by * ab) / det;
+	*wb = (aa * by - ab * ay) / det;
+	return 0;
 }

@@ -73,4 +73,14 @@ void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen);
 
+/* ---- calibration: the IR's cost model against ACO's counts ------------------------ */
+
+/* Spearman's rank correlation of x and y over n pairs (ties get their average
+ * rank, so it is Pearson's on ranks); NaN when n < 2 or a series is constant. */
+double bk_gpucost_spearman(const double *x, const double *y, int n);
+
+/* Least squares y ~ wa a + wb b with no intercept, as bk_ops_cost has none
+ * (the 2x2 normal equations). 0, or -1 when a and b are collinear. */
+int bk_gpucost_fit2(const double *a, const double *b, const double *y, int n, double *wa, double *wb);
+
 #endif

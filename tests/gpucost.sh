@@ -79,6 +79,17 @@ grep -q '^# fp16: AMD fp16 figures are packed-math opportunities, not a proxy fo
 expect_col "$T/h.csv" form1 polaris10 instructions ""
 expect_col "$T/h.csv" form1 navi21 fma 1
 
+# --calibrate: every catalog form on navi21, weights and rank correlations in the header
+$BK gpucost --calibrate >"$T/c.csv" 2>"$T/err" && ok || bad "calibrate: $(cat "$T/err")"
+[ "$(grep -vc '^#' "$T/c.csv")" -eq $((1 + $($BK catalog | tail -n +2 | wc -l))) ] && ok || bad "calibrate: one row per catalog form"
+grep -q '^# least squares, no intercept: instructions ~ .* simple + .* complex' "$T/c.csv" && ok || bad "calibrate: weights"
+grep -q '^# Spearman rank correlation with instructions: IR cost 0\.[0-9]*, fitted cost' "$T/c.csv" && ok || bad "calibrate: spearman"
+[ "$(grep -v '^#' "$T/c.csv" | head -1)" = "name,simple,complex,ir_cost,instructions,fitted,residual" ] && ok || bad "calibrate columns"
+# the talk's env BRDF has no complex op: its IR cost and its instructions are the simple count
+[ "$(grep '^env_talk_r,' "$T/c.csv" | cut -d, -f2-5)" = "4,0,4,4" ] && ok || bad "calibrate env_talk_r: $(grep '^env_talk_r,' "$T/c.csv")"
+expect_error "calibrate with a form" 2 "takes no FORM" $BK gpucost --calibrate NoV
+expect_error "calibrate two chips" 2 "one known chip" $BK gpucost --calibrate --chips navi21,vega10
+
 # errors: one line naming the bad input; usage errors exit 2
 expect_error "unknown chip" 2 "'navi31'" $BK gpucost NoV --chips navi21,navi31
 expect_error "precision" 2 "'fp64'" $BK gpucost NoV --precision fp64

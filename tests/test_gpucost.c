@@ -10,6 +10,7 @@
 
 #include <criterion/criterion.h>
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -214,4 +215,31 @@ Test(gpucost, fp16_uses_half_instructions)
 	run_one("NoV", NULL, NULL, "polaris10", 1, &isa, &ok);
 	cr_expect(!ok, "gfx8 in RADV 22.3 has no shaderFloat16");
 	free(isa);
+}
+
+/* Spearman: monotone is 1 whatever the scale, reversed is -1; with ties the
+ * average ranks give Pearson's r on ranks, here x ranks (1, 2.5, 2.5, 4) and
+ * y ranks (1, 2, 3, 4): r = 4.5 / sqrt(4.5 * 5) = 0.9486833. */
+Test(gpucost, spearman_rank_correlation)
+{
+	double x[] = {1, 2, 3, 4}, y[] = {10, 100, 1000, 1e4}, z[] = {4, 3, 2, 1};
+	cr_expect_float_eq(bk_gpucost_spearman(x, y, 4), 1.0, 1e-12);
+	cr_expect_float_eq(bk_gpucost_spearman(x, z, 4), -1.0, 1e-12);
+	double t[] = {1, 5, 5, 9};
+	cr_expect_float_eq(bk_gpucost_spearman(t, x, 4), 4.5 / sqrt(4.5 * 5), 1e-12);
+	double k[] = {2, 2, 2, 2};
+	cr_expect(isnan(bk_gpucost_spearman(k, x, 4)));
+}
+
+/* Least squares recovers exact weights, and refuses collinear columns. */
+Test(gpucost, fit2_recovers_weights)
+{
+	double a[] = {1, 2, 3, 7}, b[] = {0, 1, 1, 2}, y[4], wa, wb;
+	for (int i = 0; i < 4; i++)
+		y[i] = 1.5 * a[i] + 4 * b[i];
+	cr_assert_eq(bk_gpucost_fit2(a, b, y, 4, &wa, &wb), 0);
+	cr_expect_float_eq(wa, 1.5, 1e-12);
+	cr_expect_float_eq(wb, 4.0, 1e-12);
+	double c[] = {2, 4, 6, 14};
+	cr_expect_eq(bk_gpucost_fit2(a, c, y, 4, &wa, &wb), -1);
 }

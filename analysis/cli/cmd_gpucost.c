@@ -10,6 +10,7 @@
 #include "gpucost.h"
 #include "out.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -180,12 +181,124 @@ static int output(const char *path, const gc_row *rows, const bk_gpucost_job *jo
 	return 0;
 }
 
+
+/* ---- --calibrate: the IR's cost weights against ACO ---------------------------------- */
+
+typedef struct cal_row {
+	const char *name;
+	double simple, complex, insn, fitted;
+} cal_row;
+
+static const cal_row *cal_sorted; /* qsort has no context argument */
+static int by_residual(const void *a, const void *b)
+{
+	const cal_row *x = &cal_sorted[*(const int *)a], *y = &cal_sorted[*(const int *)b];
+	double dx = fabs(x->insn - x->fitted), dy = fabs(y->insn - y->fitted);
+	return dx < dy ? 1 : dx > dy ? -1 : strcmp(x->name, y->name); /* ties by name: same bytes every run */
+}
+
+static void write_calibration(FILE *f, const cal_row *c, const int *order, int n, const char *chip, int fp16,
+                              const char *driver, double ws, double wc)
+{
+	double *a = malloc(4 * (size_t)n * sizeof *a);
+	if (!a)
+		return;
+	double *b = a + n, *y = b + n, *fit = y + n, ss = 0;
+	for (int i = 0; i < n; i++) {
+		a[i] = bk_ops_cost(&(bk_ops){.simple = (int)c[i].simple, .complex = (int)c[i].complex}, BK_COST_SIMPLE,
+		                   BK_COST_COMPLEX);
+		y[i] = c[i].insn;
+		fit[i] = c[i].fitted;
+		ss += (c[i].insn - c[i].fitted) * (c[i].insn - c[i].fitted);
+	}
+	const char *gfx = "";
+	bk_gpucost_chip(chip, &gfx);
+	fprintf(f, "# brdfkit %s gpucost --calibrate: the IR cost model (brdfkit ops: simple, complex) against ACO's "
+	           "net instruction counts on %s (%s) %s, driver %s; every catalog form (a split-sum entry: A and B)\n",
+	        BK_VERSION, chip, gfx, fp16 ? "fp16" : "fp32", driver);
+	fprintf(f, "# least squares, no intercept: instructions ~ %.4g simple + %.4g complex (rms residual %.3g; "
+	           "the model's weights are %g and %g)\n",
+	        ws, wc, sqrt(ss / n), BK_COST_SIMPLE, BK_COST_COMPLEX);
+	fprintf(f, "# Spearman rank correlation with instructions: IR cost %.4f, fitted cost %.4f; rows from the "
+	           "worst outlier (|instructions - fitted|) down\n",
+	        bk_gpucost_spearman(a, y, n), bk_gpucost_spearman(fit, y, n));
+	fputs("name,simple,complex,ir_cost,instructions,fitted,residual\n", f);
+	for (int k = 0; k < n; k++) {
+		const cal_row *r = &c[order[k]];
+		fprintf(f, "%s,%g,%g,%g,%g,%.4g,%.4g\n", r->name, r->simple, r->complex, a[order[k]], r->insn, r->fitted,
+		        r->insn - r->fitted);
+	}
+	free(a);
+}
+
+static int calibrate(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chip, int fp16, const char *out)
+{
+	int n = (int)bk_catalog_count();
+	if (cmd->npos)
+		return cli_usage(cmd, "--calibrate takes no FORM (it runs every catalog form)");
+	const char *gfx;
+	if (strchr(chip, ',') || bk_gpucost_chip(chip, &gfx))
+		return cli_usage(cmd, "--calibrate: --chips must name one known chip, got '%.60s'", chip);
+	cal_row *c = calloc((size_t)n, sizeof *c);
+	int *order = calloc((size_t)n, sizeof *order);
+	double *s = calloc(3 * (size_t)n, sizeof *s);
+	int rc = c && order && s ? 0 : cli_fail("gpucost", "out of memory");
+	for (int i = 0; !rc && i < n; i++) {
+		const bk_catalog_entry *e = bk_catalog_at((size_t)i);
+		if ((rc = read_row(e->name, i + 1, &rows[i])) || (rc = parse_row(&rows[i])))
+			break;
+		jobs[i] = (bk_gpucost_job){.form = {rows[i].f[0], rows[i].f[1]}, .params = rows[i].params};
+		c[i].name = e->name;
+		for (int p = 0; p < 2 && rows[i].f[p]; p++) {
+			bk_ops o;
+			bk_form_count(rows[i].f[p], &o);
+			c[i].simple += o.simple;
+			c[i].complex += o.complex;
+		}
+	}
+	char driver[256] = "", err[600];
+	if (!rc && (rc = bk_gpucost_run(jobs, n, &chip, 1, fp16, driver, sizeof driver, NULL, err, sizeof err)))
+		rc = cli_fail("gpucost", "%s", err);
+	double ws = 0, wc = 0;
+	for (int i = 0; !rc && i < n; i++) {
+		s[i] = c[i].simple;
+		s[n + i] = c[i].complex;
+		s[2 * n + i] = c[i].insn = (double)jobs[i].net[0].instructions;
+	}
+	if (!rc && bk_gpucost_fit2(s, s + n, s + 2 * n, n, &ws, &wc))
+		rc = cli_fail("gpucost", "--calibrate: simple and complex counts are collinear over the catalog");
+	if (!rc) {
+		for (int i = 0; i < n; i++) {
+			c[i].fitted = ws * c[i].simple + wc * c[i].complex;
+			order[i] = i;
+		}
+		cal_sorted = c;
+		qsort(order, (size_t)n, sizeof *order, by_residual);
+		bk_out o;
+		if (!out) {
+			write_calibration(stdout, c, order, n, chip, fp16, driver, ws, wc);
+			rc = fflush(stdout) ? cli_fail("gpucost", "stdout: write failed") : 0;
+		} else if (bk_out_open(&o, out, err, sizeof err))
+			rc = cli_fail("gpucost", "%s", err);
+		else {
+			write_calibration(o.f, c, order, n, chip, fp16, driver, ws, wc);
+			rc = bk_out_commit(&o, err, sizeof err) ? cli_fail("gpucost", "%s", err) : 0;
+		}
+	}
+	free(c);
+	free(order);
+	free(s);
+	return rc;
+}
+
 static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chips, const char *precision,
-               const char *out)
+               const char *out, int cal)
 {
 	int fp16 = !strcmp(precision, "fp16");
 	if (!fp16 && strcmp(precision, "fp32"))
 		return cli_usage(cmd, "--precision: expected fp32 or fp16, got '%.40s'", precision);
+	if (cal)
+		return calibrate(cmd, rows, jobs, cli_seen(cmd, "--chips") ? chips : "navi21", fp16, out);
 	char chipbuf[1024];
 	const char *chip[BK_GPUCOST_MAX_CHIPS];
 	int nchips, n = 0;
@@ -219,7 +332,9 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 int cmd_gpucost(int argc, char **argv)
 {
 	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "fp32", *out = NULL;
+	int cal = 0;
 	cli_opt opts[] = {
+		{.name = "--calibrate", .kind = CLI_FLAG, .help = "fit the IR cost weights to ACO's counts over the catalog (one chip, default navi21)", .dest = &cal},
 		{.name = "--chips", .kind = CLI_STR, .metavar = "LIST", .help = "RADV chip names, comma-separated (default " BK_GPUCOST_DEFAULT_CHIPS ")", .dest = &chips},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "fp32|fp16", .help = "float or float16_t arithmetic (default fp32)", .dest = &precision},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write the CSV there (atomically) instead of stdout", .dest = &out},
@@ -237,17 +352,23 @@ int cmd_gpucost(int argc, char **argv)
 	               "baseline; '# ' lines first state the driver and what the columns mean. fp16:\n"
 	               "float16_t arithmetic (packed-math opportunities on AMD, not a proxy for mediump on\n"
 	               "mobile GPUs); a chip without shaderFloat16 gets empty fields. Needs\n"
-	               "mesa-vulkan-drivers; VK_ICD_FILENAMES is set to RADV's unless already set.",
-	               opts, 3, GC_MAX_ROWS, 0, {0}};
+	               "mesa-vulkan-drivers; VK_ICD_FILENAMES is set to RADV's unless already set.\n"
+	               "--calibrate (no FORM): every catalog form on one chip; least squares of the net\n"
+	               "instructions on the IR's simple and complex counts (no intercept), Spearman rank\n"
+	               "correlations of the IR cost and the fitted cost with them, and one row per form\n"
+	               "from the worst outlier down: name,simple,complex,ir_cost,instructions,fitted,residual.",
+	               opts, 4, GC_MAX_ROWS, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
-	gc_row *rows = calloc(GC_MAX_ROWS, sizeof *rows);
-	bk_gpucost_job *jobs = calloc(GC_MAX_ROWS, sizeof *jobs);
-	rc = rows && jobs ? run(&cmd, rows, jobs, chips, precision, out) : cli_fail("gpucost", "out of memory");
-	for (int i = 0; rows && i < GC_MAX_ROWS; i++) {
+	/* room for the whole catalog (--calibrate) or the positionals */
+	int max = GC_MAX_ROWS > (int)bk_catalog_count() ? GC_MAX_ROWS : (int)bk_catalog_count();
+	gc_row *rows = calloc((size_t)max, sizeof *rows);
+	bk_gpucost_job *jobs = calloc((size_t)max, sizeof *jobs);
+	rc = rows && jobs ? run(&cmd, rows, jobs, chips, precision, out, cal) : cli_fail("gpucost", "out of memory");
+	for (int i = 0; rows && i < max; i++) {
 		bk_form_free(rows[i].f[0]);
 		bk_form_free(rows[i].f[1]);
 	}
