@@ -7,6 +7,7 @@
  * and disassembly captured.
  */
 #include "gpucost.h"
+#include "out.h"
 
 #include <glslang/Include/glslang_c_interface.h>
 #include <glslang/Public/resource_limits_c.h>
@@ -59,37 +60,6 @@ const char *bk_gpucost_chip_list(void)
 
 /* ---- GLSL ------------------------------------------------------------------------- */
 
-typedef struct strbuf {
-	char *s;
-	size_t len, cap;
-	int oom;
-} strbuf;
-
-static void sb_put(strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_put(strbuf *b, const char *fmt, ...)
-{
-	if (b->oom)
-		return;
-	va_list ap;
-	va_start(ap, fmt);
-	int k = vsnprintf(NULL, 0, fmt, ap);
-	va_end(ap);
-	if (b->len + (size_t)k + 1 > b->cap) {
-		size_t cap = (b->cap ? b->cap * 2 : 4096) + (size_t)k;
-		char *s = realloc(b->s, cap);
-		if (!s) {
-			b->oom = 1;
-			return;
-		}
-		b->s = s;
-		b->cap = cap;
-	}
-	va_start(ap, fmt);
-	vsnprintf(b->s + b->len, b->cap - b->len, fmt, ap);
-	va_end(ap);
-	b->len += (size_t)k;
-}
-
 static int ident_char(char c)
 {
 	return isalnum((unsigned char)c) || c == '_';
@@ -100,28 +70,28 @@ static int ident_char(char c)
  * float becomes float16_t, precision qualifiers go (they do not apply to
  * float16_t), and every number becomes a half literal (hf), since GLSL never
  * converts float to float16_t implicitly. Comments are copied untouched. */
-static void put_half(strbuf *b, const char *s)
+static void put_half(bk_strbuf *b, const char *s)
 {
 	while (*s) {
 		if (s[0] == '/' && s[1] == '*') {
 			const char *e = strstr(s + 2, "*/");
 			size_t k = e ? (size_t)(e + 2 - s) : strlen(s);
-			sb_put(b, "%.*s", (int)k, s);
+			bk_sb_put(b, "%.*s", (int)k, s);
 			s += k;
 		} else if (s[0] == '/' && s[1] == '/') {
 			size_t k = strcspn(s, "\n");
-			sb_put(b, "%.*s", (int)k, s);
+			bk_sb_put(b, "%.*s", (int)k, s);
 			s += k;
 		} else if (isalpha((unsigned char)*s) || *s == '_') {
 			size_t k = 0;
 			while (ident_char(s[k]))
 				k++;
 			if (k == 5 && !strncmp(s, "float", 5))
-				sb_put(b, "float16_t");
+				bk_sb_put(b, "float16_t");
 			else if ((k == 5 && !strncmp(s, "highp", 5)) || (k == 7 && !strncmp(s, "mediump", 7)))
 				k += strspn(s + k, " "); /* the qualifier and its space */
 			else
-				sb_put(b, "%.*s", (int)k, s);
+				bk_sb_put(b, "%.*s", (int)k, s);
 			s += k;
 		} else if (isdigit((unsigned char)*s) || (*s == '.' && isdigit((unsigned char)s[1]))) {
 			size_t k = strspn(s, "0123456789.");
@@ -132,21 +102,21 @@ static void put_half(strbuf *b, const char *s)
 				k += s[k] == '+' || s[k] == '-';
 				k += strspn(s + k, "0123456789");
 			}
-			sb_put(b, "%.*s%shf", (int)k, s, real ? "" : ".0");
+			bk_sb_put(b, "%.*s%shf", (int)k, s, real ? "" : ".0");
 			s += k;
 		} else
-			sb_put(b, "%c", *s++);
+			bk_sb_put(b, "%c", *s++);
 	}
 }
 
 /* The arguments of a form's function: its inputs in brdf.h order, which is
  * the order bk_form_emit declares them in. */
-static void put_args(strbuf *b, unsigned inputs)
+static void put_args(bk_strbuf *b, unsigned inputs)
 {
 	const char *sep = "";
 	for (int c = 0; c < BK_IN_COUNT; c++)
 		if (inputs >> c & 1) {
-			sb_put(b, "%s%s", sep, bk_input_name((bk_input)c));
+			bk_sb_put(b, "%s%s", sep, bk_input_name((bk_input)c));
 			sep = ", ";
 		}
 }
@@ -160,8 +130,8 @@ static void put_args(strbuf *b, unsigned inputs)
 char *bk_gpucost_glsl(const bk_form *const form[2], const double *params, unsigned inputs, int nparts, int fp16)
 {
 	const char *T = fp16 ? "float16_t" : "float";
-	strbuf b = {0};
-	sb_put(&b, "#version 450\n%slayout(local_size_x = 64) in;\n"
+	bk_strbuf b = {0};
+	bk_sb_put(&b, "#version 450\n%slayout(local_size_x = 64) in;\n"
 	           "layout(std430, set = 0, binding = 0) readonly buffer Inputs { float v[]; } inb;\n"
 	           "layout(std430, set = 0, binding = 1) writeonly buffer Outputs { float v[]; } outb;\n\n",
 	       fp16 ? "#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n" : "");
@@ -173,32 +143,32 @@ char *bk_gpucost_glsl(const bk_form *const form[2], const double *params, unsign
 			return NULL;
 		}
 		if (fp16) {
-			sb_put(&b, "// float16_t rewrite of bk_form_emit's highp text (its comment says highp)\n");
+			bk_sb_put(&b, "// float16_t rewrite of bk_form_emit's highp text (its comment says highp)\n");
 			put_half(&b, fn);
 		}
 		else
-			sb_put(&b, "%s", fn);
-		sb_put(&b, "\n");
+			bk_sb_put(&b, "%s", fn);
+		bk_sb_put(&b, "\n");
 		free(fn);
 	}
-	sb_put(&b, "void main()\n{\n\tuint i = gl_GlobalInvocationID.x * 16u;\n");
+	bk_sb_put(&b, "void main()\n{\n\tuint i = gl_GlobalInvocationID.x * 16u;\n");
 	const char *first = NULL;
 	for (int c = 0; c < BK_IN_COUNT; c++)
 		if (inputs >> c & 1) {
 			const char *name = bk_input_name((bk_input)c);
-			sb_put(&b, "\t%s %s = %s(inb.v[i + %du]);\n\toutb.v[i + %du] = float(%s);\n", T, name, T, c, c, name);
+			bk_sb_put(&b, "\t%s %s = %s(inb.v[i + %du]);\n\toutb.v[i + %du] = float(%s);\n", T, name, T, c, c, name);
 			first = first ? first : name;
 		}
 	for (int p = 0; p < nparts; p++) {
-		sb_put(&b, "\toutb.v[i + %du] = float(", 8 + p);
+		bk_sb_put(&b, "\toutb.v[i + %du] = float(", 8 + p);
 		if (form) {
-			sb_put(&b, "bk_form_%c(", p ? 'b' : 'a');
+			bk_sb_put(&b, "bk_form_%c(", p ? 'b' : 'a');
 			put_args(&b, bk_form_inputs(form[p]));
-			sb_put(&b, "));\n");
+			bk_sb_put(&b, "));\n");
 		} else
-			sb_put(&b, "%s);\n", first ? first : "0.0");
+			bk_sb_put(&b, "%s);\n", first ? first : "0.0");
 	}
-	sb_put(&b, "}\n");
+	bk_sb_put(&b, "}\n");
 	if (b.oom) {
 		free(b.s);
 		return NULL;

@@ -74,4 +74,14 @@ void bk_html_text(FILE *f, const char *s);
 /* Writes s as one CSV field, quoted when it holds a comma, quote or newline. */
 void bk_csv_field(FILE *f, const char *s);
 
+/* A growing text buffer (generated sources): bk_sb_put appends printf-style;
+ * after an allocation failure oom is set and further puts do nothing, so a
+ * caller checks once at the end. s is malloc'd (free it), NUL-terminated. */
+typedef struct bk_strbuf {
+	char *s;
+	size_t len, cap;
+	int oom;
+} bk_strbuf;
+void bk_sb_put(bk_strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
 #endif

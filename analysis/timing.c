@@ -181,45 +181,6 @@ static int write_text(const char *path, const char *text, char *err, size_t errl
 	return ok ? 0 : -1;
 }
 
-/* ---- growing text buffer ---------------------------------------------------------- */
-
-typedef struct strbuf {
-	char *s;
-	size_t len, cap;
-	int oom;
-} strbuf;
-
-static void sb_put(strbuf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void sb_put(strbuf *b, const char *fmt, ...)
-{
-	for (;;) {
-		if (b->oom)
-			return;
-		va_list ap;
-		va_start(ap, fmt);
-		int k = vsnprintf(b->s ? b->s + b->len : NULL, b->s ? b->cap - b->len : 0, fmt, ap);
-		va_end(ap);
-		if (k < 0) {
-			b->oom = 1;
-			return;
-		}
-		if (b->s && b->len + (size_t)k < b->cap) {
-			b->len += (size_t)k;
-			return;
-		}
-		size_t cap = b->cap ? b->cap : 4096;
-		while (cap <= b->len + (size_t)k)
-			cap *= 2;
-		char *s = realloc(b->s, cap);
-		if (!s) {
-			b->oom = 1;
-			return;
-		}
-		b->s = s;
-		b->cap = cap;
-	}
-}
-
 /* ---- run time: the generated unit --------------------------------------------------- */
 
 /* A row's forms, parsed, and the inputs its batch loop takes (union of A and B). */
@@ -231,19 +192,19 @@ typedef struct timed {
 } timed;
 
 /* One call of a form inside the loop: "bk_f3a(NoV[k], r[k])". */
-static void put_call(strbuf *b, const bk_form *f, int row, char part)
+static void put_call(bk_strbuf *b, const bk_form *f, int row, char part)
 {
-	sb_put(b, "bk_f%d%c(", row, part);
+	bk_sb_put(b, "bk_f%d%c(", row, part);
 	const char *sep = "";
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		if (bk_form_inputs(f) >> k & 1) {
-			sb_put(b, "%s%s[k]", sep, bk_input_name((bk_input)k));
+			bk_sb_put(b, "%s%s[k]", sep, bk_input_name((bk_input)k));
 			sep = ", ";
 		}
-	sb_put(b, ")");
+	bk_sb_put(b, ")");
 }
 
-static int put_row(strbuf *b, const timed *t, const bk_compare_row *r, char *err, size_t errlen)
+static int put_row(bk_strbuf *b, const timed *t, const bk_compare_row *r, char *err, size_t errlen)
 {
 	for (int p = 0; p < 2 && t->f[p]; p++) {
 		char name[32];
@@ -254,20 +215,20 @@ static int put_row(strbuf *b, const timed *t, const bk_compare_row *r, char *err
 			snprintf(err, errlen, "%s: code generation failed", r->name);
 			return -1;
 		}
-		sb_put(b, "%s\n", text);
+		bk_sb_put(b, "%s\n", text);
 		free(text);
 	}
-	sb_put(b, "void bk_t%d(size_t n", t->row);
+	bk_sb_put(b, "void bk_t%d(size_t n", t->row);
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		if (t->inputs >> k & 1)
-			sb_put(b, ", const float *%s", bk_input_name((bk_input)k));
-	sb_put(b, ", float *out)\n{\n\tfor (size_t k = 0; k < n; k++)\n\t\tout[k] = ");
+			bk_sb_put(b, ", const float *%s", bk_input_name((bk_input)k));
+	bk_sb_put(b, ", float *out)\n{\n\tfor (size_t k = 0; k < n; k++)\n\t\tout[k] = ");
 	put_call(b, t->f[0], t->row, 'a');
 	if (t->f[1]) {
-		sb_put(b, " + ");
+		bk_sb_put(b, " + ");
 		put_call(b, t->f[1], t->row, 'b');
 	}
-	sb_put(b, ";\n}\n\n");
+	bk_sb_put(b, ";\n}\n\n");
 	return 0;
 }
 
@@ -307,8 +268,8 @@ static int parse_rows(const bk_compare_row *rows, int n, timed *t, int *m, char 
 static int build(const workdir *w, const bk_compare_row *rows, timed *t, int m, void **so, char *err,
                  size_t errlen)
 {
-	strbuf b = {0};
-	sb_put(&b, "/* brdfkit timing unit: generated, compiled and removed by bk_time_rows */\n"
+	bk_strbuf b = {0};
+	bk_sb_put(&b, "/* brdfkit timing unit: generated, compiled and removed by bk_time_rows */\n"
 	           "#include <stddef.h>\n\n");
 	for (int i = 0; i < m; i++)
 		if (put_row(&b, &t[i], &rows[t[i].row], err, errlen)) {
@@ -482,9 +443,9 @@ int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen
  * result goes to offset 0 of the output and input c back to offset c + 1, so
  * that every load is used in the baseline too. fn is the form's GLSL function
  * (named bk_form), or NULL for the baseline. */
-static void put_shader(strbuf *b, const char *fn, unsigned inputs)
+static void put_shader(bk_strbuf *b, const char *fn, unsigned inputs)
 {
-	sb_put(b, "#version 310 es\nprecision highp float;\nlayout(local_size_x = 64) in;\n"
+	bk_sb_put(b, "#version 310 es\nprecision highp float;\nlayout(local_size_x = 64) in;\n"
 	          "layout(std430, binding = 0) readonly buffer Inputs { highp float v[]; } inb;\n"
 	          "layout(std430, binding = 1) writeonly buffer Outputs { highp float v[]; } outb;\n\n%s\n"
 	          "void main()\n{\n\tuint i = gl_GlobalInvocationID.x * 8u;\n",
@@ -493,21 +454,21 @@ static void put_shader(strbuf *b, const char *fn, unsigned inputs)
 	for (int c = 0; c < BK_IN_COUNT; c++)
 		if (inputs >> c & 1) {
 			const char *name = bk_input_name((bk_input)c);
-			sb_put(b, "\thighp float %s = inb.v[i + %du];\n\toutb.v[i + %du] = %s;\n", name, c, c + 1, name);
+			bk_sb_put(b, "\thighp float %s = inb.v[i + %du];\n\toutb.v[i + %du] = %s;\n", name, c, c + 1, name);
 			first = first ? first : name;
 		}
 	if (!fn) {
-		sb_put(b, "\toutb.v[i] = %s;\n}\n", first ? first : "0.0");
+		bk_sb_put(b, "\toutb.v[i] = %s;\n}\n", first ? first : "0.0");
 		return;
 	}
-	sb_put(b, "\toutb.v[i] = bk_form(");
+	bk_sb_put(b, "\toutb.v[i] = bk_form(");
 	const char *sep = "";
 	for (int c = 0; c < BK_IN_COUNT; c++)
 		if (inputs >> c & 1) {
-			sb_put(b, "%s%s", sep, bk_input_name((bk_input)c));
+			bk_sb_put(b, "%s%s", sep, bk_input_name((bk_input)c));
 			sep = ", ";
 		}
-	sb_put(b, ");\n}\n");
+	bk_sb_put(b, ");\n}\n");
 }
 
 /* The opcode of one spirv-dis line ("%x = OpFoo ..." or "OpFoo ..."), or NULL. */
@@ -579,7 +540,7 @@ static int baseline(const workdir *w, unsigned inputs, char *err, size_t errlen)
 {
 	if (baseline_cache[inputs])
 		return baseline_cache[inputs] - 1;
-	strbuf b = {0};
+	bk_strbuf b = {0};
 	put_shader(&b, NULL, inputs);
 	int k = b.oom ? (snprintf(err, errlen, "out of memory"), -1) : spirv_of(w, "baseline", b.s, err, errlen);
 	free(b.s);
@@ -596,7 +557,7 @@ int bk_spirv_count(const bk_form *f, const double *params, char *err, size_t err
 		snprintf(err, errlen, "code generation failed (parameters missing?)");
 		return -1;
 	}
-	strbuf b = {0};
+	bk_strbuf b = {0};
 	put_shader(&b, fn, bk_form_inputs(f));
 	free(fn);
 	workdir w;

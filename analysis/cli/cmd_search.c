@@ -85,6 +85,17 @@ static void on_interrupt(int sig)
 	stop_asked = 1;
 }
 
+/* SIGINT asks for a stop at the end of the generation (or round); the old
+ * action is kept to be put back. */
+static void catch_interrupt(struct sigaction *old)
+{
+	struct sigaction sa;
+	memset(&sa, 0, sizeof sa);
+	sa.sa_handler = on_interrupt;
+	sigemptyset(&sa.sa_mask);
+	sigaction(SIGINT, &sa, old);
+}
+
 /* ---- option helpers ------------------------------------------------------- */
 
 static int parse_word(const cli_cmd *cmd, const char *opt, const char *text, const char *const *names, int n,
@@ -413,11 +424,8 @@ static int run_search(job *J)
 			return cli_fail("search", "--resume %s: %s", J->a->resume, err);
 		fprintf(stderr, "search: resumed at %ld fits\n", bk_search_evals(J->S));
 	}
-	struct sigaction sa, old;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_interrupt;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, &old);
+	struct sigaction old;
+	catch_interrupt(&old);
 	J->seconds = bk_clock_now();
 	double last = J->seconds;
 	long next_ck = J->a->every > 0 ? (bk_search_evals(J->S) / J->a->every + 1) * J->a->every : -1;
@@ -686,11 +694,8 @@ static int run_islands(job *J)
 	long round = 0;
 	if (J->a->resume && load_islands(J, &round))
 		return 1;
-	struct sigaction sa, old;
-	memset(&sa, 0, sizeof sa);
-	sa.sa_handler = on_interrupt;
-	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, &old);
+	struct sigaction old;
+	catch_interrupt(&old);
 	J->seconds = bk_clock_now();
 	double last = J->seconds;
 	long every = J->a->every, M = J->a->migrate, start_evals = isl_sum(bk_search_evals(J->S));
