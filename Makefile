@@ -26,7 +26,7 @@ EXR_LIB = -lOpenEXRCore-3_1
 GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
               -lOGLCompiler -lSPIRV -lglslang-default-resource-limits -lSPIRV-Tools-opt -lSPIRV-Tools \
               -Wl,--end-group
-LIBS    = -lceres -lglog -lpng -ljansson $(EXR_LIB) $(GLSLANG_LIB) -lvulkan -lpthread -lm
+LIBS    = -lceres -lglog -lpng -ljansson -lcsv $(EXR_LIB) $(GLSLANG_LIB) -lvulkan -lpthread -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
@@ -34,10 +34,11 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # injects the kills of tests/fault.sh; jansson reads scene files; Open MPI
 # runs the search's islands across processes and machines, build/brdfkit-mpi;
 # brdfkit gpucost: glslang-dev compiles GLSL in-process, libvulkan-dev links the
-# loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler).
+# loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler;
+# libcsv reads search fronts back for gpucost --calibrate).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers
+       mesa-vulkan-drivers libcsv-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
@@ -140,7 +141,8 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # drive is the one the sanitized CLI run exercises with one island), then
 # both again under the sanitizers.
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
-# runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.)
+# runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
+# The same file hides the Vulkan driver's own blocks in the gpucost run.)
 test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL)
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
@@ -151,7 +153,7 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
-	UBSAN_OPTIONS=print_stacktrace=1 sh tests/gpucost.sh $(STOOL)
+	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -189,6 +191,9 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search $(TOOL) $(MPI_
 SEARCH_EVALS = 100000
 SEARCH_EVALS_VF = 60000
 SEARCH_EVALS_F = 40000
+# AMD chips the study compiles every closed form for (brdfkit gpucost: Mesa RADV's
+# null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
+GPU_CHIPS = polaris10,vega10,navi21,gfx1100
 
 results: $(TOOL)
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were
@@ -213,21 +218,28 @@ results: $(TOOL)
 	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
 	# error against cost: every catalog form, its refit and the LUTs, one page
 	@mkdir -p results/compare
-	$(TOOL) compare --target vf2d --out results/compare/vf2d --link-prefix compare/vf2d/
-	$(TOOL) compare --target vf --out results/compare/vf --link-prefix compare/vf/
-	$(TOOL) compare --target env --out results/compare/env --link-prefix compare/env/
-	$(TOOL) compare --target spec --out results/compare/spec --link-prefix compare/spec/
-	$(TOOL) compare --target f --out results/compare/f --link-prefix compare/f/
+	$(TOOL) compare --target vf2d --gpu $(GPU_CHIPS) --out results/compare/vf2d --link-prefix compare/vf2d/
+	$(TOOL) compare --target vf --gpu $(GPU_CHIPS) --out results/compare/vf --link-prefix compare/vf/
+	$(TOOL) compare --target env --gpu $(GPU_CHIPS) --out results/compare/env --link-prefix compare/env/
+	$(TOOL) compare --target spec --gpu $(GPU_CHIPS) --out results/compare/spec --link-prefix compare/spec/
+	$(TOOL) compare --target f --gpu $(GPU_CHIPS) --out results/compare/f --link-prefix compare/f/
 	$(TOOL) stability --all --out results/stability --link-prefix stability/
 	# the search for closed forms: fixed budgets and seeds, so the fronts are
 	# reproducible; each front is refitted in full and compared with the catalog
 	@mkdir -p results/search
-	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --out results/search/vf2d --link-prefix search/vf2d/
-	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --out results/search/vf --link-prefix search/vf/
-	$(TOOL) search --target env --evals $(SEARCH_EVALS) --out results/search/env --link-prefix search/env/
-	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --out results/search/f_glass --link-prefix search/f_glass/
-	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --out results/search/f_gold \
+	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/vf2d --link-prefix search/vf2d/
+	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
+	$(TOOL) search --target env --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/env --link-prefix search/env/
+	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_glass --link-prefix search/f_glass/
+	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_gold \
 	  --link-prefix search/f_gold/
+	# the IR's cost model against AMD's compiler, per chip: the weights of the
+	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
+	@mkdir -p results/gpucost
+	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
+	  $(TOOL) gpucost --calibrate --chips $$c results/search/*/front.csv \
+	    --out results/gpucost/calibration_$$c.csv || exit 1; \
+	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
 	# scene specialisation: each example scene's feature sets, their terms chosen and
 	# refitted on the scene's own domain, shaders and the saving against the generic one
 	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --out results/scenes --link-prefix scenes/

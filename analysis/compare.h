@@ -15,6 +15,17 @@
 #define BK_TIERS 4
 extern const int bk_tier_alu_per_tex[BK_TIERS]; /* {16, 32, 48, 64} */
 
+/* What the whole table shares: the cost model its cost column uses, and the
+ * chips of its AMD columns (compare --gpu; brdfkit gpucost's figures). */
+#define BK_COMPARE_CHIPS 8
+typedef struct bk_compare_info {
+	const char *cost_model; /* "ir", "aco-navi21", ... */
+	double simple, complex; /* its weights */
+	int nchips;
+	const char *chip[BK_COMPARE_CHIPS];
+} bk_compare_info;
+#define BK_COMPARE_INFO_INIT {"ir", BK_COST_SIMPLE, BK_COST_COMPLEX, 0, {0}}
+
 typedef struct bk_compare_row {
 	char name[96];          /* catalog name, "name (refit)", or "LUT 64x64 half" */
 	char kind[16];          /* "published", "refit", "lut", "form" */
@@ -25,11 +36,14 @@ typedef struct bk_compare_row {
 	int nparams;
 	bk_fit_metrics m;       /* on the target's samples; NaN where not applicable */
 	bk_ops ops;             /* zero for LUTs */
-	double cost;            /* simple + 4 complex (ALU only) */
+	double cost;            /* the cost model's simple and complex weights (ALU only) */
 	int tex_fetches;        /* bilinear fetches per evaluation */
 	int sampler_slots;
 	double ns, ns_min, ns_max; /* CPU ns per evaluation (generated C, -O2); NaN if not timed */
 	int spirv;              /* SPIR-V instructions of the GLSL after spirv-opt -O; -1 if none */
+	/* per chip of bk_compare_info (NaN: not compiled, e.g. a LUT row), net of
+	 * gpucost's load/store baseline: ACO instructions, transcendental ops, VGPRs */
+	double gpu_insn[BK_COMPARE_CHIPS], gpu_transc[BK_COMPARE_CHIPS], gpu_vgprs[BK_COMPARE_CHIPS];
 	int cheaper_than_fetch[BK_TIERS]; /* ALU cost below one fetch at that tier (LUT rows: 0) */
 	int pareto_cost, pareto_ns; /* on the front of error vs cost / vs ns */
 } bk_compare_row;
@@ -72,13 +86,18 @@ void bk_pareto(bk_compare_row *rows, int n, int tier);
  * pareto_ns). Header: name,kind,source,form,form_b,parameters,rmse,
  * weighted_rmse,max_abs,max_rel,albedo_max_abs,<one column per op class>,
  * simple,complex,cost,tex_fetches,sampler_slots,spirv,cheaper_than_fetch_16,
- * _32,_48,_64,pareto_cost. Parameters as p0=..;p1=.. (%.9g). */
-void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n);
+ * _32,_48,_64,pareto_cost, then per chip of info aco_CHIP_instructions,
+ * aco_CHIP_transcendental, aco_CHIP_vgprs. Parameters as p0=..;p1=.. (%.9g).
+ * info NULL: BK_COMPARE_INFO_INIT. */
+void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n, const bk_compare_info *info);
 /* Timings in a file of their own: name,ns_per_eval,ns_min,ns_max,pareto_ns. */
 void bk_timing_csv(FILE *f, const bk_compare_row *rows, int n);
 
-/* Self-contained SVG: error (max_abs, log axis) against cost (xaxis 0) or
- * ns/eval (xaxis 1), the front highlighted and joined, every point labelled. */
-void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title);
+/* Self-contained SVG: error (max_abs, log axis) against cost (xaxis 0),
+ * ns/eval (xaxis 1) or ACO's net instructions on info's chip xaxis - 2, the
+ * front highlighted and joined, every point labelled. info NULL:
+ * BK_COMPARE_INFO_INIT. */
+void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title,
+                    const bk_compare_info *info);
 
 #endif

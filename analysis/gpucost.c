@@ -14,6 +14,7 @@
 #include <vulkan/vulkan.h>
 
 #include <ctype.h>
+#include <dlfcn.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -56,6 +57,26 @@ const char *bk_gpucost_chip_list(void)
 		for (size_t i = 0; i < sizeof chips / sizeof chips[0]; i++)
 			snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? "," : "", chips[i].name);
 	return list;
+}
+
+int bk_gpucost_chips(char *list, const char **chip, int max, int *n, char *err, size_t errlen)
+{
+	const char *gfx;
+	*n = 0;
+	for (char *save = NULL, *t = strtok_r(list, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+		if (bk_gpucost_chip(t, &gfx)) {
+			snprintf(err, errlen, "unknown chip '%.60s' (known: %s)", t, bk_gpucost_chip_list());
+			return -1;
+		}
+		if (*n == max) {
+			snprintf(err, errlen, "at most %d chips", max);
+			return -1;
+		}
+		chip[(*n)++] = t;
+	}
+	if (*n == 0)
+		snprintf(err, errlen, "no chip named");
+	return *n ? 0 : -1;
 }
 
 /* ---- GLSL ------------------------------------------------------------------------- */
@@ -594,6 +615,26 @@ static int run_chip(bk_gpucost_job *jobs, int n, int c, int fp16, const spirv *s
 	return rc;
 }
 
+#define RADV_ICD "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json"
+
+/* The Vulkan loader unloads the driver (and Mesa's device-select layer) with
+ * each instance, one per chip. A block the driver keeps in a global would
+ * then read as a leak to LeakSanitizer, in a module it can no longer name
+ * (seen in make test, now and then). Loaded once more here and never
+ * unloaded, the driver stays mapped: its globals keep what they hold, a
+ * report names the module, and the driver's start-up runs once per process.
+ * RADV reads RADV_FORCE_FAMILY when an instance enumerates its devices, not
+ * when it is loaded (tests/gpucost.sh checks per-chip ISA facts). Only the
+ * default ICD is pinned; a failure is left to vkCreateInstance to report. */
+static void pin_driver(void)
+{
+	const char *icd = getenv("VK_ICD_FILENAMES");
+	if (!icd || strcmp(icd, RADV_ICD))
+		return;
+	dlopen("libvulkan_radeon.so", RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+	dlopen("libVkLayer_MESA_device_select.so", RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+}
+
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chip, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen)
 {
@@ -609,7 +650,8 @@ int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chip, int nch
 		}
 	}
 	/* the ICD a user points at is respected (and checked to be RADV below) */
-	setenv("VK_ICD_FILENAMES", "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json", 0);
+	setenv("VK_ICD_FILENAMES", RADV_ICD, 0);
+	pin_driver();
 	setenv("MESA_SHADER_CACHE_DISABLE", "true", 1); /* a cache hit captures no statistics */
 	spirv *sj = calloc((size_t)n + 1, sizeof *sj), *sb = calloc(BASE_KEYS, sizeof *sb);
 	int rc = sj && sb ? 0 : (snprintf(err, errlen, "out of memory"), -1);
@@ -683,4 +725,46 @@ int bk_gpucost_fit2(const double *a, const double *b, const double *y, int n, do
 	*wa = (ay * bb - by * ab) / det;
 	*wb = (aa * by - ab * ay) / det;
 	return 0;
+}
+
+int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
+                     const char *const *chips, int nchips, bk_gpucost_stats *out, int *ok, char *driver,
+                     size_t driverlen, char *err, size_t errlen)
+{
+	bk_gpucost_job *jobs = calloc((size_t)n + 1, sizeof *jobs);
+	int *at = calloc((size_t)n + 1, sizeof *at), m = 0, rc = jobs && at ? 0 : -1;
+	if (rc)
+		snprintf(err, errlen, "out of memory");
+	for (int i = 0; !rc && i < n; i++) {
+		if (!a[i])
+			continue;
+		for (int p = 0; !rc && p < 1 + (b && b[i] != NULL); p++) {
+			bk_form_error fe;
+			const char *text = p ? b[i] : a[i];
+			if (!(jobs[m].form[p] = bk_form_parse(text, &fe))) {
+				snprintf(err, errlen, "'%.200s':1:%d: %s", text, fe.column, fe.message);
+				rc = -1;
+			}
+		}
+		jobs[m].params = params[i];
+		at[m++] = i;
+	}
+	for (int k = 0; k < n * nchips; k++) {
+		ok[k] = 0;
+		memset(&out[k], 0, sizeof out[k]);
+	}
+	if (!rc && m > 0)
+		rc = bk_gpucost_run(jobs, m, chips, nchips, 0, driver, driverlen, NULL, err, errlen);
+	for (int j = 0; !rc && j < m; j++)
+		for (int c = 0; c < nchips; c++) {
+			out[at[j] * nchips + c] = jobs[j].net[c];
+			ok[at[j] * nchips + c] = jobs[j].ok[c];
+		}
+	for (int j = 0; jobs && j <= m && j < n + 1; j++) {
+		bk_form_free((bk_form *)jobs[j].form[0]);
+		bk_form_free((bk_form *)jobs[j].form[1]);
+	}
+	free(jobs);
+	free(at);
+	return rc;
 }

@@ -49,6 +49,9 @@ typedef struct bk_gpucost_job {
  * bk_gpucost_chip_list: the accepted names, comma-separated. */
 int bk_gpucost_chip(const char *chip, const char **gfx);
 const char *bk_gpucost_chip_list(void);
+/* A comma-separated list (cut in place) into at most max names; 0, or -1 with
+ * a message naming the bad one. */
+int bk_gpucost_chips(char *list, const char **chip, int max, int *n, char *err, size_t errlen);
 
 /* The compute shader of a job (form NULL: the baseline for the given input
  * set and part count), fp16: float16_t arithmetic. Malloc'd GLSL, or NULL when
@@ -72,6 +75,15 @@ void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
  * NULL, gets a malloc'd copy of the first job's disassembly on the first chip. */
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen);
+
+/* The columns other commands join (compare, search): n forms given as text
+ * (a[i], b[i] the second part of a split-sum entry or NULL; a[i] NULL: no
+ * form, e.g. a LUT row) with params[i] baked in, fp32, every chip. Fills
+ * out[i * nchips + c] and ok[i * nchips + c] (0 where not compiled). Returns
+ * as bk_gpucost_run; a form that does not parse is an error. */
+int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
+                     const char *const *chips, int nchips, bk_gpucost_stats *out, int *ok, char *driver,
+                     size_t driverlen, char *err, size_t errlen);
 
 /* ---- calibration: the IR's cost model against ACO's counts ------------------------ */
 

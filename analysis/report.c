@@ -24,14 +24,17 @@ const int bk_tier_alu_per_tex[BK_TIERS] = {16, 32, 48, 64};
 
 /* ---- Pareto fronts ----------------------------------------------------------------- */
 
-/* The x of a row on one axis: AXIS_NS, or a tier 0..BK_TIERS-1 for ALU cost
- * plus each fetch priced at that tier's ratio in simple ops. */
-enum { AXIS_NS = BK_TIERS };
+/* The x of a row on one axis: AXIS_NS, AXIS_GPU + c for ACO's instructions
+ * on chip c, or a tier 0..BK_TIERS-1 for ALU cost plus each fetch priced at
+ * that tier's ratio in simple ops. */
+enum { AXIS_NS = BK_TIERS, AXIS_GPU };
 
 static double axis_x(const bk_compare_row *r, int axis)
 {
 	if (axis == AXIS_NS)
 		return r->ns;
+	if (axis >= AXIS_GPU)
+		return r->gpu_insn[axis - AXIS_GPU];
 	return r->cost + (double)r->tex_fetches * bk_tier_alu_per_tex[axis];
 }
 
@@ -95,7 +98,7 @@ static void csv_params(FILE *f, const bk_compare_row *r)
 	csv_text(f, buf);
 }
 
-static void csv_header(FILE *f)
+static void csv_header(FILE *f, const bk_compare_info *info)
 {
 	fputs("name,kind,source,form,form_b,parameters,rmse,weighted_rmse,max_abs,max_rel,"
 	      "albedo_max_abs",
@@ -105,10 +108,14 @@ static void csv_header(FILE *f)
 	fputs(",simple,complex,cost,tex_fetches,sampler_slots,spirv", f);
 	for (int t = 0; t < BK_TIERS; t++)
 		fprintf(f, ",cheaper_than_fetch_%d", bk_tier_alu_per_tex[t]);
-	fputs(",pareto_cost\n", f);
+	fputs(",pareto_cost", f);
+	for (int c = 0; c < info->nchips; c++)
+		fprintf(f, ",aco_%s_instructions,aco_%s_transcendental,aco_%s_vgprs", info->chip[c], info->chip[c],
+		        info->chip[c]);
+	fputc('\n', f);
 }
 
-static void csv_row(FILE *f, const bk_compare_row *r)
+static void csv_row(FILE *f, const bk_compare_row *r, const bk_compare_info *info)
 {
 	bk_csv_field(f, r->name);
 	csv_text(f, r->kind);
@@ -130,14 +137,24 @@ static void csv_row(FILE *f, const bk_compare_row *r)
 		fprintf(f, "%d", r->spirv);
 	for (int t = 0; t < BK_TIERS; t++)
 		fprintf(f, ",%d", r->cheaper_than_fetch[t]);
-	fprintf(f, ",%d\n", r->pareto_cost);
+	fprintf(f, ",%d", r->pareto_cost);
+	for (int c = 0; c < info->nchips; c++) {
+		csv_num(f, r->gpu_insn[c]);
+		csv_num(f, r->gpu_transc[c]);
+		csv_num(f, r->gpu_vgprs[c]);
+	}
+	fputc('\n', f);
 }
 
-void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n)
+static const bk_compare_info default_info = BK_COMPARE_INFO_INIT;
+
+void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n, const bk_compare_info *info)
 {
-	csv_header(f);
+	if (!info)
+		info = &default_info;
+	csv_header(f, info);
 	for (int i = 0; i < n; i++)
-		csv_row(f, &rows[i]);
+		csv_row(f, &rows[i], info);
 }
 
 void bk_timing_csv(FILE *f, const bk_compare_row *rows, int n)
@@ -265,14 +282,20 @@ static double nice_step(double span)
 	return (norm <= 1.0 ? 1.0 : norm <= 2.0 ? 2.0 : norm <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
+/* A plot's x axis (0 cost, 1 ns, 2 + c chip c) as an axis of the fronts. */
+static int plot_axis(int xaxis)
+{
+	return xaxis == 0 ? 0 : xaxis == 1 ? AXIS_NS : AXIS_GPU + xaxis - 2;
+}
+
 static double point_x(const bk_compare_row *r, int xaxis)
 {
-	return axis_x(r, xaxis ? AXIS_NS : 0);
+	return axis_x(r, plot_axis(xaxis));
 }
 
 static int plotted(const bk_compare_row *r, int xaxis)
 {
-	return placeable(r, xaxis ? AXIS_NS : 0);
+	return placeable(r, plot_axis(xaxis));
 }
 
 static void x_range(scale *s, const bk_compare_row *rows, int n, int xaxis)
@@ -282,7 +305,7 @@ static void x_range(scale *s, const bk_compare_row *rows, int n, int xaxis)
 		if (plotted(&rows[i], xaxis)) {
 			double x = point_x(&rows[i], xaxis);
 			lo = fmin(lo, x);
-			hi = fmax(hi, xaxis && isfinite(rows[i].ns_max) ? fmax(x, rows[i].ns_max) : x);
+			hi = fmax(hi, xaxis == 1 && isfinite(rows[i].ns_max) ? fmax(x, rows[i].ns_max) : x);
 		}
 	if (hi <= lo)
 		hi = lo + 1.0;
@@ -345,7 +368,7 @@ static void decade_label(char *buf, size_t len, int d)
 		snprintf(buf, len, "1e%d", d);
 }
 
-static void svg_x_axis(FILE *f, const scale *s, int xaxis)
+static void svg_x_axis(FILE *f, const scale *s, int xaxis, const bk_compare_info *info)
 {
 	int nticks = (int)lround((s->x_hi - s->x_lo) / s->x_step);
 	for (int i = 0; i <= nticks; i++) {
@@ -359,11 +382,22 @@ static void svg_x_axis(FILE *f, const scale *s, int xaxis)
 	}
 	fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"12\">", (PLOT_L + PLOT_R) / 2,
 	        SVG_H - 28);
-	if (xaxis)
+	if (xaxis == 1)
 		fputs("CPU time per evaluation, ns (generated C, -O2; bars: min to max)", f);
+	else if (xaxis >= 2)
+		fprintf(f, "AMD %s instructions (Mesa RADV/ACO), net of a load/store baseline", info->chip[xaxis - 2]);
+	else if (!strcmp(info->cost_model, "ir"))
+		fprintf(f, "cost: simple ALU ops + %g \xc3\x97 complex + %d per bilinear fetch", info->complex,
+		        bk_tier_alu_per_tex[0]);
 	else
-		fprintf(f, "cost: simple ALU ops + 4 \xc3\x97 complex + %d per bilinear fetch", bk_tier_alu_per_tex[0]);
+		fprintf(f, "cost (model %s): %g \xc3\x97 simple + %g \xc3\x97 complex + %d per bilinear fetch",
+		        info->cost_model, info->simple, info->complex, bk_tier_alu_per_tex[0]);
 	fputs("</text>\n", f);
+	if (xaxis >= 2)
+		fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555\">"
+		           "(closed forms only: a LUT's fetch is not compiled; AMD only, no mobile compiler runs "
+		           "offline)</text>\n",
+		        (PLOT_L + PLOT_R) / 2, SVG_H - 13);
 	if (!xaxis)
 		fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555\">"
 		           "(a fetch priced at the lowest ALU:TEX tier of the talk, %d:1; higher tiers make "
@@ -422,7 +456,7 @@ static int front_before(const bk_compare_row *rows, int a, int b, int xaxis)
 
 static int svg_on_front(const bk_compare_row *rows, int n, int i, int xaxis)
 {
-	return on_front(rows, n, i, xaxis ? AXIS_NS : 0);
+	return on_front(rows, n, i, plot_axis(xaxis));
 }
 
 static void svg_front(FILE *f, const bk_compare_row *rows, int n, int xaxis, const scale *s)
@@ -453,7 +487,7 @@ static void svg_point(FILE *f, const bk_compare_row *r, int xaxis, const scale *
 {
 	const kind_style *k = &kinds[kind_index(r->kind)];
 	double x = px_x(s, point_x(r, xaxis)), y = row_px_y(s, r);
-	if (xaxis && isfinite(r->ns_min) && isfinite(r->ns_max))
+	if (xaxis == 1 && isfinite(r->ns_min) && isfinite(r->ns_max))
 		fprintf(f, "<line class=\"range\" x1=\"%.1f\" y1=\"%.1f\" x2=\"%.1f\" y2=\"%.1f\" stroke=\"%s\"/>\n",
 		        px_x(s, r->ns_min), y, px_x(s, r->ns_max), y, k->colour);
 	fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"%s\" stroke=\"%s\" fill=\"%s\"%s><title>", x, y,
@@ -461,7 +495,7 @@ static void svg_point(FILE *f, const bk_compare_row *r, int xaxis, const scale *
 	        r->m.max_abs == 0.0 ? " stroke-dasharray=\"2 1\"" : "");
 	xml_text(f, r->name);
 	fprintf(f, " (%s): max |error| %.3g, %s %.4g%s</title></circle>\n", r->kind, r->m.max_abs,
-	        xaxis ? "ns" : "cost", point_x(r, xaxis), front ? ", on the front" : "");
+	        xaxis == 1 ? "ns" : xaxis ? "instructions" : "cost", point_x(r, xaxis), front ? ", on the front" : "");
 }
 
 /* A label's box in px, for the overlap nudge. */
@@ -561,13 +595,18 @@ static void svg_legend(FILE *f, const bk_compare_row *rows, int n, int xaxis)
 		fprintf(f, "<text x=\"%.1f\" y=\"%.1f\" fill=\"#555\">%d not shown:</text>\n"
 		           "<text x=\"%.1f\" y=\"%.1f\" fill=\"#555\">%s</text>\n",
 		        LEGEND_X, y + 30, hidden, LEGEND_X, y + 44,
-		        xaxis ? "untimed, or no finite error" : "no finite error");
+		        xaxis == 1 ? "untimed, or no finite error" : xaxis ? "not compiled, or no finite error"
+		                                                           : "no finite error");
 }
 
-void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title)
+void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title,
+                    const bk_compare_info *info)
 {
 	scale s = {0};
-	xaxis = xaxis != 0;
+	if (!info)
+		info = &default_info;
+	if (xaxis < 0 || xaxis >= 2 + info->nchips)
+		xaxis = 0;
 	x_range(&s, rows, n, xaxis);
 	y_range(&s, rows, n, xaxis);
 	fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" viewBox=\"0 0 %d %d\" "
@@ -587,7 +626,7 @@ void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const
 	fputs("<text x=\"380\" y=\"26\" text-anchor=\"middle\" font-size=\"15\" font-weight=\"bold\">", f);
 	xml_text(f, title ? title : "");
 	fputs("</text>\n", f);
-	svg_x_axis(f, &s, xaxis);
+	svg_x_axis(f, &s, xaxis, info);
 	svg_y_axis(f, &s);
 	svg_front(f, rows, n, xaxis, &s);
 	for (int i = 0; i < n; i++)

@@ -429,3 +429,22 @@ int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, 
 			return cli_usage(cmd, "%s has no effect on target %s (%s)", t[k].opt, kind_name, t[k].does);
 	return 0;
 }
+
+int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex,
+                   const bk_cost_model **model)
+{
+	const bk_cost_model *m = bk_cost_model_find(name);
+	if (!m) {
+		char list[256];
+		size_t k = 0;
+		list[0] = '\0';
+		for (size_t i = 0; bk_cost_model_at(i) && k < sizeof list; i++)
+			k += (size_t)snprintf(list + k, sizeof list - k, "%s%s", i ? ", " : "", bk_cost_model_at(i)->name);
+		return cli_usage(cmd, "--cost-model: unknown model '%.60s' (known: %s)", name, list);
+	}
+	*simple = m->simple;
+	*complex = m->complex;
+	if (model)
+		*model = m;
+	return 0;
+}

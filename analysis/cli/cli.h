@@ -6,6 +6,8 @@
 #ifndef ANALYSIS_CLI_H
 #define ANALYSIS_CLI_H
 
+#include "brdf.h"
+
 #include <stdio.h>
 
 #define CLI_LIST_MAX 64
@@ -102,6 +104,12 @@ typedef struct cli_scope {
 	const char *does;
 } cli_scope;
 int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name);
+
+/* --cost-model NAME: the named model's weights into *simple, *complex and
+ * the model into *model (may be NULL); 2 after a usage error listing the
+ * names. */
+int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex,
+                   const bk_cost_model **model);
 
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). */

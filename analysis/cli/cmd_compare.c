@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "fit.h"
+#include "gpucost.h"
 #include "heatmap.h"
 
 #include <dirent.h>
@@ -30,6 +31,8 @@ typedef struct study {
 	int n;
 	int relative, refit, timing, tier;
 	long reps;
+	bk_compare_info info; /* the cost model, and the chips of --gpu */
+	char driver[256];     /* the Vulkan driver that compiled for --gpu */
 } study;
 
 /* Which catalog entries answer a target. env: every entry becomes one form in
@@ -80,7 +83,7 @@ static void score(study *S, bk_compare_row *r, const bk_form *f)
 	memcpy(sp.start, r->params, sizeof sp.start);
 	bk_fit_evaluate(&sp, r->params, &r->m);
 	bk_form_count(f, &r->ops);
-	r->cost = bk_ops_cost(&r->ops, BK_COST_SIMPLE, BK_COST_COMPLEX);
+	r->cost = bk_ops_cost(&r->ops, S->info.simple, S->info.complex);
 	char err[256];
 	r->spirv = bk_spirv_count(f, r->params, err, sizeof err);
 	for (int t = 0; t < BK_TIERS; t++)
@@ -203,6 +206,40 @@ static void add_luts(study *S)
 		}
 }
 
+/* --gpu: every row with a form compiled for each chip by brdfkit gpucost's
+ * code (one Vulkan instance per chip for the whole table); LUT rows stay NaN. */
+static int gpu_columns(study *S)
+{
+	int n = S->n, nc = S->info.nchips;
+	const char **a = calloc((size_t)n, sizeof *a);
+	const double **p = calloc((size_t)n, sizeof *p);
+	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc, sizeof *st);
+	int *ok = calloc((size_t)n * (size_t)nc, sizeof *ok), rc = 0;
+	char err[700];
+	if (!a || !p || !st || !ok)
+		rc = cli_fail("compare", "out of memory");
+	for (int i = 0; !rc && i < n; i++) {
+		a[i] = S->rows[i].form[0] ? S->rows[i].form : NULL;
+		p[i] = S->rows[i].params;
+	}
+	if (!rc && bk_gpucost_texts(a, NULL, p, n, S->info.chip, nc, st, ok, S->driver, sizeof S->driver, err,
+	                            sizeof err))
+		rc = cli_fail("compare", "--gpu: %s", err);
+	for (int i = 0; !rc && i < n; i++)
+		for (int c = 0; c < nc; c++) {
+			const bk_gpucost_stats *g = &st[i * nc + c];
+			int y = ok[i * nc + c];
+			S->rows[i].gpu_insn[c] = y ? (double)g->instructions : NAN;
+			S->rows[i].gpu_transc[c] = y ? (double)g->transcendental : NAN;
+			S->rows[i].gpu_vgprs[c] = y ? (double)g->vgprs : NAN;
+		}
+	free(a);
+	free(p);
+	free(st);
+	free(ok);
+	return rc;
+}
+
 static void cat_file(FILE *out, const char *path)
 {
 	FILE *in = fopen(path, "r");
@@ -227,8 +264,9 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
 	        bk_target_name(S->to.kind));
 	bk_html_text(f, S->s.description);
-	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples.</p>\n",
-	        S->relative ? "relative" : "absolute");
+	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples. ALU cost: "
+	           "cost model <code>%s</code>, simple \xc3\x97 %g + complex \xc3\x97 %g (brdfkit ops).</p>\n",
+	        S->relative ? "relative" : "absolute", S->info.cost_model, S->info.simple, S->info.complex);
 	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
 	cat_file(f, svg);
 	fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
@@ -244,8 +282,14 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 			first = 0;
 		}
 	fputs(".</p>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
-	      "<th>ALU cost</th><th>simple</th><th>complex</th><th>fetches</th><th>SPIR-V</th>"
-	      "<th>cheaper than a fetch at 16/32/48/64</th><th>front</th><th>heatmap</th></tr>\n", f);
+	      "<th>ALU cost</th><th>simple</th><th>complex</th><th>fetches</th><th>SPIR-V</th>", f);
+	if (S->info.nchips) {
+		fputs("<th>AMD instructions (", f);
+		for (int c = 0; c < S->info.nchips; c++)
+			fprintf(f, "%s%s", c ? "/" : "", S->info.chip[c]);
+		fputs(")</th>", f);
+	}
+	fputs("<th>cheaper than a fetch at 16/32/48/64</th><th>front</th><th>heatmap</th></tr>\n", f);
 	for (int i = 0; i < S->n; i++) {
 		const bk_compare_row *r = &S->rows[i], *p = published_of(S, i);
 		char sl[128];
@@ -261,12 +305,33 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 		if (r->spirv >= 0)
 			fprintf(f, "%d", r->spirv);
 		fputs("</td><td>", f);
+		for (int c = 0; c < S->info.nchips; c++) {
+			if (isnan(r->gpu_insn[c]))
+				fprintf(f, "%s-", c ? "/" : "");
+			else
+				fprintf(f, "%s%.0f", c ? "/" : "", r->gpu_insn[c]);
+			if (c == S->info.nchips - 1)
+				fputs("</td><td>", f);
+		}
 		for (int t = 0; t < BK_TIERS; t++)
 			fprintf(f, "%s%s", t ? "/" : "", r->tex_fetches ? "-" : r->cheaper_than_fetch[t] ? "yes" : "no");
 		fprintf(f, "</td><td>%s</td><td><a href=\"%sheatmaps/%s.png\"><img src=\"%sheatmaps/%s.png\" width=\"120\" "
 		        "alt=\"heatmap\"></a></td></tr>\n", r->pareto_cost ? "&#9733;" : "", prefix, sl, prefix, sl);
 	}
-	fputs("</table>\n</section>\n", f);
+	fputs("</table>\n", f);
+	if (S->info.nchips) {
+		fprintf(f, "<details><summary>Error against AMD instruction counts, per chip (Mesa RADV's null device "
+		           "and its ACO compiler, %s; net of a load/store baseline; closed forms only)</summary>\n",
+		        S->driver);
+		for (int c = 0; c < S->info.nchips; c++) {
+			snprintf(svg, sizeof svg, "%.4000s/aco_%.60s.svg", dir, S->info.chip[c]);
+			cat_file(f, svg);
+		}
+		fputs("<p>Where these orders differ from the ALU cost's, the IR's model and the compiler disagree: see "
+		      "<code>brdfkit gpucost --calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n"
+		      "</details>\n", f);
+	}
+	fputs("</section>\n", f);
 }
 
 static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
@@ -359,14 +424,24 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	}
 	if (rc == 0) {
 		char title[160];
-		bk_compare_csv(f[0], S->rows, S->n);
+		bk_compare_csv(f[0], S->rows, S->n, &S->info);
 		bk_timing_csv(f[1], S->rows, S->n);
 		snprintf(title, sizeof title, "%s: max |error| against cost", bk_target_name(S->to.kind));
-		bk_compare_svg(f[2], S->rows, S->n, 0, title);
+		bk_compare_svg(f[2], S->rows, S->n, 0, title, &S->info);
 		snprintf(title, sizeof title, "%s: max |error| against CPU ns per evaluation", bk_target_name(S->to.kind));
-		bk_compare_svg(f[3], S->rows, S->n, 1, title);
+		bk_compare_svg(f[3], S->rows, S->n, 1, title, &S->info);
 		fclose(f[2]);
 		f[2] = NULL;
+		for (int c = 0; c < S->info.nchips && rc == 0; c++) { /* before the section, which embeds them */
+			snprintf(path, sizeof path, "%s/aco_%.60s.svg", tmp, S->info.chip[c]);
+			FILE *g = fopen(path, "w");
+			snprintf(title, sizeof title, "%s: max |error| against AMD %s instructions", bk_target_name(S->to.kind),
+			         S->info.chip[c]);
+			if (g)
+				bk_compare_svg(g, S->rows, S->n, 2 + c, title, &S->info);
+			if (!g || (ferror(g) | fclose(g)))
+				rc = -1;
+		}
 		write_section(S, f[4], tmp, prefix);
 	}
 	for (int k = 0; k < 5; k++)
@@ -434,7 +509,7 @@ static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides
 
 int cmd_compare(int argc, char **argv)
 {
-	const char *target = NULL, *out = NULL, *prefix = "";
+	const char *target = NULL, *out = NULL, *prefix = "", *model = NULL, *gpu = NULL;
 	long nx = 0, nr = 0, reps = 7, tier = 16;
 	int relative = 0, no_refit = 0, no_time = 0, no_lut = 0;
 	cli_opt opts[] = {
@@ -449,12 +524,17 @@ int cmd_compare(int argc, char **argv)
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
 		{.name = "--tier", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "ALU:TEX ratio pricing a fetch for the front (default 16)", .dest = &tier, .lo = 16, .hi = 64},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page)", .dest = &prefix},
+		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "weights of the ALU cost: ir (default; simple 1, complex 4) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100", .dest = &model},
+		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &gpu},
 	};
 	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env) the LUT alternative on\n"
 	               "the same samples: error, ALU cost, texture fetches, CPU ns, SPIR-V size, the Pareto front.",
 	               "--target T --out DIR [FORM ...] [options]",
 	               "Writes DIR/compare.csv, timing.csv, pareto_cost.svg, pareto_ns.svg, section.html (for the\n"
-	               "report page), heatmaps/ and shaders/. Extra FORM arguments are scored as typed forms.",
+	               "report page), heatmaps/ and shaders/. Extra FORM arguments are scored as typed forms.\n"
+	               "--gpu compiles every closed form for each chip as brdfkit gpucost does (Mesa RADV's\n"
+	               "null device; needs mesa-vulkan-drivers) and adds aco_CHIP_instructions,\n"
+	               "aco_CHIP_transcendental and aco_CHIP_vgprs to compare.csv and aco_CHIP.svg plots.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 32, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
@@ -493,6 +573,18 @@ int cmd_compare(int argc, char **argv)
 	if (nr) S.to.nr = (int)nr;
 	S.relative = relative;
 	S.refit = !no_refit;
+	S.info = (bk_compare_info)BK_COMPARE_INFO_INIT;
+	if (model && cli_cost_model(&cmd, model, &S.info.simple, &S.info.complex, NULL))
+		return 2;
+	if (model)
+		S.info.cost_model = model;
+	static char chipbuf[512];
+	if (gpu) {
+		char gerr[700];
+		snprintf(chipbuf, sizeof chipbuf, "%s", gpu);
+		if (bk_gpucost_chips(chipbuf, S.info.chip, BK_COMPARE_CHIPS, &S.info.nchips, gerr, sizeof gerr))
+			return cli_usage(&cmd, "--gpu: %s", gerr);
+	}
 	char err[512];
 	if (bk_out_dir_check(out, err, sizeof err)) /* before minutes of work, not after */
 		return cli_fail("compare", "--out %s", err);
@@ -547,10 +639,14 @@ int cmd_compare(int argc, char **argv)
 		if (!strcmp(S.rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
 			S.rows[i].ops.n[BK_K_MAD] = 1;
 			S.rows[i].ops.simple = 1;
-			S.rows[i].cost = 1;
+			S.rows[i].cost = S.info.simple;
 		}
 	if (!no_time && bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err))
 		fprintf(stderr, "brdfkit compare: warning: timing skipped: %s\n", err);
+	if (S.info.nchips && (rc = gpu_columns(&S))) {
+		bk_samples_free(&S.s);
+		return rc;
+	}
 	bk_pareto(S.rows, S.n, t);
 	rc = write_dir(&S, out, prefix);
 	bk_samples_free(&S.s);

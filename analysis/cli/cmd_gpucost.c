@@ -10,6 +10,8 @@
 #include "gpucost.h"
 #include "out.h"
 
+#include <csv.h>
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -23,6 +25,7 @@ typedef struct gc_row {
 	int have[BK_MAX_PARAMS];
 	int typed;           /* typed on the command line: takes p0=... */
 	bk_form *f[2];
+	char *own[2];        /* text read from a search front, freed with the row */
 } gc_row;
 
 /* pN=VALUE after a typed form: 1 when arg is one (stored), 0 when not, 2 after an error. */
@@ -112,16 +115,9 @@ static int parse_row(gc_row *r)
 /* --chips a,b,c into names (pointing into buf); 2 after a usage error. */
 static int read_chips(const cli_cmd *cmd, char *buf, const char **chip, int *n)
 {
-	*n = 0;
-	for (char *save = NULL, *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-		const char *gfx;
-		if (bk_gpucost_chip(t, &gfx))
-			return cli_usage(cmd, "--chips: unknown chip '%.60s' (known: %s)", t, bk_gpucost_chip_list());
-		if (*n == BK_GPUCOST_MAX_CHIPS)
-			return cli_usage(cmd, "--chips: at most %d chips", BK_GPUCOST_MAX_CHIPS);
-		chip[(*n)++] = t;
-	}
-	return *n ? 0 : cli_usage(cmd, "--chips: no chip named");
+	char err[700];
+	return bk_gpucost_chips(buf, chip, BK_GPUCOST_MAX_CHIPS, n, err, sizeof err) ? cli_usage(cmd, "--chips: %s", err)
+	                                                                             : 0;
 }
 
 static void write_csv(FILE *f, const gc_row *rows, const bk_gpucost_job *jobs, int n, const char *const *chip,
@@ -197,9 +193,19 @@ static int by_residual(const void *a, const void *b)
 	return dx < dy ? 1 : dx > dy ? -1 : strcmp(x->name, y->name); /* ties by name: same bytes every run */
 }
 
-static void write_calibration(FILE *f, const cal_row *c, const int *order, int n, const char *chip, int fp16,
-                              const char *driver, double ws, double wc)
+typedef struct cal_info {
+	const char *chip;
+	int fp16;
+	const char *driver;
+	double ws, wc;    /* the fitted weights */
+	int ncat, nfront, nfiles;
+} cal_info;
+
+static void write_calibration(FILE *f, const cal_row *c, const int *order, int n, const cal_info *ci)
 {
+	const char *chip = ci->chip, *driver = ci->driver;
+	int fp16 = ci->fp16;
+	double ws = ci->ws, wc = ci->wc;
 	double *a = malloc(4 * (size_t)n * sizeof *a);
 	if (!a)
 		return;
@@ -214,14 +220,28 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	const char *gfx = "";
 	bk_gpucost_chip(chip, &gfx);
 	fprintf(f, "# brdfkit %s gpucost --calibrate: the IR cost model (brdfkit ops: simple, complex) against ACO's "
-	           "net instruction counts on %s (%s) %s, driver %s; every catalog form (a split-sum entry: A and B)\n",
-	        BK_VERSION, chip, gfx, fp16 ? "fp16" : "fp32", driver);
+	           "net instruction counts on %s (%s) %s, driver %s; %d forms: the catalog's %d (a split-sum entry: "
+	           "A and B in one shader)",
+	        BK_VERSION, chip, gfx, fp16 ? "fp16" : "fp32", driver, n, ci->ncat);
+	if (ci->nfiles)
+		fprintf(f, " and %d members of %d search fronts (their seed_ rows, catalog forms, left out)", ci->nfront,
+		        ci->nfiles);
+	fputc('\n', f);
 	fprintf(f, "# least squares, no intercept: instructions ~ %.4g simple + %.4g complex (rms residual %.3g; "
-	           "the model's weights are %g and %g)\n",
+	           "the ir model's weights are %g and %g)\n",
 	        ws, wc, sqrt(ss / n), BK_COST_SIMPLE, BK_COST_COMPLEX);
 	fprintf(f, "# Spearman rank correlation with instructions: IR cost %.4f, fitted cost %.4f; rows from the "
 	           "worst outlier (|instructions - fitted|) down\n",
 	        bk_gpucost_spearman(a, y, n), bk_gpucost_spearman(fit, y, n));
+	const bk_cost_model *cm = NULL;
+	char name[80];
+	snprintf(name, sizeof name, "aco-%s", chip);
+	if (!fp16 && (cm = bk_cost_model_find(name))) {
+		for (int i = 0; i < n; i++) /* the recorded weights, ranked the same way */
+			b[i] = cm->simple * c[i].simple + cm->complex * c[i].complex;
+		fprintf(f, "# the named cost model %s (--cost-model) holds simple %g, complex %g: Spearman %.4f here\n",
+		        cm->name, cm->simple, cm->complex, bk_gpucost_spearman(b, y, n));
+	}
 	fputs("name,simple,complex,ir_cost,instructions,fitted,residual\n", f);
 	for (int k = 0; k < n; k++) {
 		const cal_row *r = &c[order[k]];
@@ -231,24 +251,173 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	free(a);
 }
 
-static int calibrate(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chip, int fp16, const char *out)
+/* ---- search fronts read back (front.csv of brdfkit search), with libcsv -------------- */
+
+#define FR_FIELDS 64
+
+typedef struct front_reader {
+	const char *path;
+	char *field[FR_FIELDS];
+	int nfield, record;
+	int col[4];          /* name, form, form_b, parameters */
+	gc_row *rows;
+	int n, cap, bad;
+	char err[600];
+} front_reader;
+
+static void fr_field(void *s, size_t len, void *data)
 {
-	int n = (int)bk_catalog_count();
-	if (cmd->npos)
-		return cli_usage(cmd, "--calibrate takes no FORM (it runs every catalog form)");
+	front_reader *r = data;
+	if (r->nfield < FR_FIELDS && !r->bad) {
+		if (!(r->field[r->nfield] = malloc(len + 1)))
+			r->bad = 1;
+		else {
+			memcpy(r->field[r->nfield], s ? s : "", len);
+			r->field[r->nfield][len] = '\0';
+		}
+	}
+	r->nfield++;
+}
+
+/* "p0=0.1;p1=2" into r->params; -1 when it is not that. */
+static int fr_params(const char *text, gc_row *g)
+{
+	for (const char *t = text; *t;) {
+		char *end;
+		long i;
+		if (*t != 'p' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS || *end != '=')
+			return -1;
+		double v = strtod(end + 1, &end);
+		if (!isfinite(v) || (*end && *end != ';'))
+			return -1;
+		g->params[i] = v;
+		g->have[i] = 1;
+		t = *end ? end + 1 : end;
+	}
+	return 0;
+}
+
+static void fr_record(int c, void *data)
+{
+	(void)c;
+	front_reader *r = data;
+	static const char *const want[4] = {"name", "form", "form_b", "parameters"};
+	int n = r->nfield < FR_FIELDS ? r->nfield : FR_FIELDS;
+	r->record++;
+	if (r->bad) {
+	} else if (r->record == 1) { /* the header */
+		for (int k = 0; k < 4 && !r->bad; k++) {
+			r->col[k] = -1;
+			for (int j = 0; j < n; j++)
+				if (r->field[j] && !strcmp(r->field[j], want[k]))
+					r->col[k] = j;
+			if (r->col[k] < 0) {
+				snprintf(r->err, sizeof r->err, "%.300s: no column '%s' (not a front.csv of brdfkit search)",
+				         r->path, want[k]);
+				r->bad = 1;
+			}
+		}
+	} else if (n <= r->col[0] || n <= r->col[1] || n <= r->col[2] || n <= r->col[3]) {
+		snprintf(r->err, sizeof r->err, "%.300s: row %d: %d fields, fewer than the header's", r->path, r->record, n);
+		r->bad = 1;
+	} else if (strncmp(r->field[r->col[0]], "seed_", 5)) { /* seeds are catalog forms: counted already */
+		if (r->n == r->cap) {
+			int cap = r->cap ? 2 * r->cap : 64;
+			gc_row *g = realloc(r->rows, (size_t)cap * sizeof *g);
+			if (!g) {
+				r->bad = 1;
+				snprintf(r->err, sizeof r->err, "out of memory");
+				goto out;
+			}
+			r->rows = g;
+			r->cap = cap;
+		}
+		gc_row *g = &r->rows[r->n];
+		memset(g, 0, sizeof *g);
+		snprintf(g->name, sizeof g->name, "%.150s", r->field[r->col[0]]);
+		g->text[0] = g->own[0] = r->field[r->col[1]];
+		r->field[r->col[1]] = NULL;
+		if (r->field[r->col[2]][0]) {
+			g->text[1] = g->own[1] = r->field[r->col[2]];
+			r->field[r->col[2]] = NULL;
+		}
+		r->n++;
+		if (fr_params(r->field[r->col[3]], g)) {
+			snprintf(r->err, sizeof r->err, "%.300s: row %d: parameters '%.60s' are not p0=X;p1=Y...", r->path,
+			         r->record, r->field[r->col[3]]);
+			r->bad = 1;
+		}
+	}
+out:
+	for (int j = 0; j < n; j++)
+		free(r->field[j]);
+	memset(r->field, 0, sizeof r->field);
+	r->nfield = 0;
+}
+
+/* Appends the members of one front.csv (its '# ' lines first, then CSV) to
+ * *rows; 0, or 1 after one line on stderr. */
+static int read_front(const char *path, gc_row **rows, int *n, int *cap)
+{
+	FILE *f = fopen(path, "rb");
+	if (!f)
+		return cli_fail("gpucost", "%s: %s", path, strerror(errno));
+	front_reader r = {.path = path, .rows = *rows, .n = *n, .cap = *cap};
+	struct csv_parser p;
+	char line[65536];
+	int head = 1, rc = csv_init(&p, CSV_APPEND_NULL) ? 2 : 0;
+	while (!rc && !r.bad && fgets(line, sizeof line, f)) {
+		if (head && line[0] == '#') /* the provenance lines */
+			continue;
+		head = 0;
+		size_t len = strlen(line);
+		if (csv_parse(&p, line, len, fr_field, fr_record, &r) != len) {
+			snprintf(r.err, sizeof r.err, "%.300s: %s", path, csv_strerror(csv_error(&p)));
+			r.bad = 1;
+		}
+	}
+	if (!rc && !r.bad && (ferror(f) || csv_fini(&p, fr_field, fr_record, &r))) {
+		snprintf(r.err, sizeof r.err, "%.300s: read failed", path);
+		r.bad = 1;
+	}
+	if (!rc && !r.bad && r.record < 1) {
+		snprintf(r.err, sizeof r.err, "%.300s: empty (not a front.csv of brdfkit search)", path);
+		r.bad = 1;
+	}
+	csv_free(&p);
+	fclose(f);
+	*rows = r.rows;
+	*n = r.n;
+	*cap = r.cap;
+	if (rc)
+		return cli_fail("gpucost", "out of memory");
+	return r.bad ? cli_fail("gpucost", "%s", r.err) : 0;
+}
+
+static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
+{
+	int ncat = (int)bk_catalog_count(), n = 0, cap = ncat + 64, rc = 0;
 	const char *gfx;
 	if (strchr(chip, ',') || bk_gpucost_chip(chip, &gfx))
 		return cli_usage(cmd, "--calibrate: --chips must name one known chip, got '%.60s'", chip);
-	cal_row *c = calloc((size_t)n, sizeof *c);
-	int *order = calloc((size_t)n, sizeof *order);
-	double *s = calloc(3 * (size_t)n, sizeof *s);
-	int rc = c && order && s ? 0 : cli_fail("gpucost", "out of memory");
+	gc_row *rows = calloc((size_t)cap, sizeof *rows);
+	if (!rows)
+		return cli_fail("gpucost", "out of memory");
+	for (int i = 0; !rc && i < ncat; i++, n++)
+		rc = read_row(bk_catalog_at((size_t)i)->name, i + 1, &rows[i]);
+	for (int k = 0; !rc && k < cmd->npos; k++)
+		rc = read_front(cmd->pos[k], &rows, &n, &cap);
+	bk_gpucost_job *jobs = rc ? NULL : calloc((size_t)n, sizeof *jobs);
+	cal_row *c = rc ? NULL : calloc((size_t)n, sizeof *c);
+	int *order = rc ? NULL : calloc((size_t)n, sizeof *order);
+	double *s = rc ? NULL : calloc(3 * (size_t)n, sizeof *s);
+	if (!rc && !(jobs && c && order && s))
+		rc = cli_fail("gpucost", "out of memory");
 	for (int i = 0; !rc && i < n; i++) {
-		const bk_catalog_entry *e = bk_catalog_at((size_t)i);
-		if ((rc = read_row(e->name, i + 1, &rows[i])) || (rc = parse_row(&rows[i])))
+		if ((rc = parse_row(&rows[i])))
 			break;
 		jobs[i] = (bk_gpucost_job){.form = {rows[i].f[0], rows[i].f[1]}, .params = rows[i].params};
-		c[i].name = e->name;
+		c[i].name = rows[i].name;
 		for (int p = 0; p < 2 && rows[i].f[p]; p++) {
 			bk_ops o;
 			bk_form_count(rows[i].f[p], &o);
@@ -266,7 +435,7 @@ static int calibrate(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const cha
 		s[2 * n + i] = c[i].insn = (double)jobs[i].net[0].instructions;
 	}
 	if (!rc && bk_gpucost_fit2(s, s + n, s + 2 * n, n, &ws, &wc))
-		rc = cli_fail("gpucost", "--calibrate: simple and complex counts are collinear over the catalog");
+		rc = cli_fail("gpucost", "--calibrate: simple and complex counts are collinear over these forms");
 	if (!rc) {
 		for (int i = 0; i < n; i++) {
 			c[i].fitted = ws * c[i].simple + wc * c[i].complex;
@@ -275,16 +444,25 @@ static int calibrate(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const cha
 		cal_sorted = c;
 		qsort(order, (size_t)n, sizeof *order, by_residual);
 		bk_out o;
+		cal_info ci = {chip, fp16, driver, ws, wc, ncat, n - ncat, cmd->npos};
 		if (!out) {
-			write_calibration(stdout, c, order, n, chip, fp16, driver, ws, wc);
+			write_calibration(stdout, c, order, n, &ci);
 			rc = fflush(stdout) ? cli_fail("gpucost", "stdout: write failed") : 0;
 		} else if (bk_out_open(&o, out, err, sizeof err))
 			rc = cli_fail("gpucost", "%s", err);
 		else {
-			write_calibration(o.f, c, order, n, chip, fp16, driver, ws, wc);
+			write_calibration(o.f, c, order, n, &ci);
 			rc = bk_out_commit(&o, err, sizeof err) ? cli_fail("gpucost", "%s", err) : 0;
 		}
 	}
+	for (int i = 0; i < n; i++) {
+		bk_form_free(rows[i].f[0]);
+		bk_form_free(rows[i].f[1]);
+		free(rows[i].own[0]);
+		free(rows[i].own[1]);
+	}
+	free(rows);
+	free(jobs);
 	free(c);
 	free(order);
 	free(s);
@@ -298,7 +476,7 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 	if (!fp16 && strcmp(precision, "fp32"))
 		return cli_usage(cmd, "--precision: expected fp32 or fp16, got '%.40s'", precision);
 	if (cal)
-		return calibrate(cmd, rows, jobs, cli_seen(cmd, "--chips") ? chips : "navi21", fp16, out);
+		return calibrate(cmd, cli_seen(cmd, "--chips") ? chips : "navi21", fp16, out);
 	char chipbuf[1024];
 	const char *chip[BK_GPUCOST_MAX_CHIPS];
 	int nchips, n = 0;
@@ -334,7 +512,7 @@ int cmd_gpucost(int argc, char **argv)
 	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "fp32", *out = NULL;
 	int cal = 0;
 	cli_opt opts[] = {
-		{.name = "--calibrate", .kind = CLI_FLAG, .help = "fit the IR cost weights to ACO's counts over the catalog (one chip, default navi21)", .dest = &cal},
+		{.name = "--calibrate", .kind = CLI_FLAG, .help = "fit the IR cost weights to ACO's counts over the catalog and the fronts given (one chip, default navi21)", .dest = &cal},
 		{.name = "--chips", .kind = CLI_STR, .metavar = "LIST", .help = "RADV chip names, comma-separated (default " BK_GPUCOST_DEFAULT_CHIPS ")", .dest = &chips},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "fp32|fp16", .help = "float or float16_t arithmetic (default fp32)", .dest = &precision},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write the CSV there (atomically) instead of stdout", .dest = &out},
@@ -342,7 +520,8 @@ int cmd_gpucost(int argc, char **argv)
 	cli_cmd cmd = {"gpucost", "Compiles each form to AMD machine code with Mesa RADV's null device (the ACO\n"
 	               "compiler; no GPU needed) for each chip, and counts what it costs net of a\n"
 	               "load/store baseline shader: one CSV row per form and chip.",
-	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision fp32|fp16] [--out FILE]",
+	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision fp32|fp16] [--out FILE]\n"
+	               "       brdfkit gpucost --calibrate [FRONT.csv ...] [--chips CHIP] [--out FILE]",
 	               "NAME is a catalog entry with its published constants (NAME:A, NAME:B for one part\n"
 	               "of a split-sum entry; without a part both are evaluated in one shader). The form's\n"
 	               "GLSL runs in a compute shader that reads its inputs from a storage buffer and\n"
@@ -353,10 +532,13 @@ int cmd_gpucost(int argc, char **argv)
 	               "float16_t arithmetic (packed-math opportunities on AMD, not a proxy for mediump on\n"
 	               "mobile GPUs); a chip without shaderFloat16 gets empty fields. Needs\n"
 	               "mesa-vulkan-drivers; VK_ICD_FILENAMES is set to RADV's unless already set.\n"
-	               "--calibrate (no FORM): every catalog form on one chip; least squares of the net\n"
-	               "instructions on the IR's simple and complex counts (no intercept), Spearman rank\n"
-	               "correlations of the IR cost and the fitted cost with them, and one row per form\n"
-	               "from the worst outlier down: name,simple,complex,ir_cost,instructions,fitted,residual.",
+	               "--calibrate: every catalog form and every member of the given search fronts\n"
+	               "(front.csv of brdfkit search; its seed_ rows are catalog forms and are left out) on\n"
+	               "one chip; least squares of the net instructions on the IR's simple and complex\n"
+	               "counts (no intercept), Spearman rank correlations of the IR cost, the fitted cost and\n"
+	               "the named model aco-CHIP (--cost-model of ops, compare, search) with them, and one\n"
+	               "row per form from the worst outlier down:\n"
+	               "name,simple,complex,ir_cost,instructions,fitted,residual.",
 	               opts, 4, GC_MAX_ROWS, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)

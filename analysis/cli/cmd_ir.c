@@ -214,22 +214,30 @@ int cmd_ops(int argc, char **argv)
 {
 	int csv = 0;
 	double cs = BK_COST_SIMPLE, cc = BK_COST_COMPLEX;
+	const char *model = NULL;
 	cli_opt opts[] = {
 		{.name = "--csv", .kind = CLI_FLAG, .help = "rows class,count (with simple, complex, cost)", .dest = &csv},
 		{.name = "--simple-cost", .kind = CLI_NUM, .metavar = "C", .help = "cost of a simple op (default 1)", .dest = &cs, .lo = 0, .hi = 1e6},
 		{.name = "--complex-cost", .kind = CLI_NUM, .metavar = "C", .help = "cost of a complex op (default 4)", .dest = &cc, .lo = 0, .hi = 1e6},
+		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (1, 4; the default) or aco-CHIP (fitted to AMD instruction counts)", .dest = &model},
 	};
 	cli_cmd cmd = {"ops", "Counts a form's operations per class after constant folding, sharing of common\n"
 	               "subexpressions, small integer powers to multiplies and a*b+c to one multiply-add.",
-	               "'FORM'|NAME [--csv] [--simple-cost C] [--complex-cost C]",
+	               "'FORM'|NAME [--csv] [--simple-cost C] [--complex-cost C] [--cost-model NAME]",
 	               "Complex ops (transcendental unit): rcp div sqrt rsqrt exp2 log2; pow = log2+mul+exp2,\n"
 	               "exp = mul+exp2, log = log2+mul; negation and abs are free source modifiers.\n"
 	               "cost = simple * simple-cost + complex * complex-cost (the talk: many simple ops per\n"
-	               "cycle, only one complex).",
-	               opts, 3, 1, 0, {0}};
+	               "cycle, only one complex). --cost-model takes both weights from a named model:\n"
+	               "ir, or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (least squares of AMD's\n"
+	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).",
+	               opts, 4, 1, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
+	if (model && (cli_seen(&cmd, "--simple-cost") || cli_seen(&cmd, "--complex-cost")))
+		return cli_usage(&cmd, "--cost-model sets both weights; leave out --simple-cost and --complex-cost");
+	if (model && cli_cost_model(&cmd, model, &cs, &cc, NULL))
+		return 2;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
 	if (cmd.npos != 1) {

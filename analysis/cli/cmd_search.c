@@ -12,6 +12,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "fit_out.h"
+#include "gpucost.h"
 #include "islands.h"
 #include "out.h"
 #include "search.h"
@@ -33,7 +34,7 @@
 
 typedef struct search_cli {
 	fit_cli t; /* the target options, as fit reads them */
-	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *checkpoint, *resume;
+	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
@@ -60,6 +61,7 @@ typedef struct member {
 	int status;                    /* 0 ok, 1 dropped (not finite or outside the constraints) */
 	int front;
 	int lut;                       /* a DFG texture row (--fetch-cost): no form, one fetch */
+	double gpu_insn[BK_GPUCOST_MAX_CHIPS], gpu_transc[BK_GPUCOST_MAX_CHIPS]; /* --gpu; NaN: not compiled */
 } member;
 
 typedef struct job {
@@ -76,6 +78,9 @@ typedef struct job {
 	double seconds;
 	int interrupted;
 	long total_evals;  /* over all islands */
+	const char *chip[BK_GPUCOST_MAX_CHIPS]; /* --gpu */
+	int nchips;
+	char chipbuf[512], driver[256];
 } job;
 
 static volatile sig_atomic_t stop_asked;
@@ -255,8 +260,18 @@ static int setup(job *J)
 	if (parse_word(cmd, "--precision", a->precision, precs, 3, &v))
 		return 2;
 	so->precision = pv[v];
+	if (a->weights && a->cost_model)
+		return cli_usage(cmd, "--cost-model sets both weights; leave out --cost-weights");
 	if (a->weights && parse_weights(cmd, a->weights, &so->simple_cost, &so->complex_cost))
 		return 2;
+	if (a->cost_model && cli_cost_model(cmd, a->cost_model, &so->simple_cost, &so->complex_cost, NULL))
+		return 2;
+	if (a->gpu) {
+		char gerr[700];
+		snprintf(J->chipbuf, sizeof J->chipbuf, "%s", a->gpu);
+		if (bk_gpucost_chips(J->chipbuf, J->chip, BK_GPUCOST_MAX_CHIPS, &J->nchips, gerr, sizeof gerr))
+			return cli_usage(cmd, "--gpu: %s", gerr);
+	}
 	bk_grammar *g = &so->grammar;
 	memset(g, 0, sizeof *g);
 	g->ops = bk_grammar_default_ops();
@@ -1044,9 +1059,10 @@ static void header(FILE *f, const job *J, const char *what)
 		        J->so.islands, isl_name(), J->a->migrate, J->a->migrants,
 		        J->a->merge_fronts ? "; --merge-fronts: the candidates of island 0, and of the others their "
 		                             "screening fronts" : "");
-	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops); "
+	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops%s%s); "
 	        "error: %s in %s precision on the target's samples; conventions: r perceptual roughness, a = r^2, "
-	        "V includes 1/(4 NoL NoV)\n", J->so.simple_cost, J->so.complex_cost, objective_name(J),
+	        "V includes 1/(4 NoL NoV)\n", J->so.simple_cost, J->so.complex_cost,
+	        J->a->cost_model ? ", cost model " : "", J->a->cost_model ? J->a->cost_model : "", objective_name(J),
 	        bk_precision_name(J->so.precision));
 }
 
@@ -1074,11 +1090,66 @@ static void row_lead(FILE *f, const member *m)
 	params_field(f, m->res.p, m->spec.np);
 }
 
+/* --gpu columns: per chip ACO's net instructions and transcendental ops,
+ * empty where nothing was compiled (a LUT row); each ends the line. */
+static void gpu_header(FILE *f, const job *J)
+{
+	for (int c = 0; c < J->nchips; c++)
+		fprintf(f, ",aco_%s_instructions,aco_%s_transcendental", J->chip[c], J->chip[c]);
+	fputc('\n', f);
+}
+
+static void gpu_fields(FILE *f, const job *J, const member *m)
+{
+	for (int c = 0; c < J->nchips; c++)
+		if (isnan(m->gpu_insn[c]))
+			fputs(",,", f);
+		else
+			fprintf(f, ",%.0f,%.0f", m->gpu_insn[c], m->gpu_transc[c]);
+	fputc('\n', f);
+}
+
+/* --gpu: the front's members and the catalog rows compiled for each chip
+ * (brdfkit gpucost's shaders); screened candidates are not. */
+static int gpu_columns(job *J)
+{
+	int n = J->nm, nc = J->nchips, rc = 0;
+	const char **a = calloc((size_t)n + 1, sizeof *a), **b = calloc((size_t)n + 1, sizeof *b);
+	const double **p = calloc((size_t)n + 1, sizeof *p);
+	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc + 1, sizeof *st);
+	int *ok = calloc((size_t)n * (size_t)nc + 1, sizeof *ok);
+	char err[700];
+	if (!a || !b || !p || !st || !ok)
+		rc = cli_fail("search", "out of memory");
+	for (int i = 0; !rc && i < n; i++) {
+		const member *m = &J->m[i];
+		int want = !m->lut && !m->status && (m->front || !m->c);
+		a[i] = want ? m->text : NULL;
+		b[i] = want ? m->text_b : NULL;
+		p[i] = m->res.p;
+	}
+	if (!rc && bk_gpucost_texts(a, b, p, n, J->chip, nc, st, ok, J->driver, sizeof J->driver, err, sizeof err))
+		rc = cli_fail("search", "--gpu: %s", err);
+	for (int i = 0; !rc && i < n; i++)
+		for (int c = 0; c < nc; c++) {
+			int y = ok[i * nc + c];
+			J->m[i].gpu_insn[c] = y ? (double)st[i * nc + c].instructions : NAN;
+			J->m[i].gpu_transc[c] = y ? (double)st[i * nc + c].transcendental : NAN;
+		}
+	free(a);
+	free(b);
+	free(p);
+	free(st);
+	free(ok);
+	return rc;
+}
+
 static void write_front_csv(FILE *f, const job *J)
 {
 	header(f, J, "front (refitted on the full samples)");
 	fprintf(f, "name,form,form_b,parameters,simple,complex,cost,error,rmse,max_abs,max_rel,albedo_max_abs,f16_max_abs,"
-	        "stability_half,found_at,%sdominates\n", J->so.islands > 1 ? "island," : "");
+	        "stability_half,found_at,%sdominates", J->so.islands > 1 ? "island," : "");
+	gpu_header(f, J);
 	for (int i = 0; i < J->nm; i++) {
 		const member *m = &J->m[i];
 		if (!m->front)
@@ -1096,14 +1167,15 @@ static void write_front_csv(FILE *f, const job *J)
 			if (beats(m, &J->m[k]))
 				snprintf(dom + strlen(dom), sizeof dom - strlen(dom), "%s%s", *dom ? ";" : "", J->m[k].name);
 		bk_csv_field(f, dom);
-		fputc('\n', f);
+		gpu_fields(f, J, m);
 	}
 }
 
 static void write_catalog_csv(FILE *f, const job *J)
 {
 	header(f, J, "published forms on the same samples, published and refitted");
-	fputs("name,form,form_b,parameters,cost,error,rmse,max_abs,albedo_max_abs,f16_max_abs,stability_half\n", f);
+	fputs("name,form,form_b,parameters,cost,error,rmse,max_abs,albedo_max_abs,f16_max_abs,stability_half", f);
+	gpu_header(f, J);
 	for (int i = 0; i < J->nm; i++) {
 		const member *m = &J->m[i];
 		if (m->c)
@@ -1115,7 +1187,8 @@ static void write_catalog_csv(FILE *f, const job *J)
 		fputc(',', f);
 		if (!isnan(m->f16_max)) /* NaN: no form (a LUT row); inf: not finite in half */
 			fprintf(f, "%.6g", m->f16_max);
-		fprintf(f, ",%s\n", m->verdict);
+		fprintf(f, ",%s", m->verdict);
+		gpu_fields(f, J, m);
 	}
 }
 
@@ -1395,6 +1468,8 @@ static int search_main(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals and errors", .dest = &a.relative},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
 		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
+		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of the front and the catalog rows per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &a.gpu},
+		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
 		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
@@ -1463,6 +1538,16 @@ static int search_main(int argc, char **argv)
 	 * what it alone checks or builds is agreed on before the first exchange */
 	int R = isl_rank(), K = isl_size();
 	rc = R == 0 && bk_out_dir_check(a.out, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
+	if (rc == 0 && R == 0 && J.nchips) { /* a missing driver is said now, not after the search */
+		const char *probe[1] = {"LoH"};
+		const double *none[1] = {NULL};
+		bk_gpucost_stats st[BK_GPUCOST_MAX_CHIPS];
+		int ok[BK_GPUCOST_MAX_CHIPS];
+		char gerr[700];
+		if (bk_gpucost_texts(probe, NULL, none, 1, J.chip, J.nchips, st, ok, J.driver, sizeof J.driver, gerr,
+		                     sizeof gerr))
+			rc = cli_fail("search", "--gpu: %s", gerr);
+	}
 	if (K > 1 && isl_any(rc))
 		return 1;
 	if (rc)
@@ -1499,6 +1584,8 @@ static int search_main(int argc, char **argv)
 		goto done;
 	}
 	report(&J);
+	if (J.nchips && (rc = gpu_columns(&J)))
+		goto done;
 	rc = write_outputs(&J);
 	if (rc == 0 && J.interrupted)
 		rc = 130;
