@@ -242,7 +242,8 @@ results: $(TOOL)
 	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
 	# scene specialisation: each example scene's feature sets, their terms chosen and
 	# refitted on the scene's own domain, shaders and the saving against the generic one
-	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --out results/scenes --link-prefix scenes/
+	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
+	  --link-prefix scenes/
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
 	  results/compare/spec/section.html results/compare/f/section.html \

@@ -3,7 +3,9 @@
 # counts that are facts of AMD's instruction set (a/b is one v_rcp_f32, exp2
 # one v_exp_f32, a*b + c one multiply-add, an input alone the baseline), the
 # talk's claims in real ISA, the same bytes twice, one-line errors, and the
-# install line when the driver is missing.
+# install line when the driver is missing; the calibration (catalog and search
+# fronts) against the named cost models; --cost-model and --gpu in ops,
+# compare, search and scene.
 # usage: sh tests/gpucost.sh path/to/brdfkit
 set -u
 BK=${1:?usage: gpucost.sh path/to/brdfkit}
@@ -84,7 +86,7 @@ $BK gpucost --calibrate >"$T/c.csv" 2>"$T/err" && ok || bad "calibrate: $(cat "$
 [ "$(grep -vc '^#' "$T/c.csv")" -eq $((1 + $($BK catalog | tail -n +2 | wc -l))) ] && ok || bad "calibrate: one row per catalog form"
 grep -q '^# least squares, no intercept: instructions ~ .* simple + .* complex' "$T/c.csv" && ok || bad "calibrate: weights"
 grep -q '^# Spearman rank correlation with instructions: IR cost 0\.[0-9]*, fitted cost' "$T/c.csv" && ok || bad "calibrate: spearman"
-[ "$(grep -v '^#' "$T/c.csv" | head -1)" = "name,simple,complex,ir_cost,instructions,fitted,residual" ] && ok || bad "calibrate columns"
+[ "$(grep -v '^#' "$T/c.csv" | head -1)" = "name,simple,complex,ir_cost,instructions,fitted,residual,inv_throughput" ] && ok || bad "calibrate columns"
 # the talk's env BRDF has no complex op: its IR cost and its instructions are the simple count
 [ "$(grep '^env_talk_r,' "$T/c.csv" | cut -d, -f2-5)" = "4,0,4,4" ] && ok || bad "calibrate env_talk_r: $(grep '^env_talk_r,' "$T/c.csv")"
 expect_error "calibrate: a missing front" 1 "NoV: No such file" $BK gpucost --calibrate NoV
@@ -155,6 +157,20 @@ grep -v '^#' "$T/srch/front.csv" | head -1 | grep -q ',dominates,aco_navi21_inst
 grep -v '^#' "$T/srch/front.csv" | tail -n +2 | awk -F, '$(NF-1) !~ /^-?[0-9]+$/ || $NF !~ /^-?[0-9]+$/ { b = 1 } END { exit b }' &&
 	ok || bad "search: a front member without counts"
 [ "$(grep '^F_schlick,' "$T/srch/catalog.csv" | awk -F, '{ print $NF }')" = 0 ] && ok || bad "search: catalog F_schlick transcendental"
+# scene --gpu: each term's count in scene.csv, their sum per set in sets.csv
+printf '{"scene": "no ibl", "materials": [{"name": "m", "roughness": {"min": 0.3, "max": 1}}],\n "lighting": {"ibl": false}, "target": {"error": {"vf": 0.2}}}\n' >"$T/noibl.json"
+$BK scene "$T/noibl.json" --no-time --gpu navi21,polaris10 --out "$T/scene" >/dev/null 2>"$T/err" && ok ||
+	bad "scene --gpu: $(tail -2 "$T/err")"
+grep -v '^#' "$T/scene/sets.csv" | head -1 | grep -q ',generic_spirv,aco_navi21_instructions,generic_aco_navi21_instructions,aco_polaris10_instructions,generic_aco_polaris10_instructions$' &&
+	ok || bad "scene: sets.csv columns"
+grep -q '^# aco_CHIP_instructions: .*radv Mesa' "$T/scene/scene.csv" && ok || bad "scene: scene.csv says what the counts are"
+# per set and chip: the terms' counts (scene.csv, from the right) add up to the set's (sets.csv)
+for k in 0 1; do # navi21 (the last four columns' first pair), polaris10 (the second)
+	want=$(grep -v '^#' "$T/scene/scene.csv" | tail -n +2 | awk -F, -v k=$k '{ s += $(NF - 3 + 2 * k) } END { print s }')
+	got=$(grep -v '^#' "$T/scene/sets.csv" | tail -n +2 | awk -F, -v k=$k '{ print $(NF - 3 + 2 * k) }')
+	[ -n "$got" ] && [ "$got" = "$want" ] && [ "$got" -gt 0 ] && ok || bad "scene: set sum $got, terms $want (chip $k)"
+done
+expect_error "scene: bad chip" 2 "'navi31'" $BK scene "$T/noibl.json" --gpu navi31 --out "$T/s1"
 expect_error "calibrate two chips" 2 "one known chip" $BK gpucost --calibrate --chips navi21,vega10
 
 # errors: one line naming the bad input; usage errors exit 2

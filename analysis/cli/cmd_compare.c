@@ -320,16 +320,17 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	}
 	fputs("</table>\n", f);
 	if (S->info.nchips) {
-		fprintf(f, "<details><summary>Error against AMD instruction counts, per chip (Mesa RADV's null device "
-		           "and its ACO compiler, %s; net of a load/store baseline; closed forms only)</summary>\n",
+		/* pictures, not inline plots: four more full-size plots per target would bury the table */
+		fprintf(f, "<p>Error against AMD instruction counts, per chip (Mesa RADV's null device and its ACO "
+		           "compiler, %s; net of a load/store baseline; closed forms only). Where an order differs from the "
+		           "ALU cost's, the IR's model and the compiler disagree: see <code>brdfkit gpucost "
+		           "--calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n<p>",
 		        S->driver);
-		for (int c = 0; c < S->info.nchips; c++) {
-			snprintf(svg, sizeof svg, "%.4000s/aco_%.60s.svg", dir, S->info.chip[c]);
-			cat_file(f, svg);
-		}
-		fputs("<p>Where these orders differ from the ALU cost's, the IR's model and the compiler disagree: see "
-		      "<code>brdfkit gpucost --calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n"
-		      "</details>\n", f);
+		for (int c = 0; c < S->info.nchips; c++)
+			fprintf(f, "<a href=\"%saco_%s.svg\"><img src=\"%saco_%s.svg\" width=\"380\" alt=\"error against %s "
+			           "instructions\"></a>",
+			        prefix, S->info.chip[c], prefix, S->info.chip[c], S->info.chip[c]);
+		fputs("</p>\n", f);
 	}
 	fputs("</section>\n", f);
 }
@@ -432,7 +433,7 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		bk_compare_svg(f[3], S->rows, S->n, 1, title, &S->info);
 		fclose(f[2]);
 		f[2] = NULL;
-		for (int c = 0; c < S->info.nchips && rc == 0; c++) { /* before the section, which embeds them */
+		for (int c = 0; c < S->info.nchips && rc == 0; c++) {
 			snprintf(path, sizeof path, "%s/aco_%.60s.svg", tmp, S->info.chip[c]);
 			FILE *g = fopen(path, "w");
 			snprintf(title, sizeof title, "%s: max |error| against AMD %s instructions", bk_target_name(S->to.kind),

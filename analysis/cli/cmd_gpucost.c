@@ -183,6 +183,7 @@ static int output(const char *path, const gc_row *rows, const bk_gpucost_job *jo
 typedef struct cal_row {
 	const char *name;
 	double simple, complex, insn, fitted;
+	double thr;  /* ACO's inverse throughput, net */
 } cal_row;
 
 static const cal_row *cal_sorted; /* qsort has no context argument */
@@ -198,6 +199,7 @@ typedef struct cal_info {
 	int fp16;
 	const char *driver;
 	double ws, wc;    /* the fitted weights */
+	double ts, tc;    /* the same fit to ACO's inverse throughput (0, 0: collinear) */
 	int ncat, nfront, nfiles;
 } cal_info;
 
@@ -233,6 +235,13 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	fprintf(f, "# Spearman rank correlation with instructions: IR cost %.4f, fitted cost %.4f; rows from the "
 	           "worst outlier (|instructions - fitted|) down\n",
 	        bk_gpucost_spearman(a, y, n), bk_gpucost_spearman(fit, y, n));
+	for (int i = 0; i < n; i++) { /* the throughput fit, for the note below */
+		b[i] = c[i].thr;
+		fit[i] = ci->ts * c[i].simple + ci->tc * c[i].complex;
+	}
+	fprintf(f, "# the same fit to ACO's inverse throughput (its cycle estimate, coarse: a few units for a form): "
+	           "%.4g simple + %.4g complex; Spearman IR cost %.4f, fitted %.4f\n",
+	        ci->ts, ci->tc, bk_gpucost_spearman(a, b, n), bk_gpucost_spearman(fit, b, n));
 	const bk_cost_model *cm = NULL;
 	char name[80];
 	snprintf(name, sizeof name, "aco-%s", chip);
@@ -242,11 +251,11 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 		fprintf(f, "# the named cost model %s (--cost-model) holds simple %g, complex %g: Spearman %.4f here\n",
 		        cm->name, cm->simple, cm->complex, bk_gpucost_spearman(b, y, n));
 	}
-	fputs("name,simple,complex,ir_cost,instructions,fitted,residual\n", f);
+	fputs("name,simple,complex,ir_cost,instructions,fitted,residual,inv_throughput\n", f);
 	for (int k = 0; k < n; k++) {
 		const cal_row *r = &c[order[k]];
-		fprintf(f, "%s,%g,%g,%g,%g,%.4g,%.4g\n", r->name, r->simple, r->complex, a[order[k]], r->insn, r->fitted,
-		        r->insn - r->fitted);
+		fprintf(f, "%s,%g,%g,%g,%g,%.4g,%.4g,%g\n", r->name, r->simple, r->complex, a[order[k]], r->insn, r->fitted,
+		        r->insn - r->fitted, r->thr);
 	}
 	free(a);
 }
@@ -433,6 +442,7 @@ static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
 		s[i] = c[i].simple;
 		s[n + i] = c[i].complex;
 		s[2 * n + i] = c[i].insn = (double)jobs[i].net[0].instructions;
+		c[i].thr = (double)jobs[i].net[0].throughput;
 	}
 	if (!rc && bk_gpucost_fit2(s, s + n, s + 2 * n, n, &ws, &wc))
 		rc = cli_fail("gpucost", "--calibrate: simple and complex counts are collinear over these forms");
@@ -444,7 +454,11 @@ static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
 		cal_sorted = c;
 		qsort(order, (size_t)n, sizeof *order, by_residual);
 		bk_out o;
-		cal_info ci = {chip, fp16, driver, ws, wc, ncat, n - ncat, cmd->npos};
+		cal_info ci = {chip, fp16, driver, ws, wc, 0, 0, ncat, n - ncat, cmd->npos};
+		for (int i = 0; i < n; i++)
+			s[2 * n + i] = c[i].thr;
+		if (bk_gpucost_fit2(s, s + n, s + 2 * n, n, &ci.ts, &ci.tc))
+			ci.ts = ci.tc = 0;
 		if (!out) {
 			write_calibration(stdout, c, order, n, &ci);
 			rc = fflush(stdout) ? cli_fail("gpucost", "stdout: write failed") : 0;
@@ -538,7 +552,8 @@ int cmd_gpucost(int argc, char **argv)
 	               "counts (no intercept), Spearman rank correlations of the IR cost, the fitted cost and\n"
 	               "the named model aco-CHIP (--cost-model of ops, compare, search) with them, and one\n"
 	               "row per form from the worst outlier down:\n"
-	               "name,simple,complex,ir_cost,instructions,fitted,residual.",
+	               "name,simple,complex,ir_cost,instructions,fitted,residual,inv_throughput; the same fit\n"
+	               "to ACO's inverse throughput is reported in a '# ' line.",
 	               opts, 4, GC_MAX_ROWS, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)

@@ -9,6 +9,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "expr.h"
+#include "gpucost.h"
 #include "out.h"
 #include "scene.h"
 #include "scene_fit.h"
@@ -19,6 +20,7 @@
 #include <sys/stat.h>
 
 #define TIME_REPS 7
+#define SCENE_CHIPS 8
 
 /* What the run decided for one feature set. */
 typedef struct set_result {
@@ -28,7 +30,18 @@ typedef struct set_result {
 	double cost, gen_cost;   /* ALU + fetches, the scene's weights */
 	int spirv, gen_spirv;    /* SPIR-V instructions of the forms (fetches not counted) */
 	double ns, gen_ns;       /* CPU ns per evaluation of the forms, summed */
+	/* --gpu: ACO's net instructions per term and chip (NaN: a LUT, nothing compiled), and
+	 * summed over the set's terms (fetches not included) */
+	double gpu[BK_SCENE_TERMS][SCENE_CHIPS], gen_gpu[BK_SCENE_TERMS][SCENE_CHIPS];
+	double gpu_sum[SCENE_CHIPS], gen_gpu_sum[SCENE_CHIPS];
 } set_result;
+
+/* --gpu: the chips, shared by every scene of the run */
+static struct {
+	const char *chip[SCENE_CHIPS];
+	int n;
+	char buf[512], driver[256];
+} gpu;
 
 static const char *const lang_ext[3] = {"glsl", "hlsl", "c"};
 static const bk_lang lang_of[3] = {BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C};
@@ -135,8 +148,15 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
 	        sc->half ? "half precision (mediump)" : "single precision (highp)", sc->simple_cost, sc->complex_cost,
 	        sc->fetch_cost);
+	if (gpu.n)
+		fprintf(f, "# aco_CHIP_instructions: AMD instructions of the term's form (brdfkit gpucost: Mesa RADV's null "
+		           "device, %s, fp32, net of a load/store baseline; empty for a LUT), and of the generic shader's\n",
+		        gpu.driver);
 	fputs("material,feature_set,term,choice,form,parameters,simple,complex,fetches,cost,error,error_kind,budget,"
-	      "meets_budget,fp16_guards,generic_cost,generic_error\n", f);
+	      "meets_budget,fp16_guards,generic_cost,generic_error", f);
+	for (int c = 0; c < gpu.n; c++)
+		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
+	fputc('\n', f);
 	for (int i = 0; i < nset; i++)
 		for (int m = 0; m < R[i].set.nmat; m++)
 			for (int t = 0; t < BK_SCENE_TERMS; t++) {
@@ -156,7 +176,16 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 					fprintf(f, "%.6g", c->budget);
 				fprintf(f, ",%d,", c->meets);
 				bk_csv_field(f, c->guards);
-				fprintf(f, ",%g,%.6g\n", g->cost, g->err);
+				fprintf(f, ",%g,%.6g", g->cost, g->err);
+				for (int k = 0; k < gpu.n; k++) {
+					fputc(',', f);
+					if (!isnan(R[i].gpu[t][k]))
+						fprintf(f, "%.0f", R[i].gpu[t][k]);
+					fputc(',', f);
+					if (!isnan(R[i].gen_gpu[t][k]))
+						fprintf(f, "%.0f", R[i].gen_gpu[t][k]);
+				}
+				fputc('\n', f);
 			}
 }
 
@@ -166,7 +195,14 @@ static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 	           "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
 	           "instructions of the forms' GLSL after spirv-opt -O (fetches not included)\n",
 	        BK_VERSION, sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
-	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv\n", f);
+	if (gpu.n)
+		fprintf(f, "# aco_CHIP_instructions: AMD instructions of the set's forms, summed (brdfkit gpucost: Mesa RADV's "
+		           "null device, %s, fp32, net of a load/store baseline per form; fetches not included)\n",
+		        gpu.driver);
+	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv", f);
+	for (int c = 0; c < gpu.n; c++)
+		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
+	fputc('\n', f);
 	for (int i = 0; i < nset; i++) {
 		const set_result *r = &R[i];
 		fprintf(f, "%s,", r->set.name);
@@ -175,8 +211,11 @@ static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 			snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", m ? ";" : "",
 			         sc->mat[r->set.mat[m]].name);
 		bk_csv_field(f, names);
-		fprintf(f, ",%g,%g,%g,%g,%g,%g,%.3g,%d,%d\n", r->set.r_lo, r->set.r_hi, r->set.f0_lo, r->set.f0_hi, r->cost,
+		fprintf(f, ",%g,%g,%g,%g,%g,%g,%.3g,%d,%d", r->set.r_lo, r->set.r_hi, r->set.f0_lo, r->set.f0_hi, r->cost,
 		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+		for (int c = 0; c < gpu.n; c++)
+			fprintf(f, ",%.0f,%.0f", r->gpu_sum[c], r->gen_gpu_sum[c]);
+		fputc('\n', f);
 	}
 }
 
@@ -340,6 +379,47 @@ static void time_sets(set_result *R, int nset)
 	free(owner);
 }
 
+/* --gpu: every chosen and generic form of every set compiled for each chip
+ * (one Vulkan instance per chip for the whole scene). Returns 0 or 1. */
+static int gpu_sets(set_result *R, int nset)
+{
+	int n = 2 * nset * BK_SCENE_TERMS, nc = gpu.n, rc = 0;
+	const char **a = calloc((size_t)n, sizeof *a);
+	const double **p = calloc((size_t)n, sizeof *p);
+	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc, sizeof *st);
+	int *ok = calloc((size_t)n * (size_t)nc, sizeof *ok);
+	char err[700];
+	if (!a || !p || !st || !ok)
+		rc = cli_fail("scene", "out of memory");
+	for (int i = 0; !rc && i < nset; i++)
+		for (int t = 0; t < BK_SCENE_TERMS; t++)
+			for (int g = 0; g < 2; g++) {
+				const bk_scene_choice *c = g ? &R[i].gen[t] : &R[i].ch[t];
+				int k = (i * BK_SCENE_TERMS + t) * 2 + g;
+				a[k] = R[i].has[t] && !c->lut ? c->text : NULL;
+				p[k] = c->p;
+			}
+	if (!rc && bk_gpucost_texts(a, NULL, p, n, gpu.chip, nc, st, ok, gpu.driver, sizeof gpu.driver, err, sizeof err))
+		rc = cli_fail("scene", "--gpu: %s", err);
+	for (int i = 0; !rc && i < nset; i++)
+		for (int c = 0; c < nc; c++) {
+			R[i].gpu_sum[c] = R[i].gen_gpu_sum[c] = 0;
+			for (int t = 0; t < BK_SCENE_TERMS; t++)
+				for (int g = 0; g < 2; g++) {
+					int k = ((i * BK_SCENE_TERMS + t) * 2 + g) * nc + c;
+					double v = ok[k] ? (double)st[k].instructions : NAN;
+					*(g ? &R[i].gen_gpu[t][c] : &R[i].gpu[t][c]) = v;
+					if (ok[k])
+						*(g ? &R[i].gen_gpu_sum[c] : &R[i].gpu_sum[c]) += v;
+				}
+		}
+	free(a);
+	free(p);
+	free(st);
+	free(ok);
+	return rc;
+}
+
 static void timing_csv(FILE *f, const set_result *R, int nset)
 {
 	fprintf(f, "# CPU ns per evaluation of each feature set's forms (generated C, -O2, median of %d interleaved "
@@ -484,13 +564,14 @@ static int specialise(scene_run *S)
 
 int cmd_scene(int argc, char **argv)
 {
-	const char *out = NULL, *prefix = "", *id = "scenes";
+	const char *out = NULL, *prefix = "", *id = "scenes", *chips = NULL;
 	int no_time = 0;
 	cli_opt opts[] = {
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write the shaders, scene.csv, sets.csv, report.txt, section.html", .dest = &out, .required = 1},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
 		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id (default scenes)", .dest = &id},
+		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of every set's forms and the generic's per chip (brdfkit gpucost), in scene.csv and sets.csv", .dest = &chips},
 	};
 	cli_cmd cmd = {"scene", "From a scene description (JSON) to one specialised shader per feature set: the terms the\n"
 	               "scene needs and no others, each the cheapest form that meets the error budget on the\n"
@@ -516,12 +597,18 @@ int cmd_scene(int argc, char **argv)
 	               " (each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
 	               "f0*A + B; at both ends of the f0 range.",
-	               opts, 4, 16, 0, {0}};
+	               opts, 5, 16, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (cmd.npos < 1)
 		return cli_usage(&cmd, "give a scene file");
+	if (chips) {
+		char gerr[700];
+		snprintf(gpu.buf, sizeof gpu.buf, "%s", chips);
+		if (bk_gpucost_chips(gpu.buf, gpu.chip, SCENE_CHIPS, &gpu.n, gerr, sizeof gerr))
+			return cli_usage(&cmd, "--gpu: %s", gerr);
+	}
 	int n = cmd.npos;
 	scene_run *S = calloc(n, sizeof *S);
 	if (!S)
@@ -539,6 +626,8 @@ int cmd_scene(int argc, char **argv)
 		rc = specialise(&S[k]);
 	for (int k = 0; k < n && !rc && !no_time; k++)
 		time_sets(S[k].R, S[k].nset);
+	for (int k = 0; k < n && !rc && gpu.n; k++)
+		rc = gpu_sets(S[k].R, S[k].nset);
 	if (!rc) {
 		bk_out_dir od;
 		if (bk_out_dir_begin(&od, out, NULL, err, sizeof err)) {
