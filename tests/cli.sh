@@ -606,6 +606,20 @@ expect_error "search fetch-cost on vf2d" "--fetch-cost" $BK search --target vf2d
 if $BK search --target env --evals 300 --fetch-cost 16 --out "$T/lut" >/dev/null 2>"$T/err" &&
 	[ "$(grep -c '^LUT [0-9]*x[0-9]* [a-z0-9]*,,,,17,' "$T/lut/catalog.csv")" = 12 ]; then ok
 else bad "search --fetch-cost: $(grep LUT "$T/lut/catalog.csv" | head -3) $(tail -2 "$T/err")"; fi
+# --env-form f0: one form in f0 scored on f0 A + B (compare's quantity): the
+# catalog's forms in f0 seed it, each split pair as f0*(A) + (B); no form_b
+expect_error "search env-form" "'triple'" $BK search --target env --env-form triple --out "$T/s4"
+expect_error "search env-form split start" "write it as 'f0*(A) + (B)'" $BK search --target env --env-form f0 \
+	--start env_karis2014_split --out "$T/s4"
+if $BK search --target env --env-form f0 --evals 400 --out "$T/ef0" >/dev/null 2>"$T/err"; then ok
+else bad "search --env-form f0: $(tail -2 "$T/err")"; fi
+grep -q '^# target: env: .*one form in f0 fitted to f0 A + B over the f0 list' "$T/ef0/front.csv" && ok ||
+	bad "search --env-form f0: the target line: $(grep '^# target' "$T/ef0/front.csv")"
+grep -q '^env_pesce_iwanicki2015,' "$T/ef0/catalog.csv" && ok || bad "search --env-form f0: Pesce-Iwanicki not a seed"
+grep -q '^env_karis2014_split,"f0\*((p9\*' "$T/ef0/catalog.csv" && ok || bad "search --env-form f0: the split pair not as f0*(A) + (B)"
+# every row: name, form (quoted or not), an empty form_b
+[ "$(grep -v '^#' "$T/ef0/front.csv" | tail -n +2 | grep -cEv '^[^,]*,("([^"]|"")*"|[^",]*),,')" = 0 ] && ok ||
+	bad "search --env-form f0: a front member with form_b"
 # SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
 $BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
 pid=$!

@@ -266,6 +266,7 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 
 typedef struct front_reader {
 	const char *path;
+	char dir[64];        /* the front's folder (results/search/env/front.csv: "env"), names its rows */
 	char *field[FR_FIELDS];
 	int nfield, record;
 	int col[4];          /* name, form, form_b, parameters */
@@ -343,7 +344,7 @@ static void fr_record(int c, void *data)
 		}
 		gc_row *g = &r->rows[r->n];
 		memset(g, 0, sizeof *g);
-		snprintf(g->name, sizeof g->name, "%.150s", r->field[r->col[0]]);
+		snprintf(g->name, sizeof g->name, "%.60s%s%.90s", r->dir, *r->dir ? "/" : "", r->field[r->col[0]]);
 		g->text[0] = g->own[0] = r->field[r->col[1]];
 		r->field[r->col[1]] = NULL;
 		if (r->field[r->col[2]][0]) {
@@ -372,6 +373,11 @@ static int read_front(const char *path, gc_row **rows, int *n, int *cap)
 	if (!f)
 		return cli_fail("gpucost", "%s: %s", path, strerror(errno));
 	front_reader r = {.path = path, .rows = *rows, .n = *n, .cap = *cap};
+	const char *slash = strrchr(path, '/'), *start = slash; /* two searches both have a search_env_10 */
+	while (start && start > path && start[-1] != '/')
+		start--;
+	if (slash && start && slash > start)
+		snprintf(r.dir, sizeof r.dir, "%.*s", (int)(slash - start < 63 ? slash - start : 63), start);
 	struct csv_parser p;
 	char line[65536];
 	int head = 1, rc = csv_init(&p, CSV_APPEND_NULL) ? 2 : 0;

@@ -34,7 +34,7 @@
 
 typedef struct search_cli {
 	fit_cli t; /* the target options, as fit reads them */
-	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *checkpoint, *resume;
+	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *env_form, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
@@ -158,6 +158,13 @@ static int parse_weights(const cli_cmd *cmd, const char *text, double *simple, d
 			return cli_usage(cmd, "--cost-weights: '%s' is not simple or complex", t);
 	}
 	return *simple + *complex > 0 ? 0 : cli_usage(cmd, "--cost-weights: both weights are 0");
+}
+
+/* --env-form f0: env candidates are one form in f0 (Pesce-Iwanicki's,
+ * Narkowicz's kind), not a split pair. */
+static int env_in_f0(const job *J)
+{
+	return J->kind == BK_TARGET_ENV && J->a->env_form && !strcmp(J->a->env_form, "f0");
 }
 
 /* The catalog's tag for the forms of a target, NULL when none fits it. */
@@ -289,9 +296,15 @@ static int setup(job *J)
 	case BK_TARGET_ENV: so->shape = BK_SHAPE_PAIR; break;
 	default: so->shape = BK_SHAPE_PLAIN; break;
 	}
+	if (a->env_form && strcmp(a->env_form, "pair") && strcmp(a->env_form, "f0"))
+		return cli_usage(cmd, "--env-form: expected pair or f0, got '%.40s'", a->env_form);
+	if (env_in_f0(J)) { /* one tree in f0, NoV, r scored on f0 A + B over the f0 list, as compare scores */
+		so->shape = BK_SHAPE_PLAIN;
+		J->to.env_f0_form = 1;
+	}
 	/* constraints that hold for the target: on unless --no-constraints */
 	so->nonneg = !a->no_constraints && J->kind != BK_TARGET_FORM;
-	so->env_bound = !a->no_constraints && J->kind == BK_TARGET_ENV;
+	so->env_bound = !a->no_constraints && J->kind == BK_TARGET_ENV && !env_in_f0(J);
 	return 0;
 }
 
@@ -327,8 +340,23 @@ static int setup_seeds(job *J, seeds *sd)
 			const bk_catalog_entry *e = bk_catalog_at(i);
 			/* vf: the V-only entries times Schlick's F, as compare scores them */
 			int v_only = J->kind == BK_TARGET_VF && !strcmp(e->target, "V");
-			if ((strcmp(e->target, tag) && !v_only) || !entry_fits(e, J->screen.provides))
+			/* env in f0: the forms in f0, and each split pair as f0*(A) + (B) */
+			int in_f0 = env_in_f0(J) && !strcmp(e->target, "env_f0");
+			if ((strcmp(e->target, tag) && !v_only && !in_f0) || !entry_fits(e, J->screen.provides))
 				continue; /* published forms seed whatever their size */
+			if (env_in_f0(J) && e->form_b) {
+				char *t = malloc(strlen(e->form) + strlen(e->form_b) + 16);
+				if (!t)
+					return cli_fail("search", "out of memory");
+				sprintf(t, "f0*(%s) + (%s)", e->form, e->form_b);
+				sd->owned[sd->n] = t;
+				sd->text[sd->n] = t;
+				sd->text_b[sd->n] = NULL;
+				sd->name[sd->n] = e->name;
+				memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
+				sd->n++;
+				continue;
+			}
 			if (v_only) {
 				char *t = malloc(strlen(e->form) + 32);
 				if (!t)
@@ -358,10 +386,13 @@ static int setup_seeds(job *J, seeds *sd)
 	}
 	for (int k = 0; k < J->a->nstart; k++) {
 		const bk_catalog_entry *e = bk_catalog_find(J->a->start[k]);
-		if (e && tag && strcmp(e->target, tag))
+		if (e && tag && strcmp(e->target, tag) && !(env_in_f0(J) && !strcmp(e->target, "env_f0")))
 			return cli_usage(J->cmd, "--start %s: a %s form, not one of target %s", e->name, e->target,
 			                 bk_target_name(J->kind));
-		if (!e && J->kind == BK_TARGET_ENV)
+		if (e && e->form_b && env_in_f0(J))
+			return cli_usage(J->cmd, "--start %s: a split pair; with --env-form f0 write it as 'f0*(A) + (B)'",
+			                 e->name);
+		if (!e && J->kind == BK_TARGET_ENV && !env_in_f0(J))
 			return cli_usage(J->cmd, "--start '%s': target env takes catalog names (A and B)", J->a->start[k]);
 		if (e && !entry_fits(e, J->screen.provides))
 			return cli_usage(J->cmd, "--start %s reads an input target %s does not provide", e->name,
@@ -982,7 +1013,7 @@ static int build_members(job *J, const seeds *sd)
 			m->entry = e;
 			m->refit = r;
 			if (e)
-				snprintf(m->name, sizeof m->name, "%s%s%s", e->name, strcmp(e->form, sd->text[k]) ? " x F_schlick" : "",
+				snprintf(m->name, sizeof m->name, "%s%s%s", e->name, !strcmp(e->target, "V") ? " x F_schlick" : "",
 				         r ? " (refit)" : "");
 			else if (sd->name[k])
 				snprintf(m->name, sizeof m->name, "%s%s", sd->name[k], r ? " (refit)" : "");
@@ -1468,6 +1499,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals and errors", .dest = &a.relative},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
 		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
+		{.name = "--env-form", .kind = CLI_STR, .metavar = "pair|f0", .help = "env: candidates are split pairs A, B (default) or one form in f0 scored on f0 A + B (as compare scores)", .dest = &a.env_form},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of the front and the catalog rows per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &a.gpu},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
