@@ -768,3 +768,17 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
 	free(at);
 	return rc;
 }
+
+int bk_gpucost_check(const char *const *chips, int nchips, char *driver, size_t driverlen, char *err,
+                     size_t errlen)
+{
+	const char *probe[1] = {"LoH"};
+	const double *none[1] = {NULL};
+	bk_gpucost_stats st[BK_GPUCOST_MAX_CHIPS];
+	int ok[BK_GPUCOST_MAX_CHIPS];
+	if (nchips > BK_GPUCOST_MAX_CHIPS) {
+		snprintf(err, errlen, "at most %d chips", BK_GPUCOST_MAX_CHIPS);
+		return -1;
+	}
+	return bk_gpucost_texts(probe, NULL, none, 1, chips, nchips, st, ok, driver, driverlen, err, errlen);
+}

@@ -85,6 +85,12 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
                      const char *const *chips, int nchips, bk_gpucost_stats *out, int *ok, char *driver,
                      size_t driverlen, char *err, size_t errlen);
 
+/* Compiles one trivial form on every chip: a missing driver or a chip it
+ * refuses is said before a long run that would need it, not after. Returns as
+ * bk_gpucost_texts. */
+int bk_gpucost_check(const char *const *chips, int nchips, char *driver, size_t driverlen, char *err,
+                     size_t errlen);
+
 /* ---- calibration: the IR's cost model against ACO's counts ------------------------ */
 
 /* Spearman's rank correlation of x and y over n pairs (ties get their average

@@ -128,6 +128,13 @@ expect_error "search: bad chip" 2 "'navi31'" $BK search --target f --gpu navi31 
 expect_error "search: no driver, before the search" 1 "apt-get install mesa-vulkan-drivers" \
 	env VK_ICD_FILENAMES=/nonexistent $BK search --target f --gpu navi21 --evals 50 --out "$T/s0"
 [ ! -e "$T/s0" ] && ok || bad "search --gpu without a driver wrote its --out"
+# compare and scene too say it before their minutes of work (timeout: well before)
+expect_error "compare: no driver, before the work" 1 "apt-get install mesa-vulkan-drivers" \
+	env VK_ICD_FILENAMES=/nonexistent timeout 20 $BK compare --target env --gpu navi21 --out "$T/c0"
+printf '{"scene": "s", "materials": [{"name": "m", "roughness": 0.5}]}\n' >"$T/s.json"
+expect_error "scene: no driver, before the work" 1 "apt-get install mesa-vulkan-drivers" \
+	env VK_ICD_FILENAMES=/nonexistent timeout 20 $BK scene "$T/s.json" --gpu navi21 --out "$T/sc0"
+[ ! -e "$T/c0" ] && [ ! -e "$T/sc0" ] && ok || bad "compare/scene --gpu without a driver wrote their --out"
 $BK compare --target f --no-time --no-refit --gpu navi21,gfx1100 --cost-model aco-navi21 --out "$T/cmp" \
 	2>"$T/err" && ok || bad "compare --gpu: $(cat "$T/err")"
 # ccol FILE NAME COLUMN: a column of compare.csv by name (from the right: sources hold quoted commas)

@@ -586,9 +586,11 @@ int cmd_compare(int argc, char **argv)
 		if (bk_gpucost_chips(chipbuf, S.info.chip, BK_COMPARE_CHIPS, &S.info.nchips, gerr, sizeof gerr))
 			return cli_usage(&cmd, "--gpu: %s", gerr);
 	}
-	char err[512];
+	char err[700];
 	if (bk_out_dir_check(out, err, sizeof err)) /* before minutes of work, not after */
 		return cli_fail("compare", "--out %s", err);
+	if (S.info.nchips && bk_gpucost_check(S.info.chip, S.info.nchips, S.driver, sizeof S.driver, err, sizeof err))
+		return cli_fail("compare", "--gpu: %s", err);
 	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
 		return cli_fail("compare", "%s", err);
 	if ((rc = check_args(&cmd, kind, S.s.provides))) {

@@ -622,6 +622,9 @@ int cmd_scene(int argc, char **argv)
 	char err[512];
 	if (!rc && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
 		rc = cli_fail("scene", "--out %s", err);
+	char gerr[700];
+	if (!rc && gpu.n && bk_gpucost_check(gpu.chip, gpu.n, gpu.driver, sizeof gpu.driver, gerr, sizeof gerr))
+		rc = cli_fail("scene", "--gpu: %s", gerr);
 	for (int k = 0; k < n && !rc; k++)
 		rc = specialise(&S[k]);
 	for (int k = 0; k < n && !rc && !no_time; k++)

@@ -1571,13 +1571,8 @@ static int search_main(int argc, char **argv)
 	int R = isl_rank(), K = isl_size();
 	rc = R == 0 && bk_out_dir_check(a.out, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
 	if (rc == 0 && R == 0 && J.nchips) { /* a missing driver is said now, not after the search */
-		const char *probe[1] = {"LoH"};
-		const double *none[1] = {NULL};
-		bk_gpucost_stats st[BK_GPUCOST_MAX_CHIPS];
-		int ok[BK_GPUCOST_MAX_CHIPS];
 		char gerr[700];
-		if (bk_gpucost_texts(probe, NULL, none, 1, J.chip, J.nchips, st, ok, J.driver, sizeof J.driver, gerr,
-		                     sizeof gerr))
+		if (bk_gpucost_check(J.chip, J.nchips, J.driver, sizeof J.driver, gerr, sizeof gerr))
 			rc = cli_fail("search", "--gpu: %s", gerr);
 	}
 	if (K > 1 && isl_any(rc))
