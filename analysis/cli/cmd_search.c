@@ -344,34 +344,19 @@ static int setup_seeds(job *J, seeds *sd)
 			int in_f0 = env_in_f0(J) && !strcmp(e->target, "env_f0");
 			if ((strcmp(e->target, tag) && !v_only && !in_f0) || !entry_fits(e, J->screen.provides))
 				continue; /* published forms seed whatever their size */
-			if (env_in_f0(J) && e->form_b) {
-				char *t = malloc(strlen(e->form) + strlen(e->form_b) + 16);
-				if (!t)
+			char *t = NULL; /* a text made here: V x Schlick, or a pair as one form in f0 */
+			if (v_only || (env_in_f0(J) && e->form_b)) {
+				size_t len = strlen(e->form) + (e->form_b ? strlen(e->form_b) : 0) + 32;
+				if (!(t = malloc(len)))
 					return cli_fail("search", "out of memory");
-				sprintf(t, "f0*(%s) + (%s)", e->form, e->form_b);
-				sd->owned[sd->n] = t;
-				sd->text[sd->n] = t;
-				sd->text_b[sd->n] = NULL;
-				sd->name[sd->n] = e->name;
-				memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
-				sd->n++;
-				continue;
+				if (v_only)
+					snprintf(t, len, "(%s)*F_schlick(f0, 1, LoH)", e->form);
+				else
+					snprintf(t, len, "f0*(%s) + (%s)", e->form, e->form_b);
 			}
-			if (v_only) {
-				char *t = malloc(strlen(e->form) + 32);
-				if (!t)
-					return cli_fail("search", "out of memory");
-				sprintf(t, "(%s)*F_schlick(f0, 1, LoH)", e->form);
-				sd->owned[sd->n] = t;
-				sd->text[sd->n] = t;
-				sd->text_b[sd->n] = NULL;
-				sd->name[sd->n] = e->name;
-				memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
-				sd->n++;
-				continue;
-			}
-			sd->text[sd->n] = e->form;
-			sd->text_b[sd->n] = e->form_b;
+			sd->owned[sd->n] = t;
+			sd->text[sd->n] = t ? t : e->form;
+			sd->text_b[sd->n] = t ? NULL : e->form_b;
 			sd->name[sd->n] = e->name;
 			memcpy(sd->p[sd->n], e->defaults, sizeof e->defaults);
 			sd->n++;
