@@ -728,8 +728,8 @@ int bk_gpucost_fit2(const double *a, const double *b, const double *y, int n, do
 }
 
 int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
-                     const char *const *chips, int nchips, bk_gpucost_stats *out, int *ok, char *driver,
-                     size_t driverlen, char *err, size_t errlen)
+                     const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
+                     char *driver, size_t driverlen, char *err, size_t errlen)
 {
 	bk_gpucost_job *jobs = calloc((size_t)n + 1, sizeof *jobs);
 	int *at = calloc((size_t)n + 1, sizeof *at), m = 0, rc = jobs && at ? 0 : -1;
@@ -749,16 +749,19 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
 		jobs[m].params = params[i];
 		at[m++] = i;
 	}
-	for (int k = 0; k < n * nchips; k++) {
-		ok[k] = 0;
-		memset(&out[k], 0, sizeof out[k]);
-	}
+	double *const col[3] = {insn, transc, vgprs};
+	for (int q = 0; q < 3; q++)
+		for (int k = 0; col[q] && k < n * nchips; k++)
+			col[q][k] = NAN;
 	if (!rc && m > 0)
 		rc = bk_gpucost_run(jobs, m, chips, nchips, 0, driver, driverlen, NULL, err, errlen);
 	for (int j = 0; !rc && j < m; j++)
 		for (int c = 0; c < nchips; c++) {
-			out[at[j] * nchips + c] = jobs[j].net[c];
-			ok[at[j] * nchips + c] = jobs[j].ok[c];
+			const bk_gpucost_stats *s = &jobs[j].net[c];
+			const double v[3] = {(double)s->instructions, (double)s->transcendental, (double)s->vgprs};
+			for (int q = 0; q < 3; q++)
+				if (col[q] && jobs[j].ok[c])
+					col[q][at[j] * nchips + c] = v[q];
 		}
 	for (int j = 0; jobs && j <= m && j < n + 1; j++) {
 		bk_form_free((bk_form *)jobs[j].form[0]);
@@ -774,11 +777,5 @@ int bk_gpucost_check(const char *const *chips, int nchips, char *driver, size_t 
 {
 	const char *probe[1] = {"LoH"};
 	const double *none[1] = {NULL};
-	bk_gpucost_stats st[BK_GPUCOST_MAX_CHIPS];
-	int ok[BK_GPUCOST_MAX_CHIPS];
-	if (nchips > BK_GPUCOST_MAX_CHIPS) {
-		snprintf(err, errlen, "at most %d chips", BK_GPUCOST_MAX_CHIPS);
-		return -1;
-	}
-	return bk_gpucost_texts(probe, NULL, none, 1, chips, nchips, st, ok, driver, driverlen, err, errlen);
+	return bk_gpucost_texts(probe, NULL, none, 1, chips, nchips, NULL, NULL, NULL, driver, driverlen, err, errlen);
 }

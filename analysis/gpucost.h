@@ -76,14 +76,16 @@ void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen);
 
-/* The columns other commands join (compare, search): n forms given as text
- * (a[i], b[i] the second part of a split-sum entry or NULL; a[i] NULL: no
- * form, e.g. a LUT row) with params[i] baked in, fp32, every chip. Fills
- * out[i * nchips + c] and ok[i * nchips + c] (0 where not compiled). Returns
- * as bk_gpucost_run; a form that does not parse is an error. */
+/* The columns other commands join (compare, search, scene): n forms given
+ * as text (a[i], b[i] the second part of a split-sum entry or NULL; a[i]
+ * NULL: no form, e.g. a LUT row) with params[i] baked in, fp32, every chip.
+ * Fills [i * nchips + c] of insn, transc and vgprs (net instructions,
+ * transcendental ops, VGPRs; any of them may be NULL) with NaN where nothing
+ * was compiled. Returns as bk_gpucost_run; a form that does not parse is an
+ * error. */
 int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
-                     const char *const *chips, int nchips, bk_gpucost_stats *out, int *ok, char *driver,
-                     size_t driverlen, char *err, size_t errlen);
+                     const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
+                     char *driver, size_t driverlen, char *err, size_t errlen);
 
 /* Compiles one trivial form on every chip: a missing driver or a chip it
  * refuses is said before a long run that would need it, not after. Returns as

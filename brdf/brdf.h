@@ -295,14 +295,13 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost);
 /* Named cost models (--cost-model NAME in ops, compare and search): the
  * weights of simple and complex ops. "ir" is the default above; "aco-CHIP"
  * are least-squares fits of AMD's instruction counts (brdfkit gpucost
- * --calibrate --chips CHIP) over the catalog, so a cost reads as about that
- * many ACO instructions on that chip. source says where the weights come
- * from. bk_cost_model_find: NULL for an unknown name; bk_cost_model_at: the
- * i-th model, NULL past the last. */
+ * --calibrate --chips CHIP) over the catalog and make results' search
+ * fronts, so a cost reads as about that many ACO instructions on that chip.
+ * bk_cost_model_find: NULL for an unknown name; bk_cost_model_at: the i-th
+ * model, NULL past the last. */
 typedef struct bk_cost_model {
 	const char *name;
 	double simple, complex;
-	const char *source;
 } bk_cost_model;
 const bk_cost_model *bk_cost_model_find(const char *name);
 const bk_cost_model *bk_cost_model_at(size_t i);

@@ -55,12 +55,11 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
  * not see.
  */
 static const bk_cost_model cost_models[] = {
-	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX,
-	 "brdfkit's default: the talk's many simple ops per cycle, only one complex"},
-	{"aco-polaris10", 1.085, 1.171, "gpucost --calibrate --chips polaris10 (GCN 4, gfx8), Mesa 22.3.6"},
-	{"aco-vega10", 1.085, 1.171, "gpucost --calibrate --chips vega10 (GCN 5, gfx9), Mesa 22.3.6"},
-	{"aco-navi21", 1.017, 1.076, "gpucost --calibrate --chips navi21 (RDNA 2, gfx10.3), Mesa 22.3.6"},
-	{"aco-gfx1100", 1.025, 1.690, "gpucost --calibrate --chips gfx1100 (RDNA 3, gfx11), Mesa 22.3.6"},
+	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
+	{"aco-polaris10", 1.085, 1.171},         /* GCN 4, gfx8 */
+	{"aco-vega10", 1.085, 1.171},            /* GCN 5, gfx9 */
+	{"aco-navi21", 1.017, 1.076},            /* RDNA 2, gfx10.3 */
+	{"aco-gfx1100", 1.025, 1.690},           /* RDNA 3, gfx11 */
 };
 
 const bk_cost_model *bk_cost_model_find(const char *name)

@@ -430,8 +430,7 @@ int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, 
 	return 0;
 }
 
-int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex,
-                   const bk_cost_model **model)
+int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex)
 {
 	const bk_cost_model *m = bk_cost_model_find(name);
 	if (!m) {
@@ -444,7 +443,5 @@ int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double 
 	}
 	*simple = m->simple;
 	*complex = m->complex;
-	if (model)
-		*model = m;
 	return 0;
 }

@@ -105,11 +105,9 @@ typedef struct cli_scope {
 } cli_scope;
 int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name);
 
-/* --cost-model NAME: the named model's weights into *simple, *complex and
- * the model into *model (may be NULL); 2 after a usage error listing the
- * names. */
-int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex,
-                   const bk_cost_model **model);
+/* --cost-model NAME: the named model's weights into *simple, *complex; 2
+ * after a usage error listing the names. */
+int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex);
 
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). */

@@ -210,33 +210,29 @@ static void add_luts(study *S)
  * code (one Vulkan instance per chip for the whole table); LUT rows stay NaN. */
 static int gpu_columns(study *S)
 {
-	int n = S->n, nc = S->info.nchips;
+	int n = S->n, nc = S->info.nchips, rc = 0;
 	const char **a = calloc((size_t)n, sizeof *a);
 	const double **p = calloc((size_t)n, sizeof *p);
-	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc, sizeof *st);
-	int *ok = calloc((size_t)n * (size_t)nc, sizeof *ok), rc = 0;
+	double *v = calloc(3 * (size_t)n * (size_t)nc + 1, sizeof *v), *insn = v, *transc = v + n * nc, *vgprs = transc + n * nc;
 	char err[700];
-	if (!a || !p || !st || !ok)
+	if (!a || !p || !v)
 		rc = cli_fail("compare", "out of memory");
 	for (int i = 0; !rc && i < n; i++) {
 		a[i] = S->rows[i].form[0] ? S->rows[i].form : NULL;
 		p[i] = S->rows[i].params;
 	}
-	if (!rc && bk_gpucost_texts(a, NULL, p, n, S->info.chip, nc, st, ok, S->driver, sizeof S->driver, err,
-	                            sizeof err))
+	if (!rc && bk_gpucost_texts(a, NULL, p, n, S->info.chip, nc, insn, transc, vgprs, S->driver, sizeof S->driver,
+	                            err, sizeof err))
 		rc = cli_fail("compare", "--gpu: %s", err);
 	for (int i = 0; !rc && i < n; i++)
 		for (int c = 0; c < nc; c++) {
-			const bk_gpucost_stats *g = &st[i * nc + c];
-			int y = ok[i * nc + c];
-			S->rows[i].gpu_insn[c] = y ? (double)g->instructions : NAN;
-			S->rows[i].gpu_transc[c] = y ? (double)g->transcendental : NAN;
-			S->rows[i].gpu_vgprs[c] = y ? (double)g->vgprs : NAN;
+			S->rows[i].gpu_insn[c] = insn[i * nc + c];
+			S->rows[i].gpu_transc[c] = transc[i * nc + c];
+			S->rows[i].gpu_vgprs[c] = vgprs[i * nc + c];
 		}
 	free(a);
 	free(p);
-	free(st);
-	free(ok);
+	free(v);
 	return rc;
 }
 
@@ -575,7 +571,7 @@ int cmd_compare(int argc, char **argv)
 	S.relative = relative;
 	S.refit = !no_refit;
 	S.info = (bk_compare_info)BK_COMPARE_INFO_INIT;
-	if (model && cli_cost_model(&cmd, model, &S.info.simple, &S.info.complex, NULL))
+	if (model && cli_cost_model(&cmd, model, &S.info.simple, &S.info.complex))
 		return 2;
 	if (model)
 		S.info.cost_model = model;

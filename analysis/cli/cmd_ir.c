@@ -236,7 +236,7 @@ int cmd_ops(int argc, char **argv)
 		return rc == 1 ? 0 : rc;
 	if (model && (cli_seen(&cmd, "--simple-cost") || cli_seen(&cmd, "--complex-cost")))
 		return cli_usage(&cmd, "--cost-model sets both weights; leave out --simple-cost and --complex-cost");
-	if (model && cli_cost_model(&cmd, model, &cs, &cc, NULL))
+	if (model && cli_cost_model(&cmd, model, &cs, &cc))
 		return 2;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;

@@ -386,10 +386,9 @@ static int gpu_sets(set_result *R, int nset)
 	int n = 2 * nset * BK_SCENE_TERMS, nc = gpu.n, rc = 0;
 	const char **a = calloc((size_t)n, sizeof *a);
 	const double **p = calloc((size_t)n, sizeof *p);
-	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc, sizeof *st);
-	int *ok = calloc((size_t)n * (size_t)nc, sizeof *ok);
+	double *insn = calloc((size_t)n * (size_t)nc + 1, sizeof *insn);
 	char err[700];
-	if (!a || !p || !st || !ok)
+	if (!a || !p || !insn)
 		rc = cli_fail("scene", "out of memory");
 	for (int i = 0; !rc && i < nset; i++)
 		for (int t = 0; t < BK_SCENE_TERMS; t++)
@@ -399,24 +398,23 @@ static int gpu_sets(set_result *R, int nset)
 				a[k] = R[i].has[t] && !c->lut ? c->text : NULL;
 				p[k] = c->p;
 			}
-	if (!rc && bk_gpucost_texts(a, NULL, p, n, gpu.chip, nc, st, ok, gpu.driver, sizeof gpu.driver, err, sizeof err))
+	if (!rc && bk_gpucost_texts(a, NULL, p, n, gpu.chip, nc, insn, NULL, NULL, gpu.driver, sizeof gpu.driver, err,
+	                            sizeof err))
 		rc = cli_fail("scene", "--gpu: %s", err);
 	for (int i = 0; !rc && i < nset; i++)
 		for (int c = 0; c < nc; c++) {
 			R[i].gpu_sum[c] = R[i].gen_gpu_sum[c] = 0;
 			for (int t = 0; t < BK_SCENE_TERMS; t++)
 				for (int g = 0; g < 2; g++) {
-					int k = ((i * BK_SCENE_TERMS + t) * 2 + g) * nc + c;
-					double v = ok[k] ? (double)st[k].instructions : NAN;
+					double v = insn[((i * BK_SCENE_TERMS + t) * 2 + g) * nc + c];
 					*(g ? &R[i].gen_gpu[t][c] : &R[i].gpu[t][c]) = v;
-					if (ok[k])
+					if (!isnan(v))
 						*(g ? &R[i].gen_gpu_sum[c] : &R[i].gpu_sum[c]) += v;
 				}
 		}
 	free(a);
 	free(p);
-	free(st);
-	free(ok);
+	free(insn);
 	return rc;
 }
 

@@ -271,7 +271,7 @@ static int setup(job *J)
 		return cli_usage(cmd, "--cost-model sets both weights; leave out --cost-weights");
 	if (a->weights && parse_weights(cmd, a->weights, &so->simple_cost, &so->complex_cost))
 		return 2;
-	if (a->cost_model && cli_cost_model(cmd, a->cost_model, &so->simple_cost, &so->complex_cost, NULL))
+	if (a->cost_model && cli_cost_model(cmd, a->cost_model, &so->simple_cost, &so->complex_cost))
 		return 2;
 	if (a->gpu) {
 		char gerr[700];
@@ -1132,10 +1132,9 @@ static int gpu_columns(job *J)
 	int n = J->nm, nc = J->nchips, rc = 0;
 	const char **a = calloc((size_t)n + 1, sizeof *a), **b = calloc((size_t)n + 1, sizeof *b);
 	const double **p = calloc((size_t)n + 1, sizeof *p);
-	bk_gpucost_stats *st = calloc((size_t)n * (size_t)nc + 1, sizeof *st);
-	int *ok = calloc((size_t)n * (size_t)nc + 1, sizeof *ok);
+	double *insn = calloc(2 * (size_t)n * (size_t)nc + 1, sizeof *insn), *transc = insn + n * nc;
 	char err[700];
-	if (!a || !b || !p || !st || !ok)
+	if (!a || !b || !p || !insn)
 		rc = cli_fail("search", "out of memory");
 	for (int i = 0; !rc && i < n; i++) {
 		const member *m = &J->m[i];
@@ -1144,19 +1143,18 @@ static int gpu_columns(job *J)
 		b[i] = want ? m->text_b : NULL;
 		p[i] = m->res.p;
 	}
-	if (!rc && bk_gpucost_texts(a, b, p, n, J->chip, nc, st, ok, J->driver, sizeof J->driver, err, sizeof err))
+	if (!rc && bk_gpucost_texts(a, b, p, n, J->chip, nc, insn, transc, NULL, J->driver, sizeof J->driver, err,
+	                            sizeof err))
 		rc = cli_fail("search", "--gpu: %s", err);
 	for (int i = 0; !rc && i < n; i++)
 		for (int c = 0; c < nc; c++) {
-			int y = ok[i * nc + c];
-			J->m[i].gpu_insn[c] = y ? (double)st[i * nc + c].instructions : NAN;
-			J->m[i].gpu_transc[c] = y ? (double)st[i * nc + c].transcendental : NAN;
+			J->m[i].gpu_insn[c] = insn[i * nc + c];
+			J->m[i].gpu_transc[c] = transc[i * nc + c];
 		}
 	free(a);
 	free(b);
 	free(p);
-	free(st);
-	free(ok);
+	free(insn);
 	return rc;
 }
 
