@@ -343,6 +343,48 @@ Test(eval, missing_input_is_an_error)
 	bk_form_free(f);
 }
 
+/* min, max, clamp and saturate mean what C's fmin and fmax mean (C11 F.10.9.2:
+ * a NaN operand is missing data, the other operand is the result), in every
+ * precision and on every lane of a block, and agree with the C library's
+ * fmin/fmax on signed zeros too, since the generated C calls fminf/fmaxf
+ * (ir_eval.c writes them as selects so that they vectorise). Operands: every
+ * ordered pair of NaN, -inf, -1, -0, +0, 0.5, 1, +inf. */
+static int same_value(double x, double y)
+{
+	return isnan(x) ? isnan(y) : x == y && signbit(x) == signbit(y);
+}
+
+Test(eval, min_max_mean_fmin_fmax)
+{
+	static const double v[] = {NAN, -INFINITY, -1.0, -0.0, 0.0, 0.5, 1.0, INFINITY};
+	enum { NV = sizeof v / sizeof v[0], N = NV * NV };
+	double x[N], y[N], out[N];
+	for (int i = 0; i < N; i++)
+		x[i] = v[i / NV], y[i] = v[i % NV];
+	const double *in[BK_IN_COUNT] = {x, y};
+	static const char *const forms[] = {"min(NoV, NoL)", "max(NoV, NoL)", "clamp(NoV, NoL, 0.75)",
+	                                    "saturate(NoV)"};
+	for (int fi = 0; fi < 4; fi++) {
+		bk_form *f = parse_ok(forms[fi]);
+		for (int p = BK_F64; p <= BK_F16; p++) {
+			cr_assert_eq(bk_form_eval(f, (bk_precision)p, N, in, NULL, out), 0);
+			for (int i = 0; i < N; i++) {
+				double a = x[i], b = y[i];
+				double want = fi == 0 ? fmin(a, b) : fi == 1 ? fmax(a, b) : fi == 2 ? fmin(fmax(a, b), 0.75)
+				                                                                   : fmin(fmax(a, 0.0), 1.0);
+				cr_assert(same_value(out[i], want), "%s in %s at (%g, %g): %g, C says %g", forms[fi],
+				          bk_precision_name((bk_precision)p), a, b, out[i], want);
+			}
+		}
+		bk_form_free(f);
+	}
+	/* the cases the standard fixes, written out rather than taken from libm */
+	cr_assert_eq(eval1("min(NoV, p0)", BK_F32, (double[]){NAN}), 0.5);
+	cr_assert_eq(eval1("max(p0, NoV)", BK_F16, (double[]){NAN}), 0.5);
+	cr_assert_eq(eval1("saturate(p0)", BK_F64, (double[]){NAN}), 0.0);
+	cr_assert_eq(eval1("saturate(p0)", BK_F32, (double[]){-INFINITY}), 0.0);
+}
+
 /* ---- fuzzing regressions ---------------------------------------------------------- */
 
 /* The harness's own steps on one input; crashes and sanitizer reports are
