@@ -116,6 +116,29 @@ static int take(bk_enode *d, int off, int len)
 	return len;
 }
 
+/* The value of an input-free subtree at its parameters' start values (a
+ * PARAM's k, 0 for none: expr.h); NaN when one is unknown. */
+static double value_of(const bk_enode *n)
+{
+	if (n->op == BK_OP_CONST)
+		return n->k;
+	if (n->op == BK_OP_PARAM)
+		return n->k != 0 ? n->k : NAN;
+	if (n->op == BK_OP_INPUT)
+		return NAN;
+	double v[3] = {0, 0, 0};
+	const bk_enode *c = n + 1;
+	for (int j = 0; j < arity(n->op); j++, c += span_at(c))
+		if (isnan(v[j] = value_of(c)))
+			return NAN;
+	return bk_ir_apply((bk_op)n->op, v[0], v[1], v[2]);
+}
+
+/* A parameter's start value through a rewrite: negated (the sign moved into
+ * it) or inverted (x/p became x*p); unknown stays unknown. */
+static void start_neg(bk_enode *p) { p->k = -p->k + 0.0; }
+static void start_inv(bk_enode *p) { p->k = p->k != 0 && isfinite(1 / p->k) ? 1 / p->k : 0; }
+
 /* One bottom-up pass over the subtree s, written to d; returns its length.
  * The rules, each applied to a node whose operands are already rewritten:
  *  - all operands literals: folded with bk_ir_apply, kept only if finite
@@ -132,6 +155,9 @@ static int take(bk_enode *d, int off, int len)
  *    -(p*x), -(p/x), -(x/p) -> the same without the minus (the sign goes
  *    into p);
  *  - operands of ADD MUL MIN MAX and the first two of MAD in cmp_tree order.
+ * Start values go with their parameters (expr.h): a collapsed subtree's is
+ * its value, an absorbed sign or inverse goes into it, p and p' of
+ * (x op p) op p' combine; the function at the start values is unchanged.
  * Returns -1 if a rewrite would not fit (none grows the tree). */
 static int pass(const bk_enode *s, bk_enode *d)
 {
@@ -165,7 +191,8 @@ static int pass(const bk_enode *s, bk_enode *d)
 		}
 	}
 	if (!input && param >= 0) {
-		d[0] = (bk_enode){BK_OP_PARAM, param, 0};
+		double v = value_of(d); /* a collapsed parameter starts where its parts were */
+		d[0] = (bk_enode){BK_OP_PARAM, param, isfinite(v) ? v + 0.0 : 0};
 		return 1;
 	}
 	const bk_enode *a = &d[off[0]], *b = ar > 1 ? &d[off[1]] : NULL;
@@ -175,8 +202,10 @@ static int pass(const bk_enode *s, bk_enode *d)
 			return take(d, off[0] + 1, len[0] - 1);
 		if (a->op == BK_OP_MUL || a->op == BK_OP_DIV) { /* -(p*x) -> p*x */
 			int qa = off[0] + 1, qb = qa + span_at(&d[qa]);
-			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM)
+			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM) {
+				start_neg(&d[d[qa].op == BK_OP_PARAM ? qa : qb]);
 				return take(d, off[0], len[0]);
+			}
 		}
 		break;
 	case BK_OP_MUL:
@@ -187,6 +216,7 @@ static int pass(const bk_enode *s, bk_enode *d)
 		for (int j = 0; j < 2; j++) /* p*(-x) -> p*x; the next pass sorts */
 			if (d[off[j]].op == BK_OP_PARAM && d[off[1 - j]].op == BK_OP_NEG) {
 				int at = off[1 - j];
+				start_neg(&d[off[j]]);
 				memmove(&d[at], &d[at + 1], sizeof *d * (size_t)(pos - at - 1));
 				return pos - 1;
 			}
@@ -202,6 +232,7 @@ static int pass(const bk_enode *s, bk_enode *d)
 			return take(d, off[0], len[0]);
 		if (b->op == BK_OP_PARAM) {
 			d[0].op = BK_OP_ADD;
+			start_neg(&d[off[1]]);
 		} else if (b->op == BK_OP_CONST) {
 			d[0].op = BK_OP_ADD;
 			d[off[1]].k = -b->k;
@@ -210,8 +241,10 @@ static int pass(const bk_enode *s, bk_enode *d)
 	case BK_OP_DIV:
 		if (is_const(b, 1))
 			return take(d, off[0], len[0]);
-		if (b->op == BK_OP_PARAM)
+		if (b->op == BK_OP_PARAM) {
 			d[0].op = BK_OP_MUL;
+			start_inv(&d[off[1]]);
+		}
 		break;
 	default:
 		break;
@@ -223,8 +256,12 @@ static int pass(const bk_enode *s, bk_enode *d)
 			if (p->op != BK_OP_PARAM || q->op != op)
 				continue;
 			int qa = off[1 - j] + 1, qb = qa + span_at(q + 1);
-			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM)
+			if (d[qa].op == BK_OP_PARAM || d[qb].op == BK_OP_PARAM) {
+				bk_enode *in = &d[d[qa].op == BK_OP_PARAM ? qa : qb];
+				double v = op == BK_OP_ADD ? in->k + p->k : in->k * p->k;
+				in->k = in->k != 0 && p->k != 0 && isfinite(v) ? v : 0;
 				return take(d, off[1 - j], len[1 - j]);
+			}
 		}
 	}
 	if (commutative(op) && cmp_tree(&d[off[0]], &d[off[1]]) > 0) {
@@ -261,7 +298,7 @@ static int equal_nodes(const bk_expr *a, const bk_expr *b)
 		return 0;
 	for (int i = 0; i < a->n; i++)
 		if (a->node[i].op != b->node[i].op || a->node[i].slot != b->node[i].slot ||
-		    memcmp(&a->node[i].k, &b->node[i].k, sizeof(double)) != 0)
+		    (a->node[i].op == BK_OP_CONST && memcmp(&a->node[i].k, &b->node[i].k, sizeof(double)) != 0))
 			return 0;
 	return 1;
 }
@@ -929,7 +966,7 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 	case 3: /* a literal becomes a parameter */
 		if ((i = pick_node(r, c, 2)) < 0)
 			return -1;
-		c->node[i] = (bk_enode){BK_OP_PARAM, np, 0};
+		c->node[i] = (bk_enode){BK_OP_PARAM, np, c->node[i].k}; /* starts at the literal */
 		return 0;
 	case 4: { /* a subtree wrapped in a unary operation */
 		if (os->n[0] == 0)

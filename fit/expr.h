@@ -13,6 +13,15 @@
  * parameters renumbered p0, p1, ... in order of first appearance. The
  * canonical text is the candidate's identity: the cache hashes it, ties
  * between equally good candidates are broken on it.
+ *
+ * Start values: a PARAM node may carry the value its parameter had when its
+ * tree was last fitted (the search writes a parent's fitted constants into
+ * its nodes before mutating it), and canonicalisation and splicing carry it
+ * along (a collapsed p0*p1 starts at their product, x - p becomes x + p
+ * starting at -p, a literal made a parameter starts at the literal). A child
+ * then starts its fit where its parent ended, as Operon and PySR do, instead
+ * of from all ones, which for a grown form is often far from any good
+ * minimum. The values never enter the canonical text, its order or its hash.
  */
 #ifndef FIT_EXPR_H
 #define FIT_EXPR_H
@@ -29,7 +38,8 @@
 typedef struct bk_enode {
 	int op;    /* a bk_op of brdf/ir.h: CONST, INPUT, PARAM or an operation */
 	int slot;  /* INPUT: the bk_input; PARAM: the parameter index */
-	double k;  /* CONST: the value */
+	double k;  /* CONST: the value; PARAM: where its fit starts, 0 for nowhere
+	            * in particular (see "Start values" below) */
 } bk_enode;
 
 /* node[0] is the root; the operands of node i follow it in order, each a

@@ -103,6 +103,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->generation = 256;
 	o->per_level = 12;
 	o->starts = 2;
+	o->inherit = 0;
 	o->seeds = o->seeds_b = o->seed_names = NULL;
 	o->seed_p = NULL;
 	o->nseeds = 0;
@@ -486,31 +487,85 @@ static bk_expr lone_param(void)
 	return e;
 }
 
-/* One child of the archive by mutation (70 %) or crossover. */
+/* The trees of c with its fitted constants as their parameters' start
+ * values (expr.h): the text's pN is slot N of tree 0, and of tree 1 after
+ * tree 0's (shape_text). A candidate that did not fit passes on no values. */
+static void stamped(const bk_cand *c, bk_expr *t)
+{
+	int off = 0;
+	for (int h = 0; h < 2; h++) {
+		t[h] = c->tree[h];
+		for (int i = 0; i < t[h].n; i++) {
+			bk_enode *n = &t[h].node[i];
+			if (n->op != BK_OP_PARAM)
+				continue;
+			int j = off + n->slot;
+			n->k = c->status == BK_CAND_OK && j < c->np && isfinite(c->p[j]) ? c->p[j] + 0.0 : 0;
+		}
+		off = bk_expr_nparams(&t[0]);
+	}
+}
+
+/* The start of a child's first fit from its trees' start values (slot order
+ * as in stamped; 1, the first default start, where a value is unknown or the
+ * parameter is the shape's own). 1 if any value is known, else 0: the child
+ * then starts as an enumerated tree does. */
+static int inherited(const bk_cand *c, double *p)
+{
+	int known = 0, off = 0;
+	for (int j = 0; j < BK_MAX_PARAMS; j++)
+		p[j] = 1.0;
+	for (int h = 0; h < 2; h++) {
+		for (int i = 0; i < c->tree[h].n; i++) {
+			const bk_enode *n = &c->tree[h].node[i];
+			int j = off + n->slot;
+			if (n->op == BK_OP_PARAM && n->k != 0 && j < BK_MAX_PARAMS)
+				p[j] = n->k, known = 1;
+		}
+		off = bk_expr_nparams(&c->tree[0]);
+	}
+	return known;
+}
+
+/* One child of the archive by mutation (70 %) or crossover; with --inherit
+ * its parameters start from its parents' fitted values. */
 static int child(bk_search *s, bk_expr *t)
 {
 	const bk_grammar *g = &s->tree_g;
 	const bk_cand *a = pick(s);
 	int which = s->o.shape == BK_SHAPE_PAIR ? (int)bk_rng_below(&s->rng, 2) : 0;
-	t[0] = a->tree[0];
-	t[1] = a->tree[1];
+	bk_expr pa[2], pb[2];
+	if (s->o.inherit)
+		stamped(a, pa);
+	else
+		pa[0] = a->tree[0], pa[1] = a->tree[1];
+	t[0] = pa[0];
+	t[1] = pa[1];
 	if (s->o.shape == BK_SHAPE_PAIR && a->tree[1].n == 0) { /* a shared feature: its one tree */
 		g = &s->feat_g;
 		which = 0;
 		if (bk_rng_unit(&s->rng) < 0.7)
-			return bk_expr_mutate(g, &s->rng, &a->tree[0], &t[0]);
+			return bk_expr_mutate(g, &s->rng, &pa[0], &t[0]);
 		const bk_cand *b = pick(s);
-		return bk_expr_crossover(g, &s->rng, &a->tree[0], &b->tree[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
+		if (s->o.inherit)
+			stamped(b, pb);
+		else
+			pb[0] = b->tree[0], pb[1] = b->tree[1];
+		return bk_expr_crossover(g, &s->rng, &pa[0], &pb[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
 	}
 	if (bk_rng_unit(&s->rng) < 0.7)
-		return bk_expr_mutate(g, &s->rng, &a->tree[which], &t[which]);
+		return bk_expr_mutate(g, &s->rng, &pa[which], &t[which]);
 	const bk_cand *b = pick(s);
-	const bk_expr *donor = b->tree[which].n ? &b->tree[which] : &b->tree[0]; /* a feature pair has one tree */
+	if (s->o.inherit)
+		stamped(b, pb);
+	else
+		pb[0] = b->tree[0], pb[1] = b->tree[1];
+	const bk_expr *donor = pb[which].n ? &pb[which] : &pb[0]; /* a feature pair has one tree */
 	if (s->o.shape == BK_SHAPE_PAIR && bk_rng_unit(&s->rng) < 0.25) { /* swap a whole half */
 		t[which] = *donor;
 		return 0;
 	}
-	return bk_expr_crossover(g, &s->rng, &a->tree[which], donor, &t[which]);
+	return bk_expr_crossover(g, &s->rng, &pa[which], donor, &t[which]);
 }
 
 int bk_search_step(bk_search *s, char *err, size_t errlen)
@@ -523,9 +578,10 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	size_t want = (size_t)s->o.generation;
 	bk_cand *c = calloc(want ? want : 1, sizeof *c);
 	const double **sp = calloc(want ? want : 1, sizeof *sp);
+	double (*start)[BK_MAX_PARAMS] = calloc(want ? want : 1, sizeof *start); /* children's inherited starts */
 	size_t n = 0;
 	int rc = 0;
-	if (!c || !sp)
+	if (!c || !sp || !start)
 		goto oom;
 	if (s->phase == 0) { /* the seeds, in the order given */
 		for (int k = 0; k < s->o.nseeds && n < want; k++) {
@@ -596,6 +652,8 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 			int r = prepare(s, t, &c[n]);
 			if (r < 0)
 				goto oom;
+			if (r > 0 && s->o.inherit && inherited(&c[n], start[n]))
+				sp[n] = start[n];
 			n += (size_t)r;
 		}
 		if (n == 0)
@@ -614,6 +672,7 @@ out:
 		cand_free(&c[i]);
 	free(c);
 	free(sp);
+	free(start);
 	return rc < 0 ? rc : (s->phase == 3 || s->evals >= s->o.evals) ? 0 : 1;
 oom:
 	snprintf(err, errlen, "out of memory after %ld fits", s->evals);
@@ -660,6 +719,8 @@ static uint64_t fingerprint(const bk_search *s, int own)
 	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost};
 	h = bk_hash_bytes(h, ints, sizeof ints);
 	h = bk_hash_bytes(h, dbl, sizeof dbl);
+	if (o->inherit) /* hashed only when on: checkpoints made before the option stay valid */
+		h = bk_hash_bytes(h, &o->inherit, sizeof o->inherit);
 	if (own) {
 		double seed = (double)o->seed;
 		h = bk_hash_bytes(h, &o->island, sizeof o->island);

@@ -72,6 +72,9 @@ typedef struct bk_search_options {
 	int generation;           /* children per generation */
 	int per_level;            /* archive entries per integer cost level */
 	int starts;               /* screening starts per candidate (1..4) */
+	int inherit;              /* children start from their parents' fitted constants
+	                             (expr.h, "Start values"), then from the default
+	                             starts; 0: from the default starts alone */
 	const char *const *seeds; /* forms fitted first (pair: "A" then "B" in seeds_b) */
 	const char *const *seeds_b;
 	const char *const *seed_names; /* their names in outputs (catalog names, "start 1", ...) */

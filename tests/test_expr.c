@@ -284,6 +284,107 @@ Test(expr, canon_is_idempotent_and_keeps_values)
 	}
 }
 
+/* Start values (expr.h) go through canon with their parameters: a tree whose
+ * every parameter is its own, each starting at a value, is the same function
+ * at those values before and after canon, the collapsed, negated, inverted and
+ * merged parameters included. The independent reading is eval_tree on the
+ * original tree; agreement to 1e-9 relative (x/p becomes x*(1/p), p*p' is
+ * rounded once more). Trees whose canon loses a value (a collapsed subtree
+ * not finite at the starts: sqrt or log2 of a negative start) are counted
+ * and must stay a small minority. */
+Test(expr, canon_carries_start_values)
+{
+	static const double ks[] = {0.75, -1.5, 2.25, -0.3, 4.0, 0.125, -7.0};
+	bk_rng r;
+	bk_rng_seed(&r, 7);
+	fill_points();
+	int checked = 0, lost = 0;
+	for (int t = 0; t < 5000; t++) {
+		bk_expr e = random_expr(&r);
+		double par[BK_EXPR_MAX];
+		int np = 0;
+		for (int i = 0; i < e.n; i++)
+			if (e.node[i].op == BK_OP_PARAM) {
+				e.node[i].slot = np;
+				e.node[i].k = par[np++] = ks[bk_rng_below(&r, 7)];
+			}
+		if (np == 0)
+			continue;
+		bk_expr c = e;
+		cr_assert_eq(bk_expr_canon(&c), 0);
+		double cp[BK_EXPR_MAX];
+		int known = 1;
+		for (int i = 0; i < c.n; i++)
+			if (c.node[i].op == BK_OP_PARAM) {
+				known &= c.node[i].k != 0;
+				cp[c.node[i].slot] = c.node[i].k;
+			}
+		if (!known) {
+			lost++;
+			continue;
+		}
+		checked++;
+		for (int k = 0; k < NPTS; k++) {
+			double x[BK_IN_COUNT];
+			for (int i = 0; i < BK_IN_COUNT; i++)
+				x[i] = pts[i][k];
+			double v0 = eval_tree(&e, x, par), v1 = eval_tree(&c, x, cp);
+			if (!isfinite(v0))
+				continue;
+			cr_assert(fabs(v1 - v0) <= 1e-9 * fmax(1, fabs(v0)), "'%s' -> '%s' at point %d: %.17g became %.17g",
+			          text_of(&e), text_of(&c), k, v0, v1);
+		}
+	}
+	cr_assert_gt(checked, 4 * lost, "%d trees checked, %d lost a start value", checked, lost);
+	/* the rules one by one, values written out */
+	bk_expr e = from_text("LoH - p0");
+	e.node[2].k = 0.25;
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "p0 + LoH");
+	cr_assert_eq(e.node[1].k, -0.25);
+	e = from_text("LoH / p0");
+	e.node[2].k = 4;
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_eq(e.node[e.node[1].op == BK_OP_PARAM ? 1 : 2].k, 0.25, "%s", text_of(&e));
+	e = from_text("LoH * (p0 * p1)");
+	for (int i = 0; i < e.n; i++)
+		if (e.node[i].op == BK_OP_PARAM)
+			e.node[i].k = e.node[i].slot ? 3 : 2;
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	for (int i = 0; i < e.n; i++)
+		if (e.node[i].op == BK_OP_PARAM)
+			cr_assert_eq(e.node[i].k, 6, "%s", text_of(&e));
+}
+
+/* A literal turned into a parameter starts at the literal; an unknown start
+ * stays unknown (0) through canon. */
+Test(expr, mutation_keeps_start_values)
+{
+	bk_grammar g;
+	memset(&g, 0, sizeof g);
+	g.ops = bk_grammar_default_ops();
+	g.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	g.max_params = 4;
+	g.max_size = 20;
+	bk_expr parent = from_text("p0 / (LoH * LoH + p1 * r)");
+	cr_assert_eq(bk_expr_canon(&parent), 0);
+	for (int i = 0; i < parent.n; i++)
+		if (parent.node[i].op == BK_OP_PARAM)
+			parent.node[i].k = parent.node[i].slot ? 0.7 : 0.3;
+	bk_rng r;
+	bk_rng_seed(&r, 11);
+	int kept = 0;
+	for (int t = 0; t < 400; t++) {
+		bk_expr c;
+		if (bk_expr_mutate(&g, &r, &parent, &c))
+			continue;
+		for (int i = 0; i < c.n; i++)
+			if (c.node[i].op == BK_OP_PARAM && (c.node[i].k == 0.3 || c.node[i].k == 0.7))
+				kept++;
+	}
+	cr_assert_gt(kept, 200, "the parent's start values reached %d children's parameters", kept);
+}
+
 /* ---- the tree of a compiled form ------------------------------------------ */
 
 Test(expr, catalog_forms_round_trip_through_trees)

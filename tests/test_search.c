@@ -147,6 +147,61 @@ Test(search, resume_equals_an_uninterrupted_run)
 	bk_samples_free(&s);
 }
 
+/* --inherit (children start from their parents' constants): the planted form
+ * is still recovered, the threads and a resume still change nothing, and a
+ * checkpoint made without it is refused (its children started elsewhere). */
+Test(search, inherit_keeps_recovery_and_determinism)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 1, 1500);
+	o.inherit = 1;
+	bk_search *a = run(&o);
+	double best = HUGE_VAL;
+	for (size_t i = 0; i < bk_search_count(a); i++)
+		if (bk_search_at(a, i)->status == BK_CAND_OK)
+			best = fmin(best, bk_search_at(a, i)->rmse);
+	cr_assert_leq(best, 1e-9);
+	o.threads = 2;
+	bk_search *b = run(&o);
+	same(a, b);
+	o.evals = 700;
+	bk_search *part = run(&o);
+	FILE *f = tmpfile();
+	cr_assert(f);
+	cr_assert_eq(bk_search_save(part, f), 0);
+	rewind(f);
+	o.evals = 1500;
+	char err[256];
+	bk_search *resumed = bk_search_new(&o, err, sizeof err);
+	cr_assert_eq(bk_search_load(resumed, f, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	int rc;
+	while ((rc = bk_search_step(resumed, err, sizeof err)) == 1)
+		;
+	cr_assert_eq(rc, 0);
+	same(a, resumed);
+	o.inherit = 0;
+	o.evals = 700;
+	bk_search *plain = run(&o);
+	f = tmpfile();
+	bk_search_save(plain, f);
+	rewind(f);
+	o.inherit = 1;
+	bk_search *other = bk_search_new(&o, err, sizeof err);
+	cr_assert_eq(bk_search_load(other, f, err, sizeof err), -1);
+	cr_assert(strstr(err, "other options"), "%s", err);
+	fclose(f);
+	bk_search_free(other);
+	bk_search_free(plain);
+	bk_search_free(part);
+	bk_search_free(resumed);
+	bk_search_free(a);
+	bk_search_free(b);
+	bk_samples_free(&s);
+}
+
 /* No ok candidate is at most as costly and at most as wrong as a front
  * member, one of them strictly; and every ok candidate off the front is
  * matched or beaten by a member (the front is complete). */

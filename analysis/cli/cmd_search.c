@@ -39,7 +39,7 @@ typedef struct search_cli {
 	int nstart;
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
-	int relative, no_constraints, merge_fronts;
+	int relative, no_constraints, merge_fronts, inherit;
 } search_cli;
 
 /* A member of the final front, or a catalog form, on the full samples. */
@@ -303,6 +303,7 @@ static int setup(job *J)
 		J->to.env_f0_form = 1;
 	}
 	/* constraints that hold for the target: on unless --no-constraints */
+	so->inherit = a->inherit;
 	so->nonneg = !a->no_constraints && J->kind != BK_TARGET_FORM;
 	so->env_bound = !a->no_constraints && J->kind == BK_TARGET_ENV && !env_in_f0(J);
 	return 0;
@@ -1488,6 +1489,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
 		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
+		{.name = "--inherit", .kind = CLI_FLAG, .help = "children start their fits from their parents' constants", .dest = &a.inherit},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "P", .help = "prefix of the links in section.html (its place relative to the page)", .dest = &a.prefix},
 		{.name = "--checkpoint", .kind = CLI_STR, .metavar = "FILE", .help = "write the state here every --every fits and at the end", .dest = &a.checkpoint},
 		{.name = "--every", .kind = CLI_INT, .metavar = "K", .help = "fits between checkpoints (default 5000)", .dest = &a.every, .lo = 1, .hi = 1e9},
