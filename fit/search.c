@@ -487,43 +487,45 @@ static bk_expr lone_param(void)
 	return e;
 }
 
-/* The trees of c with its fitted constants as their parameters' start
- * values (expr.h): the text's pN is slot N of tree 0, and of tree 1 after
- * tree 0's (shape_text). A candidate that did not fit passes on no values. */
-static void stamped(const bk_cand *c, bk_expr *t)
+/* Where parameter `slot` of tree h of trees t sits in the fitted text: pN is
+ * slot N of tree 0, and tree 1's follow tree 0's (shape_text). */
+static int text_param(const bk_expr *t, int h, int slot)
 {
-	int off = 0;
-	for (int h = 0; h < 2; h++) {
-		t[h] = c->tree[h];
-		for (int i = 0; i < t[h].n; i++) {
-			bk_enode *n = &t[h].node[i];
-			if (n->op != BK_OP_PARAM)
-				continue;
-			int j = off + n->slot;
-			n->k = c->status == BK_CAND_OK && j < c->np && isfinite(c->p[j]) ? c->p[j] + 0.0 : 0;
-		}
-		off = bk_expr_nparams(&t[0]);
-	}
+	return (h ? bk_expr_nparams(&t[0]) : 0) + slot;
 }
 
-/* The start of a child's first fit from its trees' start values (slot order
- * as in stamped; 1, the first default start, where a value is unknown or the
- * parameter is the shape's own). 1 if any value is known, else 0: the child
- * then starts as an enumerated tree does. */
+/* The trees of c to breed from: with --inherit, its fitted constants written
+ * into its parameters' nodes as their start values (expr.h); a candidate that
+ * did not fit passes on no values. */
+static void parent_trees(const bk_search *s, const bk_cand *c, bk_expr *t)
+{
+	t[0] = c->tree[0];
+	t[1] = c->tree[1];
+	for (int h = 0; s->o.inherit && h < 2; h++)
+		for (int i = 0; i < t[h].n; i++) {
+			bk_enode *n = &t[h].node[i];
+			int j = text_param(c->tree, h, n->slot);
+			if (n->op == BK_OP_PARAM)
+				n->k = c->status == BK_CAND_OK && j < c->np && isfinite(c->p[j]) ? c->p[j] + 0.0 : 0;
+		}
+}
+
+/* The start of a child's first fit from its trees' start values (1, the
+ * first default start, where a value is unknown or the parameter is the
+ * shape's own). 1 if any value is known, else 0: the child then starts as an
+ * enumerated tree does. */
 static int inherited(const bk_cand *c, double *p)
 {
-	int known = 0, off = 0;
+	int known = 0;
 	for (int j = 0; j < BK_MAX_PARAMS; j++)
 		p[j] = 1.0;
-	for (int h = 0; h < 2; h++) {
+	for (int h = 0; h < 2; h++)
 		for (int i = 0; i < c->tree[h].n; i++) {
 			const bk_enode *n = &c->tree[h].node[i];
-			int j = off + n->slot;
+			int j = text_param(c->tree, h, n->slot);
 			if (n->op == BK_OP_PARAM && n->k != 0 && j < BK_MAX_PARAMS)
 				p[j] = n->k, known = 1;
 		}
-		off = bk_expr_nparams(&c->tree[0]);
-	}
 	return known;
 }
 
@@ -535,10 +537,7 @@ static int child(bk_search *s, bk_expr *t)
 	const bk_cand *a = pick(s);
 	int which = s->o.shape == BK_SHAPE_PAIR ? (int)bk_rng_below(&s->rng, 2) : 0;
 	bk_expr pa[2], pb[2];
-	if (s->o.inherit)
-		stamped(a, pa);
-	else
-		pa[0] = a->tree[0], pa[1] = a->tree[1];
+	parent_trees(s, a, pa);
 	t[0] = pa[0];
 	t[1] = pa[1];
 	if (s->o.shape == BK_SHAPE_PAIR && a->tree[1].n == 0) { /* a shared feature: its one tree */
@@ -547,19 +546,13 @@ static int child(bk_search *s, bk_expr *t)
 		if (bk_rng_unit(&s->rng) < 0.7)
 			return bk_expr_mutate(g, &s->rng, &pa[0], &t[0]);
 		const bk_cand *b = pick(s);
-		if (s->o.inherit)
-			stamped(b, pb);
-		else
-			pb[0] = b->tree[0], pb[1] = b->tree[1];
+		parent_trees(s, b, pb);
 		return bk_expr_crossover(g, &s->rng, &pa[0], &pb[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
 	}
 	if (bk_rng_unit(&s->rng) < 0.7)
 		return bk_expr_mutate(g, &s->rng, &pa[which], &t[which]);
 	const bk_cand *b = pick(s);
-	if (s->o.inherit)
-		stamped(b, pb);
-	else
-		pb[0] = b->tree[0], pb[1] = b->tree[1];
+	parent_trees(s, b, pb);
 	const bk_expr *donor = pb[which].n ? &pb[which] : &pb[0]; /* a feature pair has one tree */
 	if (s->o.shape == BK_SHAPE_PAIR && bk_rng_unit(&s->rng) < 0.25) { /* swap a whole half */
 		t[which] = *donor;
