@@ -74,6 +74,14 @@ const char *bk_lut_format_name(bk_lut_format f); /* "unorm8", "half", "float" */
  * plane cell as bk_fit_plane_error would. Returns 0 or -1. */
 int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *s, bk_fit_metrics *m,
                  double *plane);
+/* The same for a LUT laid out for a scene (brdf.h, bk_lut_layout): rows over
+ * [r_lo, r_hi], the NoV axis warped, and, with f0 folded into one channel,
+ * scored only on samples at that f0 (s one-form, every f0 equal to L->f0;
+ * else -1); prec is the shader's (BK_F16: mediump, the fetched values and
+ * f0 A + B rounded to half; BK_F32; BK_F64: storage and filtering alone).
+ * bk_lut_score is the layout {size, size, 0, 1, none, NaN} in BK_F64. */
+int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, bk_precision prec,
+                        const bk_samples *s, bk_fit_metrics *m, double *plane);
 
 /* ---- report.c ------------------------------------------------------------------- */
 

@@ -7,6 +7,7 @@
 #include "out.h"
 #include "exr.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -17,42 +18,85 @@ static const char *const smith_text[BK_SMITH_COUNT] = {
 	"schlick: Schlick-GGX with k = a/2 (Karis 2013)",
 };
 
+/* The engines' usual layout: its files read as they always have. */
+static int classic(const bk_lut_layout *L)
+{
+	return L->r_lo == 0 && L->r_hi == 1 && L->warp == BK_LUT_WARP_NONE && isnan(L->f0);
+}
+
 static void describe(const bk_lut_desc *d, char *method, size_t mlen, char *origin, size_t olen)
 {
 	if (d->samples)
 		snprintf(method, mlen, "Hammersley Monte Carlo, GGX importance sampling, %ld samples", d->samples);
 	else
 		snprintf(method, mlen, "deterministic adaptive Gauss-Kronrod over the half vector, tol %g", d->tol);
-	snprintf(origin, olen, "%s", d->origin_top
-	         ? "top: scanline 0 (first in file, top as displayed) holds r = 0.5/height; uv (0,0) = first texel"
-	         : "bottom: the last scanline (bottom as displayed) holds r = 0.5/height; scanline 0 holds r = 1 - 0.5/height");
+	if (classic(&d->L))
+		snprintf(origin, olen, "%s", d->origin_top
+		         ? "top: scanline 0 (first in file, top as displayed) holds r = 0.5/height; uv (0,0) = first texel"
+		         : "bottom: the last scanline (bottom as displayed) holds r = 0.5/height; scanline 0 holds r = 1 - 0.5/height");
+	else
+		snprintf(origin, olen, "%s", d->origin_top
+		         ? "top: scanline 0 (first in file, top as displayed) holds v = 0.5/height; uv (0,0) = first texel"
+		         : "bottom: the last scanline (bottom as displayed) holds v = 0.5/height; scanline 0 holds v = 1 - 0.5/height");
 }
 
-static void write_csv(FILE *f, const bk_lut_desc *d, const char *method, const double *A,
+/* The axes, in words: where the texel centres are. */
+static void axes_text(const bk_lut_desc *d, char *buf, size_t len)
+{
+	const bk_lut_layout *L = &d->L;
+	if (classic(L)) {
+		snprintf(buf, len, "x: NoV = (i + 0.5)/width at texel centres; y: perceptual roughness r = (j + 0.5)/height");
+		return;
+	}
+	snprintf(buf, len,
+	         "x: u = %s at texel centres u = (i + 0.5)/width%s; y: v = (r - %.9g)/%.9g at texel centres v = (j + 0.5)/height, "
+	         "r perceptual roughness",
+	         bk_lut_warp_form(L->warp), L->warp == BK_LUT_WARP_SQRT ? " (texel i holds NoV = u^2)" : "", L->r_lo,
+	         L->r_hi - L->r_lo);
+}
+
+static void write_csv(FILE *f, const bk_lut_desc *d, const char *method, const char *axes, const double *A,
                       const double *B)
 {
-	int n = d->size;
-	fprintf(f, "# brdfkit %s DFG LUT, %dx%d, Smith %s\n", BK_VERSION, n, n, smith_text[d->smith]);
+	const bk_lut_layout *L = &d->L;
+	int folded = !isnan(L->f0);
+	fprintf(f, "# brdfkit %s DFG LUT, %dx%d, Smith %s\n", BK_VERSION, L->nu, L->nr, smith_text[d->smith]);
 	fputs("# f0*A + B = integral of D*V*F*NoL over the light hemisphere; GGX D, Schlick F with f90 = 1\n", f);
-	fprintf(f, "# nov and roughness (perceptual, alpha = r^2) at texel centres (i + 0.5)/%d; method: %s\n",
-	        n, method);
+	if (folded)
+		fprintf(f, "# one channel: env = %.9g*A + B (f0 folded in)\n", L->f0);
+	if (classic(L))
+		fprintf(f, "# nov and roughness (perceptual, alpha = r^2) at texel centres (i + 0.5)/%d; method: %s\n", L->nu,
+		        method);
+	else
+		fprintf(f, "# %s; alpha = r^2; method: %s\n", axes, method);
 	fprintf(f, "# command: %s\n", d->command ? d->command : "");
-	fputs("nov,roughness,A,B\n", f);
-	for (int j = 0; j < n; j++)
-		for (int i = 0; i < n; i++)
-			fprintf(f, "%.9g,%.9g,%.9g,%.9g\n", (i + 0.5) / n, (j + 0.5) / n,
-			        A[(size_t)j * n + i], B[(size_t)j * n + i]);
+	fputs(folded ? "nov,roughness,env\n" : "nov,roughness,A,B\n", f);
+	for (int j = 0; j < L->nr; j++)
+		for (int i = 0; i < L->nu; i++) {
+			size_t k = (size_t)j * (size_t)L->nu + (size_t)i;
+			fprintf(f, "%.9g,%.9g,", bk_lut_texel_nov(L, i), bk_lut_texel_r(L, j));
+			if (folded)
+				fprintf(f, "%.9g\n", L->f0 * A[k] + B[k]);
+			else
+				fprintf(f, "%.9g,%.9g\n", A[k], B[k]);
+		}
 }
 
 /* File row y holds roughness row j: y = j with the origin at the top. */
 static void to_rows(const bk_lut_desc *d, const double *A, const double *B, float *R, float *G)
 {
-	int n = d->size;
-	for (int y = 0; y < n; y++) {
-		int j = d->origin_top ? y : n - 1 - y;
-		for (int i = 0; i < n; i++) {
-			R[(size_t)y * n + i] = (float)A[(size_t)j * n + i];
-			G[(size_t)y * n + i] = (float)B[(size_t)j * n + i];
+	const bk_lut_layout *L = &d->L;
+	size_t nu = (size_t)L->nu;
+	for (int y = 0; y < L->nr; y++) {
+		int j = d->origin_top ? y : L->nr - 1 - y;
+		for (size_t i = 0; i < nu; i++) {
+			size_t k = (size_t)j * nu + i;
+			if (isnan(L->f0)) {
+				R[(size_t)y * nu + i] = (float)A[k];
+				G[(size_t)y * nu + i] = (float)B[k];
+			} else {
+				R[(size_t)y * nu + i] = (float)(L->f0 * A[k] + B[k]);
+			}
 		}
 	}
 }
@@ -60,30 +104,42 @@ static void to_rows(const bk_lut_desc *d, const double *A, const double *B, floa
 int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
                  const double *B, char *err, size_t errlen)
 {
-	char csv[4200], exr_path[4200], method[160], origin[200];
+	char csv[4200], exr_path[4200], method[160], origin[200], axes[400], channels[240];
 	snprintf(csv, sizeof csv, "%.4000s/" BK_LUT_CSV, dir);
 	snprintf(exr_path, sizeof exr_path, "%.4000s/" BK_LUT_EXR, dir);
-	size_t n = (size_t)d->size * (size_t)d->size;
+	if (bk_lut_layout_check(&d->L)) {
+		snprintf(err, errlen, "%s: not a valid LUT layout", exr_path);
+		return -1;
+	}
+	size_t n = (size_t)d->L.nu * (size_t)d->L.nr;
 	float *R = malloc(n * sizeof *R), *G = malloc(n * sizeof *G);
 	if (!R || !G) {
 		free(R);
 		free(G);
-		snprintf(err, errlen, "%s: out of memory for a %dx%d table", exr_path, d->size, d->size);
+		snprintf(err, errlen, "%s: out of memory for a %dx%d table", exr_path, d->L.nu, d->L.nr);
 		return -1;
 	}
 	describe(d, method, sizeof method, origin, sizeof origin);
+	axes_text(d, axes, sizeof axes);
+	int folded = !isnan(d->L.f0);
+	if (folded)
+		snprintf(channels, sizeof channels, "R = %.9g*A + B = integral of D*V*F*NoL at f0 = %.9g (folded in), GGX D, "
+		         "Schlick F with f90 = 1; linear data, never load as sRGB", d->L.f0, d->L.f0);
+	else
+		snprintf(channels, sizeof channels, "R = A (scale of f0), G = B (bias): f0*A + B = integral of D*V*F*NoL, GGX D, "
+		         "Schlick F with f90 = 1; linear data, never load as sRGB");
 	to_rows(d, A, B, R, G);
 
 	bk_out co;
 	int rc = bk_out_open(&co, csv, err, errlen);
 	if (rc == 0) {
-		write_csv(co.f, d, method, A, B);
+		write_csv(co.f, d, method, axes, A, B);
 		const bk_exr_attr attrs[] = {
 			{"brdfkit:version", BK_EXR_ATTR_STRING, BK_VERSION, 0},
-			{"brdfkit:axes", BK_EXR_ATTR_STRING, "x: NoV = (i + 0.5)/width at texel centres; y: perceptual roughness r = (j + 0.5)/height", 0},
+			{"brdfkit:axes", BK_EXR_ATTR_STRING, axes, 0},
 			{"brdfkit:origin", BK_EXR_ATTR_STRING, origin, 0},
 			{"brdfkit:roughness", BK_EXR_ATTR_STRING, "perceptual roughness r, linear in y; GGX alpha = r^2", 0},
-			{"brdfkit:channels", BK_EXR_ATTR_STRING, "R = A (scale of f0), G = B (bias): f0*A + B = integral of D*V*F*NoL, GGX D, Schlick F with f90 = 1; linear data, never load as sRGB", 0},
+			{"brdfkit:channels", BK_EXR_ATTR_STRING, channels, 0},
 			{"brdfkit:smith", BK_EXR_ATTR_STRING, smith_text[d->smith], 0},
 			{"brdfkit:method", BK_EXR_ATTR_STRING, method, 0},
 			{"brdfkit:samples", BK_EXR_ATTR_INT, NULL, (int)d->samples},
@@ -91,7 +147,7 @@ int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
 		};
 		const char *names[2] = {"R", "G"};
 		const float *data[2] = {R, G};
-		rc = bk_exr_write(exr_path, d->size, d->size, 2, names, data, d->half, attrs,
+		rc = bk_exr_write(exr_path, d->L.nu, d->L.nr, folded ? 1 : 2, names, data, d->half, attrs,
 		                  (int)(sizeof attrs / sizeof attrs[0]), err, errlen);
 		if (rc)
 			bk_out_abort(&co);

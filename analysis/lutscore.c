@@ -14,7 +14,9 @@
 #include "compare.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
+#include <unistd.h>
 
 /* Sub-texel precision of the bilinear weights. GPUs do not filter with the
  * float coordinate: they convert it to fixed point first. Direct3D 11 requires
@@ -33,33 +35,87 @@ const char *bk_lut_format_name(bk_lut_format f)
 	return (unsigned)f < BK_LUT_FORMATS ? names[f] : "?";
 }
 
-/* The reference texels of the (size, smith) pairs asked for, A then B: a 128²
- * bake takes seconds, a table scores three formats of it and brdfkit scene
- * every size for each feature set. One table per thread, a few entries (the
- * oldest replaced), kept until exit. */
+/* The reference texels of the (layout, smith) pairs asked for, A then B: a
+ * 128² bake takes seconds, a table scores three formats of it and brdfkit
+ * scene every size for each feature set. One table per thread, a few entries
+ * (the oldest replaced), kept until exit. */
 #define LUT_CACHE 8
 static _Thread_local struct {
-	int size;
+	bk_lut_layout L;
 	bk_smith smith;
 	double *AB;
 } cache[LUT_CACHE];
 static _Thread_local int cache_next;
 
-static const double *reference(int size, bk_smith smith)
+static int same_layout(const bk_lut_layout *a, const bk_lut_layout *b)
+{
+	return a->nu == b->nu && a->nr == b->nr && a->r_lo == b->r_lo && a->r_hi == b->r_hi && a->warp == b->warp;
+}
+
+/* The bake on up to BAKE_THREADS threads, rows interleaved: each texel is
+ * one bk_dfg call whatever thread makes it, so the table is the same bytes
+ * for any thread count. */
+#define BAKE_THREADS 8
+typedef struct bake {
+	const bk_lut_layout *L;
+	bk_smith smith;
+	double *A, *B;
+	int first, step, rc;
+} bake;
+
+static void *bake_rows(void *arg)
+{
+	bake *b = arg;
+	for (int j = b->first; j < b->L->nr && !b->rc; j += b->step) {
+		double r = bk_lut_texel_r(b->L, j);
+		for (int i = 0; i < b->L->nu && !b->rc; i++) {
+			size_t k = (size_t)j * (size_t)b->L->nu + (size_t)i;
+			b->rc = bk_dfg(bk_lut_texel_nov(b->L, i), r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL);
+		}
+	}
+	return NULL;
+}
+
+static int bake_table(const bk_lut_layout *L, bk_smith smith, double *A, double *B)
+{
+	long cores = sysconf(_SC_NPROCESSORS_ONLN);
+	int nt = cores < 1 ? 1 : cores > BAKE_THREADS ? BAKE_THREADS : (int)cores;
+	if (nt > L->nr)
+		nt = L->nr;
+	bake b[BAKE_THREADS];
+	pthread_t th[BAKE_THREADS];
+	int started[BAKE_THREADS] = {0}, rc = 0;
+	for (int t = 0; t < nt; t++) {
+		b[t] = (bake){L, smith, A, B, t, nt, 0};
+		started[t] = t > 0 && pthread_create(&th[t], NULL, bake_rows, &b[t]) == 0;
+	}
+	bake_rows(&b[0]);
+	for (int t = 1; t < nt; t++) {
+		if (started[t])
+			pthread_join(th[t], NULL);
+		else /* no thread: its rows here */
+			bake_rows(&b[t]);
+	}
+	for (int t = 0; t < nt; t++)
+		rc |= b[t].rc;
+	return rc ? -1 : 0;
+}
+
+static const double *reference(const bk_lut_layout *L, bk_smith smith)
 {
 	for (int k = 0; k < LUT_CACHE; k++)
-		if (cache[k].AB && cache[k].size == size && cache[k].smith == smith)
+		if (cache[k].AB && same_layout(&cache[k].L, L) && cache[k].smith == smith)
 			return cache[k].AB;
-	size_t n = (size_t)size * (size_t)size;
+	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *AB = malloc(sizeof(double) * 2 * n);
-	if (!AB || bk_dfg_lut(size, smith, 0, BK_DFG_TOL, AB, AB + n, NULL, NULL)) {
+	if (!AB || bake_table(L, smith, AB, AB + n)) {
 		free(AB);
 		return NULL;
 	}
 	int k = cache_next;
 	cache_next = (cache_next + 1) % LUT_CACHE;
 	free(cache[k].AB);
-	cache[k].AB = AB, cache[k].size = size, cache[k].smith = smith;
+	cache[k].AB = AB, cache[k].L = *L, cache[k].smith = smith;
 	return AB;
 }
 
@@ -93,50 +149,102 @@ static double axis(double x, int size, int *i0, int *i1)
 
 static double lerp(double a, double b, double t) { return a + t * (b - a); } /* t = 0 or a = b: a exactly */
 
-/* Bilinear fetch of t (size x size, row-major in r) at (NoV, r). */
-static double sample(const double *t, int size, double NoV, double r)
+/* Bilinear fetch of t (nu x nr, row-major in r) at texture coordinates (u, v). */
+static double sample(const double *t, int nu, int nr, double u, double v)
 {
-	if (isnan(NoV) || isnan(r))
+	if (isnan(u) || isnan(v))
 		return NAN;
 	int i0, i1, j0, j1;
-	double s = axis(NoV, size, &i0, &i1), w = axis(r, size, &j0, &j1);
-	const double *row0 = t + (size_t)j0 * (size_t)size, *row1 = t + (size_t)j1 * (size_t)size;
+	double s = axis(u, nu, &i0, &i1), w = axis(v, nr, &j0, &j1);
+	const double *row0 = t + (size_t)j0 * (size_t)nu, *row1 = t + (size_t)j1 * (size_t)nu;
 	return lerp(lerp(row0[i0], row0[i1], s), lerp(row1[i0], row1[i1], s), w);
 }
 
 int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *s, bk_fit_metrics *m,
                  double *plane)
 {
-	if (size < 1 || (unsigned)fmt >= BK_LUT_FORMATS || (unsigned)smith >= BK_SMITH_COUNT || !s || !m || !s->n)
+	bk_lut_layout L = {size, size, 0, 1, BK_LUT_WARP_NONE, NAN};
+	return bk_lut_score_layout(&L, fmt, smith, BK_F64, s, m, plane);
+}
+
+/* A value in the shader's precision: what a fetch returns into a mediump or
+ * highp variable, and what the multiply-add then leaves. */
+static double in_precision(double x, bk_precision p)
+{
+	return p == BK_F16 ? bk_half_round(x) : p == BK_F32 ? (double)(float)x : x;
+}
+
+/* The texture coordinates as the shader computes them in its precision:
+ * the inputs, the square root and the multiply-add of the remap (with its
+ * constants) each rounded; in BK_F64 the exact map of bk_lut_u and bk_lut_v. */
+static void coords(const bk_lut_layout *L, bk_precision prec, double NoV, double r, double *u, double *v)
+{
+	if (isnan(NoV) || isnan(r)) {
+		*u = *v = NAN;
+		return;
+	}
+	if (prec == BK_F64) {
+		*u = bk_lut_u(L, NoV);
+		*v = bk_lut_v(L, r);
+		return;
+	}
+	double x = in_precision(NoV, prec), y = in_precision(r, prec);
+	*u = L->warp == BK_LUT_WARP_SQRT ? in_precision(sqrt(fmax(x, 0)), prec) : x;
+	if (L->r_lo > 0 || L->r_hi < 1) { /* v = r*k + c, one fused multiply-add */
+		double k = in_precision(1 / (L->r_hi - L->r_lo), prec), c = in_precision(-L->r_lo / (L->r_hi - L->r_lo), prec);
+		y = in_precision(y * k + c, prec);
+	}
+	*v = y;
+}
+
+int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, bk_precision prec,
+                        const bk_samples *s, bk_fit_metrics *m, double *plane)
+{
+	if (bk_lut_layout_check(L) || (unsigned)fmt >= BK_LUT_FORMATS || (unsigned)smith >= BK_SMITH_COUNT || !s || !m ||
+	    !s->n || (prec != BK_F64 && prec != BK_F32 && prec != BK_F16))
 		return -1;
 	/* an env target: (NoV, r), and f0 for the one-form variant */
 	unsigned need = 1u << BK_IN_NOV | 1u << BK_IN_R | (s->ncomp == 1 ? 1u << BK_IN_F0 : 0u);
 	if ((s->provides & need) != need || (s->ncomp == 2 ? s->start[2] != s->n || 2 * s->start[1] != s->n
 	                                                   : s->ncomp != 1))
 		return -1;
-	const double *ref = reference(size, smith);
-	size_t n = (size_t)size * (size_t)size;
+	int folded = !isnan(L->f0);
+	if (folded && s->ncomp != 1) /* one channel holds f0 A + B: no split A, B to compare with */
+		return -1;
+	for (size_t i = 0; folded && i < s->n; i++)
+		if (s->in[BK_IN_F0][i] != L->f0) /* it is right at its own f0 only */
+			return -1;
+	const double *ref = reference(L, smith);
+	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *tex = malloc(sizeof(double) * 2 * n), *v = malloc(sizeof(double) * s->n);
 	if (!ref || !tex || !v) {
 		free(tex);
 		free(v);
 		return -1;
 	}
-	for (size_t k = 0; k < 2 * n; k++)
-		tex[k] = quantise(ref[k], fmt);
+	for (size_t k = 0; k < n; k++) { /* the stored channels: A, B or f0 A + B */
+		tex[k] = quantise(folded ? L->f0 * ref[k] + ref[n + k] : ref[k], fmt);
+		tex[n + k] = quantise(ref[n + k], fmt);
+	}
 	const double *A = tex, *B = tex + n;
 	for (size_t i = 0; i < s->n; i++) {
-		double NoV = s->in[BK_IN_NOV][i], r = s->in[BK_IN_R][i];
+		double u, w;
+		coords(L, prec, s->in[BK_IN_NOV][i], s->in[BK_IN_R][i], &u, &w);
+		/* the filter itself runs at full precision (modelled exact); its
+		 * result lands in the shader's precision, and so does f0 A + B (one
+		 * rounding: a fused multiply-add) */
 		if (s->ncomp == 2)
-			v[i] = sample(i < s->start[1] ? A : B, size, NoV, r);
+			v[i] = in_precision(sample(i < s->start[1] ? A : B, L->nu, L->nr, u, w), prec);
+		else if (folded) /* one fetch is the term */
+			v[i] = in_precision(sample(A, L->nu, L->nr, u, w), prec);
 		else /* the shader's f0 A + B from one fetch of both channels */
-			v[i] = s->in[BK_IN_F0][i] * sample(A, size, NoV, r) + sample(B, size, NoV, r);
+			v[i] = in_precision(in_precision(s->in[BK_IN_F0][i], prec) * in_precision(sample(A, L->nu, L->nr, u, w), prec) +
+			                    in_precision(sample(B, L->nu, L->nr, u, w), prec), prec);
 	}
 	bk_samples_metrics(s, v, NULL, m);
 	if (plane)
 		bk_samples_plane_error(s, v, plane);
-	int rc = 0;
 	free(tex);
 	free(v);
-	return rc;
+	return 0;
 }

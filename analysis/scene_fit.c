@@ -208,6 +208,7 @@ typedef struct cand {
 	double cost, err;
 	bk_ops ops;
 	int lut, lut_size;
+	bk_lut_layout layout; /* a LUT's layout */
 	bk_lut_format fmt;
 	double lut_bytes;
 } cand;
@@ -284,30 +285,88 @@ static int add_form(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 	return 0;
 }
 
-static int add_luts(pool *P, const bk_scene *sc, const domain *d, bk_smith smith)
+/* The ALU ops of a LUT's coordinates and combine: the warp of NoV, the remap
+ * of r onto the rows, and f0 A + B unless f0 is folded into the texel. */
+static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
+{
+	memset(ops, 0, sizeof *ops);
+	const char *parts[3] = {bk_lut_warp_form(L->warp), L->r_lo > 0 || L->r_hi < 1 ? "r*p0 + p1" : "r",
+	                        isnan(L->f0) ? "f0*p0 + p1" : "p0"};
+	for (int k = 0; k < 3; k++) {
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(parts[k], &fe);
+		if (!f)
+			return -1;
+		bk_ops o;
+		bk_form_count(f, &o);
+		bk_form_free(f);
+		for (int c = 0; c < BK_K_COUNT; c++)
+			ops->n[c] += o.n[c];
+		ops->simple += o.simple;
+		ops->complex += o.complex;
+	}
+	return 0;
+}
+
+/* LUTs of 16² to 128² in three formats: the generic layout (brdfkit lut
+ * --size N: A and B over [0, 1]²), and laid out for the set (brdf.h,
+ * bk_lut_layout): rows over its roughness range only, f0 folded into one
+ * channel where it has one f0, NoV warped towards grazing angles. */
+static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_smith smith)
 {
 	static const int sizes[] = {16, 32, 64, 128};
-	static const double texel_bytes[BK_LUT_FORMATS] = {2, 4, 8}; /* two channels */
-	for (int i = 0; i < 4; i++)
-		for (int fmt = 0; fmt < BK_LUT_FORMATS; fmt++) {
-			bk_fit_metrics m;
-			if (bk_lut_score(sizes[i], (bk_lut_format)fmt, smith, &d->s[0], &m, NULL))
-				return -1;
-			cand *c = pool_add(P);
-			if (!c)
-				return -1;
-			snprintf(c->name, sizeof c->name, "LUT %dx%d %s", sizes[i], sizes[i], bk_lut_format_name(fmt));
-			snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)", sizes[i]);
-			c->lut = 1;
-			c->lut_size = sizes[i];
-			c->fmt = (bk_lut_format)fmt;
-			c->lut_bytes = sizes[i] * sizes[i] * texel_bytes[fmt];
-			/* one fetch, then f0 A + B: one multiply-add */
-			c->ops.n[BK_K_MAD] = 1;
-			c->ops.simple = 1;
-			c->cost = sc->fetch_cost + sc->simple_cost;
-			c->err = m.max_abs;
+	static const double channel_bytes[BK_LUT_FORMATS] = {1, 2, 4};
+	double r_lo = set->r_lo, r_hi = set->r_hi;
+	widen(&r_lo, &r_hi);
+	const bk_samples *s = &d->s[0];
+	double f0 = set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
+	int remap = r_lo > 0 || r_hi < 1;
+	for (int variant = 0; variant < 1 + BK_LUT_WARPS; variant++) {
+		bk_lut_layout L = {0, 0, 0, 1, BK_LUT_WARP_NONE, NAN};
+		if (variant > 0) { /* laid out for the set: only where that differs from the generic */
+			L.warp = (bk_lut_warp)(variant - 1);
+			if (remap)
+				L.r_lo = r_lo, L.r_hi = r_hi;
+			L.f0 = f0;
+			if (L.warp == BK_LUT_WARP_NONE && !remap && isnan(f0))
+				continue;
 		}
+		bk_ops ops;
+		if (lut_ops(&L, &ops))
+			return -1;
+		for (int i = 0; i < 4; i++)
+			for (int fmt = 0; fmt < BK_LUT_FORMATS; fmt++) {
+				L.nu = L.nr = sizes[i];
+				bk_fit_metrics m;
+				if (bk_lut_score_layout(&L, (bk_lut_format)fmt, smith, d->prec, s, &m, NULL))
+					return -1;
+				cand *c = pool_add(P);
+				if (!c)
+					return -1;
+				if (variant == 0) {
+					snprintf(c->name, sizeof c->name, "LUT %dx%d %s", sizes[i], sizes[i], bk_lut_format_name(fmt));
+					snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)",
+					         sizes[i]);
+				} else {
+					char f0t[32] = "", rt[48] = "";
+					if (!isnan(L.f0))
+						snprintf(f0t, sizeof f0t, " f0 %g", L.f0);
+					if (remap)
+						snprintf(rt, sizeof rt, " r %g-%g", L.r_lo, L.r_hi);
+					snprintf(c->name, sizeof c->name, "LUT %dx%d %s%s%s%s%s", sizes[i], sizes[i], bk_lut_format_name(fmt),
+					         f0t, rt, L.warp ? " " : "", L.warp ? bk_lut_warp_name(L.warp) : "");
+					snprintf(c->source, sizeof c->source, "DFG texture laid out for the set (bilinear, texel centres)");
+				}
+				c->lut = 1;
+				c->lut_size = sizes[i];
+				c->layout = L;
+				c->fmt = (bk_lut_format)fmt;
+				c->lut_bytes = (double)sizes[i] * sizes[i] * channel_bytes[fmt] * (isnan(L.f0) ? 2 : 1);
+				c->ops = ops;
+				c->cost = sc->fetch_cost + bk_ops_cost(&ops, sc->simple_cost, sc->complex_cost);
+				c->err = m.max_abs;
+			}
+	}
 	return 0;
 }
 
@@ -474,6 +533,8 @@ static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, 
 	ch->lut = c->lut;
 	ch->lut_size = c->lut_size;
 	ch->lut_fmt = c->fmt;
+	ch->lut_layout = c->layout;
+	ch->lut_bytes = c->lut_bytes;
 	ch->ops = c->ops;
 	ch->cost = c->cost;
 	ch->err = c->err;
@@ -552,7 +613,8 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 			goto done;
 	} else {
 		bk_fit_metrics m;
-		if (bk_lut_score(BK_SCENE_GENERIC_LUT, BK_LUT_HALF, BK_SMITH_CORRELATED, &d.s[0], &m, NULL)) {
+		bk_lut_layout gl = {BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT, 0, 1, BK_LUT_WARP_NONE, NAN};
+		if (bk_lut_score_layout(&gl, BK_LUT_HALF, BK_SMITH_CORRELATED, d.prec, &d.s[0], &m, NULL)) {
 			snprintf(err, errlen, "env: the generic LUT could not be scored");
 			goto done;
 		}
@@ -560,7 +622,9 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(gen.source, sizeof gen.source, "DFG texture, bilinear");
 		gen.lut = 1;
 		gen.lut_size = BK_SCENE_GENERIC_LUT;
+		gen.layout = (bk_lut_layout){BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT, 0, 1, BK_LUT_WARP_NONE, NAN};
 		gen.fmt = BK_LUT_HALF;
+		gen.lut_bytes = BK_SCENE_GENERIC_LUT * BK_SCENE_GENERIC_LUT * 4;
 		gen.ops.n[BK_K_MAD] = 1;
 		gen.ops.simple = 1;
 		gen.cost = sc->fetch_cost + sc->simple_cost;
@@ -592,7 +656,7 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	}
 	if (term == BK_SCENE_TERM_VF && add_form(&P, sc, set, &d, term, "exact", gen.source, BK_SCENE_GENERIC_VF, NULL))
 		goto done;
-	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, &d, BK_SMITH_CORRELATED)) {
+	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED)) {
 		snprintf(err, errlen, "env: a LUT could not be scored");
 		goto done;
 	}
@@ -623,6 +687,14 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(err, errlen, "%s: no candidate is finite on the set's domain", bk_scene_term_name(term));
 		goto done;
 	}
+	/* env: the most accurate at the generic's cost and memory (vf's
+	 * candidates are scored before their guards, the generic after: no
+	 * fair comparison there) */
+	int eq = -1;
+	for (int i = 0; term == BK_SCENE_TERM_ENV && i < P.n; i++)
+		if (P.c[i].cost <= g.cost && (!P.c[i].lut || P.c[i].lut_bytes <= gen.lut_bytes) &&
+		    (eq < 0 || P.c[i].err < P.c[eq].err || (P.c[i].err == P.c[eq].err && better(&P.c[i], &P.c[eq]))))
+			eq = i;
 	/* the guards a form needs in half can cost accuracy (a roughness floor):
 	 * the candidates that meet the budget as fitted are tried in order of
 	 * preference until one still meets it guarded */
@@ -662,6 +734,11 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		bk_scene_choice_free(ch);
 		if (finish(sc, set, &d, term, &P.c[b], 0, ch, err, errlen))
 			goto done;
+	}
+	if (eq >= 0) {
+		snprintf(ch->eq_name, sizeof ch->eq_name, "%s", P.c[eq].name);
+		ch->eq_cost = P.c[eq].cost;
+		ch->eq_err = P.c[eq].err;
 	}
 	ch->budget = budget;
 	ch->meets = ch->err <= budget;

@@ -2,7 +2,9 @@
  * scene_fit.h — for one feature set of a scene (scene.h) and one term it
  * needs, the cheapest form that meets the error budget on the set's own
  * domain: the catalog at its published constants and refitted on that
- * domain, the LUT at the scene's ALU:TEX tier for the environment BRDF, and
+ * domain, LUTs at the scene's ALU:TEX tier for the environment BRDF (the
+ * engines' layout, and laid out for the set: f0 folded into one channel,
+ * rows over its roughness range, NoV warped; brdf.h, bk_lut_layout), and
  * the generic shader's term for reference; then the fp16 guards the chosen
  * form needs at the scene's precision, and none it does not.
  *
@@ -10,7 +12,8 @@
  *   vf   the directional albedo's max abs error of D · V·F over the set's
  *        (NoV, r) cells, at each end of its f0 range (Schlick is linear in
  *        f0, so the ends bound every f0 between for the forms that are too);
- *   env  the max abs error of f0 A + B at the ends of the f0 range;
+ *   env  the max abs error of f0 A + B at the ends of the f0 range (a LUT:
+ *        its fetched values and f0 A + B in the scene's precision too);
  *   D    exact GGX (brdfkit has no cheaper D): the guards alone are decided,
  *        and its error is the largest relative error they add where they act
  *        (a roughness floor changes D below it: stability.h's guard_error).
@@ -41,7 +44,9 @@ typedef struct bk_scene_choice {
 	char source[256];
 	int lut;              /* 1: the environment BRDF is a LUT fetch */
 	int lut_size;
+	bk_lut_layout lut_layout; /* the generic's ({size, size, 0, 1, none, NaN}) or one for the set */
 	bk_lut_format lut_fmt;
+	double lut_bytes;
 	char *text;           /* the form as emitted: f0 folded where the set has one, guards
 	                         applied; NULL for a LUT (allocated) */
 	double p[BK_MAX_PARAMS];
@@ -53,6 +58,11 @@ typedef struct bk_scene_choice {
 	int meets;
 	int scored;           /* candidates scored for this choice */
 	char guards[256];     /* which fp16 guards, and why (or why none) */
+	/* the most accurate candidate at no more than the generic term's cost (a
+	   LUT: and no more memory than the generic's), as fitted: what the set
+	   gains in accuracy instead of cost; eq_name empty when none (D) */
+	char eq_name[128];
+	double eq_cost, eq_err;
 } bk_scene_choice;
 
 /* Chooses the term for the set; generic (may be NULL) gets the generic

@@ -192,6 +192,41 @@ typedef void (*bk_progress_fn)(void *ctx, int done, int total);
 int bk_dfg_lut(int size, bk_smith m, unsigned samples, double tol, double *A,
                double *B, bk_progress_fn progress, void *ctx);
 
+/* A LUT laid out for one scene (brdfkit scene): nu x nr texels, rows only
+ * over the scene's roughness range, the NoV axis warped so that texels crowd
+ * where B bends (grazing angles), optionally f0 folded into one channel.
+ * Texel (i, j) sits at the texel centre u = (i + 0.5)/nu, v = (j + 0.5)/nr of
+ * the texture coordinates
+ *   u = warp(NoV)                       none: NoV; sqrt: sqrt(NoV)
+ *   v = (r - r_lo)/(r_hi - r_lo)
+ * so a shader samples texture(lut, vec2(warp(NoV), r*scale + offset)). sqrt
+ * puts texel i at NoV = ((i + 0.5)/nu)^2: at smooth roughness B falls from 1
+ * to its plateau within NoV ~ a of 0, where uniform texels are too coarse,
+ * and B is smooth near NoV = 1 where the spacing doubles. (NoV (2 - NoV),
+ * two ALU ops instead of a square root, was tried: its spacing near NoV = 1
+ * grows as the square root of the texel size and it lost on rough scenes.)
+ * {size, size, 0, 1, NONE, NaN} is bk_dfg_lut's layout. */
+typedef enum bk_lut_warp { BK_LUT_WARP_NONE, BK_LUT_WARP_SQRT, BK_LUT_WARPS } bk_lut_warp;
+typedef struct bk_lut_layout {
+	int nu, nr;          /* texels along NoV (x) and r (y) */
+	double r_lo, r_hi;   /* 0 <= r_lo < r_hi <= 1 */
+	bk_lut_warp warp;
+	double f0;           /* NaN: two channels A, B; a value: one channel f0 A + B */
+} bk_lut_layout;
+const char *bk_lut_warp_name(bk_lut_warp w); /* "none", "sqrt" */
+const char *bk_lut_warp_form(bk_lut_warp w); /* the coordinate u in the formula language */
+/* u and v of a point (clamped to [0, 1]), and the NoV and r of texel i or j. */
+double bk_lut_u(const bk_lut_layout *L, double NoV);
+double bk_lut_v(const bk_lut_layout *L, double r);
+double bk_lut_texel_nov(const bk_lut_layout *L, int i);
+double bk_lut_texel_r(const bk_lut_layout *L, int j);
+/* 0 when L is a valid layout, else -1. */
+int bk_lut_layout_check(const bk_lut_layout *L);
+/* A and B at L's texels (nu*nr each, row-major in r) as bk_dfg_lut computes
+ * them; a one-channel layout is folded by the caller (f0 A + B). */
+int bk_dfg_lut_layout(const bk_lut_layout *L, bk_smith m, unsigned samples, double tol, double *A, double *B,
+                      bk_progress_fn progress, void *ctx);
+
 /* ---- Formula IR -------------------------------------------------------------
  * A candidate form typed as text, e.g. "1/(LoH*LoH*(r+p0))", compiled once to a
  * flat SSA instruction list (brdf/ir_ops.h documents the format) that drives

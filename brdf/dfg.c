@@ -86,3 +86,74 @@ int bk_dfg_lut(int size, bk_smith m, unsigned samples, double tol, double *A,
 	}
 	return 0;
 }
+
+/* ---- LUT layouts ----------------------------------------------------------- */
+
+const char *bk_lut_warp_name(bk_lut_warp w)
+{
+	static const char *const names[BK_LUT_WARPS] = {"none", "sqrt"};
+	return (unsigned)w < BK_LUT_WARPS ? names[w] : "?";
+}
+
+const char *bk_lut_warp_form(bk_lut_warp w)
+{
+	static const char *const forms[BK_LUT_WARPS] = {"NoV", "sqrt(NoV)"};
+	return (unsigned)w < BK_LUT_WARPS ? forms[w] : "NoV";
+}
+
+static double clamp01(double x) { return x < 0 ? 0 : x > 1 ? 1 : x; }
+
+double bk_lut_u(const bk_lut_layout *L, double NoV)
+{
+	double x = clamp01(NoV);
+	return L->warp == BK_LUT_WARP_SQRT ? sqrt(x) : x;
+}
+
+double bk_lut_v(const bk_lut_layout *L, double r)
+{
+	return clamp01((r - L->r_lo) / (L->r_hi - L->r_lo));
+}
+
+/* The inverse warp: NoV of the texel centre u. */
+double bk_lut_texel_nov(const bk_lut_layout *L, int i)
+{
+	double u = (i + 0.5) / L->nu;
+	return L->warp == BK_LUT_WARP_SQRT ? u * u : u;
+}
+
+double bk_lut_texel_r(const bk_lut_layout *L, int j)
+{
+	return L->r_lo + (L->r_hi - L->r_lo) * ((j + 0.5) / L->nr);
+}
+
+int bk_lut_layout_check(const bk_lut_layout *L)
+{
+	if (!L || L->nu < 1 || L->nr < 1 || L->nu > 65536 || L->nr > 65536 || (unsigned)L->warp >= BK_LUT_WARPS)
+		return -1;
+	if (!(L->r_lo >= 0 && L->r_lo < L->r_hi && L->r_hi <= 1))
+		return -1;
+	if (!isnan(L->f0) && !(L->f0 >= 0 && L->f0 <= 1))
+		return -1;
+	return 0;
+}
+
+int bk_dfg_lut_layout(const bk_lut_layout *L, bk_smith m, unsigned samples, double tol, double *A, double *B,
+                      bk_progress_fn progress, void *ctx)
+{
+	if (bk_lut_layout_check(L) || (unsigned)m >= BK_SMITH_COUNT)
+		return -1;
+	for (int j = 0; j < L->nr; j++) {
+		double r = bk_lut_texel_r(L, j);
+		for (int i = 0; i < L->nu; i++) {
+			double NoV = bk_lut_texel_nov(L, i);
+			size_t k = (size_t)j * (size_t)L->nu + (size_t)i;
+			int rc = samples ? bk_dfg_hammersley(NoV, r, m, samples, &A[k], &B[k])
+			                 : bk_dfg(NoV, r, m, tol, &A[k], &B[k], NULL);
+			if (rc)
+				return rc;
+		}
+		if (progress)
+			progress(ctx, j + 1, L->nr);
+	}
+	return 0;
+}

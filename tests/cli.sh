@@ -63,6 +63,20 @@ expect_error "f0 and ior" "--ior" $BK albedo --d ggx --v implicit --f schlick --
 expect_error "lut size" "--size" $BK lut --size 0 --out "$T/a.exr"
 expect_error "lut origin" "'left'" $BK lut --size 4 --origin left --out "$T/a.exr"
 expect_error "lut unwritable" "$T/no/dir/a" $BK lut --size 4 --out "$T/no/dir/a.exr"
+expect_error "lut r-range" "'0.5:0.4'" $BK lut --size 4 --r-range 0.5:0.4 --out "$T/lr"
+expect_error "lut r-range text" "'0.2'" $BK lut --size 4 --r-range 0.2 --out "$T/lr"
+expect_error "lut warp" "'cube'" $BK lut --size 4 --warp cube --out "$T/lr"
+expect_error "lut f0" "--f0" $BK lut --size 4 --f0 1.5 --out "$T/lr"
+[ ! -e "$T/lr" ] && ok || bad "a refused lut left --out behind"
+# a LUT laid out for a scene: one channel f0 A + B, rows over r in [0.4, 1],
+# x at u = sqrt(NoV): the first texel is NoV = (0.5/4)^2 = 0.015625 at
+# r = 0.4 + 0.6 (0.5/4) = 0.475, and holds 0.04 A + B there, as dfg gives it
+$BK lut --size 4 --f0 0.04 --r-range 0.4:1 --warp sqrt --tol 1e-8 --out "$T/lf" 2>/dev/null
+row=$(grep -v '^#' "$T/lf/dfg.csv" | sed -n 2p)
+want=$($BK dfg --nov 0.015625 --roughness 0.475 | tail -1 | awk -F, '{printf "%.7f", 0.04*$3 + $4}')
+echo "$row" | awk -F, -v w="$want" '$1 == 0.015625 && $2 == 0.475 && ($3 - w)^2 < 1e-14 {ok = 1} END {exit !ok}' \
+	&& grep -q '^nov,roughness,env$' "$T/lf/dfg.csv" && ok || bad "lut laid out: '$row', want env $want"
+rm -rf "$T/lf"
 expect_error "albedo unwritable" "$T/no/x.csv" $BK albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --out "$T/no/x.csv"
 # nothing half-written: the failed commands above left no file or temporary
 [ -z "$(ls -A "$T" | grep -v '^out$\|^err$')" ] && ok || bad "left behind: $(ls -A "$T")"

@@ -18,6 +18,7 @@
 #include <unistd.h>
 
 #define N 16
+#define CLASSIC {N, N, 0, 1, BK_LUT_WARP_NONE, NAN} /* the engines' usual layout */
 
 static double A[N * N], B[N * N];
 static char dir[] = "/tmp/bk_lut_XXXXXX";
@@ -38,7 +39,7 @@ static void teardown(void)
 static void write_read(int top, int half, bk_exr_image *img, char *path)
 {
 	char err[256];
-	bk_lut_desc d = {.size = N, .half = half, .origin_top = top, .smith = BK_SMITH_CORRELATED, .tol = 1e-7, .command = "test"};
+	bk_lut_desc d = {.L = CLASSIC, .half = half, .origin_top = top, .smith = BK_SMITH_CORRELATED, .tol = 1e-7, .command = "test"};
 	char sub[200];
 	sprintf(sub, "%s/lut_%d_%d", dir, top, half);
 	cr_assert_eq(mkdir(sub, 0777), 0);
@@ -175,7 +176,7 @@ static int entries(const char *d)
 Test(lut, failed_write_leaves_nothing, .init = setup, .fini = teardown)
 {
 	char err[256], path[300];
-	bk_lut_desc d = {.size = N, .origin_top = 1};
+	bk_lut_desc d = {.L = CLASSIC, .origin_top = 1};
 	snprintf(path, sizeof path, "%s/missing_dir", dir);
 	cr_assert_eq(bk_lut_write(&d, path, A, B, err, sizeof err), -1);
 	cr_assert_not_null(strstr(err, "missing_dir"), "%s", err);
@@ -194,4 +195,81 @@ Test(lut, writes_the_pair_into_its_directory, .init = setup, .fini = teardown)
 	cr_assert_eq(entries(sub), 2);
 	snprintf(sub, sizeof sub, "%s/lut_1_0/" BK_LUT_CSV, dir);
 	cr_assert_eq(access(sub, R_OK), 0);
+}
+
+/* ---- layouts laid out for a scene ---------------------------------------------- */
+
+/* The texel centres and the coordinates a shader computes are one map:
+ * u(texel NoV of i) = (i + 0.5)/nu, v(texel r of j) = (j + 0.5)/nr, for each
+ * warp and a remapped roughness range; the sqrt warp's texels are the squares
+ * of the centres; the classic layout bakes exactly what bk_dfg_lut bakes. */
+Test(lut, layout_coordinates_invert_the_texel_centres, .init = setup, .fini = teardown)
+{
+	for (int w = 0; w < BK_LUT_WARPS; w++) {
+		bk_lut_layout L = {12, 7, 0.3, 0.9, (bk_lut_warp)w, NAN};
+		cr_assert_eq(bk_lut_layout_check(&L), 0);
+		for (int i = 0; i < L.nu; i++) {
+			double c = (i + 0.5) / L.nu, nov = bk_lut_texel_nov(&L, i);
+			cr_assert(fabs(bk_lut_u(&L, nov) - c) < 1e-15, "warp %s texel %d", bk_lut_warp_name(L.warp), i);
+			cr_assert(fabs(nov - (w == BK_LUT_WARP_SQRT ? c * c : c)) < 1e-16);
+		}
+		for (int j = 0; j < L.nr; j++) {
+			cr_assert(fabs(bk_lut_v(&L, bk_lut_texel_r(&L, j)) - (j + 0.5) / L.nr) < 1e-15);
+			cr_assert(fabs(bk_lut_texel_r(&L, j) - (0.3 + 0.6 * (j + 0.5) / 7)) < 1e-15);
+		}
+		cr_assert(bk_lut_u(&L, -1) == 0 && bk_lut_u(&L, 2) == 1 && bk_lut_v(&L, 0) == 0 && bk_lut_v(&L, 1) == 1);
+	}
+	cr_assert_str_eq(bk_lut_warp_form(BK_LUT_WARP_SQRT), "sqrt(NoV)");
+	bk_lut_layout bad[] = {{0, 4, 0, 1, 0, NAN}, {4, 4, 0.5, 0.5, 0, NAN}, {4, 4, -0.1, 1, 0, NAN},
+	                       {4, 4, 0, 1.1, 0, NAN}, {4, 4, 0, 1, BK_LUT_WARPS, NAN}, {4, 4, 0, 1, 0, 1.5}};
+	for (size_t k = 0; k < sizeof bad / sizeof bad[0]; k++)
+		cr_assert_eq(bk_lut_layout_check(&bad[k]), -1, "layout %zu", k);
+	double a[N * N], b[N * N];
+	bk_lut_layout L = CLASSIC;
+	cr_assert_eq(bk_dfg_lut_layout(&L, BK_SMITH_CORRELATED, 0, 1e-7, a, b, NULL, NULL), 0);
+	cr_assert(memcmp(a, A, sizeof a) == 0 && memcmp(b, B, sizeof b) == 0, "classic layout differs from bk_dfg_lut");
+}
+
+/* A one-channel, remapped, warped LUT: one channel R = f0 A + B, each texel
+ * the reference integral at its own centre (bk_dfg there, computed here
+ * independently of the bake's loop), and the header and CSV state the layout. */
+Test(lut, folded_remapped_warped_file, .init = setup, .fini = teardown)
+{
+	enum { NU = 6, NR = 5 };
+	bk_lut_layout L = {NU, NR, 0.4, 1, BK_LUT_WARP_SQRT, 0.04};
+	double a[NU * NR], b[NU * NR];
+	cr_assert_eq(bk_dfg_lut_layout(&L, BK_SMITH_CORRELATED, 0, 1e-7, a, b, NULL, NULL), 0);
+	char err[256], sub[200], path[260], buf[512];
+	bk_lut_desc d = {.L = L, .origin_top = 1, .smith = BK_SMITH_CORRELATED, .tol = 1e-7, .command = "test"};
+	snprintf(sub, sizeof sub, "%s/folded", dir);
+	cr_assert_eq(mkdir(sub, 0777), 0);
+	cr_assert_eq(bk_lut_write(&d, sub, a, b, err, sizeof err), 0, "%s", err);
+	snprintf(path, sizeof path, "%s/" BK_LUT_EXR, sub);
+	bk_exr_image img;
+	cr_assert_eq(bk_exr_read(path, &img, err, sizeof err), 0, "%s", err);
+	cr_assert(img.width == NU && img.height == NR && img.nchan == 1, "%dx%d, %d channels", img.width, img.height,
+	          img.nchan);
+	for (int j = 0; j < NR; j++)
+		for (int i = 0; i < NU; i++) {
+			double nov = ((i + 0.5) / NU) * ((i + 0.5) / NU), r = 0.4 + 0.6 * (j + 0.5) / NR, ea, eb;
+			cr_assert_eq(bk_dfg(nov, r, BK_SMITH_CORRELATED, 1e-9, &ea, &eb, NULL), 0);
+			float got = px(&img, "R", i, j);
+			cr_assert(fabs(got - (0.04 * ea + eb)) < 1e-6, "texel (%d,%d): %g, want %g", i, j, got, 0.04 * ea + eb);
+		}
+	bk_exr_image_free(&img);
+	cr_assert_eq(bk_exr_read_attr(path, "brdfkit:axes", buf, sizeof buf), 0);
+	cr_assert(strstr(buf, "sqrt(NoV)") && strstr(buf, "(r - 0.4)/0.6"), "axes: %s", buf);
+	cr_assert_eq(bk_exr_read_attr(path, "brdfkit:channels", buf, sizeof buf), 0);
+	cr_assert(strstr(buf, "R = 0.04*A + B"), "channels: %s", buf);
+	snprintf(path, sizeof path, "%s/" BK_LUT_CSV, sub);
+	FILE *f = fopen(path, "r");
+	char line[512];
+	cr_assert_not_null(f);
+	while (fgets(line, sizeof line, f) && line[0] == '#')
+		;
+	cr_assert_str_eq(line, "nov,roughness,env\n");
+	double nov, r, v;
+	cr_assert_eq(fscanf(f, "%lf,%lf,%lf", &nov, &r, &v), 3);
+	cr_assert(fabs(nov - 1.0 / 144) < 1e-10 && fabs(r - 0.46) < 1e-10, "first texel at %g, %g", nov, r);
+	fclose(f);
 }

@@ -81,9 +81,13 @@ int cmd_lut(int argc, char **argv)
 	long size = 0, samples = 0;
 	const char *smith = "correlated", *origin = "top", *out = NULL;
 	int half = 0;
-	double tol = 1e-6;
+	double tol = 1e-6, f0 = NAN;
+	const char *r_range = NULL, *warp = "none";
 	cli_opt opts[] = {
 		{.name = "--size", .kind = CLI_INT, .metavar = "N", .help = "texels per side", .dest = &size, .lo = 1, .hi = 4096, .required = 1},
+		{.name = "--f0", .kind = CLI_NUM, .metavar = "F", .help = "one channel f0*A + B at this f0 (a scene's one dielectric)", .dest = &f0, .lo = 0, .hi = 1},
+		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "rows over roughness LO..HI only (default 0:1)", .dest = &r_range},
+		{.name = "--warp", .kind = CLI_STR, .metavar = "none|sqrt", .help = "x = NoV (default) or sqrt(NoV): texels crowd at grazing angles", .dest = &warp},
 		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "correlated (default), separable or schlick", .dest = &smith},
 		{.name = "--samples", .kind = CLI_INT, .metavar = "N", .help = "Hammersley Monte Carlo bake with N samples (default: deterministic)", .dest = &samples, .lo = 1, .hi = 1 << 30},
 		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "tolerance of the deterministic integrator (default 1e-6)", .dest = &tol, .lo = 1e-13, .hi = 0.1},
@@ -95,19 +99,42 @@ int cmd_lut(int argc, char **argv)
 	               "roughness, both at texel centres; R = A, G = B; ZIP-compressed OpenEXR with the\n"
 	               "conventions as header attributes, and the same table as CSV (full precision):\n"
 	               "DIR/" BK_LUT_EXR " and DIR/" BK_LUT_CSV ", one directory so the pair is always from one run.",
-	               "--size N --out DIR [--smith MODEL] [--samples N | --tol T] [--half] [--origin top|bottom]",
+	               "--size N --out DIR [--f0 F] [--r-range LO:HI] [--warp none|sqrt] [--smith MODEL]\n"
+	               "       [--samples N | --tol T] [--half] [--origin top|bottom]",
 	               "origin top: the first scanline of the file (top of the image as displayed) is\n"
 	               "r = 0.5/N, so texture(lut, vec2(NoV, r)) is right wherever uv (0,0) is the first\n"
 	               "texel in memory (D3D, Vulkan, Metal, and GL when rows are uploaded in file order).\n"
-	               "origin bottom: the last scanline is r = 0.5/N, for loaders that flip images.",
-	               opts, 7, 0, 0, {0}};
+	               "origin bottom: the last scanline is r = 0.5/N, for loaders that flip images.\n"
+	               "A LUT laid out for a scene (brdfkit scene names the command): --f0 folds one f0\n"
+	               "into a single channel R = f0*A + B; --r-range LO:HI puts the rows over LO..HI,\n"
+	               "sampled at v = (r - LO)/(HI - LO); --warp sqrt samples x at u = sqrt(NoV). The\n"
+	               "EXR header and the CSV's comments state the layout.",
+	               opts, 10, 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	char command[1024];
-	bk_lut_desc d = {.size = (int)size, .half = half, .samples = samples, .tol = tol, .command = command};
+	bk_lut_desc d = {.L = {(int)size, (int)size, 0, 1, BK_LUT_WARP_NONE, f0}, .half = half, .samples = samples,
+	                 .tol = tol, .command = command};
 	if (parse_smith("lut", smith, &d.smith))
 		return 2;
+	if (r_range) {
+		char *end;
+		d.L.r_lo = strtod(r_range, &end);
+		if (end == r_range || *end != ':' || (d.L.r_hi = strtod(end + 1, &end), *end) ||
+		    !(d.L.r_lo >= 0 && d.L.r_lo < d.L.r_hi && d.L.r_hi <= 1)) {
+			fprintf(stderr, "brdfkit lut: --r-range: expected LO:HI with 0 <= LO < HI <= 1, got '%s'\n", r_range);
+			return 2;
+		}
+	}
+	if (strcmp(warp, "none") == 0)
+		d.L.warp = BK_LUT_WARP_NONE;
+	else if (strcmp(warp, "sqrt") == 0)
+		d.L.warp = BK_LUT_WARP_SQRT;
+	else {
+		fprintf(stderr, "brdfkit lut: --warp: expected none or sqrt, got '%s'\n", warp);
+		return 2;
+	}
 	if (strcmp(origin, "top") != 0 && strcmp(origin, "bottom") != 0) {
 		fprintf(stderr, "brdfkit lut: --origin: expected top or bottom, got '%s'\n", origin);
 		return 2;
@@ -128,7 +155,7 @@ int cmd_lut(int argc, char **argv)
 		bk_out_dir_abort(&od);
 		return cli_fail("lut", "out of memory for a %ldx%ld table", size, size);
 	}
-	rc = bk_dfg_lut((int)size, d.smith, (unsigned)samples, tol, A, B, cli_progress, "lut rows");
+	rc = bk_dfg_lut_layout(&d.L, d.smith, (unsigned)samples, tol, A, B, cli_progress, "lut rows");
 	if (rc == 0)
 		for (size_t k = 0; k < n && rc == 0; k++)
 			if (!isfinite(A[k]) || !isfinite(B[k]))

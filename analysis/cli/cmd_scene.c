@@ -81,6 +81,34 @@ static int emit(FILE *f, const char *text, const double *p, bk_lang lang, int ha
 	return 0;
 }
 
+/* How to make and sample a LUT choice, as comment lines. */
+static void lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+{
+	const bk_lut_layout *L = &c->lut_layout;
+	int remap = L->r_lo > 0 || L->r_hi < 1, folded = !isnan(L->f0);
+	char opts[160] = "", v[96] = "r";
+	int k = 0;
+	if (folded)
+		k += snprintf(opts + k, sizeof opts - (size_t)k, " --f0 %.9g", L->f0);
+	if (remap)
+		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
+	if (L->warp != BK_LUT_WARP_NONE)
+		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
+	if (remap) /* v = (r - r_lo)/(r_hi - r_lo) as one multiply-add */
+		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
+	fprintf(f, "%s %s: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):%s\n", c0, fname, c1);
+	fprintf(f, "%s   %s, made by: brdfkit lut --size %d%s%s --out DIR%s%s\n", c0, c->name, c->lut_size, opts,
+	        c->lut_fmt == BK_LUT_HALF ? " --half" : "", c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "", c1);
+	fprintf(f, "%s   sample it with bilinear filtering and clamp to edge at u = %s, v = %s;%s\n", c0,
+	        bk_lut_warp_form(L->warp), v, c1);
+	if (folded)
+		fprintf(f, "%s   env = its one channel (f0 = %g folded in); max abs error %.3g on the domain%s\n\n", c0, L->f0,
+		        c->err, c1);
+	else
+		fprintf(f, "%s   then env = f0*A + B (A, B its two channels); max abs error %.3g on the domain%s\n\n", c0, c->err,
+		        c1);
+}
+
 /* The functions of one set in one language: the chosen terms, the diffuse,
  * a comment for a LUT. Returns 0 or -1. */
 static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li, const char *hash, char *err,
@@ -102,11 +130,7 @@ static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li
 		char fname[96], errtext[160];
 		snprintf(fname, sizeof fname, "%s_%s", R->set.name, bk_scene_term_name(t));
 		if (c->lut) {
-			fprintf(f, "%s %s: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):%s\n", c0, fname, c1);
-			fprintf(f, "%s   %s, made by: brdfkit lut --size %d --out DIR; sample it at (NoV, r) with bilinear%s\n", c0,
-			        c->name, c->lut_size, c1);
-			fprintf(f, "%s   filtering and clamp to edge, then env = f0*A + B; max abs error %.3g on the domain%s\n\n",
-			        c0, c->err, c1);
+			lut_comment(f, c, fname, c0, c1);
 			continue;
 		}
 		snprintf(errtext, sizeof errtext, "%s %.3g in %s on the domain (budget %.3g); fp16 guards: %.60s",
@@ -153,7 +177,7 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 		           "device, %s, fp32, net of a load/store baseline; empty for a LUT), and of the generic shader's\n",
 		        gpu.driver);
 	fputs("material,feature_set,term,choice,form,parameters,simple,complex,fetches,cost,error,error_kind,budget,"
-	      "meets_budget,fp16_guards,generic_cost,generic_error", f);
+	      "meets_budget,fp16_guards,generic_cost,generic_error,at_generic_cost,at_generic_cost_error", f);
 	for (int c = 0; c < gpu.n; c++)
 		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
 	fputc('\n', f);
@@ -176,7 +200,11 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 					fprintf(f, "%.6g", c->budget);
 				fprintf(f, ",%d,", c->meets);
 				bk_csv_field(f, c->guards);
-				fprintf(f, ",%g,%.6g", g->cost, g->err);
+				fprintf(f, ",%g,%.6g,", g->cost, g->err);
+				bk_csv_field(f, c->eq_name);
+				fputc(',', f);
+				if (c->eq_name[0])
+					fprintf(f, "%.6g", c->eq_err);
 				for (int k = 0; k < gpu.n; k++) {
 					fputc(',', f);
 					if (!isnan(R[i].gpu[t][k]))
@@ -258,6 +286,9 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 			        bk_scene_term_name(t), c->name, c->cost, g->cost, err_unit(t), c->err, g->err, c->budget,
 			        c->meets ? "" : ": NOT MET, the most accurate kept", c->scored);
 			fprintf(f, "      fp16 guards: %s\n", c->guards);
+			if (c->eq_name[0] && g->err > 0)
+				fprintf(f, "      at the generic's cost: %s, cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_name,
+				        c->eq_cost, err_unit(t), c->eq_err, g->err / c->eq_err);
 		}
 		if (r->cost > 0)
 			fprintf(f, "  shader cost %g against the generic %g (%.2fx cheaper); SPIR-V %d against %d", r->cost,
@@ -589,12 +620,16 @@ int cmd_scene(int argc, char **argv)
 	               "              \"error\": E|\"generic\"|{\"vf\": E, \"env\": E}}}\n"
 	               "R: a number, a list (its hull), {\"min\": x, \"max\": y} or \"texture\" (= [0, 1]).\n"
 	               "F: a number, a list, a range, \"dielectric\" (0.04), \"metal\" ([0.5, 1]) or \"texture\" ([0.02, 1]).\n"
-	               "\"lut\": false: no DFG texture for the environment BRDF (no sampler to spare).\n"
+	               "\"lut\": false: no DFG texture for the environment BRDF (no sampler to spare). LUTs are\n"
+	               "16^2 to 128^2 in unorm8, half or float, in the engines' layout and laid out for the set\n"
+	               "(one f0 folded into one channel, rows over its roughness range, x at sqrt(NoV); the\n"
+	               "shader's comment gives the brdfkit lut command that makes it and the coordinates).\n"
 	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, LUT allowed, all languages,\n"
 	               "error \"generic\""
 	               " (each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
-	               "f0*A + B; at both ends of the f0 range.",
+	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
+	               "accurate candidate at no more than the generic's cost and LUT memory.",
 	               opts, 5, 16, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
