@@ -540,7 +540,8 @@ static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, 
 	ch->err = c->err;
 	ch->fetches = c->lut;
 	if (c->lut) {
-		snprintf(ch->guards, sizeof ch->guards, "none: a texture fetch and one multiply-add");
+		snprintf(ch->guards, sizeof ch->guards, "none: a texture fetch%s", ch->ops.simple + ch->ops.complex
+		         ? " and arithmetic on values in [0, 1]" : "");
 		return 0;
 	}
 	double added;
