@@ -9,7 +9,13 @@
  * (bk_dfg_lut, samples = 0, tol BK_DFG_TOL = 1e-8): the best a baked LUT can
  * be. An engine's Hammersley bake adds its Monte Carlo error on top, so these
  * rows are a lower bound on what a shipped LUT gets wrong; what is left is
- * storage (quantisation) and filtering (interpolation, clamp to edge).
+ * storage (quantisation) and filtering (interpolation, clamp to edge), and,
+ * for a shader in half or single precision (brdfkit scene), the rounding of
+ * its texture coordinates and of the values it reads.
+ *
+ * Besides the engines' layout, a LUT may be laid out for a scene (brdf.h,
+ * bk_lut_layout): f0 folded into one channel, rows over a roughness range,
+ * NoV warped; the texels are then baked at that layout's centres.
  */
 #include "compare.h"
 
