@@ -109,6 +109,25 @@ Test(search, threads_do_not_change_the_result)
 	bk_samples_free(&s);
 }
 
+/* A search with options o continued from part's checkpoint to o's budget. */
+static bk_search *resume(const bk_search *part, const bk_search_options *o)
+{
+	FILE *f = tmpfile();
+	cr_assert(f);
+	cr_assert_eq(bk_search_save(part, f), 0);
+	rewind(f);
+	char err[256];
+	bk_search *s = bk_search_new(o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	cr_assert_eq(bk_search_load(s, f, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	int rc;
+	while ((rc = bk_search_step(s, err, sizeof err)) == 1)
+		;
+	cr_assert_eq(rc, 0, "%s", err);
+	return s;
+}
+
 Test(search, resume_equals_an_uninterrupted_run)
 {
 	bk_samples s;
@@ -116,19 +135,10 @@ Test(search, resume_equals_an_uninterrupted_run)
 	bk_search_options o;
 	plant_options(&o, &s, 2, 700);
 	bk_search *part = run(&o);
-	FILE *f = tmpfile();
-	cr_assert(f);
-	cr_assert_eq(bk_search_save(part, f), 0);
-	rewind(f);
 	o.evals = 1500;
+	bk_search *resumed = resume(part, &o);
 	char err[256];
-	bk_search *resumed = bk_search_new(&o, err, sizeof err);
-	cr_assert_eq(bk_search_load(resumed, f, err, sizeof err), 0, "%s", err);
-	fclose(f);
-	int rc;
-	while ((rc = bk_search_step(resumed, err, sizeof err)) == 1)
-		;
-	cr_assert_eq(rc, 0);
+	FILE *f;
 	bk_search *whole = run(&o);
 	same(whole, resumed);
 	/* a checkpoint of other options is refused */
@@ -168,19 +178,10 @@ Test(search, inherit_keeps_recovery_and_determinism)
 	same(a, b);
 	o.evals = 700;
 	bk_search *part = run(&o);
-	FILE *f = tmpfile();
-	cr_assert(f);
-	cr_assert_eq(bk_search_save(part, f), 0);
-	rewind(f);
 	o.evals = 1500;
+	bk_search *resumed = resume(part, &o);
 	char err[256];
-	bk_search *resumed = bk_search_new(&o, err, sizeof err);
-	cr_assert_eq(bk_search_load(resumed, f, err, sizeof err), 0, "%s", err);
-	fclose(f);
-	int rc;
-	while ((rc = bk_search_step(resumed, err, sizeof err)) == 1)
-		;
-	cr_assert_eq(rc, 0);
+	FILE *f;
 	same(a, resumed);
 	o.inherit = 0;
 	o.evals = 700;
