@@ -266,10 +266,11 @@ static int budget(reader *R, const json_t *v, bk_scene *sc)
 {
 	static const char *const keys[] = {"vf", "env", NULL};
 	if (json_is_string(v)) {
-		if (strcmp(json_string_value(v), "generic"))
-			return fail(R, "target.error", "unknown value '%s' (known: a number, {\"vf\", \"env\"}, 'generic')",
-			            json_string_value(v));
-		sc->budget_vf = sc->budget_env = BK_SCENE_BUDGET_GENERIC;
+		const char *s = json_string_value(v);
+		if (strcmp(s, "generic") && strcmp(s, "at-generic-cost"))
+			return fail(R, "target.error",
+			            "unknown value '%s' (known: a number, {\"vf\", \"env\"}, 'generic', 'at-generic-cost')", s);
+		sc->budget_vf = sc->budget_env = strcmp(s, "generic") ? BK_SCENE_BUDGET_AT_COST : BK_SCENE_BUDGET_GENERIC;
 		return 0;
 	}
 	if (json_is_number(v)) {
@@ -279,7 +280,8 @@ static int budget(reader *R, const json_t *v, bk_scene *sc)
 		return 0;
 	}
 	if (!json_is_object(v))
-		return fail(R, "target.error", "expected a number, 'generic' or {\"vf\", \"env\"}, got %s", kind(v));
+		return fail(R, "target.error", "expected a number, 'generic', 'at-generic-cost' or {\"vf\", \"env\"}, got %s",
+		            kind(v));
 	if (only_keys(R, v, "target.error", keys))
 		return -1;
 	json_t *e;

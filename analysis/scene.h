@@ -18,7 +18,7 @@
  *                 "costs": {"simple": 1, "complex": 4, "fetch": 16},
  *                 "lut": true,
  *                 "languages": ["glsl", "hlsl", "c"],
- *                 "error": 0.01 | "generic" | {"vf": 0.01, "env": 0.02} } }
+ *                 "error": 0.01 | "generic" | "at-generic-cost" | {"vf": 0.01, "env": 0.02} } }
  *
  * Meanings: a roughness list is fitted on its hull (the values between are
  * cheap to cover and a texture may blend them); "texture" is the full range
@@ -28,7 +28,11 @@
  * diffuse only. "lut": false forbids a texture for the environment BRDF (the
  * thesis's "no LUT" variant: no sampler to spare). The error budget is per term, in the unit of each term's
  * error (scene_fit.h); "generic" asks each term to be as accurate as the
- * generic shader is on the scene's domain in the scene's precision.
+ * generic shader is on the scene's domain in the scene's precision (and
+ * then as cheap as can be); "at-generic-cost" turns the question round: each
+ * term the most accurate form at no more than the generic term's cost (a
+ * LUT: and no more texture memory), the issue's "more accurate at equal
+ * cost" instead of "cheaper at equal error".
  */
 #ifndef ANALYSIS_SCENE_H
 #define ANALYSIS_SCENE_H
@@ -54,6 +58,9 @@ enum { BK_SCENE_GLSL = 1, BK_SCENE_HLSL = 2, BK_SCENE_C = 4 };
 
 /* Error budget: a number per term, or the generic shader's error. */
 #define BK_SCENE_BUDGET_GENERIC (-1.0)
+/* ... or the most accurate at the generic's cost (its budget is then the
+ * generic's error, which the choice normally beats). */
+#define BK_SCENE_BUDGET_AT_COST (-2.0)
 
 typedef struct bk_scene {
 	char name[BK_SCENE_NAME_MAX];
@@ -66,7 +73,7 @@ typedef struct bk_scene {
 	double simple_cost, complex_cost, fetch_cost;
 	int lut;             /* a DFG texture may replace the environment BRDF's math */
 	unsigned languages;  /* BK_SCENE_GLSL | ... */
-	double budget_vf, budget_env; /* or BK_SCENE_BUDGET_GENERIC */
+	double budget_vf, budget_env; /* or BK_SCENE_BUDGET_GENERIC, BK_SCENE_BUDGET_AT_COST */
 } bk_scene;
 
 /* Reads and checks a scene from JSON text. A syntax error names its line and

@@ -563,6 +563,66 @@ static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, 
 	return 0;
 }
 
+/* "at-generic-cost": of the candidates at no more than the generic term's
+ * cost (a LUT: and memory), the one whose error after its fp16 guards is
+ * least. Candidates are finished (guarded and scored) in order of their error
+ * as fitted; a guard only ever adds error here (a roughness floor, a clamp
+ * of values the form already keeps in range), so once a candidate's error as
+ * fitted is no better than the best guarded one, none after it can win; a
+ * candidate whose guards take it over the generic's cost is passed over.
+ * Returns 0 with ch set, or -1 with a message (none at that cost). */
+static int most_accurate_at(const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_scene_term term,
+                            const pool *P, double cost, double lut_bytes, bk_scene_choice *ch, char *err,
+                            size_t errlen)
+{
+	int *order = malloc((P->n ? P->n : 1) * sizeof *order), no = 0;
+	if (!order) {
+		snprintf(err, errlen, "out of memory");
+		return -1;
+	}
+	for (int i = 0; i < P->n; i++) {
+		const cand *c = &P->c[i];
+		if (!(c->cost <= cost) || (c->lut && c->lut_bytes > lut_bytes) || !isfinite(c->err))
+			continue;
+		int k = no++;
+		while (k > 0 && (c->err < P->c[order[k - 1]].err ||
+		                 (c->err == P->c[order[k - 1]].err && better(c, &P->c[order[k - 1]])))) {
+			order[k] = order[k - 1];
+			k--;
+		}
+		order[k] = i;
+	}
+	int rc = 0, have = 0;
+	bk_scene_choice best, one;
+	memset(&best, 0, sizeof best);
+	for (int k = 0; k < no && !(have && P->c[order[k]].err >= best.err); k++) {
+		memset(&one, 0, sizeof one);
+		if (finish(sc, set, d, term, &P->c[order[k]], 0, &one, err, errlen)) {
+			bk_scene_choice_free(&one);
+			rc = -1;
+			break;
+		}
+		if (one.cost <= cost && (!have || one.err < best.err)) { /* its guards may have cost more */
+			bk_scene_choice_free(&best);
+			best = one;
+			have = 1;
+		} else {
+			bk_scene_choice_free(&one);
+		}
+	}
+	free(order);
+	if (rc == 0 && !have) {
+		snprintf(err, errlen, "%s: no candidate at or below the generic's cost %g is finite on the set's domain",
+		         bk_scene_term_name(term), cost);
+		rc = -1;
+	}
+	if (rc)
+		bk_scene_choice_free(&best);
+	else
+		*ch = best;
+	return rc;
+}
+
 int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen)
 {
@@ -634,7 +694,8 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 			goto done;
 	}
 	double budget = term == BK_SCENE_TERM_VF ? sc->budget_vf : sc->budget_env;
-	if (budget == BK_SCENE_BUDGET_GENERIC)
+	int at_cost = budget == BK_SCENE_BUDGET_AT_COST;
+	if (budget == BK_SCENE_BUDGET_GENERIC || at_cost)
 		budget = g.err;
 	/* the candidates */
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
@@ -671,8 +732,10 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	for (int i = 0; !meets && i < P.n; i++)
 		if (b < 0 || P.c[i].err < P.c[b].err || (P.c[i].err == P.c[b].err && better(&P.c[i], &P.c[b])))
 			b = i;
-	/* vf: the exact form (or nothing) meets it: a short search for a cheaper one */
-	if (term == BK_SCENE_TERM_VF && (!meets || !strcmp(P.c[b].name, "exact"))) {
+	/* vf: the exact form (or nothing) meets it: a short search for a cheaper one
+	 * (not when accuracy at the generic's cost is asked: it finds cheaper forms,
+	 * not more accurate ones) */
+	if (term == BK_SCENE_TERM_VF && !at_cost && (!meets || !strcmp(P.c[b].name, "exact"))) {
 		int before = P.n;
 		if (short_search(&P, sc, set, &d, b >= 0 ? P.c[b].cost : HUGE_VAL)) {
 			snprintf(err, errlen, "vf: the short search failed");
@@ -696,10 +759,17 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		if (P.c[i].cost <= g.cost && (!P.c[i].lut || P.c[i].lut_bytes <= gen.lut_bytes) &&
 		    (eq < 0 || P.c[i].err < P.c[eq].err || (P.c[i].err == P.c[eq].err && better(&P.c[i], &P.c[eq]))))
 			eq = i;
+	if (at_cost) {
+		if ((rc = most_accurate_at(sc, set, &d, term, &P, g.cost, gen.lut_bytes, ch, err, errlen)) < 0)
+			goto done;
+		rc = -1;
+		meets = 1; /* chosen: the block below must not choose again */
+		eq = -1;   /* the choice is that candidate, guarded */
+	}
 	/* the guards a form needs in half can cost accuracy (a roughness floor):
 	 * the candidates that meet the budget as fitted are tried in order of
 	 * preference until one still meets it guarded */
-	if (meets) {
+	else if (meets) {
 		int *order = malloc(P.n * sizeof *order), no = 0;
 		if (!order) {
 			snprintf(err, errlen, "out of memory");
@@ -742,6 +812,7 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		ch->eq_err = P.c[eq].err;
 	}
 	ch->budget = budget;
+	ch->at_cost = at_cost;
 	ch->meets = ch->err <= budget;
 	ch->scored = P.n;
 	g.budget = budget;

@@ -55,6 +55,7 @@ typedef struct bk_scene_choice {
 	double cost;          /* ALU cost with the scene's weights, plus fetches x fetch cost */
 	double err;           /* on the set's domain, in the scene's precision (after guards) */
 	double budget;        /* what it had to meet */
+	int at_cost;          /* chosen as the most accurate at the generic's cost ("at-generic-cost") */
 	int meets;
 	int scored;           /* candidates scored for this choice */
 	char guards[256];     /* which fp16 guards, and why (or why none) */

@@ -174,7 +174,7 @@ grep -v '^#' "$T/srch/front.csv" | tail -n +2 | awk -F, '$(NF-1) !~ /^-?[0-9]+$/
 printf '{"scene": "no ibl", "materials": [{"name": "m", "roughness": {"min": 0.3, "max": 1}}],\n "lighting": {"ibl": false}, "target": {"error": {"vf": 0.2}}}\n' >"$T/noibl.json"
 $BK scene "$T/noibl.json" --no-time --gpu navi21,polaris10 --out "$T/scene" >/dev/null 2>"$T/err" && ok ||
 	bad "scene --gpu: $(tail -2 "$T/err")"
-grep -v '^#' "$T/scene/sets.csv" | head -1 | grep -q ',generic_spirv,aco_navi21_instructions,generic_aco_navi21_instructions,aco_polaris10_instructions,generic_aco_polaris10_instructions$' &&
+grep -v '^#' "$T/scene/sets.csv" | head -1 | grep -q ',generic_spirv,error,generic_error,error_ratio,aco_navi21_instructions,generic_aco_navi21_instructions,aco_polaris10_instructions,generic_aco_polaris10_instructions$' &&
 	ok || bad "scene: sets.csv columns"
 grep -q '^# aco_CHIP_instructions: .*radv Mesa' "$T/scene/scene.csv" && ok || bad "scene: scene.csv says what the counts are"
 # per set and chip: the terms' counts (scene.csv, from the right) add up to the set's (sets.csv)

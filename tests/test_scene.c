@@ -300,3 +300,44 @@ Test(scene, lut_laid_out_for_the_set, .timeout = 600)
 	bk_scene_choice_free(&ch);
 	bk_scene_choice_free(&gen);
 }
+
+/* "at-generic-cost" turns the question round: the most accurate form at no
+ * more than the generic's cost. On the issue's example (dielectrics on
+ * r in [0.3, 1], highp) the environment BRDF so chosen costs no more than the
+ * generic's and takes no more texture memory, and is at least twice as
+ * accurate as it on the set's domain (the issue's target; measured 3.9x:
+ * f0 folded frees a channel for float storage, rows over [0.3, 1] alone);
+ * and it is what is emitted, not a side note: the choice itself. */
+Test(scene, most_accurate_at_the_generic_cost, .timeout = 600)
+{
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"error\": \"cheapest\"}}",
+	             "target.error: unknown value 'cheapest' (known: a number, {\"vf\", \"env\"}, 'generic', "
+	             "'at-generic-cost')");
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.3, \"max\": 1}}], "
+	                   "\"lighting\": {\"punctual\": false}, "
+	                   "\"target\": {\"precision\": \"highp\", \"alu_tex\": 32, \"error\": \"at-generic-cost\"}}"),
+	             0, "%s", err);
+	cr_assert(sc.budget_env == BK_SCENE_BUDGET_AT_COST && sc.budget_vf == BK_SCENE_BUDGET_AT_COST);
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	cr_assert_eq(bk_scene_plan(&sc, sets), 1);
+	bk_scene_choice ch, gen;
+	cr_assert_eq(bk_scene_choose(&sc, &sets[0], BK_SCENE_TERM_ENV, &ch, &gen, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect(ch.cost <= gen.cost && (!ch.lut || ch.lut_bytes <= gen.lut_bytes), "%s: cost %g (generic %g), %g bytes",
+	          ch.name, ch.cost, gen.cost, ch.lut_bytes);
+	cr_expect(ch.err <= gen.err / 2, "%s: %g against the generic's %g", ch.name, ch.err, gen.err);
+	cr_expect(ch.meets && ch.budget == gen.err, "budget %g, generic %g", ch.budget, gen.err);
+	/* the choice under the default budget ("generic") is cheaper or equal, and
+	 * less accurate or equal: the two policies are the two ends of one trade */
+	bk_scene sc_at = sc;
+	sc.budget_vf = sc.budget_env = BK_SCENE_BUDGET_GENERIC;
+	bk_scene_choice cheap;
+	cr_assert_eq(bk_scene_choose(&sc, &sets[0], BK_SCENE_TERM_ENV, &cheap, NULL, NULL, NULL, err, sizeof err), 0, "%s",
+	             err);
+	cr_expect(cheap.cost <= ch.cost && cheap.err >= ch.err, "cheapest %s (%g, %g), most accurate %s (%g, %g)", cheap.name,
+	          cheap.cost, cheap.err, ch.name, ch.cost, ch.err);
+	cr_expect_str_eq(cheap.eq_name, ch.name); /* the "at the generic's cost" line names the same */
+	sc = sc_at;
+	bk_scene_choice_free(&cheap);
+	bk_scene_choice_free(&ch);
+	bk_scene_choice_free(&gen);
+}

@@ -96,7 +96,9 @@ static void lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, co
 		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
 	if (remap) /* v = (r - r_lo)/(r_hi - r_lo) as one multiply-add */
 		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
-	fprintf(f, "%s %s: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):%s\n", c0, fname, c1);
+	fprintf(f, "%s %s: the environment BRDF is a texture here (%s):%s\n", c0, fname,
+	        c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio",
+	        c1);
 	fprintf(f, "%s   %s, made by: brdfkit lut --size %d%s%s --out DIR%s%s\n", c0, c->name, c->lut_size, opts,
 	        c->lut_fmt == BK_LUT_HALF ? " --half" : "", c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "", c1);
 	fprintf(f, "%s   sample it with bilinear filtering and clamp to edge at u = %s, v = %s;%s\n", c0,
@@ -217,6 +219,19 @@ static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset
 			}
 }
 
+/* The set's worst error over its vf and env terms, and the generic's: both
+ * are directional-albedo errors (scene_fit.h), so the larger is the
+ * shader's; NaN when the set has neither (D alone, or diffuse only). */
+static void set_errors(const set_result *r, double *err, double *gen_err)
+{
+	*err = *gen_err = NAN;
+	for (int t = BK_SCENE_TERM_VF; t <= BK_SCENE_TERM_ENV; t++)
+		if (r->has[t]) {
+			*err = isnan(*err) || r->ch[t].err > *err ? r->ch[t].err : *err;
+			*gen_err = isnan(*gen_err) || r->gen[t].err > *gen_err ? r->gen[t].err : *gen_err;
+		}
+}
+
 static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 {
 	fprintf(f, "# brdfkit %s scene '%s': each feature set's shader against the generic one (GGX D, "
@@ -227,7 +242,10 @@ static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 		fprintf(f, "# aco_CHIP_instructions: AMD instructions of the set's forms, summed (brdfkit gpucost: Mesa RADV's "
 		           "null device, %s, fp32, net of a load/store baseline per form; fetches not included)\n",
 		        gpu.driver);
-	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv", f);
+	fputs("# error, generic_error: the largest of the set's vf and env errors (both directional-albedo errors on "
+	      "the set's domain in the scene's precision; scene.csv has each); error_ratio = generic_error / error\n", f);
+	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv,error,"
+	      "generic_error,error_ratio", f);
 	for (int c = 0; c < gpu.n; c++)
 		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
 	fputc('\n', f);
@@ -241,6 +259,12 @@ static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
 		bk_csv_field(f, names);
 		fprintf(f, ",%g,%g,%g,%g,%g,%g,%.3g,%d,%d", r->set.r_lo, r->set.r_hi, r->set.f0_lo, r->set.f0_hi, r->cost,
 		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+		double e, ge;
+		set_errors(r, &e, &ge);
+		if (isnan(e))
+			fputs(",,,", f);
+		else
+			fprintf(f, ",%.6g,%.6g,%.3g", e, ge, ge / e);
 		for (int c = 0; c < gpu.n; c++)
 			fprintf(f, ",%.0f,%.0f", r->gpu_sum[c], r->gen_gpu_sum[c]);
 		fputc('\n', f);
@@ -258,6 +282,9 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 		fprintf(f, "ALU:TEX %d\n", sc->alu_tex);
 	else
 		fprintf(f, "costs simple %g, complex %g, fetch %g\n", sc->simple_cost, sc->complex_cost, sc->fetch_cost);
+	if (sc->budget_vf == BK_SCENE_BUDGET_AT_COST || sc->budget_env == BK_SCENE_BUDGET_AT_COST)
+		fputs("  error \"at-generic-cost\": each term the most accurate form at no more than the generic's cost "
+		      "(a LUT: and memory)\n", f);
 	if (!sc->punctual)
 		fputs("  no punctual lights: no D*V*F code\n", f);
 	if (!sc->ibl)
@@ -290,10 +317,15 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 				fprintf(f, "      at the generic's cost: %s, cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_name,
 				        c->eq_cost, err_unit(t), c->eq_err, g->err / c->eq_err);
 		}
+		double e, ge;
+		set_errors(r, &e, &ge);
 		if (r->cost > 0)
 			fprintf(f, "  shader cost %g against the generic %g (%.2fx cheaper); SPIR-V %d against %d", r->cost,
 			        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
-		else
+		if (r->cost > 0 && !isnan(e) && e > 0)
+			fprintf(f, "; worst term error %.3g against the generic's %.3g (%.2fx %s)", e, ge,
+			        ge >= e ? ge / e : e / ge, ge >= e ? "more accurate" : "less accurate");
+		else if (!(r->cost > 0))
 			fprintf(f, "  shader: the diffuse term alone, as in the generic shader");
 		if (with_time && r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
 			fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
@@ -332,11 +364,18 @@ static void section_body(FILE *f, const bk_scene *sc, const set_result *R, int n
 			fputs("</td></tr>\n", f);
 		}
 	fputs("</table>\n<table>\n<tr><th>feature set</th><th>shader cost</th><th>generic</th><th>ratio</th>"
-	      "<th>SPIR-V</th><th>generic SPIR-V</th><th>shaders</th></tr>\n", f);
+	      "<th>SPIR-V</th><th>generic SPIR-V</th><th>worst term error</th><th>generic</th><th>accuracy gain</th>"
+	      "<th>shaders</th></tr>\n", f);
 	for (int i = 0; i < nset; i++) {
 		const set_result *r = &R[i];
-		fprintf(f, "<tr><td>%s</td><td>%g</td><td>%g</td><td>%.2fx</td><td>%d</td><td>%d</td><td>", r->set.name, r->cost,
+		double e, ge;
+		set_errors(r, &e, &ge);
+		fprintf(f, "<tr><td>%s</td><td>%g</td><td>%g</td><td>%.2fx</td><td>%d</td><td>%d</td>", r->set.name, r->cost,
 		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
+		if (isnan(e) || !(e > 0))
+			fputs("<td></td><td></td><td></td><td>", f);
+		else
+			fprintf(f, "<td>%.3g</td><td>%.3g</td><td>%.2fx</td><td>", e, ge, ge / e);
 		for (int li = 0; li < 3; li++)
 			if (sc->languages & (1u << li))
 				fprintf(f, "<a href=\"%s%s/shader.%s\">%s</a> ", prefix, r->set.name, lang_ext[li], lang_ext[li]);
@@ -617,7 +656,7 @@ int cmd_scene(int argc, char **argv)
 	               "   \"target\": {\"precision\": \"mediump\"|\"highp\", \"alu_tex\": 16|32|48|64 or\n"
 	               "              \"costs\": {\"simple\": 1, \"complex\": 4, \"fetch\": 16},\n"
 	               "              \"lut\": true, \"languages\": [\"glsl\", \"hlsl\", \"c\"],\n"
-	               "              \"error\": E|\"generic\"|{\"vf\": E, \"env\": E}}}\n"
+	               "              \"error\": E|\"generic\"|\"at-generic-cost\"|{\"vf\": E, \"env\": E}}}\n"
 	               "R: a number, a list (its hull), {\"min\": x, \"max\": y} or \"texture\" (= [0, 1]).\n"
 	               "F: a number, a list, a range, \"dielectric\" (0.04), \"metal\" ([0.5, 1]) or \"texture\" ([0.02, 1]).\n"
 	               "\"lut\": false: no DFG texture for the environment BRDF (no sampler to spare). LUTs are\n"
@@ -627,6 +666,8 @@ int cmd_scene(int argc, char **argv)
 	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, LUT allowed, all languages,\n"
 	               "error \"generic\""
 	               " (each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
+	               "\"at-generic-cost\": each term the most accurate form at no more than the generic's cost\n"
+	               "(a LUT: and no more texture memory) instead of the cheapest at a budget.\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
 	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
 	               "accurate candidate at no more than the generic's cost and LUT memory.",
