@@ -17,7 +17,37 @@
 #include <stdlib.h>
 #include <string.h>
 
-static int arity(int op) { return bk_opinfo_table[op].arity; }
+/* Registry terms (D_ggx, F_schlick, ...) are operations of the trees too
+ * when a grammar allows them (--ops F_schlick): op TERM0 + t is
+ * bk_term_at(t), printed as a call the IR's parser inlines, so its cost is
+ * that of its definition after folding and sharing, as for any form. */
+#define TERM0 BK_OP_COUNT
+/* sq is not an opcode (see the top of the file); its bit is one the op
+ * table never reaches, nor a term's (a term's bit is its op). */
+#define SQ_BIT 63
+
+static int term_arity(size_t t)
+{
+	const char *a = bk_term_at(t)->args;
+	int n = *a != '\0';
+	for (; *a; a++)
+		n += *a == ',';
+	return n;
+}
+
+static int arity(int op) { return op < TERM0 ? bk_opinfo_table[op].arity : term_arity((size_t)(op - TERM0)); }
+
+int bk_expr_op_valid(int op)
+{
+	if (op < 0)
+		return 0;
+	if (op < TERM0)
+		return 1;
+	size_t t = (size_t)(op - TERM0);
+	return op < SQ_BIT && t < bk_term_count() && term_arity(t) >= 1 && term_arity(t) <= 3;
+}
+
+static const char *op_name(int op) { return op < TERM0 ? bk_opinfo_table[op].name : bk_term_at((size_t)(op - TERM0))->name; }
 
 static int span_at(const bk_enode *s)
 {
@@ -124,7 +154,7 @@ static double value_of(const bk_enode *n)
 		return n->k;
 	if (n->op == BK_OP_PARAM)
 		return n->k != 0 ? n->k : NAN;
-	if (n->op == BK_OP_INPUT)
+	if (n->op == BK_OP_INPUT || n->op >= TERM0) /* a term: the IR folds it, not the tree */
 		return NAN;
 	double v[3] = {0, 0, 0};
 	const bk_enode *c = n + 1;
@@ -183,7 +213,7 @@ static int pass(const bk_enode *s, bk_enode *d)
 		if (d[i].op == BK_OP_PARAM && param < 0)
 			param = d[i].slot;
 	}
-	if (nconst == ar) {
+	if (nconst == ar && op < TERM0) {
 		double v = bk_ir_apply((bk_op)op, d[off[0]].k, ar > 1 ? d[off[1]].k : 0, ar > 2 ? d[off[2]].k : 0);
 		if (isfinite(v)) {
 			d[0] = (bk_enode){BK_OP_CONST, 0, v};
@@ -429,7 +459,7 @@ static void print_at(writer *w, const bk_enode *n, int need)
 		print_at(w, b, p + 1);
 		break;
 	default:
-		print_call(w, bk_opinfo_table[n->op].name, n, arity(n->op));
+		print_call(w, op_name(n->op), n, arity(n->op));
 		break;
 	}
 	if (p < need)
@@ -499,10 +529,9 @@ int bk_expr_from_form(const bk_form *f, bk_expr *e)
 
 /* ---- grammar -------------------------------------------------------------- */
 
-/* sq is not an opcode (see the top of the file); its bit is one the op
- * table never reaches. */
-#define SQ_BIT 63
 _Static_assert(BK_OP_COUNT < SQ_BIT, "the op table reaches the sq bit");
+/* a registry term's bit is its op, TERM0 + t: below the sq bit */
+#define MAX_TERM_OPS (SQ_BIT - TERM0)
 
 #define BIT(op) ((uint64_t)1 << (op))
 
@@ -531,8 +560,25 @@ int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errl
 			if (*name && strlen(name) == n && strncmp(name, p, n) == 0)
 				bit = op;
 		}
+		for (size_t t = 0; t < bk_term_count() && bit < 0; t++) {
+			const char *name = bk_term_at(t)->name;
+			if (strlen(name) != n || strncmp(name, p, n))
+				continue;
+			int ar = term_arity(t);
+			if (ar < 1 || ar > 3) { /* a tree's node has 1 to 3 operands */
+				snprintf(err, errlen, "%s takes %d argument%s: the search's operations take 1 to 3", name, ar,
+				         ar == 1 ? "" : "s");
+				return -1;
+			}
+			if (t >= MAX_TERM_OPS) {
+				snprintf(err, errlen, "%s: past the %d registry terms a grammar can hold", name, MAX_TERM_OPS);
+				return -1;
+			}
+			bit = TERM0 + (int)t;
+		}
 		if (bit < 0) {
-			snprintf(err, errlen, "unknown operation '%.*s' (+ - * / sq or a function name)", (int)(n > 24 ? 24 : n), p);
+			snprintf(err, errlen, "unknown operation '%.*s' (+ - * / sq, a function name or a registry term)",
+			         (int)(n > 24 ? 24 : n), p);
 			return -1;
 		}
 		m |= BIT(bit);
@@ -567,7 +613,7 @@ static int within(const bk_grammar *g, const bk_expr *e)
 /* The operations a generator may build, by arity; sq is listed as unary
  * with op -1. MAD is never built (trees hold a*b + c). */
 typedef struct opset {
-	int op[3][BK_OP_COUNT + 1];
+	int op[3][SQ_BIT + 1];
 	int n[3];
 } opset;
 
@@ -576,6 +622,9 @@ static void opset_of(const bk_grammar *g, opset *s)
 	memset(s, 0, sizeof *s);
 	for (int op = BK_OP_PARAM + 1; op < BK_OP_COUNT; op++)
 		if ((g->ops & BIT(op)) && op != BK_OP_MAD)
+			s->op[arity(op) - 1][s->n[arity(op) - 1]++] = op;
+	for (int op = TERM0; op < SQ_BIT && (size_t)(op - TERM0) < bk_term_count(); op++)
+		if (g->ops & BIT(op)) /* parse_ops admits only 1 to 3 operands */
 			s->op[arity(op) - 1][s->n[arity(op) - 1]++] = op;
 	if (g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))) /* x*x is sq's only spelling */
 		s->op[0][s->n[0]++] = -1;

@@ -36,7 +36,8 @@
 #define BK_EXPR_MAX 64
 
 typedef struct bk_enode {
-	int op;    /* a bk_op of brdf/ir.h: CONST, INPUT, PARAM or an operation */
+	int op;    /* a bk_op of brdf/ir.h: CONST, INPUT, PARAM or an operation;
+	            * or BK_OP_COUNT + t: the registry term bk_term_at(t) */
 	int slot;  /* INPUT: the bk_input; PARAM: the parameter index */
 	double k;  /* CONST: the value; PARAM: where its fit starts, 0 for nowhere
 	            * in particular (see "Start values" below) */
@@ -66,8 +67,15 @@ typedef struct bk_grammar {
  * table has no SQ, so its bit in ops is bit 63, which no bk_op reaches; the
  * bit of MUL allows sq too). */
 uint64_t bk_grammar_default_ops(void);
-/* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err. */
+/* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err. A
+ * registry term of 1 to 3 arguments is allowed by its name ("F_schlick",
+ * "D_ggx"): a node of op BK_OP_COUNT + t is bk_term_at(t), printed as the
+ * call, which the IR inlines (its cost is its definition's, after folding
+ * and sharing with the rest of the form); its bit in ops is its op. */
 int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen);
+/* 1 if op is one a tree may hold: an IR opcode, or a registry term of 1 to
+ * 3 arguments (checkpoints are read through it). */
+int bk_expr_op_valid(int op);
 
 /* Number of nodes of the subtree at node i (i itself included). */
 int bk_expr_span(const bk_expr *e, int i);

@@ -870,7 +870,7 @@ static int get_tree(FILE *f, bk_expr *e)
 		return -1;
 	for (int i = 0; i < e->n; i++)
 		if (fscanf(f, " %d:%d:%la", &e->node[i].op, &e->node[i].slot, &e->node[i].k) != 3 ||
-		    e->node[i].op < 0 || e->node[i].op >= BK_OP_COUNT)
+		    !bk_expr_op_valid(e->node[i].op))
 			return -1;
 	return 0;
 }

@@ -539,6 +539,17 @@ if $BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 -
 	--ops '+,*,/,sq' --max-params 2 --evals 3000 --threads 2 --out "$T/plant" >"$T/out" 2>"$T/err" &&
 	awk -F, '!/^#/ && NR > 1 && $9 != "" && $9 + 0 <= 1e-9 { found = 1 } END { exit !found }' "$T/plant/front.csv"; then ok
 else bad "planted form not recovered: $(grep -v '^#' "$T/plant/front.csv" | cut -d, -f2,9 | head -20) $(cat "$T/err")"; fi
+# registry terms as operations (--ops F_schlick): a planted Schlick Fresnel
+# scaled by 0.25 is F_schlick(0.01, 0.25, LoH) (Schlick is linear in f0 and
+# f90), in the grammar only through the term: the front must reach rmse 1e-9
+# with a member that calls it (rmse counted from the end of the row: the
+# quoted form holds commas)
+if $BK search --target form --target-form '0.25*F_schlick(0.04, 1, LoH)' --domain LoH=0:1 --ops '+,*,F_schlick' \
+	--evals 300 --threads 2 --out "$T/plantf" >"$T/out" 2>"$T/err" &&
+	awk -F, '!/^#/ && /F_schlick\(/ && $(NF - 7) != "" && $(NF - 7) + 0 <= 1e-9 { found = 1 } END { exit !found }' \
+	"$T/plantf/front.csv"; then ok
+else bad "planted term not recovered: $(grep -v '^#' "$T/plantf/front.csv" | cut -d, -f2,9 | head -20) $(cat "$T/err")"; fi
+expect_error "search term of 4 arguments" "V_cook_torrance takes 4 arguments" $BK search --target vf2d --ops '+,V_cook_torrance' --out "$T/sx"
 # the same run on one thread: the same bytes (threads merge in candidate order)
 $BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
 	--ops '+,*,/,sq' --max-params 2 --evals 3000 --threads 1 --out "$T/plant1" >/dev/null 2>&1

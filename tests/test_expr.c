@@ -18,11 +18,62 @@
 
 /* ---- helpers -------------------------------------------------------------- */
 
+/* The op of registry term name in a tree (expr.h: BK_OP_COUNT + its index). */
+static int term_op(const char *name)
+{
+	for (size_t t = 0; t < bk_term_count(); t++)
+		if (!strcmp(bk_term_at(t)->name, name))
+			return BK_OP_COUNT + (int)t;
+	cr_assert_fail("no term %s", name);
+	return -1;
+}
+
+/* A registry term through its C function (brdf/, not the IR's definition):
+ * its arguments, by their names, into one sample (a and r kept consistent). */
+static double term_eval(int op, const double *v)
+{
+	const bk_term *T = bk_term_at((size_t)(op - BK_OP_COUNT));
+	bk_sample s;
+	memset(&s, 0, sizeof s);
+	char names[64];
+	snprintf(names, sizeof names, "%s", T->args);
+	int j = 0;
+	for (char *save = NULL, *a = strtok_r(names, ",", &save); a; a = strtok_r(NULL, ",", &save), j++) {
+		double x = v[j];
+		if (!strcmp(a, "NoV")) s.NoV = x;
+		else if (!strcmp(a, "NoL")) s.NoL = x;
+		else if (!strcmp(a, "NoH")) s.NoH = x;
+		else if (!strcmp(a, "LoH")) s.LoH = x;
+		else if (!strcmp(a, "a")) s.a = x, s.r = sqrt(x);
+		else if (!strcmp(a, "r")) s.r = x, s.a = x * x;
+		else if (!strcmp(a, "f0")) s.f0 = x;
+		else if (!strcmp(a, "f90")) s.f90 = x;
+		else if (!strcmp(a, "eta")) s.eta = x;
+		else if (!strcmp(a, "k")) s.k = x;
+		else cr_assert_fail("%s: argument %s", T->name, a);
+	}
+	return T->eval(&s);
+}
+
+/* Operands of a node: the op table's arity, or a term's argument count. */
+static int node_arity(int op)
+{
+	if (op < BK_OP_COUNT)
+		return bk_opinfo_table[op].arity;
+	const char *a = bk_term_at((size_t)(op - BK_OP_COUNT))->args;
+	int n = *a != 0;
+	for (; *a; a++)
+		n += *a == ',';
+	return n;
+}
+
 /* The tree evaluated directly, node by node, in double precision: the
- * independent reading of a tree that the IR's compiled text is compared to. */
+ * independent reading of a tree that the IR's compiled text is compared to
+ * (a registry term by its C function). */
 static double eval_at(const bk_enode *n, int *len, const double *in, const double *par)
 {
-	int ar = bk_opinfo_table[n->op].arity, pos = 1, l;
+	int ar = node_arity(n->op);
+	int pos = 1, l;
 	double v[3] = {0, 0, 0};
 	switch (n->op) {
 	case BK_OP_CONST: *len = 1; return n->k;
@@ -35,7 +86,7 @@ static double eval_at(const bk_enode *n, int *len, const double *in, const doubl
 		pos += l;
 	}
 	*len = pos;
-	return bk_ir_apply((bk_op)n->op, v[0], v[1], v[2]);
+	return n->op >= BK_OP_COUNT ? term_eval(n->op, v) : bk_ir_apply((bk_op)n->op, v[0], v[1], v[2]);
 }
 
 static double eval_tree(const bk_expr *e, const double *in, const double *par)
@@ -568,9 +619,20 @@ Test(expr, grammar_ops_by_name)
 	                                  sizeof err), 0);
 	cr_assert_eq(ops, bk_grammar_default_ops());
 	cr_assert_eq(bk_grammar_parse_ops("+,cube", &ops, err, sizeof err), -1);
-	cr_assert_str_eq(err, "unknown operation 'cube' (+ - * / sq or a function name)");
+	cr_assert_str_eq(err, "unknown operation 'cube' (+ - * / sq, a function name or a registry term)");
 	cr_assert_eq(bk_grammar_parse_ops("+,,*", &ops, err, sizeof err), -1);
-	cr_assert_str_eq(err, "unknown operation '' (+ - * / sq or a function name)");
+	cr_assert_str_eq(err, "unknown operation '' (+ - * / sq, a function name or a registry term)");
+	/* registry terms by name: the bit of term t is BK_OP_COUNT + t */
+	cr_assert_eq(bk_grammar_parse_ops("*,F_schlick,D_ggx", &ops, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(ops, ((uint64_t)1 << BK_OP_MUL) | ((uint64_t)1 << term_op("F_schlick")) |
+	                      ((uint64_t)1 << term_op("D_ggx")));
+	/* a node has 1 to 3 operands: four-argument and constant terms are refused */
+	cr_assert_eq(bk_grammar_parse_ops("+,V_cook_torrance", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "V_cook_torrance takes 4 arguments: the search's operations take 1 to 3");
+	cr_assert_eq(bk_grammar_parse_ops("Fd_lambert", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "Fd_lambert takes 0 arguments: the search's operations take 1 to 3");
+	cr_assert(bk_expr_op_valid(term_op("F_schlick")) && !bk_expr_op_valid(term_op("V_cook_torrance")) &&
+	          !bk_expr_op_valid(-1) && !bk_expr_op_valid(BK_OP_COUNT + (int)bk_term_count()));
 }
 
 Test(expr, hash_is_fnv1a)
@@ -622,7 +684,7 @@ static void check_child(const bk_grammar *g, const bk_expr *c)
 	cr_assert_leq(bk_expr_nparams(c), g->max_params, "'%s'", t);
 	uint64_t allowed = g->ops | ((uint64_t)1 << BK_OP_MUL) * (g->ops >> 63);
 	for (int i = 0; i < c->n; i++)
-		if (bk_opinfo_table[c->node[i].op].arity)
+		if (node_arity(c->node[i].op))
 			cr_assert(allowed & ((uint64_t)1 << c->node[i].op), "'%s': op %d", t, c->node[i].op);
 	bk_form_free(parse_ok(t));
 }
@@ -661,4 +723,97 @@ Test(expr, children_are_canonical_within_limits_and_deterministic)
 		distinct += i > 0 && strcmp(a[i], a[i - 1]) != 0;
 	}
 	cr_assert_gt(distinct, 1000);
+}
+
+/* ---- registry terms as operations ------------------------------------------ */
+
+/* Text of e compiled by the IR against the tree evaluated with the registry's
+ * C functions: to rounding (the IR's definitions of the terms and the C
+ * functions are two codings of one formula; test_ir.c holds them to machine
+ * precision). */
+static void check_term_tree(const bk_expr *e)
+{
+	fill_points();
+	const char *text = text_of(e);
+	bk_form *f = parse_ok(text);
+	const double *in[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		in[i] = pts[i];
+	double out[NPTS];
+	cr_assert_eq(bk_form_eval(f, BK_F64, NPTS, in, par, out), 0);
+	for (int k = 0; k < NPTS; k++) {
+		double x[BK_IN_COUNT];
+		for (int i = 0; i < BK_IN_COUNT; i++)
+			x[i] = pts[i][k];
+		double want = eval_tree(e, x, par);
+		cr_assert(isfinite(want) && fabs(out[k] - want) <= 1e-13 * fabs(want), "'%s' at point %d: IR %.17g, registry %.17g",
+		          text, k, out[k], want);
+	}
+	bk_form_free(f);
+}
+
+Test(expr, registry_terms_print_as_calls_and_evaluate_as_the_registry)
+{
+	int fs = term_op("F_schlick"), dg = term_op("D_ggx"), vc = term_op("V_smith_ggx_correlated"),
+	    vk = term_op("V_kelemen");
+	bk_expr e = {6, {{BK_OP_MUL, 0, 0}, {BK_OP_PARAM, 0, 0}, {fs, 0, 0}, {BK_OP_PARAM, 1, 0}, {BK_OP_CONST, 0, 1},
+	                 {BK_OP_INPUT, BK_IN_LOH, 0}}};
+	cr_assert_str_eq(text_of(&e), "p0 * F_schlick(p1, 1, LoH)");
+	check_term_tree(&e);
+	/* D_ggx(NoH, sq(r)) * V_smith_ggx_correlated(NoV, NoL, a) + p3 * V_kelemen(LoH) */
+	e = (bk_expr){15, {{BK_OP_ADD, 0, 0}, {BK_OP_MUL, 0, 0}, {dg, 0, 0}, {BK_OP_INPUT, BK_IN_NOH, 0},
+	                   {BK_OP_MUL, 0, 0}, {BK_OP_INPUT, BK_IN_R, 0}, {BK_OP_INPUT, BK_IN_R, 0}, {vc, 0, 0},
+	                   {BK_OP_INPUT, BK_IN_NOV, 0}, {BK_OP_INPUT, BK_IN_NOL, 0}, {BK_OP_INPUT, BK_IN_A, 0},
+	                   {BK_OP_MUL, 0, 0}, {BK_OP_PARAM, 3, 0}, {vk, 0, 0}, {BK_OP_INPUT, BK_IN_LOH, 0}}};
+	cr_assert_str_eq(text_of(&e),
+	                 "D_ggx(NoH, sq(r)) * V_smith_ggx_correlated(NoV, NoL, a) + p3 * V_kelemen(LoH)");
+	check_term_tree(&e);
+	/* canonical form: a term that reads no input but a parameter is one
+	 * parameter; one of literals alone is left to the IR (the tree cannot
+	 * fold it), and a commutative operand list puts it after the inputs */
+	bk_expr c = {5, {{BK_OP_MUL, 0, 0}, {dg, 0, 0}, {BK_OP_PARAM, 0, 0}, {BK_OP_CONST, 0, 0.5},
+	                 {BK_OP_INPUT, BK_IN_LOH, 0}}};
+	cr_assert_eq(bk_expr_canon(&c), 0);
+	cr_assert_str_eq(text_of(&c), "p0 * LoH");
+	c = (bk_expr){6, {{BK_OP_MUL, 0, 0}, {fs, 0, 0}, {BK_OP_CONST, 0, 0.04}, {BK_OP_CONST, 0, 1},
+	                  {BK_OP_CONST, 0, 0.5}, {BK_OP_INPUT, BK_IN_LOH, 0}}};
+	cr_assert_eq(bk_expr_canon(&c), 0);
+	cr_assert_str_eq(text_of(&c), "LoH * F_schlick(0.04, 1, 0.5)");
+}
+
+/* With a term in the grammar, the generators build it (children canonical,
+ * within the grammar, and compiled by the IR: check_child). */
+Test(expr, children_use_the_terms_a_grammar_allows)
+{
+	bk_grammar g = {.inputs = (1u << BK_IN_LOH) | (1u << BK_IN_R), .consts = {1, 0.5}, .nconsts = 2,
+	                .max_params = 3, .max_size = 12};
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,F_schlick,V_kelemen", &g.ops, err, sizeof err), 0, "%s", err);
+	bk_rng r;
+	bk_rng_seed(&r, 5);
+	bk_expr pop[4];
+	for (int i = 0; i < 4; i++)
+		pop[i] = from_text(i % 2 ? "LoH" : "r"), bk_expr_canon(&pop[i]);
+	int with_f = 0, with_v = 0;
+	for (int t = 0; t < 1500; t++) {
+		bk_expr child;
+		int i = (int)bk_rng_below(&r, 4), j = (int)bk_rng_below(&r, 4);
+		if ((bk_rng_below(&r, 3) ? bk_expr_mutate(&g, &r, &pop[i], &child)
+		                         : bk_expr_crossover(&g, &r, &pop[i], &pop[j], &child)) == 0) {
+			check_child(&g, &child);
+			with_f += strstr(text_of(&child), "F_schlick(") != NULL;
+			with_v += strstr(text_of(&child), "V_kelemen(") != NULL;
+		}
+		pop[bk_rng_below(&r, 4)] = child;
+	}
+	cr_expect_gt(with_f, 50, "F_schlick in %d children", with_f);
+	cr_expect_gt(with_v, 50, "V_kelemen in %d children", with_v);
+	/* and the enumeration, by hand: over {V_kelemen} with the leaves p0, LoH
+	 * and r, size 2 is V_kelemen(LoH) and V_kelemen(r) (V_kelemen(p0) reads
+	 * no input: it is p0, size 1); size 3 the same wrapped once more */
+	bk_grammar e1 = {.inputs = (1u << BK_IN_LOH) | (1u << BK_IN_R), .max_params = 1, .max_size = 3};
+	cr_assert_eq(bk_grammar_parse_ops("V_kelemen", &e1.ops, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(count(&e1, 1), 3);
+	cr_expect_eq(count(&e1, 2), 2);
+	cr_expect_eq(count(&e1, 3), 2);
 }

@@ -1472,7 +1472,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the generator (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "fitting threads (default: all cores); the result does not depend on it", .dest = &a.threads, .lo = 1, .hi = 64},
 		{.name = "--inputs", .kind = CLI_STR, .metavar = "LIST", .help = "inputs a candidate may read (default: what the target provides)", .dest = &a.inputs},
-		{.name = "--ops", .kind = CLI_STR, .metavar = "LIST", .help = "operations (default + - * / sq sqrt rsqrt rcp exp2 log2 min max saturate mix)", .dest = &a.ops},
+		{.name = "--ops", .kind = CLI_STR, .metavar = "LIST", .help = "operations (default + - * / sq sqrt rsqrt rcp exp2 log2 min max saturate mix; also abs, clamp, pow, exp, log, and registry terms of 1 to 3 arguments by name, e.g. F_schlick, D_ggx, V_smith_ggx_correlated)", .dest = &a.ops},
 		{.name = "--max-cost", .kind = CLI_NUM, .metavar = "C", .help = "candidates costlier than C are not fitted", .dest = &a.max_cost, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 10, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
 		{.name = "--max-size", .kind = CLI_INT, .metavar = "N", .help = "nodes per tree (default 24)", .dest = &a.max_size, .lo = 1, .hi = BK_EXPR_MAX},
