@@ -99,6 +99,13 @@ static int size_at(const bk_enode *s, int *len)
 	return sz;
 }
 
+void bk_expr_shift_params(bk_expr *e, int by)
+{
+	for (int i = 0; i < e->n; i++)
+		if (e->node[i].op == BK_OP_PARAM)
+			e->node[i].slot += by;
+}
+
 int bk_expr_size(const bk_expr *e)
 {
 	int len;

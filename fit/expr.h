@@ -81,6 +81,9 @@ int bk_expr_op_valid(int op);
 int bk_expr_span(const bk_expr *e, int i);
 /* Highest parameter index + 1. */
 int bk_expr_nparams(const bk_expr *e);
+/* Every parameter p_k of e renumbered p_(k + by): one tree's parameters after
+ * another's, when two trees make one form. */
+void bk_expr_shift_params(bk_expr *e, int by);
 /* The grammar's size of e: one per node, except that sq(x) (MUL with two
  * equal operands) counts 1 + size(x), one operation as the grammar names it.
  * max_size and the sizes of bk_expr_enumerate are this measure. */

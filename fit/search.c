@@ -9,6 +9,7 @@
 #include "ir.h" /* the opcode enum the trees are made of */
 
 #include <ctype.h>
+#include <limits.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
@@ -107,6 +108,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->seeds = o->seeds_b = o->seed_names = NULL;
 	o->seed_p = NULL;
 	o->nseeds = 0;
+	o->exempt_seeds = INT_MAX;
 	o->island = 0;
 	o->islands = 1;
 }
@@ -134,10 +136,7 @@ static int shape_text(const bk_search *s, const bk_expr *t, char *a, char *b, si
 		}
 		/* B's parameters follow A's: shift them in a copy */
 		bk_expr tb = t[1];
-		int na = bk_expr_nparams(&t[0]);
-		for (int i = 0; i < tb.n; i++)
-			if (tb.node[i].op == BK_OP_PARAM)
-				tb.node[i].slot += na;
+		bk_expr_shift_params(&tb, bk_expr_nparams(&t[0]));
 		snprintf(a, len, "%s", g);
 		return bk_expr_print(&tb, b, len) < 0 ? -1 : 0;
 	}
@@ -275,7 +274,9 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 			c->status = BK_CAND_NONFINITE;
 	/* the published seeds are kept whatever the constraints say (the front
 	 * starts at the state of the art; Karis' env fit dips below 0) */
-	int exempt = c->seed_name != NULL;
+	int exempt = 0;
+	for (int k = 0; c->seed_name && k < s->o.nseeds && k < s->o.exempt_seeds; k++)
+		exempt |= c->seed_name == s->seed_name[k];
 	if (c->status == BK_CAND_OK && s->o.nonneg && !exempt)
 		for (size_t i = 0; i < sm->n; i++)
 			if (v[i] < 0)
@@ -714,6 +715,8 @@ static uint64_t fingerprint(const bk_search *s, int own)
 	h = bk_hash_bytes(h, dbl, sizeof dbl);
 	if (o->inherit) /* hashed only when on: checkpoints made before the option stay valid */
 		h = bk_hash_bytes(h, &o->inherit, sizeof o->inherit);
+	if (o->exempt_seeds < o->nseeds) /* likewise */
+		h = bk_hash_bytes(h, &o->exempt_seeds, sizeof o->exempt_seeds);
 	if (own) {
 		double seed = (double)o->seed;
 		h = bk_hash_bytes(h, &o->island, sizeof o->island);

@@ -80,6 +80,9 @@ typedef struct bk_search_options {
 	const char *const *seed_names; /* their names in outputs (catalog names, "start 1", ...) */
 	const double (*seed_p)[BK_MAX_PARAMS]; /* their starting constants (published), or NULL */
 	int nseeds;
+	int exempt_seeds;         /* the first exempt_seeds seeds (published forms) are kept
+	                             whatever the constraints say; those after are held to
+	                             them as generated forms are (default: all seeds exempt) */
 	int island, islands;      /* this search is island `island` of `islands` (an
 	                             MPI rank of a run): it enumerates only its share
 	                             of the trees (every islands-th, from island) */

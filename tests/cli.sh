@@ -621,6 +621,8 @@ expect_error "search inputs" "'NoX'" $BK search --target vf2d --inputs LoH,NoX -
 expect_error "search inputs provided" "NoV" $BK search --target vf2d --inputs NoV --out "$T/s1"
 expect_error "search evals" "--evals" $BK search --target vf2d --evals 0 --out "$T/s1"
 expect_error "search every" "--every" $BK search --target vf2d --every 10 --out "$T/s1"
+expect_error "search f0 on env pairs" "--f0 has no effect on env split pairs" $BK search --target env --f0 1 --out "$T/s1"
+expect_error "search f0 list" "--f0: one value, got 2" $BK search --target vf2d --f0 0.1,0.2 --out "$T/s1"
 expect_error "search start target" "vf_talk_r" $BK search --target env --start vf_talk_r --out "$T/s1"
 expect_error "search r-range names search" "brdfkit search: --r-range" $BK search --target vf2d --r-range 1:0 --out "$T/s1"
 expect_error "search weights" "--cost-weights" $BK search --target vf2d --cost-weights simple=-1 --out "$T/s1"
@@ -645,6 +647,23 @@ grep -q '^env_karis2014_split,"f0\*((p9\*' "$T/ef0/catalog.csv" && ok || bad "se
 # every row: name, form (quoted or not), an empty form_b
 [ "$(grep -v '^#' "$T/ef0/front.csv" | tail -n +2 | grep -cEv '^[^,]*,("([^"]|"")*"|[^",]*),,')" = 0 ] && ok ||
 	bad "search --env-form f0: a front member with form_b"
+# --env-form mix: f0 A + B is exactly mix(B, S, f0) (S = A + B, linear in
+# f0), so searches of S (f0 = 1) and of B (f0 = 0) run first, a quarter of the
+# budget each, and their fronts' compositions seed the search of forms in f0
+expect_error "search mix checkpoint" "no --checkpoint with it" $BK search --target env --env-form mix \
+	--checkpoint "$T/mx.ck" --out "$T/s5"
+expect_error "search mix budget" "too few to share among three searches" $BK search --target env --env-form mix \
+	--evals 500 --out "$T/s5"
+expect_error "search mix max-cost" "leaves nothing to the halves" $BK search --target env --env-form mix --max-cost 3 \
+	--out "$T/s5"
+if $BK search --target env --env-form mix --evals 4000 --max-cost 15 --out "$T/mix" >/dev/null 2>"$T/err" &&
+	grep -q '^search: S = A + B half: [0-9]* fits in' "$T/err" && grep -q '^search: B half: [0-9]* fits in' "$T/err" &&
+	grep -q '^search: [0-9]* compositions mix(B, S, f0) seed the search' "$T/err"; then ok
+else bad "search --env-form mix: $(tail -3 "$T/err")"; fi
+# the compositions compete on the front (named after their seeding), and none
+# is listed as a catalog row (those are the published forms)
+grep -q '^seed_halves_[0-9]*,"mix(' "$T/mix/front.csv" && ok || bad "search --env-form mix: no composition on the front"
+grep -q '^halves' "$T/mix/catalog.csv" && bad "search --env-form mix: a composition in catalog.csv" || ok
 # SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
 $BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
 pid=$!

@@ -422,3 +422,36 @@ Test(search, migrants_are_taken_once)
 	bk_search_free(other);
 	bk_samples_free(&s);
 }
+
+/* Seeds are published forms, kept whatever the constraints say, unless they
+ * come after exempt_seeds (compositions of searched halves, --env-form mix):
+ * then a seed negative on the samples is rejected as a generated form is.
+ * The planted target is positive; the seed -p0/(LoH^2 + p1) fits it only
+ * with p0 < 0, which is not negative at all then: so a seed that stays
+ * negative, -(LoH*LoH) - 1 (no parameter to flip its sign), is the test. */
+Test(search, seeds_after_exempt_seeds_meet_the_constraints)
+{
+	bk_samples s;
+	planted(&s, 8);
+	static const char *const seeds[] = {"-(LoH*LoH) - 1", "-(LoH*LoH) - 2"};
+	for (int exempt = 0; exempt <= 2; exempt++) {
+		bk_search_options o;
+		plant_options(&o, &s, 1, 300);
+		o.seeds = seeds;
+		o.nseeds = 2;
+		o.nonneg = 1;
+		o.exempt_seeds = exempt;
+		bk_search *S = run(&o);
+		int ok[2] = {-1, -1};
+		for (size_t i = 0; i < bk_search_count(S); i++) {
+			const bk_cand *c = bk_search_at(S, i);
+			for (int k = 0; k < 2; k++)
+				if (c->seed_name && !strcmp(c->text, seeds[k]))
+					ok[k] = c->status == BK_CAND_OK;
+		}
+		for (int k = 0; k < 2; k++)
+			cr_expect_eq(ok[k], k < exempt, "exempt_seeds %d: seed %d status %d", exempt, k, ok[k]);
+		bk_search_free(S);
+	}
+	bk_samples_free(&s);
+}

@@ -21,6 +21,7 @@
 #include <ctype.h>
 #include <errno.h>
 #include <stdint.h>
+#include <limits.h>
 #include <math.h>
 #include <signal.h>
 #include <stdlib.h>
@@ -164,7 +165,15 @@ static int parse_weights(const cli_cmd *cmd, const char *text, double *simple, d
  * Narkowicz's kind), not a split pair. */
 static int env_in_f0(const job *J)
 {
-	return J->kind == BK_TARGET_ENV && J->a->env_form && !strcmp(J->a->env_form, "f0");
+	return J->kind == BK_TARGET_ENV && J->a->env_form && (!strcmp(J->a->env_form, "f0") || !strcmp(J->a->env_form, "mix"));
+}
+
+/* --env-form mix: the same forms in f0, seeded also with mix(B, S, f0) of
+ * the fronts of two searches run first, one of S = A + B (f0 = 1) and one
+ * of B (f0 = 0) (halves below). */
+static int env_halves(const job *J)
+{
+	return J->kind == BK_TARGET_ENV && J->a->env_form && !strcmp(J->a->env_form, "mix");
 }
 
 /* The catalog's tag for the forms of a target, NULL when none fits it. */
@@ -296,8 +305,17 @@ static int setup(job *J)
 	case BK_TARGET_ENV: so->shape = BK_SHAPE_PAIR; break;
 	default: so->shape = BK_SHAPE_PLAIN; break;
 	}
-	if (a->env_form && strcmp(a->env_form, "pair") && strcmp(a->env_form, "f0"))
-		return cli_usage(cmd, "--env-form: expected pair or f0, got '%.40s'", a->env_form);
+	if (a->env_form && strcmp(a->env_form, "pair") && strcmp(a->env_form, "f0") && strcmp(a->env_form, "mix"))
+		return cli_usage(cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a->env_form);
+	if (env_halves(J) && (K > 1 || a->checkpoint || a->resume))
+		return cli_usage(cmd, "--env-form mix runs three searches in turn: no %s with it",
+		                 K > 1 ? "islands" : a->checkpoint ? "--checkpoint" : "--resume");
+	if (env_halves(J) && so->max_cost <= 3)
+		return cli_usage(cmd, "--env-form mix: --max-cost %g leaves nothing to the halves (mix(B, S, f0) costs 2 itself)",
+		                 so->max_cost);
+	if (env_halves(J) && a->evals < 8 * (long)so->generation)
+		return cli_usage(cmd, "--env-form mix: --evals %ld is too few to share among three searches (at least %d)",
+		                 a->evals, 8 * so->generation);
 	if (env_in_f0(J)) { /* one tree in f0, NoV, r scored on f0 A + B over the f0 list, as compare scores */
 		so->shape = BK_SHAPE_PLAIN;
 		J->to.env_f0_form = 1;
@@ -407,6 +425,211 @@ static int setup_seeds(job *J, seeds *sd)
 	J->so.seed_names = sd->name;
 	J->so.seed_p = (const double(*)[BK_MAX_PARAMS])sd->p;
 	J->so.nseeds = sd->n;
+	return 0;
+}
+
+/* ---- --env-form mix: the two halves first ------------------------------------ */
+
+/* f0 A + B is linear in f0: it is mix(B, S, f0) with S = A + B (the albedo,
+ * f0 = 1) and B (f0 = 0), exactly. Each half is a smooth function of (NoV, r)
+ * that a cheap form fits well (S within 0.013 rmse at cost 7, B within 0.008),
+ * while f0 A + B as one form is harder to grow: so 3/8 of the budget
+ * searches S, 3/8 B (the same grammar without f0, the same seed), and
+ * the pairs of their fronts, as mix(B, S, f0) with B's parameters after S's
+ * and each half's fitted constants as the start, seed the search of the forms
+ * in f0 with the last quarter (measured: 1,200,000 fits split 1/4, 1/4, 1/2
+ * put only compositions on the front at cost <= 15; the halves' fits are
+ * both where the gain is and faster, 256 screening samples against 3 x 256
+ * per form, and no f0). Only the compositions on the
+ * Pareto front of (cost after sharing, the halves' combined rmse) are kept:
+ * the others are dominated before any fit. They are held to the constraints
+ * as generated forms are, and listed in no catalog row. */
+#define MAX_HALVES 24
+
+typedef struct halves {
+	char *text[MAX_HALVES], name[MAX_HALVES][32];
+	double p[MAX_HALVES][BK_MAX_PARAMS];
+	int n;
+	long evals;  /* the two searches' fits */
+	size_t front[2];
+} halves;
+
+typedef struct half_member {
+	bk_expr tree;
+	int np;
+	double p[BK_MAX_PARAMS], err;
+} half_member;
+
+/* One half's search on the screening grid at that f0; its front out. */
+static int half_search(job *J, double f0, half_member *out, size_t *nout, long *evals, char *err, size_t errlen)
+{
+	bk_target_options t = J->to_screen;
+	t.nf0 = 1;
+	t.f0[0] = f0;
+	bk_samples sm;
+	if (bk_target_build(&t, &sm, NULL, NULL, err, errlen))
+		return -1;
+	bk_search_options o = J->so;
+	o.screen = &sm;
+	o.seeds = o.seeds_b = o.seed_names = NULL;
+	o.seed_p = NULL;
+	o.nseeds = 0;
+	o.exempt_seeds = INT_MAX;
+	o.evals = J->so.evals / 8 * 3;
+	o.max_cost = J->so.max_cost - 2; /* mix(B, S, f0) adds a subtract and a multiply-add */
+	o.grammar.inputs &= ~(1u << BK_IN_F0); /* f0 is the composition's */
+	int rc = -1;
+	bk_search *S = bk_search_new(&o, err, errlen);
+	if (S) {
+		double t0 = bk_clock_now(), last = t0;
+		while ((rc = bk_search_step(S, err, errlen)) == 1)
+			if (bk_clock_now() - last >= PROGRESS_EVERY) {
+				last = bk_clock_now();
+				fprintf(stderr, "search: %s half: %ld fits\n", f0 == 1 ? "S = A + B" : "B", bk_search_evals(S));
+			}
+		if (rc >= 0) {
+			size_t idx[MAX_FRONT];
+			size_t n = bk_search_front(S, idx, MAX_FRONT);
+			*nout = 0;
+			for (size_t i = 0; i < n; i++) {
+				const bk_cand *c = bk_search_at(S, idx[i]);
+				half_member *h = &out[(*nout)++];
+				h->tree = c->tree[0];
+				h->np = bk_expr_nparams(&c->tree[0]);
+				memcpy(h->p, c->p, sizeof h->p);
+				h->err = c->err; /* rounded (search.h): no choice below hinges on a last bit */
+			}
+			*evals = bk_search_evals(S);
+			fprintf(stderr, "search: %s half: %ld fits in %.1f s, front %zu\n", f0 == 1 ? "S = A + B" : "B", *evals,
+			        bk_clock_now() - t0, *nout);
+			rc = 0;
+		}
+		bk_search_free(S);
+	}
+	bk_samples_free(&sm);
+	return rc;
+}
+
+typedef struct composed {
+	char *text;
+	double cost, est, p[BK_MAX_PARAMS];
+} composed;
+
+static int by_cost_then_est(const void *a, const void *b)
+{
+	const composed *x = a, *y = b;
+	if (x->cost != y->cost)
+		return x->cost < y->cost ? -1 : 1;
+	if (x->est != y->est)
+		return x->est < y->est ? -1 : 1;
+	return strcmp(x->text, y->text);
+}
+
+static int run_halves(job *J, halves *hv)
+{
+	char err[512];
+	static half_member hs[MAX_FRONT], hb[MAX_FRONT];
+	size_t ns = 0, nb = 0;
+	long es = 0, eb = 0;
+	memset(hv, 0, sizeof *hv);
+	if (half_search(J, 1.0, hs, &ns, &es, err, sizeof err) || half_search(J, 0.0, hb, &nb, &eb, err, sizeof err))
+		return cli_fail("search", "--env-form mix: %s", err);
+	hv->evals = es + eb;
+	hv->front[0] = ns;
+	hv->front[1] = nb;
+	composed *c = calloc(ns * nb + 1, sizeof *c);
+	size_t nc = 0;
+	if (!c)
+		return cli_fail("search", "out of memory");
+	int rc = 0;
+	for (size_t i = 0; i < ns && !rc; i++)
+		for (size_t j = 0; j < nb && !rc; j++) {
+			if (hs[i].np + hb[j].np > J->so.grammar.max_params)
+				continue;
+			bk_expr b = hb[j].tree;
+			bk_expr_shift_params(&b, hs[i].np);
+			char ts[4200], tb[4200], text[8600];
+			if (bk_expr_print(&hs[i].tree, ts, sizeof ts) < 0 || bk_expr_print(&b, tb, sizeof tb) < 0)
+				continue;
+			snprintf(text, sizeof text, "mix(%s, %s, f0)", tb, ts);
+			bk_form_error fe;
+			bk_form *f = bk_form_parse(text, &fe);
+			if (!f)
+				continue;
+			bk_ops ops;
+			bk_form_count(f, &ops);
+			bk_form_free(f);
+			double cost = bk_ops_cost(&ops, J->so.simple_cost, J->so.complex_cost);
+			if (cost > J->so.max_cost)
+				continue;
+			composed *m = &c[nc];
+			if (!(m->text = strdup(text))) {
+				rc = -1;
+				break;
+			}
+			m->cost = cost;
+			/* the rmse of f0 A + B over the f0 list if the halves' errors were
+			 * independent and equal across f0: a ranking, not a promise */
+			m->est = bk_search_round_err(sqrt((hs[i].err * hs[i].err + hb[j].err * hb[j].err) / 2));
+			memcpy(m->p, hs[i].p, sizeof(double) * (size_t)hs[i].np);
+			memcpy(m->p + hs[i].np, hb[j].p, sizeof(double) * (size_t)hb[j].np);
+			nc++;
+		}
+	if (!rc) {
+		qsort(c, nc, sizeof *c, by_cost_then_est);
+		double best = HUGE_VAL; /* the Pareto front: each cheaper than all better-ranked */
+		for (size_t k = 0; k < nc && hv->n < MAX_HALVES; k++)
+			if (c[k].est < best) {
+				best = c[k].est;
+				hv->text[hv->n] = c[k].text;
+				c[k].text = NULL;
+				memcpy(hv->p[hv->n], c[k].p, sizeof hv->p[0]);
+				snprintf(hv->name[hv->n], sizeof hv->name[0], "halves %d", hv->n + 1);
+				hv->n++;
+			}
+	}
+	for (size_t k = 0; k < nc; k++)
+		free(c[k].text);
+	free(c);
+	if (rc)
+		return cli_fail("search", "out of memory");
+	fprintf(stderr, "search: %d compositions mix(B, S, f0) seed the search of forms in f0\n", hv->n);
+	return 0;
+}
+
+static void halves_free(halves *hv)
+{
+	for (int k = 0; k < hv->n; k++)
+		free(hv->text[k]);
+	hv->n = 0;
+}
+
+/* The compositions after the seeds of sd (which alone get catalog rows),
+ * held to the constraints, and the rest of the budget to the search. */
+static int seed_halves(job *J, seeds *sd, halves *hv)
+{
+	static const char *text[MAX_SEEDS + MAX_HALVES], *text_b[MAX_SEEDS + MAX_HALVES], *name[MAX_SEEDS + MAX_HALVES];
+	static double p[MAX_SEEDS + MAX_HALVES][BK_MAX_PARAMS];
+	int n = 0;
+	for (int k = 0; k < sd->n; k++, n++) {
+		text[n] = sd->text[k];
+		text_b[n] = sd->text_b[k];
+		name[n] = sd->name[k];
+		memcpy(p[n], sd->p[k], sizeof p[0]);
+	}
+	for (int k = 0; k < hv->n; k++, n++) {
+		text[n] = hv->text[k];
+		text_b[n] = NULL;
+		name[n] = hv->name[k];
+		memcpy(p[n], hv->p[k], sizeof p[0]);
+	}
+	J->so.seeds = text;
+	J->so.seeds_b = text_b;
+	J->so.seed_names = name;
+	J->so.seed_p = (const double(*)[BK_MAX_PARAMS])p;
+	J->so.nseeds = n;
+	J->so.exempt_seeds = sd->n;
+	J->so.evals -= hv->evals;
 	return 0;
 }
 
@@ -1439,7 +1662,8 @@ static const cli_scope target_opts[] = {
 	{"--smith", 1u << BK_TARGET_ENV, "it sets the Smith model of target env"},
 	{"--ior", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
 	{"--k", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
-	{"--f0", 1u << BK_TARGET_VF2D | 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets f0 of targets vf2d, vf and spec"},
+	{"--f0", 1u << BK_TARGET_VF2D | 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC | 1u << BK_TARGET_ENV,
+	 "it sets f0 of targets vf2d, vf and spec, and env's f0 list with --env-form f0"},
 	{"--target-form", 1u << BK_TARGET_FORM, "it gives the expression of target form"},
 	{"--domain", 1u << BK_TARGET_FORM, "it gives the domain of target form"},
 	{"--r-range", ~(1u << BK_TARGET_FORM | 1u << BK_TARGET_F), "the target has no roughness axis or takes --domain"},
@@ -1463,7 +1687,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness of that grid", .dest = &a.t.nr, .lo = 1, .hi = 4096},
 		{.name = "--nu", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: half-vector cells", .dest = &a.t.nu, .lo = 1, .hi = 1024},
 		{.name = "--nphi", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: azimuth cells", .dest = &a.t.nphi, .lo = 1, .hi = 1024},
-		{.name = "--f0", .kind = CLI_LIST, .metavar = "F", .help = "f0 of vf2d, vf, spec (default 0.04)", .dest = &a.t.f0, .lo = 0, .hi = 1},
+		{.name = "--f0", .kind = CLI_LIST, .metavar = "F[,F...]", .help = "f0 of vf2d, vf, spec (default 0.04); env with --env-form f0: the f0 list f0 A + B is scored over (default 0.04,0.5,1)", .dest = &a.t.f0, .lo = 0, .hi = 1},
 		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.t.smith},
 		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index (default 1.5)", .dest = &a.t.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.t.k, .lo = 0, .hi = 1e6},
@@ -1483,7 +1707,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals and errors", .dest = &a.relative},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
 		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
-		{.name = "--env-form", .kind = CLI_STR, .metavar = "pair|f0", .help = "env: candidates are split pairs A, B (default) or one form in f0 scored on f0 A + B (as compare scores)", .dest = &a.env_form},
+		{.name = "--env-form", .kind = CLI_STR, .metavar = "pair|f0|mix", .help = "env: candidates are split pairs A, B (default) or one form in f0 scored on f0 A + B (as compare scores); mix: as f0, seeded also with mix(B, S, f0) of the fronts of searches of S = A + B and of B (3/8 of --evals each)", .dest = &a.env_form},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of the front and the catalog rows per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &a.gpu},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
@@ -1516,6 +1740,8 @@ static int search_main(int argc, char **argv)
 	memset(&J, 0, sizeof J);
 	seeds sd;
 	memset(&sd, 0, sizeof sd);
+	halves hv;
+	memset(&hv, 0, sizeof hv);
 	J.a = &a;
 	J.cmd = &cmd;
 	a.nstart = cli_seen(&cmd, "--start");
@@ -1533,8 +1759,11 @@ static int search_main(int argc, char **argv)
 	if ((rc = cli_scope_check(&cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)J.kind,
 	                          bk_target_name(J.kind))))
 		return rc;
-	if (a.t.f0.n > 1)
-		return cli_usage(&cmd, "--f0: one value, got %d", a.t.f0.n);
+	int in_f0 = J.kind == BK_TARGET_ENV && a.env_form && (!strcmp(a.env_form, "f0") || !strcmp(a.env_form, "mix"));
+	if (J.kind == BK_TARGET_ENV && a.t.f0.n && !in_f0)
+		return cli_usage(&cmd, "--f0 has no effect on env split pairs (their A and B hold no f0): give --env-form f0");
+	if (a.t.f0.n > 1 && !in_f0)
+		return cli_usage(&cmd, "--f0: one value, got %d (a list only for env with --env-form f0)", a.t.f0.n);
 	if ((rc = fit_setup_target(&a.t, J.kind, &J.to)))
 		return rc;
 	char err[512];
@@ -1581,10 +1810,12 @@ static int search_main(int argc, char **argv)
 	if (rc)
 		goto done;
 	J.so.screen = &J.screen;
+	if (env_halves(&J) && ((rc = run_halves(&J, &hv)) || (rc = seed_halves(&J, &sd, &hv))))
+		goto done;
 	if ((rc = K > 1 ? run_islands(&J) : run_search(&J)) || R > 0)
 		goto done;
 	if (K == 1)
-		J.total_evals = bk_search_evals(J.S);
+		J.total_evals = bk_search_evals(J.S) + hv.evals;
 	size_t one;
 	if (bk_search_front(J.S, &one, 1) == 0) { /* nothing to write: say why instead of an empty front */
 		rc = cli_fail("search", "no candidate fitted the target within the limits (--max-cost, --max-params, "
@@ -1602,6 +1833,7 @@ static int search_main(int argc, char **argv)
 	if (rc == 0 && J.interrupted)
 		rc = 130;
 done:
+	halves_free(&hv);
 	for (int k = 0; k < sd.n; k++)
 		free(sd.owned[k]);
 	for (int i = 0; i < J.nm; i++)
