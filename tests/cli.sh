@@ -656,7 +656,7 @@ expect_error "search mix budget" "too few to share among three searches" $BK sea
 	--evals 500 --out "$T/s5"
 expect_error "search mix max-cost" "leaves nothing to the halves" $BK search --target env --env-form mix --max-cost 3 \
 	--out "$T/s5"
-if $BK search --target env --env-form mix --evals 4000 --max-cost 15 --out "$T/mix" >/dev/null 2>"$T/err" &&
+if $BK search --target env --env-form mix --evals 4000 --max-cost 15 --threads 2 --out "$T/mix" >/dev/null 2>"$T/err" &&
 	grep -q '^search: S = A + B half: [0-9]* fits in' "$T/err" && grep -q '^search: B half: [0-9]* fits in' "$T/err" &&
 	grep -q '^search: [0-9]* compositions mix(B, S, f0) seed the search' "$T/err"; then ok
 else bad "search --env-form mix: $(tail -3 "$T/err")"; fi
@@ -664,6 +664,12 @@ else bad "search --env-form mix: $(tail -3 "$T/err")"; fi
 # is listed as a catalog row (those are the published forms)
 grep -q '^seed_halves_[0-9]*,"mix(' "$T/mix/front.csv" && ok || bad "search --env-form mix: no composition on the front"
 grep -q '^halves' "$T/mix/catalog.csv" && bad "search --env-form mix: a composition in catalog.csv" || ok
+# three searches in turn, still the same bytes on one thread
+$BK search --target env --env-form mix --evals 4000 --max-cost 15 --threads 1 --out "$T/mix1" >/dev/null 2>&1
+for f in front.csv candidates.csv; do
+	grep -v '^# command' "$T/mix/$f" >"$T/a.csv"; grep -v '^# command' "$T/mix1/$f" >"$T/b.csv"
+	[ -s "$T/a.csv" ] && cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "search --env-form mix: $f differs between 2 threads and 1"
+done
 # SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
 $BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
 pid=$!
