@@ -760,9 +760,8 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		    (eq < 0 || P.c[i].err < P.c[eq].err || (P.c[i].err == P.c[eq].err && better(&P.c[i], &P.c[eq]))))
 			eq = i;
 	if (at_cost) {
-		if ((rc = most_accurate_at(sc, set, &d, term, &P, g.cost, gen.lut_bytes, ch, err, errlen)) < 0)
+		if (most_accurate_at(sc, set, &d, term, &P, g.cost, gen.lut_bytes, ch, err, errlen))
 			goto done;
-		rc = -1;
 		meets = 1; /* chosen: the block below must not choose again */
 		eq = -1;   /* the choice is that candidate, guarded */
 	}

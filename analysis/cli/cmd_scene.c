@@ -319,14 +319,15 @@ static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nse
 		}
 		double e, ge;
 		set_errors(r, &e, &ge);
-		if (r->cost > 0)
+		if (r->cost > 0) {
 			fprintf(f, "  shader cost %g against the generic %g (%.2fx cheaper); SPIR-V %d against %d", r->cost,
 			        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
-		if (r->cost > 0 && !isnan(e) && e > 0)
-			fprintf(f, "; worst term error %.3g against the generic's %.3g (%.2fx %s)", e, ge,
-			        ge >= e ? ge / e : e / ge, ge >= e ? "more accurate" : "less accurate");
-		else if (!(r->cost > 0))
+			if (e > 0) /* NaN: no vf or env term */
+				fprintf(f, "; worst term error %.3g against the generic's %.3g (%.2fx %s)", e, ge,
+				        ge >= e ? ge / e : e / ge, ge >= e ? "more accurate" : "less accurate");
+		} else {
 			fprintf(f, "  shader: the diffuse term alone, as in the generic shader");
+		}
 		if (with_time && r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
 			fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
 		fputc('\n', f);

@@ -451,7 +451,6 @@ typedef struct halves {
 	double p[MAX_HALVES][BK_MAX_PARAMS];
 	int n;
 	long evals;  /* the two searches' fits */
-	size_t front[2];
 } halves;
 
 typedef struct half_member {
@@ -478,6 +477,7 @@ static int half_search(job *J, double f0, half_member *out, size_t *nout, long *
 	o.evals = J->so.evals / 8 * 3;
 	o.max_cost = J->so.max_cost - 2; /* mix(B, S, f0) adds a subtract and a multiply-add */
 	o.grammar.inputs &= ~(1u << BK_IN_F0); /* f0 is the composition's */
+	const char *what = f0 == 1 ? "S = A + B" : "B";
 	int rc = -1;
 	bk_search *S = bk_search_new(&o, err, errlen);
 	if (S) {
@@ -485,7 +485,7 @@ static int half_search(job *J, double f0, half_member *out, size_t *nout, long *
 		while ((rc = bk_search_step(S, err, errlen)) == 1)
 			if (bk_clock_now() - last >= PROGRESS_EVERY) {
 				last = bk_clock_now();
-				fprintf(stderr, "search: %s half: %ld fits\n", f0 == 1 ? "S = A + B" : "B", bk_search_evals(S));
+				fprintf(stderr, "search: %s half: %ld fits\n", what, bk_search_evals(S));
 			}
 		if (rc >= 0) {
 			size_t idx[MAX_FRONT];
@@ -500,8 +500,8 @@ static int half_search(job *J, double f0, half_member *out, size_t *nout, long *
 				h->err = c->err; /* rounded (search.h): no choice below hinges on a last bit */
 			}
 			*evals = bk_search_evals(S);
-			fprintf(stderr, "search: %s half: %ld fits in %.1f s, front %zu\n", f0 == 1 ? "S = A + B" : "B", *evals,
-			        bk_clock_now() - t0, *nout);
+			fprintf(stderr, "search: %s half: %ld fits in %.1f s, front %zu\n", what, *evals, bk_clock_now() - t0,
+			        *nout);
 			rc = 0;
 		}
 		bk_search_free(S);
@@ -535,8 +535,6 @@ static int run_halves(job *J, halves *hv)
 	if (half_search(J, 1.0, hs, &ns, &es, err, sizeof err) || half_search(J, 0.0, hb, &nb, &eb, err, sizeof err))
 		return cli_fail("search", "--env-form mix: %s", err);
 	hv->evals = es + eb;
-	hv->front[0] = ns;
-	hv->front[1] = nb;
 	composed *c = calloc(ns * nb + 1, sizeof *c);
 	size_t nc = 0;
 	if (!c)
@@ -606,7 +604,7 @@ static void halves_free(halves *hv)
 
 /* The compositions after the seeds of sd (which alone get catalog rows),
  * held to the constraints, and the rest of the budget to the search. */
-static int seed_halves(job *J, seeds *sd, halves *hv)
+static void seed_halves(job *J, const seeds *sd, const halves *hv)
 {
 	static const char *text[MAX_SEEDS + MAX_HALVES], *text_b[MAX_SEEDS + MAX_HALVES], *name[MAX_SEEDS + MAX_HALVES];
 	static double p[MAX_SEEDS + MAX_HALVES][BK_MAX_PARAMS];
@@ -630,7 +628,6 @@ static int seed_halves(job *J, seeds *sd, halves *hv)
 	J->so.nseeds = n;
 	J->so.exempt_seeds = sd->n;
 	J->so.evals -= hv->evals;
-	return 0;
 }
 
 /* ---- the run ------------------------------------------------------------------ */
@@ -1759,7 +1756,7 @@ static int search_main(int argc, char **argv)
 	if ((rc = cli_scope_check(&cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)J.kind,
 	                          bk_target_name(J.kind))))
 		return rc;
-	int in_f0 = J.kind == BK_TARGET_ENV && a.env_form && (!strcmp(a.env_form, "f0") || !strcmp(a.env_form, "mix"));
+	int in_f0 = env_in_f0(&J);
 	if (J.kind == BK_TARGET_ENV && a.t.f0.n && !in_f0)
 		return cli_usage(&cmd, "--f0 has no effect on env split pairs (their A and B hold no f0): give --env-form f0");
 	if (a.t.f0.n > 1 && !in_f0)
@@ -1810,8 +1807,11 @@ static int search_main(int argc, char **argv)
 	if (rc)
 		goto done;
 	J.so.screen = &J.screen;
-	if (env_halves(&J) && ((rc = run_halves(&J, &hv)) || (rc = seed_halves(&J, &sd, &hv))))
-		goto done;
+	if (env_halves(&J)) {
+		if ((rc = run_halves(&J, &hv)))
+			goto done;
+		seed_halves(&J, &sd, &hv);
+	}
 	if ((rc = K > 1 ? run_islands(&J) : run_search(&J)) || R > 0)
 		goto done;
 	if (K == 1)
