@@ -133,6 +133,11 @@ $(TESTS): $(call obj,build/obj,$(TEST_SRC) $(SUPPORT)) $(LIB)
 $(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
 	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
 
+# the shell tests read CSV columns by name through this (tests/lib.sh)
+build/csvget: tests/tools/csvget.c | deps
+	@mkdir -p build
+	$(CC) $(CSTD) $(WARN) $(OPT) $< -lcsv -o $@
+
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 
@@ -143,16 +148,18 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
-test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL)
+test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
+	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
 	sh tests/gpucost.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
+	for s in $(sort $(wildcard tests/cli_*.sh)); do UBSAN_OPTIONS=print_stacktrace=1 sh $$s $(STOOL) || exit 1; done
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
 	$(call need,$(PAGE_DEBS))
