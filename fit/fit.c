@@ -29,18 +29,31 @@ static void start_point(const bk_fit_spec *spec, int k, double *p)
 	}
 }
 
+/* A start fails when the solver does, or ends at a cost that is not finite
+ * (residuals near 1e154 or more, whose squares overflow: p0 = 1e308): there
+ * is no point to compare. A failed first start stays a note; when every
+ * start fails, the message names the first failure. */
 static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 {
 	const bk_fit_spec *spec = c->spec;
 	double best = INFINITY;
+	char first[400] = "";
 	res->start_cost_min = INFINITY;
 	res->start_cost_max = -INFINITY;
 	for (int k = 0; k < spec->starts; k++) {
 		double p[BK_MAX_PARAMS] = {0};
 		bk_fit_summary sum;
 		start_point(spec, k, p);
-		if (bk_fit_solve(c, p, spec->hold, &sum) || sum.termination == BK_TERM_FAILURE) {
-			res->starts_failed++;
+		int failed = bk_fit_solve(c, p, spec->hold, &sum) || sum.termination == BK_TERM_FAILURE;
+		if (!failed && !isfinite(sum.final_cost)) {
+			snprintf(sum.message, sizeof sum.message, "the cost is %g: the squared residuals overflow "
+			         "double", sum.final_cost);
+			failed = 1;
+		}
+		if (failed) {
+			if (!res->starts_failed++)
+				snprintf(first, sizeof first, "start %d of %d: %s", k + 1, spec->starts,
+				         sum.message[0] ? sum.message : "the solver gave no reason");
 			if (k == 0)
 				snprintf(res->message, sizeof res->message, "%s", sum.message);
 			continue;
@@ -54,9 +67,7 @@ static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 		}
 	}
 	if (!isfinite(best)) {
-		char why[sizeof res->message];
-		memcpy(why, res->message, sizeof why);
-		snprintf(res->message, sizeof res->message, "every start failed: %.400s", why);
+		snprintf(res->message, sizeof res->message, "every start failed; the first, %s", first);
 		return -1;
 	}
 	return 0;
@@ -204,7 +215,7 @@ static void check_optimality(bk_fit_ctx *c, bk_fit_result *res, const int *held,
 }
 
 /* Names the parameters hold_unidentified held; they count as not identifiable
- * (unidentified[]) with standard error 0 (held: not fitted). */
+ * (unidentified[]), with no standard error (held: not fitted). */
 static void note_held(bk_fit_result *res, int np)
 {
 	char list[160] = "";
@@ -399,7 +410,7 @@ static double round_constant(double x, int digits)
  * digits, those runs differed; rounded here, two runs differ only if a decade
  * boundary falls between their points (probability ~|Δp|/quantum, ~1e-4 for
  * well-conditioned fits). The metrics, the CSV and the shaders all use the
- * rounded values. Held parameters (se 0), exact fits (se 0) and ones without
+ * rounded values. Held parameters (no se), exact fits (se 0) and ones without
  * a standard error keep every digit. */
 static void round_to_se(const bk_fit_spec *spec, bk_fit_result *res)
 {
@@ -469,6 +480,15 @@ int bk_fit_run(const bk_fit_spec *spec_in, bk_fit_result *res)
 		bk_fit_evaluate(spec, res->p, &res->fitted);
 		bk_fit_ctx_free(&c);
 		return 0;
+	}
+	int free_params = 0;
+	for (int j = 0; j < spec->np; j++)
+		free_params += !spec->hold[j] && spec->lower[j] != spec->upper[j];
+	if (!free_params) { /* a solve would move nothing and report CONVERGENCE */
+		snprintf(res->message, sizeof res->message, "every parameter is held (hold, or lower == upper): nothing to "
+		         "fit");
+		bk_fit_ctx_free(&c);
+		return -1;
 	}
 	rc = multi_start(&c, res);
 	if (rc == 0)

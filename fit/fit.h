@@ -110,12 +110,12 @@ typedef struct bk_fit_metrics {
 
 typedef struct bk_fit_result {
 	double p[BK_MAX_PARAMS];
-	double se[BK_MAX_PARAMS];          /* standard errors; 0 where held (hold, lower == upper, or
-	                                      held[]: not fitted, and the others' are conditional on
-	                                      them); NaN where not identifiable and not held (holding
-	                                      failed) */
+	double se[BK_MAX_PARAMS];          /* standard errors; NaN where held (hold, lower == upper, or
+	                                      held[]: not fitted, so none; the others' are conditional
+	                                      on them: a 0 would read "known exactly") and where not
+	                                      identifiable and not held (holding failed) */
 	int unidentified[BK_MAX_PARAMS];   /* 1: in the null space of the Jacobian */
-	int held[BK_MAX_PARAMS];           /* 1: not identifiable, so held at its start value (se 0)
+	int held[BK_MAX_PARAMS];           /* 1: not identifiable, so held at its start value (se NaN)
 	                                      and the others re-solved: the answer is then unique
 	                                      (fit.c, hold_unidentified) */
 	bk_fit_summary summary;            /* of the best start (and later stages) */

@@ -238,10 +238,8 @@ int bk_fit_stderr(bk_fit_ctx *c, bk_fit_result *res)
 	for (int j = 0; j < np; j++) {
 		res->se[j] = NAN;
 		res->unidentified[j] = res->collinear[j] = 0;
-		if (spec->hold[j] || spec->lower[j] == spec->upper[j])
-			res->se[j] = 0.0; /* held: not fitted */
-		else
-			col[nf++] = j;
+		if (!spec->hold[j] && spec->lower[j] != spec->upper[j])
+			col[nf++] = j; /* held ones are not fitted: no standard error (NaN) */
 	}
 	res->condition = NAN;
 	if (nf == 0)

@@ -386,6 +386,11 @@ static bk_form *form_parse_checked(const bk_target_options *o, char *err, size_t
 			snprintf(err, errlen, "the domain of '%s' is empty: [%g, %g]", bk_input_name((bk_input)o->dom_in[d]),
 			         o->dom_lo[d], o->dom_hi[d]);
 			fail = 1;
+		} else if (!isfinite((o->dom_hi[d] - o->dom_lo[d]) * bk_target_form_cells(o))) {
+			/* centre() computes (i + 0.5) (hi - lo) before dividing by the cells */
+			snprintf(err, errlen, "the domain of '%s' is too wide: (%g - (%g)) x %d cells overflows double",
+			         bk_input_name((bk_input)o->dom_in[d]), o->dom_hi[d], o->dom_lo[d], bk_target_form_cells(o));
+			fail = 1;
 		}
 out:
 	if (fail) {

@@ -13,6 +13,32 @@
 #include <unistd.h>
 
 static const char *cur_cmd = "brdfkit";
+static const cli_table *cur_table; /* the running command's, set by cli_parse_table */
+static int check_only;             /* --check-options: stop after cli_applicable */
+
+/* Texts the parser hands out (forms read by cli_form_arg, cli_words' copies):
+ * they live as long as argv, and are freed at exit. */
+static char **kept;
+static size_t nkept;
+
+static void free_kept(void)
+{
+	for (size_t i = 0; i < nkept; i++)
+		free(kept[i]);
+	free(kept);
+}
+
+static int keep(char *text)
+{
+	char **t = realloc(kept, (nkept + 1) * sizeof *t);
+	if (!t)
+		return -1;
+	if (!kept)
+		atexit(free_kept);
+	kept = t;
+	kept[nkept++] = text;
+	return 0;
+}
 
 void cli_set_name(const char *cmd) { cur_cmd = cmd; }
 
@@ -133,7 +159,8 @@ static int parse_number(const cli_cmd *cmd, const cli_opt *o, const char *text,
 }
 
 /* Items between commas, each a number; an empty item (",0.5", "0.5,,1",
- * "0.5,") is a typing slip, not a value to skip. */
+ * "0.5,") is a typing slip, not a value to skip, and a value given twice
+ * ("0.5,0.5") one not to do twice. */
 static int parse_list(const cli_cmd *cmd, const cli_opt *o, const char *text,
                       cli_list *l)
 {
@@ -150,10 +177,14 @@ static int parse_list(const cli_cmd *cmd, const cli_opt *o, const char *text,
 		char *item = strndup(p, n);
 		if (!item)
 			return cli_usage(cmd, "%s: out of memory", o->name);
-		int rc = parse_number(cmd, o, item, &l->v[l->n++]);
+		int rc = parse_number(cmd, o, item, &l->v[l->n]);
+		for (int k = 0; rc == 0 && k < l->n; k++)
+			if (l->v[k] == l->v[l->n]) /* 0.5 and 5e-1 alike: a row or a weight twice */
+				rc = cli_usage(cmd, "%s: '%s' given twice in the list '%.200s'", o->name, item, text);
 		free(item);
 		if (rc)
 			return 2;
+		l->n++;
 		if (!comma)
 			return 0;
 		p = comma + 1;
@@ -189,9 +220,19 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 	return 2;
 }
 
-int cli_parse(cli_cmd *cmd, int argc, char **argv)
+static void print_table(const cli_cmd *cmd, const cli_table *t);
+
+static int parse(cli_cmd *cmd, int argc, char **argv)
 {
 	cli_set_name(cmd->name);
+	check_only = 0;
+	if (argc >= 1 && strcmp(argv[0], "--help-applicability") == 0) {
+		if (cur_table)
+			print_table(cmd, cur_table);
+		else
+			printf("none\t%s\n", cmd->name);
+		return 1;
+	}
 	int options = 1; /* until "--" */
 	for (int i = 0; i < argc; i++) {
 		const char *arg = argv[i];
@@ -202,6 +243,10 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 		if (options && (strcmp(arg, "--help") == 0 || strcmp(arg, "-h") == 0)) {
 			cli_help(cmd, stdout);
 			return 1;
+		}
+		if (options && cur_table && strcmp(arg, "--check-options") == 0) { /* hidden: for the walk */
+			check_only = 1;
+			continue;
 		}
 		if (!options || strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
 			if (cmd->npos >= cmd->max_pos || cmd->npos == 32)
@@ -247,32 +292,23 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv)
 	return 0;
 }
 
-char *cli_read_file(const char *path, size_t *len)
+int cli_parse(cli_cmd *cmd, int argc, char **argv)
+{
+	cur_table = NULL; /* a command without a table (brdfkit help runs them all in one process) */
+	return parse(cmd, argc, argv);
+}
+
+char *cli_read_max(const char *path, size_t max, size_t *len)
 {
 	FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
 	if (!f)
 		return NULL;
-	size_t cap = 4096, n = 0;
-	char *buf = malloc(cap);
-	int err = buf ? 0 : ENOMEM;
-	while (!err) {
-		if (cap - n < 2) {
-			char *b = realloc(buf, 2 * cap);
-			if (!b) {
-				err = ENOMEM;
-				break;
-			}
-			buf = b;
-			cap *= 2;
-		}
-		size_t k = fread(buf + n, 1, cap - n - 1, f);
-		n += k;
-		if (k == 0) {
-			if (ferror(f))
-				err = errno ? errno : EIO; /* a directory: EISDIR */
-			break;
-		}
-	}
+	/* one buffer of max + 2 bytes: max, one more to see that there is more
+	 * (then nothing further is read), and the NUL */
+	char *buf = max < (size_t)-3 ? malloc(max + 2) : NULL;
+	size_t n = buf ? fread(buf, 1, max + 1, f) : 0;
+	int err = !buf ? ENOMEM : ferror(f) ? (errno ? errno : EIO) /* a directory: EISDIR */
+	                        : n > max ? EFBIG : 0;
 	if (f != stdin)
 		fclose(f);
 	if (err) {
@@ -284,6 +320,8 @@ char *cli_read_file(const char *path, size_t *len)
 	*len = n;
 	return buf;
 }
+
+char *cli_read_file(const char *path, size_t *len) { return cli_read_max(path, CLI_READ_MAX, len); }
 
 int cli_check_text(const char *buf, size_t len, char *why, size_t wlen)
 {
@@ -325,16 +363,10 @@ int cli_check_text(const char *buf, size_t len, char *why, size_t wlen)
 	return 0;
 }
 
-/* What cli_form_arg read, freed at exit (the texts live as long as argv). */
-static char **form_texts;
-static size_t nform_texts;
-
-static void free_form_texts(void)
-{
-	for (size_t i = 0; i < nform_texts; i++)
-		free(form_texts[i]);
-	free(form_texts);
-}
+/* A form file holds at most BK_FORM_MAX_LEN characters and the line end an
+ * editor adds; a little more reaches the parser, which names the limit at
+ * its column, and nothing past that is read. */
+#define FORM_READ_MAX ((size_t)BK_FORM_MAX_LEN + 2)
 
 int cli_form_arg(const char *arg, const char **text)
 {
@@ -345,7 +377,12 @@ int cli_form_arg(const char *arg, const char **text)
 	const char *path = arg[0] == '@' ? arg + 1 : "-";
 	const char *label = arg[0] == '@' ? arg : "standard input";
 	size_t len;
-	char *buf = cli_read_file(path, &len), why[64];
+	char *buf = cli_read_max(path, FORM_READ_MAX, &len), why[64];
+	if (!buf && errno == EFBIG) {
+		cli_fail(NULL, "%s: longer than %zu bytes: a form is at most %d characters (not read further)", label,
+		         FORM_READ_MAX, BK_FORM_MAX_LEN);
+		return 2;
+	}
 	if (!buf) {
 		cli_fail(NULL, "%s: cannot read: %s", label, strerror(errno));
 		return 2;
@@ -359,16 +396,11 @@ int cli_form_arg(const char *arg, const char **text)
 		buf[--len] = '\0';
 	if (len && buf[len - 1] == '\r')
 		buf[--len] = '\0';
-	char **t = realloc(form_texts, (nform_texts + 1) * sizeof *t);
-	if (!t) {
+	if (keep(buf)) {
 		free(buf);
 		cli_fail(NULL, "%s: out of memory", label);
 		return 2;
 	}
-	if (!form_texts)
-		atexit(free_form_texts);
-	form_texts = t;
-	form_texts[nform_texts++] = buf;
 	*text = buf;
 	return 0;
 }
@@ -444,4 +476,183 @@ int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double 
 	*simple = m->simple;
 	*complex = m->complex;
 	return 0;
+}
+
+int cli_words(const cli_cmd *cmd, const char *opt, const char *text, const char **items, int max)
+{
+	char *copy = strdup(text);
+	if (!copy || keep(copy)) {
+		free(copy);
+		cli_usage(cmd, "%s: out of memory", opt);
+		return -1;
+	}
+	int n = 0;
+	for (char *p = copy;;) {
+		char *comma = strchr(p, ',');
+		if (comma)
+			*comma = '\0';
+		if (!*p) {
+			cli_usage(cmd, "%s: empty item in the list '%.200s'", opt, text);
+			return -1;
+		}
+		for (int k = 0; k < n; k++)
+			if (!strcmp(items[k], p)) {
+				cli_usage(cmd, "%s: '%.60s' given twice in the list '%.200s'", opt, p, text);
+				return -1;
+			}
+		if (n == max) {
+			cli_usage(cmd, "%s: more than %d items", opt, max);
+			return -1;
+		}
+		items[n++] = p;
+		if (!comma)
+			return n;
+		p = comma + 1;
+	}
+}
+
+/* ---- option applicability (cli.h) ----------------------------------------- */
+
+static const cli_opt *find_opt(const cli_cmd *cmd, const char *name)
+{
+	for (int k = 0; k < cmd->nopts; k++)
+		if (!strcmp(cmd->opts[k].name, name))
+			return &cmd->opts[k];
+	return NULL;
+}
+
+static int nvalues(const cli_dim *d)
+{
+	int n = 0;
+	while (n < CLI_DIM_VALUES && d->value[n])
+		n++;
+	return n;
+}
+
+/* Whether the rule's option was given (with its value, for a value rule). */
+static int given(const cli_cmd *cmd, const cli_rule *r)
+{
+	const cli_opt *o = find_opt(cmd, r->opt);
+	if (!o || !o->seen)
+		return 0;
+	if (!r->value)
+		return 1;
+	for (int k = 0; k < o->seen; k++) /* a repeatable option: any of its values */
+		if (((const char *const *)o->dest)[k] && !strcmp(((const char *const *)o->dest)[k], r->value))
+			return 1;
+	return 0;
+}
+
+/* What a table must hold for the walk to mean anything; a message naming the
+ * first fault, or NULL. */
+static const char *table_fault(const cli_cmd *cmd, const cli_table *t, char *buf, size_t len)
+{
+	for (int k = 0; k < t->nrules; k++) {
+		const cli_rule *r = &t->rules[k];
+		const cli_opt *o = find_opt(cmd, r->opt);
+		if (!o)
+			snprintf(buf, len, "a rule names %s, which the command does not have", r->opt);
+		else if (r->dim != CLI_EVERYWHERE && (r->dim < 0 || r->dim >= t->ndims))
+			snprintf(buf, len, "a rule of %s names dimension %d of %d", r->opt, r->dim, t->ndims);
+		else if (r->dim != CLI_EVERYWHERE && (!r->acts || r->acts >> nvalues(&t->dims[r->dim])))
+			snprintf(buf, len, "a rule of %s acts on no value, or on values %s does not have", r->opt,
+			         t->dims[r->dim].name);
+		else if (r->value && o->kind != CLI_STR && o->kind != CLI_FORM)
+			snprintf(buf, len, "a value rule of %s, which takes no text", r->opt);
+		else if (r->dim != CLI_EVERYWHERE && o->kind != CLI_FLAG && !r->value && !r->example)
+			snprintf(buf, len, "the rule of %s on %s has no example value for the walk", r->opt,
+			         t->dims[r->dim].name);
+		else
+			continue;
+		return buf;
+	}
+	for (int i = 0; i < cmd->nopts; i++) {
+		int ruled = 0;
+		for (int k = 0; k < t->nrules && !ruled; k++)
+			ruled = !strcmp(t->rules[k].opt, cmd->opts[i].name);
+		if (!ruled) {
+			snprintf(buf, len, "%s has no applicability rule (give it one: cli.h)", cmd->opts[i].name);
+			return buf;
+		}
+	}
+	return NULL;
+}
+
+/* --help-applicability: the table as tab-separated lines for the walk. */
+static void print_table(const cli_cmd *cmd, const cli_table *t)
+{
+	printf("table\t%s\n", cmd->name);
+	for (int i = 0; i < cmd->nopts; i++)
+		printf("opt\t%s\t%s\t%s\n", cmd->name, cmd->opts[i].name, cmd->opts[i].kind == CLI_FLAG ? "flag" : "value");
+	for (int d = 0; d < t->ndims; d++) {
+		printf("dim\t%s\t%s\t", cmd->name, t->dims[d].name);
+		for (int v = 0; v < nvalues(&t->dims[d]); v++)
+			printf("%s%s", v ? "," : "", t->dims[d].value[v]);
+		putchar('\n');
+	}
+	for (int k = 0; k < t->nrules; k++) {
+		const cli_rule *r = &t->rules[k];
+		const char *ex = r->value ? r->value : r->example ? r->example : "-";
+		printf("rule\t%s\t%s\t%s\t%s\t", cmd->name, r->opt, r->value ? r->value : "*", ex);
+		if (r->dim == CLI_EVERYWHERE) {
+			puts("*\t*");
+			continue;
+		}
+		printf("%s\t", t->dims[r->dim].name);
+		for (int v = 0, first = 1; v < nvalues(&t->dims[r->dim]); v++)
+			if (r->acts >> v & 1) {
+				printf("%s%s", first ? "" : ",", t->dims[r->dim].value[v]);
+				first = 0;
+			}
+		putchar('\n');
+	}
+	for (int k = 0; t->setups && t->setups[k]; k++)
+		printf("setup\t%s\t%s\n", cmd->name, t->setups[k]);
+}
+
+int cli_parse_table(cli_cmd *cmd, const cli_table *t, int argc, char **argv)
+{
+	char buf[200];
+	const char *fault = table_fault(cmd, t, buf, sizeof buf);
+	cur_table = t;
+	if (fault) { /* a programming error, found on the first run of the command */
+		fprintf(stderr, "brdfkit %s: internal error: %s\n", cmd->name, fault);
+		return 2;
+	}
+	return parse(cmd, argc, argv);
+}
+
+int cli_applicable(const cli_cmd *cmd, const int *ctx)
+{
+	const cli_table *t = cur_table;
+	if (!t) {
+		fprintf(stderr, "brdfkit %s: internal error: cli_applicable without cli_parse_table\n", cmd->name);
+		return 2;
+	}
+	for (int d = 0; d < t->ndims; d++)
+		if (ctx[d] < 0 || ctx[d] >= nvalues(&t->dims[d])) {
+			fprintf(stderr, "brdfkit %s: internal error: %s = %d is no value\n", cmd->name, t->dims[d].name, ctx[d]);
+			return 2;
+		}
+	for (int k = 0; k < t->nrules; k++) {
+		const cli_rule *r = &t->rules[k];
+		if (r->dim == CLI_EVERYWHERE || (r->acts >> ctx[r->dim] & 1) || !given(cmd, r))
+			continue;
+		const cli_dim *d = &t->dims[r->dim];
+		char where[160];
+		if (d->where[ctx[r->dim]])
+			snprintf(where, sizeof where, "%s", d->where[ctx[r->dim]]);
+		else
+			snprintf(where, sizeof where, " when %s is %s", d->name, d->value[ctx[r->dim]]);
+		return cli_usage(cmd, "%s%s%s has no effect%s%s%s%s", r->opt, r->value ? " " : "", r->value ? r->value : "",
+		                 where, r->does ? " (" : "", r->does ? r->does : "", r->does ? ")" : "");
+	}
+	if (!check_only)
+		return 0;
+	printf("context\t%s", cmd->name);
+	for (int d = 0; d < t->ndims; d++)
+		printf("\t%s=%s", t->dims[d].name, t->dims[d].value[ctx[d]]);
+	putchar('\n');
+	fflush(stdout);
+	exit(0); /* the walk asked for the check alone: nothing else runs, nothing is written */
 }

@@ -68,13 +68,19 @@ int cli_number(const char *text, double *x);
  * (cannot be read, or not text: a NUL byte or invalid UTF-8). */
 int cli_form_arg(const char *arg, const char **text);
 
-/* Reads a whole file (path "-": standard input) into a malloc'd, NUL-
- * terminated buffer; *len excludes the NUL. Returns NULL with errno set. */
 /* cli_form_arg on every positional from the first-th on, in place: for the
  * commands whose positionals are forms (or NAME=VALUE, which is never '-' or
  * starts with '@'). Returns 0 or 2 after an error. */
 int cli_form_positionals(cli_cmd *cmd, int first);
 
+/* Reads a file (path "-": standard input) into a malloc'd, NUL-terminated
+ * buffer; *len excludes the NUL. At most max bytes: a longer input is refused
+ * after reading max + 1 bytes (errno EFBIG), never read to its end, so
+ * /dev/zero or a FIFO cannot fill the memory. Returns NULL with errno set. */
+char *cli_read_max(const char *path, size_t max, size_t *len);
+/* cli_read_max with CLI_READ_MAX: for files that are not forms (scenes,
+ * report sections). */
+#define CLI_READ_MAX ((size_t)16 << 20)
 char *cli_read_file(const char *path, size_t *len);
 
 /* 0 if buf[0..len) is text: no NUL byte and valid UTF-8; otherwise -1 with
@@ -94,10 +100,100 @@ int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 /* Whether option name (e.g. "--ior") was given. */
 int cli_seen(const cli_cmd *cmd, const char *name);
 
-/* An option that acts on some targets only (bit k of targets: target kind k;
- * does: what it does, for the message). Given for another target it would be
- * ignored, so cli_scope_check refuses it: returns 2 after a usage error naming
- * the option and the target, or 0. */
+/* A comma-separated list of words (--hold p0,p2; --chips navi21,vega10) into
+ * items[0..n), pointers into a copy that lives until exit. An empty item
+ * (",a", "a,,b", "a,") or an item given twice is a typing slip, not something
+ * to skip or do twice: refused with one usage line naming opt. Returns n >= 1,
+ * or -1 after the error. Number lists (CLI_LIST) follow the same rules. */
+int cli_words(const cli_cmd *cmd, const char *opt, const char *text, const char **items, int max);
+
+/* ---- option applicability -------------------------------------------------
+ *
+ * An option that acts only in some contexts (a target kind, a mode, another
+ * option's presence) would be silently ignored in the others. Each command
+ * states once, in a table, where each of its options acts, and calls
+ * cli_applicable() once its context is known; an option given where it does
+ * not act is refused with one uniform line:
+ *
+ *   brdfkit CMD: OPT has no effect WHERE (DOES) (see brdfkit CMD --help)
+ *
+ * The context is a few dimensions, each with one of a few values (fit: the
+ * target kind; whether the form has parameters; whether --loss is robust). A
+ * rule says that OPT (or OPT with one value, "--weight dnol") acts only where
+ * dimension DIM has one of the values in the mask ACTS; an option acts where
+ * all its rules hold. An option that acts everywhere has one rule with dim
+ * CLI_EVERYWHERE, so that every option is named: cli_parse_table refuses to
+ * run a command whose table misses an option (an internal error, exit 2).
+ *
+ * The walk. `brdfkit CMD --help-applicability` (hidden; `brdfkit help
+ * --applicability` for every command) prints the table as tab-separated
+ * lines, with SETUPS: argument lists that put the command in its contexts.
+ * `brdfkit CMD SETUP --check-options` (hidden) parses, runs cli_applicable,
+ * prints "context CMD DIM=VALUE ..." and exits 0 without doing the work.
+ * tests/cli_opts.sh gives every option, in every setup that lacks it, and
+ * checks it is refused (exit 2, one line naming it) where a rule says it does
+ * not act and accepted where all its rules say it acts; a command printed
+ * without a table, a dimension value no setup reaches, or a rule no setup
+ * refuses fails the walk.
+ *
+ * To give a command a table (search, scene, ...):
+ *   1. static const cli_dim dims[] = {{"target", {"vf2d", ...}, {" on target vf2d", ...}}, ...};
+ *      static const cli_rule rules[] = {{"--nu", NULL, 0, ON(VF) | ON(SPEC), "it sets ...", "4"},
+ *                                      {"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL}, ...};
+ *      static const char *const setups[] = {"--target vf2d --out o", ..., NULL};
+ *      static const cli_table table = {dims, 1, rules, n, setups};
+ *   2. cli_parse(&cmd, ...) becomes cli_parse_table(&cmd, &table, ...);
+ *   3. once the context is known, before any work (and before checks that
+ *      need the work): int ctx[] = {kind}; if ((rc = cli_applicable(&cmd, ctx))) return rc;
+ *      every path of the command reaches it (else --check-options would run
+ *      the command: the walk sees no context line and fails);
+ *   4. run sh tests/cli_opts.sh build/brdfkit.
+ */
+#define CLI_DIM_VALUES 12
+#define CLI_EVERYWHERE (-1)
+
+typedef struct cli_dim {
+	const char *name;                  /* "target": a word, in context lines */
+	const char *value[CLI_DIM_VALUES]; /* its values, words; NULL after the last */
+	const char *where[CLI_DIM_VALUES]; /* per value, how a refusal names it, with its
+	                                      leading space or colon (" on target vf2d",
+	                                      ": the form has no parameters"); NULL:
+	                                      " when NAME is VALUE" */
+} cli_dim;
+
+typedef struct cli_rule {
+	const char *opt;     /* "--nu", as in the option table */
+	const char *value;   /* NULL: whatever its value; else the rule is about
+	                        this value only ("dnol"; CLI_STR/CLI_FORM options) */
+	int dim;             /* index in the table's dims, or CLI_EVERYWHERE */
+	unsigned acts;       /* bit v: the option acts where the dimension has value v */
+	const char *does;    /* what the option does, in the refusal's parentheses, or NULL */
+	const char *example; /* a value the walk gives it (NULL: a flag, a value rule,
+	                        or an option every setup gives) */
+} cli_rule;
+
+typedef struct cli_table {
+	const cli_dim *dims;
+	int ndims;
+	const cli_rule *rules;
+	int nrules;
+	const char *const *setups; /* NULL-terminated; words split at spaces, so no
+	                              word holds one; every value of every dimension
+	                              is reached by one */
+} cli_table;
+
+/* cli_parse for a command with an applicability table (kept until exit): also
+ * answers --help-applicability and takes --check-options. 2 (an internal
+ * error) if the table misses an option or names one the command lacks. */
+int cli_parse_table(cli_cmd *cmd, const cli_table *t, int argc, char **argv);
+/* ctx[d]: the value of dimension d in this run. Returns 0, or 2 after the
+ * usage line for the first option (in table order) given where it does not
+ * act. Under --check-options, prints the context line and exits 0 instead of
+ * returning 0. */
+int cli_applicable(const cli_cmd *cmd, const int *ctx);
+
+/* The older, target-only form of the same check (bit k of targets: target
+ * kind k), kept for search until it has a table; same message. */
 typedef struct cli_scope {
 	const char *opt;
 	unsigned targets;

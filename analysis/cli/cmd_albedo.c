@@ -85,6 +85,42 @@ static int run_grid(const grid *g, FILE *out)
 	return 0;
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+enum { DIM_INDEX, DIM_F90 };
+static const cli_dim dims[] = {
+	{"index", {"f0", "ior"}, {" with --f0", " with --ior"}},
+	{"f90", {"unread", "read"}, {" on the F terms chosen (none reads f90: only F_schlick and F_schlick_sg do)", NULL}},
+};
+static const cli_rule rules[] = {
+	{"--k", NULL, DIM_INDEX, 1u << 1, "it is the extinction coefficient of the index --ior", "3"},
+	{"--f90", NULL, DIM_F90, 1u << 1, "it sets Schlick's grazing reflectance", "0.5"},
+	{"--d", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--v", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--f", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--nov", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--roughness", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--f0", NULL, CLI_EVERYWHERE, 0, NULL, NULL},  /* one of --f0, --ior: every setup gives it */
+	{"--ior", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--tol", NULL, CLI_EVERYWHERE, 0, NULL, "1e-6"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.csv"},
+};
+static const char *const setups[] = {
+	"--d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04",
+	"--d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --ior 1.5",
+	"--d ggx --v implicit --f dielectric --nov 0.5 --roughness 0.5 --f0 0.04",
+	NULL};
+static const cli_table table = {dims, 2, rules, sizeof rules / sizeof rules[0], setups};
+
+/* 1 if one of the F terms chosen reads f90 (its argument list names it). */
+static int reads_f90(const grid *g)
+{
+	for (int c = 0; c < g->nf; c++)
+		if (strstr(g->f[c]->args, "f90"))
+			return 1;
+	return 0;
+}
+
 int cmd_albedo(int argc, char **argv)
 {
 	grid g = {.f90 = 1.0, .tol = 1e-7};
@@ -107,19 +143,17 @@ int cmd_albedo(int argc, char **argv)
 	               "D,V,F,nov,roughness,f0,f90,eta,k,albedo. 'all' and comma lists make a grid.",
 	               "--d NAME --v NAME --f NAME --nov X --roughness R (--f0 F | --ior N [--k K])",
 	               NULL, opts, 11, 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (opts[5].seen == opts[7].seen) {
 		fprintf(stderr, "brdfkit albedo: give exactly one of --f0 and --ior\n");
 		return 2;
 	}
-	if (opts[8].seen && !opts[7].seen) {
-		fprintf(stderr, "brdfkit albedo: --k needs --ior\n");
-		return 2;
-	}
 	if ((rc = pick_terms(BK_ROLE_D, dn, g.d, &g.nd)) || (rc = pick_terms(BK_ROLE_V, vn, g.v, &g.nv)) ||
 	    (rc = pick_terms(BK_ROLE_F, fn, g.f, &g.nf)))
+		return rc;
+	if ((rc = cli_applicable(&cmd, (int[]){opts[7].seen ? 1 : 0, reads_f90(&g)})))
 		return rc;
 	if (opts[7].seen) {
 		g.from_ior = 1;

@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "fit.h"
+#include "fit_out.h"
 #include "gpucost.h"
 #include "heatmap.h"
 
@@ -29,7 +30,8 @@ typedef struct study {
 	bk_samples s;
 	bk_compare_row rows[MAX_ROWS];
 	int n;
-	int relative, refit, timing, tier;
+	int relative, refit, tier;   /* tier: index into bk_tier_alu_per_tex */
+	char untimed[300];           /* why the CPU time was not measured, or "" */
 	long reps;
 	bk_compare_info info; /* the cost model, and the chips of --gpu */
 	char driver[256];     /* the Vulkan driver that compiled for --gpu */
@@ -265,11 +267,18 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	        S->relative ? "relative" : "absolute", S->info.cost_model, S->info.simple, S->info.complex);
 	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
 	cat_file(f, svg);
-	fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
-	           "<a href=\"%spareto_ns.svg\">pareto_ns.svg</a>; tables: <a href=\"%scompare.csv\">compare.csv</a>, "
-	           "<a href=\"%stiming.csv\">timing.csv</a>.</p>\n", prefix, prefix, prefix);
-	fputs("<p><b>On the Pareto front</b> (no other entry both cheaper and more accurate; a texture fetch priced "
-	      "at 16 simple ops, the talk's lowest ALU:TEX tier): ", f);
+	if (!S->untimed[0]) {
+		fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
+		           "<a href=\"%spareto_ns.svg\">pareto_ns.svg</a>; tables: <a href=\"%scompare.csv\">compare.csv</a>, "
+		           "<a href=\"%stiming.csv\">timing.csv</a>.</p>\n", prefix, prefix, prefix);
+	} else { /* no plot without points, no table of empty fields */
+		fputs("<p>CPU run time: not measured (", f);
+		bk_html_text(f, S->untimed);
+		fprintf(f, "). Table: <a href=\"%scompare.csv\">compare.csv</a>.</p>\n", prefix);
+	}
+	fprintf(f, "<p><b>On the Pareto front</b> (no other entry both cheaper and more accurate; a texture fetch priced "
+	           "at %d simple ops, %s): ", bk_tier_alu_per_tex[S->tier],
+	        S->tier ? "the ALU:TEX tier of --tier" : "the talk's lowest ALU:TEX tier");
 	int first = 1;
 	for (int i = 0; i < S->n; i++)
 		if (S->rows[i].pareto_cost) {
@@ -415,6 +424,8 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	static const char *const files[] = {"compare.csv", "timing.csv", "pareto_cost.svg", "pareto_ns.svg", "section.html"};
 	FILE *f[5] = {0};
 	for (int k = 0; k < 5 && rc == 0; k++) {
+		if (S->untimed[0] && (k == 1 || k == 3))
+			continue; /* not measured: no table of empty fields, no plot without points */
 		snprintf(path, sizeof path, "%s/%s", tmp, files[k]);
 		if (!(f[k] = fopen(path, "w")))
 			rc = -1;
@@ -422,11 +433,13 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	if (rc == 0) {
 		char title[160];
 		bk_compare_csv(f[0], S->rows, S->n, &S->info);
-		bk_timing_csv(f[1], S->rows, S->n);
+		if (f[1])
+			bk_timing_csv(f[1], S->rows, S->n);
 		snprintf(title, sizeof title, "%s: max |error| against cost", bk_target_name(S->to.kind));
 		bk_compare_svg(f[2], S->rows, S->n, 0, title, &S->info);
 		snprintf(title, sizeof title, "%s: max |error| against CPU ns per evaluation", bk_target_name(S->to.kind));
-		bk_compare_svg(f[3], S->rows, S->n, 1, title, &S->info);
+		if (f[3])
+			bk_compare_svg(f[3], S->rows, S->n, 1, title, &S->info);
 		fclose(f[2]);
 		f[2] = NULL;
 		for (int c = 0; c < S->info.nchips && rc == 0; c++) {
@@ -456,30 +469,45 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	return bk_out_dir_commit(&od, err, sizeof err) ? cli_fail("compare", "--out %s", err) : 0;
 }
 
-#define ON(k) (1u << BK_TARGET_##k)
+/* ---- where the options act (cli.h) ----------------------------------------- */
 
-/* Options that act on some targets only: elsewhere they would be ignored,
- * so they are refused. does: what the option does, for the message. */
-static const cli_scope target_opts[] = {
-	{"--no-lut", ON(ENV), "LUT rows are scored for target env only"},
-	{"--nr", ~ON(F), "target f has no roughness axis"},
+/* The target (form is refused before: no catalog entry answers it); whether
+ * the CPU time is measured; whether the catalog forms are refitted; whether
+ * there are LUT rows, the only rows with a texture fetch (env, not --no-lut). */
+enum { DIM_TARGET, DIM_TIME, DIM_REFIT, DIM_FETCH };
+static const cli_dim dims[] = {
+	FIT_TARGET_DIM,
+	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
+	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
+	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (target env only, not with --no-lut)"}},
 };
+static const cli_rule rules[] = {
+	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV), "LUT rows are scored for target env only", NULL},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
+	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
+	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
+	{"--tier", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},
+	{"--target", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--nx", NULL, CLI_EVERYWHERE, 0, NULL, "8"},
+	{"--no-refit", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--no-time", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--link-prefix", NULL, CLI_EVERYWHERE, 0, NULL, "x/"},
+	{"--cost-model", NULL, CLI_EVERYWHERE, 0, NULL, "aco-navi21"},
+	{"--gpu", NULL, CLI_EVERYWHERE, 0, NULL, "navi21"},
+};
+static const char *const setups[] = {
+	"--target vf2d --out o", "--target vf --out o", "--target spec --out o", "--target env --out o",
+	"--target d --out o", "--target f --out o", "--target vf2d --no-time --out o", "--target vf2d --no-refit --out o",
+	"--target env --no-lut --out o", NULL};
+static const cli_table table = {dims, 4, rules, sizeof rules / sizeof rules[0], setups};
 
-/* Refuses what would change nothing, and typed forms that cannot be scored
- * as written: with parameters (there are no values to give them) or reading
- * an input the target does not provide (NaN at every sample, which the
- * metrics skip: rmse 0). provides: the target's inputs, or 0 before the
- * samples exist. Returns 0 or 2. */
+/* Refuses typed forms that cannot be scored as written: with parameters
+ * (there are no values to give them) or reading an input the target does not
+ * provide (NaN at every sample, which the metrics skip: rmse 0). provides:
+ * the target's inputs, or 0 before the samples exist. Returns 0 or 2. */
 static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides)
 {
-	int rc;
-	if (!provides && (rc = cli_scope_check(cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)kind,
-	                                       bk_target_name(kind))))
-		return rc;
-	if (!provides && cli_seen(cmd, "--reps") && cli_seen(cmd, "--no-time"))
-		return cli_usage(cmd, "--reps has no effect with --no-time");
-	if (!provides && cli_seen(cmd, "--relative") && cli_seen(cmd, "--no-refit"))
-		return cli_usage(cmd, "--relative has no effect with --no-refit (it sets the residuals of the refits)");
 	for (int i = 0; i < cmd->npos; i++) {
 		bk_form_error fe;
 		bk_form *f = bk_form_parse(cmd->pos[i], &fe);
@@ -528,12 +556,13 @@ int cmd_compare(int argc, char **argv)
 	               "the same samples: error, ALU cost, texture fetches, CPU ns, SPIR-V size, the Pareto front.",
 	               "--target T --out DIR [FORM ...] [options]",
 	               "Writes DIR/compare.csv, timing.csv, pareto_cost.svg, pareto_ns.svg, section.html (for the\n"
-	               "report page), heatmaps/ and shaders/. Extra FORM arguments are scored as typed forms.\n"
+	               "report page), heatmaps/ and shaders/ (no timing.csv or pareto_ns.svg with --no-time).\n"
+	               "Extra FORM arguments are scored as typed forms.\n"
 	               "--gpu compiles every closed form for each chip as brdfkit gpucost does (Mesa RADV's\n"
 	               "null device; needs mesa-vulkan-drivers) and adds aco_CHIP_instructions,\n"
 	               "aco_CHIP_transcendental and aco_CHIP_vgprs to compare.csv and aco_CHIP.svg plots.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 32, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
@@ -557,7 +586,8 @@ int cmd_compare(int argc, char **argv)
 		fprintf(stderr, "brdfkit compare: --tier: expected 16, 32, 48 or 64, got %ld\n", tier);
 		return 2;
 	}
-	if ((rc = check_args(&cmd, kind, 0)))
+	int ctx[] = {(int)kind, no_time, no_refit, kind != BK_TARGET_ENV || no_lut};
+	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))
 		return rc;
 	bk_target_defaults(kind, &S.to);
 	S.to.env_f0_form = kind == BK_TARGET_ENV;
@@ -570,6 +600,7 @@ int cmd_compare(int argc, char **argv)
 	if (nr) S.to.nr = (int)nr;
 	S.relative = relative;
 	S.refit = !no_refit;
+	S.tier = t;
 	S.info = (bk_compare_info)BK_COMPARE_INFO_INIT;
 	if (model && cli_cost_model(&cmd, model, &S.info.simple, &S.info.complex))
 		return 2;
@@ -640,8 +671,12 @@ int cmd_compare(int argc, char **argv)
 			S.rows[i].ops.simple = 1;
 			S.rows[i].cost = S.info.simple;
 		}
-	if (!no_time && bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err))
+	if (no_time)
+		snprintf(S.untimed, sizeof S.untimed, "--no-time");
+	else if (bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err)) {
 		fprintf(stderr, "brdfkit compare: warning: timing skipped: %s\n", err);
+		snprintf(S.untimed, sizeof S.untimed, "timing failed: %.270s", err);
+	}
 	if (S.info.nchips && (rc = gpu_columns(&S))) {
 		bk_samples_free(&S.s);
 		return rc;

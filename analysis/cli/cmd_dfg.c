@@ -22,6 +22,40 @@ static int parse_smith(const char *cmd, const char *s, bk_smith *m)
 	return 2;
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* dfg and lut integrate deterministically, or bake with --samples N. */
+enum { BY_QUADRATURE, BY_BAKE };
+static const cli_dim dims[] = {
+	{"integrator", {"quadrature", "bake"}, {" without --samples", " with --samples"}},
+};
+#define TOL_RULE {"--tol", NULL, 0, 1u << BY_QUADRATURE, "the Monte Carlo bake has no tolerance", "1e-6"}
+
+static const cli_rule dfg_rules[] = {
+	TOL_RULE,
+	{"--nov", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--roughness", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--smith", NULL, CLI_EVERYWHERE, 0, NULL, "schlick"},
+	{"--samples", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
+};
+static const char *const dfg_setups[] = {"--nov 0.5 --roughness 0.5", "--nov 0.5 --roughness 0.5 --samples 16", NULL};
+static const cli_table dfg_table = {dims, 1, dfg_rules, sizeof dfg_rules / sizeof dfg_rules[0], dfg_setups};
+
+static const cli_rule lut_rules[] = {
+	TOL_RULE,
+	{"--size", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--f0", NULL, CLI_EVERYWHERE, 0, NULL, "0.04"},
+	{"--r-range", NULL, CLI_EVERYWHERE, 0, NULL, "0.2:1"},
+	{"--warp", NULL, CLI_EVERYWHERE, 0, NULL, "sqrt"},
+	{"--smith", NULL, CLI_EVERYWHERE, 0, NULL, "schlick"},
+	{"--samples", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
+	{"--half", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--origin", NULL, CLI_EVERYWHERE, 0, NULL, "bottom"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+};
+static const char *const lut_setups[] = {"--size 2 --out o", "--size 2 --samples 16 --out o", NULL};
+static const cli_table lut_table = {dims, 1, lut_rules, sizeof lut_rules / sizeof lut_rules[0], lut_setups};
+
 int cmd_dfg(int argc, char **argv)
 {
 	cli_list nov = {0}, rough = {0};
@@ -41,14 +75,9 @@ int cmd_dfg(int argc, char **argv)
 	               "The deterministic integrator (default) is accurate to 1e-6 absolute for\n"
 	               "r in [0.02, 1], NoV in [0.01, 1]; r = 0 is the exact smooth limit.",
 	               opts, 5, 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &dfg_table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
 		return rc == 1 ? 0 : rc;
-	if (opts[3].seen && opts[4].seen) { /* the bake would silently ignore --tol */
-		fprintf(stderr, "brdfkit dfg: --tol and --samples: the Monte Carlo bake has no tolerance "
-		                "(give one or the other)\n");
-		return 2;
-	}
 	bk_smith m;
 	if (parse_smith("dfg", smith, &m))
 		return 2;
@@ -110,8 +139,8 @@ int cmd_lut(int argc, char **argv)
 	               "sampled at v = (r - LO)/(HI - LO); --warp sqrt samples x at u = sqrt(NoV). The\n"
 	               "EXR header and the CSV's comments state the layout.",
 	               opts, 10, 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &lut_table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
 		return rc == 1 ? 0 : rc;
 	char command[1024];
 	bk_lut_desc d = {.L = {(int)size, (int)size, 0, 1, BK_LUT_WARP_NONE, f0}, .half = half, .samples = samples,

@@ -34,24 +34,36 @@ int fit_range(const char *opt, const char *text, double *lo, double *hi)
 	return 0;
 }
 
-/* --bound p0=lo:hi[,p1=lo:hi...] */
-static int bounds(const char *text, double *lower, double *upper)
+/* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1. */
+static int param_index(const char *t)
 {
-	char buf[1024];
-	snprintf(buf, sizeof buf, "%s", text);
-	char *save = NULL;
-	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-		char *eq = strchr(t, '=');
-		char *end;
-		long j = (t[0] == 'p' && eq) ? strtol(t + 1, &end, 10) : -1;
-		if (j < 0 || j >= BK_MAX_PARAMS || end != eq) {
-			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", t);
+	char *end;
+	long j = t[0] == 'p' && t[1] >= '0' && t[1] <= '9' ? strtol(t + 1, &end, 10) : -1;
+	return j >= 0 && j < BK_MAX_PARAMS && !*end ? (int)j : -1;
+}
+
+/* --bound p0=lo:hi[,p1=lo:hi...]; a parameter bounded twice is refused, as
+ * the list's empty or repeated items are (cli_words). */
+static int bounds(const cli_cmd *cmd, const char *text, double *lower, double *upper)
+{
+	const char *items[BK_MAX_PARAMS];
+	int n = cli_words(cmd, "--bound", text, items, BK_MAX_PARAMS), seen[BK_MAX_PARAMS] = {0};
+	for (int k = 0; k < n; k++) {
+		char name[8] = "";
+		const char *eq = strchr(items[k], '=');
+		if (eq && (size_t)(eq - items[k]) < sizeof name)
+			memcpy(name, items[k], (size_t)(eq - items[k]));
+		int j = param_index(name);
+		if (j < 0) {
+			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", items[k]);
 			return 2;
 		}
+		if (seen[j]++)
+			return cli_usage(cmd, "--bound: p%d given twice in the list '%.200s'", j, text);
 		if (fit_range("--bound", eq + 1, &lower[j], &upper[j]))
 			return 2;
 	}
-	return 0;
+	return n < 0 ? 2 : 0;
 }
 
 /* --domain NAME=LO:HI[,NAME=LO:HI...]: the inputs of target form, in order. */
@@ -254,21 +266,6 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 	return 0;
 }
 
-/* ---- options that would do nothing ---------------------------------------- */
-
-/* Options of the fitter, which a form without parameters never runs. */
-static const char *const fitting_opts[] = {"--loss", "--loss-scale", "--trust-region", "--max-iterations", "--threads",
-                                           "--bound", "--hold", "--starts", "--seed", "--objective", "--digits"};
-
-static int check_fitting_opts(const run *R)
-{
-	for (size_t k = 0; R->spec.np == 0 && k < sizeof fitting_opts / sizeof fitting_opts[0]; k++)
-		if (cli_seen(R->cmd, fitting_opts[k]))
-			return cli_usage(R->cmd, "%s has no effect: the form has no parameters (it is evaluated, not fitted)",
-			                 fitting_opts[k]);
-	return 0;
-}
-
 static int setup_spec(run *R, char **pos, int npos)
 {
 	const fit_cli *a = R->a;
@@ -281,8 +278,6 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->np = bk_form_nparams(R->fs.f[0]);
 	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > sp->np)
 		sp->np = bk_form_nparams(R->fs.f[1]);
-	if (check_fitting_opts(R))
-		return 2;
 	for (int j = 0; j < BK_MAX_PARAMS; j++) {
 		sp->lower[j] = -HUGE_VAL;
 		sp->upper[j] = HUGE_VAL;
@@ -308,21 +303,21 @@ static int setup_spec(run *R, char **pos, int npos)
 			fprintf(stderr, "brdfkit fit: no starting value for p%d: give p%d=VALUE\n", j, j);
 			return 2;
 		}
-	if (a->bounds && bounds(a->bounds, sp->lower, sp->upper))
+	if (a->bounds && bounds(R->cmd, a->bounds, sp->lower, sp->upper))
 		return 2;
-	if (a->hold) {
-		char buf[256], *save = NULL;
-		snprintf(buf, sizeof buf, "%s", a->hold);
-		for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
-			char *end;
-			long j = t[0] == 'p' ? strtol(t + 1, &end, 10) : -1;
-			if (j < 0 || j >= sp->np || *end) {
-				fprintf(stderr, "brdfkit fit: --hold: expected parameters of the form (p0..p%d), got '%s'\n",
-				        sp->np - 1, t);
-				return 2;
-			}
-			sp->hold[j] = 1;
+	const char *items[BK_MAX_PARAMS];
+	int n = a->hold ? cli_words(R->cmd, "--hold", a->hold, items, BK_MAX_PARAMS) : 0;
+	if (n < 0)
+		return 2;
+	for (int k = 0; k < n; k++) {
+		int j = param_index(items[k]);
+		if (j < 0 || j >= sp->np) {
+			fprintf(stderr, "brdfkit fit: --hold: expected parameters of the form (p0..p%d), got '%s'\n",
+			        sp->np - 1, items[k]);
+			return 2;
 		}
+		if (sp->hold[j]++)
+			return cli_usage(R->cmd, "--hold: p%d given twice in the list '%.200s'", j, a->hold);
 	}
 	sp->relative = a->relative;
 	sp->starts = (int)a->starts;
@@ -359,48 +354,110 @@ static int setup_spec(run *R, char **pos, int npos)
 }
 
 
-#define ON(k) (1u << BK_TARGET_##k)
+/* ---- where the options act (cli.h) ----------------------------------------- */
 
-/* Options that act on some targets only (fit/target.c): given for another
- * target they would be ignored, so they are refused. does: what the option
- * does, for the message. */
-static const cli_scope target_opts[] = {
-	{"--nu", ON(VF) | ON(SPEC), "it sets the half-vector cells of targets vf and spec"},
-	{"--nphi", ON(VF) | ON(SPEC), "it sets the azimuth cells of targets vf and spec"},
-	{"--talk-roughness", ON(VF2D), "it sets how target vf2d reads the talk's roughness"},
-	{"--smith", ON(ENV), "it sets the Smith model of target env"},
-	{"--ior", ON(F), "it sets the exact Fresnel of target f"},
-	{"--k", ON(F), "it sets the exact Fresnel of target f"},
-	{"--f0", ON(VF2D) | ON(VF) | ON(SPEC) | ON(ENV), "it sets f0 of targets vf2d, vf, spec and env"},
-	{"--nr", ~ON(F), "target f has no roughness axis"},
-	{"--r-range", ~ON(F), "target f has no roughness axis"},
-	{"--target-form", ON(FORM), "it gives the expression of target form"},
-	{"--domain", ON(FORM), "it gives the domain of target form"},
-	{"--nr", ~ON(FORM), "--domain sets the inputs of target form; --nx the cells per axis"},
-	{"--r-range", ~ON(FORM), "--domain sets the inputs of target form"},
-	{"--x-range", ~ON(FORM), "--domain sets the inputs of target form"},
+/* The target kind; whether the form has parameters (without, it is
+ * evaluated, never fitted); whether --loss is robust; one form or an env
+ * split pair; one start or several; which solver runs: Ceres' TinySolver
+ * (single-threaded: no --loss, no --bound, Levenberg-Marquardt) or Ceres'
+ * full solver (bk_fit_solve, tiny.cc). */
+enum { DIM_TARGET, DIM_PARAMS, DIM_LOSS, DIM_FORMS, DIM_STARTS, DIM_SOLVER };
+static const cli_dim dims[] = {
+	FIT_TARGET_DIM,
+	{"params", {"none", "some"}, {": the form has no parameters (it is evaluated, not fitted)", NULL}},
+	{"loss", {"none", "robust"}, {" without --loss huber|cauchy|softl1", NULL}},
+	{"forms", {"one", "split"}, {NULL, " on a split-sum env fit"}},
+	{"starts", {"one", "several"}, {" with --starts 1", NULL}},
+	{"solver", {"tiny", "ceres"},
+	 {" with the default solver (Ceres' TinySolver, one thread; Ceres' full solver runs with --loss, --bound or "
+	  "--trust-region dogleg)", NULL}},
 };
+#define FITTING(opt, example) {opt, NULL, DIM_PARAMS, 1u << 1, NULL, example}
+#define EVERYWHERE(opt, example) {opt, NULL, CLI_EVERYWHERE, 0, NULL, example}
+static const cli_rule rules[] = {
+	{"--nu", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
+	{"--nphi", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
+	{"--talk-roughness", NULL, DIM_TARGET, FIT_ON(VF2D), "it sets how target vf2d reads the talk's roughness", "a"},
+	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV), "it sets the Smith model of target env", "schlick"},
+	{"--ior", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "1.4"},
+	{"--k", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "3"},
+	{"--f0", NULL, DIM_TARGET, FIT_ON(VF2D) | FIT_ON(VF) | FIT_ON(SPEC) | FIT_ON(ENV),
+	 "it sets f0 of targets vf2d, vf, spec and env", "0.5"},
+	{"--f0", NULL, DIM_FORMS, 1u << 0,
+	 "A and B do not depend on f0; a single form in f0 is fitted to f0 A + B over the --f0 list", "0.5"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
+	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "0:0.5"},
+	{"--target-form", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the expression of target form", "LoH"},
+	{"--domain", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the domain of target form", "LoH=0:1"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM),
+	 "--domain sets the inputs of target form; --nx the cells per axis", "8"},
+	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
+	{"--x-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
+	{"--weight", "dnol", DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "D*NoL weighs the samples of targets vf and spec",
+	 NULL},
+	/* the fitter's options: a form without parameters never runs it */
+	FITTING("--loss", "huber"),
+	FITTING("--loss-scale", "2"),
+	{"--loss-scale", NULL, DIM_LOSS, 1u << 1, "it scales the robust loss", "2"},
+	FITTING("--trust-region", "dogleg"),
+	FITTING("--max-iterations", "50"),
+	FITTING("--threads", "2"),
+	{"--threads", NULL, DIM_SOLVER, 1u << 1, "it sets the threads of Ceres' full solver", "2"},
+	FITTING("--bound", "p0=-10:10"),
+	FITTING("--hold", "p0"),
+	FITTING("--starts", "2"),
+	FITTING("--seed", "7"),
+	{"--seed", NULL, DIM_STARTS, 1u << 1, "it draws the starts after the first", "7"},
+	FITTING("--objective", "minimax"),
+	FITTING("--digits", "3"),
+	EVERYWHERE("--target", NULL),
+	EVERYWHERE("--form", NULL), /* --form or --form-a and --form-b: every setup gives one */
+	EVERYWHERE("--form-a", NULL),
+	EVERYWHERE("--form-b", NULL),
+	EVERYWHERE("--out", NULL),
+	EVERYWHERE("--nx", "8"),
+	EVERYWHERE("--relative", NULL), /* residuals of the fit, and the cost an evaluation reports */
+	EVERYWHERE("--weight", "none"),
+};
+/* the forms read no input (p0, 0.5), so that one form fits every target */
+static const char *const setups[] = {
+	"--target vf2d --form p0 p0=1 --out o",
+	"--target vf --form p0 p0=1 --out o",
+	"--target spec --form p0 p0=1 --out o",
+	"--target env --form p0 p0=1 --out o",
+	"--target d --form p0 p0=1 --out o",
+	"--target f --form p0 p0=1 --out o",
+	"--target form --target-form LoH --domain LoH=0:1 --form p0 p0=1 --out o",
+	"--target f --form 0.5 --out o",
+	"--target vf --form 0.5 --out o",
+	"--target f --form p0 p0=1 --loss huber --out o",
+	"--target env --form-a p0 --form-b p1 p0=1 p1=1 --out o",
+	"--target f --form p0 p0=1 --starts 1 --out o",
+	NULL};
+static const cli_table table = {dims, 6, rules, sizeof rules / sizeof rules[0], setups};
 
-/* Refuses an option or a value that would change nothing: the run would
- * look as asked for and not be. Returns 0 or 2. */
+/* The run's context (the table's dimensions), then cli_applicable. */
+static int check_applicable(const run *R, bk_target_kind kind)
+{
+	const fit_cli *a = R->a;
+	int np = bk_form_nparams(R->fs.f[0]);
+	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > np)
+		np = bk_form_nparams(R->fs.f[1]);
+	int robust = strcmp(a->loss, "none") != 0;
+	int ctx[] = {(int)kind, np > 0, robust, R->fs.split, a->starts > 1,
+	             robust || strcmp(a->tr, "lm") != 0 || a->bounds != NULL}; /* tiny.cc: refuses() */
+	return cli_applicable(R->cmd, ctx);
+}
+
+/* Refuses a value that would change nothing, or leave nothing to fit (the
+ * options themselves: the table above): the run would look as asked for and
+ * not be. Returns 0 or 2. */
 static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 {
 	const cli_cmd *cmd = R->cmd;
 	const fit_cli *a = R->a;
-	const char *tn = bk_target_name(kind);
-	int rc = cli_scope_check(cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)kind, tn);
-	if (rc)
-		return rc;
-	if (a->f0.n && kind == BK_TARGET_ENV && R->fs.split)
-		return cli_usage(cmd, "--f0 has no effect on a split-sum env fit (A and B do not depend on f0; a single "
-		                 "form in f0 is fitted to f0 A + B over the --f0 list)");
 	if (a->f0.n > 1 && kind != BK_TARGET_ENV)
-		return cli_usage(cmd, "--f0: target %s uses one value, got %d", tn, a->f0.n);
-	if (a->weight && !strcmp(a->weight, "dnol") && kind != BK_TARGET_VF && kind != BK_TARGET_SPEC)
-		return cli_usage(cmd, "--weight dnol has no effect on target %s (D*NoL weighs the samples of targets vf and "
-		                 "spec)", tn);
-	if (cli_seen(cmd, "--loss-scale") && !strcmp(a->loss, "none"))
-		return cli_usage(cmd, "--loss-scale has no effect without --loss huber|cauchy|softl1");
+		return cli_usage(cmd, "--f0: target %s uses one value, got %d", bk_target_name(kind), a->f0.n);
 	const bk_fit_spec *sp = &R->spec;
 	for (int i = 0; i < npos; i++) { /* pN=VALUE, checked by setup_spec */
 		long j = strtol(pos[i] + 1, NULL, 10);
@@ -414,6 +471,18 @@ static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 	for (int j = sp->np; j < BK_MAX_PARAMS; j++)
 		if (isfinite(sp->lower[j]) || isfinite(sp->upper[j]))
 			return cli_usage(cmd, "--bound p%d has no effect: the form has no parameter p%d", j, j);
+	int held = 0;
+	for (int j = 0; j < sp->np; j++) {
+		held += sp->hold[j];
+		if (sp->hold[j] && (isfinite(sp->lower[j]) || isfinite(sp->upper[j])))
+			return cli_usage(cmd, "--bound p%d has no effect: --hold keeps p%d at its start value", j, j);
+	}
+	char all[16] = "p0";
+	if (sp->np > 1)
+		snprintf(all, sizeof all, "p0..p%d", sp->np - 1);
+	if (sp->np && held == sp->np) /* nothing would move: it would read "converged", p0 = 1 ± 0 */
+		return cli_usage(cmd, "--hold holds every parameter of the form (%s): nothing is fitted; to evaluate the "
+		                 "form at these values, write them into it as numbers", all);
 	return 0;
 }
 
@@ -567,7 +636,7 @@ int cmd_fit(int argc, char **argv)
 	               "Exit status: 0 converged (or evaluated), 3 did not converge (results written), 1 failed,\n"
 	               "2 bad usage.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 16, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	run R;
@@ -584,8 +653,10 @@ int cmd_fit(int argc, char **argv)
 	}
 	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
 		return rc;
-	R.to.env_f0_form = kind == BK_TARGET_ENV && !R.fs.split;
 	bk_form *wform = NULL;
+	if ((rc = check_applicable(&R, kind)))
+		goto done;
+	R.to.env_f0_form = kind == BK_TARGET_ENV && !R.fs.split;
 	if (a.weight && !strcmp(a.weight, "none"))
 		R.to.weight = BK_WEIGHT_NONE;
 	else if (a.weight && !strcmp(a.weight, "dnol"))

@@ -8,6 +8,14 @@
 
 #include <string.h>
 
+/* Both options act in every run: there is no context to depend on. */
+static const cli_rule rules[] = {
+	{"--role", NULL, CLI_EVERYWHERE, 0, NULL, "D"},
+	{"--csv", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+};
+static const char *const setups[] = {"", NULL};
+static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], setups};
+
 int cmd_terms(int argc, char **argv)
 {
 	const char *role = NULL;
@@ -19,8 +27,8 @@ int cmd_terms(int argc, char **argv)
 	cli_cmd cmd = {"terms", "Lists every term of libbrdf: name (as the formula language spells it), "
 	               "arguments,\nwhat it computes, its convention and its citation.",
 	               "[--role D|V|F|Fd] [--csv]", NULL, opts, 2, 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	int want = -1;
 	if (role) {

@@ -41,20 +41,28 @@ static void header(FILE *f, const fit_run *R, const char *what)
 	        R->spec->relative ? "relative (f - y)/|y|" : "absolute f - y");
 }
 
+/* "# what p0, p3" for the parameters marked in held, if any. */
+static void held_line(FILE *f, const int *held, int np, const char *what)
+{
+	for (int j = 0, k = 0; j < np; j++)
+		if (held[j])
+			fprintf(f, "%sp%d", k++ ? ", " : what, j);
+	for (int j = 0; j < np; j++)
+		if (held[j]) {
+			fputc('\n', f);
+			break;
+		}
+}
+
 static int write_tables(const fit_run *R, const char *dir)
 {
 	FILE *f = open_in(dir, "coefficients.csv");
 	if (!f)
 		return -1;
 	header(f, R, "fitted coefficients");
-	for (int j = 0, k = 0; j < R->spec->np; j++) /* standard error 0: held */
-		if (R->res->held[j])
-			fprintf(f, "%sp%d", k++ ? ", " : "# not identifiable, held at the start value: ", j);
-	for (int j = 0; j < R->spec->np; j++)
-		if (R->res->held[j]) {
-			fputc('\n', f);
-			break;
-		}
+	/* held ones were not fitted: no standard error (an empty field), said here */
+	held_line(f, R->res->held, R->spec->np, "# not identifiable, held at the start value: ");
+	held_line(f, R->spec->hold, R->spec->np, "# held at the start value by --hold: ");
 	fputs("form,parameter,value,standard_error\n", f);
 	const char *form = R->name;
 	for (int j = 0; j < R->spec->np; j++) {

@@ -38,6 +38,17 @@ int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
 
 /* ---- the target options of fit, shared with search (cmd_fit.c) ---------- */
 
+/* The target kind as a dimension of an applicability table (cli.h): value k
+ * is bk_target_kind k. */
+#define FIT_TARGET_DIM                                                                                    \
+	{"target",                                                                                        \
+	 {"vf2d", "vf", "spec", "env", "d", "f", "form"},                                                 \
+	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d",        \
+	  " on target f", " on target form"}}
+_Static_assert(BK_TARGET_COUNT == 7, "FIT_TARGET_DIM names every target kind in order");
+#define FIT_ON(k) (1u << BK_TARGET_##k)
+#define FIT_ALL ((1u << BK_TARGET_COUNT) - 1)
+
 typedef struct fit_cli {
 	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
 	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;

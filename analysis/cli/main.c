@@ -48,6 +48,14 @@ int main(int argc, char **argv)
 		usage(stderr);
 		return 2;
 	}
+	if (strcmp(argv[1], "help") == 0 && argc == 3 && strcmp(argv[2], "--applicability") == 0) {
+		/* hidden: every command's option-applicability table (cli.h), for
+		 * tests/cli_opts.sh; a command without one prints "none" */
+		char flag[] = "--help-applicability", *args[] = {flag, NULL};
+		for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+			commands[i].run(1, args);
+		return 0;
+	}
 	if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
 	    strcmp(argv[1], "help") == 0) {
 		usage(stdout);
