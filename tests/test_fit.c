@@ -351,3 +351,61 @@ Test(fit, vf_measure_sums_to_the_albedo)
 	}
 	bk_samples_free(&s);
 }
+
+/* ---- what a fit that fitted nothing says (issue 21: M9, L4) ------------------ */
+
+/* p1 held at 0: the regression of p0 alone, as above, and p1 has no standard
+ * error (NaN), not 0, which would read "known exactly". Every parameter held:
+ * nothing moves, so it is no fit at all (-1), never "converged". */
+Test(fit, held_parameters_have_no_standard_error_and_all_held_is_no_fit)
+{
+	bk_samples s;
+	samples(BK_TARGET_VF2D, 16, 16, &s);
+	double swgy = 0, swgg = 0;
+	for (size_t i = 0; i < s.n; i++) {
+		double g = g_of(&s, i);
+		swgy += s.w[i] * g * s.y[i];
+		swgg += s.w[i] * g * g;
+	}
+	bk_form *f = form("p0*f0/(4*LoH*LoH) + p1");
+	bk_fit_spec sp;
+	bk_fit_result res;
+	spec_init(&sp, &s, f, 1.0);
+	sp.start[1] = 0.0;
+	sp.hold[1] = 1;
+	cr_assert_eq(bk_fit_run(&sp, &res), 0, "%s", res.message);
+	cr_assert(fabs(res.p[0] - swgy / swgg) <= 1e-6 * fabs(swgy / swgg), "p0 %.12g vs %.12g", res.p[0], swgy / swgg);
+	cr_assert_eq(res.p[1], 0.0);
+	cr_assert(isfinite(res.se[0]) && res.se[0] > 0, "se p0 %g", res.se[0]);
+	cr_assert(isnan(res.se[1]), "a held parameter's standard error is %g, not 'none'", res.se[1]);
+	sp.hold[0] = 1;
+	cr_assert_eq(bk_fit_run(&sp, &res), -1, "every parameter held gave %d (%s)", res.summary.termination,
+	             res.message);
+	cr_assert_not_null(strstr(res.message, "every parameter is held"), "%s", res.message);
+	sp.hold[0] = 0; /* lower == upper fixes a parameter as --hold does */
+	sp.lower[0] = sp.upper[0] = 1.0;
+	cr_assert_eq(bk_fit_run(&sp, &res), -1, "%s", res.message);
+	bk_form_free(f);
+	bk_samples_free(&s);
+}
+
+/* p0 = 1e308: p0 LoH is finite but its square is not, so every start ends at
+ * an infinite cost: a failure that says so, never an empty reason. The
+ * control: the same form from p0 = 1 fits. */
+Test(fit, every_start_failing_names_the_reason)
+{
+	bk_samples s;
+	samples(BK_TARGET_F, 64, 1, &s);
+	bk_form *f = form("p0*LoH");
+	bk_fit_spec sp;
+	bk_fit_result res;
+	spec_init(&sp, &s, f, 1e308);
+	sp.starts = 3;
+	cr_assert_eq(bk_fit_run(&sp, &res), -1, "%s", res.message);
+	cr_assert_not_null(strstr(res.message, "every start failed; the first, start 1 of 3: the cost is inf"), "'%s'",
+	                   res.message);
+	spec_init(&sp, &s, f, 1.0);
+	cr_assert_eq(bk_fit_run(&sp, &res), 0, "%s", res.message);
+	bk_form_free(f);
+	bk_samples_free(&s);
+}

@@ -179,3 +179,28 @@ Test(formtarget, refused)
 	cr_assert_eq(build_fails(&o, err, sizeof err), -1);
 	cr_assert_str_eq(err, "the target form is inf at LoH = 0.625 (sample 3 of 4): a target must be finite on its domain");
 }
+
+/* A domain whose width times the cells overflows double would put inf in the
+ * cell centres (lo + (i + 0.5) (hi - lo) / n): refused, naming the input.
+ * 256 cells (one input): (2^1023 - 0) x 256 overflows; the largest domain
+ * that does not, [0, DBL_MAX / 256], builds with finite centres. */
+Test(formtarget, domain_too_wide)
+{
+	bk_target_options o;
+	bk_samples s;
+	char err[512];
+	static const int V[1] = {BK_IN_NOV};
+	static const double lo[1] = {-1e308}, hi[1] = {1e308};
+	form_options(&o, "NoV", 1, V, lo, hi);
+	cr_assert_eq(build_fails(&o, err, sizeof err), -1);
+	cr_assert_str_eq(err, "the domain of 'NoV' is too wide: (1e+308 - (-1e+308)) x 256 cells overflows double");
+	static const double lo1[1] = {0}, hi1[1] = {0x1p1023};
+	form_options(&o, "NoV", 1, V, lo1, hi1);
+	cr_assert_eq(build_fails(&o, err, sizeof err), -1);
+	static const double hi2[1] = {0x1.fffffffffffffp1023 / 256};
+	form_options(&o, "NoV", 1, V, lo1, hi2);
+	build(&o, &s);
+	for (size_t i = 0; i < s.n; i++)
+		cr_assert(isfinite(s.in[BK_IN_NOV][i]) && isfinite(s.y[i]), "sample %zu: %g", i, s.in[BK_IN_NOV][i]);
+	bk_samples_free(&s);
+}
