@@ -78,9 +78,10 @@ int cli_form_positionals(cli_cmd *cmd, int first);
  * after reading max + 1 bytes (errno EFBIG), never read to its end, so
  * /dev/zero or a FIFO cannot fill the memory. Returns NULL with errno set. */
 char *cli_read_max(const char *path, size_t max, size_t *len);
-/* cli_read_max with CLI_READ_MAX: for files that are not forms (scenes,
- * report sections). */
-#define CLI_READ_MAX ((size_t)16 << 20)
+/* cli_read_max with CLI_READ_MAX: for files that are not forms (scenes and
+ * report sections, kilobytes; 64 MiB bounds the memory and still reads a
+ * binary given by mistake far enough to say it is not text). */
+#define CLI_READ_MAX ((size_t)64 << 20)
 char *cli_read_file(const char *path, size_t *len);
 
 /* 0 if buf[0..len) is text: no NUL byte and valid UTF-8; otherwise -1 with

@@ -476,14 +476,16 @@ static int write_dir(study *S, const char *out, const char *prefix)
  * there are LUT rows, the only rows with a texture fetch (env, not --no-lut). */
 enum { DIM_TARGET, DIM_TIME, DIM_REFIT, DIM_FETCH };
 static const cli_dim dims[] = {
-	FIT_TARGET_DIM,
+	{"target", /* bk_target_kind's order, without form */
+	 {"vf2d", "vf", "spec", "env", "d", "f"},
+	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d", " on target f"}},
 	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
 	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
 	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (target env only, not with --no-lut)"}},
 };
 static const cli_rule rules[] = {
 	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV), "LUT rows are scored for target env only", NULL},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM), "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
 	{"--tier", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},

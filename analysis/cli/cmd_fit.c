@@ -618,11 +618,11 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale c of the robust loss, in units of the weighted residual sqrt(w)·(f - y) (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
 		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},
 		{.name = "--max-iterations", .kind = CLI_INT, .metavar = "N", .help = "per solve (default 200)", .dest = &a.max_iter, .lo = 1, .hi = 100000},
-		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "Ceres threads (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
+		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "threads of Ceres' full solver, which runs with --loss, --bound or dogleg (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
 		{.name = "--bound", .kind = CLI_STR, .metavar = "pN=LO:HI[,...]", .help = "parameter bounds", .dest = &a.bounds},
 		{.name = "--hold", .kind = CLI_STR, .metavar = "pN[,pM...]", .help = "keep these parameters at their start values", .dest = &a.hold},
 		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},
-		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the starts (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
+		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the starts after the first (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "lsq|minimax", .help = "least squares (default) or minimise the max error", .dest = &a.objective},
 		{.name = "--digits", .kind = CLI_STR, .metavar = "N|half", .help = "round constants to N significant digits (N in [1, 17]) or to fp16 (half), refitting the rest (default: to 1/100 of their standard errors, no refit)", .dest = &a.digits},
 	};
