@@ -303,12 +303,32 @@ char *cli_read_max(const char *path, size_t max, size_t *len)
 	FILE *f = strcmp(path, "-") ? fopen(path, "rb") : stdin;
 	if (!f)
 		return NULL;
-	/* one buffer of max + 2 bytes: max, one more to see that there is more
-	 * (then nothing further is read), and the NUL */
-	char *buf = max < (size_t)-3 ? malloc(max + 2) : NULL;
-	size_t n = buf ? fread(buf, 1, max + 1, f) : 0;
-	int err = !buf ? ENOMEM : ferror(f) ? (errno ? errno : EIO) /* a directory: EISDIR */
-	                        : n > max ? EFBIG : 0;
+	/* the buffer grows as the input does, to max + 1 bytes (the one more
+	 * shows there is more, and nothing further is read) and the NUL */
+	size_t want = max < (size_t)-2 ? max + 1 : max, cap = want < 4096 ? want + 1 : 4096, n = 0;
+	char *buf = malloc(cap);
+	int err = buf ? 0 : ENOMEM;
+	while (!err && n < want) {
+		if (n + 1 == cap) {
+			size_t c = cap > (want + 1) / 2 ? want + 1 : 2 * cap;
+			char *b = realloc(buf, c);
+			if (!b) {
+				err = ENOMEM;
+				break;
+			}
+			buf = b;
+			cap = c;
+		}
+		size_t k = fread(buf + n, 1, cap - n - 1, f);
+		n += k;
+		if (k == 0) {
+			if (ferror(f))
+				err = errno ? errno : EIO; /* a directory: EISDIR */
+			break;
+		}
+	}
+	if (!err && n > max)
+		err = EFBIG;
 	if (f != stdin)
 		fclose(f);
 	if (err) {
