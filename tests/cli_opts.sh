@@ -281,7 +281,7 @@ rc=$?
 	ok || bad "eval @/dev/zero: rc $rc, $(cat "$T/err")"
 # a FIFO whose writer would go on for 100 MB: the reader stops, the writer gets SIGPIPE
 mkfifo fifo
-(head -c 100000000 /dev/zero | tr '\0' 'x' >fifo) 2>/dev/null &
+timeout 20 sh -c "head -c 100000000 /dev/zero | tr '\\0' x >fifo" 2>/dev/null & # never blocks the test for good
 timeout 10 "$BK" eval @fifo NoV=0.5 >"$T/out" 2>"$T/err"
 rc=$?
 wait

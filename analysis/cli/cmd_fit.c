@@ -632,7 +632,8 @@ int cmd_fit(int argc, char **argv)
 	               "Target form: --target-form EXPR --domain IN=LO:HI[,...] samples EXPR at cell centres of a\n"
 	               "grid over the domain (uniform weight); no heatmap with more than two inputs.\n"
 	               "A form without parameters is evaluated, not fitted. Options that would have no effect (on\n"
-	               "this target, without parameters, --loss-scale without --loss) are refused.\n"
+	               "this target, without parameters, --loss-scale without --loss, --seed with --starts 1,\n"
+	               "--threads on the default solver) are refused, and so is --hold of every parameter.\n"
 	               "Exit status: 0 converged (or evaluated), 3 did not converge (results written), 1 failed,\n"
 	               "2 bad usage.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 16, 0, {0}};
