@@ -138,6 +138,11 @@ build/csvget: tests/tools/csvget.c | deps
 	@mkdir -p build
 	$(CC) $(CSTD) $(WARN) $(OPT) $< -lcsv -o $@
 
+# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh)
+VK_SRC = $(sort $(wildcard tests/vk/*.c))
+build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 

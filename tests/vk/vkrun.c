@@ -1,0 +1,425 @@
+/*
+ * vkrun — brdfkit's emitted GLSL run in a real Vulkan driver (Mesa's
+ * lavapipe), compared with the IR's evaluation in the same precision.
+ *
+ *   vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--list]
+ *         [--verbose] [FRONT.csv | SHADER.glsl]...
+ *
+ * Runs every catalog form, every member of the given search fronts and every
+ * function of the given scene shaders (tests/vk/sources.h) on a grid of its
+ * inputs over [0, 1] (each input it reads: about N samples in all; grid values
+ * are exact in half), in f32 (the text as emitted) and in f16 (float16_t
+ * arithmetic, tests/vk/glsl.h), and checks at every sample that
+ *
+ *   - the driver's value is one the Vulkan specification allows for the
+ *     emitted statements (the envelope, tests/vk/envelope.h: the tolerance,
+ *     derived per sample from the precision the specification gives each
+ *     operation, exp2/log2 included);
+ *   - the IR's value (bk_form_eval in that precision) is one too: the IR
+ *     describes a driver the specification allows;
+ *   - NaN, +inf and -inf match in kind exactly (where the envelope bounds
+ *     nothing, e.g. past a division by zero, only this is checked).
+ *
+ * --perturb LABEL multiplies the first literal in that function's body by F
+ * (default 1.001), --nan LABEL makes it return NaN: negative controls that
+ * must fail. Exit status: 0 all agree, 1 a mismatch or a run-time error (one
+ * line "vkrun: ..."), 2 usage.
+ */
+#include "envelope.h"
+#include "glsl.h"
+#include "lvp.h"
+#include "sources.h"
+
+#include "clock.h"
+#include "gpucost.h"
+#include "half.h"
+#include "ir.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PER_SHADER 24 /* functions per compute shader: a few shaders, each quick to compile */
+#define SLOTS 8       /* floats per sample in the input buffer (7 inputs) */
+
+typedef struct opts {
+	int samples;
+	const char *perturb, *nan;
+	double factor;
+	int list, verbose;
+} opts;
+
+static int usage(const char *msg)
+{
+	fprintf(stderr, "vkrun: %s\nusage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--list] [--verbose] "
+	                "[FRONT.csv | SHADER.glsl]...\n", msg);
+	return 2;
+}
+
+/* ---- the grid --------------------------------------------------------------- */
+
+typedef struct grid {
+	size_t *off, *n; /* per function: first sample, sample count */
+	size_t total;
+	float *in;       /* SLOTS floats per sample */
+} grid;
+
+static int popcount(unsigned x)
+{
+	int k = 0;
+	for (; x; x &= x - 1)
+		k++;
+	return k;
+}
+
+/* m points per input read (m^k about samples), j/(m - 1) rounded to half, so
+ * that both precisions load them exactly. */
+static int make_grid(const vk_fns *fns, int samples, grid *g)
+{
+	g->off = calloc((size_t)fns->n + 1, sizeof *g->off);
+	g->n = calloc((size_t)fns->n + 1, sizeof *g->n);
+	int *m = calloc((size_t)fns->n + 1, sizeof *m);
+	if (!g->off || !g->n || !m) {
+		free(m);
+		return -1;
+	}
+	for (int i = 0; i < fns->n; i++) {
+		int k = popcount(fns->v[i].args);
+		m[i] = k ? (int)floor(pow(samples, 1.0 / k) + 1e-9) : 1;
+		m[i] = k && m[i] < 2 ? 2 : m[i];
+		g->n[i] = (size_t)pow(m[i], k);
+		g->off[i] = g->total;
+		g->total += g->n[i];
+	}
+	g->in = calloc(g->total * SLOTS + 1, sizeof *g->in);
+	for (int i = 0; g->in && i < fns->n; i++)
+		for (size_t s = 0; s < g->n[i]; s++) {
+			size_t q = s;
+			for (int c = 0; c < BK_IN_COUNT; c++)
+				if (fns->v[i].args >> c & 1) {
+					double t = m[i] > 1 ? (double)(q % (size_t)m[i]) / (m[i] - 1) : 0;
+					g->in[(g->off[i] + s) * SLOTS + (size_t)c] = (float)bk_half_round_inline(t);
+					q /= (size_t)m[i];
+				}
+		}
+	free(m);
+	return g->in ? 0 : -1;
+}
+
+/* ---- one precision ---------------------------------------------------------- */
+
+typedef struct stats {
+	int verbose;
+	long samples, bounded, unbounded, flushed, folded;
+	long driver_out, ir_out, kind;
+	int failed, flushed_fns, folded_fns;
+	double max_ulp, max_ulp_tol; /* the largest |driver - IR| in ulps, and the tolerance there */
+	char max_at[200];
+} stats;
+
+static int kind(double v)
+{
+	return isnan(v) ? 3 : v == INFINITY ? 1 : v == -INFINITY ? 2 : 0;
+}
+
+static int uses_mix(const bk_form *f)
+{
+	for (int i = 0; i < f->n; i++)
+		if (f->code[i].op == BK_OP_MIX)
+			return 1;
+	return 0;
+}
+
+static void print_sample(const vk_fn *f, const float *in)
+{
+	for (int c = 0; c < BK_IN_COUNT; c++)
+		if (f->args >> c & 1)
+			printf("%s=%.9g ", bk_input_name((bk_input)c), in[c]);
+}
+
+/* The comparison of one function's n samples; prints its FAIL line. */
+static int check_fn(const vk_fn *f, const float *in, size_t n, const float *drv, bk_precision prec, stats *st)
+{
+	double *x = malloc(sizeof *x * n * (BK_IN_COUNT + 1) + 1);
+	vk_env *env = malloc(sizeof *env * n * 2 + 1);
+	if (!x || !env) {
+		free(x);
+		free(env);
+		return -1;
+	}
+	const double *cols[BK_IN_COUNT] = {0};
+	double *ir = x + n * BK_IN_COUNT;
+	for (int c = 0; c < BK_IN_COUNT; c++)
+		if (f->args >> c & 1) {
+			for (size_t s = 0; s < n; s++)
+				x[(size_t)c * n + s] = in[s * SLOTS + (size_t)c];
+			cols[c] = x + (size_t)c * n;
+		}
+	/* env: every allowance; env + n: none (the specification's bounds op by op) */
+	int builtin = vk_calls(f->glsl, "mix");
+	vk_rules all = {prec, 1, 1, builtin}, strict = {prec, 0, 0, builtin};
+	int rc = bk_form_eval(f->form, prec, n, cols, f->params, ir) ||
+	         vk_envelope(f->form, f->params, &all, n, cols, env) ||
+	         vk_envelope(f->form, f->params, &strict, n, cols, env + n) ? -1 : 0;
+	long bad = 0, dout = 0, iout = 0, kinds = 0, flushed = 0, folded = 0, any = 0;
+	double fn_ulp = 0, fn_tol = 0;
+	size_t first = n;
+	for (size_t s = 0; !rc && s < n; s++) {
+		double d = drv[s], v = ir[s];
+		const vk_env *e = &env[s];
+		int kd = kind(d) != kind(v), od = !vk_env_allows(e, d), oi = !vk_env_allows(e, v);
+		st->samples++;
+		st->unbounded += e->any;
+		any += e->any;
+		st->bounded += !e->any;
+		dout += od;
+		iout += oi;
+		kinds += kd;
+		if (od || oi || kd) {
+			bad++;
+			first = first < n ? first : s;
+			continue;
+		}
+		if (!vk_env_allows(&env[n + s], d)) { /* an allowance used: counted, not measured in ulps */
+			vk_env e1;
+			vk_rules flush_only = {prec, 1, 0, builtin};
+			const double *one[BK_IN_COUNT];
+			for (int c = 0; c < BK_IN_COUNT; c++)
+				one[c] = cols[c] ? cols[c] + s : NULL;
+			if (vk_envelope(f->form, f->params, &flush_only, 1, one, &e1) == 0 && vk_env_allows(&e1, d))
+				flushed++;
+			else
+				folded++;
+			continue;
+		}
+		if (e->any || kind(v))
+			continue;
+		double u = vk_ulp(v, prec), err = fabs(d - v) / u, tol = fmax(e->hi - v, v - e->lo) / u;
+		if (err > fn_ulp) {
+			fn_ulp = err;
+			fn_tol = tol;
+		}
+		if (err > st->max_ulp) {
+			st->max_ulp = err;
+			st->max_ulp_tol = tol;
+			snprintf(st->max_at, sizeof st->max_at, "%s", f->label);
+		}
+	}
+	st->driver_out += dout;
+	st->ir_out += iout;
+	st->kind += kinds;
+	st->flushed += flushed;
+	st->flushed_fns += flushed > 0;
+	st->folded += folded;
+	st->folded_fns += folded > 0;
+	if (st->verbose && !rc)
+		printf("  %s %s: %zu samples, %ld unbounded, %ld flushed, %ld folded, max |driver - IR| %.3g ulp "
+		       "(tolerance there %.3g ulp)\n", bk_precision_name(prec), f->label, n, any, flushed, folded, fn_ulp,
+		       fn_tol);
+	if (bad) {
+		st->failed++;
+		const vk_env *e = &env[first];
+		printf("FAIL: %s %s: %ld of %zu samples (driver outside the envelope %ld, IR outside %ld, NaN/Inf kind %ld)%s; "
+		       "first at ", bk_precision_name(prec), f->label, bad, n, dout, iout, kinds,
+		       builtin ? " [GLSL mix()]" : uses_mix(f->form) ? " [mix spelled out]" : "");
+		print_sample(f, in + first * SLOTS);
+		if (e->any)
+			printf("driver %.9g, IR %.9g, envelope: any value\n", drv[first], ir[first]);
+		else
+			printf("driver %.9g, IR %.9g, envelope [%.9g, %.9g]\n", drv[first], ir[first], e->lo, e->hi);
+	}
+	free(x);
+	free(env);
+	return rc;
+}
+
+/* The shaders of one precision: per group, PER_SHADER functions at a time. */
+typedef struct batch {
+	unsigned **spirv;
+	size_t *nwords;
+	int npipe;
+	lvp_dispatch *d;
+} batch;
+
+static void free_batch(batch *b)
+{
+	for (int i = 0; b->spirv && i < b->npipe; i++)
+		free(b->spirv[i]);
+	free(b->spirv);
+	free(b->nwords);
+	free(b->d);
+}
+
+static int compile_batch(const vk_fns *fns, const grid *g, bk_precision prec, batch *b, char *err, size_t errlen)
+{
+	int cap = fns->n + 1;
+	const vk_fn **pick = calloc((size_t)cap, sizeof *pick);
+	b->spirv = calloc((size_t)cap, sizeof *b->spirv);
+	b->nwords = calloc((size_t)cap, sizeof *b->nwords);
+	b->d = calloc((size_t)cap, sizeof *b->d);
+	if (!pick || !b->spirv || !b->nwords || !b->d) {
+		free(pick);
+		snprintf(err, errlen, "out of memory");
+		return -1;
+	}
+	int rc = 0;
+	for (int grp = 0; !rc && grp < (fns->groups > 0 ? fns->groups : 1); grp++)
+		for (int i = 0; !rc && i < fns->n;) {
+			int k = 0;
+			for (; i < fns->n && k < PER_SHADER; i++)
+				if (fns->v[i].group == grp) {
+					b->d[i] = (lvp_dispatch){b->npipe, (uint32_t)k, (uint32_t)g->off[i], (uint32_t)g->off[i],
+					                         (uint32_t)g->n[i]};
+					pick[k++] = &fns->v[i];
+				}
+			if (!k)
+				continue;
+			char *glsl = vk_shader(pick, k, prec), e[512];
+			unsigned *w = glsl ? bk_gpucost_spirv(glsl, &b->nwords[b->npipe], e, sizeof e) : NULL;
+			if (!w) {
+				snprintf(err, errlen, "%s shader of %s .. %s: %s", bk_precision_name(prec), pick[0]->label,
+				         pick[k - 1]->label, glsl ? e : "out of memory");
+				rc = -1;
+			}
+			b->spirv[b->npipe++] = w;
+			free(glsl);
+		}
+	free(pick);
+	return rc;
+}
+
+static int run_precision(lvp *v, const vk_fns *fns, const grid *g, bk_precision prec, stats *st)
+{
+	char err[1024];
+	batch b = {0};
+	double t0 = bk_clock_now(), t[2] = {0, 0};
+	float *out = malloc(sizeof *out * g->total + 1);
+	int rc = out ? compile_batch(fns, g, prec, &b, err, sizeof err) : (snprintf(err, sizeof err, "out of memory"), -1);
+	double t1 = bk_clock_now();
+	if (!rc)
+		rc = lvp_run(v, b.spirv, b.nwords, b.npipe, g->in, g->total * SLOTS, b.d, fns->n, out, g->total, t, err,
+		             sizeof err);
+	double t2 = bk_clock_now();
+	for (int i = 0; !rc && i < fns->n; i++)
+		if (check_fn(&fns->v[i], g->in + g->off[i] * SLOTS, g->n[i], out + g->off[i], prec, st)) {
+			snprintf(err, sizeof err, "out of memory");
+			rc = -1;
+		}
+	if (rc)
+		printf("vkrun: %s\n", err);
+	else
+		printf("%s: %d functions in %d shaders, %ld samples (%ld bounded, %ld where the specification bounds "
+		       "nothing: NaN/Inf kinds only); failed %d: driver outside the envelope %ld, IR outside %ld, "
+		       "NaN/Inf kind %ld; allowances used: a denormal flushed %ld samples in %d functions, a constant folded in double %ld samples in %d functions; max |driver - IR| %.3g ulp "
+		       "(%s, tolerance there %.3g ulp); time: glslang %.2f s, lavapipe "
+		       "pipelines %.2f s, run %.2f s, check %.2f s\n",
+		       bk_precision_name(prec), fns->n, b.npipe, st->samples, st->bounded, st->unbounded, st->failed,
+		       st->driver_out, st->ir_out, st->kind, st->flushed, st->flushed_fns, st->folded, st->folded_fns, st->max_ulp,
+		       *st->max_at ? st->max_at : "-", st->max_ulp_tol, t1 - t0, t[0], t[1],
+		       bk_clock_now() - t2);
+	free_batch(&b);
+	free(out);
+	return rc;
+}
+
+/* ---- main ------------------------------------------------------------------- */
+
+static int parse(int argc, char **argv, opts *o, vk_fns *fns, char *err, size_t errlen)
+{
+	for (int i = 1; i < argc; i++) {
+		const char *a = argv[i], *val = i + 1 < argc ? argv[i + 1] : NULL;
+		char *end;
+		if (!strcmp(a, "--samples") && val) {
+			long n = strtol(val, &end, 10);
+			if (*end || n < 1 || n > 1 << 20)
+				return usage("--samples: a count in [1, 1048576]"), 2;
+			o->samples = (int)n, i++;
+		} else if (!strcmp(a, "--factor") && val) {
+			o->factor = strtod(val, &end);
+			if (*end || !isfinite(o->factor))
+				return usage("--factor: a number"), 2;
+			i++;
+		} else if (!strcmp(a, "--perturb") && val)
+			o->perturb = argv[++i];
+		else if (!strcmp(a, "--nan") && val)
+			o->nan = argv[++i];
+		else if (!strcmp(a, "--list"))
+			o->list = 1;
+		else if (!strcmp(a, "--verbose"))
+			o->verbose = 1;
+		else if (a[0] == '-')
+			return usage("unknown option or missing value"), 2;
+		else {
+			size_t n = strlen(a);
+			int csv = n > 4 && !strcmp(a + n - 4, ".csv"), glsl = n > 5 && !strcmp(a + n - 5, ".glsl");
+			if (!csv && !glsl)
+				return usage("a file must be a front.csv or a shader.glsl"), 2;
+			if ((csv ? vk_add_front : vk_add_scene)(fns, a, err, errlen))
+				return 1;
+		}
+	}
+	return 0;
+}
+
+/* The negative control's edit of one function's text. */
+static int apply_control(vk_fns *fns, const opts *o)
+{
+	const char *label = o->perturb ? o->perturb : o->nan;
+	if (!label)
+		return 0;
+	for (int i = 0; i < fns->n; i++)
+		if (!strcmp(fns->v[i].label, label)) {
+			char *t = vk_perturb(fns->v[i].glsl, fns->v[i].name, o->factor, o->nan != NULL);
+			if (!t) {
+				printf("vkrun: %s: no literal or return to change\n", label);
+				return 1;
+			}
+			free(fns->v[i].glsl);
+			fns->v[i].glsl = t;
+			return 0;
+		}
+	printf("vkrun: no function labelled '%s' (--list names them)\n", label);
+	return 1;
+}
+
+int main(int argc, char **argv)
+{
+	opts o = {.samples = 1024, .factor = 1.001};
+	vk_fns fns = {.groups = 1};
+	char err[1024], driver[200] = "";
+	int rc = vk_add_catalog(&fns, err, sizeof err) ? 1 : parse(argc, argv, &o, &fns, err, sizeof err);
+	if (rc == 1)
+		printf("vkrun: %s\n", err);
+	if (!rc && o.list)
+		for (int i = 0; i < fns.n; i++)
+			printf("%s\n", fns.v[i].label);
+	if (rc || o.list || (rc = apply_control(&fns, &o))) {
+		vk_fns_free(&fns);
+		return rc;
+	}
+	grid g = {0};
+	lvp *v = NULL;
+	if (make_grid(&fns, o.samples, &g)) {
+		printf("vkrun: out of memory\n");
+		rc = 1;
+	} else if ((rc = lvp_open(&v, driver, sizeof driver, err, sizeof err)) != 0) {
+		printf("vkrun: %s\n", err);
+		rc = 1;
+	}
+	stats st[2] = {{.verbose = o.verbose}, {.verbose = o.verbose}};
+	if (!rc) {
+		printf("vkrun: %s; %d functions, %zu samples each precision\n", driver, fns.n, g.total);
+		rc = run_precision(v, &fns, &g, BK_F32, &st[0]) || run_precision(v, &fns, &g, BK_F16, &st[1]);
+		int failed = st[0].failed + st[1].failed;
+		if (!rc && failed)
+			printf("vkrun: %d functions differ (f32 %d, f16 %d)\n", failed, st[0].failed, st[1].failed);
+		rc = rc || failed ? 1 : 0;
+	}
+	lvp_close(v);
+	free(g.off);
+	free(g.n);
+	free(g.in);
+	vk_fns_free(&fns);
+	return rc;
+}
