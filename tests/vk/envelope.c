@@ -171,11 +171,9 @@ static int is_literal(const bk_instr *c)
 /* Correctly rounded +, -: the exact result's outward rounding over the corners. */
 static vk_env add(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 {
-	if (a.any || b.any)
-		return ANY;
+	if (a.any || b.any || (a.hi == INFINITY && b.lo == -INFINITY) || (a.lo == -INFINITY && b.hi == INFINITY))
+		return ANY; /* inf - inf is a value the operands may take */
 	double lo = a.lo + b.lo, hi = a.hi + b.hi;
-	if (isnan(lo) || isnan(hi))
-		return ANY; /* inf - inf */
 	double elo = 0, ehi = 0;
 	if (isfinite(lo)) { /* two-sum: lo + elo is exact */
 		double bb = lo - a.lo;
@@ -193,10 +191,20 @@ static vk_env neg(vk_env a)
 	return a.any ? a : (vk_env){-a.hi, -a.lo, 0};
 }
 
+static int has_zero(vk_env a)
+{
+	return a.lo <= 0 && a.hi >= 0;
+}
+
+static int has_inf(vk_env a)
+{
+	return isinf(a.lo) || isinf(a.hi);
+}
+
 static vk_env mul(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 {
-	if (a.any || b.any)
-		return ANY;
+	if (a.any || b.any || (has_zero(a) && has_inf(b)) || (has_inf(a) && has_zero(b)))
+		return ANY; /* 0 * inf is a value the operands may take */
 	double c[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi}, lo = INFINITY, hi = -INFINITY;
 	for (int i = 0; i < 4; i++) {
 		if (isnan(c[i]))

@@ -6,7 +6,7 @@
  *         [--verbose] [FRONT.csv | SHADER.glsl]...
  *
  * Runs every catalog form, every member of the given search fronts and every
- * function of the given scene shaders (tests/vk/sources.h) on a grid of its
+ * function of the given GLSL files brdfkit wrote (tests/vk/sources.h) on a grid of its
  * inputs over [0, 1] (each input it reads: about N samples in all; grid values
  * are exact in half), in f32 (the text as emitted) and in f16 (float16_t
  * arithmetic, tests/vk/glsl.h), and checks at every sample that
@@ -355,7 +355,7 @@ static int parse(int argc, char **argv, opts *o, vk_fns *fns, char *err, size_t 
 			int csv = n > 4 && !strcmp(a + n - 4, ".csv"), glsl = n > 5 && !strcmp(a + n - 5, ".glsl");
 			if (!csv && !glsl)
 				return usage("a file must be a front.csv or a shader.glsl"), 2;
-			if ((csv ? vk_add_front : vk_add_scene)(fns, a, err, errlen))
+			if ((csv ? vk_add_front : vk_add_glsl)(fns, a, err, errlen))
 				return 1;
 		}
 	}
