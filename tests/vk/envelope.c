@@ -232,12 +232,20 @@ static double k_ulp_low(double xl, double xh, double k, const fmt *F, bk_precisi
 	return lo;
 }
 
-/* An exact range [xl, xh] (from libm: nudged outward by 2^-50 first) widened
- * by k ULP, then the values of the precision inside. */
-static vk_env widen(double xl, double xh, double k, const vk_rules *R, const fmt *F)
+/* An end computed by libm in double, pushed outward past its error (< 2^-52
+ * relative) unless it is known exact: next to a power of two the spec's ulp
+ * doubles, so an exact result must not be nudged across it. */
+static double nudge(double x, int exact, int up)
 {
-	xl -= fabs(xl) * 0x1p-50;
-	xh += fabs(xh) * 0x1p-50;
+	return exact ? x : up ? x + fabs(x) * 0x1p-50 : x - fabs(x) * 0x1p-50;
+}
+
+/* The exact results' range [xl, xh] widened by k ULP, then the values of the
+ * precision inside. */
+static vk_env widen(double xl, double xh, int exact, double k, const vk_rules *R, const fmt *F)
+{
+	xl = nudge(xl, exact, 0);
+	xh = nudge(xh, exact, 1);
 	double lo = k_ulp_low(xl, xh, k, F, R->prec), hi = -k_ulp_low(-xh, -xl, k, F, R->prec);
 	/* the values of the precision inside, an end past max staying past it */
 	lo = lo < -F->max ? lo : fl_up(lo, F);
@@ -253,12 +261,15 @@ static vk_env divide(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 	double mlo = fmin(fabs(b.lo), fabs(b.hi)), mhi = fmax(fabs(b.lo), fabs(b.hi));
 	if (mlo < F->div_lo || mhi > F->div_hi)
 		return ANY;
-	double c[4] = {a.lo / b.lo, a.lo / b.hi, a.hi / b.lo, a.hi / b.hi}, lo = INFINITY, hi = -INFINITY;
+	double n[4] = {a.lo, a.lo, a.hi, a.hi}, d[4] = {b.lo, b.hi, b.lo, b.hi}, lo = INFINITY, hi = -INFINITY;
+	int exact = 1;
 	for (int i = 0; i < 4; i++) {
-		lo = fmin(lo, c[i]);
-		hi = fmax(hi, c[i]);
+		double q = n[i] / d[i];
+		exact = exact && isfinite(q) && fma(-q, d[i], n[i]) == 0; /* the remainder */
+		lo = fmin(lo, q);
+		hi = fmax(hi, q);
 	}
-	return widen(lo, hi, 2.5, R, F);
+	return widen(lo, hi, exact, 2.5, R, F);
 }
 
 /* inversesqrt: 2 ULP; +0 (or a flushed denormal) gives +inf. */
@@ -268,7 +279,7 @@ static vk_env rsqrt(vk_env a, const vk_rules *R, const fmt *F)
 		return ANY;
 	if (a.hi == 0)
 		return point(INFINITY, R, F);
-	vk_env e = widen(1 / sqrt(a.hi), a.lo > 0 ? 1 / sqrt(a.lo) : INFINITY, 2, R, F);
+	vk_env e = widen(1 / sqrt(a.hi), a.lo > 0 ? 1 / sqrt(a.lo) : INFINITY, 0, 2, R, F);
 	if (a.lo < ldexp(1, F->emin))
 		e.hi = INFINITY;
 	return e;
@@ -298,7 +309,9 @@ static vk_env expo(vk_env a, int base2, const vk_rules *R, const fmt *F)
 		return ANY;
 	double k = F->exp_base + 2 * fmax(fabs(a.lo), fabs(a.hi));
 	double lo = base2 ? exp2(a.lo) : exp(a.lo), hi = base2 ? exp2(a.hi) : exp(a.hi);
-	return widen(lo, hi, k, R, F);
+	/* exact: 2 to an integer power, e^0 */
+	int exact = base2 ? a.lo == floor(a.lo) && a.hi == floor(a.hi) : a.lo == 0 && a.hi == 0;
+	return widen(lo, hi, exact, k, R, F);
 }
 
 /* log2 (base 2) or log (base e): 3 ULP outside [0.5, 2], an absolute error
@@ -311,10 +324,13 @@ static vk_env loga(vk_env a, int base2, const vk_rules *R, const fmt *F)
 		return point(-INFINITY, R, F);
 	double lo = a.lo > 0 ? (base2 ? log2(a.lo) : log(a.lo)) : -INFINITY;
 	double hi = base2 ? log2(a.hi) : log(a.hi);
-	vk_env e = widen(lo, hi, 3, R, F);
-	if (!e.any && a.lo <= 2 && a.hi >= 0.5) {
-		e.lo = fmin(e.lo, fl_down(lo - F->log_abs, F));
-		e.hi = fmax(e.hi, fl_up(hi + F->log_abs, F));
+	int m;
+	/* exact: log2 of a power of two, log(1) */
+	int exact = base2 ? frexp(a.lo, &m) == 0.5 && frexp(a.hi, &m) == 0.5 : a.lo == 1 && a.hi == 1;
+	vk_env e = widen(lo, hi, exact, 3, R, F);
+	if (!e.any && a.lo <= 2 && a.hi >= 0.5) { /* the absolute bound, the floats inside */
+		e.lo = fmin(e.lo, fl_up(nudge(lo, exact, 0) - F->log_abs, F));
+		e.hi = fmax(e.hi, fl_down(nudge(hi, exact, 1) + F->log_abs, F));
 	}
 	if (!e.any && a.lo < ldexp(1, F->emin))
 		e.lo = -INFINITY;

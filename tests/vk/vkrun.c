@@ -2,8 +2,8 @@
  * vkrun — brdfkit's emitted GLSL run in a real Vulkan driver (Mesa's
  * lavapipe), compared with the IR's evaluation in the same precision.
  *
- *   vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--list]
- *         [--verbose] [FRONT.csv | SHADER.glsl]...
+ *   vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half]
+ *         [--list] [--verbose] [FRONT.csv | SHADER.glsl]...
  *
  * Runs every catalog form, every member of the given search fronts and every
  * function of the given GLSL files brdfkit wrote (tests/vk/sources.h) on a grid of its
@@ -21,8 +21,8 @@
  *     nothing, e.g. past a division by zero, only this is checked).
  *
  * --perturb LABEL multiplies the first literal in that function's body by F
- * (default 1.001), --nan LABEL makes it return NaN: negative controls that
- * must fail. Exit status: 0 all agree, 1 a mismatch or a run-time error (one
+ * (default 1.001), --nan LABEL makes it return NaN, --ir-half compares the f32
+ * run with the IR's f16: negative controls of each check, which must fail. Exit status: 0 all agree, 1 a mismatch or a run-time error (one
  * line "vkrun: ..."), 2 usage.
  */
 #include "envelope.h"
@@ -47,13 +47,13 @@ typedef struct opts {
 	int samples;
 	const char *perturb, *nan;
 	double factor;
-	int list, verbose;
+	int list, verbose, ir_half;
 } opts;
 
 static int usage(const char *msg)
 {
-	fprintf(stderr, "vkrun: %s\nusage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--list] [--verbose] "
-	                "[FRONT.csv | SHADER.glsl]...\n", msg);
+	fprintf(stderr, "vkrun: %s; usage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half] "
+	                "[--list] [--verbose] [FRONT.csv | SHADER.glsl]...\n", msg);
 	return 2;
 }
 
@@ -110,7 +110,7 @@ static int make_grid(const vk_fns *fns, int samples, grid *g)
 /* ---- one precision ---------------------------------------------------------- */
 
 typedef struct stats {
-	int verbose;
+	int verbose, ir_half;
 	long samples, bounded, unbounded, flushed, folded;
 	long driver_out, ir_out, kind;
 	int failed, flushed_fns, folded_fns;
@@ -159,7 +159,7 @@ static int check_fn(const vk_fn *f, const float *in, size_t n, const float *drv,
 	/* env: every allowance; env + n: none (the specification's bounds op by op) */
 	int builtin = vk_calls(f->glsl, "mix");
 	vk_rules all = {prec, 1, 1, builtin}, strict = {prec, 0, 0, builtin};
-	int rc = bk_form_eval(f->form, prec, n, cols, f->params, ir) ||
+	int rc = bk_form_eval(f->form, st->ir_half ? BK_F16 : prec, n, cols, f->params, ir) ||
 	         vk_envelope(f->form, f->params, &all, n, cols, env) ||
 	         vk_envelope(f->form, f->params, &strict, n, cols, env + n) ? -1 : 0;
 	long bad = 0, dout = 0, iout = 0, kinds = 0, flushed = 0, folded = 0, any = 0;
@@ -307,7 +307,7 @@ static int run_precision(lvp *v, const vk_fns *fns, const grid *g, bk_precision 
 			rc = -1;
 		}
 	if (rc)
-		printf("vkrun: %s\n", err);
+		fprintf(stderr, "vkrun: %s\n", err);
 	else
 		printf("%s: %d functions in %d shaders, %ld samples (%ld bounded, %ld where the specification bounds "
 		       "nothing: NaN/Inf kinds only); failed %d: driver outside the envelope %ld, IR outside %ld, "
@@ -348,6 +348,8 @@ static int parse(int argc, char **argv, opts *o, vk_fns *fns, char *err, size_t 
 			o->list = 1;
 		else if (!strcmp(a, "--verbose"))
 			o->verbose = 1;
+		else if (!strcmp(a, "--ir-half"))
+			o->ir_half = 1;
 		else if (a[0] == '-')
 			return usage("unknown option or missing value"), 2;
 		else {
@@ -372,14 +374,14 @@ static int apply_control(vk_fns *fns, const opts *o)
 		if (!strcmp(fns->v[i].label, label)) {
 			char *t = vk_perturb(fns->v[i].glsl, fns->v[i].name, o->factor, o->nan != NULL);
 			if (!t) {
-				printf("vkrun: %s: no literal or return to change\n", label);
+				fprintf(stderr, "vkrun: %s: no literal or return to change\n", label);
 				return 1;
 			}
 			free(fns->v[i].glsl);
 			fns->v[i].glsl = t;
 			return 0;
 		}
-	printf("vkrun: no function labelled '%s' (--list names them)\n", label);
+	fprintf(stderr, "vkrun: no function labelled '%s' (--list names them)\n", label);
 	return 1;
 }
 
@@ -390,7 +392,7 @@ int main(int argc, char **argv)
 	char err[1024], driver[200] = "";
 	int rc = vk_add_catalog(&fns, err, sizeof err) ? 1 : parse(argc, argv, &o, &fns, err, sizeof err);
 	if (rc == 1)
-		printf("vkrun: %s\n", err);
+		fprintf(stderr, "vkrun: %s\n", err);
 	if (!rc && o.list)
 		for (int i = 0; i < fns.n; i++)
 			printf("%s\n", fns.v[i].label);
@@ -401,13 +403,13 @@ int main(int argc, char **argv)
 	grid g = {0};
 	lvp *v = NULL;
 	if (make_grid(&fns, o.samples, &g)) {
-		printf("vkrun: out of memory\n");
+		fprintf(stderr, "vkrun: out of memory\n");
 		rc = 1;
 	} else if ((rc = lvp_open(&v, driver, sizeof driver, err, sizeof err)) != 0) {
-		printf("vkrun: %s\n", err);
+		fprintf(stderr, "vkrun: %s\n", err);
 		rc = 1;
 	}
-	stats st[2] = {{.verbose = o.verbose}, {.verbose = o.verbose}};
+	stats st[2] = {{.verbose = o.verbose, .ir_half = o.ir_half}, {.verbose = o.verbose}};
 	if (!rc) {
 		printf("vkrun: %s; %d functions, %zu samples each precision\n", driver, fns.n, g.total);
 		rc = run_precision(v, &fns, &g, BK_F32, &st[0]) || run_precision(v, &fns, &g, BK_F16, &st[1]);
