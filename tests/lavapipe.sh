@@ -3,8 +3,9 @@
 # lavapipe, one instance, batched compute shaders) against the IR's evaluation
 # in f32 and in float16_t, by build/vkrun (tests/vk/): every catalog form (as
 # bk_form_emit writes it now), every member of make results' search fronts
-# (front.csv, read by column name) and every function of every GLSL file make
-# results committed (scene shaders, front members', the catalog comparisons').
+# (front.csv, read by column name), the corner cases of tests/vk/edge.csv, and
+# every function of every GLSL file make results committed (scene shaders,
+# front members', the catalog comparisons').
 # The tolerance is per sample, from the Vulkan specification's precision of
 # each SPIR-V operation (tests/vk/envelope.h); NaN and infinities must match in
 # kind. Then the negative controls: a constant perturbed by 1e-6 (f32) and by
@@ -22,7 +23,8 @@ pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 
-FRONTS=$(find results/search -name front.csv | sort)
+# make results' fronts, and tests/vk/edge.csv: forms at the edges of the rules
+FRONTS="$(find results/search -name front.csv | sort) tests/vk/edge.csv"
 GLSL=$(find results -name '*.glsl' | sort)
 [ -n "$FRONTS" ] && [ -n "$GLSL" ] || { echo "lavapipe: no results/search/*/front.csv or results/**/*.glsl"; exit 1; }
 
