@@ -145,6 +145,12 @@ Test(vkenv, nan_is_allowed_only_where_nothing_is_bounded)
 {
 	vk_env e = env_at("NoV", NULL, BK_F32, 1, 1, 0, 0.5, 0);
 	cr_assert(!vk_env_allows(&e, NAN) && vk_env_allows(&e, 0.5) && !vk_env_allows(&e, 0.5000001));
-	vk_env any = env_at("0/NoV", NULL, BK_F32, 1, 1, 0, 0, 0);
-	cr_assert(any.any && vk_env_allows(&any, NAN));
+	vk_env pole = env_at("1/NoV", NULL, BK_F32, 1, 1, 0, 0, 0);
+	cr_assert(pole.any == VK_UNBOUNDED && vk_env_allows(&pole, INFINITY)); /* x/0: an infinity, its kind compared */
+	vk_env inf_nan = env_at("exp2(NoV * 200) - exp2(NoL * 200)", NULL, BK_F32, 1, 1, 0, 1, 1);
+	cr_assert(inf_nan.any == VK_UNBOUNDED); /* inf - inf: an IEEE NaN */
+	cr_assert(env_at("0/NoV", NULL, BK_F32, 1, 1, 0, 0, 0).any == VK_UNDEFINED);
+	cr_assert(env_at("pow(NoV, NoL)", NULL, BK_F16, 1, 1, 0, 0, 0).any == VK_UNDEFINED); /* pow(0, 0) */
+	cr_assert(env_at("sqrt(NoV - 1)", NULL, BK_F32, 1, 1, 0, 0.5, 0).any == VK_UNDEFINED);
+	cr_assert(env_at("sqrt(0/NoV) + 1/NoV", NULL, BK_F32, 1, 1, 0, 0, 0).any == VK_UNDEFINED); /* the worst wins */
 }

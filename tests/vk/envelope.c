@@ -101,7 +101,14 @@ static double up_exact(double s, double err, const fmt *F)
 
 /* ---- intervals ------------------------------------------------------------- */
 
-static const vk_env ANY = {-INFINITY, INFINITY, 1};
+static const vk_env ANY = {-INFINITY, INFINITY, VK_UNBOUNDED};
+static const vk_env UNDEFINED = {-INFINITY, INFINITY, VK_UNDEFINED};
+
+/* Of operands without bounds, the one that bounds least (undefined over unbounded). */
+static vk_env worst(vk_env a, vk_env b)
+{
+	return a.any >= b.any ? (a.any ? a : b) : b;
+}
 
 /* The rules every result obeys: past the largest finite an infinity or the
  * largest finite is allowed; a denormal may be flushed to zero. */
@@ -158,8 +165,8 @@ static double decimal(double k, bk_precision p)
 /* e widened to hold either neighbour of a value folded in double. */
 static vk_env with_folded(vk_env e, double v, const vk_rules *R, const fmt *F)
 {
-	if (e.any || isnan(v))
-		return ANY;
+	if (e.any || isnan(v)) /* a literal statement without a value: 0.0/0.0 */
+		return e.any ? e : UNDEFINED;
 	return finish((vk_env){fmin(e.lo, fl_down(v, F)), fmax(e.hi, fl_up(v, F)), 0}, R, F);
 }
 
@@ -171,8 +178,10 @@ static int is_literal(const bk_instr *c)
 /* Correctly rounded +, -: the exact result's outward rounding over the corners. */
 static vk_env add(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 {
-	if (a.any || b.any || (a.hi == INFINITY && b.lo == -INFINITY) || (a.lo == -INFINITY && b.hi == INFINITY))
-		return ANY; /* inf - inf is a value the operands may take */
+	if (a.any || b.any)
+		return worst(a, b);
+	if ((a.hi == INFINITY && b.lo == -INFINITY) || (a.lo == -INFINITY && b.hi == INFINITY))
+		return ANY; /* inf - inf is a value the operands may take: NaN (IEEE, so kinds still compare) */
 	double lo = a.lo + b.lo, hi = a.hi + b.hi;
 	double elo = 0, ehi = 0;
 	if (isfinite(lo)) { /* two-sum: lo + elo is exact */
@@ -203,8 +212,10 @@ static int has_inf(vk_env a)
 
 static vk_env mul(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 {
-	if (a.any || b.any || (has_zero(a) && has_inf(b)) || (has_inf(a) && has_zero(b)))
-		return ANY; /* 0 * inf is a value the operands may take */
+	if (a.any || b.any)
+		return worst(a, b);
+	if ((has_zero(a) && has_inf(b)) || (has_inf(a) && has_zero(b)))
+		return ANY; /* 0 * inf is a value the operands may take: NaN */
 	double c[4] = {a.lo * b.lo, a.lo * b.hi, a.hi * b.lo, a.hi * b.hi}, lo = INFINITY, hi = -INFINITY;
 	for (int i = 0; i < 4; i++) {
 		if (isnan(c[i]))
@@ -256,8 +267,10 @@ static vk_env widen(double xl, double xh, int exact, double k, const vk_rules *R
 /* OpFDiv: 2.5 ULP while the divisor's magnitude is in the bounded range. */
 static vk_env divide(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 {
-	if (a.any || b.any || (b.lo <= 0 && b.hi >= 0))
-		return ANY;
+	if (a.any || b.any)
+		return worst(a, b);
+	if (has_zero(b)) /* x/0 is an infinity, 0/0 has no value */
+		return has_zero(a) ? UNDEFINED : ANY;
 	double mlo = fmin(fabs(b.lo), fabs(b.hi)), mhi = fmax(fabs(b.lo), fabs(b.hi));
 	if (mlo < F->div_lo || mhi > F->div_hi)
 		return ANY;
@@ -276,7 +289,7 @@ static vk_env divide(vk_env a, vk_env b, const vk_rules *R, const fmt *F)
 static vk_env rsqrt(vk_env a, const vk_rules *R, const fmt *F)
 {
 	if (a.any || a.lo < 0)
-		return ANY;
+		return a.any ? a : UNDEFINED;
 	if (a.hi == 0)
 		return point(INFINITY, R, F);
 	vk_env e = widen(1 / sqrt(a.hi), a.lo > 0 ? 1 / sqrt(a.lo) : INFINITY, 0, 2, R, F);
@@ -290,7 +303,7 @@ static vk_env rsqrt(vk_env a, const vk_rules *R, const fmt *F)
 static vk_env root(vk_env a, const vk_rules *R, const fmt *F)
 {
 	if (a.any || a.lo < 0)
-		return ANY;
+		return a.any ? a : UNDEFINED;
 	double tiny = ldexp(1, F->emin);
 	if (a.hi < tiny) /* zero or a denormal: 0 up to sqrt(hi), rounded loosely */
 		return finish((vk_env){0, fl_up(sqrt(a.hi) * (1 + 0x1p-20), F), 0}, R, F);
@@ -306,7 +319,7 @@ static vk_env root(vk_env a, const vk_rules *R, const fmt *F)
 static vk_env expo(vk_env a, int base2, const vk_rules *R, const fmt *F)
 {
 	if (a.any)
-		return ANY;
+		return a;
 	double k = F->exp_base + 2 * fmax(fabs(a.lo), fabs(a.hi));
 	double lo = base2 ? exp2(a.lo) : exp(a.lo), hi = base2 ? exp2(a.hi) : exp(a.hi);
 	/* exact: 2 to an integer power, e^0 */
@@ -319,7 +332,7 @@ static vk_env expo(vk_env a, int base2, const vk_rules *R, const fmt *F)
 static vk_env loga(vk_env a, int base2, const vk_rules *R, const fmt *F)
 {
 	if (a.any || a.lo < 0)
-		return ANY;
+		return a.any ? a : UNDEFINED;
 	if (a.hi == 0)
 		return point(-INFINITY, R, F);
 	double lo = a.lo > 0 ? (base2 ? log2(a.lo) : log(a.lo)) : -INFINITY;
@@ -341,8 +354,10 @@ static vk_env loga(vk_env a, int base2, const vk_rules *R, const fmt *F)
  * x = 0 with y <= 0. */
 static vk_env power(vk_env x, vk_env y, const vk_rules *R, const fmt *F)
 {
-	if (x.any || y.any || x.lo < 0 || (x.lo == 0 && y.lo <= 0))
-		return ANY;
+	if (x.any || y.any)
+		return worst(x, y);
+	if (x.lo < 0 || (x.lo <= 0 && y.lo <= 0))
+		return UNDEFINED;
 	return expo(mul(y, loga(x, 1, R, F), R, F), 1, R, F);
 }
 
@@ -350,14 +365,14 @@ static vk_env power(vk_env x, vk_env y, const vk_rules *R, const fmt *F)
 static vk_env minimum(vk_env a, vk_env b)
 {
 	if (a.any || b.any)
-		return ANY;
+		return worst(a, b);
 	return (vk_env){fmin(a.lo, b.lo), fmin(a.hi, b.hi), 0};
 }
 
 static vk_env maximum(vk_env a, vk_env b)
 {
 	if (a.any || b.any)
-		return ANY;
+		return worst(a, b);
 	return (vk_env){fmax(a.lo, b.lo), fmax(a.hi, b.hi), 0};
 }
 
@@ -382,14 +397,17 @@ static vk_env mix(vk_env x, vk_env y, vk_env t, double folded, const vk_rules *R
 		return lerp(x, y, t, folded, R, F);
 	vk_env d = add(mul(x, add(point(1, R, F), neg(t), R, F), R, F), mul(y, t, R, F), R, F);
 	vk_env l = lerp(x, y, t, NAN, R, F);
+	/* where a formula can make a NaN the specification lets mix() return
+	 * anything; unbounded, not undefined, here: the kinds still compare, as
+	 * the IR must say what the emitted code computes (issue 21) */
 	if (d.any || l.any)
-		return ANY;
+		return worst(d, l).any == VK_UNDEFINED ? UNDEFINED : ANY;
 	long double clo = INFINITY, chi = -INFINITY;
 	for (int c = 0; c < 8; c++) {
 		long double X = c & 1 ? x.hi : x.lo, Y = c & 2 ? y.hi : y.lo, T = c & 4 ? t.hi : t.lo;
 		long double v = X + (Y - X) * T;
 		if (isnan(v))
-			return ANY;
+			return ANY; /* NaN */
 		clo = fminl(clo, v);
 		chi = fmaxl(chi, v);
 	}

@@ -48,9 +48,17 @@
  * double value; so may the (y - x) of a spelled-out mix of two literals.
  *
  * A sample's envelope is an interval [lo, hi] of the precision's values (an
- * end may be infinite), or "any" where some operation on the way is undefined
- * or a division's precision is not bounded (its divisor may be zero or past
- * the range above): there only NaN/Inf kinds are compared. The envelope is
+ * end may be infinite), or unbounded where a division's precision is not
+ * bounded (its divisor may be zero or past the range above) or an IEEE NaN
+ * may arise (inf - inf, 0 * inf): there only NaN/Inf kinds are compared; or
+ * undefined, where an operation is outside its domain and the specifications
+ * give it no value at all (0/0, the log, sqrt or inversesqrt of a negative,
+ * pow(x, y) for x < 0 or x = 0 with y <= 0): there anything, NaN or a number,
+ * is what a conforming driver may return, and nothing is compared. (mix()
+ * where one formula can make a NaN is left unbounded, not undefined, though
+ * the "Inherited From" rule would allow anything: the IR must say what the
+ * emitted code computes, and that ambiguity is what the emitter removes by
+ * spelling mix out.) The envelope is
  * rigorous for the operations as written: interval ends are floats of the
  * precision, rounded outward; + - * are exact in double with an error-free
  * sum; the ulp-bounded operations' ends come from libm in double, nudged
@@ -69,9 +77,12 @@
 
 #include <stddef.h>
 
+#define VK_UNBOUNDED 1 /* any value, but NaN/Inf kinds must match the IR's */
+#define VK_UNDEFINED 2 /* any value at all */
+
 typedef struct vk_env {
 	double lo, hi; /* the allowed values, ends included; +-INFINITY for an infinite end */
-	int any;       /* the specification bounds nothing here (lo, hi unused) */
+	int any;       /* 0, VK_UNBOUNDED or VK_UNDEFINED (then lo, hi are unused) */
 } vk_env;
 
 /* The rules' switches: flush lets a result below the smallest normal be zero
@@ -96,7 +107,8 @@ int vk_envelope(const bk_form *f, const double *params, const vk_rules *rules, s
  * two different finite values that enclose x. */
 double vk_ulp(double x, bk_precision p);
 
-/* 1 if v is one of the values env allows (NaN only where env is "any"). */
+/* 1 if v is one of the values env allows (NaN only where it is unbounded or
+ * undefined; the kind rule is the caller's). */
 int vk_env_allows(const vk_env *env, double v);
 
 #endif

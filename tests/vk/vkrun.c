@@ -111,7 +111,7 @@ static int make_grid(const vk_fns *fns, int samples, grid *g)
 
 typedef struct stats {
 	int verbose, ir_half;
-	long samples, bounded, unbounded, flushed, folded;
+	long samples, bounded, unbounded, undefined, flushed, folded;
 	long driver_out, ir_out, kind;
 	int failed, flushed_fns, folded_fns, mostly_unbounded;
 	double max_ulp, max_ulp_tol; /* the largest |driver - IR| in ulps, and the tolerance there */
@@ -149,7 +149,7 @@ typedef struct fncheck {
 	double *x, *ir;               /* the inputs as columns; the IR's values */
 	vk_env *env;                  /* n with every allowance, then n with none */
 	int builtin;                  /* the text calls GLSL mix() */
-	long bad, dout, iout, kinds, flushed, folded, any;
+	long bad, dout, iout, kinds, flushed, folded, any, undefined;
 	double ulp, tol;              /* the largest |driver - IR| in ulps, the tolerance there */
 	size_t first;                 /* the first failing sample */
 } fncheck;
@@ -194,9 +194,13 @@ static void fc_allowance(fncheck *c, size_t s, double d)
 static void fc_sample(fncheck *c, size_t s, stats *st)
 {
 	double d = c->drv[s], v = c->ir[s];
-	const vk_env *e = &c->env[s];
-	int kd = kind(d) != kind(v), od = !vk_env_allows(e, d), oi = !vk_env_allows(e, v);
-	c->any += e->any;
+	const vk_env *e = &c->env[s], *strict = &c->env[c->n + s];
+	int od = !vk_env_allows(e, d), oi = !vk_env_allows(e, v), allowance = !od && !vk_env_allows(strict, d);
+	/* kinds must match, except where nothing is defined, or where an allowance
+	 * (a flushed denormal divisor, say) is what unbounds the value */
+	int kd = kind(d) != kind(v) && e->any != VK_UNDEFINED && !(allowance && !strict->any);
+	c->any += e->any != 0;
+	c->undefined += e->any == VK_UNDEFINED;
 	c->dout += od;
 	c->iout += oi;
 	c->kinds += kd;
@@ -205,7 +209,7 @@ static void fc_sample(fncheck *c, size_t s, stats *st)
 		c->first = c->first < c->n ? c->first : s;
 		return;
 	}
-	if (!vk_env_allows(&c->env[c->n + s], d)) { /* an allowance used: counted, not measured in ulps */
+	if (allowance) { /* counted, not measured in ulps */
 		fc_allowance(c, s, d);
 		return;
 	}
@@ -227,7 +231,8 @@ static void fc_report(const fncheck *c, stats *st)
 {
 	const char *p = bk_precision_name(c->prec), *label = c->f->label;
 	st->samples += (long)c->n;
-	st->unbounded += c->any;
+	st->unbounded += c->any - c->undefined;
+	st->undefined += c->undefined;
 	st->bounded += (long)c->n - c->any;
 	st->driver_out += c->dout;
 	st->ir_out += c->iout;
@@ -237,8 +242,9 @@ static void fc_report(const fncheck *c, stats *st)
 	st->folded += c->folded;
 	st->folded_fns += c->folded > 0;
 	if (st->verbose)
-		printf("  %s %s: %zu samples, %ld unbounded, %ld flushed, %ld folded, max |driver - IR| %.3g ulp "
-		       "(tolerance there %.3g ulp)\n", p, label, c->n, c->any, c->flushed, c->folded, c->ulp, c->tol);
+		printf("  %s %s: %zu samples, %ld unbounded (%ld undefined), %ld flushed, %ld folded, max |driver - IR| "
+		       "%.3g ulp (tolerance there %.3g ulp)\n", p, label, c->n, c->any, c->undefined, c->flushed, c->folded,
+		       c->ulp, c->tol);
 	if (2 * c->any > (long)c->n) { /* said, not failed: NaN/Inf kinds are still compared there */
 		st->mostly_unbounded++;
 		printf("note: %s %s: the specification bounds only %ld of %zu samples (an overflow or a division by "
@@ -254,7 +260,8 @@ static void fc_report(const fncheck *c, stats *st)
 	       c->builtin ? " [GLSL mix()]" : uses_mix(c->f->form) ? " [mix spelled out]" : "");
 	print_sample(c->f, c->in + s * SLOTS);
 	if (e->any)
-		printf("driver %.9g, IR %.9g, envelope: any value\n", c->drv[s], c->ir[s]);
+		printf("driver %.9g, IR %.9g, envelope: %s\n", c->drv[s], c->ir[s],
+		       e->any == VK_UNDEFINED ? "undefined" : "any value of the same kind");
 	else
 		printf("driver %.9g, IR %.9g, envelope [%.9g, %.9g]\n", c->drv[s], c->ir[s], e->lo, e->hi);
 }
@@ -348,12 +355,13 @@ static int run_precision(lvp *v, const vk_fns *fns, const grid *g, bk_precision 
 	if (rc)
 		fprintf(stderr, "vkrun: %s\n", err);
 	else
-		printf("%s: %d functions in %d shaders, %ld samples (%ld bounded, %ld where the specification bounds "
-		       "nothing: NaN/Inf kinds only; %d functions mostly so); failed %d: driver outside the envelope %ld, IR outside %ld, "
+		printf("%s: %d functions in %d shaders, %ld samples (%ld bounded; %ld where the specification bounds "
+		       "nothing: NaN/Inf kinds only; %ld where it defines nothing: 0/0 and the like; %d functions mostly "
+		       "unbounded); failed %d: driver outside the envelope %ld, IR outside %ld, "
 		       "NaN/Inf kind %ld; allowances used: a denormal flushed %ld samples in %d functions, a constant folded in double %ld samples in %d functions; max |driver - IR| %.3g ulp "
 		       "(%s, tolerance there %.3g ulp); time: glslang %.2f s, lavapipe "
 		       "pipelines %.2f s, run %.2f s, check %.2f s\n",
-		       bk_precision_name(prec), fns->n, b.npipe, st->samples, st->bounded, st->unbounded, st->mostly_unbounded,
+		       bk_precision_name(prec), fns->n, b.npipe, st->samples, st->bounded, st->unbounded, st->undefined, st->mostly_unbounded,
 		       st->failed,
 		       st->driver_out, st->ir_out, st->kind, st->flushed, st->flushed_fns, st->folded, st->folded_fns, st->max_ulp,
 		       *st->max_at ? st->max_at : "-", st->max_ulp_tol, t1 - t0, t[0], t[1],
