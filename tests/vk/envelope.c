@@ -419,7 +419,6 @@ static vk_env mix(vk_env x, vk_env y, vk_env t, double folded, const vk_rules *R
 	return finish((vk_env){fl_down(lo, F), fl_up(hi, F), 0}, R, F);
 }
 
-
 /* dec: the decimal values of literal registers (NAN for any other). */
 static vk_env apply(const bk_instr *c, const vk_env *r, const double *dec, const double *in, const double *params,
                     const vk_rules *R, const fmt *F)
