@@ -53,7 +53,8 @@ CLI_SRC  = $(sort $(wildcard analysis/cli/*.c))
 TOOL_SRC = $(CLI_SRC) $(ANA_SRC) $(FIT_SRC)
 # build/brdfkit-mpi: the same tool with the MPI islands for the one process
 MPI_SRC  = $(filter-out analysis/cli/islands_one.c,$(TOOL_SRC)) analysis/cli/mpi/islands_mpi.c
-TEST_SRC = $(sort $(wildcard tests/*.c))
+# (tests/test_vkenv.c checks tests/vk's envelope, which needs no driver)
+TEST_SRC = $(sort $(wildcard tests/*.c)) tests/vk/envelope.c
 SUPPORT  = $(ANA_SRC) $(FIT_SRC)   # the library modules the tests link
 
 obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
@@ -138,22 +139,29 @@ build/csvget: tests/tools/csvget.c | deps
 	@mkdir -p build
 	$(CC) $(CSTD) $(WARN) $(OPT) $< -lcsv -o $@
 
+# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh)
+VK_SRC = $(sort $(wildcard tests/vk/*.c))
+build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 
-# Unit tests, the command-line contract, the MPI islands (not sanitized: Open
+# Unit tests, the command-line contract, the emitted GLSL on lavapipe (once:
+# LLVM's JIT inside the driver is no code of ours to sanitize), the MPI islands (not sanitized: Open
 # MPI's own start-up allocations are reported as leaks; the search code they
 # drive is the one the sanitized CLI run exercises with one island), then
 # both again under the sanitizers.
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
-test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget
+test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
 	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
 	sh tests/gpucost.sh $(TOOL)
+	sh tests/lavapipe.sh build/vkrun
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
