@@ -290,8 +290,11 @@ int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
 
 /* What happened inside an evaluation, per sample (bits of flags[k]): an
  * operation made a NaN from non-NaN operands, overflowed to infinity from
- * finite operands (past 65504 in half), or gave a nonzero result below the
- * precision's smallest normal (flushed to zero on GPUs that flush). first_op
+ * finite operands (past 65504 in half; a constant, parameter or input the
+ * precision cannot hold counts too), or gave a nonzero result below the
+ * precision's smallest normal (flushed to zero on GPUs that flush). Every
+ * operation is seen, also one whose result a later min, max or clamp hides,
+ * whatever the final value. first_op
  * holds, per bit, the first instruction index it happened at (-1: never). */
 #define BK_FLAG_NAN 1u
 #define BK_FLAG_OVERFLOW 2u

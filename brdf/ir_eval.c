@@ -172,30 +172,41 @@ static long double min_normal(bk_precision p)
 	return p == BK_F16 ? 0x1p-14L : p == BK_F32 ? 0x1p-126L : p == BK_F64 ? 0x1p-1022L : 0x1p-16382L;
 }
 
-/* Flags of one block, from the registers the kernel left. */
-static void block_flags(const bk_form *f, bk_precision prec, size_t m, const void *reg, unsigned char *flags,
-                        int first_op[3])
+/* What a leaf held before it was rounded to the precision: a constant, a
+ * parameter or an input sample. */
+static double leaf_source(const bk_instr *c, const double *const *blk, const double *params, size_t k)
+{
+	return c->op == BK_OP_CONST ? c->k : c->op == BK_OP_PARAM ? params[c->slot] : blk[c->slot][k];
+}
+
+/* Flags of one block, from the registers the kernel left. A leaf overflows
+ * when the precision cannot hold its value (70000 in half is inf): that is
+ * an intermediate like any other, which a later min or max may hide. Only
+ * operations count as subnormal: an input near 0 is the input's. */
+static void block_flags(const bk_form *f, bk_precision prec, size_t m, const void *reg,
+                        const double *const *blk, const double *params, unsigned char *flags, int first_op[3])
 {
 	long double tiny = min_normal(prec);
 	for (int i = 0; i < f->n; i++) {
 		const bk_instr *c = &f->code[i];
-		if (c->op == BK_OP_CONST || c->op == BK_OP_PARAM || c->op == BK_OP_INPUT)
-			continue;
-		int ops[3] = {c->a, c->b, c->c}, ar = bk_opinfo_table[c->op].arity;
+		int leaf = c->op == BK_OP_CONST || c->op == BK_OP_PARAM || c->op == BK_OP_INPUT;
+		int ops[3] = {c->a, c->b, c->c}, ar = leaf ? 0 : bk_opinfo_table[c->op].arity;
 		for (size_t k = 0; k < m; k++) {
 			long double r = reg_at(reg, prec, i, k);
 			int any_nan = 0, all_finite = 1;
+			if (leaf)
+				all_finite = isfinite(leaf_source(c, blk, params, k));
 			for (int j = 0; j < ar; j++) {
 				long double x = reg_at(reg, prec, ops[j], k);
 				any_nan |= isnan(x);
 				all_finite &= isfinite(x);
 			}
 			unsigned bit = 0;
-			if (isnan(r) && !any_nan)
+			if (isnan(r) && !any_nan && !leaf)
 				bit = BK_FLAG_NAN;
 			else if (isinf(r) && all_finite)
 				bit = BK_FLAG_OVERFLOW;
-			else if (r != 0 && fabsl(r) < tiny)
+			else if (r != 0 && fabsl(r) < tiny && !leaf)
 				bit = BK_FLAG_SUBNORMAL;
 			if (!bit)
 				continue;
@@ -228,7 +239,7 @@ static int eval(const bk_form *f, bk_precision prec, size_t n, const double *con
 		if (flags) {
 			for (size_t k = 0; k < m; k++)
 				flags[s + k] = 0;
-			block_flags(f, prec, m, reg, flags + s, first_op);
+			block_flags(f, prec, m, reg, blk, params, flags + s, first_op);
 		}
 	}
 	free(reg);

@@ -515,3 +515,108 @@ Test(emit, parameters_required)
 	free(s);
 	bk_form_free(f);
 }
+
+/* ---- mix: the code computes what the IR evaluates ------------------------------
+ * GLSL's mix and HLSL's lerp are defined as x(1 - t) + y t; the IR evaluates
+ * x + (y - x) t (ir_ops.h: why). The two differ in half: found below by a
+ * search over half numbers, each formula computed operation by operation with
+ * the half module's rounding rule. The IR's f16 must be the second, and the
+ * code must spell the second out rather than call mix()/lerp(), whose formula
+ * a compiler chooses. */
+
+static double h16(double x) { return bk_half_round(x); }
+static double mix_spelled16(double x, double y, double t) { return h16(x + h16(h16(y - x) * t)); }
+static double mix_defined16(double x, double y, double t) { return h16(h16(x * h16(1 - t)) + h16(y * t)); }
+
+static int same_value(double a, double b) { return (isnan(a) && isnan(b)) || a == b; }
+
+static double ir_mix16(const bk_form *f, double x, double y, double t)
+{
+	double in[BK_IN_COUNT] = {0}, v = 0;
+	const double *ptr[BK_IN_COUNT];
+	in[BK_IN_NOV] = x, in[BK_IN_NOL] = y, in[BK_IN_LOH] = t;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		ptr[i] = &in[i];
+	cr_assert_eq(bk_form_eval(f, BK_F16, 1, ptr, NULL, &v), 0);
+	return v;
+}
+
+Test(emit, mix_in_half_is_the_spelled_out_formula)
+{
+	static const double xs[] = {-65504, -40000, -1000, -3.5, -1, -0.1, 0, 0.3, 1, 2.5, 1000, 40000, 65504};
+	static const double ts[] = {0, 0.1, 0.3, 0.5, 0.7, 0.9, 1, 1.5, -0.5};
+	bk_form *f = parse_or_fail("mix(NoV, NoL, LoH)");
+	double worst_rel = 0;
+	int finite_vs_not = 0, checked = 0;
+	for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++)
+		for (size_t j = 0; j < sizeof xs / sizeof xs[0]; j++)
+			for (size_t k = 0; k < sizeof ts / sizeof ts[0]; k++) {
+				double x = h16(xs[i]), y = h16(xs[j]), t = h16(ts[k]);
+				double want = mix_spelled16(x, y, t), other = mix_defined16(x, y, t);
+				double got = ir_mix16(f, x, y, t);
+				cr_assert(same_value(got, want), "mix(%g, %g, %g) in half: IR %g, x + (y - x) t step by step %g",
+				          x, y, t, got, want);
+				checked++;
+				if (isfinite(want) != isfinite(other))
+					finite_vs_not++;
+				else if (isfinite(want) && other != 0)
+					worst_rel = fmax(worst_rel, fabs(want - other) / fabs(other));
+			}
+	/* The inputs discriminate: where x + (y - x) t overflows (y - x past
+	 * 65504) the defined formula is a number, and finite results differ too. */
+	cr_assert_gt(finite_vs_not, 0, "no input where one formula is finite and the other not");
+	cr_assert_gt(worst_rel, 0.01, "the formulas never differ by 1 %% in half (largest %g)", worst_rel);
+	cr_assert_eq(checked, 13 * 13 * 9);
+	/* e.g. mix(-40000, 40000, 0.5): y - x = 80000 is inf in half, x(1-t) + yt = 0 */
+	cr_assert(isinf(mix_spelled16(-40000, 40000, 0.5)) && mix_defined16(-40000, 40000, 0.5) == 0);
+	bk_form_free(f);
+}
+
+/* The text: no mix()/lerp() call in any language, the IR's formula instead;
+ * and the mediump GLSL compiled by the reference front end has no FMix. */
+Test(emit, mix_is_spelled_out_in_every_language)
+{
+	bk_form *f = parse_or_fail("mix(NoV, NoL, LoH)");
+	for (bk_lang lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++)
+		for (int half = 0; half <= (lang != BK_LANG_C); half++) {
+			char *s = bk_form_emit(f, lang, half, NULL, NULL);
+			cr_assert_not_null(s);
+			const char *body = strstr(s, "*/");
+			cr_assert_not_null(body);
+			cr_assert_null(strstr(body, "mix("), "mix() called:\n%s", s);
+			cr_assert_null(strstr(body, "lerp("), "lerp() called:\n%s", s);
+			assert_contains(body, " = NoV + (NoL - NoV) * LoH;");
+			free(s);
+		}
+	need_glslang();
+	workdir w = workdir_new();
+	bk_emit_info info = {.name = "gen"};
+	char *code = bk_form_emit(f, BK_LANG_GLSL, 1, NULL, &info);
+	/* SPIR-V from ES needs 310 and a uniform block */
+	size_t len = strlen(code) + 512;
+	char *shader = malloc(len);
+	cr_assert_not_null(shader);
+	snprintf(shader, len,
+	         "#version 310 es\nprecision highp float;\n%s"
+	         "layout(std140, binding = 0) uniform U { highp float u_NoV, u_NoL, u_LoH; };\n"
+	         "layout(location = 0) out vec4 o;\nvoid main() { o = vec4(gen(u_NoV, u_NoL, u_LoH)); }\n",
+	         code);
+	char src[128], spv[128], log[128], dis[128];
+	snprintf(src, sizeof src, "%s/gen.frag", w.path);
+	snprintf(spv, sizeof spv, "%s/gen.spv", w.path);
+	snprintf(log, sizeof log, "%s/log.txt", w.path);
+	snprintf(dis, sizeof dis, "%s/gen.spvasm", w.path);
+	spit(src, shader);
+	run_or_fail(log, src, "glslangValidator -V -o '%s' '%s' && spirv-dis -o '%s' '%s'", spv, src, dis, spv);
+	char *asm_text = slurp(dis);
+	cr_assert_not_null(asm_text);
+	cr_assert_null(strstr(asm_text, "FMix"), "the SPIR-V calls FMix:\n%s", asm_text);
+	assert_contains(asm_text, "OpFSub");
+	assert_contains(asm_text, "OpFMul");
+	assert_contains(asm_text, "OpFAdd");
+	free(asm_text);
+	free(shader);
+	free(code);
+	workdir_free(&w);
+	bk_form_free(f);
+}
