@@ -379,4 +379,12 @@ const char *bk_lang_word(bk_lang lang, size_t i);
  * "sqrt(-1) is NaN in single precision". 0 if none, -1 if out of memory. */
 int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len);
 
+/* 1 if f (at params; NULL only for a form without parameters) is NaN or
+ * infinite in double precision at every sample of a grid over the domain of
+ * the inputs it reads (each in {0, 1e-3, 0.3, 0.7, 1}; a = r*r when it reads
+ * both), e.g. NoV/0, 1/(NoV - NoV), sqrt(NoV - 2): no value to emit, count or
+ * time. what names the first sample, e.g. "NoV = 0: NaN" ("it reads no
+ * input: +inf"). 0 if it is finite somewhere, -1 if out of memory. */
+int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len);
+
 #endif

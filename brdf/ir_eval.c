@@ -13,6 +13,7 @@
 #include "ir.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <tgmath.h>
 
@@ -257,4 +258,52 @@ int bk_form_eval_flags(const bk_form *f, bk_precision prec, size_t n,
                        unsigned char *flags, int first_op[3])
 {
 	return eval(f, prec, n, in, params, out, flags, first_op);
+}
+
+/* ---- a form with no value anywhere ------------------------------------------ */
+
+int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len)
+{
+	static const double vals[] = {0, 1e-3, 0.3, 0.7, 1}; /* the ends of [0, 1] and inside */
+	enum { NV = sizeof vals / sizeof vals[0] };
+	if (f->nparams > 0 && !params)
+		return -1;
+	unsigned in = f->inputs;
+	int tie = (in >> BK_IN_R & 1) && (in >> BK_IN_A & 1), axis[BK_IN_COUNT], na = 0;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if ((in >> i & 1) && !(i == BK_IN_A && tie))
+			axis[na++] = i;
+	size_t n = 1;
+	for (int k = 0; k < na; k++)
+		n *= NV;
+	double *buf = malloc(sizeof(double) * n * (BK_IN_COUNT + 1));
+	if (!buf)
+		return -1;
+	const double *ptr[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		ptr[i] = buf + (size_t)i * n;
+	double *out = buf + (size_t)BK_IN_COUNT * n;
+	for (size_t s = 0; s < n; s++) {
+		size_t rest = s;
+		for (int k = 0; k < na; k++, rest /= NV)
+			buf[(size_t)axis[k] * n + s] = vals[rest % NV];
+		if (tie)
+			buf[(size_t)BK_IN_A * n + s] = buf[(size_t)BK_IN_R * n + s] * buf[(size_t)BK_IN_R * n + s];
+	}
+	int none = eval(f, BK_F64, n, ptr, params, out, NULL, NULL) == 0;
+	for (size_t s = 0; none && s < n; s++)
+		none = !isfinite(out[s]);
+	if (none && what && len) {
+		size_t at = 0;
+		what[0] = '\0';
+		for (int i = 0; i < BK_IN_COUNT && at < len; i++)
+			if ((in >> i & 1) && !(i == BK_IN_A && tie))
+				at += (size_t)snprintf(what + at, len - at, "%s%s = %g", at ? ", " : "", bk_input_name((bk_input)i),
+				                       buf[(size_t)i * n]);
+		if (at < len)
+			snprintf(what + at, len - at, "%s%s", at ? ": " : "it reads no input: ",
+			         isnan(out[0]) ? "NaN" : out[0] > 0 ? "+inf" : "-inf");
+	}
+	free(buf);
+	return none;
 }

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
+#include "form_check.h"
 
 #include <errno.h>
 #include <math.h>
@@ -82,9 +83,12 @@ static int assignment(const char *cmd, const char *arg, char *name, size_t nlen,
 	return 0;
 }
 
-/* p0..p15 from NAME=VALUE arguments; other names go to inputs (if not NULL). */
+/* p0..p15 from NAME=VALUE arguments; other names go to inputs (if not NULL).
+ * Every parameter the form uses needs a value, and every pN= given must be
+ * one it uses (form_check_params). */
 static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inputs, int *given)
 {
+	int given_p[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) {
 		char name[32];
 		double v;
@@ -103,7 +107,7 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 				return 2;
 			}
 			fa->params[k] = v;
-			fa->have[k] = 1;
+			fa->have[k] = given_p[k] = 1;
 			continue;
 		}
 		int found = 0;
@@ -126,13 +130,7 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 			return 2;
 		}
 	}
-	for (int k = 0; k < bk_form_nparams(fa->f); k++)
-		if (!fa->have[k]) {
-			fprintf(stderr, "brdfkit %s: missing p%d=VALUE (the form uses p0..p%d)\n", cmd, k,
-			        bk_form_nparams(fa->f) - 1);
-			return 2;
-		}
-	return 0;
+	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_nparams(fa->f), fa->have, given_p);
 }
 
 /* Significant digits that read back as x: 0.1, not 0.10000000000000001. */
@@ -247,6 +245,11 @@ int cmd_ops(int argc, char **argv)
 	form_arg fa;
 	if ((rc = load_form("ops", cmd.pos[0], &fa)))
 		return rc;
+	/* no pN= here: a typed form's parameters are unknown, only its constants are checked */
+	if ((rc = form_check_finite("ops", fa.entry ? fa.label : "form", fa.f, fa.entry ? fa.params : NULL))) {
+		bk_form_free(fa.f);
+		return rc;
+	}
 	bk_ops o;
 	bk_form_count(fa.f, &o);
 	bk_form_free(fa.f);
@@ -375,11 +378,9 @@ int cmd_codegen(int argc, char **argv)
 				        x > 65504.0 ? "infinite" : "subnormal (0 on GPUs that flush)");
 		}
 	}
-	char what[160];
-	if (bk_form_nonfinite(fa.f, fa.params, what, sizeof what) > 0) {
+	if ((rc = form_check_finite("codegen", fa.entry ? fa.label : "form", fa.f, fa.params))) {
 		bk_form_free(fa.f);
-		fprintf(stderr, "brdfkit codegen: the code would compute a constant that is not finite: %s\n", what);
-		return 2;
+		return rc;
 	}
 	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
+#include "form_check.h"
 #include "heatmap.h"
 #include "stability.h"
 
@@ -122,12 +123,9 @@ static int check_params(const cli_cmd *cmd, const item *items, int n, const int 
 		int np = f ? bk_form_nparams(f) : 0; /* a parse error is reported by the run */
 		bk_form_free(f);
 		used = np > used ? np : used;
-		for (int j = 0; j < np; j++)
-			if (!items[i].have[j] && np == 1)
-				return cli_usage(cmd, "%s uses p0 but no value was given (p0=VALUE)", items[i].name);
-			else if (!items[i].have[j])
-				return cli_usage(cmd, "%s uses p0..p%d but no value was given for p%d (p%d=VALUE)", items[i].name,
-				                 np - 1, j, j);
+		int rc = form_check_params("stability", items[i].name, np, items[i].have, NULL);
+		if (rc)
+			return rc;
 	}
 	for (int j = used; j < BK_MAX_PARAMS; j++)
 		if (given[j])
