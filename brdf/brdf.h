@@ -366,8 +366,12 @@ char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *param
                    const bk_emit_info *info);
 
 /* 1 if name cannot be the generated function's name in lang: a keyword or
- * reserved word, a type, a library function the code calls, an input or a
- * temporary tN of the body; 0 if it can. */
+ * reserved word, a type, a name the language's standard library (C's
+ * <math.h>, every GLSL built-in function, every HLSL intrinsic) or entry
+ * point (main) has, a reserved identifier (C's _name, GLSL's gl_ and __),
+ * longer than BK_NAME_MAX, an input or a temporary tN of the body; 0 if it
+ * can (brdf/ir_names.c lists them). */
+#define BK_NAME_MAX 63 /* C11 5.2.4.1: significant initial characters of an internal identifier */
 int bk_lang_reserved(bk_lang lang, const char *name);
 /* The i-th entry of lang's table of reserved names, NULL past the end. */
 const char *bk_lang_word(bk_lang lang, size_t i);

@@ -127,6 +127,42 @@ Test(parse, nesting_is_bounded)
 	cr_assert_str_eq(e.message, "expression nested too deeply (more than 200 levels) near '('");
 }
 
+/* "200 levels deep" (README): 200 nested parentheses, calls or unary minus
+ * are read, and give the value; 201 are refused. */
+static char *nested(int n, const char *open, const char *inner, const char *close)
+{
+	size_t len = (size_t)n * (strlen(open) + strlen(close)) + strlen(inner) + 1;
+	char *s = malloc(len), *p = s;
+	cr_assert_not_null(s);
+	for (int i = 0; i < n; i++)
+		p += sprintf(p, "%s", open);
+	p += sprintf(p, "%s", inner);
+	for (int i = 0; i < n; i++)
+		p += sprintf(p, "%s", close);
+	return s;
+}
+
+Test(parse, two_hundred_levels_pass_and_201_do_not)
+{
+	static const char *const kind[][2] = {{"(", ")"}, {"abs(", ")"}, {"- ", ""}};
+	for (size_t k = 0; k < sizeof kind / sizeof kind[0]; k++)
+		for (int n = 199; n <= 201; n++) {
+			char *text = nested(n, kind[k][0], "0.5", kind[k][1]);
+			bk_form_error e;
+			bk_form *f = bk_form_parse(text, &e);
+			if (n <= 200) {
+				cr_assert_not_null(f, "%d levels of %s: %s", n, kind[k][0], e.message);
+				double want = k == 2 && n % 2 ? -0.5 : 0.5; /* an odd number of minus signs */
+				cr_assert_eq(eval1(text, BK_F64, NULL), want, "%d levels of %s", n, kind[k][0]);
+			} else {
+				cr_assert_null(f, "%d levels of %s accepted", n, kind[k][0]);
+				cr_assert_not_null(strstr(e.message, "nested too deeply (more than 200 levels)"), "%s", e.message);
+			}
+			bk_form_free(f);
+			free(text);
+		}
+}
+
 /* Precedence: ^ over unary minus over * / over + -; ^ right-associative. */
 Test(parse, precedence_and_associativity)
 {
