@@ -383,6 +383,19 @@ const char *bk_lang_word(bk_lang lang, size_t i);
  * "sqrt(-1) is NaN in single precision". 0 if none, -1 if out of memory. */
 int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len);
 
+/* How many constants the code computes (literals, baked-in parameters,
+ * operations on them) are finite and non-zero in double but infinite, NaN,
+ * 0 or subnormal in prec (BK_F32: C float, highp, HLSL float; BK_F16:
+ * mediump, half), e.g. exp2(127.99) in half, 1e-46 in float; what names the
+ * first ("exp2(127.99) is +inf in half precision"). -1 if out of memory. */
+int bk_form_const_range(const bk_form *f, const double *params, bk_precision prec, char *what, size_t len);
+
+/* How many clamp(x, lo, hi) have fixed bounds (literals, baked-in
+ * parameters) with lo > hi: the result is hi wherever x is, and GLSL and
+ * HLSL leave clamp() undefined there (the code spells min(max(x, lo), hi)
+ * instead); what names the first ("clamp(x, 1, 0)"). */
+int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, size_t len);
+
 /* 1 if f (at params; NULL only for a form without parameters) is NaN or
  * infinite in double precision at every sample of a grid over the domain of
  * the inputs it reads (each in {0, 1e-3, 0.3, 0.7, 1}; a = r*r when it reads

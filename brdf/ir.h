@@ -60,6 +60,12 @@ int bk_ir_finish(bk_form *f, int out);
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg);
 
+/* CLAMP's bounds are literals or (baked-in) parameters: the only case the
+ * code may spell as clamp(), which GLSL and HLSL leave undefined for lo > hi
+ * (the IR's min(max(x, lo), hi) is spelled out otherwise, and counted as
+ * two ops). */
+int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in);
+
 /* One operation in double precision, for folding and the f64 kernel. */
 double bk_ir_apply(bk_op op, double a, double b, double c);
 

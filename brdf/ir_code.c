@@ -41,6 +41,12 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	}
 }
 
+int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in)
+{
+	bk_op lo = f->code[in->b].op, hi = f->code[in->c].op;
+	return (lo == BK_OP_CONST || lo == BK_OP_PARAM) && (hi == BK_OP_CONST || hi == BK_OP_PARAM);
+}
+
 /* Instructions per form (BK_FORM_MAX_INSTR): far above any BRDF term (the
  * largest catalog entry needs ~100), low enough that the recursive
  * renumbering in finish() stays a few hundred kilobytes of stack. */

@@ -189,6 +189,26 @@ static void put_spelled(text *t, const char *tmpl, char ops[3][OPERAND])
 	}
 }
 
+/* A bound as the code holds it: the float literal of a constant or a
+ * baked-in parameter. */
+static float bound(const bk_form *f, int i, const double *params)
+{
+	const bk_instr *in = &f->code[i];
+	return (float)(in->op == BK_OP_CONST ? in->k : params[in->slot]);
+}
+
+/* An instruction's template. GLSL's and HLSL's clamp(x, lo, hi) are
+ * undefined for lo > hi, where the IR (and C's fminf(fmaxf())) give hi: the
+ * call is kept only where both bounds are fixed and in order, and written
+ * min(max(x, lo), hi) elsewhere, which is defined and what the IR computes. */
+static const char *spelling(const bk_form *f, const bk_instr *in, bk_lang lang, const double *params)
+{
+	if (in->op == BK_OP_CLAMP && lang != BK_LANG_C &&
+	    !(bk_ir_clamp_fixed_bounds(f, in) && bound(f, in->b, params) <= bound(f, in->c, params)))
+		return "min(max(%0, %1), %2)";
+	return bk_opinfo_table[in->op].spell[lang];
+}
+
 static const char *const type_name[3][2] = {
 	{"float", "float"},
 	{"highp float", "mediump float"},
@@ -221,7 +241,7 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 		for (int j = 0; j < bk_opinfo_table[in->op].arity; j++)
 			operand(ops[j], f, args[j], lang, params);
 		put(t, "\t%s t%d = ", type, i);
-		put_spelled(t, bk_opinfo_table[in->op].spell[lang], ops);
+		put_spelled(t, spelling(f, in, lang, params), ops);
 		put(t, ";\n");
 	}
 	operand(ops[0], f, f->out, lang, params);
@@ -249,7 +269,21 @@ static void spell_const_op(char *what, size_t len, const bk_instr *in, const dou
 		snprintf(what, len, "%s(%.9g, %.9g, %.9g)", name, a, b, c);
 }
 
-int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len)
+/* A value rounded as precision prec holds it (single, or half). */
+static double held(double v, bk_precision prec)
+{
+	return prec == BK_F16 ? bk_half_round((float)v) : (double)(float)v;
+}
+
+/* Walks the instructions the code computes from constants alone (literals,
+ * baked-in parameters; params NULL: parameters are not constants) in
+ * precision prec, each on its operands as prec holds them, as the code
+ * computes it; stops at the first for which bad(exact, held) says so, and
+ * names it in what: "exp2(127.99)", "the constant 1e-46", "p0 = 1e+39".
+ * Returns how many are bad (the first named), -1 if out of memory. */
+static int const_walk(const bk_form *f, const double *params, bk_precision prec,
+                      int (*bad)(double, double, bk_precision),
+                      char *what, size_t len, double *first)
 {
 	double *val = malloc(sizeof(double) * (size_t)f->n);
 	char *known = malloc((size_t)f->n);
@@ -259,7 +293,7 @@ int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t
 		free(known);
 		return -1;
 	}
-	for (int i = 0; i < f->n && !found; i++) {
+	for (int i = 0; i < f->n; i++) {
 		const bk_instr *in = &f->code[i];
 		int ops[3] = {in->a, in->b, in->c}, ar = bk_opinfo_table[in->op].arity;
 		known[i] = in->op == BK_OP_CONST || (in->op == BK_OP_PARAM && params);
@@ -267,27 +301,74 @@ int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t
 			known[i] = (char)(j == 0 ? known[ops[j]] : known[i] && known[ops[j]]);
 		if (!known[i])
 			continue;
-		/* what the float code computes: operands and each result in single */
 		double v = in->op == BK_OP_CONST ? in->k
 		         : in->op == BK_OP_PARAM ? params[in->slot]
 		         : bk_ir_apply(in->op, val[ops[0]], ar > 1 ? val[ops[1]] : 0, ar > 2 ? val[ops[2]] : 0);
-		val[i] = (float)v;
-		if (isfinite(val[i]))
+		val[i] = held(v, prec);
+		if (!bad(v, val[i], prec) || found++)
 			continue;
-		found = 1;
-		char op[96];
+		*first = val[i];
 		if (in->op == BK_OP_CONST)
-			snprintf(op, sizeof op, "the constant %.9g", v);
+			snprintf(what, len, "the constant %.9g", v);
 		else if (in->op == BK_OP_PARAM)
-			snprintf(op, sizeof op, "p%d = %.9g", in->slot, v);
+			snprintf(what, len, "p%d = %.9g", in->slot, v);
 		else
-			spell_const_op(op, sizeof op, in, val);
-		snprintf(what, len, "%s is %s in single precision", op,
-		         isnan(val[i]) ? "NaN" : val[i] > 0 ? "+inf" : "-inf");
+			spell_const_op(what, len, in, val);
 	}
 	free(val);
 	free(known);
 	return found;
+}
+
+static int not_finite(double exact, double h, bk_precision prec)
+{
+	(void)exact, (void)prec;
+	return !isfinite(h);
+}
+
+int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len)
+{
+	char op[96];
+	double v = 0;
+	int n = const_walk(f, params, BK_F32, not_finite, op, sizeof op, &v);
+	if (n > 0)
+		snprintf(what, len, "%s is %s in single precision", op, isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf");
+	return n < 0 ? -1 : n > 0;
+}
+
+/* Finite and non-zero in double, but infinite, NaN, zero or subnormal once
+ * held (below the precision's smallest normal: 0 where GPUs flush). */
+static int out_of_range(double exact, double h, bk_precision prec)
+{
+	double tiny = prec == BK_F16 ? 0x1p-14 : 0x1p-126;
+	return isfinite(exact) && exact != 0 && !(isfinite(h) && fabs(h) >= tiny);
+}
+
+int bk_form_const_range(const bk_form *f, const double *params, bk_precision prec, char *what, size_t len)
+{
+	char op[96];
+	double v = 0;
+	int n = const_walk(f, params, prec, out_of_range, op, sizeof op, &v);
+	if (n > 0)
+		snprintf(what, len, "%s is %s in %s precision", op,
+		         isnan(v) ? "NaN" : isinf(v) ? (v > 0 ? "+inf" : "-inf") : v == 0 ? "0" : "subnormal (0 where GPUs flush)",
+		         prec == BK_F16 ? "half" : "single");
+	return n;
+}
+
+int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, size_t len)
+{
+	int n = 0;
+	for (int i = 0; i < f->n; i++) {
+		const bk_instr *in = &f->code[i];
+		if (in->op != BK_OP_CLAMP || !bk_ir_clamp_fixed_bounds(f, in) ||
+		    (!params && (f->code[in->b].op == BK_OP_PARAM || f->code[in->c].op == BK_OP_PARAM)))
+			continue;
+		float lo = bound(f, in->b, params), hi = bound(f, in->c, params);
+		if (lo > hi && !n++)
+			snprintf(what, len, "clamp(x, %.9g, %.9g)", lo, hi);
+	}
+	return n;
 }
 
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,

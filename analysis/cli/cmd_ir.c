@@ -366,22 +366,24 @@ int cmd_codegen(int argc, char **argv)
 		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
 		.command = command,
 	};
-	if (half) { /* every literal of a mediump/half shader must be a half number */
-		double k[256];
-		int nk = bk_form_constants(fa.f, k, 256);
-		for (int j = 0; j < bk_form_nparams(fa.f) && nk < 256; j++)
-			k[nk++] = fa.params[j];
-		for (int j = 0; j < nk && j < 256; j++) {
-			double x = fabs(k[j]);
-			if (x > 65504.0 || (x != 0 && x < 0x1p-14))
-				fprintf(stderr, "brdfkit codegen: warning: constant %.9g is %s in half precision\n", k[j],
-				        x > 65504.0 ? "infinite" : "subnormal (0 on GPUs that flush)");
-		}
-	}
 	if ((rc = form_check_finite("codegen", fa.entry ? fa.label : "form", fa.f, fa.params))) {
 		bk_form_free(fa.f);
 		return rc;
 	}
+	/* Warnings, not errors: the code is valid and computes what the IR does
+	 * in that precision (bk_form_eval rounds the same literals), and a GPU
+	 * may run mediump at single precision's range; but a constant the
+	 * precision cannot hold is rarely what was meant. A clamp whose bounds
+	 * are out of order is hi everywhere: spelled min(max()), defined. */
+	char what[200];
+	int nbad = bk_form_const_range(fa.f, fa.params, half ? BK_F16 : BK_F32, what, sizeof what);
+	if (nbad > 0)
+		fprintf(stderr, "brdfkit codegen: warning: %s%s\n", what,
+		        nbad > 1 ? " (and more constants the precision cannot hold)" : "");
+	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
+		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
+		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
+		        what);
 	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);
 	if (!text)
