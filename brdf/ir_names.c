@@ -215,8 +215,8 @@ static int glsl_opaque_type(const char *s)
 	static const char *const dim[] = {"1D", "2D", "3D", "Cube", "2DRect", "3DRect", "1DArray", "2DArray",
 	                                  "Buffer", "2DMS", "2DMSArray", "CubeArray", ""};
 	const char *d, *e;
-	if (*s == 'i' || *s == 'u')
-		s++;
+	if ((*s == 'i' || *s == 'u') && glsl_opaque_type(s + 1)) /* isampler2D; but image2D is no "i" + mage2D */
+		return 1;
 	if (starts(s, "subpassInput", &d))
 		return !*d || !strcmp(d, "MS");
 	for (size_t k = 0; k < sizeof kind / sizeof kind[0]; k++) {

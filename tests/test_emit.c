@@ -620,3 +620,60 @@ Test(emit, mix_is_spelled_out_in_every_language)
 	workdir_free(&w);
 	bk_form_free(f);
 }
+
+/* ---- names: every one <math.h> gives a meaning is refused in C ------------------
+ * Derived from the system compiler, not from the table under test: the macros
+ * <math.h> defines and the functions it declares with glibc's widest feature
+ * set (_GNU_SOURCE), leading underscores aside (C refuses every _name). */
+
+static int scan_names(const char *cmd, int macros, int *checked)
+{
+	FILE *p = popen(cmd, "r");
+	cr_assert_not_null(p, "%s", cmd);
+	char line[4096];
+	int refused = 0;
+	while (fgets(line, sizeof line, p)) {
+		const char *s = line;
+		if (macros) { /* "#define NAME ..." or "#define NAME(args) ..." */
+			if (strncmp(s, "#define ", 8))
+				continue;
+			s += 8;
+		}
+		for (; *s; s++) {
+			if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || *s == '_') ||
+			    (s > line && (s[-1] == '_' || (s[-1] >= '0' && s[-1] <= '9') || (s[-1] >= 'A' && s[-1] <= 'Z') ||
+			                  (s[-1] >= 'a' && s[-1] <= 'z'))))
+				continue;
+			size_t n = strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_");
+			const char *after = s + n;
+			while (*after == ' ')
+				after++;
+			if ((macros || *after == '(') && s[0] != '_' && n < 64) {
+				char name[64];
+				memcpy(name, s, n);
+				name[n] = '\0';
+				(*checked)++;
+				refused += bk_lang_reserved(BK_LANG_C, name);
+				cr_assert_eq(bk_lang_reserved(BK_LANG_C, name), 1, "<math.h> name '%s' accepted", name);
+			}
+			if (macros)
+				break;
+			s += n - 1;
+		}
+	}
+	cr_assert_eq(pclose(p), 0, "%s", cmd);
+	return refused;
+}
+
+Test(emit, every_math_h_name_is_refused_in_c)
+{
+	int checked = 0;
+	scan_names("echo '#include <math.h>' | cc -E -dM -D_GNU_SOURCE -x c -", 1, &checked);
+	int macros = checked;
+	scan_names("echo '#include <math.h>' | cc -E -P -D_GNU_SOURCE -x c -", 0, &checked);
+	/* the header was read: its macros and some 800 declarations (glibc 2.36) */
+	cr_assert_gt(macros, 100);
+	cr_assert_gt(checked - macros, 500);
+	/* negative control: a name no header gives is accepted */
+	cr_assert_eq(bk_lang_reserved(BK_LANG_C, "D_ggx_fit"), 0);
+}

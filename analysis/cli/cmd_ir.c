@@ -336,9 +336,14 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: --name: not an identifier: '%s'\n", fname);
 		return 2;
 	}
+	if (fname && strlen(fname) > BK_NAME_MAX) {
+		fprintf(stderr, "brdfkit codegen: --name: %zu characters, more than %d (C11 keeps %d significant in an "
+		                "internal name)\n", strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
+		return 2;
+	}
 	if (fname && bk_lang_reserved(L, fname)) {
-		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, library "
-		                "function or a name the body uses)\n", fname, lang);
+		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, standard library "
+		                "function or macro, entry point, reserved prefix, or a name the body uses)\n", fname, lang);
 		return 2;
 	}
 	if (cli_form_positionals(&cmd, 0))
