@@ -68,5 +68,8 @@ int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in);
 
 /* One operation in double precision, for folding and the f64 kernel. */
 double bk_ir_apply(bk_op op, double a, double b, double c);
+/* One operation as the half kernel computes it on half operands (each step
+ * rounded: mad, mix, and pow, exp, log decomposed as a GPU runs them). */
+double bk_ir_apply_half(bk_op op, double a, double b, double c);
 
 #endif

@@ -301,10 +301,9 @@ static int const_walk(const bk_form *f, const double *params, bk_precision prec,
 			known[i] = (char)(j == 0 ? known[ops[j]] : known[i] && known[ops[j]]);
 		if (!known[i])
 			continue;
-		double v = in->op == BK_OP_CONST ? in->k
-		         : in->op == BK_OP_PARAM ? params[in->slot]
-		         : bk_ir_apply(in->op, val[ops[0]], ar > 1 ? val[ops[1]] : 0, ar > 2 ? val[ops[2]] : 0);
-		val[i] = held(v, prec);
+		double a = ar > 0 ? val[ops[0]] : 0, b = ar > 1 ? val[ops[1]] : 0, c = ar > 2 ? val[ops[2]] : 0;
+		double v = in->op == BK_OP_CONST ? in->k : in->op == BK_OP_PARAM ? params[in->slot] : bk_ir_apply(in->op, a, b, c);
+		val[i] = prec == BK_F16 && !is_leaf(in->op) ? bk_ir_apply_half(in->op, a, b, c) : held(v, prec);
 		if (!bad(v, val[i], prec) || found++)
 			continue;
 		*first = val[i];

@@ -7,7 +7,8 @@
  * before the next (the per-sample tree walk this replaces is what a fit with
  * 10^6 samples per iteration cannot afford). Half precision stores floats and
  * rounds every result with the rule of half.h — what a mediump GPU does; the
- * transcendental ops are computed in single precision first, as GPUs do.
+ * transcendental ops are computed in single precision first, as GPUs do, and
+ * pow, exp and log as the exp2, log2 and multiplies a GPU runs (below).
  */
 #include "half.h"
 #include "ir.h"
@@ -65,8 +66,21 @@ static long double roundld(long double x) { return x; }
 #define MIN(x, y) ((((x) < (y)) | ((y) != (y))) ? (x) : (y))
 #define MAX(x, y) ((((x) > (y)) | ((y) != (y))) ? (x) : (y))
 
-/* KERNEL(name, T, R): R rounds a T to the precision being modelled. */
-#define KERNEL(NAME, T, R)                                                               \
+/*
+ * pow, exp and log as a GPU runs them (the op table's classes: pow = log2 +
+ * mul + exp2, exp = mul + exp2, log = log2 + mul; no GPU has e^x or x^y in
+ * hardware, and GLSL defines pow's precision as exp2(y log2 x)'s): in half
+ * (D = 1) each step is a mediump operation, rounded to half, the constants
+ * log2(e) and ln 2 included, and pow of a negative base is NaN (log2 of it),
+ * as GLSL and HLSL leave it. The other precisions keep libm's functions: f32
+ * is what the generated C computes with expf, logf and powf.
+ */
+#define LOG2E 1.44269504088896340736 /* log2(e) */
+#define LN2 0.693147180559945309417  /* ln(2) */
+
+/* KERNEL(name, T, R, D): R rounds a T to the precision being modelled; D: the
+ * GPU's decomposed pow, exp and log (above). */
+#define KERNEL(NAME, T, R, D)                                                            \
 	static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
 	                             const T *restrict B, const T *restrict C)              \
 	{                                                                                    \
@@ -78,13 +92,16 @@ static long double roundld(long double x) { return x; }
 		case BK_OP_DIV: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] / B[k]); break;       \
 		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
 		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
-		case BK_OP_POW: for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); break;   \
+		case BK_OP_POW: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(B[k] * R(log2(A[k]))))); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); } break; \
 		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
 		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
 		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
-		case BK_OP_EXP: for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); break;         \
+		case BK_OP_EXP: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(A[k] * R((T)LOG2E)))); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); } break;       \
 		case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) r[k] = R(exp2(A[k])); break;       \
-		case BK_OP_LOG: for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); break;         \
+		case BK_OP_LOG: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(R(log2(A[k])) * R((T)LN2)); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); } break;       \
 		case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) r[k] = R(log2(A[k])); break;       \
 		case BK_OP_MIN: for (k = 0; k < BLOCK; k++) r[k] = MIN(A[k], B[k]); break;      \
 		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = MAX(A[k], B[k]); break;      \
@@ -124,10 +141,10 @@ static long double roundld(long double x) { return x; }
 			out[k] = (double)res[k];                                                     \
 	}
 
-KERNEL(run64, double, round64)
-KERNEL(run32, float, round32)
-KERNEL(run16, float, round16)
-KERNEL(runld, long double, roundld)
+KERNEL(run64, double, round64, 0)
+KERNEL(run32, float, round32, 0)
+KERNEL(run16, float, round16, 1)
+KERNEL(runld, long double, roundld, 0)
 
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg)
