@@ -677,3 +677,82 @@ Test(emit, every_math_h_name_is_refused_in_c)
 	/* negative control: a name no header gives is accepted */
 	cr_assert_eq(bk_lang_reserved(BK_LANG_C, "D_ggx_fit"), 0);
 }
+
+/* ---- clamp: defined in every language where the IR is ---------------------------
+ * GLSL and HLSL leave clamp(x, lo, hi) undefined for lo > hi; the IR (and C's
+ * fminf(fmaxf())) give hi. clamp() only with fixed bounds in order. */
+
+static char *emit_text(const char *text, bk_lang lang, const double *params)
+{
+	bk_form *f = parse_or_fail(text);
+	char *s = bk_form_emit(f, lang, 0, params, NULL);
+	cr_assert_not_null(s);
+	bk_form_free(f);
+	return s;
+}
+
+Test(emit, clamp_is_called_only_with_fixed_bounds_in_order)
+{
+	static const double p_ordered[] = {0.2, 0.9}, p_reversed[] = {0.9, 0.2};
+	for (bk_lang lang = BK_LANG_GLSL; lang <= BK_LANG_HLSL; lang++) {
+		char *s = emit_text("clamp(NoV, 0.1, 1)", lang, NULL);
+		assert_contains(s, "= clamp(NoV, 0.1, 1.0);");
+		free(s);
+		s = emit_text("clamp(NoV, p0, p1)", lang, p_ordered);
+		assert_contains(s, "= clamp(NoV, 0.2, 0.9);");
+		free(s);
+		s = emit_text("clamp(NoV, p0, p1)", lang, p_reversed);
+		assert_contains(s, "= min(max(NoV, 0.9), 0.2);");
+		free(s);
+		s = emit_text("clamp(NoV, NoL, 1)", lang, NULL);
+		assert_contains(s, "= min(max(NoV, NoL), 1.0);");
+		free(s);
+	}
+	char *s = emit_text("clamp(NoV, NoL, 1)", BK_LANG_C, NULL);
+	assert_contains(s, "= fminf(fmaxf(NoV, NoL), 1.0f);");
+	free(s);
+	/* counted as what runs: one clamp, or a max and a min */
+	bk_ops o;
+	bk_form *f = parse_or_fail("clamp(NoV, 0.1, 1)");
+	bk_form_count(f, &o);
+	cr_assert_eq(o.n[BK_K_MINMAX], 1);
+	bk_form_free(f);
+	f = parse_or_fail("clamp(NoV, NoL, 1)");
+	bk_form_count(f, &o);
+	cr_assert_eq(o.n[BK_K_MINMAX], 2);
+	/* and said: a fixed pair out of order is hi everywhere */
+	char what[96] = "";
+	cr_assert_eq(bk_form_clamp_reversed(f, NULL, what, sizeof what), 0);
+	bk_form_free(f);
+	f = parse_or_fail("clamp(NoV, 1, 0) + clamp(NoL, p0, p1)");
+	cr_assert_eq(bk_form_clamp_reversed(f, p_reversed, what, sizeof what), 2);
+	cr_assert_str_eq(what, "clamp(x, 1, 0)");
+	cr_assert_eq(bk_form_clamp_reversed(f, p_ordered, what, sizeof what), 1);
+	bk_form_free(f);
+}
+
+/* ---- constants a precision cannot hold -------------------------------------------- */
+
+static void const_range(const char *text, bk_precision prec, int want, const char *msg)
+{
+	bk_form *f = parse_or_fail(text);
+	char what[200] = "";
+	cr_assert_eq(bk_form_const_range(f, NULL, prec, what, sizeof what), want, "%s: %s", text, what);
+	if (msg)
+		cr_assert_str_eq(what, msg, "%s", text);
+	bk_form_free(f);
+}
+
+Test(emit, constants_out_of_the_precisions_range)
+{
+	/* 127.99 is 128 in half, and 2^128 is past half's (and float's) range */
+	const_range("exp2(127.99)*NoV", BK_F16, 1, "exp2(128) is +inf in half precision");
+	const_range("exp2(127.99)*NoV", BK_F32, 0, NULL); /* 3.3e38 < FLT_MAX */
+	const_range("1e-46*NoV", BK_F32, 1, "the constant 1e-46 is 0 in single precision");
+	const_range("1e-40*NoV", BK_F32, 1, "the constant 1e-40 is subnormal (0 where GPUs flush) in single precision");
+	const_range("70000*NoV", BK_F16, 1, "the constant 70000 is +inf in half precision");
+	const_range("1e-5*NoV + 1e-6", BK_F16, 2, "the constant 1e-05 is subnormal (0 where GPUs flush) in half precision");
+	/* negative controls: normal numbers in range, and 0 itself */
+	const_range("0.5*NoV + exp2(15) + 0*NoL", BK_F16, 0, NULL);
+	const_range("1e-30*NoV + 1e38", BK_F32, 0, NULL);
+}

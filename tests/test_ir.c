@@ -516,3 +516,36 @@ Test(eval, pow_exp_log_in_half_are_the_gpus_steps)
 	double y[1] = {2.5};
 	cr_assert_eq(eval_at("pow(NoV, p0)", BK_F32, 0.7, y), (double)powf(0.7f, 2.5f));
 }
+
+/* ---- a form with no value anywhere on its inputs' domain ------------------------- */
+
+static int nowhere(const char *text, const double *params, char *what, size_t len)
+{
+	bk_form *f = parse_ok(text);
+	int rc = bk_form_nowhere_finite(f, params, what, len);
+	bk_form_free(f);
+	return rc;
+}
+
+Test(eval, nowhere_finite_forms_are_found)
+{
+	char what[96];
+	cr_assert_eq(nowhere("NoV/0", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0: NaN"); /* 0/0 at the first sample, inf elsewhere */
+	cr_assert_eq(nowhere("1/(NoV - NoV)", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0: +inf");
+	cr_assert_eq(nowhere("sqrt(NoV - 2) + r", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0, r = 0: NaN");
+	cr_assert_eq(nowhere("log(NoV - NoV)", NULL, what, sizeof what), 1);
+	double p[1] = {-1};
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", p, what, sizeof what), 1);
+	cr_assert_eq(nowhere("sqrt(p0)", p, what, sizeof what), 1);
+	cr_assert_str_eq(what, "it reads no input: NaN");
+	/* finite somewhere: a pole at one point, a value at one end, r/a = 1/r */
+	cr_assert_eq(nowhere("NoV/NoL", NULL, what, sizeof what), 0);
+	cr_assert_eq(nowhere("sqrt(NoV - 0.999)", NULL, what, sizeof what), 0);
+	cr_assert_eq(nowhere("r/a", NULL, what, sizeof what), 0);
+	p[0] = 1;
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", p, what, sizeof what), 0);
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", NULL, what, sizeof what), -1); /* parameters needed */
+}
