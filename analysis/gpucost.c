@@ -20,6 +20,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 #include <strings.h>
 
 /* ---- chips ------------------------------------------------------------------------ */
@@ -63,11 +64,22 @@ int bk_gpucost_chips(char *list, const char **chip, int max, int *n, char *err, 
 {
 	const char *gfx;
 	*n = 0;
-	for (char *save = NULL, *t = strtok_r(list, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
+	for (char *t = list, *next; t; t = next) { /* not strtok: it skips the empty items */
+		if ((next = strchr(t, ',')))
+			*next++ = '\0';
+		if (!*t) { /* "navi21," or "a,,b": a chip left out by mistake, not nothing */
+			snprintf(err, errlen, "an empty item in the list (a stray comma)");
+			return -1;
+		}
 		if (bk_gpucost_chip(t, &gfx)) {
 			snprintf(err, errlen, "unknown chip '%.60s' (known: %s)", t, bk_gpucost_chip_list());
 			return -1;
 		}
+		for (int k = 0; k < *n; k++)
+			if (!strcasecmp(chip[k], t)) { /* the same rows twice */
+				snprintf(err, errlen, "'%.60s' named twice", t);
+				return -1;
+			}
 		if (*n == max) {
 			snprintf(err, errlen, "at most %d chips", max);
 			return -1;
@@ -326,9 +338,23 @@ static void close_chip(chip_ctx *c)
 	memset(c, 0, sizeof *c);
 }
 
+#define RADV_ICD "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json"
+
+/* Why there is no driver, and the one thing to do about it: the install line
+ * only where RADV's ICD file is missing; a VK_ICD_FILENAMES of the user's
+ * that names another file while RADV's is installed is named instead. */
 static int no_driver(char *err, size_t errlen, const char *what)
 {
-	snprintf(err, errlen, "no Vulkan driver for RADV's null device (%.200s); %s", what, BK_GPUCOST_INSTALL);
+	const char *icd = getenv("VK_ICD_FILENAMES");
+	int installed = access(RADV_ICD, R_OK) == 0;
+	if (installed && icd && strcmp(icd, RADV_ICD))
+		snprintf(err, errlen, "no Vulkan driver for RADV's null device (%.200s): VK_ICD_FILENAMES=%.200s does not "
+		         "name RADV's, which is installed: unset it, or set it to %s", what, icd, RADV_ICD);
+	else if (installed)
+		snprintf(err, errlen, "no Vulkan driver for RADV's null device (%.200s), though %s is there: the Vulkan "
+		         "loader could not use it", what, RADV_ICD);
+	else
+		snprintf(err, errlen, "no Vulkan driver for RADV's null device (%.200s); %s", what, BK_GPUCOST_INSTALL);
 	return BK_GPUCOST_NO_DRIVER;
 }
 
@@ -614,8 +640,6 @@ static int run_chip(bk_gpucost_job *jobs, int n, int c, int fp16, const spirv *s
 	close_chip(&ctx);
 	return rc;
 }
-
-#define RADV_ICD "/usr/share/vulkan/icd.d/radeon_icd.x86_64.json"
 
 /* The Vulkan loader unloads the driver (and Mesa's device-select layer) with
  * each instance, one per chip. A block the driver keeps in a global would

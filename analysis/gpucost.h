@@ -19,7 +19,9 @@
 #define BK_GPUCOST_MAX_CHIPS 16
 #define BK_GPUCOST_DEFAULT_CHIPS "polaris10,vega10,navi21,gfx1100"
 
-/* The one line a missing driver gets (bk_gpucost_run returns BK_GPUCOST_NO_DRIVER). */
+/* What a missing driver's line ends with (bk_gpucost_run returns
+ * BK_GPUCOST_NO_DRIVER) when RADV's ICD file is not installed; when it is,
+ * the line names what keeps it from loading (a VK_ICD_FILENAMES elsewhere). */
 #define BK_GPUCOST_INSTALL "install it: apt-get install mesa-vulkan-drivers"
 #define BK_GPUCOST_NO_DRIVER 1
 
@@ -50,7 +52,8 @@ typedef struct bk_gpucost_job {
 int bk_gpucost_chip(const char *chip, const char **gfx);
 const char *bk_gpucost_chip_list(void);
 /* A comma-separated list (cut in place) into at most max names; 0, or -1 with
- * a message naming the bad one. */
+ * a message naming the bad one: unknown, named twice (case-insensitive), or
+ * an empty item ("navi21,"). */
 int bk_gpucost_chips(char *list, const char **chip, int max, int *n, char *err, size_t errlen);
 
 /* The compute shader of a job (form NULL: the baseline for the given input

@@ -498,7 +498,7 @@ static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, 
 	int i = 0;
 	while (i < 5 && !(st.floor_r[i] <= r_lo))
 		i++;
-	if (h->wrong == 0 && h->nan == 0 && h->inf == 0) {
+	if (st.safe_as_is && h->nan == 0 && h->inf == 0) { /* stability.h: no pole, nothing hidden */
 		snprintf(why, whylen, "none: right in half on the whole stress grid");
 		*out = strdup(text);
 	} else if (i == 0) {

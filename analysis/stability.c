@@ -167,6 +167,35 @@ static int wrong(double v, double r, double tol)
 	return normal(r) ? fabs(v - r) > tol * fabs(r) : fabs(v - r) > HALF_NORMAL;
 }
 
+/* A sample fails in a precision: its value is wrong, or, where the reference
+ * is finite, an operation on the way overflowed or made a NaN (flag: the
+ * evaluator's BK_FLAG_ bits), even one a later min, max or clamp hid. The
+ * IR's min(1, NaN) is 1 as HLSL's, but GLSL leaves min and clamp of a NaN
+ * undefined, and GLSL ES does not require a GPU to produce an infinity at
+ * all (a mediump float's guaranteed range ends at 2^14): a value that is
+ * right only because an infinity or a NaN was hidden is luck. */
+#define HIDDEN_FLAGS (BK_FLAG_NAN | BK_FLAG_OVERFLOW)
+static int fails(double v, double r, unsigned char flag, double tol)
+{
+	return isfinite(r) && (wrong(v, r, tol) || (flag & HIDDEN_FLAGS));
+}
+
+/* Sample k in words: the inputs the form reads and its long-double value,
+ * e.g. "NoV = 0, r = 0.5: +inf" ("it reads no input: NaN" for a constant). */
+static void sample_text(const bk_form *f, const grid *g, size_t k, double v, char *buf, size_t len)
+{
+	unsigned reads = bk_form_inputs(f);
+	size_t at = 0;
+	buf[0] = '\0';
+	for (int i = 0; i < BK_IN_COUNT && at < len; i++)
+		if ((reads >> i & 1) && !(i == BK_IN_A && reads >> BK_IN_R & 1))
+			at += (size_t)snprintf(buf + at, len - at, "%s%s = %.3g", at ? ", " : "", bk_input_name((bk_input)i),
+			                       g->in[i][k]);
+	if (at < len)
+		snprintf(buf + at, len - at, "%s%s", at ? ": " : "it reads no input: ",
+		         isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf");
+}
+
 static void describe_region(const bk_form *f, const grid *g, const unsigned char *bad, char *buf, size_t len)
 {
 	unsigned reads = bk_form_inputs(f);
@@ -206,8 +235,9 @@ static void score(const bk_form *f, const double *params, bk_precision prec, int
 		sp->overflow += (fl[k] & BK_FLAG_OVERFLOW) != 0;
 		sp->subnormal += (fl[k] & BK_FLAG_SUBNORMAL) != 0;
 		sp->zeroed += v[k] == 0 && normal(rp[k]);
-		bad[k] = (unsigned char)wrong(v[k], rp[k], tol);
+		bad[k] = (unsigned char)fails(v[k], rp[k], fl[k], tol);
 		sp->wrong += bad[k];
+		sp->hidden += bad[k] && !wrong(v[k], rp[k], tol);
 		if (!normal(R->v[k]))
 			continue;
 		double moved = fabs(rp[k] - R->v[k]) / fabs(R->v[k]); /* what input rounding alone does */
@@ -237,7 +267,9 @@ out:
 	free(ill);
 }
 
-/* Does half precision get every meaningful sample right on this grid? */
+/* Is half precision right at every sample of this grid? Only where the form
+ * itself is finite (a pole is no precision's fault, and no precision's
+ * success either), and with no overflow or NaN hidden on the way. */
 static int half_ok(const bk_form *f, const double *params, const double *rs, int nr, const double *coss, int nc,
                    double tol)
 {
@@ -246,13 +278,15 @@ static int half_ok(const bk_form *f, const double *params, const double *rs, int
 	int ok = -1;
 	if (grid_build(bk_form_inputs(f), rs, nr, coss, nc, &g) == 0 && reference(f, params, &g, &R) == 0) {
 		double *v = malloc(sizeof(double) * g.n);
-		if (v) {
-			bk_form_eval(f, BK_F16, g.n, (const double *const *)g.in, params, v);
+		unsigned char *fl = malloc(g.n);
+		if (v && fl) {
+			bk_form_eval_flags(f, BK_F16, g.n, (const double *const *)g.in, params, v, fl, NULL);
 			ok = 1;
 			for (size_t k = 0; k < g.n && ok; k++)
-				ok = !wrong(v[k], R.vp[2][k], tol);
-			free(v);
+				ok = isfinite(R.v[k]) && isfinite(R.vp[2][k]) && !fails(v[k], R.vp[2][k], fl[k], tol);
 		}
+		free(v);
+		free(fl);
 	}
 	ref_free(&R);
 	grid_free(&g);
@@ -435,91 +469,90 @@ static void failure_map(const bk_form *f, const double *params, const grid *g, c
 	st->map_nx = bk_stab_ncos;
 	st->map_ny = bk_stab_nr;
 	double *v = malloc(sizeof(double) * g->n);
+	unsigned char *fl = malloc(g->n);
 	int count[16 * 16] = {0}, badc[16 * 16] = {0};
-	if (!v)
-		return;
-	bk_form_eval(f, BK_F16, g->n, (const double *const *)g->in, params, v);
-	for (size_t k = 0; k < g->n; k++) {
-		int c = g->cell_r[k] * st->map_nx + g->cell_c[k];
-		count[c]++;
-		badc[c] += wrong(v[k], R->vp[2][k], tol);
+	if (v && fl) {
+		bk_form_eval_flags(f, BK_F16, g->n, (const double *const *)g->in, params, v, fl, NULL);
+		for (size_t k = 0; k < g->n; k++) {
+			int c = g->cell_r[k] * st->map_nx + g->cell_c[k];
+			count[c]++;
+			badc[c] += fails(v[k], R->vp[2][k], fl[k], tol);
+		}
 	}
 	for (int c = 0; c < st->map_nx * st->map_ny; c++)
 		st->map[c] = count[c] ? (double)badc[c] / count[c] : NAN;
 	free(v);
+	free(fl);
 }
 
-/* One candidate: a cosine floor C (0: none), a roughness floor R (0: none),
- * the clamp of the result to half's largest value. */
-static char *build_guarded(const char *text, unsigned reads, double R, double C, int clamp)
+/* One candidate: a cosine floor C (0: none), a roughness floor R (0: none).
+ * No clamp of the result to 65504: it only ever acts on an infinity, which
+ * a mediump GPU need not produce (fails() above), so it guards nothing. */
+static char *build_guarded(const char *text, unsigned reads, double R, double C)
 {
 	char *a = str_printf("%s", text), *b;
 	if (a && R > 0)
 		b = guard_r(a, R), free(a), a = b;
 	if (a && C > 0)
 		b = guard_cos(a, reads, C), free(a), a = b;
-	if (a && clamp)
-		b = str_printf("min(%s, 65504)", a), free(a), a = b;
 	return a;
 }
 
 /* The guards that can be written into the form: for each cosine floor of the
- * minimum-safe-inputs table, that floor with its roughness floor, with and
- * without a clamp of the result to 65504, and the clamp alone. Each guard's
- * error is measured alone against the unguarded form; the passing candidate
- * whose worst guard error is smallest wins. */
+ * minimum-safe-inputs table, that floor with its roughness floor. Each
+ * guard's error is measured alone against the unguarded form; the passing
+ * candidate whose worst guard error is smallest wins. */
 static void propose_guards(const bk_form *f, const char *text, const double *params, const grid *g, const ref *R,
                            double tol, bk_stability *st)
 {
 	unsigned reads = bk_form_inputs(f);
 	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
-	double best_err = INFINITY, clamp_err = guard_cost(build_guarded(text, reads, 0, 0, 1), params, g, R);
+	double best_err = INFINITY;
+	char unwritable[200] = ""; /* a candidate the parser refused: a form too long once guarded */
 	st->guarded_ok = 0;
-	snprintf(st->guards, sizeof st->guards, "none of the floors and the clamp fixes it");
+	snprintf(st->guards, sizeof st->guards, "none of the floors fixes it");
 	st->guarded = str_printf("%s", text);
-	st->guard_error[0] = st->guard_error[1] = st->guard_error[2] = NAN;
-	for (int i = -1; i < 5; i++) {
-		double Cf = i < 0 ? 0 : st->floor_cos[i], Rf = i < 0 ? 0 : st->floor_r[i];
-		if (i >= 0 && isnan(Rf))
+	st->guard_error[0] = st->guard_error[1] = NAN;
+	for (int i = 0; i < 5; i++) {
+		double Cf = st->floor_cos[i], Rf = st->floor_r[i];
+		if (isnan(Rf))
 			continue;
 		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
 		double er = 0, ec = 0;
 		if (Rr > 0)
-			er = guard_cost(build_guarded(text, reads, Rr, 0, 0), params, g, R);
+			er = guard_cost(build_guarded(text, reads, Rr, 0), params, g, R);
 		if (C > 0)
-			ec = guard_cost(build_guarded(text, reads, 0, C, 0), params, g, R);
-		for (int clamp = 0; clamp < 2; clamp++) {
-			if (i < 0 && !clamp)
-				continue;
-			double err = fmax(fmax(er, ec), clamp ? clamp_err : 0);
-			char *cur = err < best_err ? build_guarded(text, reads, Rr, C, clamp) : NULL;
-			if (!cur)
-				continue;
-			bk_form_error e;
-			bk_form *h = bk_form_parse(cur, &e);
-			int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
-			bk_form_free(h);
-			if (ok != 1) {
-				free(cur);
-				continue;
-			}
-			best_err = err;
-			st->guarded_ok = 1;
-			free(st->guarded);
-			st->guarded = cur;
-			st->guard_error[0] = Rr > 0 ? er : NAN;
-			st->guard_error[1] = C > 0 ? ec : NAN;
-			st->guard_error[2] = clamp ? clamp_err : NAN;
-			size_t k = 0;
-			st->guards[0] = '\0';
-			if (Rr > 0)
-				k += (size_t)snprintf(st->guards + k, sizeof st->guards - k, "roughness floor r >= %.4g", Rr);
-			if (C > 0)
-				k += (size_t)snprintf(st->guards + k, sizeof st->guards - k, "%scosines >= %.4g", k ? ", " : "", C);
-			if (clamp)
-				snprintf(st->guards + k, sizeof st->guards - k, "%sresult <= 65504", k ? ", " : "");
+			ec = guard_cost(build_guarded(text, reads, 0, C), params, g, R);
+		double err = fmax(er, ec);
+		char *cur = err < best_err ? build_guarded(text, reads, Rr, C) : NULL;
+		if (!cur)
+			continue;
+		bk_form_error e;
+		bk_form *h = bk_form_parse(cur, &e);
+		int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
+		if (!h)
+			snprintf(unwritable, sizeof unwritable, "%s", e.message);
+		bk_form_free(h);
+		if (ok != 1) {
+			free(cur);
+			continue;
 		}
+		best_err = err;
+		st->guarded_ok = 1;
+		free(st->guarded);
+		st->guarded = cur;
+		st->guard_error[0] = Rr > 0 ? er : NAN;
+		st->guard_error[1] = C > 0 ? ec : NAN;
+		size_t k = 0;
+		st->guards[0] = '\0';
+		if (Rr > 0)
+			k += (size_t)snprintf(st->guards + k, sizeof st->guards - k, "roughness floor r >= %.4g", Rr);
+		if (C > 0)
+			snprintf(st->guards + k, sizeof st->guards - k, "%scosines >= %.4g", k ? ", " : "", C);
 	}
+	if (!st->guarded_ok && unwritable[0]) /* not "nothing fixes it": it could not be tried */
+		snprintf(st->guards, sizeof st->guards, "none of the floors that could be written fixes it (a guarded "
+		         "form was refused: %.150s)", unwritable);
 	bk_form_error e;
 	bk_form *h = st->guarded ? bk_form_parse(st->guarded, &e) : NULL;
 	if (h)
@@ -560,8 +593,20 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		snprintf(err, errlen, "%s: out of memory", name);
 		return -1;
 	}
-	for (size_t k = 0; k < g.n; k++)
-		st->ref_nonfinite += !isfinite(R.v[k]);
+	size_t first_pole = g.n;
+	for (size_t k = g.n; k-- > 0;)
+		if (!isfinite(R.v[k]))
+			st->ref_nonfinite++, first_pole = k;
+	if (first_pole < g.n)
+		sample_text(f, &g, first_pole, R.v[first_pole], st->pole, sizeof st->pole);
+	if (st->ref_nonfinite == g.n) { /* nothing to judge: as fit and compare, refuse it */
+		snprintf(err, errlen, "%s: the form is NaN or infinite at every one of the %zu samples of the grid (%s): "
+		         "no precision can be judged against it", name, g.n, st->pole);
+		grid_free(&g);
+		ref_free(&R);
+		bk_form_free(f);
+		return -1;
+	}
 	static const bk_precision order[3] = {BK_F64, BK_F32, BK_F16};
 	for (int p = 0; p < 3; p++)
 		score(f, params, order[p], p, &g, &R, tol, &st->p[p]);
@@ -584,7 +629,10 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		         "compute 1 - NoH^2 as |N x H|^2 from the vectors (Filament's mobile path): NoH rounded to half "
 		         "loses sin^2 of the half angle near the highlight (errors up to %.2g at NoH >= %.3g)",
 		         st->p[2].max_rel_ill, st->p[2].ill_noh_min);
-	if (st->p[2].wrong)
+	/* Safe as is: right at every sample, nothing hidden, and the form itself
+	 * finite everywhere (a pole is a NaN or Inf in any precision). */
+	st->safe_as_is = st->p[2].wrong == 0 && st->ref_nonfinite == 0;
+	if (!st->safe_as_is)
 		propose_guards(f, text, params, &g, &R, tol, st);
 	else {
 		st->guarded_ok = 1;

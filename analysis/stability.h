@@ -16,7 +16,9 @@
  * value is off by more than this, relative (2 % is about 20 half ulps:
  * rounding alone stays far below it); or where the reference is below half's
  * smallest normal 2^-14 and the value is off by more than 2^-14 (a flush to
- * zero passes). */
+ * zero passes); and, whatever the value, where the reference is finite but an
+ * operation on the way overflowed or made a NaN (a min or max that hides it
+ * does not make it right). */
 #define BK_STAB_TOL 0.02
 
 typedef struct bk_stab_prec {
@@ -27,7 +29,10 @@ typedef struct bk_stab_prec {
 	size_t zeroed;     /* value 0 where the reference is a normal nonzero number */
 	size_t well;       /* samples where the reference is normal, finite and well conditioned */
 	size_t wrong;      /* failures (BK_STAB_TOL's rule) against the reference at the
-	                      inputs as this precision rounds them */
+	                      inputs as this precision rounds them, and samples where an
+	                      operation overflowed or made a NaN that a later min, max or
+	                      clamp hid (the reference finite): never right but by luck */
+	size_t hidden;     /* of those, the ones with a right value: the hidden kind */
 	double max_rel;    /* largest relative error over the well-conditioned samples */
 	size_t ill;        /* off by more than tol where the reference is ill conditioned
 	                      (input rounding alone moves it: 1 - NoH^2 near the highlight) */
@@ -40,7 +45,11 @@ typedef struct bk_stab_prec {
 typedef struct bk_stability {
 	char name[96];
 	bk_stab_prec p[3];        /* BK_F64, BK_F32, BK_F16 */
-	size_t ref_nonfinite;     /* the reference itself is NaN or infinite (the form's own poles) */
+	size_t ref_nonfinite;     /* the reference itself is NaN or infinite (the form's own poles);
+	                             bk_stability_run refuses a form that is so at every sample */
+	char pole[160];           /* the first such sample in words ("" if none) */
+	int safe_as_is;           /* half is right everywhere, nothing hidden, no pole: the only
+	                             verdict that needs no guard */
 	/* Minimum safe inputs in half: with every cosine >= floor[i], half is right
 	 * for r >= r_min[i] (NaN: for no r). r_min/cos_min: the smallest floor for
 	 * which some r works, and that r. */
@@ -50,8 +59,8 @@ typedef struct bk_stability {
 	char *guarded;            /* the form with the guards it needs (allocated: forms have no
 	                             length limit; bk_stability_free releases it) */
 	char guards[256];         /* which guards, in words */
-	double guard_error[3];    /* error each guard adds alone (max relative, long double, where the
-	                             reference is within half's range): r floor, cos floor, clamp */
+	double guard_error[2];    /* error each guard adds alone (max relative, long double, where the
+	                             reference is within half's range): r floor, cos floor */
 	char advice[256];         /* guards brdfkit cannot apply as a rewrite (|N x H|^2) */
 	int guarded_ok;           /* the guarded form passes in half */
 	char constants[256];      /* constants a half shader cannot represent */

@@ -290,8 +290,11 @@ int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
 
 /* What happened inside an evaluation, per sample (bits of flags[k]): an
  * operation made a NaN from non-NaN operands, overflowed to infinity from
- * finite operands (past 65504 in half), or gave a nonzero result below the
- * precision's smallest normal (flushed to zero on GPUs that flush). first_op
+ * finite operands (past 65504 in half; a constant, parameter or input the
+ * precision cannot hold counts too), or gave a nonzero result below the
+ * precision's smallest normal (flushed to zero on GPUs that flush). Every
+ * operation is seen, also one whose result a later min, max or clamp hides,
+ * whatever the final value. first_op
  * holds, per bit, the first instruction index it happened at (-1: never). */
 #define BK_FLAG_NAN 1u
 #define BK_FLAG_OVERFLOW 2u
@@ -363,8 +366,12 @@ char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *param
                    const bk_emit_info *info);
 
 /* 1 if name cannot be the generated function's name in lang: a keyword or
- * reserved word, a type, a library function the code calls, an input or a
- * temporary tN of the body; 0 if it can. */
+ * reserved word, a type, a name the language's standard library (C's
+ * <math.h>, every GLSL built-in function, every HLSL intrinsic) or entry
+ * point (main) has, a reserved identifier (C's _name, GLSL's gl_ and __),
+ * longer than BK_NAME_MAX, an input or a temporary tN of the body; 0 if it
+ * can (brdf/ir_names.c lists them). */
+#define BK_NAME_MAX 63 /* C11 5.2.4.1: significant initial characters of an internal identifier */
 int bk_lang_reserved(bk_lang lang, const char *name);
 /* The i-th entry of lang's table of reserved names, NULL past the end. */
 const char *bk_lang_word(bk_lang lang, size_t i);
@@ -375,5 +382,26 @@ const char *bk_lang_word(bk_lang lang, size_t i);
  * is NaN or infinite, e.g. sqrt(-1), 1/0; what names the first, e.g.
  * "sqrt(-1) is NaN in single precision". 0 if none, -1 if out of memory. */
 int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len);
+
+/* How many constants the code computes (literals, baked-in parameters,
+ * operations on them) are finite and non-zero in double but infinite, NaN,
+ * 0 or subnormal in prec (BK_F32: C float, highp, HLSL float; BK_F16:
+ * mediump, half), e.g. exp2(127.99) in half, 1e-46 in float; what names the
+ * first ("exp2(127.99) is +inf in half precision"). -1 if out of memory. */
+int bk_form_const_range(const bk_form *f, const double *params, bk_precision prec, char *what, size_t len);
+
+/* How many clamp(x, lo, hi) have fixed bounds (literals, baked-in
+ * parameters) with lo > hi: the result is hi wherever x is, and GLSL and
+ * HLSL leave clamp() undefined there (the code spells min(max(x, lo), hi)
+ * instead); what names the first ("clamp(x, 1, 0)"). */
+int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, size_t len);
+
+/* 1 if f (at params; NULL only for a form without parameters) is NaN or
+ * infinite in double precision at every sample of a grid over the domain of
+ * the inputs it reads (each in {0, 1e-3, 0.3, 0.7, 1}; a = r*r when it reads
+ * both), e.g. NoV/0, 1/(NoV - NoV), sqrt(NoV - 2): no value to emit, count or
+ * time. what names the first sample, e.g. "NoV = 0: NaN" ("it reads no
+ * input: +inf"). 0 if it is finite somewhere, -1 if out of memory. */
+int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len);
 
 #endif

@@ -60,7 +60,16 @@ int bk_ir_finish(bk_form *f, int out);
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg);
 
+/* CLAMP's bounds are literals or (baked-in) parameters: the only case the
+ * code may spell as clamp(), which GLSL and HLSL leave undefined for lo > hi
+ * (the IR's min(max(x, lo), hi) is spelled out otherwise, and counted as
+ * two ops). */
+int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in);
+
 /* One operation in double precision, for folding and the f64 kernel. */
 double bk_ir_apply(bk_op op, double a, double b, double c);
+/* One operation as the half kernel computes it on half operands (each step
+ * rounded: mad, mix, and pow, exp, log decomposed as a GPU runs them). */
+double bk_ir_apply_half(bk_op op, double a, double b, double c);
 
 #endif

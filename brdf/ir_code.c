@@ -41,6 +41,25 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	}
 }
 
+int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in)
+{
+	bk_op lo = f->code[in->b].op, hi = f->code[in->c].op;
+	return (lo == BK_OP_CONST || lo == BK_OP_PARAM) && (hi == BK_OP_CONST || hi == BK_OP_PARAM);
+}
+
+double bk_ir_apply_half(bk_op op, double a, double b, double c)
+{
+	double (*h)(double) = bk_half_round;
+	switch (op) {
+	case BK_OP_MAD: return h(h(a * b) + c);
+	case BK_OP_MIX: return h(a + h(h(b - a) * c));
+	case BK_OP_POW: return h(exp2(h(b * h(log2(a)))));
+	case BK_OP_EXP: return h(exp2(h(a * h(1.44269504088896340736))));
+	case BK_OP_LOG: return h(h(log2(a)) * h(0.693147180559945309417));
+	default: return h(bk_ir_apply(op, a, b, c));
+	}
+}
+
 /* Instructions per form (BK_FORM_MAX_INSTR): far above any BRDF term (the
  * largest catalog entry needs ~100), low enough that the recursive
  * renumbering in finish() stays a few hundred kilobytes of stack. */
@@ -172,7 +191,7 @@ static int fold(bk_form *f, bk_op op, const int *arg, int arity, double *out)
 	if (!isfinite(r) || (r == 0.0 && signbit(r)))
 		return 0;
 	double r32 = round32(bk_ir_apply(op, v32[0], v32[1], v32[2]));
-	double r16 = bk_half_round(bk_ir_apply(op, v16[0], v16[1], v16[2]));
+	double r16 = bk_ir_apply_half(op, v16[0], v16[1], v16[2]);
 	if (r32 != round32(r) || r16 != bk_half_round(r))
 		return 0;
 	*out = r;

@@ -25,15 +25,17 @@ void bk_form_count(const bk_form *f, bk_ops *ops)
 	*ops = (bk_ops){{0}, 0, 0};
 	for (int i = 0; i < f->n; i++) {
 		const bk_opinfo *info = &bk_opinfo_table[f->code[i].op];
+		/* a clamp with a bound computed at run time is emitted as min(max()) */
+		int twice = f->code[i].op == BK_OP_CLAMP && !bk_ir_clamp_fixed_bounds(f, &f->code[i]);
 		for (int j = 0; j < 3; j++) {
 			bk_opclass k = info->cls[j];
 			if (k == BK_K_FREE)
 				continue;
-			ops->n[k]++;
+			ops->n[k] += 1 + twice;
 			if (bk_opclass_is_complex(k))
-				ops->complex++;
+				ops->complex += 1 + twice;
 			else
-				ops->simple++;
+				ops->simple += 1 + twice;
 		}
 	}
 }

@@ -189,6 +189,26 @@ static void put_spelled(text *t, const char *tmpl, char ops[3][OPERAND])
 	}
 }
 
+/* A bound as the code holds it: the float literal of a constant or a
+ * baked-in parameter. */
+static float bound(const bk_form *f, int i, const double *params)
+{
+	const bk_instr *in = &f->code[i];
+	return (float)(in->op == BK_OP_CONST ? in->k : params[in->slot]);
+}
+
+/* An instruction's template. GLSL's and HLSL's clamp(x, lo, hi) are
+ * undefined for lo > hi, where the IR (and C's fminf(fmaxf())) give hi: the
+ * call is kept only where both bounds are fixed and in order, and written
+ * min(max(x, lo), hi) elsewhere, which is defined and what the IR computes. */
+static const char *spelling(const bk_form *f, const bk_instr *in, bk_lang lang, const double *params)
+{
+	if (in->op == BK_OP_CLAMP && lang != BK_LANG_C &&
+	    !(bk_ir_clamp_fixed_bounds(f, in) && bound(f, in->b, params) <= bound(f, in->c, params)))
+		return "min(max(%0, %1), %2)";
+	return bk_opinfo_table[in->op].spell[lang];
+}
+
 static const char *const type_name[3][2] = {
 	{"float", "float"},
 	{"highp float", "mediump float"},
@@ -221,143 +241,11 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 		for (int j = 0; j < bk_opinfo_table[in->op].arity; j++)
 			operand(ops[j], f, args[j], lang, params);
 		put(t, "\t%s t%d = ", type, i);
-		put_spelled(t, bk_opinfo_table[in->op].spell[lang], ops);
+		put_spelled(t, spelling(f, in, lang, params), ops);
 		put(t, ";\n");
 	}
 	operand(ops[0], f, f->out, lang, params);
 	put(t, "\treturn %s;\n", ops[0]);
-}
-
-/* ---- names the generated function may not have ------------------------------
- * One table per language: its keywords and reserved words, the type names,
- * and the library functions and macros the templates of ir_ops.h call (a
- * function of that name would clash with them). Rules for whole families
- * (C's _X and __, GLSL's gl_ and __, HLSL's vector and matrix types) are in
- * bk_lang_reserved. */
-
-static const char *const c_words[] = { /* C11 6.4.1, <math.h> as emitted */
-	"auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum",
-	"extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict",
-	"return", "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union",
-	"unsigned", "void", "volatile", "while", "_Alignas", "_Alignof", "_Atomic", "_Bool",
-	"_Complex", "_Generic", "_Imaginary", "_Noreturn", "_Static_assert", "_Thread_local",
-	"sqrtf", "powf", "expf", "exp2f", "logf", "log2f", "fminf", "fmaxf", "fabsf", "INFINITY", "NAN",
-	NULL,
-};
-
-static const char *const glsl_words[] = { /* GLSL ES 3.00 section 3.8, built-ins as emitted */
-	"const", "uniform", "layout", "centroid", "flat", "smooth", "break", "continue", "do", "for",
-	"while", "switch", "case", "default", "if", "else", "in", "out", "inout", "float", "int",
-	"void", "bool", "true", "false", "invariant", "discard", "return", "mat2", "mat3", "mat4",
-	"mat2x2", "mat2x3", "mat2x4", "mat3x2", "mat3x3", "mat3x4", "mat4x2", "mat4x3", "mat4x4",
-	"vec2", "vec3", "vec4", "ivec2", "ivec3", "ivec4", "bvec2", "bvec3", "bvec4", "uint", "uvec2",
-	"uvec3", "uvec4", "lowp", "mediump", "highp", "precision", "sampler2D", "sampler3D",
-	"samplerCube", "sampler2DShadow", "samplerCubeShadow", "sampler2DArray",
-	"sampler2DArrayShadow", "isampler2D", "isampler3D", "isamplerCube", "isampler2DArray",
-	"usampler2D", "usampler3D", "usamplerCube", "usampler2DArray", "struct",
-	/* reserved for future use */
-	"attribute", "varying", "coherent", "volatile", "restrict", "readonly", "writeonly",
-	"resource", "atomic_uint", "noperspective", "patch", "sample", "subroutine", "common",
-	"partition", "active", "asm", "class", "union", "enum", "typedef", "template", "this", "goto",
-	"inline", "noinline", "public", "static", "extern", "external", "interface", "long", "short",
-	"double", "half", "fixed", "unsigned", "superp", "input", "output", "hvec2", "hvec3", "hvec4",
-	"dvec2", "dvec3", "dvec4", "fvec2", "fvec3", "fvec4", "sampler3DRect", "filter", "image1D",
-	"image2D", "image3D", "imageCube", "iimage1D", "iimage2D", "iimage3D", "iimageCube",
-	"uimage1D", "uimage2D", "uimage3D", "uimageCube", "image1DArray", "image2DArray",
-	"iimage1DArray", "iimage2DArray", "uimage1DArray", "uimage2DArray", "imageBuffer",
-	"iimageBuffer", "uimageBuffer", "sampler1D", "sampler1DShadow", "sampler1DArray",
-	"sampler1DArrayShadow", "isampler1D", "isampler1DArray", "usampler1D", "usampler1DArray",
-	"sampler2DRect", "sampler2DRectShadow", "isampler2DRect", "usampler2DRect", "samplerBuffer",
-	"isamplerBuffer", "usamplerBuffer", "sampler2DMS", "isampler2DMS", "usampler2DMS",
-	"sampler2DMSArray", "isampler2DMSArray", "usampler2DMSArray", "sizeof", "cast", "namespace",
-	"using",
-	/* built-in functions the templates call: redeclaring one is an error */
-	"sqrt", "inversesqrt", "pow", "exp", "exp2", "log", "log2", "min", "max", "clamp", "mix",
-	"abs", "uintBitsToFloat",
-	NULL,
-};
-
-static const char *const hlsl_words[] = { /* HLSL keywords and reserved words, intrinsics as emitted */
-	"AppendStructuredBuffer", "asm", "asm_fragment", "BlendState", "bool", "break", "Buffer",
-	"ByteAddressBuffer", "case", "cbuffer", "centroid", "class", "column_major", "compile",
-	"compile_fragment", "CompileShader", "const", "continue", "ComputeShader",
-	"ConsumeStructuredBuffer", "default", "DepthStencilState", "DepthStencilView", "discard",
-	"do", "double", "DomainShader", "dword", "else", "export", "extern", "false", "float", "for",
-	"fxgroup", "GeometryShader", "groupshared", "half", "Hullshader", "if", "in", "inline",
-	"inout", "InputPatch", "int", "interface", "line", "lineadj", "linear", "LineStream",
-	"matrix", "min16float", "min10float", "min16int", "min12int", "min16uint", "namespace",
-	"nointerpolation", "noperspective", "NULL", "out", "OutputPatch", "packoffset", "pass",
-	"pixelfragment", "PixelShader", "point", "PointStream", "precise", "RasterizerState",
-	"RenderTargetView", "return", "register", "row_major", "RWBuffer", "RWByteAddressBuffer",
-	"RWStructuredBuffer", "RWTexture1D", "RWTexture1DArray", "RWTexture2D", "RWTexture2DArray",
-	"RWTexture3D", "sample", "sampler", "SamplerState", "SamplerComparisonState", "shared",
-	"snorm", "stateblock", "stateblock_state", "static", "string", "struct", "switch",
-	"StructuredBuffer", "tbuffer", "technique", "technique10", "technique11", "texture",
-	"Texture1D", "Texture1DArray", "Texture2D", "Texture2DArray", "Texture2DMS",
-	"Texture2DMSArray", "Texture3D", "TextureCube", "TextureCubeArray", "true", "typedef",
-	"triangle", "triangleadj", "TriangleStream", "uint", "uniform", "unorm", "unsigned", "vector",
-	"vertexfragment", "VertexShader", "void", "volatile", "while",
-	/* reserved words */
-	"auto", "catch", "char", "const_cast", "delete", "dynamic_cast", "enum", "explicit",
-	"friend", "goto", "long", "mutable", "new", "operator", "private", "protected", "public",
-	"reinterpret_cast", "short", "signed", "sizeof", "static_cast", "template", "this", "throw",
-	"try", "typename", "union", "using", "virtual",
-	/* intrinsics the templates call */
-	"sqrt", "rsqrt", "rcp", "pow", "exp", "exp2", "log", "log2", "min", "max", "clamp",
-	"saturate", "lerp", "abs", "mad", "asfloat",
-	NULL,
-};
-
-static const char *const *const lang_words[3] = {c_words, glsl_words, hlsl_words};
-
-const char *bk_lang_word(bk_lang lang, size_t i)
-{
-	if ((unsigned)lang > BK_LANG_HLSL)
-		return NULL;
-	for (size_t k = 0; k <= i; k++)
-		if (!lang_words[lang][k])
-			return NULL;
-	return lang_words[lang][i];
-}
-
-/* HLSL's numeric vector and matrix types: a scalar type then N or NxM, 1..4. */
-static int hlsl_vector_type(const char *s)
-{
-	static const char *const scalar[] = {"bool", "int", "uint", "dword", "half", "float", "double",
-	                                     "min16float", "min10float", "min16int", "min12int", "min16uint"};
-	for (size_t i = 0; i < sizeof scalar / sizeof scalar[0]; i++) {
-		size_t n = strlen(scalar[i]);
-		if (strncmp(s, scalar[i], n) != 0)
-			continue;
-		const char *d = s + n;
-		if (d[0] >= '1' && d[0] <= '4' && (d[1] == '\0' || (d[1] == 'x' && d[2] >= '1' && d[2] <= '4' && !d[3])))
-			return 1;
-	}
-	return 0;
-}
-
-int bk_lang_reserved(bk_lang lang, const char *name)
-{
-	if ((unsigned)lang > BK_LANG_HLSL)
-		return 1;
-	for (const char *const *w = lang_words[lang]; *w; w++)
-		if (strcmp(*w, name) == 0)
-			return 1;
-	/* the body's own names: temporaries tN and the inputs (the parameters) */
-	if (name[0] == 't' && name[1] && strspn(name + 1, "0123456789") == strlen(name + 1))
-		return 1;
-	for (int i = 0; i < BK_IN_COUNT; i++)
-		if (strcmp(name, bk_input_name((bk_input)i)) == 0)
-			return 1;
-	switch (lang) {
-	case BK_LANG_C: /* C11 7.1.3: every _name is reserved at file scope, where the function is */
-		return name[0] == '_';
-	case BK_LANG_GLSL: /* GLSL ES 3.00 3.8: gl_ prefix; any __ */
-		return strncmp(name, "gl_", 3) == 0 || strstr(name, "__") != NULL;
-	case BK_LANG_HLSL:
-		return hlsl_vector_type(name);
-	}
-	return 1;
 }
 
 /* ---- constants the generated code would compute as NaN or infinity -------- */
@@ -381,7 +269,21 @@ static void spell_const_op(char *what, size_t len, const bk_instr *in, const dou
 		snprintf(what, len, "%s(%.9g, %.9g, %.9g)", name, a, b, c);
 }
 
-int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len)
+/* A value rounded as precision prec holds it (single, or half). */
+static double held(double v, bk_precision prec)
+{
+	return prec == BK_F16 ? bk_half_round((float)v) : (double)(float)v;
+}
+
+/* Walks the instructions the code computes from constants alone (literals,
+ * baked-in parameters; params NULL: parameters are not constants) in
+ * precision prec, each on its operands as prec holds them, as the code
+ * computes it; stops at the first for which bad(exact, held) says so, and
+ * names it in what: "exp2(127.99)", "the constant 1e-46", "p0 = 1e+39".
+ * Returns how many are bad (the first named), -1 if out of memory. */
+static int const_walk(const bk_form *f, const double *params, bk_precision prec,
+                      int (*bad)(double, double, bk_precision),
+                      char *what, size_t len, double *first)
 {
 	double *val = malloc(sizeof(double) * (size_t)f->n);
 	char *known = malloc((size_t)f->n);
@@ -391,7 +293,7 @@ int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t
 		free(known);
 		return -1;
 	}
-	for (int i = 0; i < f->n && !found; i++) {
+	for (int i = 0; i < f->n; i++) {
 		const bk_instr *in = &f->code[i];
 		int ops[3] = {in->a, in->b, in->c}, ar = bk_opinfo_table[in->op].arity;
 		known[i] = in->op == BK_OP_CONST || (in->op == BK_OP_PARAM && params);
@@ -399,27 +301,73 @@ int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t
 			known[i] = (char)(j == 0 ? known[ops[j]] : known[i] && known[ops[j]]);
 		if (!known[i])
 			continue;
-		/* what the float code computes: operands and each result in single */
-		double v = in->op == BK_OP_CONST ? in->k
-		         : in->op == BK_OP_PARAM ? params[in->slot]
-		         : bk_ir_apply(in->op, val[ops[0]], ar > 1 ? val[ops[1]] : 0, ar > 2 ? val[ops[2]] : 0);
-		val[i] = (float)v;
-		if (isfinite(val[i]))
+		double a = ar > 0 ? val[ops[0]] : 0, b = ar > 1 ? val[ops[1]] : 0, c = ar > 2 ? val[ops[2]] : 0;
+		double v = in->op == BK_OP_CONST ? in->k : in->op == BK_OP_PARAM ? params[in->slot] : bk_ir_apply(in->op, a, b, c);
+		val[i] = prec == BK_F16 && !is_leaf(in->op) ? bk_ir_apply_half(in->op, a, b, c) : held(v, prec);
+		if (!bad(v, val[i], prec) || found++)
 			continue;
-		found = 1;
-		char op[96];
+		*first = val[i];
 		if (in->op == BK_OP_CONST)
-			snprintf(op, sizeof op, "the constant %.9g", v);
+			snprintf(what, len, "the constant %.9g", v);
 		else if (in->op == BK_OP_PARAM)
-			snprintf(op, sizeof op, "p%d = %.9g", in->slot, v);
+			snprintf(what, len, "p%d = %.9g", in->slot, v);
 		else
-			spell_const_op(op, sizeof op, in, val);
-		snprintf(what, len, "%s is %s in single precision", op,
-		         isnan(val[i]) ? "NaN" : val[i] > 0 ? "+inf" : "-inf");
+			spell_const_op(what, len, in, val);
 	}
 	free(val);
 	free(known);
 	return found;
+}
+
+static int not_finite(double exact, double h, bk_precision prec)
+{
+	(void)exact, (void)prec;
+	return !isfinite(h);
+}
+
+int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len)
+{
+	char op[96];
+	double v = 0;
+	int n = const_walk(f, params, BK_F32, not_finite, op, sizeof op, &v);
+	if (n > 0)
+		snprintf(what, len, "%s is %s in single precision", op, isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf");
+	return n < 0 ? -1 : n > 0;
+}
+
+/* Finite and non-zero in double, but infinite, NaN, zero or subnormal once
+ * held (below the precision's smallest normal: 0 where GPUs flush). */
+static int out_of_range(double exact, double h, bk_precision prec)
+{
+	double tiny = prec == BK_F16 ? 0x1p-14 : 0x1p-126;
+	return isfinite(exact) && exact != 0 && !(isfinite(h) && fabs(h) >= tiny);
+}
+
+int bk_form_const_range(const bk_form *f, const double *params, bk_precision prec, char *what, size_t len)
+{
+	char op[96];
+	double v = 0;
+	int n = const_walk(f, params, prec, out_of_range, op, sizeof op, &v);
+	if (n > 0)
+		snprintf(what, len, "%s is %s in %s precision", op,
+		         isnan(v) ? "NaN" : isinf(v) ? (v > 0 ? "+inf" : "-inf") : v == 0 ? "0" : "subnormal (0 where GPUs flush)",
+		         prec == BK_F16 ? "half" : "single");
+	return n;
+}
+
+int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, size_t len)
+{
+	int n = 0;
+	for (int i = 0; i < f->n; i++) {
+		const bk_instr *in = &f->code[i];
+		if (in->op != BK_OP_CLAMP || !bk_ir_clamp_fixed_bounds(f, in) ||
+		    (!params && (f->code[in->b].op == BK_OP_PARAM || f->code[in->c].op == BK_OP_PARAM)))
+			continue;
+		float lo = bound(f, in->b, params), hi = bound(f, in->c, params);
+		if (lo > hi && !n++)
+			snprintf(what, len, "clamp(x, %.9g, %.9g)", lo, hi);
+	}
+	return n;
 }
 
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,

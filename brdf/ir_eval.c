@@ -7,12 +7,14 @@
  * before the next (the per-sample tree walk this replaces is what a fit with
  * 10^6 samples per iteration cannot afford). Half precision stores floats and
  * rounds every result with the rule of half.h — what a mediump GPU does; the
- * transcendental ops are computed in single precision first, as GPUs do.
+ * transcendental ops are computed in single precision first, as GPUs do, and
+ * pow, exp and log as the exp2, log2 and multiplies a GPU runs (below).
  */
 #include "half.h"
 #include "ir.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <tgmath.h>
 
@@ -64,8 +66,21 @@ static long double roundld(long double x) { return x; }
 #define MIN(x, y) ((((x) < (y)) | ((y) != (y))) ? (x) : (y))
 #define MAX(x, y) ((((x) > (y)) | ((y) != (y))) ? (x) : (y))
 
-/* KERNEL(name, T, R): R rounds a T to the precision being modelled. */
-#define KERNEL(NAME, T, R)                                                               \
+/*
+ * pow, exp and log as a GPU runs them (the op table's classes: pow = log2 +
+ * mul + exp2, exp = mul + exp2, log = log2 + mul; no GPU has e^x or x^y in
+ * hardware, and GLSL defines pow's precision as exp2(y log2 x)'s): in half
+ * (D = 1) each step is a mediump operation, rounded to half, the constants
+ * log2(e) and ln 2 included, and pow of a negative base is NaN (log2 of it),
+ * as GLSL and HLSL leave it. The other precisions keep libm's functions: f32
+ * is what the generated C computes with expf, logf and powf.
+ */
+#define LOG2E 1.44269504088896340736 /* log2(e) */
+#define LN2 0.693147180559945309417  /* ln(2) */
+
+/* KERNEL(name, T, R, D): R rounds a T to the precision being modelled; D: the
+ * GPU's decomposed pow, exp and log (above). */
+#define KERNEL(NAME, T, R, D)                                                            \
 	static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
 	                             const T *restrict B, const T *restrict C)              \
 	{                                                                                    \
@@ -77,13 +92,16 @@ static long double roundld(long double x) { return x; }
 		case BK_OP_DIV: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] / B[k]); break;       \
 		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
 		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
-		case BK_OP_POW: for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); break;   \
+		case BK_OP_POW: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(B[k] * R(log2(A[k]))))); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); } break; \
 		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
 		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
 		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
-		case BK_OP_EXP: for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); break;         \
+		case BK_OP_EXP: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(A[k] * R((T)LOG2E)))); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); } break;       \
 		case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) r[k] = R(exp2(A[k])); break;       \
-		case BK_OP_LOG: for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); break;         \
+		case BK_OP_LOG: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(R(log2(A[k])) * R((T)LN2)); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); } break;       \
 		case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) r[k] = R(log2(A[k])); break;       \
 		case BK_OP_MIN: for (k = 0; k < BLOCK; k++) r[k] = MIN(A[k], B[k]); break;      \
 		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = MAX(A[k], B[k]); break;      \
@@ -123,10 +141,10 @@ static long double roundld(long double x) { return x; }
 			out[k] = (double)res[k];                                                     \
 	}
 
-KERNEL(run64, double, round64)
-KERNEL(run32, float, round32)
-KERNEL(run16, float, round16)
-KERNEL(runld, long double, roundld)
+KERNEL(run64, double, round64, 0)
+KERNEL(run32, float, round32, 0)
+KERNEL(run16, float, round16, 1)
+KERNEL(runld, long double, roundld, 0)
 
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg)
@@ -172,30 +190,41 @@ static long double min_normal(bk_precision p)
 	return p == BK_F16 ? 0x1p-14L : p == BK_F32 ? 0x1p-126L : p == BK_F64 ? 0x1p-1022L : 0x1p-16382L;
 }
 
-/* Flags of one block, from the registers the kernel left. */
-static void block_flags(const bk_form *f, bk_precision prec, size_t m, const void *reg, unsigned char *flags,
-                        int first_op[3])
+/* What a leaf held before it was rounded to the precision: a constant, a
+ * parameter or an input sample. */
+static double leaf_source(const bk_instr *c, const double *const *blk, const double *params, size_t k)
+{
+	return c->op == BK_OP_CONST ? c->k : c->op == BK_OP_PARAM ? params[c->slot] : blk[c->slot][k];
+}
+
+/* Flags of one block, from the registers the kernel left. A leaf overflows
+ * when the precision cannot hold its value (70000 in half is inf): that is
+ * an intermediate like any other, which a later min or max may hide. Only
+ * operations count as subnormal: an input near 0 is the input's. */
+static void block_flags(const bk_form *f, bk_precision prec, size_t m, const void *reg,
+                        const double *const *blk, const double *params, unsigned char *flags, int first_op[3])
 {
 	long double tiny = min_normal(prec);
 	for (int i = 0; i < f->n; i++) {
 		const bk_instr *c = &f->code[i];
-		if (c->op == BK_OP_CONST || c->op == BK_OP_PARAM || c->op == BK_OP_INPUT)
-			continue;
-		int ops[3] = {c->a, c->b, c->c}, ar = bk_opinfo_table[c->op].arity;
+		int leaf = c->op == BK_OP_CONST || c->op == BK_OP_PARAM || c->op == BK_OP_INPUT;
+		int ops[3] = {c->a, c->b, c->c}, ar = leaf ? 0 : bk_opinfo_table[c->op].arity;
 		for (size_t k = 0; k < m; k++) {
 			long double r = reg_at(reg, prec, i, k);
 			int any_nan = 0, all_finite = 1;
+			if (leaf)
+				all_finite = isfinite(leaf_source(c, blk, params, k));
 			for (int j = 0; j < ar; j++) {
 				long double x = reg_at(reg, prec, ops[j], k);
 				any_nan |= isnan(x);
 				all_finite &= isfinite(x);
 			}
 			unsigned bit = 0;
-			if (isnan(r) && !any_nan)
+			if (isnan(r) && !any_nan && !leaf)
 				bit = BK_FLAG_NAN;
 			else if (isinf(r) && all_finite)
 				bit = BK_FLAG_OVERFLOW;
-			else if (r != 0 && fabsl(r) < tiny)
+			else if (r != 0 && fabsl(r) < tiny && !leaf)
 				bit = BK_FLAG_SUBNORMAL;
 			if (!bit)
 				continue;
@@ -228,7 +257,7 @@ static int eval(const bk_form *f, bk_precision prec, size_t n, const double *con
 		if (flags) {
 			for (size_t k = 0; k < m; k++)
 				flags[s + k] = 0;
-			block_flags(f, prec, m, reg, flags + s, first_op);
+			block_flags(f, prec, m, reg, blk, params, flags + s, first_op);
 		}
 	}
 	free(reg);
@@ -246,4 +275,52 @@ int bk_form_eval_flags(const bk_form *f, bk_precision prec, size_t n,
                        unsigned char *flags, int first_op[3])
 {
 	return eval(f, prec, n, in, params, out, flags, first_op);
+}
+
+/* ---- a form with no value anywhere ------------------------------------------ */
+
+int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len)
+{
+	static const double vals[] = {0, 1e-3, 0.3, 0.7, 1}; /* the ends of [0, 1] and inside */
+	enum { NV = sizeof vals / sizeof vals[0] };
+	if (f->nparams > 0 && !params)
+		return -1;
+	unsigned in = f->inputs;
+	int tie = (in >> BK_IN_R & 1) && (in >> BK_IN_A & 1), axis[BK_IN_COUNT], na = 0;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if ((in >> i & 1) && !(i == BK_IN_A && tie))
+			axis[na++] = i;
+	size_t n = 1;
+	for (int k = 0; k < na; k++)
+		n *= NV;
+	double *buf = malloc(sizeof(double) * n * (BK_IN_COUNT + 1));
+	if (!buf)
+		return -1;
+	const double *ptr[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		ptr[i] = buf + (size_t)i * n;
+	double *out = buf + (size_t)BK_IN_COUNT * n;
+	for (size_t s = 0; s < n; s++) {
+		size_t rest = s;
+		for (int k = 0; k < na; k++, rest /= NV)
+			buf[(size_t)axis[k] * n + s] = vals[rest % NV];
+		if (tie)
+			buf[(size_t)BK_IN_A * n + s] = buf[(size_t)BK_IN_R * n + s] * buf[(size_t)BK_IN_R * n + s];
+	}
+	int none = eval(f, BK_F64, n, ptr, params, out, NULL, NULL) == 0;
+	for (size_t s = 0; none && s < n; s++)
+		none = !isfinite(out[s]);
+	if (none && what && len) {
+		size_t at = 0;
+		what[0] = '\0';
+		for (int i = 0; i < BK_IN_COUNT && at < len; i++)
+			if ((in >> i & 1) && !(i == BK_IN_A && tie))
+				at += (size_t)snprintf(what + at, len - at, "%s%s = %g", at ? ", " : "", bk_input_name((bk_input)i),
+				                       buf[(size_t)i * n]);
+		if (at < len)
+			snprintf(what + at, len - at, "%s%s", at ? ": " : "it reads no input: ",
+			         isnan(out[0]) ? "NaN" : out[0] > 0 ? "+inf" : "-inf");
+	}
+	free(buf);
+	return none;
 }

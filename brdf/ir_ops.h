@@ -13,6 +13,15 @@
  *   - count classes are what a GPU executes for it (BK_K_FREE: a source modifier or
  *     a register read; pow = log2 + mul + exp2, exp = mul + exp2, log = log2 + mul,
  *     mix(x,y,t) = x + t(y - x) = add + mad).
+ *
+ * mix is written out, never as GLSL mix() or HLSL lerp(): those are defined
+ * as x(1 - t) + y t, which differs from x + t(y - x) in rounding, and in
+ * overflow where y - x exceeds the format (in half: inf against a number),
+ * and compilers pick either formula by context (Mesa's nir_lower_flrp: the
+ * defined one for a constant t or y = +-1, x + t(y - x) otherwise; LLVM's
+ * DirectX backend: x + s(y - x)). Spelled out, every language computes what
+ * the IR evaluates, and no GPU has a float lerp instruction, so the spelled-out
+ * add + mad is also what mix() costs once lowered.
  */
 /*  enum      name        ar  C                              GLSL                      HLSL                       classes           meaning */
 OP(CONST,    "",          0, "%k",                          "%k",                     "%k",                      BK_K_FREE)          /* R := constant k */
@@ -36,6 +45,6 @@ OP(MIN,      "min",       2, "fminf(%0, %1)",               "min(%0, %1)",      
 OP(MAX,      "max",       2, "fmaxf(%0, %1)",               "max(%0, %1)",            "max(%0, %1)",             BK_K_MINMAX)        /* R := max(A, B) */
 OP(CLAMP,    "clamp",     3, "fminf(fmaxf(%0, %1), %2)",    "clamp(%0, %1, %2)",      "clamp(%0, %1, %2)",       BK_K_MINMAX)        /* R := min(max(A, B), C) */
 OP(SATURATE, "saturate",  1, "fminf(fmaxf(%0, 0.0f), 1.0f)", "clamp(%0, 0.0, 1.0)",   "saturate(%0)",            BK_K_SATURATE)      /* R := clamp(A, 0, 1) */
-OP(MIX,      "mix",       3, "%0 + (%1 - %0) * %2",         "mix(%0, %1, %2)",        "lerp(%0, %1, %2)",        BK_K_ADD, BK_K_MAD)    /* R := A + (B - A) C */
+OP(MIX,      "mix",       3, "%0 + (%1 - %0) * %2",         "%0 + (%1 - %0) * %2",    "%0 + (%1 - %0) * %2",     BK_K_ADD, BK_K_MAD)    /* R := A + (B - A) C, spelled out */
 OP(ABS,      "abs",       1, "fabsf(%0)",                   "abs(%0)",                "abs(%0)",                 BK_K_FREE)          /* R := |A| (source modifier) */
 #undef OP

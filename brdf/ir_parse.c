@@ -335,7 +335,10 @@ static const struct binop *find_binop(int tok)
  * priority exceeds limit (precedence climbing, as Lua's subexpr). */
 static int subexpr(parser *P, int limit)
 {
-	if (++P->depth > MAX_DEPTH) {
+	/* levels: the outermost expression is level 0, each parenthesis, call,
+	 * operand of an operator or unary minus one deeper, so 200 nested
+	 * parentheses are 200 levels (the README's limit) and pass */
+	if (++P->depth > MAX_DEPTH + 1) {
 		P->depth--;
 		return error(P, "expression nested too deeply (more than %d levels)", MAX_DEPTH);
 	}

@@ -367,7 +367,7 @@ expect_error "form too long" "form:1:16385: form longer than 16384 characters" $
 awk 'BEGIN { s = "r"; for (i = 1; i < 4097; i++) s = s "+r"; print s }' >"$T/many.txt"
 expect_error "form too many instructions" "form too large (more than 4096 instructions)" $BK eval "@$T/many.txt" r=1
 awk 'BEGIN { for (i = 0; i < 300; i++) printf "("; printf "NoV"; for (i = 0; i < 300; i++) printf ")"; print "" }' >"$T/deep.txt"
-expect_error "form too deep" "form:1:201: expression nested too deeply (more than 200 levels)" $BK eval "@$T/deep.txt" NoV=1
+expect_error "form too deep" "form:1:202: expression nested too deeply (more than 200 levels)" $BK eval "@$T/deep.txt" NoV=1
 rm -f "$T/form.txt" "$T/bad.txt" "$T/nul.txt" "$T/long.txt" "$T/many.txt" "$T/deep.txt"
 
 # a start given twice is refused, not the last one silently taken

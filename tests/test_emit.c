@@ -515,3 +515,244 @@ Test(emit, parameters_required)
 	free(s);
 	bk_form_free(f);
 }
+
+/* ---- mix: the code computes what the IR evaluates ------------------------------
+ * GLSL's mix and HLSL's lerp are defined as x(1 - t) + y t; the IR evaluates
+ * x + (y - x) t (ir_ops.h: why). The two differ in half: found below by a
+ * search over half numbers, each formula computed operation by operation with
+ * the half module's rounding rule. The IR's f16 must be the second, and the
+ * code must spell the second out rather than call mix()/lerp(), whose formula
+ * a compiler chooses. */
+
+static double h16(double x) { return bk_half_round(x); }
+static double mix_spelled16(double x, double y, double t) { return h16(x + h16(h16(y - x) * t)); }
+static double mix_defined16(double x, double y, double t) { return h16(h16(x * h16(1 - t)) + h16(y * t)); }
+
+static int same_value(double a, double b) { return (isnan(a) && isnan(b)) || a == b; }
+
+static double ir_mix16(const bk_form *f, double x, double y, double t)
+{
+	double in[BK_IN_COUNT] = {0}, v = 0;
+	const double *ptr[BK_IN_COUNT];
+	in[BK_IN_NOV] = x, in[BK_IN_NOL] = y, in[BK_IN_LOH] = t;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		ptr[i] = &in[i];
+	cr_assert_eq(bk_form_eval(f, BK_F16, 1, ptr, NULL, &v), 0);
+	return v;
+}
+
+Test(emit, mix_in_half_is_the_spelled_out_formula)
+{
+	static const double xs[] = {-65504, -40000, -1000, -3.5, -1, -0.1, 0, 0.3, 1, 2.5, 1000, 40000, 65504};
+	static const double ts[] = {0, 0.1, 0.3, 0.5, 0.7, 0.9, 1, 1.5, -0.5};
+	bk_form *f = parse_or_fail("mix(NoV, NoL, LoH)");
+	double worst_rel = 0;
+	int finite_vs_not = 0, checked = 0;
+	for (size_t i = 0; i < sizeof xs / sizeof xs[0]; i++)
+		for (size_t j = 0; j < sizeof xs / sizeof xs[0]; j++)
+			for (size_t k = 0; k < sizeof ts / sizeof ts[0]; k++) {
+				double x = h16(xs[i]), y = h16(xs[j]), t = h16(ts[k]);
+				double want = mix_spelled16(x, y, t), other = mix_defined16(x, y, t);
+				double got = ir_mix16(f, x, y, t);
+				cr_assert(same_value(got, want), "mix(%g, %g, %g) in half: IR %g, x + (y - x) t step by step %g",
+				          x, y, t, got, want);
+				checked++;
+				if (isfinite(want) != isfinite(other))
+					finite_vs_not++;
+				else if (isfinite(want) && other != 0)
+					worst_rel = fmax(worst_rel, fabs(want - other) / fabs(other));
+			}
+	/* The inputs discriminate: where x + (y - x) t overflows (y - x past
+	 * 65504) the defined formula is a number, and finite results differ too. */
+	cr_assert_gt(finite_vs_not, 0, "no input where one formula is finite and the other not");
+	cr_assert_gt(worst_rel, 0.01, "the formulas never differ by 1 %% in half (largest %g)", worst_rel);
+	cr_assert_eq(checked, 13 * 13 * 9);
+	/* e.g. mix(-40000, 40000, 0.5): y - x = 80000 is inf in half, x(1-t) + yt = 0 */
+	cr_assert(isinf(mix_spelled16(-40000, 40000, 0.5)) && mix_defined16(-40000, 40000, 0.5) == 0);
+	bk_form_free(f);
+}
+
+/* The text: no mix()/lerp() call in any language, the IR's formula instead;
+ * and the mediump GLSL compiled by the reference front end has no FMix. */
+Test(emit, mix_is_spelled_out_in_every_language)
+{
+	bk_form *f = parse_or_fail("mix(NoV, NoL, LoH)");
+	for (bk_lang lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++)
+		for (int half = 0; half <= (lang != BK_LANG_C); half++) {
+			char *s = bk_form_emit(f, lang, half, NULL, NULL);
+			cr_assert_not_null(s);
+			const char *body = strstr(s, "*/");
+			cr_assert_not_null(body);
+			cr_assert_null(strstr(body, "mix("), "mix() called:\n%s", s);
+			cr_assert_null(strstr(body, "lerp("), "lerp() called:\n%s", s);
+			assert_contains(body, " = NoV + (NoL - NoV) * LoH;");
+			free(s);
+		}
+	need_glslang();
+	workdir w = workdir_new();
+	bk_emit_info info = {.name = "gen"};
+	char *code = bk_form_emit(f, BK_LANG_GLSL, 1, NULL, &info);
+	/* SPIR-V from ES needs 310 and a uniform block */
+	size_t len = strlen(code) + 512;
+	char *shader = malloc(len);
+	cr_assert_not_null(shader);
+	snprintf(shader, len,
+	         "#version 310 es\nprecision highp float;\n%s"
+	         "layout(std140, binding = 0) uniform U { highp float u_NoV, u_NoL, u_LoH; };\n"
+	         "layout(location = 0) out vec4 o;\nvoid main() { o = vec4(gen(u_NoV, u_NoL, u_LoH)); }\n",
+	         code);
+	char src[128], spv[128], log[128], dis[128];
+	snprintf(src, sizeof src, "%s/gen.frag", w.path);
+	snprintf(spv, sizeof spv, "%s/gen.spv", w.path);
+	snprintf(log, sizeof log, "%s/log.txt", w.path);
+	snprintf(dis, sizeof dis, "%s/gen.spvasm", w.path);
+	spit(src, shader);
+	run_or_fail(log, src, "glslangValidator -V -o '%s' '%s' && spirv-dis -o '%s' '%s'", spv, src, dis, spv);
+	char *asm_text = slurp(dis);
+	cr_assert_not_null(asm_text);
+	cr_assert_null(strstr(asm_text, "FMix"), "the SPIR-V calls FMix:\n%s", asm_text);
+	assert_contains(asm_text, "OpFSub");
+	assert_contains(asm_text, "OpFMul");
+	assert_contains(asm_text, "OpFAdd");
+	free(asm_text);
+	free(shader);
+	free(code);
+	workdir_free(&w);
+	bk_form_free(f);
+}
+
+/* ---- names: every one <math.h> gives a meaning is refused in C ------------------
+ * Derived from the system compiler, not from the table under test: the macros
+ * <math.h> defines and the functions it declares with glibc's widest feature
+ * set (_GNU_SOURCE), leading underscores aside (C refuses every _name). */
+
+static int scan_names(const char *cmd, int macros, int *checked)
+{
+	FILE *p = popen(cmd, "r");
+	cr_assert_not_null(p, "%s", cmd);
+	char line[4096];
+	int refused = 0;
+	while (fgets(line, sizeof line, p)) {
+		const char *s = line;
+		if (macros) { /* "#define NAME ..." or "#define NAME(args) ..." */
+			if (strncmp(s, "#define ", 8))
+				continue;
+			s += 8;
+		}
+		for (; *s; s++) {
+			if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || *s == '_') ||
+			    (s > line && (s[-1] == '_' || (s[-1] >= '0' && s[-1] <= '9') || (s[-1] >= 'A' && s[-1] <= 'Z') ||
+			                  (s[-1] >= 'a' && s[-1] <= 'z'))))
+				continue;
+			size_t n = strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_");
+			const char *after = s + n;
+			while (*after == ' ')
+				after++;
+			if ((macros || *after == '(') && s[0] != '_' && n < 64) {
+				char name[64];
+				memcpy(name, s, n);
+				name[n] = '\0';
+				(*checked)++;
+				refused += bk_lang_reserved(BK_LANG_C, name);
+				cr_assert_eq(bk_lang_reserved(BK_LANG_C, name), 1, "<math.h> name '%s' accepted", name);
+			}
+			if (macros)
+				break;
+			s += n - 1;
+		}
+	}
+	cr_assert_eq(pclose(p), 0, "%s", cmd);
+	return refused;
+}
+
+Test(emit, every_math_h_name_is_refused_in_c)
+{
+	int checked = 0;
+	scan_names("echo '#include <math.h>' | cc -E -dM -D_GNU_SOURCE -x c -", 1, &checked);
+	int macros = checked;
+	scan_names("echo '#include <math.h>' | cc -E -P -D_GNU_SOURCE -x c -", 0, &checked);
+	/* the header was read: its macros and some 800 declarations (glibc 2.36) */
+	cr_assert_gt(macros, 100);
+	cr_assert_gt(checked - macros, 500);
+	/* negative control: a name no header gives is accepted */
+	cr_assert_eq(bk_lang_reserved(BK_LANG_C, "D_ggx_fit"), 0);
+}
+
+/* ---- clamp: defined in every language where the IR is ---------------------------
+ * GLSL and HLSL leave clamp(x, lo, hi) undefined for lo > hi; the IR (and C's
+ * fminf(fmaxf())) give hi. clamp() only with fixed bounds in order. */
+
+static char *emit_text(const char *text, bk_lang lang, const double *params)
+{
+	bk_form *f = parse_or_fail(text);
+	char *s = bk_form_emit(f, lang, 0, params, NULL);
+	cr_assert_not_null(s);
+	bk_form_free(f);
+	return s;
+}
+
+Test(emit, clamp_is_called_only_with_fixed_bounds_in_order)
+{
+	static const double p_ordered[] = {0.2, 0.9}, p_reversed[] = {0.9, 0.2};
+	for (bk_lang lang = BK_LANG_GLSL; lang <= BK_LANG_HLSL; lang++) {
+		char *s = emit_text("clamp(NoV, 0.1, 1)", lang, NULL);
+		assert_contains(s, "= clamp(NoV, 0.1, 1.0);");
+		free(s);
+		s = emit_text("clamp(NoV, p0, p1)", lang, p_ordered);
+		assert_contains(s, "= clamp(NoV, 0.2, 0.9);");
+		free(s);
+		s = emit_text("clamp(NoV, p0, p1)", lang, p_reversed);
+		assert_contains(s, "= min(max(NoV, 0.9), 0.2);");
+		free(s);
+		s = emit_text("clamp(NoV, NoL, 1)", lang, NULL);
+		assert_contains(s, "= min(max(NoV, NoL), 1.0);");
+		free(s);
+	}
+	char *s = emit_text("clamp(NoV, NoL, 1)", BK_LANG_C, NULL);
+	assert_contains(s, "= fminf(fmaxf(NoV, NoL), 1.0f);");
+	free(s);
+	/* counted as what runs: one clamp, or a max and a min */
+	bk_ops o;
+	bk_form *f = parse_or_fail("clamp(NoV, 0.1, 1)");
+	bk_form_count(f, &o);
+	cr_assert_eq(o.n[BK_K_MINMAX], 1);
+	bk_form_free(f);
+	f = parse_or_fail("clamp(NoV, NoL, 1)");
+	bk_form_count(f, &o);
+	cr_assert_eq(o.n[BK_K_MINMAX], 2);
+	/* and said: a fixed pair out of order is hi everywhere */
+	char what[96] = "";
+	cr_assert_eq(bk_form_clamp_reversed(f, NULL, what, sizeof what), 0);
+	bk_form_free(f);
+	f = parse_or_fail("clamp(NoV, 1, 0) + clamp(NoL, p0, p1)");
+	cr_assert_eq(bk_form_clamp_reversed(f, p_reversed, what, sizeof what), 2);
+	cr_assert_str_eq(what, "clamp(x, 1, 0)");
+	cr_assert_eq(bk_form_clamp_reversed(f, p_ordered, what, sizeof what), 1);
+	bk_form_free(f);
+}
+
+/* ---- constants a precision cannot hold -------------------------------------------- */
+
+static void const_range(const char *text, bk_precision prec, int want, const char *msg)
+{
+	bk_form *f = parse_or_fail(text);
+	char what[200] = "";
+	cr_assert_eq(bk_form_const_range(f, NULL, prec, what, sizeof what), want, "%s: %s", text, what);
+	if (msg)
+		cr_assert_str_eq(what, msg, "%s", text);
+	bk_form_free(f);
+}
+
+Test(emit, constants_out_of_the_precisions_range)
+{
+	/* 127.99 is 128 in half, and 2^128 is past half's (and float's) range */
+	const_range("exp2(127.99)*NoV", BK_F16, 1, "exp2(128) is +inf in half precision");
+	const_range("exp2(127.99)*NoV", BK_F32, 0, NULL); /* 3.3e38 < FLT_MAX */
+	const_range("1e-46*NoV", BK_F32, 1, "the constant 1e-46 is 0 in single precision");
+	const_range("1e-40*NoV", BK_F32, 1, "the constant 1e-40 is subnormal (0 where GPUs flush) in single precision");
+	const_range("70000*NoV", BK_F16, 1, "the constant 70000 is +inf in half precision");
+	const_range("1e-5*NoV + 1e-6", BK_F16, 2, "the constant 1e-05 is subnormal (0 where GPUs flush) in half precision");
+	/* negative controls: normal numbers in range, and 0 itself */
+	const_range("0.5*NoV + exp2(15) + 0*NoL", BK_F16, 0, NULL);
+	const_range("1e-30*NoV + 1e38", BK_F32, 0, NULL);
+}

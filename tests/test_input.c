@@ -95,26 +95,27 @@ Test(limits, instructions)
 	free(s);
 }
 
-/* Nesting: the whole form is level 1, each '(' or unary minus one more; 200
- * levels parse, the operand at level 201 is the error. */
+/* Nesting: the whole form is level 0, each '(' or unary minus one more
+ * (README: "200 levels deep"); 200 levels parse, the operand at level 201 is
+ * the error. */
 Test(limits, depth)
 {
 	char buf[1000];
-	memset(buf, '(', 199);
-	strcpy(buf + 199, "NoV");
-	memset(buf + 202, ')', 199);
-	buf[401] = '\0';
-	cr_assert_eq(eval_at_one(buf), 1.0);
 	memset(buf, '(', 200);
 	strcpy(buf + 200, "NoV");
 	memset(buf + 203, ')', 200);
 	buf[403] = '\0';
-	parse_fails(buf, 201, "expression nested too deeply (more than 200 levels) near 'NoV'");
+	cr_assert_eq(eval_at_one(buf), 1.0);
+	memset(buf, '(', 201);
+	strcpy(buf + 201, "NoV");
+	memset(buf + 204, ')', 201);
+	buf[405] = '\0';
+	parse_fails(buf, 202, "expression nested too deeply (more than 200 levels) near 'NoV'");
 	char *neg = repeat("-", "", 199), text[300];
-	snprintf(text, sizeof text, "%sNoV", neg);
-	cr_assert_eq(eval_at_one(text), -1.0); /* an odd number of minus signs */
 	snprintf(text, sizeof text, "-%sNoV", neg);
-	parse_fails(text, 201, "expression nested too deeply (more than 200 levels) near 'NoV'");
+	cr_assert_eq(eval_at_one(text), 1.0); /* an even number of minus signs */
+	snprintf(text, sizeof text, "--%sNoV", neg);
+	parse_fails(text, 202, "expression nested too deeply (more than 200 levels) near 'NoV'");
 	free(neg);
 }
 

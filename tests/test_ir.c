@@ -127,6 +127,42 @@ Test(parse, nesting_is_bounded)
 	cr_assert_str_eq(e.message, "expression nested too deeply (more than 200 levels) near '('");
 }
 
+/* "200 levels deep" (README): 200 nested parentheses, calls or unary minus
+ * are read, and give the value; 201 are refused. */
+static char *nested(int n, const char *open, const char *inner, const char *close)
+{
+	size_t len = (size_t)n * (strlen(open) + strlen(close)) + strlen(inner) + 1;
+	char *s = malloc(len), *p = s;
+	cr_assert_not_null(s);
+	for (int i = 0; i < n; i++)
+		p += sprintf(p, "%s", open);
+	p += sprintf(p, "%s", inner);
+	for (int i = 0; i < n; i++)
+		p += sprintf(p, "%s", close);
+	return s;
+}
+
+Test(parse, two_hundred_levels_pass_and_201_do_not)
+{
+	static const char *const kind[][2] = {{"(", ")"}, {"abs(", ")"}, {"- ", ""}};
+	for (size_t k = 0; k < sizeof kind / sizeof kind[0]; k++)
+		for (int n = 199; n <= 201; n++) {
+			char *text = nested(n, kind[k][0], "0.5", kind[k][1]);
+			bk_form_error e;
+			bk_form *f = bk_form_parse(text, &e);
+			if (n <= 200) {
+				cr_assert_not_null(f, "%d levels of %s: %s", n, kind[k][0], e.message);
+				double want = k == 2 && n % 2 ? -0.5 : 0.5; /* an odd number of minus signs */
+				cr_assert_eq(eval1(text, BK_F64, NULL), want, "%d levels of %s", n, kind[k][0]);
+			} else {
+				cr_assert_null(f, "%d levels of %s accepted", n, kind[k][0]);
+				cr_assert_not_null(strstr(e.message, "nested too deeply (more than 200 levels)"), "%s", e.message);
+			}
+			bk_form_free(f);
+			free(text);
+		}
+}
+
 /* Precedence: ^ over unary minus over * / over + -; ^ right-associative. */
 Test(parse, precedence_and_associativity)
 {
@@ -434,4 +470,82 @@ Test(fuzz, replay_corpus_and_regressions)
 	cr_assert_eq(exercise("NoV/0 + log(-1) + sqrt(-NoL) + pow(0, -1) + rsqrt(0)"), 1);
 	cr_assert_eq(exercise("p15*p0 - p15*p0"), 1);
 	cr_assert_eq(exercise("\x01\xff"), 0);
+}
+
+/* ---- pow, exp and log in half: as the GPU runs them ---------------------------
+ * A mediump GPU has no e^x, ln or x^y: it runs exp2(x log2 e), log2(x) ln 2
+ * and exp2(y log2 x), each step in half with the constants held in half
+ * (the op table's classes say the same). Computed here step by step with the
+ * half rounding rule; the inputs are chosen where this differs from the
+ * correctly rounded value (and must, for the test to mean anything). */
+
+static double h(double x) { return bk_half_round(x); }
+
+static double eval_at(const char *text, bk_precision p, double NoV, const double *params)
+{
+	double NoL = 0.5, NoH = 0.5, LoH = 0.5, r = 0.5, a = 0.25, f0 = 0.04, out;
+	const double *in[BK_IN_COUNT] = {&NoV, &NoL, &NoH, &LoH, &r, &a, &f0};
+	bk_form *f = parse_ok(text);
+	cr_assert_eq(bk_form_eval(f, p, 1, in, params, &out), 0);
+	bk_form_free(f);
+	return out;
+}
+
+Test(eval, pow_exp_log_in_half_are_the_gpus_steps)
+{
+	const double l2e = h(1.4426950408889634), ln2 = h(0.6931471805599453);
+	cr_assert_neq(l2e, 1.4426950408889634); /* log2(e) is not a half number */
+	int differs = 0;
+	for (double x = -9.5; x <= 10; x += 0.75) {
+		double hx = h(x), want = h(exp2(h(hx * l2e)));
+		double got = eval_at("exp(NoV)", BK_F16, x, NULL);
+		cr_assert_eq(got, want, "exp(%g) in half: %a, step by step %a", hx, got, want);
+		differs += got != h(exp(hx));
+		double lx = fabs(x) + 0.3, hl = h(lx), wl = h(h(log2(hl)) * ln2);
+		cr_assert_eq(eval_at("log(NoV)", BK_F16, lx, NULL), wl, "log(%g) in half", hl);
+		double y[1] = {2.5}, wp = h(exp2(h(2.5 * h(log2(hl)))));
+		cr_assert_eq(eval_at("pow(NoV, p0)", BK_F16, lx, y), wp, "pow(%g, 2.5) in half", hl);
+	}
+	cr_assert_gt(differs, 3, "exp in half never differs from the correctly rounded value (%d)", differs);
+	/* a negative base: log2 of it is NaN on a GPU (GLSL and HLSL leave it undefined) */
+	double two[1] = {2};
+	cr_assert(isnan(eval_at("pow(NoV, p0)", BK_F16, -2, two)));
+	cr_assert_eq(eval_at("pow(NoV, p0)", BK_F64, -2, two), 4.0); /* libm's pow in double */
+	/* single precision stays what the generated C computes: expf, logf, powf */
+	cr_assert_eq(eval_at("exp(NoV)", BK_F32, 10, NULL), (double)expf(10.0f));
+	double y[1] = {2.5};
+	cr_assert_eq(eval_at("pow(NoV, p0)", BK_F32, 0.7, y), (double)powf(0.7f, 2.5f));
+}
+
+/* ---- a form with no value anywhere on its inputs' domain ------------------------- */
+
+static int nowhere(const char *text, const double *params, char *what, size_t len)
+{
+	bk_form *f = parse_ok(text);
+	int rc = bk_form_nowhere_finite(f, params, what, len);
+	bk_form_free(f);
+	return rc;
+}
+
+Test(eval, nowhere_finite_forms_are_found)
+{
+	char what[96];
+	cr_assert_eq(nowhere("NoV/0", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0: NaN"); /* 0/0 at the first sample, inf elsewhere */
+	cr_assert_eq(nowhere("1/(NoV - NoV)", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0: +inf");
+	cr_assert_eq(nowhere("sqrt(NoV - 2) + r", NULL, what, sizeof what), 1);
+	cr_assert_str_eq(what, "NoV = 0, r = 0: NaN");
+	cr_assert_eq(nowhere("log(NoV - NoV)", NULL, what, sizeof what), 1);
+	double p[1] = {-1};
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", p, what, sizeof what), 1);
+	cr_assert_eq(nowhere("sqrt(p0)", p, what, sizeof what), 1);
+	cr_assert_str_eq(what, "it reads no input: NaN");
+	/* finite somewhere: a pole at one point, a value at one end, r/a = 1/r */
+	cr_assert_eq(nowhere("NoV/NoL", NULL, what, sizeof what), 0);
+	cr_assert_eq(nowhere("sqrt(NoV - 0.999)", NULL, what, sizeof what), 0);
+	cr_assert_eq(nowhere("r/a", NULL, what, sizeof what), 0);
+	p[0] = 1;
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", p, what, sizeof what), 0);
+	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", NULL, what, sizeof what), -1); /* parameters needed */
 }

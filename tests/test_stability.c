@@ -168,26 +168,42 @@ Test(stability, a_flush_below_the_smallest_normal_is_not_wrong)
 	cr_assert_eq(st.p[2].wrong, 0);
 }
 
-/* The analysis has no form length limit: 700 terms 0*r (0 in every
- * precision) in front of 1/r^4 make a form of 4 KB that overflows half for
- * small r like 1/r^4 alone, with the same guard: the result clamped to
- * 65504, around the whole form. */
+/* The analysis has no form length limit of its own: 500 terms 0*r (0 in
+ * every precision) in front of 1/r^4 make a form of 3 KB that overflows half
+ * for small r like 1/r^4 alone, with the same guard: a roughness floor,
+ * written into every r of the whole form. With 700 terms (4 KB) the guarded
+ * text would pass the parser's 16384 characters: said so, not "nothing
+ * fixes it". */
+static void filler(char *text, size_t len, int terms)
+{
+	size_t k = 0;
+	for (int i = 0; i < terms; i++)
+		k += (size_t)snprintf(text + k, len - k, "0*r + ");
+	snprintf(text + k, len - k, "1/(r*r*r*r)");
+}
+
 Test(stability, forms_of_any_length)
 {
-	static char text[8192], want[8192 + 16];
-	size_t k = 0;
-	for (int i = 0; i < 700; i++)
-		k += (size_t)snprintf(text + k, sizeof text - k, "0*r + ");
-	snprintf(text + k, sizeof text - k, "1/(r*r*r*r)");
-	cr_assert_gt(strlen(text), 4000);
+	static char text[8192], guards[256], tail[4096];
 	run("1/(r*r*r*r)");
-	cr_assert_str_eq(st.guarded, "min(1/(r*r*r*r), 65504)");
+	cr_assert(st.guarded_ok && strstr(st.guards, "roughness floor r >= "), "%s", st.guards);
+	snprintf(guards, sizeof guards, "%s", st.guards);
+	snprintf(tail, sizeof tail, " + %s", st.guarded);
 	size_t wrong = st.p[2].wrong;
+	filler(text, sizeof text, 500);
+	cr_assert_gt(strlen(text), 3000);
 	run(text);
 	cr_assert_eq(st.p[2].wrong, wrong);
-	snprintf(want, sizeof want, "min(%s, 65504)", text);
 	cr_assert(st.guarded_ok, "%s", st.guards);
-	cr_assert_str_eq(st.guarded, want);
+	cr_assert_str_eq(st.guards, guards);
+	size_t n = strlen(st.guarded), m = strlen(tail);
+	cr_assert(n > 3000 + m && strcmp(st.guarded + n - m, tail) == 0, "%s", st.guarded + n - m);
+	filler(text, sizeof text, 700);
+	cr_assert_gt(strlen(text), 4000);
+	run(text);
+	cr_assert_eq(st.p[2].wrong, wrong);
+	cr_assert_eq(st.guarded_ok, 0);
+	cr_assert_not_null(strstr(st.guards, "form longer than 16384 characters"), "%s", st.guards);
 }
 
 /* A form with parameters needs their values: zeros would be a silent guess. */
@@ -219,4 +235,78 @@ Test(stability, every_constant_half_cannot_hold_is_counted)
 	cr_assert_not_null(tail, "%s", st.constants);
 	cr_assert_eq(sscanf(tail, "and %d more", &more), 1, "%s", tail);
 	cr_assert_eq(shown + more, 300, "%d shown, %d more", shown, more);
+}
+
+/* ---- issue 21: nothing is safe that is not finite, or right only by luck ---- */
+
+static void run_fails(const char *text, const char *want)
+{
+	char err[256] = "";
+	bk_stability_free(&st);
+	cr_assert_eq(bk_stability_run("form", text, NULL, BK_STAB_TOL, &st, err, sizeof err), -1, "%s accepted", text);
+	cr_assert_not_null(strstr(err, want), "%s: %s", text, err);
+}
+
+/* NaN or infinite at every sample, in long double too: nothing can be judged
+ * against such a reference, and nothing it holds is "safe". sqrt(NoV - 2) and
+ * log2(NoV - 1) (NaN for NoV < 1, -inf at 1) read NoV only, 11 cosines x 13
+ * roughness values of the grid; 1/0 reads nothing, one sample per r. */
+Test(stability, a_form_nonfinite_everywhere_is_refused)
+{
+	run_fails("sqrt(NoV-2)", "NaN or infinite at every one of the 143 samples of the grid (NoV = 0: NaN)");
+	run_fails("log2(NoV-1)", "NaN or infinite at every one of the 143 samples of the grid (NoV = 0: NaN)");
+	run_fails("1/0", "NaN or infinite at every one of the 13 samples of the grid (it reads no input: +inf)");
+	/* negative control: finite at one sample of 143 (NoV = 1) is judged */
+	run("sqrt(NoV-1)");
+	cr_assert_eq(st.ref_nonfinite, 130);
+	cr_assert_eq(st.safe_as_is, 0);
+}
+
+/* A pole somewhere (NoV/NoV is 0/0 at NoV = 0, in every precision): no
+ * precision is wrong there, but the form is not safe as is. */
+Test(stability, a_form_with_a_pole_is_never_safe_as_is)
+{
+	run("NoV/NoV");
+	cr_assert_eq(st.p[2].wrong, 0);
+	cr_assert_eq(st.ref_nonfinite, (size_t)bk_stab_nr);
+	cr_assert_eq(st.safe_as_is, 0);
+	cr_assert_str_eq(st.pole, "NoV = 0: NaN");
+	run("NoV/(NoV + 1)"); /* negative control */
+	cr_assert_eq(st.safe_as_is, 1);
+}
+
+/* (300 NoV)^2 passes 65504 for NoV >= 0.9 and rounds to 0 below 2^-25 for
+ * NoV <= 1e-7 (an overflow, or 0/0): half gets inf/inf or 0/0 = NaN, which
+ * min(1, NaN) hides as 1, the right answer. Counted per grid cosine from
+ * those bounds, at each of the 13 roughness values; in double only NoV = 0
+ * is 0/0. The 201^2 = 40401 of the negative control stays in range. */
+Test(stability, an_overflow_hidden_by_min_is_never_safe)
+{
+	size_t want = 0;
+	for (int c = 0; c < bk_stab_ncos; c++) {
+		double x = 300 * bk_stab_cos[c];
+		want += (x * x > 65504 || x * x < 0x1p-25) * (size_t)bk_stab_nr;
+	}
+	cr_assert_eq(want, 6 * 13);
+	cr_assert_eq(half_eval("min(1, sq(NoV*300)/sq(NoV*300))", 1, 0.5, 0.5, 0.5, 0.5), 1.0, "hidden in the value");
+	run("min(1, sq(NoV*300)/sq(NoV*300))");
+	cr_assert_eq(st.p[2].wrong, want);
+	cr_assert_eq(st.p[2].hidden, want);
+	cr_assert_eq(st.p[0].wrong, (size_t)bk_stab_nr, "0/0 at NoV = 0 in double too");
+	cr_assert_eq(st.safe_as_is, 0);
+	cr_assert_eq(st.guarded_ok, 0, "%s", st.guards);
+	run("min(1, sq(NoV*200 + 1)/sq(NoV*200 + 1))");
+	cr_assert_eq(st.p[2].wrong, 0);
+	cr_assert_eq(st.safe_as_is, 1);
+}
+
+/* 70000 cannot be held in half: the constant itself overflows, and inf * NoV
+ * = inf, min(1, inf) = 1 is the right value for NoV >= 1.5e-5. Every sample
+ * fails in half; single holds 70000 and is right. */
+Test(stability, a_constant_half_cannot_hold_is_an_overflow)
+{
+	run("min(1, 70000*NoV)");
+	cr_assert_eq(st.p[2].wrong, st.p[2].n);
+	cr_assert_eq(st.p[1].wrong, 0);
+	cr_assert_eq(st.safe_as_is, 0);
 }

@@ -7,6 +7,7 @@
 #include "catalog.h"
 #include "cli.h"
 #include "cmd.h"
+#include "form_check.h"
 #include "gpucost.h"
 #include "out.h"
 
@@ -23,6 +24,7 @@ typedef struct gc_row {
 	const char *text[2]; /* formula text of A (and B for a split-sum entry) */
 	double params[BK_MAX_PARAMS];
 	int have[BK_MAX_PARAMS];
+	int given[BK_MAX_PARAMS]; /* pN= on the command line */
 	int typed;           /* typed on the command line: takes p0=... */
 	bk_form *f[2];
 	char *own[2];        /* text read from a search front, freed with the row */
@@ -51,8 +53,12 @@ static int param_arg(const char *arg, gc_row *last)
 		                "published constants)\n", arg);
 		return 2;
 	}
+	if (last->given[i]) {
+		fprintf(stderr, "brdfkit gpucost: p%ld given twice for %s\n", i, last->name);
+		return 2;
+	}
 	last->params[i] = v;
-	last->have[i] = 1;
+	last->have[i] = last->given[i] = 1;
 	return 1;
 }
 
@@ -92,23 +98,26 @@ static int read_row(const char *arg, int index, gc_row *r)
 	return 0;
 }
 
-/* Parses a row's form(s): the column of a syntax error, missing parameters. */
+/* Parses a row's form(s): the column of a syntax error; then the shared
+ * checks: a value for every parameter used, none given that is unused, and
+ * a form with a value somewhere (form_check.h). */
 static int parse_row(gc_row *r)
 {
+	int np = 0, rc;
 	for (int p = 0; p < 2 && r->text[p]; p++) {
 		bk_form_error fe;
 		if (!(r->f[p] = bk_form_parse(r->text[p], &fe))) {
 			fprintf(stderr, "brdfkit gpucost: %s:1:%d: %s\n", r->typed ? "form" : r->name, fe.column, fe.message);
 			return 2;
 		}
-		int np = bk_form_nparams(r->f[p]);
-		for (int k = 0; k < np; k++)
-			if (!r->have[k]) {
-				fprintf(stderr, "brdfkit gpucost: %s: missing p%d=VALUE after it (the form uses p0..p%d)\n",
-				        r->name, k, np - 1);
-				return 2;
-			}
+		int k = bk_form_nparams(r->f[p]);
+		np = k > np ? k : np;
 	}
+	if ((rc = form_check_params("gpucost", r->name, np, r->have, r->typed ? r->given : NULL)))
+		return rc;
+	for (int p = 0; p < 2 && r->f[p]; p++)
+		if ((rc = form_check_finite("gpucost", r->name, r->f[p], r->params)))
+			return rc;
 	return 0;
 }
 
@@ -443,6 +452,12 @@ static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
 	char driver[256] = "", err[600];
 	if (!rc && (rc = bk_gpucost_run(jobs, n, &chip, 1, fp16, driver, sizeof driver, NULL, err, sizeof err)))
 		rc = cli_fail("gpucost", "%s", err);
+	/* a job the chip could not compile (fp16 without shaderFloat16) has no
+	 * counts: zeros fitted as counts made "rms 0, Spearman 1" of nothing */
+	for (int i = 0; !rc && i < n; i++)
+		if (!jobs[i].ok[0])
+			rc = cli_usage(cmd, "--calibrate: nothing measured: %s has no shaderFloat16, so no fp16 count (calibrate "
+			               "fp16 on a chip that has it, or fp32 here)", chip);
 	double ws = 0, wc = 0;
 	for (int i = 0; !rc && i < n; i++) {
 		s[i] = c[i].simple;

@@ -8,6 +8,7 @@
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
+#include "form_check.h"
 
 #include <errno.h>
 #include <math.h>
@@ -82,9 +83,12 @@ static int assignment(const char *cmd, const char *arg, char *name, size_t nlen,
 	return 0;
 }
 
-/* p0..p15 from NAME=VALUE arguments; other names go to inputs (if not NULL). */
+/* p0..p15 from NAME=VALUE arguments; other names go to inputs (if not NULL).
+ * Every parameter the form uses needs a value, and every pN= given must be
+ * one it uses (form_check_params). */
 static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inputs, int *given)
 {
+	int given_p[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) {
 		char name[32];
 		double v;
@@ -103,7 +107,7 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 				return 2;
 			}
 			fa->params[k] = v;
-			fa->have[k] = 1;
+			fa->have[k] = given_p[k] = 1;
 			continue;
 		}
 		int found = 0;
@@ -126,13 +130,7 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 			return 2;
 		}
 	}
-	for (int k = 0; k < bk_form_nparams(fa->f); k++)
-		if (!fa->have[k]) {
-			fprintf(stderr, "brdfkit %s: missing p%d=VALUE (the form uses p0..p%d)\n", cmd, k,
-			        bk_form_nparams(fa->f) - 1);
-			return 2;
-		}
-	return 0;
+	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_nparams(fa->f), fa->have, given_p);
 }
 
 /* Significant digits that read back as x: 0.1, not 0.10000000000000001. */
@@ -247,6 +245,11 @@ int cmd_ops(int argc, char **argv)
 	form_arg fa;
 	if ((rc = load_form("ops", cmd.pos[0], &fa)))
 		return rc;
+	/* no pN= here: a typed form's parameters are unknown, only its constants are checked */
+	if ((rc = form_check_finite("ops", fa.entry ? fa.label : "form", fa.f, fa.entry ? fa.params : NULL))) {
+		bk_form_free(fa.f);
+		return rc;
+	}
 	bk_ops o;
 	bk_form_count(fa.f, &o);
 	bk_form_free(fa.f);
@@ -333,9 +336,14 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: --name: not an identifier: '%s'\n", fname);
 		return 2;
 	}
+	if (fname && strlen(fname) > BK_NAME_MAX) {
+		fprintf(stderr, "brdfkit codegen: --name: %zu characters, more than %d (C11 keeps %d significant in an "
+		                "internal name)\n", strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
+		return 2;
+	}
 	if (fname && bk_lang_reserved(L, fname)) {
-		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, library "
-		                "function or a name the body uses)\n", fname, lang);
+		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, standard library "
+		                "function or macro, entry point, reserved prefix, or a name the body uses)\n", fname, lang);
 		return 2;
 	}
 	if (cli_form_positionals(&cmd, 0))
@@ -363,24 +371,24 @@ int cmd_codegen(int argc, char **argv)
 		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
 		.command = command,
 	};
-	if (half) { /* every literal of a mediump/half shader must be a half number */
-		double k[256];
-		int nk = bk_form_constants(fa.f, k, 256);
-		for (int j = 0; j < bk_form_nparams(fa.f) && nk < 256; j++)
-			k[nk++] = fa.params[j];
-		for (int j = 0; j < nk && j < 256; j++) {
-			double x = fabs(k[j]);
-			if (x > 65504.0 || (x != 0 && x < 0x1p-14))
-				fprintf(stderr, "brdfkit codegen: warning: constant %.9g is %s in half precision\n", k[j],
-				        x > 65504.0 ? "infinite" : "subnormal (0 on GPUs that flush)");
-		}
-	}
-	char what[160];
-	if (bk_form_nonfinite(fa.f, fa.params, what, sizeof what) > 0) {
+	if ((rc = form_check_finite("codegen", fa.entry ? fa.label : "form", fa.f, fa.params))) {
 		bk_form_free(fa.f);
-		fprintf(stderr, "brdfkit codegen: the code would compute a constant that is not finite: %s\n", what);
-		return 2;
+		return rc;
 	}
+	/* Warnings, not errors: the code is valid and computes what the IR does
+	 * in that precision (bk_form_eval rounds the same literals), and a GPU
+	 * may run mediump at single precision's range; but a constant the
+	 * precision cannot hold is rarely what was meant. A clamp whose bounds
+	 * are out of order is hi everywhere: spelled min(max()), defined. */
+	char what[200];
+	int nbad = bk_form_const_range(fa.f, fa.params, half ? BK_F16 : BK_F32, what, sizeof what);
+	if (nbad > 0)
+		fprintf(stderr, "brdfkit codegen: warning: %s%s\n", what,
+		        nbad > 1 ? " (and more constants the precision cannot hold)" : "");
+	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
+		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
+		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
+		        what);
 	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);
 	if (!text)

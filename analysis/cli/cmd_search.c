@@ -1151,8 +1151,7 @@ static int score_member(job *J, member *m, const double *start, int fit)
 			analysed = 0;
 			continue;
 		}
-		const bk_stab_prec *h = &st.p[2];
-		int w = h->wrong == 0 ? 0 : st.guarded_ok ? 1 : 2;
+		int w = st.safe_as_is ? 0 : st.guarded_ok ? 1 : 2; /* stability.h: a pole is never "as is" */
 		if (w > worst) /* the worse of A and B */
 			worst = w;
 		bk_stability_free(&st);

@@ -9,6 +9,7 @@
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
+#include "form_check.h"
 #include "heatmap.h"
 #include "stability.h"
 
@@ -122,12 +123,9 @@ static int check_params(const cli_cmd *cmd, const item *items, int n, const int 
 		int np = f ? bk_form_nparams(f) : 0; /* a parse error is reported by the run */
 		bk_form_free(f);
 		used = np > used ? np : used;
-		for (int j = 0; j < np; j++)
-			if (!items[i].have[j] && np == 1)
-				return cli_usage(cmd, "%s uses p0 but no value was given (p0=VALUE)", items[i].name);
-			else if (!items[i].have[j])
-				return cli_usage(cmd, "%s uses p0..p%d but no value was given for p%d (p%d=VALUE)", items[i].name,
-				                 np - 1, j, j);
+		int rc = form_check_params("stability", items[i].name, np, items[i].have, NULL);
+		if (rc)
+			return rc;
 	}
 	for (int j = used; j < BK_MAX_PARAMS; j++)
 		if (given[j])
@@ -160,7 +158,7 @@ static void summary_header(FILE *f)
 {
 	fputs("name,form,f16_wrong,f16_nan,f16_inf,f16_overflow,f16_subnormal,f16_max_rel,f32_max_rel,f64_max_rel,"
 	      "f16_ill_conditioned,r_min,cos_min,r_min_cos0,r_min_cos1e-4,r_min_cos1e-3,r_min_cos1e-2,r_min_cos0.1,"
-	      "safe_in_half,guards,guard_error_r,guard_error_cos,guard_error_clamp,guarded_form,constants,advice\n", f);
+	      "safe_in_half,guards,guard_error_r,guard_error_cos,guarded_form,constants,advice\n", f);
 }
 
 static void num(FILE *f, double x)
@@ -186,11 +184,10 @@ static void summary_row(FILE *f, const bk_stability *st, const char *text)
 	num(f, st->cos_min);
 	for (int i = 0; i < 5; i++)
 		num(f, st->floor_r[i]);
-	fprintf(f, ",%s,", h->wrong == 0 ? "as is" : st->guarded_ok ? "with guards" : "no");
+	fprintf(f, ",%s,", st->safe_as_is ? "as is" : st->guarded_ok ? "with guards" : "no");
 	bk_csv_field(f, st->guards);
 	num(f, st->guard_error[0]);
 	num(f, st->guard_error[1]);
-	num(f, st->guard_error[2]);
 	fputc(',', f);
 	bk_csv_field(f, st->guarded);
 	fputc(',', f);
@@ -210,7 +207,8 @@ static int write_map(const bk_stability *st, const char *dir, char *err, size_t 
 	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
 	                "fraction of samples of the cell (over the other inputs) whose half-precision value is wrong: not "
 	                "finite where the long-double reference at the same half-rounded inputs is finite, or off from it "
-	                "by more than 2 % (by more than 2^-14 where it is below 2^-14)"};
+	                "by more than 2 % (by more than 2^-14 where it is below 2^-14), or right only because a min, max or "
+	                "clamp hid an overflow or a NaN on the way"};
 	return bk_heatmap_write(&h, dir, stem, err, errlen);
 }
 
@@ -222,14 +220,14 @@ static void section_row(FILE *f, const bk_stability *st, const char *prefix)
 	fputs("<tr><td>", f);
 	bk_html_text(f, st->name);
 	fprintf(f, "</td><td>%s</td><td>%zu / %zu</td><td>%zu / %zu</td><td>%.2g</td><td>",
-	        h->wrong == 0 ? "safe as is" : st->guarded_ok ? "safe with guards" : "<b>not safe</b>", h->wrong, h->n,
+	        st->safe_as_is ? "safe as is" : st->guarded_ok ? "safe with guards" : "<b>not safe</b>", h->wrong, h->n,
 	        h->nan + h->inf, h->overflow, h->max_rel);
 	if (isfinite(st->r_min))
 		fprintf(f, "r &ge; %.3g with cosines &ge; %.3g", st->r_min, st->cos_min);
 	else
 		fputs("none found", f);
 	fputs("</td><td>", f);
-	bk_html_text(f, h->wrong ? st->guards : "");
+	bk_html_text(f, st->safe_as_is ? "" : st->guards);
 	if (st->advice[0]) {
 		fputs("<br><i>", f);
 		bk_html_text(f, st->advice);
@@ -253,6 +251,13 @@ static void print_one(const bk_stability *st, const char *text)
 		printf("%-9s  %7zu  %5zu  %3zu  %3zu  %8zu  %9zu  %6zu  %13.3g  %3zu  %s\n", pn[p], s->n, s->wrong, s->nan,
 		       s->inf, s->overflow, s->subnormal, s->zeroed, s->max_rel, s->ill, s->region);
 	}
+	if (st->ref_nonfinite)
+		printf("the form itself is NaN or infinite at %zu of %zu samples (first at %s): not safe in any precision "
+		       "there\n", st->ref_nonfinite, st->p[2].n, st->pole);
+	if (st->p[2].hidden)
+		printf("in half, an overflow or a NaN on the way is hidden by min, max or clamp at %zu samples (counted "
+		       "wrong: GLSL leaves min/clamp of a NaN undefined and need not produce an infinity)\n",
+		       st->p[2].hidden);
 	if (st->p[2].ill)
 		printf("ill conditioned in half (input rounding alone moves the value by up to %.3g): %s\n",
 		       st->p[2].max_rel_ill, st->p[2].ill_region);
@@ -260,10 +265,10 @@ static void print_one(const bk_stability *st, const char *text)
 	for (int i = 0; i < 5; i++)
 		printf(" %g: %s%.4g", st->floor_cos[i], isnan(st->floor_r[i]) ? "" : "", st->floor_r[i]);
 	printf("\n");
-	if (st->p[2].wrong) {
+	if (!st->safe_as_is) {
 		printf("guards: %s (%s)\n", st->guards, st->guarded_ok ? "passes in half" : "still fails");
-		printf("error each guard adds alone: r floor %.3g, cosine floor %.3g, clamp %.3g\n", st->guard_error[0],
-		       st->guard_error[1], st->guard_error[2]);
+		printf("error each guard adds alone: r floor %.3g, cosine floor %.3g\n", st->guard_error[0],
+		       st->guard_error[1]);
 		printf("guarded form: %s\n", st->guarded);
 	} else {
 		printf("safe in half as is\n");
@@ -407,8 +412,10 @@ int cmd_stability(int argc, char **argv)
 				      "after every operation, inputs rounded to half as mediump holds them), single and double, "
 				      "against long double at the same rounded inputs. <i>Wrong</i>: not finite where the reference "
 				      "is finite, or off by more than 2 % (by more than 2^-14 where the reference is below 2^-14, "
-				      "half's smallest normal). The minimum safe inputs are computed, and the "
-				      "guard proposed is the floor or clamp that makes the form pass with the smallest error of its "
+				      "half's smallest normal), or right only because a min, max or clamp hid an overflow or a NaN on "
+				      "the way. A form that is itself NaN or infinite somewhere on the grid is never safe as is. The "
+				      "minimum safe inputs are computed, and the "
+				      "guard proposed is the floor that makes the form pass with the smallest error of its "
 				      "own. Table: <a href=\"", h);
 				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<table>\n<tr><th>term or form</th><th>half</th>"
 				           "<th>wrong / samples</th><th>non-finite / overflows</th><th>max rel. error (well "

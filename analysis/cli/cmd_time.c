@@ -9,6 +9,7 @@
 #include "out.h"
 #include "cmd.h"
 #include "compare.h"
+#include "form_check.h"
 
 #include <errno.h>
 #include <math.h>
@@ -22,6 +23,7 @@
 typedef struct time_table {
 	bk_compare_row rows[TIME_MAX_ROWS];
 	int have[TIME_MAX_ROWS][BK_MAX_PARAMS];
+	int given[TIME_MAX_ROWS][BK_MAX_PARAMS]; /* pN= on the command line */
 	int typed[TIME_MAX_ROWS]; /* formula text, not a catalog name: takes p0=... */
 	int n;
 } time_table;
@@ -111,8 +113,12 @@ static int read_rows(char **pos, int npos, time_table *T)
 				                "published constants)\n", pos[i]);
 				return 2;
 			}
+			if (T->given[last][k]) {
+				fprintf(stderr, "brdfkit time: p%d given twice for %s\n", k, T->rows[last].name);
+				return 2;
+			}
 			T->rows[last].params[k] = v;
-			T->have[last][k] = 1;
+			T->have[last][k] = T->given[last][k] = 1;
 			continue;
 		}
 		int j = T->n++;
@@ -125,36 +131,42 @@ static int read_rows(char **pos, int npos, time_table *T)
 	return 0;
 }
 
-/* Parses a row's form(s): the column of a syntax error, missing parameters;
- * op counts and cost of A and B together. */
+/* Parses a row's form(s): the column of a syntax error; the shared checks
+ * (form_check.h: parameters given and used, a value somewhere); op counts
+ * and cost of A and B together. */
 static int check_row(time_table *T, int i)
 {
 	bk_compare_row *r = &T->rows[i];
 	const char *text[2] = {r->form, r->form_b};
-	memset(&r->ops, 0, sizeof r->ops);
-	for (int p = 0; p < 2 && text[p][0]; p++) {
+	bk_form *f[2] = {NULL, NULL};
+	int np = 0, rc = 0;
+	for (int p = 0; p < 2 && text[p][0] && !rc; p++) {
 		bk_form_error fe;
-		bk_form *f = bk_form_parse(text[p], &fe);
-		if (!f) {
+		if (!(f[p] = bk_form_parse(text[p], &fe))) {
 			fprintf(stderr, "brdfkit time: %s:1:%d: %s\n", T->typed[i] ? "form" : r->name, fe.column, fe.message);
-			return 2;
-		}
-		int np = bk_form_nparams(f);
-		for (int k = 0; k < np; k++)
-			if (!T->have[i][k]) {
-				fprintf(stderr, "brdfkit time: %s: missing p%d=VALUE after it (the form uses p0..p%d)\n",
-				        r->name, k, np - 1);
-				bk_form_free(f);
-				return 2;
-			}
-		r->nparams = r->nparams > np ? r->nparams : np;
+			rc = 2;
+		} else if (bk_form_nparams(f[p]) > np)
+			np = bk_form_nparams(f[p]);
+	}
+	if (!rc)
+		rc = form_check_params("time", r->name, np, T->have[i], T->typed[i] ? T->given[i] : NULL);
+	for (int p = 0; p < 2 && f[p] && !rc; p++)
+		rc = form_check_finite("time", r->name, f[p], r->params);
+	if (rc) {
+		bk_form_free(f[0]);
+		bk_form_free(f[1]);
+		return rc;
+	}
+	memset(&r->ops, 0, sizeof r->ops);
+	r->nparams = r->nparams > np ? r->nparams : np;
+	for (int p = 0; p < 2 && f[p]; p++) {
 		bk_ops o;
-		bk_form_count(f, &o);
+		bk_form_count(f[p], &o);
 		for (int k = 0; k < BK_K_COUNT; k++)
 			r->ops.n[k] += o.n[k];
 		r->ops.simple += o.simple;
 		r->ops.complex += o.complex;
-		bk_form_free(f);
+		bk_form_free(f[p]);
 	}
 	r->cost = bk_ops_cost(&r->ops, BK_COST_SIMPLE, BK_COST_COMPLEX);
 	for (int k = 0; T->typed[i] && k < r->nparams; k++) /* "form2 (p0=0.5;p1=2)" */

@@ -40,6 +40,15 @@ static int bk_exercise_form(const char *text)
 	char what[160];
 	if (bk_form_nonfinite(f, params, what, sizeof what) < 0 || bk_form_nonfinite(f, NULL, what, sizeof what) < 0)
 		rc = -1;
+	/* codegen's warnings and stability's intermediate flags */
+	if (bk_form_const_range(f, params, BK_F16, what, sizeof what) < 0 ||
+	    bk_form_const_range(f, params, BK_F32, what, sizeof what) < 0)
+		rc = -1;
+	bk_form_clamp_reversed(f, params, what, sizeof what);
+	unsigned char flags[N];
+	int first[3];
+	if (bk_form_eval_flags(f, BK_F16, N, in, params, out, flags, first))
+		rc = -1;
 	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++) {
 		char *code = bk_form_emit(f, (bk_lang)lang, lang != BK_LANG_C, params, NULL);
 		if (!code)

@@ -1,0 +1,365 @@
+/*
+ * ir_names.c — the names a generated function may not have, per language:
+ * whatever the language, its standard library or the code around the
+ * function already gives a meaning (a function of that name would not
+ * compile, or would silently be another), and the names of the body itself.
+ *
+ *   C     C11 keywords (6.4.1); every identifier <math.h> declares or defines
+ *         with glibc's widest feature set (_GNU_SOURCE): C11 7.12, TS 18661
+ *         (fadd, roundeven, f32 ... f128x variants), POSIX/SVID/GNU extras
+ *         (j0, y1, gamma, M_PI); main; the predefined macros linux and unix of
+ *         gcc's GNU modes; reserved identifiers (7.1.3: any _name at file
+ *         scope); at most 63 characters (5.2.4.1: the significant initial
+ *         characters of an internal identifier).
+ *   GLSL  keywords and reserved words of GLSL ES 3.00 and GLSL 4.50 (3.6,
+ *         3.8), Vulkan GLSL's texture and subpass types, the explicit-
+ *         arithmetic types (float16_t, f16vec4: gpucost writes them), every
+ *         built-in function of ES 3.20 and 4.60 (chapter 8: a user function
+ *         of that name redeclares it), main, the gl_ prefix and any "__".
+ *   HLSL  keywords and reserved words, numeric vector and matrix types, every
+ *         intrinsic (Shader Model 6 included), main (the usual entry point),
+ *         "__" anywhere and _Uppercase (DXC is a C++ compiler).
+ *
+ * Tables are lists of exact names; families are rules (a math function's
+ * f/l/f32...f128x forms, GLSL's vecN and sampler types). tests/cli_ir.sh
+ * derives <math.h>'s names from the system compiler and compiles the
+ * accepted names.
+ */
+#include "ir.h"
+
+#include <string.h>
+
+/* ---- C ------------------------------------------------------------------------ */
+
+static const char *const c_words[] = {
+	/* C11 6.4.1 */
+	"auto", "break", "case", "char", "const", "continue", "default", "do", "double", "else", "enum",
+	"extern", "float", "for", "goto", "if", "inline", "int", "long", "register", "restrict",
+	"return", "short", "signed", "sizeof", "static", "struct", "switch", "typedef", "union",
+	"unsigned", "void", "volatile", "while", "_Alignas", "_Alignof", "_Atomic", "_Bool",
+	"_Complex", "_Generic", "_Imaginary", "_Noreturn", "_Static_assert", "_Thread_local",
+	/* the program's entry point; gcc's GNU-mode predefined macros */
+	"main", "linux", "unix",
+	/* <math.h>: types, macros, classification (C11 7.12, TS 18661) */
+	"float_t", "double_t", "INFINITY", "NAN", "MAXFLOAT", "MATH_ERRNO", "MATH_ERREXCEPT",
+	"math_errhandling", "signgam", "fpclassify", "iscanonical", "iseqsig", "isfinite", "isgreater",
+	"isgreaterequal", "isinf", "isless", "islessequal", "islessgreater", "isnan", "isnormal",
+	"issignaling", "issubnormal", "isunordered", "iszero", "signbit",
+	/* what the templates of ir_ops.h call: in the list above or below, named
+	 * here too for the table's readers */
+	"sqrtf", "powf", "expf", "exp2f", "logf", "log2f", "fminf", "fmaxf", "fabsf",
+	NULL,
+};
+
+/* <math.h> functions and constants that come with every type suffix
+ * (acos, acosf, acosl, acosf32, ... acosf128x). */
+static const char *const c_math[] = {
+	"acos", "acosh", "acospi", "asin", "asinh", "asinpi", "atan", "atan2", "atan2pi", "atanh", "atanpi",
+	"canonicalize", "cbrt", "ceil", "compoundn", "copysign", "cos", "cosh", "cospi", "drem", "erf", "erfc",
+	"exp", "exp10", "exp10m1", "exp2", "exp2m1", "expm1", "fabs", "fdim", "finite", "floor", "fma", "fmax",
+	"fmaximum", "fmaximum_mag", "fmaximum_mag_num", "fmaximum_num", "fmaxmag", "fmin", "fminimum",
+	"fminimum_mag", "fminimum_mag_num", "fminimum_num", "fminmag", "fmod", "frexp", "fromfp", "fromfpx",
+	"gamma", "getpayload", "hypot", "ilogb", "isinf", "isnan", "j0", "j1", "jn", "ldexp", "lgamma", "llogb",
+	"llrint", "llround", "log", "log10", "log10p1", "log1p", "log2", "log2p1", "logb", "logp1", "lrint",
+	"lround", "modf", "nan", "nearbyint", "nextafter", "nextdown", "nexttoward", "nextup", "pow", "pow10",
+	"pown", "powr", "remainder", "remquo", "rint", "rootn", "round", "roundeven", "rsqrt", "scalb",
+	"scalbln", "scalbn", "setpayload", "setpayloadsig", "significand", "sin", "sincos", "sinh", "sinpi",
+	"sqrt", "tan", "tanh", "tanpi", "tgamma", "totalorder", "totalordermag", "trunc", "ufromfp",
+	"ufromfpx", "y0", "y1", "yn",
+	"M_E", "M_LOG2E", "M_LOG10E", "M_LN2", "M_LN10", "M_PI", "M_PI_2", "M_PI_4", "M_1_PI", "M_2_PI",
+	"M_2_SQRTPI", "M_SQRT2", "M_SQRT1_2",
+};
+
+static const char *const float_suffix[] = {"", "f", "l", "f16", "f32", "f64", "f128", "f32x", "f64x", "f128x"};
+#define NSUFFIX (sizeof float_suffix / sizeof float_suffix[0])
+
+static int is_suffix(const char *s)
+{
+	for (size_t i = 0; i < NSUFFIX; i++)
+		if (!strcmp(s, float_suffix[i]))
+			return 1;
+	return 0;
+}
+
+/* name is stem followed by a type suffix (stem_r: lgammaf_r has the suffix
+ * before "_r"). */
+static int stem_suffix(const char *name, const char *stem, const char *tail)
+{
+	size_t n = strlen(stem), t = strlen(tail), m = strlen(name);
+	if (strncmp(name, stem, n) || m < n + t || strcmp(name + m - t, tail))
+		return 0;
+	char mid[16];
+	if (m - n - t >= sizeof mid)
+		return 0;
+	memcpy(mid, name + n, m - n - t);
+	mid[m - n - t] = '\0';
+	return is_suffix(mid);
+}
+
+/* TS 18661's narrowing operations: fadd, daddl, f32mulf64, f32xsqrtf128 ... */
+static int c_narrowing(const char *name)
+{
+	static const char *const result[] = {"f", "d", "f32", "f64", "f128", "f32x", "f64x", "f128x"};
+	static const char *const op[] = {"add", "sub", "mul", "div", "fma", "sqrt"};
+	for (size_t r = 0; r < sizeof result / sizeof result[0]; r++)
+		for (size_t o = 0; o < sizeof op / sizeof op[0]; o++) {
+			size_t k = strlen(result[r]);
+			if (!strncmp(name, result[r], k) && stem_suffix(name + k, op[o], ""))
+				return 1;
+		}
+	return 0;
+}
+
+static int c_family(const char *name)
+{
+	for (size_t i = 0; i < sizeof c_math / sizeof c_math[0]; i++)
+		if (stem_suffix(name, c_math[i], ""))
+			return 1;
+	if (stem_suffix(name, "lgamma", "_r") || c_narrowing(name))
+		return 1;
+	/* macro families: FP_ and an uppercase letter is the implementation's
+	 * (C11 7.12), HUGE_VAL and SNAN come with every type */
+	return (!strncmp(name, "FP_", 3) && name[3] >= 'A' && name[3] <= 'Z') || !strncmp(name, "HUGE_VAL", 8) ||
+	       !strncmp(name, "SNAN", 4) ||
+	       name[0] == '_'; /* C11 7.1.3: every _name is reserved at file scope, where the function is */
+}
+
+/* ---- GLSL --------------------------------------------------------------------- */
+
+static const char *const glsl_words[] = {
+	/* keywords, GLSL ES 3.00 3.6 and GLSL 4.50 3.6 (types by rule below) */
+	"attribute", "const", "uniform", "varying", "buffer", "shared", "coherent", "volatile", "restrict",
+	"readonly", "writeonly", "atomic_uint", "layout", "centroid", "flat", "smooth", "noperspective",
+	"patch", "sample", "break", "continue", "do", "for", "while", "switch", "case", "default", "if",
+	"else", "subroutine", "in", "out", "inout", "float", "double", "int", "void", "bool", "true", "false",
+	"invariant", "precise", "discard", "return", "uint", "lowp", "mediump", "highp", "precision", "struct",
+	"demote", "terminateInvocation",
+	/* reserved for future use */
+	"common", "partition", "active", "asm", "class", "union", "enum", "typedef", "template", "this",
+	"resource", "goto", "inline", "noinline", "public", "static", "extern", "external", "interface",
+	"long", "short", "half", "fixed", "unsigned", "superp", "input", "output", "filter", "sizeof", "cast",
+	"namespace", "using",
+	/* explicit arithmetic scalar types (GL_EXT_shader_explicit_arithmetic_types) */
+	"int8_t", "uint8_t", "int16_t", "uint16_t", "int32_t", "uint32_t", "int64_t", "uint64_t",
+	"float16_t", "float32_t", "float64_t",
+	/* the entry point */
+	"main",
+	/* built-in functions, GLSL 4.60 and ES 3.20 chapter 8 */
+	"radians", "degrees", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh", "asinh",
+	"acosh", "atanh", "pow", "exp", "log", "exp2", "log2", "sqrt", "inversesqrt", "abs", "sign", "floor",
+	"trunc", "round", "roundEven", "ceil", "fract", "mod", "modf", "min", "max", "clamp", "mix", "step",
+	"smoothstep", "isnan", "isinf", "floatBitsToInt", "floatBitsToUint", "intBitsToFloat",
+	"uintBitsToFloat", "fma", "frexp", "ldexp", "packUnorm2x16", "packSnorm2x16", "packUnorm4x8",
+	"packSnorm4x8", "unpackUnorm2x16", "unpackSnorm2x16", "unpackUnorm4x8", "unpackSnorm4x8",
+	"packHalf2x16", "unpackHalf2x16", "packDouble2x32", "unpackDouble2x32", "length", "distance", "dot",
+	"cross", "normalize", "ftransform", "faceforward", "reflect", "refract", "matrixCompMult",
+	"outerProduct", "transpose", "determinant", "inverse", "lessThan", "lessThanEqual", "greaterThan",
+	"greaterThanEqual", "equal", "notEqual", "any", "all", "not", "uaddCarry", "usubBorrow",
+	"umulExtended", "imulExtended", "bitfieldExtract", "bitfieldInsert", "bitfieldReverse", "bitCount",
+	"findLSB", "findMSB", "textureSize", "textureQueryLod", "textureQueryLevels", "textureSamples",
+	"texture", "textureProj", "textureLod", "textureOffset", "texelFetch", "texelFetchOffset",
+	"textureProjOffset", "textureLodOffset", "textureProjLod", "textureProjLodOffset", "textureGrad",
+	"textureGradOffset", "textureProjGrad", "textureProjGradOffset", "textureGather",
+	"textureGatherOffset", "textureGatherOffsets", "texture1D", "texture1DProj", "texture1DLod",
+	"texture1DProjLod", "texture2D", "texture2DProj", "texture2DLod", "texture2DProjLod", "texture3D",
+	"texture3DProj", "texture3DLod", "texture3DProjLod", "textureCube", "textureCubeLod", "shadow1D",
+	"shadow2D", "shadow1DProj", "shadow2DProj", "shadow1DLod", "shadow2DLod", "shadow1DProjLod",
+	"shadow2DProjLod", "texture2DLodEXT", "texture2DProjLodEXT", "textureCubeLodEXT",
+	"atomicCounterIncrement", "atomicCounterDecrement", "atomicCounter", "atomicCounterAdd",
+	"atomicCounterSubtract", "atomicCounterMin", "atomicCounterMax", "atomicCounterAnd",
+	"atomicCounterOr", "atomicCounterXor", "atomicCounterExchange", "atomicCounterCompSwap", "atomicAdd",
+	"atomicMin", "atomicMax", "atomicAnd", "atomicOr", "atomicXor", "atomicExchange", "atomicCompSwap",
+	"imageSize", "imageSamples", "imageLoad", "imageStore", "imageAtomicAdd", "imageAtomicMin",
+	"imageAtomicMax", "imageAtomicAnd", "imageAtomicOr", "imageAtomicXor", "imageAtomicExchange",
+	"imageAtomicCompSwap", "dFdx", "dFdy", "dFdxFine", "dFdyFine", "dFdxCoarse", "dFdyCoarse", "fwidth",
+	"fwidthFine", "fwidthCoarse", "interpolateAtCentroid", "interpolateAtSample", "interpolateAtOffset",
+	"noise1", "noise2", "noise3", "noise4", "EmitStreamVertex", "EndStreamPrimitive", "EmitVertex",
+	"EndPrimitive", "barrier", "memoryBarrier", "memoryBarrierAtomicCounter", "memoryBarrierBuffer",
+	"memoryBarrierShared", "memoryBarrierImage", "groupMemoryBarrier", "subpassLoad", "anyInvocation",
+	"allInvocations", "allInvocationsEqual",
+	NULL,
+};
+
+static int starts(const char *s, const char *prefix, const char **rest)
+{
+	size_t n = strlen(prefix);
+	if (strncmp(s, prefix, n))
+		return 0;
+	*rest = s + n;
+	return 1;
+}
+
+/* vec2 ... u64vec4, mat2 ... f64mat4x4 */
+static int glsl_vector_type(const char *s)
+{
+	static const char *const vec[] = {"f16vec", "f32vec", "f64vec", "i8vec", "u8vec", "i16vec", "u16vec",
+	                                  "i32vec", "u32vec", "i64vec", "u64vec", "ivec", "uvec", "bvec", "dvec",
+	                                  "hvec", "fvec", "vec"};
+	static const char *const mat[] = {"f16mat", "f32mat", "f64mat", "dmat", "mat"};
+	const char *d;
+	for (size_t i = 0; i < sizeof vec / sizeof vec[0]; i++)
+		if (starts(s, vec[i], &d) && d[0] >= '2' && d[0] <= '4' && !d[1])
+			return 1;
+	for (size_t i = 0; i < sizeof mat / sizeof mat[0]; i++)
+		if (starts(s, mat[i], &d) && d[0] >= '2' && d[0] <= '4' &&
+		    (!d[1] || (d[1] == 'x' && d[2] >= '2' && d[2] <= '4' && !d[3])))
+			return 1;
+	return 0;
+}
+
+/* [iu](sampler|image|texture)(1D|2D|...)[Shadow], sampler, samplerShadow,
+ * [iu]subpassInput[MS] (desktop, ES and Vulkan GLSL's opaque types) */
+static int glsl_opaque_type(const char *s)
+{
+	static const char *const kind[] = {"sampler", "image", "texture"};
+	static const char *const dim[] = {"1D", "2D", "3D", "Cube", "2DRect", "3DRect", "1DArray", "2DArray",
+	                                  "Buffer", "2DMS", "2DMSArray", "CubeArray", ""};
+	const char *d, *e;
+	if ((*s == 'i' || *s == 'u') && glsl_opaque_type(s + 1)) /* isampler2D; but image2D is no "i" + mage2D */
+		return 1;
+	if (starts(s, "subpassInput", &d))
+		return !*d || !strcmp(d, "MS");
+	for (size_t k = 0; k < sizeof kind / sizeof kind[0]; k++) {
+		if (!starts(s, kind[k], &d))
+			continue;
+		for (size_t j = 0; j < sizeof dim / sizeof dim[0]; j++)
+			if (starts(d, dim[j], &e) && (!*e || !strcmp(e, "Shadow")))
+				return 1;
+	}
+	return 0;
+}
+
+static int glsl_family(const char *name)
+{
+	return !strncmp(name, "gl_", 3) || strstr(name, "__") != NULL || glsl_vector_type(name) ||
+	       glsl_opaque_type(name);
+}
+
+/* ---- HLSL --------------------------------------------------------------------- */
+
+static const char *const hlsl_words[] = {
+	/* keywords */
+	"AppendStructuredBuffer", "asm", "asm_fragment", "BlendState", "bool", "break", "Buffer",
+	"ByteAddressBuffer", "case", "cbuffer", "centroid", "class", "column_major", "compile",
+	"compile_fragment", "CompileShader", "const", "continue", "ComputeShader", "ConsumeStructuredBuffer",
+	"default", "DepthStencilState", "DepthStencilView", "discard", "do", "double", "DomainShader", "dword",
+	"else", "export", "extern", "false", "float", "for", "fxgroup", "GeometryShader", "groupshared",
+	"half", "Hullshader", "HullShader", "if", "in", "inline", "inout", "InputPatch", "int", "interface",
+	"line", "lineadj", "linear", "LineStream", "matrix", "min16float", "min10float", "min16int",
+	"min12int", "min16uint", "namespace", "nointerpolation", "noperspective", "NULL", "out",
+	"OutputPatch", "packoffset", "pass", "pixelfragment", "PixelShader", "point", "PointStream",
+	"precise", "RasterizerState", "RenderTargetView", "return", "register", "row_major", "RWBuffer",
+	"RWByteAddressBuffer", "RWStructuredBuffer", "RWTexture1D", "RWTexture1DArray", "RWTexture2D",
+	"RWTexture2DArray", "RWTexture3D", "sample", "sampler", "sampler1D", "sampler2D", "sampler3D",
+	"samplerCUBE", "SamplerState", "sampler_state", "SamplerComparisonState", "shared", "snorm",
+	"stateblock", "stateblock_state", "static", "string", "struct", "switch", "StructuredBuffer",
+	"tbuffer", "technique", "technique10", "technique11", "texture", "Texture", "Texture1D",
+	"Texture1DArray", "Texture2D", "Texture2DArray", "Texture2DMS", "Texture2DMSArray", "Texture3D",
+	"TextureCube", "TextureCubeArray", "true", "typedef", "triangle", "triangleadj", "TriangleStream",
+	"uint", "uniform", "unorm", "unsigned", "vector", "vertexfragment", "VertexShader", "void",
+	"volatile", "while", "globallycoherent", "ConstantBuffer", "TextureBuffer", "RasterizerOrderedBuffer",
+	"RasterizerOrderedByteAddressBuffer", "RasterizerOrderedStructuredBuffer", "RasterizerOrderedTexture1D",
+	"RasterizerOrderedTexture2D", "RasterizerOrderedTexture3D", "RaytracingAccelerationStructure",
+	"RayDesc", "BuiltInTriangleIntersectionAttributes", "indices", "vertices", "primitives", "payload",
+	"SubpassInput", "SubpassInputMS", "FeedbackTexture2D", "FeedbackTexture2DArray", "int16_t", "uint16_t",
+	"int32_t", "uint32_t", "int64_t", "uint64_t", "float16_t", "float32_t", "float64_t",
+	/* reserved words */
+	"auto", "catch", "char", "const_cast", "delete", "dynamic_cast", "enum", "explicit", "friend", "goto",
+	"long", "mutable", "new", "operator", "private", "protected", "public", "reinterpret_cast", "short",
+	"signed", "sizeof", "static_cast", "template", "this", "throw", "try", "typename", "union", "using",
+	"virtual",
+	/* the usual entry point (the -E/-e of the compile) */
+	"main",
+	/* intrinsics (Shader Model 1 to 6.x) */
+	"abort", "abs", "acos", "all", "AllMemoryBarrier", "AllMemoryBarrierWithGroupSync", "and", "any",
+	"asdouble", "asfloat", "asfloat16", "asin", "asint", "asint16", "asuint", "asuint16", "atan", "atan2",
+	"ceil", "CheckAccessFullyMapped", "clamp", "clip", "cos", "cosh", "countbits", "cross",
+	"D3DCOLORtoUBYTE4", "ddx", "ddx_coarse", "ddx_fine", "ddy", "ddy_coarse", "ddy_fine", "degrees",
+	"determinant", "DeviceMemoryBarrier", "DeviceMemoryBarrierWithGroupSync", "distance", "dot",
+	"dot2add", "dot4add_i8packed", "dot4add_u8packed", "dst", "errorf", "EvaluateAttributeAtCentroid",
+	"EvaluateAttributeAtSample", "EvaluateAttributeSnapped", "exp", "exp2", "f16tof32", "f32tof16",
+	"faceforward", "firstbithigh", "firstbitlow", "floor", "fma", "fmod", "frac", "frexp", "fwidth",
+	"GetRenderTargetSampleCount", "GetRenderTargetSamplePosition", "GroupMemoryBarrier",
+	"GroupMemoryBarrierWithGroupSync", "InterlockedAdd", "InterlockedAnd", "InterlockedCompareExchange",
+	"InterlockedCompareStore", "InterlockedExchange", "InterlockedMax", "InterlockedMin", "InterlockedOr",
+	"InterlockedXor", "isfinite", "isinf", "isnan", "ldexp", "length", "lerp", "lit", "log", "log10",
+	"log2", "mad", "max", "min", "modf", "msad4", "mul", "noise", "NonUniformResourceIndex", "normalize",
+	"or", "pow", "printf", "Process2DQuadTessFactorsAvg", "Process2DQuadTessFactorsMax",
+	"Process2DQuadTessFactorsMin", "ProcessIsolineTessFactors", "ProcessQuadTessFactorsAvg",
+	"ProcessQuadTessFactorsMax", "ProcessQuadTessFactorsMin", "ProcessTriTessFactorsAvg",
+	"ProcessTriTessFactorsMax", "ProcessTriTessFactorsMin", "radians", "rcp", "reflect", "refract",
+	"reversebits", "round", "rsqrt", "saturate", "select", "sign", "sin", "sincos", "sinh", "smoothstep",
+	"sqrt", "step", "tan", "tanh", "tex1D", "tex1Dbias", "tex1Dgrad", "tex1Dlod", "tex1Dproj", "tex2D",
+	"tex2Dbias", "tex2Dgrad", "tex2Dlod", "tex2Dproj", "tex3D", "tex3Dbias", "tex3Dgrad", "tex3Dlod",
+	"tex3Dproj", "texCUBE", "texCUBEbias", "texCUBEgrad", "texCUBElod", "texCUBEproj", "transpose",
+	"trunc", "WaveIsFirstLane", "WaveGetLaneIndex", "WaveGetLaneCount", "WaveActiveAnyTrue",
+	"WaveActiveAllTrue", "WaveActiveBallot", "WaveReadLaneFirst", "WaveReadLaneAt", "WaveActiveAllEqual",
+	"WaveActiveCountBits", "WaveActiveSum", "WaveActiveProduct", "WaveActiveBitAnd", "WaveActiveBitOr",
+	"WaveActiveBitXor", "WaveActiveMin", "WaveActiveMax", "WavePrefixCountBits", "WavePrefixSum",
+	"WavePrefixProduct", "WaveMatch", "WaveMultiPrefixSum", "WaveMultiPrefixProduct",
+	"WaveMultiPrefixCountBits", "WaveMultiPrefixBitAnd", "WaveMultiPrefixBitOr", "WaveMultiPrefixBitXor",
+	"QuadReadLaneAt", "QuadReadAcrossX", "QuadReadAcrossY", "QuadReadAcrossDiagonal", "QuadAny",
+	"QuadAll", "TraceRay", "ReportHit", "CallShader", "IgnoreHit", "AcceptHitAndEndSearch",
+	"DispatchMesh", "SetMeshOutputCounts",
+	NULL,
+};
+
+/* HLSL's numeric vector and matrix types: a scalar type then N or NxM, 1..4. */
+static int hlsl_vector_type(const char *s)
+{
+	static const char *const scalar[] = {"bool", "int", "uint", "dword", "half", "float", "double",
+	                                     "min16float", "min10float", "min16int", "min12int", "min16uint",
+	                                     "int16_t", "uint16_t", "int32_t", "uint32_t", "int64_t", "uint64_t",
+	                                     "float16_t", "float32_t", "float64_t"};
+	for (size_t i = 0; i < sizeof scalar / sizeof scalar[0]; i++) {
+		size_t n = strlen(scalar[i]);
+		if (strncmp(s, scalar[i], n) != 0)
+			continue;
+		const char *d = s + n;
+		if (d[0] >= '1' && d[0] <= '4' && (d[1] == '\0' || (d[1] == 'x' && d[2] >= '1' && d[2] <= '4' && !d[3])))
+			return 1;
+	}
+	return 0;
+}
+
+static int hlsl_family(const char *name)
+{
+	/* DXC is a C++ front end: __ anywhere and _Uppercase are the implementation's */
+	return hlsl_vector_type(name) || strstr(name, "__") != NULL ||
+	       (name[0] == '_' && name[1] >= 'A' && name[1] <= 'Z');
+}
+
+/* ---- all languages ------------------------------------------------------------ */
+
+static const char *const *const lang_words[3] = {c_words, glsl_words, hlsl_words};
+
+const char *bk_lang_word(bk_lang lang, size_t i)
+{
+	if ((unsigned)lang > BK_LANG_HLSL)
+		return NULL;
+	for (size_t k = 0; k <= i; k++)
+		if (!lang_words[lang][k])
+			return NULL;
+	return lang_words[lang][i];
+}
+
+int bk_lang_reserved(bk_lang lang, const char *name)
+{
+	if ((unsigned)lang > BK_LANG_HLSL || strlen(name) > BK_NAME_MAX)
+		return 1;
+	for (const char *const *w = lang_words[lang]; *w; w++)
+		if (strcmp(*w, name) == 0)
+			return 1;
+	/* the body's own names: temporaries tN and the inputs (the parameters) */
+	if (name[0] == 't' && name[1] && strspn(name + 1, "0123456789") == strlen(name + 1))
+		return 1;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (strcmp(name, bk_input_name((bk_input)i)) == 0)
+			return 1;
+	switch (lang) {
+	case BK_LANG_C: return c_family(name);
+	case BK_LANG_GLSL: return glsl_family(name);
+	case BK_LANG_HLSL: return hlsl_family(name);
+	}
+	return 1;
+}
