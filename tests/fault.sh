@@ -89,6 +89,30 @@ rm -rf "$O" "$O".*
 $BK stability NoV --out "$O" >/dev/null 2>&1
 st -e trace=renameat2 -e inject=renameat2:error=EINVAL $BK stability D_ggx --out "$O" >/dev/null 2>&1 \
 	&& tree "$O" | cmp -s - "$T/new.tree" && [ -z "$(siblings "$O")" ] && ok || bad "fallback without exchange: $(siblings "$O")"
+# killed between its two renames (found in a trace): DIR absent, the previous
+# result at DIR.oldXXXXXX and the new one at DIR.tmpXXXXXX, both whole; both
+# names are recorded (the new tree's), so the next run removes both. Killed
+# in the removal after them: the next run finishes it.
+rm -rf "$O" "$O".*
+$BK stability NoV --out "$O" >/dev/null 2>&1
+ASAN_OPTIONS=detect_leaks=0 strace -f -o "$T/trace" -e trace=renameat,renameat2,unlinkat -e inject=renameat2:error=EINVAL \
+	$BK stability D_ggx --out "$O" >/dev/null 2>&1 || bad "traced fallback"
+n=$(nth renameat "\"$B[.]tmp[A-Za-z0-9]*\", [0-9]*, \"$B\")") u=$(nth unlinkat . "\"$B[.]tmp[A-Za-z0-9]*\", [0-9]*, \"$B\")")
+[ "$n" -gt 0 ] && [ "$u" -gt 0 ] && ok || bad "fallback trace: rename $n, unlinkat $u"
+for p in renameat:signal=SIGKILL:when=$n unlinkat:signal=SIGKILL:when=$u; do
+	rm -rf "$O" "$O".*
+	$BK stability NoV --out "$O" >/dev/null 2>&1
+	st -e trace="renameat2,${p%%:*}" -e inject=renameat2:error=EINVAL -e inject="$p" $BK stability D_ggx --out "$O" >/dev/null 2>&1
+	r=$?
+	[ $r -eq 137 ] && ok || bad "fallback kill at $p did not happen (exit $r)"
+	case $p in renameat*)
+		[ ! -e "$O" ] && tree "$O".old* | cmp -s - "$T/old.tree" && tree "$O".tmp* | cmp -s - "$T/new.tree" \
+			&& ok || bad "fallback killed at $p: $(ls -A "$T")";;
+	*) tree "$O" | cmp -s - "$T/new.tree" && ok || bad "fallback killed at $p: $(tree "$O")";;
+	esac
+	$BK stability NoV --out "$O" >/dev/null 2>&1 && tree "$O" | cmp -s - "$T/old.tree" && [ -z "$(siblings "$O")" ] \
+		&& ok || bad "after the fallback killed at $p: left beside: $(siblings "$O")"
+done
 
 # concurrent pairs on one --out: both succeed (the later whole result replaces
 # the earlier whole one) or the loser says so; never a mix
