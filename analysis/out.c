@@ -1246,7 +1246,9 @@ static int swap_aside(int pfd, const char *base, const char *tbase, char *prev, 
 	if (renameat(pfd, tbase, pfd, base) != 0) {
 		int e = errno;
 		/* DIR taken meanwhile (another run's whole result) or a failure: the
-		 * previous result goes back where it can, else it is ours to remove */
+		 * previous result goes back where it can; else prev names it, and
+		 * the caller removes it when another run's result took DIR (1) and
+		 * leaves it where it is after a failure (-1) */
 		if (renameat(pfd, obase, pfd, base) != 0)
 			snprintf(prev, plen, "%s", obase);
 		errno = e;
@@ -1383,7 +1385,8 @@ int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen)
 			char p[512];
 			e = errno;
 			rc = -1;
-			snprintf(err, errlen, "%s: replaced, but the fsync of its parent directory failed: %s%s%s%s", d->name,
+			snprintf(err, errlen,
+			         "%s: the new result is in place, but the fsync of its parent directory failed: %s%s%s%s", d->name,
 			         errtext(e), prev[0] ? "; the previous result stays at " : "",
 			         prev[0] ? sibling(d, prev, p, sizeof p) : "", prev[0] ? " until the next run" : "");
 		} else {

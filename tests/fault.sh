@@ -179,7 +179,7 @@ inject_fsync "$n" $BK lut --size 4 --out "$P"
 grep -q "<$TP>) *= -1 ENOSPC" "$T/hit" && ok || bad "l15: the fault did not hit the parent: $(cat "$T/hit")"
 msg=$(grep -v 'lut rows' "$T/err")
 case $msg in
-"brdfkit lut: --out $P: replaced, but the fsync of its parent directory failed: no space left on device; the previous result stays at $P.tmp"??????" until the next run")
+"brdfkit lut: --out $P: the new result is in place, but the fsync of its parent directory failed: no space left on device; the previous result stays at $P.tmp"??????" until the next run")
 	[ $r -eq 1 ] && ok || bad "l15: exit $r";;
 *) bad "l15: exit $r, stderr: $msg";;
 esac

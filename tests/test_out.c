@@ -90,7 +90,9 @@ static void refused(const char *out, const char *want_tail)
 	cr_assert_null(strstr(names, ".tmp"), "a temporary beside: %s", names);
 }
 
-#define NOT_BRDFKITS "exists and was not written by brdfkit (its .brdfkit-output is not one brdfkit wrote); choose another path or remove it"
+#define NOT_BRDFKITS                                                                                           \
+	"exists and was not written by brdfkit (its .brdfkit-output is not one brdfkit wrote); choose another path or " \
+	"remove it"
 #define UNLISTED(name) "holds '" name "', which brdfkit did not write; move it or choose another --out"
 
 /* One run: begin, a file named after the run, commit. */
@@ -493,7 +495,8 @@ Test(out_dir, says_so_when_it_waits_for_the_lock, .init = setup, .fini = teardow
 	cr_assert_eq(run_once(out, "first"), 0);
 	double t = commit_while_locked(out, 3500, errs, sizeof errs);
 	snprintf(want, sizeof want,
-	         "brdfkit: --out %s: another brdfkit is writing it (its .brdfkit-output is locked); waiting for it to finish\n",
+	         "brdfkit: --out %s: another brdfkit is writing it (its .brdfkit-output is locked); "
+	         "waiting for it to finish\n",
 	         out);
 	cr_assert_str_eq(errs, want);
 	cr_assert(t >= 3.0, "the commit did not wait for the lock: %g s", t);
