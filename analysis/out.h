@@ -9,9 +9,14 @@
 #include <stddef.h>
 #include <stdio.h>
 
-/* Atomic output: text goes to a temporary file beside path; bk_out_commit
- * flushes it to disk (fsync) and renames it into place, bk_out_abort removes
- * it. Nothing is ever left half-written at path. */
+/* Atomic output: text goes to a temporary file beside path, "path.tmpXXXXXX",
+ * whose six letters come from its inode number and which its writer keeps
+ * locked (flock) until the rename; bk_out_commit flushes it to disk (fsync),
+ * renames it into place and fsyncs the directory (a failure of any is an
+ * error), bk_out_abort removes it. Nothing is ever left half-written at path,
+ * and bk_out_open first removes the temporaries of path that dead runs left
+ * (letters of their inode, lock free): a checkpoint's included. A user's file
+ * so named (a copy is another inode) stays. */
 typedef struct bk_out {
 	FILE *f;
 	char path[4096], tmp[4112];
@@ -24,14 +29,21 @@ void bk_out_abort(bk_out *o);
 
 /* An output directory, replaced whole: begin makes DIR.tmpXXXXXX (d->tmp) for
  * the caller to fill, commit swaps it in with one rename, abort removes it.
- * Only a directory brdfkit wrote is ever replaced: it is recognised by the
- * marker file BK_OUT_MARKER in it, which holds the command line. An absent
- * path or an empty directory may be used; anything else is refused, and so is
- * the current directory, one of its parents, or /. Symlinks are never followed
- * when deleting. While a run lives it holds flock(LOCK_EX) on its marker, so a
- * later run that can take the lock on a DIR.tmp* or DIR.old* sibling knows the
- * run that made it is dead and removes it. Messages name path as given; the
- * commands put "--out " in front. */
+ * Only a directory brdfkit wrote is ever replaced: its marker file
+ * BK_OUT_MARKER holds the command line and lists every file and directory the
+ * run wrote (the format: out.c), and the directory holds nothing else. Only
+ * what the list names is deleted. A marker of other content (the format
+ * before included), or an entry it does not list (a note, a checkpoint, a
+ * symlink), is refused with one line naming it, before the work (check,
+ * begin) and again under the lock at the swap (commit). An absent path or an
+ * empty directory may be used; the current directory, one of its parents or
+ * / never. Symlinks are never followed when deleting. While a run lives it
+ * holds flock(LOCK_EX) on its marker; beside DIR a later run removes only the
+ * names a run recorded before making them (its build tree's name, kept in the
+ * tree), and only when their lock is free: never a user's DIR.old2024 or a
+ * copy. A commit that waits more than 2 s for DIR's lock says so on stderr
+ * and waits on. Messages name path as given; the commands put "--out " in
+ * front. */
 #define BK_OUT_MARKER ".brdfkit-output"
 typedef struct bk_out_dir {
 	char name[4096];  /* the path as given, for messages */
@@ -46,10 +58,12 @@ typedef struct bk_out_dir {
 int bk_out_dir_check(const char *path, char *err, size_t errlen);
 /* command: what the marker records; NULL for the command line bk_out_init saw. */
 int bk_out_dir_begin(bk_out_dir *d, const char *path, const char *command, char *err, size_t errlen);
-/* Every file and directory under d->tmp fsync'd, then d->tmp swapped with
- * path by renameat2(RENAME_EXCHANGE) (where the file system has no exchange:
- * the old directory moved aside first), the parent fsync'd, the old directory
- * removed. Two runs committing to one path end with one whole result. */
+/* Every file and directory under d->tmp fsync'd and listed in its marker,
+ * then d->tmp swapped with path by renameat2(RENAME_EXCHANGE) (where the file
+ * system has no exchange: the old directory moved aside first), the parent
+ * fsync'd (a failure is an error, with the new result in place), the old
+ * directory removed as its marker lists it. Two runs committing to one path
+ * end with one whole result. */
 int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen);
 void bk_out_dir_abort(bk_out_dir *d);
 
