@@ -32,6 +32,24 @@ typedef struct section {
 	struct stat st;
 } section;
 
+/* A section over the size cap: a binary given by mistake, the usual case,
+ * is named as one from its first 4 KiB (cut back to a whole character). */
+static int refuse_big(const char *path, const char *err)
+{
+	char head[4096], why[64];
+	FILE *f = fopen(path, "rb");
+	size_t n = f ? fread(head, 1, sizeof head, f) : 0;
+	if (f)
+		fclose(f);
+	while (n && ((unsigned char)head[n - 1] & 0xc0) == 0x80)
+		n--;
+	if (n && (unsigned char)head[n - 1] >= 0xc0)
+		n--;
+	if (n && cli_check_text(head, n, why, sizeof why))
+		return cli_fail("report", "%s: not text (%s)", path, why);
+	return cli_fail("report", "%s: %s (a section brdfkit writes is well under that)", path, err);
+}
+
 /* Reads and checks section k of S against --out and the sections before it:
  * a section is HTML text brdfkit wrote (page.h's check), not the page being
  * written, and not a second copy (two elements with one id). Returns 0 or 1. */
@@ -40,6 +58,8 @@ static int load_section(section *S, int k, const char *out, const struct stat *o
 	section *x = &S[k];
 	char err[512], why[64];
 	x->text = bk_read_bounded(x->path, BK_PAGE_SECTION_MAX, &x->len, err, sizeof err);
+	if (!x->text && !stat(x->path, &x->st) && S_ISREG(x->st.st_mode) && (size_t)x->st.st_size > BK_PAGE_SECTION_MAX)
+		return refuse_big(x->path, err);
 	if (!x->text)
 		return cli_fail("report", "%s: %s", x->path, err);
 	if (stat(x->path, &x->st) && strcmp(x->path, "-"))

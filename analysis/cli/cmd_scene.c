@@ -261,8 +261,7 @@ static int load(scene_run *S, const char *file)
 	char err[512], why[128];
 	char *text = bk_read_bounded(file, BK_SCENE_FILE_MAX, &len, err, sizeof err);
 	if (!text)
-		return cli_fail("scene", "%s: %s%s", file, err,
-		                strstr(err, "cannot") ? "" : " (a scene file is at most 1 MiB)");
+		return cli_fail("scene", "%s: %s%s", file, err, strstr(err, " bytes") ? " (a scene file is at most 1 MiB)" : "");
 	if (cli_check_text(text, len, why, sizeof why)) {
 		free(text);
 		return cli_fail("scene", "%s: not a text file (%s)", file, why);
