@@ -405,7 +405,10 @@ int cmd_scene(int argc, char **argv)
 	               "(a LUT: and no more texture memory) instead of the cheapest at a budget.\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
 	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
-	               "accurate candidate at no more than the generic's cost and LUT memory.",
+	               "accurate candidate at no more than the generic's cost and LUT memory. A budget nothing\n"
+	               "meets keeps the most accurate, marked NOT MET, with a warning (exit status 0).\n"
+	               "Before the work: an estimate (30 s per V*F or env term; a warning above 30 minutes);\n"
+	               "after each set, how far it is. A scene file is at most 1 MiB.",
 	               opts, 5, 16, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
