@@ -24,7 +24,7 @@ cd "$T" || exit 1
 # bounded CMD...: CMD under a 4 GB address-space limit where the tool starts
 # in one (a sanitized tool reserves more than that: a time limit alone), so
 # that a tool reading /dev/zero whole fails here instead of filling the machine.
-if (ulimit -v 4000000 && "$BK" --help) >/dev/null 2>&1; then
+if (ulimit -v 4000000 && "$BK" --help >/dev/null 2>&1; exit $?) 2>/dev/null; then # exit: no exec, no "Aborted"
 	bounded() { (ulimit -v 4000000 && timeout 60 "$@"); }
 else
 	bounded() { timeout 60 "$@"; }
