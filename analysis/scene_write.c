@@ -352,12 +352,22 @@ void bk_scene_timing_csv(FILE *f, const bk_scene_doc *d, int reps)
 
 /* ---- the report in words ---------------------------------------------------------- */
 
+/* A name in the report's text: a control character (a line break, an
+ * escape sequence a terminal would obey) is a space, as in a comment. */
+static void plain(FILE *f, const char *s)
+{
+	for (; *s; s++)
+		fputc((unsigned char)*s < ' ' || *s == 0x7f ? ' ' : *s, f);
+}
+
 static void report_head(FILE *f, const bk_scene_doc *d)
 {
 	const bk_scene *sc = d->sc;
-	fprintf(f, "scene '%s': %d material%s, %d feature set%s; punctual lights %s, image-based lighting %s, diffuse %s; "
+	fputs("scene '", f);
+	plain(f, sc->name);
+	fprintf(f, "': %d material%s, %d feature set%s; punctual lights %s, image-based lighting %s, diffuse %s; "
 	           "%s; ",
-	        sc->name, sc->nmat, sc->nmat == 1 ? "" : "s", d->nset, d->nset == 1 ? "" : "s", sc->punctual ? "yes" : "no",
+	        sc->nmat, sc->nmat == 1 ? "" : "s", d->nset, d->nset == 1 ? "" : "s", sc->punctual ? "yes" : "no",
 	        sc->ibl ? "yes" : "no", sc->diffuse ? "yes" : "no", sc->half ? "mediump (fp16)" : "highp");
 	if (sc->alu_tex)
 		fprintf(f, "ALU:TEX %d\n", sc->alu_tex);
@@ -376,16 +386,25 @@ static void report_term(FILE *f, const bk_scene_result *r, int t)
 {
 	const bk_scene_choice *c = &r->ch[t], *g = &r->gen[t];
 	if (t == BK_SCENE_TERM_D) {
-		fprintf(f, "  D   exact GGX: cost %g (generic %g)\n      fp16 guards: %s\n", c->cost, g->cost, c->guards);
+		fprintf(f, "  D   exact GGX: cost %g (generic %g)\n      fp16 guards: ", c->cost, g->cost);
+		plain(f, c->guards);
+		fputc('\n', f);
 		return;
 	}
-	fprintf(f, "  %-3s %s: cost %g (generic %g), %s %.3g (generic %.3g, budget %.3g%s), %d candidates scored\n",
-	        bk_scene_term_name(t), c->name, c->cost, g->cost, err_unit(t), c->err, g->err, c->budget,
-	        c->meets ? "" : ": NOT MET, the most accurate kept", c->scored);
-	fprintf(f, "      fp16 guards: %s\n", c->guards);
-	if (c->eq_name[0] && g->err > 0)
-		fprintf(f, "      at the generic's cost: %s, cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_name,
-		        c->eq_cost, err_unit(t), c->eq_err, g->err / c->eq_err);
+	fprintf(f, "  %-3s ", bk_scene_term_name(t));
+	plain(f, c->name);
+	fprintf(f, ": cost %g (generic %g), %s %.3g (generic %.3g, budget %.3g%s), %d candidates scored\n", c->cost,
+	        g->cost, err_unit(t), c->err, g->err, c->budget, c->meets ? "" : ": NOT MET, the most accurate kept",
+	        c->scored);
+	fputs("      fp16 guards: ", f);
+	plain(f, c->guards);
+	fputc('\n', f);
+	if (c->eq_name[0] && g->err > 0) {
+		fputs("      at the generic's cost: ", f);
+		plain(f, c->eq_name);
+		fprintf(f, ", cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_cost, err_unit(t), c->eq_err,
+		        g->err / c->eq_err);
+	}
 }
 
 /* The set's last line: its shader against the generic one. */
@@ -421,8 +440,10 @@ void bk_scene_report(FILE *f, const bk_scene_doc *d, int with_time)
 		char dom[256];
 		domain_text(sc, &r->set, dom, sizeof dom);
 		fprintf(f, "\nfeature set %s (", r->set.name);
-		for (int m = 0; m < r->set.nmat; m++)
-			fprintf(f, "%s%s", m ? ", " : "", sc->mat[r->set.mat[m]].name);
+		for (int m = 0; m < r->set.nmat; m++) {
+			fputs(m ? ", " : "", f);
+			plain(f, sc->mat[r->set.mat[m]].name);
+		}
 		fprintf(f, "): %s\n", dom);
 		if (!r->set.needs.vf && !r->set.needs.env)
 			fputs("  no specular (the materials have none): diffuse only\n", f);

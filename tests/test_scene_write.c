@@ -505,6 +505,41 @@ Test(inject, page_has_the_names_as_text_and_nothing_else)
 	}
 }
 
+/* report.txt and stdout are text for a terminal: no name in them holds a
+ * control character (a line break, an escape sequence). */
+static char *report_of(const doc *d)
+{
+	char *text = NULL;
+	size_t len = 0;
+	FILE *f = open_memstream(&text, &len);
+	cr_assert_not_null(f);
+	bk_scene_doc v = doc_view(d);
+	bk_scene_report(f, &v, 1);
+	cr_assert_eq(fclose(f), 0);
+	return text;
+}
+
+static int lines_of(const char *s)
+{
+	int n = 0;
+	for (; *s; s++)
+		n += *s == '\n';
+	return n;
+}
+
+Test(inject, report_text_has_no_control_character)
+{
+	for (int i = 0; i < NDOC; i++) {
+		char *text = report_of(&docs[0][i]), *plain = report_of(&docs[1][i]);
+		for (const char *c = text; *c; c++)
+			cr_assert(*c == '\n' || ((unsigned char)*c >= ' ' && *c != 0x7f), "doc %d: byte 0x%02x in:\n%s", i,
+			          (unsigned char)*c, text);
+		cr_expect_eq(lines_of(text), lines_of(plain), "doc %d: the report's lines:\n%s", i, text);
+		free(text);
+		free(plain);
+	}
+}
+
 /* ---- not measured (M8) ------------------------------------------------------------ */
 
 /* A set without a specular term (cost 0) and without tools: every ratio and
