@@ -402,8 +402,10 @@ static void report_term(FILE *f, const bk_scene_result *r, int t)
 	if (c->eq_name[0] && g->err > 0) {
 		fputs("      at the generic's cost: ", f);
 		plain(f, c->eq_name);
-		fprintf(f, ", cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_cost, err_unit(t), c->eq_err,
-		        g->err / c->eq_err);
+		fprintf(f, ", cost %g, %s %.3g", c->eq_cost, err_unit(t), c->eq_err);
+		if (c->eq_err > 0) /* exact: no ratio */
+			fprintf(f, " (%.2fx the generic's accuracy)", g->err / c->eq_err);
+		fputc('\n', f);
 	}
 }
 
@@ -421,9 +423,11 @@ static void report_saving(FILE *f, const bk_scene_result *r, int with_time)
 		fprintf(f, "SPIR-V %d against %d", r->spirv, r->gen_spirv);
 	else
 		fputs("SPIR-V not measured", f);
-	if (e > 0) /* NaN: no vf or env term */
+	if (e > 0 && ge > 0) /* NaN: no vf or env term */
 		fprintf(f, "; worst term error %.3g against the generic's %.3g (%.2fx %s)", e, ge, ge >= e ? ge / e : e / ge,
 		        ge >= e ? "more accurate" : "less accurate");
+	else if (e >= 0) /* one of them exact: no ratio */
+		fprintf(f, "; worst term error %.3g against the generic's %.3g", e, ge);
 	if (with_time && isfinite(r->ns) && isfinite(r->gen_ns))
 		fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
 	else if (with_time)
