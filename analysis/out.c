@@ -1403,7 +1403,12 @@ int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen)
 
 void bk_csv_field(FILE *f, const char *s)
 {
-	if (!strpbrk(s, ",\"\n")) {
+	/* RFC 4180: a CR is a line break too; a field that starts with '#' would
+	 * make a row that opens with it read as a comment line, and readers such
+	 * as libcsv trim the blanks around a field that is not quoted */
+	size_t n = strlen(s);
+	int blank_end = n && (s[0] == ' ' || s[0] == '\t' || s[n - 1] == ' ' || s[n - 1] == '\t');
+	if (*s != '#' && !blank_end && !strpbrk(s, ",\"\n\r")) {
 		fputs(s, f);
 		return;
 	}

@@ -85,7 +85,8 @@ void bk_slug(const char *name, char *buf, size_t len);
 /* s escaped for HTML text and attribute values. */
 void bk_html_text(FILE *f, const char *s);
 
-/* Writes s as one CSV field, quoted when it holds a comma, quote or newline. */
+/* Writes s as one CSV field, quoted when it holds a comma, quote, CR or LF,
+ * starts with '#' or starts or ends with a blank. */
 void bk_csv_field(FILE *f, const char *s);
 
 /* A growing text buffer (generated sources): bk_sb_put appends printf-style;

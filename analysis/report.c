@@ -384,14 +384,19 @@ static void svg_x_axis(FILE *f, const scale *s, int xaxis, const bk_compare_info
 	        SVG_H - 28);
 	if (xaxis == 1)
 		fputs("CPU time per evaluation, ns (generated C, -O2; bars: min to max)", f);
-	else if (xaxis >= 2)
-		fprintf(f, "AMD %s instructions (Mesa RADV/ACO), net of a load/store baseline", info->chip[xaxis - 2]);
-	else if (!strcmp(info->cost_model, "ir"))
+	else if (xaxis >= 2) { /* names from option values: escaped like any text */
+		fputs("AMD ", f);
+		xml_text(f, info->chip[xaxis - 2]);
+		fputs(" instructions (Mesa RADV/ACO), net of a load/store baseline", f);
+	} else if (!strcmp(info->cost_model, "ir")) {
 		fprintf(f, "cost: simple ALU ops + %g \xc3\x97 complex + %d per bilinear fetch", info->complex,
 		        bk_tier_alu_per_tex[0]);
-	else
-		fprintf(f, "cost (model %s): %g \xc3\x97 simple + %g \xc3\x97 complex + %d per bilinear fetch",
-		        info->cost_model, info->simple, info->complex, bk_tier_alu_per_tex[0]);
+	} else {
+		fputs("cost (model ", f);
+		xml_text(f, info->cost_model);
+		fprintf(f, "): %g \xc3\x97 simple + %g \xc3\x97 complex + %d per bilinear fetch", info->simple, info->complex,
+		        bk_tier_alu_per_tex[0]);
+	}
 	fputs("</text>\n", f);
 	if (xaxis >= 2)
 		fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\" font-size=\"10\" fill=\"#555\">"
@@ -494,7 +499,9 @@ static void svg_point(FILE *f, const bk_compare_row *r, int xaxis, const scale *
 	        front ? "4.5" : "3.5", k->colour, front ? k->colour : "#fff",
 	        r->m.max_abs == 0.0 ? " stroke-dasharray=\"2 1\"" : "");
 	xml_text(f, r->name);
-	fprintf(f, " (%s): max |error| %.3g, %s %.4g%s</title></circle>\n", r->kind, r->m.max_abs,
+	fputs(" (", f);
+	xml_text(f, r->kind);
+	fprintf(f, "): max |error| %.3g, %s %.4g%s</title></circle>\n", r->m.max_abs,
 	        xaxis == 1 ? "ns" : xaxis ? "instructions" : "cost", point_x(r, xaxis), front ? ", on the front" : "");
 }
 

@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* ---- errors: "PATH: detail", the first one wins ------------------------------ */
@@ -94,7 +95,7 @@ static int number(reader *R, const json_t *v, const char *path, double lo, doubl
 {
 	if (!json_is_number(v))
 		return fail(R, path, "expected a number, got %s", kind(v));
-	double x = json_number_value(v);
+	double x = json_number_value(v) + 0.0; /* -0 is 0: the same value, printed without its sign */
 	if (!(x >= lo && x <= hi))
 		return fail(R, path, "%g is outside [%g, %g]", x, lo, hi);
 	*out = x;
@@ -162,6 +163,16 @@ static int range(reader *R, const json_t *v, const char *path, double lo, double
 	return fail(R, path, "expected a number, a list or {\"min\", \"max\"}, got %s", kind(v));
 }
 
+/* A name goes into reports, tables and comments: no line break, tab or
+ * escape sequence in it (the writers escape them too, scene_write.c). */
+static int control_char(const char *s)
+{
+	for (; *s; s++)
+		if ((unsigned char)*s < 0x20 || *s == 0x7f)
+			return 1;
+	return 0;
+}
+
 /* ---- the sections -------------------------------------------------------------- */
 
 static int material(reader *R, const json_t *v, const char *path, bk_scene_material *m)
@@ -184,9 +195,8 @@ static int material(reader *R, const json_t *v, const char *path, bk_scene_mater
 	const char *s = json_string_value(name);
 	if (!*s || strlen(s) >= sizeof m->name)
 		return fail(R, p, "'%s' must have 1 to %zu characters", s, sizeof m->name - 1);
-	for (const char *c = s; *c; c++)
-		if ((unsigned char)*c < 0x20 || *c == 0x7f)
-			return fail(R, p, "a control character in the name");
+	if (control_char(s))
+		return fail(R, p, "a control character in the name");
 	strcpy(m->name, s);
 	m->r_lo = 0;
 	m->r_hi = 1;
@@ -366,11 +376,66 @@ static int target(reader *R, const json_t *v, bk_scene *sc)
 			if (!s || k == 3)
 				return s ? fail(R, p, "unknown language '%s' (known: 'glsl', 'hlsl', 'c')", s)
 				         : fail(R, p, "expected a string, got %s", kind(l));
+			for (size_t j = 0; j < i; j++)
+				if (!strcmp(s, json_string_value(json_array_get(e, j))))
+					return fail(R, p, "'%s' is also target.languages[%zu]", s, j);
 			sc->languages |= 1u << k;
 		}
 	}
 	if ((e = json_object_get(v, "error")) && budget(R, e, sc))
 		return -1;
+	return 0;
+}
+
+/* The length of the JSON number at s (valid JSON: jansson read it). */
+static size_t number_len(const char *s, const char *end)
+{
+	size_t n = 0;
+	while (s + n < end && strchr("+-0123456789.eE", s[n]))
+		n++;
+	return n;
+}
+
+/* Every number of the (valid) JSON text is the value it spells: jansson
+ * reads 1e-999 as 0 without a word, the command line refuses it
+ * (cli_number), and so does a scene. The check is on the text, outside
+ * strings, with the line and column an editor shows. Returns 0 or -1. */
+static int numbers_exact(const char *text, size_t len, char *err, size_t errlen)
+{
+	const char *end = text + len;
+	int line = 1, col = 1, in_string = 0;
+	for (const char *s = text; s < end; s++) {
+		if (in_string) {
+			if (*s == '\\')
+				s++, col++;
+			else if (*s == '"')
+				in_string = 0;
+		} else if (*s == '"') {
+			in_string = 1;
+		} else if (*s == '-' || (*s >= '0' && *s <= '9')) {
+			size_t n = number_len(s, end), mant = strcspn(s, "eE");
+			char *tok = strndup(s, n);
+			if (!tok) {
+				snprintf(err, errlen, "out of memory");
+				return -1;
+			}
+			int nonzero = strcspn(tok, "123456789") < (mant < n ? mant : n);
+			double x = strtod(tok, NULL);
+			if (x == 0 && nonzero) {
+				snprintf(err, errlen, "line %d, column %d: %.40s%s is not 0 but underflows to it (brdfkit reads "
+				                      "numbers from about 4.9e-324 up, and 0)", line, col, tok, n > 40 ? "..." : "");
+				free(tok);
+				return -1;
+			}
+			free(tok);
+			s += n - 1;
+			col += (int)n - 1;
+		}
+		if (*s == '\n')
+			line++, col = 0;
+		if (((unsigned char)*s & 0xc0) != 0x80) /* a column per character, not per byte */
+			col++;
+	}
 	return 0;
 }
 
@@ -390,10 +455,19 @@ int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t
 	sc->languages = BK_SCENE_GLSL | BK_SCENE_HLSL | BK_SCENE_C;
 	sc->budget_vf = sc->budget_env = BK_SCENE_BUDGET_GENERIC;
 
+	if (len >= 3 && !memcmp(text, "\xef\xbb\xbf", 3)) {
+		snprintf(err, errlen, "line 1, column 1: the file starts with a UTF-8 byte-order mark (JSON has none: save it "
+		                      "as UTF-8 without one)");
+		return -1;
+	}
 	json_error_t je;
 	json_t *root = json_loadb(text, len, JSON_REJECT_DUPLICATES, &je);
 	if (!root) {
 		snprintf(err, errlen, "line %d, column %d: %s", je.line, je.column, je.text);
+		return -1;
+	}
+	if (numbers_exact(text, len, err, errlen)) {
+		json_decref(root);
 		return -1;
 	}
 	static const char *const keys[] = {"scene", "materials", "lighting", "geometry", "target", NULL};
@@ -405,6 +479,8 @@ int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t
 			fail(&R, "scene", "expected a string, got %s", kind(e));
 		else if (!*json_string_value(e) || strlen(json_string_value(e)) >= sizeof sc->name)
 			fail(&R, "scene", "the name must have 1 to %zu characters", sizeof sc->name - 1);
+		else if (control_char(json_string_value(e)))
+			fail(&R, "scene", "a control character in the name");
 		else
 			strcpy(sc->name, json_string_value(e));
 	}
@@ -444,6 +520,23 @@ static int same_needs(const bk_scene_needs *a, const bk_scene_needs *b)
 	       (!a->fixed_f0 || a->f0 == b->f0);
 }
 
+/* sets[k].name made unlike every earlier set's: "_2", "_3", ... added. A
+ * name from needs ends in a word or three digits, never in "_" and one or
+ * two digits, so an added suffix meets no other set's name. */
+static void unique_name(bk_scene_set *sets, int k)
+{
+	char base[BK_SCENE_NAME_MAX];
+	snprintf(base, sizeof base, "%s", sets[k].name);
+	for (int suffix = 2;; suffix++) {
+		int clash = 0;
+		for (int j = 0; j < k && !clash; j++)
+			clash = !strcmp(sets[j].name, sets[k].name);
+		if (!clash)
+			return;
+		snprintf(sets[k].name, sizeof sets[k].name, "%.50s_%d", base, suffix);
+	}
+}
+
 int bk_scene_plan(const bk_scene *sc, bk_scene_set *sets)
 {
 	int nset = 0;
@@ -472,6 +565,7 @@ int bk_scene_plan(const bk_scene *sc, bk_scene_set *sets)
 			if (n.fixed_f0)
 				snprintf(S->name + strlen(S->name), sizeof S->name - strlen(S->name), "_%03ld",
 				         lround(n.f0 * 1000));
+			unique_name(sets, nset);
 			nset++;
 		}
 		S->r_lo = fmin(S->r_lo, M->r_lo);

@@ -41,6 +41,10 @@
 
 #define BK_SCENE_NAME_MAX 64
 #define BK_SCENE_MAX_MATERIALS 64
+/* The largest scene file read: 64 materials of a few lines each fill a few
+ * KB; 1 MiB leaves room for long roughness lists and comments' worth of
+ * whitespace, and is read with that bound (a FIFO or /dev/zero included). */
+#define BK_SCENE_FILE_MAX ((size_t)1 << 20)
 
 /* The defaults of the named values (documented above). */
 #define BK_SCENE_DIELECTRIC_F0 0.04
@@ -79,8 +83,12 @@ typedef struct bk_scene {
 /* Reads and checks a scene from JSON text. A syntax error names its line and
  * column (jansson's); a bad value names its key by its path in the document,
  * "materials[1].roughness.max: 1.3 is outside [0, 1]" (jansson keeps no
- * positions of values, and the path is what a user searches for). Returns 0,
- * or -1 with the message. */
+ * positions of values, and the path is what a user searches for). Numbers
+ * follow the command line's rules: a number that is not zero but underflows
+ * to it (1e-999) is refused with its line and column (jansson would read 0),
+ * -0 is read as 0. A UTF-8 byte-order mark is refused by name (JSON has
+ * none: RFC 8259, 8.1). Names (the scene's, the materials') have no control
+ * character; a language is listed once. Returns 0, or -1 with the message. */
 int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t errlen);
 
 /* ---- the plan --------------------------------------------------------------- */
@@ -97,7 +105,10 @@ typedef struct bk_scene_needs {
 void bk_scene_material_needs(const bk_scene *sc, int m, bk_scene_needs *n);
 
 /* Materials with equal needs (and, for a folded f0, the same f0) share a
- * feature set; its domain is the hull of its materials' domains. */
+ * feature set; its domain is the hull of its materials' domains. A set's
+ * name is an identifier made from its needs (the prefix of its functions and
+ * its directory), made unique with "_2", "_3", ... where two folded f0 round
+ * to the same three digits (0.0401 and 0.0404 are both f0_040). */
 typedef struct bk_scene_set {
 	char name[BK_SCENE_NAME_MAX]; /* from its needs: "spec_ibl_f0", "ibl_dielectric", ... */
 	bk_scene_needs needs;

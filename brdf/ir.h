@@ -72,4 +72,17 @@ double bk_ir_apply(bk_op op, double a, double b, double c);
  * rounded: mad, mix, and pow, exp, log decomposed as a GPU runs them). */
 double bk_ir_apply_half(bk_op op, double a, double b, double c);
 
+/* src as text inside a generated comment: the one rule for every comment
+ * brdfkit writes (C block comments, GLSL and HLSL line comments, CSV '#'
+ * lines), so that nothing a user typed can end the comment or start code.
+ * "*" "/" and "/" "*" get a space between them (the first would end a block
+ * comment, the second is C's -Wcomment error); a line break becomes newline
+ * (NULL: a space); every other control character (CR, tab, ESC, DEL) a space;
+ * a backslash, or the trigraph "??" "/", with only blanks after it up to a
+ * line break or the end gets a '.' after it, so no line ends in a line
+ * continuation. The caller puts no '*' or
+ * '/' right beside it. Writes at most cap bytes with the NUL (dst may be NULL
+ * when cap is 0) and returns the escaped text's whole length, as snprintf. */
+size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newline);
+
 #endif

@@ -55,21 +55,58 @@ static void put(text *t, const char *fmt, ...)
 
 /* ---- comment text ---------------------------------------------------------- */
 
-/* Caller text inside the block comment: "*" "/" would end it and "/" "*" is
- * -Wcomment's error in C, so both get a space; a line break continues the
- * comment's left margin; other control characters become spaces. */
+/* A backslash (or C's trigraph "??" "/", which is one) that only blanks
+ * follow up to a line break or the end: at the end of a line it would
+ * continue a "//" comment onto the next (and gcc -Wall warns of it in any
+ * comment), so bk_comment_text puts a '.' after it. */
+static int ends_in_splice(const char *src, const char *s)
+{
+	if (*s != '\\' && !(*s == '/' && s - src >= 2 && s[-1] == '?' && s[-2] == '?'))
+		return 0;
+	while (*++s && *s != '\n')
+		if ((unsigned char)*s > ' ' && *s != 0x7f)
+			return 0;
+	return 1;
+}
+
+size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newline)
+{
+	size_t n = 0;
+#define OUT(c) (n + 1 < cap ? (void)(dst[n] = (c)) : (void)0, n++)
+	for (const char *s = src; *s; s++) {
+		if ((s[0] == '*' && s[1] == '/') || (s[0] == '/' && s[1] == '*')) {
+			OUT(s[0]);
+			OUT(' ');
+		} else if (*s == '\n' && newline) {
+			for (const char *p = newline; *p; p++)
+				OUT(*p);
+		} else if ((unsigned char)*s < ' ' || *s == 0x7f) {
+			OUT(' ');
+		} else {
+			OUT(*s);
+			if (ends_in_splice(src, s))
+				OUT('.');
+		}
+	}
+#undef OUT
+	if (cap)
+		dst[n < cap ? n : cap - 1] = '\0';
+	return n;
+}
+
+/* Caller text inside the block comment (bk_comment_text's rule), a line break
+ * continuing the comment's left margin. */
 static void put_comment(text *t, const char *s)
 {
-	for (; *s; s++) {
-		if ((s[0] == '*' && s[1] == '/') || (s[0] == '/' && s[1] == '*'))
-			put(t, "%c ", s[0]);
-		else if (*s == '\n')
-			put(t, "\n *   ");
-		else if ((unsigned char)*s < ' ' || *s == 0x7f)
-			put(t, " ");
-		else
-			put(t, "%c", *s);
+	size_t n = bk_comment_text(NULL, 0, s, "\n *   ");
+	char *buf = malloc(n + 1);
+	if (!buf) {
+		t->failed = 1;
+		return;
 	}
+	bk_comment_text(buf, n + 1, s, "\n *   ");
+	put(t, "%s", buf);
+	free(buf);
 }
 
 static void put_line(text *t, const char *label, const char *value, const char *fallback)

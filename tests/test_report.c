@@ -459,3 +459,28 @@ Test(report, svg_empty_and_bad_text)
 	expect_well_formed(svg);
 	free(svg);
 }
+
+/* Every string in a plot is text, whatever it holds: the row's name and
+ * kind, the title, the chip and the cost model's name (option values). */
+Test(report, svg_escapes_every_string)
+{
+	static const char evil[] = "</text><script>alert(1)</script>";
+	bk_compare_row row = make_row(evil, evil, 1, 0.1, 1);
+	row.gpu_insn[0] = 7;
+	bk_compare_info info = BK_COMPARE_INFO_INIT;
+	info.cost_model = evil;
+	info.nchips = 1;
+	info.chip[0] = evil;
+	for (int xaxis = 0; xaxis < 3; xaxis++) {
+		char *buf = NULL;
+		size_t len = 0;
+		FILE *f = open_memstream(&buf, &len);
+		cr_assert_not_null(f);
+		bk_compare_svg(f, &row, 1, xaxis, evil, &info);
+		cr_assert_eq(fclose(f), 0);
+		cr_expect_null(strstr(buf, "<script"), "axis %d: %s", xaxis, buf);
+		cr_expect_gt(count_of(buf, "&lt;/text&gt;&lt;script&gt;"), 1, "axis %d", xaxis);
+		expect_well_formed(buf);
+		free(buf);
+	}
+}

@@ -136,6 +136,59 @@ Test(scene, syntax_errors_have_a_line_and_column)
 	cr_expect(strstr(err, "duplicate") != NULL, "%s", err);
 }
 
+/* Numbers follow the command line's rules (cli_number): a number that is
+ * not 0 but underflows to it is refused where it stands, -0 is read as 0,
+ * and a subnormal is a number like any other. */
+Test(scene, numbers_are_the_values_typed)
+{
+	/* column 36: the "1" of 1e-999 (35 characters before it) */
+	expect_error("{\"materials\": [{\"name\": \"m\", \"f0\": 1e-999}]}",
+	             "line 1, column 36: 1e-999 is not 0 but underflows to it (brdfkit reads numbers from about 4.9e-324 "
+	             "up, and 0)");
+	expect_error("{\"materials\": [{\"name\": \"m\",\n \"roughness\": [0.5, 0.00000000000000000000000000000000000000"
+	             "0000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000"
+	             "00000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000"
+	             "00000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000000"
+	             "000001]}]}",
+	             "line 2, column 21: 0.00000000000000000000000000000000000000... is not 0 but underflows to it (brdfkit "
+	             "reads numbers from about 4.9e-324 up, and 0)");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"error\": {\"vf\": 1e-400}}}",
+	             "line 1, column 59: 1e-400 is not 0 but underflows to it (brdfkit reads numbers from about 4.9e-324 up, "
+	             "and 0)");
+	/* negative controls: zeros, a subnormal, and a string that spells a small number */
+	cr_assert_eq(parse("{\"scene\": \"1e-999\", \"materials\": [{\"name\": \"m\", \"roughness\": [-0.0, 0e5, 1e-310],"
+	                   " \"f0\": -0}]}"),
+	             0, "%s", err);
+	cr_expect_eq(sc.mat[0].r_lo, 0);
+	cr_expect(!signbit(sc.mat[0].r_lo), "-0 is read as 0");
+	cr_expect(!signbit(sc.mat[0].f0_lo), "-0 is read as 0");
+	cr_expect_eq(sc.mat[0].r_hi, 1e-310);
+	cr_expect_str_eq(sc.name, "1e-999");
+}
+
+Test(scene, a_byte_order_mark_is_named)
+{
+	expect_error("\xef\xbb\xbf{\"materials\": [{\"name\": \"m\"}]}",
+	             "line 1, column 1: the file starts with a UTF-8 byte-order mark (JSON has none: save it as UTF-8 without "
+	             "one)");
+	cr_assert_eq(parse("{\"scene\": \"\xef\xbb\xbf\", \"materials\": [{\"name\": \"m\"}]}"), 0, "%s", err); /* inside: a character */
+}
+
+Test(scene, names_and_languages_once)
+{
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"languages\": [\"glsl\", \"c\", \"glsl\"]}}",
+	             "target.languages[2]: 'glsl' is also target.languages[0]");
+	expect_error("{\"scene\": \"x\\nfloat inj(){return 1.0;}\\n//\", \"materials\": [{\"name\": \"m\"}]}",
+	             "scene: a control character in the name");
+	expect_error("{\"scene\": \"x\\ry\", \"materials\": [{\"name\": \"m\"}]}", "scene: a control character in the name");
+	expect_error("{\"materials\": [{\"name\": \"m\\u001b[31m\"}]}", "materials[0].name: a control character in the name");
+	/* what comments and pages escape is a name like any other */
+	cr_assert_eq(parse("{\"scene\": \"x */ int injected_c = 1; /* </pre><script> \\\\\", "
+	                   "\"materials\": [{\"name\": \"m\"}]}"),
+	             0, "%s", err);
+	cr_expect_str_eq(sc.name, "x */ int injected_c = 1; /* </pre><script> \\");
+}
+
 /* ---- the plan --------------------------------------------------------------- */
 
 Test(scene, plan_groups_equal_needs)
@@ -163,6 +216,21 @@ Test(scene, plan_groups_equal_needs)
 	/* no specular: neither D*V*F nor the environment BRDF, and f0 means nothing */
 	cr_expect(!sets[2].needs.vf && !sets[2].needs.env && sets[2].needs.diffuse && !sets[2].needs.fixed_f0);
 	cr_expect_str_eq(sets[2].name, "diffuse");
+}
+
+/* Two folded f0 that round to the same three digits are two sets: their
+ * names (function prefixes and directories) must differ too. */
+Test(scene, set_names_are_unique)
+{
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"a\", \"f0\": 0.0401}, {\"name\": \"b\", \"f0\": 0.0404},"
+	                   "{\"name\": \"c\", \"f0\": 0.04}, {\"name\": \"d\", \"f0\": 0.0404}]}"),
+	             0, "%s", err);
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	cr_assert_eq(bk_scene_plan(&sc, sets), 3);
+	cr_expect_str_eq(sets[0].name, "spec_ibl_diffuse_f0_040");
+	cr_expect_str_eq(sets[1].name, "spec_ibl_diffuse_f0_040_2");
+	cr_expect_str_eq(sets[2].name, "spec_ibl_diffuse_f0_040_3");
+	cr_expect_eq(sets[1].nmat, 2, "b and d share one f0, one set");
 }
 
 Test(scene, no_ibl_no_env_no_punctual_no_vf)

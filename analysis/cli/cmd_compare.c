@@ -8,6 +8,7 @@
 #include "catalog.h"
 #include "cli.h"
 #include "out.h"
+#include "page.h"
 #include "cmd.h"
 #include "compare.h"
 #include "fit.h"
@@ -684,7 +685,9 @@ int cmd_compare(int argc, char **argv)
 		return rc;
 	}
 	bk_pareto(S.rows, S.n, t);
-	rc = write_dir(&S, out, prefix);
+	char *pre = bk_html_escaped(prefix); /* it goes into attributes (page.h) */
+	rc = pre ? write_dir(&S, out, pre) : cli_fail("compare", "out of memory");
+	free(pre);
 	bk_samples_free(&S.s);
 	return rc;
 }

@@ -8,11 +8,13 @@
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
+#include "page.h"
 
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char *const style =
 	"body{font-family:sans-serif;max-width:1100px;margin:2em auto;padding:0 1em;color:#222}"
@@ -21,43 +23,65 @@ static const char *const style =
 	"th{background:#f4f4f4}code{background:#f4f4f4;padding:0 3px}"
 	"section{margin-top:3em}svg{max-width:100%;height:auto}";
 
-/* A section is HTML text: a binary file (an image given by mistake) would
- * make a page of megabytes of garbage, so it is refused, named. */
-static int copy_into(FILE *out, const char *path)
-{
+/* One section, read and checked before anything is written. */
+typedef struct section {
+	const char *path;
+	char *text;
 	size_t len;
-	char *buf = cli_read_file(path, &len), why[64];
-	if (!buf)
-		return cli_fail("report", "%s: cannot read: %s", path, strerror(errno));
-	int bad = cli_check_text(buf, len, why, sizeof why);
-	if (bad)
-		cli_fail("report", "%s: not text (%s)", path, why);
-	else
-		fwrite(buf, 1, len, out);
-	free(buf);
-	return bad ? 1 : 0;
+	char id[64];
+	struct stat st;
+} section;
+
+/* A section over the size cap: a binary given by mistake, the usual case,
+ * is named as one from its first 4 KiB (cut back to a whole character). */
+static int refuse_big(const char *path, const char *err)
+{
+	char head[4096], why[64];
+	FILE *f = fopen(path, "rb");
+	size_t n = f ? fread(head, 1, sizeof head, f) : 0;
+	if (f)
+		fclose(f);
+	while (n && ((unsigned char)head[n - 1] & 0xc0) == 0x80)
+		n--;
+	if (n && (unsigned char)head[n - 1] >= 0xc0)
+		n--;
+	if (n && cli_check_text(head, n, why, sizeof why))
+		return cli_fail("report", "%s: not text (%s)", path, why);
+	return cli_fail("report", "%s: %s (a section brdfkit writes is well under that)", path, err);
 }
 
-int cmd_report(int argc, char **argv)
+/* Reads and checks section k of S against --out and the sections before it:
+ * a section is HTML text brdfkit wrote (page.h's check), not the page being
+ * written, and not a second copy (two elements with one id). Returns 0 or 1. */
+static int load_section(section *S, int k, const char *out, const struct stat *out_st)
 {
-	const char *out = NULL;
-	cli_opt opts[] = {
-		{.name = "--out", .kind = CLI_STR, .metavar = "FILE.html", .help = "the page (written atomically)", .dest = &out, .required = 1},
-	};
-	cli_cmd cmd = {"report", "Writes the study's page from the sections brdfkit compare wrote.",
-	               "--out FILE.html SECTION.html [SECTION.html ...]", NULL, opts, 1, 16, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
-		return rc == 1 ? 0 : rc;
-	if (cmd.npos < 1) {
-		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");
-		return 2;
+	section *x = &S[k];
+	char err[512], why[64];
+	x->text = bk_read_bounded(x->path, BK_PAGE_SECTION_MAX, &x->len, err, sizeof err);
+	if (!x->text && !stat(x->path, &x->st) && S_ISREG(x->st.st_mode) && (size_t)x->st.st_size > BK_PAGE_SECTION_MAX)
+		return refuse_big(x->path, err);
+	if (!x->text)
+		return cli_fail("report", "%s: %s", x->path, err);
+	if (stat(x->path, &x->st) && strcmp(x->path, "-"))
+		return cli_fail("report", "%s: cannot be read: %s", x->path, strerror(errno));
+	if (out_st && x->st.st_dev == out_st->st_dev && x->st.st_ino == out_st->st_ino)
+		return cli_fail("report", "%s: is --out %s itself (the page would overwrite its own section)", x->path, out);
+	if (cli_check_text(x->text, x->len, why, sizeof why))
+		return cli_fail("report", "%s: not text (%s)", x->path, why);
+	if (bk_section_check(x->text, x->len, x->id, sizeof x->id, err, sizeof err))
+		return cli_fail("report", "%s: %s", x->path, err);
+	for (int j = 0; j < k; j++) {
+		if (S[j].st.st_dev == x->st.st_dev && S[j].st.st_ino == x->st.st_ino)
+			return cli_fail("report", "%s: given twice (also as %s)", x->path, S[j].path);
+		if (!strcmp(S[j].id, x->id))
+			return cli_fail("report", "%s: its id '%s' is also %s's (the page would have two elements with one id)",
+			                x->path, x->id, S[j].path);
 	}
-	bk_out co;
-	char err[512];
-	if (bk_out_open(&co, out, err, sizeof err))
-		return cli_fail("report", "%s", err);
-	FILE *f = co.f;
+	return 0;
+}
+
+static void page_head(FILE *f, const section *S, int n)
+{
 	fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n"
 	           "<title>brdfkit %s: cheap BRDF approximations, error against cost</title>\n<style>%s</style>\n"
 	           "</head><body>\n<h1>brdfkit %s — error against cost</h1>\n", BK_VERSION, style, BK_VERSION);
@@ -69,32 +93,59 @@ int cmd_report(int argc, char **argv)
 	      "(16, 32, 48, 64 simple ops per bilinear fetch per GPU tier). Conventions: r perceptual roughness, "
 	      "a = r², V = G/(4 NoL NoV), split sum f0·A + B, Schlick F with f90 = 1. Made by <code>make results</code>; "
 	      "the tidy CSVs are in <code>notebooks_data/</code>.</p>\n<p>Sections: ", f);
-	for (int i = 0; i < cmd.npos; i++) {
-		const char *slash = strrchr(cmd.pos[i], '/'), *start = cmd.pos[i];
-		char name[64] = "";
-		if (slash) { /* results/compare/<target>/section.html: the target's name */
-			const char *p = slash - 1;
-			while (p > start && p[-1] != '/')
-				p--;
-			snprintf(name, sizeof name, "%.*s", (int)(slash - p), p);
-		}
-		FILE *sf = fopen(cmd.pos[i], "r"); /* the section's own id, where it opens with one */
-		char head[256] = "", *id;
-		if (sf) {
-			size_t got = fread(head, 1, sizeof head - 1, sf);
-			head[got] = '\0';
-			fclose(sf);
-		}
-		if (!strncmp(head, "<section id=\"", 13) && (id = strchr(head + 13, '"')) && id - head - 13 < 63)
-			snprintf(name, sizeof name, "%.*s", (int)(id - head - 13), head + 13);
-		fprintf(f, "%s<a href=\"#%s\">%s</a>", i ? ", " : "", name, name);
+	for (int i = 0; i < n; i++) {
+		fputs(i ? ", <a href=\"#" : "<a href=\"#", f);
+		bk_html_text(f, S[i].id);
+		fputs("\">", f);
+		bk_html_text(f, S[i].id);
+		fputs("</a>", f);
 	}
 	fputs(".</p>\n", f);
+}
+
+int cmd_report(int argc, char **argv)
+{
+	const char *out = NULL;
+	cli_opt opts[] = {
+		{.name = "--out", .kind = CLI_STR, .metavar = "FILE.html", .help = "the page (written atomically)", .dest = &out, .required = 1},
+	};
+	cli_cmd cmd = {"report", "Writes the study's page from the sections brdfkit compare wrote.",
+	               "--out FILE.html SECTION.html [SECTION.html ...]",
+	               "A section is a file brdfkit compare, stability, search or scene wrote (at most 4 MiB): it\n"
+	               "opens with <section id=\"ID\"> and holds only the elements and attributes those commands\n"
+	               "write (no script, no event handler, links relative or http(s)); each is given once, with\n"
+	               "an id of its own, and none is --out itself.",
+	               opts, 1, 16, 0, {0}};
+	int rc = cli_parse(&cmd, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	if (cmd.npos < 1) {
+		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");
+		return 2;
+	}
+	struct stat out_st;
+	int out_exists = !stat(out, &out_st);
+	section *S = calloc((size_t)cmd.npos, sizeof *S);
+	if (!S)
+		return cli_fail("report", "out of memory");
+	for (int i = 0; i < cmd.npos && !rc; i++) { /* every section checked before the page is begun */
+		S[i].path = cmd.pos[i];
+		rc = load_section(S, i, out, out_exists ? &out_st : NULL);
+	}
+	bk_out co;
+	char err[512];
+	if (!rc && bk_out_open(&co, out, err, sizeof err))
+		rc = cli_fail("report", "%s", err);
+	if (!rc) {
+		page_head(co.f, S, cmd.npos);
+		for (int i = 0; i < cmd.npos; i++)
+			fwrite(S[i].text, 1, S[i].len, co.f);
+		fputs("</body></html>\n", co.f);
+		if (bk_out_commit(&co, err, sizeof err))
+			rc = cli_fail("report", "%s", err);
+	}
 	for (int i = 0; i < cmd.npos; i++)
-		if (copy_into(f, cmd.pos[i])) {
-			bk_out_abort(&co);
-			return 1;
-		}
-	fputs("</body></html>\n", f);
-	return bk_out_commit(&co, err, sizeof err) ? cli_fail("report", "%s", err) : 0;
+		free(S[i].text);
+	free(S);
+	return rc;
 }

@@ -6,13 +6,16 @@
  */
 #include "brdf.h"
 #include "cli.h"
+#include "clock.h"
 #include "cmd.h"
 #include "compare.h"
 #include "expr.h"
 #include "gpucost.h"
 #include "out.h"
+#include "page.h"
 #include "scene.h"
 #include "scene_fit.h"
+#include "scene_write.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -20,400 +23,72 @@
 #include <sys/stat.h>
 
 #define TIME_REPS 7
-#define SCENE_CHIPS 8
 
-/* What the run decided for one feature set. */
-typedef struct set_result {
-	bk_scene_set set;
-	int has[BK_SCENE_TERMS];
-	bk_scene_choice ch[BK_SCENE_TERMS], gen[BK_SCENE_TERMS];
-	double cost, gen_cost;   /* ALU + fetches, the scene's weights */
-	int spirv, gen_spirv;    /* SPIR-V instructions of the forms (fetches not counted) */
-	double ns, gen_ns;       /* CPU ns per evaluation of the forms, summed */
-	/* --gpu: ACO's net instructions per term and chip (NaN: a LUT, nothing compiled), and
-	 * summed over the set's terms (fetches not included) */
-	double gpu[BK_SCENE_TERMS][SCENE_CHIPS], gen_gpu[BK_SCENE_TERMS][SCENE_CHIPS];
-	double gpu_sum[SCENE_CHIPS], gen_gpu_sum[SCENE_CHIPS];
-} set_result;
+/* M13: what a scene costs before it runs. Measured on a 2-core x86-64 (2020s,
+ * one core per scene): a V*F term takes 2 s from the catalog and up to 20 s
+ * when the short search runs (BK_SCENE_SEARCH_EVALS fits); an env term 16 to
+ * 23 s (its reference integrals and the LUT scores); D a fraction of a
+ * second. The estimate takes 30 s per V*F or env term, the slow case with a
+ * margin for a loaded machine; above WARN_S the run says so before it starts
+ * (it is not refused: the work is what the files ask for, it can be stopped
+ * with Ctrl-C, and nothing is written until it is done). */
+#define TERM_S 30.0
+#define WARN_S 1800.0
 
 /* --gpu: the chips, shared by every scene of the run */
 static struct {
-	const char *chip[SCENE_CHIPS];
+	const char *chip[BK_SCENE_CHIPS];
 	int n;
 	char buf[512], driver[256];
 } gpu;
 
-static const char *const lang_ext[3] = {"glsl", "hlsl", "c"};
-static const bk_lang lang_of[3] = {BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C};
+typedef struct scene_run {
+	const char *file;
+	char stem[64];  /* the file's name without directory and .json: its folder when several */
+	char hash[20];  /* FNV-1a of the file's bytes */
+	bk_scene sc;
+	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
+	bk_scene_result R[BK_SCENE_MAX_MATERIALS];
+	int nset;
+} scene_run;
 
-static void domain_text(const bk_scene *sc, const bk_scene_set *S, char *buf, size_t len)
+static bk_scene_doc doc_of(const scene_run *S)
 {
-	int k = snprintf(buf, len, "r in [%g, %g], NoV in [%g, %g], ", S->r_lo, S->r_hi, sc->nov_lo, sc->nov_hi);
-	if (S->needs.fixed_f0)
-		snprintf(buf + k, len - k, "f0 = %g (folded)", S->needs.f0);
-	else
-		snprintf(buf + k, len - k, "f0 in [%g, %g]", S->f0_lo, S->f0_hi);
+	bk_scene_doc d = {&S->sc, S->R, S->nset, S->hash, bk_out_command(), gpu.n, gpu.chip, gpu.driver};
+	return d;
 }
 
-static const char *err_unit(bk_scene_term t)
-{
-	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
-}
+/* ---- measurements -------------------------------------------------------------- */
 
-/* One generated function of text (constants p) into f. Returns 0 or -1. */
-static int emit(FILE *f, const char *text, const double *p, bk_lang lang, int half, const bk_emit_info *info, char *err,
-                size_t errlen)
-{
-	bk_form_error fe;
-	bk_form *form = bk_form_parse(text, &fe);
-	if (!form) {
-		snprintf(err, errlen, "%s: %s", info->name, fe.message);
-		return -1;
-	}
-	char *code = bk_form_emit(form, lang, half, p, info);
-	bk_form_free(form);
-	if (!code) {
-		snprintf(err, errlen, "%s: code generation failed", info->name);
-		return -1;
-	}
-	fprintf(f, "%s\n", code);
-	free(code);
-	return 0;
-}
-
-/* How to make and sample a LUT choice, as comment lines. */
-static void lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
-{
-	const bk_lut_layout *L = &c->lut_layout;
-	int remap = L->r_lo > 0 || L->r_hi < 1, folded = !isnan(L->f0);
-	char opts[160] = "", v[96] = "r";
-	int k = 0;
-	if (folded)
-		k += snprintf(opts + k, sizeof opts - (size_t)k, " --f0 %.9g", L->f0);
-	if (remap)
-		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
-	if (L->warp != BK_LUT_WARP_NONE)
-		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
-	if (remap) /* v = (r - r_lo)/(r_hi - r_lo) as one multiply-add */
-		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
-	fprintf(f, "%s %s: the environment BRDF is a texture here (%s):%s\n", c0, fname,
-	        c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio",
-	        c1);
-	fprintf(f, "%s   %s, made by: brdfkit lut --size %d%s%s --out DIR%s%s\n", c0, c->name, c->lut_size, opts,
-	        c->lut_fmt == BK_LUT_HALF ? " --half" : "", c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "", c1);
-	fprintf(f, "%s   sample it with bilinear filtering and clamp to edge at u = %s, v = %s;%s\n", c0,
-	        bk_lut_warp_form(L->warp), v, c1);
-	if (folded)
-		fprintf(f, "%s   env = its one channel (f0 = %g folded in); max abs error %.3g on the domain%s\n\n", c0, L->f0,
-		        c->err, c1);
-	else
-		fprintf(f, "%s   then env = f0*A + B (A, B its two channels); max abs error %.3g on the domain%s\n\n", c0, c->err,
-		        c1);
-}
-
-/* The functions of one set in one language: the chosen terms, the diffuse,
- * a comment for a LUT. Returns 0 or -1. */
-static int write_shader(FILE *f, const bk_scene *sc, const set_result *R, int li, const char *hash, char *err,
-                        size_t errlen)
-{
-	char dom[256];
-	domain_text(sc, &R->set, dom, sizeof dom);
-	const char *c0 = li == 2 ? "/*" : "//", *c1 = li == 2 ? " */" : "";
-	fprintf(f, "%s brdfkit %s: scene '%s' (file hash %s), feature set %s: DO NOT EDIT%s\n", c0, BK_VERSION, sc->name,
-	        hash, R->set.name, c1);
-	fprintf(f, "%s command: %s%s\n", c0, bk_out_command(), c1);
-	fprintf(f, "%s domain: %s; precision %s%s\n", c0, dom, sc->half ? "mediump (binary16)" : "highp", c1);
-	fprintf(f, "%s cost: %g (generic shader: %g); conventions: r perceptual roughness, a = r^2, V includes "
-	           "1/(4 NoL NoV), BRDF without NoL%s\n\n", c0, R->cost, R->gen_cost, c1);
-	for (int t = 0; t < BK_SCENE_TERMS; t++) {
-		if (!R->has[t])
-			continue;
-		const bk_scene_choice *c = &R->ch[t];
-		char fname[96], errtext[160];
-		snprintf(fname, sizeof fname, "%s_%s", R->set.name, bk_scene_term_name(t));
-		if (c->lut) {
-			lut_comment(f, c, fname, c0, c1);
-			continue;
-		}
-		snprintf(errtext, sizeof errtext, "%s %.3g in %s on the domain (budget %.3g); fp16 guards: %.60s",
-		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
-		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
-		                     errtext, bk_out_command()};
-		if (emit(f, c->text, c->p, lang_of[li], sc->half, &info, err, errlen))
-			return -1;
-	}
-	if (R->set.needs.diffuse) {
-		char fname[96];
-		snprintf(fname, sizeof fname, "%s_diffuse", R->set.name);
-		bk_emit_info info = {fname, "Lambert", "times the diffuse colour (1/pi included)", NULL, "exact", bk_out_command()};
-		if (emit(f, "Fd_lambert()", NULL, lang_of[li], sc->half, &info, err, errlen))
-			return -1;
-	}
-	return 0;
-}
-
-static void params_text(FILE *f, const bk_scene_choice *c)
-{
-	int np = 0;
-	if (c->text) {
-		bk_form_error fe;
-		bk_form *form = bk_form_parse(c->text, &fe);
-		np = form ? bk_form_nparams(form) : 0;
-		bk_form_free(form);
-	}
-	for (int j = 0; j < np; j++)
-		fprintf(f, "%sp%d=%.9g", j ? ";" : "", j, c->p[j]);
-}
-
-static void scene_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset, const char *hash)
-{
-	fprintf(f, "# brdfkit %s scene specialisation: scene '%s' (file hash %s)\n", BK_VERSION, sc->name, hash);
-	fprintf(f, "# command: %s\n", bk_out_command());
-	fprintf(f, "# error: vf = directional-albedo max abs error of D*V*F, env = max abs error of f0*A + B, both at the "
-	           "ends of the set's f0 range on its (NoV, r) domain, in %s; D is exact GGX, its error the largest relative error its fp16 guard adds where it acts. cost: simple*%g + "
-	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
-	        sc->half ? "half precision (mediump)" : "single precision (highp)", sc->simple_cost, sc->complex_cost,
-	        sc->fetch_cost);
-	if (gpu.n)
-		fprintf(f, "# aco_CHIP_instructions: AMD instructions of the term's form (brdfkit gpucost: Mesa RADV's null "
-		           "device, %s, fp32, net of a load/store baseline; empty for a LUT), and of the generic shader's\n",
-		        gpu.driver);
-	fputs("material,feature_set,term,choice,form,parameters,simple,complex,fetches,cost,error,error_kind,budget,"
-	      "meets_budget,fp16_guards,generic_cost,generic_error,at_generic_cost,at_generic_cost_error", f);
-	for (int c = 0; c < gpu.n; c++)
-		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
-	fputc('\n', f);
-	for (int i = 0; i < nset; i++)
-		for (int m = 0; m < R[i].set.nmat; m++)
-			for (int t = 0; t < BK_SCENE_TERMS; t++) {
-				if (!R[i].has[t])
-					continue;
-				const bk_scene_choice *c = &R[i].ch[t], *g = &R[i].gen[t];
-				bk_csv_field(f, sc->mat[R[i].set.mat[m]].name);
-				fprintf(f, ",%s,%s,", R[i].set.name, bk_scene_term_name(t));
-				bk_csv_field(f, c->name);
-				fputc(',', f);
-				bk_csv_field(f, c->text ? c->text : "");
-				fputc(',', f);
-				params_text(f, c);
-				fprintf(f, ",%d,%d,%d,%g,%.6g,%s,", c->ops.simple, c->ops.complex, c->fetches, c->cost, c->err,
-				        err_unit(t));
-				if (isfinite(c->budget))
-					fprintf(f, "%.6g", c->budget);
-				fprintf(f, ",%d,", c->meets);
-				bk_csv_field(f, c->guards);
-				fprintf(f, ",%g,%.6g,", g->cost, g->err);
-				bk_csv_field(f, c->eq_name);
-				fputc(',', f);
-				if (c->eq_name[0])
-					fprintf(f, "%.6g", c->eq_err);
-				for (int k = 0; k < gpu.n; k++) {
-					fputc(',', f);
-					if (!isnan(R[i].gpu[t][k]))
-						fprintf(f, "%.0f", R[i].gpu[t][k]);
-					fputc(',', f);
-					if (!isnan(R[i].gen_gpu[t][k]))
-						fprintf(f, "%.0f", R[i].gen_gpu[t][k]);
-				}
-				fputc('\n', f);
-			}
-}
-
-/* The set's worst error over its vf and env terms, and the generic's: both
- * are directional-albedo errors (scene_fit.h), so the larger is the
- * shader's; NaN when the set has neither (D alone, or diffuse only). */
-static void set_errors(const set_result *r, double *err, double *gen_err)
-{
-	*err = *gen_err = NAN;
-	for (int t = BK_SCENE_TERM_VF; t <= BK_SCENE_TERM_ENV; t++)
-		if (r->has[t]) {
-			*err = isnan(*err) || r->ch[t].err > *err ? r->ch[t].err : *err;
-			*gen_err = isnan(*gen_err) || r->gen[t].err > *gen_err ? r->gen[t].err : *gen_err;
-		}
-}
-
-static void sets_csv(FILE *f, const bk_scene *sc, const set_result *R, int nset)
-{
-	fprintf(f, "# brdfkit %s scene '%s': each feature set's shader against the generic one (GGX D, "
-	           "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
-	           "instructions of the forms' GLSL after spirv-opt -O (fetches not included)\n",
-	        BK_VERSION, sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
-	if (gpu.n)
-		fprintf(f, "# aco_CHIP_instructions: AMD instructions of the set's forms, summed (brdfkit gpucost: Mesa RADV's "
-		           "null device, %s, fp32, net of a load/store baseline per form; fetches not included)\n",
-		        gpu.driver);
-	fputs("# error, generic_error: the largest of the set's vf and env errors (both directional-albedo errors on "
-	      "the set's domain in the scene's precision; scene.csv has each); error_ratio = generic_error / error\n", f);
-	fputs("feature_set,materials,r_lo,r_hi,f0_lo,f0_hi,cost,generic_cost,cost_ratio,spirv,generic_spirv,error,"
-	      "generic_error,error_ratio", f);
-	for (int c = 0; c < gpu.n; c++)
-		fprintf(f, ",aco_%s_instructions,generic_aco_%s_instructions", gpu.chip[c], gpu.chip[c]);
-	fputc('\n', f);
-	for (int i = 0; i < nset; i++) {
-		const set_result *r = &R[i];
-		fprintf(f, "%s,", r->set.name);
-		char names[1024] = "";
-		for (int m = 0; m < r->set.nmat; m++)
-			snprintf(names + strlen(names), sizeof names - strlen(names), "%s%s", m ? ";" : "",
-			         sc->mat[r->set.mat[m]].name);
-		bk_csv_field(f, names);
-		fprintf(f, ",%g,%g,%g,%g,%g,%g,%.3g,%d,%d", r->set.r_lo, r->set.r_hi, r->set.f0_lo, r->set.f0_hi, r->cost,
-		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
-		double e, ge;
-		set_errors(r, &e, &ge);
-		if (isnan(e))
-			fputs(",,,", f);
-		else
-			fprintf(f, ",%.6g,%.6g,%.3g", e, ge, ge / e);
-		for (int c = 0; c < gpu.n; c++)
-			fprintf(f, ",%.0f,%.0f", r->gpu_sum[c], r->gen_gpu_sum[c]);
-		fputc('\n', f);
-	}
-}
-
-/* with_time: the CPU timings too (stdout; report.txt stays reproducible) */
-static void report_txt(FILE *f, const bk_scene *sc, const set_result *R, int nset, int with_time)
-{
-	fprintf(f, "scene '%s': %d material%s, %d feature set%s; punctual lights %s, image-based lighting %s, diffuse %s; "
-	           "%s; ",
-	        sc->name, sc->nmat, sc->nmat == 1 ? "" : "s", nset, nset == 1 ? "" : "s", sc->punctual ? "yes" : "no",
-	        sc->ibl ? "yes" : "no", sc->diffuse ? "yes" : "no", sc->half ? "mediump (fp16)" : "highp");
-	if (sc->alu_tex)
-		fprintf(f, "ALU:TEX %d\n", sc->alu_tex);
-	else
-		fprintf(f, "costs simple %g, complex %g, fetch %g\n", sc->simple_cost, sc->complex_cost, sc->fetch_cost);
-	if (sc->budget_vf == BK_SCENE_BUDGET_AT_COST || sc->budget_env == BK_SCENE_BUDGET_AT_COST)
-		fputs("  error \"at-generic-cost\": each term the most accurate form at no more than the generic's cost "
-		      "(a LUT: and memory)\n", f);
-	if (!sc->punctual)
-		fputs("  no punctual lights: no D*V*F code\n", f);
-	if (!sc->ibl)
-		fputs("  no image-based lighting: no environment BRDF code\n", f);
-	for (int i = 0; i < nset; i++) {
-		const set_result *r = &R[i];
-		char dom[256];
-		domain_text(sc, &r->set, dom, sizeof dom);
-		fprintf(f, "\nfeature set %s (", r->set.name);
-		for (int m = 0; m < r->set.nmat; m++)
-			fprintf(f, "%s%s", m ? ", " : "", sc->mat[r->set.mat[m]].name);
-		fprintf(f, "): %s\n", dom);
-		if (!r->set.needs.vf && !r->set.needs.env)
-			fputs("  no specular (the materials have none): diffuse only\n", f);
-		if (r->set.needs.fixed_f0)
-			fprintf(f, "  one f0 (%g): folded into the constants, no f0 input\n", r->set.needs.f0);
-		for (int t = 0; t < BK_SCENE_TERMS; t++) {
-			if (!r->has[t])
-				continue;
-			const bk_scene_choice *c = &r->ch[t], *g = &r->gen[t];
-			if (t == BK_SCENE_TERM_D) {
-				fprintf(f, "  D   exact GGX: cost %g (generic %g)\n      fp16 guards: %s\n", c->cost, g->cost, c->guards);
-				continue;
-			}
-			fprintf(f, "  %-3s %s: cost %g (generic %g), %s %.3g (generic %.3g, budget %.3g%s), %d candidates scored\n",
-			        bk_scene_term_name(t), c->name, c->cost, g->cost, err_unit(t), c->err, g->err, c->budget,
-			        c->meets ? "" : ": NOT MET, the most accurate kept", c->scored);
-			fprintf(f, "      fp16 guards: %s\n", c->guards);
-			if (c->eq_name[0] && g->err > 0)
-				fprintf(f, "      at the generic's cost: %s, cost %g, %s %.3g (%.2fx the generic's accuracy)\n", c->eq_name,
-				        c->eq_cost, err_unit(t), c->eq_err, g->err / c->eq_err);
-		}
-		double e, ge;
-		set_errors(r, &e, &ge);
-		if (r->cost > 0) {
-			fprintf(f, "  shader cost %g against the generic %g (%.2fx cheaper); SPIR-V %d against %d", r->cost,
-			        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
-			if (e > 0) /* NaN: no vf or env term */
-				fprintf(f, "; worst term error %.3g against the generic's %.3g (%.2fx %s)", e, ge,
-				        ge >= e ? ge / e : e / ge, ge >= e ? "more accurate" : "less accurate");
-		} else {
-			fprintf(f, "  shader: the diffuse term alone, as in the generic shader");
-		}
-		if (with_time && r->cost > 0 && isfinite(r->ns) && isfinite(r->gen_ns))
-			fprintf(f, "; CPU %.2f ns against %.2f ns per evaluation", r->ns, r->gen_ns);
-		fputc('\n', f);
-	}
-}
-
-/* One scene's part of the page: a heading, the choices, the savings. */
-static void section_body(FILE *f, const bk_scene *sc, const set_result *R, int nset, const char *prefix)
-{
-	fputs("<h3>", f);
-	bk_html_text(f, sc->name);
-	fprintf(f, "</h3>\n<p>%d material%s, %s, %s%s%s, ", sc->nmat, sc->nmat == 1 ? "" : "s",
-	        sc->half ? "mediump" : "highp", sc->punctual ? "punctual lights" : "no punctual lights",
-	        sc->ibl ? ", image-based lighting" : ", no IBL", sc->diffuse ? ", diffuse" : "");
-	if (sc->alu_tex)
-		fprintf(f, "ALU:TEX %d", sc->alu_tex);
-	else
-		fprintf(f, "costs simple %g, complex %g, fetch %g", sc->simple_cost, sc->complex_cost, sc->fetch_cost);
-	fprintf(f, ". Tables: <a href=\"%sscene.csv\">scene.csv</a>, <a href=\"%ssets.csv\">sets.csv</a>, "
-	           "<a href=\"%sreport.txt\">report.txt</a>.</p>\n", prefix, prefix, prefix);
-	fputs("<table>\n<tr><th>feature set</th><th>term</th><th>choice</th><th>cost (generic)</th><th>error "
-	      "(generic)</th><th>budget</th><th>fp16 guards</th></tr>\n", f);
-	for (int i = 0; i < nset; i++)
-		for (int t = 0; t < BK_SCENE_TERMS; t++) {
-			if (!R[i].has[t])
-				continue;
-			const bk_scene_choice *c = &R[i].ch[t], *g = &R[i].gen[t];
-			fprintf(f, "<tr><td>%s</td><td>%s</td><td>", R[i].set.name, bk_scene_term_name(t));
-			bk_html_text(f, c->name);
-			fprintf(f, "</td><td>%g (%g)</td><td>%.3g (%.3g)</td><td>", c->cost, g->cost, c->err, g->err);
-			if (isfinite(c->budget))
-				fprintf(f, "%.3g%s", c->budget, c->meets ? "" : " not met");
-			fputs("</td><td>", f);
-			bk_html_text(f, c->guards);
-			fputs("</td></tr>\n", f);
-		}
-	fputs("</table>\n<table>\n<tr><th>feature set</th><th>shader cost</th><th>generic</th><th>ratio</th>"
-	      "<th>SPIR-V</th><th>generic SPIR-V</th><th>worst term error</th><th>generic</th><th>accuracy gain</th>"
-	      "<th>shaders</th></tr>\n", f);
-	for (int i = 0; i < nset; i++) {
-		const set_result *r = &R[i];
-		double e, ge;
-		set_errors(r, &e, &ge);
-		fprintf(f, "<tr><td>%s</td><td>%g</td><td>%g</td><td>%.2fx</td><td>%d</td><td>%d</td>", r->set.name, r->cost,
-		        r->gen_cost, r->gen_cost / r->cost, r->spirv, r->gen_spirv);
-		if (isnan(e) || !(e > 0))
-			fputs("<td></td><td></td><td></td><td>", f);
-		else
-			fprintf(f, "<td>%.3g</td><td>%.3g</td><td>%.2fx</td><td>", e, ge, ge / e);
-		for (int li = 0; li < 3; li++)
-			if (sc->languages & (1u << li))
-				fprintf(f, "<a href=\"%s%s/shader.%s\">%s</a> ", prefix, r->set.name, lang_ext[li], lang_ext[li]);
-		fputs("</td></tr>\n", f);
-	}
-	fputs("</table>\n", f);
-}
-
-static void section_open(FILE *f, const char *id)
-{
-	fprintf(f, "<section id=\"%s\">\n<h2>Scenes: shaders specialised to what a scene contains</h2>\n<p>For each scene, "
-	           "materials with the same needs share a feature set and one shader; each term it needs is the cheapest "
-	           "form that meets the scene's error budget on the set's own roughness, f0 and NoV range (catalog forms, "
-	           "published and refitted there, LUTs at the scene's ALU:TEX ratio, a short search for V&middot;F), with "
-	           "the fp16 guards it needs at the scene's precision and none it does not. Errors: V&middot;F, the "
-	           "directional albedo's max abs error of D&middot;V&middot;F; env, the max abs error of f0&middot;A + B. "
-	           "The generic shader: GGX D &middot; height-correlated Smith V &middot; Schlick F and a %d&sup2; half DFG "
-	           "LUT, with the fp16 guards in mediump.</p>\n", id, BK_SCENE_GENERIC_LUT);
-}
-
-/* SPIR-V count of a choice's form (0 for a LUT: the fetch is counted apart). */
+/* SPIR-V count of a choice's form (0 for a LUT: the fetch is counted apart);
+ * -1 when it cannot be counted, with the reason told once per run (M8). */
 static int spirv_of(const bk_scene_choice *c)
 {
+	static int told;
 	if (c->lut || !c->text)
 		return 0;
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(c->text, &fe);
-	char err[256];
+	char err[256] = "the form does not parse";
 	int n = f ? bk_spirv_count(f, c->p, err, sizeof err) : -1;
 	bk_form_free(f);
+	if (n < 0 && !told++)
+		fprintf(stderr, "brdfkit scene: warning: SPIR-V counts not measured: %s\n", err);
 	return n;
 }
 
-/* CPU ns per evaluation of every form of every set and of the generic, timed
- * together (interleaved) and summed per set. */
-static void time_sets(set_result *R, int nset)
+/* Adds a count to a sum that stays "not measured" (-1) once a part is. */
+static void add_count(int *sum, int n)
 {
+	*sum = *sum < 0 || n < 0 ? -1 : *sum + n;
+}
+
+/* CPU ns per evaluation of every form of every set and of the generic, timed
+ * together (interleaved) and summed per set; NaN (not measured) with the
+ * reason told once when the forms cannot be compiled and run (M8). */
+static void time_sets(bk_scene_result *R, int nset)
+{
+	static int told;
 	size_t cap = (size_t)(nset > 0 ? nset : 1) * BK_SCENE_TERMS * 2;
 	int n = 0;
 	bk_compare_row *rows = calloc(cap, sizeof *rows);
@@ -436,13 +111,15 @@ static void time_sets(set_result *R, int nset)
 				bk_form_free(f);
 				owner[n++] = i * 2 + g;
 			}
-	char err[256];
+	char err[256] = "out of memory";
 	if (!rows || !owner || bk_time_rows(rows, n, TIME_REPS, err, sizeof err)) {
+		if (!told++)
+			fprintf(stderr, "brdfkit scene: warning: CPU timings not measured: %s\n", err);
 		for (int i = 0; i < nset; i++)
 			R[i].ns = R[i].gen_ns = NAN;
 	} else {
 		for (int k = 0; k < n; k++) {
-			set_result *r = &R[owner[k] / 2];
+			bk_scene_result *r = &R[owner[k] / 2];
 			*(owner[k] % 2 ? &r->gen_ns : &r->ns) += rows[k].ns;
 		}
 	}
@@ -452,7 +129,7 @@ static void time_sets(set_result *R, int nset)
 
 /* --gpu: every chosen and generic form of every set compiled for each chip
  * (one Vulkan instance per chip for the whole scene). Returns 0 or 1. */
-static int gpu_sets(set_result *R, int nset)
+static int gpu_sets(bk_scene_result *R, int nset)
 {
 	int n = 2 * nset * BK_SCENE_TERMS, nc = gpu.n, rc = 0;
 	const char **a = calloc((size_t)n, sizeof *a);
@@ -489,30 +166,14 @@ static int gpu_sets(set_result *R, int nset)
 	return rc;
 }
 
-static void timing_csv(FILE *f, const set_result *R, int nset)
-{
-	fprintf(f, "# CPU ns per evaluation of each feature set's forms (generated C, -O2, median of %d interleaved "
-	           "runs, summed over the set's terms; LUT fetches not included): not reproducible\n", TIME_REPS);
-	fputs("feature_set,ns_per_eval,generic_ns_per_eval\n", f);
-	for (int i = 0; i < nset; i++)
-		fprintf(f, "%s,%.3f,%.3f\n", R[i].set.name, R[i].ns, R[i].gen_ns);
-}
-
-typedef struct scene_run {
-	const char *file;
-	char stem[64];  /* the file's name without directory and .json: its folder when several */
-	char hash[20];  /* FNV-1a of the file's bytes */
-	bk_scene sc;
-	bk_scene_set sets[BK_SCENE_MAX_MATERIALS];
-	set_result R[BK_SCENE_MAX_MATERIALS];
-	int nset;
-} scene_run;
+/* ---- output ---------------------------------------------------------------------- */
 
 /* One scene's files into dir (existing). */
 static int write_scene(const char *dir, const scene_run *S, int timed, char *err, size_t errlen)
 {
 	char path[8800];
 	int rc = 0;
+	bk_scene_doc d = doc_of(S);
 	for (int i = 0; i < S->nset && !rc; i++) {
 		snprintf(path, sizeof path, "%s/%s", dir, S->R[i].set.name);
 		if (mkdir(path, 0777))
@@ -520,11 +181,11 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		for (int li = 0; li < 3 && !rc; li++) {
 			if (!(S->sc.languages & (1u << li)))
 				continue;
-			snprintf(path, sizeof path, "%s/%s/shader.%s", dir, S->R[i].set.name, lang_ext[li]);
+			snprintf(path, sizeof path, "%s/%s/shader.%s", dir, S->R[i].set.name, bk_scene_lang_ext(li));
 			FILE *f = fopen(path, "w");
 			if (!f)
 				return -1;
-			rc = write_shader(f, &S->sc, &S->R[i], li, S->hash, err, errlen);
+			rc = bk_scene_shader(f, &d, i, li, err, errlen);
 			if (ferror(f) | fclose(f))
 				rc = -1;
 		}
@@ -538,10 +199,10 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		if (!f)
 			return -1;
 		switch (k) {
-		case 0: scene_csv(f, &S->sc, S->R, S->nset, S->hash); break;
-		case 1: sets_csv(f, &S->sc, S->R, S->nset); break;
-		case 2: report_txt(f, &S->sc, S->R, S->nset, 0); break;
-		default: timing_csv(f, S->R, S->nset); break;
+		case 0: bk_scene_csv(f, &d); break;
+		case 1: bk_scene_sets_csv(f, &d); break;
+		case 2: bk_scene_report(f, &d, 0); break;
+		default: bk_scene_timing_csv(f, &d, TIME_REPS); break;
 		}
 		if (ferror(f) | fclose(f))
 			rc = -1;
@@ -564,19 +225,29 @@ static int write_all(const char *dir, const scene_run *S, int n, const char *pre
 	FILE *f = rc ? NULL : fopen(path, "w");
 	if (!f)
 		return -1;
-	section_open(f, id);
+	bk_scene_section_open(f, id);
 	for (int k = 0; k < n; k++) {
-		char pre[4400];
-		snprintf(pre, sizeof pre, "%s%s%s", prefix, n > 1 ? S[k].stem : "", n > 1 ? "/" : "");
-		section_body(f, &S[k].sc, S[k].R, S[k].nset, pre);
+		size_t len = strlen(prefix) + strlen(S[k].stem) + 2;
+		char *pre = malloc(len);
+		if (!pre) {
+			rc = -1;
+			break;
+		}
+		snprintf(pre, len, "%s%s%s", prefix, n > 1 ? S[k].stem : "", n > 1 ? "/" : "");
+		bk_scene_doc d = doc_of(&S[k]);
+		bk_scene_section_body(f, &d, pre); /* escapes the prefix, the file's stem with it */
+		free(pre);
 	}
-	fputs("</section>\n", f);
+	bk_scene_section_close(f);
 	if (ferror(f) | fclose(f))
 		rc = -1;
 	return rc;
 }
 
-/* Reads and checks one scene file into S. Returns 0 or 1 after an error. */
+/* ---- the work ---------------------------------------------------------------------- */
+
+/* Reads and checks one scene file into S: at most BK_SCENE_FILE_MAX bytes,
+ * read with that bound (M12). Returns 0 or 1 after an error. */
 static int load(scene_run *S, const char *file)
 {
 	memset(S, 0, sizeof *S);
@@ -587,10 +258,10 @@ static int load(scene_run *S, const char *file)
 		n -= 5;
 	snprintf(S->stem, sizeof S->stem, "%.*s", (int)(n < sizeof S->stem ? n : sizeof S->stem - 1), base);
 	size_t len;
-	char *text = cli_read_file(file, &len);
-	if (!text)
-		return cli_fail("scene", "%s: cannot be read", file);
 	char err[512], why[128];
+	char *text = bk_read_bounded(file, BK_SCENE_FILE_MAX, &len, err, sizeof err);
+	if (!text)
+		return cli_fail("scene", "%s: %s%s", file, err, strstr(err, " bytes") ? " (a scene file is at most 1 MiB)" : "");
 	if (cli_check_text(text, len, why, sizeof why)) {
 		free(text);
 		return cli_fail("scene", "%s: not a text file (%s)", file, why);
@@ -605,12 +276,40 @@ static int load(scene_run *S, const char *file)
 	return 0;
 }
 
-/* Chooses every term of every set of S. Returns 0 or 1 after an error. */
-static int specialise(scene_run *S)
+/* The terms to fit in the sets of S: V*F and env (D is exact, the diffuse
+ * Lambert's), what the estimate counts. */
+static int terms_to_fit(const scene_run *S)
+{
+	int n = 0;
+	for (int i = 0; i < S->nset; i++)
+		n += S->sets[i].needs.vf + S->sets[i].needs.env;
+	return n;
+}
+
+/* The estimate before the work (M13), on one line; a warning above WARN_S. */
+static void estimate(const scene_run *S, int n)
+{
+	int sets = 0, terms = 0;
+	for (int k = 0; k < n; k++) {
+		sets += S[k].nset;
+		terms += terms_to_fit(&S[k]);
+	}
+	double s = terms * TERM_S;
+	fprintf(stderr, "brdfkit scene: %s%d feature set%s, %d term%s to fit: about %.0f %s (%.0f s per V*F or env term)\n",
+	        s > WARN_S ? "warning: " : "", sets, sets == 1 ? "" : "s", terms, terms == 1 ? "" : "s",
+	        s >= 3600 ? s / 3600 : s >= 60 ? s / 60 : s, s >= 3600 ? "h" : s >= 60 ? "min" : "s", TERM_S);
+	if (s > WARN_S)
+		fprintf(stderr, "brdfkit scene: warning: that is more than %.0f minutes; Ctrl-C stops it and writes nothing\n",
+		        WARN_S / 60);
+}
+
+/* Chooses every term of every set of S, telling progress per set: done and
+ * total count the terms to fit over the whole run. Returns 0 or 1. */
+static int specialise(scene_run *S, int *done, int total, double t0)
 {
 	char err[512];
 	for (int i = 0; i < S->nset; i++) {
-		set_result *r = &S->R[i];
+		bk_scene_result *r = &S->R[i];
 		r->set = S->sets[i];
 		r->ns = r->gen_ns = NAN;
 		r->has[BK_SCENE_TERM_D] = r->has[BK_SCENE_TERM_VF] = r->set.needs.vf;
@@ -624,11 +323,46 @@ static int specialise(scene_run *S)
 				return cli_fail("scene", "%s: %s: %s", S->file, r->set.name, err);
 			r->cost += r->ch[t].cost;
 			r->gen_cost += r->gen[t].cost;
-			r->spirv += spirv_of(&r->ch[t]);
-			r->gen_spirv += spirv_of(&r->gen[t]);
+			add_count(&r->spirv, spirv_of(&r->ch[t]));
+			add_count(&r->gen_spirv, spirv_of(&r->gen[t]));
 		}
+		*done += r->set.needs.vf + r->set.needs.env;
+		double spent = bk_clock_now() - t0;
+		fprintf(stderr, "brdfkit scene: %s: %s done (%d of %d terms fitted, %.0f s", S->stem, r->set.name, *done, total,
+		        spent);
+		if (*done > 0 && *done < total)
+			fprintf(stderr, "; about %.0f s left", spent / *done * (total - *done));
+		fputs(")\n", stderr);
 	}
 	return 0;
+}
+
+/* L8: a budget not met is a finding, not a failure (the run's answer is how
+ * close the scene's candidates come, and thesis_no_lut's "no LUT" is an
+ * example of it): exit 0, the report's "NOT MET" and one warning per term. */
+static void tell_unmet(const scene_run *S)
+{
+	for (int i = 0; i < S->nset; i++)
+		for (int t = BK_SCENE_TERM_VF; t <= BK_SCENE_TERM_ENV; t++) {
+			const bk_scene_choice *c = &S->R[i].ch[t];
+			if (S->R[i].has[t] && !c->meets)
+				fprintf(stderr, "brdfkit scene: warning: %s: %s: %s budget %.3g not met: the most accurate candidate, "
+				                "%s, is off by %.3g (exit status 0: the shaders are written, marked NOT MET)\n",
+				        S->stem, S->R[i].set.name, bk_scene_term_name(t), c->budget, c->name, c->err);
+		}
+}
+
+/* --id: it goes into an HTML attribute and comes back through brdfkit report's
+ * section check, whose id is letters, digits, '-' and '_'. */
+static int id_ok(const char *id)
+{
+	if (!*id)
+		return 0;
+	for (const char *c = id; *c; c++)
+		if (!((*c >= 'a' && *c <= 'z') || (*c >= 'A' && *c <= 'Z') || (*c >= '0' && *c <= '9') || *c == '-' ||
+		      *c == '_'))
+			return 0;
+	return strlen(id) < 64;
 }
 
 int cmd_scene(int argc, char **argv)
@@ -639,7 +373,7 @@ int cmd_scene(int argc, char **argv)
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write the shaders, scene.csv, sets.csv, report.txt, section.html", .dest = &out, .required = 1},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
-		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id (default scenes)", .dest = &id},
+		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id: letters, digits, '-', '_' (default scenes)", .dest = &id},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of every set's forms and the generic's per chip (brdfkit gpucost), in scene.csv and sets.csv", .dest = &chips},
 	};
 	cli_cmd cmd = {"scene", "From a scene description (JSON) to one specialised shader per feature set: the terms the\n"
@@ -671,17 +405,23 @@ int cmd_scene(int argc, char **argv)
 	               "(a LUT: and no more texture memory) instead of the cheapest at a budget.\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
 	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
-	               "accurate candidate at no more than the generic's cost and LUT memory.",
+	               "accurate candidate at no more than the generic's cost and LUT memory. A budget nothing\n"
+	               "meets keeps the most accurate, marked NOT MET, with a warning (exit status 0).\n"
+	               "Before the work: an estimate (30 s per V*F or env term; a warning above 30 minutes);\n"
+	               "after each set, how far it is. A scene file is at most 1 MiB.",
 	               opts, 5, 16, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (cmd.npos < 1)
 		return cli_usage(&cmd, "give a scene file");
+	if (!id_ok(id))
+		return cli_usage(&cmd, "--id: '%.80s' is not 1 to 63 letters, digits, '-' and '_' (brdfkit report reads it back)",
+		                 id);
 	if (chips) {
 		char gerr[700];
 		snprintf(gpu.buf, sizeof gpu.buf, "%s", chips);
-		if (bk_gpucost_chips(gpu.buf, gpu.chip, SCENE_CHIPS, &gpu.n, gerr, sizeof gerr))
+		if (bk_gpucost_chips(gpu.buf, gpu.chip, BK_SCENE_CHIPS, &gpu.n, gerr, sizeof gerr))
 			return cli_usage(&cmd, "--gpu: %s", gerr);
 	}
 	int n = cmd.npos;
@@ -700,8 +440,14 @@ int cmd_scene(int argc, char **argv)
 	char gerr[700];
 	if (!rc && gpu.n && bk_gpucost_check(gpu.chip, gpu.n, gpu.driver, sizeof gpu.driver, gerr, sizeof gerr))
 		rc = cli_fail("scene", "--gpu: %s", gerr);
+	int done = 0, total = 0;
 	for (int k = 0; k < n && !rc; k++)
-		rc = specialise(&S[k]);
+		total += terms_to_fit(&S[k]);
+	if (!rc)
+		estimate(S, n);
+	double t0 = bk_clock_now();
+	for (int k = 0; k < n && !rc; k++)
+		rc = specialise(&S[k], &done, total, t0);
 	for (int k = 0; k < n && !rc && !no_time; k++)
 		time_sets(S[k].R, S[k].nset);
 	for (int k = 0; k < n && !rc && gpu.n; k++)
@@ -721,8 +467,11 @@ int cmd_scene(int argc, char **argv)
 		}
 	}
 	for (int k = 0; k < n; k++) {
-		if (!rc)
-			report_txt(stdout, &S[k].sc, S[k].R, S[k].nset, 1);
+		if (!rc) {
+			bk_scene_doc d = doc_of(&S[k]);
+			bk_scene_report(stdout, &d, !no_time);
+			tell_unmet(&S[k]);
+		}
 		for (int i = 0; i < S[k].nset; i++)
 			for (int t = 0; t < BK_SCENE_TERMS; t++) {
 				bk_scene_choice_free(&S[k].R[i].ch[t]);

@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "form_check.h"
 #include "heatmap.h"
+#include "page.h"
 #include "stability.h"
 
 #include <errno.h>
@@ -402,7 +403,8 @@ int cmd_stability(int argc, char **argv)
 			FILE *d = fopen(path, "w");
 			snprintf(path, sizeof path, "%s/section.html", tmp);
 			FILE *h = fopen(path, "w");
-			if (!f || !d || !h)
+			char *pre = bk_html_escaped(prefix); /* it goes into attributes (page.h) */
+			if (!f || !d || !h || !pre)
 				rc = -1;
 			if (rc == 0) {
 				summary_header(f);
@@ -419,11 +421,11 @@ int cmd_stability(int argc, char **argv)
 				      "own. Table: <a href=\"", h);
 				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<table>\n<tr><th>term or form</th><th>half</th>"
 				           "<th>wrong / samples</th><th>non-finite / overflows</th><th>max rel. error (well "
-				           "conditioned)</th><th>safe from</th><th>guard</th><th>map</th></tr>\n", prefix);
+				           "conditioned)</th><th>safe from</th><th>guard</th><th>map</th></tr>\n", pre);
 				for (int i = 0; i < n && rc == 0; i++) {
 					summary_row(f, &st[i], items[i].text);
 					csv_rows(d, &st[i], items[i].text);
-					section_row(h, &st[i], prefix);
+					section_row(h, &st[i], pre);
 					snprintf(path, sizeof path, "%s/maps", tmp);
 					if (write_map(&st[i], path, err, sizeof err))
 						rc = -1;
@@ -436,6 +438,7 @@ int cmd_stability(int argc, char **argv)
 				rc = -1;
 			if (h && (ferror(h) | fclose(h)))
 				rc = -1;
+			free(pre);
 			if (rc) {
 				bk_out_dir_abort(&od);
 				rc = cli_fail("stability", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);

@@ -1,0 +1,43 @@
+/*
+ * page.h — the study's page (brdfkit report) and what goes into it: the
+ * sections the other commands write, checked before they are copied in,
+ * links escaped where they are written, and input files read with a bound.
+ */
+#ifndef ANALYSIS_PAGE_H
+#define ANALYSIS_PAGE_H
+
+#include <stddef.h>
+
+/* A section is a page fragment of tables and an inline plot: the largest
+ * brdfkit writes is about 31 KB (results/compare/env), so 4 MiB is over a
+ * hundred times what one needs and still nothing a page should inline. */
+#define BK_PAGE_SECTION_MAX ((size_t)4 << 20)
+
+/* The whole of path ("-": standard input), at most cap bytes. A regular
+ * file larger than cap is refused from its size before a byte is read;
+ * anything else (a FIFO, a device such as /dev/zero, a terminal) is read
+ * until its end or cap + 1 bytes, so no input can take more than cap + 1
+ * bytes of memory. Returns the text (malloc'd, NUL-terminated, *len its
+ * length), or NULL with err: "cannot be read: REASON", "is a directory",
+ * "is N bytes, more than C", "is longer than C bytes". */
+char *bk_read_bounded(const char *path, size_t cap, size_t *len, char *err, size_t errlen);
+
+/* s escaped as bk_html_text writes it (& < > "), malloc'd; NULL when out of
+ * memory. For a link prefix a section writer pastes into many attributes. */
+char *bk_html_escaped(const char *s);
+
+/* A section as brdfkit writes it, checked before the page takes it in:
+ *   - the marker: it opens with <section id="ID"> on its first line (ID made
+ *     of letters, digits, '-' and '_') and ends with </section>;
+ *   - nothing that runs: only the elements and attributes brdfkit writes
+ *     (tables, text, links, images, inline SVG plots and their <style>),
+ *     every attribute value quoted, links and images relative or http(s)
+ *     (no javascript:, data: or any other scheme, no character reference
+ *     that could spell one), a <style> of plain selectors and properties (no
+ *     url(), expression or @import), every '<' of text escaped, no comment.
+ * So no <script>, no on* handler, no <iframe>, <object>, <embed>, <base>,
+ * <meta>, <form> and no text that ends a tag early. Returns 0 with the id
+ * in id (idlen bytes), or -1 with err naming the first offence and its line. */
+int bk_section_check(const char *text, size_t len, char *id, size_t idlen, char *err, size_t errlen);
+
+#endif
