@@ -148,13 +148,35 @@ static void on_signal(int sig)
 	_exit(128 + sig);
 }
 
+/* One argument for the recorded command line: as it is when it is plain,
+ * otherwise in single quotes (a quote as '\'') so the line can be pasted
+ * back into a shell. */
+static size_t put_word(char *buf, size_t len, size_t k, const char *a)
+{
+	static const char plain[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_./=:,+-@%";
+	if (*a && strspn(a, plain) == strlen(a))
+		return k + (size_t)snprintf(buf + k, len - k, "%s", a);
+	k += (size_t)snprintf(buf + k, len - k, "'");
+	for (; *a && k < len; a++)
+		k += (size_t)(*a == '\'' ? snprintf(buf + k, len - k, "'\\''") : snprintf(buf + k, len - k, "%c", *a));
+	return k < len ? k + (size_t)snprintf(buf + k, len - k, "'") : k;
+}
+
 void bk_out_init(int argc, char **argv)
 {
-	size_t k = 0;
-	command_line[0] = '\0';
-	for (int i = 0; i < argc && k < sizeof command_line; i++)
-		k += (size_t)snprintf(command_line + k, sizeof command_line - k, "%s%s", i ? " " : "",
-		                      i ? argv[i] : "brdfkit");
+	size_t k = (size_t)snprintf(command_line, sizeof command_line, "brdfkit");
+	for (int i = 1; i < argc && k + 1 < sizeof command_line; i++) {
+		k += (size_t)snprintf(command_line + k, sizeof command_line - k, " ");
+		if (k < sizeof command_line)
+			k = put_word(command_line, sizeof command_line, k, argv[i]);
+	}
+	/* The command line is written into comment lines (CSV '#' lines, the
+	 * marker, shader and EXR headers): a line break or other control
+	 * character from an argument would end the comment and start a line of
+	 * data or code, so each is shown as '?' here, once for every writer. */
+	for (char *c = command_line; *c; c++)
+		if ((unsigned char)*c < 0x20 || *c == 0x7f)
+			*c = '?';
 	snprintf(command_word, sizeof command_word, "%s", argc > 1 ? argv[1] : "");
 	static const int sigs[] = {SIGINT, SIGTERM, SIGHUP};
 	for (size_t i = 0; i < sizeof sigs / sizeof sigs[0]; i++) {

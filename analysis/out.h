@@ -71,6 +71,9 @@ void bk_out_dir_abort(bk_out_dir *d);
  * handler that removes the live temporaries on SIGINT, SIGTERM and SIGHUP
  * before dying of the signal (exit status 128 + signal). */
 void bk_out_init(int argc, char **argv);
+/* That command line, the one every output records: words that are not plain
+ * in single quotes, control characters shown as '?' (it lands in comment
+ * lines, where a line break would start a line of data or code). */
 const char *bk_out_command(void);
 /* The registry of live temporaries the handler removes: a file, or a
  * directory with everything under it. Returns a slot for bk_out_untrack, or

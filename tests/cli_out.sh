@@ -162,5 +162,18 @@ left=$(ls ck.tmp* | grep -vx ck.tmp2024ab)
 $BK $S --out s3 >/dev/null 2>&1 && [ "$(ls ck*)" = "ck
 ck.tmp2024ab" ] && [ "$(cat ck.tmp2024ab)" = mine ] && ok || bad "L1: after the next run: $(ls ck*)"
 
+# ---- the command line in comment lines: an argument's line break never starts a
+# data line (the CSV's '#' header would end and the rest read as a row)
+nl='x
+1,2,3,4'
+$BK lut --size 2 --out "lc" --r-range "0:1" >/dev/null 2>&1 && [ "$(rows lc)" -eq 4 ] && ok || bad "command line control: $(rows lc) rows"
+$BK lut --size 2 --out "lc$nl" >/dev/null 2>&1
+# the odd --out name is a directory of its own; its dfg.csv keeps 4 data rows
+d=
+for x in lc?*; do d=$x; done
+if [ -n "$d" ] && [ -f "$d/dfg.csv" ]; then
+	[ "$(rows "$d")" -eq 4 ] && ! grep -q '^1,2,3,4$' "$d/dfg.csv" && ok || bad "an argument's line break became a row: $(cat "$d/dfg.csv" | head -5)"
+else bad "lut with a line break in --out wrote nothing: $(ls)"; fi
+
 echo "cli_out: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -98,13 +98,6 @@ int cmd_dfg(int argc, char **argv)
 	return 0;
 }
 
-static void join_command(char *buf, size_t len, int argc, char **argv)
-{
-	size_t k = (size_t)snprintf(buf, len, "brdfkit lut");
-	for (int i = 0; i < argc && k < len; i++)
-		k += (size_t)snprintf(buf + k, len - k, " %s", argv[i]);
-}
-
 int cmd_lut(int argc, char **argv)
 {
 	long size = 0, samples = 0;
@@ -142,9 +135,8 @@ int cmd_lut(int argc, char **argv)
 	int rc = cli_parse_table(&cmd, &lut_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
 		return rc == 1 ? 0 : rc;
-	char command[1024];
 	bk_lut_desc d = {.L = {(int)size, (int)size, 0, 1, BK_LUT_WARP_NONE, f0}, .half = half, .samples = samples,
-	                 .tol = tol, .command = command};
+	                 .tol = tol, .command = bk_out_command()};
 	if (parse_smith("lut", smith, &d.smith))
 		return 2;
 	if (r_range) {
@@ -169,7 +161,6 @@ int cmd_lut(int argc, char **argv)
 		return 2;
 	}
 	d.origin_top = strcmp(origin, "top") == 0;
-	join_command(command, sizeof command, argc, argv);
 
 	/* begun before minutes of integration, so a bad --out fails first */
 	char err[512];

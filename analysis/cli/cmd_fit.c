@@ -644,9 +644,7 @@ int cmd_fit(int argc, char **argv)
 	memset(&R, 0, sizeof R);
 	R.a = &a;
 	R.cmd = &cmd;
-	size_t k = (size_t)snprintf(R.command, sizeof R.command, "brdfkit fit");
-	for (int i = 0; i < argc && k < sizeof R.command; i++)
-		k += (size_t)snprintf(R.command + k, sizeof R.command - k, " %s", argv[i]);
+	snprintf(R.command, sizeof R.command, "%s", bk_out_command());
 	bk_target_kind kind;
 	if (bk_target_parse(a.target, &kind)) {
 		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)\n", a.target);
