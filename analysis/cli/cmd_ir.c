@@ -356,7 +356,7 @@ int cmd_codegen(int argc, char **argv)
 	const char *lang = NULL, *precision = "highp", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; C is float)", .dest = &precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; not with --lang c: C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
