@@ -542,6 +542,20 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 	return output(out, rows, jobs, n, chip, nchips, fp16, driver);
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* Both modes (forms; --calibrate) compile for the chips of --chips (one chip
+ * under --calibrate, checked there), in the arithmetic of --precision, and
+ * write one CSV: every option acts in both. */
+static const cli_rule rules[] = {
+	{"--calibrate", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--chips", NULL, CLI_EVERYWHERE, 0, NULL, "navi21"},
+	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "fp16"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.csv"},
+};
+static const char *const setups[] = {"NoV", "--calibrate", NULL};
+static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], setups};
+
 int cmd_gpucost(int argc, char **argv)
 {
 	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "fp32", *out = NULL;
@@ -576,8 +590,8 @@ int cmd_gpucost(int argc, char **argv)
 	               "name,simple,complex,ir_cost,instructions,fitted,residual,inv_throughput; the same fit\n"
 	               "to ACO's inverse throughput is reported in a '# ' line.",
 	               opts, 4, GC_MAX_ROWS, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;

@@ -145,6 +145,31 @@ static int shortest(double x)
 	return 17;
 }
 
+/* An input given that the form does not read would change nothing: refused
+ * like an unused pN=, naming the argument. r acts through a = r*r where the
+ * form reads a and a is not given. given[k]: 1 + the index of its argument. */
+static int check_inputs(const bk_form *f, const char *name, char **args, const int *given)
+{
+	unsigned reads = bk_form_inputs(f);
+	for (int k = 0; k < BK_IN_COUNT; k++) {
+		int via_a = k == BK_IN_R && (reads >> BK_IN_A & 1) && !given[BK_IN_A];
+		if (given[k] && !(reads >> k & 1) && !via_a) {
+			const char *arg = args[given[k] - 1], *eq = strchr(arg, '=');
+			fprintf(stderr, "brdfkit eval: %.*s=VALUE has no effect: %s does not read %.*s\n", (int)(eq - arg),
+			        arg, name, (int)(eq - arg), arg); /* VoH, not LoH, when VoH= was given */
+			return 2;
+		}
+	}
+	return 0;
+}
+
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* eval and catalog have no options: their tables are empty, so that the walk
+ * sees them (an option added later without a rule is an internal error). */
+static const char *const eval_setups[] = {"NoV NoV=0.5", NULL};
+static const cli_table eval_table = {NULL, 0, NULL, 0, eval_setups};
+
 int cmd_eval(int argc, char **argv)
 {
 	cli_cmd cmd = {"eval", "Evaluates a form at one point in double, single and half precision (half:\n"
@@ -152,8 +177,8 @@ int cmd_eval(int argc, char **argv)
 	               "'FORM'|NAME [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
 	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.",
 	               NULL, 0, 33, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &eval_table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
@@ -167,6 +192,10 @@ int cmd_eval(int argc, char **argv)
 	double in[BK_IN_COUNT] = {0};
 	int given[BK_IN_COUNT] = {0};
 	if ((rc = bind("eval", cmd.pos + 1, cmd.npos - 1, &fa, in, given))) {
+		bk_form_free(fa.f);
+		return rc;
+	}
+	if ((rc = check_inputs(fa.f, fa.entry ? fa.label : "the form", cmd.pos + 1, given))) {
 		bk_form_free(fa.f);
 		return rc;
 	}
@@ -208,6 +237,21 @@ int cmd_eval(int argc, char **argv)
 	return 0;
 }
 
+/* ops: the weights come from --simple-cost/--complex-cost or from a named
+ * --cost-model, which sets both. */
+enum { WEIGHTS_OPTIONS, WEIGHTS_MODEL };
+static const cli_dim ops_dims[] = {
+	{"weights", {"options", "model"}, {" without --cost-model", " with --cost-model"}},
+};
+static const cli_rule ops_rules[] = {
+	{"--simple-cost", NULL, 0, 1u << WEIGHTS_OPTIONS, "it sets both weights", "2"},
+	{"--complex-cost", NULL, 0, 1u << WEIGHTS_OPTIONS, "it sets both weights", "2"},
+	{"--csv", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--cost-model", NULL, CLI_EVERYWHERE, 0, NULL, "ir"},
+};
+static const char *const ops_setups[] = {"NoV", "NoV --cost-model aco-navi21", NULL};
+static const cli_table ops_table = {ops_dims, 1, ops_rules, sizeof ops_rules / sizeof ops_rules[0], ops_setups};
+
 int cmd_ops(int argc, char **argv)
 {
 	int csv = 0;
@@ -229,11 +273,9 @@ int cmd_ops(int argc, char **argv)
 	               "ir, or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (least squares of AMD's\n"
 	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).",
 	               opts, 4, 1, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &ops_table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, (int[]){model ? WEIGHTS_MODEL : WEIGHTS_OPTIONS})))
 		return rc == 1 ? 0 : rc;
-	if (model && (cli_seen(&cmd, "--simple-cost") || cli_seen(&cmd, "--complex-cost")))
-		return cli_usage(&cmd, "--cost-model sets both weights; leave out --simple-cost and --complex-cost");
 	if (model && cli_cost_model(&cmd, model, &cs, &cc))
 		return 2;
 	if (cli_form_positionals(&cmd, 0))
@@ -294,12 +336,27 @@ static int identifier(const char *s)
 	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
 }
 
+/* codegen: --precision picks GLSL's qualifier or HLSL's half/float; the C
+ * output is float whatever it says. */
+static const cli_dim codegen_dims[] = {
+	{"lang", {"c", "glsl", "hlsl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl"}},
+};
+static const cli_rule codegen_rules[] = {
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "mediump"},
+	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
+};
+static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", NULL};
+static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
+                                        sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
+
 int cmd_codegen(int argc, char **argv)
 {
 	const char *lang = NULL, *precision = "highp", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; C is float)", .dest = &precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; not with --lang c: C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
@@ -308,7 +365,7 @@ int cmd_codegen(int argc, char **argv)
 	               "--lang c|glsl|hlsl [--precision mediump|highp] 'FORM'|NAME [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.",
 	               opts, 4, 33, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
+	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	bk_lang L;
@@ -319,13 +376,11 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: --lang: expected c, glsl or hlsl, got '%s'\n", lang);
 		return 2;
 	}
+	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
+		return rc;
 	int half = !strcmp(precision, "mediump");
 	if (!half && strcmp(precision, "highp")) {
 		fprintf(stderr, "brdfkit codegen: --precision: expected mediump or highp, got '%s'\n", precision);
-		return 2;
-	}
-	if (half && L == BK_LANG_C) {
-		fprintf(stderr, "brdfkit codegen: --precision mediump: C output is float only\n");
 		return 2;
 	}
 	if (cmd.npos < 1) {
@@ -419,14 +474,17 @@ static void params_text(const bk_catalog_entry *e, char *buf, size_t len)
 		k += (size_t)snprintf(buf + k, len - k, "%sp%d=%.9g", i ? ";" : "", i, e->defaults[i]);
 }
 
+static const char *const catalog_setups[] = {"", NULL};
+static const cli_table catalog_table = {NULL, 0, NULL, 0, catalog_setups};
+
 int cmd_catalog(int argc, char **argv)
 {
 	cli_cmd cmd = {"catalog", "Lists the published forms as CSV: name,target,form,parameters,source, then\n"
 	               "form_b (B of a split-sum entry) and convention. Parameters are p0=...;p1=... with\n"
 	               "the published constants.",
 	               "", NULL, NULL, 0, 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &catalog_table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	puts("name,target,form,parameters,source,form_b,convention");
 	for (size_t i = 0; i < bk_catalog_count(); i++) {

@@ -290,6 +290,22 @@ static void free_items(item *items, bk_stability *st, int n)
 	free(st);
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* Without --out the forms are printed, no page section is written. */
+enum { TO_STDOUT, TO_DIR };
+static const cli_dim dims[] = {
+	{"out", {"stdout", "dir"}, {" without --out", " with --out"}},
+};
+static const cli_rule rules[] = {
+	{"--link-prefix", NULL, 0, 1u << TO_DIR, "it prefixes links in DIR/section.html", "x/"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o"},
+	{"--all", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--tol", NULL, CLI_EVERYWHERE, 0, NULL, "0.1"},
+};
+static const char *const setups[] = {"NoV", "NoV --out o", "--all --out o", NULL};
+static const cli_table table = {dims, 1, rules, sizeof rules / sizeof rules[0], setups};
+
 int cmd_stability(int argc, char **argv)
 {
 	const char *out = NULL, *prefix = "";
@@ -314,8 +330,8 @@ int cmd_stability(int argc, char **argv)
 	               "parameter it uses, and a catalog entry's published values apply unless pN=VALUE\n"
 	               "overrides them.",
 	               opts, 4, 32, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, (int[]){out ? TO_DIR : TO_STDOUT})))
 		return rc == 1 ? 0 : rc;
 	double values[BK_MAX_PARAMS];
 	int given[BK_MAX_PARAMS] = {0}, nforms = 0;
@@ -343,8 +359,6 @@ int cmd_stability(int argc, char **argv)
 		return cli_usage(&cmd, "--all analyses the registry and the catalog: '%s' would be ignored", cmd.pos[0]);
 	if (all && !out)
 		return cli_usage(&cmd, "--all needs --out DIR");
-	if (cli_seen(&cmd, "--link-prefix") && !out)
-		return cli_usage(&cmd, "--link-prefix has no effect without --out (it prefixes links in DIR/section.html)");
 	char err[512];
 	if (out && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
 		return cli_fail("stability", "--out %s", err);

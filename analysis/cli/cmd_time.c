@@ -229,6 +229,16 @@ static int output(const char *path, const bk_compare_row *rows, int n)
 	return 0;
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* Every run times every row and writes one CSV: both options always act. */
+static const cli_rule rules[] = {
+	{"--reps", NULL, CLI_EVERYWHERE, 0, NULL, "3"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.csv"},
+};
+static const char *const setups[] = {"NoV", NULL};
+static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], setups};
+
 int cmd_time(int argc, char **argv)
 {
 	long reps = 15;
@@ -252,8 +262,8 @@ int cmd_time(int argc, char **argv)
 	               "spirv-tools). Columns: name,form,ns_per_eval,ns_min,ns_max, the op classes of\n"
 	               "brdfkit ops, simple,complex,cost,spirv.",
 	               opts, 2, TIME_MAX_ROWS, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
