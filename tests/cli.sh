@@ -462,6 +462,8 @@ done
 cmp -s "$T/fmac1.csv" "$T/fmac2.csv" && ok || bad "compare env depends on the libm path: $(diff "$T/fmac1.csv" "$T/fmac2.csv" | cut -c1-60 | head -4)"
 rm -rf "$T/fmac" "$T/fmac1.csv" "$T/fmac2.csv"
 
+# within_5s T0: at most 5 s have passed since T0 (date +%s)
+within_5s() { [ $(($(date +%s) - $1)) -le 5 ]; }
 # long env fits: the work is stated up front, an unwritable --out is refused
 # before it (at once, not after hours; a path under a regular file fails for
 # root too), and logs (stderr not a terminal) see progress while it runs
@@ -470,8 +472,10 @@ for cmd in "fit --target env --form env_karis2014_split" "compare --target env -
 	t0=$(date +%s)
 	expect_error "$cmd unwritable out" "--out $T/file/sub: cannot create: not a directory" \
 		timeout 20 $BK $cmd --nx 1024 --nr 1024 --out "$T/file/sub"
-	[ $(($(date +%s) - t0)) -le 5 ] && ok || bad "$cmd: unwritable --out refused only after the work"
+	within_5s "$t0" && ok || bad "$cmd: unwritable --out refused only after the work"
 done
+# control: the same clock check after 6 s must fail
+t0=$(date +%s); sleep 6; expect_fail "refused at once" within_5s "$t0"
 timeout 3 $BK fit --target env --form env_karis2014_split --nx 4096 --nr 4096 --out "$T/big" >/dev/null 2>"$T/err"
 grep -q '^fit: env target 4096x4096 = 16.8M integrals, about [0-9.]* \(s\|min\|h\) on this machine$' "$T/err" && ok \
 	|| bad "no work estimate: $(cat "$T/err")"

@@ -146,6 +146,36 @@ glob_match() {
 	}' "$1" "$2"
 }
 
+# the comparison's own controls: lines it must accept and lines it must refuse
+# same SHOWN ACTUAL: the comparison of one command (printf-style \n in both)
+same() {
+	S=/nonexistent
+	printf "$1" >"$T/c_want.raw"; printf "$2" >"$T/c_act.raw"
+	norm "$T/c_want.raw" >"$T/c_want"; norm "$T/c_act.raw" >"$T/c_act"
+	glob_match "$T/c_want" "$T/c_act"
+}
+ctl() { if same "$2" "$3"; then [ "$1" = pass ] && ok || bad "control: '$2' matched '$3'"
+	else [ "$1" = fail ] && ok || bad "control: '$2' did not match '$3'"; fi; }
+ctl pass 'a\nb\n' 'a\nb\n'
+ctl fail 'a\nb\n' 'a\nc\n'
+ctl fail 'a\n' 'a\nb\n'
+ctl fail 'a\nb\n' 'a\n'
+ctl fail 'a\n' ''
+ctl pass '' ''
+ctl pass 'a\n...\nd\n' 'a\nb\nc\nd\n'
+ctl pass 'a\n...\nd\n' 'a\nd\n'
+ctl fail 'a\n...\nd\n' 'a\nb\nc\n'
+ctl fail 'a\n...\nd\n' 'x\na\nd\n'
+ctl pass '...\nc\n...\n' 'a\nb\nc\nd\n'
+ctl fail '...\nc\n...\n' 'a\nb\nd\n'
+ctl pass '...\n' ''
+ctl pass 'took 0.02 s, 6.95 ns\n' 'took 1.5 s, 12 ns\n'
+ctl fail 'took 0.02 s\n' 'took 0.02 x\n'
+ctl pass 'r: 3/3 done\n' 'r: 1/3 (33 %%, 1 s)\nr: 3/3 done\n'
+ctl fail 'r: 3/3 done\n' 'r: 2/3 done\n'
+ctl pass 'search: 9 fits, 5 fits/s, front 1 (x)\n' 'search: 5 fits, 1 fits/s, front 1 (y)\nsearch: 9 fits, 7 fits/s, front 1 (x)\n'
+ctl fail 'search: 9 fits, 5 fits/s, front 1 (x)\n' 'search: 8 fits, 7 fits/s, front 1 (x)\n'
+
 for b in "$T"/ex/[0-9]*; do
 	read -r open mode reason <"$b/meta"
 	if [ "$mode" = error ]; then bad "README.md:$open: $reason"; continue; fi
