@@ -162,6 +162,7 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
 	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
 	sh tests/gpucost.sh $(TOOL)
 	sh tests/lavapipe.sh build/vkrun
+	sh tests/readme.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh

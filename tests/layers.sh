@@ -4,16 +4,25 @@
 # backwards, and inside each folder no two files that call each other, directly
 # or round a longer loop. A call is an undefined symbol of one object that
 # another object defines (nm), so a header that merely names a function does
-# not count, and a call through a pointer is not seen.
+# not count, and a call through a pointer is not seen. Each rule is a function,
+# run once more on made-up calls that break it (its negative control).
 # usage: sh tests/layers.sh build/obj
 set -u
 OBJ=${1:?usage: layers.sh build/obj}
 T=$(mktemp -d /tmp/bk_layers_XXXXXX)
 trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+finish() {
+	echo "layers: $pass passed, $fail failed"
+	[ "$fail" -eq 0 ]
+	exit
+}
 
 # a path with no objects would pass with nothing checked
 for d in brdf fit analysis; do
-	[ -d "$OBJ/$d" ] || { echo "layers: no $OBJ/$d (build first)"; exit 1; }
+	[ -d "$OBJ/$d" ] || { bad "no $OBJ/$d (build first)"; finish; }
 done
 
 # one line per object and symbol: "D obj sym" (defines) or "U obj sym" (uses)
@@ -23,51 +32,62 @@ find "$OBJ/brdf" "$OBJ/fit" "$OBJ/analysis" -name '*.o' | sort | while read -r o
 		NF == 2 && $1 == "U" { print "U", o, $2 }'
 done >"$T/syms"
 
-# edges "from to" between objects; rank of a folder in the flow
+# edges "from to" between objects
 awk '
 	$1 == "D" { def[$3] = $2 }
 	$1 == "U" { n++; uo[n] = $2; us[n] = $3 }
 	END { for (i = 1; i <= n; i++) if ((us[i] in def) && def[us[i]] != uo[i]) print uo[i], def[us[i]] }
 ' "$T/syms" | sort -u >"$T/edges"
-[ -s "$T/edges" ] || { echo "layers: no calls between objects found (nm failed?)"; exit 1; }
+n=$(wc -l <"$T/edges")
+# every folder calls across objects: fewer than 100 calls means nm read little
+[ "$n" -ge 100 ] && ok || { bad "only $n calls between objects found (nm failed?)"; finish; }
 
-awk '
-	function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
-	function rank(d) {
-		if (d == "brdf") return 0; if (d == "fit") return 1; if (d == "analysis") return 2
-		return 3 # analysis/cli, analysis/bench: the programs
-	}
-	{ from[NR] = $1; to[NR] = $2; adj[$1] = adj[$1] " " $2 }
-	END {
-		bad = 0
-		for (i = 1; i <= NR; i++)
-			if (rank(dir(to[i])) > rank(dir(from[i]))) {
-				print "against the flow: " from[i] " calls " to[i]; bad = 1
-			}
-		# a loop inside one folder: depth-first search from every object,
-		# following edges that stay in its folder
-		for (i = 1; i <= NR; i++) node[from[i]] = 1
-		for (s in node) {
-			delete seen; top = 1; stack[1] = s
-			while (top > 0) {
-				x = stack[top--]; m = split(adj[x], nx, " ")
-				for (k = 1; k <= m; k++) {
-					y = nx[k]
-					if (dir(y) != dir(s)) continue
-					if (y == s) { loop[s] = 1; continue }
-					if (!(y in seen)) { seen[y] = 1; stack[++top] = y }
+# with_flow EDGES: no call against the flow (rank of a folder in it)
+with_flow() {
+	awk '
+		function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
+		function rank(d) {
+			if (d == "brdf") return 0; if (d == "fit") return 1; if (d == "analysis") return 2
+			return 3 # analysis/cli, analysis/bench: the programs
+		}
+		rank(dir($2)) > rank(dir($1)) { print "against the flow: " $1 " calls " $2; bad = 1 }
+		END { exit bad }' "$1"
+}
+# no_loop EDGES: no loop inside one folder (depth-first search from every
+# object, following calls that stay in its folder)
+no_loop() {
+	awk '
+		function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
+		{ from[NR] = $1; adj[$1] = adj[$1] " " $2 }
+		END {
+			for (i = 1; i <= NR; i++) node[from[i]] = 1
+			for (s in node) {
+				delete seen; top = 1; stack[1] = s
+				while (top > 0) {
+					x = stack[top--]; m = split(adj[x], nx, " ")
+					for (k = 1; k <= m; k++) {
+						y = nx[k]
+						if (dir(y) != dir(s)) continue
+						if (y == s) { loop[s] = 1; continue }
+						if (!(y in seen)) { seen[y] = 1; stack[++top] = y }
+					}
 				}
 			}
-		}
-		for (s in loop) { print "call loop inside " dir(s) "/ through " s; bad = 1 }
-		exit bad
-	}
-' "$T/edges" >"$T/report"
-rc=$?
-n=$(wc -l <"$T/edges")
-if [ "$rc" -ne 0 ]; then
-	sort "$T/report"
-	echo "layers: FAILED ($n calls between objects)"
-	exit 1
-fi
-echo "layers: $n calls between objects, all with the flow, no loop inside a folder"
+			for (s in loop) { print "call loop inside " dir(s) "/ through " s; bad = 1 }
+			exit bad
+		}' "$1" >"$T/loops"
+	rc=$? # awk's verdict, not sort's
+	sort "$T/loops"
+	return $rc
+}
+
+if with_flow "$T/edges" >"$T/why"; then ok; else bad "$(cat "$T/why")"; fi
+if no_loop "$T/edges" >"$T/why"; then ok; else bad "$(cat "$T/why")"; fi
+# controls: the real calls plus one from brdf/ up into fit/, and plus a loop
+# of two files of fit/ (a calls b, b calls a)
+{ cat "$T/edges"; echo "brdf/ggx.o fit/fit.o"; } >"$T/up"
+if with_flow "$T/up" >/dev/null; then bad "control: a call against the flow passed"; else ok; fi
+{ cat "$T/edges"; echo "fit/zz_a.o fit/zz_b.o"; echo "fit/zz_b.o fit/zz_a.o"; } >"$T/loop"
+if no_loop "$T/loop" >/dev/null; then bad "control: a loop inside fit/ passed"; else ok; fi
+echo "layers: $n calls between objects"
+finish

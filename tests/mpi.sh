@@ -9,11 +9,15 @@
 set -u
 BKM=${1:?usage: mpi.sh path/to/brdfkit-mpi path/to/brdfkit}
 BK=${2:?usage: mpi.sh path/to/brdfkit-mpi path/to/brdfkit}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+: "${CSVGET:=$ROOT/build/csvget}"
 T=$(mktemp -d /tmp/bk_mpi_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+. "$ROOT/tests/lib.sh"
+[ -x "$CSVGET" ] || { bad "no $CSVGET (make build/csvget)"; echo "mpi: $pass passed, $fail failed"; exit 1; }
 
 # Open MPI refuses root without its two variables, and more ranks than cores
 # without --oversubscribe (CI runs as root on 2 cores); MPICH's mpirun needs
@@ -24,8 +28,15 @@ if mpirun --version 2>/dev/null | grep -q "Open MPI"; then
 	export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
 
-# the planted form of tests/cli.sh: 0.3/(LoH^2 + 0.7 r^2), one mutation from the seed
+# the planted form of tests/cli.sh: 0.3/(LoH^2 + 0.7 r^2), one mutation from the
+# seed. One process does not reach it in 3000 fits (rmse 0.008155, tests/cli.sh);
+# 2 and 3 islands do today (measured: p0/(a + LoH (p1 LoH)), p0 = 3/7,
+# p1 = 10/7, rmse 4.7e-16 on island 1 and 2), and the member is re-evaluated
+# outside the search (tests/lib.sh front_answers: brdfkit eval against the
+# target computed in awk, 1e-12)
 PLANT='0.3/(LoH*LoH + 0.7*r*r)'
+PLANT_AWK='0.3/(x*x + 0.7*r*r)'
+PLANT_POINTS="0.3162,0 0.5,0.5 0.7,0.2 1,1 0.4,0.9 0.9,0.05"
 search() { # search NP OUT [options]
 	np=$1 out=$2; shift 2
 	$MPIRUN -np "$np" "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
@@ -36,16 +47,21 @@ same() { # same DIR1 DIR2 FILE
 	grep -v '^# command' "$1/$3" >"$T/a" 2>/dev/null; grep -v '^# command' "$2/$3" >"$T/b" 2>/dev/null
 	[ -s "$T/a" ] && cmp -s "$T/a" "$T/b"
 }
-recovered() { # the front holds the planted form: rmse (column 9) <= 1e-9 on the full grid
-	awk -F, '!/^#/ && NR > 1 && $9 != "" && $9 + 0 <= 1e-9 { f = 1 } END { exit !f }' "$1/front.csv"
-}
+# recovered DIR: DIR/front.csv holds the planted form (rmse <= 1e-9, confirmed by eval)
+recovered() { front_answers "$BK" "$1/front.csv" "$PLANT_AWK" $PLANT_POINTS >"$T/hits"; }
+# has_island CANDIDATES R: some candidate was found by island R
+has_island() { csv_col "$1" island >"$T/isl" && grep -qx "$2" "$T/isl"; }
 
 # brdfkit itself needs no MPI runtime
 if ldd "$BK" | grep -q libmpi; then bad "brdfkit links MPI: $(ldd "$BK" | grep libmpi)"; else ok; fi
 
 for np in 2 3; do
 	if search $np "$T/p$np" --evals 3000 --threads 1 >"$T/out" 2>"$T/err" && recovered "$T/p$np"; then ok
-	else bad "$np ranks: planted form not recovered: $(cat "$T/err" | head -5)"; fi
+	else bad "$np ranks: planted form not recovered: $(csv_cols "$T/p$np/front.csv" rmse form | sort -g | head -3) $(head -5 "$T/err")"; fi
+	# control: the front without the members that recovered it
+	mkdir -p "$T/c$np"; cp "$T/p$np/front.csv" "$T/c$np/front.csv"
+	for h in $(cat "$T/hits"); do csv_drop "$T/c$np/front.csv" name "$h" >"$T/w.csv" && mv "$T/w.csv" "$T/c$np/front.csv"; done
+	expect_fail "$np ranks: planted form absent" recovered "$T/c$np"
 	# the same seed, budget and ranks: the same bytes with 2 threads per rank
 	search $np "$T/q$np" --evals 3000 --threads 2 >/dev/null 2>&1
 	for f in front.csv candidates.csv; do
@@ -54,11 +70,11 @@ for np in 2 3; do
 	# the islands' work reaches the output: candidates of every rank, and the
 	# header and column that say so
 	for r in $(seq 0 $((np - 1))); do
-		awk -F, -v r=$r '!/^#/ && NR > 1 && $2 == r { f = 1 } END { exit !f }' "$T/p$np/candidates.csv" && ok ||
-			bad "$np ranks: no candidate of island $r in candidates.csv"
+		has_island "$T/p$np/candidates.csv" $r && ok || bad "$np ranks: no candidate of island $r in candidates.csv"
 	done
-	grep -q "^# islands: $np MPI ranks" "$T/p$np/front.csv" && grep -q ',found_at,island,' "$T/p$np/front.csv" && ok ||
-		bad "$np ranks: front.csv does not state the islands"
+	expect_fail "$np ranks: island $np" has_island "$T/p$np/candidates.csv" $np
+	grep -q "^# islands: $np MPI ranks" "$T/p$np/front.csv" && csv_col "$T/p$np/front.csv" island >"$T/isl" &&
+		[ "$(grep -cv '^[0-9][0-9]*$' "$T/isl")" = 0 ] && ok || bad "$np ranks: front.csv does not state the islands"
 done
 # a second run of 3 ranks: the same bytes (determinism across runs)
 search 3 "$T/p3b" --evals 3000 --threads 1 >/dev/null 2>&1
@@ -69,7 +85,7 @@ same "$T/p3" "$T/p3b" front.csv && ok || bad "3 ranks: two runs differ in front.
 search 3 "$T/p3f" --evals 3000 --threads 1 --merge-fronts >/dev/null 2>"$T/err"
 grep -v '^#' "$T/p3/front.csv" >"$T/a"; grep -v '^#' "$T/p3f/front.csv" >"$T/b" 2>/dev/null
 [ -s "$T/a" ] && cmp -s "$T/a" "$T/b" && ok || bad "3 ranks: --merge-fronts changes front.csv: $(head -3 "$T/err")"
-nall=$(grep -vc '^#' "$T/p3/candidates.csv"); nfr=$(grep -vc '^#' "$T/p3f/candidates.csv" 2>/dev/null)
+nall=$(csv_col "$T/p3/candidates.csv" found_at | wc -l); nfr=$(csv_col "$T/p3f/candidates.csv" found_at 2>/dev/null | wc -l)
 [ "${nfr:-0}" -gt 1 ] && [ "$nfr" -lt "$nall" ] && grep -q 'merge-fronts: the candidates of island 0' "$T/p3f/candidates.csv" &&
 	grep -q 'merged 3 islands (fronts)' "$T/err" && ok ||
 	bad "3 ranks: --merge-fronts: candidates.csv has $nfr rows (all: $nall) or the header or log does not say so"

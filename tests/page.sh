@@ -9,6 +9,9 @@
 # The loaded check runs on a copy of the page in a temporary folder, with a
 # <base> pointing back at the page's folder and a small script that writes
 # each image's naturalWidth into the DOM; the page itself is only read.
+# Every check is a function, run once more on a page it must refuse (its
+# negative control): a page with a missing and an undecodable image and a
+# 0x0 plot, one loading a remote script, and an empty page.
 set -u
 PAGE=${1:-results/index.html}
 CHROMIUM=${CHROMIUM:-chromium}
@@ -59,30 +62,70 @@ attr() {
 
 # ---- the page as written: pictures are files beside it, nothing remote ----------
 
-tags "$PAGE" img | attr src >"$T/srcs"
-nimg=$(grep -c '' "$T/srcs")
-nsvg=$(tr '\n\r' '  ' <"$PAGE" | grep -o '<svg[[:space:]>]' | grep -c '')
-if [ "$nimg" -ge "$MIN_IMG" ]; then ok; else bad "$nimg <img> in $PAGE, expected at least $MIN_IMG"; fi
-if [ "$nsvg" -ge "$MIN_SVG" ]; then ok; else bad "$nsvg <svg> in $PAGE, expected at least $MIN_SVG"; fi
+# counts_ok PAGE: at least MIN_IMG <img> and MIN_SVG <svg> (sets nimg, nsvg)
+counts_ok() {
+	nimg=$(tags "$1" img | grep -c '')
+	nsvg=$(tr '\n\r' '  ' <"$1" | grep -o '<svg[[:space:]>]' | grep -c '')
+	[ "$nimg" -ge "$MIN_IMG" ] || { echo "$nimg <img> in $1, expected at least $MIN_IMG"; return 1; }
+	[ "$nsvg" -ge "$MIN_SVG" ] || { echo "$nsvg <svg> in $1, expected at least $MIN_SVG"; return 1; }
+}
+# imgs_beside PAGE: every <img> src is a data: URL or a non-empty file in the
+# page's folder, relative (the page moves with its folder); prints each that is not
+imgs_beside() {
+	d=$(cd "$(dirname "$1")" && pwd) rc=0
+	tags "$1" img | attr src >"$T/srcs"
+	while IFS= read -r src; do
+		case $src in
+		'') echo "an <img> without src"; rc=1 ;;
+		data:*) ;;
+		*://* | //*) echo "img $src: not beside the page (remote)"; rc=1 ;;
+		/*) echo "img $src: absolute path, the page would not move with its folder"; rc=1 ;;
+		*)
+			file=${src%%[?#]*}
+			[ -f "$d/$file" ] && [ -s "$d/$file" ] || { echo "img $src: no file $d/$file"; rc=1; }
+			;;
+		esac
+	done <"$T/srcs"
+	return $rc
+}
+# no_remote PAGE: no script, style, frame or source from elsewhere (the page
+# must not depend on a network; links <a href> to sources are fine)
+no_remote() {
+	remote=$( (tags "$1" script; tags "$1" link; tags "$1" iframe; tags "$1" source) |
+		grep -E "(src|href)=[\"'](https?:)?//" | head -3)
+	[ -z "$remote" ] || { echo "remote resources: $remote"; return 1; }
+}
+# check NAME FUNCTION ARGS...: count FUNCTION's verdict, its words in the failure
+check() {
+	_n=$1; shift
+	if "$@" >"$T/why" 2>&1; then ok; else bad "$_n: $(cat "$T/why")"; fi
+}
+# expect_fail NAME FUNCTION ARGS...: the negative control: FUNCTION must refuse ARGS
+expect_fail() {
+	_n=$1; shift
+	if "$@" >/dev/null 2>&1; then bad "control $_n: the check passed on a page it must refuse"; else ok; fi
+}
 
-while IFS= read -r src; do
-	case $src in
-	'') bad "an <img> without src" ;;
-	data:*) ok ;;
-	*://* | //*) bad "img $src: not beside the page (remote)" ;;
-	/*) bad "img $src: absolute path, the page would not move with its folder" ;;
-	*)
-		file=${src%%[?#]*}
-		if [ -f "$DIR/$file" ] && [ -s "$DIR/$file" ]; then ok; else bad "img $src: no file $DIR/$file"; fi
-		;;
-	esac
-done <"$T/srcs"
+check "counts" counts_ok "$PAGE"
+page_img=$nimg page_svg=$nsvg
+check "pictures beside the page" imgs_beside "$PAGE"
+check "nothing remote" no_remote "$PAGE"
 
-# Scripts, styles and frames from elsewhere would make the page depend on a
-# network; links (<a href>) to sources are fine.
-remote=$( (tags "$PAGE" script; tags "$PAGE" link; tags "$PAGE" iframe; tags "$PAGE" source) |
-	grep -E "(src|href)=[\"'](https?:)?//" | head -3)
-if [ -z "$remote" ]; then ok; else bad "remote resources: $remote"; fi
+# the controls' pages: broken pictures and a 0x0 plot; a remote script; empty
+mkdir "$T/ctl"
+printf 'not a PNG\n' >"$T/ctl/text.png"
+cat >"$T/ctl/broken.html" <<'EOF'
+<!DOCTYPE html><html><head><title>control</title></head><body>
+<img src="missing.png"> <img src="text.png">
+<svg width="0" height="0"></svg>
+</body></html>
+EOF
+printf '%s\n' '<!DOCTYPE html><html><head><script src="https://example.invalid/x.js"></script></head><body></body></html>' \
+	>"$T/ctl/remote.html"
+echo '<!DOCTYPE html><html><body></body></html>' >"$T/empty.html"
+expect_fail "counts" counts_ok "$T/empty.html"
+expect_fail "pictures beside the page" imgs_beside "$T/ctl/broken.html"
+expect_fail "nothing remote" no_remote "$T/ctl/remote.html"
 
 # ---- loaded: a copy with <base> and a probe script -------------------------------
 
@@ -109,61 +152,62 @@ window.addEventListener('load', function () {
 });
 </script>
 EOF
-# <base> first thing in <head> (or the document) so relative src resolve to the page's
-# folder; the probe last, after everything it looks at.
-base="<base href=\"file://$(printf '%s' "$DIR" | sed 's/ /%20/g')/\">"
-if grep -qiE '<head([[:space:]][^>]*)?>' "$PAGE"; then
-	esc=$(printf '%s' "$base" | sed 's/[&|\\]/\\&/g')
-	sed "0,/<[hH][eE][aA][dD]\([[:space:]][^>]*\)\{0,1\}>/s||&$esc|" "$PAGE" >"$T/copy.html"
-else
-	{ echo "$base"; cat "$PAGE"; } >"$T/copy.html"
-fi
-cat "$T/probe.html" >>"$T/copy.html"
+# probe PAGE OUT: load a copy of PAGE in chromium, its probe's lines into OUT.
+# <base> first thing in <head> (or the document) so relative src resolve to the
+# page's folder; the probe last, after everything it looks at.
+probe() {
+	d=$(cd "$(dirname "$1")" && pwd)
+	base="<base href=\"file://$(printf '%s' "$d" | sed 's/ /%20/g')/\">"
+	if grep -qiE '<head([[:space:]][^>]*)?>' "$1"; then
+		esc=$(printf '%s' "$base" | sed 's/[&|\\]/\\&/g')
+		sed "0,/<[hH][eE][aA][dD]\([[:space:]][^>]*\)\{0,1\}>/s||&$esc|" "$1" >"$T/copy.html"
+	else
+		{ echo "$base"; cat "$1"; } >"$T/copy.html"
+	fi
+	cat "$T/probe.html" >>"$T/copy.html"
+	chromium_run --dump-dom "file://$T/copy.html" >"$T/dom.html"
+	grep '^PAGECHECK-' "$T/dom.html" >"$2"
+}
+# loaded_ok PROBE NIMG NSVG: the probe ran, the DOM holds the page's NIMG
+# images and NSVG plots, chromium decoded every image (naturalWidth > 0) and
+# every plot renders at a size; prints what is not so
+loaded_ok() {
+	grep -q '^PAGECHECK-DONE' "$1" || { echo "chromium did not load the page: $(tail -5 "$T/chromium.log")"; return 1; }
+	rc=0
+	dom_img=$(grep -c '^PAGECHECK-IMG' "$1")
+	dom_svg=$(grep -c '^PAGECHECK-SVG' "$1")
+	[ "$dom_img" -eq "$2" ] || { echo "$dom_img images in the DOM, $2 in the page"; rc=1; }
+	[ "$dom_svg" -eq "$3" ] || { echo "$dom_svg svg in the DOM, $3 in the page"; rc=1; }
+	grep '^PAGECHECK-IMG' "$1" >"$T/imgs"
+	while read -r tag width src; do
+		[ "$width" -gt 0 ] 2>/dev/null || { echo "img $src: not loaded by chromium (naturalWidth $width)"; rc=1; }
+	done <"$T/imgs"
+	grep '^PAGECHECK-SVG' "$1" >"$T/svgs"
+	while read -r tag size; do
+		case $size in
+		[1-9]*x[1-9]*) ;;
+		*) echo "an svg renders at $size"; rc=1 ;;
+		esac
+	done <"$T/svgs"
+	return $rc
+}
 
-chromium_run --dump-dom "file://$T/copy.html" >"$T/dom.html"
-grep '^PAGECHECK-' "$T/dom.html" >"$T/probe.txt"
-if grep -q '^PAGECHECK-DONE' "$T/probe.txt"; then ok; else
-	bad "chromium did not load the page (see below)"
-	tail -5 "$T/chromium.log"
-	finish
-fi
-
-dom_img=$(grep -c '^PAGECHECK-IMG' "$T/probe.txt")
-dom_svg=$(grep -c '^PAGECHECK-SVG' "$T/probe.txt")
-if [ "$dom_img" -eq "$nimg" ]; then ok; else bad "$dom_img images in the DOM, $nimg in the page"; fi
-if [ "$dom_svg" -eq "$nsvg" ]; then ok; else bad "$dom_svg svg in the DOM, $nsvg in the page"; fi
-while read -r tag width src; do
-	[ -n "$tag" ] || continue
-	if [ "$width" -gt 0 ]; then ok; else bad "img $src: not loaded by chromium (naturalWidth 0)"; fi
-done <<EOF
-$(grep '^PAGECHECK-IMG' "$T/probe.txt")
-EOF
-while read -r tag size; do
-	[ -n "$tag" ] || continue
-	case $size in
-	0x* | *x0) bad "an svg renders at $size" ;;
-	*) ok ;;
-	esac
-done <<EOF
-$(grep '^PAGECHECK-SVG' "$T/probe.txt")
-EOF
+probe "$PAGE" "$T/probe.txt"
+check "loaded in chromium" loaded_ok "$T/probe.txt" "$page_img" "$page_svg"
+# control: two images chromium cannot decode (a missing file, a text file)
+# and a 0x0 plot; told the counts the page has, as the page's own check is
+probe "$T/ctl/broken.html" "$T/probe_ctl.txt"
+expect_fail "loaded in chromium" loaded_ok "$T/probe_ctl.txt" 2 1
+grep -q '^PAGECHECK-DONE' "$T/probe_ctl.txt" && ok || bad "control page not loaded: the control proves nothing"
 
 # ---- a screenshot of the page itself: not blank ------------------------------------
 
 # Its PNG must be clearly larger than one of an empty page taken the same way
 # (a blank 1200x1600 compresses to about 9 KB with Chromium 156): the measure
 # where python3 is missing, and a check that the screenshot was written at all.
-echo '<!DOCTYPE html><html><body></body></html>' >"$T/empty.html"
-chromium_run --window-size=1200,1600 --screenshot="$T/empty.png" "file://$T/empty.html" >/dev/null
-chromium_run --window-size=1200,1600 --screenshot="$T/shot.png" "file://$DIR/$NAME" >/dev/null
-size=$(wc -c <"$T/shot.png" 2>/dev/null || echo 0)
-empty=$(wc -c <"$T/empty.png" 2>/dev/null || echo 0)
-if [ "$size" -gt $((empty + empty / 4 + 1000)) ]; then ok; else
-	bad "screenshot $size bytes, an empty page's $empty: blank or missing"
-fi
-# Count its colours (stdlib only: zlib and the PNG filters), where python3 is.
-if command -v python3 >/dev/null 2>&1; then
-	colours=$(python3 - "$T/shot.png" <<'EOF'
+# Where python3 is, it must also hold at least 8 colours.
+colours() {
+	python3 - "$1" <<'EOF'
 import struct, sys, zlib
 data = open(sys.argv[1], 'rb').read()
 pos, idat, w, h, bpp = 8, b'', 0, 0, 0
@@ -194,8 +238,26 @@ for y in range(h):
     prev = line
 print(len(seen))
 EOF
-)
-	if [ "${colours:-0}" -ge 8 ] 2>/dev/null; then ok; else bad "screenshot has ${colours:-no} colours: blank"; fi
+}
+# not_blank SHOT EMPTY: the screenshot SHOT is not blank, against EMPTY's
+not_blank() {
+	size=$(wc -c <"$1" 2>/dev/null || echo 0)
+	empty=$(wc -c <"$2" 2>/dev/null || echo 0)
+	[ "$empty" -gt 0 ] || { echo "no screenshot of the empty page"; return 1; }
+	[ "$size" -gt $((empty + empty / 4 + 1000)) ] || { echo "screenshot $size bytes, an empty page's $empty: blank or missing"; return 1; }
+	if command -v python3 >/dev/null 2>&1; then
+		n=$(colours "$1")
+		[ "${n:-0}" -ge 8 ] 2>/dev/null || { echo "screenshot has ${n:-no} colours: blank"; return 1; }
+	fi
+}
+chromium_run --window-size=1200,1600 --screenshot="$T/empty.png" "file://$T/empty.html" >/dev/null
+chromium_run --window-size=1200,1600 --screenshot="$T/shot.png" "file://$DIR/$NAME" >/dev/null
+check "screenshot" not_blank "$T/shot.png" "$T/empty.png"
+# control: the empty page's own screenshot is blank
+expect_fail "screenshot" not_blank "$T/empty.png" "$T/empty.png"
+# and the colour count alone calls it blank (the measure the size cannot give)
+if command -v python3 >/dev/null 2>&1; then
+	[ "$(colours "$T/empty.png")" -lt 8 ] 2>/dev/null && ok || bad "control colours: the empty page has $(colours "$T/empty.png") colours"
 fi
 
 finish

@@ -3,6 +3,13 @@
  *
  *   csvget FILE NAME                 every data row's NAME field, one a line
  *   csvget FILE NAME KEY VALUE       NAME of the rows whose KEY field is VALUE
+ *   csvget --set FILE NAME KEY VALUE NEW   FILE with NAME set to NEW in those rows
+ *   csvget --drop FILE KEY VALUE     FILE without the rows whose KEY field is VALUE
+ *
+ * --set and --drop make the negative controls of the tests (a front whose best
+ * rmse is edited upward, a front without the answer): the copy keeps comment
+ * lines and quotes a field only where it must, as brdfkit writes its CSVs, and
+ * fails as the reading does when the column or the row is not there.
  *
  * Lines that start with '#' before the header or between records are comments
  * (brdfkit writes its conventions there) and are skipped; the first other line
@@ -18,8 +25,11 @@
 
 #define MAX_FIELDS 256
 
+typedef enum { GET, SET, DROP } mode;
+
 typedef struct reader {
-	const char *path, *name, *key, *value;
+	mode mode;
+	const char *path, *name, *key, *value, *set_to;
 	char *field[MAX_FIELDS];
 	int nf, header_nf, col, key_col, rows, matched, bad;
 	long line;
@@ -41,6 +51,30 @@ static int find(const reader *r, const char *name)
 	return -1;
 }
 
+/* One field as brdfkit writes it: quoted (quotes doubled) only when it holds a
+ * comma, a quote or a line break. */
+static void put_field(const char *f, int last)
+{
+	if (strpbrk(f, ",\"\r\n")) {
+		putchar('"');
+		for (; *f; f++) {
+			if (*f == '"')
+				putchar('"');
+			putchar(*f);
+		}
+		putchar('"');
+	} else {
+		fputs(f, stdout);
+	}
+	putchar(last ? '\n' : ',');
+}
+
+static void put_record(const reader *r)
+{
+	for (int i = 0; i < r->nf && i < MAX_FIELDS; i++)
+		put_field(r->field[i], i == r->nf - 1);
+}
+
 static void on_record(int c, void *vr)
 {
 	(void)c;
@@ -50,11 +84,14 @@ static void on_record(int c, void *vr)
 		/* keep freeing */
 	} else if (r->header_nf < 0) {
 		r->header_nf = r->nf;
-		r->col = find(r, r->name);
+		r->col = r->name ? find(r, r->name) : -1;
 		r->key_col = r->key ? find(r, r->key) : -1;
-		if (r->col < 0 || (r->key && r->key_col < 0)) {
-			fprintf(stderr, "csvget: %s: no column '%s'\n", r->path, r->col < 0 ? r->name : r->key);
+		if ((r->name && r->col < 0) || (r->key && r->key_col < 0)) {
+			fprintf(stderr, "csvget: %s: no column '%s'\n", r->path,
+			        r->name && r->col < 0 ? r->name : r->key);
 			r->bad = 1;
+		} else if (r->mode != GET) {
+			put_record(r);
 		}
 	} else if (r->nf != r->header_nf) {
 		fprintf(stderr, "csvget: %s: record %ld has %d fields, the header %d\n", r->path, r->line, r->nf,
@@ -62,9 +99,18 @@ static void on_record(int c, void *vr)
 		r->bad = 1;
 	} else {
 		r->rows++;
-		if (!r->key || !strcmp(r->field[r->key_col], r->value)) {
-			r->matched++;
+		int hit = !r->key || !strcmp(r->field[r->key_col], r->value);
+		r->matched += hit;
+		if (r->mode == GET && hit) {
 			puts(r->field[r->col]);
+		} else if (r->mode == SET) {
+			if (hit) {
+				free(r->field[r->col]);
+				r->field[r->col] = strdup(r->set_to);
+			}
+			put_record(r);
+		} else if (r->mode == DROP && !hit) {
+			put_record(r);
 		}
 	}
 	for (int i = 0; i < r->nf && i < MAX_FIELDS; i++)
@@ -72,14 +118,25 @@ static void on_record(int c, void *vr)
 	r->nf = 0;
 }
 
+static int usage(void)
+{
+	fprintf(stderr, "usage: csvget FILE NAME [KEY VALUE] | --set FILE NAME KEY VALUE NEW | --drop FILE KEY VALUE\n");
+	return 2;
+}
+
 int main(int argc, char **argv)
 {
-	if (argc != 3 && argc != 5) {
-		fprintf(stderr, "usage: csvget FILE NAME [KEY VALUE]\n");
-		return 2;
+	reader r = {.header_nf = -1};
+	if (argc == 7 && !strcmp(argv[1], "--set")) {
+		r.mode = SET, r.path = argv[2], r.name = argv[3], r.key = argv[4], r.value = argv[5], r.set_to = argv[6];
+	} else if (argc == 5 && !strcmp(argv[1], "--drop")) {
+		r.mode = DROP, r.path = argv[2], r.key = argv[3], r.value = argv[4];
+	} else if ((argc == 3 || argc == 5) && argv[1][0] != '-') {
+		r.mode = GET, r.path = argv[1], r.name = argv[2];
+		r.key = argc == 5 ? argv[3] : NULL, r.value = argc == 5 ? argv[4] : NULL;
+	} else {
+		return usage();
 	}
-	reader r = {.path = argv[1], .name = argv[2], .key = argc == 5 ? argv[3] : NULL,
-	            .value = argc == 5 ? argv[4] : NULL, .header_nf = -1};
 	FILE *f = fopen(r.path, "r");
 	if (!f) {
 		fprintf(stderr, "csvget: %s: cannot be read\n", r.path);
@@ -95,8 +152,11 @@ int main(int argc, char **argv)
 	ssize_t len;
 	int quoted = 0; /* inside a quoted field that spans lines: not a comment */
 	while ((len = getline(&line, &cap, f)) > 0) {
-		if (!quoted && line[0] == '#')
+		if (!quoted && line[0] == '#') {
+			if (r.mode != GET)
+				fputs(line, stdout);
 			continue;
+		}
 		for (ssize_t i = 0; i < len; i++)
 			if (line[i] == '"')
 				quoted = !quoted;
