@@ -103,6 +103,15 @@ static void page_head(FILE *f, const section *S, int n)
 	fputs(".</p>\n", f);
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* report has one option, the page it always writes. */
+static const cli_rule rules[] = {
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+};
+static const char *const setups[] = {"--out p.html s.html", NULL};
+static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], setups};
+
 int cmd_report(int argc, char **argv)
 {
 	const char *out = NULL;
@@ -116,8 +125,8 @@ int cmd_report(int argc, char **argv)
 	               "write (no script, no event handler, links relative or http(s)); each is given once, with\n"
 	               "an id of its own, and none is --out itself.",
 	               opts, 1, 16, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	if (cmd.npos < 1) {
 		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");

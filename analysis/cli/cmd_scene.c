@@ -365,6 +365,38 @@ static int id_ok(const char *id)
 	return strlen(id) < 64;
 }
 
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* --out is required and every run writes DIR/section.html (so --id and
+ * --link-prefix always land in it), times its sets unless --no-time and counts
+ * them for --gpu, in any combination: every option acts in every context the
+ * arguments give. What the files give is checked after they are read
+ * (no_specular): the walk's setups cannot name a scene file. */
+static const cli_rule rules[] = {
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--no-time", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--link-prefix", NULL, CLI_EVERYWHERE, 0, NULL, "x/"},
+	{"--id", NULL, CLI_EVERYWHERE, 0, NULL, "s2"},
+	{"--gpu", NULL, CLI_EVERYWHERE, 0, NULL, "navi21"},
+};
+static const char *const setups[] = {"s.json --out o", "a.json b.json --no-time --out o", NULL};
+static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], setups};
+
+/* --gpu counts the instructions of the sets' V*F and env forms (the diffuse
+ * term is not counted, as in the SPIR-V and cost columns): a run whose sets
+ * have none would get columns of zeros and still need the driver. Returns 0,
+ * or 2 after the usage line in the table's wording. */
+static int no_specular(const cli_cmd *cmd, const scene_run *S, int n)
+{
+	int terms = 0;
+	for (int k = 0; k < n; k++)
+		terms += terms_to_fit(&S[k]);
+	if (!gpu.n || terms)
+		return 0;
+	return cli_usage(cmd, "--gpu has no effect: no feature set has a specular term (it counts the instructions of the "
+	                      "V*F and env forms)");
+}
+
 int cmd_scene(int argc, char **argv)
 {
 	const char *out = NULL, *prefix = "", *id = "scenes", *chips = NULL;
@@ -374,7 +406,7 @@ int cmd_scene(int argc, char **argv)
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
 		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id: letters, digits, '-', '_' (default scenes)", .dest = &id},
-		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of every set's forms and the generic's per chip (brdfkit gpucost), in scene.csv and sets.csv", .dest = &chips},
+		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of every set's V*F and env forms and the generic's per chip (brdfkit gpucost), in scene.csv and sets.csv", .dest = &chips},
 	};
 	cli_cmd cmd = {"scene", "From a scene description (JSON) to one specialised shader per feature set: the terms the\n"
 	               "scene needs and no others, each the cheapest form that meets the error budget on the\n"
@@ -410,8 +442,8 @@ int cmd_scene(int argc, char **argv)
 	               "Before the work: an estimate (30 s per V*F or env term; a warning above 30 minutes);\n"
 	               "after each set, how far it is. A scene file is at most 1 MiB.",
 	               opts, 5, 16, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
-	if (rc)
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
 	if (cmd.npos < 1)
 		return cli_usage(&cmd, "give a scene file");
@@ -434,6 +466,8 @@ int cmd_scene(int argc, char **argv)
 			if (!strcmp(S[j].stem, S[k].stem))
 				rc = cli_usage(&cmd, "'%s' and '%s' would both write DIR/%s/", S[j].file, S[k].file, S[k].stem);
 	}
+	if (!rc)
+		rc = no_specular(&cmd, S, n);
 	char err[512];
 	if (!rc && bk_out_dir_check(out, err, sizeof err)) /* before the work, not after */
 		rc = cli_fail("scene", "--out %s", err);
