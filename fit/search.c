@@ -1152,11 +1152,11 @@ static int checked_body(const char *text, size_t *len, reader *r)
 	size_t last = n - 1;
 	while (last > 0 && text[last - 1] != '\n')
 		last--;
-	unsigned long long want;
-	char tail;
-	if (sscanf(text + last, "checksum %16llx%c", &want, &tail) != 2 || tail != '\n' || n - last != 26)
+	char want[32];
+	int k = snprintf(want, sizeof want, "checksum %016llx\n", (unsigned long long)bk_hash_bytes(BK_HASH_INIT, text, last));
+	if (strncmp(text + last, "checksum ", 9))
 		return fail(r, "no checksum line at its end: cut short or not written by this version");
-	if (bk_hash_bytes(BK_HASH_INIT, text, last) != want)
+	if (n - last != (size_t)k || memcmp(text + last, want, (size_t)k))
 		return fail(r, "its checksum does not match: the file was changed or damaged after it was written");
 	*len = last;
 	return 0;

@@ -216,8 +216,8 @@ static int inside(const char *path, const char *out)
 static int replaceable(const char *path, char *err, size_t errlen)
 {
 	struct stat st;
-	if (lstat(path, &st) != 0)
-		return errno == ENOENT ? 0 : (snprintf(err, errlen, "%s: %s", path, why(errno)), -1);
+	if (lstat(path, &st) != 0) /* nothing there (or no directory: said next) */
+		return errno == ENOENT || errno == ENOTDIR ? 0 : (snprintf(err, errlen, "%s: %s", path, why(errno)), -1);
 	if (!S_ISREG(st.st_mode)) {
 		snprintf(err, errlen, "%s: exists and is not a regular file", path);
 		return -1;
