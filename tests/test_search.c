@@ -554,6 +554,7 @@ Test(search, checkpoint_ends_with_its_checksum)
 	bk_search *S = run(&o);
 	size_t len;
 	char *text = checkpoint_of(S, &len), err[512];
+	cr_assert(strstr(text, "\nchecksum "), "no checksum line");
 	const char *last = strstr(text, "\nchecksum ") + 1;
 	char want[40];
 	snprintf(want, sizeof want, "checksum %016llx\n", (unsigned long long)fnv1a(text, (size_t)(last - text)));
@@ -691,6 +692,7 @@ Test(search, mutated_checkpoints_never_crash, .timeout = 300)
 	char *text = checkpoint_of(S, &len), err[512];
 	static const int way[3] = {0x01, 0x10, 0x40};
 	long refused = 0, loaded = 0;
+	cr_assert(strstr(text, "\nchecksum "), "no checksum line");
 	size_t body = (size_t)(strstr(text, "\nchecksum ") - text) + 1;
 	for (size_t i = 0; i < len; i++)
 		for (int w = 0; w < 3; w++) {
