@@ -108,17 +108,28 @@ int ck_write(ck_file *c, const char *path, const char *text, size_t len, char *e
 	return 0;
 }
 
+static int proves_itself(int dfd, const char *name, const char *hex);
+
 /* Names an unnamed temporary tmp: through /proc (any user), or by the
- * descriptor itself (needs CAP_DAC_READ_SEARCH) where /proc is absent. */
+ * descriptor itself (needs CAP_DAC_READ_SEARCH) where /proc is absent. A
+ * leftover of a killed save of this very text in the way (its name is the
+ * text's hash) goes first. */
 static int link_tmp(ck_file *c)
 {
 	char proc[64];
 	snprintf(proc, sizeof proc, "/proc/self/fd/%d", c->fd);
 	c->slot = bk_out_track(c->tmp, 0);
-	if (linkat(AT_FDCWD, proc, AT_FDCWD, c->tmp, AT_SYMLINK_FOLLOW) == 0 ||
-	    linkat(c->fd, "", AT_FDCWD, c->tmp, AT_EMPTY_PATH) == 0) {
-		c->named = 1;
-		return 0;
+	for (int again = 0; again < 2; again++) {
+		if (linkat(AT_FDCWD, proc, AT_FDCWD, c->tmp, AT_SYMLINK_FOLLOW) == 0 ||
+		    (errno != EEXIST && linkat(c->fd, "", AT_FDCWD, c->tmp, AT_EMPTY_PATH) == 0)) {
+			c->named = 1;
+			return 0;
+		}
+		int e = errno;
+		if (e != EEXIST || !proves_itself(AT_FDCWD, c->tmp, c->tmp + strlen(c->path) + 4) || unlink(c->tmp) != 0) {
+			errno = e;
+			break;
+		}
 	}
 	bk_out_untrack(c->slot);
 	c->slot = -1;
