@@ -785,7 +785,7 @@ static int run_search(job *J)
 	if (J->a->resume) {
 		FILE *f = fopen(J->a->resume, "r");
 		if (!f)
-			return cli_fail("search", "--resume %s: cannot be read: %s", J->a->resume, strerror(errno));
+			return cli_fail("search", "--resume %s: cannot be read (%s)", J->a->resume, strerror(errno));
 		int rc = bk_search_load(J->S, f, err, sizeof err);
 		fclose(f);
 		if (rc)
@@ -1271,12 +1271,16 @@ static int score_member(job *J, member *m, const double *start, int fit)
 		m->prec.rmse = m->prec.max_abs = m->prec.max_rel = HUGE_VAL;
 		m->err = m->f16_max = HUGE_VAL;
 	}
-	char buf[9000];
+	size_t blen = strlen(m->text) + (m->text_b ? strlen(m->text_b) : 0) + 16; /* a --start form may be 16 KB */
+	char *buf = malloc(blen);
+	if (!buf)
+		return -1;
 	if (m->text_b)
-		snprintf(buf, sizeof buf, "f0*(%s) + (%s)", m->text, m->text_b);
+		snprintf(buf, blen, "f0*(%s) + (%s)", m->text, m->text_b);
 	else
-		snprintf(buf, sizeof buf, "%s", m->text);
+		snprintf(buf, blen, "%s", m->text);
 	bk_form *whole = bk_form_parse(buf, &fe);
+	free(buf);
 	if (!whole)
 		return -1;
 	bk_form_count(whole, &m->ops);
