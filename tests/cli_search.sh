@@ -75,8 +75,8 @@ if strace -o /dev/null true 2>/dev/null; then
 	asan_was=${ASAN_OPTIONS-}
 	export ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0"
 	ck="$T/ckW"
-	W="search --target f --evals 3000 --enum-max 300 --threads 1 --seed 7 --checkpoint $ck --every 500"
-	strace -f -o "$T/log" -e trace=write "$BK" search --target f --evals 3000 --enum-max 300 --threads 1 --seed 7 \
+	W="search --target f --evals 1500 --enum-max 300 --threads 1 --seed 7 --checkpoint $ck --every 500"
+	strace -f -o "$T/log" -e trace=write "$BK" search --target f --evals 1500 --enum-max 300 --threads 1 --seed 7 \
 		--checkpoint "$T/dry" --every 500 --out "$T/dryout" >/dev/null 2>&1
 	grep 'write(' "$T/log" | grep -n 'brdfkit-search-checkpoint' | cut -d: -f1 | head -2 >"$T/nth"
 	n1=$(sed -n 1p "$T/nth") n2=$(sed -n 2p "$T/nth")
@@ -88,8 +88,8 @@ if strace -o /dev/null true 2>/dev/null; then
 		expect_error "ENOSPC at the second checkpoint" 1 "no space left on device" \
 			strace -f -o /dev/null -e trace=write -e inject=write:error=ENOSPC:when="$n2" "$BK" $W --out "$T/sW"
 		# the first checkpoint is kept, and a resume from it is the run never stopped
-		"$BK" search --target f --evals 3000 --enum-max 300 --threads 1 --seed 7 --out "$T/whole" >/dev/null 2>&1
-		if "$BK" search --target f --evals 3000 --enum-max 300 --threads 1 --seed 7 --resume "$ck" --out "$T/sWr" \
+		"$BK" search --target f --evals 1500 --enum-max 300 --threads 1 --seed 7 --out "$T/whole" >/dev/null 2>&1
+		if "$BK" search --target f --evals 1500 --enum-max 300 --threads 1 --seed 7 --resume "$ck" --out "$T/sWr" \
 			>/dev/null 2>"$T/err" && same "$T/whole" "$T/sWr" front.csv && same "$T/whole" "$T/sWr" candidates.csv; then ok
 		else bad "resume after the failed second checkpoint: $(head -3 "$T/err")"; fi
 	else
@@ -166,7 +166,7 @@ echo "a user's file" >"$T/L/ck.tmpABCDEF"
 cp "$T/ckA" "$T/L/ck.tmpcopy"
 # a leftover a live run holds (its lock) is kept
 if command -v flock >/dev/null && [ -n "$left" ]; then
-	flock "$T/L/$left" sleep 4 &
+	flock "$T/L/$left" sleep 3 &
 	holder=$!
 	sleep 0.5
 	tiny --checkpoint "$T/L/ck" --out "$T/L/o1" >/dev/null 2>&1
@@ -206,7 +206,7 @@ ign=$(sed -n 's/^SigIgn:[[:space:]]*//p' /proc/$pid/status 2>/dev/null) # what a
 kill $pid
 case "$ign" in
 *[2367abef])
-	"$BK" search --target f --evals 1000000 --seconds 4 --threads 1 --checkpoint "$T/s1.ck" --every 300 --out "$T/s1" \
+	"$BK" search --target f --evals 1000000 --seconds 2 --threads 1 --checkpoint "$T/s1.ck" --every 300 --out "$T/s1" \
 		>/dev/null 2>&1 &
 	pid=$!
 	wait_for "$T/s1.ck"
