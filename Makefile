@@ -302,9 +302,18 @@ build/fuzz_ir: tests/fuzz/fuzz_ir.c $(LIB_SRC)
 	clang -std=c11 -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer,address,undefined \
 	  -fno-sanitize-recover=all -Ibrdf $^ -lm -o $@
 
-fuzz: build/fuzz_ir
+# The same on the search's checkpoint reader (tests/fuzz/fuzz_ckpt.c: it seeds
+# its corpus with a real checkpoint); the fitter's C++ objects as the tool's.
+build/fuzz_ckpt: tests/fuzz/fuzz_ckpt.c $(LIB_SRC) $(filter %.c,$(FIT_SRC)) $(call obj,build/obj,$(filter %.cc,$(FIT_SRC)))
+	$(call need,$(FUZZ_DEBS))
+	clang -std=c11 -D_POSIX_C_SOURCE=200809L -g -O1 -fsanitize=fuzzer,address,undefined \
+	  -fno-sanitize-recover=all -Ibrdf -Ifit $^ -lceres -lglog -lstdc++ -lpthread -lm -o $@
+
+fuzz: build/fuzz_ir build/fuzz_ckpt
 	rm -rf build/fuzz-corpus && mkdir -p build/fuzz-corpus && cp tests/fuzz/corpus/* build/fuzz-corpus/
 	build/fuzz_ir -runs=$(FUZZ_RUNS) -max_len=20000 -artifact_prefix=build/ build/fuzz-corpus
+	rm -rf build/fuzz-ckpt && mkdir -p build/fuzz-ckpt
+	build/fuzz_ckpt -runs=$(FUZZ_RUNS) -max_len=20000 -artifact_prefix=build/ build/fuzz-ckpt
 
 install: all
 	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/bin

@@ -12,6 +12,7 @@
 #include "expr.h"
 #include "ir.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,6 +46,39 @@ int bk_expr_op_valid(int op)
 		return 1;
 	size_t t = (size_t)(op - TERM0);
 	return op < SQ_BIT && t < bk_term_count() && term_arity(t) >= 1 && term_arity(t) <= 3;
+}
+
+int bk_expr_valid(const bk_expr *e, char *why, size_t len)
+{
+	if (e->n < 1 || e->n > BK_EXPR_MAX) {
+		snprintf(why, len, "%d nodes (1 to %d)", e->n, BK_EXPR_MAX);
+		return -1;
+	}
+	int need = 1; /* subtrees still to read: the prefix code ends where it reaches 0 */
+	for (int i = 0; i < e->n; i++) {
+		const bk_enode *n = &e->node[i];
+		const char *bad = NULL;
+		if (need == 0)
+			bad = "past the end of the tree";
+		else if (!bk_expr_op_valid(n->op))
+			bad = "no such operation";
+		else if (n->op == BK_OP_INPUT && (n->slot < 0 || n->slot >= BK_IN_COUNT))
+			bad = "input out of range";
+		else if (n->op == BK_OP_PARAM && (n->slot < 0 || n->slot >= BK_MAX_PARAMS))
+			bad = "parameter out of range";
+		else if ((n->op == BK_OP_CONST || n->op == BK_OP_PARAM) && !isfinite(n->k))
+			bad = "value not finite";
+		if (bad) {
+			snprintf(why, len, "node %d (op %d, slot %d): %s", i, n->op, n->slot, bad);
+			return -1;
+		}
+		need += arity(n->op) - 1;
+	}
+	if (need != 0) {
+		snprintf(why, len, "%d operands missing after node %d", need, e->n - 1);
+		return -1;
+	}
+	return 0;
 }
 
 static const char *op_name(int op) { return op < TERM0 ? bk_opinfo_table[op].name : bk_term_at((size_t)(op - TERM0))->name; }
@@ -583,9 +617,17 @@ int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errl
 			}
 			bit = TERM0 + (int)t;
 		}
+		if (n == 0) {
+			snprintf(err, errlen, "an empty item in '%.40s'", list);
+			return -1;
+		}
 		if (bit < 0) {
 			snprintf(err, errlen, "unknown operation '%.*s' (+ - * / sq, a function name or a registry term)",
 			         (int)(n > 24 ? 24 : n), p);
+			return -1;
+		}
+		if (m & BIT(bit)) { /* a list that names one twice was typed for something else */
+			snprintf(err, errlen, "'%.*s' given twice", (int)(n > 24 ? 24 : n), p);
 			return -1;
 		}
 		m |= BIT(bit);
@@ -722,6 +764,15 @@ int bk_hashset_add(bk_hashset *s, uint64_t h)
 	}
 }
 
+int bk_hashset_has(const bk_hashset *s, uint64_t h)
+{
+	h = h ? h : 1;
+	for (size_t j = s->cap ? h & (s->cap - 1) : 0; s->cap && s->h[j]; j = (j + 1) & (s->cap - 1))
+		if (s->h[j] == h)
+			return 1;
+	return 0;
+}
+
 void bk_hashset_free(bk_hashset *s)
 {
 	free(s->h);
@@ -759,39 +810,6 @@ static int bucket_add(bucket *b, const bk_expr *e)
 	return 0;
 }
 
-typedef struct enumr {
-	const bk_grammar *g;
-	bucket *b;
-	bk_hashset s;
-	int size;
-	long count;
-	bk_expr_visit fn;
-	void *ctx;
-	int stop;
-} enumr;
-
-/* Canonicalises a built tree and keeps it if it is new, of the size being
- * built and within the limits: a tree whose canonical form is smaller is
- * found at that smaller size, built from its own canonical operands. */
-static int offer(enumr *E, bk_expr *e, int size)
-{
-	char text[4096];
-	if (bk_expr_canon(e) || !within(E->g, e) || bk_expr_size(e) != size)
-		return 0;
-	if (bk_expr_print(e, text, sizeof text) < 0)
-		return 0;
-	int fresh = bk_hashset_add(&E->s, bk_expr_hash_text(text));
-	if (fresh <= 0)
-		return fresh;
-	if (size == E->size) {
-		E->count++;
-		if (E->fn && E->fn(E->ctx, e))
-			E->stop = 1;
-		return 0;
-	}
-	return bucket_add(&E->b[size], e);
-}
-
 /* Appends candidate i of size sz to e, its parameters numbered after *np. */
 static int append(bk_expr *e, const bucket *b, int i, int *np)
 {
@@ -822,106 +840,200 @@ static int nparams_of(const bucket *b, int i)
 	return top;
 }
 
-static int build_size(enumr *E, const opset *os, int s)
+/* The lazy enumerator (expr.h): the loops of a bottom-up enumeration as
+ * explicit state, so that a caller draws trees one at a time and the trees
+ * not drawn are never built. Size s is made from the kept trees of smaller
+ * sizes: leaves (s = 1: a parameter, the literals, the inputs), then each
+ * unary operation (and sq) over size s - 1, each binary operation over
+ * operand sizes x + (s - 1 - x), each ternary over x + y + z = s - 1; the
+ * indices below are where those loops stand. */
+struct bk_expr_enum {
+	bk_grammar g;
+	opset os;
+	bucket b[BK_EXPR_MAX + 1]; /* b[s]: the trees of size s drawn so far, kept while s < max */
+	bk_hashset seen;           /* their canonical texts */
+	int max, size, stage;      /* stage: 0 leaves, 1 unary, 2 binary, 3 ternary */
+	int u, x, y, i, j, k;
+	long count, limit;
+};
+
+static void stage_reset(bk_expr_enum *E, int stage)
 {
-	const bk_grammar *g = E->g;
-	bk_expr e;
-	if (s == 1) {
-		e.n = 1;
-		e.node[0] = (bk_enode){BK_OP_PARAM, 0, 0};
-		if (g->max_params >= 1 && offer(E, &e, 1))
-			return -1;
-		for (int i = 0; i < g->nconsts && !E->stop; i++) {
-			e.n = 1, e.node[0] = (bk_enode){BK_OP_CONST, 0, g->consts[i]};
-			if (offer(E, &e, 1))
-				return -1;
-		}
-		for (int in = 0; in < BK_IN_COUNT && !E->stop; in++) {
-			if (!(g->inputs & (1u << in)))
-				continue;
-			e.n = 1, e.node[0] = (bk_enode){BK_OP_INPUT, in, 0};
-			if (offer(E, &e, 1))
-				return -1;
-		}
-		return 0;
+	E->stage = stage;
+	E->u = E->i = E->j = E->k = 0;
+	E->x = E->y = 1;
+}
+
+/* The next tree of size 1 as built (before canon): 1, or 0 when none is left. */
+static int raw_leaf(bk_expr_enum *E, bk_expr *e)
+{
+	const bk_grammar *g = &E->g;
+	while (E->i < 1 + g->nconsts + BK_IN_COUNT) {
+		int t = E->i++;
+		e->n = 1;
+		if (t == 0 && g->max_params >= 1)
+			e->node[0] = (bk_enode){BK_OP_PARAM, 0, 0};
+		else if (t >= 1 && t <= g->nconsts)
+			e->node[0] = (bk_enode){BK_OP_CONST, 0, g->consts[t - 1]};
+		else if (t > g->nconsts && (g->inputs & (1u << (t - 1 - g->nconsts))))
+			e->node[0] = (bk_enode){BK_OP_INPUT, t - 1 - g->nconsts, 0};
+		else
+			continue;
+		return 1;
 	}
-	/* unary (and sq) from size s - 1 */
-	for (int u = 0; u < os->n[0] && !E->stop; u++) {
-		const bucket *b = &E->b[s - 1];
-		for (int i = 0; i < b->n && !E->stop; i++) {
-			int np = 0, op = os->op[0][u];
-			e.n = 1;
-			e.node[0] = (bk_enode){op < 0 ? BK_OP_MUL : op, 0, 0};
-			if (append(&e, b, i, &np) || (op < 0 && (np = 0, append(&e, b, i, &np))))
-				continue;
-			if (offer(E, &e, s))
-				return -1;
-		}
-	}
-	/* binary: operand sizes x + y = s - 1 */
-	for (int u = 0; u < os->n[1] && !E->stop; u++)
-		for (int x = 1; x <= s - 2 && !E->stop; x++) {
-			const bucket *bx = &E->b[x], *by = &E->b[s - 1 - x];
-			for (int i = 0; i < bx->n && !E->stop; i++) {
-				int pi = nparams_of(bx, i);
-				for (int j = 0; j < by->n && !E->stop; j++) {
-					if (pi + nparams_of(by, j) > g->max_params)
-						continue;
-					int np = 0;
-					e.n = 1;
-					e.node[0] = (bk_enode){os->op[1][u], 0, 0};
-					if (append(&e, bx, i, &np) || append(&e, by, j, &np))
-						continue;
-					if (offer(E, &e, s))
-						return -1;
-				}
-			}
-		}
-	/* ternary: x + y + z = s - 1 */
-	for (int u = 0; u < os->n[2] && !E->stop; u++)
-		for (int x = 1; x <= s - 3; x++)
-			for (int y = 1; x + y <= s - 2; y++) {
-				const bucket *bx = &E->b[x], *by = &E->b[y], *bz = &E->b[s - 1 - x - y];
-				for (int i = 0; i < bx->n; i++)
-					for (int j = 0; j < by->n; j++)
-						for (int k = 0; k < bz->n && !E->stop; k++) {
-							int np = 0;
-							e.n = 1;
-							e.node[0] = (bk_enode){os->op[2][u], 0, 0};
-							if (append(&e, bx, i, &np) || append(&e, by, j, &np) ||
-							    append(&e, bz, k, &np) || np > g->max_params)
-								continue;
-							if (offer(E, &e, s))
-								return -1;
-						}
-			}
 	return 0;
+}
+
+/* The next tree of size E->size >= 2 as built: 1, or 0 when none is left. */
+static int raw_next(bk_expr_enum *E, bk_expr *e)
+{
+	const bk_grammar *g = &E->g;
+	const opset *os = &E->os;
+	int s = E->size;
+	for (;;) {
+		int np = 0;
+		e->n = 1;
+		if (E->stage == 1) { /* unary (and sq) over size s - 1 */
+			const bucket *b = &E->b[s - 1];
+			if (E->u >= os->n[0]) {
+				stage_reset(E, 2);
+			} else if (E->i >= b->n) {
+				E->u++, E->i = 0;
+			} else {
+				int op = os->op[0][E->u], i = E->i++;
+				e->node[0] = (bk_enode){op < 0 ? BK_OP_MUL : op, 0, 0};
+				if (!append(e, b, i, &np) && !(op < 0 && (np = 0, append(e, b, i, &np))))
+					return 1;
+			}
+		} else if (E->stage == 2) { /* binary: operand sizes x + (s - 1 - x) */
+			const bucket *bx = &E->b[E->x], *by = &E->b[s - 1 - E->x];
+			if (E->u >= os->n[1]) {
+				stage_reset(E, 3);
+			} else if (E->x > s - 2) {
+				E->u++, E->x = 1, E->i = E->j = 0;
+			} else if (E->i >= bx->n) {
+				E->x++, E->i = E->j = 0;
+			} else if (E->j >= by->n) {
+				E->i++, E->j = 0;
+			} else {
+				int i = E->i, j = E->j++;
+				e->node[0] = (bk_enode){os->op[1][E->u], 0, 0};
+				if (nparams_of(bx, i) + nparams_of(by, j) <= g->max_params && !append(e, bx, i, &np) &&
+				    !append(e, by, j, &np))
+					return 1;
+			}
+		} else { /* ternary: x + y + z = s - 1 */
+			if (E->u >= os->n[2])
+				return 0;
+			if (E->x > s - 3) {
+				E->u++, E->x = E->y = 1, E->i = E->j = E->k = 0;
+				continue;
+			}
+			if (E->x + E->y > s - 2) {
+				E->x++, E->y = 1, E->i = E->j = E->k = 0;
+				continue;
+			}
+			const bucket *bx = &E->b[E->x], *by = &E->b[E->y], *bz = &E->b[s - 1 - E->x - E->y];
+			if (E->i >= bx->n) {
+				E->y++, E->i = E->j = E->k = 0;
+			} else if (E->j >= by->n) {
+				E->i++, E->j = E->k = 0;
+			} else if (E->k >= bz->n) {
+				E->j++, E->k = 0;
+			} else {
+				int i = E->i, j = E->j, k = E->k++;
+				e->node[0] = (bk_enode){os->op[2][E->u], 0, 0};
+				if (!append(e, bx, i, &np) && !append(e, by, j, &np) && !append(e, bz, k, &np) &&
+				    np <= g->max_params)
+					return 1;
+			}
+		}
+	}
+}
+
+/* A built tree canonicalised: 1 if it is new, of the size being built and
+ * within the limits (a tree whose canonical form is smaller is found at that
+ * smaller size, built from its own canonical operands), 0 if not, -1 when
+ * out of memory. */
+static int keep(bk_expr_enum *E, bk_expr *e)
+{
+	char text[4096];
+	if (bk_expr_canon(e) || !within(&E->g, e) || bk_expr_size(e) != E->size)
+		return 0;
+	if (bk_expr_print(e, text, sizeof text) < 0)
+		return 0;
+	return bk_hashset_add(&E->seen, bk_expr_hash_text(text));
+}
+
+bk_expr_enum *bk_expr_enum_new(const bk_grammar *g, int max_size, long max_trees)
+{
+	bk_expr_enum *E = calloc(1, sizeof *E);
+	if (!E)
+		return NULL;
+	E->g = *g;
+	opset_of(g, &E->os);
+	E->max = max_size < g->max_size ? max_size : g->max_size;
+	if (E->max > BK_EXPR_MAX)
+		E->max = BK_EXPR_MAX;
+	E->size = 1;
+	E->limit = max_trees;
+	stage_reset(E, 0);
+	return E;
+}
+
+int bk_expr_enum_next(bk_expr_enum *E, bk_expr *out)
+{
+	while (E->count < E->limit && E->size <= E->max) {
+		bk_expr e;
+		if (!(E->size == 1 ? raw_leaf(E, &e) : raw_next(E, &e))) { /* this size is done: the next */
+			E->size++;
+			stage_reset(E, 1);
+			continue;
+		}
+		int r = keep(E, &e);
+		if (r < 0)
+			return -1;
+		if (r == 0)
+			continue;
+		if (E->size < E->max && bucket_add(&E->b[E->size], &e)) /* an operand of larger trees */
+			return -1;
+		E->count++;
+		*out = e;
+		return E->size;
+	}
+	return 0;
+}
+
+long bk_expr_enum_count(const bk_expr_enum *E) { return E->count; }
+
+void bk_expr_enum_free(bk_expr_enum *E)
+{
+	if (!E)
+		return;
+	for (int s = 0; s <= BK_EXPR_MAX; s++) {
+		free(E->b[s].node);
+		free(E->b[s].start);
+		free(E->b[s].len);
+	}
+	bk_hashset_free(&E->seen);
+	free(E);
 }
 
 long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx)
 {
 	if (size < 1 || size > g->max_size || size > BK_EXPR_MAX)
 		return 0;
-	opset os;
-	opset_of(g, &os);
-	enumr E = {.g = g, .size = size, .fn = fn, .ctx = ctx};
-	E.b = calloc((size_t)size + 1, sizeof *E.b);
-	long r = 0;
-	if (!E.b)
+	bk_expr_enum *E = bk_expr_enum_new(g, size, LONG_MAX);
+	if (!E)
 		return -1;
-	for (int s = 1; s <= size && !E.stop && r >= 0; s++)
-		if (build_size(&E, &os, s))
-			r = -1;
-	if (r >= 0)
-		r = E.count;
-	for (int s = 0; s <= size; s++) {
-		free(E.b[s].node);
-		free(E.b[s].start);
-		free(E.b[s].len);
-	}
-	free(E.b);
-	bk_hashset_free(&E.s);
-	return r;
+	long count = 0;
+	bk_expr e;
+	int r;
+	while ((r = bk_expr_enum_next(E, &e)) > 0)
+		if (r == size && (count++, fn && fn(ctx, &e)))
+			break;
+	bk_expr_enum_free(E);
+	return r < 0 ? -1 : count;
 }
 
 /* ---- mutation and crossover ----------------------------------------------- */

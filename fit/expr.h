@@ -67,7 +67,8 @@ typedef struct bk_grammar {
  * table has no SQ, so its bit in ops is bit 63, which no bk_op reaches; the
  * bit of MUL allows sq too). */
 uint64_t bk_grammar_default_ops(void);
-/* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err. A
+/* "+,-,*,/,sq,sqrt" -> the op bits; -1 with the bad name in err (also for
+ * an empty item or an operation named twice). A
  * registry term of 1 to 3 arguments is allowed by its name ("F_schlick",
  * "D_ggx"): a node of op BK_OP_COUNT + t is bk_term_at(t), printed as the
  * call, which the IR inlines (its cost is its definition's, after folding
@@ -76,6 +77,13 @@ int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errl
 /* 1 if op is one a tree may hold: an IR opcode, or a registry term of 1 to
  * 3 arguments (checkpoints are read through it). */
 int bk_expr_op_valid(int op);
+/* 0 if e is a tree the functions here may walk: 1 to BK_EXPR_MAX nodes,
+ * every op valid, each node's operands whole subtrees that end exactly at
+ * the last node, inputs below BK_IN_COUNT, parameters below BK_MAX_PARAMS,
+ * literals and start values finite. Otherwise -1 and what is wrong in why
+ * ("node 3: input 99 out of range"). What a checkpoint or a migrant holds is
+ * checked with it before anything reads it. */
+int bk_expr_valid(const bk_expr *e, char *why, size_t len);
 
 /* Number of nodes of the subtree at node i (i itself included). */
 int bk_expr_span(const bk_expr *e, int i);
@@ -123,6 +131,8 @@ typedef struct bk_hashset {
 } bk_hashset;
 /* 1 if h was added, 0 if it was there, -1 when out of memory. */
 int bk_hashset_add(bk_hashset *s, uint64_t h);
+/* 1 if h is in the set. */
+int bk_hashset_has(const bk_hashset *s, uint64_t h);
 void bk_hashset_free(bk_hashset *s);
 
 /* ---- generation ----------------------------------------------------------- */
@@ -145,6 +155,20 @@ double bk_rng_unit(bk_rng *r);
  * candidates visited, or -1 (out of memory). */
 typedef int (*bk_expr_visit)(void *ctx, const bk_expr *e);
 long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx);
+
+/* The same trees drawn one at a time: every canonical candidate of size 1,
+ * then of size 2, ... up to max_size (and the grammar's max_size), each in
+ * bk_expr_enumerate's order, and no more than max_trees in all. Nothing is
+ * built before it is drawn: memory grows with the trees drawn (each kept
+ * until the last size, as an operand of larger ones: its nodes and a hash,
+ * about 30 + 16 x nodes bytes), never with the sizes allowed. next returns
+ * the size of the tree written to e, 0 after the last one, -1 when out of
+ * memory. */
+typedef struct bk_expr_enum bk_expr_enum;
+bk_expr_enum *bk_expr_enum_new(const bk_grammar *g, int max_size, long max_trees);
+int bk_expr_enum_next(bk_expr_enum *E, bk_expr *e);
+long bk_expr_enum_count(const bk_expr_enum *E);
+void bk_expr_enum_free(bk_expr_enum *E);
 
 /* One offspring of parent by one random mutation: replace a subtree by a
  * random small one, change an operation to another of the same arity,

@@ -12,7 +12,9 @@
 #include <limits.h>
 #include <math.h>
 #include <pthread.h>
+#include <stdarg.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/types.h>
@@ -26,7 +28,7 @@
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
 #define TRIES_PER_CHILD 30
-#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 2"
+#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 3"
 #define MIGRANTS_MAGIC "brdfkit-search-migrants 1"
 
 typedef struct level {
@@ -52,12 +54,19 @@ struct bk_search {
 	size_t enum_pos;
 	bk_grammar tree_g; /* the grammar of one tree: a pair's halves get half the parameters */
 	bk_grammar feat_g; /* the grammar of a pair's shared feature */
-	bk_expr *en;     /* the enumerated trees, in order */
-	size_t nen;
+	bk_grammar enum_g; /* the grammar of an enumerated tree (room for its scale) */
+	bk_expr_enum *gen; /* the enumeration, drawn as the search goes; NULL once done */
+	bk_expr cur;       /* the last tree drawn from it */
+	size_t drawn;      /* how many were drawn */
 };
 
 double bk_search_error(const bk_search_options *o, const bk_samples *sm, const double *v, const bk_fit_metrics *m)
 {
+	/* the metrics leave out the samples where the values are not finite:
+	 * over those alone an error is no error of the form (over none it reads
+	 * 0, a perfect fit), so a form not finite somewhere has none */
+	if (m->nonfinite)
+		return HUGE_VAL;
 	if (o->objective == BK_OBJ_MAX)
 		return o->relative ? m->max_rel : m->max_abs;
 	if (o->objective == BK_OBJ_ALBEDO)
@@ -150,13 +159,17 @@ static int shape_text(const bk_search *s, const bk_expr *t, char *a, char *b, si
  * expression after sharing (a pair: f0*(A) + (B), paid once where shared). */
 static int cost_of(const bk_search *s, const char *a, const char *b, bk_ops *ops, double *cost, int *np)
 {
-	char buf[9000];
+	size_t len = strlen(a) + (b ? strlen(b) : 0) + 16; /* a seed may be as long as a form may */
+	char *buf = malloc(len);
+	if (!buf)
+		return -1;
 	if (b && *b)
-		snprintf(buf, sizeof buf, "f0*(%s) + (%s)", a, b);
+		snprintf(buf, len, "f0*(%s) + (%s)", a, b);
 	else
-		snprintf(buf, sizeof buf, "%s", a);
+		snprintf(buf, len, "%s", a);
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(buf, &fe);
+	free(buf);
 	if (!f)
 		return -1;
 	bk_form_count(f, ops);
@@ -164,6 +177,15 @@ static int cost_of(const bk_search *s, const char *a, const char *b, bk_ops *ops
 	*np = bk_form_nparams(f);
 	bk_form_free(f);
 	return 0;
+}
+
+/* The cache's key of a candidate of texts a and b (NULL: none): the hash of
+ * "a;b", in pieces (no buffer to outgrow). */
+static uint64_t cand_key(const char *a, const char *b)
+{
+	uint64_t h = bk_hash_bytes(BK_HASH_INIT, a, strlen(a));
+	h = bk_hash_bytes(h, ";", 1);
+	return b ? bk_hash_bytes(h, b, strlen(b)) : h;
 }
 
 /* "f0" replaced by "1" where it is the input (token boundaries): the g of a
@@ -440,9 +462,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 	}
 	if (shape_text(s, t, a, b, sizeof a))
 		return 0;
-	char key[8500];
-	snprintf(key, sizeof key, "%s;%s", a, b);
-	int fresh = bk_hashset_add(&s->seen, bk_expr_hash_text(key));
+	int fresh = bk_hashset_add(&s->seen, cand_key(a, b));
 	if (fresh <= 0)
 		return fresh;
 	if (cost_of(s, a, b, &c->ops, &c->cost, &c->np) || c->cost > s->o.max_cost ||
@@ -562,6 +582,28 @@ static int child(bk_search *s, bk_expr *t)
 	return bk_expr_crossover(g, &s->rng, &pa[which], donor, &t[which]);
 }
 
+/* Tree idx of the enumeration (idx never below the last one drawn: the
+ * enumeration is read in order). 1 with it in *t, 0 when it has fewer trees
+ * (the enumerator is then freed), -1 when out of memory. */
+static int enum_tree(bk_search *s, size_t idx, bk_expr *t)
+{
+	while (s->drawn <= idx && s->gen) {
+		int r = bk_expr_enum_next(s->gen, &s->cur);
+		if (r < 0)
+			return -1;
+		if (r == 0) {
+			bk_expr_enum_free(s->gen);
+			s->gen = NULL;
+		} else {
+			s->drawn++;
+		}
+	}
+	if (s->drawn != idx + 1)
+		return 0;
+	*t = s->cur;
+	return 1;
+}
+
 int bk_search_step(bk_search *s, char *err, size_t errlen)
 {
 	if (s->phase == 3 || s->evals >= s->o.evals)
@@ -570,6 +612,8 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	 * resumed with a larger one must make the same batches as a run that
 	 * never stopped (so a run may end up to generation - 1 fits past it) */
 	size_t want = (size_t)s->o.generation;
+	if (s->phase == 0 && want < (size_t)s->o.nseeds) /* every seed in the first step, however small the generation */
+		want = (size_t)s->o.nseeds;
 	bk_cand *c = calloc(want ? want : 1, sizeof *c);
 	const double **sp = calloc(want ? want : 1, sizeof *sp);
 	double (*start)[BK_MAX_PARAMS] = calloc(want ? want : 1, sizeof *start); /* children's inherited starts */
@@ -578,12 +622,13 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	if (!c || !sp || !start)
 		goto oom;
 	if (s->phase == 0) { /* the seeds, in the order given */
-		for (int k = 0; k < s->o.nseeds && n < want; k++) {
+		for (int k = 0; k < s->o.nseeds; k++) {
 			bk_cand *q = &c[n];
 			memset(q, 0, sizeof *q);
-			char key[8500];
-			snprintf(key, sizeof key, "%s;%s", s->seed_text[k], s->seed_text_b[k] ? s->seed_text_b[k] : "");
-			if (bk_hashset_add(&s->seen, bk_expr_hash_text(key)) <= 0)
+			int fresh = bk_hashset_add(&s->seen, cand_key(s->seed_text[k], s->seed_text_b[k]));
+			if (fresh < 0)
+				goto oom;
+			if (fresh == 0)
 				continue;
 			if (cost_of(s, s->seed_text[k], s->seed_text_b[k], &q->ops, &q->cost, &q->np))
 				continue;
@@ -614,11 +659,13 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		 * first, and a default grammar at 5 nodes holds tens of thousands */
 		long cap = s->o.enum_max;
 		size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
-		while (n < want && s->evals + (long)n < cap && s->enum_pos < s->nen * kinds) {
+		bk_expr tree;
+		int more = 1;
+		while (n < want && s->evals + (long)n < cap && (more = enum_tree(s, s->enum_pos / kinds, &tree)) > 0) {
 			size_t k = s->enum_pos++;
 			if ((k / kinds) % (size_t)s->o.islands != (size_t)s->o.island)
 				continue; /* another island's share of the enumeration */
-			bk_expr t[2] = {s->en[k / kinds], lone_param()};
+			bk_expr t[2] = {tree, lone_param()};
 			if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
 				t[1] = t[0];
 				t[0] = lone_param();
@@ -632,8 +679,17 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 				goto oom;
 			n += (size_t)r;
 		}
-		if (s->enum_pos >= s->nen * kinds || s->evals + (long)n >= cap)
+		if (more < 0)
+			goto oom;
+		/* the enumeration ends with the step that draws its last tree, as it
+		 * did when it was drawn whole up front (checkpoints say phase 2 there) */
+		if (more > 0 && s->evals + (long)n < cap && (more = enum_tree(s, s->enum_pos / kinds, &tree)) < 0)
+			goto oom;
+		if (more == 0 || s->evals + (long)n >= cap) {
 			s->phase = 2;
+			bk_expr_enum_free(s->gen); /* its trees are no longer needed */
+			s->gen = NULL;
+		}
 	} else { /* evolution */
 		if (s->nlv == 0) {
 			s->phase = 3;
@@ -676,28 +732,6 @@ oom:
 
 /* ---- set-up --------------------------------------------------------------- */
 
-typedef struct en_ctx {
-	bk_search *s;
-	int fail;
-} en_ctx;
-
-static int collect(void *vctx, const bk_expr *e)
-{
-	en_ctx *x = vctx;
-	bk_search *s = x->s;
-	if (s->nen % 4096 == 0) {
-		bk_expr *t = realloc(s->en, sizeof *t * (s->nen + 4096));
-		if (!t) {
-			x->fail = 1;
-			return 1;
-		}
-		s->en = t;
-	}
-	s->en[s->nen++] = *e;
-	return 0;
-}
-
-
 /* What must agree between a checkpoint and the run resuming it: everything
  * that decides which candidates are made and how they are scored, not the
  * budget or the thread count. Without own: what the islands of one run share
@@ -736,6 +770,17 @@ static uint64_t fingerprint(const bk_search *s, int own)
 	return h;
 }
 
+/* A copy of form text t on one line (a newline is white space to the parser;
+ * a checkpoint keeps a text a line): what the search fits and writes. */
+static char *one_line(const char *t)
+{
+	char *c = strdup(t);
+	for (char *p = c; p && *p; p++)
+		if (*p == '\n' || *p == '\r')
+			*p = ' ';
+	return c;
+}
+
 bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 {
 	if (o->evals < 1 || o->threads < 1 || o->threads > 64 || o->generation < 1 || o->per_level < 1 ||
@@ -758,8 +803,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	if (!s->seed_text || !s->seed_text_b || !s->seed_name || !s->seed_p)
 		goto oom;
 	for (int k = 0; k < ns; k++) {
-		s->seed_text[k] = strdup(o->seeds[k]);
-		s->seed_text_b[k] = o->seeds_b && o->seeds_b[k] ? strdup(o->seeds_b[k]) : NULL;
+		s->seed_text[k] = one_line(o->seeds[k]);
+		s->seed_text_b[k] = o->seeds_b && o->seeds_b[k] ? one_line(o->seeds_b[k]) : NULL;
 		char name[32];
 		snprintf(name, sizeof name, "start %d", k + 1);
 		s->seed_name[k] = strdup(o->seed_names && o->seed_names[k] ? o->seed_names[k] : name);
@@ -772,7 +817,6 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	s->o.seeds_b = (const char *const *)s->seed_text_b;
 	s->o.seed_names = (const char *const *)s->seed_name;
 	bk_rng_seed(&s->rng, o->seed);
-	en_ctx x = {s, 0};
 	bk_grammar g = o->grammar;
 	s->feat_g = g; /* a shared feature leaves 6 parameters to A and B (shape_text) */
 	s->feat_g.max_params = g.max_params > 6 ? g.max_params - 6 : 0;
@@ -781,10 +825,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	s->tree_g = g;
 	if (s->o.scale && g.max_params > 0) /* the enumerated tree leaves room for its scale */
 		g.max_params--;
-	for (int size = 1; size <= o->enum_size && size <= g.max_size && !x.fail; size++)
-		if (bk_expr_enumerate(&g, size, collect, &x) < 0)
-			x.fail = 1;
-	if (x.fail)
+	s->enum_g = g;
+	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)))
 		goto oom;
 	s->fingerprint = fingerprint(s, 1);
 	s->fingerprint_all = fingerprint(s, 0);
@@ -815,7 +857,7 @@ void bk_search_free(bk_search *s)
 	free(s->seed_text_b);
 	free(s->seed_name);
 	free(s->seed_p);
-	free(s->en);
+	bk_expr_enum_free(s->gen);
 	free(s);
 }
 
@@ -860,6 +902,36 @@ size_t bk_search_front(const bk_search *s, size_t *idx, size_t max)
 
 /* ---- checkpoint ------------------------------------------------------------ */
 
+/* The checkpoint and migrant formats (CHECKPOINT_MAGIC, MIGRANTS_MAGIC): lines
+ * of text, numbers exact (%a), each candidate a line of numbers and its trees
+ * followed by its texts on lines of their own. A checkpoint ends with the
+ * line "checksum H": H the 64-bit FNV-1a (bk_hash_bytes) of every byte before
+ * it, so that a flipped digit is found before it changes a result. Whatever
+ * is read is checked field by field against what a search with these
+ * options can hold (check_cand, check_state) before anything uses it: a
+ * damaged file is refused with what is wrong, never followed. */
+
+/* The first problem found while reading; the reading goes on harmlessly. */
+typedef struct reader {
+	FILE *f;
+	char *err;
+	size_t errlen;
+	int bad;
+} reader;
+
+static int fail(reader *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static int fail(reader *r, const char *fmt, ...)
+{
+	if (!r->bad) {
+		va_list ap;
+		va_start(ap, fmt);
+		vsnprintf(r->err, r->errlen, fmt, ap);
+		va_end(ap);
+	}
+	r->bad = 1;
+	return -1;
+}
+
 static void put_tree(FILE *f, const bk_expr *e)
 {
 	fprintf(f, " %d", e->n);
@@ -867,14 +939,18 @@ static void put_tree(FILE *f, const bk_expr *e)
 		fprintf(f, " %d:%d:%a", e->node[i].op, e->node[i].slot, e->node[i].k);
 }
 
-static int get_tree(FILE *f, bk_expr *e)
+static int get_tree(reader *r, bk_expr *e, int empty_ok, const char *what)
 {
-	if (fscanf(f, " %d", &e->n) != 1 || e->n < 0 || e->n > BK_EXPR_MAX)
-		return -1;
+	char why[128];
+	if (fscanf(r->f, " %d", &e->n) != 1 || e->n < 0 || e->n > BK_EXPR_MAX)
+		return fail(r, "%s: no node count from 0 to %d", what, BK_EXPR_MAX);
 	for (int i = 0; i < e->n; i++)
-		if (fscanf(f, " %d:%d:%la", &e->node[i].op, &e->node[i].slot, &e->node[i].k) != 3 ||
-		    !bk_expr_op_valid(e->node[i].op))
-			return -1;
+		if (fscanf(r->f, " %d:%d:%la", &e->node[i].op, &e->node[i].slot, &e->node[i].k) != 3)
+			return fail(r, "%s: node %d unreadable", what, i);
+	if (e->n == 0 && empty_ok)
+		return 0;
+	if (bk_expr_valid(e, why, sizeof why))
+		return fail(r, "%s: %s", what, why);
 	return 0;
 }
 
@@ -887,17 +963,21 @@ static void put_text(FILE *f, const char *t)
 	fputc('\n', f);
 }
 
-static char *get_text(FILE *f)
+/* A line of at most BK_FORM_MAX_LEN characters, malloc'd; NULL if longer,
+ * empty or absent. */
+static char *get_text(reader *r, const char *what)
 {
-	char *line = NULL;
-	size_t cap = 0;
-	ssize_t len = getline(&line, &cap, f);
-	if (len <= 0) {
-		free(line);
+	char *line = malloc(BK_FORM_MAX_LEN + 2);
+	if (!line) {
+		fail(r, "out of memory");
 		return NULL;
 	}
-	if (line[len - 1] == '\n')
-		line[len - 1] = '\0';
+	if (!fgets(line, BK_FORM_MAX_LEN + 2, r->f) || !strchr(line, '\n') || line[0] == '\n') {
+		free(line);
+		fail(r, "%s: no text of 1 to %d characters on a line of its own", what, BK_FORM_MAX_LEN);
+		return NULL;
+	}
+	line[strcspn(line, "\n")] = '\0';
 	return line;
 }
 
@@ -924,31 +1004,88 @@ static void put_cand(const bk_search *s, FILE *f, const bk_cand *c)
 		put_text(f, c->text_b);
 }
 
-/* Reads one candidate into c (its texts allocated). 0, or -1 if damaged. */
-static int get_cand(const bk_search *s, FILE *f, bk_cand *c)
+static int nonneg_or_nan(double x) { return isnan(x) || x >= 0; }
+
+/* What a candidate of this search can be (what): its texts those of its
+ * seed, or the shape's text of its trees; its cost, operations and
+ * parameters those of its texts; its error a rounded number >= 0 when it is
+ * OK, +inf when not; its island one of the run's. 0, or -1 (why). */
+static int check_cand(const bk_search *s, const bk_cand *c, int seed, reader *r, const char *what)
 {
+	int pair = s->o.shape == BK_SHAPE_PAIR;
+	if (c->found_at < 1 || c->island < 0 || c->island >= s->o.islands)
+		return fail(r, "%s: found at fit %ld of island %d (of %d)", what, c->found_at, c->island, s->o.islands);
+	if (!pair && c->tree[1].n != 0)
+		return fail(r, "%s: a second tree, and the candidates of this search have one", what);
+	if ((c->text_b != NULL) != pair)
+		return fail(r, "%s: %s text B", what, pair ? "no" : "a");
+	if (seed >= 0) {
+		const char *b = s->seed_text_b[seed];
+		if (strcmp(c->text, s->seed_text[seed]) || (b && strcmp(c->text_b, b)))
+			return fail(r, "%s: not the text of seed %d", what, seed + 1);
+	} else {
+		char a[4200], b[4200];
+		if (shape_text(s, c->tree, a, b, sizeof a) || strcmp(a, c->text) || (pair && strcmp(b, c->text_b)))
+			return fail(r, "%s: its text is not that of its trees", what);
+	}
+	bk_ops ops;
+	double cost;
+	int np;
+	if (cost_of(s, c->text, c->text_b, &ops, &cost, &np))
+		return fail(r, "%s: its text is not a form", what);
+	if (memcmp(&ops, &c->ops, sizeof ops) || cost != c->cost || np != c->np)
+		return fail(r, "%s: cost %g or %d parameters, and its text has cost %g and %d", what, c->cost, c->np, cost,
+		            np);
+	if (seed < 0 && (c->cost > s->o.max_cost || c->np > s->o.grammar.max_params))
+		return fail(r, "%s: over --max-cost or --max-params", what);
+	if (c->status == BK_CAND_OK ? !(isfinite(c->err) && c->err >= 0 && c->err == bk_search_round_err(c->err) &&
+	                                isfinite(c->rmse) && c->rmse >= 0 && isfinite(c->max_abs) && c->max_abs >= 0 &&
+	                                nonneg_or_nan(c->albedo_max_abs))
+	                            : !(c->err == HUGE_VAL && nonneg_or_nan(c->rmse) && nonneg_or_nan(c->max_abs) &&
+	                                nonneg_or_nan(c->albedo_max_abs)))
+		return fail(r, "%s: status %d with error %a (rmse %a, max %a)", what, (int)c->status, c->err, c->rmse,
+		            c->max_abs);
+	return 0;
+}
+
+/* Reads one candidate into c (its texts allocated) and checks it. 0, or -1
+ * (why in r). */
+static int get_cand(const bk_search *s, reader *r, bk_cand *c, size_t i)
+{
+	char what[48];
+	snprintf(what, sizeof what, "candidate %zu", i + 1);
 	memset(c, 0, sizeof *c);
 	int status, seed, has_b;
+	FILE *f = r->f;
 	if (fscanf(f, " c %ld %d %d %d %la %la %la %la %la", &c->found_at, &c->island, &status, &c->np, &c->cost, &c->err,
-	           &c->rmse, &c->max_abs, &c->albedo_max_abs) != 9 || c->np < 0 || c->np > BK_MAX_PARAMS || status < 0 ||
-	    status > BK_CAND_FAILED || c->island < 0)
-		return -1;
+	           &c->rmse, &c->max_abs, &c->albedo_max_abs) != 9)
+		return fail(r, "%s: its first numbers are unreadable", what);
+	if (c->np < 0 || c->np > BK_MAX_PARAMS || status < 0 || status > BK_CAND_FAILED)
+		return fail(r, "%s: %d parameters (0 to %d), status %d (0 to %d)", what, c->np, BK_MAX_PARAMS, status,
+		            BK_CAND_FAILED);
 	c->status = (bk_cand_status)status;
 	for (int k = 0; k < BK_K_COUNT; k++)
 		if (fscanf(f, " %d", &c->ops.n[k]) != 1)
-			return -1;
+			return fail(r, "%s: operation counts unreadable", what);
 	if (fscanf(f, " %d %d", &c->ops.simple, &c->ops.complex) != 2)
-		return -1;
+		return fail(r, "%s: operation counts unreadable", what);
 	for (int j = 0; j < c->np; j++)
 		if (fscanf(f, " %la", &c->p[j]) != 1)
-			return -1;
-	if (get_tree(f, &c->tree[0]) || get_tree(f, &c->tree[1]) || fscanf(f, " %d %d", &seed, &has_b) != 2 ||
-	    seed >= s->o.nseeds || fgetc(f) != '\n')
+			return fail(r, "%s: parameter %d unreadable", what, j);
+	char tw[64];
+	snprintf(tw, sizeof tw, "%s: tree 1", what);
+	if (get_tree(r, &c->tree[0], 0, tw))
 		return -1;
+	snprintf(tw, sizeof tw, "%s: tree 2", what);
+	if (get_tree(r, &c->tree[1], 1, tw))
+		return -1;
+	if (fscanf(f, " %d %d", &seed, &has_b) != 2 || seed < -1 || seed >= s->o.nseeds || has_b < 0 || has_b > 1 ||
+	    fgetc(f) != '\n')
+		return fail(r, "%s: seed (-1 to %d) or text count unreadable", what, s->o.nseeds - 1);
 	c->seed_name = seed >= 0 ? s->seed_name[seed] : NULL;
-	c->text = get_text(f);
-	c->text_b = has_b ? get_text(f) : NULL;
-	if (!c->text || (has_b && !c->text_b)) {
+	c->text = get_text(r, what);
+	c->text_b = c->text && has_b ? get_text(r, what) : NULL;
+	if (!c->text || (has_b && !c->text_b) || check_cand(s, c, seed, r, what)) {
 		cand_free(c);
 		return -1;
 	}
@@ -957,62 +1094,202 @@ static int get_cand(const bk_search *s, FILE *f, bk_cand *c)
 
 int bk_search_save(const bk_search *s, FILE *f)
 {
-	fprintf(f, "%s\nfingerprint %016llx\nrng %016llx %016llx %016llx %016llx\n", CHECKPOINT_MAGIC,
+	char *body = NULL;
+	size_t len = 0;
+	FILE *m = open_memstream(&body, &len);
+	if (!m)
+		return -1;
+	fprintf(m, "%s\nfingerprint %016llx\nrng %016llx %016llx %016llx %016llx\n", CHECKPOINT_MAGIC,
 	        (unsigned long long)s->fingerprint, (unsigned long long)s->rng.s[0], (unsigned long long)s->rng.s[1],
 	        (unsigned long long)s->rng.s[2], (unsigned long long)s->rng.s[3]);
-	fprintf(f, "state %ld %d %zu\nseen %zu\n", s->evals, s->phase, s->enum_pos, s->seen.n);
+	fprintf(m, "state %ld %d %zu\nbudget %ld\nseen %zu\n", s->evals, s->phase, s->enum_pos, s->o.evals, s->seen.n);
 	for (size_t i = 0; i < s->seen.cap; i++)
 		if (s->seen.h[i])
-			fprintf(f, "%016llx\n", (unsigned long long)s->seen.h[i]);
-	fprintf(f, "candidates %zu\n", s->n);
+			fprintf(m, "%016llx\n", (unsigned long long)s->seen.h[i]);
+	fprintf(m, "candidates %zu\n", s->n);
 	for (size_t i = 0; i < s->n; i++)
-		put_cand(s, f, &s->cand[i]);
-	fputs("end\n", f);
+		put_cand(s, m, &s->cand[i]);
+	fputs("end\n", m);
+	int bad = ferror(m);
+	if (fclose(m) || bad) {
+		free(body);
+		return -1;
+	}
+	fwrite(body, 1, len, f);
+	fprintf(f, "checksum %016llx\n", (unsigned long long)bk_hash_bytes(BK_HASH_INIT, body, len));
+	free(body);
 	return ferror(f) ? -1 : 0;
+}
+
+/* The rest of f, whole (malloc'd, NUL-terminated). NULL when out of memory. */
+static char *slurp(FILE *f, size_t *len)
+{
+	size_t cap = 1 << 16, n = 0;
+	char *buf = malloc(cap);
+	while (buf) {
+		n += fread(buf + n, 1, cap - n - 1, f);
+		if (n < cap - 1)
+			break;
+		char *t = cap < SIZE_MAX / 2 ? realloc(buf, cap * 2) : NULL;
+		if (!t)
+			free(buf);
+		buf = t;
+		cap *= 2;
+	}
+	if (buf)
+		buf[n] = '\0';
+	*len = n;
+	return buf;
+}
+
+/* The body of a checkpoint text (its length in *len) once its last line is a
+ * checksum that matches it; -1 (why) if not. */
+static int checked_body(const char *text, size_t *len, reader *r)
+{
+	size_t n = *len;
+	if (n == 0 || text[n - 1] != '\n')
+		return fail(r, "it ends in the middle of a line: cut short");
+	size_t last = n - 1;
+	while (last > 0 && text[last - 1] != '\n')
+		last--;
+	char want[32];
+	int k = snprintf(want, sizeof want, "checksum %016llx\n", (unsigned long long)bk_hash_bytes(BK_HASH_INIT, text, last));
+	if (strncmp(text + last, "checksum ", 9))
+		return fail(r, "no checksum line at its end: cut short or not written by this version");
+	if (n - last != (size_t)k || memcmp(text + last, want, (size_t)k))
+		return fail(r, "its checksum does not match: the file was changed or damaged after it was written");
+	*len = last;
+	return 0;
+}
+
+/* Each of the search's own fits once, numbered 1.. in order, and nothing of
+ * its own island besides (candidates taken from other islands keep theirs);
+ * every candidate's key in the cache, none twice. */
+static int check_found(const bk_search *s, reader *r)
+{
+	long own = 0;
+	bk_hashset keys = {0};
+	int rc = 0;
+	for (size_t i = 0; i < s->n && !rc; i++) {
+		const bk_cand *c = &s->cand[i];
+		if (c->island == s->o.island && c->found_at != ++own)
+			rc = fail(r, "candidate %zu: found at fit %ld, and it is fit %ld of this island", i + 1, c->found_at, own);
+		uint64_t h = cand_key(c->text, c->text_b);
+		int fresh = bk_hashset_add(&keys, h);
+		if (!rc && fresh <= 0)
+			rc = fail(r, fresh < 0 ? "out of memory" : "candidate %zu: the same as an earlier one", i + 1);
+		if (!rc && !bk_hashset_has(&s->seen, h))
+			rc = fail(r, "candidate %zu: not in the cache of texts tried", i + 1);
+	}
+	if (!rc && own != s->evals)
+		rc = fail(r, "%ld fits of this island listed, and the state says %ld", own, s->evals);
+	bk_hashset_free(&keys);
+	return rc;
+}
+
+/* The state line against the options: a phase, fits within the budget the
+ * checkpoint's run had (it ends after the generation that reaches it), the
+ * enumeration's position on a tree it has (the enumeration drawn again up
+ * to there), a generator that is not stuck at zero. */
+static int check_state(bk_search *s, long budget, reader *r)
+{
+	long step = s->o.generation > s->o.nseeds ? s->o.generation : s->o.nseeds; /* the most fits of one step */
+	if (s->phase < 0 || s->phase > 3)
+		return fail(r, "phase %d (0 to 3)", s->phase);
+	if (budget < 1 || s->evals < 0 || s->evals > budget + step - 1)
+		return fail(r, "%ld fits for a budget of %ld (one step is at most %ld)", s->evals, budget, step);
+	if (s->phase == 0 && (s->evals || s->n || s->enum_pos))
+		return fail(r, "phase 0 (the seeds) after %ld fits", s->evals);
+	if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
+		return fail(r, "a generator state of zeros");
+	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
+	if (s->enum_pos > kinds * (size_t)BK_SEARCH_ENUM_TREES)
+		return fail(r, "enumeration position %zu past the most trees it draws", s->enum_pos);
+	bk_expr t;
+	int have = s->enum_pos == 0 ? 1 : enum_tree(s, (s->enum_pos - 1) / kinds, &t);
+	if (have < 0)
+		return fail(r, "out of memory drawing the enumeration to its position");
+	if (!have)
+		return fail(r, "enumeration position %zu past its end (%zu trees)", s->enum_pos, s->drawn);
+	if (s->phase >= 2) { /* the enumeration is over: its trees are not needed */
+		bk_expr_enum_free(s->gen);
+		s->gen = NULL;
+	}
+	return 0;
+}
+
+/* Reads the body of a checkpoint (checksum checked) into s. */
+static int load_body(bk_search *s, reader *r, long *budget)
+{
+	char magic[64];
+	unsigned long long fp, g[4];
+	size_t nseen, ncand;
+	FILE *f = r->f;
+	if (!fgets(magic, sizeof magic, f) || strcmp(magic, CHECKPOINT_MAGIC "\n"))
+		return fail(r, "not a brdfkit search checkpoint (of this version)");
+	if (fscanf(f, " fingerprint %llx", &fp) != 1)
+		return fail(r, "no fingerprint line");
+	if (fp != s->fingerprint)
+		return fail(r, "it was written by a search with other options or another target "
+		               "(only --evals, --seconds and --threads may change on resume)");
+	if (fscanf(f, " rng %llx %llx %llx %llx", &g[0], &g[1], &g[2], &g[3]) != 4)
+		return fail(r, "no generator line");
+	for (int k = 0; k < 4; k++)
+		s->rng.s[k] = g[k];
+	if (fscanf(f, " state %ld %d %zu budget %ld seen %zu", &s->evals, &s->phase, &s->enum_pos, budget, &nseen) != 5)
+		return fail(r, "no state, budget or cache line");
+	for (size_t i = 0; i < nseen; i++) {
+		unsigned long long h;
+		int fresh = fscanf(f, " %16llx", &h) != 1 || h == 0 ? -2 : bk_hashset_add(&s->seen, h);
+		if (fresh <= 0)
+			return fail(r, fresh == -1 ? "out of memory" : "cache entry %zu of %zu unreadable or repeated", i + 1,
+			            nseen);
+	}
+	if (fscanf(f, " candidates %zu", &ncand) != 1)
+		return fail(r, "no candidates line after the %zu cache entries", nseen);
+	for (size_t i = 0; i < ncand; i++) {
+		bk_cand c;
+		if (get_cand(s, r, &c, i))
+			return -1;
+		if (push(s, &c)) {
+			cand_free(&c);
+			return fail(r, "out of memory");
+		}
+	}
+	char end[8];
+	if (fscanf(f, " %7s", end) != 1 || strcmp(end, "end") || fgetc(f) != '\n' || fgetc(f) != EOF)
+		return fail(r, "no end line after the %zu candidates", ncand);
+	return check_state(s, *budget, r) || check_found(s, r) ? -1 : 0;
 }
 
 int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 {
-	char magic[64];
-	unsigned long long fp, r[4];
-	size_t nseen, ncand;
-	if (!fgets(magic, sizeof magic, f) || strncmp(magic, CHECKPOINT_MAGIC, strlen(CHECKPOINT_MAGIC))) {
-		snprintf(err, errlen, "not a brdfkit search checkpoint (of this version)");
+	reader r = {NULL, err, errlen, 0};
+	if (s->evals || s->n || s->seen.n) {
+		fail(&r, "a checkpoint is loaded into a new search only");
 		return -1;
 	}
-	if (fscanf(f, " fingerprint %llx rng %llx %llx %llx %llx state %ld %d %zu seen %zu", &fp, &r[0], &r[1], &r[2],
-	           &r[3], &s->evals, &s->phase, &s->enum_pos, &nseen) != 9)
-		goto bad;
-	if (fp != s->fingerprint) {
-		snprintf(err, errlen, "it was written by a search with other options or another target "
-		                      "(only --evals, --seconds and --threads may change on resume)");
+	size_t len;
+	char *text = slurp(f, &len);
+	if (!text) {
+		fail(&r, "out of memory reading it");
 		return -1;
 	}
-	for (int k = 0; k < 4; k++)
-		s->rng.s[k] = r[k];
-	for (size_t i = 0; i < nseen; i++) {
-		unsigned long long h;
-		if (fscanf(f, " %llx", &h) != 1 || bk_hashset_add(&s->seen, h) < 0)
-			goto bad;
+	long budget = 0;
+	int rc = -1;
+	if (checked_body(text, &len, &r) == 0 && (r.f = fmemopen(text, len, "r")) != NULL) {
+		rc = load_body(s, &r, &budget);
+		fclose(r.f);
+	} else if (!r.bad) {
+		fail(&r, "out of memory reading it");
 	}
-	if (fscanf(f, " candidates %zu", &ncand) != 1)
-		goto bad;
-	for (size_t i = 0; i < ncand; i++) {
-		bk_cand c;
-		if (get_cand(s, f, &c))
-			goto bad;
-		if (push(s, &c)) {
-			cand_free(&c);
-			goto bad;
-		}
-	}
-	char end[8];
-	if (fscanf(f, " %7s", end) != 1 || strcmp(end, "end"))
-		goto bad;
-	return 0;
-bad:
-	snprintf(err, errlen, "the checkpoint is damaged or cut short");
-	return -1;
+	free(text);
+	/* a budget below the fits done and below the budget the checkpoint's
+	 * run had: its candidates are more than this budget can make */
+	if (rc == 0 && s->o.evals < s->evals && s->o.evals < budget)
+		rc = fail(&r, "it holds %ld fits, more than --evals %ld (its run had --evals %ld)", s->evals, s->o.evals,
+		          budget);
+	return rc;
 }
 
 /* ---- migrants (islands) ---------------------------------------------------- */
@@ -1032,30 +1309,28 @@ int bk_search_import(bk_search *s, FILE *f, size_t *added, char *err, size_t err
 	char magic[64];
 	unsigned long long fp;
 	size_t n;
+	reader r = {f, err, errlen, 0};
 	*added = 0;
-	if (!fgets(magic, sizeof magic, f) || strncmp(magic, MIGRANTS_MAGIC, strlen(MIGRANTS_MAGIC)) ||
-	    fscanf(f, " fingerprint %llx candidates %zu", &fp, &n) != 2)
-		goto bad;
+	if (!fgets(magic, sizeof magic, f) || strcmp(magic, MIGRANTS_MAGIC "\n") ||
+	    fscanf(f, " fingerprint %llx candidates %zu", &fp, &n) != 2) {
+		fail(&r, "the migrants are damaged or cut short: no header");
+		return -1;
+	}
 	if (fp != s->fingerprint_all) {
-		snprintf(err, errlen, "migrants from a search with other options or another target");
+		fail(&r, "migrants from a search with other options or another target");
 		return -1;
 	}
 	for (size_t i = 0; i < n; i++) {
 		bk_cand c;
-		if (get_cand(s, f, &c))
-			goto bad;
+		if (get_cand(s, &r, &c, i)) {
+			char why[400];
+			snprintf(why, sizeof why, "%s", err);
+			snprintf(err, errlen, "the migrants are damaged: %s", why);
+			return -1;
+		}
 		/* the cache's key (prepare, the seeds): a candidate this island has
 		 * already fitted or received is not taken twice */
-		size_t la = strlen(c.text), lb = c.text_b ? strlen(c.text_b) : 0;
-		char *key = malloc(la + lb + 2);
-		int fresh = -1;
-		if (key) {
-			memcpy(key, c.text, la);
-			key[la] = ';';
-			memcpy(key + la + 1, c.text_b ? c.text_b : "", lb + 1);
-			fresh = bk_hashset_add(&s->seen, bk_expr_hash_text(key));
-			free(key);
-		}
+		int fresh = bk_hashset_add(&s->seen, cand_key(c.text, c.text_b));
 		if (fresh < 0 || (fresh > 0 && push(s, &c))) {
 			cand_free(&c);
 			snprintf(err, errlen, "out of memory taking migrants");
@@ -1067,10 +1342,9 @@ int bk_search_import(bk_search *s, FILE *f, size_t *added, char *err, size_t err
 			++*added;
 	}
 	char end[8];
-	if (fscanf(f, " %7s", end) != 1 || strcmp(end, "end"))
-		goto bad;
+	if (fscanf(f, " %7s", end) != 1 || strcmp(end, "end")) {
+		snprintf(err, errlen, "the migrants are damaged or cut short: no end line");
+		return -1;
+	}
 	return 0;
-bad:
-	snprintf(err, errlen, "the migrants are damaged or cut short");
-	return -1;
 }

@@ -33,6 +33,17 @@
 /* Errors are rounded to this many significant bits before any comparison. */
 #define BK_SEARCH_ERR_BITS 20
 
+/* The enumeration is drawn tree by tree as the search consumes it (expr.h,
+ * bk_expr_enum): a run with --enum-size 9 and a budget of 300 fits builds the
+ * few hundred trees it fits, not the hundreds of millions up to 9 nodes (the
+ * default grammar over two inputs has 2.2 million trees up to 7 nodes, about
+ * 25 million of 8). It ends after this many trees whatever the sizes allowed,
+ * the trees drawn being kept as operands of larger ones (30 + 16 bytes a
+ * node each): measured, 157 to 159 MB for 1,048,576 trees of the default
+ * grammar over 2 to 4 inputs, drawn in 0.8 s. Past it the search goes on by
+ * evolution. */
+#define BK_SEARCH_ENUM_TREES (1L << 20)
+
 /* env's constraints A, B >= 0 and A + B <= 1 hold to half an 8-bit unorm step:
  * less is invisible in an 8-bit render target, and an exact zero slack rejects
  * nearly every affine form (the exact A + B reaches 1 at r = 0, NoV = 1, and
@@ -138,21 +149,29 @@ size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);
  * exactly as the one that saved it. The options' fingerprint is recorded and
  * checked. Return 0, or -1 with a message. */
 int bk_search_save(const bk_search *s, FILE *f);
+/* Reads the rest of f into s, a search just made (nothing stepped). The
+ * checkpoint's checksum (its last line) and every field are checked against
+ * what a search with these options can hold before any is used; a budget
+ * (o.evals) below both the fits it holds and the budget of the run that
+ * wrote it is refused (the result would hold more fits than asked for). On
+ * -1 (what is wrong in err), s holds a part: free it. */
 int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen);
 
 /* Islands (an island model across processes: analysis/cli/islands.h).
  * export writes the candidates idx[0..n) as text; import reads such a text
  * from another island of the same run (the options but seed and island
- * checked) and adds the candidates this one has not fitted or received, as
- * they were fitted there: they join the archive and become parents, and
- * cost no fit. *added: how many were new. Return 0, or -1 (message). */
+ * checked, each candidate as a checkpoint's is) and adds the candidates this
+ * one has not fitted or received, as they were fitted there: they join the
+ * archive and become parents, and cost no fit. *added: how many were new.
+ * Return 0, or -1 (message). */
 int bk_search_export(const bk_search *s, const size_t *idx, size_t n, FILE *f);
 int bk_search_import(bk_search *s, FILE *f, size_t *added, char *err, size_t errlen);
 
 /* The objective of o for values v on samples s with metrics m
  * (bk_samples_metrics of v): rmse (of the relative residuals with
  * o->relative), max (relative with o->relative) or the albedo's max error.
- * v may be NULL where the metrics suffice (NaN for the relative rmse). */
+ * v may be NULL where the metrics suffice (NaN for the relative rmse).
+ * +inf when the values are not finite at some sample (m->nonfinite). */
 double bk_search_error(const bk_search_options *o, const bk_samples *s, const double *v, const bk_fit_metrics *m);
 
 /* Round an error to BK_SEARCH_ERR_BITS significant bits (nan, inf kept). */

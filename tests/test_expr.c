@@ -15,6 +15,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 /* ---- helpers -------------------------------------------------------------- */
 
@@ -613,6 +615,97 @@ Test(expr, enumeration_stops_when_asked)
 	cr_assert_eq(n, 3);
 }
 
+/* The lazy enumerator (issue 21, M5): the trees of sizes 1, 2, ... in
+ * order, the hand counts of enumeration_counts_plus_times per size, and
+ * no more than asked for. */
+Test(expr, enumerator_draws_sizes_in_order_and_stops_at_its_limit)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH, .max_params = 1, .max_size = 8};
+	bk_expr_enum *E = bk_expr_enum_new(&g, 4, 1000);
+	int per[6] = {0}, last = 1, r;
+	bk_expr e;
+	while ((r = bk_expr_enum_next(E, &e)) > 0) {
+		cr_assert_geq(r, last, "size %d after size %d", r, last);
+		cr_assert_eq(bk_expr_size(&e), r);
+		per[r]++, last = r;
+	}
+	cr_assert_eq(r, 0);
+	cr_assert(per[1] == 2 && per[2] == 1 && per[3] == 4 && per[4] == 8, "%d %d %d %d", per[1], per[2], per[3], per[4]);
+	cr_assert_eq(bk_expr_enum_count(E), 15);
+	cr_assert_eq(bk_expr_enum_next(E, &e), 0, "drawn past its end");
+	bk_expr_enum_free(E);
+	/* a limit of 5: p0, LoH, sq(LoH) and two of size 3, then nothing */
+	E = bk_expr_enum_new(&g, 4, 5);
+	int n = 0;
+	while (bk_expr_enum_next(E, &e) > 0)
+		n++;
+	cr_assert_eq(n, 5);
+	bk_expr_enum_free(E);
+}
+
+/* Drawing the first trees of an enumeration up to 9 nodes of the default
+ * grammar costs what they cost: the eager enumeration held every tree up to
+ * 9 nodes (hundreds of millions: tens of gigabytes) before the first. With
+ * a limit on the address space (not under AddressSanitizer, whose shadow
+ * memory is outside any such limit) 256 MB is plenty for 5,000 trees. */
+Test(expr, enumerator_of_size_9_builds_only_what_is_drawn)
+{
+#ifndef __SANITIZE_ADDRESS__
+	struct rlimit rl = {256ul << 20, 256ul << 20};
+	long pages = 0;
+	FILE *f = fopen("/proc/self/statm", "r");
+	if (f && fscanf(f, "%ld", &pages) == 1) /* the address space in use now, plus 256 MB */
+		rl.rlim_cur = rl.rlim_max = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + (256ul << 20);
+	if (f)
+		fclose(f);
+	cr_assert_eq(setrlimit(RLIMIT_AS, &rl), 0);
+#endif
+	bk_grammar g = {.ops = bk_grammar_default_ops(), .inputs = (1u << BK_IN_LOH) | (1u << BK_IN_R), .consts = {1},
+	                .nconsts = 1, .max_params = 3, .max_size = 24};
+	bk_expr_enum *E = bk_expr_enum_new(&g, 9, 1L << 20);
+	cr_assert(E);
+	bk_expr e;
+	for (int i = 0; i < 5000; i++)
+		cr_assert_gt(bk_expr_enum_next(E, &e), 0, "tree %d", i);
+	cr_assert_leq(bk_expr_size(&e), 5, "5,000 trees reach past size 5");
+	bk_expr_enum_free(E);
+}
+
+/* What a checkpoint may hand the tree functions is checked first (issue 21,
+ * M1: a node's input slot was used as an index unchecked). */
+Test(expr, valid_trees_and_what_is_not_one)
+{
+	char why[128];
+	bk_expr e = {3, {{BK_OP_ADD, 0, 0}, {BK_OP_PARAM, 0, 1.5}, {BK_OP_INPUT, BK_IN_LOH, 0}}};
+	cr_assert_eq(bk_expr_valid(&e, why, sizeof why), 0, "%s", why);
+	bk_expr bad = e;
+	bad.node[2].slot = 99; /* the crash of M1: an input past the table */
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	cr_assert_str_eq(why, "node 2 (op 1, slot 99): input out of range");
+	bad = e, bad.node[2].slot = -7;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	bad = e, bad.node[1].slot = BK_MAX_PARAMS;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	cr_assert(strstr(why, "parameter out of range"), "%s", why);
+	bad = e, bad.n = 2; /* ADD with one operand */
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	cr_assert_str_eq(why, "1 operands missing after node 1");
+	bad = e, bad.n = 4, bad.node[3] = (bk_enode){BK_OP_INPUT, BK_IN_R, 0}; /* a node past the root's tree */
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	cr_assert(strstr(why, "past the end of the tree"), "%s", why);
+	bad = e, bad.node[0].op = 1000;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	bad = e, bad.node[1].k = NAN;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	bad = e, bad.n = 0;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+	bad = e, bad.n = BK_EXPR_MAX + 1;
+	cr_assert_eq(bk_expr_valid(&bad, why, sizeof why), -1);
+}
+
 /* ---- grammar, hash, rng --------------------------------------------------- */
 
 Test(expr, grammar_ops_by_name)
@@ -625,7 +718,15 @@ Test(expr, grammar_ops_by_name)
 	cr_assert_eq(bk_grammar_parse_ops("+,cube", &ops, err, sizeof err), -1);
 	cr_assert_str_eq(err, "unknown operation 'cube' (+ - * / sq, a function name or a registry term)");
 	cr_assert_eq(bk_grammar_parse_ops("+,,*", &ops, err, sizeof err), -1);
-	cr_assert_str_eq(err, "unknown operation '' (+ - * / sq, a function name or a registry term)");
+	cr_assert_str_eq(err, "an empty item in '+,,*'");
+	/* a stray comma or a name given twice is a typo, not a grammar (issue 21, M10) */
+	cr_assert_eq(bk_grammar_parse_ops("+,*,", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "an empty item in '+,*,'");
+	cr_assert_eq(bk_grammar_parse_ops("+,*,+", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "'+' given twice");
+	cr_assert_eq(bk_grammar_parse_ops("sqrt,F_schlick,sqrt", &ops, err, sizeof err), -1);
+	cr_assert_str_eq(err, "'sqrt' given twice");
+	cr_assert_eq(bk_grammar_parse_ops("*,sq", &ops, err, sizeof err), 0, "%s", err); /* sq is its own name */
 	/* registry terms by name: the bit of term t is BK_OP_COUNT + t */
 	cr_assert_eq(bk_grammar_parse_ops("*,F_schlick,D_ggx", &ops, err, sizeof err), 0, "%s", err);
 	cr_assert_eq(ops, ((uint64_t)1 << BK_OP_MUL) | ((uint64_t)1 << term_op("F_schlick")) |

@@ -3,15 +3,22 @@
  * the same bytes for any thread count, a resumed run equal to an
  * uninterrupted one, the front non-dominated and complete, constraints held
  * on a denser grid, the error resolution; islands sharing out the
- * enumeration and taking each other's migrants.
+ * enumeration and taking each other's migrants; checkpoints checksummed and
+ * checked field by field (damage refused, mutations never a crash), the
+ * budget of a resume, no error for a form not finite, the enumeration
+ * drawn as the fits need it.
  */
 #include "search.h"
+#include "ir.h" /* the opcodes a checkpoint's trees are written with */
 
 #include <criterion/criterion.h>
 #include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <unistd.h>
 
 /* The planted target 0.3/(LoH^2 + 0.7 r^2) on LoH in [0.3162, 1], r in [0, 1]. */
 static void planted(bk_samples *s, int cells)
@@ -453,5 +460,385 @@ Test(search, seeds_after_exempt_seeds_meet_the_constraints)
 			cr_expect_eq(ok[k], k < exempt, "exempt_seeds %d: seed %d status %d", exempt, k, ok[k]);
 		bk_search_free(S);
 	}
+	bk_samples_free(&s);
+}
+
+/* ---- checkpoints and bounds (issue 21) ------------------------------------- */
+
+/* FNV-1a 64 as published (offset basis 14695981039346656037, prime
+ * 1099511628211), written here apart from expr.c's. */
+static uint64_t fnv1a(const char *p, size_t n)
+{
+	uint64_t h = 14695981039346656037ull;
+	for (size_t i = 0; i < n; i++)
+		h = (h ^ (unsigned char)p[i]) * 1099511628211ull;
+	return h;
+}
+
+/* A small search and its checkpoint's text (malloc'd, NUL-terminated). */
+static char *checkpoint_of(const bk_search *S, size_t *len)
+{
+	char *buf = NULL;
+	FILE *f = open_memstream(&buf, len);
+	cr_assert(f);
+	cr_assert_eq(bk_search_save(S, f), 0);
+	fclose(f);
+	return buf;
+}
+
+/* text (a checkpoint, its last line the checksum) with the checksum of its
+ * body recomputed: damage the checksum cannot see, for the checks behind it. */
+static char *resealed_at(const char *text, size_t body, size_t *len)
+{
+	char *out = malloc(body + 32);
+	memcpy(out, text, body);
+	*len = body + (size_t)snprintf(out + body, 32, "checksum %016llx\n", (unsigned long long)fnv1a(text, body));
+	return out;
+}
+
+static char *resealed(const char *text, size_t *len)
+{
+	const char *last = strstr(text, "\nchecksum ");
+	cr_assert(last, "no checksum line");
+	return resealed_at(text, (size_t)(last - text) + 1, len);
+}
+
+/* A new search of options o loaded from text: its return code, err. */
+static int load_text(const bk_search_options *o, const char *text, size_t len, char *err, size_t errlen,
+                     bk_search **out)
+{
+	bk_search *s = bk_search_new(o, err, errlen);
+	cr_assert(s, "%s", err);
+	FILE *f = fmemopen((void *)text, len, "r");
+	cr_assert(f);
+	int rc = bk_search_load(s, f, err, errlen);
+	fclose(f);
+	if (out && rc == 0)
+		*out = s;
+	else
+		bk_search_free(s);
+	return rc;
+}
+
+/* text with the first occurrence of from replaced by to (malloc'd). */
+static char *replaced(const char *text, const char *from, const char *to)
+{
+	const char *at = strstr(text, from);
+	cr_assert(at, "'%s' not in the checkpoint", from);
+	size_t a = (size_t)(at - text), lf = strlen(from), lt = strlen(to), n = strlen(text);
+	char *out = malloc(n - lf + lt + 1);
+	memcpy(out, text, a);
+	memcpy(out + a, to, lt);
+	memcpy(out + a + lt, at + lf, n - a - lf + 1);
+	return out;
+}
+
+/* The small search the checkpoint tests share: a seed, a short enumeration,
+ * a few generations of 8 (about 40 candidates). */
+static void small_options(bk_search_options *o, const bk_samples *s)
+{
+	plant_options(o, s, 1, 24);
+	o->generation = 8;
+	o->enum_size = 3;
+	o->enum_max = 12;
+}
+
+/* The last line is "checksum H", H the FNV-1a 64 of every byte before it:
+ * any change of a byte, a missing line or a cut is refused, by name. */
+Test(search, checkpoint_ends_with_its_checksum)
+{
+	bk_samples s;
+	planted(&s, 8);
+	bk_search_options o;
+	small_options(&o, &s);
+	bk_search *S = run(&o);
+	size_t len;
+	char *text = checkpoint_of(S, &len), err[512];
+	cr_assert(strstr(text, "\nchecksum "), "no checksum line");
+	const char *last = strstr(text, "\nchecksum ") + 1;
+	char want[40];
+	snprintf(want, sizeof want, "checksum %016llx\n", (unsigned long long)fnv1a(text, (size_t)(last - text)));
+	cr_assert_str_eq(last, want);
+	cr_assert_eq(load_text(&o, text, len, err, sizeof err, NULL), 0, "%s", err); /* the negative control */
+	char *flip = strdup(text);
+	flip[strstr(flip, "state ") - flip + 6] ^= 1; /* a digit of the fits done */
+	cr_assert_eq(load_text(&o, flip, len, err, sizeof err, NULL), -1);
+	cr_assert_str_eq(err, "its checksum does not match: the file was changed or damaged after it was written");
+	cr_assert_eq(load_text(&o, text, (size_t)(last - text), err, sizeof err, NULL), -1);
+	cr_assert_str_eq(err, "no checksum line at its end: cut short or not written by this version");
+	cr_assert_eq(load_text(&o, text, len / 2, err, sizeof err, NULL), -1);
+	cr_assert(strstr(err, "cut short"), "%s", err);
+	free(flip);
+	free(text);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* Damage behind a valid checksum (a file rewritten by hand, or by a tool
+ * that recomputes it): each refused with what is wrong, before any of it
+ * is used (M1: a tree's input slot of 99999 crashed the printing; M1b: a
+ * phase of 7, negative fits, an enumeration position far past its end were
+ * taken). */
+Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
+{
+	bk_samples s;
+	planted(&s, 8);
+	bk_search_options o;
+	small_options(&o, &s);
+	bk_search *S = run(&o);
+	size_t len;
+	char *text = checkpoint_of(S, &len), err[512];
+	long evals = bk_search_evals(S);
+	char state[64], input[32], bad_input[32];
+	snprintf(state, sizeof state, "state %ld 2 ", evals);
+	snprintf(input, sizeof input, " %d:%d:", BK_OP_INPUT, BK_IN_LOH);
+	snprintf(bad_input, sizeof bad_input, " %d:99999:", BK_OP_INPUT);
+	char more[64];
+	snprintf(more, sizeof more, "state %ld 2 ", evals + 100);
+	const struct {
+		const char *from, *to, *says;
+	} damage[] = {
+		{input, bad_input, "input out of range"},
+		{state, "state 5 7 ", "phase 7 (0 to 3)"},
+		{state, "state -5 2 ", "-5 fits"},
+		{state, more, "fits for a budget of 24"},
+		{"\nbudget 24\n", "\nbudget 0\n", "for a budget of 0"},
+		{"\nc 1 0 ", "\nc 1 5 ", "island 5"},
+		{"\nc 1 0 0 ", "\nc 1 0 9 ", "status 9"},
+		{"p0 * LoH", "p0 * r", "its text"},
+		{" -1 0\n", " 7 0\n", "seed (-1 to 0)"},
+		{"\nc 2 ", "\nc 3 ", "found at fit 3"},
+	};
+	for (size_t k = 0; k < sizeof damage / sizeof damage[0]; k++) {
+		char *d = replaced(text, damage[k].from, damage[k].to);
+		size_t dl;
+		char *sealed = resealed(d, &dl);
+		cr_assert_eq(load_text(&o, sealed, dl, err, sizeof err, NULL), -1, "'%s' -> '%s' loaded", damage[k].from,
+		             damage[k].to);
+		cr_assert(strstr(err, damage[k].says), "'%s' -> '%s': %s", damage[k].from, damage[k].to, err);
+		free(d);
+		free(sealed);
+	}
+	/* the enumeration's position past its end: drawn again to there, and refused */
+	char *pos = strstr(text, state) + strlen(state), *tail = strchr(pos, '\n');
+	char *d = malloc(len + 32);
+	snprintf(d, len + 32, "%.*s999%s", (int)(pos - text), text, tail);
+	size_t dl;
+	char *sealed = resealed(d, &dl);
+	cr_assert_eq(load_text(&o, sealed, dl, err, sizeof err, NULL), -1);
+	cr_assert(strstr(err, "enumeration position"), "%s", err);
+	free(d), free(sealed);
+	/* migrants are candidates of the same format, checked alike */
+	size_t idx[64], nf = bk_search_front(S, idx, 64), ml = 0;
+	char *mig = NULL;
+	FILE *f = open_memstream(&mig, &ml);
+	cr_assert_eq(bk_search_export(S, idx, nf, f), 0);
+	fclose(f);
+	o.seed = 8; /* another island of the same run: the same options but the seed */
+	bk_search *other = bk_search_new(&o, err, sizeof err);
+	f = fmemopen(mig, ml, "r"); /* the negative control: as exported, taken */
+	size_t added;
+	cr_assert_eq(bk_search_import(other, f, &added, err, sizeof err), 0, "%s", err);
+	fclose(f);
+	bk_search_free(other);
+	other = bk_search_new(&o, err, sizeof err);
+	char *bad = replaced(mig, input, bad_input);
+	f = fmemopen(bad, strlen(bad), "r");
+	cr_assert_eq(bk_search_import(other, f, &added, err, sizeof err), -1);
+	cr_assert(strstr(err, "input out of range"), "%s", err);
+	fclose(f);
+	free(bad), free(mig), free(text);
+	bk_search_free(other);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* What a state that loaded must be, checked apart from the loader: trees
+ * that print, texts that compile, an OK candidate's error finite; and it
+ * saves to a checkpoint that loads again, and steps on. */
+static void usable(bk_search *L, const bk_search_options *o)
+{
+	char err[512], t[4096];
+	for (size_t i = 0; i < bk_search_count(L); i++) {
+		const bk_cand *c = bk_search_at(L, i);
+		cr_assert_geq(bk_expr_print(&c->tree[0], t, sizeof t), 0);
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(c->text, &fe);
+		cr_assert(f, "candidate %zu: '%s' does not compile", i, c->text);
+		bk_form_free(f);
+		cr_assert(c->status != BK_CAND_OK || isfinite(c->err));
+	}
+	size_t len, idx[64];
+	bk_search_front(L, idx, 64);
+	char *again = checkpoint_of(L, &len);
+	cr_assert_eq(load_text(o, again, len, err, sizeof err, NULL), 0, "saved again: %s", err);
+	free(again);
+	cr_assert_geq(bk_search_step(L, err, sizeof err), 0, "%s", err);
+}
+
+/* Every byte of a small checkpoint changed three ways: with its checksum
+ * as written every change is refused; with the checksum recomputed, the
+ * checks behind it refuse it or what loads is usable. Never a crash (the
+ * sanitized run of the suite reads every out-of-bounds access). */
+Test(search, mutated_checkpoints_never_crash, .timeout = 300)
+{
+	bk_samples s;
+	planted(&s, 8);
+	bk_search_options o;
+	small_options(&o, &s);
+	bk_search *S = run(&o);
+	o.evals = 32; /* one more generation after a load */
+	size_t len;
+	char *text = checkpoint_of(S, &len), err[512];
+	static const int way[3] = {0x01, 0x10, 0x40};
+	long refused = 0, loaded = 0;
+	cr_assert(strstr(text, "\nchecksum "), "no checksum line");
+	size_t body = (size_t)(strstr(text, "\nchecksum ") - text) + 1;
+	for (size_t i = 0; i < len; i++)
+		for (int w = 0; w < 3; w++) {
+			char *m = malloc(len + 1);
+			memcpy(m, text, len + 1);
+			m[i] = (char)(m[i] ^ way[w]);
+			cr_assert_eq(load_text(&o, m, len, err, sizeof err, NULL), -1, "byte %zu ^ %#x loaded", i, way[w]);
+			if (i < body) {
+				size_t sl;
+				char *sealed = resealed_at(m, body, &sl);
+				bk_search *L = NULL;
+				if (load_text(&o, sealed, sl, err, sizeof err, &L) == 0) {
+					if (loaded++ % 16 == 0) /* stepping on is the slow part: a sample of them */
+						usable(L, &o);
+					bk_search_free(L);
+				} else {
+					refused++;
+				}
+				free(sealed);
+			}
+			free(m);
+		}
+	printf("mutated checkpoint of %zu bytes: %ld resealed changes refused, %ld loaded\n", len, refused, loaded);
+	cr_assert_gt(refused, 0);
+	free(text);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* L14: a budget below the fits a checkpoint holds and below its run's
+ * budget is refused (the result would hold more fits than asked for); its
+ * own budget, or a larger one, continues. */
+Test(search, resume_with_a_smaller_budget_is_refused)
+{
+	bk_samples s;
+	planted(&s, 8);
+	bk_search_options o;
+	small_options(&o, &s);
+	bk_search *S = run(&o);
+	long done = bk_search_evals(S);
+	cr_assert_gt(done, 24); /* whole generations: past the budget */
+	size_t len;
+	char *text = checkpoint_of(S, &len), err[512];
+	o.evals = 23;
+	cr_assert_eq(load_text(&o, text, len, err, sizeof err, NULL), -1);
+	char want[160];
+	snprintf(want, sizeof want, "it holds %ld fits, more than --evals 23 (its run had --evals 24)", done);
+	cr_assert_str_eq(err, want);
+	o.evals = 24;
+	cr_assert_eq(load_text(&o, text, len, err, sizeof err, NULL), 0, "%s", err);
+	o.evals = 400;
+	cr_assert_eq(load_text(&o, text, len, err, sizeof err, NULL), 0, "%s", err);
+	free(text);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* H1: the metrics leave out samples where a form is not finite; over none
+ * they are 0. A form not finite somewhere has no error: +inf, whatever the
+ * objective. */
+Test(search, nonfinite_values_are_no_error)
+{
+	bk_samples s;
+	planted(&s, 4);
+	bk_search_options o;
+	plant_options(&o, &s, 1, 10);
+	bk_fit_metrics m;
+	memset(&m, 0, sizeof m);
+	m.nonfinite = s.n; /* NaN everywhere: every metric 0 */
+	m.albedo_max_abs = 0;
+	for (int obj = 0; obj < 3; obj++) {
+		o.objective = (bk_objective)obj;
+		cr_assert(isinf(bk_search_error(&o, &s, NULL, &m)), "objective %d: %g", obj, bk_search_error(&o, &s, NULL, &m));
+	}
+	m.nonfinite = 0; /* the negative control: finite values, error 0 */
+	o.objective = BK_OBJ_RMSE;
+	cr_assert_eq(bk_search_error(&o, &s, NULL, &m), 0);
+	/* a seed NaN everywhere is never OK, and the front is of the others */
+	static const char *const seeds[] = {"sqrt(LoH - 2)", "p0/(LoH*LoH + p1)"};
+	plant_options(&o, &s, 1, 200);
+	o.seeds = seeds;
+	o.nseeds = 2;
+	bk_search *S = run(&o);
+	const bk_cand *c = bk_search_at(S, 0);
+	cr_assert_str_eq(c->text, seeds[0]);
+	cr_assert_eq(c->status, BK_CAND_NONFINITE);
+	size_t idx[64], nf = bk_search_front(S, idx, 64);
+	for (size_t k = 0; k < nf; k++)
+		cr_assert_neq(idx[k], 0);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* Every seed is fitted in the first step, however small the generation
+ * (it took only the first `generation` of them). */
+Test(search, every_seed_is_fitted_however_small_the_generation)
+{
+	bk_samples s;
+	planted(&s, 8);
+	static const char *const seeds[] = {"p0/(LoH*LoH + p1)", "p0*LoH", "p0 + LoH"};
+	bk_search_options o;
+	plant_options(&o, &s, 1, 20);
+	o.seeds = seeds;
+	o.nseeds = 3;
+	o.generation = 2;
+	bk_search *S = bk_search_new(&o, (char[256]){0}, 256);
+	char err[256];
+	cr_assert_eq(bk_search_step(S, err, sizeof err), 1, "%s", err);
+	cr_assert_eq(bk_search_count(S), 3);
+	for (int k = 0; k < 3; k++)
+		cr_assert_str_eq(bk_search_at(S, (size_t)k)->text, seeds[k]);
+	bk_search_free(S);
+	bk_samples_free(&s);
+}
+
+/* M5: --enum-size 9 with a small budget builds only the trees it fits (the
+ * enumeration was drawn whole up front: hundreds of millions of trees, out
+ * of memory before the first fit), and fits the same candidates as
+ * --enum-size 5 where the budget ends before size 6. Under a 512 MB limit
+ * on the address space past what the test uses (not under AddressSanitizer,
+ * whose shadow memory no such limit allows). */
+Test(search, enumeration_of_size_9_is_drawn_as_needed, .timeout = 120)
+{
+#ifndef __SANITIZE_ADDRESS__
+	long pages = 0;
+	FILE *f = fopen("/proc/self/statm", "r");
+	cr_assert(f && fscanf(f, "%ld", &pages) == 1);
+	fclose(f);
+	rlim_t lim = (rlim_t)pages * (rlim_t)sysconf(_SC_PAGESIZE) + (512ul << 20);
+	struct rlimit rl = {lim, lim};
+	cr_assert_eq(setrlimit(RLIMIT_AS, &rl), 0);
+#endif
+	bk_samples s;
+	planted(&s, 8);
+	bk_search_options o;
+	plant_options(&o, &s, 1, 300);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.max_params = 3;
+	o.grammar.max_size = 24;
+	o.enum_max = 300;
+	o.enum_size = 9;
+	bk_search *nine = run(&o);
+	o.enum_size = 5;
+	bk_search *five = run(&o);
+	same(five, nine);
+	bk_search_free(nine);
+	bk_search_free(five);
 	bk_samples_free(&s);
 }

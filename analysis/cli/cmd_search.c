@@ -16,6 +16,7 @@
 #include "islands.h"
 #include "out.h"
 #include "search.h"
+#include "search_ck.h"
 #include "stability.h"
 
 #include <ctype.h>
@@ -77,6 +78,7 @@ typedef struct job {
 	int nm;
 	char command[2048];
 	double seconds;
+	long start_evals;  /* fits done before this process started (a resume): not counted in fits/s */
 	int interrupted;
 	long total_evals;  /* over all islands */
 	const char *chip[BK_GPUCOST_MAX_CHIPS]; /* --gpu */
@@ -91,15 +93,31 @@ static void on_interrupt(int sig)
 	stop_asked = 1;
 }
 
-/* SIGINT asks for a stop at the end of the generation (or round); the old
- * action is kept to be put back. */
-static void catch_interrupt(struct sigaction *old)
+/* A stop at the end of the generation (or round) for sig, unless whoever
+ * started us ignores it (a background job of a script has SIGINT ignored:
+ * POSIX; it stays ignored in every phase, as bk_out_init leaves it). The
+ * old action is kept in *old to be put back. */
+static void catch_stop(int sig, struct sigaction *old)
 {
+	if (sigaction(sig, NULL, old) != 0 || old->sa_handler == SIG_IGN)
+		return;
 	struct sigaction sa;
 	memset(&sa, 0, sizeof sa);
 	sa.sa_handler = on_interrupt;
 	sigemptyset(&sa.sa_mask);
-	sigaction(SIGINT, &sa, old);
+	sigaction(sig, &sa, NULL);
+}
+
+/* SIGINT asks for a stop while the search runs (the refit after it is
+ * bk_out_init's: removed temporaries, death by the signal); so does SIGUSR1,
+ * for the whole run: mpirun forwards SIGUSR1 to every rank, while it answers
+ * SIGINT and SIGTERM by killing them (Open MPI's rule), so SIGUSR1 is how an
+ * MPI job is stopped with its front. */
+static void catch_interrupt(struct sigaction *old)
+{
+	struct sigaction usr1;
+	catch_stop(SIGINT, old);
+	catch_stop(SIGUSR1, &usr1);
 }
 
 /* ---- option helpers ------------------------------------------------------- */
@@ -118,10 +136,37 @@ static int parse_word(const cli_cmd *cmd, const char *opt, const char *text, con
 	return cli_usage(cmd, "%s: unknown value '%s' (%s)", opt, text, list);
 }
 
+/* A comma list of opt: no empty item (a stray comma is a typo, not a
+ * request for nothing) and none twice (a list that names one twice was
+ * meant to name another). 0, or 2 after a usage error. */
+static int check_list(const cli_cmd *cmd, const char *opt, const char *text)
+{
+	for (const char *p = text;;) {
+		const char *e = strchr(p, ',');
+		size_t n = e ? (size_t)(e - p) : strlen(p);
+		if (n == 0)
+			return cli_usage(cmd, "%s: an empty item in '%.60s'", opt, text);
+		for (const char *q = e ? e + 1 : NULL; q;) {
+			const char *f = strchr(q, ',');
+			size_t m = f ? (size_t)(f - q) : strlen(q);
+			if (m == n && !strncmp(p, q, n))
+				return cli_usage(cmd, "%s: '%.*s' given twice", opt, (int)(n > 40 ? 40 : n), p);
+			q = f ? f + 1 : NULL;
+		}
+		if (!e)
+			return 0;
+		p = e + 1;
+	}
+}
+
 /* --inputs NoV,r,...: bits of bk_input */
 static int parse_inputs(const cli_cmd *cmd, const char *text, unsigned provides, unsigned *bits)
 {
 	char buf[256];
+	if (check_list(cmd, "--inputs", text))
+		return 2;
+	if (strlen(text) >= sizeof buf)
+		return cli_usage(cmd, "--inputs: longer than the %zu characters of every input named once", sizeof buf - 1);
 	snprintf(buf, sizeof buf, "%s", text);
 	*bits = 0;
 	char *save = NULL;
@@ -143,20 +188,23 @@ static int parse_inputs(const cli_cmd *cmd, const char *text, unsigned provides,
 static int parse_weights(const cli_cmd *cmd, const char *text, double *simple, double *complex)
 {
 	char buf[128];
+	if (check_list(cmd, "--cost-weights", text))
+		return 2;
 	snprintf(buf, sizeof buf, "%s", text);
 	char *save = NULL;
+	int given[2] = {0, 0};
 	for (char *t = strtok_r(buf, ",", &save); t; t = strtok_r(NULL, ",", &save)) {
 		char *eq = strchr(t, '=');
 		double v;
 		if (!eq || cli_number(eq + 1, &v) || !(v >= 0))
 			return cli_usage(cmd, "--cost-weights: expected simple=W,complex=W with W >= 0, got '%s'", t);
 		*eq = '\0';
-		if (!strcmp(t, "simple"))
-			*simple = v;
-		else if (!strcmp(t, "complex"))
-			*complex = v;
-		else
+		int k = !strcmp(t, "simple") ? 0 : !strcmp(t, "complex") ? 1 : -1;
+		if (k < 0)
 			return cli_usage(cmd, "--cost-weights: '%s' is not simple or complex", t);
+		if (given[k]++)
+			return cli_usage(cmd, "--cost-weights: %s given twice", t);
+		*(k ? complex : simple) = v;
 	}
 	return *simple + *complex > 0 ? 0 : cli_usage(cmd, "--cost-weights: both weights are 0");
 }
@@ -284,6 +332,8 @@ static int setup(job *J)
 		return 2;
 	if (a->gpu) {
 		char gerr[700];
+		if (check_list(cmd, "--gpu", a->gpu))
+			return 2;
 		snprintf(J->chipbuf, sizeof J->chipbuf, "%s", a->gpu);
 		if (bk_gpucost_chips(J->chipbuf, J->chip, BK_GPUCOST_MAX_CHIPS, &J->nchips, gerr, sizeof gerr))
 			return cli_usage(cmd, "--gpu: %s", gerr);
@@ -350,6 +400,46 @@ typedef struct seeds {
 	int n;
 } seeds;
 
+/* Samples of s where seed k of sd, at its start constants, is NaN or
+ * infinite and the target is not (where: the first); s->n if it does not
+ * evaluate. */
+static size_t seed_nonfinite(const seeds *sd, int k, const bk_samples *s, char *where, size_t len)
+{
+	bk_form_error fe;
+	bk_form *f[2] = {bk_form_parse(sd->text[k], &fe), sd->text_b[k] ? bk_form_parse(sd->text_b[k], &fe) : NULL};
+	size_t bad = s->n;
+	snprintf(where, len, "no sample: the form does not compile");
+	if (f[0] && (!sd->text_b[k] || f[1])) {
+		bk_fit_spec sp;
+		memset(&sp, 0, sizeof sp);
+		sp.s = s;
+		sp.form[0] = f[0];
+		sp.form[1] = f[1] ? f[1] : f[0];
+		bad = bk_fit_nonfinite(&sp, sd->p[k], where, len);
+	}
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+	return bad;
+}
+
+/* A --start form that is NaN or infinite on the samples s at its start is
+ * refused, as fit refuses it: its error over the samples where it is finite
+ * would be no error of the form. (The catalog's own forms, seeded when no
+ * --start is given, are scored whatever they are: catalog rows say "not
+ * finite".) Returns 0, or 1 after the message. */
+static int check_starts(const job *J, const seeds *sd, const bk_samples *s)
+{
+	char where[256];
+	for (int k = 0; J->a->nstart && k < sd->n; k++) {
+		size_t bad = seed_nonfinite(sd, k, s, where, sizeof where);
+		if (bad)
+			return cli_fail("search", "--start '%.60s': the form is NaN or infinite at %zu of %zu samples where "
+			                "the target is finite (first at %s): fix the form or the domain", J->a->start[k], bad,
+			                s->n, where);
+	}
+	return 0;
+}
+
 static int setup_seeds(job *J, seeds *sd)
 {
 	const char *tag = catalog_tag(J->kind);
@@ -389,6 +479,9 @@ static int setup_seeds(job *J, seeds *sd)
 		sd->n++;
 	}
 	for (int k = 0; k < J->a->nstart; k++) {
+		for (int j = 0; j < k; j++)
+			if (!strcmp(J->a->start[j], J->a->start[k]))
+				return cli_usage(J->cmd, "--start '%.60s' given twice", J->a->start[k]);
 		const bk_catalog_entry *e = bk_catalog_find(J->a->start[k]);
 		if (e && tag && strcmp(e->target, tag) && !(env_in_f0(J) && !strcmp(e->target, "env_f0")))
 			return cli_usage(J->cmd, "--start %s: a %s form, not one of target %s", e->name, e->target,
@@ -425,7 +518,7 @@ static int setup_seeds(job *J, seeds *sd)
 	J->so.seed_names = sd->name;
 	J->so.seed_p = (const double(*)[BK_MAX_PARAMS])sd->p;
 	J->so.nseeds = sd->n;
-	return 0;
+	return check_starts(J, sd, &J->screen);
 }
 
 /* ---- --env-form mix: the two halves first ------------------------------------ */
@@ -645,20 +738,43 @@ static void progress(const job *J, int final)
 	double dt = bk_clock_now() - J->seconds;
 	long n = bk_search_evals(J->S);
 	fprintf(stderr, "%ssearch: %ld fits, %.0f fits/s, front %zu (%s)%s", isatty(2) && !final ? "\r" : "", n,
-	        dt > 0 ? n / dt : 0.0, nf, best, isatty(2) && !final ? "\033[K" : "\n");
+	        dt > 0 ? (double)(n - J->start_evals) / dt : 0.0, nf, best, isatty(2) && !final ? "\033[K" : "\n");
 }
 
-static int save_checkpoint(const job *J, char *err, size_t errlen)
+/* The checkpoint's text: header (an island's line, or NULL), then the
+ * search's state (malloc'd into *text). 0, or -1 (out of memory). */
+static int checkpoint_text(const job *J, const char *header, char **text, size_t *len)
 {
-	bk_out o;
-	if (bk_out_open(&o, J->a->checkpoint, err, errlen))
+	*text = NULL;
+	FILE *m = open_memstream(text, len);
+	if (!m)
 		return -1;
-	if (bk_search_save(J->S, o.f)) {
-		bk_out_abort(&o);
-		snprintf(err, errlen, "%s: write failed", J->a->checkpoint);
+	if (header)
+		fputs(header, m);
+	int bad = bk_search_save(J->S, m);
+	if (fclose(m) || bad) {
+		free(*text);
+		*text = NULL;
 		return -1;
 	}
-	return bk_out_commit(&o, err, errlen);
+	return 0;
+}
+
+/* A checkpoint that cannot be written is an error, intermediate ones too:
+ * the run stops (the last one written stays whole, and --resume goes on
+ * from it), never a shorter run that looks whole. */
+static int save_checkpoint(const job *J, char *err, size_t errlen)
+{
+	char *text;
+	size_t len;
+	ck_file c;
+	if (checkpoint_text(J, NULL, &text, &len)) {
+		snprintf(err, errlen, "%s: out of memory", J->a->checkpoint);
+		return -1;
+	}
+	int rc = ck_write(&c, J->a->checkpoint, text, len, err, errlen) || ck_commit(&c, NULL, err, errlen) ? -1 : 0;
+	free(text);
+	return rc;
 }
 
 static int run_search(job *J)
@@ -669,7 +785,7 @@ static int run_search(job *J)
 	if (J->a->resume) {
 		FILE *f = fopen(J->a->resume, "r");
 		if (!f)
-			return cli_fail("search", "--resume %s: cannot be read", J->a->resume);
+			return cli_fail("search", "--resume %s: cannot be read (%s)", J->a->resume, strerror(errno));
 		int rc = bk_search_load(J->S, f, err, sizeof err);
 		fclose(f);
 		if (rc)
@@ -679,9 +795,10 @@ static int run_search(job *J)
 	struct sigaction old;
 	catch_interrupt(&old);
 	J->seconds = bk_clock_now();
+	J->start_evals = bk_search_evals(J->S);
 	double last = J->seconds;
 	long next_ck = J->a->every > 0 ? (bk_search_evals(J->S) / J->a->every + 1) * J->a->every : -1;
-	int rc;
+	int rc, ck_failed = 0;
 	while ((rc = bk_search_step(J->S, err, sizeof err)) == 1 && !stop_asked) {
 		double now = bk_clock_now();
 		if (now - last >= (isatty(2) ? 0.25 : PROGRESS_EVERY)) {
@@ -689,7 +806,7 @@ static int run_search(job *J)
 			last = now;
 		}
 		if (J->a->checkpoint && next_ck > 0 && bk_search_evals(J->S) >= next_ck) {
-			if (save_checkpoint(J, err, sizeof err))
+			if ((ck_failed = save_checkpoint(J, err, sizeof err) != 0))
 				break;
 			next_ck = (bk_search_evals(J->S) / J->a->every + 1) * J->a->every;
 		}
@@ -698,6 +815,8 @@ static int run_search(job *J)
 	}
 	sigaction(SIGINT, &old, NULL);
 	J->interrupted = stop_asked;
+	if (ck_failed)
+		return cli_fail("search", "--checkpoint %s", err);
 	if (rc < 0)
 		return cli_fail("search", "%s", err);
 	progress(J, 1);
@@ -753,41 +872,26 @@ static long island_round(const char *path, const job *J)
  * last round as .prev and rename the new one into place. Collective. */
 static int save_islands(const job *J, long round)
 {
-	char path[4096], prev[4112], err[256] = "";
+	char path[4096], prev[4112], err[256] = "", head[256];
 	int R = isl_rank();
 	island_path(J->a->checkpoint, R, "", path, sizeof path);
 	island_path(J->a->checkpoint, R, ".prev", prev, sizeof prev);
-	bk_out o;
-	struct stat st;
-	int ok = 1;
-	for (int k = 0; k < 2 && ok; k++) /* what is moved or replaced is a file, never a directory or a link */
-		if (lstat(k ? prev : path, &st) == 0 && !S_ISREG(st.st_mode)) {
-			snprintf(err, sizeof err, "%.200s: exists and is not a regular file", k ? prev : path);
-			ok = 0;
-		}
-	ok = ok && bk_out_open(&o, path, err, sizeof err) == 0;
-	if (ok) {
-		fprintf(o.f, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld\n", R, isl_size(), round,
-		        J->a->migrate, J->a->migrants);
-		if (bk_search_save(J->S, o.f) || fflush(o.f)) {
-			bk_out_abort(&o);
-			snprintf(err, sizeof err, "%.200s: write failed", path);
-			ok = 0;
-		}
-	}
+	snprintf(head, sizeof head, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld\n", R, isl_size(),
+	         round, J->a->migrate, J->a->migrants);
+	char *text;
+	size_t len;
+	ck_file c;
+	int ok = checkpoint_text(J, head, &text, &len) == 0;
+	if (!ok)
+		snprintf(err, sizeof err, "%.200s: out of memory", path);
+	ok = ok && ck_write(&c, path, text, len, err, sizeof err) == 0;
+	free(text);
 	if (isl_any(!ok)) {
 		if (ok)
-			bk_out_abort(&o);
+			ck_abort(&c);
 		return islands_fail("--checkpoint", ok ? "" : err);
 	}
-	if (rename(path, prev) && errno != ENOENT) {
-		snprintf(err, sizeof err, "%.90s: cannot keep it as %.90s: %.40s", path, prev,
-		         strerror(errno));
-		bk_out_abort(&o);
-		ok = 0;
-	} else {
-		ok = bk_out_commit(&o, err, sizeof err) == 0;
-	}
+	ok = ck_commit(&c, prev, err, sizeof err) == 0;
 	return isl_any(!ok) ? islands_fail("--checkpoint", ok ? "" : err) : 0;
 }
 
@@ -932,6 +1036,37 @@ static int merge_islands(job *J)
 	return 0;
 }
 
+/* The checkpoint files, checked before any work (else a bad path is found
+ * when the first is written, minutes on, or the last, with the whole run
+ * lost): each rank its own, FILE.RANK and FILE.RANK.prev on islands. Then
+ * the temporaries of killed saves to them that prove themselves ours are
+ * removed (search_ck.h). Collective. 0, or 1 after the message. */
+static int check_checkpoints(const job *J)
+{
+	const search_cli *a = J->a;
+	char err[700] = "", path[4096], prev[4112];
+	int K = isl_size(), bad = 0;
+	for (int pass = 0; pass < 2; pass++) {
+		const char *base = pass ? a->resume : a->checkpoint;
+		island_path(base ? base : "", isl_rank(), "", path, sizeof path);
+		island_path(base ? base : "", isl_rank(), ".prev", prev, sizeof prev);
+		if (base && pass == 0)
+			bad = K > 1 ? ck_check_write(path, a->out, err, sizeof err) || ck_check_write(prev, a->out, err, sizeof err)
+			            : ck_check_write(base, a->out, err, sizeof err);
+		else if (base)
+			bad = K > 1 ? ck_check_read(path, a->out, 0, err, sizeof err) || ck_check_read(prev, a->out, 0, err, sizeof err)
+			            : ck_check_read(base, a->out, 1, err, sizeof err);
+		const char *what = pass ? "--resume" : "--checkpoint";
+		if (K > 1 && isl_any(bad))
+			return islands_fail(what, bad ? err : "");
+		if (bad)
+			return cli_fail("search", "%s %s", what, err);
+		if (base) /* the rank's own */
+			ck_clean(K > 1 ? path : base);
+	}
+	return 0;
+}
+
 /* The search as an island of an MPI job: rounds of --migrate fits per
  * island, a migration after each, checkpoints at round ends, the merge into
  * rank 0. Every rank runs this; each decision that ends a round is agreed
@@ -951,6 +1086,7 @@ static int run_islands(job *J)
 	J->seconds = bk_clock_now();
 	double last = J->seconds;
 	long every = J->a->every, M = J->a->migrate, start_evals = isl_sum(bk_search_evals(J->S));
+	J->start_evals = start_evals;
 	int done = 0, rc = 0;
 	for (;;) {
 		round++;
@@ -1106,8 +1242,10 @@ static int score_member(job *J, member *m, const double *start, int fit)
 		return -1;
 	int rc = member_values(m, &J->s, m->res.p, J->so.precision, v);
 	m->status = 0;
+	int finite = 1;
 	if (rc == 0) {
 		bk_samples_metrics(&J->s, v, NULL, &m->prec);
+		finite = m->prec.nonfinite == 0;
 		size_t na = J->s.ncomp == 2 ? J->s.start[1] : 0;
 		for (size_t i = 0; i < J->s.n; i++) {
 			if (!isfinite(v[i]) && isfinite(J->s.y[i]))
@@ -1129,12 +1267,20 @@ static int score_member(job *J, member *m, const double *start, int fit)
 		m->f16_max = h.nonfinite ? HUGE_VAL : h.max_abs;
 	}
 	free(v);
-	char buf[9000];
+	if (!finite) { /* the metrics skip what is not finite: over none they would read 0, a perfect fit */
+		m->prec.rmse = m->prec.max_abs = m->prec.max_rel = HUGE_VAL;
+		m->err = m->f16_max = HUGE_VAL;
+	}
+	size_t blen = strlen(m->text) + (m->text_b ? strlen(m->text_b) : 0) + 16; /* a --start form may be 16 KB */
+	char *buf = malloc(blen);
+	if (!buf)
+		return -1;
 	if (m->text_b)
-		snprintf(buf, sizeof buf, "f0*(%s) + (%s)", m->text, m->text_b);
+		snprintf(buf, blen, "f0*(%s) + (%s)", m->text, m->text_b);
 	else
-		snprintf(buf, sizeof buf, "%s", m->text);
+		snprintf(buf, blen, "%s", m->text);
 	bk_form *whole = bk_form_parse(buf, &fe);
+	free(buf);
 	if (!whole)
 		return -1;
 	bk_form_count(whole, &m->ops);
@@ -1143,7 +1289,7 @@ static int score_member(job *J, member *m, const double *start, int fit)
 	/* stability in half, each half of a pair on its own: the worse verdict */
 	static const char *const verdict[3] = {"as is", "with guards", "no"};
 	int worst = 0, analysed = 1;
-	for (int q = 0; q < (m->text_b ? 2 : 1); q++) {
+	for (int q = 0; finite && q < (m->text_b ? 2 : 1); q++) {
 		bk_stability st;
 		char e2[256];
 		if (bk_stability_run(m->name, q ? m->text_b : m->text, sp->np ? m->res.p : NULL, BK_STAB_TOL, &st, e2,
@@ -1156,7 +1302,7 @@ static int score_member(job *J, member *m, const double *start, int fit)
 			worst = w;
 		bk_stability_free(&st);
 	}
-	snprintf(m->verdict, sizeof m->verdict, "%s", analysed ? verdict[worst] : "not analysed");
+	snprintf(m->verdict, sizeof m->verdict, "%s", !finite ? "not finite" : analysed ? verdict[worst] : "not analysed");
 	return rc;
 }
 
@@ -1663,6 +1809,10 @@ static const cli_scope target_opts[] = {
 	{"--target-form", 1u << BK_TARGET_FORM, "it gives the expression of target form"},
 	{"--domain", 1u << BK_TARGET_FORM, "it gives the domain of target form"},
 	{"--r-range", ~(1u << BK_TARGET_FORM | 1u << BK_TARGET_F), "the target has no roughness axis or takes --domain"},
+	{"--nr", ~(1u << BK_TARGET_F), "target f has no roughness axis"},
+	{"--nr", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form; --nx the cells per axis"},
+	{"--env-form", 1u << BK_TARGET_ENV, "it sets the form of the candidates of target env"},
+	{"--no-constraints", ~(1u << BK_TARGET_FORM), "target form has no constraints to lift"},
 	{"--x-range", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form"},
 	{"--fetch-cost", 1u << BK_TARGET_ENV, "LUT rows exist for target env only"},
 };
@@ -1687,7 +1837,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.t.smith},
 		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index (default 1.5)", .dest = &a.t.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.t.k, .lo = 0, .hi = 1e6},
-		{.name = "--evals", .kind = CLI_INT, .metavar = "N", .help = "budget: candidate fits (default 20000; reproducible)", .dest = &a.evals, .lo = 1, .hi = 1e9},
+		{.name = "--evals", .kind = CLI_INT, .metavar = "N", .help = "budget: candidate fits (default 20000; reproducible); every candidate is kept: about 2.5 KB of memory a fit", .dest = &a.evals, .lo = 1, .hi = 1e9},
 		{.name = "--seconds", .kind = CLI_NUM, .metavar = "S", .help = "also stop after S seconds (not reproducible)", .dest = &a.seconds, .lo = 0, .hi = 1e7, .lo_open = 1},
 		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the generator (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "fitting threads (default: all cores); the result does not depend on it", .dest = &a.threads, .lo = 1, .hi = 64},
@@ -1696,7 +1846,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--max-cost", .kind = CLI_NUM, .metavar = "C", .help = "candidates costlier than C are not fitted", .dest = &a.max_cost, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 10, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
 		{.name = "--max-size", .kind = CLI_INT, .metavar = "N", .help = "nodes per tree (default 24)", .dest = &a.max_size, .lo = 1, .hi = BK_EXPR_MAX},
-		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5)", .dest = &a.enum_size, .lo = 0, .hi = 9},
+		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5), drawn as the fits need them: at most 1,048,576 trees (about 160 MB), then evolution", .dest = &a.enum_size, .lo = 0, .hi = 9},
 		{.name = "--enum-max", .kind = CLI_INT, .metavar = "N", .help = "at most N fits of the enumeration (default 5000)", .dest = &a.enum_max, .lo = 0, .hi = 1e9},
 		{.name = "--generation", .kind = CLI_INT, .metavar = "N", .help = "children per generation (default 256)", .dest = &a.generation, .lo = 1, .hi = 65536},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "rmse|max|albedo", .help = "the error of the front (default rmse; albedo: vf, spec)", .dest = &a.objective},
@@ -1722,11 +1872,17 @@ static int search_main(int argc, char **argv)
 	               "the Pareto front of error against GPU cost refitted in full. Writes front.csv,\n"
 	               "catalog.csv, candidates.csv, front/NAME/ (as fit --out), pareto.svg, section.html into DIR.",
 	               "--target T --out DIR [options]",
-	               "The same --seed and --evals give the same files for any --threads. SIGINT stops at the\n"
-	               "end of the current generation, writes the checkpoint and the front so far, exits 130.\n"
+	               "The same --seed and --evals give the same files for any --threads. SIGINT (or SIGUSR1)\n"
+	               "stops at the end of the current generation, writes the checkpoint and the front so far,\n"
+	               "exits 130 (a SIGINT that was ignored when brdfkit started, as in a script's background\n"
+	               "job, stays ignored). A checkpoint that cannot be written stops the run: exit 1, the last\n"
+	               "one written kept for --resume.\n"
 	               "On a cluster: mpirun -np K build/brdfkit-mpi search ... runs K islands (--evals shared\n"
 	               "out, --migrate, --migrants; checkpoints FILE.RANK); rank 0 merges and writes DIR. The\n"
-	               "same --seed, --evals and K give the same files for any --threads (README).\n"
+	               "same --seed, --evals and K give the same files for any --threads (README). To stop an\n"
+	               "MPI job with its front, send SIGUSR1 to mpirun (it passes it to every rank); SIGINT or\n"
+	               "SIGTERM to mpirun kill the ranks at once (Open MPI's rule): no front, exit 1, the\n"
+	               "checkpoints of the last round kept for --resume.\n"
 	               "Exit status: 0 done, 1 failed, 2 bad usage, 130 interrupted (results written).",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
 	int rc = cli_parse(&cmd, argc, argv);
@@ -1774,6 +1930,20 @@ static int search_main(int argc, char **argv)
 	}
 	if (cli_seen(&cmd, "--every") && !a.checkpoint)
 		return cli_usage(&cmd, "--every has no effect without --checkpoint FILE");
+	static const char *const mpi_only[] = {"--migrate", "--merge-fronts", "--migrants"};
+	for (int i = 0; i < 3 && isl_size() == 1; i++)
+		if (cli_seen(&cmd, mpi_only[i]))
+			return cli_usage(&cmd, "%s has no effect on one process (it sets the islands of an MPI job: mpirun -np K "
+			                 "brdfkit-mpi search ...)", mpi_only[i]);
+	if (cli_seen(&cmd, "--enum-max") && a.enum_size == 0)
+		return cli_usage(&cmd, "--enum-max has no effect with --enum-size 0 (nothing is enumerated)");
+	if (cli_seen(&cmd, "--enum-size") && a.enum_size > a.max_size)
+		return cli_usage(&cmd, "--enum-size %ld has no effect past --max-size %ld (no tree is larger)", a.enum_size,
+		                 a.max_size);
+	for (int i = 0; i < a.t.f0.n; i++)
+		for (int j = 0; j < i; j++)
+			if (a.t.f0.v[i] == a.t.f0.v[j])
+				return cli_usage(&cmd, "--f0: %g given twice", a.t.f0.v[i]);
 	if ((rc = setup(&J)))
 		return rc;
 	/* rank 0 alone writes DIR and refits the front on the full samples:
@@ -1787,7 +1957,7 @@ static int search_main(int argc, char **argv)
 	}
 	if (K > 1 && isl_any(rc))
 		return 1;
-	if (rc)
+	if (rc || (rc = check_checkpoints(&J)))
 		return rc;
 	J.to_screen = J.to;
 	screening_grid(&J.to_screen);
@@ -1801,6 +1971,8 @@ static int search_main(int argc, char **argv)
 		goto done;
 	if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
+	else if (R == 0) /* a pole between the screening samples */
+		rc = check_starts(&J, &sd, &J.s);
 	if (K > 1 && isl_any(rc))
 		rc = 1;
 	if (rc)
