@@ -797,7 +797,10 @@ for f in front.csv candidates.csv; do
 	[ -s "$T/a.csv" ] && cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "search --env-form mix: $f differs between 2 threads and 1"
 done
 # SIGINT: the generation ends, the checkpoint and the front so far are written, exit 130
-$BK search --target vf2d --evals 100000000 --threads 2 --checkpoint "$T/int.ck" --out "$T/int" >/dev/null 2>&1 &
+# (a job started with & from sh inherits SIGINT ignored, and the search keeps it
+# so, as POSIX asks: env restores the default; --seconds bounds it should it fail)
+env --default-signal=INT $BK search --target vf2d --evals 100000000 --seconds 120 --threads 2 --checkpoint "$T/int.ck" \
+	--out "$T/int" >/dev/null 2>&1 &
 pid=$!
 sleep 3
 kill -INT $pid
