@@ -776,7 +776,7 @@ csv_col "$T/ef0/front.csv" form_b >"$T/fb" && [ "$(grep -c . "$T/fb")" = 0 ] && 
 # --env-form mix: f0 A + B is exactly mix(B, S, f0) (S = A + B, linear in
 # f0), so searches of S (f0 = 1) and of B (f0 = 0) run first, a quarter of the
 # budget each, and their fronts' compositions seed the search of forms in f0
-expect_error "search mix checkpoint" "no --checkpoint with it" $BK search --target env --env-form mix \
+expect_error "search mix checkpoint" "--checkpoint has no effect with --env-form mix" $BK search --target env --env-form mix \
 	--checkpoint "$T/mx.ck" --out "$T/s5"
 expect_error "search mix budget" "too few to share among three searches" $BK search --target env --env-form mix \
 	--evals 500 --out "$T/s5"

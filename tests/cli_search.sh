@@ -273,7 +273,7 @@ noeffect "--ops: an empty item in '+,'" --target f --ops +,
 noeffect "--cost-weights: simple given twice" --target f --cost-weights simple=1,simple=2
 noeffect "--cost-weights: an empty item" --target f --cost-weights simple=1,
 noeffect "--start 'LoH' given twice" --target f --start LoH --start LoH
-noeffect "--f0: 0.5 given twice" --target env --env-form f0 --f0 0.5,0.5
+noeffect "--f0: '0.5' given twice" --target env --env-form f0 --f0 0.5,0.5
 noeffect "--gpu: 'navi21' given twice" --target f --gpu navi21,navi21
 [ ! -e "$T/m10" ] && ok || bad "a refused option left --out behind"
 # the negative controls: the same options where they act

@@ -474,14 +474,6 @@ void cli_progress(void *label, int done, int total)
 	fflush(stderr);
 }
 
-int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name)
-{
-	for (size_t k = 0; k < n; k++)
-		if (cli_seen(cmd, t[k].opt) && !(t[k].targets >> kind & 1))
-			return cli_usage(cmd, "%s has no effect on target %s (%s)", t[k].opt, kind_name, t[k].does);
-	return 0;
-}
-
 int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex)
 {
 	const bk_cost_model *m = bk_cost_model_find(name);
@@ -532,6 +524,8 @@ int cli_words(const cli_cmd *cmd, const char *opt, const char *text, const char 
 }
 
 /* ---- option applicability (cli.h) ----------------------------------------- */
+
+const char cli_unreached[] = "";
 
 static const cli_opt *find_opt(const cli_cmd *cmd, const char *name)
 {
@@ -608,7 +602,14 @@ static void print_table(const cli_cmd *cmd, const cli_table *t)
 		printf("dim\t%s\t%s\t", cmd->name, t->dims[d].name);
 		for (int v = 0; v < nvalues(&t->dims[d]); v++)
 			printf("%s%s", v ? "," : "", t->dims[d].value[v]);
-		putchar('\n');
+		putchar('\t'); /* the values no setup can reach, or "-" */
+		int first = 1;
+		for (int v = 0; v < nvalues(&t->dims[d]); v++)
+			if (t->dims[d].where[v] == cli_unreached) {
+				printf("%s%s", first ? "" : ",", t->dims[d].value[v]);
+				first = 0;
+			}
+		puts(first ? "-" : "");
 	}
 	for (int k = 0; k < t->nrules; k++) {
 		const cli_rule *r = &t->rules[k];
@@ -660,7 +661,7 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx)
 			continue;
 		const cli_dim *d = &t->dims[r->dim];
 		char where[160];
-		if (d->where[ctx[r->dim]])
+		if (d->where[ctx[r->dim]] && d->where[ctx[r->dim]] != cli_unreached)
 			snprintf(where, sizeof where, "%s", d->where[ctx[r->dim]]);
 		else
 			snprintf(where, sizeof where, " when %s is %s", d->name, d->value[ctx[r->dim]]);

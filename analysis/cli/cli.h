@@ -134,10 +134,10 @@ int cli_words(const cli_cmd *cmd, const char *opt, const char *text, const char 
  * tests/cli_opts.sh gives every option, in every setup that lacks it, and
  * checks it is refused (exit 2, one line naming it) where a rule says it does
  * not act and accepted where all its rules say it acts; a command printed
- * without a table, a dimension value no setup reaches, or a rule no setup
- * refuses fails the walk.
+ * without a table, a dimension value no setup reaches (unless the table says
+ * none can: cli_unreached), or a rule no setup refuses fails the walk.
  *
- * To give a command a table (search, scene, ...):
+ * Every command has a table. To give a new command one:
  *   1. static const cli_dim dims[] = {{"target", {"vf2d", ...}, {" on target vf2d", ...}}, ...};
  *      static const cli_rule rules[] = {{"--nu", NULL, 0, ON(VF) | ON(SPEC), "it sets ...", "4"},
  *                                      {"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL}, ...};
@@ -161,6 +161,11 @@ typedef struct cli_dim {
 	                                      ": the form has no parameters"); NULL:
 	                                      " when NAME is VALUE" */
 } cli_dim;
+/* where[v] = cli_unreached: no setup can reach value v (search's islands:
+ * mpirun alone makes them). The walk asks no setup to reach it, and does not
+ * ask an option that acts there alone to be accepted elsewhere; a refusal
+ * there reads " when NAME is VALUE". A pointer compared, never printed. */
+extern const char cli_unreached[];
 
 typedef struct cli_rule {
 	const char *opt;     /* "--nu", as in the option table */
@@ -192,15 +197,6 @@ int cli_parse_table(cli_cmd *cmd, const cli_table *t, int argc, char **argv);
  * act. Under --check-options, prints the context line and exits 0 instead of
  * returning 0. */
 int cli_applicable(const cli_cmd *cmd, const int *ctx);
-
-/* The older, target-only form of the same check (bit k of targets: target
- * kind k), kept for search until it has a table; same message. */
-typedef struct cli_scope {
-	const char *opt;
-	unsigned targets;
-	const char *does;
-} cli_scope;
-int cli_scope_check(const cli_cmd *cmd, const cli_scope *t, size_t n, int kind, const char *kind_name);
 
 /* --cost-model NAME: the named model's weights into *simple, *complex; 2
  * after a usage error listing the names. */

@@ -317,15 +317,11 @@ static int setup(job *J)
 	if (parse_word(cmd, "--objective", a->objective, objs, 3, &v))
 		return 2;
 	so->objective = (bk_objective)v;
-	if (v == BK_OBJ_ALBEDO && J->kind != BK_TARGET_VF && J->kind != BK_TARGET_SPEC)
-		return cli_usage(cmd, "--objective albedo: only targets vf and spec have a directional albedo");
 	static const char *const precs[] = {"double", "single", "half"};
 	static const bk_precision pv[] = {BK_F64, BK_F32, BK_F16};
 	if (parse_word(cmd, "--precision", a->precision, precs, 3, &v))
 		return 2;
 	so->precision = pv[v];
-	if (a->weights && a->cost_model)
-		return cli_usage(cmd, "--cost-model sets both weights; leave out --cost-weights");
 	if (a->weights && parse_weights(cmd, a->weights, &so->simple_cost, &so->complex_cost))
 		return 2;
 	if (a->cost_model && cli_cost_model(cmd, a->cost_model, &so->simple_cost, &so->complex_cost))
@@ -355,11 +351,8 @@ static int setup(job *J)
 	case BK_TARGET_ENV: so->shape = BK_SHAPE_PAIR; break;
 	default: so->shape = BK_SHAPE_PLAIN; break;
 	}
-	if (a->env_form && strcmp(a->env_form, "pair") && strcmp(a->env_form, "f0") && strcmp(a->env_form, "mix"))
-		return cli_usage(cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a->env_form);
-	if (env_halves(J) && (K > 1 || a->checkpoint || a->resume))
-		return cli_usage(cmd, "--env-form mix runs three searches in turn: no %s with it",
-		                 K > 1 ? "islands" : a->checkpoint ? "--checkpoint" : "--resume");
+	if (env_halves(J) && K > 1) /* --checkpoint and --resume: the table */
+		return cli_usage(cmd, "--env-form mix runs three searches in turn: no islands with it");
 	if (env_halves(J) && so->max_cost <= 3)
 		return cli_usage(cmd, "--env-form mix: --max-cost %g leaves nothing to the halves (mix(B, S, f0) costs 2 itself)",
 		                 so->max_cost);
@@ -1377,7 +1370,7 @@ static int build_members(job *J, const seeds *sd)
 				return -1;
 		}
 	}
-	if (J->a->fetch_cost > 0) /* the textures the formulas compete with, on compare's axis */
+	if (cli_seen(J->cmd, "--fetch-cost")) /* the textures the formulas compete with, on compare's axis (K = 0 too) */
 		add_luts(J);
 	for (size_t i = 0; i < nf; i++) {
 		const bk_cand *c = bk_search_at(J->S, idx[i]);
@@ -1798,24 +1791,109 @@ static void report(const job *J)
 		}
 }
 
-static const cli_scope target_opts[] = {
-	{"--nu", 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets the half-vector cells of targets vf and spec"},
-	{"--nphi", 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC, "it sets the azimuth cells of targets vf and spec"},
-	{"--smith", 1u << BK_TARGET_ENV, "it sets the Smith model of target env"},
-	{"--ior", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
-	{"--k", 1u << BK_TARGET_F, "it sets the exact Fresnel of target f"},
-	{"--f0", 1u << BK_TARGET_VF2D | 1u << BK_TARGET_VF | 1u << BK_TARGET_SPEC | 1u << BK_TARGET_ENV,
-	 "it sets f0 of targets vf2d, vf and spec, and env's f0 list with --env-form f0"},
-	{"--target-form", 1u << BK_TARGET_FORM, "it gives the expression of target form"},
-	{"--domain", 1u << BK_TARGET_FORM, "it gives the domain of target form"},
-	{"--r-range", ~(1u << BK_TARGET_FORM | 1u << BK_TARGET_F), "the target has no roughness axis or takes --domain"},
-	{"--nr", ~(1u << BK_TARGET_F), "target f has no roughness axis"},
-	{"--nr", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form; --nx the cells per axis"},
-	{"--env-form", 1u << BK_TARGET_ENV, "it sets the form of the candidates of target env"},
-	{"--no-constraints", ~(1u << BK_TARGET_FORM), "target form has no constraints to lift"},
-	{"--x-range", ~(1u << BK_TARGET_FORM), "--domain sets the inputs of target form"},
-	{"--fetch-cost", 1u << BK_TARGET_ENV, "LUT rows exist for target env only"},
+/* ---- where the options act (cli.h) ----------------------------------------- */
+
+/* The target kind; the env candidates (one form for the other targets; env:
+ * split pairs A, B, or one form in f0, or mix: that seeded by two searches run
+ * first); whether --checkpoint is given; whether anything is enumerated;
+ * whether --cost-model names the weights; one process or the islands of an MPI
+ * job (mpirun alone reaches them: no setup of the walk can). */
+enum { DIM_TARGET, DIM_CANDS, DIM_CHECKPOINT, DIM_ENUM, DIM_MODEL, DIM_PROCS };
+enum { CANDS_ONE, CANDS_PAIR, CANDS_F0, CANDS_MIX };
+static const cli_dim dims[] = {
+	FIT_TARGET_DIM,
+	{"candidates", {"one", "pair", "f0", "mix"}, {NULL, " on env split pairs", " with --env-form f0", " with --env-form mix"}},
+	{"checkpoint", {"none", "file"}, {" without --checkpoint FILE", NULL}},
+	{"enumeration", {"none", "some"}, {" with --enum-size 0", NULL}},
+	{"weights", {"given", "model"}, {NULL, " with --cost-model"}},
+	{"processes", {"one", "islands"}, {" on one process", cli_unreached}},
 };
+#define EVERYWHERE(opt, example) {opt, NULL, CLI_EVERYWHERE, 0, NULL, example}
+#define CANDS_ON(c) (1u << CANDS_##c)
+static const cli_rule rules[] = {
+	{"--nu", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
+	{"--nphi", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
+	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV), "it sets the Smith model of target env", "schlick"},
+	{"--ior", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "1.4"},
+	{"--k", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "3"},
+	{"--f0", NULL, DIM_TARGET, FIT_ON(VF2D) | FIT_ON(VF) | FIT_ON(SPEC) | FIT_ON(ENV),
+	 "it sets f0 of targets vf2d, vf and spec, and env's f0 list with --env-form f0", "0.5"},
+	{"--f0", NULL, DIM_CANDS, CANDS_ON(ONE) | CANDS_ON(F0) | CANDS_ON(MIX),
+	 "their A and B hold no f0: give --env-form f0", "0.5"},
+	{"--target-form", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the expression of target form", "LoH"},
+	{"--domain", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the domain of target form", "LoH=0:1"},
+	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~(FIT_ON(FORM) | FIT_ON(F)),
+	 "the target has no roughness axis or takes --domain", "0:0.5"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM),
+	 "--domain sets the inputs of target form; --nx the cells per axis", "8"},
+	{"--env-form", NULL, DIM_TARGET, FIT_ON(ENV), "it sets the form of the candidates of target env", "f0"},
+	{"--no-constraints", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "target form has no constraints to lift", NULL},
+	{"--x-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
+	{"--fetch-cost", NULL, DIM_TARGET, FIT_ON(ENV), "LUT rows exist for target env only", "16"},
+	{"--objective", "albedo", DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC),
+	 "only targets vf and spec have a directional albedo", NULL},
+	/* mix runs three searches in turn: none is checkpointed */
+	{"--checkpoint", NULL, DIM_CANDS, ~CANDS_ON(MIX) & 0xfu, "mix runs three searches in turn, none checkpointed",
+	 "ck"},
+	{"--resume", NULL, DIM_CANDS, ~CANDS_ON(MIX) & 0xfu, "mix runs three searches in turn, none checkpointed", "ck"},
+	{"--every", NULL, DIM_CHECKPOINT, 1u << 1, "it sets the fits between checkpoints", "100"},
+	{"--enum-max", NULL, DIM_ENUM, 1u << 1, "nothing is enumerated", "5"},
+	{"--cost-weights", NULL, DIM_MODEL, 1u << 0, "it sets both weights", "simple=1,complex=2"},
+#define ISLANDS "it sets the islands of an MPI job: mpirun -np K brdfkit-mpi search ..."
+	{"--migrate", NULL, DIM_PROCS, 1u << 1, ISLANDS, "500"},
+	{"--merge-fronts", NULL, DIM_PROCS, 1u << 1, ISLANDS, NULL},
+	{"--migrants", NULL, DIM_PROCS, 1u << 1, ISLANDS, "3"},
+#undef ISLANDS
+	EVERYWHERE("--target", NULL),
+	EVERYWHERE("--out", NULL),
+	EVERYWHERE("--nx", "8"),
+	EVERYWHERE("--evals", "100"),
+	EVERYWHERE("--seconds", "5"),
+	EVERYWHERE("--seed", "7"),
+	EVERYWHERE("--threads", "2"),
+	EVERYWHERE("--inputs", NULL), /* which inputs exist is the target's: checked with the screening samples */
+	EVERYWHERE("--ops", "+,*"),
+	EVERYWHERE("--max-cost", "20"),
+	EVERYWHERE("--max-params", "3"),
+	EVERYWHERE("--max-size", "12"),
+	EVERYWHERE("--enum-size", "3"),
+	EVERYWHERE("--generation", "64"),
+	EVERYWHERE("--objective", "max"),
+	EVERYWHERE("--relative", NULL),
+	EVERYWHERE("--precision", "half"),
+	EVERYWHERE("--gpu", NULL), /* its chips are checked against the driver when the run starts */
+	EVERYWHERE("--cost-model", "ir"),
+	EVERYWHERE("--start", NULL), /* a start is checked against the target's inputs */
+	EVERYWHERE("--inherit", NULL),
+	EVERYWHERE("--link-prefix", "x/"),
+};
+#undef EVERYWHERE
+static const char *const setups[] = {
+	"--target vf2d --out o",
+	"--target vf --out o",
+	"--target spec --out o",
+	"--target env --out o",
+	"--target d --out o",
+	"--target f --out o",
+	"--target form --target-form LoH --domain LoH=0:1 --out o",
+	"--target env --env-form f0 --out o",
+	"--target env --env-form mix --out o",
+	"--target f --checkpoint ck --out o",
+	"--target f --enum-size 0 --out o",
+	"--target f --cost-model ir --out o",
+	NULL};
+static const cli_table table = {dims, 6, rules, sizeof rules / sizeof rules[0], setups};
+
+/* The run's context (the table's dimensions), then cli_applicable. */
+static int check_applicable(const job *J)
+{
+	const search_cli *a = J->a;
+	int cands = J->kind != BK_TARGET_ENV ? CANDS_ONE : env_halves(J) ? CANDS_MIX : env_in_f0(J) ? CANDS_F0 : CANDS_PAIR;
+	int ctx[] = {(int)J->kind, cands, a->checkpoint != NULL, a->enum_size > 0, a->cost_model != NULL,
+	             isl_size() > 1};
+	return cli_applicable(J->cmd, ctx);
+}
 
 static int search_main(int argc, char **argv)
 {
@@ -1885,7 +1963,7 @@ static int search_main(int argc, char **argv)
 	               "checkpoints of the last round kept for --resume.\n"
 	               "Exit status: 0 done, 1 failed, 2 bad usage, 130 interrupted (results written).",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
-	int rc = cli_parse(&cmd, argc, argv);
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	job J;
@@ -1908,13 +1986,12 @@ static int search_main(int argc, char **argv)
 		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
 	if (bk_target_parse(a.t.target, &J.kind))
 		return cli_usage(&cmd, "--target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)", a.t.target);
-	if ((rc = cli_scope_check(&cmd, target_opts, sizeof target_opts / sizeof target_opts[0], (int)J.kind,
-	                          bk_target_name(J.kind))))
+	if (J.kind == BK_TARGET_ENV && a.env_form && strcmp(a.env_form, "pair") && strcmp(a.env_form, "f0") &&
+	    strcmp(a.env_form, "mix")) /* before the context, which it sets */
+		return cli_usage(&cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a.env_form);
+	if ((rc = check_applicable(&J)))
 		return rc;
-	int in_f0 = env_in_f0(&J);
-	if (J.kind == BK_TARGET_ENV && a.t.f0.n && !in_f0)
-		return cli_usage(&cmd, "--f0 has no effect on env split pairs (their A and B hold no f0): give --env-form f0");
-	if (a.t.f0.n > 1 && !in_f0)
+	if (a.t.f0.n > 1 && !env_in_f0(&J))
 		return cli_usage(&cmd, "--f0: one value, got %d (a list only for env with --env-form f0)", a.t.f0.n);
 	if ((rc = fit_setup_target(&a.t, J.kind, &J.to)))
 		return rc;
@@ -1928,22 +2005,9 @@ static int search_main(int argc, char **argv)
 		if (bk_target_form_check(&J.to, err, sizeof err))
 			return cli_usage(&cmd, "--target-form: %s", err);
 	}
-	if (cli_seen(&cmd, "--every") && !a.checkpoint)
-		return cli_usage(&cmd, "--every has no effect without --checkpoint FILE");
-	static const char *const mpi_only[] = {"--migrate", "--merge-fronts", "--migrants"};
-	for (int i = 0; i < 3 && isl_size() == 1; i++)
-		if (cli_seen(&cmd, mpi_only[i]))
-			return cli_usage(&cmd, "%s has no effect on one process (it sets the islands of an MPI job: mpirun -np K "
-			                 "brdfkit-mpi search ...)", mpi_only[i]);
-	if (cli_seen(&cmd, "--enum-max") && a.enum_size == 0)
-		return cli_usage(&cmd, "--enum-max has no effect with --enum-size 0 (nothing is enumerated)");
 	if (cli_seen(&cmd, "--enum-size") && a.enum_size > a.max_size)
 		return cli_usage(&cmd, "--enum-size %ld has no effect past --max-size %ld (no tree is larger)", a.enum_size,
 		                 a.max_size);
-	for (int i = 0; i < a.t.f0.n; i++)
-		for (int j = 0; j < i; j++)
-			if (a.t.f0.v[i] == a.t.f0.v[j])
-				return cli_usage(&cmd, "--f0: %g given twice", a.t.f0.v[i]);
 	if ((rc = setup(&J)))
 		return rc;
 	/* rank 0 alone writes DIR and refits the front on the full samples:
