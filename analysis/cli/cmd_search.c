@@ -2013,6 +2013,10 @@ static int search_main(int argc, char **argv)
 	/* rank 0 alone writes DIR and refits the front on the full samples:
 	 * what it alone checks or builds is agreed on before the first exchange */
 	int R = isl_rank(), K = isl_size();
+	/* the checkpoint paths first: one inside --out is named as such, not as
+	 * an entry --out does not list */
+	if ((rc = check_checkpoints(&J)))
+		return rc;
 	rc = R == 0 && bk_out_dir_check(a.out, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
 	if (rc == 0 && R == 0 && J.nchips) { /* a missing driver is said now, not after the search */
 		char gerr[700];
@@ -2021,7 +2025,7 @@ static int search_main(int argc, char **argv)
 	}
 	if (K > 1 && isl_any(rc))
 		return 1;
-	if (rc || (rc = check_checkpoints(&J)))
+	if (rc)
 		return rc;
 	J.to_screen = J.to;
 	screening_grid(&J.to_screen);
