@@ -32,7 +32,7 @@ highp float env_unity_builtin_brdf2(highp float NoV, highp float r, highp float 
 	highp float t15 = 1.0 - NoV;
 	highp float t16 = t15 * t15;
 	highp float t17 = t16 * t16;
-	highp float t18 = mix(f0, t13, t17);
+	highp float t18 = f0 + (t13 - f0) * t17;
 	highp float t19 = t9 * t18;
 	return t19;
 }

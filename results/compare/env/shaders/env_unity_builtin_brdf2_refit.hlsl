@@ -32,7 +32,7 @@ float env_unity_builtin_brdf2_refit(float NoV, float r, float a, float f0)
 	float t15 = 1.0 - NoV;
 	float t16 = t15 * t15;
 	float t17 = t16 * t16;
-	float t18 = lerp(f0, t13, t17);
+	float t18 = f0 + (t13 - f0) * t17;
 	float t19 = t9 * t18;
 	return t19;
 }

@@ -28,7 +28,7 @@ highp float env_unity_urp(highp float NoV, highp float r, highp float a, highp f
 	highp float t10 = 1.0 - NoV;
 	highp float t11 = t10 * t10;
 	highp float t12 = t11 * t11;
-	highp float t13 = mix(f0, t8, t12);
+	highp float t13 = f0 + (t8 - f0) * t12;
 	highp float t14 = t3 * t13;
 	return t14;
 }

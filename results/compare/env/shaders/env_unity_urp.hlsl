@@ -28,7 +28,7 @@ float env_unity_urp(float NoV, float r, float a, float f0)
 	float t10 = 1.0 - NoV;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
-	float t13 = lerp(f0, t8, t12);
+	float t13 = f0 + (t8 - f0) * t12;
 	float t14 = t3 * t13;
 	return t14;
 }

@@ -22,7 +22,7 @@ highp float v_hammon_x_f_schlick(highp float NoV, highp float NoL, highp float L
 	highp float t3 = 2.0 * NoL;
 	highp float t5 = t3 * NoV;
 	highp float t6 = NoL + NoV;
-	highp float t8 = mix(t5, t6, a);
+	highp float t8 = t5 + (t6 - t5) * a;
 	highp float t9 = 0.5 / t8;
 	highp float t12 = 1.0 - LoH;
 	highp float t13 = t12 * t12;

@@ -22,7 +22,7 @@ float v_hammon_x_f_schlick(float NoV, float NoL, float LoH, float a, float f0)
 	float t3 = 2.0 * NoL;
 	float t5 = t3 * NoV;
 	float t6 = NoL + NoV;
-	float t8 = lerp(t5, t6, a);
+	float t8 = t5 + (t6 - t5) * a;
 	float t9 = 0.5 / t8;
 	float t12 = 1.0 - LoH;
 	float t13 = t12 * t12;

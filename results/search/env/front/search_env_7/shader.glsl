@@ -22,8 +22,8 @@
  */
 highp float search_env_7_A(highp float NoV, highp float a)
 {
-	highp float t6 = mix(a, 0.1967, 2.4277);
-	highp float t7 = mix(0.0, NoV, t6);
+	highp float t6 = a + (0.1967 - a) * 2.4277;
+	highp float t7 = 0.0 + (NoV - 0.0) * t6;
 	highp float t9 = a * t7 + 0.97434;
 	highp float t10 = 0.8363061 * t9;
 	return t10;

@@ -22,8 +22,8 @@
  */
 float search_env_7_A(float NoV, float a)
 {
-	float t6 = lerp(a, 0.1967, 2.4277);
-	float t7 = lerp(0.0, NoV, t6);
+	float t6 = a + (0.1967 - a) * 2.4277;
+	float t7 = 0.0 + (NoV - 0.0) * t6;
 	float t9 = mad(a, t7, 0.97434);
 	float t10 = 0.8363061 * t9;
 	return t10;

@@ -22,8 +22,8 @@
  */
 highp float search_env_8_A(highp float NoV, highp float a)
 {
-	highp float t6 = mix(a, NoV, (-0.7309));
-	highp float t7 = mix(0.0, NoV, t6);
+	highp float t6 = a + (NoV - a) * (-0.7309);
+	highp float t7 = 0.0 + (NoV - 0.0) * t6;
 	highp float t8 = a * t7;
 	highp float t10 = (-0.7732) * t8 + 0.92315;
 	highp float t11 = 0.8942456 * t10;

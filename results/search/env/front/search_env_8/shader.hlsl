@@ -22,8 +22,8 @@
  */
 float search_env_8_A(float NoV, float a)
 {
-	float t6 = lerp(a, NoV, (-0.7309));
-	float t7 = lerp(0.0, NoV, t6);
+	float t6 = a + (NoV - a) * (-0.7309);
+	float t7 = 0.0 + (NoV - 0.0) * t6;
 	float t8 = a * t7;
 	float t10 = mad((-0.7732), t8, 0.92315);
 	float t11 = 0.8942456 * t10;

@@ -21,8 +21,8 @@
  */
 highp float search_env_9_A(highp float NoV, highp float r, highp float a)
 {
-	highp float t7 = mix(a, NoV, (-1.1176));
-	highp float t8 = mix(0.0, NoV, t7);
+	highp float t7 = a + (NoV - a) * (-1.1176);
+	highp float t8 = 0.0 + (NoV - 0.0) * t7;
 	highp float t9 = r * t8;
 	highp float t10 = min(NoV, t9);
 	highp float t11 = (-1.2777038) + t10;

@@ -21,8 +21,8 @@
  */
 float search_env_9_A(float NoV, float r, float a)
 {
-	float t7 = lerp(a, NoV, (-1.1176));
-	float t8 = lerp(0.0, NoV, t7);
+	float t7 = a + (NoV - a) * (-1.1176);
+	float t8 = 0.0 + (NoV - 0.0) * t7;
 	float t9 = r * t8;
 	float t10 = min(NoV, t9);
 	float t11 = (-1.2777038) + t10;

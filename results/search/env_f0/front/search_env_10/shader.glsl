@@ -32,7 +32,7 @@ highp float search_env_10(highp float NoV, highp float r, highp float a, highp f
 	highp float t13 = 0.84322 - r;
 	highp float t14 = NoV * (-1.749) + t13;
 	highp float t15 = clamp(t14, 0.0, 1.0);
-	highp float t16 = mix(f0, 0.90872, t15);
+	highp float t16 = f0 + (0.90872 - f0) * t15;
 	highp float t18 = t7 * t16 + 0.021652;
 	highp float t19 = 0.7989536 * t18;
 	return t19;

@@ -32,7 +32,7 @@ float search_env_10(float NoV, float r, float a, float f0)
 	float t13 = 0.84322 - r;
 	float t14 = mad(NoV, (-1.749), t13);
 	float t15 = saturate(t14);
-	float t16 = lerp(f0, 0.90872, t15);
+	float t16 = f0 + (0.90872 - f0) * t15;
 	float t18 = mad(t7, t16, 0.021652);
 	float t19 = 0.7989536 * t18;
 	return t19;

@@ -34,7 +34,7 @@ highp float search_env_11(highp float NoV, highp float r, highp float a, highp f
 	highp float t15 = 0.86313 - r;
 	highp float t16 = NoV * (-1.72798) + t15;
 	highp float t17 = clamp(t16, 0.0, 1.0);
-	highp float t18 = mix(f0, 0.89676, t17);
+	highp float t18 = f0 + (0.89676 - f0) * t17;
 	highp float t19 = t9 * t18;
 	highp float t20 = 0.673 * t19;
 	return t20;

@@ -34,7 +34,7 @@ float search_env_11(float NoV, float r, float a, float f0)
 	float t15 = 0.86313 - r;
 	float t16 = mad(NoV, (-1.72798), t15);
 	float t17 = saturate(t16);
-	float t18 = lerp(f0, 0.89676, t17);
+	float t18 = f0 + (0.89676 - f0) * t17;
 	float t19 = t9 * t18;
 	float t20 = 0.673 * t19;
 	return t20;

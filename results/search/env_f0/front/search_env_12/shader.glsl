@@ -35,7 +35,7 @@ highp float search_env_12(highp float NoV, highp float r, highp float a, highp f
 	highp float t16 = NoV * (-1.56689) + t15;
 	highp float t17 = clamp(t16, 0.0, 1.0);
 	highp float t18 = t17 * t17;
-	highp float t19 = mix(f0, 0.89324, t18);
+	highp float t19 = f0 + (0.89324 - f0) * t18;
 	highp float t20 = t9 * t19;
 	highp float t21 = 0.67023 * t20;
 	return t21;

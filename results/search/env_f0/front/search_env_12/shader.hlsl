@@ -35,7 +35,7 @@ float search_env_12(float NoV, float r, float a, float f0)
 	float t16 = mad(NoV, (-1.56689), t15);
 	float t17 = saturate(t16);
 	float t18 = t17 * t17;
-	float t19 = lerp(f0, 0.89324, t18);
+	float t19 = f0 + (0.89324 - f0) * t18;
 	float t20 = t9 * t19;
 	float t21 = 0.67023 * t20;
 	return t21;

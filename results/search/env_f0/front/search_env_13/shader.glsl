@@ -37,7 +37,7 @@ highp float search_env_13(highp float NoV, highp float r, highp float a, highp f
 	highp float t18 = t13 * 1.58664 + t17;
 	highp float t19 = clamp(t18, 0.0, 1.0);
 	highp float t20 = t19 * t19;
-	highp float t21 = mix(f0, 0.87805, t20);
+	highp float t21 = f0 + (0.87805 - f0) * t20;
 	highp float t22 = t10 * t21;
 	highp float t23 = min(1.44455, t22);
 	highp float t24 = 0.69108 * t23;

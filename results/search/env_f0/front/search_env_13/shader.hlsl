@@ -37,7 +37,7 @@ float search_env_13(float NoV, float r, float a, float f0)
 	float t18 = mad(t13, 1.58664, t17);
 	float t19 = saturate(t18);
 	float t20 = t19 * t19;
-	float t21 = lerp(f0, 0.87805, t20);
+	float t21 = f0 + (0.87805 - f0) * t20;
 	float t22 = t10 * t21;
 	float t23 = min(1.44455, t22);
 	float t24 = 0.69108 * t23;

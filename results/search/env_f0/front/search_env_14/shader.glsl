@@ -35,7 +35,7 @@ highp float search_env_14(highp float NoV, highp float r, highp float a, highp f
 	highp float t15 = NoV * (-1.59108) + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	highp float t17 = t16 * t16;
-	highp float t18 = mix(f0, 0.88749, t17);
+	highp float t18 = f0 + (0.88749 - f0) * t17;
 	highp float t20 = t8 * t18 + 0.13605;
 	highp float t21 = 0.112513 * t20;
 	return t21;

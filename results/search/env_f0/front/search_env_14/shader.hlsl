@@ -35,7 +35,7 @@ float search_env_14(float NoV, float r, float a, float f0)
 	float t15 = mad(NoV, (-1.59108), t14);
 	float t16 = saturate(t15);
 	float t17 = t16 * t16;
-	float t18 = lerp(f0, 0.88749, t17);
+	float t18 = f0 + (0.88749 - f0) * t17;
 	float t20 = mad(t8, t18, 0.13605);
 	float t21 = 0.112513 * t20;
 	return t21;

@@ -36,7 +36,7 @@ highp float search_env_15(highp float NoV, highp float r, highp float a, highp f
 	highp float t15 = t10 * 1.6147 + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	highp float t17 = t16 * t16;
-	highp float t18 = mix(f0, 0.88345, t17);
+	highp float t18 = f0 + (0.88345 - f0) * t17;
 	highp float t20 = t7 * t18 + 0.021275;
 	highp float t21 = 0.73994 * t20;
 	return t21;

@@ -36,7 +36,7 @@ float search_env_15(float NoV, float r, float a, float f0)
 	float t15 = mad(t10, 1.6147, t14);
 	float t16 = saturate(t15);
 	float t17 = t16 * t16;
-	float t18 = lerp(f0, 0.88345, t17);
+	float t18 = f0 + (0.88345 - f0) * t17;
 	float t20 = mad(t7, t18, 0.021275);
 	float t21 = 0.73994 * t20;
 	return t21;

@@ -38,7 +38,7 @@ highp float search_env_16(highp float NoV, highp float r, highp float a, highp f
 	highp float t16 = t11 * 1.5962 + t15;
 	highp float t17 = clamp(t16, 0.0, 1.0);
 	highp float t18 = t17 * t17;
-	highp float t19 = mix(f0, 0.9119, t18);
+	highp float t19 = f0 + (0.9119 - f0) * t18;
 	highp float t21 = t8 * t19 + 0.019278;
 	highp float t22 = 0.8099 * t21;
 	return t22;

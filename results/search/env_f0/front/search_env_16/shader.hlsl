@@ -38,7 +38,7 @@ float search_env_16(float NoV, float r, float a, float f0)
 	float t16 = mad(t11, 1.5962, t15);
 	float t17 = saturate(t16);
 	float t18 = t17 * t17;
-	float t19 = lerp(f0, 0.9119, t18);
+	float t19 = f0 + (0.9119 - f0) * t18;
 	float t21 = mad(t8, t19, 0.019278);
 	float t22 = 0.8099 * t21;
 	return t22;

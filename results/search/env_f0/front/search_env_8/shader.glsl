@@ -31,7 +31,7 @@ highp float search_env_8(highp float NoV, highp float r, highp float f0)
 	highp float t10 = -2.443;
 	highp float t13 = t10 * NoV + 1.0573;
 	highp float t14 = clamp(t13, 0.0, 1.0);
-	highp float t15 = mix(f0, 1.07883, t14);
+	highp float t15 = f0 + (1.07883 - f0) * t14;
 	highp float t16 = t6 * t15 + f0;
 	highp float t17 = 0.54908 * t16;
 	return t17;

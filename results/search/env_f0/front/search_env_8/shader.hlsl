@@ -31,7 +31,7 @@ float search_env_8(float NoV, float r, float f0)
 	float t10 = -2.443;
 	float t13 = mad(t10, NoV, 1.0573);
 	float t14 = saturate(t13);
-	float t15 = lerp(f0, 1.07883, t14);
+	float t15 = f0 + (1.07883 - f0) * t14;
 	float t16 = mad(t6, t15, f0);
 	float t17 = 0.54908 * t16;
 	return t17;

@@ -30,7 +30,7 @@ highp float search_env_9(highp float NoV, highp float r, highp float a, highp fl
 	highp float t11 = 0.80214 - r;
 	highp float t12 = NoV * (-1.6009) + t11;
 	highp float t13 = clamp(t12, 0.0, 1.0);
-	highp float t14 = mix(f0, 0.98997, t13);
+	highp float t14 = f0 + (0.98997 - f0) * t13;
 	highp float t16 = t5 * t14 + 0.02154;
 	highp float t17 = 0.81268 * t16;
 	return t17;

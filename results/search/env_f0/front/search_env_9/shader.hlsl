@@ -30,7 +30,7 @@ float search_env_9(float NoV, float r, float a, float f0)
 	float t11 = 0.80214 - r;
 	float t12 = mad(NoV, (-1.6009), t11);
 	float t13 = saturate(t12);
-	float t14 = lerp(f0, 0.98997, t13);
+	float t14 = f0 + (0.98997 - f0) * t13;
 	float t16 = mad(t5, t14, 0.02154);
 	float t17 = 0.81268 * t16;
 	return t17;

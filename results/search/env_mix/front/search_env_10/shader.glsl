@@ -33,7 +33,7 @@ highp float search_env_10(highp float NoV, highp float r, highp float a, highp f
 	highp float t14 = r * (-0.32793) + a;
 	highp float t15 = min(NoV, t14);
 	highp float t16 = 0.98526 - t15;
-	highp float t18 = mix(t10, t16, f0);
+	highp float t18 = t10 + (t16 - t10) * f0;
 	highp float t19 = 0.97416 * t18;
 	return t19;
 }

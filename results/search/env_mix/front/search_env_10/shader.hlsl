@@ -33,7 +33,7 @@ float search_env_10(float NoV, float r, float a, float f0)
 	float t14 = mad(r, (-0.32793), a);
 	float t15 = min(NoV, t14);
 	float t16 = 0.98526 - t15;
-	float t18 = lerp(t10, t16, f0);
+	float t18 = t10 + (t16 - t10) * f0;
 	float t19 = 0.97416 * t18;
 	return t19;
 }

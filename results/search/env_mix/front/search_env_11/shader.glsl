@@ -25,14 +25,14 @@
  */
 highp float search_env_11(highp float NoV, highp float r, highp float a, highp float f0)
 {
-	highp float t5 = mix(NoV, 0.71748, r);
+	highp float t5 = NoV + (0.71748 - NoV) * r;
 	highp float t7 = (-1.67765) * t5 + 1.20793;
 	highp float t8 = t7 * t7;
 	highp float t9 = -r;
 	highp float t12 = min(NoV, a);
 	highp float t13 = r * 0.3402 + t12;
 	highp float t15 = t9 * t13 + 1.70329;
-	highp float t17 = mix(t8, t15, f0);
+	highp float t17 = t8 + (t15 - t8) * f0;
 	highp float t18 = 0.58227 * t17;
 	return t18;
 }

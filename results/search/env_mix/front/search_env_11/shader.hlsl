@@ -25,14 +25,14 @@
  */
 float search_env_11(float NoV, float r, float a, float f0)
 {
-	float t5 = lerp(NoV, 0.71748, r);
+	float t5 = NoV + (0.71748 - NoV) * r;
 	float t7 = mad((-1.67765), t5, 1.20793);
 	float t8 = t7 * t7;
 	float t9 = -r;
 	float t12 = min(NoV, a);
 	float t13 = mad(r, 0.3402, t12);
 	float t15 = mad(t9, t13, 1.70329);
-	float t17 = lerp(t8, t15, f0);
+	float t17 = t8 + (t15 - t8) * f0;
 	float t18 = 0.58227 * t17;
 	return t18;
 }

@@ -33,7 +33,7 @@ highp float search_env_9(highp float NoV, highp float r, highp float a, highp fl
 	highp float t11 = -r;
 	highp float t14 = NoV * a + 0.39279;
 	highp float t16 = t11 * t14 + 1.6541;
-	highp float t18 = mix(t10, t16, f0);
+	highp float t18 = t10 + (t16 - t10) * f0;
 	highp float t19 = 0.62259 * t18;
 	return t19;
 }

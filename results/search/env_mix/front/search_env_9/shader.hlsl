@@ -33,7 +33,7 @@ float search_env_9(float NoV, float r, float a, float f0)
 	float t11 = -r;
 	float t14 = mad(NoV, a, 0.39279);
 	float t16 = mad(t11, t14, 1.6541);
-	float t18 = lerp(t10, t16, f0);
+	float t18 = t10 + (t16 - t10) * f0;
 	float t19 = 0.62259 * t18;
 	return t19;
 }

@@ -19,6 +19,6 @@
  */
 highp float seed_halves_1(highp float f0)
 {
-	highp float t3 = mix(0.06774, 0.82975, f0);
+	highp float t3 = 0.06774 + (0.82975 - 0.06774) * f0;
 	return t3;
 }

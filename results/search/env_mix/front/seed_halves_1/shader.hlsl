@@ -19,6 +19,6 @@
  */
 float seed_halves_1(float f0)
 {
-	float t3 = lerp(0.06774, 0.82975, f0);
+	float t3 = 0.06774 + (0.82975 - 0.06774) * f0;
 	return t3;
 }

@@ -28,7 +28,7 @@
 highp float seed_halves_10(highp float NoV, highp float r, highp float f0)
 {
 	highp float t4 = max(NoV, r);
-	highp float t5 = mix(NoV, 0.81196, t4);
+	highp float t5 = NoV + (0.81196 - NoV) * t4;
 	highp float t8 = (-0.8551) * t5 + 1.30525;
 	highp float t10 = t5 * t8 + (-0.5);
 	highp float t11 = (-1.91745) * t10;
@@ -37,6 +37,6 @@ highp float seed_halves_10(highp float NoV, highp float r, highp float f0)
 	highp float t17 = t13 * t15 + (-0.10153);
 	highp float t19 = r * t17 + 0.83968;
 	highp float t20 = 1.18148 * t19;
-	highp float t22 = mix(t11, t20, f0);
+	highp float t22 = t11 + (t20 - t11) * f0;
 	return t22;
 }

@@ -28,7 +28,7 @@
 float seed_halves_10(float NoV, float r, float f0)
 {
 	float t4 = max(NoV, r);
-	float t5 = lerp(NoV, 0.81196, t4);
+	float t5 = NoV + (0.81196 - NoV) * t4;
 	float t8 = mad((-0.8551), t5, 1.30525);
 	float t10 = mad(t5, t8, (-0.5));
 	float t11 = (-1.91745) * t10;
@@ -37,6 +37,6 @@ float seed_halves_10(float NoV, float r, float f0)
 	float t17 = mad(t13, t15, (-0.10153));
 	float t19 = mad(r, t17, 0.83968);
 	float t20 = 1.18148 * t19;
-	float t22 = lerp(t11, t20, f0);
+	float t22 = t11 + (t20 - t11) * f0;
 	return t22;
 }

@@ -29,7 +29,7 @@
 highp float seed_halves_11(highp float NoV, highp float r, highp float f0)
 {
 	highp float t4 = max(NoV, r);
-	highp float t5 = mix(NoV, 0.7727, t4);
+	highp float t5 = NoV + (0.7727 - NoV) * t4;
 	highp float t8 = (-0.92722) * t5 + 1.35928;
 	highp float t10 = t5 * t8 + (-0.5);
 	highp float t11 = (-1.94885) * t10;
@@ -40,6 +40,6 @@ highp float seed_halves_11(highp float NoV, highp float r, highp float f0)
 	highp float t22 = t16 * t20 + 2.2696;
 	highp float t23 = min(0.8408964, t22);
 	highp float t24 = 1.181198 * t23;
-	highp float t26 = mix(t11, t24, f0);
+	highp float t26 = t11 + (t24 - t11) * f0;
 	return t26;
 }

@@ -29,7 +29,7 @@
 float seed_halves_11(float NoV, float r, float f0)
 {
 	float t4 = max(NoV, r);
-	float t5 = lerp(NoV, 0.7727, t4);
+	float t5 = NoV + (0.7727 - NoV) * t4;
 	float t8 = mad((-0.92722), t5, 1.35928);
 	float t10 = mad(t5, t8, (-0.5));
 	float t11 = (-1.94885) * t10;
@@ -40,6 +40,6 @@ float seed_halves_11(float NoV, float r, float f0)
 	float t22 = mad(t16, t20, 2.2696);
 	float t23 = min(0.8408964, t22);
 	float t24 = 1.181198 * t23;
-	float t26 = lerp(t11, t24, f0);
+	float t26 = t11 + (t24 - t11) * f0;
 	return t26;
 }

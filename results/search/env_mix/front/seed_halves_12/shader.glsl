@@ -30,7 +30,7 @@
 highp float seed_halves_12(highp float NoV, highp float r, highp float f0)
 {
 	highp float t4 = max(NoV, r);
-	highp float t5 = mix(NoV, 0.79752, t4);
+	highp float t5 = NoV + (0.79752 - NoV) * t4;
 	highp float t8 = (-0.87672) * t5 + 1.32204;
 	highp float t10 = t5 * t8 + (-0.5);
 	highp float t11 = (-1.93437) * t10;
@@ -42,6 +42,6 @@ highp float seed_halves_12(highp float NoV, highp float r, highp float f0)
 	highp float t24 = t16 * t22 + 2.8529;
 	highp float t25 = min(0.8408964, t24);
 	highp float t26 = 1.180151 * t25;
-	highp float t28 = mix(t11, t26, f0);
+	highp float t28 = t11 + (t26 - t11) * f0;
 	return t28;
 }

@@ -30,7 +30,7 @@
 float seed_halves_12(float NoV, float r, float f0)
 {
 	float t4 = max(NoV, r);
-	float t5 = lerp(NoV, 0.79752, t4);
+	float t5 = NoV + (0.79752 - NoV) * t4;
 	float t8 = mad((-0.87672), t5, 1.32204);
 	float t10 = mad(t5, t8, (-0.5));
 	float t11 = (-1.93437) * t10;
@@ -42,6 +42,6 @@ float seed_halves_12(float NoV, float r, float f0)
 	float t24 = mad(t16, t22, 2.8529);
 	float t25 = min(0.8408964, t24);
 	float t26 = 1.180151 * t25;
-	float t28 = lerp(t11, t26, f0);
+	float t28 = t11 + (t26 - t11) * f0;
 	return t28;
 }

@@ -30,7 +30,7 @@
 highp float seed_halves_13(highp float NoV, highp float r, highp float a, highp float f0)
 {
 	highp float t4 = max(NoV, r);
-	highp float t5 = mix(NoV, 0.79165, t4);
+	highp float t5 = NoV + (0.79165 - NoV) * t4;
 	highp float t8 = (-0.89145) * t5 + 1.33288;
 	highp float t10 = t5 * t8 + (-0.5);
 	highp float t11 = (-1.93831) * t10;
@@ -43,6 +43,6 @@ highp float seed_halves_13(highp float NoV, highp float r, highp float a, highp 
 	highp float t26 = t19 * t24 + 9.911;
 	highp float t27 = min(t16, t26);
 	highp float t28 = 0.35174 * t27;
-	highp float t30 = mix(t11, t28, f0);
+	highp float t30 = t11 + (t28 - t11) * f0;
 	return t30;
 }

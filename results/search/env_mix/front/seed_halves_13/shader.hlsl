@@ -30,7 +30,7 @@
 float seed_halves_13(float NoV, float r, float a, float f0)
 {
 	float t4 = max(NoV, r);
-	float t5 = lerp(NoV, 0.79165, t4);
+	float t5 = NoV + (0.79165 - NoV) * t4;
 	float t8 = mad((-0.89145), t5, 1.33288);
 	float t10 = mad(t5, t8, (-0.5));
 	float t11 = (-1.93831) * t10;
@@ -43,6 +43,6 @@ float seed_halves_13(float NoV, float r, float a, float f0)
 	float t26 = mad(t19, t24, 9.911);
 	float t27 = min(t16, t26);
 	float t28 = 0.35174 * t27;
-	float t30 = lerp(t11, t28, f0);
+	float t30 = t11 + (t28 - t11) * f0;
 	return t30;
 }

@@ -38,6 +38,6 @@ highp float seed_halves_9(highp float NoV, highp float r, highp float f0)
 	highp float t19 = t15 * t17 + (-0.10117);
 	highp float t21 = r * t19 + 0.83956;
 	highp float t22 = 1.18194 * t21;
-	highp float t24 = mix(t13, t22, f0);
+	highp float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

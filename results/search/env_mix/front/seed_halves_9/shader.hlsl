@@ -38,6 +38,6 @@ float seed_halves_9(float NoV, float r, float f0)
 	float t19 = mad(t15, t17, (-0.10117));
 	float t21 = mad(r, t19, 0.83956);
 	float t22 = 1.18194 * t21;
-	float t24 = lerp(t13, t22, f0);
+	float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

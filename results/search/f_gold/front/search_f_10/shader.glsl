@@ -28,7 +28,7 @@ highp float search_f_10(highp float LoH)
 	highp float t6 = t5 * t5;
 	highp float t7 = t6 * t6;
 	highp float t10 = log2(LoH);
-	highp float t11 = mix(2.71929, 2.72721, t10);
+	highp float t11 = 2.71929 + (2.72721 - 2.71929) * t10;
 	highp float t12 = t3 * t7 + t11;
 	highp float t13 = 0.325162 * t12;
 	return t13;

@@ -28,7 +28,7 @@ float search_f_10(float LoH)
 	float t6 = t5 * t5;
 	float t7 = t6 * t6;
 	float t10 = log2(LoH);
-	float t11 = lerp(2.71929, 2.72721, t10);
+	float t11 = 2.71929 + (2.72721 - 2.71929) * t10;
 	float t12 = mad(t3, t7, t11);
 	float t13 = 0.325162 * t12;
 	return t13;

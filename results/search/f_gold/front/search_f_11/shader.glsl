@@ -28,7 +28,7 @@ highp float search_f_11(highp float LoH)
 	highp float t6 = t5 * t5;
 	highp float t7 = t6 * t6;
 	highp float t10 = log2(LoH);
-	highp float t11 = mix(2.61963, 2.62511, t10);
+	highp float t11 = 2.61963 + (2.62511 - 2.61963) * t10;
 	highp float t12 = t3 * t7 + t11;
 	highp float t13 = log2(t12);
 	highp float t14 = 0.636343 * t13;

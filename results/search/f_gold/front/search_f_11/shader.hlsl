@@ -28,7 +28,7 @@ float search_f_11(float LoH)
 	float t6 = t5 * t5;
 	float t7 = t6 * t6;
 	float t10 = log2(LoH);
-	float t11 = lerp(2.61963, 2.62511, t10);
+	float t11 = 2.61963 + (2.62511 - 2.61963) * t10;
 	float t12 = mad(t3, t7, t11);
 	float t13 = log2(t12);
 	float t14 = 0.636343 * t13;

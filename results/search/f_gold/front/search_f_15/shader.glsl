@@ -29,7 +29,7 @@ highp float search_f_15(highp float LoH)
 	highp float t6 = t5 * t5;
 	highp float t7 = t6 * t6;
 	highp float t10 = log2(LoH);
-	highp float t11 = mix(0.145468, 0.144834, t10);
+	highp float t11 = 0.145468 + (0.144834 - 0.145468) * t10;
 	highp float t12 = inversesqrt(t11);
 	highp float t13 = t3 * t7 + t12;
 	highp float t14 = log2(t13);

@@ -29,7 +29,7 @@ float search_f_15(float LoH)
 	float t6 = t5 * t5;
 	float t7 = t6 * t6;
 	float t10 = log2(LoH);
-	float t11 = lerp(0.145468, 0.144834, t10);
+	float t11 = 0.145468 + (0.144834 - 0.145468) * t10;
 	float t12 = rsqrt(t11);
 	float t13 = mad(t3, t7, t12);
 	float t14 = log2(t13);

@@ -30,7 +30,7 @@ highp float search_f_17(highp float LoH, highp float f0)
 	highp float t7 = t6 * t6;
 	highp float t8 = t7 * t7;
 	highp float t11 = log2(LoH);
-	highp float t12 = mix(0.62338, 0.61745, t11);
+	highp float t12 = 0.62338 + (0.61745 - 0.62338) * t11;
 	highp float t13 = inversesqrt(t12);
 	highp float t14 = t4 * t8 + t13;
 	highp float t15 = f0 * t14;

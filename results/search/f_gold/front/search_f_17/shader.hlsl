@@ -30,7 +30,7 @@ float search_f_17(float LoH, float f0)
 	float t7 = t6 * t6;
 	float t8 = t7 * t7;
 	float t11 = log2(LoH);
-	float t12 = lerp(0.62338, 0.61745, t11);
+	float t12 = 0.62338 + (0.61745 - 0.62338) * t11;
 	float t13 = rsqrt(t12);
 	float t14 = mad(t4, t8, t13);
 	float t15 = f0 * t14;

@@ -21,7 +21,7 @@
  */
 highp float search_vf_10(highp float NoL, highp float NoH, highp float LoH, highp float f0)
 {
-	highp float t6 = mix(0.02018691, NoL, LoH);
+	highp float t6 = 0.02018691 + (NoL - 0.02018691) * LoH;
 	highp float t7 = LoH * t6;
 	highp float t8 = LoH * t7;
 	highp float t9 = NoH / t8;

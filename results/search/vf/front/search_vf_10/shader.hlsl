@@ -21,7 +21,7 @@
  */
 float search_vf_10(float NoL, float NoH, float LoH, float f0)
 {
-	float t6 = lerp(0.02018691, NoL, LoH);
+	float t6 = 0.02018691 + (NoL - 0.02018691) * LoH;
 	float t7 = LoH * t6;
 	float t8 = LoH * t7;
 	float t9 = NoH / t8;

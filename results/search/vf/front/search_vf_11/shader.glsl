@@ -22,7 +22,7 @@
 highp float search_vf_11(highp float NoL, highp float NoH, highp float LoH, highp float a, highp float f0)
 {
 	highp float t5 = NoH + a;
-	highp float t8 = mix(0.02192959, LoH, NoL);
+	highp float t8 = 0.02192959 + (LoH - 0.02192959) * NoL;
 	highp float t9 = t5 * t8;
 	highp float t10 = LoH * t9;
 	highp float t11 = LoH * t10;

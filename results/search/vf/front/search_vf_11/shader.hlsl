@@ -22,7 +22,7 @@
 float search_vf_11(float NoL, float NoH, float LoH, float a, float f0)
 {
 	float t5 = NoH + a;
-	float t8 = lerp(0.02192959, LoH, NoL);
+	float t8 = 0.02192959 + (LoH - 0.02192959) * NoL;
 	float t9 = t5 * t8;
 	float t10 = LoH * t9;
 	float t11 = LoH * t10;

@@ -25,7 +25,7 @@
 highp float search_vf_13(highp float NoL, highp float LoH, highp float a, highp float f0)
 {
 	highp float t6 = 0.9784507 + a;
-	highp float t9 = mix(0.02254147, LoH, NoL);
+	highp float t9 = 0.02254147 + (LoH - 0.02254147) * NoL;
 	highp float t10 = t6 * t9;
 	highp float t11 = LoH * t10;
 	highp float t12 = LoH * t11;

@@ -25,7 +25,7 @@
 float search_vf_13(float NoL, float LoH, float a, float f0)
 {
 	float t6 = 0.9784507 + a;
-	float t9 = lerp(0.02254147, LoH, NoL);
+	float t9 = 0.02254147 + (LoH - 0.02254147) * NoL;
 	float t10 = t6 * t9;
 	float t11 = LoH * t10;
 	float t12 = LoH * t11;

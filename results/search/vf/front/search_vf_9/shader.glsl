@@ -23,7 +23,7 @@
 highp float search_vf_9(highp float NoL, highp float LoH, highp float f0)
 {
 	highp float t3 = LoH * LoH;
-	highp float t6 = mix(0.02110168, LoH, NoL);
+	highp float t6 = 0.02110168 + (LoH - 0.02110168) * NoL;
 	highp float t8 = t3 * t6 + (-1.119888e-06);
 	highp float t9 = 0.1022516 / t8;
 	highp float t10 = f0 * t9;

@@ -23,7 +23,7 @@
 float search_vf_9(float NoL, float LoH, float f0)
 {
 	float t3 = LoH * LoH;
-	float t6 = lerp(0.02110168, LoH, NoL);
+	float t6 = 0.02110168 + (LoH - 0.02110168) * NoL;
 	float t8 = mad(t3, t6, (-1.119888e-06));
 	float t9 = 0.1022516 / t8;
 	float t10 = f0 * t9;

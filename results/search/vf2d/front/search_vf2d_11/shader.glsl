@@ -24,7 +24,7 @@
 highp float search_vf2d_11(highp float LoH, highp float a, highp float f0)
 {
 	highp float t3 = LoH * LoH;
-	highp float t8 = mix(t3, 0.98719, a);
+	highp float t8 = t3 + (0.98719 - t3) * a;
 	highp float t9 = LoH * t8;
 	highp float t10 = LoH * t9;
 	highp float t11 = 0.420373 / t10;

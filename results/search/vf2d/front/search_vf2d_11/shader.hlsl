@@ -24,7 +24,7 @@
 float search_vf2d_11(float LoH, float a, float f0)
 {
 	float t3 = LoH * LoH;
-	float t8 = lerp(t3, 0.98719, a);
+	float t8 = t3 + (0.98719 - t3) * a;
 	float t9 = LoH * t8;
 	float t10 = LoH * t9;
 	float t11 = 0.420373 / t10;

@@ -25,7 +25,7 @@
 highp float search_vf2d_17(highp float LoH, highp float a, highp float f0)
 {
 	highp float t3 = 1.0 / LoH;
-	highp float t5 = mix(LoH, t3, a);
+	highp float t5 = LoH + (t3 - LoH) * a;
 	highp float t8 = 3.368695 / t3;
 	highp float t9 = exp2(t8);
 	highp float t10 = exp2(t9);

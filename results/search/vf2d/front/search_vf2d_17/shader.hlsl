@@ -25,7 +25,7 @@
 float search_vf2d_17(float LoH, float a, float f0)
 {
 	float t3 = rcp(LoH);
-	float t5 = lerp(LoH, t3, a);
+	float t5 = LoH + (t3 - LoH) * a;
 	float t8 = 3.368695 / t3;
 	float t9 = exp2(t8);
 	float t10 = exp2(t9);

@@ -25,7 +25,7 @@
 highp float search_vf2d_18(highp float LoH, highp float a, highp float f0)
 {
 	highp float t3 = 1.0 / LoH;
-	highp float t5 = mix(LoH, t3, a);
+	highp float t5 = LoH + (t3 - LoH) * a;
 	highp float t8 = exp2(t3);
 	highp float t9 = 5.599349 / t8;
 	highp float t10 = exp2(t9);

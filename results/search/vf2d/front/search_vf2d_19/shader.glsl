@@ -27,7 +27,7 @@
 highp float search_vf2d_19(highp float LoH, highp float a, highp float f0)
 {
 	highp float t4 = 1.0 / LoH;
-	highp float t6 = mix(LoH, t4, a);
+	highp float t6 = LoH + (t4 - LoH) * a;
 	highp float t10 = exp2(t4);
 	highp float t11 = 5.6877 / t10;
 	highp float t12 = exp2(t11);

@@ -27,7 +27,7 @@
 float search_vf2d_19(float LoH, float a, float f0)
 {
 	float t4 = rcp(LoH);
-	float t6 = lerp(LoH, t4, a);
+	float t6 = LoH + (t4 - LoH) * a;
 	float t10 = exp2(t4);
 	float t11 = 5.6877 / t10;
 	float t12 = exp2(t11);
