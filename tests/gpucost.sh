@@ -127,7 +127,7 @@ fi
 # --cost-model in ops, compare and search; --gpu columns in compare and search
 expect_error "ops: unknown model" 2 "'aco-navi31'" $BK ops --cost-model aco-navi31 LoH
 expect_error "ops: model and weights" 2 "--complex-cost has no effect with --cost-model (it sets both weights)" $BK ops --cost-model ir --complex-cost 2 LoH
-expect_error "search: model and weights" 2 "leave out --cost-weights" $BK search --target f --cost-model ir \
+expect_error "search: model and weights" 2 "--cost-weights has no effect with --cost-model (it sets both weights)" $BK search --target f --cost-model ir \
 	--cost-weights simple=1,complex=2 --out "$T/s0"
 expect_error "compare: bad chip" 2 "'navi31'" $BK compare --target f --gpu navi31 --out "$T/c0"
 expect_error "search: bad chip" 2 "'navi31'" $BK search --target f --gpu navi31 --out "$T/s0"
