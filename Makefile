@@ -71,7 +71,7 @@ SLIB  = build/san/libbrdf.a
 STOOL = build/san/brdfkit
 STEST = build/san/test_brdfkit
 
-.PHONY: all deps test bench results install clean fuzz
+.PHONY: all deps test test-plain test-san bench results install clean fuzz
 all: $(LIB) $(TOOL) $(MPI_TOOL)
 
 # need: install the listed Debian packages that are missing (apt-get as root,
@@ -150,12 +150,20 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # Unit tests, the command-line contract, the emitted GLSL on lavapipe (once:
 # LLVM's JIT inside the driver is no code of ours to sanitize), the MPI islands (not sanitized: Open
 # MPI's own start-up allocations are reported as leaks; the search code they
-# drive is the one the sanitized CLI run exercises with one island), then
-# both again under the sanitizers.
+# drive is the one the sanitized CLI run exercises with one island), and
+# beside them the same suites under the sanitizers.
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
 test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
+	$(call need,$(PAGE_DEBS))
+	sh tests/page.sh results/index.html
+
+# The plain and the sanitized suites are independent (each script works in a
+# mktemp directory of its own) and mostly one process at a time, so make test
+# runs the two side by side on the two cores; --output-sync prints each whole.
+test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
@@ -166,13 +174,13 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
+
+test-san: $(STEST) $(STOOL) build/csvget
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
 	for s in $(sort $(wildcard tests/cli_*.sh)); do UBSAN_OPTIONS=print_stacktrace=1 sh $$s $(STOOL) || exit 1; done
 	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
 	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
-	$(call need,$(PAGE_DEBS))
-	sh tests/page.sh results/index.html
 
 # bench_ir times the IR against bk_form_emit's C for the same forms, compiled
 # with the flags above: one source built twice, first as the generator of that
