@@ -47,7 +47,7 @@ BENCH_DEBS = python3-scipy
 # brdf/ libbrdf · fit/ the fitter · analysis/ the analysis library ·
 # analysis/cli/ the brdfkit tool · analysis/bench/ the benchmarks
 LIB_SRC  = $(sort $(wildcard brdf/*.c))
-FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc))
+FIT_SRC  = $(sort $(wildcard fit/*.c) $(wildcard fit/*.cc) $(wildcard fit/search/*.c))
 ANA_SRC  = $(sort $(wildcard analysis/*.c))
 CLI_SRC  = $(sort $(wildcard analysis/cli/*.c))
 TOOL_SRC = $(CLI_SRC) $(ANA_SRC) $(FIT_SRC)

@@ -861,6 +861,15 @@ void bk_search_free(bk_search *s)
 	free(s);
 }
 
+int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen)
+{
+	int rc;
+	while ((rc = bk_search_step(s, err, errlen)) == 1)
+		if (after_step && after_step(ctx, s))
+			return 1;
+	return rc;
+}
+
 long bk_search_evals(const bk_search *s) { return s->evals; }
 size_t bk_search_count(const bk_search *s) { return s->n; }
 const bk_cand *bk_search_at(const bk_search *s, size_t i) { return i < s->n ? &s->cand[i] : NULL; }

@@ -136,6 +136,13 @@ void bk_search_free(bk_search *s);
  * can be generated, -1 on an error (message). */
 int bk_search_step(bk_search *s, char *err, size_t errlen);
 
+/* The one loop that drives a search: steps until the budget is spent, the
+ * search has nothing new to generate, or after_step (called after every
+ * step, may be NULL) returns non-zero. Returns 0 when the budget is spent or
+ * nothing is left, 1 when after_step stopped it, -1 on an error (message). */
+typedef int (*bk_search_after_step)(void *ctx, const bk_search *s);
+int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen);
+
 long bk_search_evals(const bk_search *s);
 /* The distinct candidates fitted so far, in the order they were found. */
 size_t bk_search_count(const bk_search *s);
