@@ -1,0 +1,39 @@
+/*
+ * test_pareto.c — the search layer's one Pareto scan (fit/search/pareto.h),
+ * on point sets whose front is known by hand.
+ */
+#include <criterion/criterion.h>
+#include <math.h>
+
+#include "search/pareto.h"
+
+/* (cost, err): (1, .5) (2, .5) (2, .3) (3, .4) (4, .1) (4, NaN) (5, .1);
+ * by hand the front is (1, .5), (2, .3), (4, .1). */
+Test(pareto, known_front)
+{
+	bk_pareto_pt pt[] = {{5, .1, "e", 0}, {4, NAN, "f", 1}, {3, .4, "d", 2}, {2, .5, "b", 3},
+	                     {1, .5, "a", 4}, {4, .1, "g", 5}, {2, .3, "c", 6}};
+	size_t k = bk_pareto_scan(pt, sizeof pt / sizeof pt[0]);
+	cr_assert_eq(k, 3);
+	cr_expect_eq(pt[0].id, 4);
+	cr_expect_eq(pt[1].id, 6);
+	cr_expect_eq(pt[2].id, 5);
+}
+
+/* Equal cost and error: the key decides, not the arrival order. */
+Test(pareto, ties_broken_by_key)
+{
+	bk_pareto_pt a[] = {{1, .2, "zeta", 0}, {1, .2, "alpha", 1}};
+	bk_pareto_pt b[] = {{1, .2, "alpha", 1}, {1, .2, "zeta", 0}};
+	cr_assert_eq(bk_pareto_scan(a, 2), 1);
+	cr_assert_eq(bk_pareto_scan(b, 2), 1);
+	cr_expect_eq(a[0].id, 1);
+	cr_expect_eq(b[0].id, 1);
+}
+
+/* Nothing finite: no front. */
+Test(pareto, nan_only)
+{
+	bk_pareto_pt pt[] = {{1, NAN, "a", 0}, {2, HUGE_VAL, "b", 1}};
+	cr_expect_eq(bk_pareto_scan(pt, 2), 0);
+}
