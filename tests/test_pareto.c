@@ -37,3 +37,22 @@ Test(pareto, nan_only)
 	bk_pareto_pt pt[] = {{1, NAN, "a", 0}, {2, HUGE_VAL, "b", 1}};
 	cr_expect_eq(bk_pareto_scan(pt, 2), 0);
 }
+
+#include "search/pair.h"
+#include <stdlib.h>
+#include <string.h>
+
+/* The pair's text is the split sum f0·A + B, and a buffer too short gives
+ * -1 and an empty string, never a cut formula. */
+Test(pair, text_and_truncation)
+{
+	char buf[64];
+	cr_assert_eq(bk_pair_text("1 - r", "r*NoV", buf, sizeof buf), 0);
+	cr_expect_str_eq(buf, "f0*(1 - r) + (r*NoV)");
+	cr_expect_eq(bk_pair_text("1 - r", "r*NoV", buf, 10), -1);
+	cr_expect_str_eq(buf, "");
+	char *d = bk_pair_dup("a", "b");
+	cr_assert_not_null(d);
+	cr_expect_str_eq(d, "f0*(a) + (b)");
+	free(d);
+}
