@@ -56,3 +56,32 @@ Test(pair, text_and_truncation)
 	cr_expect_str_eq(d, "f0*(a) + (b)");
 	free(d);
 }
+
+#include "search/constraint.h"
+
+/* env's bound by hand: A, B >= 0 and A + B <= 1 to half an 8-bit step. */
+Test(constraint, env_bound_and_nonneg)
+{
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.env_bound = 1;
+	bk_samples sm;
+	memset(&sm, 0, sizeof sm);
+	sm.n = 4;
+	sm.ncomp = 2;
+	sm.start[0] = 0;
+	sm.start[1] = 2;
+	sm.start[2] = 4;
+	double ok[4] = {0.5, 1.0, 0.5, 0.0};            /* A = .5, 1; B = .5, 0: sums 1, 1 */
+	double over[4] = {0.5, 1.0, 0.5 + 0.003, 0.0};  /* A + B = 1.003 > 1 + 0.5/255 */
+	double under[4] = {-0.003, 1.0, 0.5, 0.0};      /* A < -0.5/255 */
+	double slack[4] = {-0.001, 1.0, 0.5, 0.001};    /* within half a step */
+	cr_expect_eq(bk_search_admissible(&o, &sm, ok), 1);
+	cr_expect_eq(bk_search_admissible(&o, &sm, over), 0);
+	cr_expect_eq(bk_search_admissible(&o, &sm, under), 0);
+	cr_expect_eq(bk_search_admissible(&o, &sm, slack), 1);
+	o.env_bound = 0;
+	o.nonneg = 1;
+	cr_expect_eq(bk_search_admissible(&o, &sm, slack), 0); /* -0.001 < 0 */
+	cr_expect_eq(bk_search_admissible(&o, &sm, ok), 1);
+}
