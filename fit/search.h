@@ -4,7 +4,7 @@
  * solver, kept in an archive of the best per cost level, the Pareto front of
  * error against GPU cost read off it.
  *
- * How a run goes (search.c):
+ * How a run goes (fit/search/, driver.c and the parts it wires):
  *   1. the seeds (catalog entries of the target, --start forms) are fitted
  *      first, so the front starts at the published state of the art;
  *   2. every canonical candidate up to enum_size nodes, bottom-up;
@@ -70,7 +70,7 @@ typedef struct bk_search_options {
 	bk_precision precision;   /* the candidate's error is that of its evaluation in this */
 	double max_cost;          /* candidates above are not fitted (HUGE_VAL: none) */
 	double simple_cost, complex_cost;
-	int scale;                /* linear scaling: each tree g fitted as p*g (search.c, scaled) */
+	int scale;                /* linear scaling: each tree g fitted as p*g (search/generate.c, scaled) */
 	int nonneg;               /* reject a candidate negative anywhere on the samples */
 	int env_bound;            /* pair: reject unless A, B >= 0 and A + B <= 1 */
 	long evals;               /* budget: candidate fits; the search stops after the

@@ -1,0 +1,129 @@
+/*
+ * archive.c — the MAP-Elites levels and the front (archive.h).
+ */
+#include "search/archive.h"
+#include "search/cand.h"
+#include "search/pareto.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int bk_archive_better(const bk_cand *a, const bk_cand *b)
+{
+	if (a->err != b->err)
+		return a->err < b->err;
+	if (a->cost != b->cost)
+		return a->cost < b->cost;
+	int t = strcmp(a->text, b->text);
+	if (t == 0 && a->text_b && b->text_b)
+		t = strcmp(a->text_b, b->text_b);
+	return t < 0;
+}
+
+/* Enters candidate i in its level (kept best first, at most per_level). */
+static int level_add(bk_search *s, size_t i)
+{
+	const bk_cand *c = &s->cand[i];
+	if (c->status != BK_CAND_OK)
+		return 0;
+	/* 1e-9: a cost is a sum of integer-weighted op counts; an integer
+	 * reached by rounding a little below stays on its level */
+	int L = (int)floor(c->cost + 1e-9);
+	int k = 0;
+	while (k < s->nlv && s->lv[k].cost < L)
+		k++;
+	if (k == s->nlv || s->lv[k].cost != L) {
+		bk_level *t = realloc(s->lv, sizeof *t * (size_t)(s->nlv + 1));
+		if (!t)
+			return -1;
+		s->lv = t;
+		memmove(&s->lv[k + 1], &s->lv[k], sizeof *t * (size_t)(s->nlv - k));
+		s->lv[k] = (bk_level){L, malloc(sizeof(size_t) * (size_t)(s->o.per_level + 1)), 0};
+		s->nlv++;
+		if (!s->lv[k].idx)
+			return -1;
+	}
+	bk_level *l = &s->lv[k];
+	int pos = l->n;
+	while (pos > 0 && bk_archive_better(c, &s->cand[l->idx[pos - 1]]))
+		pos--;
+	if (pos >= s->o.per_level)
+		return 0;
+	memmove(&l->idx[pos + 1], &l->idx[pos], sizeof(size_t) * (size_t)(l->n - pos));
+	l->idx[pos] = i;
+	if (l->n < s->o.per_level)
+		l->n++;
+	return 0;
+}
+
+int bk_archive_push(bk_search *s, const bk_cand *c)
+{
+	if (s->n == s->cap) {
+		size_t cap = s->cap ? 2 * s->cap : 1024;
+		bk_cand *t = realloc(s->cand, sizeof *t * cap);
+		if (!t)
+			return -1;
+		s->cand = t;
+		s->cap = cap;
+	}
+	s->cand[s->n++] = *c;
+	if (level_add(s, s->n - 1)) {
+		s->n--; /* not taken: the caller still owns c's texts */
+		return -1;
+	}
+	return 0;
+}
+
+void bk_archive_free(bk_search *s)
+{
+	for (size_t i = 0; i < s->n; i++)
+		bk_cand_free(&s->cand[i]);
+	free(s->cand);
+	for (int k = 0; k < s->nlv; k++)
+		free(s->lv[k].idx);
+	free(s->lv);
+}
+
+/* The tie-break key of a candidate: its text, and for a pair "A\1B" (\1
+ * sorts below every character of a form, so the order is A's, then B's,
+ * as bk_archive_better's). NULL when out of memory. */
+static char *front_key(const bk_cand *c)
+{
+	if (!c->text_b)
+		return c->text;
+	size_t na = strlen(c->text), nb = strlen(c->text_b);
+	char *k = malloc(na + nb + 2);
+	if (k) {
+		memcpy(k, c->text, na);
+		k[na] = '\1';
+		memcpy(k + na + 1, c->text_b, nb + 1);
+	}
+	return k;
+}
+
+size_t bk_search_front(const bk_search *s, size_t *idx, size_t max)
+{
+	size_t m = 0;
+	for (size_t i = 0; i < s->n; i++)
+		m += s->cand[i].status == BK_CAND_OK;
+	bk_pareto_pt *pt = malloc(sizeof *pt * (m ? m : 1));
+	if (!pt)
+		return 0;
+	size_t k = 0;
+	int oom = 0;
+	for (size_t i = 0; i < s->n; i++)
+		if (s->cand[i].status == BK_CAND_OK) {
+			const bk_cand *c = &s->cand[i];
+			pt[k] = (bk_pareto_pt){c->cost, c->err, front_key(c), i};
+			oom |= !pt[k++].key;
+		}
+	size_t nf = oom ? 0 : bk_pareto_scan(pt, m);
+	for (size_t i = 0; i < nf && i < max; i++)
+		idx[i] = pt[i].id;
+	for (size_t i = 0; i < m; i++)
+		if (pt[i].key != s->cand[pt[i].id].text)
+			free((char *)pt[i].key);
+	free(pt);
+	return nf < max ? nf : max;
+}

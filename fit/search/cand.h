@@ -1,0 +1,28 @@
+/*
+ * cand.h — a candidate's identity (internal to the search): the text that is
+ * fitted (the shape applied to its trees), its cost, the cache's key, and
+ * freeing what it owns. The generation, the checkpoint reader and the
+ * migrants' import all go through these, so a candidate read back is judged
+ * exactly as one made here.
+ */
+#ifndef FIT_SEARCH_CAND_H
+#define FIT_SEARCH_CAND_H
+
+#include "search/search_int.h"
+
+/* The fitted form's text from the trees t, the shape applied: A in a, B in b
+ * (empty unless a pair), each of len bytes. 0, or -1 when a text does not fit. */
+int bk_cand_text(const bk_search *s, const bk_expr *t, char *a, char *b, size_t len);
+
+/* The cost the front is drawn against: op counts of the whole shader
+ * expression after sharing (a pair: f0*(A) + (B), paid once where shared),
+ * and the parameters it reads. 0, or -1 when the text is not a form. */
+int bk_cand_cost(const bk_search *s, const char *a, const char *b, bk_ops *ops, double *cost, int *np);
+
+/* The cache's key of a candidate of texts a and b (NULL: none). */
+uint64_t bk_cand_key(const char *a, const char *b);
+
+/* Frees the texts c owns (not c). */
+void bk_cand_free(bk_cand *c);
+
+#endif

@@ -1,0 +1,186 @@
+/*
+ * driver.c — the search's driver (fit/search.h): the options' defaults,
+ * set-up, the step that wires the parts together (generate -> screen ->
+ * merge) and the one loop that drives it. The parts are in fit/search/
+ * (search_int.h lists them).
+ */
+#include "search/archive.h"
+#include "search/cand.h"
+#include "search/generate.h"
+#include "search/screen.h"
+#include "search/state.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void bk_search_defaults(bk_search_options *o)
+{
+	o->objective = BK_OBJ_RMSE;
+	o->relative = 0;
+	o->precision = BK_F64;
+	o->max_cost = HUGE_VAL;
+	o->simple_cost = BK_COST_SIMPLE;
+	o->complex_cost = BK_COST_COMPLEX;
+	o->scale = 1;
+	o->nonneg = 0;
+	o->env_bound = 0;
+	o->evals = 20000;
+	o->seed = 1;
+	o->threads = 1;
+	o->enum_size = 5;
+	o->enum_max = 5000;
+	o->generation = 256;
+	o->per_level = 12;
+	o->starts = 2;
+	o->inherit = 0;
+	o->seeds = o->seeds_b = o->seed_names = NULL;
+	o->seed_p = NULL;
+	o->nseeds = 0;
+	o->exempt_seeds = INT_MAX;
+	o->island = 0;
+	o->islands = 1;
+}
+
+/* ---- a step: generate -> screen -> merge ---------------------------------- */
+
+/* The batch's fits join the archive in candidate order (the same order for
+ * any thread count), numbered as this island's fits. */
+static int merge(bk_search *s, bk_gen_batch *b)
+{
+	for (size_t i = 0; i < b->n; i++) {
+		b->c[i].found_at = ++s->evals;
+		b->c[i].island = s->o.island;
+		if (bk_archive_push(s, &b->c[i]))
+			return -1;
+		b->c[i].text = b->c[i].text_b = NULL; /* the archive's now */
+	}
+	return 0;
+}
+
+int bk_search_step(bk_search *s, char *err, size_t errlen)
+{
+	if (s->phase == 3 || s->evals >= s->o.evals)
+		return 0;
+	size_t want = bk_gen_want(s), room = want ? want : 1;
+	bk_gen_batch b = {calloc(room, sizeof *b.c), calloc(room, sizeof *b.start), calloc(room, sizeof *b.inherit),
+	                  want, 0};
+	int rc = !b.c || !b.start || !b.inherit || bk_gen_batch_make(s, &b) ? -1 : 0;
+	if (rc == 0) {
+		bk_screen_batch(s, b.c, b.start, b.n);
+		rc = merge(s, &b);
+	}
+	for (size_t i = 0; i < b.n; i++)
+		bk_cand_free(&b.c[i]);
+	free(b.c);
+	free(b.start);
+	free(b.inherit);
+	if (rc < 0) {
+		snprintf(err, errlen, "out of memory after %ld fits", s->evals);
+		return -1;
+	}
+	return s->phase == 3 || s->evals >= s->o.evals ? 0 : 1;
+}
+
+int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen)
+{
+	int rc;
+	while ((rc = bk_search_step(s, err, errlen)) == 1)
+		if (after_step && after_step(ctx, s))
+			return 1;
+	return rc;
+}
+
+/* ---- set-up --------------------------------------------------------------- */
+
+/* A copy of form text t on one line (a newline is white space to the parser;
+ * a checkpoint keeps a text a line): what the search fits and writes. */
+static char *one_line(const char *t)
+{
+	char *c = strdup(t);
+	for (char *p = c; p && *p; p++)
+		if (*p == '\n' || *p == '\r')
+			*p = ' ';
+	return c;
+}
+
+bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
+{
+	if (o->evals < 1 || o->threads < 1 || o->threads > 64 || o->generation < 1 || o->per_level < 1 ||
+	    o->starts < 1 || o->starts > 4 || o->enum_size < 0 || o->enum_size > BK_EXPR_MAX ||
+	    o->grammar.max_params < 0 || o->grammar.max_params > BK_MAX_PARAMS || o->grammar.max_size < 1 ||
+	    o->grammar.max_size > BK_EXPR_MAX || !(o->max_cost > 0) || o->islands < 1 || o->island < 0 ||
+	    o->island >= o->islands) {
+		snprintf(err, errlen, "search options out of range");
+		return NULL;
+	}
+	bk_search *s = calloc(1, sizeof *s);
+	if (!s)
+		goto oom;
+	s->o = *o;
+	int ns = o->nseeds;
+	s->seed_text = calloc((size_t)ns + 1, sizeof(char *));
+	s->seed_text_b = calloc((size_t)ns + 1, sizeof(char *));
+	s->seed_name = calloc((size_t)ns + 1, sizeof(char *));
+	s->seed_p = calloc((size_t)ns + 1, sizeof *s->seed_p);
+	if (!s->seed_text || !s->seed_text_b || !s->seed_name || !s->seed_p)
+		goto oom;
+	for (int k = 0; k < ns; k++) {
+		s->seed_text[k] = one_line(o->seeds[k]);
+		s->seed_text_b[k] = o->seeds_b && o->seeds_b[k] ? one_line(o->seeds_b[k]) : NULL;
+		char name[32];
+		snprintf(name, sizeof name, "start %d", k + 1);
+		s->seed_name[k] = strdup(o->seed_names && o->seed_names[k] ? o->seed_names[k] : name);
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			s->seed_p[k][j] = o->seed_p ? o->seed_p[k][j] : 1.0;
+		if (!s->seed_text[k] || !s->seed_name[k])
+			goto oom;
+	}
+	s->o.seeds = (const char *const *)s->seed_text;
+	s->o.seeds_b = (const char *const *)s->seed_text_b;
+	s->o.seed_names = (const char *const *)s->seed_name;
+	bk_rng_seed(&s->rng, o->seed);
+	bk_grammar g = o->grammar;
+	s->feat_g = g; /* a shared feature leaves 6 parameters to A and B (bk_cand_text) */
+	s->feat_g.max_params = g.max_params > 6 ? g.max_params - 6 : 0;
+	if (s->o.shape == BK_SHAPE_PAIR && g.max_params > 1)
+		g.max_params /= 2;
+	s->tree_g = g;
+	if (s->o.scale && g.max_params > 0) /* the enumerated tree leaves room for its scale */
+		g.max_params--;
+	s->enum_g = g;
+	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)))
+		goto oom;
+	s->fingerprint = bk_state_fingerprint(s, 1);
+	s->fingerprint_all = bk_state_fingerprint(s, 0);
+	return s;
+oom:
+	snprintf(err, errlen, "out of memory setting up the search");
+	bk_search_free(s);
+	return NULL;
+}
+
+void bk_search_free(bk_search *s)
+{
+	if (!s)
+		return;
+	bk_archive_free(s);
+	bk_hashset_free(&s->seen);
+	for (int k = 0; s->seed_text && k < s->o.nseeds; k++) {
+		free(s->seed_text[k]);
+		free(s->seed_text_b[k]);
+		free(s->seed_name[k]);
+	}
+	free(s->seed_text);
+	free(s->seed_text_b);
+	free(s->seed_name);
+	free(s->seed_p);
+	bk_expr_enum_free(s->gen);
+	free(s);
+}
+
+long bk_search_evals(const bk_search *s) { return s->evals; }
+size_t bk_search_count(const bk_search *s) { return s->n; }
+const bk_cand *bk_search_at(const bk_search *s, size_t i) { return i < s->n ? &s->cand[i] : NULL; }

@@ -1,0 +1,350 @@
+/*
+ * generate.c — the batch of new candidates (generate.h): seeds, enumeration,
+ * children by mutation and crossover, with inherited starts.
+ */
+#include "search/generate.h"
+#include "search/cand.h"
+#include "ir.h" /* the opcode enum the trees are made of */
+
+#include <ctype.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Children a generation tries to make before it gives up finding new ones:
+ * late in a run most children are duplicates of what was fitted. */
+#define TRIES_PER_CHILD 30
+
+/* ---- the seeds ------------------------------------------------------------ */
+
+/* "f0" replaced by "1" where it is the input (token boundaries): the g of a
+ * catalog V·F form f0*g, as the seed of the F0 shape's tree. */
+static void without_f0(const char *t, char *buf, size_t len)
+{
+	size_t k = 0;
+	for (size_t i = 0; t[i] && k + 2 < len; i++) {
+		int tok = t[i] == 'f' && t[i + 1] == '0' && (i == 0 || !(isalnum((unsigned char)t[i - 1]) || t[i - 1] == '_')) &&
+		          !(isalnum((unsigned char)t[i + 2]) || t[i + 2] == '_' || t[i + 2] == '.');
+		if (tok) {
+			buf[k++] = '1';
+			i++;
+		} else {
+			buf[k++] = t[i];
+		}
+	}
+	buf[k] = '\0';
+}
+
+/* A lone parameter: the other half of an enumerated pair. */
+static bk_expr lone_param(void)
+{
+	bk_expr e;
+	memset(&e, 0, sizeof e);
+	e.n = 1;
+	e.node[0].op = BK_OP_PARAM;
+	return e;
+}
+
+/* The seeds, in the order given (those already in the cache skipped). */
+static int gen_seeds(bk_search *s, bk_gen_batch *b)
+{
+	for (int k = 0; k < s->o.nseeds; k++) {
+		bk_cand *q = &b->c[b->n];
+		memset(q, 0, sizeof *q);
+		int fresh = bk_hashset_add(&s->seen, bk_cand_key(s->seed_text[k], s->seed_text_b[k]));
+		if (fresh < 0)
+			return -1;
+		if (fresh == 0)
+			continue;
+		if (bk_cand_cost(s, s->seed_text[k], s->seed_text_b[k], &q->ops, &q->cost, &q->np))
+			continue;
+		q->text = strdup(s->seed_text[k]);
+		q->text_b = s->seed_text_b[k] ? strdup(s->seed_text_b[k]) : NULL;
+		q->seed_name = s->seed_name[k];
+		b->n++;
+		if (!q->text || (s->seed_text_b[k] && !q->text_b))
+			return -1;
+		bk_form_error fe;
+		for (int h = 0; h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
+			/* the search tree of a seed: its form read back (for F0, without the f0*) */
+			const char *txt = h ? s->seed_text_b[k] : s->seed_text[k];
+			char g[8192];
+			if (s->o.shape == BK_SHAPE_F0) {
+				without_f0(txt, g, sizeof g);
+				txt = g;
+			}
+			bk_form *f = bk_form_parse(txt, &fe);
+			if (!f || bk_expr_from_form(f, &q->tree[h]) || bk_expr_canon(&q->tree[h]))
+				q->tree[h] = lone_param();
+			bk_form_free(f);
+		}
+		b->start[b->n - 1] = s->seed_p ? s->seed_p[k] : NULL;
+	}
+	s->phase = 1;
+	return 0;
+}
+
+/* ---- the enumeration ------------------------------------------------------ */
+
+int bk_gen_enum_tree(bk_search *s, size_t idx, bk_expr *t)
+{
+	while (s->drawn <= idx && s->gen) {
+		int r = bk_expr_enum_next(s->gen, &s->cur);
+		if (r < 0)
+			return -1;
+		if (r == 0) {
+			bk_expr_enum_free(s->gen);
+			s->gen = NULL;
+		} else {
+			s->drawn++;
+		}
+	}
+	if (s->drawn != idx + 1)
+		return 0;
+	*t = s->cur;
+	return 1;
+}
+
+/* The next trees of the enumeration, this island's share. */
+static int gen_enum(bk_search *s, bk_gen_batch *b)
+{
+	/* at most enum_max fits (not a share of --evals: a resumed run with a
+	 * larger budget must make the same candidates); the smallest trees come
+	 * first, and a default grammar at 5 nodes holds tens of thousands */
+	long cap = s->o.enum_max;
+	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
+	bk_expr tree;
+	int more = 1;
+	while (b->n < b->want && s->evals + (long)b->n < cap &&
+	       (more = bk_gen_enum_tree(s, s->enum_pos / kinds, &tree)) > 0) {
+		size_t k = s->enum_pos++;
+		if ((k / kinds) % (size_t)s->o.islands != (size_t)s->o.island)
+			continue; /* another island's share of the enumeration */
+		bk_expr t[2] = {tree, lone_param()};
+		if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
+			t[1] = t[0];
+			t[0] = lone_param();
+		} else if (k % kinds == 2) {
+			t[1].n = 0;
+			if (bk_expr_nparams(&t[0]) > s->feat_g.max_params)
+				continue;
+		}
+		int r = bk_gen_prepare(s, t, &b->c[b->n]);
+		if (r < 0)
+			return -1;
+		b->n += (size_t)r;
+	}
+	if (more < 0)
+		return -1;
+	/* the enumeration ends with the step that draws its last tree, as it
+	 * did when it was drawn whole up front (checkpoints say phase 2 there) */
+	if (more > 0 && s->evals + (long)b->n < cap && (more = bk_gen_enum_tree(s, s->enum_pos / kinds, &tree)) < 0)
+		return -1;
+	if (more == 0 || s->evals + (long)b->n >= cap) {
+		s->phase = 2;
+		bk_expr_enum_free(s->gen); /* its trees are no longer needed */
+		s->gen = NULL;
+	}
+	return 0;
+}
+
+/* ---- candidates from trees ------------------------------------------------ */
+
+/* Linear scaling (Keijzer 2003; Operon and PySR's users do the same): the
+ * tree g becomes p*g, its scale fitted with the other constants, so that a
+ * shape is judged without its amplitude having to be found by mutation. A
+ * tree that already has a free scale is unchanged by canonicalisation (p*p'
+ * collapses to one parameter); the cost is one multiply at most. */
+static int scaled(bk_expr *t)
+{
+	/* already scaled: p*x, x*p, p/x (the canonical form keeps p*(p'/x) as two) */
+	if (t->n >= 3 && (t->node[0].op == BK_OP_MUL || t->node[0].op == BK_OP_DIV)) {
+		int second = 1 + bk_expr_span(t, 1);
+		if (t->node[1].op == BK_OP_PARAM || (t->node[0].op == BK_OP_MUL && t->node[second].op == BK_OP_PARAM))
+			return 0;
+	}
+	if (t->n == 1 && t->node[0].op == BK_OP_PARAM)
+		return 0;
+	if (t->n + 2 > BK_EXPR_MAX)
+		return -1;
+	bk_expr w;
+	memset(&w, 0, sizeof w);
+	w.n = t->n + 2;
+	w.node[0].op = BK_OP_MUL;
+	w.node[1].op = BK_OP_PARAM;
+	w.node[1].slot = bk_expr_nparams(t);
+	memcpy(&w.node[2], t->node, sizeof(bk_enode) * (size_t)t->n);
+	if (bk_expr_canon(&w))
+		return -1;
+	*t = w;
+	return 0;
+}
+
+int bk_gen_prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
+{
+	char a[4200], b[4200];
+	memset(c, 0, sizeof *c);
+	bk_expr t[2] = {t0[0], t0[1]};
+	int feature = s->o.shape == BK_SHAPE_PAIR && t[1].n == 0; /* affine in its feature already */
+	for (int h = 0; s->o.scale && !feature && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
+		bk_expr w = t[h];
+		if (scaled(&w) == 0 && bk_expr_nparams(&w) <= s->tree_g.max_params) /* room for the scale */
+			t[h] = w;
+	}
+	if (bk_cand_text(s, t, a, b, sizeof a))
+		return 0;
+	int fresh = bk_hashset_add(&s->seen, bk_cand_key(a, b));
+	if (fresh <= 0)
+		return fresh;
+	if (bk_cand_cost(s, a, b, &c->ops, &c->cost, &c->np) || c->cost > s->o.max_cost ||
+	    c->np > s->o.grammar.max_params)
+		return 0;
+	c->text = strdup(a);
+	c->text_b = s->o.shape == BK_SHAPE_PAIR ? strdup(b) : NULL;
+	if (!c->text || (s->o.shape == BK_SHAPE_PAIR && !c->text_b)) {
+		bk_cand_free(c);
+		return -1;
+	}
+	c->tree[0] = t[0];
+	if (s->o.shape == BK_SHAPE_PAIR)
+		c->tree[1] = t[1];
+	return 1;
+}
+
+/* ---- children ------------------------------------------------------------- */
+
+/* A parent: a cost level uniformly (cheap and expensive forms get the same
+ * attention), then a member biased to the best of its level (u² puts 1/√2
+ * of the draws on the better half). */
+static const bk_cand *pick(bk_search *s)
+{
+	const bk_level *l = &s->lv[bk_rng_below(&s->rng, (uint32_t)s->nlv)];
+	double u = bk_rng_unit(&s->rng);
+	return &s->cand[l->idx[(int)(u * u * l->n)]];
+}
+
+/* Where parameter `slot` of tree h of trees t sits in the fitted text: pN is
+ * slot N of tree 0, and tree 1's follow tree 0's (bk_cand_text). */
+static int text_param(const bk_expr *t, int h, int slot)
+{
+	return (h ? bk_expr_nparams(&t[0]) : 0) + slot;
+}
+
+/* The trees of c to breed from: with --inherit, its fitted constants written
+ * into its parameters' nodes as their start values (expr.h); a candidate that
+ * did not fit passes on no values. */
+static void parent_trees(const bk_search *s, const bk_cand *c, bk_expr *t)
+{
+	t[0] = c->tree[0];
+	t[1] = c->tree[1];
+	for (int h = 0; s->o.inherit && h < 2; h++)
+		for (int i = 0; i < t[h].n; i++) {
+			bk_enode *n = &t[h].node[i];
+			int j = text_param(c->tree, h, n->slot);
+			if (n->op == BK_OP_PARAM)
+				n->k = c->status == BK_CAND_OK && j < c->np && isfinite(c->p[j]) ? c->p[j] + 0.0 : 0;
+		}
+}
+
+/* The start of a child's first fit from its trees' start values (1, the
+ * first default start, where a value is unknown or the parameter is the
+ * shape's own). 1 if any value is known, else 0: the child then starts as an
+ * enumerated tree does. */
+static int inherited(const bk_cand *c, double *p)
+{
+	int known = 0;
+	for (int j = 0; j < BK_MAX_PARAMS; j++)
+		p[j] = 1.0;
+	for (int h = 0; h < 2; h++)
+		for (int i = 0; i < c->tree[h].n; i++) {
+			const bk_enode *n = &c->tree[h].node[i];
+			int j = text_param(c->tree, h, n->slot);
+			if (n->op == BK_OP_PARAM && n->k != 0 && j < BK_MAX_PARAMS)
+				p[j] = n->k, known = 1;
+		}
+	return known;
+}
+
+/* The rates, set by hand when the search was written and not tuned since
+ * (no measurement stands behind them yet): 0.7 of children by mutation; a
+ * pair's crossover swaps a whole half a quarter of the time, so that a good
+ * A and a good B found apart can meet. */
+#define MUTATION_RATE 0.7
+#define HALF_SWAP_RATE 0.25
+
+int bk_gen_child(bk_search *s, bk_expr *t)
+{
+	const bk_grammar *g = &s->tree_g;
+	const bk_cand *a = pick(s);
+	int which = s->o.shape == BK_SHAPE_PAIR ? (int)bk_rng_below(&s->rng, 2) : 0;
+	bk_expr pa[2], pb[2];
+	parent_trees(s, a, pa);
+	t[0] = pa[0];
+	t[1] = pa[1];
+	if (s->o.shape == BK_SHAPE_PAIR && a->tree[1].n == 0) { /* a shared feature: its one tree */
+		g = &s->feat_g;
+		which = 0;
+		if (bk_rng_unit(&s->rng) < MUTATION_RATE)
+			return bk_expr_mutate(g, &s->rng, &pa[0], &t[0]);
+		const bk_cand *b = pick(s);
+		parent_trees(s, b, pb);
+		return bk_expr_crossover(g, &s->rng, &pa[0], &pb[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
+	}
+	if (bk_rng_unit(&s->rng) < MUTATION_RATE)
+		return bk_expr_mutate(g, &s->rng, &pa[which], &t[which]);
+	const bk_cand *b = pick(s);
+	parent_trees(s, b, pb);
+	const bk_expr *donor = pb[which].n ? &pb[which] : &pb[0]; /* a feature pair has one tree */
+	if (s->o.shape == BK_SHAPE_PAIR && bk_rng_unit(&s->rng) < HALF_SWAP_RATE) { /* swap a whole half */
+		t[which] = *donor;
+		return 0;
+	}
+	return bk_expr_crossover(g, &s->rng, &pa[which], donor, &t[which]);
+}
+
+/* A generation of children (those with inherited constants start from them). */
+static int gen_children(bk_search *s, bk_gen_batch *b)
+{
+	if (s->nlv == 0) {
+		s->phase = 3;
+		return 0;
+	}
+	for (size_t tries = 0; b->n < b->want && tries < b->want * TRIES_PER_CHILD; tries++) {
+		bk_expr t[2];
+		if (bk_gen_child(s, t))
+			continue;
+		int r = bk_gen_prepare(s, t, &b->c[b->n]);
+		if (r < 0)
+			return -1;
+		if (r > 0 && s->o.inherit && inherited(&b->c[b->n], b->inherit[b->n]))
+			b->start[b->n] = b->inherit[b->n];
+		b->n += (size_t)r;
+	}
+	if (b->n == 0)
+		s->phase = 3;
+	return 0;
+}
+
+/* ---- the batch ------------------------------------------------------------ */
+
+size_t bk_gen_want(const bk_search *s)
+{
+	/* whole generations, whatever the budget: a run stopped at a budget and
+	 * resumed with a larger one must make the same batches as a run that
+	 * never stopped (so a run may end up to generation - 1 fits past it) */
+	size_t want = (size_t)s->o.generation;
+	if (s->phase == 0 && want < (size_t)s->o.nseeds)
+		want = (size_t)s->o.nseeds;
+	return want;
+}
+
+int bk_gen_batch_make(bk_search *s, bk_gen_batch *b)
+{
+	b->n = 0;
+	switch (s->phase) {
+	case 0: return gen_seeds(s, b);
+	case 1: return gen_enum(s, b);
+	case 2: return gen_children(s, b);
+	default: return 0;
+	}
+}

@@ -1,0 +1,201 @@
+/*
+ * screen.c — screening a batch of candidates (screen.h), and the objective
+ * (bk_search_error, bk_search_round_err of fit/search.h).
+ */
+#include "search/screen.h"
+#include "search/constraint.h"
+#include "albfit.h"
+#include "fit_int.h"
+
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Screening fits stop early: a candidate only has to be ranked (errors are
+ * compared at 20 bits, ~1e-6), and the front's members are refitted in full
+ * afterwards with fit's tolerances. */
+#define SCREEN_ITERATIONS 40
+#define SCREEN_FTOL 1e-6
+#define SCREEN_PTOL 1e-8
+
+double bk_search_error(const bk_search_options *o, const bk_samples *sm, const double *v, const bk_fit_metrics *m)
+{
+	/* the metrics leave out the samples where the values are not finite:
+	 * over those alone an error is no error of the form (over none it reads
+	 * 0, a perfect fit), so a form not finite somewhere has none */
+	if (m->nonfinite)
+		return HUGE_VAL;
+	if (o->objective == BK_OBJ_MAX)
+		return o->relative ? m->max_rel : m->max_abs;
+	if (o->objective == BK_OBJ_ALBEDO)
+		return m->albedo_max_abs;
+	if (!o->relative)
+		return m->rmse;
+	if (!v)
+		return NAN;
+	double se = 0, ymax = 0; /* the rmse of the relative residuals, floored as fit's (fit_ctx.c) */
+	for (size_t i = 0; i < sm->n; i++)
+		ymax = fmax(ymax, fabs(sm->y[i]));
+	for (size_t i = 0; i < sm->n; i++) {
+		double r = (v[i] - sm->y[i]) / fmax(fabs(sm->y[i]), 1e-6 * ymax);
+		se += r * r;
+	}
+	return sqrt(se / (double)sm->n);
+}
+
+double bk_search_round_err(double e)
+{
+	if (!isfinite(e) || e == 0)
+		return e;
+	int x;
+	double m = frexp(e, &x);
+	return ldexp(nearbyint(ldexp(m, BK_SEARCH_ERR_BITS)), x - BK_SEARCH_ERR_BITS);
+}
+
+/* ---- fitting one candidate ------------------------------------------------ */
+
+/* Deterministic screening starts: all ones first (most constants of a shading
+ * form are O(1)), then a spread of magnitudes and a sign. */
+static const double start_value[4] = {1.0, 0.1, -1.0, 10.0};
+
+void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
+{
+	const bk_samples *sm = s->o.screen;
+	c->status = BK_CAND_FAILED;
+	c->err = c->rmse = c->max_abs = c->albedo_max_abs = HUGE_VAL;
+	bk_form_error fe;
+	bk_form *f[2] = {bk_form_parse(c->text, &fe), c->text_b ? bk_form_parse(c->text_b, &fe) : NULL};
+	double *v = malloc(sizeof(double) * sm->n);
+	if (!f[0] || (c->text_b && !f[1]) || !v)
+		goto done;
+	bk_fit_spec spec;
+	memset(&spec, 0, sizeof spec);
+	spec.s = sm;
+	spec.form[0] = f[0];
+	spec.form[1] = f[1] ? f[1] : f[0];
+	spec.np = c->np;
+	bk_fit_options opt = BK_FIT_OPTIONS_INIT;
+	opt.max_iterations = SCREEN_ITERATIONS;
+	opt.function_tolerance = SCREEN_FTOL;
+	opt.parameter_tolerance = SCREEN_PTOL;
+	spec.opt = opt;
+	spec.relative = s->o.relative;
+	spec.starts = 1;
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		spec.lower[j] = -HUGE_VAL;
+		spec.upper[j] = HUGE_VAL;
+	}
+	bk_fit_ctx ctx;
+	if (bk_fit_ctx_init(&ctx, &spec)) {
+		bk_fit_ctx_free(&ctx);
+		goto done;
+	}
+	double best[BK_MAX_PARAMS], best_cost = HUGE_VAL;
+	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
+	for (int k = 0; k < nstart; k++) {
+		double p[BK_MAX_PARAMS];
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			p[j] = seed_p ? (k == 0 ? seed_p[j] : start_value[k - 1]) : start_value[k];
+		bk_fit_summary sum;
+		if (c->np) {
+			if (bk_fit_solve(&ctx, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
+				continue;
+		} else {
+			sum.final_cost = 0;
+		}
+		/* costs within the tie tolerance: the earlier start wins (fit.h) */
+		if (sum.final_cost < best_cost * (1 - BK_FIT_COST_TIE)) {
+			best_cost = sum.final_cost;
+			memcpy(best, p, sizeof best);
+		}
+		/* the next start only where this one did not converge: most candidates
+		 * converge from the first, and a screening fit is most of the search */
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
+			break;
+	}
+	bk_fit_ctx_free(&ctx);
+	if (!(best_cost < HUGE_VAL))
+		goto done;
+	/* the albedo objective: one more solve, least squares of the cells'
+	 * albedo errors from the values' fit (fit/albfit.h), kept where it lowers
+	 * the albedo's max error (the front's refit then goes on to its minimax) */
+	if (s->o.objective == BK_OBJ_ALBEDO && c->np && sm->ncomp == 1 && !s->o.relative) {
+		bk_albfit *af = bk_albfit_new(sm, f[0], c->np);
+		double q[BK_MAX_PARAMS], e1;
+		memcpy(q, best, sizeof q);
+		if (af && bk_albfit_run(af, q, 0, &opt, &e1) == 0 && e1 < bk_albfit_max(af, best))
+			memcpy(best, q, sizeof best);
+		bk_albfit_free(af);
+	}
+	memcpy(c->p, best, sizeof c->p);
+	for (int q = 0; q < sm->ncomp; q++) { /* the values in the search's precision */
+		size_t lo = sm->start[q];
+		const double *in[BK_IN_COUNT];
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			in[k] = sm->in[k] + lo;
+		if (bk_form_eval(spec.form[q], s->o.precision, sm->start[q + 1] - lo, in, c->p, v + lo))
+			goto done;
+	}
+	c->status = BK_CAND_OK;
+	for (size_t i = 0; i < sm->n; i++)
+		if (!isfinite(v[i]) && isfinite(sm->y[i]))
+			c->status = BK_CAND_NONFINITE;
+	/* the published seeds are kept whatever the constraints say (the front
+	 * starts at the state of the art; Karis' env fit dips below 0) */
+	int exempt = 0;
+	for (int k = 0; c->seed_name && k < s->o.nseeds && k < s->o.exempt_seeds; k++)
+		exempt |= c->seed_name == s->seed_name[k];
+	if (c->status == BK_CAND_OK && !exempt && !bk_search_admissible(&s->o, sm, v))
+		c->status = BK_CAND_CONSTRAINT;
+	if (c->status != BK_CAND_OK)
+		goto done;
+	bk_fit_metrics m;
+	bk_samples_metrics(sm, v, NULL, &m);
+	c->rmse = m.rmse;
+	c->max_abs = m.max_abs;
+	c->albedo_max_abs = m.albedo_max_abs;
+	double e = bk_search_error(&s->o, sm, v, &m);
+	c->err = isfinite(e) ? bk_search_round_err(e) : HUGE_VAL;
+	if (!isfinite(e))
+		c->status = BK_CAND_NONFINITE;
+done:
+	free(v);
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+}
+
+/* ---- a batch on threads ----------------------------------------------------- */
+
+typedef struct batch {
+	const bk_search *s;
+	bk_cand *c;
+	const double *const *seed_p;
+	size_t n;
+	atomic_size_t next;
+} batch;
+
+static void *worker(void *arg)
+{
+	batch *b = arg;
+	for (size_t i; (i = atomic_fetch_add(&b->next, 1)) < b->n;)
+		bk_screen_one(b->s, &b->c[i], b->seed_p[i]);
+	return NULL;
+}
+
+void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n)
+{
+	batch b = {s, c, seed_p, n, 0};
+	int nt = s->o.threads < 1 ? 1 : s->o.threads;
+	if ((size_t)nt > n)
+		nt = (int)n;
+	pthread_t th[64];
+	int started = 0;
+	for (int t = 1; t < nt && t < 64; t++)
+		if (pthread_create(&th[started], NULL, worker, &b) == 0)
+			started++;
+	worker(&b); /* this thread works too; a thread that failed to start is only slower */
+	for (int t = 0; t < started; t++)
+		pthread_join(th[t], NULL);
+}

@@ -1,0 +1,154 @@
+/*
+ * test_search_archive.c — the search's archive (fit/search/archive.h):
+ * MAP-Elites keeps the per_level best of each integer cost level (error,
+ * then cost, then text), leaves out candidates that did not fit, and the
+ * front (bk_search_front) is the Pareto scan of the candidates that fitted,
+ * ties broken on the text (a pair's: A's, then B's) whatever the order of
+ * arrival. Every expected level and front is worked out by hand below.
+ */
+#include "search/archive.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* A search with nothing fitted: only its archive is used here. */
+static bk_search *empty_search(int per_level, bk_samples *sm)
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_FORM, &to);
+	to.form_text = "LoH";
+	to.ndomain = 1;
+	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
+	to.nx = 4;
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = sm;
+	o.shape = BK_SHAPE_PLAIN;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.inputs = 1u << BK_IN_LOH;
+	o.grammar.max_params = 2;
+	o.grammar.max_size = 8;
+	o.per_level = per_level;
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	return s;
+}
+
+static void add(bk_search *s, const char *a, const char *b, double cost, double err, bk_cand_status st)
+{
+	bk_cand c;
+	memset(&c, 0, sizeof c);
+	c.text = strdup(a);
+	c.text_b = b ? strdup(b) : NULL;
+	c.cost = cost;
+	c.err = err;
+	c.status = st;
+	cr_assert_eq(bk_archive_push(s, &c), 0);
+}
+
+/* The texts of level k, best first, joined by spaces. */
+static void level_texts(const bk_search *s, int k, char *buf, size_t len)
+{
+	buf[0] = '\0';
+	for (int i = 0; i < s->lv[k].n; i++) {
+		strncat(buf, s->cand[s->lv[k].idx[i]].text, len - strlen(buf) - 1);
+		if (i + 1 < s->lv[k].n)
+			strncat(buf, " ", len - strlen(buf) - 1);
+	}
+}
+
+/* The same seven candidates for both tests, in this order:
+ *   a (3.0, 0.5)  b (3.5, 0.2)  c (3.2, 0.2)  d (5, 0.1, not fitted)
+ *   e (4.9999999999, 0.9)  f (1, 0.3)  g (1, 0.3)
+ * Level 1: f, g tie on error and cost: text decides, f before g.
+ * Level 3: b and c tie on error, c is cheaper: c, b, then a (worse error).
+ * Level 5: e (cost a rounding below 5 is on level 5); d is in no level. */
+static void seven(bk_search *s)
+{
+	add(s, "a", NULL, 3.0, 0.5, BK_CAND_OK);
+	add(s, "b", NULL, 3.5, 0.2, BK_CAND_OK);
+	add(s, "c", NULL, 3.2, 0.2, BK_CAND_OK);
+	add(s, "d", NULL, 5.0, 0.1, BK_CAND_CONSTRAINT);
+	add(s, "e", NULL, 4.9999999999, 0.9, BK_CAND_OK);
+	add(s, "g", NULL, 1.0, 0.3, BK_CAND_OK);
+	add(s, "f", NULL, 1.0, 0.3, BK_CAND_OK);
+}
+
+Test(search_archive, per_level_best_per_cost_level)
+{
+	bk_samples sm;
+	bk_search *s = empty_search(2, &sm);
+	seven(s);
+	cr_assert_eq(bk_search_count(s), 7, "every candidate is kept, levels or not");
+	cr_assert_eq(s->nlv, 3);
+	char t[64];
+	cr_assert_eq(s->lv[0].cost, 1);
+	level_texts(s, 0, t, sizeof t);
+	cr_assert_str_eq(t, "f g");
+	cr_assert_eq(s->lv[1].cost, 3);
+	level_texts(s, 1, t, sizeof t);
+	cr_assert_str_eq(t, "c b", "per_level 2 drops a, the worst of three");
+	cr_assert_eq(s->lv[2].cost, 5);
+	level_texts(s, 2, t, sizeof t);
+	cr_assert_str_eq(t, "e", "d did not fit: in no level");
+	bk_search_free(s);
+	bk_samples_free(&sm);
+
+	/* negative control: with room for three, a stays (the cap is what dropped it) */
+	s = empty_search(3, &sm);
+	seven(s);
+	level_texts(s, 1, t, sizeof t);
+	cr_assert_str_eq(t, "c b a");
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_archive, front_is_the_pareto_scan_of_what_fitted)
+{
+	bk_samples sm;
+	bk_search *s = empty_search(2, &sm);
+	seven(s);
+	/* by cost: f and g at 1 (f first by text) -> f; a at 3 (0.5) no; c at 3.2
+	 * (0.2) yes; b at 3.5 (0.2, not below) no; e no; d (0.1) did not fit */
+	size_t idx[8];
+	size_t k = bk_search_front(s, idx, 8);
+	cr_assert_eq(k, 2);
+	cr_assert_str_eq(bk_search_at(s, idx[0])->text, "f");
+	cr_assert_str_eq(bk_search_at(s, idx[1])->text, "c");
+	cr_assert_eq(bk_search_front(s, idx, 1), 1, "max caps the count");
+	cr_assert_str_eq(bk_search_at(s, idx[0])->text, "f");
+	/* negative control: had d fitted, it would end the front */
+	s->cand[3].status = BK_CAND_OK;
+	cr_assert_eq(bk_search_front(s, idx, 8), 3);
+	cr_assert_str_eq(bk_search_at(s, idx[2])->text, "d");
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_archive, pair_ties_broken_on_b_whatever_the_order)
+{
+	for (int order = 0; order < 2; order++) {
+		bk_samples sm;
+		bk_search *s = empty_search(2, &sm);
+		/* same A, cost and error: B's text decides ("x + 1" < "x + 2") */
+		add(s, "x", order ? "x + 2" : "x + 1", 4, 0.25, BK_CAND_OK);
+		add(s, "x", order ? "x + 1" : "x + 2", 4, 0.25, BK_CAND_OK);
+		/* "x" < "x*2" as A: A decides before B */
+		add(s, "x*2", "a", 4, 0.25, BK_CAND_OK);
+		size_t idx[4];
+		cr_assert_eq(bk_search_front(s, idx, 4), 1);
+		cr_assert_str_eq(bk_search_at(s, idx[0])->text, "x");
+		cr_assert_str_eq(bk_search_at(s, idx[0])->text_b, "x + 1", "order %d", order);
+		char t[64];
+		level_texts(s, 0, t, sizeof t);
+		cr_assert_str_eq(t, "x x", "the level keeps the same two");
+		cr_assert_str_eq(s->cand[s->lv[0].idx[0]].text_b, "x + 1");
+		bk_search_free(s);
+		bk_samples_free(&sm);
+	}
+}

@@ -1,0 +1,124 @@
+/*
+ * test_search_screen.c — the search's screening (fit/search/screen.h): a
+ * planted one-parameter form is fitted to its known constant, a form of the
+ * wrong structure is not; the one constraint predicate decides the status
+ * (a form negative on the samples is refused under nonneg, kept without it
+ * and kept when it is a published seed); a batch on two threads gives the
+ * bits of one.
+ */
+#include "search/screen.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const seed_text[] = {"LoH - p0"};
+
+static bk_search *search_on(bk_samples *sm, const char *target, int nonneg, int threads)
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_FORM, &to);
+	to.form_text = target;
+	to.ndomain = strchr(target, 'r') ? 2 : 1; /* the inputs the target reads */
+	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
+	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
+	to.nx = 8;
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = sm;
+	o.shape = BK_SHAPE_PLAIN;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	o.grammar.max_params = 2;
+	o.grammar.max_size = 9;
+	o.nonneg = nonneg;
+	o.threads = threads;
+	o.seeds = seed_text;
+	o.nseeds = 1;
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	return s;
+}
+
+static bk_cand cand(const char *text, int np)
+{
+	bk_cand c;
+	memset(&c, 0, sizeof c);
+	c.text = (char *)text;
+	c.np = np;
+	return c;
+}
+
+Test(search_screen, planted_constant_is_found)
+{
+	bk_samples sm;
+	bk_search *s = search_on(&sm, "1/(LoH*LoH + 0.7*r*r)", 0, 1);
+	bk_cand c = cand("1/(LoH*LoH + p0*r*r)", 1);
+	bk_screen_one(s, &c, NULL);
+	cr_assert_eq(c.status, BK_CAND_OK);
+	cr_assert_float_eq(c.p[0], 0.7, 1e-6, "the planted 0.7, got %.17g", c.p[0]);
+	cr_assert_lt(c.rmse, 1e-9);
+	cr_assert_eq(c.err, bk_search_round_err(c.rmse), "the objective is the rmse, rounded");
+	/* negative control: the wrong structure cannot reach the target */
+	bk_cand w = cand("1/(LoH + p0*r*r)", 1);
+	bk_screen_one(s, &w, NULL);
+	cr_assert_eq(w.status, BK_CAND_OK);
+	cr_assert_gt(w.rmse, 1e-3, "a wrong form's rmse %g", w.rmse);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_screen, constraint_decides_the_status)
+{
+	/* LoH - 0.5 is negative for LoH < 0.5, inside the domain [0.3162, 1] */
+	bk_samples sm;
+	bk_search *s = search_on(&sm, "LoH - 0.5", 1, 1);
+	bk_cand c = cand("LoH - p0", 1);
+	bk_screen_one(s, &c, NULL);
+	cr_assert_eq(c.status, BK_CAND_CONSTRAINT, "negative somewhere: refused under nonneg");
+	cr_assert_eq(c.err, HUGE_VAL);
+	/* the same form as the published seed: exempt */
+	c = cand("LoH - p0", 1);
+	c.seed_name = s->seed_name[0];
+	bk_screen_one(s, &c, NULL);
+	cr_assert_eq(c.status, BK_CAND_OK);
+	cr_assert_float_eq(c.p[0], 0.5, 1e-6);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+	/* negative control: without nonneg the generated form is kept */
+	s = search_on(&sm, "LoH - 0.5", 0, 1);
+	c = cand("LoH - p0", 1);
+	bk_screen_one(s, &c, NULL);
+	cr_assert_eq(c.status, BK_CAND_OK);
+	cr_assert_float_eq(c.p[0], 0.5, 1e-6, "screening tolerances: p0 %.17g", c.p[0]);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_screen, batch_on_threads_gives_the_same_bits)
+{
+	static const char *const texts[] = {"1/(LoH*LoH + p0*r*r)", "p0/(LoH + p1*r)", "p0*LoH + p1", "sq(p0 - r)*LoH",
+	                                    "p0/(LoH*LoH + p1)", "exp2(p0*LoH)*p1"};
+	enum { N = sizeof texts / sizeof *texts };
+	bk_cand c[2][N];
+	const double *start[N] = {0};
+	for (int t = 0; t < 2; t++) {
+		bk_samples sm;
+		bk_search *s = search_on(&sm, "1/(LoH*LoH + 0.7*r*r)", 0, t + 1);
+		for (int i = 0; i < N; i++)
+			c[t][i] = cand(texts[i], 1 + (strstr(texts[i], "p1") != NULL));
+		bk_screen_batch(s, c[t], start, N);
+		bk_search_free(s);
+		bk_samples_free(&sm);
+	}
+	for (int i = 0; i < N; i++) {
+		cr_assert_eq(c[0][i].status, c[1][i].status);
+		cr_assert_eq(memcmp(c[0][i].p, c[1][i].p, sizeof c[0][i].p), 0, "%s", texts[i]);
+		cr_assert_eq(memcmp(&c[0][i].err, &c[1][i].err, sizeof(double)), 0, "%s", texts[i]);
+	}
+	cr_assert_eq(c[0][0].status, BK_CAND_OK);
+}
