@@ -3,7 +3,7 @@
 #   make results   the main job: DFG LUTs and the albedo table into results/
 #   make test      the test suite, then again under AddressSanitizer + UBSan
 #   make bench     benchmarks (medians of repeated runs, side by side)
-#   make install   PREFIX=/usr/local DESTDIR=  (library, brdf.h, brdfkit.pc, tool)
+#   make install   PREFIX=/usr/local DESTDIR=  (libraries, brdf.h, brdfkit/*.h, brdfkit.pc, tool)
 #
 # Every target that compiles runs `deps` first: it installs the missing Debian
 # packages with apt-get when run as root, otherwise prints the apt-get line.
@@ -323,10 +323,20 @@ fuzz: build/fuzz_ir build/fuzz_ckpt
 	rm -rf build/fuzz-ckpt && mkdir -p build/fuzz-ckpt
 	build/fuzz_ckpt -runs=$(FUZZ_RUNS) -max_len=20000 -artifact_prefix=build/ build/fuzz-ckpt
 
-install: all
-	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/bin
+# the fitter and the search as a library a program links (libbrdfkit-fit.a, with
+# libbrdf.a under it) through the installed headers of PUB_H in include/brdfkit/:
+# fit/search.h (bk_search_new, bk_search_drive) and the headers it includes
+FIT_LIB = build/libbrdfkit-fit.a
+PUB_H   = brdf/brdf.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h
+$(FIT_LIB): $(call obj,build/obj,$(FIT_SRC))
+	ar rcs $@ $^
+
+install: all $(FIT_LIB)
+	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/brdfkit $(DESTDIR)$(PREFIX)/bin
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libbrdf.a
+	install -m 644 $(FIT_LIB) $(DESTDIR)$(PREFIX)/lib/libbrdfkit-fit.a
 	install -m 644 brdf/brdf.h $(DESTDIR)$(PREFIX)/include/brdf.h
+	install -m 644 $(PUB_H) $(DESTDIR)$(PREFIX)/include/brdfkit/
 	install -m 755 $(TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit
 	install -m 755 $(MPI_TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit-mpi
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' brdf/brdfkit.pc.in \

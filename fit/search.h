@@ -136,10 +136,32 @@ void bk_search_free(bk_search *s);
  * can be generated, -1 on an error (message). */
 int bk_search_step(bk_search *s, char *err, size_t errlen);
 
+/* What a program hears from a running search, and how it stops one. Every
+ * member may be zero (BK_SEARCH_CALLBACKS_INIT): then the search runs to its
+ * budget in silence.
+ *   progress  called after a step once progress_every fits (0: every step)
+ *             have been made since it was last called, and once more when
+ *             the run ends (budget spent, nothing left, or stopped), so the
+ *             last call sees the final state;
+ *   stop      asked after every step (whole steps: a stopped search is a
+ *             consistent state, bk_search_save can write it); non-zero stops.
+ * Both run on the caller's thread, between steps, never during the fits. */
+typedef struct bk_search_callbacks {
+	void (*progress)(void *ctx, const bk_search *s);
+	int (*stop)(void *ctx, const bk_search *s);
+	void *ctx;
+	long progress_every;
+} bk_search_callbacks;
+#define BK_SEARCH_CALLBACKS_INIT {NULL, NULL, NULL, 0}
+
 /* The one loop that drives a search: steps until the budget is spent, the
- * search has nothing new to generate, or after_step (called after every
- * step, may be NULL) returns non-zero. Returns 0 when the budget is spent or
- * nothing is left, 1 when after_step stopped it, -1 on an error (message). */
+ * search has nothing new to generate, or cb->stop says so (cb may be NULL).
+ * Returns 0 when the budget is spent or nothing is left, 1 when stopped, -1
+ * on an error (message). */
+int bk_search_drive(bk_search *s, const bk_search_callbacks *cb, char *err, size_t errlen);
+
+/* The same loop with one callback, after_step (may be NULL), called after
+ * every step as cb->stop: non-zero stops. */
 typedef int (*bk_search_after_step)(void *ctx, const bk_search *s);
 int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen);
 

@@ -84,13 +84,45 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	return s->phase == 3 || s->evals >= s->o.evals ? 0 : 1;
 }
 
+int bk_search_drive(bk_search *s, const bk_search_callbacks *cb, char *err, size_t errlen)
+{
+	static const bk_search_callbacks none = BK_SEARCH_CALLBACKS_INIT;
+	if (!cb)
+		cb = &none;
+	long heard = s->evals; /* the fits when progress was last called */
+	int rc;
+	while ((rc = bk_search_step(s, err, errlen)) == 1) {
+		if (cb->progress && s->evals - heard >= cb->progress_every) {
+			cb->progress(cb->ctx, s);
+			heard = s->evals;
+		}
+		if (cb->stop && cb->stop(cb->ctx, s)) {
+			rc = 1;
+			break;
+		}
+	}
+	if (rc >= 0 && cb->progress)
+		cb->progress(cb->ctx, s);
+	return rc;
+}
+
+/* after_step as a stop callback (a function pointer does not convert to void *) */
+typedef struct after_ctx {
+	bk_search_after_step fn;
+	void *ctx;
+} after_ctx;
+
+static int after_stop(void *ctx, const bk_search *s)
+{
+	const after_ctx *a = ctx;
+	return a->fn(a->ctx, s);
+}
+
 int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen)
 {
-	int rc;
-	while ((rc = bk_search_step(s, err, errlen)) == 1)
-		if (after_step && after_step(ctx, s))
-			return 1;
-	return rc;
+	after_ctx a = {after_step, ctx};
+	bk_search_callbacks cb = {NULL, after_step ? after_stop : NULL, &a, 0};
+	return bk_search_drive(s, &cb, err, errlen);
 }
 
 /* ---- set-up --------------------------------------------------------------- */

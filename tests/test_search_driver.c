@@ -1,0 +1,144 @@
+/*
+ * test_search_driver.c — the loop a program drives a search with
+ * (bk_search_drive, fit/search.h): stop is asked after every step and ends
+ * the run there; progress comes once progress_every fits have been made
+ * since the last call, and once more at the end, which sees the final
+ * state; bk_search_run (one after_step callback) is the same loop.
+ */
+#include "search.h"
+
+#include <criterion/criterion.h>
+#include <string.h>
+
+typedef struct log {
+	long at[64]; /* fits when called */
+	int n;
+	int stop_after; /* stop: say stop at this call (0: never) */
+} log;
+
+static void heard(void *ctx, const bk_search *s)
+{
+	log *l = ctx;
+	cr_assert_lt(l->n, 64);
+	l->at[l->n++] = bk_search_evals(s);
+}
+
+static int asked(void *ctx, const bk_search *s)
+{
+	log *l = ctx;
+	cr_assert_lt(l->n, 64);
+	l->at[l->n++] = bk_search_evals(s);
+	return l->stop_after && l->n >= l->stop_after;
+}
+
+typedef struct both {
+	log progress, stop;
+} both;
+static void both_progress(void *ctx, const bk_search *s) { heard(&((both *)ctx)->progress, s); }
+static int both_stop(void *ctx, const bk_search *s) { return asked(&((both *)ctx)->stop, s); }
+
+static bk_search *made(bk_samples *sm)
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_FORM, &to);
+	to.form_text = "0.45*LoH*LoH + 0.2";
+	to.ndomain = 1;
+	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
+	to.nx = 16;
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = sm;
+	o.shape = BK_SHAPE_PLAIN;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.inputs = 1u << BK_IN_LOH;
+	o.grammar.max_params = 2;
+	o.grammar.max_size = 7;
+	o.generation = 30;
+	o.evals = 400;
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	return s;
+}
+
+static void drive(int every, int stop_after, both *b, int *rc, long *evals)
+{
+	bk_samples sm;
+	bk_search *s = made(&sm);
+	memset(b, 0, sizeof *b);
+	b->stop.stop_after = stop_after;
+	bk_search_callbacks cb = {both_progress, both_stop, b, every};
+	char err[256];
+	*rc = bk_search_drive(s, &cb, err, sizeof err);
+	*evals = bk_search_evals(s);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_driver, progress_every_and_at_the_end)
+{
+	both b;
+	int rc;
+	long evals;
+	drive(0, 0, &b, &rc, &evals);
+	cr_assert_eq(rc, 0);
+	cr_assert_geq(evals, 400, "the budget spent");
+	/* every step but the last is asked to stop; progress after each of
+	 * them and once at the end */
+	cr_assert_gt(b.stop.n, 5);
+	cr_assert_eq(b.progress.n, b.stop.n + 1);
+	cr_assert_eq(b.progress.at[b.progress.n - 1], evals, "the last call sees the final state");
+	long steps[64];
+	int nsteps = b.stop.n;
+	memcpy(steps, b.stop.at, sizeof steps);
+
+	/* every 100 fits: called at the first step that reaches 100 fits past
+	 * the last call (worked out from the steps' fit counts above) */
+	drive(100, 0, &b, &rc, &evals);
+	long want[64], last = 0;
+	int nw = 0;
+	for (int i = 0; i < nsteps; i++)
+		if (steps[i] - last >= 100)
+			want[nw++] = last = steps[i];
+	want[nw++] = evals;
+	cr_assert_lt(nw, b.stop.n + 1, "fewer calls than steps: the gate bites");
+	cr_assert_eq(b.progress.n, nw);
+	for (int i = 0; i < nw; i++)
+		cr_assert_eq(b.progress.at[i], want[i], "call %d", i);
+}
+
+Test(search_driver, stop_ends_the_run_after_that_step)
+{
+	both b;
+	int rc;
+	long evals;
+	drive(0, 3, &b, &rc, &evals);
+	cr_assert_eq(rc, 1, "stopped");
+	cr_assert_eq(b.stop.n, 3);
+	cr_assert_eq(evals, b.stop.at[2], "no step after the one that said stop");
+	cr_assert_lt(evals, 400);
+	cr_assert_eq(b.progress.at[b.progress.n - 1], evals);
+	/* negative control: a stop that never says so runs to the budget */
+	drive(0, 0, &b, &rc, &evals);
+	cr_assert_eq(rc, 0);
+	cr_assert_geq(evals, 400);
+}
+
+static int after(void *ctx, const bk_search *s) { return asked(ctx, s); }
+
+Test(search_driver, run_is_the_same_loop)
+{
+	bk_samples sm;
+	bk_search *s = made(&sm);
+	log l = {.stop_after = 3};
+	char err[256];
+	cr_assert_eq(bk_search_run(s, after, &l, err, sizeof err), 1);
+	cr_assert_eq(l.n, 3);
+	cr_assert_eq(bk_search_evals(s), l.at[2]);
+	cr_assert_eq(bk_search_run(s, NULL, NULL, err, sizeof err), 0, "NULL: to the budget");
+	cr_assert_geq(bk_search_evals(s), 400);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
