@@ -325,9 +325,10 @@ fuzz: build/fuzz_ir build/fuzz_ckpt
 
 # the fitter and the search as a library a program links (libbrdfkit-fit.a, with
 # libbrdf.a under it) through the installed headers of PUB_H in include/brdfkit/:
-# fit/search.h (bk_search_new, bk_search_drive) and the headers it includes
+# fit/search.h (bk_search_new, bk_search_drive), the headers it includes, and the
+# opcodes its trees are made of (brdf_ops.h, from the table ir_ops.h)
 FIT_LIB = build/libbrdfkit-fit.a
-PUB_H   = brdf/brdf.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h
+PUB_H   = brdf/brdf.h brdf/brdf_ops.h brdf/ir_ops.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h
 $(FIT_LIB): $(call obj,build/obj,$(FIT_SRC))
 	ar rcs $@ $^
 

@@ -6,7 +6,6 @@
  */
 #include "scene_write.h"
 
-#include "ir.h"
 #include "out.h"
 
 #include <math.h>

@@ -404,4 +404,24 @@ int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, s
  * input: +inf"). 0 if it is finite somewhere, -1 if out of memory. */
 int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len);
 
+/* src as text inside a generated comment: the one rule for every comment
+ * brdfkit writes (C block comments, GLSL and HLSL line comments, CSV '#'
+ * lines), so that nothing a user typed can end the comment or start code.
+ * "*" "/" and "/" "*" get a space between them (the first would end a block
+ * comment, the second is C's -Wcomment error); a line break becomes newline
+ * (NULL: a space); every other control character (CR, tab, ESC, DEL) a space;
+ * a backslash, or the trigraph "??" "/", with only blanks after it up to a
+ * line break or the end gets a '.' after it, so no line ends in a line
+ * continuation. The caller puts no '*' or
+ * '/' right beside it. Writes at most cap bytes with the NUL (dst may be NULL
+ * when cap is 0) and returns the escaped text's whole length, as snprintf. */
+size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newline);
+
+/* sin, cos and acos with the same bits on every x86-64 machine (glibc's own
+ * pick FMA or non-FMA code at run time): for reference integrals that must
+ * not depend on the CPU (brdf/dmath.c states domain and precision). */
+double bk_dsin(double x); /* |x| <= 8 */
+double bk_dcos(double x); /* |x| <= 8 */
+double bk_dacos(double c); /* c in [-1, 1] */
+
 #endif

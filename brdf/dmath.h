@@ -6,10 +6,8 @@
 #ifndef BRDF_DMATH_H
 #define BRDF_DMATH_H
 
-#include <math.h>
+#include "brdf.h" /* bk_dsin, bk_dcos, bk_dacos: declared there, public (fit/target.c uses them) */
 
-double bk_dsin(double x); /* |x| <= 8 */
-double bk_dcos(double x); /* |x| <= 8 */
-double bk_dacos(double c); /* c in [-1, 1] */
+#include <math.h>
 
 #endif

@@ -5,12 +5,7 @@
 #define BRDF_IR_H
 
 #include "brdf.h"
-
-typedef enum bk_op {
-#define OP(e, name, arity, c, glsl, hlsl, ...) BK_OP_##e,
-#include "ir_ops.h"
-	BK_OP_COUNT
-} bk_op;
+#include "brdf_ops.h" /* the op enum and bk_instr, public */
 
 typedef struct bk_opinfo {
 	const char *name; /* language spelling, "" if none */
@@ -20,14 +15,6 @@ typedef struct bk_opinfo {
 } bk_opinfo;
 
 extern const bk_opinfo bk_opinfo_table[BK_OP_COUNT];
-
-/* R[i] := op(R[a], R[b], R[c]); CONST holds k, INPUT and PARAM their slot. */
-typedef struct bk_instr {
-	bk_op op;
-	int a, b, c;
-	int slot;
-	double k;
-} bk_instr;
 
 struct bk_form {
 	char *text;
@@ -66,23 +53,11 @@ void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const 
  * two ops). */
 int bk_ir_clamp_fixed_bounds(const bk_form *f, const bk_instr *in);
 
-/* One operation in double precision, for folding and the f64 kernel. */
-double bk_ir_apply(bk_op op, double a, double b, double c);
+/* bk_ir_apply (one operation in double precision): declared in brdf_ops.h */
 /* One operation as the half kernel computes it on half operands (each step
  * rounded: mad, mix, and pow, exp, log decomposed as a GPU runs them). */
 double bk_ir_apply_half(bk_op op, double a, double b, double c);
 
-/* src as text inside a generated comment: the one rule for every comment
- * brdfkit writes (C block comments, GLSL and HLSL line comments, CSV '#'
- * lines), so that nothing a user typed can end the comment or start code.
- * "*" "/" and "/" "*" get a space between them (the first would end a block
- * comment, the second is C's -Wcomment error); a line break becomes newline
- * (NULL: a space); every other control character (CR, tab, ESC, DEL) a space;
- * a backslash, or the trigraph "??" "/", with only blanks after it up to a
- * line break or the end gets a '.' after it, so no line ends in a line
- * continuation. The caller puts no '*' or
- * '/' right beside it. Writes at most cap bytes with the NUL (dst may be NULL
- * when cap is 0) and returns the escaped text's whole length, as snprintf. */
-size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newline);
+/* bk_comment_text: declared in brdf.h (public: analysis/ writes comments by the same rule) */
 
 #endif

@@ -10,7 +10,7 @@
  * this measure (bk_expr_size); BK_EXPR_MAX bounds the stored nodes.
  */
 #include "expr.h"
-#include "ir.h"
+#include "brdf_ops.h"
 
 #include <limits.h>
 #include <math.h>
@@ -36,7 +36,7 @@ static int term_arity(size_t t)
 	return n;
 }
 
-static int arity(int op) { return op < TERM0 ? bk_opinfo_table[op].arity : term_arity((size_t)(op - TERM0)); }
+static int arity(int op) { return op < TERM0 ? bk_op_arity(op) : term_arity((size_t)(op - TERM0)); }
 
 int bk_expr_op_valid(int op)
 {
@@ -81,7 +81,7 @@ int bk_expr_valid(const bk_expr *e, char *why, size_t len)
 	return 0;
 }
 
-static const char *op_name(int op) { return op < TERM0 ? bk_opinfo_table[op].name : bk_term_at((size_t)(op - TERM0))->name; }
+static const char *op_name(int op) { return op < TERM0 ? bk_op_name(op) : bk_term_at((size_t)(op - TERM0))->name; }
 
 static int span_at(const bk_enode *s)
 {
@@ -533,9 +533,9 @@ uint64_t bk_expr_hash_text(const char *text) { return bk_hash_bytes(BK_HASH_INIT
 
 /* ---- the tree of a compiled form ------------------------------------------ */
 
-static int expand(const bk_form *f, int r, bk_expr *e)
+static int expand(const bk_instr *code, int r, bk_expr *e)
 {
-	const bk_instr *in = &f->code[r];
+	const bk_instr *in = &code[r];
 	if (e->n >= BK_EXPR_MAX || in->op >= BK_OP_COUNT)
 		return -1;
 	bk_enode *n = &e->node[e->n++];
@@ -548,12 +548,12 @@ static int expand(const bk_form *f, int r, bk_expr *e)
 		if (e->n >= BK_EXPR_MAX)
 			return -1;
 		e->node[e->n++] = (bk_enode){BK_OP_MUL, 0, 0};
-		return expand(f, in->a, e) || expand(f, in->b, e) || expand(f, in->c, e) ? -1 : 0;
+		return expand(code, in->a, e) || expand(code, in->b, e) || expand(code, in->c, e) ? -1 : 0;
 	default: break;
 	}
 	int ops[3] = {in->a, in->b, in->c};
 	for (int j = 0; j < arity(in->op); j++)
-		if (expand(f, ops[j], e))
+		if (expand(code, ops[j], e))
 			return -1;
 	return 0;
 }
@@ -561,7 +561,9 @@ static int expand(const bk_form *f, int r, bk_expr *e)
 int bk_expr_from_form(const bk_form *f, bk_expr *e)
 {
 	e->n = 0;
-	if (!f || f->n <= 0 || expand(f, f->out, e)) {
+	int n = 0, out = 0;
+	const bk_instr *code = f ? bk_form_code(f, &n, &out) : NULL;
+	if (!f || n <= 0 || expand(code, out, e)) {
 		e->n = 0;
 		return -1;
 	}
@@ -597,7 +599,7 @@ int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errl
 			if (strlen(sym[i].name) == n && strncmp(sym[i].name, p, n) == 0)
 				bit = sym[i].bit;
 		for (int op = 0; op < BK_OP_COUNT && bit < 0; op++) {
-			const char *name = bk_opinfo_table[op].name;
+			const char *name = bk_op_name(op);
 			if (*name && strlen(name) == n && strncmp(name, p, n) == 0)
 				bit = op;
 		}

@@ -168,4 +168,19 @@ int bk_fit_edge_check(const bk_fit_spec *spec, const double *p, char *where, siz
 /* Returns 0 (converged), 1 (ran but did not converge), -1 (failed: message). */
 int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res);
 
+/* A fit's problem set up once for many solves from different starts: what
+ * the search's screening drives (fit/search/screen.c) and the benches time.
+ * bk_fit_run does the rest (starts, bounds, polish, statistics); this is
+ * the solve alone, as bk_fit_run makes it. NULL when out of memory or the
+ * spec cannot be set up. */
+typedef struct bk_fit_problem bk_fit_problem;
+bk_fit_problem *bk_fit_problem_new(const bk_fit_spec *spec);
+void bk_fit_problem_free(bk_fit_problem *pb);
+/* One solve from p (updated in place) with spec->opt; constant (NULL, or np
+ * flags: 1 holds p_j). 0, or -1 when it could not run (sum->message). */
+int bk_fit_problem_solve(bk_fit_problem *pb, double *p, const int *constant, bk_fit_summary *sum);
+/* The same problem as the solver sees it (solver.h): residual blocks, their
+ * callback, the spec's bounds and holds; valid while pb lives. */
+bk_problem bk_fit_problem_view(const bk_fit_problem *pb);
+
 #endif

@@ -13,7 +13,6 @@
  */
 #include "target.h"
 
-#include "dmath.h"
 
 #include <math.h>
 #include <stdio.h>

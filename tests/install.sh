@@ -16,7 +16,7 @@ bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 
 ${MAKE:-make} -s install PREFIX=/opt/bk DESTDIR="$T/stage" >/dev/null || bad "make install"
 for f in lib/libbrdf.a lib/libbrdfkit-fit.a include/brdf.h include/brdfkit/search.h include/brdfkit/fit.h \
-	include/brdfkit/expr.h include/brdfkit/target.h include/brdfkit/solver.h include/brdfkit/brdf.h \
+	include/brdfkit/expr.h include/brdfkit/target.h include/brdfkit/solver.h include/brdfkit/brdf.h include/brdfkit/brdf_ops.h \
 	lib/pkgconfig/brdfkit.pc bin/brdfkit bin/brdfkit-mpi; do
 	[ -f "$T/stage/opt/bk/$f" ] && ok || bad "missing $f under DESTDIR/PREFIX"
 done
@@ -32,7 +32,9 @@ flags=$(PKG_CONFIG_PATH="$T/usr/lib/pkgconfig" pkg-config --static --cflags --li
 cc -std=c11 "$T/use.c" $flags -o "$T/use" && [ "$("$T/use")" = "1.000000000000000" ] && ok || bad "linking the installed library"
 cat >"$T/plant.c" <<'C'
 /* a program of the search's installed API alone */
+#include <brdfkit/brdf_ops.h>
 #include <brdfkit/search.h>
+_Static_assert(BK_OP_PARAM < BK_OP_COUNT, "the opcodes a tree is made of, from the installed table");
 #include <math.h>
 #include <stdio.h>
 #include <string.h>

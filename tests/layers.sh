@@ -1,5 +1,6 @@
 #!/bin/sh
-# layers.sh — the data flow of DESIGN.md, checked on the compiled objects:
+# layers.sh — the data flow of DESIGN.md, checked on the compiled objects
+# (and, at the end, the include walls, checked on the sources):
 # brdf/ -> fit/ -> analysis/ -> analysis/cli/ (and analysis/bench/), never
 # backwards, and inside each folder no two files that call each other, directly
 # or round a longer loop. A call is an undefined symbol of one object that
@@ -91,4 +92,51 @@ if with_flow "$T/up" >/dev/null; then bad "control: a call against the flow pass
 { cat "$T/edges"; echo "fit/zz_a.o fit/zz_b.o"; echo "fit/zz_b.o fit/zz_a.o"; } >"$T/loop"
 if no_loop "$T/loop" >/dev/null; then bad "control: a loop inside fit/ passed"; else ok; fi
 echo "layers: $n calls between objects"
+
+# ---- include walls ------------------------------------------------------------
+# Nothing outside a folder includes that folder's internal headers: any
+# *_int.h, brdf/ir.h and brdf/dmath.h (the IR's and the libm-free math's
+# internals; brdf.h and brdf_ops.h are the public face), and every header of
+# fit/search/ that itself includes an internal one (the search's parts:
+# search_int.h travels with them). Read from the sources (SRC, the tree's
+# root: this script's folder's parent), each quoted include resolved as the
+# compiler does: beside the includer, then -Ibrdf -Ifit -Ianalysis. tests/
+# is exempt: its tests are white-box on purpose (they include the parts'
+# headers and ir.h to check internals); every other folder is checked.
+SRC=$(cd "$(dirname "$0")/.." && pwd)
+( cd "$SRC" && find brdf fit analysis -name '*.[ch]' -o -name '*.cc' | sort | while read -r f; do
+	sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f" | while read -r h; do
+		for d in "$(dirname "$f")" brdf fit analysis; do
+			if [ -f "$d/$h" ]; then
+				echo "$f $(cd "$(dirname "$d/$h")" && pwd | sed "s|^$SRC/||")/$(basename "$h")"
+				break
+			fi
+		done
+	done
+done ) >"$T/incl"
+# internal headers: the rule's names, then headers of fit/search/ including one
+{ awk '{ print $2 }' "$T/incl"; } | sort -u | grep -E '(_int\.h$|^brdf/ir\.h$|^brdf/dmath\.h$)' >"$T/internal"
+awk 'NR == FNR { internal[$1] = 1; next } $1 ~ /^fit\/search\/.*\.h$/ && ($2 in internal) { print $1 }' \
+	"$T/internal" "$T/incl" >>"$T/internal"
+# walls INCLUDES INTERNAL: no "includer header" line crossing into another
+# folder's internal header
+walls() {
+	awk '
+		function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
+		NR == FNR { internal[$1] = 1; next }
+		($2 in internal) && dir($1) != dir($2) { print $1 " includes " $2 ", internal to " dir($2) "/"; bad = 1 }
+		END { exit bad }' "$2" "$1"
+}
+ni=$(wc -l <"$T/incl")
+[ "$ni" -ge 200 ] && ok || bad "only $ni includes read (sed or find failed?)"
+grep -q '^fit/search/archive.h$' "$T/internal" && ok || bad "the search's part headers are not seen as internal"
+if walls "$T/incl" "$T/internal" >"$T/why"; then ok; else bad "$(cat "$T/why")"; fi
+# controls: a program including fit_int.h, analysis/ including ir.h, and
+# analysis/ including a part of the search must each fail
+for fake in "analysis/bench/zz.c fit/fit_int.h" "analysis/zz.c brdf/ir.h" "analysis/cli/zz.c fit/search/archive.h" \
+	"fit/zz.c brdf/dmath.h"; do
+	{ cat "$T/incl"; echo "$fake"; } >"$T/fake"
+	if walls "$T/fake" "$T/internal" >/dev/null; then bad "control: $fake passed"; else ok; fi
+done
+echo "layers: $ni includes"
 finish

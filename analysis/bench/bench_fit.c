@@ -56,7 +56,6 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "fit.h"
-#include "fit_int.h"
 #include "solver.h"
 
 #include <math.h>
@@ -204,12 +203,6 @@ static void scipy_end(scipy_child *c, int np, scipy_result *sr)
 		die("the SciPy side failed (see its message above)");
 }
 
-/* The fitter's residuals (fit_ctx.c) as a bk_residual_fn */
-static int fit_residuals(void *ctx, int block, const double *p, double *r, double *jac)
-{
-	return bk_fit_residual_block(ctx, block, p, r, jac);
-}
-
 /* One timed solve of the fitter's problem from its start: bk_solve or
  * bk_solve_tiny (solve), seconds from outside the call; p and sum out. */
 typedef int (*solve_fn)(const bk_problem *, const bk_fit_options *, double *, bk_fit_summary *);
@@ -270,10 +263,10 @@ static int bench(const problem *pb)
 	write_samples(path, pb, &spec);
 
 	/* the fitter's own problem, for the two solvers side by side */
-	bk_fit_ctx ctx;
-	if (bk_fit_ctx_init(&ctx, &spec))
-		die("cannot build the fit's context");
-	bk_problem prob = {spec.np, ctx.nblocks, ctx.size, fit_residuals, &ctx, spec.lower, spec.upper, spec.hold};
+	bk_fit_problem *fp = bk_fit_problem_new(&spec);
+	if (!fp)
+		die("cannot build the fit's problem");
+	bk_problem prob = bk_fit_problem_view(fp);
 	if (!bk_solve_tiny_applies(&prob, &spec.opt))
 		die("the fast path does not apply to the bench's fit");
 
@@ -305,7 +298,7 @@ static int bench(const problem *pb)
 	}
 	double t_solve = bk_clock_median(solve, REPS), t_tiny = bk_clock_median(tiny, REPS);
 	double t_whole = bk_clock_median(wall, REPS);
-	bk_fit_ctx_free(&ctx);
+	bk_fit_problem_free(fp);
 
 	scipy_result sr;
 	scipy_end(&child, spec.np, &sr);

@@ -14,7 +14,7 @@
  */
 #include "clock.h"
 #include "brdf.h"
-#include "ir.h" /* the instruction count, for node evaluations per second */
+#include "brdf_ops.h" /* the instruction count, for node evaluations per second */
 
 #include <math.h>
 #include <stdio.h>
@@ -180,7 +180,8 @@ int main(void)
 		 * ~0.5 G per thread): operations x samples / time, and the same
 		 * counting every IR instruction, loads of inputs, constants and
 		 * parameters included (a tree's leaves are nodes too) */
-		int ops_n = ops.simple + ops.complex, instrs = f[j]->n;
+		int ops_n = ops.simple + ops.complex, instrs;
+		bk_form_code(f[j], &instrs, NULL);
 		printf("  %-16s %12s %14s %14s %14s\n", "method", "ns/sample", "x emitted C", "G ops/s", "G instr/s");
 		for (int m = 0; m < NMETHODS; m++) {
 			double t = bk_clock_median(times[j][m], REPS);

@@ -4,7 +4,7 @@
  */
 #include "search/generate.h"
 #include "search/cand.h"
-#include "ir.h" /* the opcode enum the trees are made of */
+#include "brdf_ops.h" /* the opcode enum the trees are made of */
 
 #include <ctype.h>
 #include <math.h>

@@ -5,7 +5,6 @@
 #include "search/screen.h"
 #include "search/constraint.h"
 #include "albfit.h"
-#include "fit_int.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -87,11 +86,9 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		spec.lower[j] = -HUGE_VAL;
 		spec.upper[j] = HUGE_VAL;
 	}
-	bk_fit_ctx ctx;
-	if (bk_fit_ctx_init(&ctx, &spec)) {
-		bk_fit_ctx_free(&ctx);
+	bk_fit_problem *pb = bk_fit_problem_new(&spec);
+	if (!pb)
 		goto done;
-	}
 	double best[BK_MAX_PARAMS], best_cost = HUGE_VAL;
 	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
 	for (int k = 0; k < nstart; k++) {
@@ -100,7 +97,7 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 			p[j] = seed_p ? (k == 0 ? seed_p[j] : start_value[k - 1]) : start_value[k];
 		bk_fit_summary sum;
 		if (c->np) {
-			if (bk_fit_solve(&ctx, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
+			if (bk_fit_problem_solve(pb, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
 				continue;
 		} else {
 			sum.final_cost = 0;
@@ -115,7 +112,7 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
 			break;
 	}
-	bk_fit_ctx_free(&ctx);
+	bk_fit_problem_free(pb);
 	if (!(best_cost < HUGE_VAL))
 		goto done;
 	/* the albedo objective: one more solve, least squares of the cells'
