@@ -33,3 +33,17 @@ bk_fit_options bk_refit_albedo_options(void)
 	o.max_iterations = BK_REFIT_ALBEDO_ITERATIONS;
 	return o;
 }
+
+int bk_refit_values(const bk_fit_spec *sp, const double *p, bk_precision prec, double *v)
+{
+	const bk_samples *s = sp->s;
+	for (int q = 0; q < s->ncomp; q++) {
+		size_t lo = s->start[q];
+		const double *in[BK_IN_COUNT];
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			in[k] = s->in[k] + lo;
+		if (bk_form_eval(sp->form[q < 1 ? 0 : 1], prec, s->start[q + 1] - lo, in, p, v + lo))
+			return -1;
+	}
+	return 0;
+}

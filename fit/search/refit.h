@@ -29,4 +29,10 @@ void bk_refit_spec(bk_fit_spec *sp, const bk_samples *s, const bk_form *a, const
 /* The solver options of the albedo minimax after a refit. */
 bk_fit_options bk_refit_albedo_options(void);
 
+/* The values of sp's forms at constants p on sp's samples, each component
+ * (A, B of a pair) by its own form, evaluated in precision prec: the one
+ * per-component evaluation of a refitted member. 0, or -1 when a form does
+ * not evaluate. */
+int bk_refit_values(const bk_fit_spec *sp, const double *p, bk_precision prec, double *v);
+
 #endif
