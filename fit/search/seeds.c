@@ -30,6 +30,12 @@ int bk_seeds_catalog(bk_seeds *sd, bk_target_kind k, int one_form, unsigned prov
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		if (!bk_catmap_answers(k, one_form, e) || !bk_catmap_reads_only(e, provides))
 			continue;
+		/* V entries (times Schlick's F) seed vf only: vf2d is the talk's
+		 * modified Kelemen V times Schlick's F itself (fit/target.h), so
+		 * v_kelemen_talk_r would seed the target at error 0 and end the
+		 * front at its cost; compare still lists them on vf2d as rows */
+		if (k == BK_TARGET_VF2D && !strcmp(e->target, "V"))
+			continue;
 		/* a split pair searched as a pair stays two texts; every other entry
 		 * is the one text it is scored with */
 		int split = e->form_b && !(k == BK_TARGET_ENV && one_form);

@@ -25,7 +25,8 @@ typedef struct bk_seeds {
 
 /* Adds every catalog entry that answers target k (one_form: env scored as
  * f0 A + B, catalogmap.h) and reads only inputs of provides, whatever its
- * size, at its published constants and under its catalog name; for target
+ * size, at its published constants and under its catalog name (but no V
+ * entry on vf2d: one of them is that target itself); for target
  * f also Schlick's F, the baseline every F form is held to (name
  * "F_schlick", constants 1). Stops silently at BK_SEEDS_MAX. 0, or -1 out
  * of memory. */
