@@ -45,8 +45,9 @@ typedef struct bk_halves {
 } bk_halves;
 
 /* Progress of the two searches: step after each step of half ("S = A + B"
- * or "B"; may stop nothing: its return is ignored), done at its end. Either
- * may be NULL. */
+ * or "B", the same pointer for all the steps of one half; it cannot stop
+ * the search: the budget is the halves'), done at its end. Either may be
+ * NULL. */
 typedef struct bk_halves_report {
 	void (*step)(void *ctx, const char *half, const bk_search *s);
 	void (*done)(void *ctx, const char *half, long fits, size_t front);
