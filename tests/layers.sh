@@ -47,7 +47,7 @@ with_flow() {
 	awk '
 		function dir(p) { sub(/\/[^\/]*$/, "", p); return p }
 		function rank(d) {
-			if (d == "brdf") return 0; if (d == "fit") return 1; if (d == "analysis") return 2
+			if (d == "brdf") return 0; if (d == "fit" || d == "fit/search") return 1; if (d == "analysis") return 2
 			return 3 # analysis/cli, analysis/bench: the programs
 		}
 		rank(dir($2)) > rank(dir($1)) { print "against the flow: " $1 " calls " $2; bad = 1 }
