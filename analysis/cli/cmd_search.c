@@ -222,11 +222,11 @@ static int round_end(void *ctx, long round, int more)
 	double now = bk_clock_now();
 	int stop = isl_any(stop_asked || (R == 0 && J->a->seconds > 0 && now - J->seconds >= J->a->seconds));
 	if (R == 0 && (now - is->last >= (isatty(2) ? 0.25 : PROGRESS_EVERY) || !more || stop)) {
-		size_t one;
+		size_t front[MAX_FRONT]; /* room for all it may write (main wrote 48 into one size_t) */
 		double dt = now - J->seconds;
 		fprintf(stderr, "%ssearch: round %ld, %ld fits on %d islands, %.0f fits/s, island 0's front %zu%s",
 		        isatty(2) && more && !stop ? "\r" : "", round, total, isl_size(),
-		        dt > 0 ? (double)(total - is->start_evals) / dt : 0.0, bk_search_front(J->S, &one, MAX_FRONT),
+		        dt > 0 ? (double)(total - is->start_evals) / dt : 0.0, bk_search_front(J->S, front, MAX_FRONT),
 		        isatty(2) && more && !stop ? "\033[K" : "\n");
 		is->last = now;
 	}
