@@ -7,6 +7,7 @@
  */
 #include "compare.h"
 #include "out.h"
+#include "search/pareto.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -46,19 +47,28 @@ static int placeable(const bk_compare_row *r, int axis)
 	return isfinite(r->m.max_abs) && isfinite(axis_x(r, axis));
 }
 
+/* Row i on the front of one axis: the search layer's one scan
+ * (search/pareto.h) over the placeable rows, then every row exactly tied
+ * with a member of it (same x, same error: neither beats the other, so both
+ * are kept; the scan keeps one of a tie). 0 when out of memory. */
 static int on_front(const bk_compare_row *rows, int n, int i, int axis)
 {
 	if (!placeable(&rows[i], axis))
 		return 0;
+	bk_pareto_pt *pt = malloc(sizeof *pt * (size_t)(n > 0 ? n : 1));
+	if (!pt)
+		return 0;
+	size_t m = 0;
+	for (int j = 0; j < n; j++)
+		if (placeable(&rows[j], axis))
+			pt[m++] = (bk_pareto_pt){axis_x(&rows[j], axis), rows[j].m.max_abs, rows[j].name, (size_t)j};
+	size_t k = bk_pareto_scan(pt, m);
 	double xi = axis_x(&rows[i], axis), ei = rows[i].m.max_abs;
-	for (int j = 0; j < n; j++) {
-		if (j == i || !placeable(&rows[j], axis))
-			continue;
-		double xj = axis_x(&rows[j], axis), ej = rows[j].m.max_abs;
-		if (xj <= xi && ej <= ei && (xj < xi || ej < ei))
-			return 0;
-	}
-	return 1; /* exact ties (same x, same error) are all kept: neither beats the other */
+	int on = 0;
+	for (size_t f = 0; f < k && !on; f++)
+		on = pt[f].id == (size_t)i || (pt[f].cost == xi && pt[f].err == ei);
+	free(pt);
+	return on;
 }
 
 void bk_pareto(bk_compare_row *rows, int n, int tier)

@@ -9,7 +9,11 @@
 #include "catalog.h"
 #include "albfit.h"
 #include "fit.h"
+#include "lutrows.h"
 #include "search.h"
+#include "search/catalogmap.h"
+#include "search/refit.h"
+#include "search/seeds.h"
 #include "stability.h"
 
 #include <ctype.h>
@@ -164,22 +168,9 @@ static double score(const domain *d, bk_scene_term term, const bk_form *f, const
 static int refit(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p)
 {
 	bk_fit_spec sp;
-	memset(&sp, 0, sizeof sp);
-	sp.s = &d->s[d->ns - 1];
-	sp.form[0] = f;
-	sp.np = bk_form_nparams(f);
-	sp.opt = (bk_fit_options)BK_FIT_OPTIONS_INIT;
-	sp.opt.max_iterations = 2000; /* room to converge: a cut-off solve depends on libm */
-	sp.starts = 2;
-	sp.seed = 1;
-	sp.digits = BK_FIT_DIGITS_SE;
+	bk_refit_spec(&sp, &d->s[d->ns - 1], f, NULL, start); /* its iteration cap: search/refit.h */
 	/* env is scored on its max error: minimise that (Lawson's reweighting) */
 	sp.minimax = term == BK_SCENE_TERM_ENV;
-	for (int j = 0; j < BK_MAX_PARAMS; j++) {
-		sp.start[j] = start[j];
-		sp.lower[j] = -HUGE_VAL;
-		sp.upper[j] = HUGE_VAL;
-	}
 	char where[128];
 	if (!sp.np || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
 		return -1;
@@ -191,8 +182,7 @@ static int refit(const domain *d, bk_scene_term term, const bk_form *f, const do
 	 * squares point, minimise that (albfit.h) */
 	bk_albfit *af = term == BK_SCENE_TERM_VF ? bk_albfit_new(sp.s, f, sp.np) : NULL;
 	if (af) {
-		bk_fit_options o = BK_FIT_OPTIONS_INIT;
-		o.max_iterations = 500;
+		bk_fit_options o = bk_refit_albedo_options();
 		bk_albfit_run(af, p, 1, &o, NULL);
 		bk_albfit_free(af);
 	}
@@ -314,60 +304,41 @@ static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
  * channel where it has one f0, NoV warped towards grazing angles. */
 static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_smith smith)
 {
-	static const int sizes[] = {16, 32, 64, 128};
-	static const double channel_bytes[BK_LUT_FORMATS] = {1, 2, 4};
 	double r_lo = set->r_lo, r_hi = set->r_hi;
 	widen(&r_lo, &r_hi);
 	const bk_samples *s = &d->s[0];
 	double f0 = set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
-	int remap = r_lo > 0 || r_hi < 1;
-	for (int variant = 0; variant < 1 + BK_LUT_WARPS; variant++) {
-		bk_lut_layout L = {0, 0, 0, 1, BK_LUT_WARP_NONE, NAN};
-		if (variant > 0) { /* laid out for the set: only where that differs from the generic */
-			L.warp = (bk_lut_warp)(variant - 1);
-			if (remap)
-				L.r_lo = r_lo, L.r_hi = r_hi;
-			L.f0 = f0;
-			if (L.warp == BK_LUT_WARP_NONE && !remap && isnan(f0))
-				continue;
-		}
+	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
+	bk_lutrow *rows = malloc(BK_LUTROWS_MAX * sizeof *rows);
+	if (!rows)
+		return -1;
+	int nl = bk_lutrows_layouts(1, r_lo, r_hi, f0, L), rc = 0;
+	int n = bk_lutrows_build(L, nl, smith, d->prec, s, NULL, NULL, rows);
+	for (int k = 0; k < n && !rc; k++) {
+		const bk_lutrow *r = &rows[k];
 		bk_ops ops;
-		if (lut_ops(&L, &ops))
-			return -1;
-		for (int i = 0; i < 4; i++)
-			for (int fmt = 0; fmt < BK_LUT_FORMATS; fmt++) {
-				L.nu = L.nr = sizes[i];
-				bk_fit_metrics m;
-				if (bk_lut_score_layout(&L, (bk_lut_format)fmt, smith, d->prec, s, &m, NULL))
-					return -1;
-				cand *c = pool_add(P);
-				if (!c)
-					return -1;
-				if (variant == 0) {
-					snprintf(c->name, sizeof c->name, "LUT %dx%d %s", sizes[i], sizes[i], bk_lut_format_name(fmt));
-					snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)",
-					         sizes[i]);
-				} else {
-					char f0t[32] = "", rt[48] = "";
-					if (!isnan(L.f0))
-						snprintf(f0t, sizeof f0t, " f0 %g", L.f0);
-					if (remap)
-						snprintf(rt, sizeof rt, " r %g-%g", L.r_lo, L.r_hi);
-					snprintf(c->name, sizeof c->name, "LUT %dx%d %s%s%s%s%s", sizes[i], sizes[i], bk_lut_format_name(fmt),
-					         f0t, rt, L.warp ? " " : "", L.warp ? bk_lut_warp_name(L.warp) : "");
-					snprintf(c->source, sizeof c->source, "DFG texture laid out for the set (bilinear, texel centres)");
-				}
-				c->lut = 1;
-				c->lut_size = sizes[i];
-				c->layout = L;
-				c->fmt = (bk_lut_format)fmt;
-				c->lut_bytes = (double)sizes[i] * sizes[i] * channel_bytes[fmt] * (isnan(L.f0) ? 2 : 1);
-				c->ops = ops;
-				c->cost = sc->fetch_cost + bk_ops_cost(&ops, sc->simple_cost, sc->complex_cost);
-				c->err = m.max_abs;
-			}
+		cand *c = r->scored && !lut_ops(&r->layout, &ops) ? pool_add(P) : NULL;
+		if (!c) {
+			rc = -1;
+			break;
+		}
+		snprintf(c->name, sizeof c->name, "%s", r->name);
+		if (r->variant == 0)
+			snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)",
+			         r->size);
+		else
+			snprintf(c->source, sizeof c->source, "DFG texture laid out for the set (bilinear, texel centres)");
+		c->lut = 1;
+		c->lut_size = r->size;
+		c->layout = r->layout;
+		c->fmt = r->fmt;
+		c->lut_bytes = r->bytes;
+		c->ops = ops;
+		c->cost = sc->fetch_cost + bk_ops_cost(&ops, sc->simple_cost, sc->complex_cost);
+		c->err = r->m.max_abs;
 	}
-	return 0;
+	free(rows);
+	return rc;
 }
 
 /* Better choice first: cheaper; at equal cost more accurate; LUTs: smaller. */
@@ -398,28 +369,13 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 	o.x_lo = sc->nov_lo;
 	o.x_hi = sc->nov_hi;
 	o.f0[0] = set->f0_lo;
-	o.nx = o.nr = 8, o.nu = 8, o.nphi = 4; /* search's screening grid for vf */
+	bk_seeds_screening_grid(&o);
 	bk_samples screen;
 	char err[256];
 	if (bk_target_build(&o, &screen, NULL, NULL, err, sizeof err))
 		return -1;
-	const char *seeds[64];
-	char *owned[64];
-	double seed_p[64][BK_MAX_PARAMS];
-	int ns = 0;
-	for (size_t i = 0; i < bk_catalog_count() && ns < 64; i++) {
-		const bk_catalog_entry *e = bk_catalog_at(i);
-		int v = !strcmp(e->target, "V");
-		if (!v && strcmp(e->target, "VF"))
-			continue;
-		owned[ns] = malloc(strlen(e->form) + 32);
-		if (!owned[ns])
-			break;
-		sprintf(owned[ns], v ? "(%s)*F_schlick(f0, 1, LoH)" : "%s", e->form);
-		seeds[ns] = owned[ns];
-		memcpy(seed_p[ns], e->defaults, sizeof e->defaults);
-		ns++;
-	}
+	bk_seeds sd;
+	memset(&sd, 0, sizeof sd);
 	bk_search_options so;
 	bk_search_defaults(&so);
 	so.screen = &screen;
@@ -433,23 +389,15 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 	so.evals = BK_SCENE_SEARCH_EVALS;
 	so.enum_max = BK_SCENE_SEARCH_EVALS / 2;
 	so.threads = 2; /* the answer does not depend on it (search.h) */
-	so.seeds = seeds;
-	so.seed_p = (const double (*)[BK_MAX_PARAMS])seed_p;
-	so.nseeds = ns;
-	memset(&so.grammar, 0, sizeof so.grammar);
-	so.grammar.ops = bk_grammar_default_ops();
-	so.grammar.consts[0] = 1.0;
-	so.grammar.nconsts = 1;
-	so.grammar.max_params = 4;
+	bk_seeds_grammar(&so.grammar, BK_TARGET_VF);
 	so.grammar.max_size = 12;
 	so.grammar.inputs = screen.provides & ~(1u << BK_IN_F0);
-	int rc = -1;
-	bk_search *S = bk_search_new(&so, err, sizeof err);
+	int rc = bk_seeds_catalog(&sd, BK_TARGET_VF, 0, screen.provides);
+	bk_seeds_apply(&sd, &so);
+	bk_search *S = rc ? NULL : bk_search_new(&so, err, sizeof err);
+	rc = -1;
 	if (S) {
-		int k;
-		while ((k = bk_search_step(S, err, sizeof err)) == 1)
-			;
-		rc = k < 0 ? -1 : 0;
+		rc = bk_search_run(S, NULL, NULL, err, sizeof err) < 0 ? -1 : 0;
 		size_t idx[64], nf = rc ? 0 : bk_search_front(S, idx, 64);
 		for (size_t i = 0; i < nf; i++) {
 			const bk_cand *c = bk_search_at(S, idx[i]);
@@ -466,8 +414,7 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 		}
 		bk_search_free(S);
 	}
-	for (int i = 0; i < ns; i++)
-		free(owned[i]);
+	bk_seeds_free(&sd);
 	bk_samples_free(&screen);
 	return rc;
 }
@@ -700,18 +647,14 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	/* the candidates */
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
-		char text[4096];
-		if (term == BK_SCENE_TERM_VF && !strcmp(e->target, "VF"))
-			snprintf(text, sizeof text, "%s", e->form);
-		else if (term == BK_SCENE_TERM_VF && !strcmp(e->target, "V"))
-			snprintf(text, sizeof text, "(%s)*F_schlick(f0, 1, LoH)", e->form);
-		else if (term == BK_SCENE_TERM_ENV && !strcmp(e->target, "env"))
-			snprintf(text, sizeof text, "f0*(%s) + (%s)", e->form, e->form_b);
-		else if (term == BK_SCENE_TERM_ENV && !strcmp(e->target, "env_f0"))
-			snprintf(text, sizeof text, "%s", e->form);
-		else
+		/* the catalog's forms of the term, each as one form (f0 A + B for env) */
+		bk_target_kind k = term == BK_SCENE_TERM_VF ? BK_TARGET_VF : BK_TARGET_ENV;
+		if ((term != BK_SCENE_TERM_VF && term != BK_SCENE_TERM_ENV) || !bk_catmap_answers(k, 1, e))
 			continue;
-		if (add_form(&P, sc, set, &d, term, e->name, e->source, text, e->defaults)) {
+		char *text = bk_catmap_form(k, 1, e);
+		int bad = !text || add_form(&P, sc, set, &d, term, e->name, e->source, text, e->defaults);
+		free(text);
+		if (bad) {
 			snprintf(err, errlen, "%s: out of memory", e->name);
 			goto done;
 		}

@@ -15,6 +15,9 @@
 #include "fit_out.h"
 #include "gpucost.h"
 #include "heatmap.h"
+#include "lutrows.h"
+#include "search/catalogmap.h"
+#include "search/refit.h"
 
 #include <dirent.h>
 #include <errno.h>
@@ -38,41 +41,11 @@ typedef struct study {
 	char driver[256];     /* the Vulkan driver that compiled for --gpu */
 } study;
 
-/* Which catalog entries answer a target. env: every entry becomes one form in
- * f0 (a split entry as f0*(A) + (B)), so all are scored on f0·A + B over the
- * same f0 list, the quantity a shader computes. */
-static int entry_fits(bk_target_kind k, const bk_catalog_entry *e)
-{
-	switch (k) {
-	case BK_TARGET_VF2D:
-	case BK_TARGET_VF: return !strcmp(e->target, "VF") || !strcmp(e->target, "V");
-	case BK_TARGET_SPEC: return !strcmp(e->target, "DVF");
-	case BK_TARGET_ENV: return !strcmp(e->target, "env") || !strcmp(e->target, "env_f0");
-	case BK_TARGET_D: return !strcmp(e->target, "D");
-	case BK_TARGET_F: return !strcmp(e->target, "F");
-	default: return 0;
-	}
-}
-
 static void row_text(bk_compare_row *r, const char *name, const char *kind, const char *source)
 {
 	snprintf(r->name, sizeof r->name, "%s", name);
 	snprintf(r->kind, sizeof r->kind, "%s", kind);
 	snprintf(r->source, sizeof r->source, "%s", source);
-}
-
-/* The form a row is scored with: a V entry times Schlick F on V·F targets,
- * an env split entry as one form in f0. */
-static void entry_form(bk_target_kind k, const bk_catalog_entry *e, char *buf, size_t len)
-{
-	if (!strcmp(e->target, "V"))
-		snprintf(buf, len, "(%s)*F_schlick(f0, 1, LoH)", e->form);
-	else if (k == BK_TARGET_SPEC) /* the spec target is the rendered lobe: BRDF times NoL */
-		snprintf(buf, len, "(%s)*NoL", e->form);
-	else if (k == BK_TARGET_ENV && e->form_b)
-		snprintf(buf, len, "f0*(%s) + (%s)", e->form, e->form_b);
-	else
-		snprintf(buf, len, "%s", e->form);
 }
 
 static void score(study *S, bk_compare_row *r, const bk_form *f)
@@ -97,26 +70,8 @@ static void score(study *S, bk_compare_row *r, const bk_form *f)
 static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compare_row *r)
 {
 	bk_fit_spec sp;
-	bk_fit_options o = BK_FIT_OPTIONS_INIT;
-	memset(&sp, 0, sizeof sp);
-	sp.s = &S->s;
-	sp.form[0] = f;
-	sp.np = bk_form_nparams(f);
-	sp.opt = o;
-	/* Room to finish: a solve cut off at its iteration limit stops at a point
-	 * that depends on the CPU's libm (1-ulp differences in exp2 walk it), so the
-	 * study would not reproduce across machines. The refits of make results
-	 * converge within 250 (env_narkowicz2014_lazarov_g1mr needs 216). */
-	sp.opt.max_iterations = 2000;
+	bk_refit_spec(&sp, &S->s, f, NULL, pub->params); /* its iteration cap: search/refit.h */
 	sp.relative = S->relative;
-	sp.starts = 2;
-	sp.seed = 1;
-	sp.digits = BK_FIT_DIGITS_SE; /* the digits shown do not depend on the CPU's libm */
-	for (int j = 0; j < BK_MAX_PARAMS; j++) {
-		sp.start[j] = pub->params[j];
-		sp.lower[j] = -HUGE_VAL;
-		sp.upper[j] = HUGE_VAL;
-	}
 	char where[128];
 	if (sp.np == 0 || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
 		return -1;
@@ -165,7 +120,11 @@ static int add_entry(study *S, const bk_catalog_entry *e)
 		return -1;
 	bk_compare_row *r = &S->rows[S->n];
 	memset(r, 0, sizeof *r);
-	entry_form(S->to.kind, e, r->form, sizeof r->form);
+	char *text = bk_catmap_form(S->to.kind, 1, e);
+	if (!text)
+		return -1;
+	snprintf(r->form, sizeof r->form, "%s", text);
+	free(text);
 	bk_form_error err;
 	bk_form *f = bk_form_parse(r->form, &err);
 	if (!f || (bk_form_inputs(f) & ~S->s.provides)) {
@@ -191,22 +150,24 @@ static int add_entry(study *S, const bk_catalog_entry *e)
 
 static void add_luts(study *S)
 {
-	static const int sizes[] = {16, 32, 64, 128};
-	for (int q = 0; q < 4; q++)
-		for (int fm = 0; fm < BK_LUT_FORMATS && S->n < MAX_ROWS; fm++) {
-			bk_compare_row *r = &S->rows[S->n];
-			memset(r, 0, sizeof *r);
-			char name[96];
-			snprintf(name, sizeof name, "LUT %dx%d %s", sizes[q], sizes[q], bk_lut_format_name((bk_lut_format)fm));
-			row_text(r, name, "lut", "DFG texture from the reference integrator, bilinear, clamp to edge");
-			if (bk_lut_score(sizes[q], (bk_lut_format)fm, S->to.smith, &S->s, &r->m, NULL))
-				continue;
-			r->tex_fetches = 1;
-			r->sampler_slots = 1;
-			r->spirv = -1;
-			r->ns = r->ns_min = r->ns_max = NAN;
-			S->n++;
-		}
+	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
+	bk_lutrow rows[BK_LUTROWS_MAX];
+	int nl = bk_lutrows_layouts(0, 0, 1, NAN, L);
+	int n = bk_lutrows_build(L, nl, S->to.smith, BK_F64, &S->s, NULL, NULL, rows);
+	for (int k = 0; k < n && S->n < MAX_ROWS; k++) {
+		if (!rows[k].scored)
+			continue;
+		bk_compare_row *r = &S->rows[S->n];
+		memset(r, 0, sizeof *r);
+		row_text(r, "", "lut", "DFG texture from the reference integrator, bilinear, clamp to edge");
+		snprintf(r->name, sizeof r->name, "%.*s", (int)sizeof r->name - 1, rows[k].name);
+		r->m = rows[k].m;
+		r->tex_fetches = 1;
+		r->sampler_slots = 1;
+		r->spirv = -1;
+		r->ns = r->ns_min = r->ns_max = NAN;
+		S->n++;
+	}
 }
 
 /* --gpu: every row with a form compiled for each chip by brdfkit gpucost's
@@ -646,7 +607,7 @@ int cmd_compare(int argc, char **argv)
 	}
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
-		if (entry_fits(kind, e))
+		if (bk_catmap_answers(kind, 1, e))
 			add_entry(&S, e);
 		cli_progress("compare: catalog forms and refits", (int)i + 1, (int)bk_catalog_count());
 	}

@@ -12,6 +12,7 @@
 #include "form_check.h"
 #include "heatmap.h"
 #include "page.h"
+#include "search/pair.h"
 #include "stability.h"
 
 #include <errno.h>
@@ -76,13 +77,7 @@ static int resolve(const char *arg, item *it)
 	const bk_catalog_entry *e = bk_catalog_find(arg);
 	const bk_term *t = bk_term_find(arg);
 	if (e) {
-		size_t n = strlen(e->form) + (e->form_b ? strlen(e->form_b) + 16 : 0) + 1;
-		if ((it->text = malloc(n))) {
-			if (e->form_b)
-				snprintf(it->text, n, "f0*(%s) + (%s)", e->form, e->form_b);
-			else
-				snprintf(it->text, n, "%s", e->form);
-		}
+		it->text = e->form_b ? bk_pair_dup(e->form, e->form_b) : strdup(e->form);
 		memcpy(it->params, e->defaults, sizeof it->params);
 		for (int j = 0; j < e->nparams; j++)
 			it->have[j] = 1;

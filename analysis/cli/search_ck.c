@@ -3,7 +3,9 @@
  */
 #define _GNU_SOURCE /* O_TMPFILE, linkat's AT_EMPTY_PATH, flock: Linux; each has a fallback */
 #include "search_ck.h"
+#include "cli.h"
 #include "expr.h"
+#include "islands.h"
 #include "out.h"
 
 #include <dirent.h>
@@ -343,4 +345,183 @@ int ck_clean(const char *path)
 	}
 	closedir(d);
 	return removed;
+}
+
+/* ---- the checkpoint of a search -------------------------------------------------- */
+
+/* The checkpoint's text: header (an island's line, or NULL), then the
+ * search's state (malloc'd into *text). 0, or -1 (out of memory). */
+int ck_search_text(const bk_search *S, const char *header, char **text, size_t *len)
+{
+	*text = NULL;
+	FILE *m = open_memstream(text, len);
+	if (!m)
+		return -1;
+	if (header)
+		fputs(header, m);
+	int bad = bk_search_save(S, m);
+	if (fclose(m) || bad) {
+		free(*text);
+		*text = NULL;
+		return -1;
+	}
+	return 0;
+}
+
+/* A checkpoint that cannot be written is an error, intermediate ones too:
+ * the run stops (the last one written stays whole, and --resume goes on
+ * from it), never a shorter run that looks whole. */
+int ck_search_save(const bk_search *S, const char *path, char *err, size_t errlen)
+{
+	char *text;
+	size_t len;
+	ck_file c;
+	if (ck_search_text(S, NULL, &text, &len)) {
+		snprintf(err, errlen, "%s: out of memory", path);
+		return -1;
+	}
+	int rc = ck_write(&c, path, text, len, err, errlen) || ck_commit(&c, NULL, err, errlen) ? -1 : 0;
+	free(text);
+	return rc;
+}
+
+/* ---- the checkpoints of islands (an MPI job: islands.h) ------------------------ */
+
+/* A rank's checkpoint is FILE.RANK, with the previous round kept as
+ * FILE.RANK.prev: a job killed while the ranks commit a round leaves each
+ * rank the round before it at least, and a resume takes the newest round
+ * every rank has (save_islands, load_islands). */
+#define ISLAND_MAGIC "brdfkit-island-checkpoint 1"
+
+static void island_path(const char *base, int r, const char *suffix, char *buf, size_t len)
+{
+	snprintf(buf, len, "%s.%d%s", base, r, suffix);
+}
+
+/* Every rank's failure text (empty: none) printed by rank 0, one line each.
+ * Collective. Returns 1. */
+int ck_islands_fail(const char *what, const char *mine)
+{
+	int K = isl_size();
+	char (*all)[256] = isl_rank() == 0 ? calloc((size_t)K, 256) : NULL;
+	isl_gather_text(mine, all);
+	for (int r = 0; all && r < K; r++)
+		if (all[r][0])
+			fprintf(stderr, "search: %s: rank %d: %s\n", what, r, all[r]);
+	if (isl_rank() == 0 && !all)
+		fprintf(stderr, "search: %s failed on some rank (out of memory for the messages)\n", what);
+	free(all);
+	return 1;
+}
+
+/* The round a checkpoint file holds: -1 absent, -2 not one of this job's. */
+static long island_round(const char *path, const ck_islands *J)
+{
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return errno == ENOENT ? -1 : -2;
+	int r, k;
+	long round, m, n;
+	int ok = fscanf(f, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld", &r, &k, &round, &m, &n) == 5;
+	fclose(f);
+	return ok && r == isl_rank() && k == isl_size() && m == J->migrate && n == J->migrants ? round : -2;
+}
+
+/* Two phases, so that no rank moves to round `round` before all have it on
+ * disk: each writes a temporary; only when all succeeded does each keep its
+ * last round as .prev and rename the new one into place. Collective. */
+int ck_islands_save(const ck_islands *J, const bk_search *S, long round)
+{
+	char path[4096], prev[4112], err[256] = "", head[256];
+	int R = isl_rank();
+	island_path(J->checkpoint, R, "", path, sizeof path);
+	island_path(J->checkpoint, R, ".prev", prev, sizeof prev);
+	snprintf(head, sizeof head, ISLAND_MAGIC " island %d of %d round %ld migrate %ld migrants %ld\n", R, isl_size(),
+	         round, J->migrate, J->migrants);
+	char *text;
+	size_t len;
+	ck_file c;
+	int ok = ck_search_text(S, head, &text, &len) == 0;
+	if (!ok)
+		snprintf(err, sizeof err, "%.200s: out of memory", path);
+	ok = ok && ck_write(&c, path, text, len, err, sizeof err) == 0;
+	free(text);
+	if (isl_any(!ok)) {
+		if (ok)
+			ck_abort(&c);
+		return ck_islands_fail("--checkpoint", ok ? "" : err);
+	}
+	ok = ck_commit(&c, prev, err, sizeof err) == 0;
+	return isl_any(!ok) ? ck_islands_fail("--checkpoint", ok ? "" : err) : 0;
+}
+
+/* The newest round every rank has, loaded. Collective. */
+int ck_islands_load(const ck_islands *J, bk_search *S, long *round)
+{
+	char path[4096], prev[4112], err[512] = "";
+	int R = isl_rank();
+	island_path(J->resume, R, "", path, sizeof path);
+	island_path(J->resume, R, ".prev", prev, sizeof prev);
+	long cur = island_round(path, J), old = island_round(prev, J);
+	long want = isl_min(cur > old ? cur : old);
+	const char *from = cur == want ? path : old == want ? prev : NULL;
+	int ok = want >= 0 && from;
+	if (!ok)
+		snprintf(err, sizeof err, "%.200s: no checkpoint of this job's round %ld (island %d of %d, --migrate %ld, "
+		         "--migrants %ld; a resume needs the same ranks and options)", path, want, R, isl_size(),
+		         J->migrate, J->migrants);
+	if (ok) {
+		FILE *f = fopen(from, "r");
+		char line[256];
+		ok = f && fgets(line, sizeof line, f) && bk_search_load(S, f, err, sizeof err) == 0;
+		if (!ok && f) {
+			char why[400];
+			snprintf(why, sizeof why, "%.390s", err);
+			snprintf(err, sizeof err, "%.100s: %.300s", from, why);
+		} else if (!f) {
+			snprintf(err, sizeof err, "%.200s: cannot be read", from);
+		}
+		if (f)
+			fclose(f);
+	}
+	if (isl_any(!ok))
+		return ck_islands_fail("--resume", ok ? "" : err);
+	*round = want;
+	if (R == 0)
+		fprintf(stderr, "search: resumed %d islands at round %ld (%ld fits)\n", isl_size(), want,
+		        isl_sum(bk_search_evals(S)));
+	else
+		isl_sum(bk_search_evals(S));
+	return 0;
+}
+
+/* The checkpoint files, checked before any work (else a bad path is found
+ * when the first is written, minutes on, or the last, with the whole run
+ * lost): each rank its own, FILE.RANK and FILE.RANK.prev on islands. Then
+ * the temporaries of killed saves to them that prove themselves ours are
+ * removed (search_ck.h). Collective. 0, or 1 after the message. */
+int ck_islands_check(const ck_islands *J)
+{
+	const ck_islands *a = J;
+	char err[8800] = "", path[4096], prev[4112]; /* room for two paths in a message */
+	int K = isl_size(), bad = 0;
+	for (int pass = 0; pass < 2; pass++) {
+		const char *base = pass ? a->resume : a->checkpoint;
+		island_path(base ? base : "", isl_rank(), "", path, sizeof path);
+		island_path(base ? base : "", isl_rank(), ".prev", prev, sizeof prev);
+		if (base && pass == 0)
+			bad = K > 1 ? ck_check_write(path, a->out, err, sizeof err) || ck_check_write(prev, a->out, err, sizeof err)
+			            : ck_check_write(base, a->out, err, sizeof err);
+		else if (base)
+			bad = K > 1 ? ck_check_read(path, a->out, 0, err, sizeof err) || ck_check_read(prev, a->out, 0, err, sizeof err)
+			            : ck_check_read(base, a->out, 1, err, sizeof err);
+		const char *what = pass ? "--resume" : "--checkpoint";
+		if (K > 1 && isl_any(bad))
+			return ck_islands_fail(what, bad ? err : "");
+		if (bad)
+			return cli_fail("search", "%s %s", what, err);
+		if (base) /* the rank's own */
+			ck_clean(K > 1 ? path : base);
+	}
+	return 0;
 }

@@ -19,6 +19,8 @@
 #ifndef CLI_SEARCH_CK_H
 #define CLI_SEARCH_CK_H
 
+#include "search.h"
+
 #include <stddef.h>
 
 typedef struct ck_file {
@@ -49,5 +51,35 @@ int ck_check_read(const char *path, const char *out, int must_exist, char *err, 
 /* Removes the leftovers PATH.tmpH of killed saves to path that prove
  * themselves (see above) and no live run holds. Returns how many. */
 int ck_clean(const char *path);
+
+/* ---- a search's checkpoints ---------------------------------------------------- */
+
+/* The checkpoint's text: header (an island's line, or NULL), then the
+ * search's state (bk_search_save), malloc'd into *text. 0, or -1 (out of
+ * memory). */
+int ck_search_text(const bk_search *S, const char *header, char **text, size_t *len);
+/* One process's checkpoint at path, written whole. 0, or -1 (err). */
+int ck_search_save(const bk_search *S, const char *path, char *err, size_t errlen);
+
+/* The checkpoint options of a run: --checkpoint, --resume (NULL: none),
+ * --out, and on islands --migrate and --migrants (a resume needs the same). */
+typedef struct ck_islands {
+	const char *checkpoint, *resume, *out;
+	long migrate, migrants;
+} ck_islands;
+
+/* Every rank's failure text (empty: none) printed by rank 0, one line each.
+ * Collective (islands.h). Returns 1. */
+int ck_islands_fail(const char *what, const char *mine);
+/* The checkpoint files checked before any work, each rank its own (FILE.RANK
+ * and FILE.RANK.prev on islands, FILE on one process), then the leftovers of
+ * killed saves removed (ck_clean). Collective. 0, or 1 after the message. */
+int ck_islands_check(const ck_islands *J);
+/* Round `round` saved by every rank in two phases (.prev kept). Collective.
+ * 0, or 1 after the message. */
+int ck_islands_save(const ck_islands *J, const bk_search *S, long round);
+/* The newest round every rank has, loaded into S (just made). Collective.
+ * 0, or 1 after the message. */
+int ck_islands_load(const ck_islands *J, bk_search *S, long *round);
 
 #endif

@@ -1,0 +1,335 @@
+/*
+ * search_front.c — the search's front refitted and scored on the full
+ * samples, beside the catalog and LUT rows (search_front.h).
+ */
+#include "search_front.h"
+
+#include "albfit.h"
+#include "catalog.h"
+#include "lutrows.h"
+#include "out.h"
+#include "search/constraint.h"
+#include "search/pair.h"
+#include "search/pareto.h"
+#include "search/refit.h"
+#include "stability.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef bk_sfront_member member;
+
+static void progress(const bk_sfront *F, const char *label, int done, int total)
+{
+	if (F->progress)
+		F->progress((void *)label, done, total);
+}
+
+const char *bk_sfront_objective_name(const bk_search_options *so)
+{
+	static const char *const n[] = {"rmse", "max_abs", "albedo_max_abs"};
+	if (so->relative && so->objective != BK_OBJ_ALBEDO)
+		return so->objective == BK_OBJ_MAX ? "max_rel" : "rmse_rel";
+	return n[so->objective];
+}
+
+int bk_sfront_beats(const member *m, const member *q)
+{
+	return !q->c && !q->status && m->cost <= q->cost && m->err <= q->err && (m->cost < q->cost || m->err < q->err);
+}
+
+/* A published seed (one of the first exempt_seeds the search was given),
+ * kept whatever the constraints say, as the search keeps it (search.c names
+ * a seed without a name "start K"). */
+static int seed_exempt(const bk_search_options *so, const bk_cand *c)
+{
+	for (int k = 0; c && c->seed_name && k < so->nseeds && k < so->exempt_seeds; k++) {
+		char name[32];
+		snprintf(name, sizeof name, "start %d", k + 1);
+		if (!strcmp(c->seed_name, so->seed_names && so->seed_names[k] ? so->seed_names[k] : name))
+			return 1;
+	}
+	return 0;
+}
+
+/* --objective albedo: the least-squares point of fit's fitter minimises the
+ * values' error, not the albedo's; from it, Lawson's minimax on the cells'
+ * albedo errors (fit/albfit.h). The constants are rounded to 7 significant
+ * digits (a float literal, and no last-bit difference of libm survives it)
+ * and kept where they lower the albedo's max error; the standard errors stay
+ * those of the least-squares point, and the message says so. */
+static void albedo_minimax(const bk_sfront *F, member *m)
+{
+	bk_albfit *af = bk_albfit_new(F->s, m->f[0], m->spec.np);
+	if (!af)
+		return;
+	double p[BK_MAX_PARAMS], before = bk_albfit_max(af, m->res.p), after;
+	memcpy(p, m->res.p, sizeof p);
+	bk_fit_options o = bk_refit_albedo_options();
+	if (bk_albfit_run(af, p, 1, &o, &after) == 0 && after < before) {
+		for (int j = 0; j < m->spec.np; j++) {
+			char lit[32];
+			snprintf(lit, sizeof lit, "%.7g", p[j]);
+			p[j] = strtod(lit, NULL);
+		}
+		if (bk_albfit_max(af, p) < before) {
+			memcpy(m->res.p, p, sizeof p);
+			size_t k = strlen(m->res.message);
+			snprintf(m->res.message + k, sizeof m->res.message - k, "%sconstants moved from the least-squares point "
+			         "by the albedo minimax (standard errors: of that point)", k ? "; " : "");
+		}
+	}
+	bk_albfit_free(af);
+}
+
+/* Stability in half, each half of a pair on its own: the worse verdict. */
+static void stability(member *m, int finite)
+{
+	static const char *const verdict[3] = {"as is", "with guards", "no"};
+	int worst = 0, analysed = 1;
+	for (int q = 0; finite && q < (m->text_b ? 2 : 1); q++) {
+		bk_stability st;
+		char e2[256];
+		if (bk_stability_run(m->name, q ? m->text_b : m->text, m->spec.np ? m->res.p : NULL, BK_STAB_TOL, &st, e2,
+		                     sizeof e2)) {
+			analysed = 0;
+			continue;
+		}
+		int w = st.safe_as_is ? 0 : st.guarded_ok ? 1 : 2; /* stability.h: a pole is never "as is" */
+		if (w > worst) /* the worse of A and B */
+			worst = w;
+		bk_stability_free(&st);
+	}
+	snprintf(m->verdict, sizeof m->verdict, "%s", !finite ? "not finite" : analysed ? verdict[worst] : "not analysed");
+}
+
+/* The member on the full samples: fitted with fit's full fitter (the refit
+ * preset: several starts, minimax for the max objective, optimality check,
+ * constants rounded to what their standard errors justify) unless it is a
+ * catalog row at its published constants; then its error in the search
+ * precision, constraints on the denser grid, half-precision error and
+ * stability. */
+static int score_member(const bk_sfront *F, member *m, const double *start, int fit)
+{
+	const bk_search_options *so = F->so;
+	bk_form_error fe;
+	m->f[0] = bk_form_parse(m->text, &fe);
+	m->f[1] = m->text_b ? bk_form_parse(m->text_b, &fe) : NULL;
+	if (!m->f[0] || (m->text_b && !m->f[1]))
+		return -1;
+	bk_fit_spec *sp = &m->spec;
+	bk_refit_spec(sp, F->s, m->f[0], m->f[1], start);
+	sp->relative = so->relative;
+	sp->minimax = so->objective == BK_OBJ_MAX;
+	if (fit && sp->np > 0) {
+		if (bk_fit_run(sp, &m->res) < 0) {
+			if (!m->c)
+				return -1;
+			/* a screening member the full fitter cannot start from (not finite
+			 * on the denser grid: a pole between the screening samples) is
+			 * dropped, not the search */
+			memset(&m->res, 0, sizeof m->res);
+			memcpy(m->res.p, start, sizeof m->res.p);
+			m->status = 1;
+			m->err = HUGE_VAL;
+			snprintf(m->verdict, sizeof m->verdict, "not analysed");
+			return 0;
+		}
+		if (so->objective == BK_OBJ_ALBEDO && !m->f[1])
+			albedo_minimax(F, m);
+	} else {
+		memset(&m->res, 0, sizeof m->res);
+		memcpy(m->res.p, start, sizeof m->res.p);
+		m->res.optimal = -1;
+	}
+	bk_fit_evaluate(sp, m->res.p, &m->res.fitted);
+	const bk_samples *s = F->s;
+	double *v = malloc(sizeof(double) * s->n);
+	if (!v)
+		return -1;
+	int rc = bk_refit_values(sp, m->res.p, so->precision, v);
+	m->status = 0;
+	int finite = 1;
+	if (rc == 0) {
+		bk_samples_metrics(s, v, NULL, &m->prec);
+		finite = m->prec.nonfinite == 0;
+		for (size_t i = 0; i < s->n; i++)
+			if (!isfinite(v[i]) && isfinite(s->y[i]))
+				m->status = 1;
+		if (!seed_exempt(so, m->c) && !bk_search_admissible(so, s, v))
+			m->status = 1;
+		m->err = bk_search_round_err(bk_search_error(so, s, v, &m->prec));
+		if (!isfinite(m->err))
+			m->status = 1;
+		bk_fit_metrics h;
+		rc = bk_refit_values(sp, m->res.p, BK_F16, v);
+		bk_samples_metrics(s, v, NULL, &h);
+		m->f16_max = h.nonfinite ? HUGE_VAL : h.max_abs;
+	}
+	free(v);
+	if (!finite) { /* the metrics skip what is not finite: over none they would read 0, a perfect fit */
+		m->prec.rmse = m->prec.max_abs = m->prec.max_rel = HUGE_VAL;
+		m->err = m->f16_max = HUGE_VAL;
+	}
+	char *whole = m->text_b ? bk_pair_dup(m->text, m->text_b) : NULL; /* the pair as the shader computes it */
+	bk_form *w = (!m->text_b || whole) ? bk_form_parse(whole ? whole : m->text, &fe) : NULL;
+	free(whole);
+	if (!w)
+		return -1;
+	bk_form_count(w, &m->ops);
+	m->cost = bk_ops_cost(&m->ops, so->simple_cost, so->complex_cost);
+	bk_form_free(w);
+	stability(m, finite);
+	return rc;
+}
+
+/* env --fetch-cost K: the DFG LUTs of compare (lutrows.h, the generic
+ * layout) as rows of cost K (the fetch) + 1 (the mad of f0·A + B), scored
+ * on the same samples. */
+static int add_luts(bk_sfront *F)
+{
+	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
+	bk_lutrow *rows = malloc(BK_LUTROWS_MAX * sizeof *rows);
+	if (!rows)
+		return -1;
+	int nl = bk_lutrows_layouts(0, 0, 1, NAN, L);
+	int n = bk_lutrows_build(L, nl, F->smith, BK_F64, F->s, F->progress, "LUT rows", rows);
+	for (int k = 0; k < n; k++) {
+		if (!rows[k].scored)
+			continue;
+		member *m = &F->m[F->nm++];
+		memset(m, 0, sizeof *m);
+		snprintf(m->name, sizeof m->name, "%s", rows[k].name);
+		m->prec = rows[k].m;
+		m->lut = 1;
+		m->text = "";
+		m->ops.n[BK_K_MAD] = m->ops.simple = 1;
+		m->cost = 1 + F->fetch_cost;
+		/* NaN for a relative rmse: no values */
+		m->err = bk_search_round_err(bk_search_error(F->so, F->s, NULL, &m->prec));
+		m->f16_max = NAN;
+		snprintf(m->verdict, sizeof m->verdict, "-");
+	}
+	free(rows);
+	return 0;
+}
+
+/* Catalog rows (published and refitted), then the screening front refitted;
+ * the final front: the refitted members no other beats at no greater cost. */
+int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
+{
+	/* the screening front, and every seed that fitted: the published forms
+	 * compete for the final front on the full samples, refitted, even where
+	 * a generated form beat them on the screening grid */
+	size_t idx[BK_SFRONT_MAX + BK_SEEDS_MAX];
+	size_t nf = bk_search_front(F->S, idx, BK_SFRONT_MAX);
+	for (size_t i = 0, n = bk_search_count(F->S); i < n && nf < BK_SFRONT_MAX + BK_SEEDS_MAX; i++) {
+		const bk_cand *c = bk_search_at(F->S, i);
+		int on = 0;
+		for (size_t k = 0; k < nf && !on; k++)
+			on = idx[k] == i;
+		if (c->seed_name && c->status == BK_CAND_OK && !on)
+			idx[nf++] = i;
+	}
+	F->nm = 0;
+	F->m = calloc((size_t)(2 * sd->n) + nf + BK_LUTROWS_MAX + 1, sizeof *F->m);
+	if (!F->m)
+		return -1;
+	for (int k = 0; k < sd->n; k++) { /* catalog names, and typed --start forms as "start K" */
+		const bk_catalog_entry *e = sd->name[k] ? bk_catalog_find(sd->name[k]) : NULL;
+		for (int r = 0; r < 2; r++) {
+			member *m = &F->m[F->nm++];
+			m->entry = e;
+			m->refit = r;
+			if (e)
+				snprintf(m->name, sizeof m->name, "%s%s%s", e->name, !strcmp(e->target, "V") ? " x F_schlick" : "",
+				         r ? " (refit)" : "");
+			else if (sd->name[k])
+				snprintf(m->name, sizeof m->name, "%s%s", sd->name[k], r ? " (refit)" : "");
+			else
+				snprintf(m->name, sizeof m->name, "start %d%s", k + 1, r ? " (refit)" : "");
+			m->text = sd->text[k];
+			m->text_b = sd->text_b[k];
+			progress(F, "catalog", F->nm, 2 * sd->n);
+			if (score_member(F, m, sd->p[k], r))
+				return -1;
+		}
+	}
+	if (F->luts && add_luts(F)) /* the textures the formulas compete with, on compare's axis */
+		return -1;
+	for (size_t i = 0; i < nf; i++) {
+		const bk_cand *c = bk_search_at(F->S, idx[i]);
+		member *m = &F->m[F->nm++];
+		m->c = c;
+		if (c->seed_name) { /* a seed on the front: named after it */
+			char slug[80];
+			bk_slug(c->seed_name, slug, sizeof slug);
+			snprintf(m->name, sizeof m->name, "seed_%s", slug);
+		} else {
+			snprintf(m->name, sizeof m->name, "search_%s_%zu", bk_target_name(F->kind), i + 1);
+		}
+		m->text = c->text;
+		m->text_b = c->text_b;
+		progress(F, "refit of the front", (int)i + 1, (int)nf);
+		if (score_member(F, m, c->p, 1))
+			return -1;
+	}
+	/* the final front over the refitted search members, ties on the text */
+	bk_pareto_pt *pt = calloc((size_t)F->nm + 1, sizeof *pt);
+	if (!pt)
+		return -1;
+	size_t n = 0;
+	for (int i = 0; i < F->nm; i++)
+		if (F->m[i].c && F->m[i].status == 0)
+			pt[n++] = (bk_pareto_pt){F->m[i].cost, F->m[i].err, F->m[i].text, (size_t)i};
+	size_t k = bk_pareto_scan(pt, n);
+	for (size_t i = 0; i < k; i++)
+		F->m[pt[i].id].front = 1;
+	free(pt);
+	return 0;
+}
+
+void bk_sfront_free(bk_sfront *F)
+{
+	for (int i = 0; F->m && i < F->nm; i++) {
+		bk_form_free(F->m[i].f[0]);
+		bk_form_free(F->m[i].f[1]);
+	}
+	free(F->m);
+	F->m = NULL;
+	F->nm = 0;
+}
+
+int bk_sfront_gpu(bk_sfront *F, const char *const *chip, int nchips, char *driver, size_t dlen, char *err,
+                  size_t errlen)
+{
+	int n = F->nm, nc = nchips, rc = 0;
+	const char **a = calloc((size_t)n + 1, sizeof *a), **b = calloc((size_t)n + 1, sizeof *b);
+	const double **p = calloc((size_t)n + 1, sizeof *p);
+	double *insn = calloc(2 * (size_t)n * (size_t)nc + 1, sizeof *insn), *transc = insn + n * nc;
+	if (!a || !b || !p || !insn) {
+		snprintf(err, errlen, "out of memory");
+		rc = -1;
+	}
+	for (int i = 0; !rc && i < n; i++) {
+		const member *m = &F->m[i];
+		int want = !m->lut && !m->status && (m->front || !m->c);
+		a[i] = want ? m->text : NULL;
+		b[i] = want ? m->text_b : NULL;
+		p[i] = m->res.p;
+	}
+	if (!rc && bk_gpucost_texts(a, b, p, n, chip, nc, insn, transc, NULL, driver, dlen, err, errlen))
+		rc = -1;
+	for (int i = 0; !rc && i < n; i++)
+		for (int c = 0; c < nc; c++) {
+			F->m[i].gpu_insn[c] = insn[i * nc + c];
+			F->m[i].gpu_transc[c] = transc[i * nc + c];
+		}
+	free(a);
+	free(b);
+	free(p);
+	free(insn);
+	return rc;
+}

@@ -1,0 +1,38 @@
+/*
+ * search_write.h — brdfkit search's files: front.csv, catalog.csv,
+ * candidates.csv, pareto.svg, section.html, and the lines of its report, all
+ * from the refitted front (search_front.h) and what the run was (its
+ * command, islands, seed, fits). Writers only: the directory, whole or not
+ * at all, is the caller's (out.h).
+ */
+#ifndef ANALYSIS_SEARCH_WRITE_H
+#define ANALYSIS_SEARCH_WRITE_H
+
+#include "search_front.h"
+
+#include <stdio.h>
+
+typedef struct bk_swrite {
+	const bk_sfront *F;
+	const bk_target_options *to;
+	const char *command;      /* the command line, in every header */
+	const char *out;          /* --out: the section's id is its last component */
+	const char *prefix;       /* links of section.html (--link-prefix), or NULL */
+	const char *cost_model;   /* --cost-model, or NULL */
+	long seed, total_evals;
+	const char *islands_name; /* the MPI library (islands > 1) */
+	long migrate, migrants;
+	int merge_fronts;
+	const char *const *chip;  /* --gpu */
+	int nchips;
+} bk_swrite;
+
+void bk_swrite_front_csv(FILE *f, const bk_swrite *W);
+void bk_swrite_catalog_csv(FILE *f, const bk_swrite *W);
+void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W);
+void bk_swrite_svg(FILE *f, const bk_swrite *W);
+void bk_swrite_section(FILE *f, const bk_swrite *W);
+/* The front, then the catalog rows, one line each (brdfkit search's stdout). */
+void bk_swrite_report(FILE *f, const bk_swrite *W);
+
+#endif
