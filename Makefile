@@ -200,12 +200,17 @@ build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(L
 build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search $(TOOL) $(MPI_TOOL)
+# bench_speed: issue 22's throughput, old and new side by side (CPU time too)
+build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
 	build/bench_fit
 	build/bench_search
+	build/bench_speed
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;

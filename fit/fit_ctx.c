@@ -43,7 +43,12 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 			return -1;
 		jf = narrow;
 	}
-	int bad = jac ? bk_form_eval_diff(f, (size_t)m, in, p, r, jf) : bk_form_eval(f, BK_F64, (size_t)m, in, p, r);
+	bk_fit_ctx *cw = vctx; /* the block's own bound form: this thread's alone (fit_int.h) */
+	if (!cw->bound[block] && !cw->unbound[block])
+		cw->unbound[block] = !(cw->bound[block] = bk_form_bind(f, (size_t)m, in));
+	int bad = cw->bound[block] ? bk_form_bound_eval(cw->bound[block], p, r, jf)
+	          : jac           ? bk_form_eval_diff(f, (size_t)m, in, p, r, jf)
+	                          : bk_form_eval(f, BK_F64, (size_t)m, in, p, r);
 	if (bad) {
 		free(narrow);
 		return -1;
@@ -96,7 +101,9 @@ int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec)
 	c->lo = malloc(sizeof(size_t) * nb);
 	c->size = malloc(sizeof(int) * nb);
 	c->comp = malloc(sizeof(int) * nb);
-	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp)
+	c->bound = calloc(nb ? nb : 1, sizeof *c->bound);
+	c->unbound = calloc(nb ? nb : 1, 1);
+	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp || !c->bound || !c->unbound)
 		return -1;
 	for (int q = 0; q < s->ncomp; q++)
 		for (size_t lo = s->start[q]; lo < s->start[q + 1]; lo += BLOCK) {
@@ -140,6 +147,10 @@ void bk_fit_ctx_free(bk_fit_ctx *c)
 	free(c->lo);
 	free(c->size);
 	free(c->comp);
+	for (int b = 0; c->bound && b < c->nblocks; b++)
+		bk_form_bound_free(c->bound[b]);
+	free(c->bound);
+	free(c->unbound);
 }
 
 int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *sum)

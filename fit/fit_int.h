@@ -16,6 +16,13 @@ typedef struct bk_fit_ctx {
 	size_t *lo;   /* first sample of each block */
 	int *size;
 	int *comp;    /* which form a block evaluates */
+	/* each block's form bound to its samples (bk_form_bind), made at the
+	 * block's first evaluation: what reads no parameter is computed once per
+	 * fit, not once per iteration. NULL until then; unbound[b] set when it
+	 * could not be made (the plain evaluators are used). A block is evaluated
+	 * by one thread at a time, so each is written by one thread. */
+	bk_form_bound **bound;
+	char *unbound;
 } bk_fit_ctx;
 
 /* fit_ctx.c: the context, its residuals and the Ceres problem */
