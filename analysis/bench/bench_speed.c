@@ -19,6 +19,8 @@
  */
 #include "brdf.h"
 #include "clock.h"
+#include "fit_int.h" /* bk_fit_ctx_bind: the old side */
+#include "ir.h"      /* bk_ir_force_generic: the old side */
 #include "search.h"
 
 #include <math.h>
@@ -96,22 +98,33 @@ int main(int argc, char **argv)
 
 	printf("bench_speed: vf2d 32x32 (%zu samples), default grammar, <= 4 parameters, %d fits per run, median of %d\n",
 	       sm.n, evals, REPS);
+	/* old: every instruction at every call, the x86-64 baseline kernels (what
+	 * main had, but for -fno-math-errno, which is per file); new: bound
+	 * forms, AVX2 where the CPU has it. Interleaved; the same fronts. */
 	bk_search *keep = NULL;
-	double wall[2][REPS], cpu[2][REPS];
+	double wall[2][2][REPS], cpu[2][2][REPS];
 	for (int r = 0; r < REPS; r++)
-		for (int th = 1; th <= 2; th++) {
-			o.threads = th;
-			bk_search *s = run_search(&o, &wall[th - 1][r], &cpu[th - 1][r]);
-			if (!keep)
-				keep = s;
-			else
-				bk_search_free(s);
-		}
+		for (int side = 0; side < 2; side++)
+			for (int th = 1; th <= 2; th++) {
+				bk_fit_ctx_bind = side;
+				bk_ir_force_generic(side == 0);
+				o.threads = th;
+				bk_search *s = run_search(&o, &wall[side][th - 1][r], &cpu[side][th - 1][r]);
+				if (!keep)
+					keep = s;
+				else
+					bk_search_free(s);
+			}
+	bk_fit_ctx_bind = 1;
+	bk_ir_force_generic(0);
 	for (int th = 0; th < 2; th++) {
-		double w = bk_clock_median(wall[th], REPS), c = bk_clock_median(cpu[th], REPS);
-		printf("  screening fits/s, %d thread%s: %8.0f wall, %8.0f per CPU-second%s\n", th + 1, th ? "s" : " ",
-		       evals / w, evals / c,
-		       th ? (evals / w >= 10000 ? "   (target >= 10000 wall: met)" : "   (target >= 10000 wall: NOT met)")
+		double w[2], c[2];
+		for (int side = 0; side < 2; side++)
+			w[side] = bk_clock_median(wall[side][th], REPS), c[side] = bk_clock_median(cpu[side][th], REPS);
+		printf("  screening fits/s, %d thread%s: old %6.0f wall %6.0f per CPU-s | new %6.0f wall %6.0f per CPU-s | "
+		       "new/old CPU %.2fx%s\n",
+		       th + 1, th ? "s" : " ", evals / w[0], evals / c[0], evals / w[1], evals / c[1], c[0] / c[1],
+		       th ? (evals / w[1] >= 10000 ? "   (target >= 10000 wall: met)" : "   (target >= 10000 wall: NOT met)")
 		          : "");
 	}
 
@@ -173,19 +186,23 @@ int main(int argc, char **argv)
 	       "    old (bk_form_eval_diff / bk_form_eval): %.3f s   new (bound): %.3f s   %.2fx; %zu differ in any bit%s\n",
 	       nc, PASSES, old, new, old / new, differ, differ ? "   (MUST be 0)" : "");
 
-	/* 3. f32 nodes/s, parsed once */
-	double tn[REPS], nodes = 0;
+	/* 3. f32 nodes/s, parsed once: baseline kernels (old) and AVX2 (new) */
+	double tn[2][REPS], nodes = 0;
 	for (size_t i = 0; i < nc; i++)
 		nodes += 8.0 * (double)sm.n * cs[i].nodes;
-	for (int r = 0; r < REPS; r++) {
-		double t0 = thread_cpu_now();
-		for (size_t i = 0; i < nc; i++)
-			for (int q = 0; q < 8; q++)
-				bk_form_eval(cs[i].f, BK_F32, sm.n, in, cs[i].p, v0);
-		tn[r] = thread_cpu_now() - t0;
-	}
-	double g = nodes / bk_clock_median(tn, REPS);
-	printf("  IR tree nodes/s in f32, 1 thread, parsed once: %.3g%s\n", g,
+	for (int r = 0; r < REPS; r++)
+		for (int side = 0; side < 2; side++) {
+			bk_ir_force_generic(side == 0);
+			double t0 = thread_cpu_now();
+			for (size_t i = 0; i < nc; i++)
+				for (int q = 0; q < 8; q++)
+					bk_form_eval(cs[i].f, BK_F32, sm.n, in, cs[i].p, v0);
+			tn[side][r] = thread_cpu_now() - t0;
+		}
+	bk_ir_force_generic(0);
+	double g0 = nodes / bk_clock_median(tn[0], REPS), g = nodes / bk_clock_median(tn[1], REPS);
+	printf("  IR tree nodes/s in f32, 1 thread, parsed once: old (baseline) %.3g, new (%s) %.3g%s\n", g0,
+	       bk_ir_avx2() ? "AVX2" : "baseline: no AVX2 here", g,
 	       g >= 6e9 ? "   (target >= 6e9: met)" : "   (target >= 6e9: NOT met)");
 
 	for (size_t i = 0; i < nc; i++)
