@@ -77,6 +77,25 @@ namespace {
 using bk_bridge::say;
 using bk_bridge::enum_value;
 
+/*
+ * Eigen's cache sizes, pinned before main. TinySolver forms JᵀJ and Jᵀr with
+ * Eigen's general product, whose blocking splits the depth (the residuals:
+ * 1,024 for a screening fit, 65,536 for a refit) into panels sized from the L1
+ * size it reads from CPUID (max_kc = (L1 - 128)/64 for doubles: 504 at 32 KiB,
+ * 760 at 48 KiB), and the panels' partial sums are added in a different order
+ * for a different split: the same solve on a CPU with another L1 gave other
+ * bits, and a screening error rounded to 20 bits can then move a candidate
+ * across a tie. Pinned to what Eigen 3.4 reads on the AMD EPYC the committed
+ * results were made on (32 KiB L1, 1 MiB L2, 320 MiB L3), so those results
+ * stay as they are and every CPU takes the same panels. Static
+ * initialisation: before main, before any thread; Ceres' own products
+ * (solver.cc) see the same sizes.
+ */
+const bool kEigenCachesPinned = [] {
+	Eigen::setCpuCacheSizes(32768, 1048576, 335544320);
+	return true;
+}();
+
 constexpr int kMaxParams = 16; /* solver.h: np in 1..16 (checked by bk_problem_valid) */
 
 /* What ends a solve from inside the functor: the first failed evaluation. */
