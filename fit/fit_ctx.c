@@ -179,7 +179,9 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 	bk_problem prob = {spec->np, c->nblocks, c->size, residuals, c, spec->lower, spec->upper, constant};
 	/* the fast path where it applies (no finite bounds, no loss, LM): TinySolver */
 	if (bk_solve_tiny_applies(&prob, &spec->opt))
-		return bk_solve_tiny(&prob, &spec->opt, p, sum);
+		/* residuals() gives the same values with or without the Jacobian (one
+		 * kernel) and fails only on them: a trial's Jacobian may be kept */
+		return bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
 	return bk_solve(&prob, &spec->opt, p, sum);
 }
 

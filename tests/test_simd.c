@@ -329,3 +329,60 @@ Test(bound, keeps_what_reads_no_parameter, .init = make_inputs, .fini = free_inp
 	bk_form_bound_free(b2);
 	bk_form_free(f);
 }
+
+/* ---- TinySolver keeping a trial's Jacobian (fit/tiny.cc) --------------------- */
+
+#include "solver.h"
+
+/* y = a exp(b x) at 40 points, from a start far off: a solve with accepted and
+ * rejected steps. Counts the calls and those that asked for the Jacobian. */
+typedef struct counting {
+	int calls, with_jac;
+} counting;
+
+static int exp_fit(void *ctx, int block, const double *p, double *r, double *jac)
+{
+	(void)block;
+	counting *c = ctx;
+	c->calls++;
+	c->with_jac += jac != NULL;
+	for (int i = 0; i < 40; i++) {
+		double x = i / 39.0, e = exp(p[1] * x);
+		r[i] = p[0] * e - 2.0 * exp(-1.5 * x) - 0.01 * sin(7.0 * x);
+		if (jac)
+			jac[2 * i] = e, jac[2 * i + 1] = p[0] * x * e;
+	}
+	return 0;
+}
+
+/* The same bits and summary as bk_solve_tiny, with fewer calls: each accepted
+ * trial is not evaluated again. The negative control is bk_solve_tiny itself
+ * (and bk_solve_tiny_reusing with the reuse switched off): more calls. */
+Test(reuse, same_solution_fewer_calls)
+{
+	int size[] = {40};
+	counting c[3] = {{0, 0}, {0, 0}, {0, 0}};
+	double q[3][2];
+	bk_fit_summary s[3];
+	bk_fit_options o = BK_FIT_OPTIONS_INIT;
+	for (int k = 0; k < 3; k++) {
+		bk_problem p = {2, 1, size, exp_fit, &c[k], NULL, NULL, NULL};
+		q[k][0] = 0.2, q[k][1] = 1.0;
+		bk_tiny_reuse_trial = k != 2;
+		int rc = k == 0 ? bk_solve_tiny(&p, &o, q[k], &s[k]) : bk_solve_tiny_reusing(&p, &o, q[k], &s[k]);
+		cr_assert_eq(rc, 0, "%s", s[k].message);
+		cr_assert_eq(s[k].termination, BK_TERM_CONVERGENCE, "%s", s[k].message);
+	}
+	bk_tiny_reuse_trial = 1;
+	for (int k = 1; k < 3; k++) {
+		cr_expect(memcmp(q[0], q[k], sizeof q[0]) == 0, "solve %d: other parameters", k);
+		cr_expect(memcmp(&s[0].final_cost, &s[k].final_cost, sizeof(double)) == 0, "solve %d: other cost", k);
+		cr_expect_eq(s[0].iterations, s[k].iterations);
+		cr_expect_str_eq(s[0].message, s[k].message);
+	}
+	cr_expect_gt(s[0].iterations, 3, "a solve of several steps");
+	cr_expect_lt(c[1].calls, c[0].calls, "reusing: %d calls, plain: %d", c[1].calls, c[0].calls);
+	cr_expect_eq(c[2].calls, c[0].calls, "reuse off: as plain");
+	/* every call of the reusing solve asks for the Jacobian */
+	cr_expect_eq(c[1].with_jac, c[1].calls);
+}
