@@ -73,7 +73,8 @@ typedef struct cand {
 
 int main(int argc, char **argv)
 {
-	int evals = argc > 1 ? atoi(argv[1]) : EVALS;
+	/* bench_speed [EVALS [nodes]]: nodes skips the timed searches (profiling) */
+	int evals = argc > 1 ? atoi(argv[1]) : EVALS, only_nodes = argc > 2 && strcmp(argv[2], "nodes") == 0;
 	bk_target_options to;
 	bk_target_defaults(BK_TARGET_VF2D, &to);
 	to.nx = to.nr = 32;
@@ -106,9 +107,9 @@ int main(int argc, char **argv)
 	 * Interleaved; the same candidates and errors either way. */
 	bk_search *keep = NULL;
 	double wall[2][2][REPS], cpu[2][2][REPS];
-	for (int r = 0; r < REPS; r++)
-		for (int side = 0; side < 2; side++)
-			for (int th = 1; th <= 2; th++) {
+	for (int r = 0; r < (only_nodes ? 1 : REPS); r++)
+		for (int side = only_nodes; side < 2; side++)
+			for (int th = 1; th <= 2 - only_nodes; th++) {
 				bk_fit_ctx_bind = side;
 				bk_tiny_reuse_trial = side;
 				bk_ir_force_generic(side == 0);
@@ -122,7 +123,7 @@ int main(int argc, char **argv)
 	bk_fit_ctx_bind = 1;
 	bk_tiny_reuse_trial = 1;
 	bk_ir_force_generic(0);
-	for (int th = 0; th < 2; th++) {
+	for (int th = 0; th < 2 && !only_nodes; th++) {
 		double w[2], c[2];
 		for (int side = 0; side < 2; side++)
 			w[side] = bk_clock_median(wall[side][th], REPS), c[side] = bk_clock_median(cpu[side][th], REPS);
@@ -156,9 +157,9 @@ int main(int argc, char **argv)
 	/* 2. residual + Jacobian passes: a fit's mix, ~2 with the Jacobian to 1
 	 * without (TinySolver evaluates each accepted point with it) */
 	enum { PASSES = 12 };
-	double td[2][REPS];
+	double td[2][REPS] = {{0}};
 	size_t differ = 0;
-	for (int r = 0; r < REPS; r++)
+	for (int r = 0; r < (only_nodes ? 0 : REPS); r++)
 		for (int m = 0; m < 2; m++) {
 			double t0 = thread_cpu_now();
 			for (size_t i = 0; i < nc; i++) {
@@ -187,7 +188,8 @@ int main(int argc, char **argv)
 		differ += memcmp(v0, v1, sizeof(double) * sm.n) != 0 || memcmp(j0, j1, sizeof(double) * sm.n * np) != 0;
 	}
 	double old = bk_clock_median(td[0], REPS), new = bk_clock_median(td[1], REPS);
-	printf("  fit passes (values + Jacobian, 2 of 3 with it), %zu candidates x %d passes, thread CPU s:\n"
+	if (!only_nodes)
+		printf("  fit passes (values + Jacobian, 2 of 3 with it), %zu candidates x %d passes, thread CPU s:\n"
 	       "    old (bk_form_eval_diff / bk_form_eval): %.3f s   new (bound): %.3f s   %.2fx; %zu differ in any bit%s\n",
 	       nc, PASSES, old, new, old / new, differ, differ ? "   (MUST be 0)" : "");
 
