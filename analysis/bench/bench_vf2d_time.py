@@ -4,13 +4,14 @@
 <= 8 with max abs error <= 0.01 (issue 22), median over seeds; with a second
 tool (the old build), both side by side, interleaved seed by seed.
 
-Per seed and tool: a run of --evals 20000 finds E, the first fit (found_at in
-candidates.csv, the screening error) of cost <= 8 and error <= 0.01; then cold
-runs of --evals E, E*1.25, ... (the same seed gives the same first E fits,
-whatever the budget) until the refitted front.csv has such a row; that run's
-CPU time (user + sys of the tool, what the 2 cores spend) and wall time are
-the figures. A seed that never gets there within 20000 fits counts as
-infinite (the median says so if most do).
+Per seed: a run of the first tool at --evals 100000 (make results' budget)
+finds E, the first fit (found_at in candidates.csv, the screening error) of
+cost <= 8 and error <= 0.01; then, for each tool, cold runs of --evals E,
+E*1.25, ... (the same seed gives the same first E fits, whatever the budget;
+old and new give the same candidates) until the refitted front.csv has such a
+row; that run's CPU time (user + sys of the tool, what the cores spend) and
+wall time are the figures. A seed that never gets there within 100000 fits
+counts as infinite (the median says so if most do).
 
 usage: bench_vf2d_time.py TOOL [OLD_TOOL] [--seeds K] [--threads T]
 """
@@ -24,7 +25,7 @@ import sys
 import tempfile
 import time
 
-BUDGET = 20000
+BUDGET = 100000 # make results' budget for vf2d (SEARCH_EVALS)
 COST, ERR = 8.0, 0.01
 
 
@@ -64,10 +65,14 @@ def front_has(out):
     return False
 
 
-def time_to_target(tool, seed, threads, scratch):
-    out = os.path.join(scratch, "run")
+def probe(tool, seed, threads, scratch):
+    out = os.path.join(scratch, "probe")
     run(tool, seed, BUDGET, threads, out)
-    e = first_fit(out)
+    return first_fit(out)
+
+
+def time_to_target(tool, seed, e, threads, scratch):
+    out = os.path.join(scratch, "run")
     if e is None:
         return float("inf"), float("inf"), None
     while True:
@@ -96,8 +101,9 @@ def main():
     res = {n: [] for n in names}
     try:
         for s in range(1, seeds + 1):
+            e0 = probe(tools[0], s, threads, scratch)
             for n, t in zip(names, tools):
-                cpu, wall, e = time_to_target(t, s, threads, scratch)
+                cpu, wall, e = time_to_target(t, s, e0, threads, scratch)
                 res[n].append((cpu, wall, e))
                 print(f"  seed {s} {n}: {'never' if e is None else f'{e} fits'}, "
                       f"{cpu:.1f} CPU s, {wall:.1f} s wall", flush=True)
