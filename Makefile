@@ -114,9 +114,10 @@ build/san/obj/%.o: %.cc | deps
 
 # The IR's kernels without errno: sqrt then compiles to the vector instruction
 # (with errno it is a scalar sqrt and a call for negative operands, which kept
-# sqrt and rsqrt scalar); the same bits, errno is all it drops (brdf/ir_eval.c).
+# sqrt and rsqrt scalar); the same bits, errno is all it drops (brdf/ir_eval.c);
+# and their loops that zero or copy stay loops of vector stores (ir_adjoint.h).
 IR_KERNELS = build/obj/brdf/ir_eval.o build/obj/brdf/ir_diff.o build/san/obj/brdf/ir_eval.o build/san/obj/brdf/ir_diff.o
-$(IR_KERNELS): CSTD += -fno-math-errno
+$(IR_KERNELS): CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
 # the fit's residual loops (fit/fit_ctx.c): vectorised though their count varies
 FIT_LOOPS = build/obj/fit/fit_ctx.o build/san/obj/fit/fit_ctx.o
 $(FIT_LOOPS): CSTD += -fvect-cost-model=dynamic

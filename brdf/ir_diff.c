@@ -67,53 +67,17 @@ static void dependence(const bk_form *f, char *dep)
 #undef ATTR
 #endif
 
-/* The backward sweep over one block of m samples; val[i]: where register i's
- * values are (the kernel's registers, or the bound form's kept blocks). */
+/* The backward sweep (ir_adjoint.h) on the kernels' path (ir_eval.c). */
 static void backward(const bk_form *f, const char *dep, size_t n, const double *const *val, double *adj,
                      double *jac, int np)
 {
-	for (int i = 0; i < f->n; i++)
-		if (dep[i])
-			memset(adj + (size_t)i * BLOCK, 0, sizeof(double) * BLOCK);
-	int avx2 = bk_ir_avx2();
-	(void)avx2;
-	double *gout = adj + (size_t)f->out * BLOCK;
-	for (size_t k = 0; k < BLOCK; k++)
-		gout[k] = 1.0;
-	for (int i = f->n - 1; i >= 0; i--) {
-		const bk_instr *c = &f->code[i];
-		if (!dep[i])
-			continue;
-		const double *g = adj + (size_t)i * BLOCK;
-		if (c->op == BK_OP_PARAM) {
-			for (size_t k = 0; k < n; k++)
-				jac[k * (size_t)np + (size_t)c->slot] += g[k];
-			continue;
-		}
-#define OPND(x) ((x) >= 0 ? val[x] : NULL)
-#define ADJ(x) ((x) >= 0 && dep[x] ? adj + (size_t)(x) * BLOCK : NULL)
-		const double *r = val[i], *A = OPND(c->a), *B = OPND(c->b), *C = OPND(c->c);
-		double *ga = ADJ(c->a), *gb = ADJ(c->b), *gc = ADJ(c->c);
 #if HAVE_AVX2
-		if (avx2) {
-			if (ga)
-				backward_a_avx2(c->op, g, r, A, B, C, ga);
-			if (gb)
-				backward_b_avx2(c->op, g, r, A, B, C, gb);
-			if (gc)
-				backward_c_avx2(c->op, g, r, A, B, C, gc);
-			continue;
-		}
-#endif
-		if (ga)
-			backward_a_gen(c->op, g, r, A, B, C, ga);
-		if (gb)
-			backward_b_gen(c->op, g, r, A, B, C, gb);
-		if (gc)
-			backward_c_gen(c->op, g, r, A, B, C, gc);
-#undef OPND
-#undef ADJ
+	if (bk_ir_avx2()) {
+		backward_avx2(f, dep, n, val, adj, jac, np);
+		return;
 	}
+#endif
+	backward_gen(f, dep, n, val, adj, jac, np);
 }
 
 int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
