@@ -189,6 +189,15 @@ int bk_ir_avx2(void)
 	return v;
 }
 
+#if BK_IR_HAVE_AVX2
+/* asked once before main, on one thread: libgcc's CPU model is then filled
+ * before any thread of the program can ask */
+__attribute__((constructor)) static void isa_at_load(void)
+{
+	(void)bk_ir_avx2();
+}
+#endif
+
 void bk_ir_force_generic(int on)
 {
 	atomic_store_explicit(&isa, on ? 0 : -1, memory_order_relaxed);
