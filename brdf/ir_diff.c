@@ -69,15 +69,15 @@ static void dependence(const bk_form *f, char *dep)
 
 /* The backward sweep (ir_adjoint.h) on the kernels' path (ir_eval.c). */
 static void backward(const bk_form *f, const char *dep, size_t n, const double *const *val, double *adj,
-                     double *jac, int np)
+                     double *jac, int np, char *seen)
 {
 #if HAVE_AVX2
 	if (bk_ir_avx2()) {
-		backward_avx2(f, dep, n, val, adj, jac, np);
+		backward_avx2(f, dep, n, val, adj, jac, np, seen);
 		return;
 	}
 #endif
-	backward_gen(f, dep, n, val, adj, jac, np);
+	backward_gen(f, dep, n, val, adj, jac, np, seen);
 }
 
 int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
@@ -89,7 +89,7 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 	double *v = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	double *adj = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	const double **val = malloc(sizeof *val * (size_t)f->n);
-	char *dep = malloc((size_t)f->n);
+	char *dep = malloc(2 * (size_t)f->n), *seen = dep + f->n;
 	if (!v || !adj || !val || !dep) {
 		free(v);
 		free(adj);
@@ -112,7 +112,7 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 		bk_ir_forward64(f, m, ahead, s == 0, blk, params, v);
 		memcpy(out + s, v + (size_t)f->out * BLOCK, sizeof(double) * m);
 		if (np && dep[f->out])
-			backward(f, dep, m, val, adj, jac + s * (size_t)np, np);
+			backward(f, dep, m, val, adj, jac + s * (size_t)np, np, seen);
 	}
 	free(v);
 	free(adj);
@@ -144,6 +144,7 @@ struct bk_form_bound {
 	const double *in[BK_IN_COUNT];
 	char *dep;          /* instruction depends on a parameter */
 	char *live;         /* run at every call: dep, or a leaf that a dep instruction reads */
+	char *seen;         /* the backward sweep's scratch (ir_adjoint.h) */
 	int *keep;          /* its row among the kept registers, -1 if not kept */
 	int nkeep;
 	int filled;         /* kept holds the values (the first call made them) */
@@ -158,6 +159,7 @@ void bk_form_bound_free(bk_form_bound *b)
 		return;
 	free(b->dep);
 	free(b->live);
+	free(b->seen);
 	free(b->keep);
 	free(b->kept);
 	free(b->v);
@@ -187,11 +189,12 @@ bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[B
 	size_t nr = (size_t)f->n;
 	b->dep = malloc(nr);
 	b->live = calloc(nr, 1);
+	b->seen = malloc(nr);
 	b->keep = malloc(sizeof(int) * nr);
 	b->v = malloc(sizeof(double) * nr * BLOCK);
 	b->adj = malloc(sizeof(double) * nr * BLOCK);
 	b->val = calloc(nr, sizeof *b->val);
-	if (!b->dep || !b->live || !b->keep || !b->v || !b->adj || !b->val) {
+	if (!b->dep || !b->live || !b->seen || !b->keep || !b->v || !b->adj || !b->val) {
 		bk_form_bound_free(b);
 		return NULL;
 	}
@@ -308,7 +311,7 @@ int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, doub
 			bound_fill(b, blk, s, m, params);
 		memcpy(out + s, b->val[f->out], sizeof(double) * m);
 		if (jac && np && b->dep[f->out])
-			backward(f, b->dep, m, b->val, b->adj, jac + s * (size_t)np, np);
+			backward(f, b->dep, m, b->val, b->adj, jac + s * (size_t)np, np, b->seen);
 	}
 	b->filled = 1;
 	return 0;
