@@ -8,7 +8,11 @@
  * Only instructions that depend on a parameter carry adjoints (the rest are
  * constants of the fit); each op's adjoint update runs over a whole block, as
  * the forward kernel does, so that it vectorises (backward_a below: why one
- * operand at a time).
+ * operand at a time; the loops themselves are in ir_adjoint.h, built twice,
+ * for the x86-64 baseline and AVX2, as ir_eval.c's kernels).
+ *
+ * A form bound to fixed samples (bk_form_bind, below) keeps what reads no
+ * parameter between calls: a fit's tens of evaluations compute it once.
  *
  * At the kinks of min, max, clamp, saturate and abs the derivative of the
  * branch taken is used (the subgradient a fitter expects).
