@@ -226,11 +226,11 @@ bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[B
 	}
 	for (int i = 0; i < f->n; i++)
 		b->live[i] |= b->dep[i];
-	if (b->nkeep && (size_t)b->nkeep > BOUND_MAX_BYTES / (sizeof(double) * BLOCK * b->nblk)) {
+	if (b->nkeep && b->nblk && (size_t)b->nkeep > BOUND_MAX_BYTES / (sizeof(double) * BLOCK * b->nblk)) {
 		bk_form_bound_free(b);
 		return NULL;
 	}
-	if (b->nkeep && !(b->kept = malloc(sizeof(double) * BLOCK * b->nblk * (size_t)b->nkeep))) {
+	if (b->nkeep && b->nblk && !(b->kept = malloc(sizeof(double) * BLOCK * b->nblk * (size_t)b->nkeep))) {
 		bk_form_bound_free(b);
 		return NULL;
 	}

@@ -386,3 +386,19 @@ Test(reuse, same_solution_fewer_calls)
 	/* every call of the reusing solve asks for the Jacobian */
 	cr_expect_eq(c[1].with_jac, c[1].calls);
 }
+
+/* No samples: nothing to keep, nothing written, no error. */
+Test(bound, no_samples)
+{
+	double x = 0.5;
+	const double *in[BK_IN_COUNT] = {&x, &x, &x, &x, &x, &x, &x};
+	bk_form *f = form("p0 * log2(LoH)");
+	bk_form_bound *b = bk_form_bind(f, 0, in);
+	cr_assert_not_null(b);
+	double out = 7, jac = 7, p = 1;
+	cr_assert_eq(bk_form_bound_eval(b, &p, &out, &jac), 0);
+	cr_expect_eq(out, 7);
+	cr_expect_eq(jac, 7);
+	bk_form_bound_free(b);
+	bk_form_free(f);
+}
