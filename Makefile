@@ -112,6 +112,16 @@ build/san/obj/%.o: %.cc | deps
 	@mkdir -p $(dir $@)
 	$(CXX) $(CXXSTD) $(WARN) -O1 -g $(SAN) $(EIGEN) $(INC) -MMD -MP -c $< -o $@
 
+# The IR's kernels without errno: sqrt then compiles to the vector instruction
+# (with errno it is a scalar sqrt and a call for negative operands, which kept
+# sqrt and rsqrt scalar); the same bits, errno is all it drops (brdf/ir_eval.c);
+# and their loops that zero or copy stay loops of vector stores (ir_adjoint.h).
+IR_KERNELS = build/obj/brdf/ir_eval.o build/obj/brdf/ir_diff.o build/san/obj/brdf/ir_eval.o build/san/obj/brdf/ir_diff.o
+$(IR_KERNELS): CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
+# the fit's residual loops (fit/fit_ctx.c): vectorised though their count varies
+FIT_LOOPS = build/obj/fit/fit_ctx.o build/san/obj/fit/fit_ctx.o
+$(FIT_LOOPS): CSTD += -fvect-cost-model=dynamic
+
 $(LIB): $(call obj,build/obj,$(LIB_SRC))
 	ar rcs $@ $^
 $(SLIB): $(call obj,build/san/obj,$(LIB_SRC))
@@ -200,12 +210,21 @@ build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(L
 build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search $(TOOL) $(MPI_TOOL)
+# bench_speed: issue 22's throughput, old and new side by side (CPU time too);
+# bench_vf2d_time.py: the time to a vf2d front of max <= 0.01 at cost <= 8,
+# beside an older build's when BENCH_OLD_TOOL=path/to/old/brdfkit is given
+BENCH_OLD_TOOL ?=
+build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
 	build/bench_fit
 	build/bench_search
+	build/bench_speed
+	python3 analysis/bench/bench_vf2d_time.py $(TOOL) $(BENCH_OLD_TOOL)
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;

@@ -308,6 +308,18 @@ int bk_form_eval_flags(const bk_form *f, bk_precision prec, size_t n,
 int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
                       const double *params, double *out, double *jac);
 
+/* A form bound to fixed samples, evaluated many times with changing parameters
+ * (a fit): the operations that read no parameter are computed once, at the
+ * first call, and kept (the results are bk_form_eval_diff's and bk_form_eval's
+ * in f64, bit for bit). The form and the n samples of in must outlive it; one
+ * bound form is used by one thread at a time. NULL when out of memory or when
+ * what it would keep exceeds about 256 MB. */
+typedef struct bk_form_bound bk_form_bound;
+bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT]);
+/* Values into out and, when jac is not NULL, the Jacobian as bk_form_eval_diff. */
+int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac);
+void bk_form_bound_free(bk_form_bound *b);
+
 /* Op counts by class, after constant folding, common subexpressions, small
  * integer powers to multiplies and a*b + c to one multiply-add. */
 typedef enum bk_opclass {

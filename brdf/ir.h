@@ -47,6 +47,18 @@ int bk_ir_finish(bk_form *f, int out);
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg);
 
+/* One non-leaf instruction of the f64 kernel over a whole block: r[k] :=
+ * op(A[k], B[k], C[k]) for k < BK_IR_BLOCK (the operands a unary or binary op
+ * does not read may be any block). r overlaps none of A, B, C. */
+void bk_ir_op64(const bk_instr *c, double *restrict r, const double *restrict A, const double *restrict B,
+                const double *restrict C);
+
+/* 1 when the kernels (forward, one op, backward) run their AVX2 copies (the
+ * CPU has AVX2), 0 for the x86-64 baseline; the two give the same bits.
+ * bk_ir_force_generic(1) pins the baseline (tests), 0 asks the CPU again. */
+int bk_ir_avx2(void);
+void bk_ir_force_generic(int on);
+
 /* CLAMP's bounds are literals or (baked-in) parameters: the only case the
  * code may spell as clamp(), which GLSL and HLSL leave undefined for lo > hi
  * (the IR's min(max(x, lo), hi) is spelled out otherwise, and counted as

@@ -8,7 +8,11 @@
  * Only instructions that depend on a parameter carry adjoints (the rest are
  * constants of the fit); each op's adjoint update runs over a whole block, as
  * the forward kernel does, so that it vectorises (backward_a below: why one
- * operand at a time).
+ * operand at a time; the loops themselves are in ir_adjoint.h, built twice,
+ * for the x86-64 baseline and AVX2, as ir_eval.c's kernels).
+ *
+ * A form bound to fixed samples (bk_form_bind, below) keeps what reads no
+ * parameter between calls: a fit's tens of evaluations compute it once.
  *
  * At the kinks of min, max, clamp, saturate and abs the derivative of the
  * branch taken is used (the subgradient a fitter expects).
@@ -47,96 +51,37 @@ static void dependence(const bk_form *f, char *dep)
  * operands' updates come in the same order (a, then b, then c), so the
  * results are those of the unsplit loops, bit for bit (tests/test_resid.c).
  */
-#define BW_ARGS const double *restrict g, const double *restrict r, const double *restrict A, \
-	const double *restrict B, const double *restrict C
-static void backward_a(int op, BW_ARGS, double *restrict ga)
-{
-	(void)C;
-	size_t k;
-	switch (op) {
-	case BK_OP_ADD: case BK_OP_SUB: for (k = 0; k < BLOCK; k++) ga[k] += g[k]; break;
-	case BK_OP_MUL: case BK_OP_MAD: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * B[k]; break;
-	case BK_OP_DIV: for (k = 0; k < BLOCK; k++) ga[k] += g[k] / B[k]; break;
-	case BK_OP_NEG: for (k = 0; k < BLOCK; k++) ga[k] -= g[k]; break;
-	case BK_OP_POW: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * B[k] * pow(A[k], B[k] - 1.0); break;
-	case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * 0.5 / r[k]; break;
-	case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) ga[k] -= g[k] * 0.5 * r[k] / A[k]; break;
-	case BK_OP_RCP: for (k = 0; k < BLOCK; k++) ga[k] -= g[k] * r[k] * r[k]; break;
-	case BK_OP_EXP: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * r[k]; break;
-	case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * r[k] * LN2; break;
-	case BK_OP_LOG: for (k = 0; k < BLOCK; k++) ga[k] += g[k] / A[k]; break;
-	case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) ga[k] += g[k] / (A[k] * LN2); break;
-	case BK_OP_MIN: for (k = 0; k < BLOCK; k++) ga[k] += A[k] <= B[k] ? g[k] : 0.0; break;
-	case BK_OP_MAX: for (k = 0; k < BLOCK; k++) ga[k] += A[k] >= B[k] ? g[k] : 0.0; break;
-	case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) ga[k] += A[k] < B[k] || A[k] > C[k] ? 0.0 : g[k]; break;
-	case BK_OP_SATURATE: for (k = 0; k < BLOCK; k++) ga[k] += A[k] > 0.0 && A[k] < 1.0 ? g[k] : 0.0; break;
-	case BK_OP_MIX: for (k = 0; k < BLOCK; k++) ga[k] += g[k] * (1.0 - C[k]); break;
-	case BK_OP_ABS: for (k = 0; k < BLOCK; k++) ga[k] += A[k] < 0.0 ? -g[k] : g[k]; break;
-	default: break;
-	}
-}
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define HAVE_AVX2 1
+#else
+#define HAVE_AVX2 0
+#endif
+#define CAT2(a, b) a##b
+#define CAT(a, b) CAT2(a, b)
+#define SFX _gen
+#define ATTR
+#include "ir_adjoint.h"
+#undef SFX
+#undef ATTR
+#if HAVE_AVX2
+#define SFX _avx2
+#define ATTR __attribute__((target("avx2")))
+#include "ir_adjoint.h"
+#undef SFX
+#undef ATTR
+#endif
 
-static void backward_b(int op, BW_ARGS, double *restrict gb)
+/* The backward sweep (ir_adjoint.h) on the kernels' path (ir_eval.c). */
+static void backward(const bk_form *f, const char *dep, size_t n, const double *const *val, double *adj,
+                     double *jac, int np, char *seen)
 {
-	size_t k;
-	switch (op) {
-	case BK_OP_ADD: for (k = 0; k < BLOCK; k++) gb[k] += g[k]; break;
-	case BK_OP_SUB: for (k = 0; k < BLOCK; k++) gb[k] -= g[k]; break;
-	case BK_OP_MUL: case BK_OP_MAD: for (k = 0; k < BLOCK; k++) gb[k] += g[k] * A[k]; break;
-	case BK_OP_DIV: for (k = 0; k < BLOCK; k++) gb[k] -= g[k] * r[k] / B[k]; break;
-	case BK_OP_POW: for (k = 0; k < BLOCK; k++) gb[k] += A[k] > 0.0 ? g[k] * r[k] * log(A[k]) : 0.0; break;
-	case BK_OP_MIN: for (k = 0; k < BLOCK; k++) gb[k] += A[k] <= B[k] ? 0.0 : g[k]; break;
-	case BK_OP_MAX: for (k = 0; k < BLOCK; k++) gb[k] += A[k] >= B[k] ? 0.0 : g[k]; break;
-	case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) gb[k] += A[k] < B[k] ? g[k] : 0.0; break;
-	case BK_OP_MIX: for (k = 0; k < BLOCK; k++) gb[k] += g[k] * C[k]; break;
-	default: break;
+#if HAVE_AVX2
+	if (bk_ir_avx2()) {
+		backward_avx2(f, dep, n, val, adj, jac, np, seen);
+		return;
 	}
-}
-
-static void backward_c(int op, BW_ARGS, double *restrict gc)
-{
-	(void)r;
-	size_t k;
-	switch (op) {
-	case BK_OP_MAD: for (k = 0; k < BLOCK; k++) gc[k] += g[k]; break;
-	case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) gc[k] += A[k] < B[k] || !(A[k] > C[k]) ? 0.0 : g[k]; break;
-	case BK_OP_MIX: for (k = 0; k < BLOCK; k++) gc[k] += g[k] * (B[k] - A[k]); break;
-	default: break;
-	}
-}
-#undef BW_ARGS
-
-static void backward(const bk_form *f, const char *dep, size_t n, const double *v, double *adj, double *jac, int np)
-{
-	for (int i = 0; i < f->n; i++)
-		if (dep[i])
-			memset(adj + (size_t)i * BLOCK, 0, sizeof(double) * BLOCK);
-	double *gout = adj + (size_t)f->out * BLOCK;
-	for (size_t k = 0; k < BLOCK; k++)
-		gout[k] = 1.0;
-	for (int i = f->n - 1; i >= 0; i--) {
-		const bk_instr *c = &f->code[i];
-		if (!dep[i])
-			continue;
-		const double *g = adj + (size_t)i * BLOCK;
-		if (c->op == BK_OP_PARAM) {
-			for (size_t k = 0; k < n; k++)
-				jac[k * (size_t)np + (size_t)c->slot] += g[k];
-			continue;
-		}
-#define OPND(x) ((x) >= 0 ? v + (size_t)(x) * BLOCK : NULL)
-#define ADJ(x) ((x) >= 0 && dep[x] ? adj + (size_t)(x) * BLOCK : NULL)
-		const double *r = v + (size_t)i * BLOCK, *A = OPND(c->a), *B = OPND(c->b), *C = OPND(c->c);
-		double *ga = ADJ(c->a), *gb = ADJ(c->b), *gc = ADJ(c->c);
-		if (ga)
-			backward_a(c->op, g, r, A, B, C, ga);
-		if (gb)
-			backward_b(c->op, g, r, A, B, C, gb);
-		if (gc)
-			backward_c(c->op, g, r, A, B, C, gc);
-#undef OPND
-#undef ADJ
-	}
+#endif
+	backward_gen(f, dep, n, val, adj, jac, np, seen);
 }
 
 int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
@@ -147,14 +92,18 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 			return -1;
 	double *v = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	double *adj = malloc(sizeof(double) * (size_t)f->n * BLOCK);
-	char *dep = malloc((size_t)f->n);
-	if (!v || !adj || !dep) {
+	const double **val = malloc(sizeof *val * (size_t)f->n);
+	char *dep = malloc(2 * (size_t)f->n), *seen = dep + f->n;
+	if (!v || !adj || !val || !dep) {
 		free(v);
 		free(adj);
+		free(val);
 		free(dep);
 		return -1;
 	}
 	dependence(f, dep);
+	for (int i = 0; i < f->n; i++)
+		val[i] = v + (size_t)i * BLOCK;
 	int np = f->nparams;
 	if (np)
 		memset(jac, 0, sizeof(double) * n * (size_t)np);
@@ -167,10 +116,207 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 		bk_ir_forward64(f, m, ahead, s == 0, blk, params, v);
 		memcpy(out + s, v + (size_t)f->out * BLOCK, sizeof(double) * m);
 		if (np && dep[f->out])
-			backward(f, dep, m, v, adj, jac + s * (size_t)np, np);
+			backward(f, dep, m, val, adj, jac + s * (size_t)np, np, seen);
 	}
 	free(v);
 	free(adj);
+	free(val);
 	free(dep);
+	return 0;
+}
+
+/* ---- a form bound to fixed samples ------------------------------------------
+ *
+ * A fit evaluates one form on the same samples tens of times, only the
+ * parameters changing; whatever reads no parameter (log2(LoH), r*r, ...) comes
+ * out the same every time, and in a search's candidates that is a good part of
+ * the work (perf: libm's log2 alone was 16 % of the screening fits). Those of
+ * its registers that a parameter-dependent instruction (or the result) reads
+ * are kept, block by block, from the first call; later calls run only the
+ * instructions that depend on a parameter and the leaves they read, over the
+ * same kernel: the same operations on the same values, so the results are
+ * bk_form_eval_diff's (and bk_form_eval's in f64) bit for bit
+ * (tests/test_bound.c). Inputs are read in place where a block is full. */
+
+/* What is kept (blocks x registers x BLOCK doubles) at most: beyond it a fit
+ * of millions of samples would keep more than it saves. */
+#define BOUND_MAX_BYTES ((size_t)256 << 20)
+
+struct bk_form_bound {
+	const bk_form *f;
+	size_t n, nblk;
+	const double *in[BK_IN_COUNT];
+	char *dep;          /* instruction depends on a parameter */
+	char *live;         /* run at every call: dep, or a leaf that a dep instruction reads */
+	char *seen;         /* the backward sweep's scratch (ir_adjoint.h) */
+	int *keep;          /* its row among the kept registers, -1 if not kept */
+	int nkeep;
+	int filled;         /* kept holds the values (the first call made them) */
+	double *kept;       /* nblk x nkeep x BLOCK */
+	double *v, *adj;    /* the kernel's registers and their adjoints, f->n x BLOCK */
+	const double **val; /* where register i's values are for the current block */
+};
+
+void bk_form_bound_free(bk_form_bound *b)
+{
+	if (!b)
+		return;
+	free(b->dep);
+	free(b->live);
+	free(b->seen);
+	free(b->keep);
+	free(b->kept);
+	free(b->v);
+	free(b->adj);
+	free(b->val);
+	free(b);
+}
+
+static int is_leaf(bk_op op)
+{
+	return op == BK_OP_CONST || op == BK_OP_PARAM || op == BK_OP_INPUT;
+}
+
+bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT])
+{
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if ((f->inputs >> i & 1) && !in[i])
+			return NULL;
+	bk_form_bound *b = calloc(1, sizeof *b);
+	if (!b)
+		return NULL;
+	b->f = f;
+	b->n = n;
+	b->nblk = (n + BLOCK - 1) / BLOCK;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		b->in[i] = in[i];
+	size_t nr = (size_t)f->n;
+	b->dep = malloc(nr);
+	b->live = calloc(nr, 1);
+	b->seen = malloc(nr);
+	b->keep = malloc(sizeof(int) * nr);
+	b->v = malloc(sizeof(double) * nr * BLOCK);
+	b->adj = malloc(sizeof(double) * nr * BLOCK);
+	b->val = calloc(nr, sizeof *b->val);
+	if (!b->dep || !b->live || !b->seen || !b->keep || !b->v || !b->adj || !b->val) {
+		bk_form_bound_free(b);
+		return NULL;
+	}
+	dependence(f, b->dep);
+	for (int i = 0; i < f->n; i++)
+		b->keep[i] = -1;
+	/* mark what a parameter-dependent instruction reads, and the result */
+	for (int i = 0; i <= f->n; i++) {
+		int ops[3] = {-1, -1, -1};
+		if (i == f->n)
+			ops[0] = f->out;
+		else if (b->dep[i] && !is_leaf(f->code[i].op))
+			ops[0] = f->code[i].a, ops[1] = f->code[i].b, ops[2] = f->code[i].c;
+		else
+			continue;
+		for (int j = 0; j < 3; j++) {
+			int x = ops[j];
+			if (x < 0 || b->dep[x])
+				continue;
+			if (is_leaf(f->code[x].op))
+				b->live[x] = 1;
+			else if (b->keep[x] < 0)
+				b->keep[x] = b->nkeep++;
+		}
+	}
+	for (int i = 0; i < f->n; i++)
+		b->live[i] |= b->dep[i];
+	if (b->nkeep && b->nblk && (size_t)b->nkeep > BOUND_MAX_BYTES / (sizeof(double) * BLOCK * b->nblk)) {
+		bk_form_bound_free(b);
+		return NULL;
+	}
+	if (b->nkeep && b->nblk && !(b->kept = malloc(sizeof(double) * BLOCK * b->nblk * (size_t)b->nkeep))) {
+		bk_form_bound_free(b);
+		return NULL;
+	}
+	return b;
+}
+
+/* Block blk (samples s..s+m) at the first call: the whole kernel, and the kept
+ * registers copied out of it. */
+static void bound_fill(bk_form_bound *b, size_t blk, size_t s, size_t m, const double *params)
+{
+	const bk_form *f = b->f;
+	const double *in[BK_IN_COUNT];
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		in[i] = b->in[i] ? b->in[i] + s : NULL;
+	size_t ahead = b->n - s - m < BLOCK ? b->n - s - m : BLOCK;
+	bk_ir_forward64(f, m, ahead, blk == 0, in, params, b->v);
+	for (int i = 0; i < f->n; i++) {
+		b->val[i] = b->v + (size_t)i * BLOCK;
+		if (b->keep[i] >= 0)
+			memcpy(b->kept + (blk * (size_t)b->nkeep + (size_t)b->keep[i]) * BLOCK, b->val[i],
+			       sizeof(double) * BLOCK);
+	}
+}
+
+/* Block blk at a later call: the live instructions, the kept ones read in place. */
+static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const double *params)
+{
+	const bk_form *f = b->f;
+	for (int i = 0; i < f->n; i++) {
+		const bk_instr *c = &f->code[i];
+		if (b->keep[i] >= 0) {
+			b->val[i] = b->kept + (blk * (size_t)b->nkeep + (size_t)b->keep[i]) * BLOCK;
+			continue;
+		}
+		if (!b->live[i])
+			continue;
+		double *r = b->v + (size_t)i * BLOCK;
+		b->val[i] = r;
+		size_t k;
+		switch (c->op) {
+		case BK_OP_CONST:
+			if (blk == 0)
+				for (k = 0; k < BLOCK; k++)
+					r[k] = c->k;
+			break;
+		case BK_OP_PARAM:
+			if (blk == 0)
+				for (k = 0; k < BLOCK; k++)
+					r[k] = params[c->slot];
+			break;
+		case BK_OP_INPUT:
+			if (m == BLOCK) { /* a full block: read in place */
+				b->val[i] = b->in[c->slot] + s;
+				break;
+			}
+			for (k = 0; k < m; k++)
+				r[k] = b->in[c->slot][s + k];
+			for (; k < BLOCK; k++)
+				r[k] = r[m - 1];
+			break;
+		default: {
+			/* an operand the op does not read: any block that is not r */
+			const double *none = b->v;
+			bk_ir_op64(c, r, c->a >= 0 ? b->val[c->a] : none, c->b >= 0 ? b->val[c->b] : none,
+			           c->c >= 0 ? b->val[c->c] : none);
+		}
+		}
+	}
+}
+
+int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac)
+{
+	const bk_form *f = b->f;
+	int np = f->nparams;
+	if (jac && np)
+		memset(jac, 0, sizeof(double) * b->n * (size_t)np);
+	for (size_t blk = 0, s = 0; s < b->n; blk++, s += BLOCK) {
+		size_t m = b->n - s < BLOCK ? b->n - s : BLOCK;
+		if (b->filled)
+			bound_run(b, blk, s, m, params);
+		else
+			bound_fill(b, blk, s, m, params);
+		memcpy(out + s, b->val[f->out], sizeof(double) * m);
+		if (jac && np && b->dep[f->out])
+			backward(f, b->dep, m, b->val, b->adj, jac + s * (size_t)np, np, b->seen);
+	}
+	b->filled = 1;
 	return 0;
 }

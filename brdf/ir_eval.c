@@ -14,6 +14,7 @@
 #include "ir.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <tgmath.h>
@@ -80,8 +81,8 @@ static long double roundld(long double x) { return x; }
 
 /* KERNEL(name, T, R, D): R rounds a T to the precision being modelled; D: the
  * GPU's decomposed pow, exp and log (above). */
-#define KERNEL(NAME, T, R, D)                                                            \
-	static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
+#define KERNEL(NAME, T, R, D, ATTR)                                                      \
+	ATTR static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
 	                             const T *restrict B, const T *restrict C)              \
 	{                                                                                    \
 		size_t k;                                                                        \
@@ -115,7 +116,7 @@ static long double roundld(long double x) { return x; }
 	/* n samples from in; ahead more follow them (prefetched). first: the first \
 	 * block of a call, when constants and parameters are loaded; they stay in  \
 	 * their registers for the blocks after it. */                                \
-	static void NAME(const bk_form *f, size_t n, size_t ahead, int first,                \
+	ATTR static void NAME(const bk_form *f, size_t n, size_t ahead, int first,           \
 	                 const double *const *in, const double *par, T *reg, double *out)    \
 	{                                                                                    \
 		for (int i = 0; i < f->n; i++) {                                                 \
@@ -141,10 +142,102 @@ static long double roundld(long double x) { return x; }
 			out[k] = (double)res[k];                                                     \
 	}
 
-KERNEL(run64, double, round64, 0)
-KERNEL(run32, float, round32, 0)
-KERNEL(run16, float, round16, 1)
-KERNEL(runld, long double, roundld, 0)
+/*
+ * Each kernel twice: for the x86-64 baseline (SSE2: 2 doubles or 4 floats a
+ * vector) and for AVX2 (4 or 8), picked at run time (bk_ir_avx2 below). No
+ * global -march: the tool runs on any x86-64. The AVX2 copy gives the same
+ * bits: it runs the same C, and the arithmetic that vectorises (+ - * /
+ * sqrt, compares and selects) is IEEE element-wise, exact whatever the vector
+ * width; libm's functions stay scalar calls to the same libm; -std=c11 keeps
+ * -ffp-contract=off, and target("avx2") does not enable FMA, so no a*b + c is
+ * ever fused (tests/test_simd.c: both paths against a scalar reference).
+ */
+#if defined(__GNUC__) && (defined(__x86_64__) || defined(__i386__))
+#define BK_IR_HAVE_AVX2 1
+#define AVX2 __attribute__((target("avx2")))
+#else
+#define BK_IR_HAVE_AVX2 0
+#define AVX2
+#endif
+
+KERNEL(run64_gen, double, round64, 0, )
+KERNEL(run32_gen, float, round32, 0, )
+KERNEL(run16_gen, float, round16, 1, )
+KERNEL(runld, long double, roundld, 0, )
+#if BK_IR_HAVE_AVX2
+KERNEL(run64_avx2, double, round64, 0, AVX2)
+KERNEL(run32_avx2, float, round32, 0, AVX2)
+KERNEL(run16_avx2, float, round16, 1, AVX2)
+#endif
+
+/* -1 not asked yet, 0 baseline, 1 AVX2; read and written relaxed: every
+ * thread that asks stores the same answer. bk_ir_force_generic() pins 0. */
+static _Atomic int isa = -1;
+
+int bk_ir_avx2(void)
+{
+	int v = atomic_load_explicit(&isa, memory_order_relaxed);
+	if (v < 0) {
+#if BK_IR_HAVE_AVX2
+		__builtin_cpu_init();
+		v = __builtin_cpu_supports("avx2") != 0;
+#else
+		v = 0;
+#endif
+		atomic_store_explicit(&isa, v, memory_order_relaxed);
+	}
+	return v;
+}
+
+#if BK_IR_HAVE_AVX2
+/* asked once before main, on one thread: libgcc's CPU model is then filled
+ * before any thread of the program can ask */
+__attribute__((constructor)) static void isa_at_load(void)
+{
+	(void)bk_ir_avx2();
+}
+#endif
+
+void bk_ir_force_generic(int on)
+{
+	atomic_store_explicit(&isa, on ? 0 : -1, memory_order_relaxed);
+}
+
+#if BK_IR_HAVE_AVX2
+#define DISPATCH(NAME, ...) (bk_ir_avx2() ? NAME##_avx2(__VA_ARGS__) : NAME##_gen(__VA_ARGS__))
+#else
+#define DISPATCH(NAME, ...) NAME##_gen(__VA_ARGS__)
+#endif
+
+static void run64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in, const double *par,
+                  double *reg, double *out)
+{
+	DISPATCH(run64, f, n, ahead, first, in, par, reg, out);
+}
+
+static void run32(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in, const double *par,
+                  float *reg, double *out)
+{
+	DISPATCH(run32, f, n, ahead, first, in, par, reg, out);
+}
+
+static void run16(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in, const double *par,
+                  float *reg, double *out)
+{
+	DISPATCH(run16, f, n, ahead, first, in, par, reg, out);
+}
+
+void bk_ir_op64(const bk_instr *c, double *restrict r, const double *restrict A, const double *restrict B,
+                const double *restrict C)
+{
+#if BK_IR_HAVE_AVX2
+	if (bk_ir_avx2()) {
+		run64_avx2_op(c, r, A, B, C);
+		return;
+	}
+#endif
+	run64_gen_op(c, r, A, B, C);
+}
 
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg)

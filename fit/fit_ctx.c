@@ -20,6 +20,8 @@
  * 0/0 or let a handful of samples rule the fit. */
 #define REL_FLOOR 1e-6
 
+int bk_fit_ctx_bind = 1;
+
 static int residuals(void *vctx, int block, const double *p, double *r, double *jac)
 {
 	const bk_fit_ctx *c = vctx;
@@ -43,7 +45,12 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 			return -1;
 		jf = narrow;
 	}
-	int bad = jac ? bk_form_eval_diff(f, (size_t)m, in, p, r, jf) : bk_form_eval(f, BK_F64, (size_t)m, in, p, r);
+	bk_fit_ctx *cw = vctx; /* the block's own bound form: this thread's alone (fit_int.h) */
+	if (!cw->bound[block] && !cw->unbound[block] && bk_fit_ctx_bind)
+		cw->unbound[block] = !(cw->bound[block] = bk_form_bind(f, (size_t)m, in));
+	int bad = cw->bound[block] ? bk_form_bound_eval(cw->bound[block], p, r, jf)
+	          : jac           ? bk_form_eval_diff(f, (size_t)m, in, p, r, jf)
+	                          : bk_form_eval(f, BK_F64, (size_t)m, in, p, r);
 	if (bad) {
 		free(narrow);
 		return -1;
@@ -52,26 +59,44 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 	 * times k (jf k is k jf: multiplication commutes exactly), in separate
 	 * simple loops: the same operations per sample as one loop that stopped
 	 * at the first non-finite residual (a failed block's values are not used).
-	 * gcc -O2 leaves these scalar (variable trip count); they are bound by
-	 * the loads of sw, inv and y more than by the arithmetic (perf). */
+	 * k is formed once per sample (sw inv: the same product as before, the
+	 * left one of sw inv (f - y)). The loops vectorise (the Makefile gives
+	 * this file gcc's dynamic cost model: -O2's leaves a loop of variable
+	 * count scalar), and the Jacobian's by rows of a fixed width where the
+	 * form has 1 to 4 parameters; the same products either way. */
 	const double *restrict sw = c->sw + lo, *restrict inv = c->inv + lo, *restrict y = s->y + lo;
 	double *restrict rr = r;
+	double kbuf[BLOCK];
+	double *restrict k = kbuf;
 	for (int i = 0; i < m; i++)
-		rr[i] = sw[i] * inv[i] * (rr[i] - y[i]);
+		k[i] = sw[i] * inv[i];
+	for (int i = 0; i < m; i++)
+		rr[i] = k[i] * (rr[i] - y[i]);
 	for (int i = 0; i < m; i++)
 		bad |= !isfinite(rr[i]);
-	if (jac && !narrow)
-		for (int i = 0; i < m; i++) {
-			double k = sw[i] * inv[i];
-			for (int j = 0; j < np; j++)
-				jac[(size_t)i * np + j] *= k;
+	if (jac && !narrow) {
+		double *restrict J = jac;
+		switch (np) {
+#define ROWS(NP) \
+	for (int i = 0; i < m; i++) \
+		for (int j = 0; j < NP; j++) \
+			J[(size_t)i * NP + j] *= k[i]; \
+	break;
+		case 1: ROWS(1)
+		case 2: ROWS(2)
+		case 3: ROWS(3)
+		case 4: ROWS(4)
+#undef ROWS
+		default:
+			for (int i = 0; i < m; i++)
+				for (int j = 0; j < np; j++)
+					J[(size_t)i * np + j] *= k[i];
 		}
-	else if (jac)
-		for (int i = 0; i < m; i++) {
-			double k = sw[i] * inv[i];
+	} else if (jac) {
+		for (int i = 0; i < m; i++)
 			for (int j = 0; j < np; j++)
-				jac[(size_t)i * np + j] = j < npf ? k * jf[(size_t)i * npf + j] : 0.0;
-		}
+				jac[(size_t)i * np + j] = j < npf ? k[i] * jf[(size_t)i * npf + j] : 0.0;
+	}
 	free(narrow);
 	return bad ? -1 : 0;
 }
@@ -96,7 +121,9 @@ int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec)
 	c->lo = malloc(sizeof(size_t) * nb);
 	c->size = malloc(sizeof(int) * nb);
 	c->comp = malloc(sizeof(int) * nb);
-	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp)
+	c->bound = calloc(nb ? nb : 1, sizeof *c->bound);
+	c->unbound = calloc(nb ? nb : 1, 1);
+	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp || !c->bound || !c->unbound)
 		return -1;
 	for (int q = 0; q < s->ncomp; q++)
 		for (size_t lo = s->start[q]; lo < s->start[q + 1]; lo += BLOCK) {
@@ -140,6 +167,10 @@ void bk_fit_ctx_free(bk_fit_ctx *c)
 	free(c->lo);
 	free(c->size);
 	free(c->comp);
+	for (int b = 0; c->bound && b < c->nblocks; b++)
+		bk_form_bound_free(c->bound[b]);
+	free(c->bound);
+	free(c->unbound);
 }
 
 int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *sum)
@@ -148,7 +179,9 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 	bk_problem prob = {spec->np, c->nblocks, c->size, residuals, c, spec->lower, spec->upper, constant};
 	/* the fast path where it applies (no finite bounds, no loss, LM): TinySolver */
 	if (bk_solve_tiny_applies(&prob, &spec->opt))
-		return bk_solve_tiny(&prob, &spec->opt, p, sum);
+		/* residuals() gives the same values with or without the Jacobian (one
+		 * kernel) and fails only on them: a trial's Jacobian may be kept */
+		return bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
 	return bk_solve(&prob, &spec->opt, p, sum);
 }
 

@@ -16,7 +16,19 @@ typedef struct bk_fit_ctx {
 	size_t *lo;   /* first sample of each block */
 	int *size;
 	int *comp;    /* which form a block evaluates */
+	/* each block's form bound to its samples (bk_form_bind), made at the
+	 * block's first evaluation: what reads no parameter is computed once per
+	 * fit, not once per iteration. NULL until then; unbound[b] set when it
+	 * could not be made (the plain evaluators are used). A block is evaluated
+	 * by one thread at a time, so each is written by one thread. */
+	bk_form_bound **bound;
+	char *unbound;
 } bk_fit_ctx;
+
+/* 1 (default): residual blocks use bound forms; 0: the plain evaluators,
+ * every instruction at every call (bench_speed's "old" side; the same bits).
+ * Set before any fit starts, never during one. */
+extern int bk_fit_ctx_bind;
 
 /* fit_ctx.c: the context, its residuals and the Ceres problem */
 int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec);

@@ -100,6 +100,16 @@ int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params,
                   bk_fit_summary *summary);
 /* 1 if bk_solve_tiny accepts the problem and options. */
 int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *o);
+/* bk_solve_tiny for a callback that gives the same values, and fails the
+ * same way, whether or not it is asked for the Jacobian (the fit's residual
+ * blocks, fit_ctx.c): a trial point's Jacobian is made with its values and
+ * kept for the point's acceptance, where TinySolver would evaluate the point
+ * again (one forward pass less per accepted step; the same bits). */
+int bk_solve_tiny_reusing(const bk_problem *p, const bk_fit_options *o, double *params,
+                          bk_fit_summary *summary);
+/* 1 (default); 0: bk_solve_tiny_reusing is bk_solve_tiny (bench_speed's
+ * "old" side). Set before any solve starts. */
+extern int bk_tiny_reuse_trial;
 
 #ifdef __cplusplus
 }

@@ -77,6 +77,25 @@ namespace {
 using bk_bridge::say;
 using bk_bridge::enum_value;
 
+/*
+ * Eigen's cache sizes, pinned before main. TinySolver forms JᵀJ and Jᵀr with
+ * Eigen's general product, whose blocking splits the depth (the residuals:
+ * 1,024 for a screening fit, 65,536 for a refit) into panels sized from the L1
+ * size it reads from CPUID (max_kc = (L1 - 128)/64 for doubles: 504 at 32 KiB,
+ * 760 at 48 KiB), and the panels' partial sums are added in a different order
+ * for a different split: the same solve on a CPU with another L1 gave other
+ * bits, and a screening error rounded to 20 bits can then move a candidate
+ * across a tie. Pinned to what Eigen 3.4 reads on the AMD EPYC the committed
+ * results were made on (32 KiB L1, 1 MiB L2, 320 MiB L3), so those results
+ * stay as they are and every CPU takes the same panels. Static
+ * initialisation: before main, before any thread; Ceres' own products
+ * (solver.cc) see the same sizes.
+ */
+const bool kEigenCachesPinned = [] {
+	Eigen::setCpuCacheSizes(32768, 1048576, 335544320);
+	return true;
+}();
+
 constexpr int kMaxParams = 16; /* solver.h: np in 1..16 (checked by bk_problem_valid) */
 
 /* What ends a solve from inside the functor: the first failed evaluation. */
@@ -141,6 +160,12 @@ struct State {
 	double *function_tolerance = nullptr; /* TinySolver's options, refreshed per point */
 	double *gradient_tolerance = nullptr;
 	std::vector<double> block_jac; /* one block's row-major Jacobian, all np columns */
+	/* the last trial point (evaluated without a Jacobian asked for): its
+	 * values and, made in the same pass, its Jacobian (every block's rows, all
+	 * np columns), kept for the call that accepts it (see Residuals) */
+	bool trial_valid = false;
+	double trial_x[kMaxParams];
+	std::vector<double> trial_r, trial_jac;
 };
 
 /* The residuals of all blocks, in order, as one vector over the free
@@ -150,7 +175,7 @@ public:
 	using Scalar = double;
 	enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
 
-	Residuals(const bk_problem &p, const bk_fit_options &o, State *st) : p_(p), o_(o), st_(st)
+	Residuals(const bk_problem &p, const bk_fit_options &o, State *st, bool reuse) : p_(p), o_(o), st_(st)
 	{
 		int max_block = 0;
 		for (int b = 0; b < p.nblocks; b++) {
@@ -161,6 +186,10 @@ public:
 			if (p.constant == nullptr || !p.constant[i])
 				free_[nfree_++] = i;
 		st->block_jac.resize((size_t)max_block * (size_t)p.np);
+		if (reuse && bk_tiny_reuse_trial) {
+			st->trial_r.resize((size_t)m_);
+			st->trial_jac.resize((size_t)m_ * (size_t)p.np);
+		}
 	}
 
 	int NumResiduals() const { return m_; }
@@ -170,6 +199,20 @@ public:
 	/* Residuals at the free parameters xf (held ones from st_->x), and the
 	 * column-major Jacobian over the free ones when jac is not NULL. Throws
 	 * EvalFailure (see the header); never returns false. */
+	/*
+	 * TinySolver evaluates a trial point without the Jacobian and, when it
+	 * accepts it, the same point again with it (Update): the forward pass
+	 * twice. So a trial computes the Jacobian in the same pass (the
+	 * residuals' values are the same whether it is asked for or not: one
+	 * kernel) and keeps it with the values; the accepting call, at the same
+	 * parameters bit for bit, takes both from there and runs the same checks
+	 * in the same order (a non-finite Jacobian still fails at the accepting
+	 * call, not at the trial). A rejected trial wastes its backward sweep;
+	 * most are accepted. Only for bk_solve_tiny_reusing, whose callback's
+	 * values do not depend on whether the Jacobian is asked for (a test's
+	 * callback may fail differently in a cost-only call); bk_tiny_reuse_trial
+	 * = 0: never (bench_speed).
+	 */
 	bool operator()(const double *xf, double *r, double *jac) const
 	{
 		int np = p_.np;
@@ -178,19 +221,37 @@ public:
 				fail("linear solver failed: non-finite step in parameter %d", free_[k]);
 			st_->x[free_[k]] = xf[k];
 		}
-		double *bj = jac != nullptr ? st_->block_jac.data() : nullptr;
+		bool reuse = false, keep = false;
+		if (!st_->trial_r.empty()) {
+			if (jac != nullptr) {
+				reuse = st_->trial_valid && std::memcmp(st_->trial_x, st_->x, sizeof(double) * (size_t)np) == 0;
+			} else {
+				keep = true;
+				std::copy(st_->x, st_->x + np, st_->trial_x);
+			}
+			st_->trial_valid = false;
+		}
+		double *bj = keep ? st_->trial_jac.data() : jac != nullptr ? st_->block_jac.data() : nullptr;
 		size_t row = 0;
 		for (int b = 0; b < p_.nblocks; b++) {
 			int mb = p_.block_size[b];
 			double *rb = r + row;
-			int rc = p_.fn(p_.ctx, b, st_->x, rb, bj);
-			if (rc != 0)
-				fail("callback failed: block %d returned %d", b, rc);
+			if (reuse) {
+				std::copy(st_->trial_r.data() + row, st_->trial_r.data() + row + mb, rb);
+				bj = st_->trial_jac.data() + row * (size_t)np;
+			} else {
+				int rc = p_.fn(p_.ctx, b, st_->x, rb, bj);
+				if (rc != 0)
+					fail("callback failed: block %d returned %d", b, rc);
+			}
 			if (!all_finite(rb, (size_t)mb)) /* then the first one is named */
 				for (int i = 0; i < mb; i++)
 					if (!std::isfinite(rb[i]))
 						fail("non-finite residual: block %d, residual %d", b, i);
-			if (bj != nullptr) {
+			if (keep) {
+				std::copy(rb, rb + mb, st_->trial_r.data() + row);
+				bj += (size_t)mb * (size_t)np;
+			} else if (bj != nullptr) {
 				/* all np columns checked, as bk_solve checks what Ceres is given */
 				if (!all_finite(bj, (size_t)mb * np))
 					for (int k = 0; k < mb * np; k++)
@@ -205,6 +266,7 @@ public:
 			}
 			row += (size_t)mb;
 		}
+		st_->trial_valid = keep;
 		if (jac != nullptr)
 			accepted(r, jac);
 		return true;
@@ -272,10 +334,10 @@ void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
 }
 
 /* The solve proper, validated; throws EvalFailure or std::bad_alloc. */
-void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s)
+void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse)
 {
 	Tiny tiny;
-	Residuals f(p, o, st);
+	Residuals f(p, o, st, reuse);
 	int nfree = f.NumParameters();
 	if (nfree == 0) { /* every parameter held: the cost where it is */
 		Eigen::VectorXd r(f.NumResiduals());
@@ -307,6 +369,8 @@ void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summa
 
 } // namespace
 
+int bk_tiny_reuse_trial = 1;
+
 /* Valid options and what the fast path itself refuses; the rest of the
  * problem (and params) is checked by the solve with bk_solve's messages, so a
  * caller that falls back to bk_solve on 0 gets the same errors either way. */
@@ -317,8 +381,9 @@ extern "C" int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *
 	return !refuses(*p, *o, nullptr, 0);
 }
 
-extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params,
-                             bk_fit_summary *summary)
+namespace {
+
+int solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params, bk_fit_summary *summary, bool reuse)
 {
 	if (summary == nullptr)
 		return -1;
@@ -334,7 +399,7 @@ extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, doubl
 	std::copy(params, params + p->np, st.x);
 	std::copy(params, params + p->np, st.good);
 	try {
-		solve(*p, *o, &st, summary);
+		solve(*p, *o, &st, summary, reuse);
 		std::copy(st.x, st.x + p->np, params);
 	} catch (const EvalFailure &e) {
 		/* as bk_solve: FAILURE naming the first failure; the point returned is
@@ -351,4 +416,18 @@ extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, doubl
 	}
 	summary->seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 	return 0;
+}
+
+} // namespace
+
+extern "C" int bk_solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params,
+                             bk_fit_summary *summary)
+{
+	return solve_tiny(p, o, params, summary, false);
+}
+
+extern "C" int bk_solve_tiny_reusing(const bk_problem *p, const bk_fit_options *o, double *params,
+                                     bk_fit_summary *summary)
+{
+	return solve_tiny(p, o, params, summary, true);
 }

@@ -1,0 +1,222 @@
+/*
+ * bench_speed.c — make bench: the search's throughput (issue 22), old and new
+ * side by side in one run, CPU time as well as wall time (the machine is
+ * shared: CPU time is what a run costs, wall time what it waits).
+ *
+ *   1. screening fits/s: the search of bench_search (vf2d 32x32, 1,024
+ *      samples, default grammar, <= 4 parameters, 20,000 fits), 1 and 2
+ *      threads, median of REPS interleaved runs. Target: >= 10,000 on 2 threads.
+ *   2. the fit's residual and Jacobian pass, old and new, over the run's
+ *      candidates at their fitted constants: bk_form_eval_diff (every
+ *      instruction at every call: old) against a bk_form_bind'ed form (what
+ *      reads no parameter kept from the first call: new, what the fits use),
+ *      the same values bit for bit (checked here too).
+ *   3. IR tree nodes/s in f32 over the run's candidates, 1 thread, parsed
+ *      once, median of REPS (bench_search's figure parses each candidate per
+ *      8 evaluations, which this leaves out); bk_form_eval's default path
+ *      and the AVX2 one where the CPU has it (ir_eval.c's dispatch).
+ *      Target: >= 6 G nodes/s per core.
+ */
+#include "brdf.h"
+#include "clock.h"
+#include "fit_int.h" /* bk_fit_ctx_bind: the old side */
+#include "ir.h"      /* bk_ir_force_generic: the old side */
+#include "search.h"
+#include "solver.h" /* bk_tiny_reuse_trial: the old side */
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define REPS 3
+#define EVALS 20000
+
+static double cpu_now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static double thread_cpu_now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static bk_search *run_search(const bk_search_options *o, double *wall, double *cpu)
+{
+	char err[256];
+	bk_search *s = bk_search_new(o, err, sizeof err);
+	if (!s) {
+		fprintf(stderr, "bench_speed: %s\n", err);
+		exit(1);
+	}
+	double t0 = bk_clock_now(), c0 = cpu_now();
+	if (bk_search_run(s, NULL, NULL, err, sizeof err) < 0) {
+		fprintf(stderr, "bench_speed: %s\n", err);
+		exit(1);
+	}
+	*wall = bk_clock_now() - t0;
+	*cpu = cpu_now() - c0;
+	return s;
+}
+
+typedef struct cand {
+	bk_form *f;
+	double p[BK_MAX_PARAMS];
+	double nodes; /* tree nodes, as bench_search counts them */
+} cand;
+
+int main(int argc, char **argv)
+{
+	/* bench_speed [EVALS [nodes]]: nodes skips the timed searches (profiling) */
+	int evals = argc > 1 ? atoi(argv[1]) : EVALS, only_nodes = argc > 2 && strcmp(argv[2], "nodes") == 0;
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_VF2D, &to);
+	to.nx = to.nr = 32;
+	bk_samples sm;
+	char err[256];
+	if (bk_target_build(&to, &sm, NULL, NULL, err, sizeof err)) {
+		fprintf(stderr, "bench_speed: %s\n", err);
+		return 1;
+	}
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = &sm;
+	o.shape = BK_SHAPE_F0;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	o.grammar.ops = bk_grammar_default_ops();
+	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A;
+	o.grammar.consts[0] = 1;
+	o.grammar.nconsts = 1;
+	o.grammar.max_params = 4;
+	o.grammar.max_size = 24;
+	o.nonneg = 1;
+	o.evals = evals;
+
+	printf("bench_speed: vf2d 32x32 (%zu samples), default grammar, <= 4 parameters, %d fits per run, median of %d\n",
+	       sm.n, evals, REPS);
+	/* old: every instruction at every call, the x86-64 baseline kernels, a
+	 * trial point evaluated again when accepted (what main had, but for
+	 * -fno-math-errno and the vectorised residual loops, which are per file);
+	 * new: bound forms, AVX2 where the CPU has it, the trial's Jacobian kept.
+	 * Interleaved; the same candidates and errors either way. */
+	bk_search *keep = NULL;
+	double wall[2][2][REPS], cpu[2][2][REPS];
+	for (int r = 0; r < (only_nodes ? 1 : REPS); r++)
+		for (int side = only_nodes; side < 2; side++)
+			for (int th = 1; th <= 2 - only_nodes; th++) {
+				bk_fit_ctx_bind = side;
+				bk_tiny_reuse_trial = side;
+				bk_ir_force_generic(side == 0);
+				o.threads = th;
+				bk_search *s = run_search(&o, &wall[side][th - 1][r], &cpu[side][th - 1][r]);
+				if (!keep)
+					keep = s;
+				else
+					bk_search_free(s);
+			}
+	bk_fit_ctx_bind = 1;
+	bk_tiny_reuse_trial = 1;
+	bk_ir_force_generic(0);
+	for (int th = 0; th < 2 && !only_nodes; th++) {
+		double w[2], c[2];
+		for (int side = 0; side < 2; side++)
+			w[side] = bk_clock_median(wall[side][th], REPS), c[side] = bk_clock_median(cpu[side][th], REPS);
+		printf("  screening fits/s, %d thread%s: old %6.0f wall %6.0f per CPU-s | new %6.0f wall %6.0f per CPU-s | "
+		       "new/old CPU %.2fx%s\n",
+		       th + 1, th ? "s" : " ", evals / w[0], evals / c[0], evals / w[1], evals / c[1], c[0] / c[1],
+		       th ? (evals / w[1] >= 10000 ? "   (target >= 10000 wall: met)" : "   (target >= 10000 wall: NOT met)")
+		          : "");
+	}
+
+	/* the run's candidates, parsed once */
+	size_t nc = bk_search_count(keep), k = 0;
+	cand *cs = calloc(nc, sizeof *cs);
+	for (size_t i = 0; i < nc; i++) {
+		const bk_cand *c = bk_search_at(keep, i);
+		bk_form_error fe;
+		if (c->text_b || !c->np || !(cs[k].f = bk_form_parse(c->text, &fe)))
+			continue;
+		memcpy(cs[k].p, c->p, sizeof cs[k].p);
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			if (!isfinite(cs[k].p[j]))
+				cs[k].p[j] = 1;
+		cs[k].nodes = (double)(c->tree[0].n + 2);
+		k++;
+	}
+	nc = k;
+	const double *const *in = (const double *const *)sm.in;
+	double *v0 = malloc(sizeof(double) * sm.n), *v1 = malloc(sizeof(double) * sm.n);
+	double *j0 = malloc(sizeof(double) * sm.n * BK_MAX_PARAMS), *j1 = malloc(sizeof(double) * sm.n * BK_MAX_PARAMS);
+
+	/* 2. residual + Jacobian passes: a fit's mix, ~2 with the Jacobian to 1
+	 * without (TinySolver evaluates each accepted point with it) */
+	enum { PASSES = 12 };
+	double td[2][REPS] = {{0}};
+	size_t differ = 0;
+	for (int r = 0; r < (only_nodes ? 0 : REPS); r++)
+		for (int m = 0; m < 2; m++) {
+			double t0 = thread_cpu_now();
+			for (size_t i = 0; i < nc; i++) {
+				if (m == 0) {
+					for (int q = 0; q < PASSES; q++)
+						if (q % 3 == 2)
+							bk_form_eval(cs[i].f, BK_F64, sm.n, in, cs[i].p, v0);
+						else
+							bk_form_eval_diff(cs[i].f, sm.n, in, cs[i].p, v0, j0);
+				} else {
+					bk_form_bound *b = bk_form_bind(cs[i].f, sm.n, in);
+					for (int q = 0; q < PASSES; q++)
+						bk_form_bound_eval(b, cs[i].p, v1, q % 3 == 2 ? NULL : j1);
+					bk_form_bound_free(b);
+				}
+			}
+			td[m][r] = thread_cpu_now() - t0;
+		}
+	for (size_t i = 0; i < nc; i++) { /* the same bits */
+		int np = bk_form_nparams(cs[i].f);
+		bk_form_eval_diff(cs[i].f, sm.n, in, cs[i].p, v0, j0);
+		bk_form_bound *b = bk_form_bind(cs[i].f, sm.n, in);
+		bk_form_bound_eval(b, cs[i].p, v1, j1);
+		bk_form_bound_eval(b, cs[i].p, v1, j1);
+		bk_form_bound_free(b);
+		differ += memcmp(v0, v1, sizeof(double) * sm.n) != 0 || memcmp(j0, j1, sizeof(double) * sm.n * np) != 0;
+	}
+	double old = bk_clock_median(td[0], REPS), new = bk_clock_median(td[1], REPS);
+	if (!only_nodes)
+		printf("  fit passes (values + Jacobian, 2 of 3 with it), %zu candidates x %d passes, thread CPU s:\n"
+	       "    old (bk_form_eval_diff / bk_form_eval): %.3f s   new (bound): %.3f s   %.2fx; %zu differ in any bit%s\n",
+	       nc, PASSES, old, new, old / new, differ, differ ? "   (MUST be 0)" : "");
+
+	/* 3. f32 nodes/s, parsed once: baseline kernels (old) and AVX2 (new) */
+	double tn[2][REPS], nodes = 0;
+	for (size_t i = 0; i < nc; i++)
+		nodes += 8.0 * (double)sm.n * cs[i].nodes;
+	for (int r = 0; r < REPS; r++)
+		for (int side = 0; side < 2; side++) {
+			bk_ir_force_generic(side == 0);
+			double t0 = thread_cpu_now();
+			for (size_t i = 0; i < nc; i++)
+				for (int q = 0; q < 8; q++)
+					bk_form_eval(cs[i].f, BK_F32, sm.n, in, cs[i].p, v0);
+			tn[side][r] = thread_cpu_now() - t0;
+		}
+	bk_ir_force_generic(0);
+	double g0 = nodes / bk_clock_median(tn[0], REPS), g = nodes / bk_clock_median(tn[1], REPS);
+	printf("  IR tree nodes/s in f32, 1 thread, parsed once: old (baseline) %.3g, new (%s) %.3g%s\n", g0,
+	       bk_ir_avx2() ? "AVX2" : "baseline: no AVX2 here", g,
+	       g >= 6e9 ? "   (target >= 6e9: met)" : "   (target >= 6e9: NOT met)");
+
+	for (size_t i = 0; i < nc; i++)
+		bk_form_free(cs[i].f);
+	free(cs);
+	free(v0), free(v1), free(j0), free(j1);
+	bk_search_free(keep);
+	bk_samples_free(&sm);
+	return differ ? 1 : 0;
+}
