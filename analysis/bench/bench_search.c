@@ -42,9 +42,7 @@ static double run_search(const bk_search_options *o, bk_search **keep)
 		exit(1);
 	}
 	double t0 = bk_clock_now();
-	int rc;
-	while ((rc = bk_search_step(s, err, sizeof err)) == 1)
-		;
+	int rc = bk_search_run(s, NULL, NULL, err, sizeof err);
 	double dt = bk_clock_now() - t0;
 	if (rc < 0) {
 		fprintf(stderr, "bench_search: %s\n", err);

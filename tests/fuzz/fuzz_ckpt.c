@@ -1,6 +1,6 @@
 /*
  * fuzz_ckpt.c — libFuzzer harness for the search's checkpoint reader
- * (fit/search.c, bk_search_load): any bytes as the body of a checkpoint of
+ * (fit/search/state.c, bk_search_load): any bytes as the body of a checkpoint of
  * a small search (a planted form on 8 x 8 cells, a seed, 3-node
  * enumeration, generations of 8). `make fuzz` builds it with clang, ASan
  * and UBSan and runs it for FUZZ_RUNS inputs.
