@@ -200,12 +200,18 @@ build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(L
 build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search $(TOOL) $(MPI_TOOL)
+# bench_recovery: the planted suite and the catalog's rediscovery (issue 22;
+# --quick for a minute's subset)
+build/bench_recovery: $(call obj,build/obj,analysis/bench/bench_recovery.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_recovery $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
 	build/bench_fit
 	build/bench_search
+	nice build/bench_recovery
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;
