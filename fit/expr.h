@@ -9,7 +9,9 @@
  * Canonical form (bk_expr_canon) is what makes two spellings one candidate:
  * constants folded, subtrees that read no input collapsed to one parameter
  * (p0*p1, sqrt(p0), p0 + 2 are all "a constant to fit"), identities removed
- * (x*1, x + 0, --x), operands of commutative operations in a fixed order,
+ * (x*1, x + 0, --x, x - x, x/x, min(x, x), x - (-y)), literals a rounding
+ * away from a simple value snapped to it (bk_expr_snap), operands of
+ * commutative operations in a fixed order,
  * parameters renumbered p0, p1, ... in order of first appearance. The
  * canonical text is the candidate's identity: the cache hashes it, ties
  * between equally good candidates are broken on it.
@@ -96,6 +98,16 @@ void bk_expr_shift_params(bk_expr *e, int by);
  * equal operands) counts 1 + size(x), one operation as the grammar names it.
  * max_size and the sizes of bk_expr_enumerate are this measure. */
 int bk_expr_size(const bk_expr *e);
+
+/* A literal within BK_EXPR_SNAP_TOL (relative) of a non-zero multiple of
+ * 1/BK_EXPR_SNAP_DENOM is that multiple: -0.4999999999999999 and
+ * 2.0000000000000004 (a fold's or a parser's rounding) are -0.5 and 2, while
+ * 0.49 and 0.1 stay (0.1 is 6.4/64, no multiple). 1e-12 is about 4,500
+ * units in the last place of a value near 1: far above a fold's rounding,
+ * far below any constant a person writes. */
+#define BK_EXPR_SNAP_DENOM 64.0
+#define BK_EXPR_SNAP_TOL 1e-12
+double bk_expr_snap(double v);
 
 /* Brings e to canonical form (see above). Returns 0, or -1 if the result
  * would not fit BK_EXPR_MAX (it never grows in practice). */
