@@ -1171,7 +1171,7 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 {
 	bk_enode t[BK_EXPR_MAX];
 	int np = bk_expr_nparams(c), i, l;
-	switch (bk_rng_below(r, 6)) {
+	switch (bk_rng_below(r, 7)) {
 	case 0: /* a subtree replaced by a random small one */
 		i = pick_node(r, c, -1);
 		l = random_tree(g, os, r, 2, &np, t, BK_EXPR_MAX);
@@ -1210,6 +1210,22 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 		if (op < 0)
 			memcpy(t + 1 + len, c->node + i, sizeof *t * (size_t)len);
 		return splice(c, i, t, op < 0 ? 1 + 2 * len : 1 + len);
+	}
+	case 5: { /* a subtree x made an operand: x op leaf or leaf op x (the step
+	           * from p/(LoH^2 + p') to p/(LoH^2 + p'*a), from a power to a
+	           * power with an offset) */
+		if (os->n[1] == 0)
+			return -1;
+		i = pick_node(r, c, -1);
+		int op = os->op[1][bk_rng_below(r, (uint32_t)os->n[1])], len = span_at(c->node + i);
+		if (1 + len + 1 > BK_EXPR_MAX)
+			return -1;
+		bk_enode leaf = random_leaf(g, r, np);
+		int first = (int)bk_rng_below(r, 2);
+		t[0] = (bk_enode){op, 0, 0};
+		memcpy(t + 1 + first, c->node + i, sizeof *t * (size_t)len);
+		t[first ? 1 : 1 + len] = leaf;
+		return splice(c, i, t, 2 + len);
 	}
 	default: { /* an operand hoisted over its operation */
 		if ((i = pick_node(r, c, 1)) < 0)

@@ -185,7 +185,8 @@ void bk_expr_enum_free(bk_expr_enum *E);
 /* One offspring of parent by one random mutation: replace a subtree by a
  * random small one, change an operation to another of the same arity,
  * replace a leaf, turn a literal into a parameter, wrap a subtree in a unary
- * operation, or hoist an operand over its parent. The result is canonical
+ * operation, make a subtree an operand of a binary one beside a random leaf
+ * (x -> x op leaf, leaf op x), or hoist an operand over its parent. The result is canonical
  * and within the grammar's limits. Returns 0, or -1 if no valid child was
  * found in a few tries (child is then a copy of parent). */
 int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_expr *child);

@@ -6,6 +6,7 @@
 #include "search.h"
 #include "albfit.h"
 #include "fit_int.h"
+#include "search/starts.h"
 #include "ir.h" /* the opcode enum the trees are made of */
 
 #include <ctype.h>
@@ -208,9 +209,6 @@ static void without_f0(const char *t, char *buf, size_t len)
 
 /* ---- fitting one candidate (threads) ------------------------------------- */
 
-/* Deterministic screening starts: all ones first (most constants of a shading
- * form are O(1)), then a spread of magnitudes and a sign. */
-static const double start_value[4] = {1.0, 0.1, -1.0, 10.0};
 
 static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 {
@@ -248,8 +246,10 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
 	for (int k = 0; k < nstart; k++) {
 		double p[BK_MAX_PARAMS];
-		for (int j = 0; j < BK_MAX_PARAMS; j++)
-			p[j] = seed_p ? (k == 0 ? seed_p[j] : start_value[k - 1]) : start_value[k];
+		for (int j = 0; seed_p && j < BK_MAX_PARAMS; j++)
+			p[j] = seed_p[j];
+		if (!seed_p || k > 0)
+			bk_search_start(s->o.seed, c->text, k - (seed_p != NULL), BK_MAX_PARAMS, p);
 		bk_fit_summary sum;
 		if (c->np) {
 			if (bk_fit_solve(&ctx, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
@@ -264,7 +264,7 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		}
 		/* the next start only where this one did not converge: most candidates
 		 * converge from the first, and a screening fit is most of the search */
-		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE && !getenv("BK_EXP_ALL"))
 			break;
 	}
 	bk_fit_ctx_free(&ctx);
