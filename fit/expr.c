@@ -1211,21 +1211,42 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 			memcpy(t + 1 + len, c->node + i, sizeof *t * (size_t)len);
 		return splice(c, i, t, op < 0 ? 1 + 2 * len : 1 + len);
 	}
-	case 5: { /* a subtree x made an operand: x op leaf or leaf op x (the step
-	           * from p/(LoH^2 + p') to p/(LoH^2 + p'*a), from a power to a
-	           * power with an offset) */
-		if (os->n[1] == 0)
+	case 5: { /* a subtree x made an operand of a binary or ternary operation
+	           * beside leaves or copies of the tree's own subtrees: x op leaf,
+	           * leaf op x (p/(LoH^2 + p') -> p/(LoH^2 + p'*a)), x*y with y a
+	           * subtree of the tree (sq(y) -> sq(y)*y: odd powers, Schlick's
+	           * fifth), mix(leaf, leaf', x) (f0 + (1 - f0)*x, Smith's
+	           * NoV*(1 - k) + k) */
+		int nbin = os->n[1], nter = 0;
+		for (int k = 0; k < os->n[2]; k++)
+			nter += os->op[2][k] == BK_OP_MIX;
+		if (nbin + nter == 0)
 			return -1;
 		i = pick_node(r, c, -1);
-		int op = os->op[1][bk_rng_below(r, (uint32_t)os->n[1])], len = span_at(c->node + i);
-		if (1 + len + 1 > BK_EXPR_MAX)
-			return -1;
-		bk_enode leaf = random_leaf(g, r, np);
-		int first = (int)bk_rng_below(r, 2);
+		int len = span_at(c->node + i), k = (int)bk_rng_below(r, (uint32_t)(nbin + nter));
+		int op = k < nbin ? os->op[1][k] : BK_OP_MIX, ar = op == BK_OP_MIX ? 3 : 2;
+		int at = (int)bk_rng_below(r, (uint32_t)ar), pos = 1;
 		t[0] = (bk_enode){op, 0, 0};
-		memcpy(t + 1 + first, c->node + i, sizeof *t * (size_t)len);
-		t[first ? 1 : 1 + len] = leaf;
-		return splice(c, i, t, 2 + len);
+		for (int j = 0; j < ar; j++) {
+			const bk_enode *src = c->node + i;
+			int l = len;
+			if (j != at) {
+				int y = bk_rng_below(r, 2) ? pick_node(r, c, -1) : -1;
+				if (y < 0) { /* a leaf */
+					if (pos + 1 > BK_EXPR_MAX)
+						return -1;
+					t[pos++] = random_leaf(g, r, np++);
+					continue;
+				}
+				src = c->node + y;
+				l = span_at(src);
+			}
+			if (pos + l > BK_EXPR_MAX)
+				return -1;
+			memcpy(t + pos, src, sizeof *t * (size_t)l);
+			pos += l;
+		}
+		return splice(c, i, t, pos);
 	}
 	default: { /* an operand hoisted over its operation */
 		if ((i = pick_node(r, c, 1)) < 0)
@@ -1244,6 +1265,33 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 static int acceptable(const bk_grammar *g, bk_expr *c, const bk_expr *parent)
 {
 	return bk_expr_canon(c) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
+}
+
+int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
+{
+	static const int ops[2] = {BK_OP_MUL, BK_OP_ADD};
+	int m = 0, np = bk_expr_nparams(e);
+	for (int i = 0; i < e->n && m < max; i++)
+		for (int k = 0; k < 2 && m < max; k++) {
+			if (!(g->ops & BIT(ops[k])))
+				continue;
+			int len = span_at(e->node + i);
+			bk_enode t[BK_EXPR_MAX];
+			if (2 + len > BK_EXPR_MAX)
+				continue;
+			t[0] = (bk_enode){ops[k], 0, 0};
+			t[1] = (bk_enode){BK_OP_PARAM, np, 0};
+			memcpy(t + 2, e->node + i, sizeof *t * (size_t)len);
+			bk_expr c = *e;
+			if (splice(&c, i, t, 2 + len) || !acceptable(g, &c, e))
+				continue;
+			int dup = 0;
+			for (int j = 0; j < m && !dup; j++)
+				dup = equal_nodes(&out[j], &c);
+			if (!dup)
+				out[m++] = c;
+		}
+	return m;
 }
 
 #define TRIES 32

@@ -185,11 +185,21 @@ void bk_expr_enum_free(bk_expr_enum *E);
 /* One offspring of parent by one random mutation: replace a subtree by a
  * random small one, change an operation to another of the same arity,
  * replace a leaf, turn a literal into a parameter, wrap a subtree in a unary
- * operation, make a subtree an operand of a binary one beside a random leaf
- * (x -> x op leaf, leaf op x), or hoist an operand over its parent. The result is canonical
+ * operation, make a subtree an operand of a binary operation or of mix
+ * beside random leaves or copies of the tree's own subtrees (x -> x op leaf,
+ * y op x, mix(leaf, leaf', x)), or hoist an operand over its parent. The result is canonical
  * and within the grammar's limits. Returns 0, or -1 if no valid child was
  * found in a few tries (child is then a copy of parent). */
 int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_expr *child);
+/* The neighbours of e by one free constant: p*x and p + x for every subtree
+ * x of e (a fresh parameter p), canonical, within g, distinct, not e itself
+ * (where x already has a free scale or offset canon folds p into it and the
+ * child is e, left out). At most max written to out (2 x e->n suffice);
+ * returns how many. A form one constant short of the target (p/(LoH^2 + a)
+ * for p/(LoH^2 + p'*a)) is one of them: the search tries them for the best
+ * of each cost level before random children (search.c). */
+int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
  * Canonical, within limits; -1 as above. */
 int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b,

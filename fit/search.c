@@ -267,6 +267,17 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		if (c->np && sum.termination == BK_TERM_CONVERGENCE && !getenv("BK_EXP_ALL"))
 			break;
 	}
+	/* one random start beyond them, unless the fit is already exact */
+	if (getenv("BK_EXP_RAND1") && c->np && best_cost < HUGE_VAL && best_cost > 1e-20) {
+		double p[BK_MAX_PARAMS];
+		bk_search_start(s->o.seed, c->text, 2, BK_MAX_PARAMS, p);
+		bk_fit_summary sum;
+		if (bk_fit_solve(&ctx, p, NULL, &sum) == 0 && sum.termination != BK_TERM_FAILURE &&
+		    sum.final_cost < best_cost * (1 - BK_FIT_COST_TIE)) {
+			best_cost = sum.final_cost;
+			memcpy(best, p, sizeof best);
+		}
+	}
 	bk_fit_ctx_free(&ctx);
 	if (!(best_cost < HUGE_VAL))
 		goto done;
@@ -394,6 +405,18 @@ static int archive_add(bk_search *s, size_t i)
 			return -1;
 	}
 	level *l = &s->lv[k];
+	/* one member per error in a level: equal errors at equal cost are
+	 * mostly one model spelled twice (p*(p' + x) and p*x + p'), and a level
+	 * full of them breeds one model */
+	for (int j = 0; getenv("BK_EXP_DIV") && j < l->n; j++) {
+		if (s->cand[l->idx[j]].err != c->err)
+			continue;
+		if (!better(c, &s->cand[l->idx[j]]))
+			return 0;
+		memmove(&l->idx[j], &l->idx[j + 1], sizeof(size_t) * (size_t)(l->n - j - 1));
+		l->n--;
+		break;
+	}
 	int pos = l->n;
 	while (pos > 0 && better(c, &s->cand[l->idx[pos - 1]]))
 		pos--;
@@ -694,6 +717,21 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		if (s->nlv == 0) {
 			s->phase = 3;
 			goto out;
+		}
+		/* first the neighbours of each level's best by one free constant
+		 * (expr.h); the cache makes each tried once, so a level whose best
+		 * has not changed gives none */
+		for (int L = 0; s->o.shape != BK_SHAPE_PAIR && !getenv("BK_EXP_NONB") && L < s->nlv && n < want; L++) {
+			bk_expr nb[2 * BK_EXPR_MAX];
+			const bk_cand *b = &s->cand[s->lv[L].idx[0]];
+			int m = bk_expr_neighbours(&s->tree_g, &b->tree[0], nb, 2 * BK_EXPR_MAX);
+			for (int j = 0; j < m && n < want; j++) {
+				bk_expr t[2] = {nb[j], b->tree[1]};
+				int r = prepare(s, t, &c[n]);
+				if (r < 0)
+					goto oom;
+				n += (size_t)r;
+			}
 		}
 		for (size_t tries = 0; n < want && tries < want * TRIES_PER_CHILD; tries++) {
 			bk_expr t[2];

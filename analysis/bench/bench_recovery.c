@@ -204,6 +204,8 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	o.enum_size = 5;
 	o.enum_max = 5000;
 	o.generation = 256;
+	if (getenv("BK_EXP_PER_LEVEL"))
+		o.per_level = atoi(getenv("BK_EXP_PER_LEVEL"));
 	if (getenv("BK_EXP_STARTS"))
 		o.starts = atoi(getenv("BK_EXP_STARTS"));
 	bk_search *s = bk_search_new(&o, err, sizeof err);
@@ -298,7 +300,7 @@ static int catalog_domain(const bk_catalog_entry *e, const char *text, char *dom
 	int tree = bk_expr_from_form(f, &t);
 	bk_form_free(f);
 	if (tree) {
-		*why = "a term the grammar lacks (pow, exp, clamp, ...)";
+		*why = "no search tree: past 64 nodes expanded, or an op a tree cannot hold";
 		return -1;
 	}
 	/* the tree's operations, read off its text: a call the default grammar
