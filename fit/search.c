@@ -209,7 +209,8 @@ static void without_f0(const char *t, char *buf, size_t len)
 
 /* ---- fitting one candidate (threads) ------------------------------------- */
 
-
+/* The starts: search/starts.h (ones, 0.1, then random ones from the seed and
+ * the candidate's text, the same on any thread). */
 static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 {
 	const bk_samples *sm = s->o.screen;
@@ -264,19 +265,8 @@ static void fit_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		}
 		/* the next start only where this one did not converge: most candidates
 		 * converge from the first, and a screening fit is most of the search */
-		if (c->np && sum.termination == BK_TERM_CONVERGENCE && !getenv("BK_EXP_ALL"))
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
 			break;
-	}
-	/* one random start beyond them, unless the fit is already exact */
-	if (getenv("BK_EXP_RAND1") && c->np && best_cost < HUGE_VAL && best_cost > 1e-20) {
-		double p[BK_MAX_PARAMS];
-		bk_search_start(s->o.seed, c->text, 2, BK_MAX_PARAMS, p);
-		bk_fit_summary sum;
-		if (bk_fit_solve(&ctx, p, NULL, &sum) == 0 && sum.termination != BK_TERM_FAILURE &&
-		    sum.final_cost < best_cost * (1 - BK_FIT_COST_TIE)) {
-			best_cost = sum.final_cost;
-			memcpy(best, p, sizeof best);
-		}
 	}
 	bk_fit_ctx_free(&ctx);
 	if (!(best_cost < HUGE_VAL))
@@ -408,7 +398,7 @@ static int archive_add(bk_search *s, size_t i)
 	/* one member per error in a level: equal errors at equal cost are
 	 * mostly one model spelled twice (p*(p' + x) and p*x + p'), and a level
 	 * full of them breeds one model */
-	for (int j = 0; getenv("BK_EXP_DIV") && j < l->n; j++) {
+	for (int j = 0; j < l->n; j++) {
 		if (s->cand[l->idx[j]].err != c->err)
 			continue;
 		if (!better(c, &s->cand[l->idx[j]]))
@@ -721,7 +711,7 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		/* first the neighbours of each level's best by one free constant
 		 * (expr.h); the cache makes each tried once, so a level whose best
 		 * has not changed gives none */
-		for (int L = 0; s->o.shape != BK_SHAPE_PAIR && !getenv("BK_EXP_NONB") && L < s->nlv && n < want; L++) {
+		for (int L = 0; s->o.shape != BK_SHAPE_PAIR && L < s->nlv && n < want; L++) {
 			bk_expr nb[2 * BK_EXPR_MAX];
 			const bk_cand *b = &s->cand[s->lv[L].idx[0]];
 			int m = bk_expr_neighbours(&s->tree_g, &b->tree[0], nb, 2 * BK_EXPR_MAX);

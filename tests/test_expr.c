@@ -972,3 +972,56 @@ Test(expr, children_use_the_terms_a_grammar_allows)
 	cr_expect_eq(count(&e1, 2), 2);
 	cr_expect_eq(count(&e1, 3), 2);
 }
+
+/* bk_expr_neighbours: every subtree x gets p*x and p + x. Counted by hand:
+ * "LoH" has two (p0 * LoH, p0 + LoH); "p0 * LoH" has two (p1 + p0*LoH and
+ * p0*(p1 + LoH)), the other four folding back into it (p1*(p0*LoH),
+ * p1*p0, p1 + p0 and p0*(p1*LoH) are p0*LoH again). The planted form one
+ * constant short, p0/(a + sq(LoH)), has p0/(p1*a + sq(LoH)) among its
+ * neighbours; p0/(LoH + sq(LoH)) (another input) has not. */
+static int has_text(const bk_expr *nb, int m, const char *text)
+{
+	for (int j = 0; j < m; j++)
+		if (!strcmp(text_of(&nb[j]), text))
+			return 1;
+	return 0;
+}
+
+Test(expr, neighbours_by_one_free_constant)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH | 1u << BK_IN_A, .max_params = 4, .max_size = 24};
+	bk_expr nb[2 * BK_EXPR_MAX], e = from_text("LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	int m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert_eq(m, 2);
+	cr_assert(has_text(nb, m, "p0 * LoH") && has_text(nb, m, "p0 + LoH"));
+	e = from_text("p0*LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert_eq(m, 2);
+	char want[256];
+	strcpy(want, canon_text("p1 + p0*LoH"));
+	cr_assert(has_text(nb, m, want), "%s", want);
+	strcpy(want, canon_text("p0*(p1 + LoH)"));
+	cr_assert(has_text(nb, m, want), "%s", want);
+	/* the planted form one constant short, and a control */
+	strcpy(want, canon_text("p0/(p1*a + sq(LoH))"));
+	e = from_text("p0/(a + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert(has_text(nb, m, want), "%s not a neighbour", want);
+	for (int j = 0; j < m; j++) /* one parameter more each, none the parent */
+		cr_assert_eq(bk_expr_nparams(&nb[j]), bk_expr_nparams(&e) + 1, "%s", text_of(&nb[j]));
+	e = from_text("p0/(LoH + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert(!has_text(nb, m, want));
+	/* a grammar's limits hold: no room for a parameter, no neighbour */
+	g.max_params = 1;
+	e = from_text("p0/(a + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_eq(bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX), 0);
+}

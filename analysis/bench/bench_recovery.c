@@ -204,10 +204,6 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	o.enum_size = 5;
 	o.enum_max = 5000;
 	o.generation = 256;
-	if (getenv("BK_EXP_PER_LEVEL"))
-		o.per_level = atoi(getenv("BK_EXP_PER_LEVEL"));
-	if (getenv("BK_EXP_STARTS"))
-		o.starts = atoi(getenv("BK_EXP_STARTS"));
 	bk_search *s = bk_search_new(&o, err, sizeof err);
 	int rc = s ? bk_search_run(s, check, &w, err, sizeof err) : -1;
 	if (rc < 0)
