@@ -1267,6 +1267,42 @@ static int acceptable(const bk_grammar *g, bk_expr *c, const bk_expr *parent)
 	return bk_expr_canon(c) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
 }
 
+int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
+{
+	if (!(g->ops & BIT(BK_OP_MIX)))
+		return 0;
+	bk_enode leaf[BK_IN_COUNT + 2];
+	int nl = 0, m = 0, np = bk_expr_nparams(e);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (g->inputs & (1u << i))
+			leaf[nl++] = (bk_enode){BK_OP_INPUT, i, 0};
+	leaf[nl++] = (bk_enode){BK_OP_CONST, 0, 1.0};
+	leaf[nl++] = (bk_enode){BK_OP_PARAM, np, 0};
+	for (int i = 0; i < e->n && m < max; i++)
+		for (int u = 0; u < nl && m < max; u++)
+			for (int v = 0; v < nl && m < max; v++) {
+				int len = span_at(e->node + i);
+				if (u == v || 3 + len > BK_EXPR_MAX)
+					continue;
+				bk_enode t[BK_EXPR_MAX];
+				t[0] = (bk_enode){BK_OP_MIX, 0, 0};
+				t[1] = leaf[u];
+				t[2] = leaf[v];
+				if (t[2].op == BK_OP_PARAM && t[1].op == BK_OP_PARAM)
+					continue;
+				memcpy(t + 3, e->node + i, sizeof *t * (size_t)len);
+				bk_expr c = *e;
+				if (splice(&c, i, t, 3 + len) || !acceptable(g, &c, e))
+					continue;
+				int dup = 0;
+				for (int j = 0; j < m && !dup; j++)
+					dup = equal_nodes(&out[j], &c);
+				if (!dup)
+					out[m++] = c;
+			}
+	return m;
+}
+
 int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
 {
 	static const int ops[2] = {BK_OP_MUL, BK_OP_ADD};

@@ -200,6 +200,12 @@ int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_exp
  * of each cost level before random children (search.c). */
 int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
 
+/* The neighbours of e by a blend: mix(u, v, x) for every subtree x and every
+ * ordered pair of distinct leaves u, v among the grammar's inputs, 1 and a
+ * fresh parameter (f0 + (1 - f0)*x is mix(f0, 1, x); NoV*(1 - k) + k is
+ * mix(NoV, 1, k)). Canonical, within g, distinct, not e; at most max. */
+int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
  * Canonical, within limits; -1 as above. */
 int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b,

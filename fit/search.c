@@ -617,6 +617,38 @@ static int enum_tree(bk_search *s, size_t idx, bk_expr *t)
 	return 1;
 }
 
+/* The neighbours (expr.h) of the archive's leaders, as candidates c[*n..want):
+ * p*x and p + x of each level's best, mix(u, v, x) of each front level's.
+ * 0, or -1 when out of memory. */
+static int neighbours(bk_search *s, bk_cand *c, size_t *n, size_t want)
+{
+	enum { MAXNB = 8 * BK_EXPR_MAX };
+	bk_expr *nb = malloc(sizeof *nb * MAXNB);
+	if (!nb)
+		return -1;
+	double front_err = HUGE_VAL;
+	for (int pass = 0; pass < 2; pass++)
+		for (int L = 0; L < s->nlv && *n < want; L++) {
+			const bk_cand *b = &s->cand[s->lv[L].idx[0]];
+			if (pass == 1 && !(b->err < front_err))
+				continue;
+			front_err = pass == 1 ? b->err : front_err;
+			int m = pass == 0 ? bk_expr_neighbours(&s->tree_g, &b->tree[0], nb, MAXNB)
+			                  : bk_expr_mix_neighbours(&s->tree_g, &b->tree[0], nb, MAXNB);
+			for (int j = 0; j < m && *n < want; j++) {
+				bk_expr t[2] = {nb[j], b->tree[1]};
+				int r = prepare(s, t, &c[*n]);
+				if (r < 0) {
+					free(nb);
+					return -1;
+				}
+				*n += (size_t)r;
+			}
+		}
+	free(nb);
+	return 0;
+}
+
 int bk_search_step(bk_search *s, char *err, size_t errlen)
 {
 	if (s->phase == 3 || s->evals >= s->o.evals)
@@ -708,21 +740,13 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 			s->phase = 3;
 			goto out;
 		}
-		/* first the neighbours of each level's best by one free constant
-		 * (expr.h); the cache makes each tried once, so a level whose best
-		 * has not changed gives none */
-		for (int L = 0; s->o.shape != BK_SHAPE_PAIR && L < s->nlv && n < want; L++) {
-			bk_expr nb[2 * BK_EXPR_MAX];
-			const bk_cand *b = &s->cand[s->lv[L].idx[0]];
-			int m = bk_expr_neighbours(&s->tree_g, &b->tree[0], nb, 2 * BK_EXPR_MAX);
-			for (int j = 0; j < m && n < want; j++) {
-				bk_expr t[2] = {nb[j], b->tree[1]};
-				int r = prepare(s, t, &c[n]);
-				if (r < 0)
-					goto oom;
-				n += (size_t)r;
-			}
-		}
+		/* first the neighbours of each level's best by one free constant,
+		 * then the blends of the front's levels' best (expr.h; a level is on
+		 * the front when its best beats every cheaper level's); the cache
+		 * makes each tried once, so a level whose best has not changed
+		 * gives none */
+		if (s->o.shape != BK_SHAPE_PAIR && (rc = neighbours(s, c, &n, want)) < 0)
+			goto oom;
 		for (size_t tries = 0; n < want && tries < want * TRIES_PER_CHILD; tries++) {
 			bk_expr t[2];
 			if (child(s, t))

@@ -1025,3 +1025,32 @@ Test(expr, neighbours_by_one_free_constant)
 	cr_assert_eq(bk_expr_canon(&e), 0);
 	cr_assert_eq(bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX), 0);
 }
+
+/* bk_expr_mix_neighbours: mix(u, v, x), u != v among the inputs, 1 and a
+ * fresh parameter. "LoH" over the input LoH alone: the leaves LoH, 1, p0
+ * make 3 x 2 = 6 ordered pairs, each a distinct canonical tree (hand count).
+ * Schlick over f0, f0 + (1 - f0)*x = mix(f0, 1, x), is a neighbour of its
+ * power x; without mix in the grammar there is none. */
+Test(expr, mix_neighbours)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,-,*,sq,mix", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH, .max_params = 4, .max_size = 24};
+	bk_expr nb[8 * BK_EXPR_MAX], e = from_text("LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_eq(bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX), 6);
+	g.inputs |= 1u << BK_IN_F0;
+	e = from_text("sq(sq(1 - LoH))*(1 - LoH)");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	int m = bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX);
+	char want[256];
+	strcpy(want, canon_text("mix(f0, 1, sq(sq(1 - LoH))*(1 - LoH))"));
+	cr_assert(has_text(nb, m, want), "%s not among %d", want, m);
+	strcpy(want, canon_text("mix(LoH, 1, sq(sq(1 - LoH))*(1 - LoH))"));
+	cr_assert(has_text(nb, m, want));
+	strcpy(want, canon_text("mix(f0, 1, sq(sq(1 - LoH)))")); /* a whole tree, not a neighbour */
+	cr_assert(!has_text(nb, m, want));
+	cr_assert_eq(bk_grammar_parse_ops("+,-,*,sq", &g.ops, err, sizeof err), 0);
+	cr_assert_eq(bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX), 0);
+}
