@@ -210,6 +210,11 @@ build/bench_fit: $(call obj,build/obj,analysis/bench/bench_fit.c $(FIT_SRC)) $(L
 build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
+# bench_recovery: the planted suite and the catalog's rediscovery (issue 22;
+# --quick for a minute's subset)
+build/bench_recovery: $(call obj,build/obj,analysis/bench/bench_recovery.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
 # bench_speed: issue 22's throughput, old and new side by side (CPU time too);
 # bench_vf2d_time.py: the time to a vf2d front of max <= 0.01 at cost <= 8,
 # beside an older build's when BENCH_OLD_TOOL=path/to/old/brdfkit is given
@@ -217,7 +222,7 @@ BENCH_OLD_TOOL ?=
 build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed $(TOOL) $(MPI_TOOL)
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
@@ -225,6 +230,7 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 	build/bench_search
 	build/bench_speed
 	python3 analysis/bench/bench_vf2d_time.py $(TOOL) $(BENCH_OLD_TOOL)
+	nice build/bench_recovery
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;

@@ -205,6 +205,13 @@ static double value_of(const bk_enode *n)
 	return bk_ir_apply((bk_op)n->op, v[0], v[1], v[2]);
 }
 
+double bk_expr_snap(double v)
+{
+	double m = nearbyint(v * BK_EXPR_SNAP_DENOM) / BK_EXPR_SNAP_DENOM;
+	/* never to 0: a small literal (Unreal's 1e-5) is no rounding of zero */
+	return isfinite(v) && m != 0 && fabs(v - m) <= BK_EXPR_SNAP_TOL * fabs(v) ? m + 0.0 : v;
+}
+
 /* A parameter's start value through a rewrite: negated (the sign moved into
  * it) or inverted (x/p became x*p); unknown stays unknown. */
 static void start_neg(bk_enode *p) { p->k = -p->k + 0.0; }
@@ -218,8 +225,12 @@ static void start_inv(bk_enode *p) { p->k = p->k != 0 && isfinite(1 / p->k) ? 1 
  *    p0*p1, sqrt(p0), p0 + 2 and -p0 are all just "a constant");
  *  - exact identities: x*1, 1*x, x/1, x - 0, x + 0, 0 + x -> x (x + 0 differs
  *    from x only in the sign of a zero), -(-x) -> x, x - k -> x + (-k) for a
- *    literal k (exact in IEEE arithmetic: one spelling for x - 1 and x + -1).
- *    Not x - x -> 0 or x/x -> 1: they are wrong for inf and NaN and for 0/0;
+ *    literal k (exact in IEEE arithmetic: one spelling for x - 1 and x + -1);
+ *  - x - x -> 0, x/x -> 1, min(x, x), max(x, x), mix(x, x, t) -> x, and a
+ *    negation undone a level up (x - (-y), x + (-y), (-x)*(-y), (-x)/(-y),
+ *    -(x - y)): the search means the model, not its NaN at x = 0 or inf;
+ *  - literals within BK_EXPR_SNAP_TOL of a multiple of 1/BK_EXPR_SNAP_DENOM
+ *    snapped to it (-0.4999999999999999 is -0.5: folding's rounding);
  *  - a free parameter absorbs what is around it: x - p -> x + p, x / p ->
  *    x * p (the fit finds -p and 1/p), (x op p) op p' -> x op p for op + and *
  *    (p0*p1 spread over two levels is one constant), p*(-x) -> p*x and
@@ -230,10 +241,20 @@ static void start_inv(bk_enode *p) { p->k = p->k != 0 && isfinite(1 / p->k) ? 1 
  * its value, an absorbed sign or inverse goes into it, p and p' of
  * (x op p) op p' combine; the function at the start values is unchanged.
  * Returns -1 if a rewrite would not fit (none grows the tree). */
+/* The node at off (an operand, length len) removed from d's first pos nodes:
+ * a NEG dropped in place. Returns the new length. */
+static int drop(bk_enode *d, int at, int pos)
+{
+	memmove(&d[at], &d[at + 1], sizeof *d * (size_t)(pos - at - 1));
+	return pos - 1;
+}
+
 static int pass(const bk_enode *s, bk_enode *d)
 {
 	int op = s->op, ar = arity(op);
 	d[0] = *s;
+	if (op == BK_OP_CONST)
+		d[0].k = bk_expr_snap(d[0].k);
 	if (ar == 0)
 		return 1;
 	d[0].slot = 0, d[0].k = 0;
@@ -257,7 +278,7 @@ static int pass(const bk_enode *s, bk_enode *d)
 	if (nconst == ar && op < TERM0) {
 		double v = bk_ir_apply((bk_op)op, d[off[0]].k, ar > 1 ? d[off[1]].k : 0, ar > 2 ? d[off[2]].k : 0);
 		if (isfinite(v)) {
-			d[0] = (bk_enode){BK_OP_CONST, 0, v};
+			d[0] = (bk_enode){BK_OP_CONST, 0, bk_expr_snap(v)};
 			return 1;
 		}
 	}
@@ -267,6 +288,47 @@ static int pass(const bk_enode *s, bk_enode *d)
 		return 1;
 	}
 	const bk_enode *a = &d[off[0]], *b = ar > 1 ? &d[off[1]] : NULL;
+	/* x - x, x/x, min(x, x), max(x, x), mix(x, x, t): what the search means
+	 * by them (a NaN at x = 0 or inf is no model; the front must not show
+	 * sq(LoH)/sq(LoH)) */
+	if (ar >= 2 && same(a, b)) {
+		if (op == BK_OP_SUB || op == BK_OP_DIV) {
+			d[0] = (bk_enode){BK_OP_CONST, 0, op == BK_OP_SUB ? 0.0 : 1.0};
+			return 1;
+		}
+		if (op == BK_OP_MIN || op == BK_OP_MAX || op == BK_OP_MIX)
+			return take(d, off[0], len[0]);
+	}
+	/* double negations spread over two levels: x - (-y) -> x + y, x + (-y)
+	 * -> x - y, (-x)*(-y) -> x*y, (-x)/(-y) -> x/y, -(x - y) -> y - x (each
+	 * exact: a negation is a sign flip) */
+	if ((op == BK_OP_MUL || op == BK_OP_DIV) && a->op == BK_OP_NEG && b->op == BK_OP_NEG)
+		return drop(d, off[0], drop(d, off[1], pos));
+	if (op == BK_OP_SUB && b->op == BK_OP_NEG) {
+		d[0].op = BK_OP_ADD;
+		return drop(d, off[1], pos);
+	}
+	if (op == BK_OP_ADD && (a->op == BK_OP_NEG) != (b->op == BK_OP_NEG)) {
+		if (a->op == BK_OP_NEG) { /* (-x) + y -> y - x */
+			bk_enode tmp[BK_EXPR_MAX];
+			memcpy(tmp, &d[off[0] + 1], sizeof *d * (size_t)(len[0] - 1));
+			memmove(&d[1], &d[off[1]], sizeof *d * (size_t)len[1]);
+			memcpy(&d[1 + len[1]], tmp, sizeof *d * (size_t)(len[0] - 1));
+		} else {
+			drop(d, off[1], pos);
+		}
+		d[0].op = BK_OP_SUB;
+		return pos - 1;
+	}
+	if (op == BK_OP_NEG && a->op == BK_OP_SUB) { /* -(x - y) -> y - x */
+		int qa = off[0] + 1, la = span_at(&d[qa]), lb = len[0] - 1 - la;
+		bk_enode tmp[BK_EXPR_MAX];
+		memcpy(tmp, &d[qa], sizeof *d * (size_t)la);
+		d[0].op = BK_OP_SUB;
+		memmove(&d[1], &d[qa + la], sizeof *d * (size_t)lb);
+		memcpy(&d[1 + lb], tmp, sizeof *d * (size_t)la);
+		return pos - 1;
+	}
 	switch (op) {
 	case BK_OP_NEG:
 		if (a->op == BK_OP_NEG)
@@ -1111,7 +1173,7 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 {
 	bk_enode t[BK_EXPR_MAX];
 	int np = bk_expr_nparams(c), i, l;
-	switch (bk_rng_below(r, 6)) {
+	switch (bk_rng_below(r, 7)) {
 	case 0: /* a subtree replaced by a random small one */
 		i = pick_node(r, c, -1);
 		l = random_tree(g, os, r, 2, &np, t, BK_EXPR_MAX);
@@ -1151,6 +1213,43 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 			memcpy(t + 1 + len, c->node + i, sizeof *t * (size_t)len);
 		return splice(c, i, t, op < 0 ? 1 + 2 * len : 1 + len);
 	}
+	case 5: { /* a subtree x made an operand of a binary or ternary operation
+	           * beside leaves or copies of the tree's own subtrees: x op leaf,
+	           * leaf op x (p/(LoH^2 + p') -> p/(LoH^2 + p'*a)), x*y with y a
+	           * subtree of the tree (sq(y) -> sq(y)*y: odd powers, Schlick's
+	           * fifth), mix(leaf, leaf', x) (f0 + (1 - f0)*x, Smith's
+	           * NoV*(1 - k) + k) */
+		int nbin = os->n[1], nter = 0;
+		for (int k = 0; k < os->n[2]; k++)
+			nter += os->op[2][k] == BK_OP_MIX;
+		if (nbin + nter == 0)
+			return -1;
+		i = pick_node(r, c, -1);
+		int len = span_at(c->node + i), k = (int)bk_rng_below(r, (uint32_t)(nbin + nter));
+		int op = k < nbin ? os->op[1][k] : BK_OP_MIX, ar = op == BK_OP_MIX ? 3 : 2;
+		int at = (int)bk_rng_below(r, (uint32_t)ar), pos = 1;
+		t[0] = (bk_enode){op, 0, 0};
+		for (int j = 0; j < ar; j++) {
+			const bk_enode *src = c->node + i;
+			int l = len;
+			if (j != at) {
+				int y = bk_rng_below(r, 2) ? pick_node(r, c, -1) : -1;
+				if (y < 0) { /* a leaf */
+					if (pos + 1 > BK_EXPR_MAX)
+						return -1;
+					t[pos++] = random_leaf(g, r, np++);
+					continue;
+				}
+				src = c->node + y;
+				l = span_at(src);
+			}
+			if (pos + l > BK_EXPR_MAX)
+				return -1;
+			memcpy(t + pos, src, sizeof *t * (size_t)l);
+			pos += l;
+		}
+		return splice(c, i, t, pos);
+	}
 	default: { /* an operand hoisted over its operation */
 		if ((i = pick_node(r, c, 1)) < 0)
 			return -1;
@@ -1168,6 +1267,69 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 static int acceptable(const bk_grammar *g, bk_expr *c, const bk_expr *parent)
 {
 	return bk_expr_canon(c) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
+}
+
+int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
+{
+	if (!(g->ops & BIT(BK_OP_MIX)))
+		return 0;
+	bk_enode leaf[BK_IN_COUNT + 2];
+	int nl = 0, m = 0, np = bk_expr_nparams(e);
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (g->inputs & (1u << i))
+			leaf[nl++] = (bk_enode){BK_OP_INPUT, i, 0};
+	leaf[nl++] = (bk_enode){BK_OP_CONST, 0, 1.0};
+	leaf[nl++] = (bk_enode){BK_OP_PARAM, np, 0};
+	for (int i = 0; i < e->n && m < max; i++)
+		for (int u = 0; u < nl && m < max; u++)
+			for (int v = 0; v < nl && m < max; v++) {
+				int len = span_at(e->node + i);
+				if (u == v || 3 + len > BK_EXPR_MAX)
+					continue;
+				bk_enode t[BK_EXPR_MAX];
+				t[0] = (bk_enode){BK_OP_MIX, 0, 0};
+				t[1] = leaf[u];
+				t[2] = leaf[v];
+				if (t[2].op == BK_OP_PARAM && t[1].op == BK_OP_PARAM)
+					continue;
+				memcpy(t + 3, e->node + i, sizeof *t * (size_t)len);
+				bk_expr c = *e;
+				if (splice(&c, i, t, 3 + len) || !acceptable(g, &c, e))
+					continue;
+				int dup = 0;
+				for (int j = 0; j < m && !dup; j++)
+					dup = equal_nodes(&out[j], &c);
+				if (!dup)
+					out[m++] = c;
+			}
+	return m;
+}
+
+int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
+{
+	static const int ops[2] = {BK_OP_MUL, BK_OP_ADD};
+	int m = 0, np = bk_expr_nparams(e);
+	for (int i = 0; i < e->n && m < max; i++)
+		for (int k = 0; k < 2 && m < max; k++) {
+			if (!(g->ops & BIT(ops[k])))
+				continue;
+			int len = span_at(e->node + i);
+			bk_enode t[BK_EXPR_MAX];
+			if (2 + len > BK_EXPR_MAX)
+				continue;
+			t[0] = (bk_enode){ops[k], 0, 0};
+			t[1] = (bk_enode){BK_OP_PARAM, np, 0};
+			memcpy(t + 2, e->node + i, sizeof *t * (size_t)len);
+			bk_expr c = *e;
+			if (splice(&c, i, t, 2 + len) || !acceptable(g, &c, e))
+				continue;
+			int dup = 0;
+			for (int j = 0; j < m && !dup; j++)
+				dup = equal_nodes(&out[j], &c);
+			if (!dup)
+				out[m++] = c;
+		}
+	return m;
 }
 
 #define TRIES 32

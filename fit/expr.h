@@ -9,7 +9,9 @@
  * Canonical form (bk_expr_canon) is what makes two spellings one candidate:
  * constants folded, subtrees that read no input collapsed to one parameter
  * (p0*p1, sqrt(p0), p0 + 2 are all "a constant to fit"), identities removed
- * (x*1, x + 0, --x), operands of commutative operations in a fixed order,
+ * (x*1, x + 0, --x, x - x, x/x, min(x, x), x - (-y)), literals a rounding
+ * away from a simple value snapped to it (bk_expr_snap), operands of
+ * commutative operations in a fixed order,
  * parameters renumbered p0, p1, ... in order of first appearance. The
  * canonical text is the candidate's identity: the cache hashes it, ties
  * between equally good candidates are broken on it.
@@ -97,6 +99,16 @@ void bk_expr_shift_params(bk_expr *e, int by);
  * max_size and the sizes of bk_expr_enumerate are this measure. */
 int bk_expr_size(const bk_expr *e);
 
+/* A literal within BK_EXPR_SNAP_TOL (relative) of a non-zero multiple of
+ * 1/BK_EXPR_SNAP_DENOM is that multiple: -0.4999999999999999 and
+ * 2.0000000000000004 (a fold's or a parser's rounding) are -0.5 and 2, while
+ * 0.49 and 0.1 stay (0.1 is 6.4/64, no multiple). 1e-12 is about 4,500
+ * units in the last place of a value near 1: far above a fold's rounding,
+ * far below any constant a person writes. */
+#define BK_EXPR_SNAP_DENOM 64.0
+#define BK_EXPR_SNAP_TOL 1e-12
+double bk_expr_snap(double v);
+
 /* Brings e to canonical form (see above). Returns 0, or -1 if the result
  * would not fit BK_EXPR_MAX (it never grows in practice). */
 int bk_expr_canon(bk_expr *e);
@@ -173,10 +185,27 @@ void bk_expr_enum_free(bk_expr_enum *E);
 /* One offspring of parent by one random mutation: replace a subtree by a
  * random small one, change an operation to another of the same arity,
  * replace a leaf, turn a literal into a parameter, wrap a subtree in a unary
- * operation, or hoist an operand over its parent. The result is canonical
+ * operation, make a subtree an operand of a binary operation or of mix
+ * beside random leaves or copies of the tree's own subtrees (x -> x op leaf,
+ * y op x, mix(leaf, leaf', x)), or hoist an operand over its parent. The result is canonical
  * and within the grammar's limits. Returns 0, or -1 if no valid child was
  * found in a few tries (child is then a copy of parent). */
 int bk_expr_mutate(const bk_grammar *g, bk_rng *r, const bk_expr *parent, bk_expr *child);
+/* The neighbours of e by one free constant: p*x and p + x for every subtree
+ * x of e (a fresh parameter p), canonical, within g, distinct, not e itself
+ * (where x already has a free scale or offset canon folds p into it and the
+ * child is e, left out). At most max written to out (2 x e->n suffice);
+ * returns how many. A form one constant short of the target (p/(LoH^2 + a)
+ * for p/(LoH^2 + p'*a)) is one of them: the search tries them for the best
+ * of each cost level before random children (search.c). */
+int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
+/* The neighbours of e by a blend: mix(u, v, x) for every subtree x and every
+ * ordered pair of distinct leaves u, v among the grammar's inputs, 1 and a
+ * fresh parameter (f0 + (1 - f0)*x is mix(f0, 1, x); NoV*(1 - k) + k is
+ * mix(NoV, 1, k)). Canonical, within g, distinct, not e; at most max. */
+int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
  * Canonical, within limits; -1 as above. */
 int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b,

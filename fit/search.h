@@ -8,13 +8,17 @@
  *   1. the seeds (catalog entries of the target, --start forms) are fitted
  *      first, so the front starts at the published state of the art;
  *   2. every canonical candidate up to enum_size nodes, bottom-up;
- *   3. generations of `generation` children of archive members by mutation
- *      and crossover, until the budget of fits (evals) is spent.
+ *   3. generations of `generation` children: first (not for pairs) the
+ *      neighbours of each cost level's best by one free constant (p*x,
+ *      p + x) and of each front level's best by a blend (mix(u, v, x)):
+ *      expr.h, issue 22; then archive members' children by mutation and
+ *      crossover, until the budget of fits (evals) is spent.
  * A candidate is fitted once: the cache holds the hash of each canonical
  * text. Fits of one generation run on threads; their results are merged in
  * candidate order, so the same seed and budget give the same archive for any
  * thread count. The archive is MAP-Elites over cost: for each integer cost
- * level the `per_level` best candidates (error, then canonical text), which
+ * level the `per_level` best candidates (error, then canonical text), one per
+ * error (an equal error at a cost level is mostly one model spelled twice), which
  * keeps cheap and expensive forms alive together instead of collapsing onto
  * the currently best trade-off.
  *
@@ -82,7 +86,9 @@ typedef struct bk_search_options {
 	long enum_max;            /* ... but at most this many fits of them */
 	int generation;           /* children per generation */
 	int per_level;            /* archive entries per integer cost level */
-	int starts;               /* screening starts per candidate (1..4) */
+	int starts;               /* screening starts per candidate (1..4): ones, 0.1,
+	                             then random (search/starts.h), each only where the
+	                             one before did not converge */
 	int inherit;              /* children start from their parents' fitted constants
 	                             (expr.h, "Start values"), then from the default
 	                             starts; 0: from the default starts alone */

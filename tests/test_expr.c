@@ -258,9 +258,6 @@ Test(expr, exact_identities_and_folding)
 	cr_assert_str_eq(canon_text("-(-r)"), "r");
 	cr_assert_str_eq(canon_text("r - 1"), "-1 + r"); /* x - k is x + (-k) exactly */
 	cr_assert_str_eq(canon_text("r - 1"), canon_text("r + -1"));
-	/* not rewritten: wrong for inf and NaN */
-	cr_assert_str_eq(canon_text("r - r"), "r - r");
-	cr_assert_str_eq(canon_text("r / r"), "r / r");
 	cr_assert_str_eq(canon_text("sq(r)"), "sq(r)");
 	cr_assert_str_eq(canon_text("r*r"), "sq(r)");
 	/* a fold that would not be finite stays as written */
@@ -270,6 +267,76 @@ Test(expr, exact_identities_and_folding)
 	e = (bk_expr){3, {{BK_OP_ADD, 0, 0}, {BK_OP_CONST, 0, 0.5}, {BK_OP_CONST, 0, 0.25}}};
 	cr_assert_eq(bk_expr_canon(&e), 0);
 	cr_assert_str_eq(text_of(&e), "0.75");
+}
+
+/* Issue 22: what fronts carried (sq(LoH) / sq(LoH), LoH / LoH, -(-k),
+ * -0.4999999999999999) is simplified; the expected texts are written by hand
+ * from the algebra, and each rule has a negative control that is no
+ * identity and must stay. */
+Test(expr, canon_removes_what_is_no_model)
+{
+	cr_assert_str_eq(canon_text("r / r"), "1");
+	cr_assert_str_eq(canon_text("sq(LoH) / sq(LoH)"), "1");
+	cr_assert_str_eq(canon_text("LoH * (sq(LoH) / sq(LoH))"), "LoH");
+	cr_assert_str_eq(canon_text("r - r"), "0");
+	cr_assert_str_eq(canon_text("NoV + (sqrt(r) - sqrt(r))"), "NoV");
+	cr_assert_str_eq(canon_text("min(r, r)"), "r");
+	cr_assert_str_eq(canon_text("max(LoH*r, r*LoH)"), "LoH * r");
+	cr_assert_str_eq(canon_text("mix(NoV, NoV, r)"), "NoV");
+	/* negative controls: not identities */
+	cr_assert_str_eq(canon_text("r / NoV"), "r / NoV");
+	cr_assert_str_eq(canon_text("r - NoV"), "r - NoV");
+	cr_assert_str_eq(canon_text("sq(LoH) / LoH"), "sq(LoH) / LoH");
+	cr_assert_str_eq(canon_text("mix(NoV, r, r)"), "mix(NoV, r, r)");
+	/* p0/p0 and p0 - p1 are "a constant" (a parameter), not 1 or 0 */
+	cr_assert_str_eq(canon_text("p0 / p0 * r"), "p0 * r");
+}
+
+Test(expr, canon_removes_double_negation)
+{
+	cr_assert_str_eq(canon_text("-(-r)"), "r");
+	cr_assert_str_eq(canon_text("NoV - (-r)"), canon_text("NoV + r"));
+	cr_assert_str_eq(canon_text("NoV + (-r)"), "NoV - r");
+	cr_assert_str_eq(canon_text("-r + NoV"), "NoV - r");
+	cr_assert_str_eq(canon_text("(-r) * (-NoV)"), canon_text("r * NoV"));
+	cr_assert_str_eq(canon_text("(-r) / (-NoV)"), "r / NoV");
+	cr_assert_str_eq(canon_text("-(r - NoV)"), "NoV - r");
+	cr_assert_str_eq(canon_text("-(-(-r))"), "-r");
+	/* negative controls: one negation is kept */
+	cr_assert_str_eq(canon_text("(-r) / NoV"), "-r / NoV");
+	cr_assert_str_eq(canon_text("-(r + NoV)"), "-(NoV + r)");
+}
+
+/* bk_expr_snap: within 1e-12 relative of a non-zero multiple of 1/64. The
+ * cases: folding's rounding (0.9 - 1.4 = -0.4999999999999999 in doubles:
+ * 0.9 and 1.4 are both rounded, their difference is not -0.5), a parser's,
+ * and controls. */
+Test(expr, near_integer_literals_snap)
+{
+	cr_assert_eq(bk_expr_snap(-0.4999999999999999), -0.5);
+	cr_assert_eq(bk_expr_snap(2.0000000000000004), 2.0);
+	cr_assert_eq(bk_expr_snap(0.99999999999999989), 1.0);
+	cr_assert_eq(bk_expr_snap(1000.0000000000001), 1000.0);
+	cr_assert_eq(bk_expr_snap(0.015625 * (1 + 1e-13)), 0.015625);
+	/* controls: not a rounding away, no such multiple, or zero */
+	cr_assert_eq(bk_expr_snap(0.49), 0.49);
+	cr_assert_eq(bk_expr_snap(0.1), 0.1);
+	cr_assert_eq(bk_expr_snap(-0.5 + 1e-9), -0.5 + 1e-9);
+	cr_assert_eq(bk_expr_snap(1e-5), 1e-5);
+	cr_assert_eq(bk_expr_snap(1e-300), 1e-300);
+	cr_assert_eq(bk_expr_snap(0.0), 0.0);
+	/* in canon: a literal the tree holds and a fold */
+	bk_expr e = {1, {{BK_OP_CONST, 0, -0.4999999999999999}}};
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "-0.5");
+	volatile double p9 = 0.9, p14 = 1.4;
+	cr_assert_neq(p9 - p14, -0.5); /* the rounding is there to snap */
+	e = (bk_expr){3, {{BK_OP_SUB, 0, 0}, {BK_OP_CONST, 0, 0.9}, {BK_OP_CONST, 0, 1.4}}};
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "-0.5");
+	e = (bk_expr){3, {{BK_OP_MUL, 0, 0}, {BK_OP_CONST, 0, 0.49}, {BK_OP_INPUT, BK_IN_R, 0}}};
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_str_eq(text_of(&e), "0.49 * r");
 }
 
 /* ---- printing ------------------------------------------------------------- */
@@ -318,16 +385,19 @@ Test(expr, canon_is_idempotent_and_keeps_values)
 		cr_assert_eq(bk_expr_canon(&again), 0);
 		cr_assert_str_eq(text_of(&again), a, "canon not idempotent on '%s'", a);
 		cr_assert_eq(bk_expr_canon(&again), 0);
-		/* without parameters canon only folds and applies exact identities:
-		 * the value at every point is the original's (x + 0 may turn -0 into
-		 * +0, which == does not see) */
+		/* without parameters canon only folds and applies identities: the
+		 * value at every point where the original is finite is the
+		 * original's (x + 0 may turn -0 into +0, which == does not see; x/x
+		 * is 1 where the original is NaN; a snapped literal moves it by
+		 * 1e-12 relative at most, so 1e-9 leaves room for its propagation) */
 		if (!params_used(&orig)) {
 			for (int k = 0; k < NPTS; k++) {
 				double x[BK_IN_COUNT];
 				for (int i = 0; i < BK_IN_COUNT; i++)
 					x[i] = pts[i][k];
 				double v0 = eval_tree(&orig, x, par), v1 = eval_tree(&e, x, par);
-				cr_assert(same_value(v0, v1), "'%s': %.17g became %.17g", a, v0, v1);
+				if (isfinite(v0))
+					cr_assert(v0 == v1 || fabs(v0 - v1) <= 1e-9 * fabs(v0), "'%s': %.17g became %.17g", a, v0, v1);
 			}
 		}
 		/* parameters numbered p0.. by first appearance, none skipped */
@@ -901,4 +971,86 @@ Test(expr, children_use_the_terms_a_grammar_allows)
 	cr_expect_eq(count(&e1, 1), 3);
 	cr_expect_eq(count(&e1, 2), 2);
 	cr_expect_eq(count(&e1, 3), 2);
+}
+
+/* bk_expr_neighbours: every subtree x gets p*x and p + x. Counted by hand:
+ * "LoH" has two (p0 * LoH, p0 + LoH); "p0 * LoH" has two (p1 + p0*LoH and
+ * p0*(p1 + LoH)), the other four folding back into it (p1*(p0*LoH),
+ * p1*p0, p1 + p0 and p0*(p1*LoH) are p0*LoH again). The planted form one
+ * constant short, p0/(a + sq(LoH)), has p0/(p1*a + sq(LoH)) among its
+ * neighbours; p0/(LoH + sq(LoH)) (another input) has not. */
+static int has_text(const bk_expr *nb, int m, const char *text)
+{
+	for (int j = 0; j < m; j++)
+		if (!strcmp(text_of(&nb[j]), text))
+			return 1;
+	return 0;
+}
+
+Test(expr, neighbours_by_one_free_constant)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH | 1u << BK_IN_A, .max_params = 4, .max_size = 24};
+	bk_expr nb[2 * BK_EXPR_MAX], e = from_text("LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	int m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert_eq(m, 2);
+	cr_assert(has_text(nb, m, "p0 * LoH") && has_text(nb, m, "p0 + LoH"));
+	e = from_text("p0*LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert_eq(m, 2);
+	char want[256];
+	strcpy(want, canon_text("p1 + p0*LoH"));
+	cr_assert(has_text(nb, m, want), "%s", want);
+	strcpy(want, canon_text("p0*(p1 + LoH)"));
+	cr_assert(has_text(nb, m, want), "%s", want);
+	/* the planted form one constant short, and a control */
+	strcpy(want, canon_text("p0/(p1*a + sq(LoH))"));
+	e = from_text("p0/(a + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert(has_text(nb, m, want), "%s not a neighbour", want);
+	for (int j = 0; j < m; j++) /* one parameter more each, none the parent */
+		cr_assert_eq(bk_expr_nparams(&nb[j]), bk_expr_nparams(&e) + 1, "%s", text_of(&nb[j]));
+	e = from_text("p0/(LoH + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	m = bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX);
+	cr_assert(!has_text(nb, m, want));
+	/* a grammar's limits hold: no room for a parameter, no neighbour */
+	g.max_params = 1;
+	e = from_text("p0/(a + sq(LoH))");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_eq(bk_expr_neighbours(&g, &e, nb, 2 * BK_EXPR_MAX), 0);
+}
+
+/* bk_expr_mix_neighbours: mix(u, v, x), u != v among the inputs, 1 and a
+ * fresh parameter. "LoH" over the input LoH alone: the leaves LoH, 1, p0
+ * make 3 x 2 = 6 ordered pairs, each a distinct canonical tree (hand count).
+ * Schlick over f0, f0 + (1 - f0)*x = mix(f0, 1, x), is a neighbour of its
+ * power x; without mix in the grammar there is none. */
+Test(expr, mix_neighbours)
+{
+	uint64_t ops;
+	char err[128];
+	cr_assert_eq(bk_grammar_parse_ops("+,-,*,sq,mix", &ops, err, sizeof err), 0);
+	bk_grammar g = {.ops = ops, .inputs = 1u << BK_IN_LOH, .max_params = 4, .max_size = 24};
+	bk_expr nb[8 * BK_EXPR_MAX], e = from_text("LoH");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	cr_assert_eq(bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX), 6);
+	g.inputs |= 1u << BK_IN_F0;
+	e = from_text("sq(sq(1 - LoH))*(1 - LoH)");
+	cr_assert_eq(bk_expr_canon(&e), 0);
+	int m = bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX);
+	char want[256];
+	strcpy(want, canon_text("mix(f0, 1, sq(sq(1 - LoH))*(1 - LoH))"));
+	cr_assert(has_text(nb, m, want), "%s not among %d", want, m);
+	strcpy(want, canon_text("mix(LoH, 1, sq(sq(1 - LoH))*(1 - LoH))"));
+	cr_assert(has_text(nb, m, want));
+	strcpy(want, canon_text("mix(f0, 1, sq(sq(1 - LoH)))")); /* a whole tree, not a neighbour */
+	cr_assert(!has_text(nb, m, want));
+	cr_assert_eq(bk_grammar_parse_ops("+,-,*,sq", &g.ops, err, sizeof err), 0);
+	cr_assert_eq(bk_expr_mix_neighbours(&g, &e, nb, 8 * BK_EXPR_MAX), 0);
 }

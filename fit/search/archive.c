@@ -45,6 +45,18 @@ static int level_add(bk_search *s, size_t i)
 			return -1;
 	}
 	bk_level *l = &s->lv[k];
+	/* one member per error in a level: equal errors at equal cost are
+	 * mostly one model spelled twice (p*(p' + x) and p*x + p'), and a level
+	 * full of them breeds one model */
+	for (int j = 0; j < l->n; j++) {
+		if (s->cand[l->idx[j]].err != c->err)
+			continue;
+		if (!bk_archive_better(c, &s->cand[l->idx[j]]))
+			return 0;
+		memmove(&l->idx[j], &l->idx[j + 1], sizeof(size_t) * (size_t)(l->n - j - 1));
+		l->n--;
+		break;
+	}
 	int pos = l->n;
 	while (pos > 0 && bk_archive_better(c, &s->cand[l->idx[pos - 1]]))
 		pos--;

@@ -302,13 +302,50 @@ int bk_gen_child(bk_search *s, bk_expr *t)
 	return bk_expr_crossover(g, &s->rng, &pa[which], donor, &t[which]);
 }
 
-/* A generation of children (those with inherited constants start from them). */
+/* The neighbours (expr.h) of the archive's leaders, as candidates
+ * b->c[b->n..want): p*x and p + x of each level's best, mix(u, v, x) of each
+ * front level's best (a level is on the front when its best beats every
+ * cheaper level's). The cache makes each tried once, so a level whose best
+ * has not changed gives none. 0, or -1 when out of memory. */
+static int gen_neighbours(bk_search *s, bk_gen_batch *b)
+{
+	enum { MAXNB = 8 * BK_EXPR_MAX };
+	bk_expr *nb = malloc(sizeof *nb * MAXNB);
+	if (!nb)
+		return -1;
+	double front_err = HUGE_VAL;
+	for (int pass = 0; pass < 2; pass++)
+		for (int L = 0; L < s->nlv && b->n < b->want; L++) {
+			const bk_cand *best = &s->cand[s->lv[L].idx[0]];
+			if (pass == 1 && !(best->err < front_err))
+				continue;
+			front_err = pass == 1 ? best->err : front_err;
+			int m = pass == 0 ? bk_expr_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB)
+			                  : bk_expr_mix_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB);
+			for (int j = 0; j < m && b->n < b->want; j++) {
+				bk_expr t[2] = {nb[j], best->tree[1]};
+				int r = bk_gen_prepare(s, t, &b->c[b->n]);
+				if (r < 0) {
+					free(nb);
+					return -1;
+				}
+				b->n += (size_t)r;
+			}
+		}
+	free(nb);
+	return 0;
+}
+
+/* A generation: first (not for pairs) the neighbours of the archive's
+ * leaders, then children (those with inherited constants start from them). */
 static int gen_children(bk_search *s, bk_gen_batch *b)
 {
 	if (s->nlv == 0) {
 		s->phase = 3;
 		return 0;
 	}
+	if (s->o.shape != BK_SHAPE_PAIR && gen_neighbours(s, b) < 0)
+		return -1;
 	for (size_t tries = 0; b->n < b->want && tries < b->want * TRIES_PER_CHILD; tries++) {
 		bk_expr t[2];
 		if (bk_gen_child(s, t))

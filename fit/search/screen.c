@@ -4,6 +4,7 @@
  */
 #include "search/screen.h"
 #include "search/constraint.h"
+#include "search/starts.h"
 #include "albfit.h"
 
 #include <math.h>
@@ -55,9 +56,8 @@ double bk_search_round_err(double e)
 
 /* ---- fitting one candidate ------------------------------------------------ */
 
-/* Deterministic screening starts: all ones first (most constants of a shading
- * form are O(1)), then a spread of magnitudes and a sign. */
-static const double start_value[4] = {1.0, 0.1, -1.0, 10.0};
+/* The starts: search/starts.h (ones, 0.1, then random ones from the seed and
+ * the candidate's text, the same on any thread). */
 
 void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 {
@@ -93,8 +93,10 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
 	for (int k = 0; k < nstart; k++) {
 		double p[BK_MAX_PARAMS];
-		for (int j = 0; j < BK_MAX_PARAMS; j++)
-			p[j] = seed_p ? (k == 0 ? seed_p[j] : start_value[k - 1]) : start_value[k];
+		for (int j = 0; seed_p && j < BK_MAX_PARAMS; j++)
+			p[j] = seed_p[j];
+		if (!seed_p || k > 0)
+			bk_search_start(s->o.seed, c->text, k - (seed_p != NULL), BK_MAX_PARAMS, p);
 		bk_fit_summary sum;
 		if (c->np) {
 			if (bk_fit_problem_solve(pb, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
