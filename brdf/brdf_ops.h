@@ -39,4 +39,10 @@ double bk_ir_apply(bk_op op, double a, double b, double c);
  * count in *n and the register of the result in *out (either may be NULL). */
 const bk_instr *bk_form_code(const bk_form *f, int *n, int *out);
 
+/* 1 when the kernels (forward, one op, backward) run their AVX2 copies (the
+ * CPU has AVX2), 0 for the x86-64 baseline; the two give the same bits.
+ * bk_ir_force_generic(1) pins the baseline (tests), 0 asks the CPU again. */
+int bk_ir_avx2(void);
+void bk_ir_force_generic(int on);
+
 #endif

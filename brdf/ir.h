@@ -53,11 +53,7 @@ void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const 
 void bk_ir_op64(const bk_instr *c, double *restrict r, const double *restrict A, const double *restrict B,
                 const double *restrict C);
 
-/* 1 when the kernels (forward, one op, backward) run their AVX2 copies (the
- * CPU has AVX2), 0 for the x86-64 baseline; the two give the same bits.
- * bk_ir_force_generic(1) pins the baseline (tests), 0 asks the CPU again. */
-int bk_ir_avx2(void);
-void bk_ir_force_generic(int on);
+/* bk_ir_avx2, bk_ir_force_generic: brdf_ops.h (public: make bench's side by side) */
 
 /* CLAMP's bounds are literals or (baked-in) parameters: the only case the
  * code may spell as clamp(), which GLSL and HLSL leave undefined for lo > hi

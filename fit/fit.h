@@ -183,4 +183,11 @@ int bk_fit_problem_solve(bk_fit_problem *pb, double *p, const int *constant, bk_
  * callback, the spec's bounds and holds; valid while pb lives. */
 bk_problem bk_fit_problem_view(const bk_fit_problem *pb);
 
+/* Benchmark switch, public so that make bench's side-by-side needs no
+ * internal header: 1 (default), residual blocks use forms bound to their
+ * samples (brdf.h, bk_form_bind); 0, the plain evaluators, every instruction
+ * at every call (bench_speed's "old" side: the same bits, only slower).
+ * Set before any fit starts, never during one. */
+extern int bk_fit_ctx_bind;
+
 #endif

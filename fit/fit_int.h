@@ -25,10 +25,6 @@ typedef struct bk_fit_ctx {
 	char *unbound;
 } bk_fit_ctx;
 
-/* 1 (default): residual blocks use bound forms; 0: the plain evaluators,
- * every instruction at every call (bench_speed's "old" side; the same bits).
- * Set before any fit starts, never during one. */
-extern int bk_fit_ctx_bind;
 
 /* fit_ctx.c: the context, its residuals and the Ceres problem */
 int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec);

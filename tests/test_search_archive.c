@@ -65,8 +65,9 @@ static void level_texts(const bk_search *s, int k, char *buf, size_t len)
 /* The same seven candidates for both tests, in this order:
  *   a (3.0, 0.5)  b (3.5, 0.2)  c (3.2, 0.2)  d (5, 0.1, not fitted)
  *   e (4.9999999999, 0.9)  f (1, 0.3)  g (1, 0.3)
- * Level 1: f, g tie on error and cost: text decides, f before g.
- * Level 3: b and c tie on error, c is cheaper: c, b, then a (worse error).
+ * Level 1: f, g tie on error and cost: one member per error in a level,
+ *   text decides: f stays, g is dropped.
+ * Level 3: b and c tie on error, c is cheaper: c stays, b is dropped; then a.
  * Level 5: e (cost a rounding below 5 is on level 5); d is in no level. */
 static void seven(bk_search *s)
 {
@@ -89,21 +90,21 @@ Test(search_archive, per_level_best_per_cost_level)
 	char t[64];
 	cr_assert_eq(s->lv[0].cost, 1);
 	level_texts(s, 0, t, sizeof t);
-	cr_assert_str_eq(t, "f g");
+	cr_assert_str_eq(t, "f", "g: the same error as f, worse by text");
 	cr_assert_eq(s->lv[1].cost, 3);
 	level_texts(s, 1, t, sizeof t);
-	cr_assert_str_eq(t, "c b", "per_level 2 drops a, the worst of three");
+	cr_assert_str_eq(t, "c a", "b: the same error as c at a higher cost");
 	cr_assert_eq(s->lv[2].cost, 5);
 	level_texts(s, 2, t, sizeof t);
 	cr_assert_str_eq(t, "e", "d did not fit: in no level");
 	bk_search_free(s);
 	bk_samples_free(&sm);
 
-	/* negative control: with room for three, a stays (the cap is what dropped it) */
-	s = empty_search(3, &sm);
+	/* negative control: with room for one, the cap drops a too */
+	s = empty_search(1, &sm);
 	seven(s);
 	level_texts(s, 1, t, sizeof t);
-	cr_assert_str_eq(t, "c b a");
+	cr_assert_str_eq(t, "c");
 	bk_search_free(s);
 	bk_samples_free(&sm);
 }
@@ -146,7 +147,7 @@ Test(search_archive, pair_ties_broken_on_b_whatever_the_order)
 		cr_assert_str_eq(bk_search_at(s, idx[0])->text_b, "x + 1", "order %d", order);
 		char t[64];
 		level_texts(s, 0, t, sizeof t);
-		cr_assert_str_eq(t, "x x", "the level keeps the same two");
+		cr_assert_str_eq(t, "x", "one member per error: the level keeps the better one");
 		cr_assert_str_eq(s->cand[s->lv[0].idx[0]].text_b, "x + 1");
 		bk_search_free(s);
 		bk_samples_free(&sm);

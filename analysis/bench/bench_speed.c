@@ -19,8 +19,7 @@
  */
 #include "brdf.h"
 #include "clock.h"
-#include "fit_int.h" /* bk_fit_ctx_bind: the old side */
-#include "ir.h"      /* bk_ir_force_generic: the old side */
+#include "brdf_ops.h" /* bk_ir_force_generic: the old side */
 #include "search.h"
 #include "solver.h" /* bk_tiny_reuse_trial: the old side */
 
