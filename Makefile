@@ -303,13 +303,15 @@ results: $(TOOL)
 	# refitted on the scene's own domain, shaders and the saving against the generic one
 	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
 	  --link-prefix scenes/
+	# (results/search/moved: what issue 22's search changes moved, written once by
+	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
 	  results/compare/spec/section.html results/compare/f/section.html \
 	  results/stability/section.html results/search/vf2d/section.html results/search/vf/section.html \
 	  results/search/env/section.html results/search/env_f0/section.html results/search/env_mix/section.html \
 	  results/search/f_glass/section.html \
-	  results/search/f_gold/section.html \
+	  results/search/f_gold/section.html results/search/moved/section.html \
 	  results/scenes/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \

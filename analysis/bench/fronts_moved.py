@@ -1,0 +1,78 @@
+#!/usr/bin/env python3
+"""fronts_moved.py: what a change to the search moved in make results' fronts.
+
+  python3 analysis/bench/fronts_moved.py OLD_COMMIT > results/search/moved/section.html
+
+For each committed search front, the best error at cost <= c of the front
+at OLD_COMMIT (git show) and of the one in the work tree, for every cost c
+either front has a member at: better, worse or the same (within 0.1 %).
+Rows are read by column name (name, cost, error); the catalog's rows are not
+members of the search's front and are left out. Writes a page section
+(brdfkit report's section rules: tables and text only).
+"""
+import csv
+import html
+import io
+import subprocess
+import sys
+
+SEARCHES = ["vf2d", "vf", "env", "env_f0", "env_mix", "f_glass", "f_gold"]
+
+
+def rows(text):
+    body = "\n".join(l for l in text.splitlines() if not l.startswith("#"))
+    return list(csv.DictReader(io.StringIO(body)))
+
+
+def front(rs):
+    best = {}
+    for r in rs:
+        if not (r["name"].startswith("search_") or r["name"].startswith("seed_")) or r["error"] == "":
+            continue
+        c, e = float(r["cost"]), float(r["error"])
+        best[c] = min(e, best.get(c, float("inf")))
+    return best
+
+
+def upto(f, c):
+    v = [e for k, e in f.items() if k <= c]
+    return min(v) if v else None
+
+
+def main():
+    old_commit = sys.argv[1]
+    out = ['<section id="search-moved">',
+           "<h2>What issue 22's search changes moved in the fronts</h2>",
+           "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after, "
+           "same commands, budgets and seeds. The search is stochastic at a fixed budget: a change to "
+           "canonical texts, starts or generation reorders what it tries, so fronts move both ways. "
+           "<code>python3 analysis/bench/fronts_moved.py %s</code></p>" % (html.escape(old_commit), html.escape(old_commit))]
+    for n in SEARCHES:
+        old = subprocess.run(["git", "show", "%s:results/search/%s/front.csv" % (old_commit, n)],
+                             capture_output=True, text=True, check=True).stdout
+        with open("results/search/%s/front.csv" % n) as f:
+            new = f.read()
+        fo, fn = front(rows(old)), front(rows(new))
+        tally = {"better": 0, "worse": 0, "same": 0}
+        lines = []
+        for c in sorted(set(fo) | set(fn)):
+            a, b = upto(fo, c), upto(fn, c)
+            if a is None or b is None:
+                verdict = ""
+            else:
+                verdict = "better" if b < a * 0.999 else "worse" if b > a * 1.001 else "same"
+                tally[verdict] += 1
+            fmt = lambda x: "" if x is None else "%.4g" % x
+            lines.append("<tr><td>%g</td><td>%s</td><td>%s</td><td>%s</td></tr>" % (c, fmt(a), fmt(b), verdict))
+        out.append("<p><code>%s</code>: %d cost levels better, %d worse, %d the same</p>" %
+                   (n, tally["better"], tally["worse"], tally["same"]))
+        out.append("<table>")
+        out.append("<tr><th>cost &lt;=</th><th>before</th><th>after</th><th></th></tr>")
+        out.extend(lines)
+        out.append("</table>")
+    out.append("</section>")
+    print("\n".join(out))
+
+
+if __name__ == "__main__":
+    main()
