@@ -55,15 +55,19 @@ has_island() { csv_col "$1" island >"$T/isl" && grep -qx "$2" "$T/isl"; }
 # brdfkit itself needs no MPI runtime
 if ldd "$BK" | grep -q libmpi; then bad "brdfkit links MPI: $(ldd "$BK" | grep libmpi)"; else ok; fi
 
+# 2 islands recover the form in 3,000 fits; 3 in 4,000 (at 3,000 their best is
+# p0*(1/(p1*a + sq(LoH))*(sq(r)/a)): equal on every sample, but 0/0 at r = 0,
+# where front_answers evaluates it, and the canonical form does not know a = r²)
+evals_for() { [ "$1" = 3 ] && echo 4000 || echo 3000; }
 for np in 2 3; do
-	if search $np "$T/p$np" --evals 3000 --threads 1 >"$T/out" 2>"$T/err" && recovered "$T/p$np"; then ok
+	if search $np "$T/p$np" --evals "$(evals_for $np)" --threads 1 >"$T/out" 2>"$T/err" && recovered "$T/p$np"; then ok
 	else bad "$np ranks: planted form not recovered: $(csv_cols "$T/p$np/front.csv" rmse form | sort -g | head -3) $(head -5 "$T/err")"; fi
 	# control: the front without the members that recovered it
 	mkdir -p "$T/c$np"; cp "$T/p$np/front.csv" "$T/c$np/front.csv"
 	for h in $(cat "$T/hits"); do csv_drop "$T/c$np/front.csv" name "$h" >"$T/w.csv" && mv "$T/w.csv" "$T/c$np/front.csv"; done
 	expect_fail "$np ranks: planted form absent" recovered "$T/c$np"
 	# the same seed, budget and ranks: the same bytes with 2 threads per rank
-	search $np "$T/q$np" --evals 3000 --threads 2 >/dev/null 2>&1
+	search $np "$T/q$np" --evals "$(evals_for $np)" --threads 2 >/dev/null 2>&1
 	for f in front.csv candidates.csv; do
 		same "$T/p$np" "$T/q$np" $f && ok || bad "$np ranks: --threads 1 and 2 differ in $f"
 	done
@@ -77,12 +81,12 @@ for np in 2 3; do
 		[ "$(grep -cv '^[0-9][0-9]*$' "$T/isl")" = 0 ] && ok || bad "$np ranks: front.csv does not state the islands"
 done
 # a second run of 3 ranks: the same bytes (determinism across runs)
-search 3 "$T/p3b" --evals 3000 --threads 1 >/dev/null 2>&1
+search 3 "$T/p3b" --evals 4000 --threads 1 >/dev/null 2>&1
 same "$T/p3" "$T/p3b" front.csv && ok || bad "3 ranks: two runs differ in front.csv"
 # --merge-fronts: rank 0 takes the islands' fronts alone, and the front is
 # the same (a member of the front of a union is on the front of its part),
 # every row of it; candidates.csv is smaller, the header says why
-search 3 "$T/p3f" --evals 3000 --threads 1 --merge-fronts >/dev/null 2>"$T/err"
+search 3 "$T/p3f" --evals 4000 --threads 1 --merge-fronts >/dev/null 2>"$T/err"
 grep -v '^#' "$T/p3/front.csv" >"$T/a"; grep -v '^#' "$T/p3f/front.csv" >"$T/b" 2>/dev/null
 [ -s "$T/a" ] && cmp -s "$T/a" "$T/b" && ok || bad "3 ranks: --merge-fronts changes front.csv: $(head -3 "$T/err")"
 nall=$(csv_col "$T/p3/candidates.csv" found_at | wc -l); nfr=$(csv_col "$T/p3f/candidates.csv" found_at 2>/dev/null | wc -l)
