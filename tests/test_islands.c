@@ -5,6 +5,7 @@
  * and their end, the seeds of the islands (splitmix64, computed by hand in
  * Python).
  */
+#include "fixture_search.h"
 #include <criterion/criterion.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -14,15 +15,7 @@
 
 static void planted(bk_samples *s)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "0.3/(LoH*LoH + 0.7*r*r)";
-	to.ndomain = 2;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
-	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
-	to.nx = 12;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 12, s);
 }
 
 static bk_search *island(const bk_samples *s, int r, int k, long evals)

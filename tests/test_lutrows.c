@@ -3,6 +3,7 @@
  * rows per layout (4 sizes x 3 formats), the layouts a feature set gets,
  * names and texture bytes by hand, and the scores on env samples.
  */
+#include "fixture_search.h"
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
@@ -11,14 +12,7 @@
 
 static void form_samples(bk_samples *s)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "LoH";
-	to.ndomain = 1;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
-	to.nx = 4;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted("LoH", 0, 0, 4, s);
 }
 
 Test(lutrows, layouts_of_a_set)

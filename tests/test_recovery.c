@@ -6,6 +6,7 @@
  * completed in the first generation (the neighbours of search.h), where a
  * seed short of something else is not.
  */
+#include "fixture_search.h"
 #include "search.h"
 #include "search/starts.h"
 
@@ -64,15 +65,7 @@ Test(recovery, random_starts_are_deterministic_and_spread)
 /* The planted target 0.3/(LoH^2 + 0.7 r^2) on LoH in [0.3162, 1], r in [0, 1]. */
 static void planted(bk_samples *s)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "0.3/(LoH*LoH + 0.7*r*r)";
-	to.ndomain = 2;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
-	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
-	to.nx = 16;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 16, s);
 }
 
 /* The least screening rmse of a search seeded with one form, no enumeration,

@@ -6,6 +6,7 @@
  * ties broken on the text (a pair's: A's, then B's) whatever the order of
  * arrival. Every expected level and front is worked out by hand below.
  */
+#include "fixture_search.h"
 #include "search/archive.h"
 
 #include <criterion/criterion.h>
@@ -16,23 +17,10 @@
 /* A search with nothing fitted: only its archive is used here. */
 static bk_search *empty_search(int per_level, bk_samples *sm)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "LoH";
-	to.ndomain = 1;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
-	to.nx = 4;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted("LoH", 0, 0, 4, sm);
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = sm;
-	o.shape = BK_SHAPE_PLAIN;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	o.grammar.ops = bk_grammar_default_ops();
-	o.grammar.inputs = 1u << BK_IN_LOH;
-	o.grammar.max_params = 2;
-	o.grammar.max_size = 8;
+	fx_plain_options(&o, sm, 1u << BK_IN_LOH, 2, 8);
+	char err[256];
 	o.per_level = per_level;
 	bk_search *s = bk_search_new(&o, err, sizeof err);
 	cr_assert(s, "%s", err);

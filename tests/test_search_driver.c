@@ -5,6 +5,7 @@
  * since the last call, and once more at the end, which sees the final
  * state; bk_search_run (one after_step callback) is the same loop.
  */
+#include "fixture_search.h"
 #include "search.h"
 
 #include <criterion/criterion.h>
@@ -39,23 +40,10 @@ static int both_stop(void *ctx, const bk_search *s) { return asked(&((both *)ctx
 
 static bk_search *made(bk_samples *sm)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "0.45*LoH*LoH + 0.2";
-	to.ndomain = 1;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
-	to.nx = 16;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted("0.45*LoH*LoH + 0.2", 0, 0, 16, sm);
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = sm;
-	o.shape = BK_SHAPE_PLAIN;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	o.grammar.ops = bk_grammar_default_ops();
-	o.grammar.inputs = 1u << BK_IN_LOH;
-	o.grammar.max_params = 2;
-	o.grammar.max_size = 7;
+	fx_plain_options(&o, sm, 1u << BK_IN_LOH, 2, 7);
+	char err[256];
 	o.generation = 30;
 	o.evals = 400;
 	bk_search *s = bk_search_new(&o, err, sizeof err);

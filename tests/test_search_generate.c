@@ -5,6 +5,7 @@
  * candidate already in the cache is not made twice; the enumeration is read
  * in order and ends.
  */
+#include "fixture_search.h"
 #include "search/generate.h"
 #include "ir.h" /* the opcodes, to check a child's operations against the grammar */
 
@@ -14,15 +15,8 @@
 
 static bk_search *grown(bk_samples *sm, const char *ops, int max_size, int max_params)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = "0.3/(LoH*LoH + 0.7*r*r)";
-	to.ndomain = 2;
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
-	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
-	to.nx = 6;
+	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 6, sm);
 	char err[256];
-	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
 	bk_search_options o;
 	bk_search_defaults(&o);
 	o.screen = sm;

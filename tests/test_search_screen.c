@@ -6,6 +6,7 @@
  * and kept when it is a published seed); a batch on two threads gives the
  * bits of one.
  */
+#include "fixture_search.h"
 #include "search/screen.h"
 
 #include <criterion/criterion.h>
@@ -17,24 +18,10 @@ static const char *const seed_text[] = {"LoH - p0"};
 
 static bk_search *search_on(bk_samples *sm, const char *target, int nonneg, int threads)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_FORM, &to);
-	to.form_text = target;
-	to.ndomain = strchr(target, 'r') ? 2 : 1; /* the inputs the target reads */
-	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0.3162, to.dom_hi[0] = 1;
-	to.dom_in[1] = BK_IN_R, to.dom_lo[1] = 0, to.dom_hi[1] = 1;
-	to.nx = 8;
-	char err[256];
-	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	fx_planted(target, 0.3162, strchr(target, 'r') != NULL, 8, sm); /* r: when the target reads it */
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = sm;
-	o.shape = BK_SHAPE_PLAIN;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	o.grammar.ops = bk_grammar_default_ops();
-	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
-	o.grammar.max_params = 2;
-	o.grammar.max_size = 9;
+	fx_plain_options(&o, sm, 1u << BK_IN_LOH | 1u << BK_IN_R, 2, 9);
+	char err[256];
 	o.nonneg = nonneg;
 	o.threads = threads;
 	o.seeds = seed_text;
