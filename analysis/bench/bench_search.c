@@ -22,6 +22,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "clock.h"
+#include "bench_vf2d.h"
 #include "search.h"
 
 #include <math.h>
@@ -83,28 +84,9 @@ static void write_problem(const bk_samples *sm, const bk_search *s, const char *
 
 int main(void)
 {
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_VF2D, &to);
-	to.nx = to.nr = 32;
 	bk_samples sm;
-	char err[256];
-	if (bk_target_build(&to, &sm, NULL, NULL, err, sizeof err)) {
-		fprintf(stderr, "bench_search: %s\n", err);
-		return 1;
-	}
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = &sm;
-	o.shape = BK_SHAPE_F0;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	o.grammar.ops = bk_grammar_default_ops();
-	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A;
-	o.grammar.consts[0] = 1;
-	o.grammar.nconsts = 1;
-	o.grammar.max_params = 4;
-	o.grammar.max_size = 24;
-	o.nonneg = 1;
-	o.evals = EVALS;
+	bench_vf2d_case("bench_search", EVALS, &sm, &o);
 
 	printf("bench_search: vf2d 32x32 (%zu samples), default grammar, <= 4 parameters, %d fits per run, median of %d\n",
 	       sm.n, EVALS, REPS);

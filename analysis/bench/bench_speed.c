@@ -20,6 +20,7 @@
 #include "brdf.h"
 #include "clock.h"
 #include "brdf_ops.h" /* bk_ir_force_generic: the old side */
+#include "bench_vf2d.h"
 #include "search.h"
 #include "solver.h" /* bk_tiny_reuse_trial: the old side */
 
@@ -74,28 +75,9 @@ int main(int argc, char **argv)
 {
 	/* bench_speed [EVALS [nodes]]: nodes skips the timed searches (profiling) */
 	int evals = argc > 1 ? atoi(argv[1]) : EVALS, only_nodes = argc > 2 && strcmp(argv[2], "nodes") == 0;
-	bk_target_options to;
-	bk_target_defaults(BK_TARGET_VF2D, &to);
-	to.nx = to.nr = 32;
 	bk_samples sm;
-	char err[256];
-	if (bk_target_build(&to, &sm, NULL, NULL, err, sizeof err)) {
-		fprintf(stderr, "bench_speed: %s\n", err);
-		return 1;
-	}
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = &sm;
-	o.shape = BK_SHAPE_F0;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	o.grammar.ops = bk_grammar_default_ops();
-	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A;
-	o.grammar.consts[0] = 1;
-	o.grammar.nconsts = 1;
-	o.grammar.max_params = 4;
-	o.grammar.max_size = 24;
-	o.nonneg = 1;
-	o.evals = evals;
+	bench_vf2d_case("bench_speed", evals, &sm, &o);
 
 	printf("bench_speed: vf2d 32x32 (%zu samples), default grammar, <= 4 parameters, %d fits per run, median of %d\n",
 	       sm.n, evals, REPS);
