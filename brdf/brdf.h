@@ -318,6 +318,13 @@ typedef struct bk_form_bound bk_form_bound;
 bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT]);
 /* Values into out and, when jac is not NULL, the Jacobian as bk_form_eval_diff. */
 int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac);
+/* The same values, and the same Jacobian by columns: d out[k] / d p_j into
+ * cols[j][k] for each j < the form's parameter count whose cols[j] is not
+ * NULL (cols NULL: values only). The column layout a least-squares solver
+ * takes (no transpose after) and, in the sweep, contiguous stores where the
+ * row-major layout strides by the parameter count; bit for bit
+ * bk_form_bound_eval's jac[k * np + j]. */
+int bk_form_bound_eval_cols(bk_form_bound *b, const double *params, double *out, double *const *cols);
 void bk_form_bound_free(bk_form_bound *b);
 
 /* Op counts by class, after constant folding, common subexpressions, small

@@ -73,10 +73,15 @@ ATTR static void CAT(backward_c, SFX)(int op, BW_ARGS, double *restrict gc, int 
 #undef ACC
 #undef DEC
 
-/* The backward sweep over one block of m samples; val[i]: where register i's
- * values are (the kernel's registers, or the bound form's kept blocks). */
+/* The backward sweep over one block of n samples; val[i]: where register i's
+ * values are (the kernel's registers, or the bound form's kept blocks).
+ * Parameter j's derivatives go to col[j][k * stride] (NULL: not wanted): the
+ * row-major Jacobian (stride np, zeroed before, each added to) or columns
+ * (stride 1, not zeroed: a column's first write in the block is 0.0 + g, the
+ * same bits as adding to zero, and wrote[j] is set; ir_diff.c zeroes those
+ * left unwritten). */
 ATTR static void CAT(backward, SFX)(const bk_form *f, const char *dep, size_t n, const double *const *val,
-                                   double *adj, double *jac, int np, char *seen)
+                                   double *adj, double *const *col, size_t stride, char *wrote, char *seen)
 {
 	/* The adjoints are not zeroed first (that pass was 40 % of this
 	 * function): seen[i] says whether register i's adjoint has had its first
@@ -98,8 +103,20 @@ ATTR static void CAT(backward, SFX)(const bk_form *f, const char *dep, size_t n,
 			for (size_t k = 0; k < BLOCK; k++)
 				g[k] = 0.0;
 		if (c->op == BK_OP_PARAM) {
-			for (size_t k = 0; k < n; k++)
-				jac[k * (size_t)np + (size_t)c->slot] += g[k];
+			double *restrict jc = col[c->slot];
+			if (!jc)
+				continue;
+			if (stride != 1) {
+				for (size_t k = 0; k < n; k++)
+					jc[k * stride] += g[k];
+			} else if (!wrote[c->slot]) { /* the column's first write: vector stores */
+				for (size_t k = 0; k < n; k++)
+					jc[k] = 0.0 + g[k];
+				wrote[c->slot] = 1;
+			} else {
+				for (size_t k = 0; k < n; k++)
+					jc[k] += g[k];
+			}
 			continue;
 		}
 #define OPND(x) ((x) >= 0 ? val[x] : NULL)

@@ -73,15 +73,22 @@ static void dependence(const bk_form *f, char *dep)
 
 /* The backward sweep (ir_adjoint.h) on the kernels' path (ir_eval.c). */
 static void backward(const bk_form *f, const char *dep, size_t n, const double *const *val, double *adj,
-                     double *jac, int np, char *seen)
+                     double *const *col, size_t stride, char *wrote, char *seen)
 {
 #if HAVE_AVX2
 	if (bk_ir_avx2()) {
-		backward_avx2(f, dep, n, val, adj, jac, np, seen);
+		backward_avx2(f, dep, n, val, adj, col, stride, wrote, seen);
 		return;
 	}
 #endif
-	backward_gen(f, dep, n, val, adj, jac, np, seen);
+	backward_gen(f, dep, n, val, adj, col, stride, wrote, seen);
+}
+
+/* The row-major Jacobian's block at sample s as columns of stride np. */
+static void row_cols(double *jac, size_t s, int np, double **col)
+{
+	for (int j = 0; j < np; j++)
+		col[j] = jac + s * (size_t)np + (size_t)j;
 }
 
 int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT],
@@ -115,8 +122,12 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 			blk[i] = in[i] ? in[i] + s : NULL;
 		bk_ir_forward64(f, m, ahead, s == 0, blk, params, v);
 		memcpy(out + s, v + (size_t)f->out * BLOCK, sizeof(double) * m);
-		if (np && dep[f->out])
-			backward(f, dep, m, val, adj, jac + s * (size_t)np, np, seen);
+		if (np && dep[f->out]) {
+			double *col[BK_MAX_PARAMS];
+			char wrote[BK_MAX_PARAMS] = {0}; /* np 1: stride 1, the first write assigns */
+			row_cols(jac, s, np, col);
+			backward(f, dep, m, val, adj, col, (size_t)np, wrote, seen);
+		}
 	}
 	free(v);
 	free(adj);
@@ -301,12 +312,13 @@ static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const do
 	}
 }
 
-int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac)
+/* Values into out and the Jacobian's block at sample s: row-major into jac
+ * (stride np, zeroed by the caller) or, jac NULL, into the columns cols (NULL:
+ * none; each column NULL or n long). */
+static void bound_eval(bk_form_bound *b, const double *params, double *out, double *jac, double *const *cols)
 {
 	const bk_form *f = b->f;
 	int np = f->nparams;
-	if (jac && np)
-		memset(jac, 0, sizeof(double) * b->n * (size_t)np);
 	for (size_t blk = 0, s = 0; s < b->n; blk++, s += BLOCK) {
 		size_t m = b->n - s < BLOCK ? b->n - s : BLOCK;
 		if (b->filled)
@@ -314,9 +326,34 @@ int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, doub
 		else
 			bound_fill(b, blk, s, m, params);
 		memcpy(out + s, b->val[f->out], sizeof(double) * m);
-		if (jac && np && b->dep[f->out])
-			backward(f, b->dep, m, b->val, b->adj, jac + s * (size_t)np, np, b->seen);
+		if (!np || (!jac && !cols))
+			continue;
+		double *col[BK_MAX_PARAMS];
+		char wrote[BK_MAX_PARAMS] = {0};
+		if (jac)
+			row_cols(jac, s, np, col);
+		else
+			for (int j = 0; j < np; j++)
+				col[j] = cols[j] ? cols[j] + s : NULL;
+		if (b->dep[f->out])
+			backward(f, b->dep, m, b->val, b->adj, col, jac ? (size_t)np : 1, wrote, b->seen);
+		for (int j = 0; !jac && j < np; j++) /* what no path from the result reached */
+			if (col[j] && !wrote[j])
+				memset(col[j], 0, sizeof(double) * m);
 	}
 	b->filled = 1;
+}
+
+int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac)
+{
+	if (jac && b->f->nparams)
+		memset(jac, 0, sizeof(double) * b->n * (size_t)b->f->nparams);
+	bound_eval(b, params, out, jac, NULL);
+	return 0;
+}
+
+int bk_form_bound_eval_cols(bk_form_bound *b, const double *params, double *out, double *const *cols)
+{
+	bound_eval(b, params, out, NULL, cols);
 	return 0;
 }

@@ -189,5 +189,9 @@ bk_problem bk_fit_problem_view(const bk_fit_problem *pb);
  * at every call (bench_speed's "old" side: the same bits, only slower).
  * Set before any fit starts, never during one. */
 extern int bk_fit_ctx_bind;
+/* The same for the Jacobian's layout: 1 (default), TinySolver's fits take it
+ * by columns (bk_solve_tiny_cols); 0, row-major (bk_solve_tiny_reusing), as
+ * before (the same bits). */
+extern int bk_fit_ctx_cols;
 
 #endif

@@ -7,6 +7,7 @@
 #include "fit_int.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,7 +21,24 @@
  * 0/0 or let a handful of samples rule the fit. */
 #define REL_FLOOR 1e-6
 
+/* Finiteness over a loop, as one OR of bits: x * 0 is ±0 for a finite x (no
+ * exponent bit set) and a NaN otherwise (every one set), so the OR of their
+ * bits has all exponent bits set iff some x was not finite. A loop of these
+ * vectorises (integer ORs), where a loop of !isfinite(x) stays scalar (its
+ * quiet compare gcc does not vectorise): that scalar test was most of the
+ * residual pass (perf). */
+static inline uint64_t zero_bits(double x)
+{
+	double z = x * 0.0;
+	uint64_t u;
+	memcpy(&u, &z, sizeof u);
+	return u;
+}
+#define EXP_BITS 0x7ff0000000000000ull
+#define ANY_NONFINITE(acc) (((acc) & EXP_BITS) == EXP_BITS)
+
 int bk_fit_ctx_bind = 1;
+int bk_fit_ctx_cols = 1;
 
 static int residuals(void *vctx, int block, const double *p, double *r, double *jac)
 {
@@ -72,8 +90,10 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 		k[i] = sw[i] * inv[i];
 	for (int i = 0; i < m; i++)
 		rr[i] = k[i] * (rr[i] - y[i]);
+	uint64_t rbits = 0;
 	for (int i = 0; i < m; i++)
-		bad |= !isfinite(rr[i]);
+		rbits |= zero_bits(rr[i]);
+	bad = ANY_NONFINITE(rbits);
 	if (jac && !narrow) {
 		double *restrict J = jac;
 		switch (np) {
@@ -99,6 +119,80 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 	}
 	free(narrow);
 	return bad ? -1 : 0;
+}
+
+/*
+ * The same residuals with the Jacobian by columns (bk_residual_cols_fn,
+ * fit/solver.h), for TinySolver: the bound form writes each column where the
+ * solver reads it (no row-major block, no transpose after), and the column's
+ * scaling by k tests each entry as it goes, so the solver need not read the
+ * Jacobian again to test it. The same values as residuals(): the same
+ * products on the same operands (k (f - y), k jf), bit for bit. Without a
+ * bound form (bk_fit_ctx_bind 0, or none could be made) it goes through
+ * residuals()' row-major block.
+ */
+static int residuals_cols(void *vctx, int block, const double *p, double *r, double *const *cols)
+{
+	bk_fit_ctx *c = vctx;
+	const bk_fit_spec *spec = c->spec;
+	const bk_samples *s = spec->s;
+	size_t lo = c->lo[block];
+	int m = c->size[block], np = spec->np;
+	const bk_form *f = spec->form[c->comp[block]];
+	int npf = bk_form_nparams(f);
+	if (!c->bound[block] && !c->unbound[block] && bk_fit_ctx_bind) {
+		const double *in[BK_IN_COUNT];
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			in[k] = s->in[k] + lo;
+		c->unbound[block] = !(c->bound[block] = bk_form_bind(f, (size_t)m, in));
+	}
+	if (!c->bound[block]) { /* the row-major block, then its columns */
+		double *rows = cols ? malloc(sizeof(double) * (size_t)m * (size_t)np) : NULL;
+		if (cols && !rows)
+			return -1;
+		int rc = residuals(vctx, block, p, r, rows), bad = 0;
+		for (int j = 0; rc == 0 && cols && j < np; j++)
+			if (cols[j])
+				for (int i = 0; i < m; i++) {
+					double v = rows[(size_t)i * np + j];
+					cols[j][i] = v;
+					bad |= !isfinite(v);
+				}
+		free(rows);
+		return rc ? rc : bad ? BK_COLS_JAC_NONFINITE : 0;
+	}
+	double *fc[BK_MAX_PARAMS];
+	for (int j = 0; j < npf; j++)
+		fc[j] = cols && j < np ? cols[j] : NULL;
+	bk_form_bound_eval_cols(c->bound[block], p, r, cols ? fc : NULL);
+	/* as residuals(): k once per sample, then the residuals, then the columns */
+	const double *restrict sw = c->sw + lo, *restrict inv = c->inv + lo, *restrict y = s->y + lo;
+	double *restrict rr = r;
+	double kbuf[BLOCK];
+	double *restrict k = kbuf;
+	uint64_t rbits = 0, jbits = 0;
+	for (int i = 0; i < m; i++)
+		k[i] = sw[i] * inv[i];
+	for (int i = 0; i < m; i++)
+		rr[i] = k[i] * (rr[i] - y[i]);
+	for (int i = 0; i < m; i++)
+		rbits |= zero_bits(rr[i]);
+	for (int j = 0; cols && j < np; j++) {
+		double *restrict J = cols[j];
+		if (!J)
+			continue;
+		if (j >= npf) { /* a parameter of the fit that this form does not read */
+			for (int i = 0; i < m; i++)
+				J[i] = 0.0;
+			continue;
+		}
+		for (int i = 0; i < m; i++) {
+			double v = k[i] * J[i];
+			J[i] = v;
+			jbits |= zero_bits(v);
+		}
+	}
+	return ANY_NONFINITE(rbits) ? -1 : ANY_NONFINITE(jbits) ? BK_COLS_JAC_NONFINITE : 0;
 }
 
 /* The same residuals for the statistics (all blocks, at the solution). */
@@ -181,7 +275,8 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 	if (bk_solve_tiny_applies(&prob, &spec->opt))
 		/* residuals() gives the same values with or without the Jacobian (one
 		 * kernel) and fails only on them: a trial's Jacobian may be kept */
-		return bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
+		return bk_fit_ctx_cols ? bk_solve_tiny_cols(&prob, residuals_cols, &spec->opt, p, sum)
+		                       : bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
 	return bk_solve(&prob, &spec->opt, p, sum);
 }
 

@@ -107,9 +107,33 @@ int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *o);
  * again (one forward pass less per accepted step; the same bits). */
 int bk_solve_tiny_reusing(const bk_problem *p, const bk_fit_options *o, double *params,
                           bk_fit_summary *summary);
+/* The Jacobian by columns: one block's residuals into residuals and, when
+ * cols is not NULL, d residual_i / d param_j into cols[j][i] for every j whose
+ * cols[j] is not NULL (each then block_size rows). Returns 0;
+ * BK_COLS_JAC_NONFINITE when the values are finite but a Jacobian entry it
+ * wrote is not (the solver decides whether that Jacobian is used); any other
+ * non-zero fails the solve. */
+typedef int (*bk_residual_cols_fn)(void *ctx, int block, const double *params, double *residuals,
+                                   double *const *cols);
+#define BK_COLS_JAC_NONFINITE 1
+/* bk_solve_tiny_reusing with the Jacobian from cols (p->fn is not called, but
+ * checked as bk_solve_tiny checks it): the callback writes each free
+ * parameter's column straight into TinySolver's column-major Jacobian, where
+ * bk_solve_tiny transposes the row-major one in a pass of its own, and the
+ * finiteness of what it writes comes back with it (BK_COLS_JAC_NONFINITE),
+ * where bk_solve_tiny reads the Jacobian once more to test it. The same
+ * checks, failures and messages as bk_solve_tiny_reusing, in the same order,
+ * and the same bits when cols gives fn's values. */
+int bk_solve_tiny_cols(const bk_problem *p, bk_residual_cols_fn cols, const bk_fit_options *o, double *params,
+                       bk_fit_summary *summary);
 /* 1 (default); 0: bk_solve_tiny_reusing is bk_solve_tiny (bench_speed's
  * "old" side). Set before any solve starts. */
 extern int bk_tiny_reuse_trial;
+/* 1 (default): TinySolver is instantiated with the free parameters' count
+ * fixed at compile time where it is 1..4 (fit/tiny.cc, solve_n); 0: always
+ * with dynamic sizes (bench_speed's "old" side; other last bits). Set before
+ * any solve starts. */
+extern int bk_tiny_fixed;
 
 #ifdef __cplusplus
 }

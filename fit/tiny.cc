@@ -166,16 +166,26 @@ struct State {
 	bool trial_valid = false;
 	double trial_x[kMaxParams];
 	std::vector<double> trial_r, trial_jac;
+	/* bk_solve_tiny_cols: the trial's Jacobian is by columns (nfree of m),
+	 * and whether it failed its finiteness test, with the message its
+	 * acceptance fails with */
+	bool trial_bad = false;
+	char trial_why[160];
+	std::vector<double> held; /* the held parameters' columns of one block (tested, not used) */
 };
 
 /* The residuals of all blocks, in order, as one vector over the free
- * parameters: TinySolver's functor (ceres/tiny_solver.h, dynamic sizes). */
+ * parameters: TinySolver's functor (ceres/tiny_solver.h), the residuals'
+ * count dynamic, the free parameters' N fixed at compile time (1..kMaxFixed)
+ * or dynamic (Eigen::Dynamic, beyond): see solve_n. */
+template <int N>
 class Residuals {
 public:
 	using Scalar = double;
-	enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
+	enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = N };
 
-	Residuals(const bk_problem &p, const bk_fit_options &o, State *st, bool reuse) : p_(p), o_(o), st_(st)
+	Residuals(const bk_problem &p, const bk_fit_options &o, State *st, bool reuse, bk_residual_cols_fn cols)
+	    : p_(p), o_(o), st_(st), cols_(cols)
 	{
 		int max_block = 0;
 		for (int b = 0; b < p.nblocks; b++) {
@@ -185,7 +195,10 @@ public:
 		for (int i = 0; i < p.np; i++)
 			if (p.constant == nullptr || !p.constant[i])
 				free_[nfree_++] = i;
-		st->block_jac.resize((size_t)max_block * (size_t)p.np);
+		if (cols == nullptr)
+			st->block_jac.resize((size_t)max_block * (size_t)p.np);
+		else if (nfree_ < p.np)
+			st->held.resize((size_t)max_block * (size_t)p.np);
 		if (reuse && bk_tiny_reuse_trial) {
 			st->trial_r.resize((size_t)m_);
 			st->trial_jac.resize((size_t)m_ * (size_t)p.np);
@@ -231,6 +244,13 @@ public:
 			}
 			st_->trial_valid = false;
 		}
+		if (cols_ != nullptr) {
+			by_cols(r, jac, reuse, keep);
+			st_->trial_valid = keep;
+			if (jac != nullptr)
+				accepted(r, jac);
+			return true;
+		}
 		double *bj = keep ? st_->trial_jac.data() : jac != nullptr ? st_->block_jac.data() : nullptr;
 		size_t row = 0;
 		for (int b = 0; b < p_.nblocks; b++) {
@@ -244,10 +264,7 @@ public:
 				if (rc != 0)
 					fail("callback failed: block %d returned %d", b, rc);
 			}
-			if (!all_finite(rb, (size_t)mb)) /* then the first one is named */
-				for (int i = 0; i < mb; i++)
-					if (!std::isfinite(rb[i]))
-						fail("non-finite residual: block %d, residual %d", b, i);
+			check_residuals(b, rb, mb);
 			if (keep) {
 				std::copy(rb, rb + mb, st_->trial_r.data() + row);
 				bj += (size_t)mb * (size_t)np;
@@ -273,6 +290,69 @@ public:
 	}
 
 private:
+	/* The residuals' non-finite check and message, as bk_solve's. */
+	static void check_residuals(int b, const double *rb, int mb)
+	{
+		if (!all_finite(rb, (size_t)mb)) /* then the first one is named */
+			for (int i = 0; i < mb; i++)
+				if (!std::isfinite(rb[i]))
+					fail("non-finite residual: block %d, residual %d", b, i);
+	}
+
+	/*
+	 * operator() for bk_solve_tiny_cols: the callback writes the free
+	 * parameters' columns where TinySolver reads them (jac, or the trial's
+	 * buffer when keep, both nfree columns of m_ rows), the held ones into a
+	 * scratch block (tested as bk_solve tests all np columns, then dropped).
+	 * The same checks as the row-major path, in the same order: per block the
+	 * callback's failure, then the residuals, then (where a Jacobian is used:
+	 * now, or at the trial's acceptance) the Jacobian, its first non-finite
+	 * entry named in row-major order as there.
+	 */
+	void by_cols(double *r, double *jac, bool reuse, bool keep) const
+	{
+		size_t m = (size_t)m_;
+		if (reuse) {
+			std::copy(st_->trial_r.data(), st_->trial_r.data() + m, r);
+			if (st_->trial_bad)
+				fail("%s", st_->trial_why);
+			std::copy(st_->trial_jac.data(), st_->trial_jac.data() + m * (size_t)nfree_, jac);
+			return;
+		}
+		double *dst = keep ? st_->trial_jac.data() : jac;
+		st_->trial_bad = false;
+		size_t row = 0;
+		for (int b = 0; b < p_.nblocks; b++) {
+			int mb = p_.block_size[b];
+			double *rb = r + row;
+			double *cp[kMaxParams];
+			for (int j = 0; j < p_.np; j++) /* the held ones: scratch */
+				cp[j] = dst != nullptr && !st_->held.empty() ? st_->held.data() + (size_t)j * (size_t)mb : nullptr;
+			for (int k = 0; k < nfree_; k++)
+				cp[free_[k]] = dst != nullptr ? dst + (size_t)k * m + row : nullptr;
+			int rc = cols_(p_.ctx, b, st_->x, rb, dst != nullptr ? cp : nullptr);
+			if (rc != 0 && rc != BK_COLS_JAC_NONFINITE)
+				fail("callback failed: block %d returned %d", b, rc);
+			check_residuals(b, rb, mb);
+			if (rc == BK_COLS_JAC_NONFINITE && dst != nullptr && !st_->trial_bad) {
+				int bad_i = 0, bad_j = 0;
+				for (int i = mb - 1; i >= 0; i--) /* the first in row-major order */
+					for (int j = p_.np - 1; j >= 0; j--)
+						if (!std::isfinite(cp[j][i]))
+							bad_i = i, bad_j = j;
+				char why[160];
+				say(why, sizeof why, "non-finite jacobian: block %d, residual %d, parameter %d", b, bad_i, bad_j);
+				if (!keep)
+					fail("%s", why);
+				st_->trial_bad = true; /* fails at the acceptance: the first block's */
+				std::memcpy(st_->trial_why, why, sizeof why);
+			}
+			if (keep)
+				std::copy(rb, rb + mb, st_->trial_r.data() + row);
+			row += (size_t)mb;
+		}
+	}
+
 	/* A point TinySolver starts from or accepted: record it and set the
 	 * tolerances its next tests read (see the header). */
 	void accepted(const double *r, const double *jac) const
@@ -295,16 +375,16 @@ private:
 	const bk_problem &p_;
 	const bk_fit_options &o_;
 	State *st_;
+	bk_residual_cols_fn cols_; /* bk_solve_tiny_cols' callback, or NULL: p_.fn's rows */
 	int m_ = 0, nfree_ = 0;
 	int free_[kMaxParams];
 };
 
-using Tiny = ceres::TinySolver<Residuals>;
-
 /* The summary's termination and message from TinySolver's status. */
+template <class Tiny>
 void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
 {
-	const Tiny::Summary &ts = t.summary;
+	const typename Tiny::Summary &ts = t.summary;
 	s->termination = BK_TERM_CONVERGENCE;
 	switch (ts.status) {
 	case Tiny::GRADIENT_TOO_SMALL:
@@ -333,20 +413,28 @@ void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
 	}
 }
 
-/* The solve proper, validated; throws EvalFailure or std::bad_alloc. */
-void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse)
+/*
+ * The solve proper over N free parameters (N = nfree, or Eigen::Dynamic).
+ * With N fixed, TinySolver's vectors, JᵀJ and its LDLT are fixed-size and its
+ * Jacobian has N columns known at compile time: the column scaling of each
+ * Update (J diag(s)) is a loop per column instead of Eigen's generic
+ * coefficient loop (~8 % of the screening fits, perf), Jᵀr is N dot products
+ * instead of a dynamic gemv, and nothing is resized. The same TinySolver
+ * (the algorithm is its, unchanged); the sums come in another order, so the
+ * last bits of a solve differ from the dynamic instantiation's, but they are
+ * fixed per build: the fixed-size code is Eigen's SSE2 packets at the x86-64
+ * baseline (no -march), JᵀJ still goes through Eigen's blocked product
+ * (a depth of 1,024 residuals is "large" for any N) with the cache sizes
+ * pinned above, and one solve runs on one thread.
+ */
+template <int N>
+void solve_n(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse,
+             bk_residual_cols_fn cols)
 {
+	using Tiny = ceres::TinySolver<Residuals<N>>;
 	Tiny tiny;
-	Residuals f(p, o, st, reuse);
+	Residuals<N> f(p, o, st, reuse, cols);
 	int nfree = f.NumParameters();
-	if (nfree == 0) { /* every parameter held: the cost where it is */
-		Eigen::VectorXd r(f.NumResiduals());
-		f(nullptr, r.data(), nullptr);
-		s->initial_cost = s->final_cost = r.squaredNorm() / 2;
-		s->termination = BK_TERM_CONVERGENCE;
-		say(s->message, sizeof s->message, "every parameter is held: nothing to solve");
-		return;
-	}
 	tiny.options.max_num_iterations = o.max_iterations + 1;
 	tiny.options.parameter_tolerance = o.parameter_tolerance;
 	tiny.options.cost_threshold = 0;
@@ -355,7 +443,7 @@ void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summa
 	tiny.options.gradient_tolerance = 0;
 	st->function_tolerance = &tiny.options.function_tolerance;
 	st->gradient_tolerance = &tiny.options.gradient_tolerance;
-	Eigen::VectorXd x(nfree);
+	typename Tiny::Parameters x(nfree);
 	for (int k = 0; k < nfree; k++)
 		x[k] = st->x[f.free_index(k)];
 	tiny.Solve(f, &x);
@@ -367,9 +455,40 @@ void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summa
 	report(tiny, o, s);
 }
 
+/* Free parameters up to which TinySolver is instantiated with a fixed count
+ * (a screening fit has <= 4; more go to the dynamic one). */
+constexpr int kMaxFixed = 4;
+
+/* The solve proper, validated; throws EvalFailure or std::bad_alloc. */
+void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse,
+           bk_residual_cols_fn cols)
+{
+	int nfree = 0;
+	for (int i = 0; i < p.np; i++)
+		nfree += p.constant == nullptr || !p.constant[i];
+	if (nfree == 0) { /* every parameter held: the cost where it is */
+		Residuals<Eigen::Dynamic> f(p, o, st, reuse, cols);
+		Eigen::VectorXd r(f.NumResiduals());
+		f(nullptr, r.data(), nullptr);
+		s->initial_cost = s->final_cost = r.squaredNorm() / 2;
+		s->termination = BK_TERM_CONVERGENCE;
+		say(s->message, sizeof s->message, "every parameter is held: nothing to solve");
+		return;
+	}
+	static_assert(kMaxFixed == 4, "one case per fixed count");
+	switch (bk_tiny_fixed ? nfree : 0) {
+	case 1: solve_n<1>(p, o, st, s, reuse, cols); break;
+	case 2: solve_n<2>(p, o, st, s, reuse, cols); break;
+	case 3: solve_n<3>(p, o, st, s, reuse, cols); break;
+	case 4: solve_n<4>(p, o, st, s, reuse, cols); break;
+	default: solve_n<Eigen::Dynamic>(p, o, st, s, reuse, cols);
+	}
+}
+
 } // namespace
 
 int bk_tiny_reuse_trial = 1;
+int bk_tiny_fixed = 1;
 
 /* Valid options and what the fast path itself refuses; the rest of the
  * problem (and params) is checked by the solve with bk_solve's messages, so a
@@ -383,7 +502,8 @@ extern "C" int bk_solve_tiny_applies(const bk_problem *p, const bk_fit_options *
 
 namespace {
 
-int solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params, bk_fit_summary *summary, bool reuse)
+int solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params, bk_fit_summary *summary, bool reuse,
+               bk_residual_cols_fn cols = nullptr)
 {
 	if (summary == nullptr)
 		return -1;
@@ -399,7 +519,7 @@ int solve_tiny(const bk_problem *p, const bk_fit_options *o, double *params, bk_
 	std::copy(params, params + p->np, st.x);
 	std::copy(params, params + p->np, st.good);
 	try {
-		solve(*p, *o, &st, summary, reuse);
+		solve(*p, *o, &st, summary, reuse, cols);
 		std::copy(st.x, st.x + p->np, params);
 	} catch (const EvalFailure &e) {
 		/* as bk_solve: FAILURE naming the first failure; the point returned is
@@ -430,4 +550,18 @@ extern "C" int bk_solve_tiny_reusing(const bk_problem *p, const bk_fit_options *
                                      bk_fit_summary *summary)
 {
 	return solve_tiny(p, o, params, summary, true);
+}
+
+extern "C" int bk_solve_tiny_cols(const bk_problem *p, bk_residual_cols_fn cols, const bk_fit_options *o,
+                                  double *params, bk_fit_summary *summary)
+{
+	if (cols == nullptr) {
+		if (summary != nullptr) {
+			std::memset(summary, 0, sizeof *summary);
+			summary->termination = BK_TERM_FAILURE;
+			say(summary->message, sizeof summary->message, "cols: no callback");
+		}
+		return -1;
+	}
+	return solve_tiny(p, o, params, summary, true, cols);
 }

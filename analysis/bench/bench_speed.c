@@ -73,8 +73,11 @@ typedef struct cand {
 
 int main(int argc, char **argv)
 {
-	/* bench_speed [EVALS [nodes]]: nodes skips the timed searches (profiling) */
+	/* bench_speed [EVALS [nodes|new]] (profiling): nodes skips the timed
+	 * searches; new runs the new side's search once, 1 thread, and stops */
 	int evals = argc > 1 ? atoi(argv[1]) : EVALS, only_nodes = argc > 2 && strcmp(argv[2], "nodes") == 0;
+	int only_new = argc > 2 && strcmp(argv[2], "new") == 0;
+	int only_fits = argc > 2 && strcmp(argv[2], "fits") == 0; /* 1b alone */
 	bk_samples sm;
 	bk_search_options o;
 	bench_vf2d_case("bench_speed", evals, &sm, &o);
@@ -87,8 +90,19 @@ int main(int argc, char **argv)
 	 * new: bound forms, AVX2 where the CPU has it, the trial's Jacobian kept.
 	 * Interleaved; the same candidates and errors either way. */
 	bk_search *keep = NULL;
+	if (only_new || only_fits) {
+		double w, c;
+		o.threads = 1;
+		keep = run_search(&o, &w, &c);
+		printf("  new, 1 thread: %.0f fits per CPU-s\n", evals / c);
+		if (only_new) {
+			bk_search_free(keep);
+			bk_samples_free(&sm);
+			return 0;
+		}
+	}
 	double wall[2][2][REPS], cpu[2][2][REPS];
-	for (int r = 0; r < (only_nodes ? 1 : REPS); r++)
+	for (int r = 0; r < (only_nodes ? 1 : only_fits ? 0 : REPS); r++)
 		for (int side = only_nodes; side < 2; side++)
 			for (int th = 1; th <= 2 - only_nodes; th++) {
 				bk_fit_ctx_bind = side;
@@ -104,7 +118,7 @@ int main(int argc, char **argv)
 	bk_fit_ctx_bind = 1;
 	bk_tiny_reuse_trial = 1;
 	bk_ir_force_generic(0);
-	for (int th = 0; th < 2 && !only_nodes; th++) {
+	for (int th = 0; th < 2 && !only_nodes && !only_fits; th++) {
 		double w[2], c[2];
 		for (int side = 0; side < 2; side++)
 			w[side] = bk_clock_median(wall[side][th], REPS), c[side] = bk_clock_median(cpu[side][th], REPS);
@@ -131,6 +145,55 @@ int main(int argc, char **argv)
 		k++;
 	}
 	nc = k;
+	/* 1b. the same screening fits, one per candidate of the run, from the
+	 * same start, with the fitter as main had it before this change (TinySolver
+	 * with dynamic sizes) and as now: a fixed workload, so unlike 1. its ratio
+	 * is the fitter's speed alone (a change of the last bits changes the
+	 * search's path and so its candidates) */
+	double tf[2][REPS] = {{0}}, cost[2] = {0};
+	long iters[2] = {0};
+	for (int r = 0; r < (only_nodes ? 0 : REPS); r++)
+		for (int side = 0; side < 2; side++) {
+			bk_tiny_fixed = side;
+			bk_fit_ctx_cols = side;
+			cost[side] = 0, iters[side] = 0;
+			double t0 = thread_cpu_now();
+			for (size_t i = 0; i < nc; i++) {
+				bk_fit_spec spec;
+				memset(&spec, 0, sizeof spec);
+				spec.s = &sm;
+				spec.form[0] = spec.form[1] = cs[i].f;
+				spec.np = bk_form_nparams(cs[i].f);
+				bk_fit_options fo = BK_FIT_OPTIONS_INIT;
+				fo.max_iterations = 40; /* fit/search/screen.c's screening options */
+				fo.function_tolerance = 1e-6;
+				fo.parameter_tolerance = 1e-8;
+				spec.opt = fo;
+				spec.relative = o.relative;
+				spec.starts = 1;
+				for (int j = 0; j < BK_MAX_PARAMS; j++)
+					spec.lower[j] = -HUGE_VAL, spec.upper[j] = HUGE_VAL;
+				bk_fit_problem *pb = bk_fit_problem_new(&spec);
+				double p[BK_MAX_PARAMS];
+				for (int j = 0; j < BK_MAX_PARAMS; j++)
+					p[j] = 1;
+				bk_fit_summary sum;
+				if (pb && bk_fit_problem_solve(pb, p, NULL, &sum) == 0 && sum.termination != BK_TERM_FAILURE) {
+					cost[side] += sum.final_cost;
+					iters[side] += sum.iterations;
+				}
+				bk_fit_problem_free(pb);
+			}
+			tf[side][r] = thread_cpu_now() - t0;
+		}
+	bk_tiny_fixed = 1;
+	bk_fit_ctx_cols = 1;
+	if (!only_nodes) {
+		double f0 = bk_clock_median(tf[0], REPS), f1 = bk_clock_median(tf[1], REPS);
+		printf("  screening fits of the run's %zu candidates from p = 1, 1 thread, fits per thread CPU-s:\n"
+		       "    before (dynamic TinySolver) %.0f   now %.0f   %.2fx   (iterations %ld vs %ld, sum of costs %.6g vs %.6g)\n",
+		       nc, nc / f0, nc / f1, f0 / f1, iters[0], iters[1], cost[0], cost[1]);
+	}
 	const double *const *in = (const double *const *)sm.in;
 	double *v0 = malloc(sizeof(double) * sm.n), *v1 = malloc(sizeof(double) * sm.n);
 	double *j0 = malloc(sizeof(double) * sm.n * BK_MAX_PARAMS), *j1 = malloc(sizeof(double) * sm.n * BK_MAX_PARAMS);
@@ -140,7 +203,7 @@ int main(int argc, char **argv)
 	enum { PASSES = 12 };
 	double td[2][REPS] = {{0}};
 	size_t differ = 0;
-	for (int r = 0; r < (only_nodes ? 0 : REPS); r++)
+	for (int r = 0; r < (only_nodes || only_fits ? 0 : REPS); r++)
 		for (int m = 0; m < 2; m++) {
 			double t0 = thread_cpu_now();
 			for (size_t i = 0; i < nc; i++) {
@@ -169,16 +232,16 @@ int main(int argc, char **argv)
 		differ += memcmp(v0, v1, sizeof(double) * sm.n) != 0 || memcmp(j0, j1, sizeof(double) * sm.n * np) != 0;
 	}
 	double old = bk_clock_median(td[0], REPS), new = bk_clock_median(td[1], REPS);
-	if (!only_nodes)
+	if (!only_nodes && !only_fits)
 		printf("  fit passes (values + Jacobian, 2 of 3 with it), %zu candidates x %d passes, thread CPU s:\n"
 	       "    old (bk_form_eval_diff / bk_form_eval): %.3f s   new (bound): %.3f s   %.2fx; %zu differ in any bit%s\n",
 	       nc, PASSES, old, new, old / new, differ, differ ? "   (MUST be 0)" : "");
 
 	/* 3. f32 nodes/s, parsed once: baseline kernels (old) and AVX2 (new) */
-	double tn[2][REPS], nodes = 0;
+	double tn[2][REPS] = {{0}}, nodes = 0;
 	for (size_t i = 0; i < nc; i++)
 		nodes += 8.0 * (double)sm.n * cs[i].nodes;
-	for (int r = 0; r < REPS; r++)
+	for (int r = 0; r < (only_fits ? 0 : REPS); r++)
 		for (int side = 0; side < 2; side++) {
 			bk_ir_force_generic(side == 0);
 			double t0 = thread_cpu_now();
@@ -189,7 +252,8 @@ int main(int argc, char **argv)
 		}
 	bk_ir_force_generic(0);
 	double g0 = nodes / bk_clock_median(tn[0], REPS), g = nodes / bk_clock_median(tn[1], REPS);
-	printf("  IR tree nodes/s in f32, 1 thread, parsed once: old (baseline) %.3g, new (%s) %.3g%s\n", g0,
+	if (!only_fits)
+		printf("  IR tree nodes/s in f32, 1 thread, parsed once: old (baseline) %.3g, new (%s) %.3g%s\n", g0,
 	       bk_ir_avx2() ? "AVX2" : "baseline: no AVX2 here", g,
 	       g >= 6e9 ? "   (target >= 6e9: met)" : "   (target >= 6e9: NOT met)");
 
