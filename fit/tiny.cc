@@ -178,11 +178,11 @@ struct State {
  * parameters: TinySolver's functor (ceres/tiny_solver.h), the residuals'
  * count dynamic, the free parameters' N fixed at compile time (1..kMaxFixed)
  * or dynamic (Eigen::Dynamic, beyond): see solve_n. */
-template <int N>
+template <int N, int M = Eigen::Dynamic>
 class Residuals {
 public:
 	using Scalar = double;
-	enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = N };
+	enum { NUM_RESIDUALS = M, NUM_PARAMETERS = N };
 
 	Residuals(const bk_problem &p, const bk_fit_options &o, State *st, bool reuse, bk_residual_cols_fn cols)
 	    : p_(p), o_(o), st_(st), cols_(cols)
@@ -414,26 +414,29 @@ void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
 }
 
 /*
- * The solve proper over N free parameters (N = nfree, or Eigen::Dynamic).
+ * The solve proper over N free parameters (N = nfree, or Eigen::Dynamic) and
+ * M residuals (M = their count, or Eigen::Dynamic: see kFixedResiduals).
  * With N fixed, TinySolver's vectors, JᵀJ and its LDLT are fixed-size and its
  * Jacobian has N columns known at compile time: the column scaling of each
  * Update (J diag(s)) is a loop per column instead of Eigen's generic
- * coefficient loop (~8 % of the screening fits, perf), Jᵀr is N dot products
- * instead of a dynamic gemv, and nothing is resized. The same TinySolver
- * (the algorithm is its, unchanged); the sums come in another order, so the
- * last bits of a solve differ from the dynamic instantiation's, but they are
- * fixed per build: the fixed-size code is Eigen's SSE2 packets at the x86-64
- * baseline (no -march), JᵀJ still goes through Eigen's blocked product
- * (a depth of 1,024 residuals is "large" for any N) with the cache sizes
- * pinned above, and one solve runs on one thread.
+ * coefficient loop, Jᵀr is N dot products instead of a dynamic gemv, and
+ * nothing is resized (~5 % more screening fits/s, bench_speed 1b). The same
+ * TinySolver (the algorithm is its, unchanged); the sums come in another
+ * order, so the last bits of a solve may differ from the dynamic
+ * instantiation's, but they are fixed per build: the fixed-size code is
+ * Eigen's SSE2 packets at the x86-64 baseline (no -march), JᵀJ still goes
+ * through Eigen's blocked product (a depth of 1,024 residuals is "large" for
+ * any N) with the cache sizes pinned above where M is dynamic and with
+ * blocking from the sizes alone where it is fixed, and one solve runs on one
+ * thread.
  */
-template <int N>
+template <int N, int M = Eigen::Dynamic>
 void solve_n(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse,
              bk_residual_cols_fn cols)
 {
-	using Tiny = ceres::TinySolver<Residuals<N>>;
+	using Tiny = ceres::TinySolver<Residuals<N, M>>;
 	Tiny tiny;
-	Residuals<N> f(p, o, st, reuse, cols);
+	Residuals<N, M> f(p, o, st, reuse, cols);
 	int nfree = f.NumParameters();
 	tiny.options.max_num_iterations = o.max_iterations + 1;
 	tiny.options.parameter_tolerance = o.parameter_tolerance;
@@ -459,6 +462,23 @@ void solve_n(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_sum
  * (a screening fit has <= 4; more go to the dynamic one). */
 constexpr int kMaxFixed = 4;
 
+/*
+ * And the residuals' count fixed too where it is 1,024: the screening grids
+ * of vf2d, D and two-input forms (32 x 32, fit/search/seeds.c), one block of
+ * fit_ctx.c's 1,024. Then every size is known at compile time: J diag(s) is a
+ * loop of constant bounds over storage inside the solver (~half the time of
+ * the dynamic-row loop, whose pointers are reloaded at every step), Jᵀr a
+ * fixed product, and JᵀJ's blocked product takes its blocking from the sizes
+ * alone (Eigen's gemm_blocking_space for finite sizes: one panel of depth
+ * 1,024, no cache sizes read, so no CPU-dependent split either) with its
+ * packing buffers on the stack. The solver then holds its 1,024 x N Jacobian
+ * and two residual vectors (~50 KB) and the product two 32 KB buffers: on
+ * the calling thread's stack (glibc's default 8 MB; nothing here sets a
+ * smaller one). ~7 % more screening fits/s than fixed N alone (bench_speed
+ * 1b, this machine).
+ */
+constexpr int kFixedResiduals = 1024;
+
 /* The solve proper, validated; throws EvalFailure or std::bad_alloc. */
 void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse,
            bk_residual_cols_fn cols)
@@ -476,6 +496,17 @@ void solve(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summa
 		return;
 	}
 	static_assert(kMaxFixed == 4, "one case per fixed count");
+	long m = 0;
+	for (int b = 0; b < p.nblocks; b++)
+		m += p.block_size[b];
+	if (bk_tiny_fixed && m == kFixedResiduals)
+		switch (nfree) {
+		case 1: solve_n<1, kFixedResiduals>(p, o, st, s, reuse, cols); return;
+		case 2: solve_n<2, kFixedResiduals>(p, o, st, s, reuse, cols); return;
+		case 3: solve_n<3, kFixedResiduals>(p, o, st, s, reuse, cols); return;
+		case 4: solve_n<4, kFixedResiduals>(p, o, st, s, reuse, cols); return;
+		default: break;
+		}
 	switch (bk_tiny_fixed ? nfree : 0) {
 	case 1: solve_n<1>(p, o, st, s, reuse, cols); break;
 	case 2: solve_n<2>(p, o, st, s, reuse, cols); break;

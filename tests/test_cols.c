@@ -134,11 +134,13 @@ Test(cols, same_bits_as_rows)
 
 /* ---- bk_solve_tiny_cols --------------------------------------------------------- */
 
-/* y = 2 exp2(-3 x), 1000 points in uneven blocks (as test_tiny.c's) */
-enum { EN = 1000, EB = 4 };
+/* y = 2 exp2(-3 x), 1,024 points in uneven blocks (as test_tiny.c's, whose
+ * 1,000 take TinySolver's dynamic row count: 1,024 take the fixed one,
+ * fit/tiny.cc's kFixedResiduals) */
+enum { EN = 1024, EB = 4 };
 static double g_x[EN], g_y[EN];
-static const int g_first[EB + 1] = {0, 100, 101, 700, 1000};
-static int g_size[EB] = {100, 1, 599, 300};
+static const int g_first[EB + 1] = {0, 100, 101, 724, 1024};
+static int g_size[EB] = {100, 1, 623, 300};
 
 static void exp_data(void)
 {
@@ -276,8 +278,8 @@ Test(cols, tiny_failures_as_rows)
 	cr_assert_str_eq(s.message, "cols: no callback");
 }
 
-/* 5. TinySolver with the free parameters' count fixed (1..4) and dynamic
- * (bk_tiny_fixed 0): both at the planted answer of the exponential (1e-4)
+/* 5. TinySolver with the free parameters' and residuals' counts fixed (1..4,
+ * 1,024) and dynamic (bk_tiny_fixed 0): both at the planted answer of the exponential (1e-4)
  * and of a held-parameter solve; the negative control: one iteration does
  * not get there, so the 1e-4 test can fail. */
 Test(cols, fixed_and_dynamic_sizes_reach_the_answer)
