@@ -19,6 +19,13 @@
  *     function tolerance; a step's trial point is evaluated with jacobian =
  *     NULL. Its `options` are read afresh at every test, so the functor
  *     refreshes the tolerances that depend on the point (Tolerances below);
+ *   - its Jacobian (the array the functor is handed) is read only inside
+ *     Update, right after the functor fills it: between two Updates nothing
+ *     reads it (the step uses JᵀJ and g, made in Update), and the array stays
+ *     where it is (sized once, before the first call). So a trial's Jacobian
+ *     may be written into it directly (bk_solve_tiny_cols, Residuals::by_cols):
+ *     if the trial is accepted, Update finds it there; if not, the next
+ *     Update overwrites it;
  *   - it neither logs nor prints (it includes only <cassert>, <cmath> and
  *     Eigen: no glog, so nothing to silence, unlike solver.cc);
  *   - Eigen without OpenMP (not enabled here) computes on the calling thread,
@@ -171,6 +178,8 @@ struct State {
 	 * acceptance fails with */
 	bool trial_bad = false;
 	char trial_why[160];
+	double *solver_jac = nullptr; /* TinySolver's Jacobian, from its first Update */
+	double *trial_at = nullptr;   /* where the last trial's Jacobian is */
 	std::vector<double> held; /* the held parameters' columns of one block (tested, not used) */
 };
 
@@ -316,10 +325,18 @@ private:
 			std::copy(st_->trial_r.data(), st_->trial_r.data() + m, r);
 			if (st_->trial_bad)
 				fail("%s", st_->trial_why);
-			std::copy(st_->trial_jac.data(), st_->trial_jac.data() + m * (size_t)nfree_, jac);
+			if (st_->trial_at != jac) /* not where TinySolver reads it (see below) */
+				std::copy(st_->trial_at, st_->trial_at + m * (size_t)nfree_, jac);
 			return;
 		}
-		double *dst = keep ? st_->trial_jac.data() : jac;
+		if (jac != nullptr)
+			st_->solver_jac = jac;
+		/* a trial writes its Jacobian where TinySolver reads it (see the
+		 * header), so that its acceptance copies nothing; into a buffer of its
+		 * own only before TinySolver's first Update (never: that comes first) */
+		if (keep)
+			st_->trial_at = st_->solver_jac != nullptr ? st_->solver_jac : st_->trial_jac.data();
+		double *dst = keep ? st_->trial_at : jac;
 		st_->trial_bad = false;
 		size_t row = 0;
 		for (int b = 0; b < p_.nblocks; b++) {
