@@ -6,6 +6,12 @@
  *   1. screening fits/s: the search of bench_search (vf2d 32x32, 1,024
  *      samples, default grammar, <= 4 parameters, 20,000 fits), 1 and 2
  *      threads, median of REPS interleaved runs. Target: >= 10,000 on 2 threads.
+ *   1b. the same screening fits, one per candidate of that run, from p = 1
+ *      with the screening options, 1 thread, thread CPU time: the fitter as
+ *      it was before issue 22's part 3 (TinySolver of dynamic sizes fed a
+ *      row-major Jacobian, bk_tiny_fixed = bk_fit_ctx_cols = 0) against now
+ *      (fixed sizes, the Jacobian by columns): a fixed workload, so the ratio
+ *      is the fitter's alone (1.'s two sides may search apart).
  *   2. the fit's residual and Jacobian pass, old and new, over the run's
  *      candidates at their fitted constants: bk_form_eval_diff (every
  *      instruction at every call: old) against a bk_form_bind'ed form (what
@@ -85,10 +91,13 @@ int main(int argc, char **argv)
 	printf("bench_speed: vf2d 32x32 (%zu samples), default grammar, <= 4 parameters, %d fits per run, median of %d\n",
 	       sm.n, evals, REPS);
 	/* old: every instruction at every call, the x86-64 baseline kernels, a
-	 * trial point evaluated again when accepted (what main had, but for
+	 * trial point evaluated again when accepted, TinySolver with dynamic
+	 * sizes fed a row-major Jacobian (what main had before issue 22, but for
 	 * -fno-math-errno and the vectorised residual loops, which are per file);
-	 * new: bound forms, AVX2 where the CPU has it, the trial's Jacobian kept.
-	 * Interleaved; the same candidates and errors either way. */
+	 * new: bound forms, AVX2 where the CPU has it, the trial's Jacobian kept,
+	 * TinySolver of fixed sizes fed by columns. Interleaved. The fixed sizes
+	 * sum in another order, so the two sides' searches may part ways (other
+	 * candidates, other fits): 1b times the same fits on both. */
 	bk_search *keep = NULL;
 	if (only_new || only_fits) {
 		double w, c;
@@ -107,6 +116,8 @@ int main(int argc, char **argv)
 			for (int th = 1; th <= 2 - only_nodes; th++) {
 				bk_fit_ctx_bind = side;
 				bk_tiny_reuse_trial = side;
+				bk_tiny_fixed = side;
+				bk_fit_ctx_cols = side;
 				bk_ir_force_generic(side == 0);
 				o.threads = th;
 				bk_search *s = run_search(&o, &wall[side][th - 1][r], &cpu[side][th - 1][r]);
@@ -117,6 +128,8 @@ int main(int argc, char **argv)
 			}
 	bk_fit_ctx_bind = 1;
 	bk_tiny_reuse_trial = 1;
+	bk_tiny_fixed = 1;
+	bk_fit_ctx_cols = 1;
 	bk_ir_force_generic(0);
 	for (int th = 0; th < 2 && !only_nodes && !only_fits; th++) {
 		double w[2], c[2];
@@ -150,13 +163,13 @@ int main(int argc, char **argv)
 	 * with dynamic sizes) and as now: a fixed workload, so unlike 1. its ratio
 	 * is the fitter's speed alone (a change of the last bits changes the
 	 * search's path and so its candidates) */
-	double tf[2][REPS] = {{0}}, cost[2] = {0};
-	long iters[2] = {0};
+	double tf[2][REPS] = {{0}};
+	long iters[2] = {0}, failed[2] = {0};
 	for (int r = 0; r < (only_nodes ? 0 : REPS); r++)
 		for (int side = 0; side < 2; side++) {
 			bk_tiny_fixed = side;
 			bk_fit_ctx_cols = side;
-			cost[side] = 0, iters[side] = 0;
+			failed[side] = 0, iters[side] = 0;
 			double t0 = thread_cpu_now();
 			for (size_t i = 0; i < nc; i++) {
 				bk_fit_spec spec;
@@ -178,10 +191,10 @@ int main(int argc, char **argv)
 				for (int j = 0; j < BK_MAX_PARAMS; j++)
 					p[j] = 1;
 				bk_fit_summary sum;
-				if (pb && bk_fit_problem_solve(pb, p, NULL, &sum) == 0 && sum.termination != BK_TERM_FAILURE) {
-					cost[side] += sum.final_cost;
+				if (pb && bk_fit_problem_solve(pb, p, NULL, &sum) == 0 && sum.termination != BK_TERM_FAILURE)
 					iters[side] += sum.iterations;
-				}
+				else
+					failed[side]++;
 				bk_fit_problem_free(pb);
 			}
 			tf[side][r] = thread_cpu_now() - t0;
@@ -190,9 +203,10 @@ int main(int argc, char **argv)
 	bk_fit_ctx_cols = 1;
 	if (!only_nodes) {
 		double f0 = bk_clock_median(tf[0], REPS), f1 = bk_clock_median(tf[1], REPS);
-		printf("  screening fits of the run's %zu candidates from p = 1, 1 thread, fits per thread CPU-s:\n"
-		       "    before (dynamic TinySolver) %.0f   now %.0f   %.2fx   (iterations %ld vs %ld, sum of costs %.6g vs %.6g)\n",
-		       nc, nc / f0, nc / f1, f0 / f1, iters[0], iters[1], cost[0], cost[1]);
+		printf("  the same screening fits of the run's %zu candidates from p = 1, 1 thread, fits per thread CPU-s:\n"
+		       "    before (dynamic sizes, rows) %.0f   now (fixed sizes, columns) %.0f   %.2fx"
+		       "   (iterations %ld vs %ld, failed %ld vs %ld)\n",
+		       nc, nc / f0, nc / f1, f0 / f1, iters[0], iters[1], failed[0], failed[1]);
 	}
 	const double *const *in = (const double *const *)sm.in;
 	double *v0 = malloc(sizeof(double) * sm.n), *v1 = malloc(sizeof(double) * sm.n);
