@@ -1,6 +1,7 @@
 /*
  * fit_ctx.c — a fit's context: the weights, the blocks of samples, the
- * residuals the formula IR gives over a block and the Ceres problem they make.
+ * residuals the formula IR gives over a block (the Jacobian by rows for Ceres,
+ * by columns for TinySolver) and the Ceres problem they make.
  * Used by the driver (fit.c) and the statistics (fit_stats.c); calls neither.
  */
 #include "fit.h"

@@ -311,7 +311,8 @@ Test(cols, fixed_and_dynamic_sizes_reach_the_answer)
 
 /* ---- a fit's residual blocks by columns (fit_ctx.c) --------------------------------- */
 
-/* 6. A fit by columns and by rows (bk_fit_ctx_cols 1 and 0): the same bits;
+/* 6. A fit by columns and by rows (bk_fit_ctx_cols 1 and 0), and by columns
+ * through the plain evaluators (bk_fit_ctx_bind 0): the same bits;
  * y = 0.5 + 2 LoH r² planted, recovered. Then sqrt(p0 r) from p0 = 0: values
  * finite (0), d/dp0 = r / (2 sqrt(0)) = inf wherever r > 0: FAILURE with the
  * row path's message, naming the first entry that is not finite (row 0,
@@ -344,10 +345,11 @@ Test(cols, fit_same_bits_as_rows)
 		spec.starts = 1;
 		for (int j = 0; j < BK_MAX_PARAMS; j++)
 			spec.lower[j] = -HUGE_VAL, spec.upper[j] = HUGE_VAL;
-		double q[2][BK_MAX_PARAMS];
-		bk_fit_summary s[2];
-		for (int side = 0; side < 2; side++) {
-			bk_fit_ctx_cols = side;
+		double q[3][BK_MAX_PARAMS];
+		bk_fit_summary s[3];
+		for (int side = 0; side < 3; side++) {
+			bk_fit_ctx_cols = side > 0; /* 2: by columns without a bound form */
+			bk_fit_ctx_bind = side < 2;
 			bk_fit_problem *pb = bk_fit_problem_new(&spec);
 			cr_assert_not_null(pb);
 			for (int j = 0; j < BK_MAX_PARAMS; j++)
@@ -356,10 +358,14 @@ Test(cols, fit_same_bits_as_rows)
 			bk_fit_problem_free(pb);
 		}
 		bk_fit_ctx_cols = 1;
-		cr_assert_str_eq(s[0].message, s[1].message, "%s", texts[t]);
-		cr_assert_eq(s[0].termination, s[1].termination);
-		for (int j = 0; j < spec.np; j++)
-			cr_assert(same_bits(q[0][j], q[1][j]), "%s: p%d %a vs %a", texts[t], j, q[0][j], q[1][j]);
+		bk_fit_ctx_bind = 1;
+		for (int side = 1; side < 3; side++) {
+			cr_assert_str_eq(s[0].message, s[side].message, "%s", texts[t]);
+			cr_assert_eq(s[0].termination, s[side].termination);
+			for (int j = 0; j < spec.np; j++)
+				cr_assert(same_bits(q[0][j], q[side][j]), "%s side %d: p%d %a vs %a", texts[t], side, j, q[0][j],
+				          q[side][j]);
+		}
 		if (t == 0) {
 			cr_assert_eq(s[1].termination, BK_TERM_CONVERGENCE, "%s", s[1].message);
 			cr_assert(fabs(q[1][0] - 0.5) < 1e-9 && fabs(q[1][1] - 2) < 1e-9, "%.17g %.17g", q[1][0], q[1][1]);
