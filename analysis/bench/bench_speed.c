@@ -22,6 +22,18 @@
  *      8 evaluations, which this leaves out); bk_form_eval's default path
  *      and the AVX2 one where the CPU has it (ir_eval.c's dispatch).
  *      Target: >= 6 G nodes/s per core.
+ *
+ * Issue 22 part 3 (TinySolver of fixed sizes fed the Jacobian by columns,
+ * fit/tiny.cc, fit_ctx.c; a parameter's column written by vector stores,
+ * brdf/ir_adjoint.h), this machine shared (load ~4 on 2 cores), CPU time:
+ * 1. new, 1 thread, 1,751 fits per CPU-s (main before it, run in the same
+ * hour) -> 2,291 (1.31x); 2 threads 1,834 -> 2,281 per CPU-s; 1b. the same
+ * 20,104 fits 2,963 -> 3,676 per thread CPU-s (1.24x, iterations the same);
+ * 3. unchanged (3.6 G: libm's scalar exp2f and log2f are ~45 % of the AVX2
+ * path's time, so even free arithmetic stays under 6 G). The 10,000 fits/s
+ * target stays out of reach: of a screening fit, the IR's passes are ~40 %
+ * (libm's exp2 8 %), Eigen's blocked JᵀJ inside TinySolver ~18 %, its Jacobi
+ * scaling and Jᵀr ~8 %, the residual glue ~9 % (perf).
  */
 #include "brdf.h"
 #include "clock.h"
