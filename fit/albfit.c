@@ -38,6 +38,7 @@ struct bk_albfit {
 	int *size;      /* cells in each block (its residuals) */
 	int *first;     /* first cell (0..ncells) of each block */
 	size_t *cstart; /* first sample of each cell, ncells + 1 (cells are contiguous) */
+	size_t *crel;   /* per block b from first[b] + b: its cells' first samples less lo[b], size[b] + 1 */
 	double *u;      /* sqrt of each cell's weight (minimax changes it) */
 	double *scratch;/* per block: values and Jacobian of its samples (blocks never share) */
 	size_t *soff;
@@ -112,6 +113,14 @@ bk_albfit *bk_albfit_new(const bk_samples *s, const bk_form *f, int np)
 		a->soff[b] = a->cstart[c] * (size_t)(1 + np);
 		c = d;
 	}
+	a->crel = malloc(sizeof(size_t) * (size_t)(a->ncells + a->nblocks + 1));
+	if (!a->crel) {
+		bk_albfit_free(a);
+		return NULL;
+	}
+	for (int b = 0; b < a->nblocks; b++)
+		for (int k = 0; k <= a->size[b]; k++)
+			a->crel[a->first[b] + b + k] = a->cstart[a->first[b] + k] - a->lo[b];
 	return a;
 }
 
@@ -128,6 +137,7 @@ void bk_albfit_free(bk_albfit *a)
 	free(a->size);
 	free(a->first);
 	free(a->cstart);
+	free(a->crel);
 	free(a->soff);
 	free(a->u);
 	free(a->scratch);
@@ -162,6 +172,32 @@ static double cell_sum(const double *restrict w, const double *restrict v, const
 	return e;
 }
 
+/* Cells from c on of a block into r (times u): two at a time, side by side
+ * (each sum its own chain in its own sample order, so the bits are
+ * cell_sum's; two chains hide the adds' latency that bounds one). cs: the
+ * cells' first samples, block-relative. */
+static void cell_sums(const double *restrict w, const double *restrict v, const double *restrict y,
+                      const size_t *cs, const double *u, int nc, double *r)
+{
+	int c = 0;
+	for (; c + 1 < nc; c += 2) {
+		size_t a = cs[c], b = cs[c + 1], na = cs[c + 1] - a, nb = cs[c + 2] - b, nmin = na < nb ? na : nb;
+		double ea = 0, eb = 0;
+		for (size_t t = 0; t < nmin; t++) {
+			ea += w[a + t] * (v[a + t] - y[a + t]);
+			eb += w[b + t] * (v[b + t] - y[b + t]);
+		}
+		for (size_t t = nmin; t < na; t++)
+			ea += w[a + t] * (v[a + t] - y[a + t]);
+		for (size_t t = nmin; t < nb; t++)
+			eb += w[b + t] * (v[b + t] - y[b + t]);
+		r[c] = ea * u[c];
+		r[c + 1] = eb * u[c + 1];
+	}
+	if (c < nc)
+		r[c] = cell_sum(w, v, y, cs[c], cs[c + 1]) * u[c];
+}
+
 static int residuals(void *ctx, int block, const double *p, double *r, double *jac)
 {
 	bk_albfit *a = ctx;
@@ -173,30 +209,48 @@ static int residuals(void *ctx, int block, const double *p, double *r, double *j
 		return -1;
 	int nc = a->size[block], c0 = a->first[block], bad = 0;
 	const double *restrict w = s->measure + lo, *restrict y = s->y + lo, *restrict u = a->u + c0;
-	const size_t *cs = a->cstart + c0;
+	/* the cells' first samples, block-relative */
+	size_t *cs = a->crel + c0 + block;
 	if (!jac) {
-		for (int c = 0; c < nc; c++) {
-			r[c] = cell_sum(w, v, y, cs[c] - lo, cs[c + 1] - lo) * u[c];
+		cell_sums(w, v, y, cs, u, nc, r);
+		for (int c = 0; c < nc; c++)
 			bad |= !isfinite(r[c]);
-		}
 		return bad ? -1 : 0;
 	}
 	/* each cell's error and its Jacobian row, Σ measure (f - y) and
 	 * Σ measure J over the cell's samples in sample order, then times u: one
-	 * pass, the row's sums in registers where the width is fixed (the sums
-	 * are independent chains, so they add side by side) */
+	 * pass, the row's sums in registers where the width is fixed, two cells
+	 * side by side (the sums are independent chains, so they add side by
+	 * side; each in its own sample order) */
 	switch (npf == np ? np : 0) {
-#define ROWS(NP) \
-	for (int c = 0; c < nc; c++) { \
-		double e = 0, acc[NP] = {0}; \
-		for (size_t i = cs[c] - lo; i < cs[c + 1] - lo; i++) { \
-			e += w[i] * (v[i] - y[i]); \
-			for (int j = 0; j < NP; j++) \
-				acc[j] += w[i] * jf[i * NP + j]; \
-		} \
-		r[c] = e * u[c]; \
+#define STEP(E, ACC, I, NP) \
+	do { \
+		E += w[I] * (v[I] - y[I]); \
 		for (int j = 0; j < NP; j++) \
-			jac[(size_t)c * NP + j] = acc[j] * u[c]; \
+			ACC[j] += w[I] * jf[(I) * NP + j]; \
+	} while (0)
+#define ROWS(NP) \
+	for (int c = 0; c < nc; c += 2) { \
+		int two = c + 1 < nc; \
+		size_t a0 = cs[c], na = cs[c + 1] - a0, b0 = two ? cs[c + 1] : 0, nb = two ? cs[c + 2] - b0 : 0; \
+		size_t nmin = na < nb ? na : nb; \
+		double ea = 0, eb = 0, acca[NP] = {0}, accb[NP] = {0}; \
+		for (size_t t = 0; t < nmin; t++) { \
+			STEP(ea, acca, a0 + t, NP); \
+			STEP(eb, accb, b0 + t, NP); \
+		} \
+		for (size_t t = nmin; t < na; t++) \
+			STEP(ea, acca, a0 + t, NP); \
+		for (size_t t = nmin; t < nb; t++) \
+			STEP(eb, accb, b0 + t, NP); \
+		r[c] = ea * u[c]; \
+		for (int j = 0; j < NP; j++) \
+			jac[(size_t)c * NP + j] = acca[j] * u[c]; \
+		if (two) { \
+			r[c + 1] = eb * u[c + 1]; \
+			for (int j = 0; j < NP; j++) \
+				jac[(size_t)(c + 1) * NP + j] = accb[j] * u[c + 1]; \
+		} \
 	} \
 	break;
 	case 1: ROWS(1)
@@ -208,11 +262,12 @@ static int residuals(void *ctx, int block, const double *p, double *r, double *j
 	case 7: ROWS(7)
 	case 8: ROWS(8)
 #undef ROWS
+#undef STEP
 	default:
 		for (int c = 0; c < nc; c++) {
 			double acc[BK_MAX_PARAMS] = {0};
-			r[c] = cell_sum(w, v, y, cs[c] - lo, cs[c + 1] - lo) * u[c];
-			for (size_t i = cs[c] - lo; i < cs[c + 1] - lo; i++)
+			r[c] = cell_sum(w, v, y, cs[c], cs[c + 1]) * u[c];
+			for (size_t i = cs[c]; i < cs[c + 1]; i++)
 				for (int j = 0; j < npf && j < np; j++)
 					acc[j] += w[i] * jf[i * (size_t)npf + j];
 			for (int j = 0; j < np; j++)
