@@ -250,6 +250,19 @@ SEARCH_EVALS_ENV_MIX = 600000
 # null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
 GPU_CHIPS = polaris10,vega10,navi21,gfx1100
 
+# make results runs its independent commands RESULTS_JOBS at a time (each
+# writes its own files; the searches' fronts do not depend on their threads),
+# longest first, so that the two cores stay busy to the end; each command's
+# output comes whole, when it ends (make -O). What needs the fronts (the
+# gpucost calibration, the page) runs after them.
+RESULTS_JOBS = 2
+RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 results-search-vf \
+  results-search-vf2d results-search-env results-compare-env results-search-f_gold \
+  results-search-f_glass results-compare-spec results-stability results-compare-vf results-albedo \
+  results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
+  results-compare-f results-fits
+.PHONY: results-runs $(RESULTS_RUNS)
+
 results: $(TOOL)
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were
 	# written before the marker, so they (and the LUT pairs from before the
@@ -258,51 +271,14 @@ results: $(TOOL)
 	  [ ! -d "$$d" ] || [ -e "$$d/.brdfkit-output" ] || rm -rf "$$d"; done
 	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
 	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
-	$(TOOL) lut --size 128 --smith correlated --out results/dfg_correlated
-	$(TOOL) lut --size 128 --smith separable --out results/dfg_separable
-	$(TOOL) lut --size 128 --smith schlick --out results/dfg_schlick
-	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
-	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
-	@mkdir -p results/fits
-	# the seeds reproduced: the talk's V·F constant freed on its plane and on the
-	# whole configuration space; Karis's EnvBRDFApprox with its eight constants freed
-	$(TOOL) fit --target vf2d --form vf_talk_r --out results/fits/vf2d_talk_r
-	$(TOOL) fit --target vf2d --form vf_talk_r --relative --out results/fits/vf2d_talk_r_relative
-	$(TOOL) fit --target vf --form vf_talk_r --out results/fits/vf_talk_r
-	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
-	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
-	# error against cost: every catalog form, its refit and the LUTs, one page
-	@mkdir -p results/compare
-	$(TOOL) compare --target vf2d --gpu $(GPU_CHIPS) --out results/compare/vf2d --link-prefix compare/vf2d/
-	$(TOOL) compare --target vf --gpu $(GPU_CHIPS) --out results/compare/vf --link-prefix compare/vf/
-	$(TOOL) compare --target env --gpu $(GPU_CHIPS) --out results/compare/env --link-prefix compare/env/
-	$(TOOL) compare --target spec --gpu $(GPU_CHIPS) --out results/compare/spec --link-prefix compare/spec/
-	$(TOOL) compare --target f --gpu $(GPU_CHIPS) --out results/compare/f --link-prefix compare/f/
-	$(TOOL) stability --all --out results/stability --link-prefix stability/
-	# the search for closed forms: fixed budgets and seeds, so the fronts are
-	# reproducible; each front is refitted in full and compared with the catalog
-	@mkdir -p results/search
-	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/vf2d --link-prefix search/vf2d/
-	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
-	$(TOOL) search --target env --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/env --link-prefix search/env/
-	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_ENV_F0) --gpu $(GPU_CHIPS) --out results/search/env_f0 \
-	  --link-prefix search/env_f0/
-	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_ENV_MIX) --gpu $(GPU_CHIPS) \
-	  --out results/search/env_mix --link-prefix search/env_mix/
-	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_glass --link-prefix search/f_glass/
-	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_gold \
-	  --link-prefix search/f_gold/
+	@mkdir -p results/fits results/compare results/search results/gpucost
+	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -O results-runs
 	# the IR's cost model against AMD's compiler, per chip: the weights of the
 	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
-	@mkdir -p results/gpucost
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
 	  $(TOOL) gpucost --calibrate --chips $$c results/search/*/front.csv \
 	    --out results/gpucost/calibration_$$c.csv || exit 1; \
 	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
-	# scene specialisation: each example scene's feature sets, their terms chosen and
-	# refitted on the scene's own domain, shaders and the saving against the generic one
-	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
-	  --link-prefix scenes/
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
@@ -325,6 +301,52 @@ results: $(TOOL)
 	  cp results/scenes/$$s/scene.csv notebooks_data/scene_$$s.csv; done
 	cp results/albedo.csv notebooks_data/albedo.csv
 	cp results/stability/stability.csv notebooks_data/stability.csv
+
+results-runs: $(RESULTS_RUNS)
+
+results-lut-correlated results-lut-separable results-lut-schlick:
+	$(TOOL) lut --size 128 --smith $(@:results-lut-%=%) --out results/dfg_$(@:results-lut-%=%)
+results-albedo:
+	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
+	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv
+results-fits:
+	# the seeds reproduced: the talk's V·F constant freed on its plane and on the
+	# whole configuration space; Karis's EnvBRDFApprox with its eight constants freed
+	$(TOOL) fit --target vf2d --form vf_talk_r --out results/fits/vf2d_talk_r
+	$(TOOL) fit --target vf2d --form vf_talk_r --relative --out results/fits/vf2d_talk_r_relative
+	$(TOOL) fit --target vf --form vf_talk_r --out results/fits/vf_talk_r
+	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
+	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
+# error against cost: every catalog form, its refit and the LUTs, one page
+results-compare-vf2d results-compare-vf results-compare-env results-compare-spec results-compare-f:
+	$(TOOL) compare --target $(@:results-compare-%=%) --gpu $(GPU_CHIPS) --out results/compare/$(@:results-compare-%=%) \
+	  --link-prefix compare/$(@:results-compare-%=%)/
+results-stability:
+	$(TOOL) stability --all --out results/stability --link-prefix stability/
+# the search for closed forms: fixed budgets and seeds, so the fronts are
+# reproducible; each front is refitted in full and compared with the catalog
+results-search-vf2d:
+	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/vf2d --link-prefix search/vf2d/
+results-search-vf:
+	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
+results-search-env:
+	$(TOOL) search --target env --evals $(SEARCH_EVALS) --gpu $(GPU_CHIPS) --out results/search/env --link-prefix search/env/
+results-search-env_f0:
+	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_ENV_F0) --gpu $(GPU_CHIPS) --out results/search/env_f0 \
+	  --link-prefix search/env_f0/
+results-search-env_mix:
+	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_ENV_MIX) --gpu $(GPU_CHIPS) \
+	  --out results/search/env_mix --link-prefix search/env_mix/
+results-search-f_glass:
+	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_glass --link-prefix search/f_glass/
+results-search-f_gold:
+	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_gold \
+	  --link-prefix search/f_gold/
+# scene specialisation: each example scene's feature sets, their terms chosen and
+# refitted on the scene's own domain, shaders and the saving against the generic one
+results-scenes:
+	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
+	  --link-prefix scenes/
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*. -max_len

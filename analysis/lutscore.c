@@ -42,16 +42,25 @@ const char *bk_lut_format_name(bk_lut_format f)
 }
 
 /* The reference texels of the (layout, smith) pairs asked for, A then B: a
- * 128² bake takes seconds, a table scores three formats of it and brdfkit
- * scene every size for each feature set. One table per thread, a few entries
- * (the oldest replaced), kept until exit. */
-#define LUT_CACHE 8
-static _Thread_local struct {
-	bk_lut_layout L;
-	bk_smith smith;
-	double *AB;
-} cache[LUT_CACHE];
-static _Thread_local int cache_next;
+ * 128² bake takes seconds, a table scores three formats of it, and brdfkit
+ * scene asks every size for each feature set, the same layouts again for
+ * the sets that share a roughness range, from several threads. One table
+ * per process, kept until exit: the first LUT_CACHE pairs asked (at most
+ * 64 x 256 KB), each baked once (a thread asking a pair being baked waits
+ * for it); beyond them a pair is baked for its call alone. The texels are
+ * the same bits either way (bake_table). */
+#define LUT_CACHE 64
+static struct {
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	int n;
+	struct {
+		bk_lut_layout L;
+		bk_smith smith;
+		double *AB;
+		int state; /* 0 being baked, 1 ready, -1 failed */
+	} e[LUT_CACHE];
+} cache = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, {{{0}, 0, NULL, 0}}};
 
 static int same_layout(const bk_lut_layout *a, const bk_lut_layout *b)
 {
@@ -107,21 +116,48 @@ static int bake_table(const bk_lut_layout *L, bk_smith smith, double *A, double 
 	return rc ? -1 : 0;
 }
 
-static const double *reference(const bk_lut_layout *L, bk_smith smith)
+/* The table of (L, smith), NULL if it could not be baked; *own: the table
+ * when it is this call's alone (the caller frees it), else NULL. */
+static const double *reference(const bk_lut_layout *L, bk_smith smith, double **own)
 {
-	for (int k = 0; k < LUT_CACHE; k++)
-		if (cache[k].AB && same_layout(&cache[k].L, L) && cache[k].smith == smith)
-			return cache[k].AB;
+	*own = NULL;
+	pthread_mutex_lock(&cache.mu);
+	int k;
+	for (;;) {
+		for (k = 0; k < cache.n && !(same_layout(&cache.e[k].L, L) && cache.e[k].smith == smith); k++)
+			;
+		if (k == cache.n || cache.e[k].state != 0)
+			break;
+		pthread_cond_wait(&cache.cv, &cache.mu); /* another thread bakes it */
+	}
+	if (k < cache.n && cache.e[k].state == 1) {
+		const double *AB = cache.e[k].AB;
+		pthread_mutex_unlock(&cache.mu);
+		return AB;
+	}
+	int slot = k < cache.n ? k : cache.n < LUT_CACHE ? cache.n++ : -1; /* a failed bake is tried again */
+	if (slot >= 0) {
+		cache.e[slot].L = *L;
+		cache.e[slot].smith = smith;
+		cache.e[slot].AB = NULL;
+		cache.e[slot].state = 0;
+	}
+	pthread_mutex_unlock(&cache.mu);
 	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *AB = malloc(sizeof(double) * 2 * n);
-	if (!AB || bake_table(L, smith, AB, AB + n)) {
+	if (AB && bake_table(L, smith, AB, AB + n)) {
 		free(AB);
-		return NULL;
+		AB = NULL;
 	}
-	int k = cache_next;
-	cache_next = (cache_next + 1) % LUT_CACHE;
-	free(cache[k].AB);
-	cache[k].AB = AB, cache[k].L = *L, cache[k].smith = smith;
+	if (slot < 0) {
+		*own = AB;
+		return AB;
+	}
+	pthread_mutex_lock(&cache.mu);
+	cache.e[slot].AB = AB;
+	cache.e[slot].state = AB ? 1 : -1;
+	pthread_cond_broadcast(&cache.cv);
+	pthread_mutex_unlock(&cache.mu);
 	return AB;
 }
 
@@ -220,10 +256,12 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 	for (size_t i = 0; folded && i < s->n; i++)
 		if (s->in[BK_IN_F0][i] != L->f0) /* it is right at its own f0 only */
 			return -1;
-	const double *ref = reference(L, smith);
+	double *own;
+	const double *ref = reference(L, smith, &own);
 	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *tex = malloc(sizeof(double) * 2 * n), *v = malloc(sizeof(double) * s->n);
 	if (!ref || !tex || !v) {
+		free(own);
 		free(tex);
 		free(v);
 		return -1;
@@ -250,6 +288,7 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 	bk_samples_metrics(s, v, NULL, m);
 	if (plane)
 		bk_samples_plane_error(s, v, plane);
+	free(own);
 	free(tex);
 	free(v);
 	return 0;

@@ -18,6 +18,7 @@
 
 #include <ctype.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,13 +81,91 @@ static char *floor_cosines(const char *text, double c)
 typedef struct domain {
 	bk_samples s[2]; /* vf: one per end of the f0 range; env: one holding both ends */
 	int ns;
+	int kept;        /* s[0] is the env memo's (read only, not freed here) */
 	bk_precision prec;
 } domain;
 
 static void domain_free(domain *d)
 {
-	for (int k = 0; k < d->ns; k++)
+	for (int k = d->kept; k < d->ns; k++)
 		bk_samples_free(&d->s[k]);
+}
+
+/* ---- env references, once per domain ---------------------------------------------- */
+
+/* An env domain's samples are reference integrals (seconds each set: most of
+ * a scene's time), and the scenes of one run share domains (the same
+ * roughness, NoV and f0 ranges): each distinct one is built once and kept
+ * until bk_scene_forget, read by every set that has it, from any thread (one
+ * builds it, the others wait for it). The samples are the same bits either
+ * way: bk_target_build is a function of its options. */
+#define MEMO_MAX 64
+#define MEMO_KEY 6
+
+static struct {
+	pthread_mutex_t mu;
+	pthread_cond_t cv;
+	int n;
+	struct {
+		double key[MEMO_KEY];
+		bk_samples s;
+		int state; /* 0 being built, 1 ready, -1 failed */
+	} e[MEMO_MAX];
+} memo = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, {{{0}, {0}, 0}}};
+
+void bk_scene_forget(void)
+{
+	pthread_mutex_lock(&memo.mu);
+	for (int k = 0; k < memo.n; k++)
+		if (memo.e[k].state == 1)
+			bk_samples_free(&memo.e[k].s);
+	memo.n = 0;
+	pthread_mutex_unlock(&memo.mu);
+}
+
+/* The env samples for options o (key: what domain_build sets in them) into
+ * d->s[0], from the memo or built there; -1 with a message. */
+static int env_samples(const bk_target_options *o, const double key[MEMO_KEY], domain *d, bk_progress_fn progress,
+                       void *ctx, char *err, size_t errlen)
+{
+	pthread_mutex_lock(&memo.mu);
+	int k = 0;
+	for (;;) {
+		for (k = 0; k < memo.n && memcmp(memo.e[k].key, key, sizeof memo.e[k].key); k++)
+			;
+		if (k == memo.n || memo.e[k].state != 0)
+			break;
+		pthread_cond_wait(&memo.cv, &memo.mu); /* another thread builds it */
+	}
+	if (k < memo.n && memo.e[k].state == 1) {
+		d->s[0] = memo.e[k].s;
+		d->kept = d->ns = 1;
+		pthread_mutex_unlock(&memo.mu);
+		return 0;
+	}
+	if (k == memo.n && memo.n == MEMO_MAX) { /* full: built for this set alone */
+		pthread_mutex_unlock(&memo.mu);
+		d->ns = 1;
+		return bk_target_build(o, &d->s[0], progress, ctx, err, errlen);
+	}
+	if (k == memo.n) /* a failed build is tried again, in the same slot */
+		memo.n++;
+	memcpy(memo.e[k].key, key, sizeof memo.e[k].key);
+	memo.e[k].state = 0;
+	pthread_mutex_unlock(&memo.mu);
+	bk_samples s;
+	int rc = bk_target_build(o, &s, progress, ctx, err, errlen);
+	pthread_mutex_lock(&memo.mu);
+	memo.e[k].state = rc ? -1 : 1;
+	if (!rc)
+		memo.e[k].s = s;
+	pthread_cond_broadcast(&memo.cv);
+	pthread_mutex_unlock(&memo.mu);
+	if (!rc) {
+		d->s[0] = s;
+		d->kept = d->ns = 1;
+	}
+	return rc;
 }
 
 /* A roughness or f0 range of one value gets a little width: a target is a
@@ -120,8 +199,8 @@ static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 		o.env_f0_form = 1;
 		o.nf0 = nends;
 		memcpy(o.f0, ends, sizeof ends);
-		d->ns = 1;
-		return bk_target_build(&o, &d->s[0], progress, ctx, err, errlen);
+		double key[MEMO_KEY] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, ends[0], nends > 1 ? ends[1] : NAN};
+		return env_samples(&o, key, d, progress, ctx, err, errlen);
 	}
 	for (int k = 0; k < nends; k++) {
 		o.f0[0] = ends[k];

@@ -73,6 +73,13 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen);
 void bk_scene_choice_free(bk_scene_choice *ch);
 
+/* The env term's reference samples are built once per distinct domain (the
+ * same roughness, NoV and f0 ranges) and kept for the sets that follow,
+ * whatever their thread: bk_scene_choose and bk_scene_form_error are
+ * thread-safe and give the same bits either way. This frees what is kept
+ * (call it when no choice is being made). */
+void bk_scene_forget(void);
+
 /* The error of form text (constants p, BK_MAX_PARAMS of them) for term on
  * the set's domain in the scene's precision, as bk_scene_choose scores a
  * candidate; with refit, p is first refitted there from its values. Returns

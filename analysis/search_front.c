@@ -15,17 +15,13 @@
 #include "stability.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef bk_sfront_member member;
 
-static void progress(const bk_sfront *F, const char *label, int done, int total)
-{
-	if (F->progress)
-		F->progress((void *)label, done, total);
-}
 
 const char *bk_sfront_objective_name(const bk_search_options *so)
 {
@@ -216,6 +212,66 @@ static int add_luts(bk_sfront *F)
 	return 0;
 }
 
+/* The members are scored by the search's threads (each member whole by one
+ * thread: score_member reads the samples and writes its member alone, so
+ * the rows are the same bits for any count), taken in order; progress per
+ * phase as members end. */
+#define SCORE_THREADS_MAX 64
+
+typedef struct score_job {
+	int m;           /* member index */
+	int fit;         /* refit (0: a catalog row at its published constants) */
+	const double *start;
+	int front;       /* counted in "refit of the front", else in "catalog" */
+} score_job;
+
+typedef struct score_pool {
+	const bk_sfront *F;
+	score_job *job;
+	int njobs, next, failed;
+	int done[2], total[2];
+	pthread_mutex_t mu;
+} score_pool;
+
+static void *score_worker(void *arg)
+{
+	score_pool *P = arg;
+	static const char *const label[2] = {"catalog", "refit of the front"};
+	for (;;) {
+		pthread_mutex_lock(&P->mu);
+		int k = P->failed ? P->njobs : P->next++;
+		pthread_mutex_unlock(&P->mu);
+		if (k >= P->njobs)
+			return NULL;
+		score_job *j = &P->job[k];
+		int rc = score_member(P->F, &P->F->m[j->m], j->start, j->fit);
+		pthread_mutex_lock(&P->mu);
+		P->failed |= rc != 0;
+		int d = ++P->done[j->front];
+		if (P->F->progress)
+			P->F->progress((void *)label[j->front], d, P->total[j->front]);
+		pthread_mutex_unlock(&P->mu);
+	}
+}
+
+static int score_all(const bk_sfront *F, score_job *job, int njobs, int nfront)
+{
+	score_pool P = {F, job, njobs, 0, 0, {0, 0}, {njobs - nfront, nfront}, PTHREAD_MUTEX_INITIALIZER};
+	int nt = F->so->threads < 1 ? 1 : F->so->threads > SCORE_THREADS_MAX ? SCORE_THREADS_MAX : F->so->threads;
+	if (nt > njobs)
+		nt = njobs;
+	pthread_t th[SCORE_THREADS_MAX];
+	int started = 0;
+	for (; nt > 1 && started < nt; started++)
+		if (pthread_create(&th[started], NULL, score_worker, &P))
+			break;
+	if (!started) /* one thread, or none could start: this one scores them */
+		score_worker(&P);
+	for (int t = 0; t < started; t++)
+		pthread_join(th[t], NULL);
+	return P.failed ? -1 : 0;
+}
+
 /* Catalog rows (published and refitted), then the screening front refitted;
  * the final front: the refitted members no other beats at no greater cost. */
 int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
@@ -235,8 +291,12 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 	}
 	F->nm = 0;
 	F->m = calloc((size_t)(2 * sd->n) + nf + BK_LUTROWS_MAX + 1, sizeof *F->m);
-	if (!F->m)
+	score_job *job = calloc((size_t)(2 * sd->n) + nf + 1, sizeof *job);
+	int njobs = 0;
+	if (!F->m || !job) {
+		free(job);
 		return -1;
+	}
 	for (int k = 0; k < sd->n; k++) { /* catalog names, and typed --start forms as "start K" */
 		const bk_catalog_entry *e = sd->name[k] ? bk_catalog_find(sd->name[k]) : NULL;
 		for (int r = 0; r < 2; r++) {
@@ -252,13 +312,13 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 				snprintf(m->name, sizeof m->name, "start %d%s", k + 1, r ? " (refit)" : "");
 			m->text = sd->text[k];
 			m->text_b = sd->text_b[k];
-			progress(F, "catalog", F->nm, 2 * sd->n);
-			if (score_member(F, m, sd->p[k], r))
-				return -1;
+			job[njobs++] = (score_job){F->nm - 1, r, sd->p[k], 0};
 		}
 	}
-	if (F->luts && add_luts(F)) /* the textures the formulas compete with, on compare's axis */
+	if (F->luts && add_luts(F)) { /* the textures the formulas compete with, on compare's axis */
+		free(job);
 		return -1;
+	}
 	for (size_t i = 0; i < nf; i++) {
 		const bk_cand *c = bk_search_at(F->S, idx[i]);
 		member *m = &F->m[F->nm++];
@@ -272,10 +332,12 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 		}
 		m->text = c->text;
 		m->text_b = c->text_b;
-		progress(F, "refit of the front", (int)i + 1, (int)nf);
-		if (score_member(F, m, c->p, 1))
-			return -1;
+		job[njobs++] = (score_job){F->nm - 1, 1, c->p, 1};
 	}
+	int rc = score_all(F, job, njobs, (int)nf);
+	free(job);
+	if (rc)
+		return -1;
 	/* the final front over the refitted search members, ties on the text */
 	bk_pareto_pt *pt = calloc((size_t)F->nm + 1, sizeof *pt);
 	if (!pt)

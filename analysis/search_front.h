@@ -56,7 +56,9 @@ typedef struct bk_sfront {
 
 /* Scores the catalog rows of sd's seeds (published, refitted), the LUT
  * rows, and the screening front with every seed that fitted, refitted; marks
- * the final front. 0, or -1 (out of memory or a failed refit). */
+ * the final front. The members are scored on so->threads threads, each whole
+ * by one: the same rows for any count. 0, or -1 (out of memory or a failed
+ * refit). */
 int bk_sfront_build(bk_sfront *F, const bk_seeds *sd);
 void bk_sfront_free(bk_sfront *F);
 

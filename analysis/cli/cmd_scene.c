@@ -18,9 +18,11 @@
 #include "scene_write.h"
 
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define TIME_REPS 7
 
@@ -303,38 +305,131 @@ static void estimate(const scene_run *S, int n)
 		        WARN_S / 60);
 }
 
-/* Chooses every term of every set of S, telling progress per set: done and
- * total count the terms to fit over the whole run. Returns 0 or 1. */
-static int specialise(scene_run *S, int *done, int total, double t0)
+/* The sets of every scene are chosen by a few threads, each set whole by
+ * one (bk_scene_choose is thread-safe and a set's choices do not depend on
+ * the others', so the results are the same bits for any count); the
+ * SPIR-V counts after, in order (glslang). Progress per set, as each ends;
+ * the error told is the first set's in order that failed. */
+#define SCENE_THREADS_MAX 8
+
+typedef struct spec_job {
+	scene_run *S;
+	int i;
+	char err[512]; /* empty: chosen */
+} spec_job;
+
+typedef struct spec_pool {
+	spec_job *job;
+	int njobs, next, done, total, failed;
+	double t0;
+	pthread_mutex_t mu; /* next, done, failed, the progress lines */
+} spec_pool;
+
+static pthread_mutex_t progress_mu = PTHREAD_MUTEX_INITIALIZER;
+
+/* cli_progress keeps its state in statics: one thread at a time */
+static void locked_progress(void *label, int done, int total)
 {
-	char err[512];
-	for (int i = 0; i < S->nset; i++) {
-		bk_scene_result *r = &S->R[i];
-		r->set = S->sets[i];
-		r->ns = r->gen_ns = NAN;
-		r->has[BK_SCENE_TERM_D] = r->has[BK_SCENE_TERM_VF] = r->set.needs.vf;
-		r->has[BK_SCENE_TERM_ENV] = r->set.needs.env;
-		for (int t = 0; t < BK_SCENE_TERMS; t++) {
-			if (!r->has[t])
-				continue;
-			fprintf(stderr, "brdfkit scene: %s: %s: choosing %s\n", S->stem, r->set.name, bk_scene_term_name(t));
-			if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], cli_progress, "scene: env reference", err,
-			                    sizeof err))
-				return cli_fail("scene", "%s: %s: %s", S->file, r->set.name, err);
-			r->cost += r->ch[t].cost;
-			r->gen_cost += r->gen[t].cost;
-			add_count(&r->spirv, spirv_of(&r->ch[t]));
-			add_count(&r->gen_spirv, spirv_of(&r->gen[t]));
+	pthread_mutex_lock(&progress_mu);
+	cli_progress(label, done, total);
+	pthread_mutex_unlock(&progress_mu);
+}
+
+static void choose_set(spec_pool *P, spec_job *j)
+{
+	scene_run *S = j->S;
+	bk_scene_result *r = &S->R[j->i];
+	r->set = S->sets[j->i];
+	r->ns = r->gen_ns = NAN;
+	r->has[BK_SCENE_TERM_D] = r->has[BK_SCENE_TERM_VF] = r->set.needs.vf;
+	r->has[BK_SCENE_TERM_ENV] = r->set.needs.env;
+	for (int t = 0; t < BK_SCENE_TERMS; t++) {
+		if (!r->has[t])
+			continue;
+		pthread_mutex_lock(&progress_mu);
+		fprintf(stderr, "brdfkit scene: %s: %s: choosing %s\n", S->stem, r->set.name, bk_scene_term_name(t));
+		pthread_mutex_unlock(&progress_mu);
+		char err[400];
+		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, "scene: env reference", err,
+		                    sizeof err)) {
+			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
+			return;
 		}
-		*done += r->set.needs.vf + r->set.needs.env;
-		double spent = bk_clock_now() - t0;
-		fprintf(stderr, "brdfkit scene: %s: %s done (%d of %d terms fitted, %.0f s", S->stem, r->set.name, *done, total,
-		        spent);
-		if (*done > 0 && *done < total)
-			fprintf(stderr, "; about %.0f s left", spent / *done * (total - *done));
-		fputs(")\n", stderr);
+		r->cost += r->ch[t].cost;
+		r->gen_cost += r->gen[t].cost;
 	}
-	return 0;
+	pthread_mutex_lock(&P->mu);
+	P->done += r->set.needs.vf + r->set.needs.env;
+	double spent = bk_clock_now() - P->t0;
+	pthread_mutex_lock(&progress_mu);
+	fprintf(stderr, "brdfkit scene: %s: %s done (%d of %d terms fitted, %.0f s", S->stem, r->set.name, P->done, P->total,
+	        spent);
+	if (P->done > 0 && P->done < P->total)
+		fprintf(stderr, "; about %.0f s left", spent / P->done * (P->total - P->done));
+	fputs(")\n", stderr);
+	pthread_mutex_unlock(&progress_mu);
+	pthread_mutex_unlock(&P->mu);
+}
+
+static void *spec_worker(void *arg)
+{
+	spec_pool *P = arg;
+	for (;;) {
+		pthread_mutex_lock(&P->mu);
+		int k = P->failed ? P->njobs : P->next++;
+		pthread_mutex_unlock(&P->mu);
+		if (k >= P->njobs)
+			return NULL;
+		choose_set(P, &P->job[k]);
+		if (P->job[k].err[0]) {
+			pthread_mutex_lock(&P->mu);
+			P->failed = 1;
+			pthread_mutex_unlock(&P->mu);
+		}
+	}
+}
+
+/* Chooses every term of every set of the n scenes of S, with threads (the
+ * online cores, at most SCENE_THREADS_MAX; 1: in this thread). Returns 0
+ * or 1. */
+static int specialise(scene_run *S, int n, int total, double t0)
+{
+	spec_pool P = {NULL, 0, 0, 0, total, 0, t0, PTHREAD_MUTEX_INITIALIZER};
+	for (int k = 0; k < n; k++)
+		P.njobs += S[k].nset;
+	P.job = calloc((size_t)P.njobs + 1, sizeof *P.job);
+	if (!P.job)
+		return cli_fail("scene", "out of memory");
+	for (int k = 0, q = 0; k < n; k++)
+		for (int i = 0; i < S[k].nset; i++, q++)
+			P.job[q] = (spec_job){&S[k], i, ""};
+	long cores = sysconf(_SC_NPROCESSORS_ONLN);
+	int nt = cores < 1 ? 1 : cores > SCENE_THREADS_MAX ? SCENE_THREADS_MAX : (int)cores;
+	if (nt > P.njobs)
+		nt = P.njobs;
+	pthread_t th[SCENE_THREADS_MAX];
+	int started = 0;
+	for (; nt > 1 && started < nt; started++)
+		if (pthread_create(&th[started], NULL, spec_worker, &P))
+			break;
+	if (!started) /* one thread, or none could start: this one does the work */
+		spec_worker(&P);
+	for (int t = 0; t < started; t++)
+		pthread_join(th[t], NULL);
+	int rc = 0;
+	for (int q = 0; q < P.njobs && !rc; q++)
+		if (P.job[q].err[0])
+			rc = cli_fail("scene", "%s", P.job[q].err);
+	for (int q = 0; q < P.njobs && !rc; q++) {
+		bk_scene_result *r = &P.job[q].S->R[P.job[q].i];
+		for (int t = 0; t < BK_SCENE_TERMS; t++)
+			if (r->has[t]) {
+				add_count(&r->spirv, spirv_of(&r->ch[t]));
+				add_count(&r->gen_spirv, spirv_of(&r->gen[t]));
+			}
+	}
+	free(P.job);
+	return rc;
 }
 
 /* L8: a budget not met is a finding, not a failure (the run's answer is how
@@ -474,14 +569,14 @@ int cmd_scene(int argc, char **argv)
 	char gerr[700];
 	if (!rc && gpu.n && bk_gpucost_check(gpu.chip, gpu.n, gpu.driver, sizeof gpu.driver, gerr, sizeof gerr))
 		rc = cli_fail("scene", "--gpu: %s", gerr);
-	int done = 0, total = 0;
+	int total = 0;
 	for (int k = 0; k < n && !rc; k++)
 		total += terms_to_fit(&S[k]);
 	if (!rc)
 		estimate(S, n);
-	double t0 = bk_clock_now();
-	for (int k = 0; k < n && !rc; k++)
-		rc = specialise(&S[k], &done, total, t0);
+	if (!rc)
+		rc = specialise(S, n, total, bk_clock_now());
+	bk_scene_forget();
 	for (int k = 0; k < n && !rc && !no_time; k++)
 		time_sets(S[k].R, S[k].nset);
 	for (int k = 0; k < n && !rc && gpu.n; k++)
