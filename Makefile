@@ -252,8 +252,9 @@ GPU_CHIPS = polaris10,vega10,navi21,gfx1100
 
 # make results runs its independent commands RESULTS_JOBS at a time (each
 # writes its own files; the searches' fronts do not depend on their threads),
-# longest first, so that the two cores stay busy to the end; each command's
-# output comes whole, when it ends (make -O). What needs the fronts (the
+# longest first, so that the two cores stay busy to the end; their lines
+# interleave whole (make -Oline: each progress line as it comes, named by its
+# command: "search:", "scene:", ...). What needs the fronts (the
 # gpucost calibration, the page) runs after them.
 RESULTS_JOBS = 2
 RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 results-search-vf \
@@ -272,7 +273,7 @@ results: $(TOOL)
 	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
 	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
 	@mkdir -p results/fits results/compare results/search results/gpucost
-	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -O results-runs
+	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -Oline results-runs
 	# the IR's cost model against AMD's compiler, per chip: the weights of the
 	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
