@@ -113,6 +113,13 @@ double bk_expr_snap(double v);
  * would not fit BK_EXPR_MAX (it never grows in practice). */
 int bk_expr_canon(bk_expr *e);
 
+/* The same, knowing which inputs (bits 1 << bk_input) the candidates may
+ * read: where both r and a = r*r are among them, r*r is written a and
+ * sqrt(a) is written r (r >= 0), so that one model has one spelling, the
+ * cheaper one. The grammar's generators (enumeration, mutation, crossover,
+ * neighbours) canonicalise with their grammar's inputs. */
+int bk_expr_canon_in(bk_expr *e, unsigned inputs);
+
 /* The formula-language text of e, parenthesised only where the language
  * needs it (a + (b + c) keeps its parentheses: it is not (a + b) + c in
  * floating point), MUL with equal operands as sq(x), literals with the
@@ -205,6 +212,14 @@ int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int 
  * fresh parameter (f0 + (1 - f0)*x is mix(f0, 1, x); NoV*(1 - k) + k is
  * mix(NoV, 1, k)). Canonical, within g, distinct, not e; at most max. */
 int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
+/* The neighbours of e by one input: a parameter made affine in an input,
+ * p -> mix(p, p', in) (the constant of a fit that depends on roughness:
+ * exp2(p*LoH) -> exp2(mix(p, p', LoH)*LoH), Schlick's and Karis' forms),
+ * and a subtree times an input, x -> x*in (p/mix(a, p', NoV) -> NoV*p/...,
+ * Smith's G1), for every input of g. Canonical, within g, distinct, not e;
+ * at most max (e->n x (1 + inputs) x inputs suffice). */
+int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
 
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
  * Canonical, within limits; -1 as above. */

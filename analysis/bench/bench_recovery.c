@@ -49,7 +49,7 @@ typedef struct planted {
 } planted;
 
 typedef struct opts {
-	const char *file, *only;
+	const char *file, *only, *dump;
 	long evals;
 	int seeds, threads, quick, catalog, verbose;
 } opts;
@@ -210,6 +210,17 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 		fprintf(stderr, "bench_recovery: %s: %s\n", form, err);
 	if (s)
 		r->evals = bk_search_evals(s);
+	if (s && O->dump) { /* every candidate fitted: found_at, status, rmse, text */
+		char path[512];
+		snprintf(path, sizeof path, "%s.%lu.tsv", O->dump, seed);
+		FILE *f = fopen(path, "w");
+		for (size_t i = 0; f && i < bk_search_count(s); i++) {
+			const bk_cand *c = bk_search_at(s, i);
+			fprintf(f, "%ld\t%d\t%.3g\t%.3g\t%s\n", c->found_at, (int)c->status, c->rmse, c->cost, c->text);
+		}
+		if (f)
+			fclose(f);
+	}
 	bk_search_free(s);
 	bk_samples_free(&sm);
 	return rc < 0 ? -1 : 0;
@@ -357,7 +368,7 @@ static int catalog_domain(const bk_catalog_entry *e, const char *text, char *dom
 
 int main(int argc, char **argv)
 {
-	opts O = {"analysis/bench/planted.txt", NULL, 20000, 3, 2, 0, 1, 0};
+	opts O = {"analysis/bench/planted.txt", NULL, NULL, 20000, 3, 2, 0, 1, 0};
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--quick"))
 			O.quick = 1, O.seeds = 2, O.catalog = 0;
@@ -373,11 +384,13 @@ int main(int argc, char **argv)
 			O.file = argv[++i];
 		else if (!strcmp(argv[i], "--catalog"))
 			O.catalog = 2; /* the catalog alone */
+		else if (!strcmp(argv[i], "--dump") && i + 1 < argc)
+			O.dump = argv[++i];
 		else if (!strcmp(argv[i], "-v"))
 			O.verbose = 1;
 		else {
 			fprintf(stderr, "usage: bench_recovery [--quick] [--only NAME,...] [--catalog] [--seeds N] "
-			                "[--evals N] [--threads N] [--file PLANTED] [-v]\n");
+			                "[--evals N] [--threads N] [--file PLANTED] [--dump PREFIX] [-v]\n");
 			return 2;
 		}
 	}
