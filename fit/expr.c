@@ -1055,7 +1055,7 @@ static int keep(bk_expr_enum *E, bk_expr *e)
 {
 	char text[4096];
 	if (bk_expr_canon_in(e, E->g.inputs) || !within(&E->g, e) || bk_expr_size(e) != E->size ||
-	    (getenv("BK_NEST_OK") == NULL && unary_over_unary(e)))
+	    unary_over_unary(e))
 		return 0;
 	if (bk_expr_print(e, text, sizeof text) < 0)
 		return 0;
@@ -1367,7 +1367,10 @@ int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int 
 
 int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
 {
-	int m = 0, np = bk_expr_nparams(e);
+	int m = 0, np = bk_expr_nparams(e), first_in = -1;
+	for (int in = BK_IN_COUNT - 1; in >= 0; in--)
+		if (g->inputs & (1u << in))
+			first_in = in;
 	for (int in = 0; in < BK_IN_COUNT; in++) {
 		if (!(g->inputs & (1u << in)))
 			continue;
@@ -1378,6 +1381,17 @@ int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out
 				bk_enode t[4] = {{BK_OP_MIX, 0, 0}, e->node[i], {BK_OP_PARAM, np, 0}, x};
 				add_neighbour(g, e, i, t, 4, out, &m);
 			}
+		/* a power: x -> sq(x) (once, with the first input) */
+		for (int i = 0; in == first_in && (g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))) && i < e->n && m < max; i++) {
+			int len = span_at(e->node + i);
+			if (e->node[i].op == BK_OP_PARAM || 1 + 2 * len > BK_EXPR_MAX)
+				continue;
+			bk_enode t[BK_EXPR_MAX];
+			t[0] = (bk_enode){BK_OP_MUL, 0, 0};
+			memcpy(t + 1, e->node + i, sizeof *t * (size_t)len);
+			memcpy(t + 1 + len, e->node + i, sizeof *t * (size_t)len);
+			add_neighbour(g, e, i, t, 1 + 2 * len, out, &m);
+		}
 		/* a factor of the input: x -> x*in (not of a scale p, a lone input) */
 		for (int i = 0; (g->ops & BIT(BK_OP_MUL)) && i < e->n && m < max; i++) {
 			int len = span_at(e->node + i);

@@ -213,12 +213,15 @@ int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int 
  * mix(NoV, 1, k)). Canonical, within g, distinct, not e; at most max. */
 int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
 
-/* The neighbours of e by one input: a parameter made affine in an input,
- * p -> mix(p, p', in) (the constant of a fit that depends on roughness:
- * exp2(p*LoH) -> exp2(mix(p, p', LoH)*LoH), Schlick's and Karis' forms),
- * and a subtree times an input, x -> x*in (p/mix(a, p', NoV) -> NoV*p/...,
- * Smith's G1), for every input of g. Canonical, within g, distinct, not e;
- * at most max (e->n x (1 + inputs) x inputs suffice). */
+/* The neighbours of e by one input or a power, for each input of g in turn:
+ * a parameter made affine in the input, p -> mix(p, p', in) (the constant
+ * of a fit that depends on roughness: exp2(p*LoH) -> exp2(mix(p, p', LoH)*LoH),
+ * Schlick's and Karis' forms); with the first input only, a subtree squared,
+ * x -> sq(x) (powers: GGX's squared denominator, Schlick's (1 - x)^5); a
+ * subtree times the input, x -> x*in (p/mix(a, p', NoV) -> NoV*p/...,
+ * Smith's G1). Parameters are not squared or multiplied (canon folds them).
+ * Canonical, within g, distinct, not e; at most max written to out
+ * ((np + 2 n) x inputs suffice); returns how many. */
 int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
 
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
