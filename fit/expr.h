@@ -170,7 +170,12 @@ double bk_rng_unit(bk_rng *r);
 
 /* Every canonical candidate of exactly size nodes over the grammar, each
  * once, in a fixed order (bottom-up: built from the canonical candidates of
- * smaller sizes). fn returns non-zero to stop. Returns the number of
+ * smaller sizes), canonical with the grammar's inputs (bk_expr_canon_in) and
+ * without a unary operation directly over another (sqrt(rcp(x)),
+ * log2(exp2(x)), sq(sqrt(x)): a nesting limit; at 5 nodes over NoV, r and a
+ * they were over half the trees, and the search's enumeration budget ran out
+ * in them before any binary or ternary tree of that size). fn returns
+ * non-zero to stop. Returns the number of
  * candidates visited, or -1 (out of memory). */
 typedef int (*bk_expr_visit)(void *ctx, const bk_expr *e);
 long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx);
