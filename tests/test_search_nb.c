@@ -7,7 +7,8 @@
  *   - the enumeration's nesting limit (no unary operation over another);
  *   - screening: a solve that steps into a pole keeps its last good point
  *     (and goes on from it), instead of losing the candidate; a fit stopped
- *     by the iteration cap near the target is polished.
+ *     by the iteration cap near the target is polished; one converged no
+ *     better than a constant tries the next start.
  * Expected texts are written by hand from the rules stated in fit/expr.h.
  */
 #include "expr.h"
@@ -271,6 +272,42 @@ Test(search_nb, a_near_fit_stopped_by_the_cap_is_polished)
 	/* below what either start reaches alone in one screening solve (the
 	 * control: what screening kept before, the better of the two) */
 	cr_assert_lt(c.rmse, 0.5 * fmin(e1, e2), "screen %g, starts %g and %g", c.rmse, e1, e2);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+Test(search_nb, a_fit_converged_no_better_than_a_constant_tries_the_next_start)
+{
+	/* the Beckmann-like peak and its exact structure: from all ones the
+	 * solve converges with exp2's argument driven far negative (the form
+	 * about 0 everywhere: its rmse the target's rms, worse than a constant);
+	 * from 0.1 it finds the planted constants */
+	bk_samples sm;
+	fx_planted("exp2(5.77*(1 - 1/(LoH*LoH)))/(0.785*LoH*LoH*LoH*LoH)", 0.3, 0, 256, &sm);
+	const char *text = "p0 * exp2(p1 / sq(LoH)) / sq(sq(LoH))";
+	double ss = 0, mean = 0, var = 0;
+	for (size_t i = 0; i < sm.n; i++)
+		ss += sm.y[i] * sm.y[i], mean += sm.y[i] / (double)sm.n;
+	for (size_t i = 0; i < sm.n; i++)
+		var += (sm.y[i] - mean) * (sm.y[i] - mean) / (double)sm.n;
+	int term;
+	double p[BK_MAX_PARAMS] = {1, 1};
+	double e1 = solve_rmse(&sm, text, 2, p, 40, &term);
+	/* the premise and the control: what screening kept before */
+	cr_assert_eq(term, BK_TERM_CONVERGENCE);
+	cr_assert_geq(e1, sqrt(var), "converged at %g, a constant gives %g", e1, sqrt(var));
+	bk_search_options o;
+	fx_plain_options(&o, &sm, 1u << BK_IN_LOH, 2, 16);
+	char err[256];
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	bk_cand c;
+	memset(&c, 0, sizeof c);
+	c.text = (char *)text;
+	c.np = 2;
+	bk_screen_one(s, &c, NULL);
+	cr_assert_eq(c.status, BK_CAND_OK);
+	cr_assert_leq(c.rmse, 1e-9 * sqrt(ss / (double)sm.n), "rmse %g", c.rmse);
 	bk_search_free(s);
 	bk_samples_free(&sm);
 }

@@ -105,6 +105,14 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	double best[BK_MAX_PARAMS], best_cost = HUGE_VAL;
 	int best_term = BK_TERM_CONVERGENCE;
 	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
+	/* twice the cost of the best constant: the weighted variance of the
+	 * target (weights sum to 1; relative residuals: the constant 0 would
+	 * cost 1 each, taken as the bound) */
+	double flat = 0, mean = 0;
+	for (size_t i = 0; i < sm->n; i++)
+		mean += sm->w[i] * sm->y[i];
+	for (size_t i = 0; i < sm->n; i++)
+		flat += s->o.relative ? sm->w[i] : sm->w[i] * (sm->y[i] - mean) * (sm->y[i] - mean);
 	for (int k = 0; k < nstart; k++) {
 		double p[BK_MAX_PARAMS];
 		for (int j = 0; seed_p && j < BK_MAX_PARAMS; j++)
@@ -139,9 +147,12 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 			best_term = sum.termination;
 			memcpy(best, p, sizeof best);
 		}
-		/* the next start only where this one did not converge: most candidates
-		 * converge from the first, and a screening fit is most of the search */
-		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
+		/* the next start only where this one did not converge, or converged
+		 * no better than a constant would (2 cost >= flat: exp2(p*x) with its
+		 * scale gone to 0 is such a minimum, and the next start often finds
+		 * the right one): most candidates converge from the first, and a
+		 * screening fit is most of the search */
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE && 2 * sum.final_cost < flat)
 			break;
 	}
 	if (c->np && best_term == BK_TERM_NO_CONVERGENCE && best_cost < HUGE_VAL) {
