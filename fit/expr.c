@@ -249,7 +249,7 @@ static int drop(bk_enode *d, int at, int pos)
 	return pos - 1;
 }
 
-static int pass(const bk_enode *s, bk_enode *d)
+static int pass(const bk_enode *s, bk_enode *d, int ra)
 {
 	int op = s->op, ar = arity(op);
 	d[0] = *s;
@@ -262,7 +262,7 @@ static int pass(const bk_enode *s, bk_enode *d)
 	const bk_enode *c = s + 1;
 	for (int j = 0; j < ar; j++) {
 		off[j] = pos;
-		if ((len[j] = pass(c, d + pos)) < 0)
+		if ((len[j] = pass(c, d + pos, ra)) < 0)
 			return -1;
 		pos += len[j];
 		c += span_at(c);
@@ -288,6 +288,17 @@ static int pass(const bk_enode *s, bk_enode *d)
 		return 1;
 	}
 	const bk_enode *a = &d[off[0]], *b = ar > 1 ? &d[off[1]] : NULL;
+	/* where both r and a = r*r are inputs: r*r -> a and sqrt(a) -> r (r >= 0
+	 * by convention), one spelling of the same model, and the cheaper one */
+	if (ra && op == BK_OP_MUL && a->op == BK_OP_INPUT && a->slot == BK_IN_R && b->op == BK_OP_INPUT &&
+	    b->slot == BK_IN_R) {
+		d[0] = (bk_enode){BK_OP_INPUT, BK_IN_A, 0};
+		return 1;
+	}
+	if (ra && op == BK_OP_SQRT && a->op == BK_OP_INPUT && a->slot == BK_IN_A) {
+		d[0] = (bk_enode){BK_OP_INPUT, BK_IN_R, 0};
+		return 1;
+	}
 	/* x - x, x/x, min(x, x), max(x, x), mix(x, x, t): what the search means
 	 * by them (a NaN at x = 0 or inf is no model; the front must not show
 	 * sq(LoH)/sq(LoH)) */
@@ -440,13 +451,16 @@ static int equal_nodes(const bk_expr *a, const bk_expr *b)
  * (a swap after renumbering, a fold after an identity), and repeating to a
  * fixed point is what makes canon(canon(e)) == canon(e). Every rule
  * shortens the tree or reorders it towards cmp_tree order, so this ends. */
-int bk_expr_canon(bk_expr *e)
+int bk_expr_canon(bk_expr *e) { return bk_expr_canon_in(e, 0); }
+
+int bk_expr_canon_in(bk_expr *e, unsigned inputs)
 {
 	if (e->n <= 0)
 		return -1;
+	int ra = (inputs >> BK_IN_R & 1) && (inputs >> BK_IN_A & 1);
 	for (int round = 0; round < 32; round++) {
 		bk_expr next;
-		next.n = pass(e->node, next.node);
+		next.n = pass(e->node, next.node, ra);
 		if (next.n < 0)
 			return -1;
 		renumber(&next);
@@ -1019,10 +1033,29 @@ static int raw_next(bk_expr_enum *E, bk_expr *e)
  * within the limits (a tree whose canonical form is smaller is found at that
  * smaller size, built from its own canonical operands), 0 if not, -1 when
  * out of memory. */
+/* Whether e has a unary operation (sq included) directly over another (not
+ * sq): sqrt(rcp(x)), rsqrt(sqrt(sq(x))), log2(exp2(x)), ... Most such pairs are
+ * another unary (rsqrt), a power or the identity, and the rest are rarely
+ * what a shading form is made of; at 5 nodes they are half the trees. The
+ * enumeration leaves them out (a nesting limit, as PySR's and Operon's
+ * users set one), so that its budget reaches the binary and ternary trees;
+ * mutation can still make them. */
+static int unary_over_unary(const bk_expr *e)
+{
+	for (int i = 0; i + 1 < e->n; i++) {
+		int op = e->node[i].op, sq = op == BK_OP_MUL && same(&e->node[i + 1], &e->node[i + 1 + span_at(&e->node[i + 1])]);
+		int below = e->node[i + 1].op;
+		if ((sq || (arity(op) == 1 && op < TERM0)) && arity(below) == 1 && below < TERM0)
+			return 1;
+	}
+	return 0;
+}
+
 static int keep(bk_expr_enum *E, bk_expr *e)
 {
 	char text[4096];
-	if (bk_expr_canon(e) || !within(&E->g, e) || bk_expr_size(e) != E->size)
+	if (bk_expr_canon_in(e, E->g.inputs) || !within(&E->g, e) || bk_expr_size(e) != E->size ||
+	    unary_over_unary(e))
 		return 0;
 	if (bk_expr_print(e, text, sizeof text) < 0)
 		return 0;
@@ -1266,7 +1299,21 @@ static int mutate_once(const bk_grammar *g, const opset *os, bk_rng *r, bk_expr 
 /* Canonical, within the grammar, and not the parent itself. */
 static int acceptable(const bk_grammar *g, bk_expr *c, const bk_expr *parent)
 {
-	return bk_expr_canon(c) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
+	return bk_expr_canon_in(c, g->inputs) == 0 && within(g, c) && !(parent && equal_nodes(c, parent));
+}
+
+/* e with its subtree at i replaced by the len nodes t, kept in out[0..*m)
+ * when acceptable and not already there. */
+static void add_neighbour(const bk_grammar *g, const bk_expr *e, int i, const bk_enode *t, int len, bk_expr *out,
+                          int *m)
+{
+	bk_expr c = *e;
+	if (splice(&c, i, t, len) || !acceptable(g, &c, e))
+		return;
+	for (int j = 0; j < *m; j++)
+		if (equal_nodes(&out[j], &c))
+			return;
+	out[(*m)++] = c;
 }
 
 int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
@@ -1293,14 +1340,7 @@ int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, 
 				if (t[2].op == BK_OP_PARAM && t[1].op == BK_OP_PARAM)
 					continue;
 				memcpy(t + 3, e->node + i, sizeof *t * (size_t)len);
-				bk_expr c = *e;
-				if (splice(&c, i, t, 3 + len) || !acceptable(g, &c, e))
-					continue;
-				int dup = 0;
-				for (int j = 0; j < m && !dup; j++)
-					dup = equal_nodes(&out[j], &c);
-				if (!dup)
-					out[m++] = c;
+				add_neighbour(g, e, i, t, 3 + len, out, &m);
 			}
 	return m;
 }
@@ -1320,15 +1360,50 @@ int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int 
 			t[0] = (bk_enode){ops[k], 0, 0};
 			t[1] = (bk_enode){BK_OP_PARAM, np, 0};
 			memcpy(t + 2, e->node + i, sizeof *t * (size_t)len);
-			bk_expr c = *e;
-			if (splice(&c, i, t, 2 + len) || !acceptable(g, &c, e))
-				continue;
-			int dup = 0;
-			for (int j = 0; j < m && !dup; j++)
-				dup = equal_nodes(&out[j], &c);
-			if (!dup)
-				out[m++] = c;
+			add_neighbour(g, e, i, t, 2 + len, out, &m);
 		}
+	return m;
+}
+
+int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max)
+{
+	int m = 0, np = bk_expr_nparams(e), first_in = -1;
+	for (int in = BK_IN_COUNT - 1; in >= 0; in--)
+		if (g->inputs & (1u << in))
+			first_in = in;
+	for (int in = 0; in < BK_IN_COUNT; in++) {
+		if (!(g->inputs & (1u << in)))
+			continue;
+		const bk_enode x = {BK_OP_INPUT, in, 0};
+		/* a constant made affine in the input: p -> mix(p, p', in) */
+		for (int i = 0; (g->ops & BIT(BK_OP_MIX)) && i < e->n && m < max; i++)
+			if (e->node[i].op == BK_OP_PARAM) {
+				bk_enode t[4] = {{BK_OP_MIX, 0, 0}, e->node[i], {BK_OP_PARAM, np, 0}, x};
+				add_neighbour(g, e, i, t, 4, out, &m);
+			}
+		/* a power: x -> sq(x) (once, with the first input) */
+		for (int i = 0; in == first_in && (g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))) && i < e->n && m < max; i++) {
+			int len = span_at(e->node + i);
+			if (e->node[i].op == BK_OP_PARAM || 1 + 2 * len > BK_EXPR_MAX)
+				continue;
+			bk_enode t[BK_EXPR_MAX];
+			t[0] = (bk_enode){BK_OP_MUL, 0, 0};
+			memcpy(t + 1, e->node + i, sizeof *t * (size_t)len);
+			memcpy(t + 1 + len, e->node + i, sizeof *t * (size_t)len);
+			add_neighbour(g, e, i, t, 1 + 2 * len, out, &m);
+		}
+		/* a factor of the input: x -> x*in (not of a scale p, a lone input) */
+		for (int i = 0; (g->ops & BIT(BK_OP_MUL)) && i < e->n && m < max; i++) {
+			int len = span_at(e->node + i);
+			if (e->node[i].op == BK_OP_PARAM || 2 + len > BK_EXPR_MAX)
+				continue;
+			bk_enode t[BK_EXPR_MAX];
+			t[0] = (bk_enode){BK_OP_MUL, 0, 0};
+			memcpy(t + 1, e->node + i, sizeof *t * (size_t)len);
+			t[1 + len] = x;
+			add_neighbour(g, e, i, t, 2 + len, out, &m);
+		}
+	}
 	return m;
 }
 

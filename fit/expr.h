@@ -113,6 +113,13 @@ double bk_expr_snap(double v);
  * would not fit BK_EXPR_MAX (it never grows in practice). */
 int bk_expr_canon(bk_expr *e);
 
+/* The same, knowing which inputs (bits 1 << bk_input) the candidates may
+ * read: where both r and a = r*r are among them, r*r is written a and
+ * sqrt(a) is written r (r >= 0), so that one model has one spelling, the
+ * cheaper one. The grammar's generators (enumeration, mutation, crossover,
+ * neighbours) canonicalise with their grammar's inputs. */
+int bk_expr_canon_in(bk_expr *e, unsigned inputs);
+
 /* The formula-language text of e, parenthesised only where the language
  * needs it (a + (b + c) keeps its parentheses: it is not (a + b) + c in
  * floating point), MUL with equal operands as sq(x), literals with the
@@ -163,7 +170,12 @@ double bk_rng_unit(bk_rng *r);
 
 /* Every canonical candidate of exactly size nodes over the grammar, each
  * once, in a fixed order (bottom-up: built from the canonical candidates of
- * smaller sizes). fn returns non-zero to stop. Returns the number of
+ * smaller sizes), canonical with the grammar's inputs (bk_expr_canon_in) and
+ * without a unary operation directly over another (sqrt(rcp(x)),
+ * log2(exp2(x)), sq(sqrt(x)): a nesting limit; at 5 nodes over NoV, r and a
+ * they were over half the trees, and the search's enumeration budget ran out
+ * in them before any binary or ternary tree of that size). fn returns
+ * non-zero to stop. Returns the number of
  * candidates visited, or -1 (out of memory). */
 typedef int (*bk_expr_visit)(void *ctx, const bk_expr *e);
 long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx);
@@ -205,6 +217,17 @@ int bk_expr_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int 
  * fresh parameter (f0 + (1 - f0)*x is mix(f0, 1, x); NoV*(1 - k) + k is
  * mix(NoV, 1, k)). Canonical, within g, distinct, not e; at most max. */
 int bk_expr_mix_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
+
+/* The neighbours of e by one input or a power, for each input of g in turn:
+ * a parameter made affine in the input, p -> mix(p, p', in) (the constant
+ * of a fit that depends on roughness: exp2(p*LoH) -> exp2(mix(p, p', LoH)*LoH),
+ * Schlick's and Karis' forms); with the first input only, a subtree squared,
+ * x -> sq(x) (powers: GGX's squared denominator, Schlick's (1 - x)^5); a
+ * subtree times the input, x -> x*in (p/mix(a, p', NoV) -> NoV*p/...,
+ * Smith's G1). Parameters are not squared or multiplied (canon folds them).
+ * Canonical, within g, distinct, not e; at most max written to out
+ * ((np + 2 n) x inputs suffice); returns how many. */
+int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out, int max);
 
 /* Subtree crossover: a random subtree of a replaced by a random subtree of b.
  * Canonical, within limits; -1 as above. */

@@ -8,11 +8,12 @@
  *   1. the seeds (catalog entries of the target, --start forms) are fitted
  *      first, so the front starts at the published state of the art;
  *   2. every canonical candidate up to enum_size nodes, bottom-up;
- *   3. generations of `generation` children: first (not for pairs) the
- *      neighbours of each cost level's best by one free constant (p*x,
- *      p + x) and of each front level's best by a blend (mix(u, v, x)):
- *      expr.h, issue 22; then archive members' children by mutation and
- *      crossover, until the budget of fits (evals) is spent.
+ *   3. generations of `generation` children: first (not for pairs; at
+ *      most half a generation) the neighbours of each cost level's best by
+ *      one free constant (p*x, p + x) and of each front level's best by one
+ *      input or a power (mix(p, p', in), x*in, sq(x)) and by a blend
+ *      (mix(u, v, x)): expr.h, issue 22; then archive members' children by
+ *      mutation and crossover, until the budget of fits (evals) is spent.
  * A candidate is fitted once: the cache holds the hash of each canonical
  * text. Fits of one generation run on threads; their results are merged in
  * candidate order, so the same seed and budget give the same archive for any

@@ -49,9 +49,9 @@ typedef struct planted {
 } planted;
 
 typedef struct opts {
-	const char *file, *only;
+	const char *file, *only, *dump;
 	long evals;
-	int seeds, threads, quick, catalog, verbose;
+	int seeds, threads, quick, catalog, verbose, first;
 } opts;
 
 static char *trim(char *s)
@@ -210,6 +210,17 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 		fprintf(stderr, "bench_recovery: %s: %s\n", form, err);
 	if (s)
 		r->evals = bk_search_evals(s);
+	if (s && O->dump) { /* every candidate fitted: found_at, status, rmse, text */
+		char path[512];
+		snprintf(path, sizeof path, "%s.%lu.tsv", O->dump, seed);
+		FILE *f = fopen(path, "w");
+		for (size_t i = 0; f && i < bk_search_count(s); i++) {
+			const bk_cand *c = bk_search_at(s, i);
+			fprintf(f, "%ld\t%d\t%.3g\t%.3g\t%s\n", c->found_at, (int)c->status, c->rmse, c->cost, c->text);
+		}
+		if (f)
+			fclose(f);
+	}
 	bk_search_free(s);
 	bk_samples_free(&sm);
 	return rc < 0 ? -1 : 0;
@@ -241,7 +252,7 @@ static void bench_form(const char *name, const char *form, const char *domain, c
 	int ok = 0;
 	printf("  %-22s", name);
 	double t0 = bk_clock_now();
-	for (int k = 1; k <= O->seeds; k++) {
+	for (int k = O->first; k < O->first + O->seeds; k++) {
 		result r;
 		if (run_one(form, domain, ops, (unsigned long)k, O, &r))
 			exit(1);
@@ -357,12 +368,14 @@ static int catalog_domain(const bk_catalog_entry *e, const char *text, char *dom
 
 int main(int argc, char **argv)
 {
-	opts O = {"analysis/bench/planted.txt", NULL, 20000, 3, 2, 0, 1, 0};
+	opts O = {"analysis/bench/planted.txt", NULL, NULL, 20000, 3, 2, 0, 1, 0, 1};
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--quick"))
 			O.quick = 1, O.seeds = 2, O.catalog = 0;
 		else if (!strcmp(argv[i], "--only") && i + 1 < argc)
 			O.only = argv[++i], O.catalog = 0;
+		else if (!strcmp(argv[i], "--first-seed") && i + 1 < argc)
+			O.first = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--seeds") && i + 1 < argc)
 			O.seeds = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--evals") && i + 1 < argc)
@@ -373,11 +386,13 @@ int main(int argc, char **argv)
 			O.file = argv[++i];
 		else if (!strcmp(argv[i], "--catalog"))
 			O.catalog = 2; /* the catalog alone */
+		else if (!strcmp(argv[i], "--dump") && i + 1 < argc)
+			O.dump = argv[++i];
 		else if (!strcmp(argv[i], "-v"))
 			O.verbose = 1;
 		else {
-			fprintf(stderr, "usage: bench_recovery [--quick] [--only NAME,...] [--catalog] [--seeds N] "
-			                "[--evals N] [--threads N] [--file PLANTED] [-v]\n");
+			fprintf(stderr, "usage: bench_recovery [--quick] [--only NAME,...] [--catalog] [--seeds N] [--first-seed K] "
+			                "[--evals N] [--threads N] [--file PLANTED] [--dump PREFIX] [-v]\n");
 			return 2;
 		}
 	}
@@ -386,9 +401,9 @@ int main(int argc, char **argv)
 	int np = read_suite(O.file, P, MAX_FORMS), runs = 0, rec = 0, every = 0, forms = 0, nfits = 0;
 	double t0 = bk_clock_now();
 	if (O.catalog != 2) {
-		printf("recovery of planted forms (%s): %ld fits, %d threads, seeds 1..%d; "
+		printf("recovery of planted forms (%s): %ld fits, %d threads, seeds %d..%d; "
 		       "+N recovered at fit N (rmse <= %g x max(1, rms target)), -E not (best rmse E)\n",
-		       O.file, O.evals, O.threads, O.seeds, TOL);
+		       O.file, O.evals, O.threads, O.first, O.first + O.seeds - 1, TOL);
 		for (int i = 0; i < np; i++) {
 			if ((O.quick && !P[i].quick) || (O.only && !listed(O.only, P[i].name)))
 				continue;
@@ -404,7 +419,8 @@ int main(int argc, char **argv)
 	if (!O.catalog)
 		return 0;
 	printf("rediscovery of the catalog (every form of <= %d nodes in the default grammar, its published "
-	       "constants as literals): seeds 1..%d\n", MAX_NODES, O.seeds);
+	       "constants as literals): seeds %d..%d\n", MAX_NODES, O.first,
+	       O.first + O.seeds - 1);
 	int cruns = 0, crec = 0, cevery = 0, cforms = 0, cn = 0;
 	double t1 = bk_clock_now();
 	for (size_t i = 0; i < bk_catalog_count(); i++) {

@@ -2,7 +2,8 @@
  * generate.h — generation (internal to the search): the batch of new
  * candidates a step fits. Phase by phase: the seeds in the order given;
  * every canonical tree up to enum_size nodes, drawn bottom-up as the fits
- * need them (a pair's tree as A, as B and as a shared feature); then
+ * need them (a pair's tree as A, as B and as a shared feature); then the
+ * neighbours of the archive's leaders (up to half a generation) and
  * children of archive members by mutation (70 %) or crossover, a parent
  * being a cost level drawn uniformly and a member biased to its best.
  * A candidate is new when its canonical text's key is not in the cache

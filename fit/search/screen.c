@@ -20,6 +20,19 @@
 #define SCREEN_FTOL 1e-6
 #define SCREEN_PTOL 1e-8
 
+/* A polish: a fit stopped by the iteration cap that is already near the
+ * target (a right structure whose constants are still moving: beckmann_fix
+ * of the recovery suite stopped at 2e-6) goes on from where it stopped, up to
+ * POLISH_ROUNDS more solves, while it stays unconverged and its cost falls.
+ * "Near": 2 cost <= POLISH_REL^2 x sum of y^2. The fit's weights sum to 1,
+ * so this is a weighted rms residual within POLISH_REL x sqrt(n) of the
+ * target's rms (1.6e-3 at 256 samples, 3.2e-3 at 1,024): looser than the
+ * name says, and what the recovery suite was measured with. Few candidates
+ * come that close (vf2d at 20,000 fits: the same CPU time as without). */
+#define POLISH_REL 1e-4
+#define RETRIES 2
+#define POLISH_ROUNDS 4
+
 double bk_search_error(const bk_search_options *o, const bk_samples *sm, const double *v, const bk_fit_metrics *m)
 {
 	/* the metrics leave out the samples where the values are not finite:
@@ -90,7 +103,16 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	if (!pb)
 		goto done;
 	double best[BK_MAX_PARAMS], best_cost = HUGE_VAL;
+	int best_term = BK_TERM_CONVERGENCE;
 	int nstart = c->np ? s->o.starts + (seed_p != NULL) : 1;
+	/* twice the cost of the best constant: the weighted variance of the
+	 * target (weights sum to 1; relative residuals: the constant 0 would
+	 * cost 1 each, taken as the bound) */
+	double flat = 0, mean = 0;
+	for (size_t i = 0; i < sm->n; i++)
+		mean += sm->w[i] * sm->y[i];
+	for (size_t i = 0; i < sm->n; i++)
+		flat += s->o.relative ? sm->w[i] : sm->w[i] * (sm->y[i] - mean) * (sm->y[i] - mean);
 	for (int k = 0; k < nstart; k++) {
 		double p[BK_MAX_PARAMS];
 		for (int j = 0; seed_p && j < BK_MAX_PARAMS; j++)
@@ -99,7 +121,22 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 			bk_search_start(s->o.seed, c->text, k - (seed_p != NULL), BK_MAX_PARAMS, p);
 		bk_fit_summary sum;
 		if (c->np) {
-			if (bk_fit_problem_solve(pb, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE)
+			if (bk_fit_problem_solve(pb, p, NULL, &sum))
+				continue;
+			/* a trial step into a pole (sqrt or log2 of a negative, 1/0) fails
+			 * the solve, which hands back its last good point: the fit goes on
+			 * from there (afresh, so from a more damped step), and the point
+			 * stands as this start's result if it fails again */
+			for (int retry = 0; retry < RETRIES && sum.termination == BK_TERM_FAILURE && isfinite(sum.final_cost) &&
+			                    sum.final_cost < sum.initial_cost;
+			     retry++) {
+				double before = sum.final_cost;
+				if (bk_fit_problem_solve(pb, p, NULL, &sum))
+					break;
+				if (sum.termination == BK_TERM_FAILURE && !(sum.final_cost < before))
+					sum.final_cost = before; /* p is back at the good point */
+			}
+			if (!isfinite(sum.final_cost))
 				continue;
 		} else {
 			sum.final_cost = 0;
@@ -107,12 +144,33 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		/* costs within the tie tolerance: the earlier start wins (fit.h) */
 		if (sum.final_cost < best_cost * (1 - BK_FIT_COST_TIE)) {
 			best_cost = sum.final_cost;
+			best_term = sum.termination;
 			memcpy(best, p, sizeof best);
 		}
-		/* the next start only where this one did not converge: most candidates
-		 * converge from the first, and a screening fit is most of the search */
-		if (c->np && sum.termination == BK_TERM_CONVERGENCE)
+		/* the next start only where this one did not converge, or converged
+		 * no better than a constant would (2 cost >= flat: exp2(p*x) with its
+		 * scale gone to 0 is such a minimum, and the next start often finds
+		 * the right one): most candidates converge from the first, and a
+		 * screening fit is most of the search */
+		if (c->np && sum.termination == BK_TERM_CONVERGENCE && 2 * sum.final_cost < flat)
 			break;
+	}
+	if (c->np && best_term == BK_TERM_NO_CONVERGENCE && best_cost < HUGE_VAL) {
+		double scale = 0; /* sum of y^2, unweighted (relative residuals: 1 each) */
+		for (size_t i = 0; i < sm->n; i++)
+			scale += s->o.relative ? 1.0 : sm->y[i] * sm->y[i];
+		for (int k = 0; k < POLISH_ROUNDS && 2 * best_cost <= POLISH_REL * POLISH_REL * scale; k++) {
+			double p[BK_MAX_PARAMS];
+			memcpy(p, best, sizeof p);
+			bk_fit_summary sum;
+			if (bk_fit_problem_solve(pb, p, NULL, &sum) || sum.termination == BK_TERM_FAILURE ||
+			    !(sum.final_cost < best_cost))
+				break;
+			best_cost = sum.final_cost;
+			memcpy(best, p, sizeof best);
+			if (sum.termination != BK_TERM_NO_CONVERGENCE)
+				break;
+		}
 	}
 	bk_fit_problem_free(pb);
 	if (!(best_cost < HUGE_VAL))
