@@ -226,6 +226,7 @@ static void start_inv(bk_enode *p) { p->k = p->k != 0 && isfinite(1 / p->k) ? 1 
  *  - exact identities: x*1, 1*x, x/1, x - 0, x + 0, 0 + x -> x (x + 0 differs
  *    from x only in the sign of a zero), -(-x) -> x, x - k -> x + (-k) for a
  *    literal k (exact in IEEE arithmetic: one spelling for x - 1 and x + -1);
+ *  - x*rcp(y) -> x/y (one rounding apart; the cheaper spelling);
  *  - x - x -> 0, x/x -> 1, min(x, x), max(x, x), mix(x, x, t) -> x, and a
  *    negation undone a level up (x - (-y), x + (-y), (-x)*(-y), (-x)/(-y),
  *    -(x - y)): the search means the model, not its NaN at x = 0 or inf;
@@ -357,6 +358,16 @@ static int pass(const bk_enode *s, bk_enode *d, int ra)
 			return take(d, off[1], len[1]);
 		if (is_const(b, 1))
 			return take(d, off[0], len[0]);
+		for (int j = 0; j < 2; j++) /* x*rcp(y) -> x/y: one spelling of the model, the cheaper one */
+			if (d[off[j]].op == BK_OP_RCP) {
+				int x = off[1 - j], lx = len[1 - j], y = off[j] + 1, ly = len[j] - 1;
+				bk_enode tmp[BK_EXPR_MAX];
+				memcpy(tmp, &d[x], sizeof *d * (size_t)lx);
+				memcpy(tmp + lx, &d[y], sizeof *d * (size_t)ly);
+				d[0].op = BK_OP_DIV;
+				memcpy(&d[1], tmp, sizeof *d * (size_t)(lx + ly));
+				return 1 + lx + ly;
+			}
 		for (int j = 0; j < 2; j++) /* p*(-x) -> p*x; the next pass sorts */
 			if (d[off[j]].op == BK_OP_PARAM && d[off[1 - j]].op == BK_OP_NEG) {
 				int at = off[1 - j];

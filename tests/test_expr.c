@@ -248,6 +248,28 @@ Test(expr, free_parameters_absorb_constant_work)
 	cr_assert_str_eq(canon_text("r - p0*NoV"), canon_text("r + NoV*p1"));
 }
 
+/* x*rcp(y) and x/y are one model; x/y is the cheaper spelling (the vf2d
+ * front once had p0*rcp(...) at cost 9 beside p0/(...) at 8): hand-written
+ * expected texts, and the unit cost of the two spellings from the IR's count */
+Test(expr, multiply_by_reciprocal_is_division)
+{
+	cr_assert_str_eq(canon_text("p0*rcp(1 + LoH)"), "p0 / (1 + LoH)");
+	cr_assert_str_eq(canon_text("rcp(1 + LoH)*r"), "r / (1 + LoH)");
+	cr_assert_str_eq(canon_text("r*rcp(NoV)"), canon_text("r/NoV"));
+	/* control: a reciprocal alone, or under another operation, stays */
+	cr_assert_str_eq(canon_text("rcp(1 + LoH)"), "rcp(1 + LoH)");
+	cr_assert_str_eq(canon_text("r + rcp(NoV)"), "r + rcp(NoV)");
+	bk_form_error fe;
+	bk_form *fd = bk_form_parse("r / (1 + LoH)", &fe), *fr = bk_form_parse("r * rcp(1 + LoH)", &fe);
+	cr_assert(fd && fr);
+	bk_ops od, orc;
+	bk_form_count(fd, &od);
+	bk_form_count(fr, &orc);
+	cr_assert_lt(bk_ops_cost(&od, 1, 4), bk_ops_cost(&orc, 1, 4));
+	bk_form_free(fd);
+	bk_form_free(fr);
+}
+
 Test(expr, exact_identities_and_folding)
 {
 	cr_assert_str_eq(canon_text("r*1"), "r");
