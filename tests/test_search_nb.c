@@ -102,10 +102,10 @@ Test(search_nb, input_neighbours_complete_planted_structures)
 {
 	static bk_expr nb[512];
 	bk_grammar g = grammar(1u << BK_IN_NOV | R_A);
-	/* Smith G1 in a: NoV/mix(k*a, 1, NoV) is p0*(NoV*rcp(mix(a, p1, NoV))),
-	 * one factor of NoV from p0*rcp(mix(a, p1, NoV)) */
+	/* Smith G1 in a: NoV/mix(k*a, 1, NoV) is NoV*(p0/mix(a, p1, NoV)), one
+	 * factor of NoV from p0*rcp(mix(a, p1, NoV)) (canonical: p0/mix(...)) */
 	int n = neighbours_of(&g, "p0*rcp(mix(a, p1, NoV))", nb, 512);
-	cr_assert(among(&g, "p0*(rcp(mix(a, p1, NoV))*NoV)", nb, n));
+	cr_assert(among(&g, "NoV*(p0/mix(a, p1, NoV))", nb, n));
 	/* an affine constant: p1 -> mix(p1, p2, r) */
 	cr_assert(among(&g, "p0*rcp(mix(a, mix(p1, p2, r), NoV))", nb, n));
 	/* the GGX denominator squared: sq of the mix */
