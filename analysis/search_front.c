@@ -80,6 +80,11 @@ static void albedo_minimax(const bk_sfront *F, member *m)
 	bk_albfit_free(af);
 }
 
+int bk_sfront_half_safe(const member *m)
+{
+	return !strcmp(m->verdict, "as is") || !strcmp(m->verdict, "with guards");
+}
+
 /* Stability in half, each half of a pair on its own: the worse verdict. */
 static void stability(member *m, int finite)
 {
@@ -298,6 +303,8 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 		return -1;
 	}
 	for (int k = 0; k < sd->n; k++) { /* catalog names, and typed --start forms as "start K" */
+		if (sd->from_front[k]) /* a start of the search (--start-front), not a published form */
+			continue;
 		const bk_catalog_entry *e = sd->name[k] ? bk_catalog_find(sd->name[k]) : NULL;
 		for (int r = 0; r < 2; r++) {
 			member *m = &F->m[F->nm++];
@@ -338,14 +345,24 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 	free(job);
 	if (rc)
 		return -1;
-	/* the final front over the refitted search members, ties on the text */
+	/* the final front over the refitted search members, ties on the text;
+	 * a half search's front holds only members safe in half: one that is
+	 * not is left off as an inadmissible one (the rows are the same for any
+	 * thread count, so is this choice) */
 	bk_pareto_pt *pt = calloc((size_t)F->nm + 1, sizeof *pt);
 	if (!pt)
 		return -1;
 	size_t n = 0;
-	for (int i = 0; i < F->nm; i++)
-		if (F->m[i].c && F->m[i].status == 0)
-			pt[n++] = (bk_pareto_pt){F->m[i].cost, F->m[i].err, F->m[i].text, (size_t)i};
+	F->unsafe = 0;
+	for (int i = 0; i < F->nm; i++) {
+		if (!F->m[i].c || F->m[i].status)
+			continue;
+		if (F->so->precision == BK_F16 && !bk_sfront_half_safe(&F->m[i])) {
+			F->unsafe++;
+			continue;
+		}
+		pt[n++] = (bk_pareto_pt){F->m[i].cost, F->m[i].err, F->m[i].text, (size_t)i};
+	}
 	size_t k = bk_pareto_scan(pt, n);
 	for (size_t i = 0; i < k; i++)
 		F->m[pt[i].id].front = 1;

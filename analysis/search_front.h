@@ -7,7 +7,10 @@
  * verdict, hence here and not in fit/), with the catalog rows (published and
  * refitted) and env's DFG LUT rows beside them; the final front: the
  * refitted search members no other beats at no greater cost
- * (search/pareto.h).
+ * (search/pareto.h); with --precision half only those safe in half ("as
+ * is" or "with guards"): one that is not ("no", "not analysed", "not
+ * finite") is left off as an inadmissible one is, and the next fill its
+ * place.
  */
 #ifndef ANALYSIS_SEARCH_FRONT_H
 #define ANALYSIS_SEARCH_FRONT_H
@@ -52,9 +55,14 @@ typedef struct bk_sfront {
 	bk_progress_fn progress;     /* progress(label, done, total) with the phase's label as ctx, or NULL */
 	bk_sfront_member *m;         /* out: catalog rows, LUT rows, then the refitted front */
 	int nm;
+	int unsafe;                  /* out: --precision half: refitted members left off as not safe in half */
 } bk_sfront;
 
-/* Scores the catalog rows of sd's seeds (published, refitted), the LUT
+/* 1 when m's stability in half is "as is" or "with guards". */
+int bk_sfront_half_safe(const bk_sfront_member *m);
+
+/* Scores the catalog rows of sd's seeds (published, refitted; not the seeds
+ * read from a front, sd->from_front), the LUT
  * rows, and the screening front with every seed that fitted, refitted; marks
  * the final front. The members are scored on so->threads threads, each whole
  * by one: the same rows for any count. 0, or -1 (out of memory or a failed

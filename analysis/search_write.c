@@ -270,7 +270,20 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 			}
 			fputs("</td></tr>\n", f);
 		}
-	fputs("</table>\n</section>\n", f);
+	fputs("</table>\n", f);
+	if (W->F->so->precision == BK_F16)
+		fprintf(f, "<p>In half precision the front holds only members safe in half (as is or with their computed "
+		        "guards); %d refitted member%s not safe in half %s left off it. The published forms above are "
+		        "evaluated in half, with their verdict.</p>\n", W->F->unsafe, W->F->unsafe == 1 ? "" : "s",
+		        W->F->unsafe == 1 ? "was" : "were");
+	if (W->vs)
+		bk_halfvs_html(f, W->vs, W->vs_path, bk_sfront_objective_name(W->F->so), W->prefix);
+	fputs("</section>\n", f);
+}
+
+void bk_swrite_vs_csv(FILE *f, const bk_swrite *W)
+{
+	bk_halfvs_csv(f, W->vs, W->command, W->vs_path, bk_sfront_objective_name(W->F->so));
 }
 
 void bk_swrite_report(FILE *f, const bk_swrite *W)

@@ -8,6 +8,7 @@
 #ifndef ANALYSIS_SEARCH_WRITE_H
 #define ANALYSIS_SEARCH_WRITE_H
 
+#include "halfvs.h"
 #include "search_front.h"
 
 #include <stdio.h>
@@ -25,6 +26,8 @@ typedef struct bk_swrite {
 	int merge_fronts;
 	const char *const *chip;  /* --gpu */
 	int nchips;
+	const bk_halfvs *vs;      /* --vs-front: the half front against the double one, or NULL */
+	const char *vs_path;      /* its front.csv */
 } bk_swrite;
 
 void bk_swrite_front_csv(FILE *f, const bk_swrite *W);
@@ -32,6 +35,8 @@ void bk_swrite_catalog_csv(FILE *f, const bk_swrite *W);
 void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W);
 void bk_swrite_svg(FILE *f, const bk_swrite *W);
 void bk_swrite_section(FILE *f, const bk_swrite *W);
+/* vs_double.csv (--vs-front; halfvs.h). */
+void bk_swrite_vs_csv(FILE *f, const bk_swrite *W);
 /* The front, then the catalog rows, one line each (brdfkit search's stdout). */
 void bk_swrite_report(FILE *f, const bk_swrite *W);
 

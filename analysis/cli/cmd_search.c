@@ -291,6 +291,8 @@ static int write_outputs(const job *J, const bk_swrite *W)
 	rc |= write_file(od.tmp, "candidates.csv", bk_swrite_candidates_csv, W);
 	rc |= write_file(od.tmp, "pareto.svg", bk_swrite_svg, W);
 	rc |= write_file(od.tmp, "section.html", bk_swrite_section, W);
+	if (W->vs)
+		rc |= write_file(od.tmp, "vs_double.csv", bk_swrite_vs_csv, W);
 	char dir[4300];
 	snprintf(dir, sizeof dir, "%.4000s/front", od.tmp);
 	rc |= mkdir(dir, 0777);
@@ -322,16 +324,38 @@ static int finish(job *J, const bk_seeds *sd)
 {
 	bk_sfront *F = &J->F;
 	*F = (bk_sfront){&J->so, J->S, &J->s, J->kind, J->to.smith, cli_seen(J->cmd, "--fetch-cost"), J->a->fetch_cost,
-	                 cli_progress, NULL, 0};
+	                 cli_progress, NULL, 0, 0};
 	if (bk_sfront_build(F, sd))
 		return cli_fail("search", "out of memory or a failed refit of the front");
 	bk_swrite W = {F, &J->to, J->command, J->a->out, J->a->prefix, J->a->cost_model, J->a->seed, J->total_evals,
-	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips};
+	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips, NULL, NULL};
 	bk_swrite_report(stdout, &W);
 	char err[700];
 	if (J->nchips && bk_sfront_gpu(F, J->chip, J->nchips, J->driver, sizeof J->driver, err, sizeof err))
 		return cli_fail("search", "--gpu: %s", err);
-	return write_outputs(J, &W);
+	bk_halfvs vs;
+	memset(&vs, 0, sizeof vs);
+	if (J->a->vs_front) { /* read before the search (vs_front): the double front beside the half one */
+		bk_halfvs_member *h = calloc((size_t)F->nm + 1, sizeof *h), *d = calloc((size_t)J->vs_fc.n + 1, sizeof *d);
+		int nh = 0;
+		for (int i = 0; h && i < F->nm; i++)
+			if (F->m[i].front)
+				h[nh++] = (bk_halfvs_member){F->m[i].name, F->m[i].cost, F->m[i].err};
+		for (int i = 0; d && i < J->vs_fc.n; i++)
+			d[i] = (bk_halfvs_member){J->vs_fc.row[i].name, J->vs_fc.row[i].cost, J->vs_fc.row[i].error};
+		int bad = !h || !d || bk_halfvs_build(&vs, d, J->vs_fc.n, h, nh, BK_HALFVS_MAX_COST);
+		free(h);
+		free(d);
+		if (bad)
+			return cli_fail("search", "out of memory");
+		W.vs = &vs;
+		W.vs_path = J->a->vs_front;
+		fprintf(stderr, "search: against the double front %s: %d of %d costs <= %g within %gx\n", J->a->vs_front,
+		        vs.npass, vs.nrow, BK_HALFVS_MAX_COST, BK_HALFVS_TARGET);
+	}
+	int rc = write_outputs(J, &W);
+	bk_halfvs_free(&vs);
+	return rc;
 }
 
 static int search_main(int argc, char **argv)
@@ -368,12 +392,14 @@ static int search_main(int argc, char **argv)
 		{.name = "--generation", .kind = CLI_INT, .metavar = "N", .help = "children per generation (default 256)", .dest = &a.generation, .lo = 1, .hi = 65536},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "rmse|max|albedo", .help = "the error of the front (default rmse; albedo: vf, spec)", .dest = &a.objective},
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals and errors", .dest = &a.relative},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in", .dest = &a.precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "P", .help = "double (default), single or half: the precision a candidate's error is measured in (fits stay in double); half: the front holds only members safe in half (stability as is or with guards), the others are left off", .dest = &a.precision},
 		{.name = "--cost-weights", .kind = CLI_STR, .metavar = "simple=W,complex=W", .help = "weights of the cost (default simple=1,complex=4)", .dest = &a.weights},
 		{.name = "--env-form", .kind = CLI_STR, .metavar = "pair|f0|mix", .help = "env: candidates are split pairs A, B (default) or one form in f0 scored on f0 A + B (as compare scores); mix: as f0, seeded also with mix(B, S, f0) of the fronts of searches of S = A + B and of B (3/8 of --evals each)", .dest = &a.env_form},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of the front and the catalog rows per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &a.gpu},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
+		{.name = "--start-front", .kind = CLI_STR, .metavar = "FILE", .help = "also seed the search with every member of a front.csv of brdfkit search (columns form, form_b, parameters), after the catalog's (or --start's) seeds, e.g. the double front of the same target for a half search", .dest = &a.start_front},
+		{.name = "--vs-front", .kind = CLI_STR, .metavar = "FILE", .help = "with --precision half: the double front.csv of the same target and objective beside this front in section.html, and DIR/vs_double.csv (at each cost <= 16 the best of each, their ratio, pass = ratio <= 1.25)", .dest = &a.vs_front},
 		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
 		{.name = "--inherit", .kind = CLI_FLAG, .help = "children start their fits from their parents' constants", .dest = &a.inherit},
@@ -400,6 +426,10 @@ static int search_main(int argc, char **argv)
 	               "MPI job with its front, send SIGUSR1 to mpirun (it passes it to every rank); SIGINT or\n"
 	               "SIGTERM to mpirun kill the ranks at once (Open MPI's rule): no front, exit 1, the\n"
 	               "checkpoints of the last round kept for --resume.\n"
+	               "With --precision half each member's error is the form's as the IR's f16 evaluation (the\n"
+	               "emitted code's) computes it, and a refitted member whose stability in half is not \"as is\"\n"
+	               "or \"with guards\" (brdfkit stability) is left off the front as an inadmissible one is;\n"
+	               "catalog.csv keeps the published forms evaluated in half with their verdict.\n"
 	               "Exit status: 0 done, 1 failed, 2 bad usage, 130 interrupted (results written).",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
 	int rc = cli_parse_table(&cmd, &search_table, argc, argv);
@@ -444,6 +474,8 @@ static int search_main(int argc, char **argv)
 		if (bk_target_form_check(&J.to, err, sizeof err))
 			return cli_usage(&cmd, "--target-form: %s", err);
 	}
+	if (a.vs_front && strcmp(a.precision, "half"))
+		return cli_usage(&cmd, "--vs-front compares a half-precision front with a double one: give --precision half");
 	if (cli_seen(&cmd, "--enum-size") && a.enum_size > a.max_size)
 		return cli_usage(&cmd, "--enum-size %ld has no effect past --max-size %ld (no tree is larger)", a.enum_size,
 		                 a.max_size);
@@ -477,6 +509,10 @@ static int search_main(int argc, char **argv)
 	}
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
+	if (a.vs_front && bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err)) {
+		rc = cli_fail("search", "--vs-front %s", err); /* said now, not after the search */
+		goto done;
+	}
 	if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
 	else if (R == 0) /* a pole between the screening samples */
@@ -490,6 +526,7 @@ static int search_main(int argc, char **argv)
 		if ((rc = run_halves(&J, &hv)))
 			goto done;
 		bk_halves_seed(&hv, &sd, &J.so);
+		J.so.exempt_seeds = J.ncatalog; /* the published seeds only: not --start-front's, nor the compositions */
 	}
 	if ((rc = K > 1 ? run_islands(&J) : run_search(&J)) || R > 0)
 		goto done;
@@ -507,6 +544,8 @@ static int search_main(int argc, char **argv)
 done:
 	bk_halves_free(&hv);
 	bk_seeds_free(&sd);
+	bk_frontcsv_free(&J.start_fc);
+	bk_frontcsv_free(&J.vs_fc);
 	bk_sfront_free(&J.F);
 	bk_search_free(J.S);
 	bk_samples_free(&J.s);

@@ -245,13 +245,79 @@ static size_t seed_nonfinite(const bk_seeds *sd, int k, const bk_samples *s, cha
 int search_check_starts(const job *J, const bk_seeds *sd, const bk_samples *s)
 {
 	char where[256];
-	for (int k = 0; J->a->nstart && k < sd->n; k++) {
+	for (int k = 0; k < J->a->nstart && k < sd->n; k++) { /* --start's, not --start-front's */
 		size_t bad = seed_nonfinite(sd, k, s, where, sizeof where);
 		if (bad)
 			return cli_fail("search", "--start '%.60s': the form is NaN or infinite at %zu of %zu samples where "
 			                "the target is finite (first at %s): fix the form or the domain", J->a->start[k], bad,
 			                s->n, where);
 	}
+	return 0;
+}
+
+/* Where a form of a front read back is not fit for this run: an input the
+ * target does not provide, a shape it does not take, NaN or infinite on the
+ * screening samples at its constants; NULL when it is fit. */
+static const char *front_row_unfit(const job *J, const bk_frontcsv_row *w, char *why, size_t len)
+{
+	int pair = J->kind == BK_TARGET_ENV && !search_env_in_f0(J);
+	if (pair != (w->form_b != NULL))
+		return pair ? "target env searches split pairs: form_b is empty" :
+		              "form_b is given but this search takes one form";
+	bk_form_error fe;
+	bk_form *f[2] = {bk_form_parse(w->form, &fe), w->form_b ? bk_form_parse(w->form_b, &fe) : NULL};
+	const char *msg = NULL;
+	if (!f[0] || (w->form_b && !f[1]))
+		msg = "the form does not compile";
+	else if ((bk_form_inputs(f[0]) | (f[1] ? bk_form_inputs(f[1]) : 0)) & ~J->screen.provides)
+		msg = "the form reads an input the target does not provide";
+	else {
+		bk_fit_spec sp;
+		memset(&sp, 0, sizeof sp);
+		sp.s = &J->screen;
+		sp.form[0] = f[0];
+		sp.form[1] = f[1] ? f[1] : f[0];
+		char where[200];
+		size_t bad = bk_fit_nonfinite(&sp, w->p, where, sizeof where);
+		if (bad) {
+			snprintf(why, len, "NaN or infinite at %zu of %zu screening samples (first at %s)", bad, J->screen.n,
+			         where);
+			msg = why;
+		}
+	}
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+	return msg;
+}
+
+/* --start-front FILE: every member of a front.csv (columns by name,
+ * frontcsv.h) as a seed at its constants, after the published seeds; one
+ * whose texts are a seed's already is that seed. 0, or 1 after the message. */
+static int add_front_seeds(job *J, bk_seeds *sd)
+{
+	char err[700];
+	const char *path = J->a->start_front;
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &J->start_fc, err, sizeof err))
+		return cli_fail("search", "--start-front %s", err);
+	for (int i = 0; i < J->start_fc.n; i++) {
+		const bk_frontcsv_row *w = &J->start_fc.row[i];
+		char why[300];
+		const char *msg = front_row_unfit(J, w, why, sizeof why);
+		if (msg)
+			return cli_fail("search", "--start-front %s:%d: %.60s: %s", path, w->line, w->name, msg);
+		int dup = 0;
+		for (int k = 0; k < sd->n && !dup; k++)
+			dup = !strcmp(sd->text[k], w->form) && !sd->text_b[k] == !w->form_b &&
+			      (!w->form_b || !strcmp(sd->text_b[k], w->form_b));
+		if (dup)
+			continue;
+		if (bk_seeds_add(sd, w->form, w->form_b, w->name, w->p))
+			return cli_fail("search", "--start-front %s: more than %d seeds with the %d published ones", path,
+			                MAX_SEEDS, J->ncatalog);
+		sd->from_front[sd->n - 1] = 1;
+	}
+	fprintf(stderr, "search: --start-front %s: %d members, %d seeds beside the %d published\n", path,
+	        J->start_fc.n, sd->n - J->ncatalog, J->ncatalog);
 	return 0;
 }
 
@@ -291,8 +357,15 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 		bk_seeds_add(sd, e ? e->form : J->a->start[k], e ? e->form_b : NULL, e ? e->name : NULL,
 		             e ? e->defaults : NULL); /* at most MAX_SEEDS: --start's repeat */
 	}
+	int rc = search_check_starts(J, sd, &J->screen);
+	J->ncatalog = sd->n;
+	if (!rc && J->a->start_front)
+		rc = add_front_seeds(J, sd);
 	bk_seeds_apply(sd, &J->so);
-	return search_check_starts(J, sd, &J->screen);
+	/* the published seeds alone are kept whatever the constraints say (a
+	 * front's members are starts like any other) */
+	J->so.exempt_seeds = J->ncatalog;
+	return rc;
 }
 
 /* ---- where the options act (cli.h) ----------------------------------------- */
@@ -369,6 +442,8 @@ static const cli_rule rules[] = {
 	EVERYWHERE("--gpu", NULL), /* its chips are checked against the driver when the run starts */
 	EVERYWHERE("--cost-model", "ir"),
 	EVERYWHERE("--start", NULL), /* a start is checked against the target's inputs */
+	EVERYWHERE("--start-front", NULL), /* its members are checked against the target's inputs and shape */
+	EVERYWHERE("--vs-front", NULL),    /* with --precision half: checked in search_main */
 	EVERYWHERE("--inherit", NULL),
 	EVERYWHERE("--link-prefix", "x/"),
 };

@@ -12,6 +12,7 @@
 
 #include "cli.h"
 #include "fit_out.h"
+#include "frontcsv.h"
 #include "gpucost.h"
 #include "search.h"
 #include "search/seeds.h"
@@ -26,6 +27,7 @@ typedef struct search_cli {
 	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *env_form, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
+	const char *start_front, *vs_front; /* --start-front FILE, --vs-front FILE */
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
 	int relative, no_constraints, merge_fronts, inherit;
@@ -49,6 +51,9 @@ typedef struct job {
 	const char *chip[BK_GPUCOST_MAX_CHIPS]; /* --gpu */
 	int nchips;
 	char chipbuf[512], driver[256];
+	bk_frontcsv start_fc; /* --start-front's rows: the seeds point at their texts */
+	bk_frontcsv vs_fc;    /* --vs-front's rows */
+	int ncatalog;         /* seeds before those: published (or --start), exempt from the constraints */
 } job;
 
 /* --env-form f0 (or mix): env candidates are one form in f0. */
@@ -60,7 +65,9 @@ int search_env_halves(const job *J);
 int search_setup(job *J);
 /* The inputs a candidate may read: --inputs, or what the target provides. */
 int search_setup_inputs(job *J);
-/* The seeds: the catalog's (no --start) or --start's, into sd and J->so. */
+/* The seeds: the catalog's (no --start) or --start's, then --start-front's
+ * members (after them, not exempt from the constraints, no catalog rows),
+ * into sd and J->so. */
 int search_setup_seeds(job *J, bk_seeds *sd);
 /* A --start form NaN or infinite on s at its start is refused, as fit refuses it. */
 int search_check_starts(const job *J, const bk_seeds *sd, const bk_samples *s);

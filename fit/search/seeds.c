@@ -19,6 +19,7 @@ int bk_seeds_add(bk_seeds *sd, const char *text, const char *text_b, const char 
 	sd->text_b[k] = text_b;
 	sd->name[k] = name;
 	sd->owned[k] = NULL;
+	sd->from_front[k] = 0;
 	for (int j = 0; j < BK_MAX_PARAMS; j++)
 		sd->p[k][j] = p ? p[j] : 1.0;
 	return 0;

@@ -20,6 +20,10 @@ typedef struct bk_seeds {
 	const char *text[BK_SEEDS_MAX], *text_b[BK_SEEDS_MAX], *name[BK_SEEDS_MAX];
 	char *owned[BK_SEEDS_MAX]; /* the texts made here, freed by bk_seeds_free */
 	double p[BK_SEEDS_MAX][BK_MAX_PARAMS];
+	/* 1: a member of a front read back (search --start-front), added after
+	 * the published seeds: a start of the search, held to its constraints,
+	 * not a catalog row */
+	unsigned char from_front[BK_SEEDS_MAX];
 	int n;
 } bk_seeds;
 
