@@ -246,6 +246,12 @@ SEARCH_EVALS_ENV_F0 = 300000
 # env as mix(B, S, f0) of searches of S = A + B and of B (--env-form mix): 600,000 fits
 # (3 minutes) reach issue 10's env target at cost 14 and 15; 1,200,000 give the same front
 SEARCH_EVALS_ENV_MIX = 600000
+# the half-precision searches (--precision half, issue 23), each seeded with its
+# double front (--start-front) and set beside it (--vs-front): a small budget
+# each, the four about 3 CPU-minutes together
+SEARCH_EVALS_HALF = 60000
+SEARCH_EVALS_HALF_MIX = 120000
+SEARCH_EVALS_HALF_F = 100000
 # AMD chips the study compiles every closed form for (brdfkit gpucost: Mesa RADV's
 # null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
 GPU_CHIPS = polaris10,vega10,navi21,gfx1100
@@ -261,7 +267,8 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-search-vf2d results-search-env results-compare-env results-search-f_gold \
   results-search-f_glass results-compare-spec results-stability results-compare-vf results-albedo \
   results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
-  results-compare-f results-fits
+  results-compare-f results-fits results-search-vf2d_half results-search-env_mix_half \
+  results-search-env_f0_half results-search-f_glass_half results-search-f_gold_half
 .PHONY: results-runs $(RESULTS_RUNS)
 
 results: $(TOOL)
@@ -277,7 +284,7 @@ results: $(TOOL)
 	# the IR's cost model against AMD's compiler, per chip: the weights of the
 	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
-	  $(TOOL) gpucost --calibrate --chips $$c results/search/*/front.csv \
+	  $(TOOL) gpucost --calibrate --chips $$c $(filter-out %_half/front.csv,$(wildcard results/search/*/front.csv)) \
 	    --out results/gpucost/calibration_$$c.csv || exit 1; \
 	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
 	# (results/search/moved: what issue 22's search changes moved, written once by
@@ -288,16 +295,21 @@ results: $(TOOL)
 	  results/stability/section.html results/search/vf2d/section.html results/search/vf/section.html \
 	  results/search/env/section.html results/search/env_f0/section.html results/search/env_mix/section.html \
 	  results/search/f_glass/section.html \
-	  results/search/f_gold/section.html results/search/moved/section.html \
+	  results/search/f_gold/section.html results/search/vf2d_half/section.html \
+	  results/search/env_mix_half/section.html results/search/env_f0_half/section.html \
+	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
+	  results/search/moved/section.html \
 	  results/scenes/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
 	done
-	for t in vf2d vf env env_f0 env_mix f_glass f_gold; do \
+	for t in vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_mix_half env_f0_half f_glass_half f_gold_half; do \
 	  cp results/search/$$t/front.csv notebooks_data/search_front_$$t.csv; \
 	  cp results/search/$$t/catalog.csv notebooks_data/search_catalog_$$t.csv; \
 	done
+	for t in vf2d env_mix env_f0 f_glass f_gold; do \
+	  cp results/search/$${t}_half/vs_double.csv notebooks_data/search_vs_double_$${t}_half.csv; done
 	for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
 	  cp results/scenes/$$s/scene.csv notebooks_data/scene_$$s.csv; done
 	cp results/albedo.csv notebooks_data/albedo.csv
@@ -343,6 +355,30 @@ results-search-f_glass:
 results-search-f_gold:
 	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --gpu $(GPU_CHIPS) --out results/search/f_gold \
 	  --link-prefix search/f_gold/
+# the same searches with error in half precision (members safe in half only),
+# seeded with the double front and set beside it (vs_double.csv); each after its
+# double search, whose front.csv it reads
+HALF_OPTS = --precision half --gpu $(GPU_CHIPS)
+results-search-vf2d_half: results-search-vf2d
+	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS_HALF) $(HALF_OPTS) \
+	  --start-front results/search/vf2d/front.csv --vs-front results/search/vf2d/front.csv \
+	  --out results/search/vf2d_half --link-prefix search/vf2d_half/
+results-search-env_mix_half: results-search-env_mix
+	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_HALF_MIX) $(HALF_OPTS) \
+	  --start-front results/search/env_mix/front.csv --vs-front results/search/env_mix/front.csv \
+	  --out results/search/env_mix_half --link-prefix search/env_mix_half/
+results-search-env_f0_half: results-search-env_f0
+	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_HALF) $(HALF_OPTS) \
+	  --start-front results/search/env_f0/front.csv --vs-front results/search/env_f0/front.csv \
+	  --out results/search/env_f0_half --link-prefix search/env_f0_half/
+results-search-f_glass_half: results-search-f_glass
+	$(TOOL) search --target f --evals $(SEARCH_EVALS_HALF_F) $(HALF_OPTS) \
+	  --start-front results/search/f_glass/front.csv --vs-front results/search/f_glass/front.csv \
+	  --out results/search/f_glass_half --link-prefix search/f_glass_half/
+results-search-f_gold_half: results-search-f_gold
+	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_HALF_F) $(HALF_OPTS) \
+	  --start-front results/search/f_gold/front.csv --vs-front results/search/f_gold/front.csv \
+	  --out results/search/f_gold_half --link-prefix search/f_gold_half/
 # scene specialisation: each example scene's feature sets, their terms chosen and
 # refitted on the scene's own domain, shaders and the saving against the generic one
 results-scenes:
