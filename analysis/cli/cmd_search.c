@@ -509,11 +509,9 @@ static int search_main(int argc, char **argv)
 	}
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
-	if (a.vs_front && bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err)) {
+	if (R == 0 && a.vs_front && bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err))
 		rc = cli_fail("search", "--vs-front %s", err); /* said now, not after the search */
-		goto done;
-	}
-	if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
+	else if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
 	else if (R == 0) /* a pole between the screening samples */
 		rc = search_check_starts(&J, &sd, &J.s);

@@ -5,6 +5,7 @@
 
 #include "catalog.h"
 #include "islands.h"
+#include "out.h"
 #include "search/catalogmap.h"
 #include "search/islands.h"
 
@@ -306,9 +307,18 @@ static int add_front_seeds(job *J, bk_seeds *sd)
 		if (msg)
 			return cli_fail("search", "--start-front %s:%d: %.60s: %s", path, w->line, w->name, msg);
 		int dup = 0;
-		for (int k = 0; k < sd->n && !dup; k++)
+		char slug[80], other[80];
+		bk_slug(w->name, slug, sizeof slug);
+		for (int k = 0; k < sd->n && !dup; k++) {
 			dup = !strcmp(sd->text[k], w->form) && !sd->text_b[k] == !w->form_b &&
 			      (!w->form_b || !strcmp(sd->text_b[k], w->form_b));
+			if (!dup && sd->name[k]) { /* a seed's name names its member's folder: one each */
+				bk_slug(sd->name[k], other, sizeof other);
+				if (!strcmp(slug, other))
+					return cli_fail("search", "--start-front %s:%d: the name '%.60s' is a seed's already", path,
+					                w->line, w->name);
+			}
+		}
 		if (dup)
 			continue;
 		if (bk_seeds_add(sd, w->form, w->form_b, w->name, w->p))
