@@ -84,12 +84,13 @@ void bk_halfvs_free(bk_halfvs *v)
 	memset(v, 0, sizeof *v);
 }
 
-static void num(FILE *f, double x)
+/* x in fmt; inf as "inf", NaN as nothing. */
+static void num(FILE *f, const char *fmt, double x)
 {
 	if (isinf(x))
 		fputs("inf", f);
 	else if (!isnan(x))
-		fprintf(f, "%.6g", x);
+		fprintf(f, fmt, x);
 }
 
 void bk_halfvs_csv(FILE *f, const bk_halfvs *v, const char *command, const char *dpath, const char *objective)
@@ -112,14 +113,14 @@ void bk_halfvs_csv(FILE *f, const bk_halfvs *v, const char *command, const char 
 		bk_csv_field(f, r->d >= 0 ? v->d[r->d].name : "");
 		fputc(',', f);
 		if (r->d >= 0)
-			num(f, v->d[r->d].err);
+			num(f, "%.6g", v->d[r->d].err);
 		fputc(',', f);
 		bk_csv_field(f, r->h >= 0 ? v->h[r->h].name : "");
 		fputc(',', f);
 		if (r->h >= 0)
-			num(f, v->h[r->h].err);
+			num(f, "%.6g", v->h[r->h].err);
 		fputc(',', f);
-		num(f, r->ratio);
+		num(f, "%.6g", r->ratio);
 		fprintf(f, ",%d\n", r->pass);
 	}
 }
@@ -153,7 +154,7 @@ void bk_halfvs_html(FILE *f, const bk_halfvs *v, const char *dpath, const char *
 		if (r->h >= 0)
 			fprintf(f, "%.3g", v->h[r->h].err);
 		fputs("</td><td>", f);
-		num(f, r->ratio);
+		num(f, "%.3g", r->ratio);
 		fprintf(f, "</td><td>%s</td></tr>\n", r->pass ? "yes" : "<b>no</b>");
 	}
 	fputs("</table>\n", f);
