@@ -82,6 +82,19 @@ expect_fail "check_vs on a changed double front" check_vs "$T/planted2.csv" "$T/
 [ "$(csv_where "$T/s/vs_double.csv" cost 6 pass)" = 0 ] && ok || bad "vs_double.csv: cost 6 passes"
 grep -q 'costs &le; 16 the half front' "$T/s/section.html" && ok || bad "section.html: no side-by-side table"
 
+# a checkpoint records the seeds: a resume with the same --start-front goes on,
+# with another front (or none) it is refused
+run --evals 300 --enum-max 100 --precision half --start-front "$T/planted.csv" --checkpoint "$T/ck" --out "$T/c1"
+run --evals 600 --enum-max 100 --precision half --start-front "$T/planted.csv" --resume "$T/ck" --out "$T/c2" &&
+	grep -q "resumed at" "$T/err" && ok || bad "resume with the same --start-front refused"
+grep -v planted_f6 "$T/planted.csv" >"$T/planted3.csv"
+for other in "--start-front $T/planted3.csv" ""; do
+	# shellcheck disable=SC2086 # two words or none
+	"$BK" search --target f --nx 32 --threads 1 --evals 600 --enum-max 100 --precision half $other --resume "$T/ck" \
+		--out "$T/c3" >/dev/null 2>"$T/err"
+	[ $? -eq 1 ] && grep -q "other options" "$T/err" && ok || bad "resume with '$other' accepted: $(cat "$T/err")"
+done
+
 # bad files: one line naming FILE:LINE, non-zero exit, no --out
 expect_error() { # NAME TOKEN ARGS...
 	name=$1 token=$2; shift 2
