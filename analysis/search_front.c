@@ -106,6 +106,82 @@ static void stability(member *m, int finite)
 	snprintf(m->verdict, sizeof m->verdict, "%s", !finite ? "not finite" : analysed ? verdict[worst] : "not analysed");
 }
 
+/* Half precision reads every constant rounded to half (bk_form_eval BK_F16,
+ * and the float16_t shader's literals), so the least-squares point in double
+ * is not the best point a half shader can hold: a constant that cancels
+ * against an input (p + LoH) loses its last bits. A pattern search on the
+ * half grid itself — each constant moved by 1, 2, 4 ... 64 half ulps, the
+ * best move of each kept while the error in half falls — finds the
+ * representable point. Ceres stays the solver of the least-squares problem;
+ * this is a discrete search over what the rounding allows, after it.
+ * Returns the number of moves taken (0: the double point stands). */
+static double half_step(double x, int k)
+{
+	double ax = fabs(x), ulp = ax < 0x1p-14 ? 0x1p-24 : ldexp(1.0, ilogb(ax) - 10);
+	return bk_half_round(x + k * ulp);
+}
+
+static double half_err(const bk_sfront *F, const member *m, const double *p, double *v)
+{
+	const bk_samples *s = F->s;
+	if (bk_refit_values(&m->spec, p, BK_F16, v))
+		return HUGE_VAL;
+	bk_fit_metrics h;
+	bk_samples_metrics(s, v, NULL, &h);
+	if (h.nonfinite || (!seed_exempt(F->so, m->c) && !bk_search_admissible(F->so, s, v)))
+		return HUGE_VAL;
+	double e = bk_search_error(F->so, s, v, &h);
+	return isfinite(e) ? e : HUGE_VAL;
+}
+
+static int half_polish(const bk_sfront *F, member *m)
+{
+	double *v = malloc(sizeof(double) * F->s->n);
+	if (!v)
+		return 0;
+	double p[BK_MAX_PARAMS], best;
+	memcpy(p, m->res.p, sizeof p);
+	for (int j = 0; j < m->spec.np; j++)
+		p[j] = bk_half_round(p[j]); /* what half reads: the same error */
+	best = half_err(F, m, p, v);
+	int moves = 0;
+	for (int pass = 0; pass < 16 && isfinite(best); pass++) {
+		int moved = 0;
+		for (int j = 0; j < m->spec.np; j++) {
+			if (m->spec.hold[j] || m->res.held[j])
+				continue;
+			double keep = p[j], bj = keep, ej = best;
+			for (int k = 1; k <= 64; k *= 2)
+				for (int sgn = -1; sgn <= 1; sgn += 2) {
+					p[j] = half_step(keep, sgn * k);
+					if (!isfinite(p[j]) || p[j] == keep || p[j] < m->spec.lower[j] || p[j] > m->spec.upper[j])
+						continue;
+					double e = half_err(F, m, p, v);
+					if (e < ej) {
+						ej = e;
+						bj = p[j];
+					}
+				}
+			p[j] = bj;
+			if (ej < best) {
+				best = ej;
+				moved = 1;
+				moves++;
+			}
+		}
+		if (!moved)
+			break;
+	}
+	free(v);
+	if (moves) {
+		memcpy(m->res.p, p, sizeof p);
+		size_t k = strlen(m->res.message);
+		snprintf(m->res.message + k, sizeof m->res.message - k, "%sconstants moved on the half grid to the least error "
+		         "in half (%d moves; standard errors: of the least-squares point)", k ? "; " : "", moves);
+	}
+	return moves;
+}
+
 /* The member on the full samples: fitted with fit's full fitter (the refit
  * preset: several starts, minimax for the max objective, optimality check,
  * constants rounded to what their standard errors justify) unless it is a
@@ -140,6 +216,8 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 		}
 		if (so->objective == BK_OBJ_ALBEDO && !m->f[1])
 			albedo_minimax(F, m);
+		if (so->precision == BK_F16)
+			half_polish(F, m);
 	} else {
 		memset(&m->res, 0, sizeof m->res);
 		memcpy(m->res.p, start, sizeof m->res.p);

@@ -82,6 +82,30 @@ expect_fail "check_vs on a changed double front" check_vs "$T/planted2.csv" "$T/
 [ "$(csv_where "$T/s/vs_double.csv" cost 6 pass)" = 0 ] && ok || bad "vs_double.csv: cost 6 passes"
 grep -q 'costs &le; 16 the half front' "$T/s/section.html" && ok || bad "section.html: no side-by-side table"
 
+# the half grid: f_glass's cost-6 member (constants that cancel: p1 = -4.7
+# against a product near 4.7), refitted in a half search, holds constants a
+# half shader can hold exactly (each x = m 2^e with |m| < 2048, checked here in
+# awk, not by brdfkit), and its max error in half is below that of the double
+# least-squares point rounded to half (the same metric, f16_max_abs, of the
+# same form refitted in a double search). Controls: the double point is not on
+# the grid; the comparison reversed fails.
+F6='p0 * (p1 + (p2 + sq(sq(p3 + LoH))) * (4 + sq(p2 + sq(sq(p3 + LoH)))))'
+"$BK" search --target f --start "$F6" --enum-size 0 --evals 1 --threads 1 --out "$T/g64" >/dev/null 2>&1
+"$BK" search --target f --start "$F6" --enum-size 0 --evals 1 --threads 1 --precision half --out "$T/g16" >/dev/null 2>&1
+on_half_grid() {
+	csv_where "$1/front.csv" name seed_start_1 parameters | tr ';' '\n' | sed 's/^p[0-9]*=//' |
+		awk '{ x = $1 < 0 ? -$1 : $1; if (x == 0) next; e = 0; while (x >= 2048) { x /= 2; e++ }
+		       while (x < 1024 && e > -24) { x *= 2; e-- } if (x != int(x)) bad = 1; n++ }
+		     END { exit bad || n != 4 }'
+}
+on_half_grid "$T/g16" && ok || bad "half grid: the half search's constants are not half values: $(csv_where "$T/g16/front.csv" name seed_start_1 parameters)"
+expect_fail "on_half_grid of the double point" on_half_grid "$T/g64"
+h16=$(csv_where "$T/g16/front.csv" name seed_start_1 f16_max_abs)
+h64=$(csv_where "$T/g64/front.csv" name seed_start_1 f16_max_abs)
+below() { awk -v a="$1" -v b="$2" 'BEGIN { exit !(a + 0 > 0 && a + 0 < b + 0) }'; }
+below "$h16" "$h64" && ok || bad "half grid: max error in half $h16 is not below the double point's $h64"
+expect_fail "the reversed comparison" below "$h64" "$h16"
+
 # a checkpoint records the seeds: a resume with the same --start-front goes on,
 # with another front (or none) it is refused
 run --evals 300 --enum-max 100 --precision half --start-front "$T/planted.csv" --checkpoint "$T/ck" --out "$T/c1"
