@@ -149,10 +149,15 @@ build/csvget: tests/tools/csvget.c | deps
 	@mkdir -p build
 	$(CC) $(CSTD) $(WARN) $(OPT) $< -lcsv -o $@
 
-# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh)
+# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh);
+# the lavapipe runner and the float16_t rewrite are analysis/lvp.c, shared with brdfkit render
 VK_SRC = $(sort $(wildcard tests/vk/*.c))
 build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+# tests/render.sh compares brdfkit render's EXR images pixel by pixel with this
+build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c)
+	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
 
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
@@ -165,7 +170,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
-test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
+test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -173,13 +178,14 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own) and mostly one process at a time, so make test
 # runs the two side by side on the two cores; --output-sync prints each whole.
-test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun
+test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
 	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
 	sh tests/gpucost.sh $(TOOL)
 	sh tests/lavapipe.sh build/vkrun
+	sh tests/render.sh $(TOOL)
 	sh tests/readme.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)

@@ -96,6 +96,10 @@ static int parse_params(const char *who, const char *text, double *params, int *
 static int resolve(item *it, const char *name, const char *form, const char *form_b, const char *params,
                    const char *term)
 {
+	if (form_b && !*form_b) /* an empty field of a batch: none */
+		form_b = NULL;
+	if (params && !*params)
+		params = NULL;
 	const bk_catalog_entry *e = bk_catalog_find(form);
 	snprintf(it->name, sizeof it->name, "%s", name ? name : e ? e->name : "candidate");
 	if (!name_ok(it->name)) {
