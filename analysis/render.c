@@ -55,7 +55,7 @@ static const double albedo[3] = {0.30, 0.04, 0.03};
 static const double f0_row[2][3] = {{0.04, 0.04, 0.04}, {1.00, 0.71, 0.29}};
 static const double background[3] = {0.02, 0.02, 0.025};
 #define NOV_MIN 1e-3
-#define DFG_NODES 65
+#define DFG_NODES 129
 #define GRID_U 24
 #define GRID_PHI 48
 
@@ -537,5 +537,5 @@ double bk_render_display(double x)
 	if (!(x > 0))
 		return 0;
 	double t = isinf(x) ? 1 : x / (1 + x);
-	return t <= 0.0031308 ? 12.92 * t : 1.055 * pow(t, 1 / 2.4) - 0.055;
+	return t <= 0.0031308 ? 12.92 * t : t >= 1 ? 1 : 1.055 * pow(t, 1 / 2.4) - 0.055;
 }

@@ -21,7 +21,7 @@
  *             V_smith_ggx_correlated(NoV, NoL, a), F = F_schlick(f0, 1, LoH);
  *             environment, the split sum as engines do it: prefiltered
  *             radiance × (f0·A + B), A and B brdfkit's DFG (bk_dfg,
- *             correlated Smith) at 65 nodes in sqrt(NoV) per column,
+ *             correlated Smith) at 129 nodes in sqrt(NoV) per column,
  *             Catmull-Rom between them; the prefiltered radiance is Karis'
  *             (N = V = R): ∫ L(l) D(R·h) (R·l)+ / ∫ D(R·h) (R·l)+, on a fixed
  *             24 x 48 grid of GGX samples of h (bk_ggx_sample_h) per pixel.
