@@ -22,7 +22,8 @@
  *             environment, the split sum as engines do it: prefiltered
  *             radiance × (f0·A + B), A and B brdfkit's DFG (bk_dfg,
  *             correlated Smith) at 129 nodes in sqrt(NoV) per column,
- *             Catmull-Rom between them; the prefiltered radiance is Karis'
+ *             Catmull-Rom between them (within 1e-4 of bk_dfg, tests/
+ *             test_render.c); the prefiltered radiance is Karis'
  *             (N = V = R): ∫ L(l) D(R·h) (R·l)+ / ∫ D(R·h) (R·l)+, on a fixed
  *             24 x 48 grid of GGX samples of h (bk_ggx_sample_h) per pixel.
  *   diffuse   albedo · (E NoL/π + the sky's cosine-weighted mean over the
