@@ -286,6 +286,8 @@ results: $(TOOL)
 	  $(TOOL) gpucost --calibrate --chips $$c results/search/*/front.csv \
 	    --out results/gpucost/calibration_$$c.csv || exit 1; \
 	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
+	# the rendered comparisons read the fronts just written
+	$(MAKE) --no-print-directory results-render
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
@@ -295,7 +297,7 @@ results: $(TOOL)
 	  results/search/env/section.html results/search/env_f0/section.html results/search/env_mix/section.html \
 	  results/search/f_glass/section.html \
 	  results/search/f_gold/section.html results/search/moved/section.html \
-	  results/scenes/section.html
+	  results/scenes/section.html results/render/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
@@ -354,6 +356,30 @@ results-search-f_gold:
 results-scenes:
 	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
 	  --link-prefix scenes/
+
+# rendered comparisons (brdfkit render, emitted GLSL on lavapipe, f32 and
+# float16_t): the catalog forms RENDER_CATALOG, and of each search front in
+# RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
+# the most accurate member at cost <= RENDER_MAX_COST (a front's rows rise in
+# cost as their error falls: the last row at that cost). Not in RESULTS_RUNS:
+# it reads the fronts those runs write, so `make results` runs it after them.
+# To add a front (a half-precision search's), add DIR:TERM here.
+RENDER_CATALOG = vf_talk_r env_talk_r env_karis2014
+RENDER_FRONTS = vf2d:vf vf:vf env:env env_f0:env env_mix:env
+RENDER_MAX_COST = 16
+.PHONY: results-render
+results-render: $(TOOL) build/csvget
+	@mkdir -p build
+	{ echo name,term,form,form_b,parameters; \
+	  for c in $(RENDER_CATALOG); do echo "$$c,,$$c,,"; done; \
+	  for s in $(RENDER_FRONTS); do d=$${s%%:*}; t=$${s#*:}; f=results/search/$$d/front.csv; \
+	    k=$$(build/csvget $$f cost | awk -v m=$(RENDER_MAX_COST) '$$1 <= m { k = NR } END { print k }'); \
+	    [ -n "$$k" ] || { echo "results-render: $$f: no member at cost <= $(RENDER_MAX_COST)" >&2; exit 1; }; \
+	    n=$$(build/csvget $$f name | sed -n "$${k}p"); \
+	    printf '%s,%s,"%s","%s","%s"\n' "$$d-$$n" "$$t" "$$(build/csvget $$f form name $$n)" \
+	      "$$(build/csvget $$f form_b name $$n)" "$$(build/csvget $$f parameters name $$n)" || exit 1; \
+	  done; } >build/render_batch.csv
+	$(TOOL) render --batch build/render_batch.csv --size 500 --out results/render --link-prefix render/
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*. -max_len

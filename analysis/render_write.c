@@ -30,7 +30,7 @@ static const char *const image_title[BK_RI_COUNT] = {"exact BRDF, f32", "candida
 static const char diff_text[] =
 	"difference: per pixel, the largest over R, G, B of |display(candidate) - display(exact f32)|, display = sRGB of "
 	"Reinhard x/(1+x), times 8, clamped to 1, as a ramp black (0) - red - yellow - white (1/8 of the display range "
-	"or more); magenta where either value is not finite. The EXR holds candidate - exact, linear, signed.";
+	"or more); magenta where either value is not finite.";
 
 /* ---- PNG ------------------------------------------------------------------------- */
 
@@ -134,8 +134,8 @@ static void ramp(double t, unsigned char out[3])
 
 /* ---- EXR ------------------------------------------------------------------------- */
 
-static int write_exr(const char *path, const bk_render_out *o, const float *img, const char *what, char *err,
-                     size_t errlen)
+static int write_exr(const char *path, const bk_render_out *o, const float *img, const char *what, int half,
+                     char *err, size_t errlen)
 {
 	int w = o->g->width, h = o->g->height;
 	size_t npix = (size_t)w * (size_t)h;
@@ -160,7 +160,7 @@ static int write_exr(const char *path, const bk_render_out *o, const float *img,
 		{"brdfkit:command", BK_EXR_ATTR_STRING, bk_out_command(), 0},
 		{"brdfkit:version", BK_EXR_ATTR_STRING, BK_VERSION, 0},
 	};
-	int rc = bk_exr_write(path, w, h, 3, names, data, 0, attrs, (int)(sizeof attrs / sizeof *attrs), err, errlen);
+	int rc = bk_exr_write(path, w, h, 3, names, data, half, attrs, (int)(sizeof attrs / sizeof *attrs), err, errlen);
 	free(plane);
 	return rc;
 }
@@ -253,9 +253,8 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 	const bk_render_geom *g = o->g;
 	size_t npix = (size_t)g->width * (size_t)g->height;
 	unsigned char *rgb = malloc(npix * 3);
-	float *dimg = malloc(npix * 3 * sizeof *dimg);
 	char path[4200], title[600], desc[4096];
-	int rc = rgb && dimg ? 0 : -1;
+	int rc = rgb ? 0 : -1;
 	if (rc)
 		snprintf(err, errlen, "out of memory");
 	for (int i = 0; !rc && i < BK_RI_COUNT; i++) {
@@ -264,10 +263,12 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 			continue;
 		for (size_t p = 0; p < npix; p++)
 			o->nonfinite[i] += !finite3(o->img[i] + p * 3);
+		if (o->shared_exact && (i == BK_RI_EXACT_F32 || i == BK_RI_EXACT_F16))
+			continue;
 		snprintf(title, sizeof title, "brdfkit render: %s: %.400s", image_title[i], o->form);
 		snprintf(desc, sizeof desc, "%s device: %.200s", bk_render_conventions, o->device);
 		snprintf(path, sizeof path, "%s/%s.exr", dir, image_stem[i]);
-		rc = write_exr(path, o, o->img[i], image_title[i], err, errlen);
+		rc = write_exr(path, o, o->img[i], image_title[i], i == BK_RI_EXACT_F16 || i == BK_RI_CAND_F16, err, errlen);
 		snprintf(path, sizeof path, "%s/%s.png", dir, image_stem[i]);
 		radiance_png(o->img[i], npix, rgb);
 		if (!rc)
@@ -282,8 +283,6 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 		size_t n = 0;
 		for (size_t p = 0; p < npix; p++) {
 			double d = display_diff(c + p * 3, e + p * 3);
-			for (int ch = 0; ch < 3; ch++)
-				dimg[p * 3 + ch] = c[p * 3 + ch] - e[p * 3 + ch];
 			if (isnan(d))
 				memcpy(rgb + p * 3, magenta, 3);
 			else
@@ -300,12 +299,8 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 		snprintf(title, sizeof title, "brdfkit render: difference, candidate %s - exact f32: %.400s",
 		         k ? "float16_t" : "f32", o->form);
 		snprintf(desc, sizeof desc, "%s %s", diff_text, bk_render_conventions);
-		snprintf(path, sizeof path, "%s/%s.exr", dir, stem);
-		rc = write_exr(path, o, dimg, k ? "candidate f16 - exact f32, linear" : "candidate f32 - exact f32, linear",
-		               err, errlen);
 		snprintf(path, sizeof path, "%s/%s.png", dir, stem);
-		if (!rc)
-			rc = write_png(path, g->width, g->height, rgb, title, desc, err, errlen);
+		rc = write_png(path, g->width, g->height, rgb, title, desc, err, errlen);
 	}
 	for (int k = 0; !rc && k < 2; k++)
 		if (o->shader[k]) {
@@ -317,7 +312,6 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 		rc = write_spheres(path, o, err, errlen);
 	}
 	free(rgb);
-	free(dimg);
 	return rc;
 }
 
@@ -332,7 +326,7 @@ static void cell_img(FILE *f, const char *prefix, const char *sub, const char *s
 	fputs("<td><a href=\"", f);
 	bk_html_text(f, prefix);
 	bk_html_text(f, sub);
-	fprintf(f, "%s.exr\"><img src=\"", stem);
+	fprintf(f, "%s.%s\"><img src=\"", stem, strncmp(stem, "diff", 4) ? "exr" : "png");
 	bk_html_text(f, prefix);
 	bk_html_text(f, sub);
 	fprintf(f, "%s.png\" width=\"320\" alt=\"%s\"></a></td>", stem, alt);
@@ -366,14 +360,15 @@ void bk_render_section(FILE *f, const bk_render_out *o, int n, const char *prefi
 			bk_html_text(f, o[i].params);
 		}
 		fputs("</th></tr>\n<tr><th>exact</th><th>candidate</th><th>difference</th></tr>\n<tr>", f);
-		cell_img(f, prefix, sub, "exact", o[i].img[BK_RI_EXACT_F32] != NULL, "exact f32");
+		const char *esub = o[i].shared_exact ? "" : sub;
+		cell_img(f, prefix, esub, "exact", o[i].img[BK_RI_EXACT_F32] != NULL, "exact f32");
 		cell_img(f, prefix, sub, "candidate_f32", o[i].img[BK_RI_CAND_F32] != NULL, "candidate f32");
 		cell_img(f, prefix, sub, "diff_f32", o[i].img[BK_RI_CAND_F32] != NULL, "difference f32");
 		fprintf(f, "</tr>\n<tr><td>f32: non-finite pixels %zu</td><td>", o[i].nonfinite[BK_RI_CAND_F32]);
 		if (isfinite(o[i].max_diff[0]))
 			fprintf(f, "display difference max %.3g, mean %.3g", o[i].max_diff[0], o[i].mean_diff[0]);
 		fputs("</td><td></td></tr>\n<tr>", f);
-		cell_img(f, prefix, sub, "exact_f16", o[i].img[BK_RI_EXACT_F16] != NULL, "exact f16");
+		cell_img(f, prefix, esub, "exact_f16", o[i].img[BK_RI_EXACT_F16] != NULL, "exact f16");
 		cell_img(f, prefix, sub, "candidate_f16", o[i].img[BK_RI_CAND_F16] != NULL, "candidate f16");
 		cell_img(f, prefix, sub, "diff_f16", o[i].img[BK_RI_CAND_F16] != NULL, "difference f16");
 		fprintf(f, "</tr>\n<tr><td>float16_t: non-finite pixels exact %zu</td><td>candidate %zu", o[i].nonfinite[BK_RI_EXACT_F16],

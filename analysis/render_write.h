@@ -4,10 +4,14 @@
  *
  *   exact.exr|png            the exact shading in f32
  *   candidate_f32.exr|png    the candidate in f32
- *   diff_f32.exr|png         candidate_f32 - exact (EXR: signed linear RGB;
- *                            PNG: the stated display difference, render.h)
+ *   diff_f32.png             the stated display difference (render.h) of
+ *                            candidate_f32 against exact (the linear difference
+ *                            is the two EXRs' difference)
  *   exact_f16, candidate_f16, diff_f16 (against the f32 exact image): the
- *                            same with the shading in float16_t
+ *                            same with the shading in float16_t; their EXRs are
+ *                            HALF channels, which hold every f16 result exactly
+ *   (a batch writes exact and exact_f16 once, in its top directory: the scene
+ *   and the exact shading are the same for every candidate)
  *   spheres.csv              per sphere: where it is, its roughness and
  *                            material, and per image its non-finite pixels
  *                            and display differences
@@ -15,7 +19,7 @@
  *   section.html             the images side by side (exact | candidate |
  *                            difference, f32 and f16), every user string escaped
  *
- * EXR: linear radiance, FLOAT RGB, attributes brdfkit:conventions (the scene,
+ * EXR: linear radiance, RGB (FLOAT for f32, HALF for f16), attributes brdfkit:conventions (the scene,
  * the units), brdfkit:image, brdfkit:form, brdfkit:term, brdfkit:device,
  * brdfkit:command. PNG: 8-bit sRGB (render.h's display), tEXt Title,
  * Description (the conventions and the difference scale), Software, Command.
@@ -39,6 +43,8 @@ typedef struct bk_render_out {
 	const bk_render_geom *g;
 	float *img[BK_RI_COUNT]; /* width*height*3 each, or NULL */
 	char *shader[2];         /* f32, f16 text, or NULL */
+	int shared_exact;        /* the exact images are the batch's, one directory up:
+	                            bk_render_write leaves them out, the section links there */
 	/* filled by bk_render_write: per image, non-finite pixels; per precision,
 	 * the largest and mean display difference over sphere pixels */
 	size_t nonfinite[BK_RI_COUNT];

@@ -293,12 +293,12 @@ static const cli_dim dims[] = {
 };
 enum { IN_FORM, IN_BATCH };
 static const cli_rule rules[] = {
-	{"--form", NULL, 0, 1u << IN_FORM, "the candidate", "vf_talk_r"},
+	{"--form", NULL, CLI_EVERYWHERE, 0, NULL, "vf_talk_r"},
 	{"--form-b", NULL, 0, 1u << IN_FORM, "the B of a split env form", "1"},
 	{"--params", NULL, 0, 1u << IN_FORM, "the form's parameters", "p0=1"},
 	{"--term", NULL, 0, 1u << IN_FORM, "the term the form replaces", "vf"},
 	{"--name", NULL, 0, 1u << IN_FORM, "the render's name", "x"},
-	{"--batch", NULL, 0, 1u << IN_BATCH, "a CSV of candidates", "b.csv"},
+	{"--batch", NULL, CLI_EVERYWHERE, 0, NULL, "b.csv"},
 	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "f32"},
 	{"--size", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
 	{"--roughness", NULL, CLI_EVERYWHERE, 0, NULL, "0.5,1"},
@@ -358,9 +358,20 @@ static int write_all(const char *out, item *items, int n, int batch, const bk_re
 		o[i].shader[0] = items[i].shader[0];
 		o[i].shader[1] = items[i].shader[1];
 		snprintf(path, sizeof path, "%s", od.tmp);
+		if (batch && i == 0) { /* the batch's exact images, once, at the top */
+			bk_render_out top = o[0];
+			top.img[BK_RI_CAND_F32] = top.img[BK_RI_CAND_F16] = NULL;
+			top.shader[0] = top.shader[1] = NULL;
+			top.name = "exact";
+			top.form = "the exact BRDF (D_ggx, V_smith_ggx_correlated, F_schlick; split sum f0 A + B)";
+			top.form_b = top.params = NULL;
+			top.term = "none";
+			rc = bk_render_write(od.tmp, &top, err, sizeof err);
+		}
 		if (batch) {
+			o[i].shared_exact = 1;
 			snprintf(path, sizeof path, "%s/%s", od.tmp, items[i].name);
-			if (mkdir(path, 0777)) {
+			if (!rc && mkdir(path, 0777)) {
 				snprintf(err, sizeof err, "%.1000s: %s", path, strerror(errno));
 				rc = -1;
 			}
@@ -436,7 +447,9 @@ int cmd_render(int argc, char **argv)
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	if ((rc = cli_applicable(&cmd, (int[]){batch ? IN_BATCH : IN_FORM})))
+	/* --form and --batch exclude each other (said below); the options of one
+	 * candidate act only with --form */
+	if ((rc = cli_applicable(&cmd, (int[]){form ? IN_FORM : IN_BATCH})))
 		return rc;
 	if (!form == !batch)
 		return cli_usage(&cmd, "give one of --form and --batch");
