@@ -314,8 +314,9 @@ static int render_item(item *it, bk_lvp *v, const bk_render_geom *g, int want_f3
 	char err[1200];
 	size_t npix = (size_t)g->width * (size_t)g->height * 3;
 	bk_render_cand c = {it->term, it->f, it->fb, it->params, it->name};
+	/* the exact f32 image is every difference's reference: it runs for f16 alone too */
 	for (int k = 0; k < 2; k++) {
-		if (!(k ? want_f16 : want_f32))
+		if (k && !want_f16)
 			continue;
 		bk_precision prec = k ? BK_F16 : BK_F32;
 		float *img[2] = {malloc(npix * sizeof(float)), malloc(npix * sizeof(float))};
@@ -333,6 +334,12 @@ static int render_item(item *it, bk_lvp *v, const bk_render_geom *g, int want_f3
 			secs[1] += t[1];
 		} else if (bk_render_cpu(g, &c, k ? BK_F16 : BK_F64, img))
 			return cli_fail("render", "out of memory");
+		if (!k && !want_f32) {
+			free(it->img[BK_RI_CAND_F32]);
+			it->img[BK_RI_CAND_F32] = NULL;
+			free(it->shader[0]);
+			it->shader[0] = NULL;
+		}
 	}
 	return 0;
 }
@@ -390,9 +397,11 @@ static int write_all(const char *out, item *items, int n, int batch, const bk_re
 		}
 	}
 	for (int i = 0; i < n && !rc; i++) {
-		printf("render: %s (replaces %s): non-finite pixels f32 %zu, f16 %zu (exact f16 %zu)", items[i].name,
-		       o[i].term, o[i].nonfinite[BK_RI_CAND_F32], o[i].nonfinite[BK_RI_CAND_F16],
-		       o[i].nonfinite[BK_RI_EXACT_F16]);
+		printf("render: %s (replaces %s): non-finite pixels", items[i].name, o[i].term);
+		if (o[i].img[BK_RI_CAND_F32])
+			printf(" f32 %zu%s", o[i].nonfinite[BK_RI_CAND_F32], o[i].img[BK_RI_CAND_F16] ? "," : "");
+		if (o[i].img[BK_RI_CAND_F16])
+			printf(" f16 %zu (exact f16 %zu)", o[i].nonfinite[BK_RI_CAND_F16], o[i].nonfinite[BK_RI_EXACT_F16]);
 		for (int k = 0; k < 2; k++)
 			if (isfinite(o[i].max_diff[k]))
 				printf("; %s display difference max %.3g mean %.3g", k ? "f16" : "f32", o[i].max_diff[k],
