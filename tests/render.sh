@@ -74,6 +74,13 @@ cmp_fails "roughness 0.99 for 1" "$T/wrong_r/exact.exr" "$T/gpu/exact.exr" $REL 
 # shellcheck disable=SC2086
 run perturbed --form 'D_ggx(NoH, a)*1.0001' --term d $S --device cpu --precision f32
 cmp_fails "D x 1.0001" "$T/perturbed/candidate_f32.exr" "$T/gpu/exact.exr" $REL $ABS
+# determinism: the same command writes the same bytes
+mv "$T/gpu" "$T/gpu1"
+# shellcheck disable=SC2086
+run gpu --form vf_talk_r $S
+same=1
+for f in "$T"/gpu1/* "$T/gpu1/.brdfkit-output"; do cmp -s "$f" "$T/gpu/${f##*/}" || { same=0; echo "differs: ${f##*/}"; }; done
+[ "$same" -eq 1 ] && ok || bad "a second run wrote other bytes"
 # the EXR and PNG state their conventions and provenance
 grep -q 'brdfkit:conventions' "$T/gpu/exact.exr" && grep -q 'Reinhard' "$T/gpu/diff_f32.png" &&
 	grep -q 'Command' "$T/gpu/exact.png" && ok || bad "conventions missing from the EXR or PNG headers"
