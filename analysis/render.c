@@ -54,9 +54,9 @@ static const double light_e[3] = {3.0, 2.9, 2.7};
 static const double albedo[3] = {0.30, 0.04, 0.03};
 static const double f0_row[2][3] = {{0.04, 0.04, 0.04}, {1.00, 0.71, 0.29}};
 static const double background[3] = {0.02, 0.02, 0.025};
-/* NoV floor: the silhouette's pixel centres come near NoV = 0, where V terms
- * divide by zero; 1e-3 (about a pixel's width from the rim of a 500-pixel
- * sphere) keeps every form in its domain and is a normal number in half. */
+/* NoV floor: a pixel centre can fall arbitrarily near the silhouette, NoV
+ * -> 0, where V terms divide by zero; 1e-3 keeps every form in its domain
+ * (engines clamp NoV alike) and is a normal number in half. */
 #define NOV_MIN 1e-3
 /* the DFG per column: 129 nodes in sqrt(NoV), which crowds them where B
  * bends at grazing angles (tests/test_render.c: within 1e-4 of bk_dfg) */
