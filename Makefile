@@ -149,10 +149,15 @@ build/csvget: tests/tools/csvget.c | deps
 	@mkdir -p build
 	$(CC) $(CSTD) $(WARN) $(OPT) $< -lcsv -o $@
 
-# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh)
+# tests/vk: the emitted GLSL run on Mesa's lavapipe against the IR (tests/lavapipe.sh);
+# the lavapipe runner and the float16_t rewrite are analysis/lvp.c, shared with brdfkit render
 VK_SRC = $(sort $(wildcard tests/vk/*.c))
 build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+# tests/render.sh compares brdfkit render's EXR images pixel by pixel with this
+build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c)
+	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
 
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
@@ -165,7 +170,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
-test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
+test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -173,13 +178,14 @@ test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own) and mostly one process at a time, so make test
 # runs the two side by side on the two cores; --output-sync prints each whole.
-test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun
+test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
 	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
 	sh tests/gpucost.sh $(TOOL)
 	sh tests/lavapipe.sh build/vkrun
+	sh tests/render.sh $(TOOL)
 	sh tests/readme.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
@@ -287,6 +293,8 @@ results: $(TOOL)
 	  $(TOOL) gpucost --calibrate --chips $$c $(filter-out %_half/front.csv,$(wildcard results/search/*/front.csv)) \
 	    --out results/gpucost/calibration_$$c.csv || exit 1; \
 	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
+	# the rendered comparisons read the fronts just written
+	$(MAKE) --no-print-directory results-render
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
 	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
@@ -299,7 +307,7 @@ results: $(TOOL)
 	  results/search/env_mix_half/section.html results/search/env_f0_half/section.html \
 	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
 	  results/search/moved/section.html \
-	  results/scenes/section.html
+	  results/scenes/section.html results/render/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
@@ -384,6 +392,30 @@ results-search-f_gold_half: results-search-f_gold
 results-scenes:
 	$(TOOL) scene $(sort $(wildcard analysis/scenes/*.json)) --gpu $(GPU_CHIPS) --out results/scenes \
 	  --link-prefix scenes/
+
+# rendered comparisons (brdfkit render, emitted GLSL on lavapipe, f32 and
+# float16_t): the catalog forms RENDER_CATALOG, and of each search front in
+# RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
+# the most accurate member at cost <= RENDER_MAX_COST (a front's rows rise in
+# cost as their error falls: the last row at that cost). Not in RESULTS_RUNS:
+# it reads the fronts those runs write, so `make results` runs it after them.
+# To add a front (a half-precision search's), add DIR:TERM here.
+RENDER_CATALOG = vf_talk_r env_talk_r env_karis2014
+RENDER_FRONTS = vf2d:vf vf:vf env:env env_f0:env env_mix:env vf2d_half:vf env_f0_half:env env_mix_half:env
+RENDER_MAX_COST = 16
+.PHONY: results-render
+results-render: $(TOOL) build/csvget
+	@mkdir -p build
+	{ echo name,term,form,form_b,parameters; \
+	  for c in $(RENDER_CATALOG); do echo "$$c,,$$c,,"; done; \
+	  for s in $(RENDER_FRONTS); do d=$${s%%:*}; t=$${s#*:}; f=results/search/$$d/front.csv; \
+	    k=$$(build/csvget $$f cost | awk -v m=$(RENDER_MAX_COST) '$$1 <= m { k = NR } END { print k }'); \
+	    [ -n "$$k" ] || { echo "results-render: $$f: no member at cost <= $(RENDER_MAX_COST)" >&2; exit 1; }; \
+	    n=$$(build/csvget $$f name | sed -n "$${k}p"); \
+	    printf '%s,%s,"%s","%s","%s"\n' "$$d-$$n" "$$t" "$$(build/csvget $$f form name $$n)" \
+	      "$$(build/csvget $$f form_b name $$n)" "$$(build/csvget $$f parameters name $$n)" || exit 1; \
+	  done; } >build/render_batch.csv
+	$(TOOL) render --batch build/render_batch.csv --size 500 --out results/render --link-prefix render/
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*. -max_len

@@ -21,5 +21,6 @@ int cmd_stability(int argc, char **argv);
 int cmd_search(int argc, char **argv);
 int cmd_scene(int argc, char **argv);
 int cmd_gpucost(int argc, char **argv);
+int cmd_render(int argc, char **argv);
 
 #endif

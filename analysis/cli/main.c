@@ -29,6 +29,7 @@ static const struct {
 	{"scene", cmd_scene, "from a scene file to one specialised, refitted shader per feature set"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 	{"gpucost", cmd_gpucost, "AMD machine code of forms (Mesa RADV null device, ACO), net of a baseline"},
+	{"render", cmd_render, "spheres: exact BRDF, a candidate and their difference, emitted GLSL on lavapipe (f32, f16)"},
 };
 
 static void usage(FILE *out)

@@ -27,7 +27,7 @@
  */
 #include "envelope.h"
 #include "glsl.h"
-#include "lvp.h"
+#include "lvp.h" /* analysis/lvp.h */
 #include "sources.h"
 
 #include "clock.h"
@@ -285,7 +285,7 @@ typedef struct batch {
 	unsigned **spirv;
 	size_t *nwords;
 	int npipe;
-	lvp_dispatch *d;
+	bk_lvp_dispatch *d;
 } batch;
 
 static void free_batch(batch *b)
@@ -315,7 +315,7 @@ static int compile_batch(const vk_fns *fns, const grid *g, bk_precision prec, ba
 			int k = 0;
 			for (; i < fns->n && k < PER_SHADER; i++)
 				if (fns->v[i].group == grp) {
-					b->d[i] = (lvp_dispatch){b->npipe, (uint32_t)k, (uint32_t)g->off[i], (uint32_t)g->off[i],
+					b->d[i] = (bk_lvp_dispatch){b->npipe, (uint32_t)k, (uint32_t)g->off[i], (uint32_t)g->off[i],
 					                         (uint32_t)g->n[i]};
 					pick[k++] = &fns->v[i];
 				}
@@ -335,7 +335,7 @@ static int compile_batch(const vk_fns *fns, const grid *g, bk_precision prec, ba
 	return rc;
 }
 
-static int run_precision(lvp *v, const vk_fns *fns, const grid *g, bk_precision prec, stats *st)
+static int run_precision(bk_lvp *v, const vk_fns *fns, const grid *g, bk_precision prec, stats *st)
 {
 	char err[1024];
 	batch b = {0};
@@ -344,7 +344,7 @@ static int run_precision(lvp *v, const vk_fns *fns, const grid *g, bk_precision 
 	int rc = out ? compile_batch(fns, g, prec, &b, err, sizeof err) : (snprintf(err, sizeof err, "out of memory"), -1);
 	double t1 = bk_clock_now();
 	if (!rc)
-		rc = lvp_run(v, b.spirv, b.nwords, b.npipe, g->in, g->total * SLOTS, b.d, fns->n, out, g->total, t, err,
+		rc = bk_lvp_run(v, b.spirv, b.nwords, b.npipe, g->in, g->total * SLOTS, b.d, fns->n, out, g->total, t, err,
 		             sizeof err);
 	double t2 = bk_clock_now();
 	for (int i = 0; !rc && i < fns->n; i++)
@@ -449,11 +449,11 @@ int main(int argc, char **argv)
 		return rc;
 	}
 	grid g = {0};
-	lvp *v = NULL;
+	bk_lvp *v = NULL;
 	if (make_grid(&fns, o.samples, &g)) {
 		fprintf(stderr, "vkrun: out of memory\n");
 		rc = 1;
-	} else if ((rc = lvp_open(&v, driver, sizeof driver, err, sizeof err)) != 0) {
+	} else if ((rc = bk_lvp_open(&v, driver, sizeof driver, err, sizeof err)) != 0) {
 		fprintf(stderr, "vkrun: %s\n", err);
 		rc = 1;
 	}
@@ -466,7 +466,7 @@ int main(int argc, char **argv)
 			printf("vkrun: %d functions differ (f32 %d, f16 %d)\n", failed, st[0].failed, st[1].failed);
 		rc = rc || failed ? 1 : 0;
 	}
-	lvp_close(v);
+	bk_lvp_close(v);
 	free(g.off);
 	free(g.n);
 	free(g.in);

@@ -1,17 +1,22 @@
 /*
- * lvp.c — compute dispatches on Mesa's lavapipe (see lvp.h).
+ * lvp.c — compute dispatches on Mesa's lavapipe, the shader head and the
+ * float16_t rewrite (see lvp.h).
  */
 #include "lvp.h"
 
 #include "clock.h"
+#include "half.h"
 
 #include <vulkan/vulkan.h>
 
+#include <ctype.h>
+#include <dlfcn.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-struct lvp {
+struct bk_lvp {
 	VkInstance inst;
 	VkPhysicalDevice pd;
 	VkDevice dev;
@@ -23,7 +28,7 @@ struct lvp {
 	VkDescriptorPool dpool;
 };
 
-void lvp_close(lvp *v)
+void bk_lvp_close(bk_lvp *v)
 {
 	if (!v)
 		return;
@@ -42,11 +47,11 @@ void lvp_close(lvp *v)
 static int no_driver(char *err, size_t errlen, const char *what)
 {
 	snprintf(err, errlen, "no lavapipe (%s); install it: apt-get install mesa-vulkan-drivers", what);
-	return LVP_NO_DRIVER;
+	return BK_LVP_NO_DRIVER;
 }
 
 /* The llvmpipe physical device, its driver string and what it offers. */
-static int pick(lvp *v, char *driver, size_t driverlen, char *err, size_t errlen)
+static int pick(bk_lvp *v, char *driver, size_t driverlen, char *err, size_t errlen)
 {
 	VkPhysicalDevice pd[16];
 	uint32_t n = 16;
@@ -74,7 +79,7 @@ static int pick(lvp *v, char *driver, size_t driverlen, char *err, size_t errlen
 	return no_driver(err, errlen, "no physical device is llvmpipe");
 }
 
-static int make_device(lvp *v, char *err, size_t errlen)
+static int make_device(bk_lvp *v, char *err, size_t errlen)
 {
 	VkQueueFamilyProperties qf[16];
 	uint32_t nq = 16;
@@ -128,30 +133,45 @@ static int make_device(lvp *v, char *err, size_t errlen)
 	return 0;
 }
 
-int lvp_open(lvp **out, char *driver, size_t driverlen, char *err, size_t errlen)
+/* As analysis/gpucost.c does for RADV: the loader unloads the driver with the
+ * instance, and a block the driver keeps in a global would then read as a
+ * leak in a module LeakSanitizer cannot name. Loaded once more and never
+ * unloaded, lavapipe stays mapped and a report names it (tests/lsan.supp).
+ * Only the default ICD is pinned; a failure is vkCreateInstance's to report. */
+static void pin_driver(void)
+{
+	const char *icd = getenv("VK_ICD_FILENAMES");
+	if (!icd || strcmp(icd, BK_LVP_ICD))
+		return;
+	dlopen("libvulkan_lvp.so", RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+	dlopen("libVkLayer_MESA_device_select.so", RTLD_NOW | RTLD_LOCAL | RTLD_NODELETE);
+}
+
+int bk_lvp_open(bk_lvp **out, char *driver, size_t driverlen, char *err, size_t errlen)
 {
 	/* lavapipe, not whatever else the loader finds (a GPU, RADV's null device);
 	 * a pipeline cache hit would skip the compile the run should time */
-	setenv("VK_ICD_FILENAMES", LVP_ICD, 0);
+	setenv("VK_ICD_FILENAMES", BK_LVP_ICD, 0);
 	setenv("MESA_SHADER_CACHE_DISABLE", "true", 1);
-	lvp *v = calloc(1, sizeof *v);
+	pin_driver();
+	bk_lvp *v = calloc(1, sizeof *v);
 	if (!v) {
 		snprintf(err, errlen, "out of memory");
 		return -1;
 	}
-	VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO, .pApplicationName = "brdfkit tests/vk",
+	VkApplicationInfo app = {.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO, .pApplicationName = "brdfkit",
 	                         .apiVersion = VK_API_VERSION_1_2};
 	VkInstanceCreateInfo ici = {.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, .pApplicationInfo = &app};
 	VkResult r = vkCreateInstance(&ici, NULL, &v->inst);
 	int rc;
 	if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
-		rc = no_driver(err, errlen, "the Vulkan loader found no driver at " LVP_ICD);
+		rc = no_driver(err, errlen, "the Vulkan loader found no driver at " BK_LVP_ICD);
 	else if (r != VK_SUCCESS)
 		rc = (snprintf(err, errlen, "vkCreateInstance failed (VkResult %d)", (int)r), -1);
 	else if ((rc = pick(v, driver, driverlen, err, errlen)) == 0)
 		rc = make_device(v, err, errlen);
 	if (rc) {
-		lvp_close(v);
+		bk_lvp_close(v);
 		return rc;
 	}
 	*out = v;
@@ -166,7 +186,7 @@ typedef struct buffer {
 	void *map;
 } buffer;
 
-static int make_buffer(lvp *v, size_t size, buffer *b)
+static int make_buffer(bk_lvp *v, size_t size, buffer *b)
 {
 	VkBufferCreateInfo bi = {.sType = VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO, .size = size ? size : 4,
 	                         .usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT};
@@ -192,7 +212,7 @@ static int make_buffer(lvp *v, size_t size, buffer *b)
 	return -1;
 }
 
-static void free_buffer(lvp *v, buffer *b)
+static void free_buffer(bk_lvp *v, buffer *b)
 {
 	if (b->m)
 		vkFreeMemory(v->dev, b->m, NULL);
@@ -200,7 +220,7 @@ static void free_buffer(lvp *v, buffer *b)
 		vkDestroyBuffer(v->dev, b->b, NULL);
 }
 
-static int make_pipelines(lvp *v, unsigned *const *spirv, const size_t *nwords, int n, VkPipeline *pipe,
+static int make_pipelines(bk_lvp *v, unsigned *const *spirv, const size_t *nwords, int n, VkPipeline *pipe,
                           char *err, size_t errlen)
 {
 	for (int i = 0; i < n; i++) {
@@ -227,7 +247,7 @@ static int make_pipelines(lvp *v, unsigned *const *spirv, const size_t *nwords, 
 }
 
 /* One command buffer: every dispatch (they write disjoint outputs), one submit. */
-static int dispatch_all(lvp *v, VkDescriptorSet set, const VkPipeline *pipe, const lvp_dispatch *d, int nd,
+static int dispatch_all(bk_lvp *v, VkDescriptorSet set, const VkPipeline *pipe, const bk_lvp_dispatch *d, int nd,
                         char *err, size_t errlen)
 {
 	VkCommandBufferAllocateInfo ca = {.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO,
@@ -270,8 +290,8 @@ static int dispatch_all(lvp *v, VkDescriptorSet set, const VkPipeline *pipe, con
 	return rc;
 }
 
-int lvp_run(lvp *v, unsigned *const *spirv, const size_t *nwords, int npipe, const float *in, size_t nin,
-            const lvp_dispatch *d, int nd, float *out, size_t nout, double seconds[2], char *err, size_t errlen)
+int bk_lvp_run(bk_lvp *v, unsigned *const *spirv, const size_t *nwords, int npipe, const float *in, size_t nin,
+            const bk_lvp_dispatch *d, int nd, float *out, size_t nout, double seconds[2], char *err, size_t errlen)
 {
 	buffer bin = {0}, bout = {0};
 	VkPipeline *pipe = calloc((size_t)npipe + 1, sizeof *pipe);
@@ -320,3 +340,113 @@ int lvp_run(lvp *v, unsigned *const *spirv, const size_t *nwords, int npipe, con
 	free(pipe);
 	return rc;
 }
+
+/* ---- the GLSL side ------------------------------------------------------------ */
+
+int bk_lvp_ident_char(char c)
+{
+	return isalnum((unsigned char)c) || c == '_';
+}
+
+/* The length of a float literal at s (digits, a '.', an exponent), 0 if
+ * there is none or it runs into an identifier (0x7f800000u, 8u). */
+size_t bk_lvp_literal_len(const char *s)
+{
+	if (!isdigit((unsigned char)*s) && !(*s == '.' && isdigit((unsigned char)s[1])))
+		return 0;
+	size_t k = strspn(s, "0123456789.");
+	if (s[k] == 'e' || s[k] == 'E') {
+		size_t j = k + 1 + (s[k + 1] == '+' || s[k + 1] == '-');
+		if (isdigit((unsigned char)s[j]))
+			k = j + strspn(s + j, "0123456789");
+	}
+	return bk_lvp_ident_char(s[k]) ? 0 : k;
+}
+
+/* The length of the comment at s, 0 if s is no comment. */
+size_t bk_lvp_comment_len(const char *s)
+{
+	if (s[0] == '/' && s[1] == '*') {
+		const char *e = strstr(s + 2, "*/");
+		return e ? (size_t)(e + 2 - s) : strlen(s);
+	}
+	return s[0] == '/' && s[1] == '/' ? strcspn(s, "\n") : 0;
+}
+
+/* A comment at s copied whole; its length, or 0 if s is no comment. */
+static size_t put_comment(bk_strbuf *b, const char *s)
+{
+	size_t k = bk_lvp_comment_len(s);
+	if (k)
+		bk_sb_put(b, "%.*s", (int)k, s);
+	return k;
+}
+
+/* v as the exact decimal of its half rounding: a half has at most 11
+ * significant bits and 24 fraction bits, which 30 digits always spell out. */
+static void put_half_literal(bk_strbuf *b, double v)
+{
+	char num[64];
+	double h = bk_half_round_inline((float)v);
+	if (isinf(h)) { /* past 65504: no literal spells it (the IR's f16 has it infinite too) */
+		bk_sb_put(b, "float16_t(uintBitsToFloat(0x7f800000u))");
+		return;
+	}
+	snprintf(num, sizeof num, "%.30g", h);
+	bk_sb_put(b, "%s%shf", num, strpbrk(num, ".e") ? "" : ".0");
+}
+
+char *bk_lvp_half_text(const char *s)
+{
+	bk_strbuf b = {0};
+	while (*s) {
+		size_t k = put_comment(&b, s);
+		if (k) {
+			s += k;
+			continue;
+		}
+		if (isalpha((unsigned char)*s) || *s == '_') {
+			k = 0;
+			while (bk_lvp_ident_char(s[k]))
+				k++;
+			if (k == 5 && !strncmp(s, "float", 5))
+				bk_sb_put(&b, "float16_t");
+			else if ((k == 5 && !strncmp(s, "highp", 5)) || (k == 7 && !strncmp(s, "mediump", 7)) ||
+			         (k == 4 && !strncmp(s, "lowp", 4)))
+				k += strspn(s + k, " "); /* the qualifier and its space */
+			else if (k == 15 && !strncmp(s, "uintBitsToFloat", 15) && s[k] == '(') {
+				size_t close = strcspn(s, ")"); /* its argument is one literal */
+				bk_sb_put(&b, "float16_t(%.*s)", (int)(close + 1), s);
+				k = close + (s[close] == ')');
+			} else
+				bk_sb_put(&b, "%.*s", (int)k, s);
+			s += k;
+		} else if ((k = bk_lvp_literal_len(s)) > 0) {
+			put_half_literal(&b, strtod(s, NULL));
+			s += k;
+		} else
+			bk_sb_put(&b, "%c", *s++);
+	}
+	if (b.oom) {
+		free(b.s);
+		return NULL;
+	}
+	return b.s;
+}
+
+/* The header: SignedZeroInfNanPreserve for the arithmetic's width, so that
+ * NaN and infinities mean something (without it the driver may assume there
+ * are none: "Precision and Operation of SPIR-V Instructions"); glslang keeps
+ * one such mode per id, and the conversions of the f16 shader's main are exact. */
+void bk_lvp_head(bk_strbuf *b, bk_precision prec)
+{
+	int w = prec == BK_F16 ? 16 : 32;
+	bk_sb_put(b, "#version 450\n%s#extension GL_EXT_spirv_intrinsics : require\n"
+	             "spirv_execution_mode(extensions = [\"SPV_KHR_float_controls\"], capabilities = [4466], 4461, %d);\n"
+	             "layout(local_size_x = 64) in;\n"
+	             "layout(std430, set = 0, binding = 0) readonly buffer Inputs { float v[]; } inb;\n"
+	             "layout(std430, set = 0, binding = 1) writeonly buffer Outputs { float v[]; } outb;\n"
+	             "layout(push_constant) uniform Pick { uint fn, in_off, out_off, n; } pc;\n\n",
+	          prec == BK_F16 ? "#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n" : "", w);
+}
+

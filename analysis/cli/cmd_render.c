@@ -1,0 +1,518 @@
+/*
+ * cmd_render.c — brdfkit render: spheres shaded with the exact BRDF and with
+ * a candidate in place of one term, by the emitted GLSL on Mesa's lavapipe in
+ * f32 and float16_t (or by the IR on the CPU), written as EXR, PNG and a page
+ * section (analysis/render.h, analysis/render_write.h). One form, or a batch
+ * CSV of them (columns read by name: name, term, form, form_b, parameters).
+ */
+#include "brdf.h"
+#include "catalog.h"
+#include "cli.h"
+#include "cmd.h"
+#include "form_check.h"
+#include "out.h"
+#include "render.h"
+#include "render_write.h"
+
+#include <csv.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#define MAX_ITEMS 64
+
+/* One render: the candidate as given and as parsed. */
+typedef struct item {
+	char name[64];
+	char *form, *form_b, *params_text; /* the texts (catalog's or given) */
+	double params[BK_MAX_PARAMS];
+	int have[BK_MAX_PARAMS];
+	bk_render_term term;
+	bk_form *f, *fb;
+	float *img[BK_RI_COUNT];
+	char *shader[2];
+} item;
+
+static void free_item(item *it)
+{
+	free(it->form);
+	free(it->form_b);
+	free(it->params_text);
+	bk_form_free(it->f);
+	bk_form_free(it->fb);
+	for (int i = 0; i < BK_RI_COUNT; i++)
+		free(it->img[i]);
+	free(it->shader[0]);
+	free(it->shader[1]);
+}
+
+static char *dup_or_null(const char *s)
+{
+	return s && *s ? strdup(s) : NULL;
+}
+
+/* A name that may be a directory and an HTML word: [A-Za-z0-9_.-], not
+ * starting with '.' or '-', 1..63 characters. */
+static int name_ok(const char *s)
+{
+	size_t n = strlen(s);
+	if (n < 1 || n > 63 || s[0] == '.' || s[0] == '-')
+		return 0;
+	return strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") == n;
+}
+
+/* "p0=X;p1=Y" (front.csv's parameters column; ',' also separates) into
+ * params/have. 0, or 2 after a usage line. */
+static int parse_params(const char *who, const char *text, double *params, int *have, int *given)
+{
+	char *copy = strdup(text), *save = NULL;
+	if (!copy)
+		return cli_fail("render", "out of memory");
+	int rc = 0;
+	for (char *t = strtok_r(copy, ";,", &save); t && !rc; t = strtok_r(NULL, ";,", &save)) {
+		t += strspn(t, " ");
+		char *eq = strchr(t, '='), *end;
+		long k = t[0] == 'p' && t[1] >= '0' && t[1] <= '9' ? strtol(t + 1, &end, 10) : -1;
+		if (!eq || k < 0 || end != eq || k >= BK_MAX_PARAMS || cli_number(eq + 1, &params[k])) {
+			fprintf(stderr, "brdfkit render: %s: parameters: expected p0=X;p1=Y with N in 0..%d and finite "
+			                "numbers, got '%.60s'\n", who, BK_MAX_PARAMS - 1, t);
+			rc = 2;
+		} else {
+			have[k] = 1;
+			if (given)
+				given[k] = 1;
+		}
+	}
+	free(copy);
+	return rc;
+}
+
+/* Resolves and checks one candidate: a catalog NAME (its published
+ * parameters, its target's term unless term is given) or a form. 0, or 2
+ * after one line naming the input. */
+static int resolve(item *it, const char *name, const char *form, const char *form_b, const char *params,
+                   const char *term)
+{
+	if (form_b && !*form_b) /* an empty field of a batch: none */
+		form_b = NULL;
+	if (params && !*params)
+		params = NULL;
+	const bk_catalog_entry *e = bk_catalog_find(form);
+	snprintf(it->name, sizeof it->name, "%s", name ? name : e ? e->name : "candidate");
+	if (!name_ok(it->name)) {
+		fprintf(stderr, "brdfkit render: name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)\n",
+		        it->name);
+		return 2;
+	}
+	if (term && bk_render_term_parse(term, &it->term)) {
+		fprintf(stderr, "brdfkit render: %s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'\n",
+		        it->name, term);
+		return 2;
+	}
+	if (e) {
+		it->form = strdup(e->form);
+		it->form_b = dup_or_null(e->form_b);
+		memcpy(it->params, e->defaults, sizeof it->params);
+		for (int j = 0; j < e->nparams; j++)
+			it->have[j] = 1;
+		if (!term && bk_render_term_of_target(e->target, &it->term)) {
+			fprintf(stderr, "brdfkit render: %s: its target %s replaces no term of the render (give --term)\n",
+			        it->name, e->target);
+			return 2;
+		}
+		if (form_b) {
+			fprintf(stderr, "brdfkit render: %s: --form-b: a catalog entry brings its own B\n", it->name);
+			return 2;
+		}
+	} else {
+		if (!term) {
+			fprintf(stderr, "brdfkit render: %s: a typed form needs --term (vf2d, vf, d, v, f, dvf or env)\n",
+			        it->name);
+			return 2;
+		}
+		it->form = strdup(form);
+		it->form_b = dup_or_null(form_b);
+	}
+	if (!it->form || (form_b && *form_b && !it->form_b))
+		return cli_fail("render", "out of memory");
+	if (it->form_b && it->term != BK_RT_ENV) {
+		fprintf(stderr, "brdfkit render: %s: a B form is only for --term env (f0 A + B)\n", it->name);
+		return 2;
+	}
+	int given[BK_MAX_PARAMS] = {0};
+	if (params && *params) {
+		int rc = parse_params(it->name, params, it->params, it->have, given);
+		if (rc)
+			return rc;
+		it->params_text = strdup(params);
+	} else if (e) {
+		char buf[1024] = "";
+		size_t len = 0;
+		for (int j = 0; j < e->nparams && len < sizeof buf - 40; j++)
+			len += (size_t)snprintf(buf + len, sizeof buf - len, "%sp%d=%.9g", j ? ";" : "", j, e->defaults[j]);
+		it->params_text = strdup(buf);
+	}
+	bk_form_error fe;
+	const char *texts[2] = {it->form, it->form_b};
+	bk_form **fs[2] = {&it->f, &it->fb};
+	int np = 0;
+	for (int k = 0; k < 2; k++) {
+		if (!texts[k])
+			continue;
+		if (!(*fs[k] = bk_form_parse(texts[k], &fe))) {
+			fprintf(stderr, "brdfkit render: %s: %s: column %d: %s\n", it->name, k ? "form B" : "form", fe.column,
+			        fe.message);
+			return 2;
+		}
+		np = bk_form_nparams(*fs[k]) > np ? bk_form_nparams(*fs[k]) : np;
+	}
+	int rc = form_check_params("render", it->name, np, it->have, params && *params ? given : NULL);
+	for (int k = 0; !rc && k < 2; k++)
+		if (*fs[k])
+			rc = form_check_finite("render", it->name, *fs[k], it->params);
+	return rc;
+}
+
+/* ---- a batch CSV (name, term, form, form_b, parameters by name) ------------------- */
+
+typedef struct batch {
+	const char *path;
+	int record, col[5], field, bad;
+	char *cell[5];
+	item *items;
+	int n;
+	char err[400];
+} batch;
+
+static const char *const batch_cols[5] = {"name", "term", "form", "form_b", "parameters"};
+
+static void b_field(void *s, size_t len, void *ctx)
+{
+	batch *b = ctx;
+	if (b->bad)
+		return;
+	if (b->record == 0) {
+		for (int k = 0; k < 5; k++)
+			if (strlen(batch_cols[k]) == len && !memcmp(s, batch_cols[k], len))
+				b->col[k] = b->field;
+	} else
+		for (int k = 0; k < 5; k++)
+			if (b->col[k] == b->field && !(b->cell[k] = strndup(s, len)))
+				b->bad = 2;
+	b->field++;
+}
+
+static void b_record(int c, void *ctx)
+{
+	(void)c;
+	batch *b = ctx;
+	if (b->bad)
+		return;
+	if (b->record == 0) {
+		for (int k = 0; k < 5; k++)
+			if (b->col[k] < 0 && k != 3 && k != 4) {
+				snprintf(b->err, sizeof b->err, "%.300s: no column '%s' (want name, term, form, form_b, parameters)",
+				         b->path, batch_cols[k]);
+				b->bad = 1;
+			}
+	} else if (b->n >= MAX_ITEMS) {
+		snprintf(b->err, sizeof b->err, "%.300s: more than %d rows", b->path, MAX_ITEMS);
+		b->bad = 1;
+	} else if (!b->cell[2] || !b->cell[0]) {
+		snprintf(b->err, sizeof b->err, "%.300s: row %d has fewer fields than the header", b->path, b->record);
+		b->bad = 1;
+	} else {
+		int rc = resolve(&b->items[b->n], b->cell[0], b->cell[2], b->cell[3],
+		                 b->cell[4], b->cell[1] && *b->cell[1] ? b->cell[1] : NULL);
+		b->n++;
+		if (rc)
+			b->bad = 3; /* resolve said it */
+		for (int i = 0; i < b->n - 1 && !b->bad; i++)
+			if (!strcmp(b->items[i].name, b->items[b->n - 1].name)) {
+				snprintf(b->err, sizeof b->err, "%.300s: the name '%s' twice", b->path, b->items[i].name);
+				b->bad = 1;
+			}
+	}
+	for (int k = 0; k < 5; k++) {
+		free(b->cell[k]);
+		b->cell[k] = NULL;
+	}
+	b->field = 0;
+	b->record++;
+}
+
+static int read_batch(const char *path, item *items, int *n)
+{
+	size_t len;
+	char *text = cli_read_file(path, &len);
+	if (!text)
+		return cli_fail("render", "--batch %s: %s", path, strerror(errno));
+	batch b = {.path = path, .col = {-1, -1, -1, -1, -1}, .items = items};
+	struct csv_parser p;
+	if (csv_init(&p, CSV_APPEND_NULL)) {
+		free(text);
+		return cli_fail("render", "out of memory");
+	}
+	/* '#' lines before the header are comments (brdfkit's CSV convention) */
+	const char *s = text;
+	while (*s == '#')
+		s += strcspn(s, "\n") + (s[strcspn(s, "\n")] == '\n');
+	size_t rest = len - (size_t)(s - text);
+	if (csv_parse(&p, s, rest, b_field, b_record, &b) != rest || csv_fini(&p, b_field, b_record, &b)) {
+		if (!b.bad)
+			snprintf(b.err, sizeof b.err, "%.300s: %s", path, csv_strerror(csv_error(&p)));
+		b.bad = b.bad ? b.bad : 1;
+	}
+	csv_free(&p);
+	free(text);
+	for (int k = 0; k < 5; k++)
+		free(b.cell[k]);
+	*n = b.n;
+	if (!b.bad && b.n == 0) {
+		snprintf(b.err, sizeof b.err, "%.300s: no rows", path);
+		b.bad = 1;
+	}
+	if (b.bad == 3)
+		return 2;
+	if (b.bad == 2)
+		return cli_fail("render", "out of memory");
+	if (b.bad) {
+		fprintf(stderr, "brdfkit render: --batch %s\n", b.err);
+		return 2;
+	}
+	return 0;
+}
+
+/* ---- the command ------------------------------------------------------------------ */
+
+static const cli_dim dims[] = {
+	{"input", {"form", "batch"}, {" with --form", " with --batch"}},
+};
+enum { IN_FORM, IN_BATCH };
+static const cli_rule rules[] = {
+	{"--form", NULL, CLI_EVERYWHERE, 0, NULL, "vf_talk_r"},
+	{"--form-b", NULL, 0, 1u << IN_FORM, "the B of a split env form", "1"},
+	{"--params", NULL, 0, 1u << IN_FORM, "the form's parameters", "p0=1"},
+	{"--term", NULL, 0, 1u << IN_FORM, "the term the form replaces", "vf"},
+	{"--name", NULL, 0, 1u << IN_FORM, "the render's name", "x"},
+	{"--batch", NULL, CLI_EVERYWHERE, 0, NULL, "b.csv"},
+	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "f32"},
+	{"--size", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
+	{"--roughness", NULL, CLI_EVERYWHERE, 0, NULL, "0.5,1"},
+	{"--device", NULL, CLI_EVERYWHERE, 0, NULL, "cpu"},
+	{"--link-prefix", NULL, CLI_EVERYWHERE, 0, NULL, "x/"},
+	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+};
+static const char *const setups[] = {"--form vf_talk_r --out o", "--batch b.csv --out o", NULL};
+static const cli_table table = {dims, 1, rules, sizeof rules / sizeof rules[0], setups};
+
+static int render_item(item *it, bk_lvp *v, const bk_render_geom *g, int want_f32, int want_f16, double *secs)
+{
+	char err[1200];
+	size_t npix = (size_t)g->width * (size_t)g->height * 3;
+	bk_render_cand c = {it->term, it->f, it->fb, it->params, it->name};
+	/* the exact f32 image is every difference's reference: it runs for f16 alone too */
+	for (int k = 0; k < 2; k++) {
+		if (k && !want_f16)
+			continue;
+		bk_precision prec = k ? BK_F16 : BK_F32;
+		float *img[2] = {malloc(npix * sizeof(float)), malloc(npix * sizeof(float))};
+		it->img[k ? BK_RI_EXACT_F16 : BK_RI_EXACT_F32] = img[0];
+		it->img[k ? BK_RI_CAND_F16 : BK_RI_CAND_F32] = img[1];
+		if (!img[0] || !img[1])
+			return cli_fail("render", "out of memory");
+		if (v) {
+			double t[2];
+			if (!(it->shader[k] = bk_render_shader(&c, prec)))
+				return cli_fail("render", "%s: cannot write the shader", it->name);
+			if (bk_render_gpu(v, g, &c, prec, img, t, err, sizeof err))
+				return cli_fail("render", "%s: %s", it->name, err);
+			secs[0] += t[0];
+			secs[1] += t[1];
+		} else if (bk_render_cpu(g, &c, k ? BK_F16 : BK_F64, img))
+			return cli_fail("render", "out of memory");
+		if (!k && !want_f32) {
+			free(it->img[BK_RI_CAND_F32]);
+			it->img[BK_RI_CAND_F32] = NULL;
+			free(it->shader[0]);
+			it->shader[0] = NULL;
+		}
+	}
+	return 0;
+}
+
+static int write_all(const char *out, item *items, int n, int batch, const bk_render_scene *sc,
+                     const bk_render_geom *g, const char *device, const char *prefix)
+{
+	char err[1200], path[4400];
+	bk_render_out *o = calloc((size_t)n, sizeof *o);
+	bk_out_dir od;
+	if (!o)
+		return cli_fail("render", "out of memory");
+	if (bk_out_dir_begin(&od, out, NULL, err, sizeof err)) {
+		free(o);
+		return cli_fail("render", "--out %s", err);
+	}
+	int rc = 0;
+	for (int i = 0; i < n && !rc; i++) {
+		o[i] = (bk_render_out){.name = items[i].name, .form = items[i].form, .form_b = items[i].form_b,
+		                       .params = items[i].params_text, .term = bk_render_term_name(items[i].term),
+		                       .device = device, .scene = sc, .g = g};
+		memcpy(o[i].img, items[i].img, sizeof o[i].img);
+		o[i].shader[0] = items[i].shader[0];
+		o[i].shader[1] = items[i].shader[1];
+		snprintf(path, sizeof path, "%s", od.tmp);
+		if (batch && i == 0) { /* the batch's exact images, once, at the top */
+			bk_render_out top = o[0];
+			top.img[BK_RI_CAND_F32] = top.img[BK_RI_CAND_F16] = NULL;
+			top.shader[0] = top.shader[1] = NULL;
+			top.name = "exact";
+			top.form = "the exact BRDF (D_ggx, V_smith_ggx_correlated, F_schlick; split sum f0 A + B)";
+			top.form_b = top.params = NULL;
+			top.term = "none";
+			rc = bk_render_write(od.tmp, &top, err, sizeof err);
+		}
+		if (batch) {
+			o[i].shared_exact = 1;
+			snprintf(path, sizeof path, "%s/%s", od.tmp, items[i].name);
+			if (!rc && mkdir(path, 0777)) {
+				snprintf(err, sizeof err, "%.1000s: %s", path, strerror(errno));
+				rc = -1;
+			}
+		}
+		if (!rc)
+			rc = bk_render_write(path, &o[i], err, sizeof err);
+	}
+	if (!rc) {
+		snprintf(path, sizeof path, "%s/section.html", od.tmp);
+		FILE *f = fopen(path, "w");
+		if (f)
+			bk_render_section(f, o, n, prefix, batch);
+		if (!f || ferror(f) | fclose(f)) {
+			snprintf(err, sizeof err, "%.1000s: cannot write", path);
+			rc = -1;
+		}
+	}
+	for (int i = 0; i < n && !rc; i++) {
+		printf("render: %s (replaces %s): non-finite pixels", items[i].name, o[i].term);
+		if (o[i].img[BK_RI_CAND_F32])
+			printf(" f32 %zu%s", o[i].nonfinite[BK_RI_CAND_F32], o[i].img[BK_RI_CAND_F16] ? "," : "");
+		if (o[i].img[BK_RI_CAND_F16])
+			printf(" f16 %zu (exact f16 %zu)", o[i].nonfinite[BK_RI_CAND_F16], o[i].nonfinite[BK_RI_EXACT_F16]);
+		for (int k = 0; k < 2; k++)
+			if (isfinite(o[i].max_diff[k]))
+				printf("; %s display difference max %.3g mean %.3g", k ? "f16" : "f32", o[i].max_diff[k],
+				       o[i].mean_diff[k]);
+		printf("\n");
+	}
+	free(o);
+	if (rc) {
+		bk_out_dir_abort(&od);
+		return cli_fail("render", "%s: writing failed: %s", out, err);
+	}
+	if (bk_out_dir_commit(&od, err, sizeof err))
+		return cli_fail("render", "--out %s", err);
+	return 0;
+}
+
+int cmd_render(int argc, char **argv)
+{
+	const char *form = NULL, *form_b = NULL, *params = NULL, *term = NULL, *name = NULL, *batch = NULL;
+	const char *precision = "both", *device = "lavapipe", *out = NULL, *prefix = "";
+	long size = 640;
+	cli_list rough = {5, {0.1, 0.25, 0.5, 0.75, 1}};
+	cli_opt opts[] = {
+		{.name = "--form", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "the candidate: a catalog name (its published parameters and target) or a form", .dest = &form},
+		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "with --term env: B of f0 A + B (--form is then A)", .dest = &form_b},
+		{.name = "--params", .kind = CLI_STR, .metavar = "p0=X;p1=Y", .help = "parameter values (front.csv's parameters column; override a catalog entry's)", .dest = &params},
+		{.name = "--term", .kind = CLI_STR, .metavar = "vf2d|vf|d|v|f|dvf|env", .help = "the term the candidate replaces (default: a catalog entry's target)", .dest = &term},
+		{.name = "--name", .kind = CLI_STR, .metavar = "NAME", .help = "the render's name in the outputs (default: the catalog name or 'candidate')", .dest = &name},
+		{.name = "--batch", .kind = CLI_STR, .metavar = "CSV", .help = "many candidates: columns name, term, form, form_b, parameters (read by name); each into DIR/NAME/", .dest = &batch},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "f32|f16|both", .help = "which shaders run (default both)", .dest = &precision},
+		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square, two rows", .dest = &size, .lo = 16, .hi = 8192},
+		{.name = "--roughness", .kind = CLI_LIST, .metavar = "R,...", .help = "the columns' roughness (default 0.1,0.25,0.5,0.75,1)", .dest = &rough, .lo = 0, .hi = 1, .lo_open = 1},
+		{.name = "--device", .kind = CLI_STR, .metavar = "lavapipe|cpu", .help = "lavapipe: the emitted GLSL on Mesa's software Vulkan (default); cpu: the IR (double for f32, BK_F16 for f16), the reference", .dest = &device},
+		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of the links in section.html", .dest = &prefix},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "the output directory, replaced whole (EXR, PNG, spheres.csv, shaders, section.html)", .dest = &out, .required = 1},
+	};
+	cli_cmd cmd = {"render",
+	               "Renders a grid of spheres (columns: roughness; rows: a dielectric, f0 0.04, and gold) lit by\n"
+	               "one directional light and a procedural sky prefiltered as engines do (split sum with brdfkit's\n"
+	               "DFG), with the exact BRDF and with a candidate in place of one term, by brdfkit's emitted GLSL\n"
+	               "on Mesa's lavapipe (software Vulkan; no GPU needed) in f32 and in float16_t, as a mobile\n"
+	               "mediump shader computes. Writes linear EXR, sRGB PNG, the display difference at a stated\n"
+	               "scale, per-sphere counts (spheres.csv) and a page section.",
+	               "--form NAME|FORM [--form-b FORM] [--params p0=X;...] [--term T] --out DIR | --batch CSV --out DIR",
+	               "Terms: vf (vf2d) replaces V·F in D·V·F·NoL; d, v, f one factor; dvf the whole D·V·F; env\n"
+	               "the environment BRDF f0 A + B (a form reading f0, or --form A --form-b B).\n"
+	               "Difference images: the largest over R, G, B of |display(candidate) - display(exact f32)|,\n"
+	               "display = sRGB of Reinhard x/(1 + x), times 8 (a ramp black-red-yellow-white); magenta\n"
+	               "marks non-finite pixels. The scene's numbers: analysis/render.h and every file's header.\n"
+	               "lavapipe needs the Debian package mesa-vulkan-drivers.",
+	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
+	int rc = cli_parse_table(&cmd, &table, argc, argv);
+	if (rc)
+		return rc == 1 ? 0 : rc;
+	/* --form and --batch exclude each other (said below); the options of one
+	 * candidate act only with --form */
+	if ((rc = cli_applicable(&cmd, (int[]){form ? IN_FORM : IN_BATCH})))
+		return rc;
+	if (!form == !batch)
+		return cli_usage(&cmd, "give one of --form and --batch");
+	int want_f32 = !strcmp(precision, "f32") || !strcmp(precision, "both");
+	int want_f16 = !strcmp(precision, "f16") || !strcmp(precision, "both");
+	if (!want_f32 && !want_f16)
+		return cli_usage(&cmd, "--precision: expected f32, f16 or both, got '%.40s'", precision);
+	int lvp_dev = !strcmp(device, "lavapipe");
+	if (!lvp_dev && strcmp(device, "cpu"))
+		return cli_usage(&cmd, "--device: expected lavapipe or cpu, got '%.40s'", device);
+	if (rough.n > BK_RENDER_MAX_COLS)
+		return cli_usage(&cmd, "--roughness: at most %d columns", BK_RENDER_MAX_COLS);
+	bk_render_scene sc = {.cell = (int)(size / rough.n), .ncols = rough.n};
+	memcpy(sc.r, rough.v, sizeof(double) * (size_t)rough.n);
+	if (sc.cell < 8)
+		return cli_usage(&cmd, "--size %ld: cells of %d pixels for %d columns (at least 8)", size, sc.cell, rough.n);
+	char err[1200];
+	if (bk_out_dir_check(out, err, sizeof err))
+		return cli_fail("render", "--out %s", err);
+
+	item *items = calloc(MAX_ITEMS, sizeof *items);
+	if (!items)
+		return cli_fail("render", "out of memory");
+	int n = 0;
+	if (batch)
+		rc = read_batch(batch, items, &n);
+	else {
+		n = 1;
+		rc = resolve(&items[0], name, form, form_b, params, term);
+	}
+	bk_render_geom g = {0};
+	bk_lvp *v = NULL;
+	char driver[256] = "", devname[400];
+	if (!rc && bk_render_geometry(&sc, NULL, NULL, &g, err, sizeof err))
+		rc = cli_fail("render", "%s", err);
+	if (!rc && lvp_dev) {
+		int o = bk_lvp_open(&v, driver, sizeof driver, err, sizeof err);
+		if (o)
+			rc = cli_fail("render", "%s", err);
+		snprintf(devname, sizeof devname, "lavapipe: %s", driver);
+	} else
+		snprintf(devname, sizeof devname, "cpu: the IR, double for the f32 images, BK_F16 for the float16_t ones");
+	double secs[2] = {0, 0};
+	for (int i = 0; i < n && !rc; i++)
+		rc = render_item(&items[i], v, &g, want_f32, want_f16, secs);
+	if (!rc)
+		rc = write_all(out, items, n, batch != NULL, &sc, &g, devname, prefix);
+	if (!rc && v)
+		printf("render: %d candidates, %dx%d pixels, %zu samples; %s; glslang %.2f s, lavapipe %.2f s\n", n,
+		       g.width, g.height, g.n, driver, secs[0], secs[1]);
+	bk_lvp_close(v);
+	bk_render_geom_free(&g);
+	for (int i = 0; i < n; i++)
+		free_item(&items[i]);
+	free(items);
+	return rc;
+}
