@@ -208,6 +208,46 @@ int bk_speclut_score(const bk_speclut *L, bk_precision prec, const bk_samples *s
 	return 0;
 }
 
+static double x_of(const bk_speclut *L, double NoV, double NoL, double NoH, double VoH)
+{
+	return L->axis == BK_SPECLUT_ROL ? fmin(fmax(bk_speclut_rol(NoV, NoL, VoH), 0.0), 1.0) : NoH;
+}
+
+double bk_speclut_model(const bk_speclut *L, double NoV, double NoL, double NoH, double VoH, double r, double f0)
+{
+	double F = L->fresnel == BK_SPECLUT_F_SCHLICK ? bk_F_schlick(f0, 1, VoH) : f0;
+	return bk_speclut_intensity(L->axis, x_of(L, NoV, NoL, NoH, VoH), r) * NoL * F;
+}
+
+int bk_speclut_score_storage(const bk_speclut *L, const bk_samples *s, bk_fit_metrics *m, double *plane)
+{
+	if (bk_speclut_check(L) || !s || !s->n)
+		return -1;
+	bk_samples t = *s; /* the same samples, y the function the LUT encodes */
+	double *y = malloc(s->n * sizeof *y);
+	if (!y)
+		return -1;
+	for (size_t i = 0; i < s->n; i++)
+		y[i] = bk_speclut_model(L, s->in[BK_IN_NOV][i], s->in[BK_IN_NOL][i], s->in[BK_IN_NOH][i],
+		                        s->in[BK_IN_LOH][i], s->in[BK_IN_R][i], s->in[BK_IN_F0][i]);
+	t.y = y;
+	int rc = bk_speclut_score(L, BK_F64, &t, m, plane);
+	free(y);
+	return rc;
+}
+
+double bk_speclut_plane_rms(const bk_samples *s, const double *plane)
+{
+	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny, k, used = 0;
+	double sum = 0;
+	for (k = 0; k < n; k++)
+		if (isfinite(plane[k])) {
+			sum += plane[k] * plane[k];
+			used++;
+		}
+	return used ? sqrt(sum / (double)used) : NAN;
+}
+
 static int add_ops(const char *text, bk_ops *ops)
 {
 	bk_form_error fe;

@@ -120,6 +120,23 @@ double bk_speclut_shade(const bk_speclut *L, const double *tex, bk_precision pre
 int bk_speclut_score(const bk_speclut *L, bk_precision prec, const bk_samples *s, bk_fit_metrics *m,
                      double *plane);
 
+/* The function the LUT encodes at one configuration, exact (no texture,
+ * no storage, no cut): D_ggx(NoH(x), r^2)/4 * NoL * F. The LUT's storage
+ * error is its error against this; its model error (implicit V, F, R·L for
+ * N·H) is this one's against the exact D·V·F·NoL. */
+double bk_speclut_model(const bk_speclut *L, double NoV, double NoL, double NoH, double VoH, double r, double f0);
+
+/* bk_speclut_score against bk_speclut_model instead of s->y: what the
+ * texture's storage and filtering alone get wrong (warp, scale, size and
+ * format). Returns 0 or -1 as bk_speclut_score. */
+int bk_speclut_score_storage(const bk_speclut *L, const bk_samples *s, bk_fit_metrics *m, double *plane);
+
+/* The root mean square over the plane's cells of plane (the directional
+ * albedo error per (NoV, r) cell on the spec target): the cells' typical
+ * error, where the largest is the same for every LUT (the smoothest,
+ * most grazing cell, which no texture of D/4 gets right). */
+double bk_speclut_plane_rms(const bk_samples *s, const double *plane);
+
 /* The shader's ALU ops beyond the fetch, counted by the IR on the text it
  * runs: rol: dot(R, L) as 3 simple ops (one mul, two mad: a scalar ALU's
  * dot3; NoH, like every form's input, is free in brdfkit), saturate(x) for
