@@ -277,8 +277,11 @@ int bk_speclut_ops(const bk_speclut *L, bk_ops *ops)
 		ops->n[BK_K_MAD] += 2;
 		ops->simple += 3;
 	}
+	/* the multiply back (f0 an input: a scene with one f0 could fold s f0 into one constant, one mul less) */
 	const char *back = L->fresnel == BK_SPECLUT_F_SCHLICK ? "p0*16*NoL*F_schlick(f0, 1, LoH)" : "p0*16*NoL*f0";
-	return add_ops(coord, ops) || add_ops(back, ops) ? -1 : 0;
+	/* the rows over r_lo..r_hi: v = r*k + c, one multiply-add */
+	const char *v = L->r_lo > 0 || L->r_hi < 1 ? "r*p1 + p2" : "r";
+	return add_ops(coord, ops) || add_ops(back, ops) || add_ops(v, ops) ? -1 : 0;
 }
 
 void bk_speclut_describe(const bk_speclut *L, char *axes, size_t alen, char *texel, size_t tlen, char *shader,

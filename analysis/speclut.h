@@ -140,7 +140,8 @@ double bk_speclut_plane_rms(const bk_samples *s, const double *plane);
 /* The shader's ALU ops beyond the fetch, counted by the IR on the text it
  * runs: rol: dot(R, L) as 3 simple ops (one mul, two mad: a scalar ALU's
  * dot3; NoH, like every form's input, is free in brdfkit), saturate(x) for
- * rol, x^p, and the multiply back fetch*s*NoL*F. Returns 0 or -1. */
+ * rol, x^p, v = r*k + c where the rows cover less than 0..1, and the
+ * multiply back fetch*s*NoL*F (f0 counted as an input). Returns 0 or -1. */
 int bk_speclut_ops(const bk_speclut *L, bk_ops *ops);
 
 /* Writes dir/spec.exr (FLOAT, the raw texels intensity/s), dir/spec.png
