@@ -963,7 +963,12 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	ch->at_cost = at_cost;
 	ch->meets = ch->err <= budget;
 	ch->scored = P.n;
-	if (term == BK_SCENE_TERM_VF && sc->lut && !at_cost && ch->meets && consider_speclut(sc, set, ch, budget, err, errlen))
+	/* the specular LUT for an error budget given as a number: "generic" asks
+	 * for the exact V·F's own rounding error, which a texture of D/4 (V = 1/4,
+	 * no Fresnel: 1e-2 and more of model error) never reaches, and
+	 * "at-generic-cost" for the most accurate */
+	if (term == BK_SCENE_TERM_VF && sc->lut && sc->budget_vf >= 0 && ch->meets &&
+	    consider_speclut(sc, set, ch, budget, err, errlen))
 		goto done;
 	if (ch->speclut)
 		ch->scored += ch->spec_scored;

@@ -67,8 +67,10 @@ typedef struct bk_scene_choice {
 	double eq_cost, eq_err;
 	/* vf: the low tier's specular LUT (speclut.h), one texture for the whole
 	   D·V·F·NoL. Considered (spec_considered) where a fetch plus its least
-	   ALU costs less than D and the vf choice together, and the scene allows
-	   textures ("lut") and asks for the cheapest (not "at-generic-cost");
+	   ALU costs less than D and the vf choice together, the scene allows
+	   textures ("lut"), its vf budget is a number (not "generic": the exact
+	   form's rounding, which V = 1/4 never reaches; not "at-generic-cost")
+	   and the vf choice meets it;
 	   spec_name, spec_cost (whole: fetch + ALU), spec_err: the best of them
 	   (the cheapest within the budget, else the most accurate), scored as vf
 	   is (the lobe's directional albedo, scene precision, each f0 end).
