@@ -273,7 +273,7 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-search-vf2d results-search-env results-compare-env results-search-f_gold \
   results-search-f_glass results-compare-spec results-stability results-compare-vf results-albedo \
   results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
-  results-compare-f results-fits results-search-vf2d_half results-search-env_mix_half \
+  results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_mix_half \
   results-search-env_f0_half results-search-f_glass_half results-search-f_gold_half
 .PHONY: results-runs $(RESULTS_RUNS)
 
@@ -307,7 +307,7 @@ results: $(TOOL)
 	  results/search/env_mix_half/section.html results/search/env_f0_half/section.html \
 	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
 	  results/search/moved/section.html \
-	  results/scenes/section.html results/render/section.html
+	  results/scenes/section.html results/speclut/section.html results/render/section.html
 	for t in vf2d vf env spec f; do \
 	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
 	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
@@ -327,6 +327,11 @@ results-runs: $(RESULTS_RUNS)
 
 results-lut-correlated results-lut-separable results-lut-schlick:
 	$(TOOL) lut --size 128 --smith $(@:results-lut-%=%) --out results/dfg_$(@:results-lut-%=%)
+# the low tier's specular LUT (issue 23): the talk's choices (R·L, warp 4, 1/16, 8 bits,
+# 64x64) written as an engine ships them, and scored against the sweep of axis x warp
+# x scale x size on the spec target; the best one in results/speclut/best
+results-speclut:
+	$(TOOL) lut --specular --sweep --out results/speclut --link-prefix speclut/
 results-albedo:
 	$(TOOL) albedo --d all --v all --f all --nov 0.1,0.3,0.5,0.7,0.9,1 \
 	  --roughness 0.1,0.3,0.5,0.7,1 --f0 0.04,1 --out results/albedo.csv

@@ -2,7 +2,8 @@
  * scene_fit.c — the cheapest form of a term that meets a scene's error
  * budget on its own domain (scene_fit.h): candidates from the catalog,
  * published and refitted on the set's domain, LUTs for the environment BRDF,
- * scored in the scene's precision; then the fp16 guards the choice needs.
+ * scored in the scene's precision; then the fp16 guards the choice needs;
+ * for vf, the low tier's specular LUT where it could be cheaper (speclut.h).
  */
 #include "scene_fit.h"
 
@@ -432,6 +433,132 @@ static int better(const cand *a, const cand *b)
 	return strcmp(a->name, b->name) < 0;
 }
 
+/* ---- the specular LUT ------------------------------------------------------------- */
+
+/* The specular LUTs a scene may choose: both axes, warp powers 1 to 8,
+ * scales 4 to 32, 32² to 128², 8 bits (what the low tier ships), the shader
+ * with or without Schlick F (brdfkit lut --specular --sweep tries more; its
+ * best on the spec target is inside this grid). */
+static const int spec_warps[] = {1, 2, 4, 8};
+static const double spec_scales[] = {4, 16, 32};
+static const int spec_sizes[] = {32, 64, 128};
+#define SPEC_NW 4
+#define SPEC_NS 3
+#define SPEC_NZ 3
+
+static int spec_better(double ca, double ea, int za, double cb, double eb, int zb)
+{
+	return ca != cb ? ca < cb : ea != eb ? ea < eb : za < zb;
+}
+
+/* vf: the specular LUT against D + the choice ch (scene_fit.h: spec_*).
+ * Returns 0, or -1 with a message. */
+static int consider_speclut(const bk_scene *sc, const bk_scene_set *set, bk_scene_choice *ch, double budget,
+                            char *err, size_t errlen)
+{
+	bk_scene_choice dch;
+	if (bk_scene_choose(sc, set, BK_SCENE_TERM_D, &dch, NULL, NULL, NULL, err, errlen))
+		return -1;
+	double dcost = dch.cost, against = ch->cost + dcost;
+	bk_scene_choice_free(&dch);
+	enum { N = BK_SPECLUT_AXES * SPEC_NW * SPEC_NS * SPEC_NZ * BK_SPECLUT_FRESNELS };
+	bk_speclut cand[N];
+	double cost[N];
+	int nc = 0;
+	for (int a = 0; a < BK_SPECLUT_AXES; a++)
+		for (int w = 0; w < SPEC_NW; w++)
+			for (int q = 0; q < SPEC_NS; q++)
+				for (int z = 0; z < SPEC_NZ; z++)
+					for (int fr = 0; fr < BK_SPECLUT_FRESNELS; fr++) {
+						double r_lo = set->r_lo, r_hi = set->r_hi;
+						widen(&r_lo, &r_hi);
+						bk_speclut L = {(bk_speclut_axis)a, spec_warps[w], spec_sizes[z], spec_sizes[z], r_lo, r_hi,
+						                spec_scales[q], (bk_speclut_fresnel)fr, BK_LUT_UNORM8};
+						bk_ops ops;
+						if (bk_speclut_ops(&L, &ops)) {
+							snprintf(err, errlen, "vf: the specular LUT's ops could not be counted");
+							return -1;
+						}
+						double c = sc->fetch_cost + bk_ops_cost(&ops, sc->simple_cost, sc->complex_cost);
+						if (c < against) { /* only what could win is scored */
+							cand[nc] = L;
+							cost[nc++] = c;
+						}
+					}
+	ch->spec_considered = nc > 0;
+	ch->spec_d_cost = dcost;
+	if (!nc)
+		return 0;
+	/* the lobe's samples on the set's domain, at each end of its f0 range */
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_SPEC, &o);
+	o.r_lo = set->r_lo;
+	o.r_hi = set->r_hi;
+	widen(&o.r_lo, &o.r_hi);
+	o.x_lo = sc->nov_lo;
+	o.x_hi = sc->nov_hi;
+	double ends[2] = {set->f0_hi, set->f0_lo};
+	int nends = set->f0_lo == set->f0_hi ? 1 : 2, rc = 0;
+	bk_samples s[2];
+	memset(s, 0, sizeof s);
+	for (int k = 0; k < nends && !rc; k++) {
+		o.f0[0] = ends[k];
+		rc = bk_target_build(&o, &s[k], NULL, NULL, err, errlen);
+	}
+	int b = -1, bm = -1; /* the cheapest within the budget; the most accurate */
+	double e[N];
+	for (int i = 0; i < nc && !rc; i++) {
+		e[i] = 0;
+		for (int k = 0; k < nends && !rc; k++) {
+			bk_fit_metrics m;
+			if (bk_speclut_score(&cand[i], sc->half ? BK_F16 : BK_F32, &s[k], &m, NULL)) {
+				snprintf(err, errlen, "vf: a specular LUT could not be scored");
+				rc = -1;
+			}
+			e[i] = fmax(e[i], m.nonfinite || !isfinite(m.albedo_max_abs) ? HUGE_VAL : m.albedo_max_abs);
+		}
+		int z = cand[i].nu * cand[i].nr;
+		if (e[i] <= budget && (b < 0 || spec_better(cost[i], e[i], z, cost[b], e[b], cand[b].nu * cand[b].nr)))
+			b = i;
+		if (bm < 0 || e[i] < e[bm] || (e[i] == e[bm] && spec_better(cost[i], e[i], z, cost[bm], e[bm], cand[bm].nu * cand[bm].nr)))
+			bm = i;
+	}
+	for (int k = 0; k < nends; k++)
+		bk_samples_free(&s[k]);
+	if (rc)
+		return -1;
+	int best = b >= 0 ? b : bm;
+	bk_speclut_name(&cand[best], ch->spec_name, sizeof ch->spec_name);
+	ch->spec_cost = cost[best];
+	ch->spec_err = e[best];
+	ch->spec_scored = nc;
+	if (b < 0) /* none meets the budget: the choice stays */
+		return 0;
+	/* it meets the budget for less than D + vf: chosen */
+	const bk_speclut *L = &cand[b];
+	free(ch->text);
+	ch->text = NULL;
+	bk_speclut_name(L, ch->name, sizeof ch->name);
+	snprintf(ch->source, sizeof ch->source, "brdfkit lut --specular --axis %s --warp %d --scale %g --size %d "
+	         "--r-range %.9g:%.9g --fresnel %s (one texture for D*V*F*NoL, bilinear, texel centres)",
+	         bk_speclut_axis_name(L->axis), L->warp, L->scale, L->nu, L->r_lo, L->r_hi,
+	         bk_speclut_fresnel_name(L->fresnel));
+	memset(ch->p, 0, sizeof ch->p);
+	ch->lut = 1;
+	ch->speclut = 1;
+	ch->spec_layout = *L;
+	ch->lut_size = L->nu;
+	ch->lut_fmt = L->fmt;
+	ch->lut_bytes = (double)L->nu * L->nr;
+	ch->fetches = 1;
+	bk_speclut_ops(L, &ch->ops);
+	ch->cost = cost[b] - dcost;
+	ch->err = e[b];
+	ch->eq_name[0] = '\0';
+	snprintf(ch->guards, sizeof ch->guards, "none: a texture fetch and products of values at most %g", L->scale);
+	return 0;
+}
+
 /* ---- a short search ----------------------------------------------------------- */
 
 /* vf when nothing cheaper than the exact form meets the budget: brdfkit
@@ -836,6 +963,15 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	ch->at_cost = at_cost;
 	ch->meets = ch->err <= budget;
 	ch->scored = P.n;
+	/* the specular LUT for an error budget given as a number: "generic" asks
+	 * for the exact V·F's own rounding error, which a texture of D/4 (V = 1/4,
+	 * no Fresnel: 1e-2 and more of model error) never reaches, and
+	 * "at-generic-cost" for the most accurate */
+	if (term == BK_SCENE_TERM_VF && sc->lut && sc->budget_vf >= 0 && ch->meets &&
+	    consider_speclut(sc, set, ch, budget, err, errlen))
+		goto done;
+	if (ch->speclut)
+		ch->scored += ch->spec_scored;
 	g.budget = budget;
 	g.meets = g.err <= budget;
 	if (generic)

@@ -24,6 +24,7 @@
 #include "brdf.h"
 #include "compare.h"
 #include "scene.h"
+#include "speclut.h"
 
 typedef enum bk_scene_term { BK_SCENE_TERM_D, BK_SCENE_TERM_VF, BK_SCENE_TERM_ENV, BK_SCENE_TERMS } bk_scene_term;
 const char *bk_scene_term_name(bk_scene_term t); /* "D", "vf", "env" */
@@ -64,6 +65,22 @@ typedef struct bk_scene_choice {
 	   gains in accuracy instead of cost; eq_name empty when none (D) */
 	char eq_name[128];
 	double eq_cost, eq_err;
+	/* vf: the low tier's specular LUT (speclut.h), one texture for the whole
+	   D·V·F·NoL. Considered (spec_considered) where a fetch plus its least
+	   ALU costs less than D and the vf choice together, the scene allows
+	   textures ("lut"), its vf budget is a number (not "generic": the exact
+	   form's rounding, which V = 1/4 never reaches; not "at-generic-cost")
+	   and the vf choice meets it;
+	   spec_name, spec_cost (whole: fetch + ALU), spec_err: the best of them
+	   (the cheapest within the budget, else the most accurate), scored as vf
+	   is (the lobe's directional albedo, scene precision, each f0 end).
+	   Chosen (speclut 1, lut 1, spec_layout its layout) where it meets the
+	   budget and costs less than D + vf: cost is then net of D's (D's row
+	   stays, its arithmetic no longer run: the sum is the LUT's whole cost) */
+	int spec_considered, speclut, spec_scored;
+	char spec_name[96];
+	double spec_cost, spec_err, spec_d_cost;
+	bk_speclut spec_layout;
 } bk_scene_choice;
 
 /* Chooses the term for the set; generic (may be NULL) gets the generic

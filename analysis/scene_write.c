@@ -128,6 +128,23 @@ static int lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, con
 	return rc;
 }
 
+/* How to make and sample a specular LUT chosen for vf (speclut.h): it
+ * replaces D*V*F*NoL whole. Returns 0 or -1. */
+static int speclut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+{
+	const bk_speclut *L = &c->spec_layout;
+	char axes[700], texel[400], shader[200];
+	bk_speclut_describe(L, axes, sizeof axes, texel, sizeof texel, shader, sizeof shader);
+	int rc = comment_line(f, c0, c1, "%s: the whole punctual specular D*V*F*NoL is a texture here (cheaper at this "
+	                      "ALU:TEX ratio; D and V*F are not computed):", fname);
+	rc |= comment_line(f, c0, c1, "  %s, made by: %s", c->name, c->source);
+	rc |= comment_line(f, c0, c1, "  %s", axes);
+	rc |= comment_line(f, c0, c1, "  %s", texel);
+	rc |= comment_line(f, c0, c1, "  %s; directional albedo max abs error %.3g on the domain", shader, c->err);
+	fputc('\n', f);
+	return rc;
+}
+
 /* The provenance lines at the top of a shader. Returns 0 or -1. */
 static int shader_head(FILE *f, const bk_scene_doc *d, const bk_scene_result *R, const char *dom, const char *c0,
                        const char *c1)
@@ -162,8 +179,10 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 		const bk_scene_choice *c = &R->ch[t];
 		char fname[96], errtext[160];
 		snprintf(fname, sizeof fname, "%s_%s", R->set.name, bk_scene_term_name(t));
+		if (t == BK_SCENE_TERM_D && R->ch[BK_SCENE_TERM_VF].speclut)
+			continue; /* in the specular LUT */
 		if (c->lut) {
-			if (lut_comment(f, c, fname, c0, c1)) {
+			if (c->speclut ? speclut_comment(f, c, fname, c0, c1) : lut_comment(f, c, fname, c0, c1)) {
 				snprintf(err, errlen, "out of memory");
 				return -1;
 			}
@@ -398,6 +417,15 @@ static void report_term(FILE *f, const bk_scene_result *r, int t)
 	fputs("      fp16 guards: ", f);
 	plain(f, c->guards);
 	fputc('\n', f);
+	if (c->spec_considered && !c->speclut) { /* why the specular LUT was not chosen */
+		fputs("      specular LUT (replaces D*V*F*NoL): best ", f);
+		plain(f, c->spec_name);
+		fprintf(f, ", cost %g against D + vf %g, albedo_max_abs %.3g: %s\n", c->spec_cost, c->spec_d_cost + c->cost,
+		        c->spec_err, c->spec_err > c->budget ? "over the budget" : "not cheaper");
+	} else if (c->speclut) {
+		fprintf(f, "      specular LUT: replaces D*V*F*NoL; its whole cost %g, shown net of D's %g\n",
+		        c->cost + c->spec_d_cost, c->spec_d_cost);
+	}
 	if (c->eq_name[0] && g->err > 0) {
 		fputs("      at the generic's cost: ", f);
 		plain(f, c->eq_name);

@@ -8,6 +8,7 @@
 int cmd_terms(int argc, char **argv);
 int cmd_dfg(int argc, char **argv);
 int cmd_lut(int argc, char **argv);
+int cmd_lut_specular(int argc, char **argv); /* lut --specular (cmd_speclut.c) */
 int cmd_albedo(int argc, char **argv);
 int cmd_eval(int argc, char **argv);
 int cmd_ops(int argc, char **argv);

@@ -16,6 +16,7 @@
 #include "gpucost.h"
 #include "heatmap.h"
 #include "lutrows.h"
+#include "speclut.h"
 #include "search/catalogmap.h"
 #include "search/refit.h"
 
@@ -39,6 +40,8 @@ typedef struct study {
 	long reps;
 	bk_compare_info info; /* the cost model, and the chips of --gpu */
 	char driver[256];     /* the Vulkan driver that compiled for --gpu */
+	int speclut[MAX_ROWS];        /* 1: the row is a specular LUT (spec), laid out as spec_layout[i] */
+	bk_speclut spec_layout[MAX_ROWS];
 } study;
 
 static void row_text(bk_compare_row *r, const char *name, const char *kind, const char *source)
@@ -166,6 +169,49 @@ static void add_luts(study *S)
 		r->sampler_slots = 1;
 		r->spirv = -1;
 		r->ns = r->ns_min = r->ns_max = NAN;
+		S->n++;
+	}
+}
+
+/* spec: the low tier's specular LUT (speclut.h), the talk's choices (R·L,
+ * warp 4, 1/16, 8 bits, no Fresnel) at 32² to 128², the same over N·H, and
+ * the talk's with Schlick F in the shader and stored as float (the 8 bits'
+ * share); brdfkit lut --specular --sweep has the rest. ALU cost: the
+ * shader's ops beyond the fetch (bk_speclut_ops), the fetch priced by the
+ * tier as every LUT row's. */
+static void add_speclut_rows(study *S)
+{
+	static const struct { bk_speclut_axis axis; int size; bk_speclut_fresnel fr; bk_lut_format fmt; } rows[] = {
+		{BK_SPECLUT_ROL, 32, BK_SPECLUT_F_NONE, BK_LUT_UNORM8},  {BK_SPECLUT_ROL, 64, BK_SPECLUT_F_NONE, BK_LUT_UNORM8},
+		{BK_SPECLUT_ROL, 128, BK_SPECLUT_F_NONE, BK_LUT_UNORM8}, {BK_SPECLUT_NOH, 32, BK_SPECLUT_F_NONE, BK_LUT_UNORM8},
+		{BK_SPECLUT_NOH, 64, BK_SPECLUT_F_NONE, BK_LUT_UNORM8},  {BK_SPECLUT_NOH, 128, BK_SPECLUT_F_NONE, BK_LUT_UNORM8},
+		{BK_SPECLUT_ROL, 64, BK_SPECLUT_F_SCHLICK, BK_LUT_UNORM8}, {BK_SPECLUT_ROL, 64, BK_SPECLUT_F_NONE, BK_LUT_FLOAT},
+	};
+	for (size_t k = 0; k < sizeof rows / sizeof rows[0] && S->n < MAX_ROWS; k++) {
+		bk_speclut L = BK_SPECLUT_TALK;
+		L.axis = rows[k].axis;
+		L.nu = L.nr = rows[k].size;
+		L.fresnel = rows[k].fr;
+		L.fmt = rows[k].fmt;
+		bk_compare_row *r = &S->rows[S->n];
+		memset(r, 0, sizeof *r);
+		if (bk_speclut_score(&L, BK_F64, &S->s, &r->m, NULL) || bk_speclut_ops(&L, &r->ops))
+			continue;
+		char name[96], src[256];
+		bk_speclut_name(&L, name, sizeof name);
+		snprintf(src, sizeof src, "specular LUT (brdfkit lut --specular --axis %s --warp %d --scale %g --size %d): "
+		         "GGX D/4/%g, bilinear, clamp to edge; shader: texel*%g*NoL*%s", bk_speclut_axis_name(L.axis), L.warp,
+		         L.scale, L.nu, L.scale, L.scale, L.fresnel == BK_SPECLUT_F_SCHLICK ? "F_schlick(f0, 1, LoH)" : "f0");
+		row_text(r, name, "lut", src);
+		r->cost = bk_ops_cost(&r->ops, S->info.simple, S->info.complex);
+		r->tex_fetches = 1;
+		r->sampler_slots = 1;
+		r->spirv = -1;
+		r->ns = r->ns_min = r->ns_max = NAN;
+		for (int c = 0; c < BK_COMPARE_CHIPS; c++)
+			r->gpu_insn[c] = r->gpu_transc[c] = r->gpu_vgprs[c] = NAN;
+		S->speclut[S->n] = 1;
+		S->spec_layout[S->n] = L;
 		S->n++;
 	}
 }
@@ -323,6 +369,9 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 		sp.form[0] = f;
 		sp.np = bk_form_nparams(f);
 		bk_fit_plane_error(&sp, r->params, v);
+	} else if (S->speclut[r - S->rows]) {
+		bk_fit_metrics m;
+		bk_speclut_score(&S->spec_layout[r - S->rows], BK_F64, &S->s, &m, v);
 	} else {
 		bk_fit_metrics m;
 		int size = 0;
@@ -443,10 +492,10 @@ static const cli_dim dims[] = {
 	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d", " on target f"}},
 	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
 	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
-	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (target env only, not with --no-lut)"}},
+	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env and spec only, not with --no-lut)"}},
 };
 static const cli_rule rules[] = {
-	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV), "LUT rows are scored for target env only", NULL},
+	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(SPEC), "LUT rows are scored for targets env and spec only", NULL},
 	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM), "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
@@ -509,14 +558,14 @@ int cmd_compare(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals for the refits", .dest = &relative},
 		{.name = "--no-refit", .kind = CLI_FLAG, .help = "published constants only", .dest = &no_refit},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip CPU timing", .dest = &no_time},
-		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env: leave out the LUT rows", .dest = &no_lut},
+		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec: leave out the LUT rows", .dest = &no_lut},
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
-		{.name = "--tier", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "ALU:TEX ratio pricing a fetch for the front (env's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
+		{.name = "--tier", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "ALU:TEX ratio pricing a fetch for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page)", .dest = &prefix},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "weights of the ALU cost: ir (default; simple 1, complex 4) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100", .dest = &model},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &gpu},
 	};
-	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env) the LUT alternative on\n"
+	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env, spec) the LUT alternative on\n"
 	               "the same samples: error, ALU cost, texture fetches, CPU ns, SPIR-V size, the Pareto front.",
 	               "--target T --out DIR [FORM ...] [options]",
 	               "Writes DIR/compare.csv, timing.csv, pareto_cost.svg, pareto_ns.svg, section.html (for the\n"
@@ -550,7 +599,7 @@ int cmd_compare(int argc, char **argv)
 		fprintf(stderr, "brdfkit compare: --tier: expected 16, 32, 48 or 64, got %ld\n", tier);
 		return 2;
 	}
-	int ctx[] = {(int)kind, no_time, no_refit, kind != BK_TARGET_ENV || no_lut};
+	int ctx[] = {(int)kind, no_time, no_refit, (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC) || no_lut};
 	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))
 		return rc;
 	bk_target_defaults(kind, &S.to);
@@ -635,6 +684,8 @@ int cmd_compare(int argc, char **argv)
 			S.rows[i].ops.simple = 1;
 			S.rows[i].cost = S.info.simple;
 		}
+	if (kind == BK_TARGET_SPEC && !no_lut) /* after the loop above: their ops are their own */
+		add_speclut_rows(&S);
 	if (no_time)
 		snprintf(S.untimed, sizeof S.untimed, "--no-time");
 	else if (bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err)) {

@@ -100,6 +100,9 @@ int cmd_dfg(int argc, char **argv)
 
 int cmd_lut(int argc, char **argv)
 {
+	for (int i = 0; i < argc && strcmp(argv[i], "--"); i++) /* the specular LUT: options of its own */
+		if (!strcmp(argv[i], "--specular"))
+			return cmd_lut_specular(argc, argv);
 	long size = 0, samples = 0;
 	const char *smith = "correlated", *origin = "top", *out = NULL;
 	int half = 0;
@@ -130,7 +133,8 @@ int cmd_lut(int argc, char **argv)
 	               "A LUT laid out for a scene (brdfkit scene names the command): --f0 folds one f0\n"
 	               "into a single channel R = f0*A + B; --r-range LO:HI puts the rows over LO..HI,\n"
 	               "sampled at v = (r - LO)/(HI - LO); --warp sqrt samples x at u = sqrt(NoV). The\n"
-	               "EXR header and the CSV's comments state the layout.",
+	               "EXR header and the CSV's comments state the layout.\n"
+	               "lut --specular writes the low tier's specular LUT instead (brdfkit lut --specular --help).",
 	               opts, 10, 0, 0, {0}};
 	int rc = cli_parse_table(&cmd, &lut_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
