@@ -58,6 +58,9 @@ static const double background[3] = {0.02, 0.02, 0.025};
  * -> 0, where V terms divide by zero; 1e-3 keeps every form in its domain
  * (engines clamp NoV alike) and is a normal number in half. */
 #define NOV_MIN 1e-3
+/* the camera's distance from each sphere's centre, in radii: a 50 mm lens
+ * framing a head-sized sphere from about 1.5 m is near 4 */
+#define CAM_DIST 4.0
 /* the DFG per column: 129 nodes in sqrt(NoV), which crowds them where B
  * bends at grazing angles (tests/test_render.c: within 1e-4 of bk_dfg) */
 #define DFG_NODES 129
@@ -253,27 +256,39 @@ int bk_render_geometry(const bk_render_scene *s, bk_render_env_fn env, void *ctx
 			snprintf(err, errlen, "roughness %g is out of the DFG's range", s->r[c]);
 			return -1;
 		}
-	double L[3], V[3] = {0, 0, 1}, H[3];
+	double L[3];
 	light_dir(L);
-	for (int k = 0; k < 3; k++)
-		H[k] = L[k] + V[k];
-	normalize3(H);
-	double rad = 0.45 * s->cell;
+	/* each sphere seen by its own pinhole camera at CAM_DIST radii on +z,
+	 * its silhouette on the cell's circle of radius 0.45 cell: V, H and LoH
+	 * change across the sphere as under a real camera (an orthographic view
+	 * with a directional light would hold LoH constant on the whole image) */
+	double rad = 0.45 * s->cell, t = 1 / sqrt(CAM_DIST * CAM_DIST - 1); /* tan of the silhouette's half-angle */
 	for (int y = 0; y < g->height; y++)
 		for (int x = 0; x < g->width; x++) {
 			size_t p = (size_t)y * (size_t)g->width + (size_t)x;
 			int row = y / s->cell, col = x / s->cell;
 			double u = (x + 0.5 - (col + 0.5) * s->cell) / rad, v = -(y + 0.5 - (row + 0.5) * s->cell) / rad;
-			double rr = u * u + v * v;
-			if (rr >= 1) {
+			double D[3] = {u * t, v * t, -1}, C[3] = {0, 0, CAM_DIST};
+			normalize3(D);
+			double b = dot3(C, D), disc = b * b - (CAM_DIST * CAM_DIST - 1);
+			if (disc <= 0) {
 				g->sphere[p] = -1;
 				for (int c = 0; c < 3; c++)
 					g->background[p * 3 + c] = (float)background[c];
 				continue;
 			}
 			g->sphere[p] = row * s->ncols + col;
-			double N[3] = {u, v, sqrt(1 - rr)}, r = s->r[col], a = r * r;
-			double NoV = N[2], R[3], pref[3], irr[3];
+			double hit = -b - sqrt(disc), N[3], V[3], H[3];
+			for (int k = 0; k < 3; k++) {
+				N[k] = C[k] + hit * D[k]; /* the unit sphere at the origin */
+				V[k] = -D[k];
+			}
+			normalize3(N);
+			for (int k = 0; k < 3; k++)
+				H[k] = L[k] + V[k];
+			normalize3(H);
+			double r = s->r[col], a = r * r;
+			double NoV = dot3(N, V), R[3], pref[3], irr[3];
 			for (int k = 0; k < 3; k++)
 				R[k] = 2 * NoV * N[k] - V[k];
 			NoV = fmax(NoV, NOV_MIN);

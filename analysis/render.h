@@ -9,8 +9,10 @@
  *             dielectric, f0 = 0.04 (grey) over a Lambert base of albedo
  *             (0.30, 0.04, 0.03); row 1 gold, f0 = (1.00, 0.71, 0.29), no
  *             diffuse. Cells are cell x cell pixels; sphere radius 0.45 cell.
- *   camera    orthographic, V = (0, 0, 1) at every pixel (x right, y up,
- *             z toward the viewer); pixel centres; NoV floored at 1e-3.
+ *   camera    perspective, one pinhole per sphere at 4 radii on +z (x right,
+ *             y up, z toward the viewer) with the silhouette on the sphere's
+ *             circle: V = the ray back to the camera, so V, H and LoH vary
+ *             across a sphere; pixel centres; NoV floored at 1e-3.
  *   light     one directional light toward L = normalize(0.5, 0.6, 0.62),
  *             irradiance at normal incidence E = (3.0, 2.9, 2.7).
  *   sky       procedural (bk_render_sky): ground (0.20, 0.16, 0.12) blending

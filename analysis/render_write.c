@@ -17,7 +17,7 @@
 const char bk_render_conventions[] =
 	"linear radiance (RGB), brdfkit render's scene (analysis/render.h): columns of roughness r (perceptual, a = "
 	"r^2); top row a dielectric f0 = 0.04 over a Lambert base (0.30, 0.04, 0.03), bottom row gold f0 = (1.00, "
-	"0.71, 0.29); orthographic view V = (0,0,1); one directional light toward normalize(0.5, 0.6, 0.62), E = "
+	"0.71, 0.29); perspective view, a pinhole per sphere at 4 radii; one directional light toward normalize(0.5, 0.6, 0.62), E = "
 	"(3.0, 2.9, 2.7); a procedural sky, prefiltered per pixel (Karis, N = V = R, 24x48 GGX samples) times the "
 	"split sum f0 A + B of brdfkit's DFG (correlated Smith); specular D_ggx V_smith_ggx_correlated F_schlick(f0, "
 	"1); the candidate replaces one term; background 0.02 flat. PNG: Reinhard x/(1+x) per channel, then sRGB; "

@@ -44,14 +44,21 @@ static double noh_identity(const bk_render_geom *g, const float *noh_override, s
 	return worst;
 }
 
-/* Orthographic V = +z and the light toward normalize(0.5, 0.6, 0.62): LoH is
- * one number, cos of half the angle between V and L, sqrt((1 + V·L)/2);
- * NoH = (NoV + NoL)/(2 LoH); a = r^2 of the column; f0 the row's material. */
+/* render.h's camera: a pinhole at 4 radii, the silhouette on the circle of
+ * radius 0.45 cell, so the ray of a pixel at (u, v) (units of that radius
+ * from the cell's centre) leaves the camera along (u t, v t, -1), t = tan of
+ * the silhouette's half-angle = 1/sqrt(15), and V is its reverse. With the
+ * light toward normalize(0.5, 0.6, 0.62), LoH = cos of half the angle between
+ * V and L = sqrt((1 + V·L)/2), from the pixel's position alone (no sphere
+ * intersection); it varies across a sphere (it would not under an
+ * orthographic camera). NoH = (NoV + NoL)/(2 LoH); a = r^2 of the column; f0
+ * the row's material. */
 Test(render, sphere_geometry_identities)
 {
 	const double r[2] = {0.3, 0.8};
 	bk_render_geom g = geom(16, 2, r);
-	double VoL = 0.62 / sqrt(0.25 + 0.36 + 0.62 * 0.62), LoH = sqrt((1 + VoL) / 2);
+	const double Ln = sqrt(0.25 + 0.36 + 0.62 * 0.62), t = 1 / sqrt(15.0);
+	double lo = 1, hi = 0;
 	cr_assert_eq(g.width, 32);
 	cr_assert_eq(g.height, 32);
 	cr_assert(g.n > 0 && g.n % 3 == 0);
@@ -59,7 +66,11 @@ Test(render, sphere_geometry_identities)
 		const float *s = slot(&g, i);
 		int p = g.pixel[i] / 3, sph = g.sphere[p], row = sph / 2, col = sph % 2;
 		cr_assert(sph >= 0);
+		double u = ((p % 32) + 0.5 - (col + 0.5) * 16) / 7.2, v = -((p / 32) + 0.5 - (row + 0.5) * 16) / 7.2;
+		double Vn = sqrt(u * u * t * t + v * v * t * t + 1);
+		double VoL = (-u * t * 0.5 - v * t * 0.6 + 0.62) / (Vn * Ln), LoH = sqrt((1 + VoL) / 2);
 		cr_assert_float_eq(s[BK_RS_LOH], LoH, 1e-6);
+		lo = fmin(lo, LoH), hi = fmax(hi, LoH);
 		cr_assert_float_eq(s[BK_RS_R], r[col], 1e-7);
 		cr_assert_float_eq(s[BK_RS_A], r[col] * r[col], 1e-7);
 		cr_assert(s[BK_RS_NOV] >= 1e-3f && s[BK_RS_NOV] <= 1 && s[BK_RS_NOL] >= 0 && s[BK_RS_NOL] <= 1);
@@ -67,6 +78,7 @@ Test(render, sphere_geometry_identities)
 		cr_assert_float_eq(s[BK_RS_F0], f0, 1e-7);
 		cr_assert(row == 1 ? s[BK_RS_DIFF] == 0 : s[BK_RS_DIFF] > 0, "metal has no diffuse");
 	}
+	cr_assert(hi - lo > 0.05, "LoH %g..%g: the view does not vary across the spheres", lo, hi);
 	/* float inputs: a few 2^-24 relative */
 	cr_assert(noh_identity(&g, NULL, 0) < 1e-6, "%g", noh_identity(&g, NULL, 0));
 	/* control: one NoH off by 1e-5 breaks it */
