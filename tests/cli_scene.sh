@@ -161,6 +161,13 @@ printf '<p>not a section</p>\n' >plain.html
 expect_error "report no marker" "plain.html: line 1: does not open with <section id=" "$BK" report --out p.html plain.html
 expect_error "report /dev/zero" "/dev/zero: is longer than 4194304 bytes" bounded "$BK" report --out p.html /dev/zero
 [ ! -e p.html ] && ok || bad "a refused report left p.html"
+# make results' page has more than 16 sections: 32 are one page, the 33rd is named
+for i in $(seq 1 33); do printf '<section id="s%d"><p>%d</p></section>\n' "$i" "$i" >"many$i.html"; done
+"$BK" report --out page32.html $(for i in $(seq 1 32); do echo "many$i.html"; done) >out 2>err &&
+	[ "$(grep -c '<section id="s' page32.html)" = 32 ] && ok || bad "report of 32 sections: $(cat err)"
+expect_error "report of 33 sections" "'many33.html': at most 32 arguments" \
+	"$BK" report --out page33.html $(for i in $(seq 1 33); do echo "many$i.html"; done)
+[ ! -e page33.html ] && ok || bad "a refused report of 33 sections left its page"
 
 echo "cli_scene: $pass passed, $fail failed"
 [ $fail -eq 0 ]

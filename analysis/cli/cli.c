@@ -249,6 +249,8 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			continue;
 		}
 		if (!options || strncmp(arg, "--", 2) != 0) { /* a positional: a form, NAME=VALUE, ... */
+			if (cmd->max_pos > 1 && (cmd->npos >= cmd->max_pos || cmd->npos == 32))
+				return cli_usage(cmd, "'%s': at most %d arguments", arg, cmd->max_pos < 32 ? cmd->max_pos : 32);
 			if (cmd->npos >= cmd->max_pos || cmd->npos == 32)
 				return cli_usage(cmd, "unexpected argument '%s'", arg);
 			cmd->pos[cmd->npos++] = argv[i];

@@ -120,11 +120,12 @@ int cmd_report(int argc, char **argv)
 	};
 	cli_cmd cmd = {"report", "Writes the study's page from the sections brdfkit compare wrote.",
 	               "--out FILE.html SECTION.html [SECTION.html ...]",
-	               "A section is a file brdfkit compare, stability, search or scene wrote (at most 4 MiB): it\n"
+	               "A section is a file brdfkit compare, stability, search, scene, lut --specular --sweep or\n"
+	               "render wrote (at most 4 MiB; at most 32 sections): it\n"
 	               "opens with <section id=\"ID\"> and holds only the elements and attributes those commands\n"
 	               "write (no script, no event handler, links relative or http(s)); each is given once, with\n"
 	               "an id of its own, and none is --out itself.",
-	               opts, 1, 16, 0, {0}};
+	               opts, 1, 32, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
 		return rc == 1 ? 0 : rc;
