@@ -6,11 +6,10 @@
 
 #include "exr.h"
 #include "out.h"
+#include "pngio.h"
 
 #include <errno.h>
 #include <math.h>
-#include <png.h>
-#include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,25 +33,8 @@ static const char diff_text[] =
 
 /* ---- PNG ------------------------------------------------------------------------- */
 
-typedef struct png_sink {
-	char msg[200];
-} png_sink;
-
-static void on_error(png_structp png, png_const_charp msg)
-{
-	png_sink *k = png_get_error_ptr(png);
-	snprintf(k->msg, sizeof k->msg, "%s", msg);
-	png_longjmp(png, 1);
-}
-
-static void on_warning(png_structp png, png_const_charp msg)
-{
-	(void)png;
-	(void)msg;
-}
-
-/* 8-bit RGB, sRGB chunk, the texts as tEXt (no tIME chunk, a fixed level:
- * the bytes depend on the pixels and texts alone). */
+/* 8-bit RGB, sRGB chunk, the texts as tEXt (pngio.h: the bytes depend on the
+ * pixels and texts alone). */
 static int write_png(const char *path, int w, int h, const unsigned char *rgb, const char *title, const char *desc,
                      char *err, size_t errlen)
 {
@@ -61,33 +43,16 @@ static int write_png(const char *path, int w, int h, const unsigned char *rgb, c
 		snprintf(err, errlen, "%s: %s", path, strerror(errno));
 		return -1;
 	}
-	png_sink k = {""};
-	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &k, on_error, on_warning);
-	png_infop info = png ? png_create_info_struct(png) : NULL;
-	int rc = info ? 0 : -1;
-	if (!rc && setjmp(png_jmpbuf(png)))
-		rc = -1;
-	else if (!rc) {
-		png_init_io(png, f);
-		png_set_compression_level(png, 9);
-		png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-		             PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-		png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-		png_text text[4] = {
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Title", .text = (char *)title},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Description", .text = (char *)desc},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Software", .text = "brdfkit " BK_VERSION},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Command", .text = (char *)bk_out_command()},
-		};
-		png_set_text(png, info, text, 4);
-		png_write_info(png, info);
-		for (int y = 0; y < h; y++)
-			png_write_row(png, rgb + (size_t)y * (size_t)w * 3);
-		png_write_end(png, info);
-	}
-	png_destroy_write_struct(&png, &info);
+	const bk_png_text text[4] = {
+		{"Title", title},
+		{"Description", desc},
+		{"Software", "brdfkit " BK_VERSION},
+		{"Command", bk_out_command()},
+	};
+	char e2[256];
+	int rc = bk_png_write(f, w, h, 3, 1, rgb, text, 4, e2, sizeof e2);
 	if (fclose(f) || rc) {
-		snprintf(err, errlen, "%s: %s", path, k.msg[0] ? k.msg : "cannot write the PNG");
+		snprintf(err, errlen, "%s: %s", path, rc ? e2 : "cannot write the PNG");
 		return -1;
 	}
 	return 0;

@@ -6,9 +6,9 @@
 #include "speclut.h"
 #include "exr.h"
 #include "out.h"
+#include "pngio.h"
 
 #include <math.h>
-#include <png.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -306,52 +306,6 @@ void bk_speclut_describe(const bk_speclut *L, char *axes, size_t alen, char *tex
 
 /* ---- files -------------------------------------------------------------------- */
 
-typedef struct png_sink {
-	char msg[200];
-} png_sink;
-
-static void on_png_error(png_structp png, png_const_charp msg)
-{
-	png_sink *k = png_get_error_ptr(png);
-	snprintf(k->msg, sizeof k->msg, "%s", msg);
-	png_longjmp(png, 1);
-}
-
-static void on_png_warning(png_structp png, png_const_charp msg)
-{
-	(void)png;
-	(void)msg;
-}
-
-/* 8-bit grey, the UNORM8 codes; no sRGB or gAMA chunk (linear data); no tIME,
- * fixed zlib level: the bytes depend only on the texels and the texts. */
-static int encode_png(FILE *f, const bk_speclut *L, const unsigned char *codes, png_text *text, int ntext,
-                      png_sink *k)
-{
-	png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, k, on_png_error, on_png_warning);
-	png_infop info = png ? png_create_info_struct(png) : NULL;
-	if (!info) {
-		png_destroy_write_struct(&png, NULL);
-		snprintf(k->msg, sizeof k->msg, "out of memory");
-		return -1;
-	}
-	if (setjmp(png_jmpbuf(png))) {
-		png_destroy_write_struct(&png, &info);
-		return -1;
-	}
-	png_init_io(png, f);
-	png_set_compression_level(png, 9);
-	png_set_IHDR(png, info, (png_uint_32)L->nu, (png_uint_32)L->nr, 8, PNG_COLOR_TYPE_GRAY, PNG_INTERLACE_NONE,
-	             PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-	png_set_text(png, info, text, ntext);
-	png_write_info(png, info);
-	for (int y = 0; y < L->nr; y++)
-		png_write_row(png, codes + (size_t)y * (size_t)L->nu);
-	png_write_end(png, info);
-	png_destroy_write_struct(&png, &info);
-	return 0;
-}
-
 static void write_csv(FILE *f, const bk_speclut *L, const double *raw, const char *axes, const char *texel,
                       const char *shader, const char *command)
 {
@@ -434,19 +388,20 @@ int bk_speclut_write(const bk_speclut *L, const char *dir, const char *command, 
 		char unorm[160];
 		snprintf(unorm, sizeof unorm, "8-bit UNORM: code/255 = texel (saturated to [0, 1], so intensities above %g "
 		         "are cut); upload as a linear R8/L8 texture", L->scale);
-		png_text text[] = {
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Title", .text = "brdfkit specular LUT"},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Software", .text = "brdfkit " BK_VERSION},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:layout", .text = layout},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:axes", .text = axes},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:texel", .text = texel},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:storage", .text = unorm},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:shader", .text = shader},
-			{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "brdfkit:command", .text = (char *)cmd},
+		const bk_png_text text[] = {
+			{"Title", "brdfkit specular LUT"},
+			{"Software", "brdfkit " BK_VERSION},
+			{"brdfkit:layout", layout},
+			{"brdfkit:axes", axes},
+			{"brdfkit:texel", texel},
+			{"brdfkit:storage", unorm},
+			{"brdfkit:shader", shader},
+			{"brdfkit:command", cmd},
 		};
-		png_sink k = {""};
-		if (encode_png(po.f, L, codes, text, (int)(sizeof text / sizeof text[0]), &k)) {
-			snprintf(err, errlen, "%s: png: %s", png_path, k.msg);
+		char e2[256];
+		/* 8-bit grey, the UNORM8 codes; no colour chunk: linear data */
+		if (bk_png_write(po.f, L->nu, L->nr, 1, 0, codes, text, (int)(sizeof text / sizeof text[0]), e2, sizeof e2)) {
+			snprintf(err, errlen, "%s: %s", png_path, e2);
 			bk_out_abort(&po);
 			bk_out_abort(&co);
 			rc = -1;
