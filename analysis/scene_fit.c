@@ -362,19 +362,9 @@ static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
 	memset(ops, 0, sizeof *ops);
 	const char *parts[3] = {bk_lut_warp_form(L->warp), L->r_lo > 0 || L->r_hi < 1 ? "r*p0 + p1" : "r",
 	                        isnan(L->f0) ? "f0*p0 + p1" : "p0"};
-	for (int k = 0; k < 3; k++) {
-		bk_form_error fe;
-		bk_form *f = bk_form_parse(parts[k], &fe);
-		if (!f)
+	for (int k = 0; k < 3; k++)
+		if (bk_form_count_add(parts[k], ops))
 			return -1;
-		bk_ops o;
-		bk_form_count(f, &o);
-		bk_form_free(f);
-		for (int c = 0; c < BK_K_COUNT; c++)
-			ops->n[c] += o.n[c];
-		ops->simple += o.simple;
-		ops->complex += o.complex;
-	}
 	return 0;
 }
 

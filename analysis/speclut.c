@@ -248,22 +248,6 @@ double bk_speclut_plane_rms(const bk_samples *s, const double *plane)
 	return used ? sqrt(sum / (double)used) : NAN;
 }
 
-static int add_ops(const char *text, bk_ops *ops)
-{
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(text, &fe);
-	if (!f)
-		return -1;
-	bk_ops o;
-	bk_form_count(f, &o);
-	bk_form_free(f);
-	for (int c = 0; c < BK_K_COUNT; c++)
-		ops->n[c] += o.n[c];
-	ops->simple += o.simple;
-	ops->complex += o.complex;
-	return 0;
-}
-
 int bk_speclut_ops(const bk_speclut *L, bk_ops *ops)
 {
 	memset(ops, 0, sizeof *ops);
@@ -281,7 +265,7 @@ int bk_speclut_ops(const bk_speclut *L, bk_ops *ops)
 	const char *back = L->fresnel == BK_SPECLUT_F_SCHLICK ? "p0*16*NoL*F_schlick(f0, 1, LoH)" : "p0*16*NoL*f0";
 	/* the rows over r_lo..r_hi: v = r*k + c, one multiply-add */
 	const char *v = L->r_lo > 0 || L->r_hi < 1 ? "r*p1 + p2" : "r";
-	return add_ops(coord, ops) || add_ops(back, ops) || add_ops(v, ops) ? -1 : 0;
+	return bk_form_count_add(coord, ops) || bk_form_count_add(back, ops) || bk_form_count_add(v, ops) ? -1 : 0;
 }
 
 void bk_speclut_describe(const bk_speclut *L, char *axes, size_t alen, char *texel, size_t tlen, char *shader,

@@ -345,6 +345,9 @@ typedef struct bk_ops {
 #define BK_COST_COMPLEX 4.0
 
 void bk_form_count(const bk_form *f, bk_ops *ops);
+/* Adds the counts of the form text to ops (a shader's pieces counted one by
+ * one and summed, as a LUT's coordinates are). 0, or -1 if it does not parse. */
+int bk_form_count_add(const char *text, bk_ops *ops);
 const char *bk_opclass_name(bk_opclass k);
 int bk_opclass_is_complex(bk_opclass k);
 double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost);

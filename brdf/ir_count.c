@@ -76,3 +76,19 @@ const bk_cost_model *bk_cost_model_at(size_t i)
 {
 	return i < sizeof cost_models / sizeof cost_models[0] ? &cost_models[i] : NULL;
 }
+
+int bk_form_count_add(const char *text, bk_ops *ops)
+{
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(text, &fe);
+	if (!f)
+		return -1;
+	bk_ops o;
+	bk_form_count(f, &o);
+	bk_form_free(f);
+	for (int c = 0; c < BK_K_COUNT; c++)
+		ops->n[c] += o.n[c];
+	ops->simple += o.simple;
+	ops->complex += o.complex;
+	return 0;
+}

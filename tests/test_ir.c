@@ -549,3 +549,21 @@ Test(eval, nowhere_finite_forms_are_found)
 	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", p, what, sizeof what), 0);
 	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", NULL, what, sizeof what), -1); /* parameters needed */
 }
+
+/* bk_form_count_add sums the counts of pieces counted one by one: sqrt(NoV)
+ * is one sqrt (complex), r*p0 + p1 one mad (simple); the sum is both, and a
+ * text that does not parse adds nothing and says so. */
+Test(ir, count_add_sums_pieces)
+{
+	bk_ops o;
+	memset(&o, 0, sizeof o);
+	cr_assert_eq(bk_form_count_add("sqrt(NoV)", &o), 0);
+	cr_assert_eq(bk_form_count_add("r*p0 + p1", &o), 0);
+	cr_assert_eq(o.n[BK_K_SQRT], 1);
+	cr_assert_eq(o.n[BK_K_MAD], 1);
+	cr_assert_eq(o.simple, 1);
+	cr_assert_eq(o.complex, 1);
+	bk_ops before = o;
+	cr_assert_eq(bk_form_count_add("r*(", &o), -1);
+	cr_assert(memcmp(&before, &o, sizeof o) == 0);
+}
