@@ -41,6 +41,8 @@ DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libc
        mesa-vulkan-drivers libcsv-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
+# tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
+NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matplotlib
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -171,6 +173,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
 test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp
+	$(call need,$(NOTEBOOK_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -187,6 +190,7 @@ test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/lavapipe.sh build/vkrun
 	sh tests/render.sh $(TOOL)
 	sh tests/readme.sh $(TOOL)
+	sh tests/notebook.sh notebooks_data
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
