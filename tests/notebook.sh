@@ -123,6 +123,40 @@ refuse "a renamed column" "column 'half_err' is not documented"
 mk; cp "$DIR/albedo.csv" "$T/bad/undocumented.csv"; cp "$DIR/albedo.meta.txt" "$T/bad/undocumented.meta.txt"
 refuse "an undocumented file" "undocumented.csv: matches 0 README sections"
 
+# the rule (notebooks_data/copy.sh) on planted files, against hand-written results
+C="${0%/*}/../notebooks_data/copy.sh"
+mkdir "$T/cp" "$T/cp/out"
+printf '# one: the command\n# two, with a comma\nx,y\n1,2\n' >"$T/cp/a.csv"
+printf 'x\n3\n' >"$T/cp/b.csv"
+printf '%s a\n%s b\n' "$T/cp/a.csv" "$T/cp/b.csv" | sh "$C" "$T/cp/out" >/dev/null || fail "copy.sh refused two good files"
+[ "$(cat "$T/cp/out/a.csv")" = "$(printf 'x,y\n1,2')" ] || fail "copy.sh: a.csv: $(cat "$T/cp/out/a.csv")"
+[ "$(cat "$T/cp/out/a.meta.txt")" = "$(printf 'source: %s\n# one: the command\n# two, with a comma' "$T/cp/a.csv")" ] || fail "copy.sh: a.meta.txt"
+[ "$(cat "$T/cp/out/b.meta.txt")" = "$(printf 'source: %s\n(no comment lines)' "$T/cp/b.csv")" ] || fail "copy.sh: b.meta.txt"
+# whole or nothing: a missing source, or a comment line after the header, leaves the folder as it was
+printf '# late\n' >>"$T/cp/b.csv"
+for list in "$T/cp/a.csv a|$T/cp/missing.csv m" "$T/cp/a.csv c|$T/cp/b.csv b"; do
+	echo "$list" | tr '|' '\n' | sh "$C" "$T/cp/out" 2>"$T/out" && fail "copy.sh accepted: $list"
+	[ "$(ls -A "$T/cp/out" | tr '\n' ' ')" = "a.csv a.meta.txt b.csv b.meta.txt " ] || fail "copy.sh changed the folder on a refusal: $(ls -A "$T/cp/out")"
+done
+grep -q "a comment line after the header" "$T/out" || fail "copy.sh refused the late comment for another reason: $(cat "$T/out")"
+
+# each file with its sidecar gives its results/ source back byte for byte (where results/ is)
+same_as_source() {  # same_as_source META SOURCE
+	{ grep '^#' "$1" || true; cat "${1%.meta.txt}.csv"; } | cmp -s - "$2"
+}
+n=0
+for m in "$DIR"/*.meta.txt; do
+	src=$(sed -n '1s/^source: //p' "$m")
+	[ -f "$src" ] || continue
+	same_as_source "$m" "$src" || fail "${m%.meta.txt}.csv and its .meta.txt are not $src (run make notebooks-data)"
+	n=$((n + 1))
+	if [ $n -eq 1 ]; then  # negative control: a data row too many
+		mkdir "$T/src"; cp "$m" "$T/src/x.meta.txt"; { cat "${m%.meta.txt}.csv"; echo "1"; } >"$T/src/x.csv"
+		! same_as_source "$T/src/x.meta.txt" "$src" || fail "a changed sidecar still gives $src back"
+	fi
+done
+echo "notebook.sh: $n files and their .meta.txt give their results/ source back"
+
 # 2. the notebook
 nb="$DIR/figures.ipynb"
 [ -f "$nb" ] || fail "$nb: missing"
