@@ -23,6 +23,7 @@ dir=$1
 [ -d "$dir" ] || { echo "notebooks-data: $dir: not a directory" >&2; exit 1; }
 tmp=$(mktemp -d "$dir/.copy.XXXXXX")
 trap 'rm -rf "$tmp"' EXIT
+trap 'exit 130' INT TERM  # (dash runs the EXIT trap on exit, not on a signal)
 n=0
 while read -r src name rest; do
 	[ -n "$src" ] || continue
