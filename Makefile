@@ -41,6 +41,8 @@ DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libc
        mesa-vulkan-drivers libcsv-dev
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
+# tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
+NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matplotlib
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -171,6 +173,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
 test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp
+	$(call need,$(NOTEBOOK_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -187,6 +190,7 @@ test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/lavapipe.sh build/vkrun
 	sh tests/render.sh $(TOOL)
 	sh tests/readme.sh $(TOOL)
+	sh tests/notebook.sh notebooks_data
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
@@ -291,8 +295,7 @@ results: $(TOOL)
 	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
 	  $(TOOL) gpucost --calibrate --chips $$c $(filter-out %_half/front.csv,$(wildcard results/search/*/front.csv)) \
-	    --out results/gpucost/calibration_$$c.csv || exit 1; \
-	  cp results/gpucost/calibration_$$c.csv notebooks_data/gpucost_calibration_$$c.csv; done
+	    --out results/gpucost/calibration_$$c.csv || exit 1; done
 	# the rendered comparisons read the fronts just written
 	$(MAKE) --no-print-directory results-render
 	# (results/search/moved: what issue 22's search changes moved, written once by
@@ -308,22 +311,27 @@ results: $(TOOL)
 	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
 	  results/search/moved/section.html \
 	  results/scenes/section.html results/speclut/section.html results/render/section.html
-	for t in vf2d vf env spec f; do \
-	  cp results/compare/$$t/compare.csv notebooks_data/compare_$$t.csv; \
-	  cp results/compare/$$t/timing.csv notebooks_data/timing_$$t.csv; \
-	done
-	for t in vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_mix_half env_f0_half f_glass_half f_gold_half; do \
-	  cp results/search/$$t/front.csv notebooks_data/search_front_$$t.csv; \
-	  cp results/search/$$t/catalog.csv notebooks_data/search_catalog_$$t.csv; \
-	done
-	for t in vf2d env_mix env_f0 f_glass f_gold; do \
-	  cp results/search/$${t}_half/vs_double.csv notebooks_data/search_vs_double_$${t}_half.csv; done
-	for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
-	  cp results/scenes/$$s/scene.csv notebooks_data/scene_$$s.csv; done
-	cp results/albedo.csv notebooks_data/albedo.csv
-	cp results/stability/stability.csv notebooks_data/stability.csv
+	$(MAKE) --no-print-directory notebooks-data
 
 results-runs: $(RESULTS_RUNS)
+
+# notebooks_data/: the CSVs of results/ for pandas and other tools, all made by one
+# rule (notebooks_data/copy.sh): NAME.csv without the comment lines, which go
+# verbatim to NAME.meta.txt beside it (notebooks_data/README.md). Reads results/ only.
+.PHONY: notebooks-data
+notebooks-data:
+	{ for t in vf2d vf env spec f; do \
+	    echo "results/compare/$$t/compare.csv compare_$$t"; echo "results/compare/$$t/timing.csv timing_$$t"; done; \
+	  for t in vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_mix_half env_f0_half f_glass_half f_gold_half; do \
+	    echo "results/search/$$t/front.csv search_front_$$t"; echo "results/search/$$t/catalog.csv search_catalog_$$t"; done; \
+	  for t in vf2d env_mix env_f0 f_glass f_gold; do \
+	    echo "results/search/$${t}_half/vs_double.csv search_vs_double_$${t}_half"; done; \
+	  for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
+	    echo "results/scenes/$$s/scene.csv scene_$$s"; done; \
+	  for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
+	    echo "results/gpucost/calibration_$$c.csv gpucost_calibration_$$c"; done; \
+	  echo "results/albedo.csv albedo"; echo "results/stability/stability.csv stability"; \
+	} | sh notebooks_data/copy.sh notebooks_data
 
 results-lut-correlated results-lut-separable results-lut-schlick:
 	$(TOOL) lut --size 128 --smith $(@:results-lut-%=%) --out results/dfg_$(@:results-lut-%=%)
