@@ -107,7 +107,8 @@ typedef struct bk_fit_spec {
 #define BK_FIT_COND_MAX 1e8
 
 typedef struct bk_fit_metrics {
-	double cost;          /* 1/2 sum rho(r_i^2) as the solver sees it (NaN where not fitted) */
+	double cost;          /* 1/2 sum of the squared weighted residuals, no loss (bk_fit_evaluate;
+	                         NaN from bk_samples_metrics) */
 	double rmse;          /* root mean square of f - y over the samples */
 	double weighted_rmse; /* the same with the target's (or the user's) weights */
 	double max_abs;       /* largest |f - y| */
