@@ -51,7 +51,8 @@ static int multi_start(bk_fit_ctx *c, const bk_fit_callbacks *cb, bk_fit_result 
 			failed = 1;
 		}
 		res->starts_run = k + 1;
-		/* after this start's bookkeeping below, whatever its outcome */
+		/* the program hears every start, failed ones too; a stop ends the
+		 * loop once this start is counted below */
 		int stop = cb && cb->progress && cb->progress(cb->ctx, k, spec->starts, &sum);
 		if (failed) {
 			if (!res->starts_failed++)
