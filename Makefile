@@ -3,7 +3,8 @@
 #   make results   the main job: DFG LUTs and the albedo table into results/
 #   make test      the test suite, then again under AddressSanitizer + UBSan
 #   make bench     benchmarks (medians of repeated runs, side by side)
-#   make install   PREFIX=/usr/local DESTDIR=  (libraries, brdf.h, brdfkit/*.h, brdfkit.pc, tool)
+#   make install   PREFIX=/usr/local DESTDIR=  (libbrdf, libbrdfkit-fit: .a and .so; brdf.h, brdfkit/*.h,
+#                  brdfkit.pc, the tools)
 #
 # Every target that compiles runs `deps` first: it installs the missing Debian
 # packages with apt-get when run as root, otherwise prints the apt-get line.
@@ -454,19 +455,66 @@ fuzz: build/fuzz_ir build/fuzz_ckpt
 	rm -rf build/fuzz-ckpt && mkdir -p build/fuzz-ckpt
 	build/fuzz_ckpt -runs=$(FUZZ_RUNS) -max_len=20000 -artifact_prefix=build/ build/fuzz-ckpt
 
-# the fitter and the search as a library a program links (libbrdfkit-fit.a, with
-# libbrdf.a under it) through the installed headers of PUB_H in include/brdfkit/:
-# fit/search.h (bk_search_new, bk_search_drive), the headers it includes, and the
-# opcodes its trees are made of (brdf_ops.h, from the table ir_ops.h)
+# the fitter and the search as a library a program links (libbrdfkit-fit, with
+# libbrdf under it) through the installed headers of PUB_H in include/brdfkit/:
+# fit/search.h (bk_search_new, bk_search_drive), fit/fit.h (bk_fit_run_cb), the
+# headers they include, and the opcodes the search's trees are made of
+# (brdf_ops.h, from the table ir_ops.h)
 FIT_LIB = build/libbrdfkit-fit.a
 PUB_H   = brdf/brdf.h brdf/brdf_ops.h brdf/ir_ops.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h
 $(FIT_LIB): $(call obj,build/obj,$(FIT_SRC))
 	ar rcs $@ $^
 
-install: all $(FIT_LIB)
+# Shared libraries: the same sources compiled again with -fPIC into build/pic/
+# (the tool's and the archives' objects keep their flags and bits), the same
+# extra flags as IR_KERNELS and FIT_LOOPS. Soname lib*.so.$(SOVER), the major of
+# VERSION; the file lib*.so.$(VERSION). Each exports only the functions and
+# variables its installed headers name (a version script made from the objects'
+# symbols and the headers' words, `local: *` for the rest: the search's internal
+# modules and the Ceres templates stay inside). -z defs: nothing left undefined,
+# so each library names every library it needs (libbrdf: libm; libbrdfkit-fit:
+# libbrdf, Ceres, glog, libstdc++, libm) and a program links with -l of ours alone.
+SOVER   = $(firstword $(subst ., ,$(VERSION)))
+SO_LIB  = build/libbrdf.so.$(VERSION)
+SO_FIT  = build/libbrdfkit-fit.so.$(VERSION)
+build/pic/%.o: %.c | deps
+	@mkdir -p $(dir $@)
+	$(CC) $(CSTD) $(WARN) $(OPT) -fPIC $(INC) -MMD -MP -c $< -o $@
+build/pic/%.o: %.cc | deps
+	@mkdir -p $(dir $@)
+	$(CXX) $(CXXSTD) $(WARN) $(OPT) -fPIC $(EIGEN) $(INC) -MMD -MP -c $< -o $@
+build/pic/brdf/ir_eval.o build/pic/brdf/ir_diff.o: CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
+build/pic/fit/fit_ctx.o: CSTD += -fvect-cost-model=dynamic
+# export_map(objects, headers, map): the objects' global symbols that the headers
+# name outside their comments
+define export_map
+	for h in $(2); do $(CC) -fpreprocessed -dD -E -P $$h || exit 1; done | LC_ALL=C tr -c 'A-Za-z0-9_' '\n' | LC_ALL=C sort -u >$(3).words
+	{ echo '{ global:'; nm -g --defined-only $(1) | awk 'NF == 3 { print $$3 }' | LC_ALL=C sort -u | \
+	  LC_ALL=C comm -12 - $(3).words | sed 's/$$/;/'; echo 'local: *; };'; } >$(3)
+endef
+$(SO_LIB): $(call obj,build/pic,$(LIB_SRC))
+	$(call export_map,$^,brdf/brdf.h brdf/brdf_ops.h,build/pic/libbrdf.map)
+	$(CC) -shared $(OPT) -Wl,-soname,libbrdf.so.$(SOVER) -Wl,--version-script=build/pic/libbrdf.map -Wl,-z,defs \
+	  $^ -lm -o $@
+$(SO_FIT): $(call obj,build/pic,$(FIT_SRC)) $(SO_LIB)
+	$(call export_map,$(filter %.o,$^),$(filter fit/%,$(PUB_H)),build/pic/libbrdfkit-fit.map)
+	$(CXX) -shared $(OPT) -Wl,-soname,libbrdfkit-fit.so.$(SOVER) -Wl,--version-script=build/pic/libbrdfkit-fit.map \
+	  -Wl,-z,defs $^ -lceres -lglog -lpthread -lm -o $@
+
+# lib/: the archives, and each shared library as its file, its soname and the
+# name -l finds (symlinks). brdfkit.pc's Libs carry -Wl,-rpath,${libdir}: a
+# program built with `pkg-config --cflags --libs brdfkit` runs from any PREFIX
+# without LD_LIBRARY_PATH or ldconfig (which a DESTDIR or non-root install
+# cannot run); Libs.private what a static link adds (pkg-config --static).
+install: all $(FIT_LIB) $(SO_LIB) $(SO_FIT)
 	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/brdfkit $(DESTDIR)$(PREFIX)/bin
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libbrdf.a
 	install -m 644 $(FIT_LIB) $(DESTDIR)$(PREFIX)/lib/libbrdfkit-fit.a
+	for l in libbrdf libbrdfkit-fit; do \
+	  install -m 755 build/$$l.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/ && \
+	  ln -sf $$l.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/$$l.so.$(SOVER) && \
+	  ln -sf $$l.so.$(SOVER) $(DESTDIR)$(PREFIX)/lib/$$l.so || exit 1; \
+	done
 	install -m 644 brdf/brdf.h $(DESTDIR)$(PREFIX)/include/brdf.h
 	install -m 644 $(PUB_H) $(DESTDIR)$(PREFIX)/include/brdfkit/
 	install -m 755 $(TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit

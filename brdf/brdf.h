@@ -31,6 +31,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 #define BK_VERSION "0.1.0"
 #define BK_PI 3.14159265358979323846
 
@@ -445,5 +449,9 @@ size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newli
 double bk_dsin(double x); /* |x| <= 8 */
 double bk_dcos(double x); /* |x| <= 8 */
 double bk_dacos(double c); /* c in [-1, 1] */
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -10,6 +10,10 @@
 
 #include "brdf.h"
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 typedef enum bk_op {
 #define OP(e, name, arity, c, glsl, hlsl, ...) BK_OP_##e,
 #include "ir_ops.h"
@@ -44,5 +48,9 @@ const bk_instr *bk_form_code(const bk_form *f, int *n, int *out);
  * bk_ir_force_generic(1) pins the baseline (tests), 0 asks the CPU again. */
 int bk_ir_avx2(void);
 void bk_ir_force_generic(int on);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -33,6 +33,10 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 /* Nodes of one candidate, at most (a candidate of the search is small: the
  * talk's V·F form is 9 nodes, Karis' env pair about 30). */
 #define BK_EXPR_MAX 64
@@ -56,10 +60,10 @@ typedef struct bk_expr {
  * and PARAM are leaves and always allowed); inputs: bit i allows bk_input i;
  * consts: the literals a leaf may be besides a parameter (e.g. 1, 2, 0.5). */
 typedef struct bk_grammar {
-	uint64_t ops;
-	unsigned inputs;
-	double consts[8];
-	int nconsts;
+	uint64_t ops;      /* bit op: operation op may appear (bk_grammar_default_ops, bk_grammar_parse_ops) */
+	unsigned inputs;   /* bit i: input i (BK_IN_*) may appear as a leaf */
+	double consts[8];  /* the constant leaves besides the parameters (1.0 in brdfkit search) */
+	int nconsts;       /* how many of consts[] are used */
 	int max_params; /* parameters in one candidate, <= BK_MAX_PARAMS */
 	int max_size;   /* nodes, <= BK_EXPR_MAX */
 } bk_grammar;
@@ -233,5 +237,9 @@ int bk_expr_input_neighbours(const bk_grammar *g, const bk_expr *e, bk_expr *out
  * Canonical, within limits; -1 as above. */
 int bk_expr_crossover(const bk_grammar *g, bk_rng *r, const bk_expr *a, const bk_expr *b,
                       bk_expr *child);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

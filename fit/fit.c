@@ -33,7 +33,7 @@ static void start_point(const bk_fit_spec *spec, int k, double *p)
  * (residuals near 1e154 or more, whose squares overflow: p0 = 1e308): there
  * is no point to compare. A failed first start stays a note; when every
  * start fails, the message names the first failure. */
-static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
+static int multi_start(bk_fit_ctx *c, const bk_fit_callbacks *cb, bk_fit_result *res)
 {
 	const bk_fit_spec *spec = c->spec;
 	double best = INFINITY;
@@ -50,21 +50,27 @@ static int multi_start(bk_fit_ctx *c, bk_fit_result *res)
 			         "double", sum.final_cost);
 			failed = 1;
 		}
+		res->starts_run = k + 1;
+		/* the program hears every start, failed ones too; a stop ends the
+		 * loop once this start is counted below */
+		int stop = cb && cb->progress && cb->progress(cb->ctx, k, spec->starts, &sum);
 		if (failed) {
 			if (!res->starts_failed++)
 				snprintf(first, sizeof first, "start %d of %d: %s", k + 1, spec->starts,
 				         sum.message[0] ? sum.message : "the solver gave no reason");
 			if (k == 0)
 				snprintf(res->message, sizeof res->message, "%s", sum.message);
-			continue;
+		} else {
+			res->start_cost_min = fmin(res->start_cost_min, sum.final_cost);
+			res->start_cost_max = fmax(res->start_cost_max, sum.final_cost);
+			if (!isfinite(best) || sum.final_cost < best * (1.0 - BK_FIT_COST_TIE)) {
+				best = sum.final_cost;
+				memcpy(res->p, p, sizeof p);
+				res->summary = sum;
+			}
 		}
-		res->start_cost_min = fmin(res->start_cost_min, sum.final_cost);
-		res->start_cost_max = fmax(res->start_cost_max, sum.final_cost);
-		if (!isfinite(best) || sum.final_cost < best * (1.0 - BK_FIT_COST_TIE)) {
-			best = sum.final_cost;
-			memcpy(res->p, p, sizeof p);
-			res->summary = sum;
-		}
+		if (stop)
+			break;
 	}
 	if (!isfinite(best)) {
 		snprintf(res->message, sizeof res->message, "every start failed; the first, %s", first);
@@ -456,7 +462,26 @@ static int round_digits(bk_fit_ctx *c, bk_fit_result *res)
 	return 0;
 }
 
-int bk_fit_run(const bk_fit_spec *spec_in, bk_fit_result *res)
+void bk_fit_defaults(bk_fit_spec *spec)
+{
+	bk_fit_options opt = BK_FIT_OPTIONS_INIT;
+	memset(spec, 0, sizeof *spec);
+	for (int j = 0; j < BK_MAX_PARAMS; j++) {
+		spec->start[j] = 1.0;
+		spec->lower[j] = -HUGE_VAL;
+		spec->upper[j] = HUGE_VAL;
+	}
+	spec->opt = opt;
+	spec->starts = 1;
+	spec->seed = 1;
+}
+
+int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res)
+{
+	return bk_fit_run_cb(spec, NULL, res);
+}
+
+int bk_fit_run_cb(const bk_fit_spec *spec_in, const bk_fit_callbacks *cb, bk_fit_result *res)
 {
 	memset(res, 0, sizeof *res);
 	bk_fit_spec fs = *spec_in; /* hold_unidentified adds to fs.hold */
@@ -490,7 +515,7 @@ int bk_fit_run(const bk_fit_spec *spec_in, bk_fit_result *res)
 		bk_fit_ctx_free(&c);
 		return -1;
 	}
-	rc = multi_start(&c, res);
+	rc = multi_start(&c, cb, res);
 	if (rc == 0)
 		check_optimality(&c, res, spec->hold, 1);
 	if (rc == 0 && res->summary.termination == BK_TERM_CONVERGENCE && hold_unidentified(&c, &fs, res)) {

@@ -11,18 +11,23 @@
 #include "solver.h"
 #include "target.h"
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 typedef struct bk_fit_spec {
-	const bk_samples *s;
-	const bk_form *form[2];  /* form[1]: B of a split-sum fit (s->ncomp == 2) */
-	int np;                  /* parameters p0..p(np-1) */
-	double start[BK_MAX_PARAMS];
-	double lower[BK_MAX_PARAMS], upper[BK_MAX_PARAMS];
+	const bk_samples *s;     /* the target's samples (target.h, bk_target_build) */
+	const bk_form *form[2];  /* form[0]: the form fitted (A of a split-sum fit);
+	                            form[1]: B, read only where s->ncomp == 2 */
+	int np;                  /* parameters p0..p(np-1) (bk_form_nparams), <= BK_MAX_PARAMS */
+	double start[BK_MAX_PARAMS];                      /* start 0's point; later starts move it */
+	double lower[BK_MAX_PARAMS], upper[BK_MAX_PARAMS]; /* bounds (+-HUGE_VAL: none) */
 	int hold[BK_MAX_PARAMS];  /* 1: keep at its start value */
 	int relative;            /* residuals (f - y)/|y| instead of f - y */
 	const bk_form *weight;   /* user weight formula, or NULL */
-	bk_fit_options opt;
+	bk_fit_options opt;      /* the solver's options (solver.h) */
 	int starts;              /* deterministic starts, >= 1 */
-	unsigned long seed;
+	unsigned long seed;      /* of the starts after the first (fit.c, start_point) */
 	int minimax;             /* Lawson's iteratively reweighted least squares */
 	int digits;              /* 0: none; N > 0: significant digits; -1: fp16 values;
 	                            BK_FIT_DIGITS_SE: the digits the standard errors justify */
@@ -102,14 +107,19 @@ typedef struct bk_fit_spec {
 #define BK_FIT_COND_MAX 1e8
 
 typedef struct bk_fit_metrics {
-	double cost, rmse, weighted_rmse, max_abs, albedo_max_abs; /* albedo: NaN if none */
+	double cost;          /* 1/2 sum of the squared weighted residuals, no loss (bk_fit_evaluate;
+	                         NaN from bk_samples_metrics) */
+	double rmse;          /* root mean square of f - y over the samples */
+	double weighted_rmse; /* the same with the target's (or the user's) weights */
+	double max_abs;       /* largest |f - y| */
+	double albedo_max_abs; /* largest error of the directional albedo; NaN if none */
 	double max_rel; /* over samples with |y| >= BK_REL_METRIC of the largest |y| */
 	double comp_rmse[3], comp_max_abs[3]; /* env split: A, B, A + B */
 	size_t nonfinite;                     /* samples where the form is not finite */
 } bk_fit_metrics;
 
 typedef struct bk_fit_result {
-	double p[BK_MAX_PARAMS];
+	double p[BK_MAX_PARAMS];           /* the fitted constants p0..p(np-1) */
 	double se[BK_MAX_PARAMS];          /* standard errors; NaN where held (hold, lower == upper, or
 	                                      held[]: not fitted, so none; the others' are conditional
 	                                      on them: a 0 would read "known exactly") and where not
@@ -120,9 +130,14 @@ typedef struct bk_fit_result {
 	                                      (fit.c, hold_unidentified) */
 	bk_fit_summary summary;            /* of the best start (and later stages) */
 	double start_cost_min, start_cost_max; /* spread of final costs over the starts */
-	int starts_failed;
-	bk_fit_metrics fitted, published, before_digits;
-	double unrounded[BK_MAX_PARAMS];
+	int starts_failed;                 /* starts whose solve failed */
+	int starts_run;                    /* starts solved: spec->starts, fewer when a callback
+	                                      stopped them (bk_fit_run_cb) */
+	bk_fit_metrics fitted;             /* of the result p */
+	bk_fit_metrics published;          /* left zero by the fit: the caller's slot for metrics at
+	                                      published constants (bk_fit_evaluate) */
+	bk_fit_metrics before_digits;      /* of the unrounded p, when digits rounds */
+	double unrounded[BK_MAX_PARAMS];   /* p before digits rounded it */
 	char message[512];                 /* why a fit failed; notes on optimality and conditioning */
 	/* First-order optimality at the returned point, checked independently of
 	 * Ceres' own stop (see BK_FIT_GRAD_TOL). With minimax, of the weighted
@@ -165,8 +180,30 @@ size_t bk_fit_nonfinite(const bk_fit_spec *spec, const double *p, char *where, s
 /* Points on the closed edges of the target's plane where a form is not finite. */
 int bk_fit_edge_check(const bk_fit_spec *spec, const double *p, char *where, size_t len);
 
+/* Every field's default (as Ceres' Solver::Options): no samples, forms or
+ * parameters yet (s, form[], np: the caller's to set), the solver's
+ * BK_FIT_OPTIONS_INIT, one start from p_j = 1, no bounds
+ * (+-HUGE_VAL), nothing held, absolute residuals, no weight formula, least
+ * squares, no rounding, seed 1. */
+void bk_fit_defaults(bk_fit_spec *spec);
+
 /* Returns 0 (converged), 1 (ran but did not converge), -1 (failed: message). */
 int bk_fit_run(const bk_fit_spec *spec, bk_fit_result *res);
+
+/* What a program hears from a running fit, and how it stops one (as Ceres'
+ * IterationCallback, once per start rather than per iteration: a start is
+ * one solve). progress (may be NULL) is called on the caller's thread after
+ * start `start` (0-based) of `starts` with that start's summary; non-zero
+ * ends the starts there: the rest of the fit (optimality check, minimax,
+ * standard errors, digits) runs on the best start so far, and
+ * res->starts_run says how many ran. */
+typedef struct bk_fit_callbacks {
+	int (*progress)(void *ctx, int start, int starts, const bk_fit_summary *sum);
+	void *ctx;
+} bk_fit_callbacks;
+#define BK_FIT_CALLBACKS_INIT {NULL, NULL}
+/* bk_fit_run with callbacks (cb may be NULL: bk_fit_run). */
+int bk_fit_run_cb(const bk_fit_spec *spec, const bk_fit_callbacks *cb, bk_fit_result *res);
 
 /* A fit's problem set up once for many solves from different starts: what
  * the search's screening drives (fit/search/screen.c) and the benches time.
@@ -193,5 +230,9 @@ extern int bk_fit_ctx_bind;
  * by columns (bk_solve_tiny_cols); 0, row-major (bk_solve_tiny_reusing), as
  * before (the same bits). */
 extern int bk_fit_ctx_cols;
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

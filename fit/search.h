@@ -35,6 +35,10 @@
 
 #include <stdio.h>
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 /* Errors are rounded to this many significant bits before any comparison. */
 #define BK_SEARCH_ERR_BITS 20
 
@@ -67,14 +71,17 @@ typedef enum bk_shape {
 } bk_shape;
 
 typedef struct bk_search_options {
-	const bk_samples *screen; /* the screening samples */
-	bk_shape shape;
-	bk_grammar grammar;
-	bk_objective objective;
+	const bk_samples *screen; /* the screening samples (target.h, bk_target_build) */
+	bk_shape shape;           /* how trees become the fitted form */
+	bk_grammar grammar;       /* the operations, inputs, constants and sizes of the trees
+	                             (expr.h) */
+	bk_objective objective;   /* what err is: rmse, max |error|, or the albedo's max error */
 	int relative;             /* residuals (f - y)/|y| */
 	bk_precision precision;   /* the candidate's error is that of its evaluation in this */
 	double max_cost;          /* candidates above are not fitted (HUGE_VAL: none) */
-	double simple_cost, complex_cost;
+	double simple_cost, complex_cost; /* a candidate's cost: simple ops (add, mul, ...)
+	                             and complex ones (rcp, sqrt, exp2, ...) weighted by these
+	                             (brdf.h: BK_COST_SIMPLE, BK_COST_COMPLEX) */
 	int scale;                /* linear scaling: each tree g fitted as p*g (search/generate.c, scaled) */
 	int nonneg;               /* reject a candidate negative anywhere on the samples */
 	int env_bound;            /* pair: reject unless A, B >= 0 and A + B <= 1 */
@@ -121,10 +128,10 @@ typedef struct bk_cand {
 	char *text_b;             /* B for a pair, else NULL */
 	const char *seed_name;    /* a seed's name, else NULL */
 	bk_expr tree[2];          /* the search trees (before the shape) */
-	int np;
-	double p[BK_MAX_PARAMS];
-	bk_ops ops;
-	double cost;
+	int np;                   /* its parameters p0..p(np-1) */
+	double p[BK_MAX_PARAMS];  /* their fitted values */
+	bk_ops ops;               /* its operation counts (brdf.h) */
+	double cost;              /* the weighted count the front is on (simple_cost, complex_cost) */
 	bk_cand_status status;
 	double err;               /* the objective, rounded to BK_SEARCH_ERR_BITS; +inf unless OK */
 	double rmse, max_abs, albedo_max_abs; /* on the screening samples, in the search precision */
@@ -212,5 +219,9 @@ double bk_search_error(const bk_search_options *o, const bk_samples *s, const do
 
 /* Round an error to BK_SEARCH_ERR_BITS significant bits (nan, inf kept). */
 double bk_search_round_err(double e);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

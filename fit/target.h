@@ -10,6 +10,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
+#endif
+
 typedef enum bk_target_kind {
 	BK_TARGET_VF2D, /* talk's modified Kelemen V × Schlick F on (LoH, r) */
 	BK_TARGET_VF,   /* exact correlated Smith V × Schlick F over (NoV, L, r), D·NoL weighted */
@@ -92,5 +96,9 @@ int bk_target_form_cells(const bk_target_options *o);
  * machine, timed on a 4x4 sample of the cells (about 1/250 of a default
  * 64x64 build). */
 double bk_target_estimate(const bk_target_options *o, double *integrals);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

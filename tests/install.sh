@@ -1,41 +1,64 @@
 #!/bin/sh
-# install.sh — `make install` honours PREFIX and DESTDIR, and an installed
-# libbrdf is usable through its pkg-config file: a program built with
-# `pkg-config --cflags --libs brdfkit` prints GGX D at a = 1, which is 1/π.
-# The search is usable the same way: a program that includes only the
-# installed <brdfkit/search.h> plants 0.45*LoH^2 + 0.2, runs bk_search_drive
-# with progress and stop callbacks, and finds the planted form (rmse of its
-# best form against the planted values tiny); against a wrong plant
-# (0.5*LoH^2 + 0.2) the same form is far off (the check's negative control).
+# install.sh — `make install` honours PREFIX and DESTDIR, and the installed
+# libraries are usable through `pkg-config --cflags --libs brdfkit` alone:
+#   - shared (the default link): a C program prints GGX D at a = 1, which is
+#     1/π; a C program that includes only the installed <brdfkit/search.h>
+#     plants 0.45*LoH^2 + 0.2, runs bk_search_drive with progress and stop
+#     callbacks, and finds the planted form (rmse of its best form against the
+#     planted values tiny); against a wrong plant (0.5*LoH^2 + 0.2) the same
+#     form is far off (the check's negative control); a C++17 program calls
+#     bk_D_ggx, the fitter (bk_fit_defaults, bk_fit_run_cb and its progress)
+#     and a function of every other installed header, and recovers a planted
+#     fit. They run from the non-system PREFIX through the rpath in Libs;
+#   - every installed header compiles alone as C11 and as C++17 with
+#     -Wall -Wextra -Werror, and declares C linkage (the C++ object refers to
+#     no mangled bk_ name);
+#   - static (pkg-config --static, from the DESTDIR stage with the shared
+#     libraries removed, so the archives are what links): the C program and
+#     the C++ one (the fitter: Ceres, glog, libstdc++ from Libs.private) link
+#     and run.
+# Negative controls, each showing a check above can fail: the static-only
+# libraries linked without --static (the bug of issue 24: -lm, Ceres only in
+# Libs.private) fail with undefined symbols; a C++ program against brdf.h
+# without its extern "C" guard fails to link; the shared program without the
+# rpath cannot find libbrdf at run time.
 set -u
 T=$(mktemp -d /tmp/bk_install_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+V=$(sed -n 's/^#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
+SO=${V%%.*}
 
+# ---- the layout under DESTDIR/PREFIX ----------------------------------------
+S="$T/stage/opt/bk"
 ${MAKE:-make} -s install PREFIX=/opt/bk DESTDIR="$T/stage" >/dev/null || bad "make install"
-for f in lib/libbrdf.a lib/libbrdfkit-fit.a include/brdf.h include/brdfkit/search.h include/brdfkit/fit.h \
-	include/brdfkit/expr.h include/brdfkit/target.h include/brdfkit/solver.h include/brdfkit/brdf.h include/brdfkit/brdf_ops.h \
+for f in lib/libbrdf.a lib/libbrdfkit-fit.a lib/libbrdf.so.$V lib/libbrdfkit-fit.so.$V include/brdf.h \
+	include/brdfkit/search.h include/brdfkit/fit.h include/brdfkit/expr.h include/brdfkit/target.h \
+	include/brdfkit/solver.h include/brdfkit/brdf.h include/brdfkit/brdf_ops.h include/brdfkit/ir_ops.h \
 	lib/pkgconfig/brdfkit.pc bin/brdfkit bin/brdfkit-mpi; do
-	[ -f "$T/stage/opt/bk/$f" ] && ok || bad "missing $f under DESTDIR/PREFIX"
+	[ -f "$S/$f" ] && ok || bad "missing $f under DESTDIR/PREFIX"
 done
-grep -q '^prefix=/opt/bk$' "$T/stage/opt/bk/lib/pkgconfig/brdfkit.pc" && ok || bad "pc prefix"
+for l in libbrdf libbrdfkit-fit; do # the soname and the name -l finds, links to the file
+	[ "$(readlink "$S/lib/$l.so.$SO")" = "$l.so.$V" ] && [ "$(readlink "$S/lib/$l.so")" = "$l.so.$SO" ] && ok ||
+		bad "$l symlinks"
+	readelf -d "$S/lib/$l.so.$V" | grep -q "SONAME.*\[$l\.so\.$SO\]" && ok || bad "$l soname"
+done
+grep -q '^prefix=/opt/bk$' "$S/lib/pkgconfig/brdfkit.pc" && ok || bad "pc prefix"
 
-${MAKE:-make} -s install PREFIX="$T/usr" >/dev/null || bad "make install PREFIX"
+# ---- the programs -------------------------------------------------------------
 cat >"$T/use.c" <<'C'
 #include <brdf.h>
 #include <stdio.h>
 int main(void) { printf("%.15f\n", bk_D_ggx(0.3, 1.0) * BK_PI); return 0; }
 C
-flags=$(PKG_CONFIG_PATH="$T/usr/lib/pkgconfig" pkg-config --static --cflags --libs brdfkit) || bad "pkg-config"
-cc -std=c11 "$T/use.c" $flags -o "$T/use" && [ "$("$T/use")" = "1.000000000000000" ] && ok || bad "linking the installed library"
 cat >"$T/plant.c" <<'C'
 /* a program of the search's installed API alone */
 #include <brdfkit/brdf_ops.h>
 #include <brdfkit/search.h>
 _Static_assert(BK_OP_PARAM < BK_OP_COUNT, "the opcodes a tree is made of, from the installed table");
-#include <math.h>
+#include <math.h> /* NAN */
 #include <stdio.h>
 #include <string.h>
 
@@ -60,8 +83,9 @@ static int plant(const char *text, bk_samples *sm)
 	return 0;
 }
 
-/* rmse of candidate c's values against samples sm */
-static double rmse(const bk_cand *c, const bk_samples *sm)
+/* mean square error of candidate c's values against samples sm (no sqrt:
+ * the program needs no libm of its own, only what pkg-config gives) */
+static double mse(const bk_cand *c, const bk_samples *sm)
 {
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(c->text, &fe);
@@ -71,7 +95,7 @@ static double rmse(const bk_cand *c, const bk_samples *sm)
 	bk_form_free(f);
 	for (size_t i = 0; i < sm->n; i++)
 		se += (v[i] - sm->y[i]) * (v[i] - sm->y[i]);
-	return sqrt(se / (double)sm->n);
+	return se / (double)sm->n;
 }
 
 int main(void)
@@ -105,23 +129,126 @@ int main(void)
 	if (!best)
 		return 1;
 	printf("fits %ld front %zu progress %d stop %d best %s\nplanted %.3g wrong %.3g\n", bk_search_evals(s), n, heard,
-	       asked, best->text, rmse(best, &sm), rmse(best, &wrong));
+	       asked, best->text, mse(best, &sm), mse(best, &wrong));
 	bk_search_free(s);
 	bk_samples_free(&sm);
 	bk_samples_free(&wrong);
 	return 0;
 }
 C
+# C++: bk_D_ggx and the fitter, and one function of each other installed
+# header (so that a header without C linkage fails the link)
+cat >"$T/use.cc" <<'CC'
+#include <brdf.h>
+#include <brdfkit/brdf_ops.h>
+#include <brdfkit/expr.h>
+#include <brdfkit/fit.h>
+#include <brdfkit/search.h>
+#include <brdfkit/solver.h>
+#include <brdfkit/target.h>
+#include <cmath>
+#include <cstdio>
+
+static int heard;
+static int progress(void *, int, int, const bk_fit_summary *) { return heard++, 0; }
+
+int main()
+{
+	bk_target_options to;
+	bk_target_defaults(BK_TARGET_FORM, &to);                          // target.h
+	to.form_text = "0.45*LoH*LoH + 0.2";
+	to.ndomain = 1;
+	to.dom_in[0] = BK_IN_LOH, to.dom_lo[0] = 0, to.dom_hi[0] = 1;
+	to.nx = 32;
+	char err[256];
+	bk_samples sm;
+	if (bk_target_build(&to, &sm, nullptr, nullptr, err, sizeof err))
+		return std::fprintf(stderr, "%s\n", err), 1;
+	bk_form_error fe;
+	bk_form *f = bk_form_parse("p0*LoH*LoH + p1", &fe);               // brdf.h
+	bk_fit_spec sp;
+	bk_fit_defaults(&sp);                                              // fit.h
+	sp.s = &sm, sp.form[0] = f, sp.np = bk_form_nparams(f), sp.starts = 2;
+	bk_fit_callbacks cb = BK_FIT_CALLBACKS_INIT;
+	cb.progress = progress;
+	bk_fit_result res;
+	int rc = bk_fit_run_cb(&sp, &cb, &res);
+	char why[128];
+	int valid = bk_fit_options_valid(&sp.opt, why, sizeof why);        // solver.h
+	bk_search_options so;
+	bk_search_defaults(&so);                                           // search.h
+	std::printf("D %.15f fit %d p0 %.12f p1 %.12f progress %d valid %d ops %s %llx evals %ld\n",
+	            bk_D_ggx(0.3, 1.0) * BK_PI, rc, res.p[0], res.p[1], heard, valid,
+	            bk_op_name(BK_OP_SQRT),                                // brdf_ops.h
+	            (unsigned long long)bk_grammar_default_ops(), so.evals); // expr.h
+	bk_form_free(f);
+	bk_samples_free(&sm);
+	return 0;
+}
+CC
+cxx_expect() { # the C++ program's line: 1/π, converged, the planted constants, 2 starts heard
+	awk '{ exit !($2 == "1.000000000000000" && $4 == 0 && $6 == "0.450000000000" && $8 == "0.200000000000" &&
+		$10 == 2 && $12 == 1 && $14 == "sqrt") }' "$1"
+}
+
+# ---- shared, from PREFIX, pkg-config alone --------------------------------------
+U="$T/usr"
+${MAKE:-make} -s install PREFIX="$U" >/dev/null || bad "make install PREFIX"
+flags=$(PKG_CONFIG_PATH="$U/lib/pkgconfig" pkg-config --cflags --libs brdfkit) || bad "pkg-config"
+cc -std=c11 "$T/use.c" $flags -o "$T/use" && [ "$("$T/use")" = "1.000000000000000" ] && ok ||
+	bad "a C program through pkg-config --cflags --libs"
+readelf -d "$T/use" | grep -q "NEEDED.*\[libbrdf\.so\.$SO\]" && readelf -d "$T/use" | grep -q "R.*PATH.*\[$U/lib\]" &&
+	ok || bad "the C program links libbrdf.so.$SO with the rpath $U/lib"
 cc -std=c11 "$T/plant.c" $flags -o "$T/plant" 2>"$T/plant.err" && "$T/plant" >"$T/plant.out" && ok ||
 	bad "the search through the installed headers: $(cat "$T/plant.err" "$T/plant.out" 2>/dev/null | head -5)"
 num() { tr ' ' '\n' <"$T/plant.out" | awk -v k="$1" 'p { print; exit } $0 == k { p = 1 }'; }
-# the planted form found: its rmse a rounding error (below 1e-9 of its values' 0.2 to 0.65)
-awk -v e="$(num planted)" 'BEGIN { exit !(e != "" && e + 0 < 1e-9) }' && ok || bad "planted form not recovered: $(cat "$T/plant.out")"
+# the planted form found: its rmse a rounding error (below 1e-9 of its values' 0.2 to 0.65; mse 1e-18)
+awk -v e="$(num planted)" 'BEGIN { exit !(e != "" && e + 0 < 1e-18) }' && ok || bad "planted form not recovered: $(cat "$T/plant.out")"
 # negative control: the same form against a plant of another constant is far off
-awk -v e="$(num wrong)" 'BEGIN { exit !(e != "" && e + 0 > 1e-3) }' && ok || bad "a wrong plant reads as recovered: $(cat "$T/plant.out")"
+awk -v e="$(num wrong)" 'BEGIN { exit !(e != "" && e + 0 > 1e-6) }' && ok || bad "a wrong plant reads as recovered: $(cat "$T/plant.out")"
 # the callbacks were called: stop after each step, progress at least once
 awk -v p="$(num progress)" -v q="$(num stop)" 'BEGIN { exit !(p >= 1 && q >= 1) }' && ok || bad "callbacks not called: $(cat "$T/plant.out")"
-"$T/usr/bin/brdfkit" --version | grep -q '^brdfkit ' && ok || bad "installed tool"
+g++ -std=c++17 -Wall -Wextra -Werror -c "$T/use.cc" $(PKG_CONFIG_PATH="$U/lib/pkgconfig" pkg-config --cflags brdfkit) \
+	-o "$T/use_cc.o" && g++ "$T/use_cc.o" $flags -o "$T/use_cc" && "$T/use_cc" >"$T/use_cc.out" && cxx_expect "$T/use_cc.out" &&
+	ok || bad "a C++ program through pkg-config: $(cat "$T/use_cc.out" 2>/dev/null)"
+# C linkage: the C++ object refers to our functions by their C names only
+nm -u "$T/use_cc.o" | grep -q ' bk_D_ggx$' && ! nm -u "$T/use_cc.o" | grep -q '_Z.*bk_' && ok ||
+	bad "mangled brdfkit names in the C++ object: $(nm -u "$T/use_cc.o" | grep '_Z.*bk_' | head -3)"
+# each installed header alone, C11 and C++17 (ir_ops.h is the opcode table
+# brdf_ops.h expands, no header of its own)
+for h in brdf.h brdfkit/brdf.h brdfkit/brdf_ops.h brdfkit/solver.h brdfkit/target.h brdfkit/fit.h brdfkit/expr.h \
+	brdfkit/search.h; do
+	echo "#include <$h>" >"$T/h.c"
+	cp "$T/h.c" "$T/h.cc"
+	gcc -std=c11 -Wall -Wextra -Werror -I"$U/include" -c "$T/h.c" -o /dev/null &&
+		g++ -std=c++17 -Wall -Wextra -Werror -I"$U/include" -c "$T/h.cc" -o /dev/null && ok || bad "$h alone as C11 and C++17"
+done
+grep -q 'extern "C"' "$U/include/brdfkit/fit.h" && ok || bad "fit.h guard"
+# negative control: without the rpath the program does not find libbrdf
+cc -std=c11 "$T/use.c" $(echo "$flags" | sed 's/-Wl,-rpath,[^ ]*//') -o "$T/use_norpath" && ! "$T/use_norpath" >/dev/null 2>&1 &&
+	ok || bad "a program without the rpath ran: the rpath check proves nothing"
+# negative control: brdf.h without its guard, C++ links a mangled bk_D_ggx and fails
+mkdir -p "$T/noguard"
+awk '/^#ifdef __cplusplus/ { skip = 2; next } skip && /^(extern "C"|}|#endif)/ { skip--; next } { skip = 0; print }' \
+	"$U/include/brdf.h" >"$T/noguard/brdf.h"
+printf '#include <brdf.h>\n#include <cstdio>\nint main() { std::printf("%%g\\n", bk_D_ggx(0.3, 1.0)); }\n' >"$T/ng.cc"
+! grep -q 'extern "C"' "$T/noguard/brdf.h" && ! g++ -std=c++17 -I"$T/noguard" "$T/ng.cc" $flags -o "$T/ng" 2>/dev/null &&
+	g++ -std=c++17 -I"$U/include" "$T/ng.cc" $flags -o "$T/ng" && ok || bad "the guard's negative control"
+
+# ---- static, from the stage without the shared libraries ------------------------
+rm -f "$S"/lib/*.so*
+sflags=$(PKG_CONFIG_PATH="$S/lib/pkgconfig" pkg-config --define-prefix --static --cflags --libs brdfkit) || bad "pkg-config --static"
+cc -std=c11 "$T/use.c" $sflags -o "$T/use_s" && [ "$("$T/use_s")" = "1.000000000000000" ] &&
+	! readelf -d "$T/use_s" | grep -q 'NEEDED.*libbrdf' && ok || bad "static C link"
+g++ "$T/use_cc.o" $sflags -o "$T/use_cc_s" && "$T/use_cc_s" >"$T/use_cc_s.out" && cxx_expect "$T/use_cc_s.out" && ok ||
+	bad "static C++ link: $(cat "$T/use_cc_s.out" 2>/dev/null)"
+# negative control: the archives without Libs.private (issue 24's .pc): libm undefined
+# (bk_D_ggx's object calls sqrt)
+nflags=$(PKG_CONFIG_PATH="$S/lib/pkgconfig" pkg-config --define-prefix --cflags --libs brdfkit)
+! cc -std=c11 "$T/use.c" $nflags -o "$T/use_n" 2>"$T/use_n.err" && grep -q 'undefined reference to .sqrt' "$T/use_n.err" &&
+	ok || bad "the archives linked without Libs.private: the static check proves nothing"
+
+"$U/bin/brdfkit" --version | grep -q '^brdfkit ' && ok || bad "installed tool"
 
 echo "install: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
