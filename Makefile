@@ -74,7 +74,7 @@ SLIB  = build/san/libbrdf.a
 STOOL = build/san/brdfkit
 STEST = build/san/test_brdfkit
 
-.PHONY: all deps test test-plain test-san bench results install clean fuzz
+.PHONY: all deps test test-build test-plain test-san bench results install clean fuzz
 all: $(LIB) $(TOOL) $(MPI_TOOL)
 
 # need: install the listed Debian packages that are missing (apt-get as root,
@@ -173,7 +173,13 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # (The runner's own leaks in libcriterion are suppressed, tests/lsan.supp: it
 # runs no brdfkit code; leaks in the tool are caught by the sanitized CLI run.
 # The same file hides the Vulkan driver's own blocks in the gpucost run.)
-test: $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp
+# What the suites run, built two at a time whatever make was started with (the
+# README's `make test`, CI's too, has no -j): the plain and the sanitized
+# objects, and the shared libraries tests/install.sh installs.
+TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp $(SO_LIB) $(SO_FIT)
+test-build: $(TEST_BUILD)
+test: deps
+	$(MAKE) --no-print-directory -j2 test-build
 	$(call need,$(NOTEBOOK_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
@@ -282,7 +288,8 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-search-env_f0_half results-search-f_glass_half results-search-f_gold_half
 .PHONY: results-runs $(RESULTS_RUNS)
 
-results: $(TOOL)
+results: deps
+	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) $(TOOL) build/csvget
 	# brdfkit replaces only directories it marked (.brdfkit-output); these were
 	# written before the marker, so they (and the LUT pairs from before the
 	# LUT became a directory) are removed here when they lack it
