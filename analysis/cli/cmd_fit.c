@@ -157,8 +157,7 @@ static int parse_enum(const char *opt, const char *text, const char *const *name
 			*out = i;
 			return 0;
 		}
-	cli_fail(NULL, "%s: unknown value '%s'", opt, text);
-	return 2;
+	return cli_unknown_value(opt, text, names, n);
 }
 
 /* ---- outputs ------------------------------------------------------------ */
@@ -322,7 +321,7 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->relative = a->relative;
 	sp->starts = (int)a->starts;
 	sp->seed = (unsigned long)a->seed;
-	int v;
+	int v = 0;
 	static const char *const losses[] = {"none", "huber", "cauchy", "softl1"};
 	static const char *const trs[] = {"lm", "dogleg"};
 	static const char *const objs[] = {"lsq", "minimax"};
@@ -647,8 +646,7 @@ int cmd_fit(int argc, char **argv)
 	snprintf(R.command, sizeof R.command, "%s", bk_out_command());
 	bk_target_kind kind;
 	if (bk_target_parse(a.target, &kind)) {
-		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)\n", a.target);
-		return 2;
+		return cli_unknown_value("--target", a.target, cli_targets, CLI_NTARGETS);
 	}
 	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
 		return rc;

@@ -454,7 +454,7 @@ static int search_main(int argc, char **argv)
 	for (int i = 0; i < argc && k < sizeof J.command; i++)
 		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
 	if (bk_target_parse(a.t.target, &J.kind))
-		return cli_usage(&cmd, "--target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)", a.t.target);
+		return cli_unknown_value("--target", a.t.target, cli_targets, CLI_NTARGETS);
 	if (J.kind == BK_TARGET_ENV && a.env_form && strcmp(a.env_form, "pair") && strcmp(a.env_form, "f0") &&
 	    strcmp(a.env_form, "mix")) /* before the context, which it sets */
 		return cli_usage(&cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a.env_form);
