@@ -203,7 +203,8 @@ static void say_estimate(const bk_target_options *to)
 		snprintf(when, sizeof when, "%.0f s", ceil(sec));
 	else
 		snprintf(when, sizeof when, sec < 7200 ? "%.0f min" : "%.1f h", sec < 7200 ? sec / 60 : sec / 3600);
-	fprintf(stderr, "fit: %s target %dx%d = %s integrals, about %s on this machine\n", bk_target_name(to->kind),
+	if (!cli_quiet())
+		fprintf(stderr, "fit: %s target %dx%d = %s integrals, about %s on this machine\n", bk_target_name(to->kind),
 	        to->nx, to->nr, count, when);
 }
 
