@@ -351,9 +351,9 @@ static void choose_set(spec_pool *P, spec_job *j)
 		pthread_mutex_lock(&progress_mu);
 		cli_note("%s: %s: choosing %s", S->stem, r->set.name, bk_scene_term_name(t));
 		pthread_mutex_unlock(&progress_mu);
-		char err[400];
-		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, "scene: env reference", err,
-		                    sizeof err)) {
+		char err[400], label[200]; /* the phases' lines start with it (scene_fit.h) */
+		snprintf(label, sizeof label, "scene: %s: %s: %s", S->stem, r->set.name, bk_scene_term_name(t));
+		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, label, err, sizeof err)) {
 			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
 			return;
 		}
