@@ -776,9 +776,10 @@ const char *cli_suggest(const char *typed, const char *const *names, int n)
 			near = names[i];
 		}
 	}
-	/* two edits, and fewer than half the letters: "vf2" is one from "vf2d",
-	 * but "x" is one from "d" and "f" and means neither */
-	return near && best >= 1 && best <= 2 && 2 * best < len ? near : NULL;
+	/* a slip: one edit in a word of up to 4 letters ("mx" for "max"), two in a
+	 * longer one, never the whole word ("x" is one edit from "d" and from "f"
+	 * and means neither) */
+	return near && best >= 1 && best <= (len <= 4 ? 1 : 2) && best < len ? near : NULL;
 }
 
 int cli_unknown_value(const char *opt, const char *text, const char *const *names, int n)

@@ -217,8 +217,9 @@ void cli_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 
 /* The closest of names[0..n) to typed (optimal string alignment distance: an
  * insertion, a deletion, a substitution or a swap of neighbours each count
- * 1), if it is close enough to be a typing slip: at most 2 edits and fewer
- * than half of typed's characters; else NULL. */
+ * 1), if it is close enough to be a typing slip: one edit in a word of up
+ * to 4 characters, two in a longer one, fewer than its length (after the
+ * "--" options share); else NULL. */
 const char *cli_suggest(const char *typed, const char *const *names, int n);
 
 /* An enumerated value not among names[0..n): the one usage line
