@@ -208,6 +208,14 @@ void cli_progress(void *label, int done, int total);
 
 /* ---- shared conventions (issue 24) -------------------------------------------
  *
+ * One name and one meaning per shared option: --precision double|single|half
+ * (cli_precision); --fetch-cost K, a texture fetch priced as K simple ops
+ * (compare, search; a scene file's alu_tex or costs.fetch); --threads, all
+ * cores by default where the result does not depend on it (search), 1 where
+ * it may (fit: Ceres sums per-thread shares); --out DIR, a directory replaced
+ * whole, for commands that write several files, --out FILE, written
+ * atomically instead of standard output, for those that write one.
+ *
  * --quiet: every command takes it (the parser, not the option tables, so no
  * table names it): no progress lines on stderr; errors are still printed. */
 int cli_quiet(void);

@@ -618,7 +618,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale c of the robust loss, in units of the weighted residual sqrt(w)·(f - y) (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
 		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},
 		{.name = "--max-iterations", .kind = CLI_INT, .metavar = "N", .help = "per solve (default 200)", .dest = &a.max_iter, .lo = 1, .hi = 100000},
-		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "threads of Ceres' full solver, which runs with --loss, --bound or dogleg (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
+		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "threads of Ceres' full solver, which runs with --loss, --bound or dogleg (default 1, unlike search's all cores: Ceres sums each thread's share of the cost and gradient, in an order the scheduling picks, so more threads may change the last bits)", .dest = &a.threads, .lo = 1, .hi = 64},
 		{.name = "--bound", .kind = CLI_STR, .metavar = "pN=LO:HI[,...]", .help = "parameter bounds", .dest = &a.bounds},
 		{.name = "--hold", .kind = CLI_STR, .metavar = "pN[,pM...]", .help = "keep these parameters at their start values", .dest = &a.hold},
 		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},

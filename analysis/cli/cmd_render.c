@@ -503,8 +503,11 @@ int cmd_render(int argc, char **argv)
 	} else
 		snprintf(devname, sizeof devname, "cpu: the IR, double for the f32 images, BK_F16 for the float16_t ones");
 	double secs[2] = {0, 0};
-	for (int i = 0; i < n && !rc; i++)
+	for (int i = 0; i < n && !rc; i++) {
 		rc = render_item(&items[i], v, &g, want_f32, want_f16, secs);
+		if (!rc && batch) /* one candidate is one step: no line for it */
+			cli_progress("render: candidates", i + 1, n);
+	}
 	if (!rc)
 		rc = write_all(out, items, n, batch != NULL, &sc, &g, devname, prefix);
 	if (!rc && v)

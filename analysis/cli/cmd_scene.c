@@ -498,7 +498,7 @@ int cmd_scene(int argc, char **argv)
 	const char *out = NULL, *prefix = "", *id = "scenes", *chips = NULL;
 	int no_time = 0;
 	cli_opt opts[] = {
-		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write the shaders, scene.csv, sets.csv, report.txt, section.html", .dest = &out, .required = 1},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for the shaders, scene.csv, sets.csv, report.txt, section.html (replaced whole)", .dest = &out, .required = 1},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
 		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id: letters, digits, '-', '_' (default scenes)", .dest = &id},
