@@ -511,6 +511,7 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 	if (cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec))
 		return 2;
 	int fp16 = prec == CLI_PREC_HALF; /* the CSV's precision column keeps fp32/fp16 (AMD's words) */
+	bk_gpucost_progress(cli_progress, "gpucost: forms on chips");
 	if (cal)
 		return calibrate(cmd, cli_seen(cmd, "--chips") ? chips : "navi21", fp16, out);
 	char chipbuf[1024];
