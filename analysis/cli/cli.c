@@ -518,12 +518,12 @@ int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double 
 {
 	const bk_cost_model *m = bk_cost_model_find(name);
 	if (!m) {
-		char list[256];
-		size_t k = 0;
-		list[0] = '\0';
-		for (size_t i = 0; bk_cost_model_at(i) && k < sizeof list; i++)
-			k += (size_t)snprintf(list + k, sizeof list - k, "%s%s", i ? ", " : "", bk_cost_model_at(i)->name);
-		return cli_usage(cmd, "--cost-model: unknown model '%.60s' (known: %s)", name, list);
+		const char *names[32];
+		int n = 0;
+		for (size_t i = 0; bk_cost_model_at(i) && n < 32; i++)
+			names[n++] = bk_cost_model_at(i)->name;
+		(void)cmd;
+		return cli_unknown_value("--cost-model", name, names, n);
 	}
 	*simple = m->simple;
 	*complex = m->complex;

@@ -17,9 +17,9 @@ static int parse_smith(const char *cmd, const char *s, bk_smith *m)
 {
 	if (bk_smith_parse(s, m) == 0)
 		return 0;
-	fprintf(stderr, "brdfkit %s: --smith: unknown model '%s' (expected correlated, separable or schlick)\n",
-	        cmd, s);
-	return 2;
+	static const char *const models[] = {"correlated", "separable", "schlick"};
+	(void)cmd; /* cli_set_name has it */
+	return cli_unknown_value("--smith", s, models, 3);
 }
 
 /* ---- where the options act (cli.h) ----------------------------------------- */
@@ -155,18 +155,11 @@ int cmd_lut(int argc, char **argv)
 			return 2;
 		}
 	}
-	if (strcmp(warp, "none") == 0)
-		d.L.warp = BK_LUT_WARP_NONE;
-	else if (strcmp(warp, "sqrt") == 0)
-		d.L.warp = BK_LUT_WARP_SQRT;
-	else {
-		fprintf(stderr, "brdfkit lut: --warp: expected none or sqrt, got '%s'\n", warp);
+	static const char *const warps[] = {"none", "sqrt"}, *const origins[] = {"top", "bottom"};
+	int w = cli_choice("--warp", warp, warps, 2);
+	if (w < 0 || cli_choice("--origin", origin, origins, 2) < 0)
 		return 2;
-	}
-	if (strcmp(origin, "top") != 0 && strcmp(origin, "bottom") != 0) {
-		fprintf(stderr, "brdfkit lut: --origin: expected top or bottom, got '%s'\n", origin);
-		return 2;
-	}
+	d.L.warp = w ? BK_LUT_WARP_SQRT : BK_LUT_WARP_NONE;
 	d.origin_top = strcmp(origin, "top") == 0;
 
 	/* begun before minutes of integration, so a bad --out fails first */

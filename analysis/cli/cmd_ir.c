@@ -368,14 +368,12 @@ int cmd_codegen(int argc, char **argv)
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	bk_lang L;
-	if (!strcmp(lang, "c")) L = BK_LANG_C;
-	else if (!strcmp(lang, "glsl")) L = BK_LANG_GLSL;
-	else if (!strcmp(lang, "hlsl")) L = BK_LANG_HLSL;
-	else {
-		fprintf(stderr, "brdfkit codegen: --lang: expected c, glsl or hlsl, got '%s'\n", lang);
+	static const char *const langs[] = {"c", "glsl", "hlsl"};
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL};
+	int li = cli_choice("--lang", lang, langs, 3);
+	if (li < 0)
 		return 2;
-	}
+	bk_lang L = lang_of[li];
 	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
 		return rc;
 	cli_prec prec;

@@ -467,9 +467,11 @@ int cmd_render(int argc, char **argv)
 	                  &prec))
 		return 2;
 	int want_f32 = prec != CLI_PREC_HALF, want_f16 = prec != CLI_PREC_SINGLE; /* outputs keep f32/f16 in their names */
-	int lvp_dev = !strcmp(device, "lavapipe");
-	if (!lvp_dev && strcmp(device, "cpu"))
-		return cli_usage(&cmd, "--device: expected lavapipe or cpu, got '%.40s'", device);
+	static const char *const devices[] = {"lavapipe", "cpu"};
+	int di = cli_choice("--device", device, devices, 2);
+	if (di < 0)
+		return 2;
+	int lvp_dev = di == 0;
 	if (rough.n > BK_RENDER_MAX_COLS)
 		return cli_usage(&cmd, "--roughness: at most %d columns", BK_RENDER_MAX_COLS);
 	bk_render_scene sc = {.cell = (int)(size / rough.n), .ncols = rough.n};

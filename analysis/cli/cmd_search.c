@@ -460,9 +460,9 @@ static int search_main(int argc, char **argv)
 		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
 	if (bk_target_parse(a.t.target, &J.kind))
 		return cli_unknown_value("--target", a.t.target, cli_targets, CLI_NTARGETS);
-	if (J.kind == BK_TARGET_ENV && a.env_form && strcmp(a.env_form, "pair") && strcmp(a.env_form, "f0") &&
-	    strcmp(a.env_form, "mix")) /* before the context, which it sets */
-		return cli_usage(&cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a.env_form);
+	static const char *const env_forms[] = {"pair", "f0", "mix"};
+	if (J.kind == BK_TARGET_ENV && a.env_form && cli_choice("--env-form", a.env_form, env_forms, 3) < 0)
+		return 2; /* before the context, which it sets */
 	if ((rc = search_check_applicable(&J)))
 		return rc;
 	if (a.t.f0.n > 1 && !search_env_in_f0(&J))

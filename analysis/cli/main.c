@@ -38,7 +38,8 @@ static void usage(FILE *out)
 	fprintf(out, "usage: brdfkit COMMAND [options]   (brdfkit COMMAND --help for each)\n\n"
 	             "brdfkit %s — exact BRDF terms, reference integrals and their approximations.\n"
 	             "Conventions: r perceptual roughness, a = r^2, V = G/(4 NoL NoV), F Schlick\n"
-	             "with f90 = 1, split sum f0·A + B (see brdf/brdf.h).\n\ncommands:\n",
+	             "with f90 = 1, split sum f0·A + B (see brdf/brdf.h). Every command takes --help\n"
+	             "and --quiet (no progress lines); precision is spelled double, single or half.\n\ncommands:\n",
 	        BK_VERSION);
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
 		fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
