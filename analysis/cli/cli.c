@@ -480,32 +480,50 @@ int cli_form_positionals(cli_cmd *cmd, int first)
  * of integrals says where it is. */
 #define PROGRESS_QUIET_S 1.0
 #define PROGRESS_EVERY_S 10.0
+/* Stages that run at once (scene's feature sets on threads, each with its own
+ * label; the caller serialises the calls) keep their own clocks, so one
+ * stage's lines do not restart another's; the least recently used is reused. */
+#define PROGRESS_STAGES 16
 void cli_progress(void *label, int done, int total)
 {
-	static int tty = -1, last_done, last_tenth;
-	static const void *stage;
-	static double t_start, t_line;
+	static int tty = -1;
+	static struct {
+		const void *label;
+		int last_done, last_tenth;
+		double t_start, t_line;
+		unsigned long used;
+	} st[PROGRESS_STAGES];
+	static unsigned long calls;
 	if (quiet)
 		return;
 	if (tty < 0)
 		tty = isatty(fileno(stderr));
 	if (!tty) {
 		double now = bk_clock_now();
-		if (label != stage || done < last_done) { /* a new stage */
-			stage = label;
-			t_start = t_line = now;
-			last_tenth = 0;
+		int k = 0;
+		while (k < PROGRESS_STAGES && st[k].label != label)
+			k++;
+		if (k == PROGRESS_STAGES) /* a label not running: the oldest slot */
+			for (int j = k = 0; j < PROGRESS_STAGES; j++)
+				if (st[j].used < st[k].used)
+					k = j;
+		if (st[k].label != label || done < st[k].last_done) { /* a new stage */
+			st[k].label = label;
+			st[k].t_start = st[k].t_line = now;
+			st[k].last_tenth = 0;
 		}
+		st[k].used = ++calls;
 		int tenth = total > 0 ? (int)((long long)done * 10 / total) : 0;
 		if (done == total)
 			fprintf(stderr, "%s: %d/%d done\n", (const char *)label, done, total);
-		else if ((tenth > last_tenth && now - t_start >= PROGRESS_QUIET_S) || now - t_line >= PROGRESS_EVERY_S) {
+		else if ((tenth > st[k].last_tenth && now - st[k].t_start >= PROGRESS_QUIET_S) ||
+		         now - st[k].t_line >= PROGRESS_EVERY_S) {
 			fprintf(stderr, "%s: %d/%d (%d %%, %.0f s)\n", (const char *)label, done, total,
-			        (int)((long long)done * 100 / total), now - t_start);
-			t_line = now;
+			        (int)((long long)done * 100 / total), now - st[k].t_start);
+			st[k].t_line = now;
 		}
-		last_done = done;
-		last_tenth = tenth;
+		st[k].last_done = done;
+		st[k].last_tenth = tenth;
 		return;
 	}
 	fprintf(stderr, "\r%s: %d/%d", (const char *)label, done, total);
