@@ -58,7 +58,7 @@ TOOL_SRC = $(CLI_SRC) $(ANA_SRC) $(FIT_SRC)
 MPI_SRC  = $(filter-out analysis/cli/islands_one.c,$(TOOL_SRC)) analysis/cli/mpi/islands_mpi.c
 # (tests/test_vkenv.c checks tests/vk's envelope, which needs no driver)
 TEST_SRC = $(sort $(wildcard tests/*.c)) tests/vk/envelope.c
-SUPPORT  = $(ANA_SRC) $(FIT_SRC)   # the library modules the tests link
+SUPPORT  = $(ANA_SRC) $(FIT_SRC) analysis/cli/cli.c   # the library modules the tests link (cli.c: tests/test_cli.c)
 
 obj = $(patsubst %.cc,$(1)/%.o,$(patsubst %.c,$(1)/%.o,$(2)))
 

@@ -616,8 +616,17 @@ static void subtract(bk_gpucost_stats *d, const bk_gpucost_stats *a, const bk_gp
 	                        a->packed - b->packed, a->convert - b->convert};
 }
 
-static int run_chip(bk_gpucost_job *jobs, int n, int c, int fp16, const spirv *sj, const spirv *sb, char *driver,
-                    size_t driverlen, char **isa, char *err, size_t errlen)
+static bk_progress_fn progress_fn; /* bk_gpucost_progress */
+static void *progress_ctx;
+
+void bk_gpucost_progress(bk_progress_fn fn, void *ctx)
+{
+	progress_fn = fn;
+	progress_ctx = ctx;
+}
+
+static int run_chip(bk_gpucost_job *jobs, int n, int c, int nchips, int fp16, const spirv *sj, const spirv *sb,
+                    char *driver, size_t driverlen, char **isa, char *err, size_t errlen)
 {
 	chip_ctx ctx;
 	int rc = open_chip(&ctx, fp16, driver, driverlen, err, errlen);
@@ -636,6 +645,8 @@ static int run_chip(bk_gpucost_job *jobs, int n, int c, int fp16, const spirv *s
 			have[k] = 1;
 		if (rc == 0 && (rc = measure(&ctx, sj[i].w, sj[i].n, &s, i == 0 ? isa : NULL, err, errlen)) == 0)
 			subtract(&jobs[i].net[c], &s, &base[k]);
+		if (rc == 0 && progress_fn)
+			progress_fn(progress_ctx, c * n + i + 1, nchips * n);
 	}
 	close_chip(&ctx);
 	return rc;
@@ -683,7 +694,7 @@ int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chip, int nch
 		rc = compile_all(jobs, n, fp16, sj, sb, err, errlen);
 	for (int c = 0; rc == 0 && c < nchips; c++) {
 		setenv("RADV_FORCE_FAMILY", chip[c], 1);
-		rc = run_chip(jobs, n, c, fp16, sj, sb, driver, driverlen, isa, err, errlen);
+		rc = run_chip(jobs, n, c, nchips, fp16, sj, sb, driver, driverlen, isa, err, errlen);
 	}
 	for (int i = 0; sj && i < n; i++)
 		free(sj[i].w);

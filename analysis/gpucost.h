@@ -78,6 +78,10 @@ void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
  * NULL, gets a malloc'd copy of the first job's disassembly on the first chip. */
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen);
+/* Progress of the bk_gpucost_run calls that follow: fn(ctx, done, n * nchips)
+ * after each job on each chip (NULL: none, the default). For the command
+ * line, which sets it once before its one run. */
+void bk_gpucost_progress(bk_progress_fn fn, void *ctx);
 
 /* The columns other commands join (compare, search, scene): n forms given
  * as text (a[i], b[i] the second part of a split-sum entry or NULL; a[i]

@@ -372,7 +372,8 @@ static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
  * --size N: A and B over [0, 1]²), and laid out for the set (brdf.h,
  * bk_lut_layout): rows over its roughness range only, f0 folded into one
  * channel where it has one f0, NoV warped towards grazing angles. */
-static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_smith smith)
+static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_smith smith,
+                    bk_progress_fn progress, void *label)
 {
 	double r_lo = set->r_lo, r_hi = set->r_hi;
 	widen(&r_lo, &r_hi);
@@ -383,7 +384,7 @@ static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 	if (!rows)
 		return -1;
 	int nl = bk_lutrows_layouts(1, r_lo, r_hi, f0, L), rc = 0;
-	int n = bk_lutrows_build(L, nl, smith, d->prec, s, NULL, NULL, rows);
+	int n = bk_lutrows_build(L, nl, smith, d->prec, s, progress, label, rows);
 	for (int k = 0; k < n && !rc; k++) {
 		const bk_lutrow *r = &rows[k];
 		bk_ops ops;
@@ -795,8 +796,15 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		}
 		return 0;
 	}
+	/* the phases' labels (bk_scene_choose's contract in scene_fit.h) */
+	char lab_ref[200] = "", lab_cat[200] = "", lab_lut[200] = "";
+	if (progress) {
+		snprintf(lab_ref, sizeof lab_ref, "%s: reference", (const char *)ctx);
+		snprintf(lab_cat, sizeof lab_cat, "%s: catalog forms", (const char *)ctx);
+		snprintf(lab_lut, sizeof lab_lut, "%s: LUT rows", (const char *)ctx);
+	}
 	domain d;
-	if (domain_build(sc, set, term, &d, progress, ctx, err, errlen))
+	if (domain_build(sc, set, term, &d, progress, lab_ref, err, errlen))
 		return -1;
 	pool P = {0};
 	int rc = -1;
@@ -841,10 +849,13 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	if (budget == BK_SCENE_BUDGET_GENERIC || at_cost)
 		budget = g.err;
 	/* the candidates */
+	bk_target_kind k = term == BK_SCENE_TERM_VF ? BK_TARGET_VF : BK_TARGET_ENV;
+	int ncat = 0, done_cat = 0;
+	for (size_t i = 0; i < bk_catalog_count(); i++)
+		ncat += (term == BK_SCENE_TERM_VF || term == BK_SCENE_TERM_ENV) && bk_catmap_answers(k, 1, bk_catalog_at(i));
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		/* the catalog's forms of the term, each as one form (f0 A + B for env) */
-		bk_target_kind k = term == BK_SCENE_TERM_VF ? BK_TARGET_VF : BK_TARGET_ENV;
 		if ((term != BK_SCENE_TERM_VF && term != BK_SCENE_TERM_ENV) || !bk_catmap_answers(k, 1, e))
 			continue;
 		char *text = bk_catmap_form(k, 1, e);
@@ -854,10 +865,12 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 			snprintf(err, errlen, "%s: out of memory", e->name);
 			goto done;
 		}
+		if (progress)
+			progress(lab_cat, ++done_cat, ncat);
 	}
 	if (term == BK_SCENE_TERM_VF && add_form(&P, sc, set, &d, term, "exact", gen.source, BK_SCENE_GENERIC_VF, NULL))
 		goto done;
-	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED)) {
+	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, progress, lab_lut)) {
 		snprintf(err, errlen, "env: a LUT could not be scored");
 		goto done;
 	}

@@ -84,8 +84,11 @@ typedef struct bk_scene_choice {
 } bk_scene_choice;
 
 /* Chooses the term for the set; generic (may be NULL) gets the generic
- * shader's term on the same domain. progress (may be NULL) reports the env
- * reference integrals. Returns 0, or -1 with a message. */
+ * shader's term on the same domain. progress (may be NULL) reports each
+ * phase, the env reference integrals, the catalog forms scored and refitted
+ * and the LUT rows, as progress(label, done, total); its ctx is then a text
+ * (what the lines start with, e.g. "scene: NAME: SET: env"), and each label is
+ * that text and the phase's name. Returns 0, or -1 with a message. */
 int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen);
 void bk_scene_choice_free(bk_scene_choice *ch);

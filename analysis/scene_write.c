@@ -114,7 +114,7 @@ static int lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, con
 	                      c->at_cost ? "the most accurate at the generic's cost and memory"
 	                                 : "cheaper at this ALU:TEX ratio");
 	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d%s%s --out DIR%s", c->name, c->lut_size, opts,
-	                   c->lut_fmt == BK_LUT_HALF ? " --half" : "",
+	                   c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
 	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
 	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
 	                   bk_lut_warp_form(L->warp), v);

@@ -135,7 +135,7 @@ ops_count "$T/ops.csv" exp2 1 && ops_count "$T/ops.csv" complex 1 && ok || bad "
 # the README's count: 34 published forms
 $BK catalog >"$T/cat.csv" && n=$(csv_col "$T/cat.csv" name | wc -l) && [ "$n" -eq 34 ] && ok || bad "catalog: ${n:-no} entries, the README says 34"
 head -1 "$T/cat.csv" | grep -q '^name,target,form,parameters,source' && ok || bad "catalog header"
-$BK codegen --lang glsl --precision mediump vf_talk_r >"$T/a.glsl" && $BK codegen --lang glsl --precision mediump vf_talk_r >"$T/b.glsl"
+$BK codegen --lang glsl --precision half vf_talk_r >"$T/a.glsl" && $BK codegen --lang glsl --precision half vf_talk_r >"$T/b.glsl"
 cmp -s "$T/a.glsl" "$T/b.glsl" && grep -q 'DO NOT EDIT' "$T/a.glsl" && grep -q 'mediump float vf_talk_r' "$T/a.glsl" && ok || bad "codegen glsl"
 rm -f "$T/a.glsl" "$T/b.glsl"
 expect_error "eval parse" "form:1:18: expected ')' at end of form" $BK eval '1/(LoH*LoH*(r+p0)' LoH=0.5
@@ -893,7 +893,7 @@ expect_error "scene second file bad" "bad1.json" $BK scene "$T/noibl.json" "$T/b
 # determinism: the same command gives the same bytes
 # (the command line is recorded in the files, so both runs use one path)
 for k in 1 2; do
-	$BK lut --size 8 --half --out "$T/d" 2>/dev/null && cp "$T/d/dfg.exr" "$T/d$k.exr" && cp "$T/d/dfg.csv" "$T/d$k.csv"
+	$BK lut --size 8 --precision half --out "$T/d" 2>/dev/null && cp "$T/d/dfg.exr" "$T/d$k.exr" && cp "$T/d/dfg.csv" "$T/d$k.csv"
 	$BK albedo --d all --v hammon --f schlick --nov 0.3 --roughness 0.6 --f0 0.04 --out "$T/alb.csv" 2>/dev/null && cp "$T/alb.csv" "$T/alb$k.csv"
 done
 cmp -s "$T/d1.exr" "$T/d2.exr" && ok || bad "lut exr differs between runs"

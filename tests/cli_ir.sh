@@ -38,9 +38,9 @@ accepted() {
 # ---- mix: the code spells out x + (y - x) t, what the IR evaluates --------------
 # (GLSL mix() and HLSL lerp() are x(1 - t) + y t, and a compiler picks either)
 for l in glsl hlsl c; do
-	for p in highp mediump; do
+	for p in single half; do
 		prec="--precision $p" # C is float only: once, without --precision
-		[ $l = c ] && { [ $p = mediump ] && continue; prec=; }
+		[ $l = c ] && { [ $p = half ] && continue; prec=; }
 		$BK codegen --lang $l $prec 'mix(NoV, NoL, LoH)' >"$T/mix" 2>"$T/err" || bad "mix $l $p: $(cat "$T/err")"
 		sed '1,/\*\//d' "$T/mix" >"$T/mixbody" # the code after the provenance comment
 		grep -qE 'mix\(|lerp\(' "$T/mixbody" && bad "mix $l $p: mix()/lerp() called" || ok
@@ -106,9 +106,9 @@ $BK gpucost NoV --chips navi21,vega10 --out "$T/chips.csv" 2>/dev/null && ok || 
 
 # ---- fp16 calibration on a chip without shaderFloat16 (M7) ---------------------
 refused "calibrate fp16 polaris10" 2 "polaris10 has no shaderFloat16" \
-	$BK gpucost --precision fp16 --calibrate --chips polaris10
+	$BK gpucost --precision half --calibrate --chips polaris10
 # negative control: navi21 has it, and its counts are counts (not all zero)
-$BK gpucost --precision fp16 --calibrate --chips navi21 --out "$T/cal.csv" 2>/dev/null && ok || bad "calibrate fp16 navi21"
+$BK gpucost --precision half --calibrate --chips navi21 --out "$T/cal.csv" 2>/dev/null && ok || bad "calibrate fp16 navi21"
 [ "$(csv_col "$T/cal.csv" instructions | awk '$1 > 0' | wc -l)" -gt 20 ] && ok || bad "calibrate fp16 navi21: counts"
 
 # ---- a driver path elsewhere is named, not a package to install (L4) -----------
@@ -131,14 +131,14 @@ warn_once() {
 		ok || bad "$name: stderr '$(cat "$T/err")'"
 }
 warn_once "exp2 in half" "warning: exp2(128) is +inf in half precision" \
-	$BK codegen --lang glsl --precision mediump 'exp2(127.99)*NoV'
+	$BK codegen --lang glsl --precision half 'exp2(127.99)*NoV'
 warn_once "1e-46 in float" "warning: the constant 1e-46 is 0 in single precision" $BK codegen --lang c '1e-46*NoV'
 warn_once "clamp reversed" "warning: clamp(x, 1, 0) has its lower bound above its upper" \
 	$BK codegen --lang glsl 'clamp(NoV, 1, 0)'
 grep -qF 'min(max(NoV, 1.0), 0.0)' "$T/out" && ok || bad "clamp reversed: not spelled min(max())"
 # negative controls: in range and in order, no word
 accepted "exp2 in float" $BK codegen --lang glsl 'exp2(127.99)*NoV'
-accepted "exp2(15) in half" $BK codegen --lang glsl --precision mediump 'exp2(15)*NoV'
+accepted "exp2(15) in half" $BK codegen --lang glsl --precision half 'exp2(15)*NoV'
 accepted "clamp in order" $BK codegen --lang glsl 'clamp(NoV, 0.1, 1)'
 grep -qF 'clamp(NoV, 0.1, 1.0)' "$T/out" && ok || bad "clamp in order: $(cat "$T/out")"
 
@@ -188,13 +188,13 @@ for n in Float sq mix lerp texture saturate frac inversesqrt float4 vec3 Main x_
 	compile_c "$n" "$T/f.c" && ok || bad "c --name $n does not compile: $(head -3 "$T/cc")"
 done
 for n in Float sq lerp saturate frac rsqrt mad mul float4 Main _x pow_ texture_ gl "$long63"; do
-	for p in highp mediump; do
+	for p in single half; do
 		$BK codegen --lang glsl --precision $p --name "$n" 'NoV*NoL' >"$T/f.glsl" 2>"$T/err" || bad "glsl --name $n refused"
 		compile_glsl "$T/f.glsl" "$n" && ok || bad "glsl $p --name $n does not compile: $(grep ERROR "$T/cc" | head -2)"
 	done
 done
 for n in Float sq mix texture_ inversesqrt fract vec3 _x gl_x Main "$long63"; do
-	for p in highp mediump; do
+	for p in single half; do
 		$BK codegen --lang hlsl --precision $p --name "$n" 'NoV*NoL' >"$T/f.hlsl" 2>"$T/err" || bad "hlsl --name $n refused"
 		compile_hlsl "$T/f.hlsl" "$n" && ok || bad "hlsl $p --name $n does not compile: $(grep ERROR "$T/cc" | head -2)"
 	done

@@ -188,8 +188,8 @@ expect_usage "fit --seed with one start" "brdfkit fit: --seed has no effect with
 	"$BK" fit --target f --form 'p0*LoH' p0=1 --starts 1 --seed 3 --out fs
 expect_usage "fit --threads on TinySolver" "brdfkit fit: --threads has no effect with the default solver" \
 	"$BK" fit --target f --form 'p0*LoH' p0=1 --threads 2 --out fs
-expect_usage "compare --tier without LUT rows" "brdfkit compare: --tier has no effect without LUT rows" \
-	"$BK" compare --target vf2d --tier 32 --out cs
+expect_usage "compare --fetch-cost without LUT rows" "brdfkit compare: --fetch-cost has no effect without LUT rows" \
+	"$BK" compare --target vf2d --fetch-cost 32 --out cs
 expect_usage "albedo --k with --f0" "brdfkit albedo: --k has no effect with --f0" \
 	"$BK" albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04 --k 2
 expect_usage "albedo --f90 on exact Fresnel" "brdfkit albedo: --f90 has no effect on the F terms chosen" \

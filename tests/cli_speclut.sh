@@ -53,9 +53,9 @@ grep -q '^# command: brdfkit lut --specular --out t' t/spec.csv && ok || bad "sp
 # ---- bad options: exit 2, one line naming the option ------------------------------
 expect_usage "warp 0" "--warp" lut --specular --warp 0 --out b
 expect_usage "warp 17" "--warp" lut --specular --warp 17 --out b
-expect_usage "axis" "--axis: expected rol or noh, got 'nhl'" lut --specular --axis nhl --out b
+expect_usage "axis" "--axis: unknown value 'nhl' (known: rol, noh)" lut --specular --axis nhl --out b
 expect_usage "scale 0" "--scale" lut --specular --scale 0 --out b
-expect_usage "fresnel" "--fresnel: expected none or schlick" lut --specular --fresnel full --out b
+expect_usage "fresnel" "--fresnel: unknown value 'full' (known: none, schlick)" lut --specular --fresnel full --out b
 expect_usage "r-range" "--r-range: expected LO:HI" lut --specular --r-range 0.5:0.2 --out b
 expect_usage "size 1" "--size" lut --specular --size 1 --out b
 expect_usage "no --out" "--out" lut --specular

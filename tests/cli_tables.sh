@@ -43,15 +43,15 @@ first "eval a from r" "f64 0.25" $BK eval a r=0.5
 first "eval LoH from VoH" "f64 0.5" $BK eval LoH VoH=0.5
 
 # ---- codegen --precision: C output is float only ------------------------------
-for p in highp mediump; do
+for p in single half; do
 	refused "codegen c $p" "brdfkit codegen: --precision has no effect with --lang c (C output is float only)" \
 		$BK codegen --lang c --precision $p NoV
 done
 # controls: C without it; GLSL mediump declares it, HLSL mediump is half
 $BK codegen --lang c NoV >"$T/c" 2>"$T/err" && grep -q '^static inline float brdfkit_form(' "$T/c" && ok ||
 	bad "codegen c: $(cat "$T/err")"
-$BK codegen --lang glsl --precision mediump NoV 2>"$T/err" | grep -q 'mediump float' && ok || bad "glsl mediump: $(cat "$T/err")"
-$BK codegen --lang hlsl --precision mediump NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl mediump: $(cat "$T/err")"
+$BK codegen --lang glsl --precision half NoV 2>"$T/err" | grep -q 'mediump float' && ok || bad "glsl mediump: $(cat "$T/err")"
+$BK codegen --lang hlsl --precision half NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl mediump: $(cat "$T/err")"
 
 # ---- ops: --cost-model sets both weights ------------------------------------------
 refused "ops model and simple" "brdfkit ops: --simple-cost has no effect with --cost-model (it sets both weights)" \

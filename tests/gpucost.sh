@@ -81,7 +81,7 @@ $BK gpucost 'NoV*NoL + f0' 'NoV/NoL' 'exp2(NoV)' NoV vf_talk_r dvf_talk_r env_ta
 cmp -s "$T/a.csv" "$T/b.csv" && ok || bad "not deterministic"
 
 # fp16: the packed-math caveat in the header; gfx8 without shaderFloat16 gets empty fields
-$BK gpucost --precision fp16 'NoV*NoL + f0' --chips polaris10,navi21 >"$T/h.csv" 2>"$T/err" && ok || bad "fp16: $(cat "$T/err")"
+$BK gpucost --precision half 'NoV*NoL + f0' --chips polaris10,navi21 >"$T/h.csv" 2>"$T/err" && ok || bad "fp16: $(cat "$T/err")"
 grep -q '^# fp16: AMD fp16 figures are packed-math opportunities, not a proxy for mediump' "$T/h.csv" && ok || bad "fp16 caveat"
 expect_col "$T/h.csv" form1 polaris10 instructions ""
 expect_col "$T/h.csv" form1 navi21 fma 1

@@ -69,10 +69,10 @@ cmp_ok "candidate f16, lavapipe vs the IR" "$T/cpu/candidate_f16.exr" "$T/gpu/ca
 cmp_fails "candidate vs exact" "$T/gpu/exact.exr" "$T/gpu/candidate_f32.exr" $REL $ABS
 # negative controls: another roughness, a perturbed constant
 # shellcheck disable=SC2086
-run wrong_r --form vf_talk_r --size 64 --roughness 0.1,0.4,0.7,0.99 --device cpu --precision f32
+run wrong_r --form vf_talk_r --size 64 --roughness 0.1,0.4,0.7,0.99 --device cpu --precision single
 cmp_fails "roughness 0.99 for 1" "$T/wrong_r/exact.exr" "$T/gpu/exact.exr" $REL $ABS
 # shellcheck disable=SC2086
-run perturbed --form 'D_ggx(NoH, a)*1.0001' --term d $S --device cpu --precision f32
+run perturbed --form 'D_ggx(NoH, a)*1.0001' --term d $S --device cpu --precision single
 cmp_fails "D x 1.0001" "$T/perturbed/candidate_f32.exr" "$T/gpu/exact.exr" $REL $ABS
 # determinism: the same command writes the same bytes
 mv "$T/gpu" "$T/gpu1"
@@ -139,7 +139,7 @@ VK_ICD_FILENAMES=/nonexistent/lvp_icd.json expect 1 "mesa-vulkan-drivers" --form
 # a batch: one directory per row and one section for all
 printf 'name,term,form,form_b,parameters\ntalk,,vf_talk_r,,\nkaris,,env_karis2014_split,,\nmine,env,p0,p1,p0=1;p1=0.1\n' >"$T/b3.csv"
 # shellcheck disable=SC2086
-run batch --batch "$T/b3.csv" $S --precision f16 --link-prefix 'r/<x>/'
+run batch --batch "$T/b3.csv" $S --precision half --link-prefix 'r/<x>/'
 for n in talk karis mine; do [ -s "$T/batch/$n/candidate_f16.png" ] && ok || bad "batch: no $n/candidate_f16.png"; done
 [ "$(grep -c '<tr><th colspan' "$T/batch/section.html")" -eq 3 ] && grep -q 'r/&lt;x&gt;/karis/candidate_f16.png' "$T/batch/section.html" && grep -q 'r/&lt;x&gt;/exact_f16.png' "$T/batch/section.html" && [ -s "$T/batch/exact_f16.exr" ] && [ ! -e "$T/batch/talk/exact_f16.exr" ] &&
 	! grep -q '<x>' "$T/batch/section.html" && ok || bad "batch section: rows or escaping"

@@ -15,6 +15,7 @@
 static const char *cur_cmd = "brdfkit";
 static const cli_table *cur_table; /* the running command's, set by cli_parse_table */
 static int check_only;             /* --check-options: stop after cli_applicable */
+static int quiet;                  /* --quiet: no progress lines */
 
 /* Texts the parser hands out (forms read by cli_form_arg, cli_words' copies):
  * they live as long as argv, and are freed at exit. */
@@ -79,6 +80,7 @@ void cli_help(const cli_cmd *cmd, FILE *out)
 		fprintf(out, "  %-22s %s%s%s\n", left, o->help, range,
 		        o->required ? " (required)" : "");
 	}
+	fprintf(out, "  %-22s %s\n", "--quiet", "no progress lines on stderr (errors are still printed)");
 	fprintf(out, "  %-22s %s\n", "--help", "this text");
 	if (cmd->details)
 		fprintf(out, "\n%s\n", cmd->details);
@@ -221,6 +223,36 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 }
 
 static void print_table(const cli_cmd *cmd, const cli_table *t);
+static const cli_opt *find_opt(const cli_cmd *cmd, const char *name, size_t len);
+
+/* Options that were renamed for one spelling across commands (issue 24): the
+ * old name is refused with the new one, so a script fails once, loudly. */
+static const struct {
+	const char *old, *now;
+} renamed[] = {
+	{"--half", "--precision half"}, /* lut */
+	{"--tier", "--fetch-cost"},     /* compare */
+};
+
+/* An option the table lacks: renamed, or a slip of one it has. */
+static int unknown_option(const cli_cmd *cmd, const char *arg, size_t nlen)
+{
+	char typed[64];
+	snprintf(typed, sizeof typed, "%.*s", (int)(nlen < 63 ? nlen : 63), arg);
+	for (size_t k = 0; k < sizeof renamed / sizeof renamed[0]; k++)
+		if (!strcmp(typed, renamed[k].old) && find_opt(cmd, renamed[k].now, strcspn(renamed[k].now, " ")))
+			return cli_usage(cmd, "unknown option '%s'; did you mean '%s'?", typed, renamed[k].now);
+	const char *names[128];
+	int n = 0;
+	for (int k = 0; k < cmd->nopts && n < 126; k++)
+		names[n++] = cmd->opts[k].name;
+	names[n++] = "--help";
+	names[n++] = "--quiet";
+	const char *near = cli_suggest(typed, names, n);
+	if (near)
+		return cli_usage(cmd, "unknown option '%s'; did you mean '%s'?", typed, near);
+	return cli_usage(cmd, "unknown option '%s'", typed);
+}
 
 static int parse(cli_cmd *cmd, int argc, char **argv)
 {
@@ -244,6 +276,10 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			cli_help(cmd, stdout);
 			return 1;
 		}
+		if (options && strcmp(arg, "--quiet") == 0) { /* every command's: cli_quiet */
+			quiet = 1;
+			continue;
+		}
 		if (options && cur_table && strcmp(arg, "--check-options") == 0) { /* hidden: for the walk */
 			check_only = 1;
 			continue;
@@ -265,7 +301,7 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			    strncmp(cmd->opts[k].name, arg, nlen) == 0)
 				o = &cmd->opts[k];
 		if (!o)
-			return cli_usage(cmd, "unknown option '%s'", arg);
+			return unknown_option(cmd, arg, nlen);
 		if (o->seen && o->seen >= (o->repeat > 1 ? o->repeat : 1))
 			return o->repeat > 1 ? cli_usage(cmd, "%s given more than %d times", o->name, o->repeat)
 			                     : cli_usage(cmd, "%s given twice", o->name);
@@ -444,30 +480,50 @@ int cli_form_positionals(cli_cmd *cmd, int first)
  * of integrals says where it is. */
 #define PROGRESS_QUIET_S 1.0
 #define PROGRESS_EVERY_S 10.0
+/* Stages that run at once (scene's feature sets on threads, each with its own
+ * label; the caller serialises the calls) keep their own clocks, so one
+ * stage's lines do not restart another's; the least recently used is reused. */
+#define PROGRESS_STAGES 16
 void cli_progress(void *label, int done, int total)
 {
-	static int tty = -1, last_done, last_tenth;
-	static const void *stage;
-	static double t_start, t_line;
+	static int tty = -1;
+	static struct {
+		const void *label;
+		int last_done, last_tenth;
+		double t_start, t_line;
+		unsigned long used;
+	} st[PROGRESS_STAGES];
+	static unsigned long calls;
+	if (quiet)
+		return;
 	if (tty < 0)
 		tty = isatty(fileno(stderr));
 	if (!tty) {
 		double now = bk_clock_now();
-		if (label != stage || done < last_done) { /* a new stage */
-			stage = label;
-			t_start = t_line = now;
-			last_tenth = 0;
+		int k = 0;
+		while (k < PROGRESS_STAGES && st[k].label != label)
+			k++;
+		if (k == PROGRESS_STAGES) /* a label not running: the oldest slot */
+			for (int j = k = 0; j < PROGRESS_STAGES; j++)
+				if (st[j].used < st[k].used)
+					k = j;
+		if (st[k].label != label || done < st[k].last_done) { /* a new stage */
+			st[k].label = label;
+			st[k].t_start = st[k].t_line = now;
+			st[k].last_tenth = 0;
 		}
+		st[k].used = ++calls;
 		int tenth = total > 0 ? (int)((long long)done * 10 / total) : 0;
 		if (done == total)
 			fprintf(stderr, "%s: %d/%d done\n", (const char *)label, done, total);
-		else if ((tenth > last_tenth && now - t_start >= PROGRESS_QUIET_S) || now - t_line >= PROGRESS_EVERY_S) {
+		else if ((tenth > st[k].last_tenth && now - st[k].t_start >= PROGRESS_QUIET_S) ||
+		         now - st[k].t_line >= PROGRESS_EVERY_S) {
 			fprintf(stderr, "%s: %d/%d (%d %%, %.0f s)\n", (const char *)label, done, total,
-			        (int)((long long)done * 100 / total), now - t_start);
-			t_line = now;
+			        (int)((long long)done * 100 / total), now - st[k].t_start);
+			st[k].t_line = now;
 		}
-		last_done = done;
-		last_tenth = tenth;
+		st[k].last_done = done;
+		st[k].last_tenth = tenth;
 		return;
 	}
 	fprintf(stderr, "\r%s: %d/%d", (const char *)label, done, total);
@@ -480,12 +536,12 @@ int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double 
 {
 	const bk_cost_model *m = bk_cost_model_find(name);
 	if (!m) {
-		char list[256];
-		size_t k = 0;
-		list[0] = '\0';
-		for (size_t i = 0; bk_cost_model_at(i) && k < sizeof list; i++)
-			k += (size_t)snprintf(list + k, sizeof list - k, "%s%s", i ? ", " : "", bk_cost_model_at(i)->name);
-		return cli_usage(cmd, "--cost-model: unknown model '%.60s' (known: %s)", name, list);
+		const char *names[32];
+		int n = 0;
+		for (size_t i = 0; bk_cost_model_at(i) && n < 32; i++)
+			names[n++] = bk_cost_model_at(i)->name;
+		(void)cmd;
+		return cli_unknown_value("--cost-model", name, names, n);
 	}
 	*simple = m->simple;
 	*complex = m->complex;
@@ -529,10 +585,11 @@ int cli_words(const cli_cmd *cmd, const char *opt, const char *text, const char 
 
 const char cli_unreached[] = "";
 
-static const cli_opt *find_opt(const cli_cmd *cmd, const char *name)
+/* The option named by name[0..len). */
+static const cli_opt *find_opt(const cli_cmd *cmd, const char *name, size_t len)
 {
 	for (int k = 0; k < cmd->nopts; k++)
-		if (!strcmp(cmd->opts[k].name, name))
+		if (strlen(cmd->opts[k].name) == len && !strncmp(cmd->opts[k].name, name, len))
 			return &cmd->opts[k];
 	return NULL;
 }
@@ -548,7 +605,7 @@ static int nvalues(const cli_dim *d)
 /* Whether the rule's option was given (with its value, for a value rule). */
 static int given(const cli_cmd *cmd, const cli_rule *r)
 {
-	const cli_opt *o = find_opt(cmd, r->opt);
+	const cli_opt *o = find_opt(cmd, r->opt, strlen(r->opt));
 	if (!o || !o->seen)
 		return 0;
 	if (!r->value)
@@ -565,7 +622,7 @@ static const char *table_fault(const cli_cmd *cmd, const cli_table *t, char *buf
 {
 	for (int k = 0; k < t->nrules; k++) {
 		const cli_rule *r = &t->rules[k];
-		const cli_opt *o = find_opt(cmd, r->opt);
+		const cli_opt *o = find_opt(cmd, r->opt, strlen(r->opt));
 		if (!o)
 			snprintf(buf, len, "a rule names %s, which the command does not have", r->opt);
 		else if (r->dim != CLI_EVERYWHERE && (r->dim < 0 || r->dim >= t->ndims))
@@ -678,4 +735,121 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx)
 	putchar('\n');
 	fflush(stdout);
 	exit(0); /* the walk asked for the check alone: nothing else runs, nothing is written */
+}
+
+/* ---- shared conventions (cli.h) ------------------------------------------- */
+
+int cli_quiet(void) { return quiet; }
+
+void cli_note(const char *fmt, ...)
+{
+	if (quiet)
+		return;
+	va_list ap;
+	fprintf(stderr, "brdfkit %s: ", cur_cmd);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fputc('\n', stderr);
+}
+
+/* Optimal string alignment distance (Damerau's four edits, no substring
+ * edited twice), capped: words longer than 63 characters are never slips. */
+static int osa(const char *a, const char *b)
+{
+	size_t m = strlen(a), n = strlen(b);
+	if (m > 63 || n > 63)
+		return 99;
+	int d[64][64];
+	for (size_t i = 0; i <= m; i++)
+		d[i][0] = (int)i;
+	for (size_t j = 0; j <= n; j++)
+		d[0][j] = (int)j;
+	for (size_t i = 1; i <= m; i++)
+		for (size_t j = 1; j <= n; j++) {
+			int c = a[i - 1] != b[j - 1];
+			int v = d[i - 1][j] + 1;
+			if (d[i][j - 1] + 1 < v)
+				v = d[i][j - 1] + 1;
+			if (d[i - 1][j - 1] + c < v)
+				v = d[i - 1][j - 1] + c;
+			if (i > 1 && j > 1 && a[i - 1] == b[j - 2] && a[i - 2] == b[j - 1] && d[i - 2][j - 2] + 1 < v)
+				v = d[i - 2][j - 2] + 1;
+			d[i][j] = v;
+		}
+	return d[m][n];
+}
+
+const char *cli_suggest(const char *typed, const char *const *names, int n)
+{
+	/* the "--" every option shares is no evidence of closeness */
+	const char *t = strncmp(typed, "--", 2) ? typed : typed + 2;
+	int len = (int)strlen(t), best = 99;
+	const char *near = NULL;
+	for (int i = 0; i < n; i++) {
+		const char *c = strncmp(names[i], "--", 2) ? names[i] : names[i] + 2;
+		int d = osa(t, c);
+		if (d < best) { /* the first of equals: the table's order */
+			best = d;
+			near = names[i];
+		}
+	}
+	/* a slip: one edit in a word of up to 4 letters ("mx" for "max"), two in a
+	 * longer one, never the whole word ("x" is one edit from "d" and from "f"
+	 * and means neither) */
+	return near && best >= 1 && best <= (len <= 4 ? 1 : 2) && best < len ? near : NULL;
+}
+
+int cli_unknown_value(const char *opt, const char *text, const char *const *names, int n)
+{
+	char list[300] = "";
+	for (int i = 0; i < n; i++)
+		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", names[i]);
+	const char *near = cli_suggest(text, names, n);
+	fprintf(stderr, "brdfkit %s: %s: unknown value '%.60s'", cur_cmd, opt, text);
+	if (near)
+		fprintf(stderr, "; did you mean '%s'?", near);
+	fprintf(stderr, " (known: %s) (see brdfkit %s --help)\n", list, cur_cmd);
+	return 2;
+}
+
+const char *const cli_targets[CLI_NTARGETS] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+
+int cli_choice(const char *opt, const char *text, const char *const *names, int n)
+{
+	for (int i = 0; i < n; i++)
+		if (!strcmp(text, names[i]))
+			return i;
+	cli_unknown_value(opt, text, names, n);
+	return -1;
+}
+
+int cli_precision(const char *text, unsigned allowed, cli_prec *out)
+{
+	static const char *const word[] = {"double", "single", "half", "both"};
+	/* the spellings commands used before issue 24, and what each meant */
+	static const struct {
+		const char *old;
+		cli_prec now;
+	} alias[] = {{"fp64", CLI_PREC_DOUBLE}, {"f64", CLI_PREC_DOUBLE}, {"highp", CLI_PREC_SINGLE},
+	             {"fp32", CLI_PREC_SINGLE}, {"f32", CLI_PREC_SINGLE}, {"float", CLI_PREC_SINGLE},
+	             {"mediump", CLI_PREC_HALF}, {"fp16", CLI_PREC_HALF}, {"f16", CLI_PREC_HALF}};
+	const char *names[4];
+	int n = 0;
+	for (int p = 0; p < 4; p++)
+		if (allowed & CLI_PREC_BIT(p))
+			names[n++] = word[p];
+	for (int p = 0; p < 4; p++)
+		if ((allowed & CLI_PREC_BIT(p)) && !strcmp(text, word[p])) {
+			*out = (cli_prec)p;
+			return 0;
+		}
+	for (size_t k = 0; k < sizeof alias / sizeof alias[0]; k++)
+		if (!strcmp(text, alias[k].old) && (allowed & CLI_PREC_BIT(alias[k].now))) {
+			fprintf(stderr, "brdfkit %s: --precision: unknown value '%s'; did you mean '%s'? (one spelling for "
+			                "every command: double, single, half) (see brdfkit %s --help)\n",
+			        cur_cmd, text, word[alias[k].now], cur_cmd);
+			return 2;
+		}
+	return cli_unknown_value("--precision", text, names, n);
 }

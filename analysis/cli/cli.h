@@ -203,7 +203,52 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx);
 int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex);
 
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
- * otherwise (logs stay short). */
+ * otherwise (logs stay short). Nothing under --quiet. */
 void cli_progress(void *label, int done, int total);
+
+/* ---- shared conventions (issue 24) -------------------------------------------
+ *
+ * One name and one meaning per shared option: --precision double|single|half
+ * (cli_precision); --fetch-cost K, a texture fetch priced as K simple ops
+ * (compare, search; a scene file's alu_tex or costs.fetch); --threads, all
+ * cores by default where the result does not depend on it (search), 1 where
+ * it may (fit: Ceres sums per-thread shares); --out DIR, a directory replaced
+ * whole, for commands that write several files, --out FILE, written
+ * atomically instead of standard output, for those that write one.
+ *
+ * --quiet: every command takes it (the parser, not the option tables, so no
+ * table names it): no progress lines on stderr; errors are still printed. */
+int cli_quiet(void);
+/* One progress line "brdfkit CMD: ..." on stderr, unless --quiet: the helper
+ * every command's step lines go through (what, and how far). */
+void cli_note(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
+
+/* The closest of names[0..n) to typed (optimal string alignment distance: an
+ * insertion, a deletion, a substitution or a swap of neighbours each count
+ * 1), if it is close enough to be a typing slip: one edit in a word of up
+ * to 4 characters, two in a longer one, fewer than its length (after the
+ * "--" options share); else NULL. */
+const char *cli_suggest(const char *typed, const char *const *names, int n);
+
+/* An enumerated value not among names[0..n): the one usage line
+ * "brdfkit CMD: OPT: unknown value 'X'; did you mean 'Y'? (known: ...)"
+ * (the suggestion only when cli_suggest finds one). Returns 2. */
+int cli_unknown_value(const char *opt, const char *text, const char *const *names, int n);
+/* The names --target takes (fit/target.h bk_target_parse), for the message. */
+extern const char *const cli_targets[];
+#define CLI_NTARGETS 7
+/* text among names[0..n): its index; else -1 after cli_unknown_value. */
+int cli_choice(const char *opt, const char *text, const char *const *names, int n);
+
+/* Precision, one spelling for every command: double, single, half (and
+ * render's both). Scene files keep GLSL's words (target.precision
+ * "mediump" | "highp": a file format, what the shader declares). */
+typedef enum cli_prec { CLI_PREC_DOUBLE, CLI_PREC_SINGLE, CLI_PREC_HALF, CLI_PREC_BOTH } cli_prec;
+#define CLI_PREC_BIT(p) (1u << (p))
+/* --precision TEXT, one of the precisions in the mask allowed; an old
+ * spelling (fp16, f16, mediump, fp32, f32, highp, float, fp64, f64) is
+ * refused with the one line that names the new one ("did you mean 'half'?").
+ * Returns 0 with *out set, or 2 after the usage line. */
+int cli_precision(const char *text, unsigned allowed, cli_prec *out);
 
 #endif

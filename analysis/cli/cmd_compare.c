@@ -286,7 +286,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	}
 	fprintf(f, "<p><b>On the Pareto front</b> (no other entry both cheaper and more accurate; a texture fetch priced "
 	           "at %d simple ops, %s): ", bk_tier_alu_per_tex[S->tier],
-	        S->tier ? "the ALU:TEX tier of --tier" : "the talk's lowest ALU:TEX tier");
+	        S->tier ? "the ALU:TEX tier of --fetch-cost" : "the talk's lowest ALU:TEX tier");
 	int first = 1;
 	for (int i = 0; i < S->n; i++)
 		if (S->rows[i].pareto_cost) {
@@ -499,7 +499,7 @@ static const cli_rule rules[] = {
 	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM), "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
-	{"--tier", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},
+	{"--fetch-cost", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},
 	{"--target", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--nx", NULL, CLI_EVERYWHERE, 0, NULL, "8"},
@@ -560,7 +560,7 @@ int cmd_compare(int argc, char **argv)
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip CPU timing", .dest = &no_time},
 		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec: leave out the LUT rows", .dest = &no_lut},
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
-		{.name = "--tier", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "ALU:TEX ratio pricing a fetch for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
+		{.name = "--fetch-cost", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "a texture fetch priced as K simple ops, the talk's ALU:TEX tiers, for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page)", .dest = &prefix},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "weights of the ALU cost: ir (default; simple 1, complex 4) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100", .dest = &model},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &gpu},
@@ -584,8 +584,7 @@ int cmd_compare(int argc, char **argv)
 	memset(&S, 0, sizeof S);
 	bk_target_kind kind;
 	if (bk_target_parse(target, &kind)) {
-		fprintf(stderr, "brdfkit compare: --target: unknown target '%s'\n", target);
-		return 2;
+		return cli_unknown_value("--target", target, cli_targets, CLI_NTARGETS);
 	}
 	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
 		fprintf(stderr, "brdfkit compare: --target form: compare scores the catalog; fit a form target with brdfkit fit\n");
@@ -596,8 +595,7 @@ int cmd_compare(int argc, char **argv)
 		if (bk_tier_alu_per_tex[k] == tier)
 			t = k;
 	if (t < 0) {
-		fprintf(stderr, "brdfkit compare: --tier: expected 16, 32, 48 or 64, got %ld\n", tier);
-		return 2;
+		return cli_usage(&cmd, "--fetch-cost: expected 16, 32, 48 or 64 (the talk's ALU:TEX tiers), got %ld", tier);
 	}
 	int ctx[] = {(int)kind, no_time, no_refit, (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC) || no_lut};
 	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))

@@ -17,9 +17,9 @@ static int parse_smith(const char *cmd, const char *s, bk_smith *m)
 {
 	if (bk_smith_parse(s, m) == 0)
 		return 0;
-	fprintf(stderr, "brdfkit %s: --smith: unknown model '%s' (expected correlated, separable or schlick)\n",
-	        cmd, s);
-	return 2;
+	static const char *const models[] = {"correlated", "separable", "schlick"};
+	(void)cmd; /* cli_set_name has it */
+	return cli_unknown_value("--smith", s, models, 3);
 }
 
 /* ---- where the options act (cli.h) ----------------------------------------- */
@@ -49,7 +49,7 @@ static const cli_rule lut_rules[] = {
 	{"--warp", NULL, CLI_EVERYWHERE, 0, NULL, "sqrt"},
 	{"--smith", NULL, CLI_EVERYWHERE, 0, NULL, "schlick"},
 	{"--samples", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
-	{"--half", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "half"},
 	{"--origin", NULL, CLI_EVERYWHERE, 0, NULL, "bottom"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 };
@@ -105,7 +105,7 @@ int cmd_lut(int argc, char **argv)
 			return cmd_lut_specular(argc, argv);
 	long size = 0, samples = 0;
 	const char *smith = "correlated", *origin = "top", *out = NULL;
-	int half = 0;
+	const char *precision = "single";
 	double tol = 1e-6, f0 = NAN;
 	const char *r_range = NULL, *warp = "none";
 	cli_opt opts[] = {
@@ -116,7 +116,7 @@ int cmd_lut(int argc, char **argv)
 		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "correlated (default), separable or schlick", .dest = &smith},
 		{.name = "--samples", .kind = CLI_INT, .metavar = "N", .help = "Hammersley Monte Carlo bake with N samples (default: deterministic)", .dest = &samples, .lo = 1, .hi = 1 << 30},
 		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "tolerance of the deterministic integrator (default 1e-6)", .dest = &tol, .lo = 1e-13, .hi = 0.1},
-		{.name = "--half", .kind = CLI_FLAG, .help = "store half floats (default float32)", .dest = &half},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "texels stored as float32 (default) or half floats", .dest = &precision},
 		{.name = "--origin", .kind = CLI_STR, .metavar = "top|bottom", .help = "which image row holds the smallest roughness (default top)", .dest = &origin},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for " BK_LUT_EXR " and " BK_LUT_CSV " (replaced whole)", .dest = &out, .required = 1},
 	};
@@ -125,7 +125,7 @@ int cmd_lut(int argc, char **argv)
 	               "conventions as header attributes, and the same table as CSV (full precision):\n"
 	               "DIR/" BK_LUT_EXR " and DIR/" BK_LUT_CSV ", one directory so the pair is always from one run.",
 	               "--size N --out DIR [--f0 F] [--r-range LO:HI] [--warp none|sqrt] [--smith MODEL]\n"
-	               "       [--samples N | --tol T] [--half] [--origin top|bottom]",
+	               "       [--samples N | --tol T] [--precision single|half] [--origin top|bottom]",
 	               "origin top: the first scanline of the file (top of the image as displayed) is\n"
 	               "r = 0.5/N, so texture(lut, vec2(NoV, r)) is right wherever uv (0,0) is the first\n"
 	               "texel in memory (D3D, Vulkan, Metal, and GL when rows are uploaded in file order).\n"
@@ -139,7 +139,10 @@ int cmd_lut(int argc, char **argv)
 	int rc = cli_parse_table(&cmd, &lut_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
 		return rc == 1 ? 0 : rc;
-	bk_lut_desc d = {.L = {(int)size, (int)size, 0, 1, BK_LUT_WARP_NONE, f0}, .half = half, .samples = samples,
+	cli_prec prec;
+	if (cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec))
+		return 2;
+	bk_lut_desc d = {.L = {(int)size, (int)size, 0, 1, BK_LUT_WARP_NONE, f0}, .half = prec == CLI_PREC_HALF, .samples = samples,
 	                 .tol = tol, .command = bk_out_command()};
 	if (parse_smith("lut", smith, &d.smith))
 		return 2;
@@ -152,18 +155,11 @@ int cmd_lut(int argc, char **argv)
 			return 2;
 		}
 	}
-	if (strcmp(warp, "none") == 0)
-		d.L.warp = BK_LUT_WARP_NONE;
-	else if (strcmp(warp, "sqrt") == 0)
-		d.L.warp = BK_LUT_WARP_SQRT;
-	else {
-		fprintf(stderr, "brdfkit lut: --warp: expected none or sqrt, got '%s'\n", warp);
+	static const char *const warps[] = {"none", "sqrt"}, *const origins[] = {"top", "bottom"};
+	int w = cli_choice("--warp", warp, warps, 2);
+	if (w < 0 || cli_choice("--origin", origin, origins, 2) < 0)
 		return 2;
-	}
-	if (strcmp(origin, "top") != 0 && strcmp(origin, "bottom") != 0) {
-		fprintf(stderr, "brdfkit lut: --origin: expected top or bottom, got '%s'\n", origin);
-		return 2;
-	}
+	d.L.warp = w ? BK_LUT_WARP_SQRT : BK_LUT_WARP_NONE;
 	d.origin_top = strcmp(origin, "top") == 0;
 
 	/* begun before minutes of integration, so a bad --out fails first */

@@ -157,8 +157,7 @@ static int parse_enum(const char *opt, const char *text, const char *const *name
 			*out = i;
 			return 0;
 		}
-	cli_fail(NULL, "%s: unknown value '%s'", opt, text);
-	return 2;
+	return cli_unknown_value(opt, text, names, n);
 }
 
 /* ---- outputs ------------------------------------------------------------ */
@@ -204,7 +203,8 @@ static void say_estimate(const bk_target_options *to)
 		snprintf(when, sizeof when, "%.0f s", ceil(sec));
 	else
 		snprintf(when, sizeof when, sec < 7200 ? "%.0f min" : "%.1f h", sec < 7200 ? sec / 60 : sec / 3600);
-	fprintf(stderr, "fit: %s target %dx%d = %s integrals, about %s on this machine\n", bk_target_name(to->kind),
+	if (!cli_quiet())
+		fprintf(stderr, "fit: %s target %dx%d = %s integrals, about %s on this machine\n", bk_target_name(to->kind),
 	        to->nx, to->nr, count, when);
 }
 
@@ -322,7 +322,7 @@ static int setup_spec(run *R, char **pos, int npos)
 	sp->relative = a->relative;
 	sp->starts = (int)a->starts;
 	sp->seed = (unsigned long)a->seed;
-	int v;
+	int v = 0;
 	static const char *const losses[] = {"none", "huber", "cauchy", "softl1"};
 	static const char *const trs[] = {"lm", "dogleg"};
 	static const char *const objs[] = {"lsq", "minimax"};
@@ -618,7 +618,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--loss-scale", .kind = CLI_NUM, .metavar = "C", .help = "scale c of the robust loss, in units of the weighted residual sqrt(w)·(f - y) (default 1)", .dest = &a.loss_scale, .lo = 0, .hi = 1e30, .lo_open = 1},
 		{.name = "--trust-region", .kind = CLI_STR, .metavar = "lm|dogleg", .help = "Levenberg-Marquardt (default) or dogleg", .dest = &a.tr},
 		{.name = "--max-iterations", .kind = CLI_INT, .metavar = "N", .help = "per solve (default 200)", .dest = &a.max_iter, .lo = 1, .hi = 100000},
-		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "threads of Ceres' full solver, which runs with --loss, --bound or dogleg (default 1)", .dest = &a.threads, .lo = 1, .hi = 64},
+		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "threads of Ceres' full solver, which runs with --loss, --bound or dogleg (default 1, unlike search's all cores: Ceres sums each thread's share of the cost and gradient, in an order the scheduling picks, so more threads may change the last bits)", .dest = &a.threads, .lo = 1, .hi = 64},
 		{.name = "--bound", .kind = CLI_STR, .metavar = "pN=LO:HI[,...]", .help = "parameter bounds", .dest = &a.bounds},
 		{.name = "--hold", .kind = CLI_STR, .metavar = "pN[,pM...]", .help = "keep these parameters at their start values", .dest = &a.hold},
 		{.name = "--starts", .kind = CLI_INT, .metavar = "K", .help = "deterministic starts (default 4)", .dest = &a.starts, .lo = 1, .hi = 1000},
@@ -647,8 +647,7 @@ int cmd_fit(int argc, char **argv)
 	snprintf(R.command, sizeof R.command, "%s", bk_out_command());
 	bk_target_kind kind;
 	if (bk_target_parse(a.target, &kind)) {
-		fprintf(stderr, "brdfkit fit: --target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)\n", a.target);
-		return 2;
+		return cli_unknown_value("--target", a.target, cli_targets, CLI_NTARGETS);
 	}
 	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
 		return rc;

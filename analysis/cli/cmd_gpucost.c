@@ -507,9 +507,11 @@ static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
 static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chips, const char *precision,
                const char *out, int cal)
 {
-	int fp16 = !strcmp(precision, "fp16");
-	if (!fp16 && strcmp(precision, "fp32"))
-		return cli_usage(cmd, "--precision: expected fp32 or fp16, got '%.40s'", precision);
+	cli_prec prec;
+	if (cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec))
+		return 2;
+	int fp16 = prec == CLI_PREC_HALF; /* the CSV's precision column keeps fp32/fp16 (AMD's words) */
+	bk_gpucost_progress(cli_progress, "gpucost: forms on chips");
 	if (cal)
 		return calibrate(cmd, cli_seen(cmd, "--chips") ? chips : "navi21", fp16, out);
 	char chipbuf[1024];
@@ -550,7 +552,7 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 static const cli_rule rules[] = {
 	{"--calibrate", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--chips", NULL, CLI_EVERYWHERE, 0, NULL, "navi21"},
-	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "fp16"},
+	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "half"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.csv"},
 };
 static const char *const setups[] = {"NoV", "--calibrate", NULL};
@@ -558,18 +560,18 @@ static const cli_table table = {NULL, 0, rules, sizeof rules / sizeof rules[0], 
 
 int cmd_gpucost(int argc, char **argv)
 {
-	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "fp32", *out = NULL;
+	const char *chips = BK_GPUCOST_DEFAULT_CHIPS, *precision = "single", *out = NULL;
 	int cal = 0;
 	cli_opt opts[] = {
 		{.name = "--calibrate", .kind = CLI_FLAG, .help = "fit the IR cost weights to ACO's counts over the catalog and the fronts given (one chip, default navi21)", .dest = &cal},
 		{.name = "--chips", .kind = CLI_STR, .metavar = "LIST", .help = "RADV chip names, comma-separated (default " BK_GPUCOST_DEFAULT_CHIPS ")", .dest = &chips},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "fp32|fp16", .help = "float or float16_t arithmetic (default fp32)", .dest = &precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "float (default) or float16_t arithmetic", .dest = &precision},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write the CSV there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"gpucost", "Compiles each form to AMD machine code with Mesa RADV's null device (the ACO\n"
 	               "compiler; no GPU needed) for each chip, and counts what it costs net of a\n"
 	               "load/store baseline shader: one CSV row per form and chip.",
-	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision fp32|fp16] [--out FILE]\n"
+	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision single|half] [--out FILE]\n"
 	               "       brdfkit gpucost --calibrate [FRONT.csv ...] [--chips CHIP] [--out FILE]",
 	               "NAME is a catalog entry with its published constants (NAME:A, NAME:B for one part\n"
 	               "of a split-sum entry; without a part both are evaluated in one shader). The form's\n"
@@ -577,8 +579,8 @@ int cmd_gpucost(int argc, char **argv)
 	               "stores the result, compiled in-process by glslang. Columns: name,form,chip,gfx,\n"
 	               "precision,instructions,vgprs,sgprs,latency,inv_throughput (ACO's statistics),\n"
 	               "transcendental,fma,packed,convert (counted in the disassembly), each net of the\n"
-	               "baseline; '# ' lines first state the driver and what the columns mean. fp16:\n"
-	               "float16_t arithmetic (packed-math opportunities on AMD, not a proxy for mediump on\n"
+	               "baseline; '# ' lines first state the driver and what the columns mean. half:\n"
+	               "float16_t arithmetic (precision column fp16) (packed-math opportunities on AMD, not a proxy for mediump on\n"
 	               "mobile GPUs); a chip without shaderFloat16 gets empty fields. Needs\n"
 	               "mesa-vulkan-drivers; VK_ICD_FILENAMES is set to RADV's unless already set.\n"
 	               "--calibrate: every catalog form and every member of the given search fronts\n"

@@ -342,7 +342,7 @@ static const cli_dim codegen_dims[] = {
 	{"lang", {"c", "glsl", "hlsl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl"}},
 };
 static const cli_rule codegen_rules[] = {
-	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "mediump"},
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "half"},
 	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
@@ -353,36 +353,33 @@ static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
 
 int cmd_codegen(int argc, char **argv)
 {
-	const char *lang = NULL, *precision = "highp", *fname = NULL, *out = NULL;
+	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "mediump|highp", .help = "GLSL precision / HLSL half or float (default highp; not with --lang c: C output is float)", .dest = &precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision mediump|highp] 'FORM'|NAME [p0=X ...]",
+	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.",
 	               opts, 4, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	bk_lang L;
-	if (!strcmp(lang, "c")) L = BK_LANG_C;
-	else if (!strcmp(lang, "glsl")) L = BK_LANG_GLSL;
-	else if (!strcmp(lang, "hlsl")) L = BK_LANG_HLSL;
-	else {
-		fprintf(stderr, "brdfkit codegen: --lang: expected c, glsl or hlsl, got '%s'\n", lang);
+	static const char *const langs[] = {"c", "glsl", "hlsl"};
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL};
+	int li = cli_choice("--lang", lang, langs, 3);
+	if (li < 0)
 		return 2;
-	}
+	bk_lang L = lang_of[li];
 	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
 		return rc;
-	int half = !strcmp(precision, "mediump");
-	if (!half && strcmp(precision, "highp")) {
-		fprintf(stderr, "brdfkit codegen: --precision: expected mediump or highp, got '%s'\n", precision);
-		return 2;
-	}
+	cli_prec prec;
+	if ((rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
+		return rc;
+	int half = prec == CLI_PREC_HALF;
 	if (cmd.npos < 1) {
 		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
 		return 2;

@@ -299,7 +299,7 @@ static const cli_rule rules[] = {
 	{"--term", NULL, 0, 1u << IN_FORM, "the term the form replaces", "vf"},
 	{"--name", NULL, 0, 1u << IN_FORM, "the render's name", "x"},
 	{"--batch", NULL, CLI_EVERYWHERE, 0, NULL, "b.csv"},
-	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "f32"},
+	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "single"},
 	{"--size", NULL, CLI_EVERYWHERE, 0, NULL, "64"},
 	{"--roughness", NULL, CLI_EVERYWHERE, 0, NULL, "0.5,1"},
 	{"--device", NULL, CLI_EVERYWHERE, 0, NULL, "cpu"},
@@ -431,7 +431,7 @@ int cmd_render(int argc, char **argv)
 		{.name = "--term", .kind = CLI_STR, .metavar = "vf2d|vf|d|v|f|dvf|env", .help = "the term the candidate replaces (default: a catalog entry's target)", .dest = &term},
 		{.name = "--name", .kind = CLI_STR, .metavar = "NAME", .help = "the render's name in the outputs (default: the catalog name or 'candidate')", .dest = &name},
 		{.name = "--batch", .kind = CLI_STR, .metavar = "CSV", .help = "many candidates: columns name, term, form, form_b, parameters (read by name); each into DIR/NAME/", .dest = &batch},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "f32|f16|both", .help = "which shaders run (default both)", .dest = &precision},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half|both", .help = "which shaders run: float (f32 outputs), float16_t (f16 outputs) or both (default)", .dest = &precision},
 		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square, two rows", .dest = &size, .lo = 16, .hi = 8192},
 		{.name = "--roughness", .kind = CLI_LIST, .metavar = "R,...", .help = "the columns' roughness (default 0.1,0.25,0.5,0.75,1)", .dest = &rough, .lo = 0, .hi = 1, .lo_open = 1},
 		{.name = "--device", .kind = CLI_STR, .metavar = "lavapipe|cpu", .help = "lavapipe: the emitted GLSL on Mesa's software Vulkan (default); cpu: the IR (double for f32, BK_F16 for f16), the reference", .dest = &device},
@@ -462,13 +462,16 @@ int cmd_render(int argc, char **argv)
 		return rc;
 	if (!form == !batch)
 		return cli_usage(&cmd, "give one of --form and --batch");
-	int want_f32 = !strcmp(precision, "f32") || !strcmp(precision, "both");
-	int want_f16 = !strcmp(precision, "f16") || !strcmp(precision, "both");
-	if (!want_f32 && !want_f16)
-		return cli_usage(&cmd, "--precision: expected f32, f16 or both, got '%.40s'", precision);
-	int lvp_dev = !strcmp(device, "lavapipe");
-	if (!lvp_dev && strcmp(device, "cpu"))
-		return cli_usage(&cmd, "--device: expected lavapipe or cpu, got '%.40s'", device);
+	cli_prec prec;
+	if (cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF) | CLI_PREC_BIT(CLI_PREC_BOTH),
+	                  &prec))
+		return 2;
+	int want_f32 = prec != CLI_PREC_HALF, want_f16 = prec != CLI_PREC_SINGLE; /* outputs keep f32/f16 in their names */
+	static const char *const devices[] = {"lavapipe", "cpu"};
+	int di = cli_choice("--device", device, devices, 2);
+	if (di < 0)
+		return 2;
+	int lvp_dev = di == 0;
 	if (rough.n > BK_RENDER_MAX_COLS)
 		return cli_usage(&cmd, "--roughness: at most %d columns", BK_RENDER_MAX_COLS);
 	bk_render_scene sc = {.cell = (int)(size / rough.n), .ncols = rough.n};
@@ -502,8 +505,11 @@ int cmd_render(int argc, char **argv)
 	} else
 		snprintf(devname, sizeof devname, "cpu: the IR, double for the f32 images, BK_F16 for the float16_t ones");
 	double secs[2] = {0, 0};
-	for (int i = 0; i < n && !rc; i++)
+	for (int i = 0; i < n && !rc; i++) {
 		rc = render_item(&items[i], v, &g, want_f32, want_f16, secs);
+		if (!rc && batch) /* one candidate is one step: no line for it */
+			cli_progress("render: candidates", i + 1, n);
+	}
 	if (!rc)
 		rc = write_all(out, items, n, batch != NULL, &sc, &g, devname, prefix);
 	if (!rc && v)

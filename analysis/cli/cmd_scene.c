@@ -297,6 +297,8 @@ static void estimate(const scene_run *S, int n)
 		terms += terms_to_fit(&S[k]);
 	}
 	double s = terms * TERM_S;
+	if (s <= WARN_S && cli_quiet()) /* a warning is printed whatever --quiet */
+		return;
 	fprintf(stderr, "brdfkit scene: %s%d feature set%s, %d term%s to fit: about %.0f %s (%.0f s per V*F or env term)\n",
 	        s > WARN_S ? "warning: " : "", sets, sets == 1 ? "" : "s", terms, terms == 1 ? "" : "s",
 	        s >= 3600 ? s / 3600 : s >= 60 ? s / 60 : s, s >= 3600 ? "h" : s >= 60 ? "min" : "s", TERM_S);
@@ -347,11 +349,11 @@ static void choose_set(spec_pool *P, spec_job *j)
 		if (!r->has[t])
 			continue;
 		pthread_mutex_lock(&progress_mu);
-		fprintf(stderr, "brdfkit scene: %s: %s: choosing %s\n", S->stem, r->set.name, bk_scene_term_name(t));
+		cli_note("%s: %s: choosing %s", S->stem, r->set.name, bk_scene_term_name(t));
 		pthread_mutex_unlock(&progress_mu);
-		char err[400];
-		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, "scene: env reference", err,
-		                    sizeof err)) {
+		char err[400], label[200]; /* the phases' lines start with it (scene_fit.h) */
+		snprintf(label, sizeof label, "scene: %s: %s: %s", S->stem, r->set.name, bk_scene_term_name(t));
+		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, label, err, sizeof err)) {
 			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
 			return;
 		}
@@ -361,12 +363,11 @@ static void choose_set(spec_pool *P, spec_job *j)
 	pthread_mutex_lock(&P->mu);
 	P->done += r->set.needs.vf + r->set.needs.env;
 	double spent = bk_clock_now() - P->t0;
-	pthread_mutex_lock(&progress_mu);
-	fprintf(stderr, "brdfkit scene: %s: %s done (%d of %d terms fitted, %.0f s", S->stem, r->set.name, P->done, P->total,
-	        spent);
+	char left[48] = "";
 	if (P->done > 0 && P->done < P->total)
-		fprintf(stderr, "; about %.0f s left", spent / P->done * (P->total - P->done));
-	fputs(")\n", stderr);
+		snprintf(left, sizeof left, "; about %.0f s left", spent / P->done * (P->total - P->done));
+	pthread_mutex_lock(&progress_mu);
+	cli_note("%s: %s done (%d of %d terms fitted, %.0f s%s)", S->stem, r->set.name, P->done, P->total, spent, left);
 	pthread_mutex_unlock(&progress_mu);
 	pthread_mutex_unlock(&P->mu);
 }
@@ -497,7 +498,7 @@ int cmd_scene(int argc, char **argv)
 	const char *out = NULL, *prefix = "", *id = "scenes", *chips = NULL;
 	int no_time = 0;
 	cli_opt opts[] = {
-		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "write the shaders, scene.csv, sets.csv, report.txt, section.html", .dest = &out, .required = 1},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for the shaders, scene.csv, sets.csv, report.txt, section.html (replaced whole)", .dest = &out, .required = 1},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
 		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id: letters, digits, '-', '_' (default scenes)", .dest = &id},
@@ -534,6 +535,9 @@ int cmd_scene(int argc, char **argv)
 	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
 	               "accurate candidate at no more than the generic's cost and LUT memory. A budget nothing\n"
 	               "meets keeps the most accurate, marked NOT MET, with a warning (exit status 0).\n"
+	               "The file keeps GLSL's words, what the shader declares: precision \"mediump\" is the\n"
+	               "command line's half, \"highp\" its single; alu_tex N (or costs.fetch N) is the command\n"
+	               "line's --fetch-cost N (compare, search): a texture fetch priced as N simple ops.\n"
 	               "Before the work: an estimate (30 s per V*F or env term; a warning above 30 minutes);\n"
 	               "after each set, how far it is. A scene file is at most 1 MiB.",
 	               opts, 5, 16, 0, {0}};

@@ -70,7 +70,7 @@ static void half_step(void *ctx, const char *half, const bk_search *s)
 		h->what = half;
 		h->t0 = h->last = bk_clock_now();
 	}
-	if (bk_clock_now() - h->last >= PROGRESS_EVERY) {
+	if (bk_clock_now() - h->last >= PROGRESS_EVERY && !cli_quiet()) {
 		h->last = bk_clock_now();
 		fprintf(stderr, "search: %s half: %ld fits\n", half, bk_search_evals(s));
 	}
@@ -79,7 +79,8 @@ static void half_step(void *ctx, const char *half, const bk_search *s)
 static void half_done(void *ctx, const char *half, long fits, size_t front)
 {
 	half_clock *h = ctx;
-	fprintf(stderr, "search: %s half: %ld fits in %.1f s, front %zu\n", half, fits,
+	if (!cli_quiet())
+		fprintf(stderr, "search: %s half: %ld fits in %.1f s, front %zu\n", half, fits,
 	        h->what == half ? bk_clock_now() - h->t0 : 0.0, front);
 }
 
@@ -90,7 +91,8 @@ static int run_halves(job *J, bk_halves *hv)
 	bk_halves_report rep = {half_step, half_done, &hc};
 	if (bk_halves_run(&J->so, &J->to_screen, &rep, hv, err, sizeof err))
 		return cli_fail("search", "--env-form mix: %s", err);
-	fprintf(stderr, "search: %d compositions mix(B, S, f0) seed the search of forms in f0\n", hv->n);
+	if (!cli_quiet())
+		fprintf(stderr, "search: %d compositions mix(B, S, f0) seed the search of forms in f0\n", hv->n);
 	return 0;
 }
 
@@ -98,6 +100,8 @@ static int run_halves(job *J, bk_halves *hv)
 
 static void progress(const job *J, int final)
 {
+	if (cli_quiet())
+		return;
 	size_t idx[MAX_FRONT];
 	size_t nf = bk_search_front(J->S, idx, MAX_FRONT);
 	char best[256] = "";
@@ -154,7 +158,8 @@ static int run_search(job *J)
 		fclose(f);
 		if (rc)
 			return cli_fail("search", "--resume %s: %s", J->a->resume, err);
-		fprintf(stderr, "search: resumed at %ld fits\n", bk_search_evals(J->S));
+		if (!cli_quiet())
+			fprintf(stderr, "search: resumed at %ld fits\n", bk_search_evals(J->S));
 	}
 	struct sigaction old;
 	catch_interrupt(&old);
@@ -454,10 +459,10 @@ static int search_main(int argc, char **argv)
 	for (int i = 0; i < argc && k < sizeof J.command; i++)
 		k += (size_t)snprintf(J.command + k, sizeof J.command - k, " %s", argv[i]);
 	if (bk_target_parse(a.t.target, &J.kind))
-		return cli_usage(&cmd, "--target: unknown target '%s' (vf2d, vf, spec, env, d, f, form)", a.t.target);
-	if (J.kind == BK_TARGET_ENV && a.env_form && strcmp(a.env_form, "pair") && strcmp(a.env_form, "f0") &&
-	    strcmp(a.env_form, "mix")) /* before the context, which it sets */
-		return cli_usage(&cmd, "--env-form: expected pair, f0 or mix, got '%.40s'", a.env_form);
+		return cli_unknown_value("--target", a.t.target, cli_targets, CLI_NTARGETS);
+	static const char *const env_forms[] = {"pair", "f0", "mix"};
+	if (J.kind == BK_TARGET_ENV && a.env_form && cli_choice("--env-form", a.env_form, env_forms, 3) < 0)
+		return 2; /* before the context, which it sets */
 	if ((rc = search_check_applicable(&J)))
 		return rc;
 	if (a.t.f0.n > 1 && !search_env_in_f0(&J))

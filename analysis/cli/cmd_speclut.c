@@ -305,10 +305,11 @@ int cmd_lut_specular(int argc, char **argv)
 	if (rc || (rc = cli_applicable(&cmd, (int[]){sweep ? MODE_SWEEP : MODE_ONE})))
 		return rc == 1 ? 0 : rc;
 	bk_speclut L = BK_SPECLUT_TALK;
+	static const char *const axes[] = {"rol", "noh"}, *const fresnels[] = {"none", "schlick"};
 	if (bk_speclut_axis_parse(axis, &L.axis))
-		return cli_usage(&cmd, "--axis: expected rol or noh, got '%s'", axis);
+		return cli_unknown_value("--axis", axis, axes, 2);
 	if (bk_speclut_fresnel_parse(fresnel, &L.fresnel))
-		return cli_usage(&cmd, "--fresnel: expected none or schlick, got '%s'", fresnel);
+		return cli_unknown_value("--fresnel", fresnel, fresnels, 2);
 	if (r_range) {
 		char *end;
 		L.r_lo = strtod(r_range, &end);

@@ -2,6 +2,7 @@
  * main.c — brdfkit, the one command-line tool: a table of subcommands.
  */
 #include "brdf.h"
+#include "cli.h"
 #include "cmd.h"
 #include "out.h"
 
@@ -29,7 +30,7 @@ static const struct {
 	{"scene", cmd_scene, "from a scene file to one specialised, refitted shader per feature set"},
 	{"compare", cmd_compare, "error against cost: catalog forms, refits, LUTs, the Pareto front"},
 	{"gpucost", cmd_gpucost, "AMD machine code of forms (Mesa RADV null device, ACO), net of a baseline"},
-	{"render", cmd_render, "spheres: exact BRDF, a candidate and their difference, emitted GLSL on lavapipe (f32, f16)"},
+	{"render", cmd_render, "spheres: exact BRDF, a candidate and their difference, emitted GLSL on lavapipe (single, half)"},
 };
 
 static void usage(FILE *out)
@@ -37,7 +38,8 @@ static void usage(FILE *out)
 	fprintf(out, "usage: brdfkit COMMAND [options]   (brdfkit COMMAND --help for each)\n\n"
 	             "brdfkit %s — exact BRDF terms, reference integrals and their approximations.\n"
 	             "Conventions: r perceptual roughness, a = r^2, V = G/(4 NoL NoV), F Schlick\n"
-	             "with f90 = 1, split sum f0·A + B (see brdf/brdf.h).\n\ncommands:\n",
+	             "with f90 = 1, split sum f0·A + B (see brdf/brdf.h). Every command takes --help\n"
+	             "and --quiet (no progress lines); precision is spelled double, single or half.\n\ncommands:\n",
 	        BK_VERSION);
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
 		fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
@@ -71,6 +73,13 @@ int main(int argc, char **argv)
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
 		if (strcmp(argv[1], commands[i].name) == 0)
 			return commands[i].run(argc - 2, argv + 2);
-	fprintf(stderr, "brdfkit: unknown command '%s' (see brdfkit --help)\n", argv[1]);
+	const char *names[sizeof commands / sizeof commands[0]];
+	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+		names[i] = commands[i].name;
+	const char *near = cli_suggest(argv[1], names, (int)(sizeof names / sizeof names[0]));
+	if (near)
+		fprintf(stderr, "brdfkit: unknown command '%.60s'; did you mean '%s'? (see brdfkit --help)\n", argv[1], near);
+	else
+		fprintf(stderr, "brdfkit: unknown command '%.60s' (see brdfkit --help)\n", argv[1]);
 	return 2;
 }

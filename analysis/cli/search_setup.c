@@ -24,10 +24,8 @@ static int parse_word(const cli_cmd *cmd, const char *opt, const char *text, con
 			*out = i;
 			return 0;
 		}
-	char list[200] = "";
-	for (int i = 0; i < n; i++)
-		snprintf(list + strlen(list), sizeof list - strlen(list), "%s%s", i ? ", " : "", names[i]);
-	return cli_usage(cmd, "%s: unknown value '%s' (%s)", opt, text, list);
+	(void)cmd;
+	return cli_unknown_value(opt, text, names, n);
 }
 
 /* A comma list of opt: no empty item (a stray comma is a typo, not a
@@ -144,16 +142,17 @@ int search_setup(job *J)
 	so->generation = (int)a->generation;
 	so->relative = a->relative;
 	so->max_cost = a->max_cost > 0 ? a->max_cost : HUGE_VAL;
-	int v;
+	int v = 0;
 	static const char *const objs[] = {"rmse", "max", "albedo"};
 	if (parse_word(cmd, "--objective", a->objective, objs, 3, &v))
 		return 2;
 	so->objective = (bk_objective)v;
-	static const char *const precs[] = {"double", "single", "half"};
-	static const bk_precision pv[] = {BK_F64, BK_F32, BK_F16};
-	if (parse_word(cmd, "--precision", a->precision, precs, 3, &v))
+	static const bk_precision pv[] = {BK_F64, BK_F32, BK_F16}; /* by cli_prec */
+	cli_prec prec;
+	if (cli_precision(a->precision, CLI_PREC_BIT(CLI_PREC_DOUBLE) | CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF),
+	                  &prec))
 		return 2;
-	so->precision = pv[v];
+	so->precision = pv[prec];
 	if (a->weights && parse_weights(cmd, a->weights, &so->simple_cost, &so->complex_cost))
 		return 2;
 	if (a->cost_model && cli_cost_model(cmd, a->cost_model, &so->simple_cost, &so->complex_cost))
