@@ -115,9 +115,10 @@ typedef struct ticks {
 static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 {
 	t->n = 0;
-	if (!a->log) {
-		double s = nice_step((a->hi - a->lo) / want);
-		for (double k = ceil(a->lo / s - 1e-9); t->n < MAX_TICKS && k * s <= a->hi + 1e-9 * s; k++) {
+	if (!a->log) { /* a reversed axis (lo > hi) takes the same ticks */
+		double lo = fmin(a->lo, a->hi), hi = fmax(a->lo, a->hi);
+		double s = nice_step((hi - lo) / want);
+		for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
 			double v = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
 			t->v[t->n] = v;
 			t->major[t->n] = 1;
@@ -296,6 +297,18 @@ void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *p
 	*py = page_y(&lo, p, y);
 }
 
+void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4])
+{
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	make_layout(cr, p, &lo);
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
+	plot[0] = lo.L, plot[1] = lo.T, plot[2] = lo.R, plot[3] = lo.B;
+	bar[0] = lo.bar_x, bar[1] = lo.T, bar[2] = lo.bar_x + (p->heat ? 8.0 : 0.0), bar[3] = lo.B;
+}
+
 /* ---- labels ------------------------------------------------------------------------ */
 
 typedef struct box {
@@ -400,6 +413,17 @@ static void text_at(cairo_t *cr, double x, double y, double ax, const char *s)
 	cairo_show_text(cr, buf);
 }
 
+/* text_at with the font shrunk (never below 4 pt) until s is at most maxw wide:
+ * a long title or axis name stays on the page. */
+static void text_fit(cairo_t *cr, double x, double y, double ax, const char *s, double size, int bold, double maxw)
+{
+	set_font(cr, size, bold);
+	double w = text_w(cr, s);
+	if (w > maxw && maxw > 0)
+		set_font(cr, fmax(4.0, size * maxw / w), bold);
+	text_at(cr, x, y, ax, s);
+}
+
 static void marker(cairo_t *cr, int m, double x, double y, double r)
 {
 	switch (m) {
@@ -432,31 +456,50 @@ static void draw_marker(cairo_t *cr, const bk_plot_series *S, double x, double y
 	cairo_stroke(cr);
 }
 
-static void draw_heat(cairo_t *cr, const bk_plot *p, const layout *lo)
+/* The cells as an nx x ny image painted over their rectangle with nearest-neighbour
+ * filtering: exact cell colours in the PNG, one compact image in the SVG and PDF
+ * (not a rectangle per cell), and no seams between cells in any viewer. */
+static int draw_heat(cairo_t *cr, const bk_plot *p, const layout *lo)
 {
 	const bk_plot_heat *h = p->heat;
 	double m = fmax(fabs(h->vmin), fabs(h->vmax));
-	cairo_save(cr);
-	cairo_rectangle(cr, lo->L, lo->T, lo->R - lo->L, lo->B - lo->T);
-	cairo_clip(cr);
-	for (int j = 0; j < h->ny; j++)
+	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, h->nx, h->ny);
+	if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) {
+		cairo_surface_destroy(img);
+		return -1;
+	}
+	cairo_surface_flush(img);
+	unsigned char *d = cairo_image_surface_get_data(img);
+	int stride = cairo_image_surface_get_stride(img);
+	for (int j = 0; j < h->ny; j++) {
+		uint32_t *row = (uint32_t *)(d + (size_t)(h->ny - 1 - j) * stride); /* image row 0 is y1 */
 		for (int i = 0; i < h->nx; i++) {
 			double v = h->value[(size_t)j * h->nx + i];
-			double xa = h->x0 + (h->x1 - h->x0) * i / h->nx, xb = h->x0 + (h->x1 - h->x0) * (i + 1) / h->nx;
-			double ya = h->y0 + (h->y1 - h->y0) * j / h->ny, yb = h->y0 + (h->y1 - h->y0) * (j + 1) / h->ny;
 			unsigned char c[3] = {128, 128, 128};
 			if (!isnan(v)) {
 				double t = h->map == BK_PLOT_DIVERGING ? (m > 0 ? 0.5 + 0.5 * v / m : 0.5)
 				                                       : (h->vmax > h->vmin ? (v - h->vmin) / (h->vmax - h->vmin) : 0.0);
+				if (isinf(v))
+					t = v > 0 ? 1.0 : 0.0;
 				bk_plot_colour(h->map, t, c);
 			}
-			double x0 = page_x(lo, p, xa), x1 = page_x(lo, p, xb), y0 = page_y(lo, p, ya), y1 = page_y(lo, p, yb);
-			cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
-			/* a hair wider than the cell: no seams between neighbours in any viewer */
-			cairo_rectangle(cr, fmin(x0, x1) - 0.05, fmin(y0, y1) - 0.05, fabs(x1 - x0) + 0.1, fabs(y1 - y0) + 0.1);
-			cairo_fill(cr);
+			row[i] = (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
 		}
+	}
+	cairo_surface_mark_dirty(img);
+	double x0 = page_x(lo, p, h->x0), x1 = page_x(lo, p, h->x1), y0 = page_y(lo, p, h->y0), y1 = page_y(lo, p, h->y1);
+	cairo_save(cr);
+	cairo_rectangle(cr, lo->L, lo->T, lo->R - lo->L, lo->B - lo->T);
+	cairo_clip(cr);
+	cairo_translate(cr, x0, y1);
+	cairo_scale(cr, (x1 - x0) / h->nx, (y0 - y1) / h->ny);
+	cairo_set_source_surface(cr, img, 0, 0);
+	cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+	cairo_rectangle(cr, 0, 0, h->nx, h->ny);
+	cairo_fill(cr);
 	cairo_restore(cr);
+	cairo_surface_destroy(img);
+	return 0;
 }
 
 static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
@@ -466,9 +509,9 @@ static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 	double a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin, b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
 	if (!(b > a))
 		b = a + 1.0;
-	for (int k = 0; k < 128; k++) {
+	for (int k = 0; k < 128; k++) { /* the end strips take the ends of the map exactly */
 		unsigned char c[3];
-		bk_plot_colour(h->map, (k + 0.5) / 128, c);
+		bk_plot_colour(h->map, k / 127.0, c);
 		cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
 		double y1 = lo->B - (lo->B - lo->T) * k / 128.0, y0 = lo->B - (lo->B - lo->T) * (k + 1) / 128.0;
 		cairo_rectangle(cr, x, y0 - 0.05, w, y1 - y0 + 0.1);
@@ -490,11 +533,10 @@ static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 		text_at(cr, x + w + 4.0, y + FS_TICK * 0.35, 0.0, t.text[i]);
 	}
 	if (h->label) {
-		set_font(cr, FS_AXIS, 0);
 		cairo_save(cr);
 		cairo_translate(cr, lo->W - 6.0, (lo->T + lo->B) / 2);
 		cairo_rotate(cr, -PI / 2);
-		text_at(cr, 0, 0, 0.5, h->label);
+		text_fit(cr, 0, 0, 0.5, h->label, FS_AXIS, 0, lo->H - 12.0);
 		cairo_restore(cr);
 	}
 }
@@ -556,20 +598,21 @@ static void draw_frame(cairo_t *cr, const bk_plot *p, const layout *lo)
 		}
 		cairo_stroke(cr);
 	}
-	set_font(cr, FS_AXIS, 0);
-	if (p->x.label)
-		text_at(cr, (lo->L + lo->R) / 2, lo->B + 4.0 + FS_TICK + 4.0 + FS_AXIS, 0.5, p->x.label);
+	if (p->x.label) { /* centred under the plot, moved left if it would run off the page */
+		set_font(cr, FS_AXIS, 0);
+		double w = fmin(text_w(cr, p->x.label), lo->W - 12.0), cx = fmin((lo->L + lo->R) / 2, lo->W - 6.0 - w / 2);
+		text_fit(cr, fmax(cx, 6.0 + w / 2), lo->B + 4.0 + FS_TICK + 4.0 + FS_AXIS, 0.5, p->x.label, FS_AXIS, 0,
+		         lo->W - 12.0);
+	}
 	if (p->y.label) {
 		cairo_save(cr);
 		cairo_translate(cr, 6.0 + FS_AXIS * 0.8, (lo->T + lo->B) / 2);
 		cairo_rotate(cr, -PI / 2);
-		text_at(cr, 0, 0, 0.5, p->y.label);
+		text_fit(cr, 0, 0, 0.5, p->y.label, FS_AXIS, 0, lo->B - lo->T + 20.0);
 		cairo_restore(cr);
 	}
-	if (p->title) {
-		set_font(cr, FS_TITLE, 1);
-		text_at(cr, lo->W / 2, 6.0 + FS_TITLE, 0.5, p->title);
-	}
+	if (p->title)
+		text_fit(cr, lo->W / 2, 6.0 + FS_TITLE, 0.5, p->title, FS_TITLE, 1, lo->W - 12.0);
 }
 
 static void draw_series(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_series *S)
@@ -687,8 +730,10 @@ static int draw(cairo_t *cr, const bk_plot *p)
 	}
 	cairo_set_source_rgb(cr, 1, 1, 1);
 	cairo_paint(cr);
-	if (p->heat)
-		draw_heat(cr, p, &lo);
+	if (p->heat && draw_heat(cr, p, &lo)) {
+		free(lab);
+		return -1;
+	}
 	draw_axes(cr, p, &lo);
 	for (int s = 0; s < p->nseries; s++)
 		draw_series(cr, p, &lo, &p->series[s]);
@@ -772,40 +817,42 @@ static int write_png(const bk_plot *p, cairo_surface_t *s, FILE *f)
 	return 0;
 }
 
-/* Writes svg[0..len) with cairo's surface ids ("surface<N>", from a counter that
- * lives as long as the process) renumbered in order of first appearance, so a
- * figure's bytes do not depend on how many were drawn before it. */
+/* Writes svg[0..len) with cairo's surface and image ids ("surface<N>", "image<N>":
+ * numbers from a counter that lives as long as the process) renumbered in order of
+ * first appearance, so a figure's bytes do not depend on how many were drawn before
+ * it. Only names right after id=" or # are ids (base64 data may spell anything). */
 static void put_renumbered(const char *svg, size_t len, FILE *f)
 {
 	enum { MAXID = 64 };
-	long seen[MAXID];
-	int nseen = 0;
-	static const char key[] = "surface";
-	size_t i = 0, k = sizeof key - 1;
-	while (i < len) {
-		const char *hit = NULL;
-		for (size_t j = i; j + k < len; j++)
-			if (svg[j] == 's' && !memcmp(svg + j, key, k) && svg[j + k] >= '0' && svg[j + k] <= '9') {
-				hit = svg + j;
-				break;
-			}
-		if (!hit) {
-			fwrite(svg + i, 1, len - i, f);
-			return;
+	static const char *const key[2] = {"surface", "image"};
+	long seen[2][MAXID];
+	int nseen[2] = {0, 0};
+	size_t i = 0;
+	for (size_t j = 0; j < len; j++) {
+		int after_id = (j >= 4 && !memcmp(svg + j - 4, "id=\"", 4)) || (j >= 1 && svg[j - 1] == '#');
+		int kk = -1;
+		for (int t = 0; t < 2 && after_id && kk < 0; t++) {
+			size_t k = strlen(key[t]);
+			if (j + k < len && !memcmp(svg + j, key[t], k) && svg[j + k] >= '0' && svg[j + k] <= '9')
+				kk = t;
 		}
-		size_t at = (size_t)(hit - svg) + k, end = at;
+		if (kk < 0)
+			continue;
+		size_t at = j + strlen(key[kk]), end = at;
 		long n = 0;
 		while (end < len && svg[end] >= '0' && svg[end] <= '9' && n < 100000000)
 			n = n * 10 + (svg[end++] - '0');
 		int id = 0;
-		while (id < nseen && seen[id] != n)
+		while (id < nseen[kk] && seen[kk][id] != n)
 			id++;
-		if (id == nseen && nseen < MAXID)
-			seen[nseen++] = n;
+		if (id == nseen[kk] && nseen[kk] < MAXID)
+			seen[kk][nseen[kk]++] = n;
 		fwrite(svg + i, 1, at - i, f);
 		fprintf(f, "%d", id + 1);
-		i = end;
+		i = j = end;
+		j--;
 	}
+	fwrite(svg + i, 1, len - i, f);
 }
 
 /* The SVG with the provenance as a comment after cairo's XML declaration (nothing

@@ -100,6 +100,11 @@ int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, cha
  * BK_PLOT_DPI/72 for PNG pixels). */
 void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py);
 
+/* The plot area and the colour bar (zero width without a heatmap) as left, top,
+ * right, bottom in points from the top-left corner; the frames are drawn on these
+ * edges. The heatmap's image fills its edges x0..x1, y0..y1 (y1 at the top). */
+void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4]);
+
 /* The label placement (see the contract): for each label in order, its series and
  * point, whether placed, and its box in points. Returns the number of labels, at most
  * max written; -1 when out of memory. */
