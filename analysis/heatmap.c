@@ -10,6 +10,7 @@
 #include "heatmap.h"
 #include "brdf.h" /* BK_VERSION */
 #include "exr.h"
+#include "out.h" /* bk_csv_field */
 #include "plot.h"
 
 #include <errno.h>
@@ -30,6 +31,7 @@ typedef struct plan {
 	const char *title, *xname, *yname, *vname;
 	double vmax; /* max |value| over finite cells; 0 when there are none */
 	int has_nan;
+	const bk_heatmap_style *st; /* NULL: diverging, numeric axes */
 	bk_plot plot;
 	bk_plot_heat heat;
 } plan;
@@ -70,7 +72,8 @@ static void scan_values(plan *p)
 
 /* Single column wide (3.5 in), a little shorter than wide; the axes are the
  * plane's edges, the colour range +-max|value|. */
-static int make_plan(const bk_heatmap *h, plan *p, const char *who, char *err, size_t errlen)
+static int make_plan(const bk_heatmap *h, const bk_heatmap_style *st, plan *p, const char *who, char *err,
+                     size_t errlen)
 {
 	if (check(h, who, err, errlen))
 		return -1;
@@ -81,10 +84,18 @@ static int make_plan(const bk_heatmap *h, plan *p, const char *who, char *err, s
 	p->yname = or_default(h->yname, "y");
 	p->vname = or_default(h->value_name, "value");
 	scan_values(p);
+	p->st = st;
 	p->heat = (bk_plot_heat){h->nx, h->ny, h->value, h->x0, h->x1, h->y0, h->y1, BK_PLOT_DIVERGING,
 	                         -p->vmax, p->vmax, p->vname};
+	if (st && st->sequential)
+		p->heat.map = BK_PLOT_SEQUENTIAL, p->heat.vmin = 0.0, p->heat.vmax = st->top > 0 ? st->top : p->vmax;
 	p->plot = (bk_plot){BK_PLOT_SINGLE_W, 2.9, h->title && *h->title ? p->title : NULL, p->has_nan ? no_data_text : NULL,
-	                    NULL, {p->xname, 0, h->x0, h->x1, 0}, {p->yname, 0, h->y0, h->y1, 0}, NULL, 0, &p->heat};
+	                    NULL, {p->xname, 0, h->x0, h->x1, 0, 0, NULL}, {p->yname, 0, h->y0, h->y1, 0, 0, NULL}, NULL, 0,
+	                    &p->heat};
+	if (st && st->xcat)
+		p->plot.x.ncat = h->nx, p->plot.x.cat = st->xcat;
+	if (st && st->ycat)
+		p->plot.y.ncat = h->ny, p->plot.y.cat = st->ycat;
 	return 0;
 }
 
@@ -93,7 +104,7 @@ int bk_heatmap_png_layout(const bk_heatmap *h, bk_heatmap_layout *out, char *err
 	plan p;
 	if (err && errlen)
 		err[0] = '\0';
-	if (make_plan(h, &p, "heatmap", err, errlen))
+	if (make_plan(h, NULL, &p, "heatmap", err, errlen))
 		return -1;
 	double a[4], b[4], k = BK_PLOT_DPI / 72.0;
 	bk_plot_areas(&p.plot, a, b);
@@ -284,8 +295,9 @@ static int out_of_memory(char *err, size_t errlen, const char *path)
  * states the scale and the conventions. */
 static int write_figure(plan *p, staged *s, bk_plot_format fmt, char *err, size_t errlen)
 {
-	char *desc = xprintf("%s: blue < 0 < red, colour scale -%.4g to +%.4g, grey = no data; "
-	                     "x = %s, y = %s, y0 at the bottom; %s", p->vname, p->vmax, p->vmax,
+	int seq = p->heat.map == BK_PLOT_SEQUENTIAL;
+	char *desc = xprintf("%s: %s, colour scale %.4g to %.4g, grey = no data; x = %s, y = %s, y0 at the bottom; %s",
+	                     p->vname, seq ? "dark (low) to light (high)" : "blue < 0 < red", p->heat.vmin, p->heat.vmax,
 	                     p->xname, p->yname, or_default(p->h->conventions, ""));
 	if (!desc)
 		return out_of_memory(err, errlen, s->final);
@@ -306,8 +318,11 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 	const bk_heatmap *h = p->h;
 	char col[3][COL_LEN + 8];
 	column_names(p, col);
-	char *ax = axis_text("x", p->xname, h->nx, h->x0, h->x1);
-	char *ay = axis_text("y", p->yname, h->ny, h->y0, h->y1);
+	int xc = p->st && p->st->xcat, yc = p->st && p->st->ycat;
+	char *ax = xc ? xprintf("x = %s: one of %d sampled values, a cell each", p->xname, h->nx)
+	              : axis_text("x", p->xname, h->nx, h->x0, h->x1);
+	char *ay = yc ? xprintf("y = %s: one of %d sampled values, a cell each", p->yname, h->ny)
+	              : axis_text("y", p->yname, h->ny, h->y0, h->y1);
 	if (!ax || !ay) {
 		free(ax);
 		free(ay);
@@ -320,7 +335,7 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 	comment(f, lead, ax);
 	snprintf(lead, sizeof lead, "column %s: ", col[1]);
 	comment(f, lead, ay);
-	snprintf(lead, sizeof lead, "column %s: %s", col[2], "signed ");
+	snprintf(lead, sizeof lead, "column %s: %s", col[2], p->heat.map == BK_PLOT_DIVERGING ? "signed " : "");
 	comment(f, lead, p->vname);
 	comment(f, "an empty value is no data (NaN); one row per cell, x varies fastest", "");
 	comment(f, "conventions: ", or_default(h->conventions, ""));
@@ -329,7 +344,14 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 	for (int j = 0; j < h->ny; j++)
 		for (int i = 0; i < h->nx; i++) {
 			double v = h->value[(size_t)j * h->nx + i];
-			fprintf(f, "%.9g,%.9g,", h->x0 + (i + 0.5) * dx, h->y0 + (j + 0.5) * dy);
+			if (p->st && p->st->xcat) /* a category's label (e.g. its sample value), quoted as needed */
+				bk_csv_field(f, p->st->xcat[i]), fputc(',', f);
+			else
+				fprintf(f, "%.9g,", h->x0 + (i + 0.5) * dx);
+			if (p->st && p->st->ycat)
+				bk_csv_field(f, p->st->ycat[j]), fputc(',', f);
+			else
+				fprintf(f, "%.9g,", h->y0 + (j + 0.5) * dy);
 			if (isnan(v))
 				fputc('\n', f);
 			else
@@ -400,6 +422,12 @@ static int place_all(staged s[NFILES], char *err, size_t errlen)
 
 int bk_heatmap_write(const bk_heatmap *h, const char *dir, const char *stem, char *err, size_t errlen)
 {
+	return bk_heatmap_write_styled(h, NULL, dir, stem, err, errlen);
+}
+
+int bk_heatmap_write_styled(const bk_heatmap *h, const bk_heatmap_style *st, const char *dir, const char *stem,
+                            char *err, size_t errlen)
+{
 	static const char *const ext[NFILES] = {".exr", ".png", ".csv", ".svg", ".pdf"};
 	if (err && errlen)
 		err[0] = '\0';
@@ -416,7 +444,7 @@ int bk_heatmap_write(const bk_heatmap *h, const char *dir, const char *stem, cha
 		return -1;
 	}
 	plan p;
-	if (make_plan(h, &p, who, err, errlen))
+	if (make_plan(h, st, &p, who, err, errlen))
 		return -1;
 	staged s[NFILES];
 	memset(s, 0, sizeof s);

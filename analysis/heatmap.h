@@ -63,6 +63,18 @@ typedef struct bk_heatmap {
 int bk_heatmap_write(const bk_heatmap *h, const char *dir, const char *stem, char *err,
                      size_t errlen);
 
+/* How the figure colours and labels a map (NULL: as bk_heatmap_write says). */
+typedef struct bk_heatmap_style {
+	int sequential;          /* magnitudes, shares: BK_PLOT_SEQUENTIAL from 0 (dark) to top (light) */
+	double top;              /* the scale's top; <= 0: the largest finite value */
+	const char *const *xcat; /* NULL, or nx labels: cell i stands for the sample xcat[i] (the axis is
+	                            ticked at cell centres with them; the CSV's x column holds them) */
+	const char *const *ycat; /* likewise ny labels for y */
+} bk_heatmap_style;
+
+int bk_heatmap_write_styled(const bk_heatmap *h, const bk_heatmap_style *st, const char *dir, const char *stem,
+                            char *err, size_t errlen);
+
 /* Where things land in the PNG, in pixels from its top-left corner: the pixels whose
  * centres lie inside the plot rectangle (the cells' edges x0..x1, y0..y1) and inside
  * the colour bar (top row +max|value|, bottom row -max|value|). Cell (i, j) covers

@@ -115,6 +115,14 @@ typedef struct ticks {
 static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 {
 	t->n = 0;
+	if (a->ncat > 0) { /* categories: one labelled tick at each cell's centre */
+		for (int k = 0; k < a->ncat && k < MAX_TICKS; k++) {
+			t->v[t->n] = a->lo + (k + 0.5) * (a->hi - a->lo) / a->ncat;
+			t->major[t->n] = 1;
+			snprintf(t->text[t->n++], 24, "%s", a->cat[k] ? a->cat[k] : "");
+		}
+		return;
+	}
 	if (!a->log) { /* a reversed axis (lo > hi) takes the same ticks */
 		double lo = fmin(a->lo, a->hi), hi = fmax(a->lo, a->hi);
 		double s = nice_step((hi - lo) / want);
@@ -158,6 +166,8 @@ static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 typedef struct layout {
 	double W, H;                 /* page, pt */
 	double L, R, T, B;           /* plot area edges, pt (T < B: y grows down) */
+	double xtick_h;              /* height of the x tick labels (turned: their widest) */
+	int xturn;                   /* x tick labels turned upright: too wide side by side */
 	double legend_x, bar_x;      /* legend and colour bar columns (0: none) */
 } layout;
 
@@ -254,6 +264,20 @@ static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
 		right += lw + 6.0;
 	}
 	lo->R = lo->W - right;
+	/* x tick labels wider than their spacing are turned a quarter, the plot shortened */
+	ticks tx;
+	make_ticks(&p->x, 6, &tx);
+	set_font(cr, FS_TICK, 0);
+	double xw = 0.0, gap = INFINITY;
+	for (int i = 0; i < tx.n; i++) {
+		xw = fmax(xw, text_w(cr, tx.text[i]));
+		if (i > 0)
+			gap = fmin(gap, fabs(tx.v[i] - tx.v[i - 1]) / fabs(p->x.hi - p->x.lo) * (lo->R - lo->L));
+	}
+	lo->xturn = !p->x.log && tx.n > 1 && xw + 3.0 > gap;
+	lo->xtick_h = lo->xturn ? xw : FS_TICK;
+	if (lo->xturn)
+		lo->B -= xw - FS_TICK;
 }
 
 /* Data to page coordinates. */
@@ -509,19 +533,33 @@ static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 	double a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin, b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
 	if (!(b > a))
 		b = a + 1.0;
-	for (int k = 0; k < 128; k++) { /* the end strips take the ends of the map exactly */
-		unsigned char c[3];
-		bk_plot_colour(h->map, k / 127.0, c);
-		cairo_set_source_rgb(cr, c[0] / 255.0, c[1] / 255.0, c[2] / 255.0);
-		double y1 = lo->B - (lo->B - lo->T) * k / 128.0, y0 = lo->B - (lo->B - lo->T) * (k + 1) / 128.0;
-		cairo_rectangle(cr, x, y0 - 0.05, w, y1 - y0 + 0.1);
+	/* a 1 x 128 image, nearest filter: no seams; the end rows take the map's ends exactly */
+	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 128);
+	if (cairo_surface_status(img) == CAIRO_STATUS_SUCCESS) {
+		cairo_surface_flush(img);
+		unsigned char *d = cairo_image_surface_get_data(img);
+		int stride = cairo_image_surface_get_stride(img);
+		for (int k = 0; k < 128; k++) {
+			unsigned char c[3];
+			bk_plot_colour(h->map, (127 - k) / 127.0, c); /* row 0 at the top: the high end */
+			*(uint32_t *)(d + (size_t)k * stride) = (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
+		}
+		cairo_surface_mark_dirty(img);
+		cairo_save(cr);
+		cairo_translate(cr, x, lo->T);
+		cairo_scale(cr, w, (lo->B - lo->T) / 128.0);
+		cairo_set_source_surface(cr, img, 0, 0);
+		cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+		cairo_rectangle(cr, 0, 0, 1, 128);
 		cairo_fill(cr);
+		cairo_restore(cr);
 	}
+	cairo_surface_destroy(img);
 	cairo_set_source_rgb(cr, 0, 0, 0);
 	cairo_set_line_width(cr, 0.5);
 	cairo_rectangle(cr, x, lo->T, w, lo->B - lo->T);
 	cairo_stroke(cr);
-	bk_plot_axis ax = {NULL, 0, a, b, 0};
+	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
 	ticks t;
 	make_ticks(&ax, 4, &t);
 	set_font(cr, FS_TICK, 0);
@@ -575,7 +613,13 @@ static void draw_frame(cairo_t *cr, const bk_plot *p, const layout *lo)
 		cairo_move_to(cr, x, lo->B);
 		cairo_line_to(cr, x, lo->B + (tx.major[i] ? 3.0 : 1.5));
 		cairo_stroke(cr);
-		if (tx.major[i])
+		if (tx.major[i] && lo->xturn) {
+			cairo_save(cr);
+			cairo_translate(cr, x + FS_TICK * 0.35, lo->B + 4.0);
+			cairo_rotate(cr, -PI / 2);
+			text_at(cr, 0, 0, 1.0, tx.text[i]);
+			cairo_restore(cr);
+		} else if (tx.major[i])
 			text_at(cr, x, lo->B + 4.0 + FS_TICK, 0.5, tx.text[i]);
 	}
 	for (int i = 0; i < ty.n; i++) {
@@ -601,7 +645,7 @@ static void draw_frame(cairo_t *cr, const bk_plot *p, const layout *lo)
 	if (p->x.label) { /* centred under the plot, moved left if it would run off the page */
 		set_font(cr, FS_AXIS, 0);
 		double w = fmin(text_w(cr, p->x.label), lo->W - 12.0), cx = fmin((lo->L + lo->R) / 2, lo->W - 6.0 - w / 2);
-		text_fit(cr, fmax(cx, 6.0 + w / 2), lo->B + 4.0 + FS_TICK + 4.0 + FS_AXIS, 0.5, p->x.label, FS_AXIS, 0,
+		text_fit(cr, fmax(cx, 6.0 + w / 2), lo->B + 4.0 + lo->xtick_h + 4.0 + FS_AXIS, 0.5, p->x.label, FS_AXIS, 0,
 		         lo->W - 12.0);
 	}
 	if (p->y.label) {

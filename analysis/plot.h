@@ -42,6 +42,8 @@ typedef struct bk_plot_axis {
 	int log;            /* log10 axis: lo > 0 */
 	double lo, hi;      /* the axis range, lo < hi (bk_plot_axis_fit makes one) */
 	int zero_at_lo;     /* log only: values <= 0 are drawn at lo, whose tick reads "0" */
+	int ncat;           /* > 0: linear, ncat equal cells lo..hi, each ticked at its centre */
+	const char *const *cat; /* with the label cat[k] (e.g. the sample value it stands for) */
 } bk_plot_axis;
 
 /* series style: markers; a dashed staircase (right, then down: a Pareto front) through
@@ -95,6 +97,9 @@ void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n);
 int bk_plot_write(const bk_plot *p, bk_plot_format fmt, FILE *f);
 /* DIR/STEM.png, .svg and .pdf. Returns 0, or -1 with "path: what" in err. */
 int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, char *err, size_t errlen);
+
+/* x tick labels wider than their spacing are drawn turned upright (the plot grows
+ * shorter to make room). */
 
 /* Where a data point lands, in points from the figure's top-left corner (times
  * BK_PLOT_DPI/72 for PNG pixels). */

@@ -134,7 +134,7 @@ static bk_plot planted(double xhi)
 {
 	static bk_plot_series s;
 	s = (bk_plot_series){NULL, BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xff0000, 1, px_x, px_y, NULL, NULL, NULL};
-	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x (unit)", 0, 0.0, xhi, 0}, {"y (unit)", 0, 0.0, 10.0, 0}, &s, 1, NULL};
+	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x (unit)", 0, 0.0, xhi, 0, 0, NULL}, {"y (unit)", 0, 0.0, 10.0, 0, 0, NULL}, &s, 1, NULL};
 	return p;
 }
 
@@ -167,7 +167,7 @@ Test(plot, log_axis_point_on_its_pixel)
 {
 	static double x[1] = {5.0}, y[1] = {1e-2};
 	bk_plot_series s = {NULL, BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xff0000, 1, x, y, NULL, NULL, NULL};
-	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x", 0, 0, 10, 0}, {"err", 1, 1e-4, 1.0, 0}, &s, 1, NULL};
+	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x", 0, 0, 10, 0, 0, NULL}, {"err", 1, 1e-4, 1.0, 0, 0, NULL}, &s, 1, NULL};
 	image im = render_png(&p);
 	double L, R, T, B, cx, cy;
 	find_frame(&im, &L, &R, &T, &B);
@@ -256,7 +256,7 @@ Test(plot, crowded_labels_never_overlap)
 		lab[i] = name[i];
 	}
 	bk_plot_series s = {NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, NCROWD, x, y, lab, NULL, NULL};
-	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "crowd", NULL, NULL, {"x", 0, 0, 10, 0}, {"y", 0, 0, 10, 0}, &s, 1, NULL};
+	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "crowd", NULL, NULL, {"x", 0, 0, 10, 0, 0, NULL}, {"y", 0, 0, 10, 0, 0, NULL}, &s, 1, NULL};
 	bk_plot_label l[NCROWD];
 	cr_assert_eq(bk_plot_labels(&p, l, NCROWD), NCROWD);
 	int placed = 0;
@@ -336,8 +336,8 @@ Test(plot, svg_well_formed_and_byte_stable)
 	static double x[2] = {1, 2}, y[2] = {3, 4};
 	static const char *lab[2] = {"a <b> & \"c\"", "-- not a comment end --"};
 	bk_plot_series s = {"kind & <more>", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, 2, x, y, lab, NULL, NULL};
-	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "t <&>", "note --", "made -- by a test", {"x", 0, 0, 5, 0},
-	             {"y", 0, 0, 5, 0}, &s, 1, NULL};
+	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "t <&>", "note --", "made -- by a test", {"x", 0, 0, 5, 0, 0, NULL},
+	             {"y", 0, 0, 5, 0, 0, NULL}, &s, 1, NULL};
 	size_t la, lb;
 	char *a = render_bytes(&p, BK_PLOT_SVG, &la), *b = render_bytes(&p, BK_PLOT_SVG, &lb);
 	cr_expect(la == lb && memcmp(a, b, la) == 0, "two SVGs of one figure differ");
@@ -354,7 +354,7 @@ Test(plot, heatmap_cells_take_their_colours)
 {
 	static const double v[2] = {0.0, 1.0}; /* left cell low, right cell high */
 	bk_plot_heat h = {2, 1, v, 0.0, 1.0, 0.0, 1.0, BK_PLOT_SEQUENTIAL, 0.0, 1.0, "share"};
-	bk_plot p = {2.5, 1.5, NULL, NULL, NULL, {"NoV", 0, 0, 1, 0}, {"r", 0, 0, 1, 0}, NULL, 0, &h};
+	bk_plot p = {2.5, 1.5, NULL, NULL, NULL, {"NoV", 0, 0, 1, 0, 0, NULL}, {"r", 0, 0, 1, 0, 0, NULL}, NULL, 0, &h};
 	image im = render_png(&p);
 	double L, R, T, B;
 	find_frame(&im, &L, &R, &T, &B);
