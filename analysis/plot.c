@@ -62,43 +62,54 @@ static double nice_step(double raw)
 	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
-void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n)
+/* The rounded range of v alone (see bk_plot_axis_fit); 0 when v has no value to show. */
+static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
 {
 	double lo = INFINITY, hi = -INFINITY;
-	if (a->hi > a->lo)
-		lo = a->lo, hi = a->hi;
 	for (int i = 0; i < n; i++) {
 		if (!isfinite(v[i]) || (a->log && v[i] <= 0.0))
 			continue;
 		lo = fmin(lo, v[i]);
 		hi = fmax(hi, v[i]);
 	}
+	if (!(hi >= lo))
+		return 0;
 	if (a->log) {
-		if (!(hi > 0.0))
-			lo = 1e-3, hi = 1.0;
 		double d0 = floor(log10(lo)), d1 = ceil(log10(hi));
 		if (d1 <= d0)
 			d1 = d0 + 1.0;
-		a->lo = pow(10.0, d0);
-		a->hi = pow(10.0, d1);
-		return;
+		*rlo = pow(10.0, d0);
+		*rhi = pow(10.0, d1);
+		return 1;
 	}
-	if (!(hi >= lo))
-		lo = 0.0, hi = 1.0;
 	lo = fmin(lo, 0.0); /* costs and times start at zero: ratios read honestly */
 	if (hi <= lo)
 		hi = lo + 1.0;
+	hi += 0.02 * (hi - lo); /* a marker at the largest value stays clear of the frame */
 	double s = nice_step((hi - lo) / 6.0);
-	a->lo = floor(lo / s) * s;
-	a->hi = ceil(hi / s) * s;
-	if (a->hi <= a->lo)
-		a->hi = a->lo + s;
+	*rlo = floor(lo / s) * s;
+	*rhi = ceil(hi / s) * s;
+	if (*rhi <= *rlo)
+		*rhi = *rlo + s;
+	return 1;
+}
+
+void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n)
+{
+	double lo, hi;
+	int had = a->hi > a->lo;
+	if (!fit_range(a, v, n, &lo, &hi))
+		return; /* nothing to show: the range stays as it was */
+	a->lo = had ? fmin(a->lo, lo) : lo;
+	a->hi = had ? fmax(a->hi, hi) : hi;
 }
 
 void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n)
 {
 	a->lo = a->hi = 0.0;
 	bk_plot_axis_grow(a, v, n);
+	if (!(a->hi > a->lo))
+		a->lo = a->log ? 1e-3 : 0.0, a->hi = 1.0;
 }
 
 enum { MAX_TICKS = 24 };
@@ -358,17 +369,26 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 {
 	int nm = 0, nl = count_labels(p), k = 0;
 	for (int s = 0; s < p->nseries; s++)
-		nm += p->series[s].style == BK_PLOT_POINTS ? p->series[s].n : 0;
+		nm += p->series[s].style == BK_PLOT_LINE ? 0 : 2 * p->series[s].n;
 	box *taken = malloc(sizeof *taken * (size_t)(nm + nl + 1));
 	if (!taken)
 		return -1;
 	int nt = 0;
-	for (int s = 0; s < p->nseries; s++) { /* every marker is an obstacle */
+	for (int s = 0; s < p->nseries; s++) { /* every marker and every staircase step is an obstacle */
 		const bk_plot_series *S = &p->series[s];
-		double px, py;
-		for (int i = 0; S->style == BK_PLOT_POINTS && i < S->n; i++)
-			if (visible(lo, p, S->x[i], S->y[i], &px, &py))
+		double px, py, qx = 0.0, qy = 0.0;
+		int prev = 0;
+		for (int i = 0; S->style != BK_PLOT_LINE && i < S->n; i++) {
+			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
+				continue;
+			if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
 				taken[nt++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
+			else if (prev) { /* right along qy, then down to py */
+				taken[nt++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
+				taken[nt++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			}
+			prev = 1, qx = px, qy = py;
+		}
 	}
 	set_font(cr, FS_LABEL, 0);
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};

@@ -14,7 +14,8 @@
  *   labels   placed greedily in series order, then point order: the first of 8
  *            positions around the marker (right, upper right, above, upper left, left,
  *            lower left, below, lower right) whose box stays inside the plot area and
- *            meets no marker and no label placed before; a label with no such position is
+ *            meets no marker, no staircase step and no label placed before; a label with
+ *            no such position is
  *            dropped and named in the footnote ("N not labelled (no free place): a b ...",
  *            cut with "..." at the page edge).
  *   colours  sequential data (magnitudes, shares): BK_PLOT_SEQUENTIAL, a map of our own
@@ -47,8 +48,8 @@ typedef struct bk_plot_axis {
 } bk_plot_axis;
 
 /* series style: markers; a dashed staircase (right, then down: a Pareto front) through
- * the points in the order given; a solid line. Only markers are drawn as markers and
- * keep labels off. */
+ * the points in the order given; a solid line. Markers and steps keep labels off,
+ * except BK_PLOT_DOT markers, a background cloud labels may cover. */
 enum { BK_PLOT_POINTS, BK_PLOT_STEPS, BK_PLOT_LINE };
 enum { BK_PLOT_CIRCLE, BK_PLOT_SQUARE, BK_PLOT_TRIANGLE, BK_PLOT_DOT }; /* markers */
 
@@ -87,10 +88,10 @@ typedef struct bk_plot {
 typedef enum { BK_PLOT_PNG, BK_PLOT_SVG, BK_PLOT_PDF } bk_plot_format;
 
 /* A range for values v[0..n-1] (non-finite and, on a log axis, non-positive ones
- * skipped): linear from min(0, min v) to a round number above max v; log from the
+ * skipped): linear from min(0, min v) to a round number above max v + 2 % of the span; log from the
  * decade below the smallest to the decade above the largest (1e-3..1 when none). */
 void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n);
-/* Widens a to cover v too (a already fitted, or lo = hi = 0 for none yet). */
+/* Widens a to the union of its range and v's fitted range (lo = hi = 0: none yet). */
 void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n);
 
 /* Writes the figure to f in one format. Returns 0, or -1 (cairo or write error). */
