@@ -779,7 +779,7 @@ static void draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_
 	if (!buf[0])
 		return;
 	cairo_set_source_rgb(cr, 0.33, 0.33, 0.33);
-	text_at(cr, 6.0, lo->H - 5.0, 0.0, buf);
+	text_fit(cr, 6.0, lo->H - 5.0, 0.0, buf, FS_NOTE, 0, lo->W - 12.0);
 }
 
 static int draw(cairo_t *cr, const bk_plot *p)
