@@ -247,7 +247,7 @@ enum { NCROWD = 60 };
 Test(plot, crowded_labels_never_overlap)
 {
 	static double x[NCROWD], y[NCROWD];
-	static char name[NCROWD][16];
+	static char name[NCROWD][24];
 	static const char *lab[NCROWD];
 	for (int i = 0; i < NCROWD; i++) { /* a tight cluster: a spiral of points in 2 x 2 data units */
 		x[i] = 5.0 + 1.0 * sqrt(i / (double)NCROWD) * cos(2.4 * i);
