@@ -307,6 +307,14 @@ Test(plot, pdf_is_a_pdf_and_byte_stable)
 	for (size_t i = 0; i + 31 <= la && !dated; i++)
 		dated = !memcmp(a + i, "/CreationDate (20000101000000Z)", 31);
 	cr_expect(dated, "the fixed creation date");
+	/* the font is DejaVu Sans, embedded (a subset "ABCDEF+DejaVuSans"), not a fallback */
+	int dejavu = 0, other = 0;
+	for (size_t i = 0; i + 11 <= la; i++) {
+		dejavu |= !memcmp(a + i, "+DejaVuSans", 11);
+		other |= !memcmp(a + i, "+LiberationS", 11); /* control: a font we do not use */
+	}
+	cr_expect(dejavu, "DejaVu Sans not embedded: is fonts-dejavu-core installed?");
+	cr_expect_not(other);
 	p.title = "another title"; /* negative control: a different figure, different bytes */
 	char *c = render_bytes(&p, BK_PLOT_PDF, &lc);
 	cr_expect(la != lc || memcmp(a, c, la) != 0);
