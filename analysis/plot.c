@@ -190,6 +190,8 @@ typedef struct layout {
 	double xtick_h;              /* height of the x tick labels (turned: their widest) */
 	int xturn;                   /* x tick labels turned upright: too wide side by side */
 	double legend_x, bar_x;      /* legend and colour bar columns (0: none) */
+	int legend_top;              /* narrow figures: the legend in rows under the title */
+	double legend_y;             /* its first row's baseline */
 } layout;
 
 static void set_font(cairo_t *cr, double size, int bold)
@@ -260,6 +262,28 @@ static double legend_width(cairo_t *cr, const bk_plot *p)
 	return w;
 }
 
+enum { LEGEND_MAX = 32 };
+
+/* The legend in rows across the page from x = 6 pt: each named series' x offset and
+ * row (at most LEGEND_MAX entries). Returns the number of rows. */
+static int legend_rows(cairo_t *cr, const bk_plot *p, double W, double *x, int *row)
+{
+	int rows = 0;
+	double at = 6.0;
+	set_font(cr, FS_TICK, 0);
+	for (int s = 0; s < p->nseries && s < LEGEND_MAX; s++) {
+		if (!p->series[s].name)
+			continue;
+		double w = text_w(cr, p->series[s].name) + 22.0;
+		if (rows == 0 || at + w > W - 6.0)
+			rows++, at = 6.0;
+		x[s] = at;
+		row[s] = rows - 1;
+		at += w;
+	}
+	return rows;
+}
+
 static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
 {
 	lo->W = p->width_in * 72.0;
@@ -280,7 +304,14 @@ static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
 		right += 10.0 + 8.0 + 4.0 + 26.0 + FS_AXIS + 4.0; /* gap, bar, ticks, label */
 		lo->bar_x = lo->W - right + 10.0;
 	}
-	if (lw > 0.0) {
+	lo->legend_top = lw > 0.25 * lo->W; /* a side column would take too much of a narrow plot */
+	if (lo->legend_top) {
+		double x[LEGEND_MAX];
+		int row[LEGEND_MAX];
+		int rows = legend_rows(cr, p, lo->W, x, row);
+		lo->legend_y = lo->T + FS_TICK - 2.0;
+		lo->T += rows * (FS_TICK + 4.0) + 2.0;
+	} else if (lw > 0.0) {
 		lo->legend_x = lo->W - right - lw + 6.0;
 		right += lw + 6.0;
 	}
@@ -736,28 +767,40 @@ static void draw_series(cairo_t *cr, const bk_plot *p, const layout *lo, const b
 			draw_marker(cr, S, px, py);
 }
 
+static void legend_entry(cairo_t *cr, const bk_plot_series *S, double x, double y)
+{
+	if (S->style != BK_PLOT_POINTS) {
+		rgb(cr, S->rgb);
+		cairo_set_line_width(cr, 0.8);
+		static const double dash[2] = {3.0, 1.8};
+		cairo_set_dash(cr, dash, S->style == BK_PLOT_STEPS ? 2 : 0, 0);
+		cairo_move_to(cr, x, y - 2.2);
+		cairo_line_to(cr, x + 10, y - 2.2);
+		cairo_stroke(cr);
+		cairo_set_dash(cr, NULL, 0, 0);
+	}
+	if (S->style == BK_PLOT_POINTS)
+		draw_marker(cr, S, x + 5, y - 2.2);
+	cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+	text_at(cr, x + 14, y, 0.0, S->name);
+}
+
 static void draw_legend(cairo_t *cr, const bk_plot *p, const layout *lo)
 {
-	double y = lo->T + 6.0;
+	double x[LEGEND_MAX], y = lo->T + 6.0;
+	int row[LEGEND_MAX];
+	if (lo->legend_top)
+		legend_rows(cr, p, lo->W, x, row);
 	set_font(cr, FS_TICK, 0);
 	for (int s = 0; s < p->nseries; s++) {
-		const bk_plot_series *S = &p->series[s];
-		if (!S->name)
+		if (!p->series[s].name)
 			continue;
-		if (S->style != BK_PLOT_POINTS) {
-			rgb(cr, S->rgb);
-			cairo_set_line_width(cr, 0.8);
-			static const double dash[2] = {3.0, 1.8};
-			cairo_set_dash(cr, dash, S->style == BK_PLOT_STEPS ? 2 : 0, 0);
-			cairo_move_to(cr, lo->legend_x, y - 2.2);
-			cairo_line_to(cr, lo->legend_x + 10, y - 2.2);
-			cairo_stroke(cr);
-			cairo_set_dash(cr, NULL, 0, 0);
+		if (lo->legend_top) {
+			if (s < LEGEND_MAX)
+				legend_entry(cr, &p->series[s], x[s], lo->legend_y + row[s] * (FS_TICK + 4.0));
+			continue;
 		}
-		if (S->style == BK_PLOT_POINTS)
-			draw_marker(cr, S, lo->legend_x + 5, y - 2.2);
-		cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-		text_at(cr, lo->legend_x + 14, y, 0.0, S->name);
+		legend_entry(cr, &p->series[s], lo->legend_x, y);
 		y += FS_TICK + 4.0;
 	}
 }
