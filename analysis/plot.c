@@ -28,6 +28,12 @@ const char *__lsan_default_suppressions(void)
 {
 	return "leak:libfontconfig.so\n";
 }
+/* and, so that stderr stays the tool's own, without the table of the suppressions used */
+const char *__lsan_default_options(void);
+const char *__lsan_default_options(void)
+{
+	return "print_suppressions=0";
+}
 
 /* ---- colour maps ------------------------------------------------------------------- */
 
