@@ -439,8 +439,11 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 	}
 	set_font(cr, FS_LABEL, 0);
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+	for (int pass = 0; pass < 2; pass++) /* filled markers' labels first, then hollow ones' */
 	for (int s = 0; s < p->nseries; s++) {
 		const bk_plot_series *S = &p->series[s];
+		if ((S->hollow != 0) != pass)
+			continue;
 		for (int i = 0; S->label && i < S->n; i++) {
 			if (!S->label[i])
 				continue;

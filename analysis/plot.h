@@ -11,7 +11,8 @@
  *   text     cairo's toy API, family "DejaVu Sans" (Debian fonts-dejavu-core), metrics
  *            unhinted, so text is measured the same in every format and on every machine
  *            with that font; strings are UTF-8 (invalid bytes are shown as '?').
- *   labels   placed greedily in series order, then point order: the first of 8
+ *   labels   placed greedily, the labels of filled markers' series before those of
+ *            hollow ones', each in series order, then point order: the first of 8
  *            positions around the marker (right, upper right, above, upper left, left,
  *            lower left, below, lower right) whose box stays inside the plot area and
  *            meets no marker, no staircase step and no label placed before; a label with

@@ -261,8 +261,8 @@ static void x_label(cfig *c, int xaxis, const bk_compare_info *info)
 		         info->cost_model, info->simple, info->complex, bk_tier_alu_per_tex[0]);
 }
 
-/* Builds the figure: per kind one series of front members (filled, labelled
- * first, so theirs win a crowded spot) and one of dominated rows (hollow),
+/* Builds the figure: per kind one series of dominated rows (hollow) and one of
+ * front members (filled, drawn over the others and labelled first, plot.h),
  * the front as a dashed staircase, log error against the axis. */
 static int cfig_build(cfig *c, const bk_compare_row *rows, int n, int xaxis, const char *title,
                       const bk_compare_info *info)
@@ -286,7 +286,7 @@ static int cfig_build(cfig *c, const bk_compare_row *rows, int n, int xaxis, con
 	int hidden = 0, zero = 0;
 	for (int t = 0; t < ns - 1; t++) {
 		bk_plot_series *S = &c->s[t + 1];
-		int k = t % NKINDS, front = t < NKINDS;
+		int k = t % NKINDS, front = t >= NKINDS; /* dominated first: front markers drawn over them */
 		size_t base = (size_t)(t + 1) * (size_t)(n > 0 ? n : 1);
 		*S = (bk_plot_series){front ? kinds[k].label : NULL, BK_PLOT_POINTS, kinds[k].marker, !front,
 		                      kinds[k].rgb, 0, c->x + base, c->y + base, c->label + base, NULL, NULL};
@@ -308,9 +308,9 @@ static int cfig_build(cfig *c, const bk_compare_row *rows, int n, int xaxis, con
 		if (xaxis == 1)
 			S->xlo = c->lo + base, S->xhi = c->hi + base;
 	}
-	for (int k = 0; k < NKINDS; k++) /* the legend names the kinds drawn */
+	for (int k = 0; k < NKINDS; k++) /* the legend names each kind drawn once, at its filled series */
 		if (c->s[1 + k].n == 0 && c->s[1 + NKINDS + k].n == 0)
-			c->s[1 + k].name = NULL;
+			c->s[1 + NKINDS + k].name = NULL;
 	/* the staircase: front members by repeated minimum (fronts are short) */
 	bk_plot_series *F = &c->s[0];
 	*F = (bk_plot_series){"Pareto front", BK_PLOT_STEPS, BK_PLOT_CIRCLE, 0, 0x333333, 0, c->x, c->y, NULL, NULL, NULL};
