@@ -15,7 +15,7 @@ PREFIX ?= /usr/local
 OPT    ?= -O2 -g
 CSTD    = -std=c11 -D_POSIX_C_SOURCE=200809L
 WARN    = -Wall -Wextra -Werror
-INC     = -Ibrdf -Ifit -Ianalysis -I/usr/include/OpenEXR
+INC     = -Ibrdf -Ifit -Ianalysis -I/usr/include/OpenEXR -I/usr/include/cairo
 CXXSTD  = -std=c++17
 # Eigen as a system header: gcc 12 warns inside it (maybe-uninitialized)
 EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3))
@@ -27,7 +27,7 @@ EXR_LIB = -lOpenEXRCore-3_1
 GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
               -lOGLCompiler -lSPIRV -lglslang-default-resource-limits -lSPIRV-Tools-opt -lSPIRV-Tools \
               -Wl,--end-group
-LIBS    = -lceres -lglog -lpng -ljansson -lcsv $(EXR_LIB) $(GLSLANG_LIB) -lvulkan -lpthread -lm
+LIBS    = -lceres -lglog -lcairo -lpng -ljansson -lcsv $(EXR_LIB) $(GLSLANG_LIB) -lvulkan -lpthread -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
@@ -36,10 +36,11 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # runs the search's islands across processes and machines, build/brdfkit-mpi;
 # brdfkit gpucost: glslang-dev compiles GLSL in-process, libvulkan-dev links the
 # loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler;
-# libcsv reads search fronts back for gpucost --calibrate).
+# libcsv reads search fronts back for gpucost --calibrate; libcairo draws every
+# figure, PNG/SVG/PDF, in DejaVu Sans from fonts-dejavu-core, analysis/plot.c).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers libcsv-dev
+       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)

@@ -101,11 +101,16 @@ void bk_compare_csv(FILE *f, const bk_compare_row *rows, int n, const bk_compare
 /* Timings in a file of their own: name,ns_per_eval,ns_min,ns_max,pareto_ns. */
 void bk_timing_csv(FILE *f, const bk_compare_row *rows, int n);
 
-/* Self-contained SVG: error (max_abs, log axis) against cost (xaxis 0),
- * ns/eval (xaxis 1) or ACO's net instructions on info's chip xaxis - 2, the
- * front highlighted and joined, every point labelled. info NULL:
- * BK_COMPARE_INFO_INIT. */
-void bk_compare_svg(FILE *f, const bk_compare_row *rows, int n, int xaxis, const char *title,
-                    const bk_compare_info *info);
+/* The plot of error (max_abs, log axis) against cost (xaxis 0), ns/eval (xaxis 1)
+ * or ACO's net instructions on info's chip xaxis - 2, as DIR/STEM.png, .svg and
+ * .pdf (plot.h; 7 x 4.2 in, a paper's double column): the front as a dashed
+ * staircase, its members filled, the others hollow, a marker shape and colour per
+ * kind, every point labelled where its label meets nothing (the others named in
+ * the footnote). info NULL: BK_COMPARE_INFO_INIT. Returns 0, or -1 with a message. */
+int bk_compare_plot(const bk_compare_row *rows, int n, int xaxis, const char *title, const bk_compare_info *info,
+                    const char *dir, const char *stem, char *err, size_t errlen);
+/* What that plot holds, for tests: points drawn, front staircase vertices, labels placed. */
+int bk_compare_plot_points(const bk_compare_row *rows, int n, int xaxis, const bk_compare_info *info,
+                           int *shown, int *front, int *labels_placed);
 
 #endif

@@ -4,6 +4,7 @@
 #include "search_write.h"
 
 #include "out.h"
+#include "plot.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -141,83 +142,108 @@ void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W)
 	free(on);
 }
 
-/* The cloud (grey), the front (joined, blue), the catalog published (red
- * triangles) and refitted (orange squares): error (log) against cost. */
-void bk_swrite_svg(FILE *f, const bk_swrite *sw)
+/* The figure (plot.h, 7 x 4.2 in): every screened candidate as a grey dot (one per
+ * 1/200 in cell it covers: tens of thousands of candidates fall on a few thousand
+ * cells), the front as a blue staircase with labelled circles, the catalog
+ * published (red triangles) and refitted (orange squares), error (log) against cost,
+ * in the style of compare's plots. */
+int bk_swrite_plot(const bk_swrite *sw, const char *dir, char *err, size_t errlen)
 {
-	const int W = 720, H = 460, L = 70, R = 20, T = 40, B = 50;
-	double cmax = 1, emin = HUGE_VAL, emax = 0;
-	for (int i = 0; i < sw->F->nm; i++)
-		if (sw->F->m[i].status == 0 && (sw->F->m[i].front || !sw->F->m[i].c)) {
-			cmax = fmax(cmax, sw->F->m[i].cost);
-			emin = fmin(emin, sw->F->m[i].err);
-			emax = fmax(emax, sw->F->m[i].err);
-		}
-	if (!(emin < HUGE_VAL)) {
-		emin = 1e-3;
-		emax = 1;
+	const bk_sfront *F = sw->F;
+	size_t nc = bk_search_count(F->S), nm = (size_t)F->nm;
+	double *x = malloc(sizeof *x * (nc + 3 * nm + 1)), *y = malloc(sizeof *y * (nc + 3 * nm + 1));
+	const char **lab = calloc(nm + 1, sizeof *lab);
+	if (!x || !y || !lab) {
+		free(x);
+		free(y);
+		free(lab);
+		snprintf(err, errlen, "%s/pareto: out of memory", dir);
+		return -1;
 	}
-	cmax = ceil(cmax * 1.1);
-	double l0 = floor(log10(fmax(emin, 1e-12))), l1 = ceil(log10(fmax(emax, 1e-12)) + 0.3);
-	if (l1 <= l0)
-		l1 = l0 + 1;
-#define X(c) (L + (c) / cmax * (W - L - R))
-#define Y(e) (T + (l1 - log10(e)) / (l1 - l0) * (H - T - B))
-	fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%d\" height=\"%d\" font-family=\"sans-serif\" "
-	        "font-size=\"11\">\n<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n", W, H);
-	fprintf(f, "<text x=\"%d\" y=\"20\" font-size=\"13\">search on %s: %s (%s precision) against cost</text>\n", L,
-	        bk_target_name(sw->F->kind), bk_sfront_objective_name(sw->F->so), bk_precision_name(sw->F->so->precision));
-	for (double d = l0; d <= l1; d++)
-		fprintf(f, "<line x1=\"%d\" x2=\"%d\" y1=\"%.1f\" y2=\"%.1f\" stroke=\"#ddd\"/><text x=\"%d\" y=\"%.1f\" "
-		        "text-anchor=\"end\">1e%g</text>\n", L, W - R, Y(pow(10, d)), Y(pow(10, d)), L - 4, Y(pow(10, d)) + 4, d);
-	double step = cmax <= 20 ? 2 : cmax <= 60 ? 5 : 10;
-	for (double c = 0; c <= cmax; c += step)
-		fprintf(f, "<text x=\"%.1f\" y=\"%d\" text-anchor=\"middle\">%g</text>\n", X(c), H - B + 16, c);
-	fprintf(f, "<text x=\"%d\" y=\"%d\" text-anchor=\"middle\">cost (simple*%g + complex*%g)</text>\n",
-	        (L + W - R) / 2, H - 12, sw->F->so->simple_cost, sw->F->so->complex_cost);
-	fprintf(f, "<rect x=\"%d\" y=\"%d\" width=\"%d\" height=\"%d\" fill=\"none\" stroke=\"black\"/>\n", L, T,
-	        W - L - R, H - T - B);
-	/* the cloud, one dot per pixel it covers (tens of thousands of candidates
-	 * fall on a few thousand pixels: the file stays small) */
-	unsigned char *seen = calloc((size_t)W * H, 1);
-	for (size_t i = 0; seen && i < bk_search_count(sw->F->S); i++) {
-		const bk_cand *c = bk_search_at(sw->F->S, i);
-		if (c->status != BK_CAND_OK || c->cost > cmax || !(c->err >= pow(10, l0) && c->err <= pow(10, l1)))
+	/* members first (the front in cost order, as the front list keeps it), then the cloud */
+	bk_plot_series s[5] = {
+		{"search front (refitted)", BK_PLOT_STEPS, BK_PLOT_CIRCLE, 0, 0x1f5fbf, 0, x, y, NULL, NULL, NULL},
+		{NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f5fbf, 0, x + nm, y + nm, lab, NULL, NULL},
+		{"published", BK_PLOT_POINTS, BK_PLOT_TRIANGLE, 0, 0xc0392b, 0, x + 2 * nm, y + 2 * nm, NULL, NULL, NULL},
+		{"published, refitted", BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xe67e22, 0, x + 2 * nm + nm / 2 + 1,
+		 y + 2 * nm + nm / 2 + 1, NULL, NULL, NULL},
+		{"every candidate (screening)", BK_PLOT_POINTS, BK_PLOT_DOT, 0, 0xb0b0b0, 0, x + 3 * nm + 1, y + 3 * nm + 1,
+		 NULL, NULL, NULL},
+	};
+	/* refitted and published share 2 nm.. 3 nm: at most nm catalog rows in all */
+	size_t off[5] = {0, nm, 2 * nm, 0, 3 * nm + 1};
+	int npub = 0, nref = 0;
+#define PUT(k, X, Y) (x[off[k] + (size_t)s[k].n] = (X), y[off[k] + (size_t)s[k].n++] = (Y))
+	for (int i = 0; i < F->nm; i++) {
+		const bk_sfront_member *m = &F->m[i];
+		if (m->status || !(m->err > 0))
 			continue;
-		int px = (int)lround(X(c->cost)), py = (int)lround(Y(c->err));
-		if (px < 0 || px >= W || py < 0 || py >= H || seen[(size_t)py * W + px]++)
+		if (m->front) {
+			PUT(0, m->cost, m->err);
+			lab[s[1].n] = m->name;
+			PUT(1, m->cost, m->err);
+		} else if (!m->c)
+			npub += !m->refit, nref += m->refit;
+	}
+	off[3] = 2 * nm + (size_t)npub;
+	s[3].x = x + off[3];
+	s[3].y = y + off[3];
+	for (int i = 0; i < F->nm; i++) {
+		const bk_sfront_member *m = &F->m[i];
+		if (m->status || !(m->err > 0) || m->front || m->c)
 			continue;
-		fprintf(f, "<circle cx=\"%d\" cy=\"%d\" r=\"1.5\" fill=\"#bbb\"/>\n", px, py);
+		PUT(m->refit ? 3 : 2, m->cost, m->err);
+	}
+	(void)nref;
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, NULL, NULL, NULL, {0}, {0}, NULL, 0, NULL};
+	char title[300], xl[200], note[200];
+	snprintf(title, sizeof title, "search on %s: %s (%s precision) against cost", bk_target_name(F->kind),
+	         bk_sfront_objective_name(F->so), bk_precision_name(F->so->precision));
+	snprintf(xl, sizeof xl, "cost (simple ALU ops \xc3\x97 %g + complex \xc3\x97 %g)", F->so->simple_cost,
+	         F->so->complex_cost);
+	p.title = title;
+	p.x.label = xl;
+	p.y.label = "error (log scale)";
+	p.y.log = 1;
+	for (int k = 0; k < 4; k++) {
+		bk_plot_axis_grow(&p.x, s[k].x, s[k].n);
+		bk_plot_axis_grow(&p.y, s[k].y, s[k].n);
+	}
+	if (!(p.y.hi > p.y.lo))
+		bk_plot_axis_fit(&p.y, NULL, 0);
+	if (!(p.x.hi > p.x.lo)) {
+		double one = 1.0;
+		bk_plot_axis_fit(&p.x, &one, 1);
+	}
+	/* the cloud within the axes, one dot per cell of the PNG's pixel grid */
+	int gw = BK_PLOT_DPI * 7, gh = BK_PLOT_DPI * 5;
+	unsigned char *seen = calloc((size_t)gw * gh, 1);
+	for (size_t i = 0; seen && i < nc; i++) {
+		const bk_cand *c = bk_search_at(F->S, i);
+		if (c->status != BK_CAND_OK || !(c->cost >= p.x.lo && c->cost <= p.x.hi) ||
+		    !(c->err >= p.y.lo && c->err <= p.y.hi))
+			continue;
+		int gx = (int)((c->cost - p.x.lo) / (p.x.hi - p.x.lo) * (gw - 1));
+		int gy = (int)((log10(c->err) - log10(p.y.lo)) / (log10(p.y.hi) - log10(p.y.lo)) * (gh - 1));
+		if (seen[(size_t)gy * gw + gx]++)
+			continue;
+		PUT(4, c->cost, c->err);
 	}
 	free(seen);
-	fputs("<polyline fill=\"none\" stroke=\"#1f5fbf\" stroke-width=\"1.5\" points=\"", f);
-	for (int i = 0; i < sw->F->nm; i++)
-		if (sw->F->m[i].front)
-			fprintf(f, "%.1f,%.1f ", X(sw->F->m[i].cost), Y(sw->F->m[i].err));
-	fputs("\"/>\n", f);
-	for (int i = 0; i < sw->F->nm; i++) {
-		const bk_sfront_member *m = &sw->F->m[i];
-		if (m->status || !(m->front || !m->c) || !(m->err > 0))
-			continue;
-		double x = X(m->cost), y = Y(m->err);
-		if (m->front)
-			fprintf(f, "<circle cx=\"%.1f\" cy=\"%.1f\" r=\"3.5\" fill=\"#1f5fbf\"><title>", x, y);
-		else if (!m->refit)
-			fprintf(f, "<path d=\"M%.1f %.1f l4 7 h-8 z\" fill=\"#c0392b\"><title>", x, y - 4);
-		else
-			fprintf(f, "<rect x=\"%.1f\" y=\"%.1f\" width=\"7\" height=\"7\" fill=\"#e67e22\"><title>", x - 3.5, y - 3.5);
-		bk_html_text(f, m->name);
-		fputs(": ", f);
-		bk_html_text(f, m->text);
-		fprintf(f, "</title></%s>\n", m->front ? "circle" : !m->refit ? "path" : "rect");
-	}
-	fprintf(f, "<g transform=\"translate(%d,%d)\"><circle cx=\"0\" cy=\"0\" r=\"3.5\" fill=\"#1f5fbf\"/><text x=\"8\" "
-	        "y=\"4\">search front (refitted)</text><path d=\"M0 10 l4 7 h-8 z\" fill=\"#c0392b\"/><text x=\"8\" y=\"18\">"
-	        "published</text><rect x=\"-3.5\" y=\"24\" width=\"7\" height=\"7\" fill=\"#e67e22\"/><text x=\"8\" "
-	        "y=\"32\">published, refitted</text><circle cx=\"0\" cy=\"42\" r=\"1.5\" fill=\"#bbb\"/><text x=\"8\" "
-	        "y=\"46\">every candidate (screening)</text></g>\n</svg>\n", W - R - 190, T + 12);
-#undef X
-#undef Y
+#undef PUT
+	/* the cloud first: drawn under the members; its series order is the legend's last */
+	bk_plot_series order[5] = {s[4], s[0], s[2], s[3], s[1]};
+	p.series = order;
+	p.nseries = 5;
+	snprintf(note, sizeof note, "%ld candidate fits, seed %ld; the front refitted on the full samples",
+	         sw->total_evals, sw->seed);
+	p.note = note;
+	p.provenance = sw->command;
+	int rc = bk_plot_write_files(&p, dir, "pareto", err, errlen);
+	free(x);
+	free(y);
+	free(lab);
+	return rc;
 }
 
 void bk_swrite_section(FILE *f, const bk_swrite *W)
@@ -236,7 +262,11 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 	const char *P = W->prefix ? W->prefix : "";
 	fputs("</code></p>\n<img src=\"", f);
 	bk_html_text(f, P);
-	fputs("pareto.svg\" alt=\"error against cost\">\n<table>\n<tr><th>name</th><th>form</th><th>cost</th>"
+	fputs("pareto.svg\" width=\"100%\" alt=\"error against cost\"><br>As <a href=\"", f);
+	bk_html_text(f, P);
+	fputs("pareto.pdf\">PDF</a>, <a href=\"", f);
+	bk_html_text(f, P);
+	fputs("pareto.png\">PNG</a>.\n<table>\n<tr><th>name</th><th>form</th><th>cost</th>"
 	      "<th>error</th><th>rmse</th><th>max |err|</th><th>half</th><th>beats</th><th>files</th></tr>\n", f);
 	for (int pass = 0; pass < 2; pass++)
 		for (int i = 0; i < W->F->nm; i++) {

@@ -1,6 +1,6 @@
 /*
  * search_write.h — brdfkit search's files: front.csv, catalog.csv,
- * candidates.csv, pareto.svg, section.html, and the lines of its report, all
+ * candidates.csv, pareto.{svg,png,pdf}, section.html, and the lines of its report, all
  * from the refitted front (search_front.h) and what the run was (its
  * command, islands, seed, fits). Writers only: the directory, whole or not
  * at all, is the caller's (out.h).
@@ -33,7 +33,8 @@ typedef struct bk_swrite {
 void bk_swrite_front_csv(FILE *f, const bk_swrite *W);
 void bk_swrite_catalog_csv(FILE *f, const bk_swrite *W);
 void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W);
-void bk_swrite_svg(FILE *f, const bk_swrite *W);
+/* DIR/pareto.png, .svg, .pdf (plot.h). Returns 0, or -1 with "path: what" in err. */
+int bk_swrite_plot(const bk_swrite *W, const char *dir, char *err, size_t errlen);
 void bk_swrite_section(FILE *f, const bk_swrite *W);
 /* vs_double.csv (--vs-front; halfvs.h). */
 void bk_swrite_vs_csv(FILE *f, const bk_swrite *W);

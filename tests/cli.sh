@@ -181,7 +181,7 @@ head -1 "$T/cmp/compare.csv" | grep -q '^name,kind,source,form,form_b,parameters
 # the talk's form and its refit are rows with an rmse
 is_num "$(csv_where "$T/cmp/compare.csv" name vf_talk_r rmse)" &&
 	is_num "$(csv_where "$T/cmp/compare.csv" name 'vf_talk_r (refit)' rmse)" && ok || bad "compare.csv: no vf_talk_r rows"
-grep -q '<svg' "$T/cmp/section.html" && ok || bad "section without its plot"
+grep -q "<img src=\"pareto_cost.svg\"" "$T/cmp/section.html" && [ -s "$T/cmp/pareto_cost.pdf" ] && [ -s "$T/cmp/pareto_cost.png" ] && ok || bad "section without its plot"
 $BK report --out "$T/page.html" "$T/cmp/section.html" && grep -q '<h2>Target <code>vf2d</code></h2>' "$T/page.html" && ok || bad "report"
 rm -rf "$T/cmp" "$T/page.html"
 expect_error "compare target" "'nope'" $BK compare --target nope --out "$T/x"

@@ -149,8 +149,11 @@ ccol() { csv_where "$1" name "$2" "$3"; }
 [ "$(ccol "$T/cmp/compare.csv" f_schlick_sg aco_navi21_transcendental)" = 1 ] && ok || bad "compare: f_schlick_sg transcendental"
 [ "$(ccol "$T/cmp/compare.csv" f_schlick_filament_gated aco_gfx1100_transcendental)" = 0 ] && ok ||
 	bad "compare: f_schlick_filament_gated transcendental"
-[ -s "$T/cmp/aco_navi21.svg" ] && [ -s "$T/cmp/aco_gfx1100.svg" ] && ok || bad "compare: per-chip plots"
-grep -q 'AMD navi21 instructions' "$T/cmp/aco_navi21.svg" && ok || bad "compare: the plot's axis"
+for e in svg png pdf; do
+	[ -s "$T/cmp/aco_navi21.$e" ] && [ -s "$T/cmp/aco_gfx1100.$e" ] && ok || bad "compare: per-chip plots ($e)"
+done
+# the figure's text is drawn as glyphs; its title is in the PDF's metadata
+grep -aq '/Title (f: max |error| against AMD navi21 instructions)' "$T/cmp/aco_navi21.pdf" && ok || bad "compare: the plot's title"
 grep -q '<img src="aco_navi21.svg"' "$T/cmp/section.html" && ok || bad "compare: section shows the navi21 plot"
 # the cost column is the model's weights on the op counts, for every row (the
 # weights read back through brdfkit ops: one simple op, one complex op)

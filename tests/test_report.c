@@ -13,9 +13,9 @@
  * A LUT row (no ALU, one fetch, error 0.002) between an ALU row P (20, 0.01)
  * and Q (40, 0.001): at 16 ops a fetch it costs 16 and beats P; at 32 all three
  * are on the front; at 48 and 64 Q beats it.
- * The SVG is checked as text (title escaped, one circle per placed row, the
- * front's staircase, a label per name) and by xmllint as XML; two writes give
- * the same bytes.
+ * The plots: what they hold (markers, the staircase's vertices, labels placed:
+ * bk_compare_plot_points), the SVG well-formed (xmllint), no string reaching it as
+ * markup, and two writes giving the same PNG, SVG and PDF bytes.
  */
 #include "compare.h"
 
@@ -307,18 +307,7 @@ Test(report, timing_csv)
 	free(csv);
 }
 
-/* ---- SVG ------------------------------------------------------------------------------ */
-
-static char *capture_svg(const bk_compare_row *rows, int n, int xaxis, const char *title)
-{
-	char *buf = NULL;
-	size_t len = 0;
-	FILE *f = open_memstream(&buf, &len);
-	cr_assert_not_null(f);
-	bk_compare_svg(f, rows, n, xaxis, title, NULL);
-	cr_assert_eq(fclose(f), 0);
-	return buf;
-}
+/* ---- the plots (bk_compare_plot, drawn by analysis/plot.c) ----------------------------- */
 
 static int count_of(const char *s, const char *what)
 {
@@ -328,141 +317,150 @@ static int count_of(const char *s, const char *what)
 	return n;
 }
 
-/* xmllint --noout on the text, when xmllint is there (Debian libxml2-utils). */
-static void expect_well_formed(const char *svg)
+/* A file's bytes, NUL-terminated; *len its size. */
+static char *slurp(const char *path, size_t *len)
+{
+	FILE *f = fopen(path, "rb");
+	cr_assert_not_null(f, "%s", path);
+	char *buf = NULL;
+	size_t cap = 0, n = 0, k;
+	do {
+		if (n + 4096 + 1 > cap)
+			buf = realloc(buf, cap = 2 * cap + 4096 + 1);
+		k = fread(buf + n, 1, 4096, f);
+		n += k;
+	} while (k > 0);
+	fclose(f);
+	buf[n] = '\0';
+	*len = n;
+	return buf;
+}
+
+/* xmllint --noout on a file, when xmllint is there (Debian libxml2-utils). */
+static void expect_well_formed(const char *path)
 {
 	if (system("command -v xmllint >/dev/null 2>&1") != 0) {
 		cr_log_warn("xmllint not installed (libxml2-utils): well-formedness not checked");
 		return;
 	}
-	char path[] = "/tmp/bk_test_report_XXXXXX";
-	int fd = mkstemp(path);
-	cr_assert_geq(fd, 0);
-	FILE *f = fdopen(fd, "w");
-	cr_assert_not_null(f);
-	fputs(svg, f);
-	cr_assert_eq(fclose(f), 0);
-	char cmd[128];
+	char cmd[300];
 	snprintf(cmd, sizeof cmd, "xmllint --noout %s", path);
-	int rc = system(cmd);
-	unlink(path);
-	cr_expect_eq(rc, 0, "xmllint rejected the SVG");
+	cr_expect_eq(system(cmd), 0, "xmllint rejected %s", path);
+}
+
+/* Writes the plot into a fresh directory; returns it (static buffer). */
+static const char *plot_into(const bk_compare_row *rows, int n, int xaxis, const char *title,
+                             const bk_compare_info *info)
+{
+	static char dir[64];
+	snprintf(dir, sizeof dir, "/tmp/bk_test_report_XXXXXX");
+	cr_assert_not_null(mkdtemp(dir));
+	char err[600] = "";
+	cr_assert_eq(bk_compare_plot(rows, n, xaxis, title, info, dir, "p", err, sizeof err), 0, "%s", err);
+	return dir;
+}
+
+static void remove_plot(const char *dir)
+{
+	char path[128];
+	static const char *const ext[3] = {"png", "svg", "pdf"};
+	for (int k = 0; k < 3; k++) {
+		snprintf(path, sizeof path, "%s/p.%s", dir, ext[k]);
+		unlink(path);
+	}
+	rmdir(dir);
 }
 
 static const char title[] = "V & F <fit> \"vf_talk_r\"";
-static const char title_xml[] = "V &amp; F &lt;fit&gt; &quot;vf_talk_r&quot;";
 
-/* The front's staircase: k points give 2k - 1 vertices. */
-static int polyline_vertices(const char *svg)
-{
-	const char *p = strstr(svg, "<polyline class=\"front\" points=\"");
-	cr_assert_not_null(p, "no front polyline");
-	p += strlen("<polyline class=\"front\" points=\"");
-	int n = 0;
-	for (; *p && *p != '"'; p++)
-		n += *p == ',';
-	return n;
-}
-
-Test(report, svg_cost_axis)
+Test(report, plot_cost_axis)
 {
 	bk_compare_row rows[NBASIC];
 	basic_rows(rows);
 	snprintf(rows[2].name, sizeof rows[2].name, "C<1> & \"2\"");
-	char *svg = capture_svg(rows, NBASIC, 0, title);
+	int shown, front, placed;
+	cr_assert_eq(bk_compare_plot_points(rows, NBASIC, 0, NULL, &shown, &front, &placed), 0);
+	cr_expect_eq(shown, NBASIC - 1, "one marker per row with a finite error (not F)");
+	cr_expect_eq(front, 4, "the staircase through A B D G");
+	cr_expect_eq(placed, NBASIC - 1, "six labels, room for all of them");
 
-	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
-	cr_expect_not_null(strstr(svg, "viewBox=\"0 0 760 520\""));
-	cr_expect_not_null(strstr(svg, "font-family=\"sans-serif\""));
-	cr_expect_not_null(strstr(svg, title_xml), "title not escaped");
-	cr_expect_null(strstr(svg, "<fit>"));
-	cr_expect_null(strstr(svg, "href"), "no external resources");
-	cr_expect_null(strstr(svg, "nan"));
-	cr_expect_eq(count_of(svg, "<circle"), NBASIC - 1, "one circle per row with a finite error");
-	cr_expect_eq(count_of(svg, "r=\"4.5\" stroke"), 4, "front points A B D G drawn larger, filled");
-	cr_expect_eq(polyline_vertices(svg), 2 * 4 - 1);
-	cr_expect_not_null(strstr(svg, "per bilinear fetch"), "x axis says how fetches are priced");
-	cr_expect_not_null(strstr(svg, "+ 16 per bilinear fetch"));
-	const char *labels[] = {">A</text>", ">B</text>", ">C&lt;1&gt; &amp; &quot;2&quot;</text>",
-	                        ">D</text>", ">E</text>", ">G</text>"};
-	for (size_t i = 0; i < sizeof labels / sizeof labels[0]; i++)
-		cr_expect_not_null(strstr(svg, labels[i]), "no label %s", labels[i]);
-	cr_expect_null(strstr(svg, ">F</text>"), "F has no error and is not drawn");
-	cr_expect_not_null(strstr(svg, "1 not shown"));
-	expect_well_formed(svg);
-
-	char *again = capture_svg(rows, NBASIC, 0, title);
-	cr_expect_str_eq(svg, again, "two writes differ");
-	free(again);
-	free(svg);
+	char first[64];
+	snprintf(first, sizeof first, "%s", plot_into(rows, NBASIC, 0, title, NULL));
+	const char *again = plot_into(rows, NBASIC, 0, title, NULL);
+	static const char *const ext[3] = {"png", "svg", "pdf"};
+	for (int k = 0; k < 3; k++) { /* the same rows, the same bytes */
+		char a[128], b[128];
+		size_t la, lb;
+		snprintf(a, sizeof a, "%s/p.%s", first, ext[k]);
+		snprintf(b, sizeof b, "%s/p.%s", again, ext[k]);
+		char *x = slurp(a, &la), *y = slurp(b, &lb);
+		cr_expect(la == lb && memcmp(x, y, la) == 0, "%s: two writes differ", ext[k]);
+		if (k == 1) {
+			cr_expect_eq(strncmp(x, "<?xml", 5), 0);
+			cr_expect_null(strstr(x, "<fit>"), "text is drawn as glyphs, never as markup");
+			cr_expect_null(strstr(x, "nan"));
+			expect_well_formed(a);
+		}
+		if (k == 2)
+			cr_expect_eq(strncmp(x, "%PDF-", 5), 0);
+		free(x);
+		free(y);
+	}
+	remove_plot(first);
+	remove_plot(again);
 }
 
-Test(report, svg_ns_axis)
+Test(report, plot_ns_axis)
 {
 	bk_compare_row rows[NBASIC];
 	basic_rows(rows);
-	char *svg = capture_svg(rows, NBASIC, 1, title);
-	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
-	cr_expect_eq(count_of(svg, "<circle"), NBASIC - 2, "F (no error) and G (no timing) not drawn");
-	cr_expect_eq(count_of(svg, "r=\"4.5\" stroke"), 4, "front points A C B D");
-	cr_expect_eq(polyline_vertices(svg), 2 * 4 - 1);
-	cr_expect_eq(count_of(svg, "class=\"range\""), NBASIC - 2, "min..max bar per timed point");
-	cr_expect_not_null(strstr(svg, "ns"));
-	cr_expect_not_null(strstr(svg, "2 not shown"));
-	expect_well_formed(svg);
-	free(svg);
+	int shown, front, placed;
+	cr_assert_eq(bk_compare_plot_points(rows, NBASIC, 1, NULL, &shown, &front, &placed), 0);
+	cr_expect_eq(shown, NBASIC - 2, "F (no error) and G (no timing) not drawn");
+	cr_expect_eq(front, 4, "front A C B D");
+	const char *dir = plot_into(rows, NBASIC, 1, title, NULL);
+	char path[128];
+	snprintf(path, sizeof path, "%s/p.svg", dir);
+	expect_well_formed(path);
+	remove_plot(dir);
 }
 
-Test(report, svg_zero_errors_and_collisions)
+/* Three rows at one point and a zero error: the labels spread round the point,
+ * the exact row is drawn (on the axis' "0" level). */
+Test(report, plot_zero_errors_and_collisions)
 {
 	bk_compare_row rows[5];
 	rows[0] = make_row("exact", "form", 3, 0.0, 1);
 	rows[1] = make_row("close", "published", 5, 0.02, 1);
-	rows[2] = make_row("twin", "refit", 8, 0.003, 1); /* three labels at one point */
+	rows[2] = make_row("twin", "refit", 8, 0.003, 1);
 	rows[3] = make_row("twin", "refit", 8, 0.003, 1);
 	rows[4] = make_row("twin", "lut", 8, 0.003, 1);
-	char *svg = capture_svg(rows, 5, 0, "zeros");
-	cr_expect_eq(count_of(svg, "<circle"), 5);
-	cr_expect_not_null(strstr(svg, "text-anchor=\"end\">0</text>"), "zero level labelled 0");
-	cr_expect_not_null(strstr(svg, "class=\"break\""), "axis break above the zero level");
-	cr_expect_not_null(strstr(svg, "stroke-dasharray=\"2 1\""), "zero-error point marked");
-	/* the three twins' labels were nudged apart: three different y */
-	const char *p = svg;
-	double ys[3];
-	for (int k = 0; k < 3; k++) {
-		p = strstr(p, ">twin</text>");
-		cr_assert_not_null(p);
-		const char *q = p;
-		while (q > svg && strncmp(q, " y=\"", 4) != 0)
-			q--;
-		ys[k] = atof(q + 4);
-		p++;
-	}
-	cr_expect(ys[0] != ys[1] && ys[1] != ys[2] && ys[0] != ys[2], "labels at %g %g %g", ys[0], ys[1],
-	          ys[2]);
-	expect_well_formed(svg);
-	free(svg);
+	int shown, front, placed;
+	cr_assert_eq(bk_compare_plot_points(rows, 5, 0, NULL, &shown, &front, &placed), 0);
+	cr_expect_eq(shown, 5, "the zero-error row is drawn too");
+	cr_expect_eq(placed, 5, "three labels at one point find three places");
+	const char *dir = plot_into(rows, 5, 0, "zeros", NULL);
+	remove_plot(dir);
 }
 
-Test(report, svg_empty_and_bad_text)
+Test(report, plot_empty_and_bad_text)
 {
-	char *svg = capture_svg(NULL, 0, 0, NULL);
-	cr_expect_eq(strncmp(svg, "<svg", 4), 0);
-	cr_expect_eq(count_of(svg, "<circle"), 0);
-	cr_expect_null(strstr(svg, "<polyline"));
-	expect_well_formed(svg);
-	free(svg);
-
+	int shown, front, placed;
+	cr_assert_eq(bk_compare_plot_points(NULL, 0, 0, NULL, &shown, &front, &placed), 0);
+	cr_expect_eq(shown + front + placed, 0);
+	const char *dir = plot_into(NULL, 0, 0, NULL, NULL);
+	remove_plot(dir);
 	bk_compare_row row = make_row("bad \x01 \xff \xed\xa0\x80 utf-8 \xc3\xa9", "other kind", 1, 0.1, 1);
-	svg = capture_svg(&row, 1, 0, "t\x02");
-	cr_expect_not_null(strstr(svg, ">bad ? ? ??? utf-8 \xc3\xa9</text>"), "%s", svg);
-	expect_well_formed(svg);
-	free(svg);
+	dir = plot_into(&row, 1, 0, "t\x02", NULL);
+	char path[128];
+	snprintf(path, sizeof path, "%s/p.svg", dir);
+	expect_well_formed(path);
+	remove_plot(dir);
 }
 
-/* Every string in a plot is text, whatever it holds: the row's name and
+/* Every string in a plot is drawn text, whatever it holds: the row's name and
  * kind, the title, the chip and the cost model's name (option values). */
-Test(report, svg_escapes_every_string)
+Test(report, plot_escapes_every_string)
 {
 	static const char evil[] = "</text><script>alert(1)</script>";
 	bk_compare_row row = make_row(evil, evil, 1, 0.1, 1);
@@ -472,15 +470,15 @@ Test(report, svg_escapes_every_string)
 	info.nchips = 1;
 	info.chip[0] = evil;
 	for (int xaxis = 0; xaxis < 3; xaxis++) {
-		char *buf = NULL;
-		size_t len = 0;
-		FILE *f = open_memstream(&buf, &len);
-		cr_assert_not_null(f);
-		bk_compare_svg(f, &row, 1, xaxis, evil, &info);
-		cr_assert_eq(fclose(f), 0);
-		cr_expect_null(strstr(buf, "<script"), "axis %d: %s", xaxis, buf);
-		cr_expect_gt(count_of(buf, "&lt;/text&gt;&lt;script&gt;"), 1, "axis %d", xaxis);
-		expect_well_formed(buf);
+		const char *dir = plot_into(&row, 1, xaxis, evil, &info);
+		char path[128];
+		size_t len;
+		snprintf(path, sizeof path, "%s/p.svg", dir);
+		char *buf = slurp(path, &len);
+		cr_expect_null(strstr(buf, "<script"), "axis %d", xaxis);
+		cr_expect_eq(count_of(buf, "alert"), 0, "axis %d", xaxis);
+		expect_well_formed(path);
 		free(buf);
+		remove_plot(dir);
 	}
 }

@@ -246,18 +246,6 @@ static int gpu_columns(study *S)
 	return rc;
 }
 
-static void cat_file(FILE *out, const char *path)
-{
-	FILE *in = fopen(path, "r");
-	char buf[8192];
-	size_t n;
-	if (!in)
-		return;
-	while ((n = fread(buf, 1, sizeof buf, in)) > 0)
-		fwrite(buf, 1, n, out);
-	fclose(in);
-}
-
 /* The published row a refit came from (the row just before it). */
 static const bk_compare_row *published_of(const study *S, int i)
 {
@@ -266,15 +254,15 @@ static const bk_compare_row *published_of(const study *S, int i)
 
 static void write_section(const study *S, FILE *f, const char *dir, const char *prefix)
 {
-	char svg[4400];
 	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
 	        bk_target_name(S->to.kind));
 	bk_html_text(f, S->s.description);
 	fprintf(f, ". Residuals %s. Error on the plots: the largest absolute error over the samples. ALU cost: "
 	           "cost model <code>%s</code>, simple \xc3\x97 %g + complex \xc3\x97 %g (brdfkit ops).</p>\n",
 	        S->relative ? "relative" : "absolute", S->info.cost_model, S->info.simple, S->info.complex);
-	snprintf(svg, sizeof svg, "%.4000s/pareto_cost.svg", dir);
-	cat_file(f, svg);
+	(void)dir; /* the plot is a picture (plot.h), beside it as PDF and PNG for a paper */
+	fprintf(f, "<p><img src=\"%spareto_cost.svg\" width=\"100%%\" alt=\"max |error| against cost\"><br>"
+	           "As <a href=\"%spareto_cost.pdf\">PDF</a>, <a href=\"%spareto_cost.png\">PNG</a>.</p>\n", prefix, prefix, prefix);
 	if (!S->untimed[0]) {
 		fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
 		           "<a href=\"%spareto_ns.svg\">pareto_ns.svg</a>; tables: <a href=\"%scompare.csv\">compare.csv</a>, "
@@ -340,7 +328,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 		           "--calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n<p>",
 		        S->driver);
 		for (int c = 0; c < S->info.nchips; c++)
-			fprintf(f, "<a href=\"%saco_%s.svg\"><img src=\"%saco_%s.svg\" width=\"380\" alt=\"error against %s "
+			fprintf(f, "<a href=\"%saco_%s.pdf\"><img src=\"%saco_%s.svg\" width=\"49%%\" alt=\"error against %s "
 			           "instructions\"></a>",
 			        prefix, S->info.chip[c], prefix, S->info.chip[c], S->info.chip[c]);
 		fputs("</p>\n", f);
@@ -432,10 +420,10 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	int rc = mkdir(path, 0777);
 	snprintf(path, sizeof path, "%s/shaders", tmp);
 	rc |= mkdir(path, 0777);
-	static const char *const files[] = {"compare.csv", "timing.csv", "pareto_cost.svg", "pareto_ns.svg", "section.html"};
+	static const char *const files[] = {"compare.csv", "timing.csv", NULL, NULL, "section.html"};
 	FILE *f[5] = {0};
 	for (int k = 0; k < 5 && rc == 0; k++) {
-		if (S->untimed[0] && (k == 1 || k == 3))
+		if (!files[k] || (S->untimed[0] && k == 1))
 			continue; /* not measured: no table of empty fields, no plot without points */
 		snprintf(path, sizeof path, "%s/%s", tmp, files[k]);
 		if (!(f[k] = fopen(path, "w")))
@@ -447,21 +435,16 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		if (f[1])
 			bk_timing_csv(f[1], S->rows, S->n);
 		snprintf(title, sizeof title, "%s: max |error| against cost", bk_target_name(S->to.kind));
-		bk_compare_svg(f[2], S->rows, S->n, 0, title, &S->info);
+		rc = bk_compare_plot(S->rows, S->n, 0, title, &S->info, tmp, "pareto_cost", err, sizeof err);
 		snprintf(title, sizeof title, "%s: max |error| against CPU ns per evaluation", bk_target_name(S->to.kind));
-		if (f[3])
-			bk_compare_svg(f[3], S->rows, S->n, 1, title, &S->info);
-		fclose(f[2]);
-		f[2] = NULL;
+		if (!S->untimed[0] && rc == 0)
+			rc = bk_compare_plot(S->rows, S->n, 1, title, &S->info, tmp, "pareto_ns", err, sizeof err);
 		for (int c = 0; c < S->info.nchips && rc == 0; c++) {
-			snprintf(path, sizeof path, "%s/aco_%.60s.svg", tmp, S->info.chip[c]);
-			FILE *g = fopen(path, "w");
+			char stem[80];
+			snprintf(stem, sizeof stem, "aco_%.60s", S->info.chip[c]);
 			snprintf(title, sizeof title, "%s: max |error| against AMD %s instructions", bk_target_name(S->to.kind),
 			         S->info.chip[c]);
-			if (g)
-				bk_compare_svg(g, S->rows, S->n, 2 + c, title, &S->info);
-			if (!g || (ferror(g) | fclose(g)))
-				rc = -1;
+			rc = bk_compare_plot(S->rows, S->n, 2 + c, title, &S->info, tmp, stem, err, sizeof err);
 		}
 		write_section(S, f[4], tmp, prefix);
 	}

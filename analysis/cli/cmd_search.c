@@ -294,7 +294,8 @@ static int write_outputs(const job *J, const bk_swrite *W)
 	int rc = write_file(od.tmp, "front.csv", bk_swrite_front_csv, W);
 	rc |= write_file(od.tmp, "catalog.csv", bk_swrite_catalog_csv, W);
 	rc |= write_file(od.tmp, "candidates.csv", bk_swrite_candidates_csv, W);
-	rc |= write_file(od.tmp, "pareto.svg", bk_swrite_svg, W);
+	if (bk_swrite_plot(W, od.tmp, err, sizeof err))
+		rc = -1, fprintf(stderr, "brdfkit search: %s\n", err);
 	rc |= write_file(od.tmp, "section.html", bk_swrite_section, W);
 	if (W->vs)
 		rc |= write_file(od.tmp, "vs_double.csv", bk_swrite_vs_csv, W);
@@ -418,7 +419,7 @@ static int search_main(int argc, char **argv)
 	};
 	cli_cmd cmd = {"search", "Searches closed forms for a target: candidates over the formula IR, each fitted,\n"
 	               "the Pareto front of error against GPU cost refitted in full. Writes front.csv,\n"
-	               "catalog.csv, candidates.csv, front/NAME/ (as fit --out), pareto.svg, section.html into DIR.",
+	               "catalog.csv, candidates.csv, front/NAME/ (as fit --out), pareto.svg (and .png, .pdf), section.html into DIR.",
 	               "--target T --out DIR [options]",
 	               "The same --seed and --evals give the same files for any --threads. SIGINT (or SIGUSR1)\n"
 	               "stops at the end of the current generation, writes the checkpoint and the front so far,\n"

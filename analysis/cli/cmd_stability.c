@@ -193,19 +193,26 @@ static void summary_row(FILE *f, const bk_stability *st, const char *text)
 	fputc('\n', f);
 }
 
+/* The failure map: a share in [0, 1] on the sequential scale (0 dark, 1 light),
+ * each axis cell labelled with the sample value it stands for. */
 static int write_map(const bk_stability *st, const char *dir, char *err, size_t errlen)
 {
-	char title[160], stem[128];
+	char title[160], stem[128], cx[32][16], cy[32][16];
+	const char *xcat[32], *ycat[32];
+	for (int i = 0; i < st->map_nx && i < 32; i++)
+		snprintf(cx[i], sizeof cx[i], "%g", bk_stab_cos[i]), xcat[i] = cx[i];
+	for (int j = 0; j < st->map_ny && j < 32; j++)
+		snprintf(cy[j], sizeof cy[j], "%g", bk_stab_r[j]), ycat[j] = cy[j];
 	snprintf(title, sizeof title, "%.80s: share of wrong half-precision results", st->name);
 	bk_slug(st->name, stem, sizeof stem);
 	bk_heatmap h = {st->map_nx, st->map_ny, st->map, 0, st->map_nx, 0, st->map_ny,
-	                "first cosine: index in 0,1e-7,1e-4,1e-3,0.01,0.1,0.5,0.9,0.999,0.99999,1",
-	                "r: index in 0,1e-4,1e-3,0.01,0.02,0.05,0.089,0.1,0.2,0.3,0.5,0.7,1", title, "wrong_share",
+	                "first cosine", "r (perceptual roughness)", title, "wrong share",
 	                "fraction of samples of the cell (over the other inputs) whose half-precision value is wrong: not "
 	                "finite where the long-double reference at the same half-rounded inputs is finite, or off from it "
 	                "by more than 2 % (by more than 2^-14 where it is below 2^-14), or right only because a min, max or "
-	                "clamp hid an overflow or a NaN on the way"};
-	return bk_heatmap_write(&h, dir, stem, err, errlen);
+	                "clamp hid an overflow or a NaN on the way; the axes are the sampled values, one cell each"};
+	bk_heatmap_style style = {1, 1.0, st->map_nx <= 32 ? xcat : NULL, st->map_ny <= 32 ? ycat : NULL};
+	return bk_heatmap_write_styled(&h, &style, dir, stem, err, errlen);
 }
 
 static void section_row(FILE *f, const bk_stability *st, const char *prefix)

@@ -1,0 +1,1064 @@
+/*
+ * plot.c — brdfkit's one figure module on cairo (plot.h states the contract). A figure
+ * is laid out once in points (the frame, the ticks, the label boxes), then drawn by one
+ * function onto whichever cairo surface the format asks for.
+ */
+#include "plot.h"
+#include "brdf.h" /* BK_VERSION */
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <errno.h>
+#include <math.h>
+#include <png.h>
+#include <setjmp.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+/* LeakSanitizer (the sanitized build of make test) asks for this by name: the
+ * blocks fontconfig allocates under cairo's toy font API (a few hundred bytes,
+ * once per process: its pattern cache) are not reachable at exit and are none of
+ * ours; every cairo object this module creates is destroyed. */
+const char *__lsan_default_suppressions(void);
+const char *__lsan_default_suppressions(void)
+{
+	return "leak:libfontconfig.so\n";
+}
+/* and, so that stderr stays the tool's own, without the table of the suppressions used */
+const char *__lsan_default_options(void);
+const char *__lsan_default_options(void)
+{
+	return "print_suppressions=0";
+}
+
+/* ---- colour maps ------------------------------------------------------------------- */
+
+/* Sequential: 33 anchors of our own computation (OKLab L = 0.30 + 0.62 t, hue
+ * 295 deg - 190 t, chroma 0.13 + 0.04 sin(pi t) reduced in steps of 0.002 until the
+ * colour is inside sRGB, then sRGB-encoded and rounded), so lightness rises evenly. */
+static const unsigned char seq[33][3] = {
+	{53, 22, 102},   {52, 30, 113},   {50, 37, 123},   {46, 45, 132},   {40, 53, 141},
+	{31, 62, 149},   {11, 70, 157},   {1, 81, 153},    {2, 90, 149},    {2, 98, 148},
+	{1, 105, 149},   {2, 113, 149},   {4, 120, 151},   {4, 127, 152},   {1, 135, 154},
+	{8, 142, 154},   {11, 149, 155},  {12, 157, 156},  {11, 164, 155},  {10, 172, 154},
+	{10, 180, 152},  {2, 188, 148},   {6, 196, 141},   {46, 202, 133},  {83, 207, 128},
+	{110, 211, 123}, {134, 215, 119}, {155, 218, 116}, {174, 222, 115}, {193, 225, 115},
+	{210, 228, 117}, {226, 231, 120}, {241, 234, 126},
+};
+
+/* Diverging: ColorBrewer RdBu, 11 classes (Brewer, colorbrewer2.org), reversed so
+ * that blue is negative; 0.5 is its white middle. */
+static const unsigned char rdbu[11][3] = {
+	{0x05, 0x30, 0x61}, {0x21, 0x66, 0xac}, {0x43, 0x93, 0xc3}, {0x92, 0xc5, 0xde},
+	{0xd1, 0xe5, 0xf0}, {0xf7, 0xf7, 0xf7}, {0xfd, 0xdb, 0xc7}, {0xf4, 0xa5, 0x82},
+	{0xd6, 0x60, 0x4d}, {0xb2, 0x18, 0x2b}, {0x67, 0x00, 0x1f},
+};
+
+void bk_plot_colour(int map, double t, unsigned char rgb[3])
+{
+	const unsigned char(*tab)[3] = map == BK_PLOT_DIVERGING ? rdbu : seq;
+	int n = map == BK_PLOT_DIVERGING ? 11 : 33;
+	double u = (isnan(t) ? 0.0 : fmax(0.0, fmin(1.0, t))) * (n - 1);
+	int k = u >= n - 1 ? n - 2 : (int)u;
+	double f = u - k;
+	for (int c = 0; c < 3; c++)
+		rgb[c] = (unsigned char)floor(tab[k][c] + (tab[k + 1][c] - tab[k][c]) * f + 0.5);
+}
+
+/* ---- axes ------------------------------------------------------------------------ */
+
+/* The smallest of 1, 2, 5 x 10^k at least raw. */
+static double nice_step(double raw)
+{
+	double mag = pow(10.0, floor(log10(raw))), r = raw / mag;
+	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
+}
+
+/* The rounded range of v alone (see bk_plot_axis_fit); 0 when v has no value to show. */
+static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
+{
+	double lo = INFINITY, hi = -INFINITY;
+	for (int i = 0; i < n; i++) {
+		if (!isfinite(v[i]) || (a->log && v[i] <= 0.0))
+			continue;
+		lo = fmin(lo, v[i]);
+		hi = fmax(hi, v[i]);
+	}
+	if (!(hi >= lo))
+		return 0;
+	if (a->log) {
+		double d0 = floor(log10(lo)), d1 = ceil(log10(hi));
+		if (d1 <= d0)
+			d1 = d0 + 1.0;
+		*rlo = pow(10.0, d0);
+		*rhi = pow(10.0, d1);
+		return 1;
+	}
+	lo = fmin(lo, 0.0); /* costs and times start at zero: ratios read honestly */
+	if (hi <= lo)
+		hi = lo + 1.0;
+	hi += 0.02 * (hi - lo); /* a marker at the largest value stays clear of the frame */
+	double s = nice_step((hi - lo) / 6.0);
+	*rlo = floor(lo / s) * s;
+	*rhi = ceil(hi / s) * s;
+	if (*rhi <= *rlo)
+		*rhi = *rlo + s;
+	return 1;
+}
+
+void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n)
+{
+	double lo, hi;
+	int had = a->hi > a->lo;
+	if (!fit_range(a, v, n, &lo, &hi))
+		return; /* nothing to show: the range stays as it was */
+	a->lo = had ? fmin(a->lo, lo) : lo;
+	a->hi = had ? fmax(a->hi, hi) : hi;
+}
+
+void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n)
+{
+	a->lo = a->hi = 0.0;
+	bk_plot_axis_grow(a, v, n);
+	if (!(a->hi > a->lo))
+		a->lo = a->log ? 1e-3 : 0.0, a->hi = 1.0;
+}
+
+enum { MAX_TICKS = 24 };
+
+typedef struct ticks {
+	int n;
+	double v[MAX_TICKS];
+	int major[MAX_TICKS]; /* labelled */
+	char text[MAX_TICKS][24];
+} ticks;
+
+/* Linear: a 1-2-5 step for about `want` intervals; log: every decade labelled (every
+ * other one when there are many), 2..9 unlabelled between when there are few. */
+static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
+{
+	t->n = 0;
+	if (a->ncat > 0) { /* categories: one labelled tick at each cell's centre */
+		for (int k = 0; k < a->ncat && k < MAX_TICKS; k++) {
+			t->v[t->n] = a->lo + (k + 0.5) * (a->hi - a->lo) / a->ncat;
+			t->major[t->n] = 1;
+			snprintf(t->text[t->n++], 24, "%s", a->cat[k] ? a->cat[k] : "");
+		}
+		return;
+	}
+	if (!a->log) { /* a reversed axis (lo > hi) takes the same ticks */
+		double lo = fmin(a->lo, a->hi), hi = fmax(a->lo, a->hi);
+		double s = nice_step((hi - lo) / want);
+		for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
+			double v = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
+			t->v[t->n] = v;
+			t->major[t->n] = 1;
+			snprintf(t->text[t->n++], 24, "%g", v);
+		}
+		return;
+	}
+	int d0 = (int)floor(log10(a->lo) + 1e-9), d1 = (int)ceil(log10(a->hi) - 1e-9);
+	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5;
+	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++) {
+		t->v[t->n] = pow(10.0, d);
+		t->major[t->n] = (d - d0) % every == 0;
+		if (a->zero_at_lo && d == d0)
+			snprintf(t->text[t->n], 24, "0");
+		else if (d >= -3 && d <= 3)
+			snprintf(t->text[t->n], 24, "%g", pow(10.0, d));
+		else
+			snprintf(t->text[t->n], 24, "1e%d", d);
+		t->n++;
+		for (int m = 2; minor && d < d1 && m <= 9 && t->n < MAX_TICKS && !(a->zero_at_lo && d == d0); m++) {
+			t->v[t->n] = m * pow(10.0, d);
+			t->major[t->n] = 0;
+			t->text[t->n++][0] = '\0';
+		}
+	}
+}
+
+/* ---- layout ------------------------------------------------------------------------ */
+
+#define FS_TITLE 9.0
+#define FS_AXIS 8.0
+#define FS_TICK 7.0
+#define FS_LABEL 6.0
+#define FS_NOTE 6.0
+#define MARK_R 2.4 /* marker radius, pt */
+
+typedef struct layout {
+	double W, H;                 /* page, pt */
+	double L, R, T, B;           /* plot area edges, pt (T < B: y grows down) */
+	double xtick_h;              /* height of the x tick labels (turned: their widest) */
+	int xturn;                   /* x tick labels turned upright: too wide side by side */
+	double legend_x, bar_x;      /* legend and colour bar columns (0: none) */
+	int legend_top;              /* narrow figures: the legend in rows under the title */
+	double legend_y;             /* its first row's baseline */
+} layout;
+
+static void set_font(cairo_t *cr, double size, int bold)
+{
+	cairo_select_font_face(cr, BK_PLOT_FONT, CAIRO_FONT_SLANT_NORMAL,
+	                       bold ? CAIRO_FONT_WEIGHT_BOLD : CAIRO_FONT_WEIGHT_NORMAL);
+	cairo_set_font_size(cr, size);
+	/* unhinted metrics and outlines: the same advance widths on every surface */
+	cairo_font_options_t *o = cairo_font_options_create();
+	cairo_font_options_set_hint_metrics(o, CAIRO_HINT_METRICS_OFF);
+	cairo_font_options_set_hint_style(o, CAIRO_HINT_STYLE_NONE);
+	cairo_font_options_set_antialias(o, CAIRO_ANTIALIAS_GRAY);
+	cairo_set_font_options(cr, o);
+	cairo_font_options_destroy(o);
+}
+
+/* Text as cairo may take it: valid UTF-8, '?' for any other byte (cairo refuses
+ * a string that is not UTF-8). Writes at most len - 1 bytes. */
+static void clean_utf8(const char *s, char *out, size_t len)
+{
+	size_t o = 0;
+	const unsigned char *p = (const unsigned char *)s;
+	while (*p && o + 5 < len) {
+		int n = *p < 0x80 ? 1 : (*p & 0xe0) == 0xc0 && *p >= 0xc2 ? 2 : (*p & 0xf0) == 0xe0 ? 3
+		      : (*p & 0xf8) == 0xf0 && *p <= 0xf4 ? 4 : 0;
+		for (int k = 1; k < n; k++)
+			if ((p[k] & 0xc0) != 0x80)
+				n = 0;
+		if (n == 3 && ((p[0] == 0xe0 && p[1] < 0xa0) || (p[0] == 0xed && p[1] >= 0xa0)))
+			n = 0; /* overlong, surrogate */
+		if (n == 4 && ((p[0] == 0xf0 && p[1] < 0x90) || (p[0] == 0xf4 && p[1] >= 0x90)))
+			n = 0;
+		if (n == 0 || (n == 1 && *p < 0x20)) {
+			out[o++] = '?';
+			p++;
+			continue;
+		}
+		memcpy(out + o, p, (size_t)n);
+		o += (size_t)n;
+		p += n;
+	}
+	out[o] = '\0';
+}
+
+static double text_w(cairo_t *cr, const char *s)
+{
+	char buf[1024];
+	cairo_text_extents_t e;
+	clean_utf8(s, buf, sizeof buf);
+	cairo_text_extents(cr, buf, &e);
+	return e.x_advance;
+}
+
+/* A context on a 1x1 image for measuring text before any surface exists. */
+static cairo_t *measure_ctx(cairo_surface_t **s)
+{
+	*s = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, 1, 1);
+	return cairo_create(*s);
+}
+
+static double legend_width(cairo_t *cr, const bk_plot *p)
+{
+	double w = 0.0;
+	set_font(cr, FS_TICK, 0);
+	for (int s = 0; s < p->nseries; s++)
+		if (p->series[s].name)
+			w = fmax(w, text_w(cr, p->series[s].name) + 16.0);
+	return w;
+}
+
+enum { LEGEND_MAX = 32 };
+
+/* The legend in rows across the page from x = 6 pt: each named series' x offset and
+ * row (at most LEGEND_MAX entries). Returns the number of rows. */
+static int legend_rows(cairo_t *cr, const bk_plot *p, double W, double *x, int *row)
+{
+	int rows = 0;
+	double at = 6.0;
+	set_font(cr, FS_TICK, 0);
+	for (int s = 0; s < p->nseries && s < LEGEND_MAX; s++) {
+		if (!p->series[s].name)
+			continue;
+		double w = text_w(cr, p->series[s].name) + 22.0;
+		if (rows == 0 || at + w > W - 6.0)
+			rows++, at = 6.0;
+		x[s] = at;
+		row[s] = rows - 1;
+		at += w;
+	}
+	return rows;
+}
+
+static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
+{
+	lo->W = p->width_in * 72.0;
+	lo->H = p->height_in * 72.0;
+	ticks t;
+	make_ticks(&p->y, 5, &t);
+	set_font(cr, FS_TICK, 0);
+	double tw = 0.0;
+	for (int i = 0; i < t.n; i++)
+		if (t.major[i])
+			tw = fmax(tw, text_w(cr, t.text[i]));
+	lo->L = 6.0 + FS_AXIS + 4.0 + tw + 4.0;
+	lo->T = p->title ? 6.0 + FS_TITLE + 6.0 : 8.0;
+	lo->B = lo->H - (4.0 + FS_TICK + 4.0 + FS_AXIS + 4.0 + FS_NOTE + 6.0);
+	double right = 8.0, lw = legend_width(cr, p);
+	lo->bar_x = lo->legend_x = 0.0;
+	if (p->heat) {
+		right += 10.0 + 8.0 + 4.0 + 26.0 + FS_AXIS + 4.0; /* gap, bar, ticks, label */
+		lo->bar_x = lo->W - right + 10.0;
+	}
+	lo->legend_top = lw > 0.25 * lo->W; /* a side column would take too much of a narrow plot */
+	if (lo->legend_top) {
+		double x[LEGEND_MAX];
+		int row[LEGEND_MAX];
+		int rows = legend_rows(cr, p, lo->W, x, row);
+		lo->legend_y = lo->T + FS_TICK - 2.0;
+		lo->T += rows * (FS_TICK + 4.0) + 2.0;
+	} else if (lw > 0.0) {
+		lo->legend_x = lo->W - right - lw + 6.0;
+		right += lw + 6.0;
+	}
+	lo->R = lo->W - right;
+	/* x tick labels wider than their spacing are turned a quarter, the plot shortened */
+	ticks tx;
+	make_ticks(&p->x, 6, &tx);
+	set_font(cr, FS_TICK, 0);
+	double xw = 0.0, gap = INFINITY;
+	for (int i = 0; i < tx.n; i++) {
+		xw = fmax(xw, text_w(cr, tx.text[i]));
+		if (i > 0)
+			gap = fmin(gap, fabs(tx.v[i] - tx.v[i - 1]) / fabs(p->x.hi - p->x.lo) * (lo->R - lo->L));
+	}
+	lo->xturn = !p->x.log && tx.n > 1 && xw + 3.0 > gap;
+	lo->xtick_h = lo->xturn ? xw : FS_TICK;
+	if (lo->xturn)
+		lo->B -= xw - FS_TICK;
+}
+
+/* Data to page coordinates. */
+static double axis_t(const bk_plot_axis *a, double v)
+{
+	if (a->log) {
+		if (v <= 0.0)
+			return a->zero_at_lo ? 0.0 : NAN;
+		return (log10(v) - log10(a->lo)) / (log10(a->hi) - log10(a->lo));
+	}
+	return (v - a->lo) / (a->hi - a->lo);
+}
+
+static double page_x(const layout *lo, const bk_plot *p, double x)
+{
+	return lo->L + axis_t(&p->x, x) * (lo->R - lo->L);
+}
+
+static double page_y(const layout *lo, const bk_plot *p, double y)
+{
+	return lo->B - axis_t(&p->y, y) * (lo->B - lo->T);
+}
+
+static int visible(const layout *lo, const bk_plot *p, double x, double y, double *px, double *py)
+{
+	*px = page_x(lo, p, x);
+	*py = page_y(lo, p, y);
+	return isfinite(*px) && isfinite(*py) && *px >= lo->L - 0.01 && *px <= lo->R + 0.01 && *py >= lo->T - 0.01 &&
+	       *py <= lo->B + 0.01;
+}
+
+void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py)
+{
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	make_layout(cr, p, &lo);
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
+	*px = page_x(&lo, p, x);
+	*py = page_y(&lo, p, y);
+}
+
+void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4])
+{
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	make_layout(cr, p, &lo);
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
+	plot[0] = lo.L, plot[1] = lo.T, plot[2] = lo.R, plot[3] = lo.B;
+	bar[0] = lo.bar_x, bar[1] = lo.T, bar[2] = lo.bar_x + (p->heat ? 8.0 : 0.0), bar[3] = lo.B;
+}
+
+/* ---- labels ------------------------------------------------------------------------ */
+
+typedef struct box {
+	double x0, y0, x1, y1;
+} box;
+
+static int meets(box a, box b)
+{
+	return a.x0 < b.x1 && b.x0 < a.x1 && a.y0 < b.y1 && b.y0 < a.y1;
+}
+
+static int count_labels(const bk_plot *p)
+{
+	int n = 0;
+	for (int s = 0; s < p->nseries; s++)
+		for (int i = 0; p->series[s].label && i < p->series[s].n; i++)
+			n += p->series[s].label[i] != NULL;
+	return n;
+}
+
+/* Places every label (plot.h); out holds count_labels(p) entries. */
+static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
+{
+	int nm = 0, nl = count_labels(p), k = 0;
+	for (int s = 0; s < p->nseries; s++)
+		nm += p->series[s].style == BK_PLOT_LINE ? 0 : 2 * p->series[s].n;
+	box *taken = malloc(sizeof *taken * (size_t)(nm + nl + 1));
+	if (!taken)
+		return -1;
+	int nt = 0;
+	for (int s = 0; s < p->nseries; s++) { /* every marker and every staircase step is an obstacle */
+		const bk_plot_series *S = &p->series[s];
+		double px, py, qx = 0.0, qy = 0.0;
+		int prev = 0;
+		for (int i = 0; S->style != BK_PLOT_LINE && i < S->n; i++) {
+			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
+				continue;
+			if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
+				taken[nt++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
+			else if (prev) { /* right along qy, then down to py */
+				taken[nt++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
+				taken[nt++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			}
+			prev = 1, qx = px, qy = py;
+		}
+	}
+	set_font(cr, FS_LABEL, 0);
+	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+	for (int pass = 0; pass < 2; pass++) /* filled markers' labels first, then hollow ones' */
+	for (int s = 0; s < p->nseries; s++) {
+		const bk_plot_series *S = &p->series[s];
+		if ((S->hollow != 0) != pass)
+			continue;
+		for (int i = 0; S->label && i < S->n; i++) {
+			if (!S->label[i])
+				continue;
+			bk_plot_label *L = &out[k++];
+			*L = (bk_plot_label){s, i, 0, 0, 0, 0, 0};
+			double px, py;
+			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
+				continue;
+			double w = text_w(cr, S->label[i]), h = FS_LABEL, g = MARK_R + 1.0;
+			for (int d = 0; d < 8 && !L->placed; d++) {
+				double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
+				box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
+				if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B)
+					continue;
+				int clash = 0;
+				for (int j = 0; j < nt && !clash; j++)
+					clash = meets(b, taken[j]);
+				if (clash)
+					continue;
+				taken[nt++] = b;
+				*L = (bk_plot_label){s, i, 1, b.x0, b.y0, b.x1, b.y1};
+			}
+		}
+	}
+	free(taken);
+	return k;
+}
+
+int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max)
+{
+	int n = count_labels(p);
+	bk_plot_label *all = malloc(sizeof *all * (size_t)(n + 1));
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	make_layout(cr, p, &lo);
+	int k = all ? place_labels(cr, p, &lo, all) : -1;
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
+	if (k >= 0)
+		memcpy(out, all, sizeof *all * (size_t)(k < max ? k : max));
+	free(all);
+	return k;
+}
+
+/* ---- drawing ----------------------------------------------------------------------- */
+
+static void rgb(cairo_t *cr, unsigned c)
+{
+	cairo_set_source_rgb(cr, ((c >> 16) & 255) / 255.0, ((c >> 8) & 255) / 255.0, (c & 255) / 255.0);
+}
+
+/* Text at (x, y): ax 0 left, 0.5 centred, 1 right of x; y is the baseline. */
+static void text_at(cairo_t *cr, double x, double y, double ax, const char *s)
+{
+	char buf[1024];
+	clean_utf8(s, buf, sizeof buf);
+	cairo_text_extents_t e;
+	cairo_text_extents(cr, buf, &e);
+	cairo_move_to(cr, x - ax * e.x_advance, y);
+	cairo_show_text(cr, buf);
+}
+
+/* text_at with the font shrunk (never below 4 pt) until s is at most maxw wide:
+ * a long title or axis name stays on the page. */
+static void text_fit(cairo_t *cr, double x, double y, double ax, const char *s, double size, int bold, double maxw)
+{
+	set_font(cr, size, bold);
+	double w = text_w(cr, s);
+	if (w > maxw && maxw > 0)
+		set_font(cr, fmax(4.0, size * maxw / w), bold);
+	text_at(cr, x, y, ax, s);
+}
+
+static void marker(cairo_t *cr, int m, double x, double y, double r)
+{
+	switch (m) {
+	case BK_PLOT_SQUARE: cairo_rectangle(cr, x - r * 0.85, y - r * 0.85, r * 1.7, r * 1.7); break;
+	case BK_PLOT_TRIANGLE:
+		cairo_move_to(cr, x, y - r * 1.15);
+		cairo_line_to(cr, x + r, y + r * 0.75);
+		cairo_line_to(cr, x - r, y + r * 0.75);
+		cairo_close_path(cr);
+		break;
+	case BK_PLOT_DOT: cairo_arc(cr, x, y, r * 0.4, 0, 2 * PI); break;
+	default: cairo_new_sub_path(cr); cairo_arc(cr, x, y, r, 0, 2 * PI);
+	}
+}
+
+static void draw_marker(cairo_t *cr, const bk_plot_series *S, double x, double y)
+{
+	marker(cr, S->marker, x, y, MARK_R);
+	if (S->hollow || S->marker == BK_PLOT_DOT) {
+		cairo_set_source_rgb(cr, 1, 1, 1);
+		if (S->marker == BK_PLOT_DOT)
+			rgb(cr, S->rgb);
+		cairo_fill_preserve(cr);
+	} else {
+		rgb(cr, S->rgb);
+		cairo_fill_preserve(cr);
+	}
+	rgb(cr, S->rgb);
+	cairo_set_line_width(cr, S->marker == BK_PLOT_DOT ? 0.0 : 0.8);
+	cairo_stroke(cr);
+}
+
+/* The cells as an nx x ny image painted over their rectangle with nearest-neighbour
+ * filtering: exact cell colours in the PNG, one compact image in the SVG and PDF
+ * (not a rectangle per cell), and no seams between cells in any viewer. */
+static int draw_heat(cairo_t *cr, const bk_plot *p, const layout *lo)
+{
+	const bk_plot_heat *h = p->heat;
+	double m = fmax(fabs(h->vmin), fabs(h->vmax));
+	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, h->nx, h->ny);
+	if (cairo_surface_status(img) != CAIRO_STATUS_SUCCESS) {
+		cairo_surface_destroy(img);
+		return -1;
+	}
+	cairo_surface_flush(img);
+	unsigned char *d = cairo_image_surface_get_data(img);
+	int stride = cairo_image_surface_get_stride(img);
+	for (int j = 0; j < h->ny; j++) {
+		uint32_t *row = (uint32_t *)(d + (size_t)(h->ny - 1 - j) * stride); /* image row 0 is y1 */
+		for (int i = 0; i < h->nx; i++) {
+			double v = h->value[(size_t)j * h->nx + i];
+			unsigned char c[3] = {128, 128, 128};
+			if (!isnan(v)) {
+				double t = h->map == BK_PLOT_DIVERGING ? (m > 0 ? 0.5 + 0.5 * v / m : 0.5)
+				                                       : (h->vmax > h->vmin ? (v - h->vmin) / (h->vmax - h->vmin) : 0.0);
+				if (isinf(v))
+					t = v > 0 ? 1.0 : 0.0;
+				bk_plot_colour(h->map, t, c);
+			}
+			row[i] = (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
+		}
+	}
+	cairo_surface_mark_dirty(img);
+	double x0 = page_x(lo, p, h->x0), x1 = page_x(lo, p, h->x1), y0 = page_y(lo, p, h->y0), y1 = page_y(lo, p, h->y1);
+	cairo_save(cr);
+	cairo_rectangle(cr, lo->L, lo->T, lo->R - lo->L, lo->B - lo->T);
+	cairo_clip(cr);
+	cairo_translate(cr, x0, y1);
+	cairo_scale(cr, (x1 - x0) / h->nx, (y0 - y1) / h->ny);
+	cairo_set_source_surface(cr, img, 0, 0);
+	cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+	cairo_rectangle(cr, 0, 0, h->nx, h->ny);
+	cairo_fill(cr);
+	cairo_restore(cr);
+	cairo_surface_destroy(img);
+	return 0;
+}
+
+static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
+{
+	const bk_plot_heat *h = p->heat;
+	double x = lo->bar_x, w = 8.0, m = fmax(fabs(h->vmin), fabs(h->vmax));
+	double a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin, b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
+	if (!(b > a))
+		b = a + 1.0;
+	/* a 1 x 128 image, nearest filter: no seams; the end rows take the map's ends exactly */
+	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 128);
+	if (cairo_surface_status(img) == CAIRO_STATUS_SUCCESS) {
+		cairo_surface_flush(img);
+		unsigned char *d = cairo_image_surface_get_data(img);
+		int stride = cairo_image_surface_get_stride(img);
+		for (int k = 0; k < 128; k++) {
+			unsigned char c[3];
+			bk_plot_colour(h->map, (127 - k) / 127.0, c); /* row 0 at the top: the high end */
+			*(uint32_t *)(d + (size_t)k * stride) = (uint32_t)c[0] << 16 | (uint32_t)c[1] << 8 | c[2];
+		}
+		cairo_surface_mark_dirty(img);
+		cairo_save(cr);
+		cairo_translate(cr, x, lo->T);
+		cairo_scale(cr, w, (lo->B - lo->T) / 128.0);
+		cairo_set_source_surface(cr, img, 0, 0);
+		cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_NEAREST);
+		cairo_rectangle(cr, 0, 0, 1, 128);
+		cairo_fill(cr);
+		cairo_restore(cr);
+	}
+	cairo_surface_destroy(img);
+	cairo_set_source_rgb(cr, 0, 0, 0);
+	cairo_set_line_width(cr, 0.5);
+	cairo_rectangle(cr, x, lo->T, w, lo->B - lo->T);
+	cairo_stroke(cr);
+	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
+	ticks t;
+	make_ticks(&ax, 4, &t);
+	set_font(cr, FS_TICK, 0);
+	for (int i = 0; i < t.n; i++) {
+		double y = lo->B - (t.v[i] - a) / (b - a) * (lo->B - lo->T);
+		cairo_move_to(cr, x + w, y);
+		cairo_line_to(cr, x + w + 2.5, y);
+		cairo_stroke(cr);
+		text_at(cr, x + w + 4.0, y + FS_TICK * 0.35, 0.0, t.text[i]);
+	}
+	if (h->label) {
+		cairo_save(cr);
+		cairo_translate(cr, lo->W - 6.0, (lo->T + lo->B) / 2);
+		cairo_rotate(cr, -PI / 2);
+		text_fit(cr, 0, 0, 0.5, h->label, FS_AXIS, 0, lo->H - 12.0);
+		cairo_restore(cr);
+	}
+}
+
+static void draw_axes(cairo_t *cr, const bk_plot *p, const layout *lo)
+{
+	ticks tx, ty;
+	make_ticks(&p->x, 6, &tx);
+	make_ticks(&p->y, 5, &ty);
+	cairo_set_line_width(cr, 0.4);
+	cairo_set_source_rgb(cr, 0.88, 0.88, 0.88);
+	for (int i = 0; !p->heat && i < tx.n; i++) { /* grid under the data, none over a heatmap */
+		cairo_move_to(cr, page_x(lo, p, tx.v[i]), lo->T);
+		cairo_line_to(cr, page_x(lo, p, tx.v[i]), lo->B);
+	}
+	for (int i = 0; !p->heat && i < ty.n; i++)
+		if (ty.major[i]) {
+			cairo_move_to(cr, lo->L, page_y(lo, p, ty.v[i]));
+			cairo_line_to(cr, lo->R, page_y(lo, p, ty.v[i]));
+		}
+	cairo_stroke(cr);
+}
+
+static void draw_frame(cairo_t *cr, const bk_plot *p, const layout *lo)
+{
+	ticks tx, ty;
+	make_ticks(&p->x, 6, &tx);
+	make_ticks(&p->y, 5, &ty);
+	cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+	cairo_set_line_width(cr, 0.6);
+	cairo_rectangle(cr, lo->L, lo->T, lo->R - lo->L, lo->B - lo->T);
+	cairo_stroke(cr);
+	set_font(cr, FS_TICK, 0);
+	for (int i = 0; i < tx.n; i++) {
+		double x = page_x(lo, p, tx.v[i]);
+		cairo_move_to(cr, x, lo->B);
+		cairo_line_to(cr, x, lo->B + (tx.major[i] ? 3.0 : 1.5));
+		cairo_stroke(cr);
+		if (tx.major[i] && lo->xturn) {
+			cairo_save(cr);
+			cairo_translate(cr, x + FS_TICK * 0.35, lo->B + 4.0);
+			cairo_rotate(cr, -PI / 2);
+			text_at(cr, 0, 0, 1.0, tx.text[i]);
+			cairo_restore(cr);
+		} else if (tx.major[i])
+			text_at(cr, x, lo->B + 4.0 + FS_TICK, 0.5, tx.text[i]);
+	}
+	for (int i = 0; i < ty.n; i++) {
+		double y = page_y(lo, p, ty.v[i]);
+		cairo_move_to(cr, lo->L, y);
+		cairo_line_to(cr, lo->L - (ty.major[i] ? 3.0 : 1.5), y);
+		cairo_stroke(cr);
+		if (ty.major[i] && ty.text[i][0])
+			text_at(cr, lo->L - 4.5, y + FS_TICK * 0.35, 1.0, ty.text[i]);
+	}
+	if (p->y.log && p->y.zero_at_lo) { /* the axis break between "0" and its first decade */
+		double yb = (page_y(lo, p, p->y.lo) + page_y(lo, p, p->y.lo * 10)) / 2;
+		cairo_set_source_rgb(cr, 1, 1, 1);
+		cairo_rectangle(cr, lo->L - 2, yb - 2, 4, 4);
+		cairo_fill(cr);
+		cairo_set_source_rgb(cr, 0.15, 0.15, 0.15);
+		for (int k = 0; k < 2; k++) {
+			cairo_move_to(cr, lo->L - 3, yb - 2 + 2 * k + 1.5);
+			cairo_line_to(cr, lo->L + 3, yb - 2 + 2 * k - 1.5);
+		}
+		cairo_stroke(cr);
+	}
+	if (p->x.label) { /* centred under the plot, moved left if it would run off the page */
+		set_font(cr, FS_AXIS, 0);
+		double w = fmin(text_w(cr, p->x.label), lo->W - 12.0), cx = fmin((lo->L + lo->R) / 2, lo->W - 6.0 - w / 2);
+		text_fit(cr, fmax(cx, 6.0 + w / 2), lo->B + 4.0 + lo->xtick_h + 4.0 + FS_AXIS, 0.5, p->x.label, FS_AXIS, 0,
+		         lo->W - 12.0);
+	}
+	if (p->y.label) {
+		cairo_save(cr);
+		cairo_translate(cr, 6.0 + FS_AXIS * 0.8, (lo->T + lo->B) / 2);
+		cairo_rotate(cr, -PI / 2);
+		text_fit(cr, 0, 0, 0.5, p->y.label, FS_AXIS, 0, lo->B - lo->T + 20.0);
+		cairo_restore(cr);
+	}
+	if (p->title)
+		text_fit(cr, lo->W / 2, 6.0 + FS_TITLE, 0.5, p->title, FS_TITLE, 1, lo->W - 12.0);
+}
+
+static void draw_series(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_series *S)
+{
+	double px, py;
+	cairo_save(cr);
+	cairo_rectangle(cr, lo->L, lo->T, lo->R - lo->L, lo->B - lo->T);
+	cairo_clip(cr);
+	if (S->style != BK_PLOT_POINTS) { /* in the order given; steps go right, then down */
+		int started = 0;
+		double last_y = 0.0;
+		for (int i = 0; i < S->n; i++) {
+			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
+				continue;
+			if (!started)
+				cairo_move_to(cr, px, py);
+			else {
+				if (S->style == BK_PLOT_STEPS)
+					cairo_line_to(cr, px, last_y);
+				cairo_line_to(cr, px, py);
+			}
+			started = 1;
+			last_y = py;
+		}
+		rgb(cr, S->rgb);
+		cairo_set_line_width(cr, 0.8);
+		if (S->style == BK_PLOT_STEPS) {
+			static const double dash[2] = {3.0, 1.8};
+			cairo_set_dash(cr, dash, 2, 0);
+		}
+		cairo_stroke(cr);
+		cairo_set_dash(cr, NULL, 0, 0);
+	}
+	for (int i = 0; S->xlo && S->xhi && i < S->n; i++)
+		if (visible(lo, p, S->x[i], S->y[i], &px, &py) && isfinite(S->xlo[i]) && isfinite(S->xhi[i])) {
+			rgb(cr, S->rgb);
+			cairo_set_line_width(cr, 0.6);
+			cairo_move_to(cr, page_x(lo, p, S->xlo[i]), py);
+			cairo_line_to(cr, page_x(lo, p, S->xhi[i]), py);
+			cairo_stroke(cr);
+		}
+	cairo_restore(cr);
+	if (S->style != BK_PLOT_POINTS)
+		return;
+	for (int i = 0; i < S->n; i++)
+		if (visible(lo, p, S->x[i], S->y[i], &px, &py))
+			draw_marker(cr, S, px, py);
+}
+
+static void legend_entry(cairo_t *cr, const bk_plot_series *S, double x, double y)
+{
+	if (S->style != BK_PLOT_POINTS) {
+		rgb(cr, S->rgb);
+		cairo_set_line_width(cr, 0.8);
+		static const double dash[2] = {3.0, 1.8};
+		cairo_set_dash(cr, dash, S->style == BK_PLOT_STEPS ? 2 : 0, 0);
+		cairo_move_to(cr, x, y - 2.2);
+		cairo_line_to(cr, x + 10, y - 2.2);
+		cairo_stroke(cr);
+		cairo_set_dash(cr, NULL, 0, 0);
+	}
+	if (S->style == BK_PLOT_POINTS)
+		draw_marker(cr, S, x + 5, y - 2.2);
+	cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+	text_at(cr, x + 14, y, 0.0, S->name);
+}
+
+static void draw_legend(cairo_t *cr, const bk_plot *p, const layout *lo)
+{
+	double x[LEGEND_MAX], y = lo->T + 6.0;
+	int row[LEGEND_MAX];
+	if (lo->legend_top)
+		legend_rows(cr, p, lo->W, x, row);
+	set_font(cr, FS_TICK, 0);
+	for (int s = 0; s < p->nseries; s++) {
+		if (!p->series[s].name)
+			continue;
+		if (lo->legend_top) {
+			if (s < LEGEND_MAX)
+				legend_entry(cr, &p->series[s], x[s], lo->legend_y + row[s] * (FS_TICK + 4.0));
+			continue;
+		}
+		legend_entry(cr, &p->series[s], lo->legend_x, y);
+		y += FS_TICK + 4.0;
+	}
+}
+
+/* The footnote: the caller's note, then the labels that found no place. */
+static void draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_label *lab, int nl)
+{
+	char buf[1024] = "";
+	size_t n = 0;
+	if (p->note)
+		n += (size_t)snprintf(buf, sizeof buf, "%s", p->note);
+	int dropped = 0;
+	for (int k = 0; k < nl; k++)
+		dropped += !lab[k].placed;
+	if (dropped && n < sizeof buf)
+		n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%d not labelled (no free place):", n ? "; " : "", dropped);
+	set_font(cr, FS_NOTE, 0);
+	for (int k = 0; k < nl && n < sizeof buf; k++)
+		if (!lab[k].placed) {
+			const char *s = p->series[lab[k].series].label[lab[k].point];
+			char next[1200];
+			snprintf(next, sizeof next, "%s %s", buf, s);
+			if (text_w(cr, next) > lo->W - 12.0 - 10.0) {
+				n += (size_t)snprintf(buf + n, sizeof buf - n, " \xe2\x80\xa6");
+				break;
+			}
+			n += (size_t)snprintf(buf + n, sizeof buf - n, " %s", s);
+		}
+	if (!buf[0])
+		return;
+	cairo_set_source_rgb(cr, 0.33, 0.33, 0.33);
+	text_fit(cr, 6.0, lo->H - 5.0, 0.0, buf, FS_NOTE, 0, lo->W - 12.0);
+}
+
+static int draw(cairo_t *cr, const bk_plot *p)
+{
+	layout lo;
+	make_layout(cr, p, &lo);
+	int nl = count_labels(p);
+	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(nl + 1));
+	if (!lab || place_labels(cr, p, &lo, lab) < 0) {
+		free(lab);
+		return -1;
+	}
+	cairo_set_source_rgb(cr, 1, 1, 1);
+	cairo_paint(cr);
+	if (p->heat && draw_heat(cr, p, &lo)) {
+		free(lab);
+		return -1;
+	}
+	draw_axes(cr, p, &lo);
+	for (int s = 0; s < p->nseries; s++)
+		draw_series(cr, p, &lo, &p->series[s]);
+	set_font(cr, FS_LABEL, 0);
+	for (int k = 0; k < nl; k++)
+		if (lab[k].placed) {
+			/* white halo first: a label stays legible over a grid line or a step */
+			cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+			text_at(cr, lab[k].x0, lab[k].y1 - FS_LABEL * 0.2, 0.0,
+			        p->series[lab[k].series].label[lab[k].point]);
+		}
+	draw_frame(cr, p, &lo);
+	if (p->heat)
+		draw_bar(cr, p, &lo);
+	draw_legend(cr, p, &lo);
+	draw_note(cr, p, &lo, lab, nl);
+	free(lab);
+	return cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
+}
+
+/* ---- output ------------------------------------------------------------------------ */
+
+static cairo_status_t to_file(void *closure, const unsigned char *data, unsigned int len)
+{
+	return fwrite(data, 1, len, closure) == len ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
+}
+
+static void png_fail(png_structp png, png_const_charp msg)
+{
+	(void)msg;
+	png_longjmp(png, 1);
+}
+
+/* Cairo's pixels (premultiplied ARGB on white, so opaque) as 8-bit RGB with tEXt
+ * title, description and software; no tIME chunk, fixed zlib level. */
+static int write_png(const bk_plot *p, cairo_surface_t *s, FILE *f)
+{
+	int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+	int stride = cairo_image_surface_get_stride(s);
+	const unsigned char *d = cairo_image_surface_get_data(s);
+	unsigned char *row = malloc((size_t)w * 3);
+	png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_fail, NULL) : NULL;
+	png_infop info = png ? png_create_info_struct(png) : NULL;
+	if (!info) {
+		png_destroy_write_struct(&png, NULL);
+		free(row);
+		return -1;
+	}
+	if (setjmp(png_jmpbuf(png))) {
+		png_destroy_write_struct(&png, &info);
+		free(row);
+		return -1;
+	}
+	png_init_io(png, f);
+	png_set_compression_level(png, 9);
+	png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+	             PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+	png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+	png_set_pHYs(png, info, (png_uint_32)lround(BK_PLOT_DPI / 0.0254), (png_uint_32)lround(BK_PLOT_DPI / 0.0254),
+	             PNG_RESOLUTION_METER);
+	png_text text[3] = {
+		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Title", .text = (char *)(p->title ? p->title : "")},
+		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Description",
+		 .text = (char *)(p->provenance ? p->provenance : "")},
+		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Software", .text = "brdfkit " BK_VERSION " (cairo)"},
+	};
+	png_set_text(png, info, text, 3);
+	png_write_info(png, info);
+	for (int y = 0; y < h; y++) {
+		const uint32_t *px = (const uint32_t *)(d + (size_t)y * stride);
+		for (int x = 0; x < w; x++) {
+			row[3 * x] = (unsigned char)(px[x] >> 16);
+			row[3 * x + 1] = (unsigned char)(px[x] >> 8);
+			row[3 * x + 2] = (unsigned char)px[x];
+		}
+		png_write_row(png, row);
+	}
+	png_write_end(png, info);
+	png_destroy_write_struct(&png, &info);
+	free(row);
+	return 0;
+}
+
+/* Writes svg[0..len) with cairo's surface and image ids ("surface<N>", "image<N>":
+ * numbers from a counter that lives as long as the process) renumbered in order of
+ * first appearance, so a figure's bytes do not depend on how many were drawn before
+ * it. Only names right after id=" or # are ids (base64 data may spell anything). */
+static void put_renumbered(const char *svg, size_t len, FILE *f)
+{
+	enum { MAXID = 64 };
+	static const char *const key[2] = {"surface", "image"};
+	long seen[2][MAXID];
+	int nseen[2] = {0, 0};
+	size_t i = 0;
+	for (size_t j = 0; j < len; j++) {
+		int after_id = (j >= 4 && !memcmp(svg + j - 4, "id=\"", 4)) || (j >= 1 && svg[j - 1] == '#');
+		int kk = -1;
+		for (int t = 0; t < 2 && after_id && kk < 0; t++) {
+			size_t k = strlen(key[t]);
+			if (j + k < len && !memcmp(svg + j, key[t], k) && svg[j + k] >= '0' && svg[j + k] <= '9')
+				kk = t;
+		}
+		if (kk < 0)
+			continue;
+		size_t at = j + strlen(key[kk]), end = at;
+		long n = 0;
+		while (end < len && svg[end] >= '0' && svg[end] <= '9' && n < 100000000)
+			n = n * 10 + (svg[end++] - '0');
+		int id = 0;
+		while (id < nseen[kk] && seen[kk][id] != n)
+			id++;
+		if (id == nseen[kk] && nseen[kk] < MAXID)
+			seen[kk][nseen[kk]++] = n;
+		fwrite(svg + i, 1, at - i, f);
+		fprintf(f, "%d", id + 1);
+		i = j = end;
+		j--;
+	}
+	fwrite(svg + i, 1, len - i, f);
+}
+
+/* The SVG with the provenance as a comment after cairo's XML declaration (nothing
+ * may stand before it); an XML comment may not hold "--". */
+static int svg_with_comment(const bk_plot *p, const char *svg, size_t len, FILE *f)
+{
+	const char *nl = memchr(svg, '\n', len);
+	size_t head = nl ? (size_t)(nl - svg) + 1 : 0;
+	fwrite(svg, 1, head, f);
+	if (p->provenance) {
+		fputs("<!-- ", f);
+		for (const char *c = p->provenance; *c; c++)
+			fputc(*c == '-' && c[1] == '-' ? '=' : *c, f);
+		fputs(" -->\n", f);
+	}
+	put_renumbered(svg + head, len - head, f);
+	return ferror(f) ? -1 : 0;
+}
+
+int bk_plot_write(const bk_plot *p, bk_plot_format fmt, FILE *f)
+{
+	double W = p->width_in * 72.0, H = p->height_in * 72.0;
+	char *mem = NULL;
+	size_t memlen = 0;
+	FILE *out = f;
+	cairo_surface_t *s;
+	if (fmt == BK_PLOT_PNG)
+		s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, (int)lround(p->width_in * BK_PLOT_DPI),
+		                               (int)lround(p->height_in * BK_PLOT_DPI));
+	else if (fmt == BK_PLOT_SVG) {
+		if (!(out = open_memstream(&mem, &memlen)))
+			return -1;
+		s = cairo_svg_surface_create_for_stream(to_file, out, W, H);
+		cairo_svg_surface_restrict_to_version(s, CAIRO_SVG_VERSION_1_1);
+	} else {
+		s = cairo_pdf_surface_create_for_stream(to_file, f, W, H);
+		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATE_DATE, BK_PLOT_PDF_DATE);
+		cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_CREATOR, "brdfkit " BK_VERSION);
+		if (p->title)
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE, p->title);
+		if (p->provenance)
+			cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_SUBJECT, p->provenance);
+	}
+	cairo_t *cr = cairo_create(s);
+	if (fmt == BK_PLOT_PNG)
+		cairo_scale(cr, BK_PLOT_DPI / 72.0, BK_PLOT_DPI / 72.0);
+	int rc = draw(cr, p);
+	cairo_destroy(cr);
+	cairo_surface_flush(s);
+	if (rc == 0 && fmt == BK_PLOT_PNG)
+		rc = write_png(p, s, f);
+	cairo_surface_finish(s); /* the SVG and PDF are written here */
+	if (cairo_surface_status(s) != CAIRO_STATUS_SUCCESS)
+		rc = -1;
+	cairo_surface_destroy(s);
+	if (fmt == BK_PLOT_SVG) {
+		if (fclose(out))
+			rc = -1;
+		if (rc == 0)
+			rc = svg_with_comment(p, mem, memlen, f);
+		free(mem);
+	}
+	return rc || ferror(f) ? -1 : 0;
+}
+
+int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, char *err, size_t errlen)
+{
+	static const char *const ext[3] = {"png", "svg", "pdf"};
+	for (int k = 0; k < 3; k++) {
+		char path[4400];
+		snprintf(path, sizeof path, "%.4000s/%.300s.%s", dir, stem, ext[k]);
+		FILE *f = fopen(path, "wb");
+		int e = errno;
+		int rc = f ? bk_plot_write(p, (bk_plot_format)k, f) : -1;
+		if (f && (fclose(f) || rc))
+			rc = -1, e = e ? e : EIO;
+		if (rc) {
+			snprintf(err, errlen, "%s: %s", path, f ? "writing the figure failed" : strerror(e));
+			return -1;
+		}
+	}
+	return 0;
+}

@@ -1,0 +1,127 @@
+/*
+ * plot.h — every figure brdfkit draws, on cairo: axes (linear or log, ticks with
+ * values, axis labels with units), series (markers, Pareto staircases, lines, labelled
+ * markers that never overprint), an optional heatmap with its colour bar, a legend, and
+ * a footnote. One description of a figure is rendered to PNG, SVG and PDF alike.
+ *
+ * Contract
+ *   size     width_in x height_in inches (a paper's single column is 3.5 in wide, its
+ *            double column 7 in: BK_PLOT_SINGLE_W, BK_PLOT_DOUBLE_W); drawing units are
+ *            points (1/72 in) in every format; the PNG is BK_PLOT_DPI dots per inch.
+ *   text     cairo's toy API, family "DejaVu Sans" (Debian fonts-dejavu-core), metrics
+ *            unhinted, so text is measured the same in every format and on every machine
+ *            with that font; strings are UTF-8 (invalid bytes are shown as '?').
+ *   labels   placed greedily, the labels of filled markers' series before those of
+ *            hollow ones', each in series order, then point order: the first of 8
+ *            positions around the marker (right, upper right, above, upper left, left,
+ *            lower left, below, lower right) whose box stays inside the plot area and
+ *            meets no marker, no staircase step and no label placed before; a label with
+ *            no such position is
+ *            dropped and named in the footnote ("N not labelled (no free place): a b ...",
+ *            cut with "..." at the page edge).
+ *   colours  sequential data (magnitudes, shares): BK_PLOT_SEQUENTIAL, a map of our own
+ *            computation with OKLab lightness rising linearly 0.30 -> 0.92 (dark blue-
+ *            violet to pale yellow); signed error: BK_PLOT_DIVERGING, ColorBrewer RdBu
+ *            (blue negative, white zero, red positive), symmetric about zero.
+ *   bytes    the same figure gives the same bytes: the PDF's creation date is fixed
+ *            (BK_PLOT_PDF_DATE), no time goes into the PNG, and cairo numbers the
+ *            SVG's and PDF's objects per document.
+ */
+#ifndef ANALYSIS_PLOT_H
+#define ANALYSIS_PLOT_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define BK_PLOT_SINGLE_W 3.5
+#define BK_PLOT_DOUBLE_W 7.0
+#define BK_PLOT_DPI 200
+#define BK_PLOT_FONT "DejaVu Sans"
+#define BK_PLOT_PDF_DATE "2000-01-01T00:00:00Z"
+
+typedef struct bk_plot_axis {
+	const char *label;  /* with its unit: "cost (simple ALU ops)" */
+	int log;            /* log10 axis: lo > 0 */
+	double lo, hi;      /* the axis range, lo < hi (bk_plot_axis_fit makes one) */
+	int zero_at_lo;     /* log only: values <= 0 are drawn at lo, whose tick reads "0" */
+	int ncat;           /* > 0: linear, ncat equal cells lo..hi, each ticked at its centre */
+	const char *const *cat; /* with the label cat[k] (e.g. the sample value it stands for) */
+} bk_plot_axis;
+
+/* series style: markers; a dashed staircase (right, then down: a Pareto front) through
+ * the points in the order given; a solid line. Markers and steps keep labels off,
+ * except BK_PLOT_DOT markers, a background cloud labels may cover. */
+enum { BK_PLOT_POINTS, BK_PLOT_STEPS, BK_PLOT_LINE };
+enum { BK_PLOT_CIRCLE, BK_PLOT_SQUARE, BK_PLOT_TRIANGLE, BK_PLOT_DOT }; /* markers */
+
+typedef struct bk_plot_series {
+	const char *name;          /* legend entry; NULL: none */
+	int style, marker, hollow; /* hollow: white marker, coloured outline */
+	unsigned rgb;              /* 0xRRGGBB */
+	int n;
+	const double *x, *y;       /* n points; non-finite points are skipped */
+	const char *const *label;  /* NULL, or n labels (NULL entries: unlabelled) */
+	const double *xlo, *xhi;   /* NULL, or n horizontal bars (e.g. min..max time) */
+} bk_plot_series;
+
+enum { BK_PLOT_SEQUENTIAL, BK_PLOT_DIVERGING };
+
+typedef struct bk_plot_heat {
+	int nx, ny;
+	const double *value;       /* value[j * nx + i], j = 0 at y0; NaN = no data (grey) */
+	double x0, x1, y0, y1;     /* outer cell edges, in data units of the axes */
+	int map;                   /* BK_PLOT_SEQUENTIAL or BK_PLOT_DIVERGING */
+	double vmin, vmax;         /* colour range (diverging: -m..m is used, m = max |.|) */
+	const char *label;         /* colour bar label, with its unit */
+} bk_plot_heat;
+
+typedef struct bk_plot {
+	double width_in, height_in;
+	const char *title;         /* NULL: none */
+	const char *note;          /* a grey footnote line, or NULL */
+	const char *provenance;    /* PNG tEXt "Description", PDF subject, SVG comment */
+	bk_plot_axis x, y;
+	const bk_plot_series *series;
+	int nseries;
+	const bk_plot_heat *heat;  /* NULL, or drawn under the series */
+} bk_plot;
+
+typedef enum { BK_PLOT_PNG, BK_PLOT_SVG, BK_PLOT_PDF } bk_plot_format;
+
+/* A range for values v[0..n-1] (non-finite and, on a log axis, non-positive ones
+ * skipped): linear from min(0, min v) to a round number above max v + 2 % of the span; log from the
+ * decade below the smallest to the decade above the largest (1e-3..1 when none). */
+void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n);
+/* Widens a to the union of its range and v's fitted range (lo = hi = 0: none yet). */
+void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n);
+
+/* Writes the figure to f in one format. Returns 0, or -1 (cairo or write error). */
+int bk_plot_write(const bk_plot *p, bk_plot_format fmt, FILE *f);
+/* DIR/STEM.png, .svg and .pdf. Returns 0, or -1 with "path: what" in err. */
+int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, char *err, size_t errlen);
+
+/* x tick labels wider than their spacing are drawn turned upright (the plot grows
+ * shorter to make room). */
+
+/* Where a data point lands, in points from the figure's top-left corner (times
+ * BK_PLOT_DPI/72 for PNG pixels). */
+void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py);
+
+/* The plot area and the colour bar (zero width without a heatmap) as left, top,
+ * right, bottom in points from the top-left corner; the frames are drawn on these
+ * edges. The heatmap's image fills its edges x0..x1, y0..y1 (y1 at the top). */
+void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4]);
+
+/* The label placement (see the contract): for each label in order, its series and
+ * point, whether placed, and its box in points. Returns the number of labels, at most
+ * max written; -1 when out of memory. */
+typedef struct bk_plot_label {
+	int series, point, placed;
+	double x0, y0, x1, y1;
+} bk_plot_label;
+int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max);
+
+/* The colour of t in [0, 1] (clamped) on a map, 8-bit sRGB. */
+void bk_plot_colour(int map, double t, unsigned char rgb[3]);
+
+#endif

@@ -1,0 +1,375 @@
+/*
+ * test_plot.c — analysis/plot.c, the figure module on cairo.
+ *
+ * Independent sources: the PNG is read back with libpng and the plot frame found
+ * from its pixels (the darkest columns and rows), so a planted marker's
+ * expected pixel comes from the frame and a hand interpolation, not from the
+ * module's layout; lightness is CIE L* computed here from the sRGB definition;
+ * label boxes are checked pairwise; the PDF and SVG by their bytes and by xmllint.
+ * Each check has a negative control that shows it can fail.
+ */
+#include "plot.h"
+
+#include <criterion/criterion.h>
+
+#include <math.h>
+#include <png.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+/* ---- helpers --------------------------------------------------------------------- */
+
+typedef struct image {
+	int w, h;
+	unsigned char *rgb;
+} image;
+
+/* The figure as PNG through a temporary file, read back with libpng (8-bit RGB). */
+static image render_png(const bk_plot *p)
+{
+	FILE *f = tmpfile();
+	cr_assert_not_null(f);
+	cr_assert_eq(bk_plot_write(p, BK_PLOT_PNG, f), 0);
+	rewind(f);
+	png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, NULL, NULL, NULL);
+	png_infop info = png_create_info_struct(png);
+	cr_assert_not_null(info);
+	cr_assert_eq(setjmp(png_jmpbuf(png)), 0, "libpng could not read the PNG");
+	png_init_io(png, f);
+	png_read_info(png, info);
+	image im = {(int)png_get_image_width(png, info), (int)png_get_image_height(png, info), NULL};
+	cr_assert_eq(png_get_color_type(png, info), PNG_COLOR_TYPE_RGB);
+	cr_assert_eq(png_get_bit_depth(png, info), 8);
+	im.rgb = malloc((size_t)im.w * im.h * 3);
+	for (int y = 0; y < im.h; y++)
+		png_read_row(png, im.rgb + (size_t)y * im.w * 3, NULL);
+	png_destroy_read_struct(&png, &info, NULL);
+	fclose(f);
+	return im;
+}
+
+static const unsigned char *px(const image *im, int x, int y)
+{
+	return im->rgb + ((size_t)y * im->w + x) * 3;
+}
+
+static int dark(const unsigned char *c)
+{
+	return c[0] < 70 && c[1] < 70 && c[2] < 70;
+}
+
+/* The first two clusters (runs no more than 3 apart) of the lines whose dark
+ * pixel count is at least 90 % of the largest: a frame's two edges (a colour
+ * bar's frame, right of the plot, would be the third). */
+static void two_edges(const int *count, int n, double *first, double *second)
+{
+	int top = 0;
+	for (int i = 0; i < n; i++)
+		top = count[i] > top ? count[i] : top;
+	double s[2] = {0, 0};
+	int m[2] = {0, 0}, c = -1, last = -10;
+	for (int i = 0; i < n && c < 2; i++) {
+		if (count[i] < 0.9 * top)
+			continue;
+		if (i - last > 3)
+			c++;
+		last = i;
+		if (c < 2)
+			s[c] += i, m[c]++;
+	}
+	cr_assert(m[0] > 0 && m[1] > 0, "no frame found");
+	*first = s[0] / m[0];
+	*second = s[1] / m[1];
+}
+
+/* The plot frame from the pixels alone. */
+static void find_frame(const image *im, double *L, double *R, double *T, double *B)
+{
+	int *col = calloc((size_t)im->w, sizeof *col), *row = calloc((size_t)im->h, sizeof *row);
+	for (int y = 0; y < im->h; y++)
+		for (int x = 0; x < im->w; x++)
+			if (dark(px(im, x, y)))
+				col[x]++, row[y]++;
+	two_edges(col, im->w, L, R);
+	two_edges(row, im->h, T, B);
+	free(col);
+	free(row);
+}
+
+/* The centroid of the pure-red pixels (the planted marker). */
+static void red_centroid(const image *im, double *cx, double *cy)
+{
+	double sx = 0, sy = 0;
+	int n = 0;
+	for (int y = 0; y < im->h; y++)
+		for (int x = 0; x < im->w; x++) {
+			const unsigned char *c = px(im, x, y);
+			if (c[0] > 200 && c[1] < 60 && c[2] < 60)
+				sx += x, sy += y, n++;
+		}
+	cr_assert_gt(n, 4, "the red marker is not in the image");
+	*cx = sx / n;
+	*cy = sy / n;
+}
+
+/* CIE L* of an 8-bit sRGB colour (IEC 61966-2-1 decoding, D65 luminance weights). */
+static double lightness(const unsigned char c[3])
+{
+	double lin[3];
+	for (int k = 0; k < 3; k++) {
+		double v = c[k] / 255.0;
+		lin[k] = v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4);
+	}
+	double Y = 0.2126 * lin[0] + 0.7152 * lin[1] + 0.0722 * lin[2];
+	return Y > 216.0 / 24389.0 ? 116.0 * cbrt(Y) - 16.0 : Y * 24389.0 / 27.0;
+}
+
+/* ---- a planted point lands on its pixel ------------------------------------------------ */
+
+static double px_x[1] = {3.0}, px_y[1] = {7.0};
+
+static bk_plot planted(double xhi)
+{
+	static bk_plot_series s;
+	s = (bk_plot_series){NULL, BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xff0000, 1, px_x, px_y, NULL, NULL, NULL};
+	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x (unit)", 0, 0.0, xhi, 0, 0, NULL}, {"y (unit)", 0, 0.0, 10.0, 0, 0, NULL}, &s, 1, NULL};
+	return p;
+}
+
+Test(plot, planted_point_on_its_pixel)
+{
+	bk_plot p = planted(10.0);
+	image im = render_png(&p);
+	cr_expect_eq(im.w, 2 * BK_PLOT_DPI);
+	cr_expect_eq(im.h, (int)(1.5 * BK_PLOT_DPI));
+	double L, R, T, B, cx, cy;
+	find_frame(&im, &L, &R, &T, &B);
+	red_centroid(&im, &cx, &cy);
+	/* by hand: x = 3 of 0..10, y = 7 of 0..10 (up from the bottom edge) */
+	double ex = L + 0.3 * (R - L), ey = B - 0.7 * (B - T);
+	cr_expect_leq(fabs(cx - ex), 1.5, "marker at x %.2f px, expected %.2f", cx, ex);
+	cr_expect_leq(fabs(cy - ey), 1.5, "marker at y %.2f px, expected %.2f", cy, ey);
+	free(im.rgb);
+
+	/* negative control: drawn on 0..20, the marker misses the 0..10 expectation */
+	p = planted(20.0);
+	im = render_png(&p);
+	find_frame(&im, &L, &R, &T, &B);
+	red_centroid(&im, &cx, &cy);
+	ex = L + 0.3 * (R - L);
+	cr_expect_gt(fabs(cx - ex), 20.0, "the wrong range should move the marker, at %.2f vs %.2f", cx, ex);
+	free(im.rgb);
+}
+
+Test(plot, log_axis_point_on_its_pixel)
+{
+	static double x[1] = {5.0}, y[1] = {1e-2};
+	bk_plot_series s = {NULL, BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xff0000, 1, x, y, NULL, NULL, NULL};
+	bk_plot p = {2.0, 1.5, NULL, NULL, NULL, {"x", 0, 0, 10, 0, 0, NULL}, {"err", 1, 1e-4, 1.0, 0, 0, NULL}, &s, 1, NULL};
+	image im = render_png(&p);
+	double L, R, T, B, cx, cy;
+	find_frame(&im, &L, &R, &T, &B);
+	red_centroid(&im, &cx, &cy);
+	double ey = B - 0.5 * (B - T); /* 1e-2 halfway between 1e-4 and 1 in log */
+	cr_expect_leq(fabs(cy - ey), 1.5, "marker at y %.2f px, expected %.2f", cy, ey);
+	cr_expect_gt(fabs(cy - (B - 0.01 * (B - T))), 20.0, "a linear axis would put it at the bottom");
+	free(im.rgb);
+}
+
+/* ---- colour maps -------------------------------------------------------------------- */
+
+static int lightness_rises(int map, double *lo, double *hi)
+{
+	unsigned char c[3];
+	double prev = -1.0;
+	int ok = 1;
+	for (int k = 0; k <= 64; k++) {
+		bk_plot_colour(map, k / 64.0, c);
+		double l = lightness(c);
+		if (k == 0)
+			*lo = l;
+		*hi = l;
+		ok &= l > prev;
+		prev = l;
+	}
+	return ok;
+}
+
+Test(plot, sequential_map_ends_and_monotone_lightness)
+{
+	double lo, hi;
+	cr_expect(lightness_rises(BK_PLOT_SEQUENTIAL, &lo, &hi), "sequential: lightness must rise throughout");
+	cr_expect_lt(lo, 30.0, "dark end L* %.1f", lo);
+	cr_expect_gt(hi, 85.0, "light end L* %.1f", hi);
+	/* evenly: no step of 1/64 changes L* by more than twice the mean step */
+	unsigned char a[3], b[3];
+	for (int k = 0; k < 64; k++) {
+		bk_plot_colour(BK_PLOT_SEQUENTIAL, k / 64.0, a);
+		bk_plot_colour(BK_PLOT_SEQUENTIAL, (k + 1) / 64.0, b);
+		cr_expect_lt(lightness(b) - lightness(a), 2.0 * (hi - lo) / 64.0, "step %d", k);
+	}
+	/* negative control: the diverging map's lightness rises to white and falls again */
+	cr_expect_not(lightness_rises(BK_PLOT_DIVERGING, &lo, &hi));
+}
+
+Test(plot, diverging_map_blue_white_red)
+{
+	unsigned char c[3];
+	bk_plot_colour(BK_PLOT_DIVERGING, 0.0, c);
+	cr_expect(c[2] > c[0] + 50, "negative end is blue (%d,%d,%d)", c[0], c[1], c[2]);
+	bk_plot_colour(BK_PLOT_DIVERGING, 1.0, c);
+	cr_expect(c[0] > c[2] + 50, "positive end is red (%d,%d,%d)", c[0], c[1], c[2]);
+	bk_plot_colour(BK_PLOT_DIVERGING, 0.5, c);
+	cr_expect_gt(lightness(c), 95.0, "zero is near white");
+}
+
+/* ---- label placement ----------------------------------------------------------------- */
+
+static int boxes_meet(const bk_plot_label *a, const bk_plot_label *b)
+{
+	return a->x0 < b->x1 && b->x0 < a->x1 && a->y0 < b->y1 && b->y0 < a->y1;
+}
+
+/* Pairs of placed labels that overlap. */
+static int overlaps(const bk_plot_label *l, int n)
+{
+	int k = 0;
+	for (int i = 0; i < n; i++)
+		for (int j = i + 1; j < n; j++)
+			k += l[i].placed && l[j].placed && boxes_meet(&l[i], &l[j]);
+	return k;
+}
+
+enum { NCROWD = 60 };
+
+Test(plot, crowded_labels_never_overlap)
+{
+	static double x[NCROWD], y[NCROWD];
+	static char name[NCROWD][24];
+	static const char *lab[NCROWD];
+	for (int i = 0; i < NCROWD; i++) { /* a tight cluster: a spiral of points in 2 x 2 data units */
+		x[i] = 5.0 + 1.0 * sqrt(i / (double)NCROWD) * cos(2.4 * i);
+		y[i] = 5.0 + 1.0 * sqrt(i / (double)NCROWD) * sin(2.4 * i);
+		snprintf(name[i], sizeof name[i], "label %d", i);
+		lab[i] = name[i];
+	}
+	bk_plot_series s = {NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, NCROWD, x, y, lab, NULL, NULL};
+	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "crowd", NULL, NULL, {"x", 0, 0, 10, 0, 0, NULL}, {"y", 0, 0, 10, 0, 0, NULL}, &s, 1, NULL};
+	bk_plot_label l[NCROWD];
+	cr_assert_eq(bk_plot_labels(&p, l, NCROWD), NCROWD);
+	int placed = 0;
+	for (int i = 0; i < NCROWD; i++)
+		placed += l[i].placed;
+	cr_expect_gt(placed, 5, "some labels find a place");
+	cr_expect_lt(placed, NCROWD, "a cluster this tight cannot hold them all: some are dropped");
+	cr_expect_eq(overlaps(l, NCROWD), 0, "placed labels overlap");
+	/* no label covers a marker (2.4 pt radius) */
+	for (int i = 0; i < NCROWD; i++)
+		for (int j = 0; j < NCROWD && l[i].placed; j++) {
+			double mx, my;
+			bk_plot_to_page(&p, x[j], y[j], &mx, &my);
+			bk_plot_label m = {0, j, 1, mx - 2.4, my - 2.4, mx + 2.4, my + 2.4};
+			cr_expect_not(boxes_meet(&l[i], &m), "label %d covers marker %d", i, j);
+		}
+	/* negative control: the overlap check sees two boxes planted on each other */
+	bk_plot_label two[2] = {{0, 0, 1, 0, 0, 10, 5}, {0, 1, 1, 5, 2, 15, 7}};
+	cr_expect_eq(overlaps(two, 2), 1);
+	/* the picture says how many are left out */
+	FILE *f = tmpfile();
+	cr_assert_eq(bk_plot_write(&p, BK_PLOT_PDF, f), 0);
+	fclose(f);
+}
+
+/* ---- bytes: PDF and SVG -------------------------------------------------------------- */
+
+static char *render_bytes(const bk_plot *p, bk_plot_format fmt, size_t *len)
+{
+	char *buf = NULL;
+	FILE *f = open_memstream(&buf, len);
+	cr_assert_not_null(f);
+	cr_assert_eq(bk_plot_write(p, fmt, f), 0);
+	cr_assert_eq(fclose(f), 0);
+	return buf;
+}
+
+Test(plot, pdf_is_a_pdf_and_byte_stable)
+{
+	bk_plot p = planted(10.0);
+	p.title = "a title";
+	p.provenance = "test_plot";
+	size_t la, lb, lc;
+	char *a = render_bytes(&p, BK_PLOT_PDF, &la), *b = render_bytes(&p, BK_PLOT_PDF, &lb);
+	cr_expect_eq(strncmp(a, "%PDF-", 5), 0);
+	cr_expect(la == lb && memcmp(a, b, la) == 0, "two PDFs of one figure differ");
+	int dated = 0;
+	for (size_t i = 0; i + 31 <= la && !dated; i++)
+		dated = !memcmp(a + i, "/CreationDate (20000101000000Z)", 31);
+	cr_expect(dated, "the fixed creation date");
+	/* the font is DejaVu Sans, embedded (a subset "ABCDEF+DejaVuSans"), not a fallback */
+	int dejavu = 0, other = 0;
+	for (size_t i = 0; i + 11 <= la; i++) {
+		dejavu |= !memcmp(a + i, "+DejaVuSans", 11);
+		other |= !memcmp(a + i, "+LiberationS", 11); /* control: a font we do not use */
+	}
+	cr_expect(dejavu, "DejaVu Sans not embedded: is fonts-dejavu-core installed?");
+	cr_expect_not(other);
+	p.title = "another title"; /* negative control: a different figure, different bytes */
+	char *c = render_bytes(&p, BK_PLOT_PDF, &lc);
+	cr_expect(la != lc || memcmp(a, c, la) != 0);
+	free(a);
+	free(b);
+	free(c);
+}
+
+static int xmllint_ok(const char *text, size_t len)
+{
+	char path[] = "/tmp/bk_test_plot_XXXXXX";
+	int fd = mkstemp(path);
+	cr_assert_geq(fd, 0);
+	cr_assert_eq(write(fd, text, len), (ssize_t)len);
+	close(fd);
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "xmllint --noout %s 2>/dev/null", path);
+	int rc = system(cmd);
+	unlink(path);
+	return rc == 0;
+}
+
+Test(plot, svg_well_formed_and_byte_stable)
+{
+	if (system("command -v xmllint >/dev/null 2>&1") != 0)
+		cr_skip_test("xmllint not installed (libxml2-utils)");
+	static double x[2] = {1, 2}, y[2] = {3, 4};
+	static const char *lab[2] = {"a <b> & \"c\"", "-- not a comment end --"};
+	bk_plot_series s = {"kind & <more>", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, 2, x, y, lab, NULL, NULL};
+	bk_plot p = {BK_PLOT_SINGLE_W, 2.6, "t <&>", "note --", "made -- by a test", {"x", 0, 0, 5, 0, 0, NULL},
+	             {"y", 0, 0, 5, 0, 0, NULL}, &s, 1, NULL};
+	size_t la, lb;
+	char *a = render_bytes(&p, BK_PLOT_SVG, &la), *b = render_bytes(&p, BK_PLOT_SVG, &lb);
+	cr_expect(la == lb && memcmp(a, b, la) == 0, "two SVGs of one figure differ");
+	cr_expect(xmllint_ok(a, la), "xmllint rejected the SVG");
+	cr_expect_null(strstr(a, "<b>"));
+	cr_expect_not(xmllint_ok(a, la / 2), "negative control: half an SVG is not well-formed");
+	free(a);
+	free(b);
+}
+
+/* ---- heatmap and colour bar ------------------------------------------------------------ */
+
+Test(plot, heatmap_cells_take_their_colours)
+{
+	static const double v[2] = {0.0, 1.0}; /* left cell low, right cell high */
+	bk_plot_heat h = {2, 1, v, 0.0, 1.0, 0.0, 1.0, BK_PLOT_SEQUENTIAL, 0.0, 1.0, "share"};
+	bk_plot p = {2.5, 1.5, NULL, NULL, NULL, {"NoV", 0, 0, 1, 0, 0, NULL}, {"r", 0, 0, 1, 0, 0, NULL}, NULL, 0, &h};
+	image im = render_png(&p);
+	double L, R, T, B;
+	find_frame(&im, &L, &R, &T, &B);
+	int y = (int)((T + B) / 2);
+	double left = lightness(px(&im, (int)(L + 0.25 * (R - L)), y));
+	double right = lightness(px(&im, (int)(L + 0.75 * (R - L)), y));
+	cr_expect_lt(left, 30.0, "the low cell is dark (L* %.1f)", left);
+	cr_expect_gt(right, 85.0, "the high cell is light (L* %.1f)", right);
+	free(im.rgb);
+}
