@@ -80,7 +80,7 @@ float spec_ibl_diffuse_f0_040_vf(float NoV, float NoL, float LoH, float a)
 }
 
 // spec_ibl_diffuse_f0_040_env: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):
-//   LUT 128x128 half f0 0.04 r 0.4-1, made by: brdfkit lut --size 128 --f0 0.04 --r-range 0.4:1 --half --out DIR
+//   LUT 128x128 half f0 0.04 r 0.4-1, made by: brdfkit lut --size 128 --f0 0.04 --r-range 0.4:1 --precision half --out DIR
 //   sample it with bilinear filtering and clamp to edge at u = NoV, v = r*1.66666667 + -0.666666667;
 //   env = its one channel (f0 = 0.04 folded in); max abs error 6.31e-05 on the domain
 

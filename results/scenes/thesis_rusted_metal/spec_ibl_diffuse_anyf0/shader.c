@@ -91,7 +91,7 @@ static inline float spec_ibl_diffuse_anyf0_vf(float NoV, float NoL, float LoH, f
 }
 
 /* spec_ibl_diffuse_anyf0_env: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio): */
-/*   LUT 128x128 half, made by: brdfkit lut --size 128 --half --out DIR */
+/*   LUT 128x128 half, made by: brdfkit lut --size 128 --precision half --out DIR */
 /*   sample it with bilinear filtering and clamp to edge at u = NoV, v = r; */
 /*   then env = f0*A + B (A, B its two channels); max abs error 0.00243 on the domain */
 

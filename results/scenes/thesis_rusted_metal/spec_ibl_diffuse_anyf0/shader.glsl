@@ -87,7 +87,7 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, me
 }
 
 // spec_ibl_diffuse_anyf0_env: the environment BRDF is a texture here (cheaper at this ALU:TEX ratio):
-//   LUT 128x128 half, made by: brdfkit lut --size 128 --half --out DIR
+//   LUT 128x128 half, made by: brdfkit lut --size 128 --precision half --out DIR
 //   sample it with bilinear filtering and clamp to edge at u = NoV, v = r;
 //   then env = f0*A + B (A, B its two channels); max abs error 0.00243 on the domain
 
