@@ -5,14 +5,13 @@
  */
 #include "plot.h"
 #include "brdf.h" /* BK_VERSION */
+#include "pngio.h"
 
 #include <cairo-pdf.h>
 #include <cairo-svg.h>
 #include <cairo.h>
 #include <errno.h>
 #include <math.h>
-#include <png.h>
-#include <setjmp.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -887,60 +886,35 @@ static cairo_status_t to_file(void *closure, const unsigned char *data, unsigned
 	return fwrite(data, 1, len, closure) == len ? CAIRO_STATUS_SUCCESS : CAIRO_STATUS_WRITE_ERROR;
 }
 
-static void png_fail(png_structp png, png_const_charp msg)
-{
-	(void)msg;
-	png_longjmp(png, 1);
-}
-
 /* Cairo's pixels (premultiplied ARGB on white, so opaque) as 8-bit RGB with tEXt
- * title, description and software; no tIME chunk, fixed zlib level. */
+ * title, description and software and the print size (pngio.h: no tIME chunk,
+ * fixed zlib level). */
 static int write_png(const bk_plot *p, cairo_surface_t *s, FILE *f)
 {
 	int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
 	int stride = cairo_image_surface_get_stride(s);
 	const unsigned char *d = cairo_image_surface_get_data(s);
-	unsigned char *row = malloc((size_t)w * 3);
-	png_structp png = row ? png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, png_fail, NULL) : NULL;
-	png_infop info = png ? png_create_info_struct(png) : NULL;
-	if (!info) {
-		png_destroy_write_struct(&png, NULL);
-		free(row);
+	unsigned char *rgb = malloc((size_t)w * (size_t)h * 3);
+	if (!rgb)
 		return -1;
-	}
-	if (setjmp(png_jmpbuf(png))) {
-		png_destroy_write_struct(&png, &info);
-		free(row);
-		return -1;
-	}
-	png_init_io(png, f);
-	png_set_compression_level(png, 9);
-	png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
-	             PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-	png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
-	png_set_pHYs(png, info, (png_uint_32)lround(BK_PLOT_DPI / 0.0254), (png_uint_32)lround(BK_PLOT_DPI / 0.0254),
-	             PNG_RESOLUTION_METER);
-	png_text text[3] = {
-		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Title", .text = (char *)(p->title ? p->title : "")},
-		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Description",
-		 .text = (char *)(p->provenance ? p->provenance : "")},
-		{.compression = PNG_TEXT_COMPRESSION_NONE, .key = "Software", .text = "brdfkit " BK_VERSION " (cairo)"},
-	};
-	png_set_text(png, info, text, 3);
-	png_write_info(png, info);
 	for (int y = 0; y < h; y++) {
 		const uint32_t *px = (const uint32_t *)(d + (size_t)y * stride);
+		unsigned char *row = rgb + (size_t)y * (size_t)w * 3;
 		for (int x = 0; x < w; x++) {
 			row[3 * x] = (unsigned char)(px[x] >> 16);
 			row[3 * x + 1] = (unsigned char)(px[x] >> 8);
 			row[3 * x + 2] = (unsigned char)px[x];
 		}
-		png_write_row(png, row);
 	}
-	png_write_end(png, info);
-	png_destroy_write_struct(&png, &info);
-	free(row);
-	return 0;
+	const bk_png_text text[3] = {
+		{"Title", p->title ? p->title : ""},
+		{"Description", p->provenance ? p->provenance : ""},
+		{"Software", "brdfkit " BK_VERSION " (cairo)"},
+	};
+	char err[256];
+	int rc = bk_png_write(f, w, h, 3, 1, BK_PLOT_DPI, rgb, text, 3, err, sizeof err);
+	free(rgb);
+	return rc;
 }
 
 /* Writes svg[0..len) with cairo's surface and image ids ("surface<N>", "image<N>":

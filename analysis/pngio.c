@@ -3,6 +3,7 @@
  */
 #include "pngio.h"
 
+#include <math.h>
 #include <png.h>
 #include <setjmp.h>
 #include <stdlib.h>
@@ -24,8 +25,8 @@ static void on_warning(png_structp png, png_const_charp msg)
 	(void)msg;
 }
 
-int bk_png_write(FILE *f, int w, int h, int channels, int srgb, const unsigned char *px, const bk_png_text *t, int nt,
-                 char *err, size_t errlen)
+int bk_png_write(FILE *f, int w, int h, int channels, int srgb, double dpi, const unsigned char *px,
+                 const bk_png_text *t, int nt, char *err, size_t errlen)
 {
 	if (w < 1 || h < 1 || (channels != 1 && channels != 3) || nt < 0 || nt > 16) {
 		snprintf(err, errlen, "png: a %dx%d image of %d channels and %d texts cannot be written", w, h, channels, nt);
@@ -54,6 +55,9 @@ int bk_png_write(FILE *f, int w, int h, int channels, int srgb, const unsigned c
 	             PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
 	if (srgb && channels == 3)
 		png_set_sRGB(png, info, PNG_sRGB_INTENT_PERCEPTUAL);
+	if (dpi > 0)
+		png_set_pHYs(png, info, (png_uint_32)lround(dpi / 0.0254), (png_uint_32)lround(dpi / 0.0254),
+		             PNG_RESOLUTION_METER);
 	png_set_text(png, info, text, nt);
 	png_write_info(png, info);
 	for (int y = 0; y < h; y++)

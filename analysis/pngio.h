@@ -16,10 +16,11 @@ typedef struct bk_png_text {
 } bk_png_text;
 
 /* Writes a w x h image to f: channels 1 (grey: linear data, no colour chunk)
- * or 3 (RGB, srgb = 1 adds the sRGB chunk); px holds rows top first, w *
- * channels bytes each. 0, or -1 with libpng's message in err (f is then
- * partly written: the caller aborts its bk_out). */
-int bk_png_write(FILE *f, int w, int h, int channels, int srgb, const unsigned char *px, const bk_png_text *t, int nt,
-                 char *err, size_t errlen);
+ * or 3 (RGB, srgb = 1 adds the sRGB chunk); dpi > 0 adds the pHYs chunk (a
+ * figure's print size); px holds rows top first, w * channels bytes each. 0,
+ * or -1 with libpng's message in err (f is then partly written: the caller
+ * aborts its bk_out). */
+int bk_png_write(FILE *f, int w, int h, int channels, int srgb, double dpi, const unsigned char *px,
+                 const bk_png_text *t, int nt, char *err, size_t errlen);
 
 #endif

@@ -50,7 +50,7 @@ static int write_png(const char *path, int w, int h, const unsigned char *rgb, c
 		{"Command", bk_out_command()},
 	};
 	char e2[256];
-	int rc = bk_png_write(f, w, h, 3, 1, rgb, text, 4, e2, sizeof e2);
+	int rc = bk_png_write(f, w, h, 3, 1, 0, rgb, text, 4, e2, sizeof e2);
 	if (fclose(f) || rc) {
 		snprintf(err, errlen, "%s: %s", path, rc ? e2 : "cannot write the PNG");
 		return -1;

@@ -384,7 +384,7 @@ int bk_speclut_write(const bk_speclut *L, const char *dir, const char *command, 
 		};
 		char e2[256];
 		/* 8-bit grey, the UNORM8 codes; no colour chunk: linear data */
-		if (bk_png_write(po.f, L->nu, L->nr, 1, 0, codes, text, (int)(sizeof text / sizeof text[0]), e2, sizeof e2)) {
+		if (bk_png_write(po.f, L->nu, L->nr, 1, 0, 0, codes, text, (int)(sizeof text / sizeof text[0]), e2, sizeof e2)) {
 			snprintf(err, errlen, "%s: %s", png_path, e2);
 			bk_out_abort(&po);
 			bk_out_abort(&co);
