@@ -143,7 +143,7 @@ void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W)
 }
 
 /* The figure (plot.h, 7 x 4.2 in): every screened candidate as a grey dot (one per
- * 1/200 in cell it covers: tens of thousands of candidates fall on a few thousand
+ * 1/72 in cell it covers: tens of thousands of candidates fall on a few thousand
  * cells), the front as a blue staircase with labelled circles, the catalog
  * published (red triangles) and refitted (orange squares), error (log) against cost,
  * in the style of compare's plots. */
@@ -215,8 +215,10 @@ int bk_swrite_plot(const bk_swrite *sw, const char *dir, char *err, size_t errle
 		double one = 1.0;
 		bk_plot_axis_fit(&p.x, &one, 1);
 	}
-	/* the cloud within the axes, one dot per cell of the PNG's pixel grid */
-	int gw = BK_PLOT_DPI * 7, gh = BK_PLOT_DPI * 5;
+	/* the cloud within the axes, one dot per 1-point cell (a dot is wider than
+	 * that: more dots would only overdraw, and each is a path in the SVG and
+	 * PDF, which at the PNG's pixel grid reached 6.5 MB for env_f0) */
+	int gw = 72 * 7, gh = 72 * 5;
 	unsigned char *seen = calloc((size_t)gw * gh, 1);
 	for (size_t i = 0; seen && i < nc; i++) {
 		const bk_cand *c = bk_search_at(F->S, i);

@@ -314,7 +314,7 @@ int cmd_stability(int argc, char **argv)
 	int all = 0;
 	double tol = BK_STAB_TOL;
 	cli_opt opts[] = {
-		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for stability.csv, maps/ (EXR + PNG) and section.html (replaced whole)", .dest = &out},
+		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for stability.csv, maps/ (EXR, PNG, SVG, PDF) and section.html (replaced whole)", .dest = &out},
 		{.name = "--all", .kind = CLI_FLAG, .help = "every registry term and catalog form", .dest = &all},
 		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "relative error that counts as wrong (default 0.02)", .dest = &tol, .lo = 1e-6, .hi = 1},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
