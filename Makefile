@@ -37,10 +37,11 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # brdfkit gpucost: glslang-dev compiles GLSL in-process, libvulkan-dev links the
 # loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler;
 # libcsv reads search fronts back for gpucost --calibrate; libcairo draws every
-# figure, PNG/SVG/PDF, in DejaVu Sans from fonts-dejavu-core, analysis/plot.c).
+# figure, PNG/SVG/PDF, in DejaVu Sans from fonts-dejavu-core, analysis/plot.c;
+# scdoc turns the manual pages' sources analysis/man/*.scd into roff).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core
+       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
@@ -69,6 +70,11 @@ MPI_TOOL = build/brdfkit-mpi
 # deferred (=): read when a recipe runs, after `deps` has installed the MPI
 MPI_CFLAGS = $(shell pkg-config --cflags mpi-c)
 MPI_LIBS   = $(shell pkg-config --libs mpi-c)
+# The manual pages: one scdoc source per page in analysis/man/ (brdfkit.1.scd,
+# brdfkit-COMMAND.1.scd, brdfkit-mpi.1.scd), roff in build/man/ for man(1) and
+# `make install`; tests/man.sh checks them against the tool's --help.
+MAN_SRC = $(sort $(wildcard analysis/man/*.scd))
+MAN     = $(patsubst analysis/man/%.scd,build/man/%,$(MAN_SRC))
 TESTS = build/test_brdfkit
 BENCH = build/bench_dfg
 SLIB  = build/san/libbrdf.a
@@ -76,7 +82,7 @@ STOOL = build/san/brdfkit
 STEST = build/san/test_brdfkit
 
 .PHONY: all deps test test-build test-plain test-san bench results install clean fuzz
-all: $(LIB) $(TOOL) $(MPI_TOOL)
+all: $(LIB) $(TOOL) $(MPI_TOOL) $(MAN)
 
 # need: install the listed Debian packages that are missing (apt-get as root,
 # otherwise print the line to run and fail).
@@ -98,6 +104,11 @@ endef
 
 deps:
 	$(call need,$(DEBS))
+
+# the manual pages (MAN, above): scdoc to roff
+build/man/%: analysis/man/%.scd | deps
+	@mkdir -p build/man
+	scdoc <$< >$@.tmp && mv $@.tmp $@
 
 build/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
@@ -198,6 +209,7 @@ test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/lavapipe.sh build/vkrun
 	sh tests/render.sh $(TOOL)
 	sh tests/readme.sh $(TOOL)
+	sh tests/man.sh $(TOOL)
 	sh tests/notebook.sh notebooks_data
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
@@ -515,7 +527,9 @@ $(SO_FIT): $(call obj,build/pic,$(FIT_SRC)) $(SO_LIB)
 # without LD_LIBRARY_PATH or ldconfig (which a DESTDIR or non-root install
 # cannot run); Libs.private what a static link adds (pkg-config --static).
 install: all $(FIT_LIB) $(SO_LIB) $(SO_FIT)
-	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/brdfkit $(DESTDIR)$(PREFIX)/bin
+	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/brdfkit $(DESTDIR)$(PREFIX)/bin \
+	  $(DESTDIR)$(PREFIX)/share/man/man1
+	install -m 644 $(MAN) $(DESTDIR)$(PREFIX)/share/man/man1/
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libbrdf.a
 	install -m 644 $(FIT_LIB) $(DESTDIR)$(PREFIX)/lib/libbrdfkit-fit.a
 	for l in libbrdf libbrdfkit-fit; do \

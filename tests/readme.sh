@@ -4,6 +4,8 @@
 # each command prints must be the output the block shows under it, after the
 # normalisation below. (README.md, "Contributing", says the same for authors.)
 # usage: sh tests/readme.sh path/to/brdfkit [README.md]
+# (tests/man.sh runs it on the manual pages' sources, analysis/man/*.scd, too:
+# scdoc's literal blocks are the same fences; messages name the file read.)
 #
 # How a block is read
 #   - "$ CMD" starts a command; a line ending in a backslash continues it on the
@@ -56,6 +58,7 @@ README=${2:-README.md}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 case $BK in /*) ;; *) BK=$PWD/$BK ;; esac
 case $README in /*) ;; *) README=$PWD/$README ;; esac
+NAME=$(basename "$README")
 T=$(mktemp -d /tmp/bk_readme_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 pass=0 fail=0 skipped=0
@@ -103,7 +106,7 @@ inb { n++; L[n] = $0; LN[n] = NR; next }
 END { if (inb) print "unclosed fence at line " open > (dir "/bad_markers") }
 ' "$README"
 if [ -s "$T/ex/bad_markers" ]; then
-	while read -r l; do bad "README.md:$l: not a marker readme.sh knows (<!-- readme-test: skip REASON -->)"; done <"$T/ex/bad_markers"
+	while read -r l; do bad "$NAME:$l: not a marker readme.sh knows (<!-- readme-test: skip REASON -->)"; done <"$T/ex/bad_markers"
 fi
 nblocks=$(ls "$T/ex" | grep -c '^[0-9]')
 [ "$nblocks" -gt 0 ] || bad "no example block found in $README"
@@ -178,10 +181,10 @@ ctl fail 'search: 9 fits, 5 fits/s, front 1 (x)\n' 'search: 8 fits, 7 fits/s, fr
 
 for b in "$T"/ex/[0-9]*; do
 	read -r open mode reason <"$b/meta"
-	if [ "$mode" = error ]; then bad "README.md:$open: $reason"; continue; fi
+	if [ "$mode" = error ]; then bad "$NAME:$open: $reason"; continue; fi
 	if [ "$mode" = skip ]; then
 		skipped=$((skipped + 1))
-		echo "skip: README.md:$open: $reason"
+		echo "skip: $NAME:$open: $reason"
 		continue
 	fi
 	S="$T/run$(basename "$b")"
@@ -194,13 +197,13 @@ for b in "$T"/ex/[0-9]*; do
 		t0=$(date +%s)
 		(cd "$S" && sh "$b/$k.cmd") >"$b/$k.raw" 2>&1 </dev/null
 		rc=$?
-		[ -z "${README_TIMES:-}" ] || echo "time: README.md:$line: $(($(date +%s) - t0)) s"
+		[ -z "${README_TIMES:-}" ] || echo "time: $NAME:$line: $(($(date +%s) - t0)) s"
 		norm "$b/$k.raw" >"$b/$k.act"
 		norm "$b/$k.exp" >"$b/$k.want"
 		if glob_match "$b/$k.want" "$b/$k.act"; then ok
 		else
-			bad "README.md:$line: \$ $(head -1 "$b/$k.cmd") (exit $rc): the output differs from the README's"
-			diff -u --label "README.md:$line (shown)" --label "actual" "$b/$k.want" "$b/$k.act" | sed 's/^/    /'
+			bad "$NAME:$line: \$ $(head -1 "$b/$k.cmd") (exit $rc): the output differs from the README's"
+			diff -u --label "$NAME:$line (shown)" --label "actual" "$b/$k.want" "$b/$k.act" | sed 's/^/    /'
 		fi
 		k=$((k + 1))
 	done

@@ -1,0 +1,161 @@
+#!/bin/sh
+# man.sh — the manual pages (analysis/man/*.scd, scdoc) against the tool, and
+# the citation file against the version.
+# usage: sh tests/man.sh path/to/brdfkit
+#
+#   - every command `brdfkit --help` lists (its "commands:" block, read from the
+#     tool, not from a list here) has a page brdfkit-CMD.1.scd, and brdfkit.1.scd
+#     names every page in its SEE ALSO;
+#   - every long option `brdfkit CMD --help` prints (and the help of a mode it
+#     points to, "brdfkit lut --specular --help") is an option of that page, in
+#     bold (*--opt*) as OPTIONS writes it;
+#   - every page has NAME (naming its own file), SYNOPSIS, DESCRIPTION, OPTIONS,
+#     EXAMPLES and SEE ALSO, goes through scdoc and renders with
+#     `groff -k -t -man -ww -z` without a warning;
+#   - an example block that shows output ("$ " lines) is run by tests/readme.sh
+#     and must print what the page shows;
+#   - CITATION.cff parses as YAML (python3-yaml; else a line check), has the
+#     fields a citation needs, and its version is brdf/brdf.h's BK_VERSION.
+# Negative controls, each showing a check can fail: a tool whose --help lists
+# one more command, one whose dfg --help prints one more option, a page with a
+# roff request groff does not know, a page without its OPTIONS section, an
+# example whose shown output is wrong, a CITATION.cff of another version and one
+# that is not YAML.
+set -u
+BK=${1:?usage: man.sh path/to/brdfkit}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+case $BK in /*) ;; *) BK=$PWD/$BK ;; esac
+MAN=$ROOT/analysis/man
+T=$(mktemp -d /tmp/bk_man_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+# expect_fail WHAT CMD...: a negative control, CMD must fail (its output hidden)
+expect_fail() { w=$1; shift; if "$@" >/dev/null 2>&1; then bad "control passed: $w"; else ok; fi; }
+
+# commands TOOL: the commands its --help lists, one a line
+commands() { "$1" --help 2>&1 | awk '/^commands:/ { on = 1; next } on && /^  [a-z]/ { print $1 } on && /^$/ { on = 0 }'; }
+# options TOOL CMD: the long options of CMD's --help, and of any mode's help it
+# points to ("(brdfkit CMD --MODE --help)"), one a line
+options() {
+	"$1" "$2" --help >"$T/h.$2" 2>&1
+	for m in $(grep -o "brdfkit $2 --[a-z-]* --help" "$T/h.$2" | awk '{ print $3 }' | sort -u); do
+		"$1" "$2" "$m" --help >>"$T/h.$2" 2>&1
+	done
+	sed -n 's/^  \(--[a-z0-9][a-z0-9-]*\).*/\1/p' "$T/h.$2" | sort -u
+	rm -f "$T/h.$2"
+}
+
+# check_pages TOOL DIR: a page per command, all named in brdfkit(1)'s SEE ALSO
+check_pages() {
+	rc=0
+	[ -n "$(commands "$1")" ] || { echo "no command read from $1 --help"; return 1; }
+	for c in $(commands "$1"); do
+		[ -f "$2/brdfkit-$c.1.scd" ] || { echo "no page $2/brdfkit-$c.1.scd for the command $c"; rc=1; }
+	done
+	for p in "$2"/brdfkit-*.1.scd; do
+		n=$(basename "$p" .1.scd)
+		awk '/^# SEE ALSO/ { on = 1 } on' "$2/brdfkit.1.scd" | grep -q "\*$n\*(1)" ||
+			{ echo "brdfkit(1) does not name $n(1) in SEE ALSO"; rc=1; }
+	done
+	return $rc
+}
+# check_options TOOL DIR: each command's options in bold in its page's OPTIONS
+check_options() {
+	rc=0
+	for c in $(commands "$1"); do
+		p="$2/brdfkit-$c.1.scd"
+		[ -f "$p" ] || continue
+		awk '/^# OPTIONS/ { on = 1; next } /^# / { on = 0 } on' "$p" >"$T/opts"
+		n=0
+		for o in $(options "$1" "$c"); do
+			n=$((n + 1))
+			grep -qF -- "*$o*" "$T/opts" || { echo "$c: $o is not in OPTIONS of $p"; rc=1; }
+		done
+		[ "$n" -gt 0 ] || { echo "$c: no option read from its --help"; rc=1; }
+	done
+	return $rc
+}
+# check_page FILE.scd: the sections, scdoc, and groff without a warning
+check_page() {
+	n=$(basename "$1" .1.scd)
+	head -1 "$1" | grep -qx "$n(1)" || { echo "$1: first line is not $n(1)"; return 1; }
+	for s in NAME SYNOPSIS DESCRIPTION OPTIONS EXAMPLES "SEE ALSO"; do
+		grep -qx "# $s" "$1" || { echo "$1: no section $s"; return 1; }
+	done
+	awk '/^# NAME/ { getline; getline; print; exit }' "$1" | grep -q "^$n - " || { echo "$1: NAME is not '$n - ...'"; return 1; }
+	scdoc <"$1" >"$T/page.1" 2>"$T/scdoc.err" || { echo "$1: scdoc: $(cat "$T/scdoc.err")"; return 1; }
+	check_roff "$T/page.1" || { echo "$1: roff warnings above"; return 1; }
+}
+# check_roff FILE.1: groff renders it (tables, man macros) with no warning
+check_roff() {
+	groff -k -t -man -ww -z "$1" >"$T/groff.err" 2>&1 && [ ! -s "$T/groff.err" ] || { cat "$T/groff.err"; return 1; }
+}
+# check_cff FILE HEADER: YAML, the fields, the version of HEADER
+check_cff() {
+	v=$(sed -n 's/^#define BK_VERSION "\(.*\)"/\1/p' "$2")
+	[ -n "$v" ] || { echo "no BK_VERSION in $2"; return 1; }
+	if python3 -c 'import yaml' 2>/dev/null; then
+		python3 - "$1" "$v" <<'PY' || return 1
+import sys, yaml
+c = yaml.safe_load(open(sys.argv[1]))
+need = ["cff-version", "message", "title", "version", "authors", "license", "date-released", "abstract", "keywords"]
+missing = [k for k in need if k not in c]
+if missing: sys.exit("CITATION.cff: missing %s" % ", ".join(missing))
+if str(c["version"]) != sys.argv[2]: sys.exit("CITATION.cff: version %s, BK_VERSION %s" % (c["version"], sys.argv[2]))
+if str(c["cff-version"]) != "1.2.0" or c["license"] != "MIT": sys.exit("CITATION.cff: cff-version or license")
+if not any(a.get("name") for a in c["authors"]): sys.exit("CITATION.cff: no author entity")
+PY
+	else # no YAML parser: the line the version is on
+		grep -qx "version: \"\\{0,1\\}$v\"\\{0,1\\}" "$1" || { echo "CITATION.cff: version is not $v"; return 1; }
+	fi
+}
+
+# ---- the pages ------------------------------------------------------------------
+[ -x "$BK" ] || { bad "no tool at $BK"; echo "man: $pass passed, $fail failed"; exit 1; }
+check_pages "$BK" "$MAN" && ok || bad "a page per command"
+check_options "$BK" "$MAN" && ok || bad "every option in its page"
+for p in "$MAN"/*.1.scd; do check_page "$p" && ok || bad "page $(basename "$p")"; done
+# examples with output: shown as the tool prints it
+for p in "$MAN"/*.1.scd; do
+	grep -q '^\$ ' "$p" || continue
+	sh "$ROOT/tests/readme.sh" "$BK" "$p" >"$T/ex.out" 2>&1 && ok || { bad "examples of $(basename "$p")"; cat "$T/ex.out"; }
+done
+check_cff "$ROOT/CITATION.cff" "$ROOT/brdf/brdf.h" && ok || bad "CITATION.cff"
+[ -f "$ROOT/LICENSE" ] && grep -q '^MIT License' "$ROOT/LICENSE" && grep -q 'Copyright (c) 2026 the brdfkit developers' "$ROOT/LICENSE" &&
+	ok || bad "LICENSE"
+
+# ---- negative controls ----------------------------------------------------------
+# a tool with one command more, and one whose dfg prints one option more
+cat >"$T/more_cmd" <<EOF
+#!/bin/sh
+if [ "\$#" -eq 1 ] && [ "\$1" = --help ]; then "$BK" --help | sed 's/^commands:/commands:\n  zzfake   a command without a page/'; exit 0; fi
+exec "$BK" "\$@"
+EOF
+cat >"$T/more_opt" <<EOF
+#!/bin/sh
+if [ "\$#" -eq 2 ] && [ "\$1" = dfg ] && [ "\$2" = --help ]; then "$BK" dfg --help; echo '  --zzfake-opt N         an option without a line in the page'; exit 0; fi
+exec "$BK" "\$@"
+EOF
+chmod +x "$T/more_cmd" "$T/more_opt"
+expect_fail "a command without a page" check_pages "$T/more_cmd" "$MAN"
+expect_fail "an option not in the page" check_options "$T/more_opt" "$MAN"
+# a page with a request groff does not know, and one without OPTIONS
+scdoc <"$MAN/brdfkit-dfg.1.scd" | sed '/^\.SH DESCRIPTION/a .zzbogus request' >"$T/bogus.1"
+expect_fail "a roff warning" check_roff "$T/bogus.1"
+mkdir "$T/noopt"
+sed 's/^# OPTIONS$/# OPTION/' "$MAN/brdfkit-dfg.1.scd" >"$T/noopt/brdfkit-dfg.1.scd"
+expect_fail "a page without OPTIONS" check_page "$T/noopt/brdfkit-dfg.1.scd"
+# an example whose shown output is off by one digit
+awk '/^\$ build\/brdfkit dfg/ { print; getline; print; getline; sub(/[0-9]$/, "x"); print; next } { print }' \
+	"$MAN/brdfkit-dfg.1.scd" >"$T/noopt/ex.1.scd"
+expect_fail "a wrong example output" sh "$ROOT/tests/readme.sh" "$BK" "$T/noopt/ex.1.scd"
+# CITATION.cff of another version, and one that is not YAML
+sed 's/^version: .*/version: "9.9.9"/' "$ROOT/CITATION.cff" >"$T/v.cff"
+expect_fail "another version" check_cff "$T/v.cff" "$ROOT/brdf/brdf.h"
+{ cat "$ROOT/CITATION.cff"; printf 'title: [unclosed\n'; } >"$T/y.cff"
+if python3 -c 'import yaml' 2>/dev/null; then expect_fail "not YAML" check_cff "$T/y.cff" "$ROOT/brdf/brdf.h"; fi
+
+echo "man: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
