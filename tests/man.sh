@@ -11,7 +11,7 @@
 #     bold (*--opt*) as OPTIONS writes it;
 #   - every page has NAME (naming its own file), SYNOPSIS, DESCRIPTION, OPTIONS,
 #     EXAMPLES and SEE ALSO, goes through scdoc and renders with
-#     `groff -k -t -man -ww -z` without a warning;
+#     `groff -Kutf-8 -t -man -ww -z` without a warning;
 #   - an example block that shows output ("$ " lines) is run by tests/readme.sh
 #     and must print what the page shows;
 #   - CITATION.cff parses as YAML (python3-yaml; else a line check), has the
@@ -90,7 +90,7 @@ check_page() {
 }
 # check_roff FILE.1: groff renders it (tables, man macros) with no warning
 check_roff() {
-	groff -k -t -man -ww -z "$1" >"$T/groff.err" 2>&1 && [ ! -s "$T/groff.err" ] || { cat "$T/groff.err"; return 1; }
+	groff -Kutf-8 -t -man -ww -z "$1" >"$T/groff.err" 2>&1 && [ ! -s "$T/groff.err" ] || { cat "$T/groff.err"; return 1; }
 }
 # check_cff FILE HEADER: YAML, the fields, the version of HEADER
 check_cff() {
