@@ -22,6 +22,10 @@
 # Libs.private) fail with undefined symbols; a C++ program against brdf.h
 # without its extern "C" guard fails to link; the shared program without the
 # rpath cannot find libbrdf at run time.
+# The manual pages: a page per command under share/man/man1 of the stage, and
+# from PREFIX `MANPATH=PREFIX/share/man man -w` finds brdfkit(1) and
+# brdfkit-search(1), which render without a warning (man --warnings); its
+# negative control: a page that was not installed is not found.
 set -u
 T=$(mktemp -d /tmp/bk_install_XXXXXX)
 trap 'rm -rf "$T"' EXIT
@@ -46,6 +50,10 @@ for l in libbrdf libbrdfkit-fit; do # the soname and the name -l finds, links to
 	readelf -d "$S/lib/$l.so.$V" | grep -q "SONAME.*\[$l\.so\.$SO\]" && ok || bad "$l soname"
 done
 grep -q '^prefix=/opt/bk$' "$S/lib/pkgconfig/brdfkit.pc" && ok || bad "pc prefix"
+for c in $(build/brdfkit --help | awk '/^commands:/ { on = 1; next } on && /^  [a-z]/ { print $1 }') mpi; do
+	[ -f "$S/share/man/man1/brdfkit-$c.1" ] || bad "no manual page share/man/man1/brdfkit-$c.1 under DESTDIR/PREFIX"
+done
+[ -f "$S/share/man/man1/brdfkit.1" ] && ok || bad "no manual page share/man/man1/brdfkit.1 under DESTDIR/PREFIX"
 
 # ---- the programs -------------------------------------------------------------
 cat >"$T/use.c" <<'C'
@@ -249,6 +257,16 @@ nflags=$(PKG_CONFIG_PATH="$S/lib/pkgconfig" pkg-config --define-prefix --cflags 
 	ok || bad "the archives linked without Libs.private: the static check proves nothing"
 
 "$U/bin/brdfkit" --version | grep -q '^brdfkit ' && ok || bad "installed tool"
+
+# ---- the manual pages, from PREFIX ------------------------------------------------
+for p in brdfkit brdfkit-search; do
+	f=$(MANPATH="$U/share/man" man -w "$p" 2>/dev/null)
+	[ "$f" = "$U/share/man/man1/$p.1" ] && ok || bad "man -w $p: '$f', not the installed page"
+	MANPATH="$U/share/man" MANWIDTH=80 LC_ALL=C.UTF-8 man --warnings "$p" >"$T/man.out" 2>"$T/man.err" &&
+		[ ! -s "$T/man.err" ] && grep -q "^NAME" "$T/man.out" && ok || bad "man $p: $(head -3 "$T/man.err")"
+done
+# negative control: a page that was not installed is not found
+! MANPATH="$U/share/man" man -w brdfkit-zzfake >/dev/null 2>&1 && ok || bad "man -w found a page never installed"
 
 echo "install: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
