@@ -1,10 +1,19 @@
-# brdfkit — fitting and analysing cheap approximations of BRDF terms.
+# brdfkit — fitting, searching and analysing cheap approximations of BRDF terms.
 #
-#   make results   the main job: DFG LUTs and the albedo table into results/
-#   make test      the test suite, then again under AddressSanitizer + UBSan
-#   make bench     benchmarks (medians of repeated runs, side by side)
+#   make           build/libbrdf.a, the tool build/brdfkit, build/brdfkit-mpi (Open MPI islands),
+#                  the manual pages build/man/*.1 (scdoc, from analysis/man/)
+#   make results   the study, into results/ (kept in git) and notebooks_data/: the DFG LUTs (three
+#                  Smith models), the low tier's specular LUT and its sweep, the albedo table, the
+#                  seed fits, error against cost for vf2d, vf, env, spec and f (catalog, refits, LUTs,
+#                  AMD counts on GPU_CHIPS), stability of every term and form, the searches (seven
+#                  double fronts, five half ones seeded with them), the example scenes, RESULTS_JOBS
+#                  at a time, longest first; then the cost-model calibration per chip, the rendered
+#                  spheres, the page results/index.html (brdfkit report) and notebooks_data/
+#   make test      the test suite, then again under AddressSanitizer + UBSan; the page in Chromium
+#   make bench     benchmarks (medians of repeated runs, side by side; SciPy for comparison)
 #   make install   PREFIX=/usr/local DESTDIR=  (libbrdf, libbrdfkit-fit: .a and .so; brdf.h, brdfkit/*.h,
-#                  brdfkit.pc, the tools)
+#                  brdfkit.pc, the tools, the manual pages in share/man/man1)
+#   make fuzz      libFuzzer on the formula IR and the search's checkpoint reader (clang)
 #
 # Every target that compiles runs `deps` first: it installs the missing Debian
 # packages with apt-get when run as root, otherwise prints the apt-get line.
@@ -106,9 +115,11 @@ deps:
 	$(call need,$(DEBS))
 
 # the manual pages (MAN, above): scdoc to roff
-build/man/%: analysis/man/%.scd | deps
+# (dated CITATION.cff's date-released, not the day of the build: the same bytes)
+MAN_DATE = $(shell date -u -d "$$(sed -n 's/^date-released: *//p' CITATION.cff)" +%s)
+build/man/%: analysis/man/%.scd CITATION.cff | deps
 	@mkdir -p build/man
-	scdoc <$< >$@.tmp && mv $@.tmp $@
+	SOURCE_DATE_EPOCH=$(MAN_DATE) scdoc <$< >$@.tmp && mv $@.tmp $@
 
 build/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)

@@ -192,7 +192,7 @@ static const bk_islands_transport *transport(void)
  * the screening front of the merged candidates, and a member of the front of
  * a union is on the front of its own part, so front.csv is the same
  * (tests/mpi.sh) for a merge of O(K x front) candidates instead of O(fits)
- * (README "On a cluster"). Collective. */
+ * (brdfkit-mpi(1), "The merge"). Collective. */
 static int merge_islands(job *J)
 {
 	char err[512];
@@ -428,7 +428,7 @@ static int search_main(int argc, char **argv)
 	               "one written kept for --resume.\n"
 	               "On a cluster: mpirun -np K build/brdfkit-mpi search ... runs K islands (--evals shared\n"
 	               "out, --migrate, --migrants; checkpoints FILE.RANK); rank 0 merges and writes DIR. The\n"
-	               "same --seed, --evals and K give the same files for any --threads (README). To stop an\n"
+	               "same --seed, --evals and K give the same files for any --threads (brdfkit-mpi(1)). To stop an\n"
 	               "MPI job with its front, send SIGUSR1 to mpirun (it passes it to every rank); SIGINT or\n"
 	               "SIGTERM to mpirun kill the ranks at once (Open MPI's rule): no front, exit 1, the\n"
 	               "checkpoints of the last round kept for --resume.\n"
