@@ -27,6 +27,7 @@ typedef struct table {
 	int col[COLS_MAX];
 	char objective[BK_SUMMARY_NAME], cost_model[BK_SUMMARY_NAME];
 	int line, rec_line, records, bad, nfield;
+	int open;                   /* a record begun and not yet ended: its first line is rec_line */
 	char *field[FIELDS_MAX];
 	int n;                      /* data rows */
 	int row_line[ROWS_MAX];
@@ -54,8 +55,6 @@ static void fail(table *t, int line, const char *fmt, ...)
 static void on_field(void *s, size_t len, void *data)
 {
 	table *t = data;
-	if (!t->rec_line)
-		t->rec_line = t->line;
 	if (t->nfield < FIELDS_MAX && !t->bad) {
 		if (!(t->field[t->nfield] = malloc(len + 1)))
 			fail(t, 0, "out of memory");
@@ -100,6 +99,7 @@ static void on_record(int c, void *data)
 	memset(t->field, 0, sizeof t->field);
 	t->nfield = 0;
 	t->rec_line = 0;
+	t->open = 0;
 }
 
 /* The objective a search's file states: "error: X in P precision" on its
@@ -183,6 +183,10 @@ static table *table_read(const char *path, const char *const *want, char *err, s
 			continue;
 		}
 		head = 0;
+		if (!t->open && strspn(line, "\r\n") != (size_t)len) { /* libcsv skips blank lines between records */
+			t->open = 1;
+			t->rec_line = t->line;
+		}
 		if (csv_parse(&p, line, (size_t)len, on_field, on_record, t) != (size_t)len)
 			fail(t, t->line, "%s", csv_strerror(csv_error(&p)));
 	}
