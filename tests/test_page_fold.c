@@ -126,3 +126,18 @@ Test(rel_dir, relative_from_the_page_folder)
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", d);
 	cr_expect_eq(system(cmd), 0);
 }
+
+/* The elements the captions and folds add pass the section check; one
+ * brdfkit does not write, in the same place, does not (the control). */
+Test(fold, figures_and_folds_pass_the_section_check)
+{
+	static const char ok[] = "<section id=\"s\">\n<figure><img src=\"a.png\" alt=\"x\">\n<figcaption>Error against "
+	                         "cost; data: <a href=\"a.csv\">a.csv</a></figcaption></figure>\n<details><summary>2 rows"
+	                         "</summary><table><tr><td>1</td></tr></table></details>\n</section>\n";
+	char id[64], err[256], bad[sizeof ok + 16];
+	cr_expect_eq(bk_section_check(ok, strlen(ok), id, sizeof id, err, sizeof err), 0, "%s", err);
+	snprintf(bad, sizeof bad, "%s", ok);
+	memcpy(strstr(bad, "<details>"), "<dialog> ", 9);
+	cr_expect_eq(bk_section_check(bad, strlen(bad), id, sizeof id, err, sizeof err), -1);
+	cr_expect(strstr(err, "line 4: <dialog>: not an element brdfkit writes") != NULL, "%s", err);
+}
