@@ -332,7 +332,11 @@ results: deps
 	$(MAKE) --no-print-directory results-render
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
-	$(TOOL) report --out results/index.html results/compare/vf2d/section.html \
+	# the first screen: per target the best published form against the search's front
+	# (report --summary reads catalog.csv and front.csv by column name), double then half
+	$(TOOL) report --out results/index.html \
+	  --summary $(subst $(space),$(comma),$(patsubst %,results/search/%,$(SUMMARY_TARGETS))) \
+	  results/compare/vf2d/section.html \
 	  results/compare/vf/section.html results/compare/env/section.html \
 	  results/compare/spec/section.html results/compare/f/section.html \
 	  results/stability/section.html results/search/vf2d/section.html results/search/vf/section.html \
@@ -346,6 +350,12 @@ results: deps
 	$(MAKE) --no-print-directory notebooks-data
 
 results-runs: $(RESULTS_RUNS)
+
+# the page's summary rows (report --summary), in this order; the first one's
+# pareto.png is the page's Figure 1
+SUMMARY_TARGETS = vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_f0_half env_mix_half f_glass_half f_gold_half
+comma := ,
+space := $(subst ,, )
 
 # notebooks_data/: the CSVs of results/ for pandas and other tools, all made by one
 # rule (notebooks_data/copy.sh): NAME.csv without the comment lines, which go

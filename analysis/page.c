@@ -6,11 +6,14 @@
  * so a section from elsewhere, or one whose writer forgot an escape, is
  * refused with the line of the first thing that does not belong.
  */
+#define _XOPEN_SOURCE 700 /* realpath (XSI) */
 #include "page.h"
 
 #include "out.h"
 
 #include <errno.h>
+#include <limits.h>
+#include <stddef.h>
 #include <fcntl.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -124,7 +127,7 @@ static const char *const elements[] = {
 	"section", "h2", "h3", "h4", "p", "a", "img", "table", "tr", "th", "td", "code", "b", "i", "em", "strong",
 	"br", "span", "sup", "sub", "ul", "ol", "li",
 	"svg", "style", "g", "rect", "line", "polyline", "polygon", "path", "circle", "ellipse", "text", "tspan",
-	"title", NULL};
+	"title", "figure", "figcaption", "details", "summary", NULL};
 static const char *const attributes[] = {
 	"id", "class", "href", "src", "alt", "width", "height", "colspan", "rowspan",
 	"xmlns", "viewBox", "x", "y", "x1", "y1", "x2", "y2", "cx", "cy", "r", "rx", "ry", "d", "points",
@@ -330,6 +333,158 @@ int bk_section_check(const char *text, size_t len, char *id, size_t idlen, char 
 		S.s = lt;
 		if (tag(&S))
 			return -1;
+	}
+	return 0;
+}
+
+/* ---- folding long tables ------------------------------------------------------------ */
+
+/* Whether the tag at p (a '<') is <name ...> or <name> (open: end 0) or
+ * </name> (end 1), the name whole. */
+static int is_tag(const char *p, const char *e, const char *name, int end)
+{
+	size_t n = strlen(name);
+	if (e - p < (ptrdiff_t)(n + 2 + (size_t)end) || p[0] != '<' || (end && p[1] != '/'))
+		return 0;
+	p += 1 + end;
+	if (strncasecmp(p, name, n))
+		return 0;
+	char c = p[n];
+	return c == '>' || is_space(c) || c == '/';
+}
+
+/* The end of the table opening at p: just after its </table> (nested tables
+ * counted), or e. */
+static const char *table_end(const char *p, const char *e, int *rows)
+{
+	int depth = 0;
+	*rows = 0;
+	for (const char *q = p; q < e; q++) {
+		if (*q != '<')
+			continue;
+		if (is_tag(q, e, "table", 0))
+			depth++;
+		else if (is_tag(q, e, "tr", 0))
+			*rows += depth == 1;
+		else if (is_tag(q, e, "table", 1) && --depth == 0) {
+			const char *gt = memchr(q, '>', (size_t)(e - q));
+			return gt ? gt + 1 : e;
+		}
+	}
+	return e;
+}
+
+/* The summary line: "N rows: " and the first row's cells' text, tags left
+ * out, runs of space as one, cut after the last whole cell that ends within
+ * 160 characters (a cell's text is whole, so no character reference is cut). */
+static void fold_summary(FILE *f, const char *p, const char *e, int rows)
+{
+	const char *tr = p;
+	while (tr < e && !is_tag(tr, e, "tr", 0))
+		tr++;
+	char line[256];
+	size_t n = 0, whole = 0; /* whole: the length up to the last finished cell */
+	int in_tag = 0, cells = 0, over = 0;
+	for (const char *q = tr; q < e && !is_tag(q, e, "tr", 1) && !over; q++) {
+		if (*q == '<') {
+			if (is_tag(q, e, "th", 0) || is_tag(q, e, "td", 0)) {
+				whole = n;
+				if (cells++) {
+					line[n++] = ',';
+					line[n++] = ' ';
+				}
+			}
+			in_tag = 1;
+		} else if (*q == '>' && in_tag)
+			in_tag = 0;
+		else if (!in_tag && !(is_space(*q) && (n == 0 || line[n - 1] == ' '))) {
+			line[n++] = is_space(*q) ? ' ' : *q;
+		}
+		over = n > 160;
+	}
+	if (over)
+		n = whole;
+	else
+		whole = n;
+	while (n && (line[n - 1] == ' ' || line[n - 1] == ','))
+		n--;
+	fprintf(f, "<details class=\"fold\"><summary>%d rows: %.*s%s</summary>\n", rows, (int)n, line, over ? ", \xe2\x80\xa6" : "");
+}
+
+int bk_page_fold(FILE *f, const char *text, size_t len, int min_rows)
+{
+	const char *p = text, *e = text + len, *done = text;
+	int details = 0, folded = 0;
+	while ((p = memchr(p, '<', (size_t)(e - p)))) {
+		if (is_tag(p, e, "details", 0))
+			details++;
+		else if (is_tag(p, e, "details", 1))
+			details -= details > 0;
+		else if (is_tag(p, e, "table", 0) && !details) {
+			int rows;
+			const char *end = table_end(p, e, &rows);
+			if (rows > min_rows) {
+				fwrite(done, 1, (size_t)(p - done), f);
+				fold_summary(f, p, end, rows);
+				fwrite(p, 1, (size_t)(end - p), f);
+				fputs("</details>", f);
+				done = end;
+				folded++;
+			}
+			p = end;
+			continue;
+		}
+		p++;
+	}
+	fwrite(done, 1, (size_t)(e - done), f);
+	return folded;
+}
+
+/* ---- links from the page ------------------------------------------------------------- */
+
+/* The components of an absolute path, in place: '/' turned to NUL. */
+static int components(char *path, char **comp, int max)
+{
+	int n = 0;
+	for (char *p = path; *p;) {
+		while (*p == '/')
+			*p++ = '\0';
+		if (*p && n < max)
+			comp[n++] = p;
+		while (*p && *p != '/')
+			p++;
+	}
+	return n;
+}
+
+int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t outlen, char *err, size_t errlen)
+{
+	char page_dir[PATH_MAX], a[PATH_MAX], b[PATH_MAX];
+	snprintf(page_dir, sizeof page_dir, "%s", page_path);
+	char *slash = strrchr(page_dir, '/');
+	if (!slash)
+		snprintf(page_dir, sizeof page_dir, ".");
+	else
+		slash[slash == page_dir] = '\0'; /* "/x.html": the root itself */
+	const char *bad = !realpath(page_dir, a) ? page_dir : !realpath(dir, b) ? dir : NULL;
+	if (bad) {
+		snprintf(err, errlen, "%.300s: cannot be resolved: %s", bad, strerror(errno));
+		return -1;
+	}
+	char *ca[PATH_MAX / 2], *cb[PATH_MAX / 2];
+	int na = components(a, ca, PATH_MAX / 2), nb = components(b, cb, PATH_MAX / 2), c = 0;
+	while (c < na && c < nb && !strcmp(ca[c], cb[c]))
+		c++;
+	size_t n = 0;
+	int k = snprintf(out, outlen, "%s", c == na && c == nb ? "./" : "");
+	n = (size_t)k;
+	for (int j = c; j < na && n < outlen; j++)
+		n += (size_t)snprintf(out + n, outlen - n, "../");
+	for (int j = c; j < nb && n < outlen; j++)
+		n += (size_t)snprintf(out + n, outlen - n, "%s/", cb[j]);
+	if (n >= outlen) {
+		snprintf(err, errlen, "%.300s: path too long", dir);
+		return -1;
 	}
 	return 0;
 }

@@ -7,6 +7,7 @@
 #define ANALYSIS_PAGE_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 /* A section is a page fragment of tables and an inline plot: the largest
  * brdfkit writes is about 31 KB (results/compare/env), so 4 MiB is over a
@@ -39,5 +40,20 @@ char *bk_html_escaped(const char *s);
  * <meta>, <form> and no text that ends a tag early. Returns 0 with the id
  * in id (idlen bytes), or -1 with err naming the first offence and its line. */
 int bk_section_check(const char *text, size_t len, char *id, size_t idlen, char *err, size_t errlen);
+
+/* The section text[0..len) (one that passed bk_section_check) to f with
+ * every <table> of more than min_rows rows, not already inside <details>,
+ * folded: <details class="fold"><summary>N rows: HEADER CELLS</summary>
+ * TABLE</details>, the summary line the table's header cells (their text,
+ * as escaped as the section has it), cut after whole cells at about 160
+ * characters. Everything else is copied byte for byte. Returns the number
+ * of tables folded. */
+int bk_page_fold(FILE *f, const char *text, size_t len, int min_rows);
+
+/* The link from the folder of the page at page_path to the folder dir,
+ * relative ("search/vf2d/", "../x/"), ending in '/': both resolved with
+ * realpath (the page's folder must exist; the page need not). Returns 0, or
+ * -1 with err "PATH: cannot be resolved: REASON". */
+int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t outlen, char *err, size_t errlen);
 
 #endif

@@ -304,7 +304,7 @@ void bk_render_section(FILE *f, const bk_render_out *o, int n, const char *prefi
 	fputs("</p>\n<p>", f);
 	bk_html_text(f, diff_text);
 	fputs(" The f16 images run the candidate and the shading around it in float16_t, as a mobile mediump "
-	      "shader would; their differences are against the exact f32 image.</p>\n<table>\n", f);
+	      "shader would; their differences are against the exact f32 image.</p>\n<figure>\n<table>\n", f);
 	for (int i = 0; i < n; i++) {
 		char sub[200] = "";
 		if (n > 1 || in_subdirs)
@@ -342,7 +342,10 @@ void bk_render_section(FILE *f, const bk_render_out *o, int n, const char *prefi
 			fprintf(f, "; display difference max %.3g, mean %.3g", o[i].max_diff[1], o[i].mean_diff[1]);
 		fputs("</td><td></td></tr>\n", f);
 	}
-	fputs("</table>\n<p>Device: ", f);
+	fputs("</table>\n<figcaption>Per candidate, left to right: the exact term rendered, the candidate in its place, "
+	      "and their difference (as the paragraph above states), in f32 (first row of pictures) and in float16_t "
+	      "(second); each picture links to its values (EXR; the difference to its full-size PNG). Data: each "
+	      "candidate's folder holds the images, its shaders and spheres.csv.</figcaption></figure>\n<p>Device: ", f);
 	if (n)
 		bk_html_text(f, o[0].device);
 	fputs(". Command: <code>", f);

@@ -11,7 +11,10 @@
 # each image's naturalWidth into the DOM; the page itself is only read.
 # Every check is a function, run once more on a page it must refuse (its
 # negative control): a page with a missing and an undecodable image and a
-# 0x0 plot, one loading a remote script, and an empty page.
+# 0x0 plot, one loading a remote script, and an empty page. Issue 24's checks
+# (every picture in a <figure> with a caption, tables over 6 rows folded in
+# <details>, the summary table and Figure 1 on the first screen of a 1280x800
+# window) are refused on a doctored copy of the page.
 set -u
 PAGE=${1:-results/index.html}
 CHROMIUM=${CHROMIUM:-chromium}
@@ -144,6 +147,34 @@ window.addEventListener('load', function () {
 		var r = svgs[j].getBoundingClientRect();
 		out.push('PAGECHECK-SVG ' + Math.round(r.width) + 'x' + Math.round(r.height));
 	}
+	// captions: every picture and every plot (an outer <svg>) sits in a
+	// <figure> whose <figcaption> says something
+	var pics = document.querySelectorAll('img, svg');
+	for (var k = 0; k < pics.length; k++) {
+		var el = pics[k];
+		if (el.tagName.toLowerCase() === 'svg' && el.parentElement && el.parentElement.closest('svg'))
+			continue;
+		var fig = el.closest('figure'), cap = fig ? fig.querySelector('figcaption') : null;
+		if (!cap || !cap.textContent.trim())
+			out.push('PAGECHECK-NOCAP ' + (el.getAttribute('src') || 'an inline svg'));
+	}
+	// folded: a table of more than 6 rows sits in a <details>, the summary aside
+	var tables = document.querySelectorAll('table');
+	for (var t = 0; t < tables.length; t++)
+		if (tables[t].id !== 'summary' && tables[t].rows.length > 6 && !tables[t].closest('details')) {
+			var sec = tables[t].closest('section');
+			out.push('PAGECHECK-UNFOLDED ' + tables[t].rows.length + ' rows in ' + (sec ? sec.id : 'the page'));
+		}
+	// the first screen: where the summary table and Figure 1 are, and the window
+	var box = function (id) {
+		var e = document.getElementById(id);
+		if (!e) return 'none';
+		var r = e.getBoundingClientRect();
+		return Math.round(r.top + window.scrollY) + ' ' + Math.round(r.bottom + window.scrollY);
+	};
+	out.push('PAGECHECK-WINDOW ' + window.innerWidth + ' ' + window.innerHeight);
+	out.push('PAGECHECK-SUMMARY ' + box('summary'));
+	out.push('PAGECHECK-FIGURE ' + box('main-figure'));
 	out.push('PAGECHECK-DONE');
 	var pre = document.createElement('pre');
 	pre.id = 'pagecheck';
@@ -152,11 +183,13 @@ window.addEventListener('load', function () {
 });
 </script>
 EOF
-# probe PAGE OUT: load a copy of PAGE in chromium, its probe's lines into OUT.
-# <base> first thing in <head> (or the document) so relative src resolve to the
-# page's folder; the probe last, after everything it looks at.
+# probe PAGE OUT [DIR]: load a copy of PAGE in chromium, in a 1280x800 window
+# (a laptop's first screen), its probe's lines into OUT. <base> first thing in
+# <head> (or the document) so relative src resolve to the page's folder (or
+# DIR, for a doctored copy kept elsewhere); the probe last, after everything
+# it looks at.
 probe() {
-	d=$(cd "$(dirname "$1")" && pwd)
+	d=$(cd "${3:-$(dirname "$1")}" && pwd)
 	base="<base href=\"file://$(printf '%s' "$d" | sed 's/ /%20/g')/\">"
 	if grep -qiE '<head([[:space:]][^>]*)?>' "$1"; then
 		esc=$(printf '%s' "$base" | sed 's/[&|\\]/\\&/g')
@@ -165,7 +198,7 @@ probe() {
 		{ echo "$base"; cat "$1"; } >"$T/copy.html"
 	fi
 	cat "$T/probe.html" >>"$T/copy.html"
-	chromium_run --dump-dom "file://$T/copy.html" >"$T/dom.html"
+	chromium_run --window-size=1280,800 --dump-dom "file://$T/copy.html" >"$T/dom.html"
 	grep '^PAGECHECK-' "$T/dom.html" >"$2"
 }
 # loaded_ok PROBE NIMG NSVG: the probe ran, the DOM holds the page's NIMG
@@ -199,6 +232,47 @@ check "loaded in chromium" loaded_ok "$T/probe.txt" "$page_img" "$page_svg"
 probe "$T/ctl/broken.html" "$T/probe_ctl.txt"
 expect_fail "loaded in chromium" loaded_ok "$T/probe_ctl.txt" 2 1
 grep -q '^PAGECHECK-DONE' "$T/probe_ctl.txt" && ok || bad "control page not loaded: the control proves nothing"
+
+# ---- captions, folds and the first screen (issue 24) ---------------------------------
+
+# captioned PROBE: every picture and plot on the page in a <figure> with a
+# <figcaption> (what is plotted, axes, units, the data file)
+captioned() {
+	grep -q '^PAGECHECK-DONE' "$1" || { echo "no probe output"; return 1; }
+	! grep '^PAGECHECK-NOCAP' "$1" | head -5 | sed 's/^PAGECHECK-NOCAP /no caption: /' | grep .
+}
+# folded PROBE: no table of more than 6 rows outside a <details> but the summary
+folded() {
+	grep -q '^PAGECHECK-DONE' "$1" || { echo "no probe output"; return 1; }
+	! grep '^PAGECHECK-UNFOLDED' "$1" | head -5 | sed 's/^PAGECHECK-UNFOLDED /not folded: /' | grep .
+}
+# first_screen PROBE: in a 1280x800 window the summary table is whole on the
+# first screen and Figure 1 begins at least 100 px above its bottom edge. The
+# screen is the page's viewport as Chromium reports it (its headless dump
+# gives a 1280x800 window about 657 px of page, less its frame): the bound is
+# that height, checked to be a laptop's screen (600 to 800 px).
+first_screen() {
+	set -- $(sed -n 's/^PAGECHECK-WINDOW //p' "$1") $(sed -n 's/^PAGECHECK-SUMMARY //p' "$1") \
+		$(sed -n 's/^PAGECHECK-FIGURE //p' "$1")
+	[ "$#" -eq 6 ] || { echo "the page has no summary table (id summary) or no Figure 1 (id main-figure): $*"; return 1; }
+	[ "$1" -eq 1280 ] && [ "$2" -ge 600 ] && [ "$2" -le 800 ] ||
+		{ echo "viewport $1x$2, not a 1280x800 window's: the check would measure another screen"; return 1; }
+	[ "$3" -ge 0 ] && [ "$4" -le "$2" ] || { echo "the summary table spans y $3 to $4, not within the first $2 px"; return 1; }
+	[ "$5" -le $(($2 - 100)) ] || { echo "Figure 1 starts at y $5, below the first screen's last 100 px"; return 1; }
+}
+check "every picture captioned" captioned "$T/probe.txt"
+check "long tables folded" folded "$T/probe.txt"
+check "the first screen: summary and Figure 1" first_screen "$T/probe.txt"
+# the controls: one doctored copy of the page, beside it so its pictures
+# resolve: its first caption made a <span>, its first fold a <div>, and 900 px
+# of nothing before the summary; each check must refuse it
+sed -e '0,/<figcaption>/s//<span>/' -e '0,/<details class="fold">/s//<div>/' \
+	-e '0,/<body>/s//<body><div style="height:900px"><\/div>/' "$PAGE" >"$T/doctored.html"
+probe "$T/doctored.html" "$T/probe_doc.txt" "$DIR"
+grep -q '^PAGECHECK-DONE' "$T/probe_doc.txt" && ok || bad "doctored page not loaded: its controls prove nothing"
+expect_fail "every picture captioned" captioned "$T/probe_doc.txt"
+expect_fail "long tables folded" folded "$T/probe_doc.txt"
+expect_fail "the first screen: summary and Figure 1" first_screen "$T/probe_doc.txt"
 
 # ---- a screenshot of the page itself: not blank ------------------------------------
 

@@ -261,8 +261,14 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	           "cost model <code>%s</code>, simple \xc3\x97 %g + complex \xc3\x97 %g (brdfkit ops).</p>\n",
 	        S->relative ? "relative" : "absolute", S->info.cost_model, S->info.simple, S->info.complex);
 	(void)dir; /* the plot is a picture (plot.h), beside it as PDF and PNG for a paper */
-	fprintf(f, "<p><img src=\"%spareto_cost.svg\" width=\"100%%\" alt=\"max |error| against cost\"><br>"
-	           "As <a href=\"%spareto_cost.pdf\">PDF</a>, <a href=\"%spareto_cost.png\">PNG</a>.</p>\n", prefix, prefix, prefix);
+	fprintf(f, "<figure><img src=\"%spareto_cost.svg\" width=\"100%%\" alt=\"max |error| against cost\">\n"
+	           "<figcaption>The largest absolute error over the target's samples (log scale) against ALU cost (cost "
+	           "model <code>%s</code>: simple \xc3\x97 %g + complex \xc3\x97 %g, a texture fetch priced at %d simple ops), "
+	           "one marker per entry, its shape and colour by kind (legend), filled on the Pareto front (the dashed "
+	           "staircase). Data: <a href=\"%scompare.csv\">compare.csv</a> (columns max_abs, cost, tex_fetches); "
+	           "as <a href=\"%spareto_cost.pdf\">PDF</a>, <a href=\"%spareto_cost.png\">PNG</a>.</figcaption></figure>\n",
+	        prefix, S->info.cost_model, S->info.simple, S->info.complex, bk_tier_alu_per_tex[S->tier], prefix, prefix,
+	        prefix);
 	if (!S->untimed[0]) {
 		fprintf(f, "<p>Against CPU run time (a file of its own: timings change from run to run): "
 		           "<a href=\"%spareto_ns.svg\">pareto_ns.svg</a>; tables: <a href=\"%scompare.csv\">compare.csv</a>, "
@@ -282,7 +288,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 			bk_html_text(f, S->rows[i].name);
 			first = 0;
 		}
-	fputs(".</p>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
+	fputs(".</p>\n<figure>\n<table>\n<tr><th>entry</th><th>kind</th><th>max |error|</th><th>rmse</th><th>vs published</th>"
 	      "<th>ALU cost</th><th>simple</th><th>complex</th><th>fetches</th><th>SPIR-V</th>", f);
 	if (S->info.nchips) {
 		fputs("<th>AMD instructions (", f);
@@ -319,19 +325,32 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 		fprintf(f, "</td><td>%s</td><td><a href=\"%sheatmaps/%s.png\"><img src=\"%sheatmaps/%s.png\" width=\"120\" "
 		        "alt=\"heatmap\"></a></td></tr>\n", r->pareto_cost ? "&#9733;" : "", prefix, sl, prefix, sl);
 	}
-	fputs("</table>\n", f);
+	fputs("</table>\n<figcaption>Heatmaps (last column): each entry's signed error (approximation \xe2\x88\x92 exact; "
+	      "the directional albedo's where the term is scored on it) over the target's plane, ", f);
+	bk_html_text(f, S->s.plane_xname);
+	fputs(" across, ", f);
+	bk_html_text(f, S->s.plane_yname);
+	fprintf(f, " up, in diverging colours symmetric about zero (blue below, red above); each links to its PNG, "
+	           "beside it in <a href=\"%sheatmaps/\">heatmaps/</a> the values as EXR and the figure as SVG and "
+	           "PDF.</figcaption></figure>\n", prefix);
 	if (S->info.nchips) {
 		/* pictures, not inline plots: four more full-size plots per target would bury the table */
 		fprintf(f, "<p>Error against AMD instruction counts, per chip (Mesa RADV's null device and its ACO "
 		           "compiler, %s; net of a load/store baseline; closed forms only). Where an order differs from the "
 		           "ALU cost's, the IR's model and the compiler disagree: see <code>brdfkit gpucost "
-		           "--calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n<p>",
+		           "--calibrate</code>. AMD only: no mobile GPU compiler runs offline.</p>\n<figure>",
 		        S->driver);
 		for (int c = 0; c < S->info.nchips; c++)
 			fprintf(f, "<a href=\"%saco_%s.pdf\"><img src=\"%saco_%s.svg\" width=\"49%%\" alt=\"error against %s "
 			           "instructions\"></a>",
 			        prefix, S->info.chip[c], prefix, S->info.chip[c], S->info.chip[c]);
-		fputs("</p>\n", f);
+		fputs("\n<figcaption>The largest absolute error over the target's samples (log scale) against the "
+		      "instructions AMD's ACO compiler emits for each closed form, one plot per chip (", f);
+		for (int c = 0; c < S->info.nchips; c++)
+			fprintf(f, "%s%s", c ? ", " : "", S->info.chip[c]);
+		fprintf(f, "; net of a load/store baseline), markers as in the plot above; each links to its PDF. Data: "
+		           "<a href=\"%scompare.csv\">compare.csv</a> (columns aco_CHIP_instructions).</figcaption></figure>\n",
+		        prefix);
 	}
 	fputs("</section>\n", f);
 }

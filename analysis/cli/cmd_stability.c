@@ -435,7 +435,7 @@ int cmd_stability(int argc, char **argv)
 				      "minimum safe inputs are computed, and the "
 				      "guard proposed is the floor that makes the form pass with the smallest error of its "
 				      "own. Table: <a href=\"", h);
-				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<table>\n<tr><th>term or form</th><th>half</th>"
+				fprintf(h, "%sstability.csv\">stability.csv</a>.</p>\n<figure>\n<table>\n<tr><th>term or form</th><th>half</th>"
 				           "<th>wrong / samples</th><th>non-finite / overflows</th><th>max rel. error (well "
 				           "conditioned)</th><th>safe from</th><th>guard</th><th>map</th></tr>\n", pre);
 				for (int i = 0; i < n && rc == 0; i++) {
@@ -446,7 +446,12 @@ int cmd_stability(int argc, char **argv)
 					if (write_map(&st[i], path, err, sizeof err))
 						rc = -1;
 				}
-				fputs("</table>\n</section>\n", h);
+				fprintf(h, "</table>\n<figcaption>Maps (last column): per term or form, the share of wrong "
+				           "half-precision results (a sequential scale from 0, dark, to 1, light) over the first cosine "
+				           "(across) and the perceptual roughness r (up) of the stress grid, the other inputs "
+				           "pooled; each links to its PNG, beside it in <a href=\"%smaps/\">maps/</a> as SVG and PDF. "
+				           "Data: <a href=\"%sstability.csv\">stability.csv</a>.</figcaption></figure>\n</section>\n",
+				        pre, pre);
 			}
 			if (f && (ferror(f) | fclose(f)))
 				rc = -1;

@@ -1,0 +1,86 @@
+/*
+ * summary.h — the page's first screen (brdfkit report --summary): per target,
+ * the best published form against the search's front, computed from the
+ * CSVs brdfkit wrote, read by column NAME (libcsv), every number tied to the
+ * file and line it came from.
+ *
+ * A target is a directory. A search's (brdfkit search --out DIR) holds
+ * catalog.csv (the published forms scored on the search's own samples and
+ * objective, each also refitted) and front.csv (the front); both have the
+ * columns name, cost, error, and a '#' line "... error: OBJECTIVE in P
+ * precision ..." that says what error is. A directory without front.csv but
+ * with compare.csv (brdfkit compare --out DIR) is a target with no search:
+ * its published rows (kind = published) with cost and max_abs, compare's
+ * own objective.
+ *
+ * The rules (each a plain scan in file order, so ties resolve to the earlier
+ * line and the same files give the same row):
+ *   published      a catalog row that is none of brdfkit's own: not "NAME
+ *                  (refit)", not a typed start ("start K"), not a texture
+ *                  ("LUT ..."); in compare.csv, kind == "published";
+ *   best published the least error; a tie: the lower cost, then the earlier line;
+ *   at cost        the front member of least error with cost <= the best
+ *                  published's cost (a tie: lower cost, earlier line); the
+ *                  ratio is published error / its error (0: +inf);
+ *   match          the cheapest front member with error <= the best
+ *                  published's error (a tie: lower error, earlier line);
+ *   beaten         published forms p with a front member of cost <= p's
+ *                  cost and error < p's error (strictly better at its cost).
+ * A field that is empty or not a finite number >= 0 where one is read is an
+ * error "FILE:LINE: COLUMN: ..."; a file with no published row, or a front
+ * with no row, is an error naming the file.
+ */
+#ifndef ANALYSIS_SUMMARY_H
+#define ANALYSIS_SUMMARY_H
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define BK_SUMMARY_NAME 160
+#define BK_SUMMARY_PATH 512
+
+/* One scored row of a file: what a summary cell shows and where it is from. */
+typedef struct bk_summary_pick {
+	int line; /* of the file, from 1; 0: no such row */
+	char name[BK_SUMMARY_NAME];
+	double cost, error;
+} bk_summary_pick;
+
+/* The rows of one file that the rules look at. */
+typedef struct bk_summary_pt {
+	int line;
+	const char *name;
+	double cost, error;
+} bk_summary_pt;
+
+typedef struct bk_summary_row {
+	char target[BK_SUMMARY_NAME];    /* the directory's last component */
+	char objective[BK_SUMMARY_NAME]; /* "max_abs in f64 precision" */
+	char cost_model[BK_SUMMARY_NAME];/* "simple*1 + complex*4" from the '# cost:' line; "" when not stated */
+	char pub_file[BK_SUMMARY_PATH];  /* catalog.csv or compare.csv, the path read */
+	char front_file[BK_SUMMARY_PATH];/* front.csv; "" with no search */
+	int has_search;
+	bk_summary_pick pub, at_cost, match;
+	int npub, nbeaten;
+} bk_summary_row;
+
+/* The rules over published rows pub[0..npub) and front rows front[0..nfront)
+ * (nfront 0: no search; at_cost, match and nbeaten stay empty). Fills the
+ * picks and counts of row; returns 0, or -1 when npub is 0. */
+int bk_summary_compute(const bk_summary_pt *pub, int npub, const bk_summary_pt *front, int nfront,
+                       bk_summary_row *row);
+
+/* Reads the target directory dir (as above) into row. 0, or -1 with err:
+ * "FILE:LINE: what" or "FILE: what" or "DIR: what". */
+int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errlen);
+
+/* published error / at-cost error: +inf when the latter is 0, NaN when
+ * there is no at-cost member. */
+double bk_summary_ratio(const bk_summary_row *row);
+
+/* The first screen's table, every value escaped: per row, href[i] is the
+ * directory as a link from the page (ending in '/', already escaped or
+ * plain: it is escaped here). */
+void bk_summary_table(FILE *f, const bk_summary_row *rows, int n, const char *const *href);
+
+#endif
