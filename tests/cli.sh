@@ -132,7 +132,7 @@ expect_fail "ops count" ops_count "$T/ops.csv" div 2
 $BK ops env_talk_r:B --csv >"$T/ops.csv" && ops_count "$T/ops.csv" complex 0 && ok || bad "ops env_talk_r:B"
 $BK ops env_karis2014 --csv >"$T/ops.csv"
 ops_count "$T/ops.csv" exp2 1 && ops_count "$T/ops.csv" complex 1 && ok || bad "ops env_karis2014"
-# the README's count: 34 published forms
+# the README's count (and brdfkit-catalog(1)): 34 published forms
 $BK catalog >"$T/cat.csv" && n=$(csv_col "$T/cat.csv" name | wc -l) && [ "$n" -eq 34 ] && ok || bad "catalog: ${n:-no} entries, the README says 34"
 head -1 "$T/cat.csv" | grep -q '^name,target,form,parameters,source' && ok || bad "catalog header"
 $BK codegen --lang glsl --precision half vf_talk_r >"$T/a.glsl" && $BK codegen --lang glsl --precision half vf_talk_r >"$T/b.glsl"
@@ -598,7 +598,7 @@ done
 # A planted form: the target is 0.3/(LoH^2 + 0.7 r^2), a seed one mutation
 # away (an r^2 term missing) starts the search. Since issue 22 (the
 # neighbours of each level's best by one free constant, fit/expr.h) both
-# the 3000- and the 8000-fit runs of the README (seed 1) hold the answer.
+# the 3000- and the 8000-fit runs of brdfkit-search(1) (seed 1) hold the answer.
 # Each member the front calls exact is re-evaluated outside the search
 # (brdfkit eval against the target computed here in awk, 1e-12).
 PLANT='0.3/(LoH*LoH + 0.7*r*r)'
@@ -608,7 +608,7 @@ PLANT_POINTS="0.3162,0 0.5,0.5 0.7,0.2 1,1 0.4,0.9 0.9,0.05"
 planted_recovered() { front_answers "$BK" "$1" "$PLANT_AWK" $PLANT_POINTS; }
 # best_below FRONT BOUND: the front's smallest rmse is a number below BOUND
 best_below() { m=$(csv_min "$1" rmse) && awk -v m="$m" -v b="$2" 'BEGIN { exit !(m + 0 < b + 0) }'; }
-search_plant() { # search_plant OUT EVALS [options]: the planted search, as the README runs it
+search_plant() { # search_plant OUT EVALS [options]: the planted search, as brdfkit-search(1) runs it
 	o=$1 e=$2; shift 2
 	$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
 		--ops '+,*,/,sq' --max-params 2 --evals "$e" --out "$o" "$@"

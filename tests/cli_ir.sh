@@ -3,7 +3,7 @@
 # stability) give no silent wrong answer (issue 21): code that spells out what
 # the IR evaluates, no "safe" verdict for a form that is not finite or right
 # only by luck, no form without a value emitted or measured, no option value
-# without an effect, no generated name that does not compile, the README's
+# without an effect, no generated name that does not compile, brdfkit(1)'s
 # nesting limit, warnings for constants the precision cannot hold. Each check
 # has a negative control that shows it can fail.
 # usage: sh tests/cli_ir.sh path/to/brdfkit   (from the repository root)
@@ -116,7 +116,7 @@ refused "VK_ICD_FILENAMES elsewhere" 1 "VK_ICD_FILENAMES=/nonexistent does not n
 	env VK_ICD_FILENAMES=/nonexistent $BK gpucost NoV
 grep -q apt-get "$T/err" && bad "VK_ICD_FILENAMES elsewhere: install line" || ok
 
-# ---- 200 levels deep, as the README says (L11) ---------------------------------
+# ---- 200 levels deep, as brdfkit(1) says ---------------------------------
 for n in 200 201; do
 	awk -v n=$n 'BEGIN { for (i = 0; i < n; i++) printf "("; printf "NoV"; for (i = 0; i < n; i++) printf ")"; print "" }' >"$T/d$n"
 done

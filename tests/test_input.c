@@ -96,7 +96,7 @@ Test(limits, instructions)
 }
 
 /* Nesting: the whole form is level 0, each '(' or unary minus one more
- * (README: "200 levels deep"); 200 levels parse, the operand at level 201 is
+ * (brdfkit(1): "200 levels deep"); 200 levels parse, the operand at level 201 is
  * the error. */
 Test(limits, depth)
 {

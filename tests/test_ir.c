@@ -127,7 +127,7 @@ Test(parse, nesting_is_bounded)
 	cr_assert_str_eq(e.message, "expression nested too deeply (more than 200 levels) near '('");
 }
 
-/* "200 levels deep" (README): 200 nested parentheses, calls or unary minus
+/* "200 levels deep" (brdfkit(1)): 200 nested parentheses, calls or unary minus
  * are read, and give the value; 201 are refused. */
 static char *nested(int n, const char *open, const char *inner, const char *close)
 {
