@@ -19,9 +19,11 @@
  *      the same values bit for bit (checked here too).
  *   3. IR tree nodes/s in f32 over the run's candidates, 1 thread, parsed
  *      once, median of REPS (bench_search's figure parses each candidate per
- *      8 evaluations, which this leaves out); bk_form_eval's default path
- *      and the AVX2 one where the CPU has it (ir_eval.c's dispatch).
- *      Target: >= 6 G nodes/s per core.
+ *      8 evaluations, which this leaves out), thread CPU time: libm's scalar
+ *      exp2f and log2f (old, bk_ir_force_libm) against brdf/vmath.h's (new),
+ *      each in the baseline kernels and the AVX2 ones where the CPU has it
+ *      (ir_eval.c's dispatch); the new side's two copies checked for the same
+ *      bits in f32 and f16. Target: >= 6 G nodes/s per core.
  *
  * Issue 22 part 3 (TinySolver of fixed sizes fed the Jacobian by columns,
  * fit/tiny.cc, fit_ctx.c; a parameter's column written by vector stores,
@@ -34,6 +36,11 @@
  * target stays out of reach: of a screening fit, the IR's passes are ~40 %
  * (libm's exp2 8 %), Eigen's blocked JᵀJ inside TinySolver ~18 %, its Jacobi
  * scaling and Jᵀr ~8 %, the residual glue ~9 % (perf).
+ *
+ * Issue 22, vectorised exp2 and log2 (brdf/vmath.h) and whole blocks' input
+ * and output conversions vectorised (ir_eval.c), 3.: AVX2, libm 3.56-3.89 G
+ * -> vmath 5.94-6.57 G nodes per CPU-s with the 2 cores at load ~10, 3.77 ->
+ * 8.17 G at load ~2 (main before it: 3.23-3.58 G).
  */
 #include "brdf.h"
 #include "clock.h"
