@@ -18,7 +18,7 @@
  *      reads no parameter kept from the first call: new, what the fits use),
  *      the same values bit for bit (checked here too).
  *   3. IR tree nodes/s in f32 over the run's candidates, 1 thread, parsed
- *      once, median of REPS (bench_search's figure parses each candidate per
+ *      once, median of 9 (bench_search's figure parses each candidate per
  *      8 evaluations, which this leaves out), thread CPU time: libm's scalar
  *      exp2f and log2f (old, bk_ir_force_libm) against brdf/vmath.h's (new),
  *      each in the baseline kernels and the AVX2 ones where the CPU has it
@@ -273,10 +273,14 @@ int main(int argc, char **argv)
 	/* 3. f32 nodes/s, parsed once, thread CPU time: libm's scalar exp2f and
 	 * log2f (old) against brdf/vmath.h's vectorised ones (new), each in the
 	 * baseline kernels and in AVX2 (ir_eval.c's dispatch); interleaved */
-	double tn[2][2][REPS] = {{{0}}}, nodes = 0;
+	/* more runs than the searches: each is seconds, and the median of 9
+	 * holds better than that of 3 against the other processes of a shared
+	 * machine (their load moved the figure by +-20 % from run to run) */
+	enum { NREPS = 9 };
+	double tn[2][2][NREPS] = {{{0}}}, nodes = 0;
 	for (size_t i = 0; i < nc; i++)
 		nodes += 8.0 * (double)sm.n * cs[i].nodes;
-	for (int r = 0; r < (only_fits ? 0 : REPS); r++)
+	for (int r = 0; r < (only_fits ? 0 : NREPS); r++)
 		for (int side = 0; side < 2; side++)
 			for (int isa = 0; isa < 2; isa++) {
 				bk_ir_force_libm(side == 0);
@@ -318,15 +322,16 @@ int main(int argc, char **argv)
 	double gn[2][2];
 	for (int side = 0; side < 2; side++)
 		for (int isa = 0; isa < 2; isa++)
-			gn[side][isa] = nodes / bk_clock_median(tn[side][isa], REPS);
+			gn[side][isa] = nodes / bk_clock_median(tn[side][isa], NREPS);
 	if (!only_fits) {
 		double g = gn[1][bk_ir_avx2()];
-		printf("  IR tree nodes/s in f32, 1 thread, parsed once, per thread CPU-s (%zu candidates, %zu with exp2 or log2):\n"
+		printf("  IR tree nodes/s in f32, 1 thread, parsed once, per thread CPU-s, median of %d (%zu candidates, %zu with "
+		       "exp2 or log2):\n"
 		       "    old (libm exp2f/log2f): baseline %.3g, AVX2 %.3g | new (vmath.h): baseline %.3g, AVX2 %.3g | "
 		       "new/old %.2fx%s\n"
 		       "    new, baseline and AVX2 copies differ in any bit (f32, f16): %zu%s; candidates whose f32 values "
 		       "moved from libm's: %zu\n",
-		       nc, with_x2, gn[0][0], gn[0][1], gn[1][0], gn[1][1], g / gn[0][bk_ir_avx2()],
+		       (int)NREPS, nc, with_x2, gn[0][0], gn[0][1], gn[1][0], gn[1][1], g / gn[0][bk_ir_avx2()],
 		       g >= 6e9 ? "   (target >= 6e9: met)" : "   (target >= 6e9: NOT met)", copies_differ,
 		       copies_differ ? "   (MUST be 0)" : "", moved);
 		if (!bk_ir_avx2())
