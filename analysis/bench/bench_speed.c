@@ -38,9 +38,11 @@
  * scaling and Jᵀr ~8 %, the residual glue ~9 % (perf).
  *
  * Issue 22, vectorised exp2 and log2 (brdf/vmath.h) and whole blocks' input
- * and output conversions vectorised (ir_eval.c), 3.: AVX2, libm 3.56-3.89 G
- * -> vmath 5.94-6.57 G nodes per CPU-s with the 2 cores at load ~10, 3.77 ->
- * 8.17 G at load ~2 (main before it: 3.23-3.58 G).
+ * and output conversions vectorised (ir_eval.c), 3., AVX2, thread CPU time,
+ * the 2 cores shared (load 9-17), medians of 9: libm 4.48-4.85 G -> vmath
+ * 7.79-8.45 G nodes per CPU-s (1.68-1.74x); with the conversions as before
+ * (what main ran: libm and scalar conversions) 3.87 G, vmath alone on them
+ * 5.84 G. Per run of 3 medians the figure moved by +-20 % with the load.
  */
 #include "brdf.h"
 #include "clock.h"
