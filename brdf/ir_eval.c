@@ -12,6 +12,7 @@
  */
 #include "half.h"
 #include "ir.h"
+#include "vmath.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -75,17 +76,56 @@ static long double roundld(long double x) { return x; }
  * log2(e) and ln 2 included, and pow of a negative base is NaN (log2 of it),
  * as GLSL and HLSL leave it. The other precisions keep libm's functions: f32
  * is what the generated C computes with expf, logf and powf.
+ *
+ * exp2 and log2 in f32 and f16 (V = 1), the exp2 and log2 inside f16's pow,
+ * exp and log included, are vmath.h's bk_v_exp2f and bk_v_log2f: branch-free
+ * C that vectorises in both copies below with the same bits, within 1 ulp of
+ * the correctly rounded value (rounded correctly for all but 1,442 and 4 of
+ * the 2^32 floats; glibc's exp2f and log2f, which the generated C calls,
+ * differ from them on 168,022 and 313,552). libm's were scalar calls and
+ * about 45 % of the f32 time on the search's candidates. In f16 every exp2
+ * and log2 reads a half and its result is rounded to half: over all 63,488
+ * finite halves the two give the same halves, so no f16 result moved
+ * (tests/test_vmath.c). f64 keeps libm: the fits and fronts are its bits.
+ * bk_ir_force_libm(1) puts libm's back (make bench's side by side).
  */
 #define LOG2E 1.44269504088896340736 /* log2(e) */
 #define LN2 0.693147180559945309417  /* ln(2) */
 
-/* KERNEL(name, T, R, D): R rounds a T to the precision being modelled; D: the
- * GPU's decomposed pow, exp and log (above). */
-#define KERNEL(NAME, T, R, D, ATTR)                                                      \
+/* 1: f32 and f16 run libm's exp2f and log2f (bk_ir_force_libm); read relaxed,
+ * once per instruction */
+static _Atomic int use_libm = 0;
+
+void bk_ir_force_libm(int on)
+{
+	atomic_store_explicit(&use_libm, on != 0, memory_order_relaxed);
+}
+
+/* The expressions of the ops that call exp2 or log2, with the pair of
+ * functions (X2, L2) a parameter: vmath's or libm's (through tgmath). */
+#define E_EXP2(R, X2, L2) R(X2(A[k]))
+#define E_LOG2(R, X2, L2) R(L2(A[k]))
+#define E_POW16(R, X2, L2) R(X2(R(B[k] * R(L2(A[k])))))
+#define E_EXP16(R, X2, L2) R(X2(R(A[k] * R((float)LOG2E))))
+#define E_LOG16(R, X2, L2) R(R(L2(A[k])) * R((float)LN2))
+/* one loop each way, the choice made outside it (a branch inside would keep
+ * the loop scalar) */
+#define VM(E, R)                                                                                       \
+	do {                                                                                               \
+		if (vm)                                                                                        \
+			for (k = 0; k < BLOCK; k++) r[k] = E(R, bk_v_exp2f, bk_v_log2f);                          \
+		else                                                                                           \
+			for (k = 0; k < BLOCK; k++) r[k] = E(R, exp2, log2);                                      \
+	} while (0)
+
+/* KERNEL(name, T, R, D, V): R rounds a T to the precision being modelled; D: the
+ * GPU's decomposed pow, exp and log; V: vmath's exp2 and log2 (above). */
+#define KERNEL(NAME, T, R, D, V, ATTR)                                                   \
 	ATTR static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
 	                             const T *restrict B, const T *restrict C)              \
 	{                                                                                    \
 		size_t k;                                                                        \
+		const int vm = V && !atomic_load_explicit(&use_libm, memory_order_relaxed);      \
 		switch (c->op) {                                                                 \
 		case BK_OP_ADD: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] + B[k]); break;       \
 		case BK_OP_SUB: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] - B[k]); break;       \
@@ -93,17 +133,17 @@ static long double roundld(long double x) { return x; }
 		case BK_OP_DIV: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] / B[k]); break;       \
 		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
 		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
-		case BK_OP_POW: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(B[k] * R(log2(A[k]))))); } \
+		case BK_OP_POW: if (D) { VM(E_POW16, R); } \
 		                else { for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); } break; \
 		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
 		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
 		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
-		case BK_OP_EXP: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(exp2(R(A[k] * R((T)LOG2E)))); } \
+		case BK_OP_EXP: if (D) { VM(E_EXP16, R); } \
 		                else { for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); } break;       \
-		case BK_OP_EXP2: for (k = 0; k < BLOCK; k++) r[k] = R(exp2(A[k])); break;       \
-		case BK_OP_LOG: if (D) { for (k = 0; k < BLOCK; k++) r[k] = R(R(log2(A[k])) * R((T)LN2)); } \
+		case BK_OP_EXP2: VM(E_EXP2, R); break;                                           \
+		case BK_OP_LOG: if (D) { VM(E_LOG16, R); } \
 		                else { for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); } break;       \
-		case BK_OP_LOG2: for (k = 0; k < BLOCK; k++) r[k] = R(log2(A[k])); break;       \
+		case BK_OP_LOG2: VM(E_LOG2, R); break;                                           \
 		case BK_OP_MIN: for (k = 0; k < BLOCK; k++) r[k] = MIN(A[k], B[k]); break;      \
 		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = MAX(A[k], B[k]); break;      \
 		case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) { T t = MAX(A[k], B[k]); r[k] = MIN(t, C[k]); } break; \
@@ -128,6 +168,11 @@ static long double roundld(long double x) { return x; }
 			case BK_OP_PARAM: if (first) { T v = R((T)par[c->slot]); for (k = 0; k < BLOCK; k++) r[k] = v; } break; \
 			case BK_OP_INPUT:                                                            \
 				for (k = 0; k < ahead; k += LINE) PREFETCH(in[c->slot] + n + k);         \
+				if (n == BLOCK) { /* a constant count: the conversion vectorises */      \
+					const double *restrict x = in[c->slot];                              \
+					for (k = 0; k < BLOCK; k++) r[k] = R((T)x[k]);                      \
+					break;                                                               \
+				}                                                                        \
 				for (k = 0; k < n; k++) r[k] = R((T)in[c->slot][k]);                     \
 				for (; k < BLOCK; k++) r[k] = r[n - 1];                                  \
 				break;                                                                   \
@@ -138,8 +183,12 @@ static long double roundld(long double x) { return x; }
 			}                                                                            \
 		}                                                                                \
 		const T *res = reg + (size_t)f->out * BLOCK;                                     \
-		for (size_t k = 0; out && k < n; k++)                                            \
-			out[k] = (double)res[k];                                                     \
+		if (out && n == BLOCK) /* as the inputs: a constant count vectorises */          \
+			for (size_t k = 0; k < BLOCK; k++)                                           \
+				out[k] = (double)res[k];                                                 \
+		else                                                                             \
+			for (size_t k = 0; out && k < n; k++)                                        \
+				out[k] = (double)res[k];                                                 \
 	}
 
 /*
@@ -160,14 +209,14 @@ static long double roundld(long double x) { return x; }
 #define AVX2
 #endif
 
-KERNEL(run64_gen, double, round64, 0, )
-KERNEL(run32_gen, float, round32, 0, )
-KERNEL(run16_gen, float, round16, 1, )
-KERNEL(runld, long double, roundld, 0, )
+KERNEL(run64_gen, double, round64, 0, 0, )
+KERNEL(run32_gen, float, round32, 0, 1, )
+KERNEL(run16_gen, float, round16, 1, 1, )
+KERNEL(runld, long double, roundld, 0, 0, )
 #if BK_IR_HAVE_AVX2
-KERNEL(run64_avx2, double, round64, 0, AVX2)
-KERNEL(run32_avx2, float, round32, 0, AVX2)
-KERNEL(run16_avx2, float, round16, 1, AVX2)
+KERNEL(run64_avx2, double, round64, 0, 0, AVX2)
+KERNEL(run32_avx2, float, round32, 0, 1, AVX2)
+KERNEL(run16_avx2, float, round16, 1, 1, AVX2)
 #endif
 
 /* -1 not asked yet, 0 baseline, 1 AVX2; read and written relaxed: every
