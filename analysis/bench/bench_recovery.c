@@ -25,7 +25,9 @@
  * recovery or its best rmse; the suite's recovery rate over all runs and the
  * share of forms recovered at every seed; the median fits to recovery; the
  * catalog's rediscovery rate. --quick runs the forms marked * at 2 seeds
- * (a minute on 2 cores), --only NAME,... chosen forms.
+ * (a minute on 2 cores), --only NAME,... chosen forms, --starts N the
+ * screening starts per candidate (the search's default otherwise), --dump
+ * PREFIX every candidate a run fitted into PREFIX.NAME.SEED.tsv.
  */
 #include "brdf.h"
 #include "catalog.h"
@@ -52,6 +54,7 @@ typedef struct opts {
 	const char *file, *only, *dump;
 	long evals;
 	int seeds, threads, quick, catalog, verbose, first;
+	int starts; /* screening starts per candidate; 0: the search's default */
 } opts;
 
 static char *trim(char *s)
@@ -157,6 +160,9 @@ static int check(void *ctx, const bk_search *s)
 	return w->r->recovered;
 }
 
+/* the name of the form being run, for --dump's file names */
+static const char *dump_name = "";
+
 /* One search of form on domain as brdfkit search --target form makes it. */
 static int run_one(const char *form, const char *domain, const char *ops, unsigned long seed, const opts *O,
                    result *r)
@@ -204,6 +210,8 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	o.enum_size = 5;
 	o.enum_max = 5000;
 	o.generation = 256;
+	if (O->starts > 0)
+		o.starts = O->starts;
 	bk_search *s = bk_search_new(&o, err, sizeof err);
 	int rc = s ? bk_search_run(s, check, &w, err, sizeof err) : -1;
 	if (rc < 0)
@@ -212,7 +220,7 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 		r->evals = bk_search_evals(s);
 	if (s && O->dump) { /* every candidate fitted: found_at, status, rmse, text */
 		char path[512];
-		snprintf(path, sizeof path, "%s.%lu.tsv", O->dump, seed);
+		snprintf(path, sizeof path, "%s.%s.%lu.tsv", O->dump, dump_name, seed);
 		FILE *f = fopen(path, "w");
 		for (size_t i = 0; f && i < bk_search_count(s); i++) {
 			const bk_cand *c = bk_search_at(s, i);
@@ -250,6 +258,7 @@ static void bench_form(const char *name, const char *form, const char *domain, c
                        int *runs, int *rec, int *all_seeds, long *fits, int *nfits)
 {
 	int ok = 0;
+	dump_name = name;
 	printf("  %-22s", name);
 	double t0 = bk_clock_now();
 	for (int k = O->first; k < O->first + O->seeds; k++) {
@@ -368,7 +377,7 @@ static int catalog_domain(const bk_catalog_entry *e, const char *text, char *dom
 
 int main(int argc, char **argv)
 {
-	opts O = {"analysis/bench/planted.txt", NULL, NULL, 20000, 3, 2, 0, 1, 0, 1};
+	opts O = {"analysis/bench/planted.txt", NULL, NULL, 20000, 3, 2, 0, 1, 0, 1, 0};
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--quick"))
 			O.quick = 1, O.seeds = 2, O.catalog = 0;
@@ -388,11 +397,13 @@ int main(int argc, char **argv)
 			O.catalog = 2; /* the catalog alone */
 		else if (!strcmp(argv[i], "--dump") && i + 1 < argc)
 			O.dump = argv[++i];
+		else if (!strcmp(argv[i], "--starts") && i + 1 < argc)
+			O.starts = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "-v"))
 			O.verbose = 1;
 		else {
 			fprintf(stderr, "usage: bench_recovery [--quick] [--only NAME,...] [--catalog] [--seeds N] [--first-seed K] "
-			                "[--evals N] [--threads N] [--file PLANTED] [--dump PREFIX] [-v]\n");
+			                "[--evals N] [--threads N] [--starts N] [--file PLANTED] [--dump PREFIX] [-v]\n");
 			return 2;
 		}
 	}
