@@ -15,7 +15,8 @@
  * fitted error: guard_max_rel 0 in half on the domain (budget nan); fp16 guards: none: r >= 0.4 on this set, and half is right from r >= 0.20
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -51,7 +52,8 @@ static inline float spec_ibl_diffuse_f0_040_D(float NoH, float a)
  * fitted error: albedo_max_abs 0.0721 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   minmax 1
@@ -86,7 +88,8 @@ static inline float spec_ibl_diffuse_f0_040_vf(float LoH)
  *   p3 = 0.06165
  *   p4 = -13.008
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -119,7 +122,8 @@ static inline float spec_ibl_diffuse_f0_040_env(float NoV, float r)
  * fitted error: exact
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */

@@ -15,7 +15,8 @@
  * fitted error: guard_max_rel 0 in single on the domain (budget nan); fp16 guards: none: highp, no half-precision guard
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -51,7 +52,8 @@ static inline float spec_ibl_diffuse_f0_040_D(float NoH, float a)
  * fitted error: albedo_max_abs 1.22e-08 in single on the domain (budget 1.22e-08); fp16 guards: none: highp, no half-precision guard
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 8
@@ -100,7 +102,8 @@ static inline float spec_ibl_diffuse_f0_040_vf(float NoV, float NoL, float LoH, 
  * fitted error: exact
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */

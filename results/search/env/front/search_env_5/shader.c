@@ -15,7 +15,8 @@
  *   p3 = -0.41002
  *   p4 = -0.00871
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -53,7 +54,8 @@ static inline float search_env_5_A(float NoV, float a)
  *   p4 = -0.00871
  *   p5 = 0.06774
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */

@@ -20,7 +20,8 @@
  *   p8 = -7.1974
  *   p9 = -0.86932
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 5
@@ -66,7 +67,8 @@ static inline float seed_env_karis2014_split_A(float NoV, float r)
  *   p9 = -0.86932
  *   p10 = 0.7345
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 5

@@ -10,7 +10,8 @@
  * fitted error: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 20
  *   mad 16
@@ -74,7 +75,8 @@ static inline float seed_env_materialx_A(float NoV, float a)
  * fitted error: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 20
  *   mad 16

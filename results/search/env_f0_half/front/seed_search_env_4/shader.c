@@ -13,7 +13,8 @@
  *   p1 = 0.078918457
  *   p2 = 1.0546875
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2

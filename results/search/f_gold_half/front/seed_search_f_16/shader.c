@@ -14,7 +14,8 @@
  *   p2 = -7.734375
  *   p3 = 0.0999755859
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
- *   contraction (-ffp-contract=off, implied by -std=c11)
+ *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
+ *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 3
