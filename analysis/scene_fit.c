@@ -84,6 +84,7 @@ typedef struct domain {
 	int ns;
 	int kept;        /* s[0] is the env memo's (read only, not freed here) */
 	bk_precision prec;
+	double key[6];   /* what the refit's samples (s[ns - 1]) are built from (refit_memo) */
 } domain;
 
 static void domain_free(domain *d)
@@ -114,6 +115,8 @@ static struct {
 	} e[MEMO_MAX];
 } memo = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, {{{0}, {0}, 0}}};
 
+static void refits_forget(void);
+
 void bk_scene_forget(void)
 {
 	pthread_mutex_lock(&memo.mu);
@@ -122,6 +125,7 @@ void bk_scene_forget(void)
 			bk_samples_free(&memo.e[k].s);
 	memo.n = 0;
 	pthread_mutex_unlock(&memo.mu);
+	refits_forget();
 }
 
 /* The env samples for options o (key: what domain_build sets in them) into
@@ -201,8 +205,12 @@ static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 		o.nf0 = nends;
 		memcpy(o.f0, ends, sizeof ends);
 		double key[MEMO_KEY] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, ends[0], nends > 1 ? ends[1] : NAN};
+		memcpy(d->key, key, sizeof d->key);
 		return env_samples(&o, key, d, progress, ctx, err, errlen);
 	}
+	/* vf: the refit reads the last set, built at f0 = ends[nends - 1] */
+	double key[6] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, ends[nends - 1], NAN};
+	memcpy(d->key, key, sizeof d->key);
 	for (int k = 0; k < nends; k++) {
 		o.f0[0] = ends[k];
 		if (bk_target_build(&o, &d->s[k], NULL, NULL, err, errlen)) {
@@ -242,10 +250,108 @@ static double score(const domain *d, bk_scene_term term, const bk_form *f, const
 	return worst;
 }
 
+/* ---- refits, once per (samples, term, form, start) ------------------------------- */
+
+/* The scenes of one run share domains (mobile high and low tier, rough only
+ * and its highp twin, the two thesis rusted metals: the same materials), and
+ * each set refits the catalog's forms on its domain: the same fit, the same
+ * bits, once per scene. A refit's result is a function of the samples (made
+ * from d->key: domain_build), the term, the form's text and the start, so it
+ * is kept, process-wide until bk_scene_forget, and read by any thread (two
+ * threads that ask the same refit at once both fit it: the same bits). */
+typedef struct refit_entry {
+	double key[6], start[BK_MAX_PARAMS], p[BK_MAX_PARAMS];
+	int term, rc;
+	char *text;
+} refit_entry;
+
+static struct {
+	pthread_mutex_t mu;
+	refit_entry *e;
+	int n, cap;
+} refits = {PTHREAD_MUTEX_INITIALIZER, NULL, 0, 0};
+
+static void refits_forget(void)
+{
+	pthread_mutex_lock(&refits.mu);
+	for (int k = 0; k < refits.n; k++)
+		free(refits.e[k].text);
+	free(refits.e);
+	refits.e = NULL;
+	refits.n = refits.cap = 0;
+	pthread_mutex_unlock(&refits.mu);
+}
+
+/* The kept refit of (d, term, text, start) into *rc and p; 0 if none. */
+static int refits_find(const domain *d, bk_scene_term term, const char *text, const double *start, int *rc, double *p)
+{
+	int found = 0;
+	pthread_mutex_lock(&refits.mu);
+	for (int k = 0; k < refits.n && !found; k++) {
+		const refit_entry *e = &refits.e[k];
+		if (e->term == (int)term && !memcmp(e->key, d->key, sizeof e->key) &&
+		    !memcmp(e->start, start, sizeof e->start) && !strcmp(e->text, text)) {
+			*rc = e->rc;
+			if (!e->rc)
+				memcpy(p, e->p, sizeof e->p);
+			found = 1;
+		}
+	}
+	pthread_mutex_unlock(&refits.mu);
+	return found;
+}
+
+/* Keeps a refit's outcome (nothing if memory runs out: it is fitted again). */
+static void refits_keep(const domain *d, bk_scene_term term, const char *text, const double *start, int rc,
+                        const double *p)
+{
+	pthread_mutex_lock(&refits.mu);
+	if (refits.n == refits.cap) {
+		int cap = refits.cap ? 2 * refits.cap : 64;
+		refit_entry *e = realloc(refits.e, (size_t)cap * sizeof *e);
+		if (!e) {
+			pthread_mutex_unlock(&refits.mu);
+			return;
+		}
+		refits.e = e;
+		refits.cap = cap;
+	}
+	refit_entry *e = &refits.e[refits.n];
+	if ((e->text = strdup(text))) {
+		memcpy(e->key, d->key, sizeof e->key);
+		memcpy(e->start, start, sizeof e->start);
+		memcpy(e->p, p, sizeof e->p);
+		e->term = (int)term;
+		e->rc = rc;
+		refits.n++;
+	}
+	pthread_mutex_unlock(&refits.mu);
+}
+
+static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p);
+
 /* Least squares on the set's domain (the last sample set: vf at the low end
  * of f0, where most dielectrics are), from the published constants; for env
- * minimax, the error it is scored on. */
-static int refit(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p)
+ * minimax, the error it is scored on. text: f's text (the memo's key). p is
+ * left as it was where the refit fails. */
+static int refit(const domain *d, bk_scene_term term, const bk_form *f, const char *text, const double *start,
+                 double *p)
+{
+	double s0[BK_MAX_PARAMS];
+	memcpy(s0, start, sizeof s0); /* start may be p itself */
+	int rc;
+	if (refits_find(d, term, text, s0, &rc, p))
+		return rc;
+	double q[BK_MAX_PARAMS];
+	memcpy(q, p, sizeof q);
+	rc = refit_run(d, term, f, s0, q);
+	if (!rc)
+		memcpy(p, q, sizeof q);
+	refits_keep(d, term, text, s0, rc, q);
+	return rc;
+}
+
+static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p)
 {
 	bk_fit_spec sp;
 	bk_refit_spec(&sp, &d->s[d->ns - 1], f, NULL, start); /* its iteration cap: search/refit.h */
@@ -333,7 +439,7 @@ static int add_form(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 	for (int pass = 0; pass < 2; pass++) {
 		double p[BK_MAX_PARAMS];
 		memcpy(p, p0, sizeof p);
-		if (pass == 1 && (!bk_form_nparams(f) || refit(d, term, f, p0, p)))
+		if (pass == 1 && (!bk_form_nparams(f) || refit(d, term, f, t, p0, p)))
 			break;
 		double e = score(d, term, f, p);
 		if (!isfinite(e))
@@ -1017,7 +1123,7 @@ int bk_scene_form_error(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 	int rc = 0;
 	double start[BK_MAX_PARAMS];
 	memcpy(start, p, sizeof start);
-	if (refit_first && refit(&d, term, f, start, p)) {
+	if (refit_first && refit(&d, term, f, text, start, p)) {
 		snprintf(err, errlen, "the refit failed");
 		rc = -1;
 	}

@@ -36,7 +36,22 @@ typedef struct hemi {
 	bk_sample s;         /* material, and the current geometry */
 	double cos_h, sin_h; /* current outer point */
 	bk_quad_stats inner;
+	/* the correlated Smith V's view half, sqrt(NoV² (1 - a²) + a²): the same
+	 * for every point of one integral, so formed once (integrate) rather than
+	 * at each of the inner points; v_cor then gives bk_V_smith_ggx_correlated's
+	 * bits (the same operations on the same operands) */
+	double sv;
 } hemi;
+
+/* bk_V_smith_ggx_correlated(NoV, NoL, a) with its view half h->sv formed
+ * once per integral (ggx.c has the formula; the two must stay the same). */
+static inline double v_cor(const hemi *h, double NoL)
+{
+	double a2 = h->s.a * h->s.a;
+	double lv = NoL * h->sv;
+	double ll = h->cos_v * sqrt(NoL * NoL * (1.0 - a2) + a2);
+	return 0.5 / (lv + ll);
+}
 
 /* Inner integrand in φ at the current θh. */
 static void inner_fn(double phi, void *ctx, double *y)
@@ -52,7 +67,8 @@ static void inner_fn(double phi, void *ctx, double *y)
 	}
 	double jac = NoL * 4.0 * VoH; /* NoL · dω_l/dω_h */
 	if (h->ncomp == 2) {
-		double vis = bk_V_smith(h->smith, h->cos_v, NoL, h->s.a) * jac;
+		double vis = (h->smith == BK_SMITH_CORRELATED ? v_cor(h, NoL) : bk_V_smith(h->smith, h->cos_v, NoL, h->s.a)) *
+		             jac;
 		double m = 1.0 - VoH, m2 = m * m;
 		double fc = m2 * m2 * m;
 		y[0] = vis * (1.0 - fc);
@@ -177,6 +193,8 @@ static int integrate(hemi *h, double NoV, double tol, double *out, bk_quad_stats
 	h->sin_v = sqrt((1.0 - NoV) * (1.0 + NoV));
 	h->tol = tol;
 	h->s.NoV = NoV;
+	double a2 = h->s.a * h->s.a;
+	h->sv = sqrt(NoV * NoV * (1.0 - a2) + a2);
 	h->inner = (bk_quad_stats){0.0, 0, 1};
 	int n = outer_points(h->s.a, bk_dacos(NoV), pts);
 	bk_quad_stats outer = {0.0, 0, 1};

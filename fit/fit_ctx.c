@@ -38,6 +38,19 @@ static inline uint64_t zero_bits(double x)
 #define EXP_BITS 0x7ff0000000000000ull
 #define ANY_NONFINITE(acc) (((acc) & EXP_BITS) == EXP_BITS)
 
+/* A block's k = sw inv: the solve's (kw, formed once per solve) while one
+ * runs, else formed into buf (m <= BLOCK). The same product either way. */
+static const double *block_k(const bk_fit_ctx *c, size_t lo, int m, double *buf)
+{
+	if (c->kw_live)
+		return c->kw + lo;
+	const double *restrict sw = c->sw + lo, *restrict inv = c->inv + lo;
+	double *restrict k = buf;
+	for (int i = 0; i < m; i++)
+		k[i] = sw[i] * inv[i];
+	return buf;
+}
+
 int bk_fit_ctx_bind = 1;
 int bk_fit_ctx_cols = 1;
 
@@ -78,22 +91,21 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 	 * times k (jf k is k jf: multiplication commutes exactly), in separate
 	 * simple loops: the same operations per sample as one loop that stopped
 	 * at the first non-finite residual (a failed block's values are not used).
-	 * k is formed once per sample (sw inv: the same product as before, the
-	 * left one of sw inv (f - y)). The loops vectorise (the Makefile gives
+	 * k is formed once per sample per solve (sw inv, block_k: the same
+	 * product as before, the left one of sw inv (f - y)), the residuals and
+	 * their finiteness bits in one loop. The loops vectorise (the Makefile gives
 	 * this file gcc's dynamic cost model: -O2's leaves a loop of variable
 	 * count scalar), and the Jacobian's by rows of a fixed width where the
 	 * form has 1 to 4 parameters; the same products either way. */
-	const double *restrict sw = c->sw + lo, *restrict inv = c->inv + lo, *restrict y = s->y + lo;
+	const double *restrict y = s->y + lo;
 	double *restrict rr = r;
 	double kbuf[BLOCK];
-	double *restrict k = kbuf;
-	for (int i = 0; i < m; i++)
-		k[i] = sw[i] * inv[i];
-	for (int i = 0; i < m; i++)
-		rr[i] = k[i] * (rr[i] - y[i]);
+	const double *restrict k = block_k(c, lo, m, kbuf);
 	uint64_t rbits = 0;
-	for (int i = 0; i < m; i++)
+	for (int i = 0; i < m; i++) {
+		rr[i] = k[i] * (rr[i] - y[i]);
 		rbits |= zero_bits(rr[i]);
+	}
 	bad = ANY_NONFINITE(rbits);
 	if (jac && !narrow) {
 		double *restrict J = jac;
@@ -167,17 +179,15 @@ static int residuals_cols(void *vctx, int block, const double *p, double *r, dou
 		fc[j] = cols && j < np ? cols[j] : NULL;
 	bk_form_bound_eval_cols(c->bound[block], p, r, cols ? fc : NULL);
 	/* as residuals(): k once per sample, then the residuals, then the columns */
-	const double *restrict sw = c->sw + lo, *restrict inv = c->inv + lo, *restrict y = s->y + lo;
+	const double *restrict y = s->y + lo;
 	double *restrict rr = r;
 	double kbuf[BLOCK];
-	double *restrict k = kbuf;
+	const double *restrict k = block_k(c, lo, m, kbuf);
 	uint64_t rbits = 0, jbits = 0;
-	for (int i = 0; i < m; i++)
-		k[i] = sw[i] * inv[i];
-	for (int i = 0; i < m; i++)
+	for (int i = 0; i < m; i++) {
 		rr[i] = k[i] * (rr[i] - y[i]);
-	for (int i = 0; i < m; i++)
 		rbits |= zero_bits(rr[i]);
+	}
 	for (int j = 0; cols && j < np; j++) {
 		double *restrict J = cols[j];
 		if (!J)
@@ -210,6 +220,7 @@ int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec)
 	c->sw = malloc(sizeof(double) * s->n);
 	c->inv = malloc(sizeof(double) * s->n);
 	c->base = malloc(sizeof(double) * s->n);
+	c->kw = malloc(sizeof(double) * (s->n ? s->n : 1));
 	size_t nb = 0;
 	for (int q = 0; q < s->ncomp; q++)
 		nb += (s->start[q + 1] - s->start[q] + BLOCK - 1) / BLOCK;
@@ -218,7 +229,7 @@ int bk_fit_ctx_init(bk_fit_ctx *c, const bk_fit_spec *spec)
 	c->comp = malloc(sizeof(int) * nb);
 	c->bound = calloc(nb ? nb : 1, sizeof *c->bound);
 	c->unbound = calloc(nb ? nb : 1, 1);
-	if (!c->sw || !c->inv || !c->base || !c->lo || !c->size || !c->comp || !c->bound || !c->unbound)
+	if (!c->sw || !c->inv || !c->base || !c->kw || !c->lo || !c->size || !c->comp || !c->bound || !c->unbound)
 		return -1;
 	for (int q = 0; q < s->ncomp; q++)
 		for (size_t lo = s->start[q]; lo < s->start[q + 1]; lo += BLOCK) {
@@ -259,6 +270,7 @@ void bk_fit_ctx_free(bk_fit_ctx *c)
 	free(c->sw);
 	free(c->inv);
 	free(c->base);
+	free(c->kw);
 	free(c->lo);
 	free(c->size);
 	free(c->comp);
@@ -272,13 +284,24 @@ int bk_fit_solve(bk_fit_ctx *c, double *p, const int *constant, bk_fit_summary *
 {
 	const bk_fit_spec *spec = c->spec;
 	bk_problem prob = {spec->np, c->nblocks, c->size, residuals, c, spec->lower, spec->upper, constant};
+	/* the weights hold still for the solve: k = sw inv once for all its
+	 * evaluations (one pass over the samples, not one per evaluation) */
+	const double *restrict sw = c->sw, *restrict inv = c->inv;
+	double *restrict kw = c->kw;
+	for (size_t i = 0, n = spec->s->n; i < n; i++)
+		kw[i] = sw[i] * inv[i];
+	c->kw_live = 1;
+	int rc;
 	/* the fast path where it applies (no finite bounds, no loss, LM): TinySolver */
 	if (bk_solve_tiny_applies(&prob, &spec->opt))
 		/* residuals() gives the same values with or without the Jacobian (one
 		 * kernel) and fails only on them: a trial's Jacobian may be kept */
-		return bk_fit_ctx_cols ? bk_solve_tiny_cols(&prob, residuals_cols, &spec->opt, p, sum)
-		                       : bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
-	return bk_solve(&prob, &spec->opt, p, sum);
+		rc = bk_fit_ctx_cols ? bk_solve_tiny_cols(&prob, residuals_cols, &spec->opt, p, sum)
+		                     : bk_solve_tiny_reusing(&prob, &spec->opt, p, sum);
+	else
+		rc = bk_solve(&prob, &spec->opt, p, sum);
+	c->kw_live = 0;
+	return rc;
 }
 
 int bk_fit_eval_forms(const bk_fit_spec *spec, const double *p, double *v)

@@ -12,6 +12,13 @@ typedef struct bk_fit_ctx {
 	double *sw;   /* sqrt of the weight in use (minimax changes it) */
 	double *inv;  /* 1, or 1/|y| for relative residuals */
 	double *base; /* the target's weight times the user's */
+	/* sw inv per sample, formed once per solve (bk_fit_solve) while the
+	 * weights hold still: the residuals' factor k, the same product the
+	 * callbacks formed per block at every evaluation. kw_live is set only
+	 * inside bk_fit_solve (minimax and the polish change sw between solves;
+	 * the statistics' calls form k afresh). */
+	double *kw;
+	int kw_live;
 	int nblocks;
 	size_t *lo;   /* first sample of each block */
 	int *size;
