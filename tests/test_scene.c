@@ -8,6 +8,7 @@
 #include "brdf.h"
 #include "scene.h"
 #include "scene_fit.h"
+#include "fixture_scene.h"
 
 #include <criterion/criterion.h>
 #include <math.h>
@@ -257,20 +258,6 @@ Test(scene, fold_f0_whole_words_only)
 
 /* ---- specialisation ------------------------------------------------------------ */
 
-static bk_scene_set one_set(double r_lo)
-{
-	bk_scene_set s;
-	memset(&s, 0, sizeof s);
-	strcpy(s.name, "t");
-	s.r_lo = r_lo;
-	s.r_hi = 1;
-	s.f0_lo = s.f0_hi = 0.04;
-	s.needs.vf = 1;
-	s.needs.fixed_f0 = 1;
-	s.needs.f0 = 0.04;
-	return s;
-}
-
 /* GGX D at r = 0 is a delta: no half evaluation near it is right, so a
  * mediump scene reaching r = 0 needs a guard; from r = 0.4 it needs none
  * (its peak 1/(pi a^2) = 12.4 is far inside half's range), and highp none. */
@@ -278,18 +265,18 @@ Test(scene, guards_only_where_half_needs_them)
 {
 	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"precision\": \"mediump\"}}"), 0, "%s", err);
 	bk_scene_choice ch;
-	bk_scene_set s = one_set(0);
+	bk_scene_set s = fx_scene_set(0, FX_NEEDS_VF);
 	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
 	cr_expect(strcmp(ch.text, BK_SCENE_GENERIC_D) != 0, "no guard at r = 0: %s", ch.text);
 	cr_expect(strstr(ch.guards, "none") == NULL, "%s", ch.guards);
 	bk_scene_choice_free(&ch);
-	s = one_set(0.4);
+	s = fx_scene_set(0.4, FX_NEEDS_VF);
 	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
 	cr_expect_str_eq(ch.text, BK_SCENE_GENERIC_D);
 	cr_expect(!strncmp(ch.guards, "none: r >= 0.4", 14), "%s", ch.guards);
 	bk_scene_choice_free(&ch);
 	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"precision\": \"highp\"}}"), 0, "%s", err);
-	s = one_set(0);
+	s = fx_scene_set(0, FX_NEEDS_VF);
 	cr_assert_eq(bk_scene_choose(&sc, &s, BK_SCENE_TERM_D, &ch, NULL, NULL, NULL, err, sizeof err), 0, "%s", err);
 	cr_expect_str_eq(ch.text, BK_SCENE_GENERIC_D);
 	cr_expect_str_eq(ch.guards, "none: highp, no half-precision guard");
@@ -327,7 +314,7 @@ Test(scene, refit_on_the_scene_domain_is_no_worse_there, .timeout = 240)
 	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}]}"), 0, "%s", err);
 	const char *form = "min((p0*r + p2)*(p0*r + p2), exp2(p4*NoV))*(p0*r + p2) + (p1*r + p3)"; /* Karis' nonmetal */
 	double pub[BK_MAX_PARAMS] = {-1, -0.0275, 1, 0.0425, -9.28};
-	bk_scene_set full = one_set(0), part = one_set(0.3);
+	bk_scene_set full = fx_scene_set(0, FX_NEEDS_VF), part = fx_scene_set(0.3, FX_NEEDS_VF);
 	full.needs.env = part.needs.env = 1;
 	double p_full[BK_MAX_PARAMS], p_part[BK_MAX_PARAMS], e_full_there, e_part;
 	memcpy(p_full, pub, sizeof pub);

@@ -8,26 +8,13 @@
  */
 #include "scene.h"
 #include "scene_fit.h"
+#include "fixture_scene.h"
 
 #include <criterion/criterion.h>
 #include <math.h>
 #include <string.h>
 
 static bk_scene sc;
-
-static bk_scene_set env_set(double r_lo)
-{
-	bk_scene_set s;
-	memset(&s, 0, sizeof s);
-	strcpy(s.name, "t");
-	s.r_lo = r_lo;
-	s.r_hi = 1;
-	s.f0_lo = s.f0_hi = 0.04;
-	s.needs.env = 1;
-	s.needs.fixed_f0 = 1;
-	s.needs.f0 = 0.04;
-	return s;
-}
 
 /* Karis' nonmetal env form (fit/catalog.c: env_karis2014_nonmetal) */
 static const char *const karis = "min((p0*r + p2)*(p0*r + p2), exp2(p4*NoV))*(p0*r + p2) + (p1*r + p3)";
@@ -42,7 +29,7 @@ static outcome refit_error(double r_lo, const char *form)
 {
 	outcome o;
 	double p[BK_MAX_PARAMS] = {-1, -0.0275, 1, 0.0425, -9.28}; /* the published constants */
-	bk_scene_set set = env_set(r_lo);
+	bk_scene_set set = fx_scene_set(r_lo, FX_NEEDS_ENV);
 	char err[256];
 	cr_assert_eq(bk_scene_form_error(&sc, &set, BK_SCENE_TERM_ENV, form, p, 1, &o.e, err, sizeof err), 0, "%s", err);
 	memcpy(o.p, p, sizeof o.p);

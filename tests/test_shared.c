@@ -10,6 +10,7 @@
 #include "compare.h"
 #include "scene.h"
 #include "scene_fit.h"
+#include "fixture_scene.h"
 #include "target.h"
 
 #include <criterion/criterion.h>
@@ -77,20 +78,6 @@ Test(shared, lut_table_from_threads_and_kept, .timeout = 120)
 
 static bk_scene sc;
 
-static bk_scene_set env_set(double r_lo)
-{
-	bk_scene_set s;
-	memset(&s, 0, sizeof s);
-	strcpy(s.name, "t");
-	s.r_lo = r_lo;
-	s.r_hi = 1;
-	s.f0_lo = s.f0_hi = 0.04;
-	s.needs.env = 1;
-	s.needs.fixed_f0 = 1;
-	s.needs.f0 = 0.04;
-	return s;
-}
-
 /* Karis' nonmetal env form at its published constants */
 static const char *const karis = "min((p0*r + p2)*(p0*r + p2), exp2(p4*NoV))*(p0*r + p2) + (p1*r + p3)";
 
@@ -119,7 +106,7 @@ Test(shared, scene_env_reference_kept_per_domain, .timeout = 240)
 	char err[512];
 	cr_assert_eq(bk_scene_parse(text, strlen(text), &sc, err, sizeof err), 0, "%s", err);
 	bk_scene_forget();
-	env_arg a = {env_set(0.5), 0, -1}, b = a, c = a, other = {env_set(0.2), 0, -1};
+	env_arg a = {fx_scene_set(0.5, FX_NEEDS_ENV), 0, -1}, b = a, c = a, other = {fx_scene_set(0.2, FX_NEEDS_ENV), 0, -1};
 	env_error(&a); /* built */
 	env_error(&b); /* kept */
 	bk_scene_forget();
@@ -129,7 +116,7 @@ Test(shared, scene_env_reference_kept_per_domain, .timeout = 240)
 	cr_expect_eq(a.e, b.e, "built %.17g, kept %.17g", a.e, b.e);
 	cr_expect_eq(a.e, c.e, "built %.17g, rebuilt %.17g", a.e, c.e);
 	cr_expect_neq(a.e, other.e, "r from 0.5 and from 0.2: %.17g both", a.e);
-	env_arg t[2] = {{env_set(0.7), 0, -1}, {env_set(0.7), 0, -1}};
+	env_arg t[2] = {{fx_scene_set(0.7, FX_NEEDS_ENV), 0, -1}, {fx_scene_set(0.7, FX_NEEDS_ENV), 0, -1}};
 	pthread_t th[2];
 	for (int k = 0; k < 2; k++)
 		cr_assert_eq(pthread_create(&th[k], NULL, env_error, &t[k]), 0);
@@ -138,7 +125,7 @@ Test(shared, scene_env_reference_kept_per_domain, .timeout = 240)
 	cr_assert(!t[0].rc && !t[1].rc);
 	cr_expect_eq(t[0].e, t[1].e, "two threads: %.17g, %.17g", t[0].e, t[1].e);
 	bk_scene_forget();
-	env_arg alone = {env_set(0.7), 0, -1};
+	env_arg alone = {fx_scene_set(0.7, FX_NEEDS_ENV), 0, -1};
 	env_error(&alone);
 	cr_expect_eq(alone.e, t[0].e, "alone after forgetting: %.17g", alone.e);
 	bk_scene_forget();
