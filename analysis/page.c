@@ -476,7 +476,9 @@ int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t ou
 	while (c < na && c < nb && !strcmp(ca[c], cb[c]))
 		c++;
 	size_t n = 0;
-	int k = snprintf(out, outlen, "%s", c == na && c == nb ? "./" : "");
+	/* "./" unless the link climbs: a first component such as "javascript:x"
+	 * would otherwise be read as a URL scheme (page.h) */
+	int k = snprintf(out, outlen, "%s", c == na ? "./" : "");
 	n = (size_t)k;
 	for (int j = c; j < na && n < outlen; j++)
 		n += (size_t)snprintf(out + n, outlen - n, "../");

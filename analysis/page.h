@@ -51,8 +51,10 @@ int bk_section_check(const char *text, size_t len, char *id, size_t idlen, char 
 int bk_page_fold(FILE *f, const char *text, size_t len, int min_rows);
 
 /* The link from the folder of the page at page_path to the folder dir,
- * relative ("search/vf2d/", "../x/"), ending in '/': both resolved with
- * realpath (the page's folder must exist; the page need not). Returns 0, or
+ * relative ("./search/vf2d/", "../x/"), ending in '/': both resolved with
+ * realpath (the page's folder must exist; the page need not). It always
+ * starts with "./" or "../", so a folder named "javascript:x" is a path, not
+ * a URL scheme, in an href. Returns 0, or
  * -1 with err "PATH: cannot be resolved: REASON". */
 int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t outlen, char *err, size_t errlen);
 

@@ -406,7 +406,9 @@ static void cite(FILE *f, const char *href, const char *path, const bk_summary_p
 	fputs("<a href=\"", f);
 	bk_html_text(f, href);
 	bk_html_text(f, file);
-	fprintf(f, "\" title=\"%s, line %d\">", file, p->line);
+	fputs("\" title=\"", f);
+	bk_html_text(f, file);
+	fprintf(f, ", line %d\">", p->line);
 	bk_html_text(f, p->name);
 	fputs("</a>", f);
 }

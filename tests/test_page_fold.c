@@ -98,6 +98,13 @@ Test(fold, a_long_header_is_cut_after_a_whole_cell)
 	free(out);
 }
 
+/* A URL scheme: a ':' before the first '/', '?' or '#' (RFC 3986, 4.2). */
+static int has_scheme(const char *href)
+{
+	size_t n = strcspn(href, "/?#");
+	return memchr(href, ':', n) != NULL;
+}
+
 Test(rel_dir, relative_from_the_page_folder)
 {
 	char d[64], p[256], q[256], rel[512], err[256];
@@ -112,13 +119,20 @@ Test(rel_dir, relative_from_the_page_folder)
 	snprintf(p, sizeof p, "%s/site/index.html", d); /* need not exist */
 	snprintf(q, sizeof q, "%s/site/search/", d);
 	cr_assert_eq(bk_page_rel_dir(p, q, rel, sizeof rel, err, sizeof err), 0, "%s", err);
-	cr_expect_str_eq(rel, "search/");
+	cr_expect_str_eq(rel, "./search/");
 	snprintf(q, sizeof q, "%s/data", d);
 	cr_assert_eq(bk_page_rel_dir(p, q, rel, sizeof rel, err, sizeof err), 0, "%s", err);
 	cr_expect_str_eq(rel, "../data/");
 	snprintf(q, sizeof q, "%s/site/search/..", d);
 	cr_assert_eq(bk_page_rel_dir(p, q, rel, sizeof rel, err, sizeof err), 0, "%s", err);
 	cr_expect_str_eq(rel, "./");
+	/* a folder whose name reads as a URL scheme stays a path in an href */
+	snprintf(q, sizeof q, "%s/site/javascript:alert(1)", d);
+	mkdir(q, 0700);
+	cr_assert_eq(bk_page_rel_dir(p, q, rel, sizeof rel, err, sizeof err), 0, "%s", err);
+	cr_expect_str_eq(rel, "./javascript:alert(1)/");
+	cr_expect(!has_scheme(rel), "%s", rel);
+	cr_expect(has_scheme("javascript:alert(1)/"), "control: the bare name is a scheme"); /* negative control */
 	snprintf(q, sizeof q, "%s/nowhere", d);
 	cr_expect_eq(bk_page_rel_dir(p, q, rel, sizeof rel, err, sizeof err), -1);
 	cr_expect(strstr(err, "nowhere: cannot be resolved: ") != NULL, "%s", err);
