@@ -8,6 +8,7 @@
  * Convention: a = alpha = r^2 (Walter's alpha_g); a2 = a^2.
  */
 #include "brdf.h"
+#include "smith.h"
 
 #include <math.h>
 
@@ -90,9 +91,7 @@ double bk_V_smith_ggx_separable(double NoV, double NoL, double a)
 double bk_V_smith_ggx_correlated(double NoV, double NoL, double a)
 {
 	double a2 = a * a;
-	double lv = NoL * sqrt(NoV * NoV * (1.0 - a2) + a2);
-	double ll = NoV * sqrt(NoL * NoL * (1.0 - a2) + a2);
-	return 0.5 / (lv + ll);
+	return bk_smith_correlated(NoV, NoL, bk_smith_half(NoV, a2), bk_smith_half(NoL, a2));
 }
 
 /*

@@ -22,6 +22,7 @@
 #include "brdf.h"
 #include "dmath.h"
 #include "quad.h"
+#include "smith.h"
 
 #include <math.h>
 
@@ -36,21 +37,15 @@ typedef struct hemi {
 	bk_sample s;         /* material, and the current geometry */
 	double cos_h, sin_h; /* current outer point */
 	bk_quad_stats inner;
-	/* the correlated Smith V's view half, sqrt(NoV² (1 - a²) + a²): the same
-	 * for every point of one integral, so formed once (integrate) rather than
-	 * at each of the inner points; v_cor then gives bk_V_smith_ggx_correlated's
-	 * bits (the same operations on the same operands) */
+	/* the correlated Smith V's view half Λ(NoV) (smith.h): the same for every
+	 * point of one integral, so formed once (integrate), not at each inner point */
 	double sv;
 } hemi;
 
-/* bk_V_smith_ggx_correlated(NoV, NoL, a) with its view half h->sv formed
- * once per integral (ggx.c has the formula; the two must stay the same). */
+/* bk_V_smith_ggx_correlated(NoV, NoL, a), its view half h->sv kept (smith.h) */
 static inline double v_cor(const hemi *h, double NoL)
 {
-	double a2 = h->s.a * h->s.a;
-	double lv = NoL * h->sv;
-	double ll = h->cos_v * sqrt(NoL * NoL * (1.0 - a2) + a2);
-	return 0.5 / (lv + ll);
+	return bk_smith_correlated(h->cos_v, NoL, h->sv, bk_smith_half(NoL, h->s.a * h->s.a));
 }
 
 /* Inner integrand in φ at the current θh. */
@@ -193,8 +188,7 @@ static int integrate(hemi *h, double NoV, double tol, double *out, bk_quad_stats
 	h->sin_v = sqrt((1.0 - NoV) * (1.0 + NoV));
 	h->tol = tol;
 	h->s.NoV = NoV;
-	double a2 = h->s.a * h->s.a;
-	h->sv = sqrt(NoV * NoV * (1.0 - a2) + a2);
+	h->sv = bk_smith_half(NoV, h->s.a * h->s.a);
 	h->inner = (bk_quad_stats){0.0, 0, 1};
 	int n = outer_points(h->s.a, bk_dacos(NoV), pts);
 	bk_quad_stats outer = {0.0, 0, 1};
