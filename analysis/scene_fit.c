@@ -79,12 +79,15 @@ static char *floor_cosines(const char *text, double c)
 
 /* ---- the samples of a term on a set's domain ----------------------------------- */
 
+/* what a domain's samples are built from: x and r ranges, the f0 ends */
+#define MEMO_KEY 6
+
 typedef struct domain {
 	bk_samples s[2]; /* vf: one per end of the f0 range; env: one holding both ends */
 	int ns;
 	int kept;        /* s[0] is the env memo's (read only, not freed here) */
 	bk_precision prec;
-	double key[6];   /* what the refit's samples (s[ns - 1]) are built from (refit_memo) */
+	double key[MEMO_KEY]; /* what the refit's samples (s[ns - 1]) are built from (refits_find) */
 } domain;
 
 static void domain_free(domain *d)
@@ -102,7 +105,6 @@ static void domain_free(domain *d)
  * builds it, the others wait for it). The samples are the same bits either
  * way: bk_target_build is a function of its options. */
 #define MEMO_MAX 64
-#define MEMO_KEY 6
 
 static struct {
 	pthread_mutex_t mu;
@@ -209,7 +211,7 @@ static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 		return env_samples(&o, key, d, progress, ctx, err, errlen);
 	}
 	/* vf: the refit reads the last set, built at f0 = ends[nends - 1] */
-	double key[6] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, ends[nends - 1], NAN};
+	double key[MEMO_KEY] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, ends[nends - 1], NAN};
 	memcpy(d->key, key, sizeof d->key);
 	for (int k = 0; k < nends; k++) {
 		o.f0[0] = ends[k];
@@ -260,7 +262,7 @@ static double score(const domain *d, bk_scene_term term, const bk_form *f, const
  * is kept, process-wide until bk_scene_forget, and read by any thread (two
  * threads that ask the same refit at once both fit it: the same bits). */
 typedef struct refit_entry {
-	double key[6], start[BK_MAX_PARAMS], p[BK_MAX_PARAMS];
+	double key[MEMO_KEY], start[BK_MAX_PARAMS], p[BK_MAX_PARAMS];
 	int term, rc;
 	char *text;
 } refit_entry;

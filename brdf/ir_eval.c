@@ -80,9 +80,9 @@ static long double roundld(long double x) { return x; }
  * exp2 and log2 in f32 and f16 (V = 1), the exp2 and log2 inside f16's pow,
  * exp and log included, are vmath.h's bk_v_exp2f and bk_v_log2f: branch-free
  * C that vectorises in both copies below with the same bits, within 1 ulp of
- * the correctly rounded value (rounded correctly for all but 1,442 and 4 of
- * the 2^32 floats; glibc's exp2f and log2f, which the generated C calls,
- * differ from them on 168,022 and 313,552). libm's were scalar calls and
+ * the correctly rounded value (vmath.h: rounded correctly for all but 1,442
+ * and 4 of the 2^32 floats; glibc's exp2f and log2f, which the generated C
+ * calls, may differ from them by an ulp). libm's were scalar calls and
  * about 45 % of the f32 time on the search's candidates. In f16 every exp2
  * and log2 reads a half and its result is rounded to half: over all 63,488
  * finite halves the two give the same halves, so no f16 result moved
