@@ -306,10 +306,11 @@ GPU_CHIPS = polaris10,vega10,navi21,gfx1100
 RESULTS_JOBS = 2
 RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 results-search-vf \
   results-search-vf2d results-search-env results-compare-env results-search-f_gold \
-  results-search-f_glass results-compare-spec results-stability results-compare-vf results-albedo \
+  results-search-f_glass results-search-f_gold_half results-search-f_glass_half results-compare-spec \
+  results-stability results-compare-vf results-albedo \
   results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
-  results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_mix_half \
-  results-search-env_f0_half results-search-f_glass_half results-search-f_gold_half
+  results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_f0_half \
+  results-search-env_mix_half results-gpucost results-render-after
 .PHONY: results-runs $(RESULTS_RUNS)
 
 results: deps
@@ -323,13 +324,6 @@ results: deps
 	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
 	@mkdir -p results/fits results/compare results/search results/gpucost
 	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -Oline results-runs
-	# the IR's cost model against AMD's compiler, per chip: the weights of the
-	# named models aco-CHIP (brdf/ir_count.c; tests/gpucost.sh checks they agree)
-	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
-	  $(TOOL) gpucost --calibrate --chips $$c $(filter-out %_half/front.csv,$(wildcard results/search/*/front.csv)) \
-	    --out results/gpucost/calibration_$$c.csv || exit 1; done
-	# the rendered comparisons read the fronts just written
-	$(MAKE) --no-print-directory results-render
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them; kept, not rebuilt)
 	# the first screen: per target the best published form against the search's front
@@ -350,6 +344,17 @@ results: deps
 	$(MAKE) --no-print-directory notebooks-data
 
 results-runs: $(RESULTS_RUNS)
+
+# after the runs they read, beside the last ones (the two cores stay busy):
+# the IR's cost model against AMD's compiler, per chip, from the double
+# fronts (the weights of the named models aco-CHIP: brdf/ir_count.c;
+# tests/gpucost.sh checks they agree); the rendered comparisons' turn is
+# results-render-after, below RENDER_FRONTS
+DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold
+results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)
+	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
+	  $(TOOL) gpucost --calibrate --chips $$c $(DOUBLE_SEARCHES:%=results/search/%/front.csv) \
+	    --out results/gpucost/calibration_$$c.csv || exit 1; done
 
 # the page's summary rows (report --summary), in this order; the first one's
 # pareto.png is the page's Figure 1
@@ -452,13 +457,14 @@ results-scenes:
 # float16_t): the catalog forms RENDER_CATALOG, and of each search front in
 # RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
 # the most accurate member at cost <= RENDER_MAX_COST (a front's rows rise in
-# cost as their error falls: the last row at that cost). Not in RESULTS_RUNS:
-# it reads the fronts those runs write, so `make results` runs it after them.
+# cost as their error falls: the last row at that cost). It reads the fronts
+# the searches write: `make results` runs it as results-render-after, once
+# those searches are done.
 # To add a front (a half-precision search's), add DIR:TERM here.
 RENDER_CATALOG = vf_talk_r env_talk_r env_karis2014
 RENDER_FRONTS = vf2d:vf vf:vf env:env env_f0:env env_mix:env vf2d_half:vf env_f0_half:env env_mix_half:env
 RENDER_MAX_COST = 16
-.PHONY: results-render
+.PHONY: results-render results-render-after results-gpucost
 results-render: $(TOOL) build/csvget
 	@mkdir -p build
 	{ echo name,term,form,form_b,parameters; \
@@ -471,6 +477,10 @@ results-render: $(TOOL) build/csvget
 	      "$$(build/csvget $$f form_b name $$n)" "$$(build/csvget $$f parameters name $$n)" || exit 1; \
 	  done; } >build/render_batch.csv
 	$(TOOL) render --batch build/render_batch.csv --size 500 --out results/render --link-prefix render/
+# make results' turn for it: after the searches whose fronts it reads (a rule
+# below RENDER_FRONTS, which its prerequisites expand when read)
+results-render-after: $(sort $(foreach s,$(RENDER_FRONTS),results-search-$(firstword $(subst :, ,$(s)))))
+	$(MAKE) --no-print-directory results-render
 
 # libFuzzer on the formula IR (clang; not part of `make test`): FUZZ_RUNS inputs
 # from the seed corpus; a crashing input lands in build/ as crash-*. -max_len

@@ -133,7 +133,7 @@ if search 3 "$T/bout" --evals 3000 --checkpoint "$T/bad" --every 500 >/dev/null 
 else
 	n=$(grep -c '^search:' "$T/err")
 	[ "$n" -eq 1 ] && grep -qxF "search: --checkpoint: rank 1: $T/bad.1: exists and is not a regular file" "$T/err" &&
-		ok || bad "unwritable checkpoint: $(head -3 "$T/err")"
+		ok || bad "unwritable checkpoint: $n lines from search (want 1): $(grep '^search:' "$T/err" | head -3)"
 fi
 [ ! -e "$T/bout" ] && [ -d "$T/bad.1" ] && [ ! -e "$T/bad.1.prev" ] && ok || bad "unwritable checkpoint: files moved or written"
 

@@ -23,7 +23,9 @@
 int isl_init(int *argc, char ***argv);
 /* Ends them: MPI_Finalize when rc is 0, 2 (bad usage: decided from the
  * command line, so alike on every rank) or 130 (interrupted, results
- * written); otherwise MPI_Abort(rc), so that a rank that failed can never
+ * written); otherwise, when every rank fails alike (all reach here within
+ * 30 s), MPI_Finalize too, after rank 0's message is out, and the caller
+ * exits with rc; else MPI_Abort(rc), so that a rank that failed can never
  * leave the others waiting in a collective (rank 0 has said why). */
 void isl_end(int rc);
 int isl_rank(void);

@@ -18,8 +18,10 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static int rank_, size_ = 1;
+static MPI_Comm end_comm = MPI_COMM_NULL; /* isl_end's own: its barrier never meets a search's collective */
 static char name_[MPI_MAX_LIBRARY_VERSION_STRING + 32] = "MPI";
 
 int isl_init(int *argc, char ***argv)
@@ -29,6 +31,7 @@ int isl_init(int *argc, char ***argv)
 		fprintf(stderr, "search: MPI_Init_thread failed\n");
 		return -1;
 	}
+	MPI_Comm_dup(MPI_COMM_WORLD, &end_comm);
 	MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
 	MPI_Comm_size(MPI_COMM_WORLD, &size_);
 	char v[MPI_MAX_LIBRARY_VERSION_STRING];
@@ -42,6 +45,18 @@ int isl_init(int *argc, char ***argv)
 	return 0;
 }
 
+/* A failure every rank knows of (a checkpoint a rank cannot write: its text
+ * gathered, rank 0 has printed it) must not be cut short by another rank's
+ * MPI_Abort while rank 0's line is still on its way: under load the job
+ * then ended with no "search:" line at all (tests/mpi.sh saw it). So a
+ * failing rank first waits, up to END_WAIT_S, for every rank to reach here:
+ * if they all do, the failure is the job's, each rank finalizes and returns
+ * rc (mpirun exits with it); if not, some rank is still in the search or
+ * dead, and MPI_Abort is what ends the job. The barrier is on a copy of
+ * the world communicator, so that a rank still in one of the search's
+ * collectives can never match it. */
+#define END_WAIT_S 30
+
 void isl_end(int rc)
 {
 	if (rc == 0 || rc == 2 || rc == 130) { /* done, bad usage (decided alike from argv), interrupted */
@@ -50,6 +65,18 @@ void isl_end(int rc)
 	}
 	fflush(stdout);
 	fflush(stderr);
+	MPI_Request all;
+	int done = 0;
+	if (end_comm != MPI_COMM_NULL && MPI_Ibarrier(end_comm, &all) == MPI_SUCCESS) {
+		double until = MPI_Wtime() + END_WAIT_S;
+		const struct timespec ms = {0, 1000000};
+		while (MPI_Test(&all, &done, MPI_STATUS_IGNORE) == MPI_SUCCESS && !done && MPI_Wtime() < until)
+			nanosleep(&ms, NULL);
+	}
+	if (done) {
+		MPI_Finalize();
+		return;
+	}
 	MPI_Abort(MPI_COMM_WORLD, rc);
 }
 int isl_rank(void) { return rank_; }
