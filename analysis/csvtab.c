@@ -26,7 +26,7 @@ typedef struct reader {
 	bk_csvtab *t;
 	char *err;
 	size_t errlen;
-	int bad, max_rows, cap;
+	int bad, io, max_rows, cap; /* io: the file could not be opened or read */
 	int line;      /* the line of the next byte, from 1 */
 	int at_start;  /* the next byte starts a line */
 	int open;      /* inside a record, which started on rec_line */
@@ -250,14 +250,15 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 	reader *r = calloc(1, sizeof *r); /* 70 kB: not on a caller's stack */
 	if (!r)
 		return bk_csvtab_err(err, errlen, path, 0, "out of memory");
-	*r = (reader){.spec = spec, .t = t, .err = err, .errlen = errlen, .line = 1, .at_start = 1,
-	              .max_rows = spec->max_rows > 0 ? spec->max_rows : BK_CSVTAB_MAX_ROWS};
+	r->spec = spec, r->t = t, r->err = err, r->errlen = errlen, r->line = r->at_start = 1;
+	r->max_rows = spec->max_rows > 0 ? spec->max_rows : BK_CSVTAB_MAX_ROWS;
 	long max_bytes = spec->max_bytes > 0 ? spec->max_bytes : BK_CSVTAB_MAX_BYTES, total = 0;
 	FILE *f = fopen(path, "rb");
 	struct csv_parser p;
-	if (!f)
+	if (!f) {
+		r->io = 1;
 		fail(r, 0, "cannot be read (%s)", strerror(errno));
-	else if (csv_init(&p, CSV_APPEND_NULL)) {
+	} else if (csv_init(&p, CSV_APPEND_NULL)) {
 		fclose(f);
 		f = NULL;
 		fail(r, 0, "out of memory");
@@ -274,8 +275,10 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 				s += 3, got -= 3;
 			process(r, &p, s, got);
 		}
-		if (!r->bad && ferror(f))
+		if (!r->bad && ferror(f)) {
+			r->io = 1;
 			fail(r, 0, "read failed");
+		}
 		if (!r->bad && r->in_comment)
 			comment_end(r);
 		if (!r->bad && csv_fini(&p, on_field, on_record, r))
@@ -286,13 +289,11 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 		fclose(f);
 	}
 	reset(r); /* a record cut short by an error */
-	int bad = r->bad;
+	int bad = r->bad, io = r->io;
 	free(r);
-	if (bad) {
+	if (bad)
 		bk_csvtab_free(t);
-		return -1;
-	}
-	return 0;
+	return !bad ? 0 : io ? -2 : -1;
 }
 
 const char *bk_csvtab_get(const bk_csvtab *t, int i, int k)

@@ -61,8 +61,9 @@ typedef struct bk_csvtab {
 	char **cell;             /* cell[i * ncols + k]: row i's cols[k]; NULL for an absent column */
 } bk_csvtab;
 
-/* Reads path whole. 0, or -1 with err "PATH:LINE: what" / "PATH: what" and
- * t empty (nothing to free). */
+/* Reads path whole. 0; or, with err "PATH:LINE: what" / "PATH: what" and t
+ * empty (nothing to free), -1 for a bad file, -2 for one that cannot be
+ * opened or read (a runtime failure, not bad input: exit 1, not 2). */
 int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, char *err, size_t errlen);
 
 /* Row i's cols[k]: "" for an absent column. */

@@ -196,9 +196,9 @@ static int read_batch(const char *path, item *items, int *n)
 	                       .hint = "want name, term, form, form_b, parameters", .max_rows = MAX_ITEMS};
 	bk_csvtab t;
 	*n = 0;
-	if (bk_csvtab_read(path, &spec, &t, err, sizeof err))
-		return batch_fail(err);
-	int rc = 0;
+	int rc = bk_csvtab_read(path, &spec, &t, err, sizeof err);
+	if (rc)
+		return rc == -2 ? cli_fail("render", "--batch %s", err) : batch_fail(err);
 	if (!t.n) {
 		bk_csvtab_err(err, sizeof err, path, 0, "no rows");
 		rc = batch_fail(err);
