@@ -7,8 +7,8 @@
 #include "catalog.h"
 #include "cli.h"
 #include "cmd.h"
-#include "csvtab.h"
 #include "form_check.h"
+#include "frontcsv.h"
 #include "gpucost.h"
 #include "out.h"
 
@@ -268,46 +268,25 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	free(a);
 }
 
-/* ---- search fronts read back (front.csv of brdfkit search, csvtab.h) ----------------- */
-
-/* "p0=0.1;p1=2" into g->params; -1 when it is not that. */
-static int fr_params(const char *text, gc_row *g)
-{
-	for (const char *t = text; *t;) {
-		char *end;
-		long i;
-		if (*t != 'p' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS || *end != '=')
-			return -1;
-		double v = strtod(end + 1, &end);
-		if (!isfinite(v) || (*end && *end != ';'))
-			return -1;
-		g->params[i] = v;
-		g->have[i] = 1;
-		t = *end ? end + 1 : end;
-	}
-	return 0;
-}
-
-static const char *const front_cols[] = {"name", "form", "form_b", "parameters", NULL};
+/* ---- search fronts read back (front.csv of brdfkit search, frontcsv.h) ---------------- */
 
 /* Appends the members of one front.csv to *rows, not its seed_ rows (catalog
  * forms, counted already); 0, or 1 after one line on stderr. */
 static int read_front(const char *path, gc_row **rows, int *n, int *cap)
 {
-	char dir[64] = "", err[600]; /* the front's folder names its rows: two searches both have a search_env_10 */
+	char dir[64] = "", err[700]; /* the front's folder names its rows: two searches both have a search_env_10 */
 	const char *slash = strrchr(path, '/'), *start = slash;
 	while (start && start > path && start[-1] != '/')
 		start--;
 	if (slash && start && slash > start)
 		snprintf(dir, sizeof dir, "%.*s", (int)(slash - start < 63 ? slash - start : 63), start);
-	bk_csvtab_spec spec = {.cols = front_cols, .hint = "not a front.csv of brdfkit search"};
-	bk_csvtab t;
-	if (bk_csvtab_read(path, &spec, &t, err, sizeof err))
+	bk_frontcsv fc;
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, sizeof err))
 		return cli_fail("gpucost", "%s", err);
 	int rc = 0;
-	for (int i = 0; !rc && i < t.n; i++) {
-		const char *name = bk_csvtab_get(&t, i, 0), *fb = bk_csvtab_get(&t, i, 2), *pt = bk_csvtab_get(&t, i, 3);
-		if (!strncmp(name, "seed_", 5))
+	for (int i = 0; !rc && i < fc.n; i++) {
+		bk_frontcsv_row *w = &fc.row[i];
+		if (!strncmp(w->name, "seed_", 5))
 			continue;
 		if (*n == *cap) {
 			gc_row *g = realloc(*rows, 2 * (size_t)*cap * sizeof *g);
@@ -320,17 +299,15 @@ static int read_front(const char *path, gc_row **rows, int *n, int *cap)
 		}
 		gc_row *g = &(*rows)[(*n)++];
 		memset(g, 0, sizeof *g);
-		snprintf(g->name, sizeof g->name, "%.60s%s%.90s", dir, *dir ? "/" : "", name);
-		g->text[0] = g->own[0] = strdup(bk_csvtab_get(&t, i, 1));
-		g->text[1] = g->own[1] = *fb ? strdup(fb) : NULL;
-		if (!g->own[0] || (*fb && !g->own[1]))
-			rc = cli_fail("gpucost", "out of memory");
-		else if (fr_params(pt, g)) {
-			bk_csvtab_err(err, sizeof err, path, t.line[i], "parameters '%.60s' are not p0=X;p1=Y...", pt);
-			rc = cli_fail("gpucost", "%s", err);
-		}
+		snprintf(g->name, sizeof g->name, "%.60s%s%.90s", dir, *dir ? "/" : "", w->name);
+		g->text[0] = g->own[0] = w->form; /* the row's texts move to g */
+		g->text[1] = g->own[1] = w->form_b;
+		w->form = w->form_b = NULL;
+		memcpy(g->params, w->p, sizeof g->params);
+		for (int j = 0; j < w->np; j++) /* every one the forms use is given (frontcsv.h) */
+			g->have[j] = 1;
 	}
-	bk_csvtab_free(&t);
+	bk_frontcsv_free(&fc);
 	return rc;
 }
 
