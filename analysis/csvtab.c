@@ -123,9 +123,10 @@ static void row(reader *r)
 			fail(r, r->rec_line, "%d fields, fewer than the header's", r->nfield);
 			return;
 		}
-	if (t->n == r->cap) { /* doubling up to max_rows */
-		int cap = r->cap ? 2 * r->cap < r->max_rows ? 2 * r->cap : r->max_rows : 64;
-		int *line = realloc(t->line, (size_t)cap * sizeof *line);
+	if (t->n == r->cap) { /* doubling, up to max_rows */
+		int cap = r->cap ? 2 * r->cap : 64;
+		cap = cap < r->max_rows ? cap : r->max_rows;
+		int *line = realloc(t->line, (size_t)cap * sizeof *line); /* cell: ncols + 1, never 0 bytes */
 		char **cell = line ? realloc(t->cell, (size_t)cap * (size_t)(t->ncols + 1) * sizeof *cell) : NULL;
 		t->line = line ? line : t->line;
 		if (!cell) {

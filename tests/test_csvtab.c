@@ -279,15 +279,28 @@ Test(csvtab, ragged_rows)
 	bk_csvtab_free(&t);
 }
 
-/* max_rows 3: three rows read, a fourth fails on its line. */
+/* max_rows 130 (past the first 64 rows' storage, grown twice): 130 rows
+ * read, a 131st fails on its line (the header is line 1, row i line i + 2). */
 Test(csvtab, row_limit)
 {
-	bk_csvtab_spec spec = {.cols = AB, .max_rows = 3};
-	bk_csvtab t;
-	read_ok("a,b\n1,1\n2,2\n3,3\n", &spec, &t);
-	cr_expect_eq(t.n, 3);
-	bk_csvtab_free(&t);
-	READ_BAD("a,b\n1,1\n2,2\n3,3\n4,4\n", &spec, ":5: more than 3 rows");
+	bk_csvtab_spec spec = {.cols = AB, .max_rows = 130};
+	static char s[131 * 12 + 8];
+	for (int n = 130; n <= 131; n++) {
+		strcpy(s, "a,b\n");
+		for (int i = 0; i < n; i++)
+			snprintf(s + strlen(s), 12, "%d,%d\n", i, -i);
+		bk_csvtab t;
+		if (n == 131) {
+			read_bad(s, strlen(s), &spec, ":132: more than 130 rows");
+			continue;
+		}
+		read_ok(s, &spec, &t);
+		cr_assert_eq(t.n, 130);
+		cr_expect_str_eq(bk_csvtab_get(&t, 129, 0), "129");
+		cr_expect_str_eq(bk_csvtab_get(&t, 129, 1), "-129");
+		cr_expect_eq(t.line[129], 131);
+		bk_csvtab_free(&t);
+	}
 }
 
 /* max_bytes: a file of exactly that many bytes is read, one more fails. */
