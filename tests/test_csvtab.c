@@ -287,8 +287,10 @@ Test(csvtab, row_limit)
 	static char s[131 * 12 + 8];
 	for (int n = 130; n <= 131; n++) {
 		strcpy(s, "a,b\n");
-		for (int i = 0; i < n; i++)
-			snprintf(s + strlen(s), 12, "%d,%d\n", i, -i);
+		for (int i = 0; i < n; i++) {
+			size_t len = strlen(s);
+			snprintf(s + len, sizeof s - len, "%d,%d\n", i, -i);
+		}
 		bk_csvtab t;
 		if (n == 131) {
 			read_bad(s, strlen(s), &spec, ":132: more than 130 rows");
