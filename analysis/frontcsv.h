@@ -1,10 +1,10 @@
 /*
- * frontcsv.h — a front.csv of brdfkit search read back (libcsv), for
+ * frontcsv.h — a front.csv of brdfkit search read back (csvtab.h), for
  * search's --start-front (its members as seeds) and --vs-front (its errors
  * beside the half front, halfvs.h). The file is a user's: its '#' lines
  * before the header are skipped, its columns are found by NAME in the
  * header, and every bad row is an error naming FILE:LINE (the line the row
- * starts on); forms go through the formula parser.
+ * starts on, csvtab.h); forms go through the formula parser.
  *
  * Columns read: name (optional; "row LINE" when absent), and what `need`
  * asks for: BK_FRONTCSV_FORMS form, form_b (empty: one form), parameters

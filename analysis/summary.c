@@ -1,106 +1,28 @@
 /*
- * summary.c — the page's first screen from the CSVs (summary.h): a small
- * libcsv table reader (columns by name, each record's first line kept), the
- * rules, and the table's HTML.
+ * summary.c — the page's first screen from the CSVs (summary.h): the files
+ * read by column name (csvtab.h, each row's first line kept), the rules, and
+ * the table's HTML.
  */
 #include "summary.h"
 
+#include "csvtab.h"
 #include "out.h"
 
-#include <csv.h>
 #include <errno.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 
-#define FIELDS_MAX 256 /* compare.csv has about 50 columns; more is no file brdfkit wrote */
-#define ROWS_MAX 4096  /* as frontcsv.h: more is no front or catalog brdfkit writes */
-#define COLS_MAX 4
-
-/* ---- a CSV read by column name ---------------------------------------------------- */
+/* ---- a CSV read by column name (csvtab.h), with what its '#' lines state ----------- */
 
 typedef struct table {
-	const char *path;
-	const char *const *want; /* column names, NULL-terminated; -1 col when absent */
-	int col[COLS_MAX];
+	bk_csvtab t;
+	const char *const *want; /* the columns, NULL-terminated */
 	char objective[BK_SUMMARY_NAME], cost_model[BK_SUMMARY_NAME];
-	int line, rec_line, records, bad, nfield;
-	int open;                   /* a record begun and not yet ended: its first line is rec_line */
-	char *field[FIELDS_MAX];
-	int n;                      /* data rows */
-	int row_line[ROWS_MAX];
-	char *cell[ROWS_MAX][COLS_MAX];
 	char *err;
 	size_t errlen;
 } table;
-
-static void fail(table *t, int line, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void fail(table *t, int line, const char *fmt, ...)
-{
-	if (t->bad)
-		return;
-	t->bad = 1;
-	int k = line > 0 ? snprintf(t->err, t->errlen, "%.300s:%d: ", t->path, line)
-	                 : snprintf(t->err, t->errlen, "%.300s: ", t->path);
-	if (k < 0 || (size_t)k >= t->errlen)
-		return;
-	va_list ap;
-	va_start(ap, fmt);
-	vsnprintf(t->err + k, t->errlen - (size_t)k, fmt, ap);
-	va_end(ap);
-}
-
-static void on_field(void *s, size_t len, void *data)
-{
-	table *t = data;
-	if (t->nfield < FIELDS_MAX && !t->bad) {
-		if (!(t->field[t->nfield] = malloc(len + 1)))
-			fail(t, 0, "out of memory");
-		else {
-			memcpy(t->field[t->nfield], s ? s : "", len);
-			t->field[t->nfield][len] = '\0';
-		}
-	}
-	t->nfield++;
-}
-
-static void on_record(int c, void *data)
-{
-	(void)c;
-	table *t = data;
-	int n = t->nfield < FIELDS_MAX ? t->nfield : FIELDS_MAX, line = t->rec_line ? t->rec_line : t->line;
-	if (t->bad) {
-	} else if (t->records++ == 0) { /* the header: the columns by name */
-		for (int k = 0; t->want[k] && !t->bad; k++) {
-			t->col[k] = -1;
-			for (int j = 0; j < n && t->col[k] < 0; j++)
-				if (t->field[j] && !strcmp(t->field[j], t->want[k]))
-					t->col[k] = j;
-			if (t->col[k] < 0)
-				fail(t, line, "no column '%s'", t->want[k]);
-		}
-	} else if (t->n >= ROWS_MAX)
-		fail(t, line, "more than %d rows (no file brdfkit writes)", ROWS_MAX);
-	else {
-		for (int k = 0; t->want[k] && !t->bad; k++)
-			if (t->col[k] >= n)
-				fail(t, line, "%d fields, fewer than the header's", t->nfield);
-		for (int k = 0; t->want[k] && !t->bad; k++) {
-			t->cell[t->n][k] = t->field[t->col[k]];
-			t->field[t->col[k]] = NULL;
-		}
-		if (!t->bad)
-			t->row_line[t->n++] = line;
-	}
-	for (int j = 0; j < n; j++)
-		free(t->field[j]);
-	memset(t->field, 0, sizeof t->field);
-	t->nfield = 0;
-	t->rec_line = 0;
-	t->open = 0;
-}
 
 /* The objective a search's file states: "error: X in P precision" on its
  * '#' lines, the words kept as written (letters, digits, '_' and spaces). */
@@ -113,8 +35,10 @@ static int plain_words(const char *s, size_t n, const char *extra)
 	return 1;
 }
 
-static void objective_line(table *t, const char *line)
+static void objective_line(void *ctx, int lineno, const char *line)
 {
+	(void)lineno;
+	table *t = ctx;
 	static const char cost[] = "# cost: ";
 	const char *after = strstr(line, " after ");
 	if (!strncmp(line, cost, sizeof cost - 1) && after && !t->cost_model[0] &&
@@ -138,85 +62,39 @@ static void objective_line(table *t, const char *line)
 
 static void table_free(table *t)
 {
-	for (int i = 0; i < t->n; i++)
-		for (int k = 0; k < COLS_MAX; k++)
-			free(t->cell[i][k]);
-	for (int j = 0; j < FIELDS_MAX; j++)
-		free(t->field[j]);
+	bk_csvtab_free(&t->t);
 	free(t);
 }
 
-/* path read whole; NULL with err set (and nothing to free) on failure. */
+/* path read whole (at most BK_CSVTAB_MAX_ROWS rows); NULL with err set
+ * (and nothing to free) on failure. */
 static table *table_read(const char *path, const char *const *want, char *err, size_t errlen)
 {
 	table *t = calloc(1, sizeof *t);
 	if (!t) {
-		snprintf(err, errlen, "%.300s: out of memory", path);
+		bk_csvtab_err(err, errlen, path, 0, "out of memory");
 		return NULL;
 	}
-	*t = (table){.path = path, .want = want, .err = err, .errlen = errlen};
-	FILE *f = fopen(path, "rb");
-	if (!f) {
-		fail(t, 0, "cannot be read (%s)", strerror(errno));
-		table_free(t);
-		return NULL;
-	}
-	struct csv_parser p;
-	if (csv_init(&p, CSV_APPEND_NULL)) {
-		fclose(f);
-		fail(t, 0, "out of memory");
-		table_free(t);
-		return NULL;
-	}
-	char *line = NULL;
-	size_t cap = 0;
-	ssize_t len;
-	int head = 1;
-	while (!t->bad && (len = getline(&line, &cap, f)) >= 0) {
-		t->line++;
-		if (memchr(line, '\0', (size_t)len)) {
-			fail(t, t->line, "a NUL byte (not a text file)");
-			break;
-		}
-		if (head && line[0] == '#') { /* the provenance and conventions lines */
-			objective_line(t, line);
-			continue;
-		}
-		head = 0;
-		if (!t->open && strspn(line, "\r\n") != (size_t)len) { /* libcsv skips blank lines between records */
-			t->open = 1;
-			t->rec_line = t->line;
-		}
-		if (csv_parse(&p, line, (size_t)len, on_field, on_record, t) != (size_t)len)
-			fail(t, t->line, "%s", csv_strerror(csv_error(&p)));
-	}
-	if (!t->bad && ferror(f))
-		fail(t, 0, "read failed");
-	if (!t->bad && csv_fini(&p, on_field, on_record, t))
-		fail(t, t->line, "%s", csv_strerror(csv_error(&p)));
-	if (!t->bad && t->records == 0)
-		fail(t, 0, "empty (no header)");
-	free(line);
-	csv_free(&p);
-	fclose(f);
-	if (t->bad) {
-		table_free(t);
+	*t = (table){.want = want, .err = err, .errlen = errlen};
+	bk_csvtab_spec spec = {.cols = want, .comment = objective_line, .ctx = t};
+	if (bk_csvtab_read(path, &spec, &t->t, err, errlen)) {
+		free(t);
 		return NULL;
 	}
 	return t;
 }
 
-/* Cell (i, k) as a finite number >= 0; -1 after fail. */
+/* Cell (i, k) as a finite number >= 0; -1 with err set. */
 static int number(table *t, int i, int k, double *v)
 {
-	const char *s = t->cell[i][k];
+	const char *s = bk_csvtab_get(&t->t, i, k);
 	char *end;
 	errno = 0;
 	*v = strtod(s, &end);
 	if (*s && !*end && errno != ERANGE && isfinite(*v) && *v >= 0)
 		return 0;
-	fail(t, t->row_line[i], "%s: expected a finite number >= 0, got '%.40s'", t->want[k], s);
-	return -1;
+	return bk_csvtab_err(t->err, t->errlen, t->t.path, t->t.line[i], "%s: expected a finite number >= 0, got '%.40s'",
+	                     t->want[k], s);
 }
 
 /* ---- the rules ------------------------------------------------------------------------ */
@@ -291,16 +169,16 @@ static int brdfkit_own(const char *name)
 
 /* The points of t: name column 0, cost 1, error 2; when kind >= 0, only rows
  * whose column kind is "published", else the rows not brdfkit's own (or all
- * of them: all = 1). pts holds t->n. Returns the count, or -1 after fail. */
+ * of them: all = 1). pts holds t->t.n. Returns the count, or -1 with err set. */
 static int points(table *t, int kind, int all, bk_summary_pt *pts)
 {
 	int n = 0;
-	for (int i = 0; i < t->n; i++) {
-		const char *name = t->cell[i][0];
-		if (kind >= 0 ? strcmp(t->cell[i][kind], "published") != 0 : !all && brdfkit_own(name))
+	for (int i = 0; i < t->t.n; i++) {
+		const char *name = bk_csvtab_get(&t->t, i, 0);
+		if (kind >= 0 ? strcmp(bk_csvtab_get(&t->t, i, kind), "published") != 0 : !all && brdfkit_own(name))
 			continue;
 		bk_summary_pt *x = &pts[n];
-		x->line = t->row_line[i];
+		x->line = t->t.line[i];
 		x->name = name;
 		if (number(t, i, 1, &x->cost) || number(t, i, 2, &x->error))
 			return -1;
@@ -358,7 +236,7 @@ int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errl
 		}
 	}
 	int rc = -1, npub = -1, nfront = 0;
-	bk_summary_pt *pp = calloc((size_t)pt->n + 1, sizeof *pp), *fp = calloc(ft ? (size_t)ft->n + 1 : 1, sizeof *fp);
+	bk_summary_pt *pp = calloc((size_t)pt->t.n + 1, sizeof *pp), *fp = calloc(ft ? (size_t)ft->t.n + 1 : 1, sizeof *fp);
 	if (!pp || !fp)
 		snprintf(err, errlen, "%.300s: out of memory", dir);
 	else if ((npub = points(pt, search ? -1 : 3, 0, pp)) < 0 || (ft && (nfront = points(ft, -1, 1, fp)) < 0)) {

@@ -1,7 +1,7 @@
 /*
  * summary.h — the page's first screen (brdfkit report --summary): per target,
  * the best published form against the search's front, computed from the
- * CSVs brdfkit wrote, read by column NAME (libcsv), every number tied to the
+ * CSVs brdfkit wrote, read by column NAME (csvtab.h), every number tied to the
  * file and line it came from.
  *
  * A target is a directory. A search's (brdfkit search --out DIR) holds

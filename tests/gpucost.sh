@@ -95,11 +95,11 @@ grep -q '^# Spearman rank correlation with instructions: IR cost 0\.[0-9]*, fitt
 # the talk's env BRDF has no complex op: its IR cost and its instructions are the simple count
 got=$(for k in simple complex ir_cost instructions; do csv_where "$T/c.csv" name env_talk_r $k; done | tr '\n' ' ')
 [ "$got" = "4 0 4 4 " ] && ok || bad "calibrate env_talk_r: simple complex ir_cost instructions $got"
-expect_error "calibrate: a missing front" 1 "NoV: No such file" $BK gpucost --calibrate NoV
+expect_error "calibrate: a missing front" 1 "NoV: cannot be read (No such file" $BK gpucost --calibrate NoV
 printf '# a comment\nname,formula\nx,LoH\n' >"$T/notfront.csv"
 expect_error "calibrate: not a front" 1 "no column 'form'" $BK gpucost --calibrate "$T/notfront.csv"
 printf 'name,form,form_b,parameters\nx,LoH*p0,,p0=oops\n' >"$T/badparam.csv"
-expect_error "calibrate: bad parameters" 1 "row 2: parameters 'p0=oops'" $BK gpucost --calibrate "$T/badparam.csv"
+expect_error "calibrate: bad parameters" 1 "badparam.csv:2: parameters: a value is not a finite number, got 'p0=oops'" $BK gpucost --calibrate "$T/badparam.csv"
 
 # the named cost models are what the calibration over the catalog and make
 # results' fronts gives today: rerun it per chip and read the weights back

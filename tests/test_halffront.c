@@ -149,6 +149,29 @@ Test(frontcsv, reads_by_name)
 	bk_frontcsv_free(&fc);
 }
 
+/* A name quoted over lines 3-5: the row, and an error in it, are line 3
+ * (the row's first), not 5 (where that field ends, the rule before). */
+Test(frontcsv, a_quoted_name_over_lines_gives_the_row_first_line)
+{
+	const char *p = planted("# c\nname,form,form_b,parameters\n\"two\nline\nname\",LoH,,\nnext,NoV,,\n");
+	bk_frontcsv fc;
+	char err[700];
+	cr_assert_eq(bk_frontcsv_read(p, BK_FRONTCSV_FORMS, &fc, err, sizeof err), 0, "%s", err);
+	unlink(p);
+	cr_assert_eq(fc.n, 2);
+	cr_expect_str_eq(fc.row[0].name, "two\nline\nname");
+	cr_expect_eq(fc.row[0].line, 3);
+	cr_expect_neq(fc.row[0].line, 5, "the line where the quoted name ends");
+	cr_expect_eq(fc.row[1].line, 6);
+	bk_frontcsv_free(&fc);
+	p = planted("# c\nname,form,form_b,parameters\n\"two\nline\nname\",LoH * (,,\n");
+	cr_expect_eq(bk_frontcsv_read(p, BK_FRONTCSV_FORMS, &fc, err, sizeof err), -1);
+	unlink(p);
+	char want[128];
+	snprintf(want, sizeof want, "%s:3: form: column", p);
+	cr_expect(!strncmp(err, want, strlen(want)), "'%s' does not start with '%s'", err, want);
+}
+
 /* Each bad file fails naming path:line (the negative controls of the above). */
 static void expect_bad(const char *text, unsigned need, const char *where, const char *what)
 {

@@ -8,11 +8,10 @@
 #include "cli.h"
 #include "cmd.h"
 #include "form_check.h"
+#include "frontcsv.h"
 #include "gpucost.h"
 #include "out.h"
 
-#include <csv.h>
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -269,153 +268,47 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	free(a);
 }
 
-/* ---- search fronts read back (front.csv of brdfkit search), with libcsv -------------- */
+/* ---- search fronts read back (front.csv of brdfkit search, frontcsv.h) ---------------- */
 
-#define FR_FIELDS 64
-
-typedef struct front_reader {
-	const char *path;
-	char dir[64];        /* the front's folder (results/search/env/front.csv: "env"), names its rows */
-	char *field[FR_FIELDS];
-	int nfield, record;
-	int col[4];          /* name, form, form_b, parameters */
-	gc_row *rows;
-	int n, cap, bad;
-	char err[600];
-} front_reader;
-
-static void fr_field(void *s, size_t len, void *data)
-{
-	front_reader *r = data;
-	if (r->nfield < FR_FIELDS && !r->bad) {
-		if (!(r->field[r->nfield] = malloc(len + 1)))
-			r->bad = 1;
-		else {
-			memcpy(r->field[r->nfield], s ? s : "", len);
-			r->field[r->nfield][len] = '\0';
-		}
-	}
-	r->nfield++;
-}
-
-/* "p0=0.1;p1=2" into r->params; -1 when it is not that. */
-static int fr_params(const char *text, gc_row *g)
-{
-	for (const char *t = text; *t;) {
-		char *end;
-		long i;
-		if (*t != 'p' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS || *end != '=')
-			return -1;
-		double v = strtod(end + 1, &end);
-		if (!isfinite(v) || (*end && *end != ';'))
-			return -1;
-		g->params[i] = v;
-		g->have[i] = 1;
-		t = *end ? end + 1 : end;
-	}
-	return 0;
-}
-
-static void fr_record(int c, void *data)
-{
-	(void)c;
-	front_reader *r = data;
-	static const char *const want[4] = {"name", "form", "form_b", "parameters"};
-	int n = r->nfield < FR_FIELDS ? r->nfield : FR_FIELDS;
-	r->record++;
-	if (r->bad) {
-	} else if (r->record == 1) { /* the header */
-		for (int k = 0; k < 4 && !r->bad; k++) {
-			r->col[k] = -1;
-			for (int j = 0; j < n; j++)
-				if (r->field[j] && !strcmp(r->field[j], want[k]))
-					r->col[k] = j;
-			if (r->col[k] < 0) {
-				snprintf(r->err, sizeof r->err, "%.300s: no column '%s' (not a front.csv of brdfkit search)",
-				         r->path, want[k]);
-				r->bad = 1;
-			}
-		}
-	} else if (n <= r->col[0] || n <= r->col[1] || n <= r->col[2] || n <= r->col[3]) {
-		snprintf(r->err, sizeof r->err, "%.300s: row %d: %d fields, fewer than the header's", r->path, r->record, n);
-		r->bad = 1;
-	} else if (strncmp(r->field[r->col[0]], "seed_", 5)) { /* seeds are catalog forms: counted already */
-		if (r->n == r->cap) {
-			int cap = r->cap ? 2 * r->cap : 64;
-			gc_row *g = realloc(r->rows, (size_t)cap * sizeof *g);
-			if (!g) {
-				r->bad = 1;
-				snprintf(r->err, sizeof r->err, "out of memory");
-				goto out;
-			}
-			r->rows = g;
-			r->cap = cap;
-		}
-		gc_row *g = &r->rows[r->n];
-		memset(g, 0, sizeof *g);
-		snprintf(g->name, sizeof g->name, "%.60s%s%.90s", r->dir, *r->dir ? "/" : "", r->field[r->col[0]]);
-		g->text[0] = g->own[0] = r->field[r->col[1]];
-		r->field[r->col[1]] = NULL;
-		if (r->field[r->col[2]][0]) {
-			g->text[1] = g->own[1] = r->field[r->col[2]];
-			r->field[r->col[2]] = NULL;
-		}
-		r->n++;
-		if (fr_params(r->field[r->col[3]], g)) {
-			snprintf(r->err, sizeof r->err, "%.300s: row %d: parameters '%.60s' are not p0=X;p1=Y...", r->path,
-			         r->record, r->field[r->col[3]]);
-			r->bad = 1;
-		}
-	}
-out:
-	for (int j = 0; j < n; j++)
-		free(r->field[j]);
-	memset(r->field, 0, sizeof r->field);
-	r->nfield = 0;
-}
-
-/* Appends the members of one front.csv (its '# ' lines first, then CSV) to
- * *rows; 0, or 1 after one line on stderr. */
+/* Appends the members of one front.csv to *rows, not its seed_ rows (catalog
+ * forms, counted already); 0, or 1 after one line on stderr. */
 static int read_front(const char *path, gc_row **rows, int *n, int *cap)
 {
-	FILE *f = fopen(path, "rb");
-	if (!f)
-		return cli_fail("gpucost", "%s: %s", path, strerror(errno));
-	front_reader r = {.path = path, .rows = *rows, .n = *n, .cap = *cap};
-	const char *slash = strrchr(path, '/'), *start = slash; /* two searches both have a search_env_10 */
+	char dir[64] = "", err[700]; /* the front's folder names its rows: two searches both have a search_env_10 */
+	const char *slash = strrchr(path, '/'), *start = slash;
 	while (start && start > path && start[-1] != '/')
 		start--;
 	if (slash && start && slash > start)
-		snprintf(r.dir, sizeof r.dir, "%.*s", (int)(slash - start < 63 ? slash - start : 63), start);
-	struct csv_parser p;
-	char line[65536];
-	int head = 1, rc = csv_init(&p, CSV_APPEND_NULL) ? 2 : 0;
-	while (!rc && !r.bad && fgets(line, sizeof line, f)) {
-		if (head && line[0] == '#') /* the provenance lines */
+		snprintf(dir, sizeof dir, "%.*s", (int)(slash - start < 63 ? slash - start : 63), start);
+	bk_frontcsv fc;
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, sizeof err))
+		return cli_fail("gpucost", "%s", err);
+	int rc = 0;
+	for (int i = 0; !rc && i < fc.n; i++) {
+		bk_frontcsv_row *w = &fc.row[i];
+		if (!strncmp(w->name, "seed_", 5))
 			continue;
-		head = 0;
-		size_t len = strlen(line);
-		if (csv_parse(&p, line, len, fr_field, fr_record, &r) != len) {
-			snprintf(r.err, sizeof r.err, "%.300s: %s", path, csv_strerror(csv_error(&p)));
-			r.bad = 1;
+		if (*n == *cap) {
+			gc_row *g = realloc(*rows, 2 * (size_t)*cap * sizeof *g);
+			if (!g) {
+				rc = cli_fail("gpucost", "out of memory");
+				break;
+			}
+			*rows = g;
+			*cap *= 2;
 		}
+		gc_row *g = &(*rows)[(*n)++];
+		memset(g, 0, sizeof *g);
+		snprintf(g->name, sizeof g->name, "%.60s%s%.90s", dir, *dir ? "/" : "", w->name);
+		g->text[0] = g->own[0] = w->form; /* the row's texts move to g */
+		g->text[1] = g->own[1] = w->form_b;
+		w->form = w->form_b = NULL;
+		memcpy(g->params, w->p, sizeof g->params);
+		for (int j = 0; j < w->np; j++) /* every one the forms use is given (frontcsv.h) */
+			g->have[j] = 1;
 	}
-	if (!rc && !r.bad && (ferror(f) || csv_fini(&p, fr_field, fr_record, &r))) {
-		snprintf(r.err, sizeof r.err, "%.300s: read failed", path);
-		r.bad = 1;
-	}
-	if (!rc && !r.bad && r.record < 1) {
-		snprintf(r.err, sizeof r.err, "%.300s: empty (not a front.csv of brdfkit search)", path);
-		r.bad = 1;
-	}
-	csv_free(&p);
-	fclose(f);
-	*rows = r.rows;
-	*n = r.n;
-	*cap = r.cap;
-	if (rc)
-		return cli_fail("gpucost", "out of memory");
-	return r.bad ? cli_fail("gpucost", "%s", r.err) : 0;
+	bk_frontcsv_free(&fc);
+	return rc;
 }
 
 static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)

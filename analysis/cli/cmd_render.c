@@ -9,12 +9,12 @@
 #include "catalog.h"
 #include "cli.h"
 #include "cmd.h"
+#include "csvtab.h"
 #include "form_check.h"
 #include "out.h"
 #include "render.h"
 #include "render_write.h"
 
-#include <csv.h>
 #include <errno.h>
 #include <math.h>
 #include <stdio.h>
@@ -178,112 +178,44 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 
 /* ---- a batch CSV (name, term, form, form_b, parameters by name) ------------------- */
 
-typedef struct batch {
-	const char *path;
-	int record, col[5], field, bad;
-	char *cell[5];
-	item *items;
-	int n;
-	char err[400];
-} batch;
+static const char *const batch_cols[] = {"name", "term", "form", "form_b", "parameters", NULL};
 
-static const char *const batch_cols[5] = {"name", "term", "form", "form_b", "parameters"};
-
-static void b_field(void *s, size_t len, void *ctx)
+/* "brdfkit render: --batch PATH[:LINE]: what"; 2, the file being bad input. */
+static int batch_fail(const char *err)
 {
-	batch *b = ctx;
-	if (b->bad)
-		return;
-	if (b->record == 0) {
-		for (int k = 0; k < 5; k++)
-			if (strlen(batch_cols[k]) == len && !memcmp(s, batch_cols[k], len))
-				b->col[k] = b->field;
-	} else
-		for (int k = 0; k < 5; k++)
-			if (b->col[k] == b->field && !(b->cell[k] = strndup(s, len)))
-				b->bad = 2;
-	b->field++;
+	fprintf(stderr, "brdfkit render: --batch %s\n", err);
+	return 2;
 }
 
-static void b_record(int c, void *ctx)
-{
-	(void)c;
-	batch *b = ctx;
-	if (b->bad)
-		return;
-	if (b->record == 0) {
-		for (int k = 0; k < 5; k++)
-			if (b->col[k] < 0 && k != 3 && k != 4) {
-				snprintf(b->err, sizeof b->err, "%.300s: no column '%s' (want name, term, form, form_b, parameters)",
-				         b->path, batch_cols[k]);
-				b->bad = 1;
-			}
-	} else if (b->n >= MAX_ITEMS) {
-		snprintf(b->err, sizeof b->err, "%.300s: more than %d rows", b->path, MAX_ITEMS);
-		b->bad = 1;
-	} else if (!b->cell[2] || !b->cell[0]) {
-		snprintf(b->err, sizeof b->err, "%.300s: row %d has fewer fields than the header", b->path, b->record);
-		b->bad = 1;
-	} else {
-		int rc = resolve(&b->items[b->n], b->cell[0], b->cell[2], b->cell[3],
-		                 b->cell[4], b->cell[1] && *b->cell[1] ? b->cell[1] : NULL);
-		b->n++;
-		if (rc)
-			b->bad = 3; /* resolve said it */
-		for (int i = 0; i < b->n - 1 && !b->bad; i++)
-			if (!strcmp(b->items[i].name, b->items[b->n - 1].name)) {
-				snprintf(b->err, sizeof b->err, "%.300s: the name '%s' twice", b->path, b->items[i].name);
-				b->bad = 1;
-			}
-	}
-	for (int k = 0; k < 5; k++) {
-		free(b->cell[k]);
-		b->cell[k] = NULL;
-	}
-	b->field = 0;
-	b->record++;
-}
-
+/* The rows of a batch CSV (its first line per row in the errors) into items;
+ * 0, or non-zero after one line on stderr. */
 static int read_batch(const char *path, item *items, int *n)
 {
-	size_t len;
-	char *text = cli_read_file(path, &len);
-	if (!text)
-		return cli_fail("render", "--batch %s: %s", path, strerror(errno));
-	batch b = {.path = path, .col = {-1, -1, -1, -1, -1}, .items = items};
-	struct csv_parser p;
-	if (csv_init(&p, CSV_APPEND_NULL)) {
-		free(text);
-		return cli_fail("render", "out of memory");
+	char err[600];
+	bk_csvtab_spec spec = {.cols = batch_cols, .optional = 1u << 3 | 1u << 4,
+	                       .hint = "want name, term, form, form_b, parameters", .max_rows = MAX_ITEMS};
+	bk_csvtab t;
+	*n = 0;
+	int rc = bk_csvtab_read(path, &spec, &t, err, sizeof err);
+	if (rc)
+		return rc == -2 ? cli_fail("render", "--batch %s", err) : batch_fail(err);
+	if (!t.n) {
+		bk_csvtab_err(err, sizeof err, path, 0, "no rows");
+		rc = batch_fail(err);
 	}
-	/* '#' lines before the header are comments (brdfkit's CSV convention) */
-	const char *s = text;
-	while (*s == '#')
-		s += strcspn(s, "\n") + (s[strcspn(s, "\n")] == '\n');
-	size_t rest = len - (size_t)(s - text);
-	if (csv_parse(&p, s, rest, b_field, b_record, &b) != rest || csv_fini(&p, b_field, b_record, &b)) {
-		if (!b.bad)
-			snprintf(b.err, sizeof b.err, "%.300s: %s", path, csv_strerror(csv_error(&p)));
-		b.bad = b.bad ? b.bad : 1;
+	for (int i = 0; !rc && i < t.n; i++) {
+		const char *term = bk_csvtab_get(&t, i, 1);
+		rc = resolve(&items[*n], bk_csvtab_get(&t, i, 0), bk_csvtab_get(&t, i, 2), bk_csvtab_get(&t, i, 3),
+		             bk_csvtab_get(&t, i, 4), *term ? term : NULL); /* resolve says what is wrong */
+		++*n;
+		for (int j = 0; j < *n - 1 && !rc; j++)
+			if (!strcmp(items[j].name, items[*n - 1].name)) {
+				bk_csvtab_err(err, sizeof err, path, t.line[i], "the name '%s' twice", items[j].name);
+				rc = batch_fail(err);
+			}
 	}
-	csv_free(&p);
-	free(text);
-	for (int k = 0; k < 5; k++)
-		free(b.cell[k]);
-	*n = b.n;
-	if (!b.bad && b.n == 0) {
-		snprintf(b.err, sizeof b.err, "%.300s: no rows", path);
-		b.bad = 1;
-	}
-	if (b.bad == 3)
-		return 2;
-	if (b.bad == 2)
-		return cli_fail("render", "out of memory");
-	if (b.bad) {
-		fprintf(stderr, "brdfkit render: --batch %s\n", b.err);
-		return 2;
-	}
-	return 0;
+	bk_csvtab_free(&t);
+	return rc;
 }
 
 /* ---- the command ------------------------------------------------------------------ */
