@@ -1,13 +1,13 @@
 /*
  * sources.c — the functions tests/vk runs (see sources.h): the catalog, the
- * rows of search fronts (libcsv, columns by name) and the functions of
+ * rows of search fronts (analysis/frontcsv.h) and the functions of
  * committed GLSL files (their provenance comments parsed for the form).
  */
 #include "sources.h"
 
 #include "catalog.h"
+#include "frontcsv.h"
 
-#include <csv.h>
 #include <ctype.h>
 #include <errno.h>
 #include <stdio.h>
@@ -90,97 +90,6 @@ int vk_add_catalog(vk_fns *fns, char *err, size_t errlen)
 
 /* ---- front.csv ------------------------------------------------------------ */
 
-#define FR_FIELDS 64
-
-typedef struct front {
-	vk_fns *fns;
-	const char *path;
-	char dir[64];
-	char *field[FR_FIELDS];
-	int nfield, record, col[4];
-	int bad;
-	char *err;
-	size_t errlen;
-} front;
-
-static void fr_field(void *s, size_t len, void *data)
-{
-	front *r = data;
-	if (r->nfield < FR_FIELDS && !(r->field[r->nfield] = strndup(s ? s : "", len)))
-		r->bad = 1;
-	r->nfield++;
-}
-
-/* "p0=0.1;p1=2" into p; the count (highest index + 1), or -1. */
-static int fr_params(const char *text, double *p)
-{
-	int n = 0;
-	for (const char *t = text; *t;) {
-		char *end;
-		long i;
-		if (*t != 'p' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS || *end != '=')
-			return -1;
-		p[i] = strtod(end + 1, &end);
-		if (*end && *end != ';')
-			return -1;
-		n = (int)i + 1 > n ? (int)i + 1 : n;
-		t = *end ? end + 1 : end;
-	}
-	return n;
-}
-
-static void fr_row(front *r)
-{
-	double p[BK_MAX_PARAMS] = {0};
-	int np = fr_params(r->field[r->col[3]], p);
-	const char *name = r->field[r->col[0]], *b = r->field[r->col[2]];
-	char label[200];
-	if (np < 0) {
-		snprintf(r->err, r->errlen, "%s: row %d: parameters '%.60s' are not p0=X;p1=Y...", r->path, r->record,
-		         r->field[r->col[3]]);
-		r->bad = 1;
-		return;
-	}
-	snprintf(label, sizeof label, "front:%s/%.80s%s", r->dir, name, *b ? ":A" : "");
-	if (add_emitted(r->fns, label, r->field[r->col[1]], p, np, r->err, r->errlen)) {
-		r->bad = 1;
-		return;
-	}
-	snprintf(label, sizeof label, "front:%s/%.80s:B", r->dir, name);
-	if (*b && add_emitted(r->fns, label, b, p, np, r->err, r->errlen))
-		r->bad = 1;
-}
-
-static void fr_record(int c, void *data)
-{
-	(void)c;
-	front *r = data;
-	static const char *const want[4] = {"name", "form", "form_b", "parameters"};
-	int n = r->nfield < FR_FIELDS ? r->nfield : FR_FIELDS;
-	r->record++;
-	if (r->bad) {
-	} else if (r->record == 1) {
-		for (int k = 0; k < 4 && !r->bad; k++) {
-			r->col[k] = -1;
-			for (int j = 0; j < n; j++)
-				if (r->field[j] && !strcmp(r->field[j], want[k]))
-					r->col[k] = j;
-			if (r->col[k] < 0) {
-				snprintf(r->err, r->errlen, "%s: no column '%s'", r->path, want[k]);
-				r->bad = 1;
-			}
-		}
-	} else if (n != r->nfield || n <= r->col[0] || n <= r->col[1] || n <= r->col[2] || n <= r->col[3]) {
-		snprintf(r->err, r->errlen, "%s: row %d: %d fields, fewer than the header's", r->path, r->record, n);
-		r->bad = 1;
-	} else
-		fr_row(r);
-	for (int j = 0; j < n; j++)
-		free(r->field[j]);
-	memset(r->field, 0, sizeof r->field);
-	r->nfield = 0;
-}
-
 /* The folder that holds path ("results/search/env/front.csv": "env"). */
 static void parent_name(const char *path, char *out, size_t len)
 {
@@ -193,45 +102,28 @@ static void parent_name(const char *path, char *out, size_t len)
 		snprintf(out, len, "%s", path);
 }
 
+/* A front.csv's members, read by analysis/frontcsv.h (columns by name, the
+ * parameters checked, a bad row named by the line it starts on). */
 int vk_add_front(vk_fns *fns, const char *path, char *err, size_t errlen)
 {
-	FILE *f = fopen(path, "rb");
-	if (!f) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
+	bk_frontcsv fc;
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, errlen))
 		return -1;
+	char dir[64], label[200];
+	parent_name(path, dir, sizeof dir);
+	int rc = 0;
+	for (int i = 0; i < fc.n && !rc; i++) {
+		const bk_frontcsv_row *w = &fc.row[i];
+		snprintf(label, sizeof label, "front:%s/%.80s%s", dir, w->name, w->form_b ? ":A" : "");
+		rc = add_emitted(fns, label, w->form, w->p, w->np, err, errlen);
+		snprintf(label, sizeof label, "front:%s/%.80s:B", dir, w->name);
+		if (!rc && w->form_b)
+			rc = add_emitted(fns, label, w->form_b, w->p, w->np, err, errlen);
 	}
-	front r = {.fns = fns, .path = path, .err = err, .errlen = errlen};
-	parent_name(path, r.dir, sizeof r.dir);
-	int first = fns->n;
-	struct csv_parser p;
-	char line[65536];
-	int head = 1;
-	if (csv_init(&p, CSV_APPEND_NULL)) {
-		fclose(f);
-		snprintf(err, errlen, "out of memory");
-		return -1;
-	}
-	while (!r.bad && fgets(line, sizeof line, f)) {
-		if (head && line[0] == '#') /* the provenance lines */
-			continue;
-		head = 0;
-		size_t len = strlen(line);
-		if (csv_parse(&p, line, len, fr_field, fr_record, &r) != len) {
-			snprintf(err, errlen, "%s: %s", path, csv_strerror(csv_error(&p)));
-			r.bad = 1;
-		}
-	}
-	if (!r.bad && (ferror(f) || csv_fini(&p, fr_field, fr_record, &r))) {
-		snprintf(err, errlen, "%s: read failed", path);
-		r.bad = 1;
-	}
-	csv_free(&p);
-	fclose(f);
-	if (!r.bad && fns->n == first) {
-		snprintf(err, errlen, "%s: no front member", path);
-		r.bad = 1;
-	}
-	return r.bad ? -1 : 0;
+	if (!rc && fc.n == 0)
+		rc = -1, snprintf(err, errlen, "%s: no front member", path);
+	bk_frontcsv_free(&fc);
+	return rc;
 }
 
 /* ---- brdfkit's GLSL files ---------------------------------------------------- */
