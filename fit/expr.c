@@ -181,9 +181,9 @@ static int rank(int op)
 	return op == BK_OP_PARAM ? 0 : op == BK_OP_CONST ? 1 : op == BK_OP_INPUT ? 2 : 3 + op;
 }
 
-static int cmp_tree(const bk_enode *a, const bk_enode *b)
+/* a (la nodes) against b (lb nodes) in the canonical order */
+static int cmp_tree(const bk_enode *a, int la, const bk_enode *b, int lb)
 {
-	int la = span_at(a), lb = span_at(b);
 	for (int i = 0; i < la && i < lb; i++) {
 		int ra = rank(a[i].op), rb = rank(b[i].op);
 		if (ra != rb)
@@ -451,7 +451,7 @@ static int pass(const bk_enode *s, bk_enode *d, int ra, int *used)
 			}
 		}
 	}
-	if (commutative(op) && cmp_tree(&d[off[0]], &d[off[1]]) > 0) {
+	if (commutative(op) && cmp_tree(&d[off[0]], len[0], &d[off[1]], len[1]) > 0) {
 		bk_enode tmp[BK_EXPR_MAX];
 		memcpy(tmp, &d[off[0]], sizeof *d * (size_t)len[0]);
 		memmove(&d[1], &d[off[1]], sizeof *d * (size_t)len[1]);
