@@ -11,22 +11,13 @@
 #include <unistd.h>
 
 #include "csvtab.h"
+#include "fixture_tmpdir.h"
 
 static char dir[64], path[128], err[800];
 
-static void make_dir(void)
-{
-	snprintf(dir, sizeof dir, "/tmp/bk_csvtab_XXXXXX");
-	cr_assert_not_null(mkdtemp(dir));
-}
+static void make_dir(void) { fx_tmpdir_make(dir, sizeof dir, "csvtab"); }
 
-static void remove_dir(void)
-{
-	char cmd[128];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-	if (system(cmd))
-		cr_log_warn("could not remove %s", dir);
-}
+static void remove_dir(void) { fx_tmpdir_remove(dir); }
 
 TestSuite(csvtab, .init = make_dir, .fini = remove_dir, .timeout = 30);
 

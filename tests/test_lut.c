@@ -7,6 +7,7 @@
 #include "brdf.h"
 #include "exr.h"
 #include "lut.h"
+#include "fixture_tmpdir.h"
 
 #include <criterion/criterion.h>
 #include <dirent.h>
@@ -21,20 +22,15 @@
 #define CLASSIC {N, N, 0, 1, BK_LUT_WARP_NONE, NAN} /* the engines' usual layout */
 
 static double A[N * N], B[N * N];
-static char dir[] = "/tmp/bk_lut_XXXXXX";
+static char dir[64];
 
 static void setup(void)
 {
-	cr_assert_not_null(mkdtemp(dir));
+	fx_tmpdir_make(dir, sizeof dir, "lut");
 	cr_assert_eq(bk_dfg_lut(N, BK_SMITH_CORRELATED, 0, 1e-7, A, B, NULL, NULL), 0);
 }
 
-static void teardown(void)
-{
-	char cmd[128];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-	cr_assert_eq(system(cmd), 0);
-}
+static void teardown(void) { cr_assert_eq(fx_tmpdir_remove(dir), 0); }
 
 static void write_read(int top, int half, bk_exr_image *img, char *path)
 {

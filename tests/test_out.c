@@ -10,6 +10,7 @@
  */
 #define _GNU_SOURCE /* flock */
 #include "out.h"
+#include "fixture_tmpdir.h"
 
 #include <criterion/criterion.h>
 #include <dirent.h>
@@ -23,19 +24,14 @@
 #include <time.h>
 #include <unistd.h>
 
-static char dir[] = "/tmp/bk_out_XXXXXX";
+static char dir[64];
 
 static void setup(void)
 {
-	cr_assert_not_null(mkdtemp(dir));
+	fx_tmpdir_make(dir, sizeof dir, "out");
 }
 
-static void teardown(void)
-{
-	char cmd[128];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-	cr_assert_eq(system(cmd), 0);
-}
+static void teardown(void) { cr_assert_eq(fx_tmpdir_remove(dir), 0); }
 
 static void put(const char *path, const char *text)
 {

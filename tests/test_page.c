@@ -6,6 +6,7 @@
  * code in a page is refused with its line.
  */
 #include "page.h"
+#include "fixture_tmpdir.h"
 
 #include <criterion/criterion.h>
 #include <fcntl.h>
@@ -24,19 +25,9 @@ static char err[512];
 
 static char dir[64];
 
-static void make_dir(void)
-{
-	snprintf(dir, sizeof dir, "/tmp/bk_page_XXXXXX");
-	cr_assert_not_null(mkdtemp(dir));
-}
+static void make_dir(void) { fx_tmpdir_make(dir, sizeof dir, "page"); }
 
-static void remove_dir(void)
-{
-	char cmd[128];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-	if (system(cmd))
-		cr_log_warn("could not remove %s", dir);
-}
+static void remove_dir(void) { fx_tmpdir_remove(dir); }
 
 static const char *file_of(const char *name, size_t bytes)
 {

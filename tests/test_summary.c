@@ -7,6 +7,7 @@
  * control that moves one value across its edge and sees the answer change.
  */
 #include "summary.h"
+#include "fixture_tmpdir.h"
 
 #include <criterion/criterion.h>
 #include <math.h>
@@ -110,19 +111,9 @@ Test(summary_rules, an_exact_member_and_no_search)
 
 static char dir[64], err[1024];
 
-static void make_dir(void)
-{
-	snprintf(dir, sizeof dir, "/tmp/bk_summary_XXXXXX");
-	cr_assert_not_null(mkdtemp(dir));
-}
+static void make_dir(void) { fx_tmpdir_make(dir, sizeof dir, "summary"); }
 
-static void remove_dir(void)
-{
-	char cmd[128];
-	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-	if (system(cmd))
-		cr_log_warn("could not remove %s", dir);
-}
+static void remove_dir(void) { fx_tmpdir_remove(dir); }
 
 static const char *put(const char *sub, const char *name, const char *text)
 {
