@@ -129,16 +129,7 @@ static int same_n(const bk_enode *a, int la, const bk_enode *b, int lb)
 	return 1;
 }
 
-static int same(const bk_enode *a, const bk_enode *b)
-{
-	int la = span_at(a);
-	if (la != span_at(b))
-		return 0;
-	for (int i = 0; i < la; i++)
-		if (a[i].op != b[i].op || a[i].slot != b[i].slot || (a[i].op == BK_OP_CONST && a[i].k != b[i].k))
-			return 0;
-	return 1;
-}
+static int same(const bk_enode *a, const bk_enode *b) { return same_n(a, span_at(a), b, span_at(b)); }
 
 static int size_at(const bk_enode *s, int *len)
 {
