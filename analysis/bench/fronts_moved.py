@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """fronts_moved.py: what a change to the search moved in make results' fronts.
 
-  python3 analysis/bench/fronts_moved.py OLD_COMMIT > results/search/moved/section.html
+  python3 analysis/bench/fronts_moved.py OLD_COMMIT [--seeds AB.csv] > results/search/moved/section.html
 
 For each committed search front, the best error at cost <= c of the front
 at OLD_COMMIT (git show) and of the one in the work tree, for every cost c
 either front has a member at: better, worse or the same (within 0.1 %).
 Rows are read by column name (name, cost, error); the catalog's rows are not
 members of the search's front and are left out. Writes a page section
-(brdfkit report's section rules: tables and text only).
+(brdfkit report's section rules: tables and text only). --seeds adds the
+tallies of fronts_ab.py --csv (the same searches at several seeds, old and new
+binaries), read by column name: what one seed's moves are worth.
 """
 import csv
 import html
@@ -39,14 +41,45 @@ def upto(f, c):
     return min(v) if v else None
 
 
+def seeds_table(path):
+    with open(path, newline="") as f:
+        rs = list(csv.DictReader(f))
+    seeds = []
+    for r in rs:
+        if r["seed"] != "all" and r["seed"] not in seeds:
+            seeds.append(r["seed"])
+    out = ["<p>The same seven searches at seeds %s, the binaries before and after, side by side "
+           "(<code>python3 analysis/bench/fronts_ab.py</code>): cost levels &lt;= 16 better / worse / the same, "
+           "and the geometric mean of after/before over them (below 1: better).</p>"
+           % html.escape(", ".join(seeds)), "<table>",
+           "<tr><th>search</th>%s<th>all seeds</th></tr>" % "".join("<th>seed %s</th>" % html.escape(s) for s in seeds)]
+    cell = lambda r: "%s / %s / %s, x%s" % tuple(html.escape(r[k]) for k in ("better", "worse", "same", "gmean_new_over_old"))
+    for n in SEARCHES + ["all"]:
+        by = {r["seed"]: r for r in rs if r["search"] == n}
+        if not by:
+            continue
+        tds = "".join("<td>%s</td>" % (cell(by[s]) if s in by else "") for s in seeds)
+        out.append("<tr><td>%s</td>%s<td>%s</td></tr>" % (html.escape(n), tds, cell(by["all"]) if "all" in by else ""))
+    out.append("</table>")
+    return out
+
+
 def main():
-    old_commit = sys.argv[1]
+    args = sys.argv[1:]
+    seeds = None
+    if len(args) == 3 and args[1] == "--seeds":
+        seeds = args[2]
+    elif len(args) != 1:
+        sys.exit("usage: fronts_moved.py OLD_COMMIT [--seeds AB.csv]")
+    old_commit = args[0]
     out = ['<section id="search-moved">',
            "<h2>What issue 22's search changes moved in the fronts</h2>",
            "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after, "
            "same commands, budgets and seeds. The search is stochastic at a fixed budget: a change to "
            "canonical texts, starts or generation reorders what it tries, so fronts move both ways. "
            "<code>python3 analysis/bench/fronts_moved.py %s</code></p>" % (html.escape(old_commit), html.escape(old_commit))]
+    if seeds:
+        out.extend(seeds_table(seeds))
     for n in SEARCHES:
         old = subprocess.run(["git", "show", "%s:results/search/%s/front.csv" % (old_commit, n)],
                              capture_output=True, text=True, check=True).stdout
