@@ -11,7 +11,8 @@ scipy.optimize.least_squares(method='lm') from all ones, the residuals
 sqrt(w)(f - y) as brdfkit's, the Jacobian by 2-point finite differences
 (a formula string has no analytic Jacobian in SciPy), ftol and xtol 1e-8
 (brdfkit's screening asks 1e-6 of the bridge, which asks 1/100 of that) and
-at most 40 iterations' worth of evaluations, as the screening fits. Prints
+at most 20 iterations' worth of evaluations, as the screening fits (SCREEN_ITERATIONS,
+fit/search/screen.c). Prints
 "seconds_per_fit S" (the mean over the candidates) on stdout.
 """
 import re
@@ -72,7 +73,7 @@ def main():
         t0 = time.perf_counter()
         try:
             least_squares(res, np.ones(k), method="lm", ftol=1e-8, xtol=1e-8, gtol=1e-12,
-                          max_nfev=40 * (k + 1))
+                          max_nfev=20 * (k + 1))
         except Exception:
             pass
         total += time.perf_counter() - t0

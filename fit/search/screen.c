@@ -15,8 +15,23 @@
 
 /* Screening fits stop early: a candidate only has to be ranked (errors are
  * compared at 20 bits, ~1e-6), and the front's members are refitted in full
- * afterwards with fit's tolerances. */
-#define SCREEN_ITERATIONS 40
+ * afterwards with fit's tolerances.
+ *
+ * The cap, 20 (40 before). Measured with analysis/bench/fronts_ab.py, make
+ * results' seven double searches at seeds 1-3, 40 against 20 on the same
+ * machine: the fronts moved both ways, as any change to the search's path
+ * moves them (cost levels <= 16 over the three seeds: 20 better at 106,
+ * worse at 95, the same at 85; the geometric mean of 20's errors over 40's
+ * 0.999), for a sixth less CPU (the seven searches, one thread each, two at a
+ * time: 453-512 CPU-s a seed, against 544-602 at 40).
+ * A fit the cap stops is not lost: it ends "not converged", so the next start
+ * is tried (below), and a near one is polished; the recovery suite at 20,000
+ * fits, seeds 1-3 (bench_recovery): 126 -> 131 of 153 runs, catalog 8 -> 9 of
+ * 16 forms. What a lower cap loses: a right structure from a poor start that
+ * needs more than 20 iterations and is not yet near (tests/test_search_nb.c,
+ * the Beckmann peak from 0.1: 0.08 rmse after 20, its constants after 40)
+ * waits for a neighbour or the refit. 12 lost the polish of near fits too. */
+#define SCREEN_ITERATIONS 20
 #define SCREEN_FTOL 1e-6
 #define SCREEN_PTOL 1e-8
 
