@@ -43,7 +43,7 @@ def upto(f, c):
 
 def seeds_table(path):
     with open(path, newline="") as f:
-        rs = list(csv.DictReader(f))
+        rs = list(csv.DictReader(l for l in f if not l.startswith("#")))
     seeds = []
     for r in rs:
         if r["seed"] != "all" and r["seed"] not in seeds:
