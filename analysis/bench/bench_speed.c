@@ -43,6 +43,12 @@
  * 7.79-8.45 G nodes per CPU-s (1.68-1.74x); with the conversions as before
  * (what main ran: libm and scalar conversions) 3.87 G, vmath alone on them
  * 5.84 G. Per run of 3 medians the figure moved by +-20 % with the load.
+ *
+ * Issue 22, screening's iteration cap 40 -> 20 (fit/search/screen.c), idle,
+ * wall: 1. 2,007 -> 3,103 fits/s on 1 thread, 3,701 -> 5,682 on 2 (1.54x;
+ * the old side, 1,053 -> 1,544, moves with it: its searches fit with the same
+ * cap); 3. 9.42 G nodes/s. make results' seven double searches, whose CPU
+ * also holds the refit of the front and the outputs, took a sixth less CPU.
  */
 #include "brdf.h"
 #include "clock.h"
