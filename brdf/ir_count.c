@@ -48,9 +48,9 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
 /*
  * The cost models. The aco- weights are what `brdfkit gpucost --calibrate
  * --chips CHIP` prints given the front.csv of each search in results/search
- * (fp32, the 34 catalog forms and the 84 members of make results' seven
- * search fronts after issue 22, Mesa 22.3.6 RADV/ACO, Debian 12), rounded to 4 digits;
- * tests/gpucost.sh reruns the calibration and fails if the driver's answer
+ * (fp32, the 34 catalog forms and the 90 members of make results' seven
+ * search fronts after issue 22's screening cap of 20, Mesa 22.3.6 RADV/ACO,
+ * Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration and fails if the driver's answer
  * moves away from them. RDNA (navi21, gfx1100) issues a transcendental as
  * one instruction, hence a complex weight near 1; there the IR's 4 prices
  * throughput on a mobile GPU's one-per-cycle unit, which ACO's count does
@@ -58,10 +58,10 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
  */
 static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
-	{"aco-polaris10", 1.105, 1.067},         /* GCN 4, gfx8 */
-	{"aco-vega10", 1.105, 1.067},            /* GCN 5, gfx9 */
-	{"aco-navi21", 1.037, 0.9921},           /* RDNA 2, gfx10.3 */
-	{"aco-gfx1100", 1.042, 1.600},           /* RDNA 3, gfx11 */
+	{"aco-polaris10", 1.092, 1.289},         /* GCN 4, gfx8 */
+	{"aco-vega10", 1.092, 1.289},            /* GCN 5, gfx9 */
+	{"aco-navi21", 1.031, 1.130},            /* RDNA 2, gfx10.3 */
+	{"aco-gfx1100", 1.031, 1.786},           /* RDNA 3, gfx11 */
 };
 
 const bk_cost_model *bk_cost_model_find(const char *name)
