@@ -50,11 +50,11 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
  * --chips CHIP` prints given the front.csv of each search in results/search
  * (fp32, the 34 catalog forms and the 90 members of make results' seven
  * search fronts after issue 22's screening cap of 20, Mesa 22.3.6 RADV/ACO,
- * Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration and fails if the driver's answer
- * moves away from them. RDNA (navi21, gfx1100) issues a transcendental as
- * one instruction, hence a complex weight near 1; there the IR's 4 prices
- * throughput on a mobile GPU's one-per-cycle unit, which ACO's count does
- * not see.
+ * Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration
+ * and fails if the driver's answer moves away from them. ACO issues a
+ * transcendental as one instruction, hence complex weights of 1.1-1.8, not
+ * the IR's 4: that 4 prices throughput on a mobile GPU's one-per-cycle unit,
+ * which an instruction count does not see.
  */
 static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */

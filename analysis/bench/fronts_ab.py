@@ -36,7 +36,7 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from fronts_moved import SEARCHES, front, rows, upto  # noqa: E402
+from fronts_moved import SEARCHES, front, rows, upto, verdict  # noqa: E402
 
 
 def command(name):
@@ -75,7 +75,7 @@ def run(binary, name, seed, d):
 
 def compare(old, new, max_cost):
     fo, fn = front(rows(open(old).read())), front(rows(open(new).read()))
-    b = w = s = 0
+    tally = {"better": 0, "worse": 0, "same": 0}
     logs = []
     for c in sorted(set(fo) | set(fn)):
         if c > max_cost:
@@ -83,15 +83,10 @@ def compare(old, new, max_cost):
         x, y = upto(fo, c), upto(fn, c)
         if x is None or y is None:
             continue
-        if y < x * 0.999:
-            b += 1
-        elif y > x * 1.001:
-            w += 1
-        else:
-            s += 1
+        tally[verdict(x, y)] += 1
         if x > 0 and y > 0:
             logs.append(math.log(y / x))
-    return b, w, s, logs
+    return tally["better"], tally["worse"], tally["same"], logs
 
 
 def main():

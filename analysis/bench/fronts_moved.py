@@ -41,17 +41,23 @@ def upto(f, c):
     return min(v) if v else None
 
 
+def verdict(old, new):
+    """better, worse or same: new's best error against old's, 0.1 % either way"""
+    return "better" if new < old * 0.999 else "worse" if new > old * 1.001 else "same"
+
+
 def seeds_table(path):
     with open(path, newline="") as f:
-        rs = list(csv.DictReader(l for l in f if not l.startswith("#")))
+        lines = f.readlines()
+    said = " ".join(l[1:].strip() for l in lines if l.startswith("#"))  # fronts_ab.py's provenance
+    rs = list(csv.DictReader(l for l in lines if not l.startswith("#")))
     seeds = []
     for r in rs:
         if r["seed"] != "all" and r["seed"] not in seeds:
             seeds.append(r["seed"])
-    out = ["<p>The same seven searches at seeds %s, the binaries before and after, side by side "
-           "(<code>python3 analysis/bench/fronts_ab.py</code>): cost levels &lt;= 16 better / worse / the same, "
-           "and the geometric mean of after/before over them (below 1: better).</p>"
-           % html.escape(", ".join(seeds)), "<table>",
+    out = ["<p>The same seven searches at seeds %s, the binaries before and after, side by side: "
+           "cost levels better / worse / the same, and the geometric mean of after/before over them "
+           "(below 1: better). <code>%s</code></p>" % (html.escape(", ".join(seeds)), html.escape(said)), "<table>",
            "<tr><th>search</th>%s<th>all seeds</th></tr>" % "".join("<th>seed %s</th>" % html.escape(s) for s in seeds)]
     cell = lambda r: "%s / %s / %s, x%s" % tuple(html.escape(r[k]) for k in ("better", "worse", "same", "gmean_new_over_old"))
     for n in SEARCHES + ["all"]:
@@ -77,7 +83,8 @@ def main():
            "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after, "
            "same commands, budgets and seeds. The search is stochastic at a fixed budget: a change to "
            "canonical texts, starts or generation reorders what it tries, so fronts move both ways. "
-           "<code>python3 analysis/bench/fronts_moved.py %s</code></p>" % (html.escape(old_commit), html.escape(old_commit))]
+           "<code>python3 analysis/bench/fronts_moved.py %s%s</code></p>"
+           % (html.escape(old_commit), html.escape(old_commit), html.escape(" --seeds " + seeds if seeds else ""))]
     if seeds:
         out.extend(seeds_table(seeds))
     for n in SEARCHES:
@@ -91,12 +98,12 @@ def main():
         for c in sorted(set(fo) | set(fn)):
             a, b = upto(fo, c), upto(fn, c)
             if a is None or b is None:
-                verdict = ""
+                v = ""
             else:
-                verdict = "better" if b < a * 0.999 else "worse" if b > a * 1.001 else "same"
-                tally[verdict] += 1
+                v = verdict(a, b)
+                tally[v] += 1
             fmt = lambda x: "" if x is None else "%.4g" % x
-            lines.append("<tr><td>%g</td><td>%s</td><td>%s</td><td>%s</td></tr>" % (c, fmt(a), fmt(b), verdict))
+            lines.append("<tr><td>%g</td><td>%s</td><td>%s</td><td>%s</td></tr>" % (c, fmt(a), fmt(b), v))
         out.append("<p><code>%s</code>: %d cost levels better, %d worse, %d the same</p>" %
                    (n, tally["better"], tally["worse"], tally["same"]))
         out.append("<table>")
