@@ -73,7 +73,7 @@ void bk_plot_colour(int map, double t, unsigned char rgb[3])
 /* The smallest of 1, 2, 5 x 10^k at least raw. */
 static double nice_step(double raw)
 {
-	double mag = pow(10.0, floor(log10(raw))), r = raw / mag;
+	double mag = bk_dpow(10.0, floor(log10(raw))), r = raw / mag;
 	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
@@ -163,17 +163,17 @@ static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 	int d0 = (int)floor(log10(a->lo) + 1e-9), d1 = (int)ceil(log10(a->hi) - 1e-9);
 	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5;
 	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++) {
-		t->v[t->n] = pow(10.0, d);
+		t->v[t->n] = bk_dpow(10.0, d);
 		t->major[t->n] = (d - d0) % every == 0;
 		if (a->zero_at_lo && d == d0)
 			snprintf(t->text[t->n], 24, "0");
 		else if (d >= -3 && d <= 3)
-			snprintf(t->text[t->n], 24, "%g", pow(10.0, d));
+			snprintf(t->text[t->n], 24, "%g", bk_dpow(10.0, d));
 		else
 			snprintf(t->text[t->n], 24, "1e%d", d);
 		t->n++;
 		for (int m = 2; minor && d < d1 && m <= 9 && t->n < MAX_TICKS && !(a->zero_at_lo && d == d0); m++) {
-			t->v[t->n] = m * pow(10.0, d);
+			t->v[t->n] = m * bk_dpow(10.0, d);
 			t->major[t->n] = 0;
 			t->text[t->n++][0] = '\0';
 		}

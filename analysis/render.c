@@ -101,7 +101,7 @@ void bk_render_sky(const double d[3], double rgb[3])
 	light_dir(L);
 	normalize3(P);
 	double t = smoothstep(-0.05, 0.05, d[1]), s = sqrt(fmax(d[1], 0));
-	double glow = 8 * exp(200 * (dot3(d, L) - 1)), patch = 4 * exp(40 * (dot3(d, P) - 1));
+	double glow = 8 * bk_dexp(200 * (dot3(d, L) - 1)), patch = 4 * bk_dexp(40 * (dot3(d, P) - 1));
 	for (int c = 0; c < 3; c++) {
 		double sky = horizon[c] + (zenith[c] - horizon[c]) * s;
 		rgb[c] = ground[c] + (sky - ground[c]) * t + glow * sun[c] + patch;
@@ -162,7 +162,7 @@ void bk_render_irradiance(bk_render_env_fn env, void *ctx, const double N[3], do
 		for (int j = 0; j < GRID_PHI; j++) {
 			double u = (i + 0.5) / GRID_U, phi = 2 * BK_PI * (j + 0.5) / GRID_PHI, s = sqrt(u), d[3], c[3];
 			for (int k = 0; k < 3; k++)
-				d[k] = s * cos(phi) * t1[k] + s * sin(phi) * t2[k] + sqrt(1 - u) * N[k];
+				d[k] = s * bk_dcos(phi) * t1[k] + s * bk_dsin(phi) * t2[k] + sqrt(1 - u) * N[k];
 			env(ctx, d, c);
 			for (int k = 0; k < 3; k++)
 				sum[k] += c[k];
@@ -560,5 +560,5 @@ double bk_render_display(double x)
 	if (!(x > 0))
 		return 0;
 	double t = isinf(x) ? 1 : x / (1 + x);
-	return t <= 0.0031308 ? 12.92 * t : t >= 1 ? 1 : 1.055 * pow(t, 1 / 2.4) - 0.055;
+	return t <= 0.0031308 ? 12.92 * t : t >= 1 ? 1 : 1.055 * bk_dpow(t, 1 / 2.4) - 0.055;
 }

@@ -75,7 +75,7 @@ void bk_speclut_name(const bk_speclut *L, char *buf, size_t len)
 double bk_speclut_texel_x(const bk_speclut *L, int i)
 {
 	double u = (i + 0.5) / L->nu;
-	return L->warp == 1 ? u : pow(u, 1.0 / L->warp);
+	return L->warp == 1 ? u : bk_dpow(u, 1.0 / L->warp);
 }
 
 double bk_speclut_texel_r(const bk_speclut *L, int j)

@@ -379,7 +379,7 @@ static double min_safe_r(const bk_form *f, const double *params, double cfloor, 
 			coss[nc++] = bk_stab_cos[k];
 	rs[0] = 0;
 	for (int i = 1; i <= FINE; i++)
-		rs[i] = 1e-4 * pow(1e4, (double)(i - 1) / (FINE - 1)); /* 1e-4 .. 1, log-spaced */
+		rs[i] = 1e-4 * bk_dpow(1e4, (double)(i - 1) / (FINE - 1)); /* 1e-4 .. 1, log-spaced */
 	for (int i = 0; i <= FINE; i++)
 		ok[i] = half_ok(f, params, &rs[i], 1, coss, nc, tol);
 	return safe_from(rs, ok, FINE + 1);

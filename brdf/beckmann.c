@@ -20,7 +20,7 @@ double bk_D_beckmann(double NoH, double a)
 		return 0.0;
 	double c2 = NoH * NoH;
 	double tan2 = (1.0 - NoH) * (1.0 + NoH) / c2;
-	return exp(-tan2 / (a * a)) / (BK_PI * a * a * c2 * c2);
+	return bk_dexp(-tan2 / (a * a)) / (BK_PI * a * a * c2 * c2);
 }
 
 /*
@@ -37,7 +37,7 @@ double bk_Lambda_beckmann(double NoX, double a)
 		return 0.0;
 	double sin_t = sqrt((1.0 - NoX) * (1.0 + NoX));
 	double c = NoX / (a * sin_t);
-	return 0.5 * (exp(-c * c) / (c * sqrt(BK_PI)) - erfc(c));
+	return 0.5 * (bk_dexp(-c * c) / (c * sqrt(BK_PI)) - erfc(c));
 }
 
 /* G1_beckmann — 1 / (1 + Lambda). */

@@ -25,7 +25,7 @@ double bk_D_blinn_phong(double NoH, double a)
 	if (NoH <= 0.0 || a <= 0.0)
 		return 0.0;
 	double n = bk_blinn_phong_exponent(a);
-	return (n + 2.0) / (2.0 * BK_PI) * pow(NoH, n);
+	return (n + 2.0) / (2.0 * BK_PI) * bk_dpow(NoH, n);
 }
 
 /*
@@ -43,5 +43,5 @@ double bk_D_blinn_phong_sg(double NoH, double a)
 	if (NoH <= 0.0 || a <= 0.0)
 		return 0.0;
 	double n = bk_blinn_phong_exponent(a);
-	return (n + 2.0) / (2.0 * BK_PI) * exp((n + 0.775) * (NoH - 1.0));
+	return (n + 2.0) / (2.0 * BK_PI) * bk_dexp((n + 0.775) * (NoH - 1.0));
 }

@@ -48,8 +48,9 @@ const bk_instr *bk_form_code(const bk_form *f, int *n, int *out);
  * bk_ir_force_generic(1) pins the baseline (tests), 0 asks the CPU again. */
 int bk_ir_avx2(void);
 void bk_ir_force_generic(int on);
-/* bk_ir_force_libm(1): the f32 and f16 kernels call libm's exp2f and log2f
- * instead of brdf/vmath.h's vectorised ones (make bench's old side); 0 back. */
+/* bk_ir_force_libm(1): the kernels call libm's exp2, log2, pow, exp and log
+ * (exp2f, log2f, ... in f32 and f16) instead of brdf/vmath.h's vectorised
+ * ones and dmath.c's (make bench's old side); 0 back. */
 void bk_ir_force_libm(int on);
 
 #ifdef __cplusplus

@@ -20,6 +20,7 @@
  * integrators need (angles of the hemisphere), not the whole real line.
  */
 #include "dmath.h"
+#include "vmath.h"
 
 /* π/2 in two parts (fdlibm's pio2_1, pio2_1t): the first has 33 significant
  * bits, so k·PIO2_HI is exact for |k| < 2^20 and x - k·PIO2_HI is exact
@@ -127,4 +128,85 @@ double bk_dacos(double c)
 		return 2.0 * ((PIO2_D - asin_small(sqrt(0.5 * (1.0 + c)))) + PIO2_DLO);
 	double a = c < 0.0 ? -asin_small(-c) : asin_small(c);
 	return (PIO2_D - a) + PIO2_DLO;
+}
+
+/* ---- exp2, log2, pow, exp, log -------------------------------------------
+ *
+ * The IR's f64 ops (brdf/ir_eval.c, ir_adjoint.h, ir_code.c's folding) and
+ * the reference terms that need them (Beckmann, Blinn-Phong), on vmath.h's
+ * double-precision exp2 and log2, whose bits depend on the input alone
+ * (glibc's log2, log, exp and pow have FMA variants picked from the CPU at
+ * run time; see vmath.h). Precision, against long double libm
+ * (tests/test_dmath.c): exp2 and log2 as vmath.h states; log within 0.51
+ * ulp (log2's double-double times ln 2 as a pair); exp within 0.63 ulp
+ * (x log2 e as a pair, then exp2's); pow within 0.65 ulp for normal results
+ * (y log2 x as a pair from log2's: its error of 2^-62 times |y log2 x| <=
+ * 1075 stays under 2^-52); subnormal results of exp and pow as exp2's.
+ */
+
+double bk_dexp2(double x)
+{
+	return bk_v_exp2(x);
+}
+
+double bk_dlog2(double x)
+{
+	return bk_v_log2(x);
+}
+
+double bk_dlog(double x)
+{
+	double lo, hi = bk_v_log2_dd(x, &lo);
+	if (!isfinite(hi) || hi == 0.0)
+		return hi * BK_V_LN2_HI; /* +-inf, NaN and log(1) = +0 as they are */
+	double ph, pl;
+	bk_v_two_prod(hi, BK_V_LN2_HI, &ph, &pl);
+	return ph + (pl + (hi * BK_V_LN2_LO + lo * BK_V_LN2_HI));
+}
+
+double bk_dexp(double x)
+{
+	/* |x| > 800: exp over- or underflows whatever the rounding, and the
+	 * product's split must not overflow */
+	if (!(fabs(x) <= 800.0))
+		return bk_v_exp2(x * BK_V_INVLN2_HI); /* +-inf, NaN, and far past the ends */
+	double wh, wl;
+	bk_v_two_prod(x, BK_V_INVLN2_HI, &wh, &wl);
+	return bk_v_exp2_dd(wh, wl + x * BK_V_INVLN2_LO);
+}
+
+/* 1 if y is an odd integer (every double of magnitude >= 2^53 is even) */
+static int odd_integer(double y)
+{
+	return fabs(y) < 0x1p53 && y == nearbyint(y) && nearbyint(0.5 * y) != 0.5 * y;
+}
+
+/* C11's pow (Annex F.10.4.4) in its specials; otherwise 2^(y log2 |x|) with
+ * log2 |x| as a pair, y times it as a pair (exact product plus y times the
+ * low part), and the sign of an odd integer power of a negative x. */
+double bk_dpow(double x, double y)
+{
+	if (y == 0.0 || x == 1.0)
+		return 1.0; /* even for a NaN in the other */
+	if (isnan(x) || isnan(y))
+		return x + y;
+	int neg = signbit(x) != 0;
+	double ax = fabs(x);
+	if (neg && ax != 0.0 && !isinf(ax) && isfinite(y) && y != nearbyint(y))
+		return (x - x) / (x - x); /* a negative base, a non-integer power: NaN */
+	double sign = neg && odd_integer(y) ? -1.0 : 1.0;
+	if (ax == 1.0)
+		return sign; /* (-1)^(+-inf) = 1, (-1)^n = +-1 */
+	if (ax == 0.0 || isinf(ax) || isinf(y)) {
+		/* 0, inf or an infinite power: 0 or inf, the sign as above */
+		int big = (ax > 1.0) == (y > 0.0);
+		return sign * (big ? HUGE_VAL : 0.0);
+	}
+	double ll, lh = bk_v_log2_dd(ax, &ll);
+	double w = y * lh;
+	if (!(fabs(w) <= 2048.0))
+		return sign * bk_v_exp2(w); /* over- or underflows; the split could overflow */
+	double wh, wl;
+	bk_v_two_prod(y, lh, &wh, &wl);
+	return sign * bk_v_exp2_dd(wh, wl + y * ll);
 }

@@ -25,7 +25,7 @@ double bk_F_schlick(double f0, double f90, double LoH)
  * "1 mad, 1 mul, 1 exp". At LoH = 0.5: 0.03395 against 0.03125. */
 double bk_F_schlick_sg(double f0, double f90, double LoH)
 {
-	return f0 + (f90 - f0) * exp2((-5.55473 * LoH - 6.98316) * LoH);
+	return f0 + (f90 - f0) * bk_dexp2((-5.55473 * LoH - 6.98316) * LoH);
 }
 
 /* F_schuler — Schüler 2009, ShaderX7 ch. 2.5 (as the mobile talk quotes it; primary

@@ -106,7 +106,7 @@ void bk_ggx_sample_h(double u1, double u2, double a, double h[3])
 	double cos_t = sqrt(cos2);
 	double sin_t = sqrt(fmax(0.0, 1.0 - cos2));
 	double phi = 2.0 * BK_PI * u2;
-	h[0] = sin_t * cos(phi);
-	h[1] = sin_t * sin(phi);
+	h[0] = sin_t * bk_dcos(phi); /* brdfkit's own (dmath.c): glibc's cos and sin */
+	h[1] = sin_t * bk_dsin(phi); /* differ by an ulp between CPUs with and without FMA */
 	h[2] = cos_t;
 }

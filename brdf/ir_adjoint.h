@@ -23,7 +23,7 @@ ATTR static void CAT(backward_a, SFX)(int op, BW_ARGS, double *restrict ga, int 
 	case BK_OP_MUL: case BK_OP_MAD: ACC(ga, g[k] * B[k]); break;
 	case BK_OP_DIV: ACC(ga, g[k] / B[k]); break;
 	case BK_OP_NEG: DEC(ga, g[k]); break;
-	case BK_OP_POW: ACC(ga, g[k] * B[k] * pow(A[k], B[k] - 1.0)); break;
+	case BK_OP_POW: ACC(ga, g[k] * B[k] * bk_dpow(A[k], B[k] - 1.0)); break;
 	case BK_OP_SQRT: ACC(ga, g[k] * 0.5 / r[k]); break;
 	case BK_OP_RSQRT: DEC(ga, g[k] * 0.5 * r[k] / A[k]); break;
 	case BK_OP_RCP: DEC(ga, g[k] * r[k] * r[k]); break;
@@ -49,7 +49,7 @@ ATTR static void CAT(backward_b, SFX)(int op, BW_ARGS, double *restrict gb, int 
 	case BK_OP_SUB: DEC(gb, g[k]); break;
 	case BK_OP_MUL: case BK_OP_MAD: ACC(gb, g[k] * A[k]); break;
 	case BK_OP_DIV: DEC(gb, g[k] * r[k] / B[k]); break;
-	case BK_OP_POW: ACC(gb, A[k] > 0.0 ? g[k] * r[k] * log(A[k]) : 0.0); break;
+	case BK_OP_POW: ACC(gb, A[k] > 0.0 ? g[k] * r[k] * bk_dlog(A[k]) : 0.0); break;
 	case BK_OP_MIN: ACC(gb, A[k] <= B[k] ? 0.0 : g[k]); break;
 	case BK_OP_MAX: ACC(gb, A[k] >= B[k] ? 0.0 : g[k]); break;
 	case BK_OP_CLAMP: ACC(gb, A[k] < B[k] ? g[k] : 0.0); break;

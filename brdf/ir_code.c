@@ -23,14 +23,14 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	case BK_OP_DIV: return a / b;
 	case BK_OP_NEG: return -a;
 	case BK_OP_MAD: return a * b + c;
-	case BK_OP_POW: return pow(a, b);
+	case BK_OP_POW: return bk_dpow(a, b);
 	case BK_OP_SQRT: return sqrt(a);
 	case BK_OP_RSQRT: return 1.0 / sqrt(a);
 	case BK_OP_RCP: return 1.0 / a;
-	case BK_OP_EXP: return exp(a);
-	case BK_OP_EXP2: return exp2(a);
-	case BK_OP_LOG: return log(a);
-	case BK_OP_LOG2: return log2(a);
+	case BK_OP_EXP: return bk_dexp(a);
+	case BK_OP_EXP2: return bk_dexp2(a);
+	case BK_OP_LOG: return bk_dlog(a);
+	case BK_OP_LOG2: return bk_dlog2(a);
 	case BK_OP_MIN: return fmin(a, b);
 	case BK_OP_MAX: return fmax(a, b);
 	case BK_OP_CLAMP: return fmin(fmax(a, b), c);
@@ -53,9 +53,9 @@ double bk_ir_apply_half(bk_op op, double a, double b, double c)
 	switch (op) {
 	case BK_OP_MAD: return h(h(a * b) + c);
 	case BK_OP_MIX: return h(a + h(h(b - a) * c));
-	case BK_OP_POW: return h(exp2(h(b * h(log2(a)))));
-	case BK_OP_EXP: return h(exp2(h(a * h(1.44269504088896340736))));
-	case BK_OP_LOG: return h(h(log2(a)) * h(0.693147180559945309417));
+	case BK_OP_POW: return h(bk_dexp2(h(b * h(bk_dlog2(a)))));
+	case BK_OP_EXP: return h(bk_dexp2(h(a * h(1.44269504088896340736))));
+	case BK_OP_LOG: return h(h(bk_dlog2(a)) * h(0.693147180559945309417));
 	default: return h(bk_ir_apply(op, a, b, c));
 	}
 }

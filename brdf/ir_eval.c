@@ -74,8 +74,12 @@ static long double roundld(long double x) { return x; }
  * hardware, and GLSL defines pow's precision as exp2(y log2 x)'s): in half
  * (D = 1) each step is a mediump operation, rounded to half, the constants
  * log2(e) and ln 2 included, and pow of a negative base is NaN (log2 of it),
- * as GLSL and HLSL leave it. The other precisions keep libm's functions: f32
- * is what the generated C computes with expf, logf and powf.
+ * as GLSL and HLSL leave it. The other precisions compute C's pow, exp and
+ * log, as the generated C does with powf, expf and logf (f32) or pow, exp
+ * and log (f64), but on brdf/dmath.c's bk_dpow, bk_dexp and bk_dlog (f32:
+ * theirs rounded once to float), not libm's: glibc picks an FMA or a non-FMA
+ * variant of these at run time and the two differ in the last bit, so the
+ * IR's results would depend on the CPU (vmath.h). Within an ulp of libm's.
  *
  * exp2 and log2 in f32 and f16 (V = 1), the exp2 and log2 inside f16's pow,
  * exp and log included, are vmath.h's bk_v_exp2f and bk_v_log2f: branch-free
@@ -86,14 +90,18 @@ static long double roundld(long double x) { return x; }
  * about 45 % of the f32 time on the search's candidates. In f16 every exp2
  * and log2 reads a half and its result is rounded to half: over all 63,488
  * finite halves the two give the same halves, so no f16 result moved
- * (tests/test_vmath.c). f64 keeps libm: the fits and fronts are its bits.
- * bk_ir_force_libm(1) puts libm's back (make bench's side by side).
+ * (tests/test_vmath.c). f64's exp2 and log2 (V = 1 there too) are vmath.h's
+ * bk_v_exp2 and bk_v_log2, for the same reason as pow's above (glibc's log2
+ * has an FMA variant: a search's screening errors moved with the CPU), and
+ * they vectorise as the float ones (libm's exp2 was ~7 % of a screening fit).
+ * bk_ir_force_libm(1) puts libm's back in every precision (make bench's side
+ * by side).
  */
 #define LOG2E 1.44269504088896340736 /* log2(e) */
 #define LN2 0.693147180559945309417  /* ln(2) */
 
-/* 1: f32 and f16 run libm's exp2f and log2f (bk_ir_force_libm); read relaxed,
- * once per instruction */
+/* 1: the kernels run libm's exp2, log2, pow, exp and log (bk_ir_force_libm);
+ * read relaxed, once per instruction */
 static _Atomic int use_libm = 0;
 
 void bk_ir_force_libm(int on)
@@ -108,14 +116,36 @@ void bk_ir_force_libm(int on)
 #define E_POW16(R, X2, L2) R(X2(R(B[k] * R(L2(A[k])))))
 #define E_EXP16(R, X2, L2) R(X2(R(A[k] * R((float)LOG2E))))
 #define E_LOG16(R, X2, L2) R(R(L2(A[k])) * R((float)LN2))
+/* vmath's functions of the kernel's type: the float ones in f32 and f16,
+ * the double ones in f64 (long double's kernel never asks: V = 0) */
+#define V_EXP2(x) _Generic((x), float: bk_v_exp2f, default: bk_v_exp2)(x)
+#define V_LOG2(x) _Generic((x), float: bk_v_log2f, default: bk_v_log2)(x)
+/* f32's pow, exp and log (C's, not the GPU's decomposition): dmath's in
+ * double, rounded once to float (glibc's powf, expf and logf, like its
+ * double ones, pick FMA code from the CPU) */
+static float pow_f(float a, float b) { return (float)bk_dpow(a, b); }
+static float exp_f(float a) { return (float)bk_dexp(a); }
+static float log_f(float a) { return (float)bk_dlog(a); }
+#define V_POW(x, y) _Generic((x), float: pow_f, default: bk_dpow)(x, y)
+#define V_EXP(x) _Generic((x), float: exp_f, default: bk_dexp)(x)
+#define V_LOG(x) _Generic((x), float: log_f, default: bk_dlog)(x)
+
 /* one loop each way, the choice made outside it (a branch inside would keep
  * the loop scalar) */
 #define VM(E, R)                                                                                       \
 	do {                                                                                               \
 		if (vm)                                                                                        \
-			for (k = 0; k < BLOCK; k++) r[k] = E(R, bk_v_exp2f, bk_v_log2f);                          \
+			for (k = 0; k < BLOCK; k++) r[k] = E(R, V_EXP2, V_LOG2);                                  \
 		else                                                                                           \
 			for (k = 0; k < BLOCK; k++) r[k] = E(R, exp2, log2);                                      \
+	} while (0)
+/* C's pow, exp and log (D = 0): dmath's (vm) or libm's */
+#define VC(R, CALL_V, CALL_L)                                                                           \
+	do {                                                                                               \
+		if (vm)                                                                                        \
+			for (k = 0; k < BLOCK; k++) r[k] = R(CALL_V);                                             \
+		else                                                                                           \
+			for (k = 0; k < BLOCK; k++) r[k] = R(CALL_L);                                             \
 	} while (0)
 
 /* KERNEL(name, T, R, D, V): R rounds a T to the precision being modelled; D: the
@@ -134,15 +164,15 @@ void bk_ir_force_libm(int on)
 		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
 		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
 		case BK_OP_POW: if (D) { VM(E_POW16, R); } \
-		                else { for (k = 0; k < BLOCK; k++) r[k] = R(pow(A[k], B[k])); } break; \
+		                else { VC(R, V_POW(A[k], B[k]), pow(A[k], B[k])); } break; \
 		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
 		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
 		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
 		case BK_OP_EXP: if (D) { VM(E_EXP16, R); } \
-		                else { for (k = 0; k < BLOCK; k++) r[k] = R(exp(A[k])); } break;       \
+		                else { VC(R, V_EXP(A[k]), exp(A[k])); } break;                            \
 		case BK_OP_EXP2: VM(E_EXP2, R); break;                                           \
 		case BK_OP_LOG: if (D) { VM(E_LOG16, R); } \
-		                else { for (k = 0; k < BLOCK; k++) r[k] = R(log(A[k])); } break;       \
+		                else { VC(R, V_LOG(A[k]), log(A[k])); } break;                            \
 		case BK_OP_LOG2: VM(E_LOG2, R); break;                                           \
 		case BK_OP_MIN: for (k = 0; k < BLOCK; k++) r[k] = MIN(A[k], B[k]); break;      \
 		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = MAX(A[k], B[k]); break;      \
@@ -209,12 +239,12 @@ void bk_ir_force_libm(int on)
 #define AVX2
 #endif
 
-KERNEL(run64_gen, double, round64, 0, 0, )
+KERNEL(run64_gen, double, round64, 0, 1, )
 KERNEL(run32_gen, float, round32, 0, 1, )
 KERNEL(run16_gen, float, round16, 1, 1, )
 KERNEL(runld, long double, roundld, 0, 0, )
 #if BK_IR_HAVE_AVX2
-KERNEL(run64_avx2, double, round64, 0, 0, AVX2)
+KERNEL(run64_avx2, double, round64, 0, 1, AVX2)
 KERNEL(run32_avx2, float, round32, 0, 1, AVX2)
 KERNEL(run16_avx2, float, round16, 1, 1, AVX2)
 #endif
