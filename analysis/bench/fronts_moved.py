@@ -79,10 +79,12 @@ def main():
         sys.exit("usage: fronts_moved.py OLD_COMMIT [--seeds AB.csv]")
     old_commit = args[0]
     out = ['<section id="search-moved">',
-           "<h2>What issue 22's search changes moved in the fronts</h2>",
+           "<h2>What the last change to the search moved in the fronts</h2>",
            "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after, "
            "same commands, budgets and seeds. The search is stochastic at a fixed budget: a change to "
-           "canonical texts, starts or generation reorders what it tries, so fronts move both ways. "
+           "canonical texts, starts or generation, or to the last bit of a function its fits evaluate, "
+           "reorders what it tries, so fronts move both ways (earlier changes: git log of this file's "
+           "output, results/search/moved/section.html). "
            "<code>python3 analysis/bench/fronts_moved.py %s%s</code></p>"
            % (html.escape(old_commit), html.escape(old_commit), html.escape(" --seeds " + seeds if seeds else ""))]
     if seeds:

@@ -10,11 +10,11 @@
  * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
- *   p1 = 0.000232834564
+ *   p1 = 0.000232834538
  *   p2 = -0.65099
  *   p3 = 0.08009
  *   p4 = 1.42185
- *   p5 = 0.00133299326
+ *   p5 = 0.00133299323
  *   p6 = 1.15653
  *   p7 = -0.03062
  *   p8 = -7.1974
@@ -37,7 +37,7 @@ static inline float seed_env_karis2014_split_A(float NoV, float r)
 	float t8 = (-7.1974f) * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.00023283456f + 0.0013329933f;
+	float t13 = r * 0.00023283454f + 0.0013329933f;
 	float t14 = t4 * t10 + t13;
 	float t17 = r * (-0.65099f) + 1.15653f;
 	float t18 = (-0.86932f) * t14 + t17;
@@ -56,11 +56,11 @@ static inline float seed_env_karis2014_split_A(float NoV, float r)
  * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
- *   p1 = 0.000232834564
+ *   p1 = 0.000232834538
  *   p2 = -0.65099
  *   p3 = 0.08009
  *   p4 = 1.42185
- *   p5 = 0.00133299326
+ *   p5 = 0.00133299323
  *   p6 = 1.15653
  *   p7 = -0.03062
  *   p8 = -7.1974
@@ -84,7 +84,7 @@ static inline float seed_env_karis2014_split_B(float NoV, float r)
 	float t8 = (-7.1974f) * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.00023283456f + 0.0013329933f;
+	float t13 = r * 0.00023283454f + 0.0013329933f;
 	float t14 = t4 * t10 + t13;
 	float t17 = r * 0.08009f + (-0.03062f);
 	float t18 = 0.7345f * t14 + t17;

@@ -10,11 +10,11 @@
  * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
- *   p1 = 0.000232834564
+ *   p1 = 0.000232834538
  *   p2 = -0.65099
  *   p3 = 0.08009
  *   p4 = 1.42185
- *   p5 = 0.00133299326
+ *   p5 = 0.00133299323
  *   p6 = 1.15653
  *   p7 = -0.03062
  *   p8 = -7.1974
@@ -34,7 +34,7 @@ float seed_env_karis2014_split_A(float NoV, float r)
 	float t8 = (-7.1974) * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.00023283456, 0.0013329933);
+	float t13 = mad(r, 0.00023283454, 0.0013329933);
 	float t14 = mad(t4, t10, t13);
 	float t17 = mad(r, (-0.65099), 1.15653);
 	float t18 = mad((-0.86932), t14, t17);
@@ -53,11 +53,11 @@ float seed_env_karis2014_split_A(float NoV, float r)
  * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
- *   p1 = 0.000232834564
+ *   p1 = 0.000232834538
  *   p2 = -0.65099
  *   p3 = 0.08009
  *   p4 = 1.42185
- *   p5 = 0.00133299326
+ *   p5 = 0.00133299323
  *   p6 = 1.15653
  *   p7 = -0.03062
  *   p8 = -7.1974
@@ -78,7 +78,7 @@ float seed_env_karis2014_split_B(float NoV, float r)
 	float t8 = (-7.1974) * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.00023283456, 0.0013329933);
+	float t13 = mad(r, 0.00023283454, 0.0013329933);
 	float t14 = mad(t4, t10, t13);
 	float t17 = mad(r, 0.08009, (-0.03062));
 	float t18 = mad(0.7345, t14, t17);
