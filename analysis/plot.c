@@ -73,7 +73,7 @@ void bk_plot_colour(int map, double t, unsigned char rgb[3])
 /* The smallest of 1, 2, 5 x 10^k at least raw. */
 static double nice_step(double raw)
 {
-	double mag = bk_dpow(10.0, floor(log10(raw))), r = raw / mag;
+	double mag = bk_dpow(10.0, floor(bk_dlog10(raw))), r = raw / mag;
 	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
@@ -90,7 +90,7 @@ static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo,
 	if (!(hi >= lo))
 		return 0;
 	if (a->log) {
-		double d0 = floor(log10(lo)), d1 = ceil(log10(hi));
+		double d0 = floor(bk_dlog10(lo)), d1 = ceil(bk_dlog10(hi));
 		if (d1 <= d0)
 			d1 = d0 + 1.0;
 		*rlo = pow(10.0, d0);
@@ -160,7 +160,7 @@ static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 		}
 		return;
 	}
-	int d0 = (int)floor(log10(a->lo) + 1e-9), d1 = (int)ceil(log10(a->hi) - 1e-9);
+	int d0 = (int)floor(bk_dlog10(a->lo) + 1e-9), d1 = (int)ceil(bk_dlog10(a->hi) - 1e-9);
 	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5;
 	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++) {
 		t->v[t->n] = bk_dpow(10.0, d);
@@ -343,7 +343,7 @@ static double axis_t(const bk_plot_axis *a, double v)
 	if (a->log) {
 		if (v <= 0.0)
 			return a->zero_at_lo ? 0.0 : NAN;
-		return (log10(v) - log10(a->lo)) / (log10(a->hi) - log10(a->lo));
+		return (bk_dlog10(v) - bk_dlog10(a->lo)) / (bk_dlog10(a->hi) - bk_dlog10(a->lo));
 	}
 	return (v - a->lo) / (a->hi - a->lo);
 }

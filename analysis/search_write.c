@@ -226,7 +226,7 @@ int bk_swrite_plot(const bk_swrite *sw, const char *dir, char *err, size_t errle
 		    !(c->err >= p.y.lo && c->err <= p.y.hi))
 			continue;
 		int gx = (int)((c->cost - p.x.lo) / (p.x.hi - p.x.lo) * (gw - 1));
-		int gy = (int)((log10(c->err) - log10(p.y.lo)) / (log10(p.y.hi) - log10(p.y.lo)) * (gh - 1));
+		int gy = (int)((bk_dlog10(c->err) - bk_dlog10(p.y.lo)) / (bk_dlog10(p.y.hi) - bk_dlog10(p.y.lo)) * (gh - 1));
 		if (seen[(size_t)gy * gw + gx]++)
 			continue;
 		PUT(4, c->cost, c->err);

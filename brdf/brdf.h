@@ -449,8 +449,8 @@ size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newli
 double bk_dsin(double x); /* |x| <= 8 */
 double bk_dcos(double x); /* |x| <= 8 */
 double bk_dacos(double c); /* c in [-1, 1] */
-/* exp2, log2, pow, exp and log with the same bits on every x86-64 machine
- * (glibc's log2, log, exp and pow pick FMA or non-FMA code at run time): the
+/* exp2, log2, pow, exp, log and log10 with the same bits on every x86-64
+ * machine (glibc's log2, log, log10, exp and pow pick FMA or non-FMA code at run time): the
  * IR's f64 ops and the reference terms use them; within about half an ulp,
  * pow within 1 ulp for |y log2 x| <= 64 (brdf/dmath.c); C's specials. */
 double bk_dexp2(double x);
@@ -458,6 +458,7 @@ double bk_dlog2(double x);
 double bk_dpow(double x, double y);
 double bk_dexp(double x);
 double bk_dlog(double x);
+double bk_dlog10(double x);
 
 #ifdef __cplusplus
 }

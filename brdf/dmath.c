@@ -210,3 +210,20 @@ double bk_dpow(double x, double y)
 	bk_v_two_prod(y, lh, &wh, &wl);
 	return sign * bk_v_exp2_dd(wh, wl + y * ll);
 }
+
+/* log10: log2's pair times log10(2) as a pair (log10(2) = HI + LO to
+ * 2^-110), for the plots' log axes and the reports' digits, where glibc's
+ * log10 has an FMA variant too. Exact at the doubles nearest 10^n that
+ * glibc's is exact at (tests/test_dmath.c), as a tick's floor(log10) needs. */
+#define LOG10_2_HI 0x1.34413509f79ffp-2
+#define LOG10_2_LO -0x1.9dc1da994fd21p-59
+
+double bk_dlog10(double x)
+{
+	double lo, hi = bk_v_log2_dd(x, &lo);
+	if (!isfinite(hi) || hi == 0.0)
+		return hi * LOG10_2_HI; /* +-inf, NaN and log10(1) = +0 as they are */
+	double ph, pl;
+	bk_v_two_prod(hi, LOG10_2_HI, &ph, &pl);
+	return ph + (pl + (hi * LOG10_2_LO + lo * LOG10_2_HI));
+}

@@ -402,7 +402,7 @@ static double round_constant(double x, int digits)
 		return bk_half_round(x);
 	if (x == 0.0 || !isfinite(x))
 		return x;
-	double e = floor(log10(fabs(x))) + 1 - digits, scale = bk_dpow(10.0, e);
+	double e = floor(bk_dlog10(fabs(x))) + 1 - digits, scale = bk_dpow(10.0, e);
 	return round(x / scale) * scale;
 }
 
@@ -425,7 +425,7 @@ static void round_to_se(const bk_fit_spec *spec, bk_fit_result *res)
 		double se = res->se[j];
 		if (spec->hold[j] || !(se > 0) || !isfinite(se) || !isfinite(res->p[j]))
 			continue;
-		double q = bk_dpow(10.0, floor(log10(se / 100)));
+		double q = bk_dpow(10.0, floor(bk_dlog10(se / 100)));
 		if (!(q > 0) || !isfinite(res->p[j] / q))
 			continue;
 		double v = round(res->p[j] / q) * q;

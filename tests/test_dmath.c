@@ -11,6 +11,8 @@
 #include <criterion/criterion.h>
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
 
 /* π to double precision (PI is POSIX's, not C11's) */
 #define PI 3.14159265358979323846
@@ -131,6 +133,22 @@ static double exp2_off(double x) { return bk_dexp2(x) * (1 + 0x1p-51); }
 static double log2_off(double x) { return bk_dlog2(x) * (1 + 0x1p-51); }
 static double pow_off(double x, double y) { return bk_dpow(x, y) * (1 + 0x1p-51); }
 static double exp_off(double x) { return bk_dexp(x) * (1 + 0x1p-51); }
+static double log10_off(double x) { return bk_dlog10(x) * (1 + 0x1p-51); }
+
+/* the double nearest 10^n, from its decimal text (strtod rounds correctly) */
+static double strtod_pow10(int n)
+{
+	char buf[16];
+	snprintf(buf, sizeof buf, "1e%d", n);
+	return strtod(buf, NULL);
+}
+
+/* C11 Annex F's special cases, which glibc follows exactly: the same value
+ * and sign (NaN: any NaN) */
+static int same_value(double a, double b)
+{
+	return (isnan(a) && isnan(b)) || (a == b && signbit(a) == signbit(b));
+}
 
 Test(dmath, exp2_log2_within_two_thirds_of_an_ulp)
 {
@@ -163,6 +181,20 @@ Test(dmath, exp_log_pow_within_two_thirds_of_an_ulp)
 	cr_expect(sweep_pow(pow_off, 100000) > 0.67, "the pow sweep cannot fail");
 }
 
+Test(dmath, log10_within_about_half_an_ulp_and_exact_at_powers_of_ten)
+{
+	double l = sweep_log(bk_dlog10, log10l, 1000000);
+	cr_expect(l <= 0.52, "log10: %.3f ulp", l);
+	cr_expect(sweep_log(log10_off, log10l, 100000) > 0.52, "the log10 sweep cannot fail");
+	/* the doubles nearest 10^n: floor(log10) must give n (a plot's ticks) */
+	for (int n = -300; n <= 300; n++) {
+		double x = strtod_pow10(n);
+		cr_expect_eq(bk_dlog10(x), (double)n, "log10(1e%d) = %.17g", n, bk_dlog10(x));
+	}
+	cr_expect(same_value(bk_dlog10(1.0), 0.0) && same_value(bk_dlog10(0.0), -INFINITY) && isnan(bk_dlog10(-1.0)) &&
+	          bk_dlog10(INFINITY) == INFINITY);
+}
+
 Test(dmath, exact_values)
 {
 	for (int n = -1074; n <= 1023; n++) {
@@ -177,13 +209,6 @@ Test(dmath, exact_values)
 	cr_expect_eq(bk_dpow(-3.0, 3.0), -27.0);
 	cr_expect_eq(bk_dpow(0.25, 0.5), 0.5);
 	cr_expect_eq(bk_dpow(10.0, 22.0), 1e22); /* the largest power of ten a double holds exactly */
-}
-
-/* C11 Annex F's special cases, which glibc follows exactly: the same value
- * and sign (NaN: any NaN) */
-static int same_value(double a, double b)
-{
-	return (isnan(a) && isnan(b)) || (a == b && signbit(a) == signbit(b));
 }
 
 Test(dmath, c11_special_cases)
