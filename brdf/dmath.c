@@ -1,6 +1,7 @@
 /*
  * dmath.c — sine, cosine and arc cosine that give the same bits on every
- * x86-64 machine, for the reference integrals.
+ * x86-64 machine, for the reference integrals; and (the second half, on
+ * vmath.h's double exp2 and log2) exp2, log2, pow, exp, log and log10.
  *
  * Why: glibc picks FMA or non-FMA variants of cos, sin, acos, pow, log, exp at
  * run time (ifunc on the CPU's features), and they differ in the last bit
@@ -154,14 +155,20 @@ double bk_dlog2(double x)
 	return bk_v_log2(x);
 }
 
-double bk_dlog(double x)
+/* log2(x) times c = c_hi + c_lo, both as pairs, rounded once: log and log10 */
+static double log2_times(double x, double c_hi, double c_lo)
 {
 	double lo, hi = bk_v_log2_dd(x, &lo);
 	if (!isfinite(hi) || hi == 0.0)
-		return hi * BK_V_LN2_HI; /* +-inf, NaN and log(1) = +0 as they are */
+		return hi * c_hi; /* +-inf, NaN and log(1) = +0 as they are */
 	double ph, pl;
-	bk_v_two_prod(hi, BK_V_LN2_HI, &ph, &pl);
-	return ph + (pl + (hi * BK_V_LN2_LO + lo * BK_V_LN2_HI));
+	bk_v_two_prod(hi, c_hi, &ph, &pl);
+	return ph + (pl + (hi * c_lo + lo * c_hi));
+}
+
+double bk_dlog(double x)
+{
+	return log2_times(x, BK_V_LN2_HI, BK_V_LN2_LO);
 }
 
 double bk_dexp(double x)
@@ -220,10 +227,5 @@ double bk_dpow(double x, double y)
 
 double bk_dlog10(double x)
 {
-	double lo, hi = bk_v_log2_dd(x, &lo);
-	if (!isfinite(hi) || hi == 0.0)
-		return hi * LOG10_2_HI; /* +-inf, NaN and log10(1) = +0 as they are */
-	double ph, pl;
-	bk_v_two_prod(hi, LOG10_2_HI, &ph, &pl);
-	return ph + (pl + (hi * LOG10_2_LO + lo * LOG10_2_HI));
+	return log2_times(x, LOG10_2_HI, LOG10_2_LO);
 }

@@ -1,12 +1,13 @@
 /*
- * dmath.h — sin, cos and acos with the same bits on every x86-64 machine
- * (glibc's own pick FMA or non-FMA code at run time). For the reference
- * integrals of brdf/ and fit/; see dmath.c for the domain and precision.
+ * dmath.h — sin, cos, acos, exp2, log2, pow, exp, log and log10 with the
+ * same bits on every x86-64 machine (glibc's own pick FMA or non-FMA code at
+ * run time). For the reference integrals, the IR and the plots; see dmath.c
+ * for the domains and precision.
  */
 #ifndef BRDF_DMATH_H
 #define BRDF_DMATH_H
 
-#include "brdf.h" /* bk_dsin, bk_dcos, bk_dacos: declared there, public (fit/target.c uses them) */
+#include "brdf.h" /* bk_dsin, ..., bk_dlog10: declared there, public (fit/target.c uses them) */
 
 #include <math.h>
 

@@ -300,8 +300,10 @@ BK_V_INLINE double bk_v_exp2(double x)
  * 2 + f as an exact pair, s as a pair (its remainder from Dekker's product,
  * f - s_hi (2 + f)_hi exact again by Sterbenz), ln m = 2s + s z P(z),
  * z = s^2 <= 0.0295, P's twelve terms 2/3 .. 2/25 (truncation below
- * 2^-64 of ln m): the tail is under 1 % of 2s, so its own rounding is
- * 2^-60 of the result. Times 1/ln 2 as a pair, plus e by TwoSum. The specials
+ * 2^-64 of ln m). The tail s z P = s^3 P is ~1 % of 2s; formed in plain
+ * doubles its roundings cost 2^-57 of the result, so s^3, P and their
+ * product are pairs too (below 2^-62). Times 1/ln 2 as a pair, plus e by
+ * TwoSum. The specials
  * are selected at the end by masks on the bits (as bk_v_log2f: selects kept
  * gcc from vectorising the loop).
  */

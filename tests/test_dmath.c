@@ -133,6 +133,10 @@ static double exp2_off(double x) { return bk_dexp2(x) * (1 + 0x1p-51); }
 static double log2_off(double x) { return bk_dlog2(x) * (1 + 0x1p-51); }
 static double pow_off(double x, double y) { return bk_dpow(x, y) * (1 + 0x1p-51); }
 static double exp_off(double x) { return bk_dexp(x) * (1 + 0x1p-51); }
+static double log_off(double x) { return bk_dlog(x) * (1 + 0x1p-51); }
+/* subnormal results: two ulps there are two steps of the smallest subnormal */
+static double exp2_sub_off(double x) { return bk_dexp2(x) + 0x1p-1073; }
+static double exp_sub_off(double x) { return bk_dexp(x) + 0x1p-1073; }
 static double log10_off(double x) { return bk_dlog10(x) * (1 + 0x1p-51); }
 
 /* the double nearest 10^n, from its decimal text (strtod rounds correctly) */
@@ -162,6 +166,7 @@ Test(dmath, exp2_log2_within_two_thirds_of_an_ulp)
 	cr_expect(es <= 0.76, "exp2, subnormal results: %.3f ulp", es);
 	cr_expect(l <= 0.52, "log2: %.3f ulp", l);
 	cr_expect(sweep1(exp2_off, exp2l, -1022.0, 1023.9, 0.0, 100000) > 0.65, "the exp2 sweep cannot fail");
+	cr_expect(sweep1(exp2_sub_off, exp2l, -1074.0, -1022.0, -1023.0, 10000) > 0.76, "the subnormal sweep cannot fail");
 	cr_expect(sweep_log(log2_off, log2l, 100000) > 0.52, "the log2 sweep cannot fail");
 }
 
@@ -179,6 +184,8 @@ Test(dmath, exp_log_pow_within_two_thirds_of_an_ulp)
 	cr_expect(p <= 0.67, "pow: %.3f ulp", p);
 	cr_expect(sweep1(exp_off, expl, -708.0, 709.7, 0.0, 100000) > 0.67, "the exp sweep cannot fail");
 	cr_expect(sweep_pow(pow_off, 100000) > 0.67, "the pow sweep cannot fail");
+	cr_expect(sweep_log(log_off, logl, 100000) > 0.52, "the log sweep cannot fail");
+	cr_expect(sweep1(exp_sub_off, expl, -745.0, -708.4, -720.0, 10000) > 0.76, "the subnormal exp sweep cannot fail");
 }
 
 Test(dmath, log10_within_about_half_an_ulp_and_exact_at_powers_of_ten)
