@@ -449,8 +449,8 @@ size_t bk_comment_text(char *dst, size_t cap, const char *src, const char *newli
 double bk_dsin(double x); /* |x| <= 8 */
 double bk_dcos(double x); /* |x| <= 8 */
 double bk_dacos(double c); /* c in [-1, 1] */
-/* exp2, log2, pow, exp, log and log10 with the same bits on every x86-64
- * machine (glibc's log2, log, log10, exp and pow pick FMA or non-FMA code
+/* exp2, log2, pow, exp, log, log10 and log1p with the same bits on every x86-64
+ * machine (glibc's log2, log, log10, log1p, exp and pow pick FMA or non-FMA code
  * at run time): the IR's f64 ops, the reference terms and the plots use
  * them; within 0.65 ulp for normal results, 0.75 for subnormal ones
  * (brdf/dmath.c states each); C11's specials. */
@@ -460,6 +460,8 @@ double bk_dpow(double x, double y);
 double bk_dexp(double x);
 double bk_dlog(double x);
 double bk_dlog10(double x);
+/* log1p, for the robust losses (Cauchy's): within 0.51 ulp, C11's specials */
+double bk_dlog1p(double u);
 
 #ifdef __cplusplus
 }

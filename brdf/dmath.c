@@ -1,7 +1,7 @@
 /*
  * dmath.c — sine, cosine and arc cosine that give the same bits on every
  * x86-64 machine, for the reference integrals; and (the second half, on
- * vmath.h's double exp2 and log2) exp2, log2, pow, exp, log and log10.
+ * vmath.h's double exp2 and log2) exp2, log2, pow, exp, log, log10 and log1p.
  *
  * Why: glibc picks FMA or non-FMA variants of cos, sin, acos, pow, log, exp at
  * run time (ifunc on the CPU's features), and they differ in the last bit
@@ -228,4 +228,35 @@ double bk_dpow(double x, double y)
 double bk_dlog10(double x)
 {
 	return log2_times(x, LOG10_2_HI, LOG10_2_LO);
+}
+
+/* log1p(u) = ln(1 + u): the robust losses' rho (Cauchy's c² log1p(s/c²), in
+ * solver.cc and fit_stats.c), where glibc's log1p has an FMA variant too.
+ * w = 1 + u is rounded; d = u - (w - 1) is what the rounding lost, exactly
+ * (w - 1 is exact for w < 2^53, and u and w - 1 are within a factor of 2 of
+ * each other, Sterbenz), so ln(1 + u) = ln(w) + ln(1 + d/w) = ln(w) + q - q²/2
+ * with q = d/w, to within |q|³/3 < 2^-160; ln(w) is log2's pair times ln 2's
+ * (q² matters: it is 0.06 ulp of the result at u = 1.5 2^-53). Where w rounds to 1 (|u| < 2^-53), log1p(u) rounds
+ * to u. C11's specials: ±0 as they are, -1 gives -inf, below -1 NaN. */
+double bk_dlog1p(double u)
+{
+	if (isnan(u) || u == 0.0 || u == HUGE_VAL)
+		return u + u;
+	if (u <= -1.0)
+		return u == -1.0 ? -HUGE_VAL : NAN;
+	double w = 1.0 + u;
+	if (w == 1.0)
+		return u;
+	double d = w < 0x1p53 ? u - (w - 1.0) : 0.0;
+	double lo, hi = bk_v_log2_dd(w, &lo);
+	double ph, pl;
+	bk_v_two_prod(hi, BK_V_LN2_HI, &ph, &pl);
+	/* d/w is up to a fifth of the result where |u| is just past 2^-53, so it
+	 * is added as a pair: q and its remainder (d - q w exactly, Dekker's
+	 * product), q to ln(w) by TwoSum */
+	double q = d / w, qh, ql;
+	bk_v_two_prod(q, w, &qh, &ql);
+	double qe = ((d - qh) - ql) / w;
+	double sum = ph + q, b = sum - ph, e = (ph - (sum - b)) + (q - b);
+	return sum + (e + (pl + (hi * BK_V_LN2_LO + lo * BK_V_LN2_HI) + (qe - 0.5 * q * q)));
 }

@@ -340,7 +340,7 @@ static void robustify(bk_loss loss, double c, int m, int np, double *r, double *
 				continue;
 			rho = 2 * c * a - c * c, drho = c / a;
 		} else if (loss == BK_LOSS_CAUCHY) {
-			rho = c * c * log1p(u), drho = 1 / (1 + u);
+			rho = c * c * bk_dlog1p(u), drho = 1 / (1 + u); /* solver.cc's */
 		} else {
 			double q = sqrt(1 + u);
 			rho = 2 * r[i] * r[i] / (q + 1), drho = 1 / q;

@@ -20,6 +20,7 @@
  */
 #include "solver.h"
 #include "bridge.h"
+#include "brdf.h" /* bk_dlog1p */
 
 #include <ceres/ceres.h>
 #include <glog/logging.h>
@@ -87,7 +88,9 @@ LossValue huber(double r, double c)
 LossValue cauchy(double r, double c)
 {
 	double u = (r / c) * (r / c);
-	return {c * c * std::log1p(u), 1 / (1 + u)};
+	/* brdfkit's log1p: glibc's has an FMA variant that differs in the last
+	 * bit (brdf/dmath.c), and a robust fit's path would follow it */
+	return {c * c * bk_dlog1p(u), 1 / (1 + u)};
 }
 
 LossValue softl1(double r, double c)

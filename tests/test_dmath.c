@@ -138,6 +138,28 @@ static double log_off(double x) { return bk_dlog(x) * (1 + 0x1p-51); }
 static double exp2_sub_off(double x) { return bk_dexp2(x) + 0x1p-1073; }
 static double exp_sub_off(double x) { return bk_dexp(x) + 0x1p-1073; }
 static double log10_off(double x) { return bk_dlog10(x) * (1 + 0x1p-51); }
+static double log1p_off(double x) { return bk_dlog1p(x) * (1 + 0x1p-51); }
+
+/* log1p sweeps u = ±m 2^e over every exponent (the negative side above -1,
+ * where 1 + u is exact from -1/2 down), and the window round 0 where 1 + u
+ * loses most of u */
+static double sweep_log1p(fn1 f, long n)
+{
+	uint64_t s = 13;
+	double worst = 0;
+	for (long i = 0; i < n; i++) {
+		double u = ldexp(0.5 + U(&s), (int)(i % 2098) - 1074);
+		if (i % 2)
+			u = -ldexp(0.5 + U(&s), -(int)(i % 1075)); /* in (-1, 0) */
+		if (u > -1.0 && isfinite(u))
+			worst = fmax(worst, ulps(f(u), log1pl(u)));
+	}
+	for (int i = -8192; i <= 8192; i++) {
+		double u = i * 0x1p-40 + i * i * 0x1p-70;
+		worst = fmax(worst, ulps(f(u), log1pl(u)));
+	}
+	return worst;
+}
 
 /* the double nearest 10^n, from its decimal text (strtod rounds correctly) */
 static double strtod_pow10(int n)
@@ -200,6 +222,18 @@ Test(dmath, log10_within_about_half_an_ulp_and_exact_at_powers_of_ten)
 	}
 	cr_expect(same_value(bk_dlog10(1.0), 0.0) && same_value(bk_dlog10(0.0), -INFINITY) && isnan(bk_dlog10(-1.0)) &&
 	          bk_dlog10(INFINITY) == INFINITY);
+}
+
+Test(dmath, log1p_within_about_half_an_ulp)
+{
+	double l = sweep_log1p(bk_dlog1p, 1000000);
+	cr_expect(l <= 0.52, "log1p: %.3f ulp", l);
+	cr_expect(sweep_log1p(log1p_off, 100000) > 0.52, "the log1p sweep cannot fail");
+	/* C11's specials, against libm's (exact there) */
+	static const double v[] = {0.0, -0.0, -1.0, -2.0, -0x1p-1074, 0x1p-1074, 0x1p-60, -0x1p-60, INFINITY, -INFINITY, NAN, 1e300};
+	for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+		cr_expect(same_value(bk_dlog1p(v[i]), log1p(v[i])), "log1p(%a): %a, libm %a", v[i], bk_dlog1p(v[i]),
+		          log1p(v[i]));
 }
 
 Test(dmath, exact_values)
