@@ -5,6 +5,7 @@
  * Heitz 2014, eq. 80 (Lambda). Convention: a = alpha = r^2 is the RMS slope.
  */
 #include "brdf.h"
+#include "dmath.h" /* bk_dmath_erfc_tail, bk_dmath_exp_minus_sq */
 
 #include <math.h>
 
@@ -25,9 +26,15 @@ double bk_D_beckmann(double NoH, double a)
 
 /*
  * Lambda_beckmann — Heitz 2014, eq. 80, with c = 1 / (a tanθ):
- * (erf(c) - 1 + exp(-c^2) / (c sqrt(π))) / 2. Written with erfc(c) in place of
- * 1 - erf(c): for c > 3 the two terms are ~1e-5 and 1 - erf(c) would lose all
- * their digits. NoX <= 0 gives +inf (G1 = 0); a = 0 or NoX = 1 gives 0.
+ * (erf(c) - 1 + exp(-c^2) / (c sqrt(π))) / 2, i.e. (e^{-c²}/(c√π) - erfc(c))/2.
+ * For c >= 1/2 the two terms nearly cancel (their difference is 1/(2c²) of
+ * either: 8c⁴ε relative error at large c, 2e-11 at c = 20), so there erfc is
+ * written as its continued fraction e^{-c²}/√π / (c + T) (brdf/dmath.c) and
+ * the difference taken in closed form: e^{-c²}/√π (1/c - 1/(c + T)) =
+ * e^{-c²}/√π T/(c (c + T)), every term positive. Below 1/2 the first term is
+ * over twice erfc, and bk_derfc's series serves. brdfkit's exp and erfc, so
+ * the bits do not depend on the CPU (glibc's erfc has an FMA variant).
+ * NoX <= 0 gives +inf (G1 = 0); a = 0 or NoX = 1 gives 0.
  */
 double bk_Lambda_beckmann(double NoX, double a)
 {
@@ -37,7 +44,12 @@ double bk_Lambda_beckmann(double NoX, double a)
 		return 0.0;
 	double sin_t = sqrt((1.0 - NoX) * (1.0 + NoX));
 	double c = NoX / (a * sin_t);
-	return 0.5 * (bk_dexp(-c * c) / (c * sqrt(BK_PI)) - erfc(c));
+	if (c < 0.5)
+		return 0.5 * (bk_dexp(-c * c) / (c * sqrt(BK_PI)) - bk_derfc(c));
+	if (c >= 28.0)
+		return 0.0; /* e^{-c²} < 2^-1075: below the least subnormal */
+	double t = bk_dmath_erfc_tail(c);
+	return 0.5 * bk_dmath_exp_minus_sq(c) / sqrt(BK_PI) * (t / (c * (c + t)));
 }
 
 /* G1_beckmann — 1 / (1 + Lambda). */

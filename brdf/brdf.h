@@ -135,7 +135,8 @@ const char *bk_role_name(bk_role role);
 
 /* Fills the geometry of s (NoV, NoL, NoH, LoH) from the polar angle of V, the
  * polar angle of L and their azimuth difference phi (radians); the material
- * fields are left as they are. */
+ * fields are left as they are. Angles within ±8 take brdfkit's sin and cos
+ * (bk_dsin, bk_dcos), so the same bits on every x86-64 machine. */
 void bk_sample_geometry(bk_sample *s, double theta_v, double theta_l, double phi);
 void bk_sample_roughness(bk_sample *s, double r);
 
@@ -462,6 +463,8 @@ double bk_dlog(double x);
 double bk_dlog10(double x);
 /* log1p, for the robust losses (Cauchy's): within 0.51 ulp, C11's specials */
 double bk_dlog1p(double u);
+/* erfc, for Beckmann's Smith Λ: within 4.5 ulp for normal results */
+double bk_derfc(double x);
 
 #ifdef __cplusplus
 }

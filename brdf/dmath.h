@@ -11,4 +11,11 @@
 
 #include <math.h>
 
+/* The tail T of erfc's continued fraction, erfc(x) = e^{-x²}/√π / (x + T),
+ * for x >= 1/2 (dmath.c): Beckmann's Λ takes it to subtract without
+ * cancellation. */
+double bk_dmath_erfc_tail(double x);
+/* e^{-x²} with x² taken as an exact pair (rounding x² first costs x² ulps) */
+double bk_dmath_exp_minus_sq(double x);
+
 #endif

@@ -156,12 +156,19 @@ const bk_term *bk_term_find_role(bk_role role, const char *name)
 	return NULL;
 }
 
+/* sin and cos of an angle: brdf/dmath.c's on |x| <= 8 (every angle of the
+ * hemisphere and a turn of φ either way), so the geometry's bits do not
+ * depend on the CPU (glibc's sin and cos have FMA variants); libm's beyond,
+ * where dmath's range reduction does not reach. */
+static double sin_any(double x) { return fabs(x) <= 8.0 ? bk_dsin(x) : sin(x); }
+static double cos_any(double x) { return fabs(x) <= 8.0 ? bk_dcos(x) : cos(x); }
+
 /* V = (sin θv, 0, cos θv), L = (sin θl cos φ, sin θl sin φ, cos θl), H their
  * normalised sum. |V + L|^2 = 2 + 2 VoL, so LoH = sqrt((1 + VoL)/2). */
 void bk_sample_geometry(bk_sample *s, double theta_v, double theta_l, double phi)
 {
-	double v[3] = {sin(theta_v), 0.0, cos(theta_v)};
-	double l[3] = {sin(theta_l) * cos(phi), sin(theta_l) * sin(phi), cos(theta_l)};
+	double v[3] = {sin_any(theta_v), 0.0, cos_any(theta_v)};
+	double l[3] = {sin_any(theta_l) * cos_any(phi), sin_any(theta_l) * sin_any(phi), cos_any(theta_l)};
 	double VoL = v[0] * l[0] + v[1] * l[1] + v[2] * l[2];
 	double len = sqrt(2.0 + 2.0 * VoL);
 	s->NoV = v[2];

@@ -139,6 +139,22 @@ static double exp2_sub_off(double x) { return bk_dexp2(x) + 0x1p-1073; }
 static double exp_sub_off(double x) { return bk_dexp(x) + 0x1p-1073; }
 static double log10_off(double x) { return bk_dlog10(x) * (1 + 0x1p-51); }
 static double log1p_off(double x) { return bk_dlog1p(x) * (1 + 0x1p-51); }
+static double erfc_off(double x) { return bk_derfc(x) * (1 + 0x1p-50); }
+
+/* erfc sweeps [-6, 26.5] (its results normal: erfc(26.5) ~ 1e-307) and the
+ * window [0, 2^-20 * 4096] round 0 where the series starts */
+static double sweep_erfc(fn1 f, long n)
+{
+	uint64_t s = 17;
+	double worst = 0;
+	for (long i = 0; i < n; i++) {
+		double x = -6.0 + 32.5 * U(&s);
+		worst = fmax(worst, ulps(f(x), erfcl(x)));
+	}
+	for (int i = 0; i <= 4096; i++)
+		worst = fmax(worst, ulps(f(i * 0x1p-20), erfcl(i * 0x1p-20)));
+	return worst;
+}
 
 /* log1p sweeps u = ±m 2^e over every exponent (the negative side above -1,
  * where 1 + u is exact from -1/2 down), and the window round 0 where 1 + u
@@ -234,6 +250,18 @@ Test(dmath, log1p_within_about_half_an_ulp)
 	for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
 		cr_expect(same_value(bk_dlog1p(v[i]), log1p(v[i])), "log1p(%a): %a, libm %a", v[i], bk_dlog1p(v[i]),
 		          log1p(v[i]));
+}
+
+Test(dmath, erfc_within_four_and_a_half_ulp)
+{
+	double e = sweep_erfc(bk_derfc, 1000000);
+	cr_expect(e <= 4.5, "erfc: %.3f ulp", e);
+	cr_expect(sweep_erfc(erfc_off, 100000) > 4.5, "the erfc sweep cannot fail");
+	/* values that are exact, against libm's */
+	static const double v[] = {0.0, -0.0, INFINITY, -INFINITY, NAN, 30.0, -30.0, 1e300, -1e300};
+	for (size_t i = 0; i < sizeof v / sizeof v[0]; i++)
+		cr_expect(same_value(bk_derfc(v[i]), erfc(v[i])), "erfc(%a): %a, libm %a", v[i], bk_derfc(v[i]),
+		          erfc(v[i]));
 }
 
 Test(dmath, exact_values)
