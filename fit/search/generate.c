@@ -218,12 +218,48 @@ int bk_gen_prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 
 /* ---- children ------------------------------------------------------------- */
 
-/* A parent: a cost level uniformly (cheap and expensive forms get the same
- * attention), then a member biased to the best of its level (u² puts 1/√2
- * of the draws on the better half). */
+/* Whether level L is on the front: its best beats every cheaper level's
+ * (front_err: the least error of the levels below L, updated here). */
+static int on_front(const bk_search *s, int L, double *front_err)
+{
+	double e = s->cand[s->lv[L].idx[0]].err;
+	if (!(e < *front_err))
+		return 0;
+	*front_err = e;
+	return 1;
+}
+
+/* The share of parents drawn from the front's levels; the rest from every
+ * level uniformly. Measured on the recovery suite (bench_recovery, 20,000
+ * fits), against every level uniformly (0): 0.75 recovered 136 and 135 of 153
+ * runs at seeds 1-3 and 4-6 (0: 129 and 132) and 11 of 16 catalog forms at
+ * every seed (0: 9); 0.5: 136 and 125; 0.25: 129 at seeds 1-3; two draws,
+ * the cheaper level: 135 at 1-3. A level the front has passed (a cheaper one
+ * does better) mostly breeds forms no better than its cheaper rivals. */
+#define FRONT_PARENT_SHARE 0.75
+
+/* A parent: a level (FRONT_PARENT_SHARE of the draws one of the front's, the
+ * rest any, uniformly), then a member biased to the best of its level (u²
+ * puts 1/√2 of the draws on the better half). */
 static const bk_cand *pick(bk_search *s)
 {
-	const bk_level *l = &s->lv[bk_rng_below(&s->rng, (uint32_t)s->nlv)];
+	uint32_t li = bk_rng_below(&s->rng, (uint32_t)s->nlv);
+	if (bk_rng_unit(&s->rng) < FRONT_PARENT_SHARE) {
+		int nf = 0;
+		double fe = HUGE_VAL;
+		for (int L = 0; L < s->nlv; L++)
+			nf += on_front(s, L, &fe);
+		if (nf > 0) { /* the k-th front level, in cost order */
+			int k = (int)bk_rng_below(&s->rng, (uint32_t)nf);
+			fe = HUGE_VAL;
+			for (int L = 0; L < s->nlv; L++)
+				if (on_front(s, L, &fe) && k-- == 0) {
+					li = (uint32_t)L;
+					break;
+				}
+		}
+	}
+	const bk_level *l = &s->lv[li];
 	double u = bk_rng_unit(&s->rng);
 	return &s->cand[l->idx[(int)(u * u * l->n)]];
 }
@@ -324,9 +360,8 @@ static int gen_neighbours(bk_search *s, bk_gen_batch *b, size_t cap)
 		double front_err = HUGE_VAL;
 		for (int L = 0; L < s->nlv && b->n < cap; L++) {
 			const bk_cand *best = &s->cand[s->lv[L].idx[0]];
-			if (pass > 0 && !(best->err < front_err))
+			if (pass > 0 && !on_front(s, L, &front_err))
 				continue;
-			front_err = pass > 0 ? best->err : front_err;
 			int m = pass == 0   ? bk_expr_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB)
 			        : pass == 1 ? bk_expr_input_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB)
 			                    : bk_expr_mix_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB);
