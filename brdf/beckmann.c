@@ -32,7 +32,8 @@ double bk_D_beckmann(double NoH, double a)
  * written as its continued fraction e^{-c²}/√π / (c + T) (brdf/dmath.c) and
  * the difference taken in closed form: e^{-c²}/√π (1/c - 1/(c + T)) =
  * e^{-c²}/√π T/(c (c + T)), every term positive. Below 1/2 the first term is
- * over twice erfc, and bk_derfc's series serves. brdfkit's exp and erfc, so
+ * at least 1.8 times erfc (the difference loses under 1.3 bits), and
+ * bk_derfc's series serves. brdfkit's exp and erfc, so
  * the bits do not depend on the CPU (glibc's erfc has an FMA variant).
  * NoX <= 0 gives +inf (G1 = 0); a = 0 or NoX = 1 gives 0.
  */

@@ -155,15 +155,24 @@ double bk_dlog2(double x)
 	return bk_v_log2(x);
 }
 
+/* The pair hi + lo times c_hi + c_lo as ph + tail, ph the exact product's
+ * high part: log2_times rounds it once, log1p adds to it first. */
+static double times_pair(double hi, double lo, double c_hi, double c_lo, double *tail)
+{
+	double ph, pl;
+	bk_v_two_prod(hi, c_hi, &ph, &pl);
+	*tail = pl + (hi * c_lo + lo * c_hi);
+	return ph;
+}
+
 /* log2(x) times c = c_hi + c_lo, both as pairs, rounded once: log and log10 */
 static double log2_times(double x, double c_hi, double c_lo)
 {
 	double lo, hi = bk_v_log2_dd(x, &lo);
 	if (!isfinite(hi) || hi == 0.0)
 		return hi * c_hi; /* +-inf, NaN and log(1) = +0 as they are */
-	double ph, pl;
-	bk_v_two_prod(hi, c_hi, &ph, &pl);
-	return ph + (pl + (hi * c_lo + lo * c_hi));
+	double tail, ph = times_pair(hi, lo, c_hi, c_lo, &tail);
+	return ph + tail;
 }
 
 double bk_dlog(double x)
@@ -236,8 +245,9 @@ double bk_dlog10(double x)
  * (w - 1 is exact for w < 2^53, and u and w - 1 are within a factor of 2 of
  * each other, Sterbenz), so ln(1 + u) = ln(w) + ln(1 + d/w) = ln(w) + q - q²/2
  * with q = d/w, to within |q|³/3 < 2^-160; ln(w) is log2's pair times ln 2's
- * (q² matters: it is 0.06 ulp of the result at u = 1.5 2^-53). Where w rounds to 1 (|u| < 2^-53), log1p(u) rounds
- * to u. C11's specials: ±0 as they are, -1 gives -inf, below -1 NaN. */
+ * (q² matters: it is 0.06 ulp of the result at u = 1.5 2^-53). Where w
+ * rounds to 1 (|u| < 2^-53), log1p(u) rounds to u. C11's specials: ±0 as
+ * they are, -1 gives -inf, below -1 NaN. */
 double bk_dlog1p(double u)
 {
 	if (isnan(u) || u == 0.0 || u == HUGE_VAL)
@@ -249,8 +259,7 @@ double bk_dlog1p(double u)
 		return u;
 	double d = w < 0x1p53 ? u - (w - 1.0) : 0.0;
 	double lo, hi = bk_v_log2_dd(w, &lo);
-	double ph, pl;
-	bk_v_two_prod(hi, BK_V_LN2_HI, &ph, &pl);
+	double tail, ph = times_pair(hi, lo, BK_V_LN2_HI, BK_V_LN2_LO, &tail);
 	/* d/w is up to a fifth of the result where |u| is just past 2^-53, so it
 	 * is added as a pair: q and its remainder (d - q w exactly, Dekker's
 	 * product), q to ln(w) by TwoSum */
@@ -258,7 +267,7 @@ double bk_dlog1p(double u)
 	bk_v_two_prod(q, w, &qh, &ql);
 	double qe = ((d - qh) - ql) / w;
 	double sum = ph + q, b = sum - ph, e = (ph - (sum - b)) + (q - b);
-	return sum + (e + (pl + (hi * BK_V_LN2_LO + lo * BK_V_LN2_HI) + (qe - 0.5 * q * q)));
+	return sum + (e + (tail + (qe - 0.5 * q * q)));
 }
 
 /* ---- erfc ------------------------------------------------------------------ */
