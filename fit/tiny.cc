@@ -65,6 +65,22 @@
  *     only one with gain ratio > 1e-3) and solves with LDLT (Ceres' dense
  *     normal Cholesky here): the path may differ, not the minimum.
  */
+/*
+ * Before any Eigen header: products whose every size is fixed and at most
+ * 2,048 are "small" to Eigen, so TinySolver's JᵀJ of a 1,024 x N screening
+ * Jacobian (N <= 4) is N² dot products of length 1,024 (Eigen's coefficient
+ * product, vectorised over the depth) instead of its blocked general
+ * product, which packs J twice for a 4 x 4 result (18.5 % of a vf2d
+ * screening solve, perf). Eigen's own configuration macro
+ * (EIGEN_CACHEFRIENDLY_PRODUCT_THRESHOLD, default 8). Sizes known only at
+ * run time stay "large": the dynamic instantiations, and the cache sizes
+ * pinned below, are as before. The sums run in another order than the
+ * blocked product's, fixed by the build (SSE2 at the x86-64 baseline), and
+ * no cache size enters them. ~8 % more screening fits/s (bench_speed). No
+ * fixed-size product between 9 and 2,048 is instantiated elsewhere (solver.cc,
+ * the other C++ file, has none), so the macro changes no other code.
+ */
+#define EIGEN_CACHEFRIENDLY_PRODUCT_THRESHOLD 2048
 #include "solver.h"
 #include "bridge.h"
 
@@ -85,9 +101,10 @@ using bk_bridge::say;
 using bk_bridge::enum_value;
 
 /*
- * Eigen's cache sizes, pinned before main. TinySolver forms JᵀJ and Jᵀr with
- * Eigen's general product, whose blocking splits the depth (the residuals:
- * 1,024 for a screening fit, 65,536 for a refit) into panels sized from the L1
+ * Eigen's cache sizes, pinned before main. Where the residuals' count is
+ * dynamic (65,536 for a refit; a screening grid other than 1,024) TinySolver
+ * forms JᵀJ with Eigen's general product, whose blocking splits the depth
+ * (the residuals) into panels sized from the L1
  * size it reads from CPUID (max_kc = (L1 - 128)/64 for doubles: 504 at 32 KiB,
  * 760 at 48 KiB), and the panels' partial sums are added in a different order
  * for a different split: the same solve on a CPU with another L1 gave other
@@ -441,11 +458,10 @@ void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
  * TinySolver (the algorithm is its, unchanged); the sums come in another
  * order, so the last bits of a solve may differ from the dynamic
  * instantiation's, but they are fixed per build: the fixed-size code is
- * Eigen's SSE2 packets at the x86-64 baseline (no -march), JᵀJ still goes
- * through Eigen's blocked product (a depth of 1,024 residuals is "large" for
- * any N) with the cache sizes pinned above where M is dynamic and with
- * blocking from the sizes alone where it is fixed, and one solve runs on one
- * thread.
+ * Eigen's SSE2 packets at the x86-64 baseline (no -march), JᵀJ goes
+ * through Eigen's blocked product with the cache sizes pinned above where M
+ * is dynamic and is N² dot products where M is fixed (the threshold at the
+ * top of the file), and one solve runs on one thread.
  */
 template <int N, int M = Eigen::Dynamic>
 void solve_n(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_summary *s, bool reuse,
@@ -485,14 +501,13 @@ constexpr int kMaxFixed = 4;
  * fit_ctx.c's 1,024. Then every size is known at compile time: J diag(s) is a
  * loop of constant bounds over storage inside the solver (~half the time of
  * the dynamic-row loop, whose pointers are reloaded at every step), Jᵀr a
- * fixed product, and JᵀJ's blocked product takes its blocking from the sizes
- * alone (Eigen's gemm_blocking_space for finite sizes: one panel of depth
- * 1,024, no cache sizes read, so no CPU-dependent split either) with its
- * packing buffers on the stack. The solver then holds its 1,024 x N Jacobian
- * and two residual vectors (~50 KB) and the product two 32 KB buffers: on
- * the calling thread's stack (glibc's default 8 MB; nothing here sets a
- * smaller one). ~7 % more screening fits/s than fixed N alone (bench_speed
- * 1b, this machine).
+ * fixed product, and JᵀJ Eigen's coefficient product of fixed sizes (see
+ * EIGEN_CACHEFRIENDLY_PRODUCT_THRESHOLD at the top: no packing, no cache
+ * size read, so no CPU-dependent split either). The solver then holds its
+ * 1,024 x N Jacobian and two residual vectors (~50 KB) on the calling
+ * thread's stack (glibc's default 8 MB; nothing here sets a smaller one).
+ * ~7 % more screening fits/s than fixed N alone (bench_speed 1b, the older
+ * machine), and ~8 % more again from the coefficient product.
  */
 constexpr int kFixedResiduals = 1024;
 

@@ -9,10 +9,10 @@
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
  * fitted error: rmse 0.0276, max |error| 0.0376, max relative 3.76 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.728515625
- *   p1 = 7.44140625
- *   p2 = -14.59375
- *   p3 = 0.947265625
+ *   p0 = 0.7775
+ *   p1 = 7.306
+ *   p2 = -14.534
+ *   p3 = 0.9546
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -23,9 +23,9 @@
  */
 float search_vf2d_5(float LoH, float r, float f0)
 {
-	float t5 = mad((-14.59375), LoH, 7.4414062);
-	float t8 = 0.9472656 - r;
-	float t10 = mad(t5, t8, 0.7285156);
+	float t5 = mad((-14.534), LoH, 7.306);
+	float t8 = 0.9546 - r;
+	float t10 = mad(t5, t8, 0.7775);
 	float t11 = max(1.0905077, t10);
 	float t12 = t11 * t11;
 	float t13 = f0 * t12;
