@@ -6,6 +6,7 @@
  */
 #include "fit.h"
 #include "fit_int.h"
+#include "brdf_ops.h" /* bk_ir_avx2 */
 
 #include <math.h>
 #include <stdint.h>
@@ -50,6 +51,46 @@ static const double *block_k(const bk_fit_ctx *c, size_t lo, int m, double *buf)
 		k[i] = sw[i] * inv[i];
 	return buf;
 }
+
+/*
+ * The columns' scaling loops of residuals_cols, twice: for the x86-64
+ * baseline (SSE2, 2 doubles a vector) and for AVX2 (4), picked at run time
+ * as the IR picks its kernels (bk_ir_avx2, brdf_ops.h). The same bits
+ * either way: a product and a difference are IEEE element-wise, exact
+ * whatever the vector width; -std=c11 keeps -ffp-contract=off and
+ * target("avx2") does not enable FMA, so k (r - y) is never fused
+ * (tests/test_simd.c: a whole fit on both paths). ~10 % of a vf2d search's
+ * time was these loops (perf).
+ */
+#define SCALE_LOOPS(SUFFIX, ATTR) \
+	ATTR static uint64_t scale_res_##SUFFIX(const double *restrict k, const double *restrict y, \
+	                                         double *restrict r, int m) \
+	{ \
+		uint64_t bits = 0; \
+		for (int i = 0; i < m; i++) { \
+			r[i] = k[i] * (r[i] - y[i]); \
+			bits |= zero_bits(r[i]); \
+		} \
+		return bits; \
+	} \
+	ATTR static uint64_t scale_col_##SUFFIX(const double *restrict k, double *restrict J, int m) \
+	{ \
+		uint64_t bits = 0; \
+		for (int i = 0; i < m; i++) { \
+			double v = k[i] * J[i]; \
+			J[i] = v; \
+			bits |= zero_bits(v); \
+		} \
+		return bits; \
+	}
+
+SCALE_LOOPS(gen, )
+#if defined(__GNUC__) && defined(__x86_64__)
+SCALE_LOOPS(avx2, __attribute__((target("avx2"))))
+#define SCALE(name) (bk_ir_avx2() ? name##_avx2 : name##_gen)
+#else
+#define SCALE(name) name##_gen
+#endif
 
 int bk_fit_ctx_bind = 1;
 int bk_fit_ctx_cols = 1;
@@ -183,11 +224,7 @@ static int residuals_cols(void *vctx, int block, const double *p, double *r, dou
 	double *restrict rr = r;
 	double kbuf[BLOCK];
 	const double *restrict k = block_k(c, lo, m, kbuf);
-	uint64_t rbits = 0, jbits = 0;
-	for (int i = 0; i < m; i++) {
-		rr[i] = k[i] * (rr[i] - y[i]);
-		rbits |= zero_bits(rr[i]);
-	}
+	uint64_t rbits = SCALE(scale_res)(k, y, rr, m), jbits = 0;
 	for (int j = 0; cols && j < np; j++) {
 		double *restrict J = cols[j];
 		if (!J)
@@ -197,11 +234,7 @@ static int residuals_cols(void *vctx, int block, const double *p, double *r, dou
 				J[i] = 0.0;
 			continue;
 		}
-		for (int i = 0; i < m; i++) {
-			double v = k[i] * J[i];
-			J[i] = v;
-			jbits |= zero_bits(v);
-		}
+		jbits |= SCALE(scale_col)(k, J, m);
 	}
 	return ANY_NONFINITE(rbits) ? -1 : ANY_NONFINITE(jbits) ? BK_COLS_JAC_NONFINITE : 0;
 }

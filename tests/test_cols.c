@@ -9,6 +9,7 @@
  * (bk_fit_ctx_cols), a non-finite Jacobian failing with the same message.
  */
 #include "brdf.h"
+#include "brdf_ops.h" /* bk_ir_force_generic */
 #include "fit.h"
 #include "solver.h"
 #include "solver_fixtures.h"
@@ -311,8 +312,10 @@ Test(cols, fixed_and_dynamic_sizes_reach_the_answer)
 
 /* ---- a fit's residual blocks by columns (fit_ctx.c) --------------------------------- */
 
-/* 6. A fit by columns and by rows (bk_fit_ctx_cols 1 and 0), and by columns
- * through the plain evaluators (bk_fit_ctx_bind 0): the same bits;
+/* 6. A fit by columns and by rows (bk_fit_ctx_cols 1 and 0), by columns
+ * through the plain evaluators (bk_fit_ctx_bind 0), and by columns on the
+ * x86-64 baseline's code where the CPU has AVX2 (fit_ctx.c's scaling loops
+ * and the IR's kernels, bk_ir_force_generic): the same bits;
  * y = 0.5 + 2 LoH r² planted, recovered. Then sqrt(p0 r) from p0 = 0: values
  * finite (0), d/dp0 = r / (2 sqrt(0)) = inf wherever r > 0: FAILURE with the
  * row path's message, naming the first entry that is not finite (row 0,
@@ -324,7 +327,7 @@ Test(cols, fit_same_bits_as_rows)
 	memset(&sm, 0, sizeof sm);
 	double y[NS], w[NS];
 	for (int k = 0; k < NS; k++)
-		y[k] = 0.5 + 2 * g_loh[k] * g_r[k] * g_r[k], w[k] = 1;
+		y[k] = 0.5 + 2 * g_loh[k] * g_r[k] * g_r[k], w[k] = 0.5 + g_r[k]; /* k = sqrt(w) not 1: the scaling rounds */
 	sm.n = NS;
 	sm.ncomp = 1;
 	sm.start[0] = 0, sm.start[1] = NS;
@@ -345,11 +348,12 @@ Test(cols, fit_same_bits_as_rows)
 		spec.starts = 1;
 		for (int j = 0; j < BK_MAX_PARAMS; j++)
 			spec.lower[j] = -HUGE_VAL, spec.upper[j] = HUGE_VAL;
-		double q[3][BK_MAX_PARAMS];
-		bk_fit_summary s[3];
-		for (int side = 0; side < 3; side++) {
+		double q[4][BK_MAX_PARAMS];
+		bk_fit_summary s[4];
+		for (int side = 0; side < 4; side++) {
 			bk_fit_ctx_cols = side > 0; /* 2: by columns without a bound form */
-			bk_fit_ctx_bind = side < 2;
+			bk_fit_ctx_bind = side != 2;
+			bk_ir_force_generic(side == 3); /* 3: the x86-64 baseline's loops and kernels, not AVX2's */
 			bk_fit_problem *pb = bk_fit_problem_new(&spec);
 			cr_assert_not_null(pb);
 			for (int j = 0; j < BK_MAX_PARAMS; j++)
@@ -359,9 +363,12 @@ Test(cols, fit_same_bits_as_rows)
 		}
 		bk_fit_ctx_cols = 1;
 		bk_fit_ctx_bind = 1;
-		for (int side = 1; side < 3; side++) {
+		bk_ir_force_generic(0);
+		for (int side = 1; side < 4; side++) {
 			cr_assert_str_eq(s[0].message, s[side].message, "%s", texts[t]);
 			cr_assert_eq(s[0].termination, s[side].termination);
+			cr_assert(same_bits(s[0].final_cost, s[side].final_cost), "%s side %d: cost %a vs %a", texts[t], side,
+			          s[0].final_cost, s[side].final_cost);
 			for (int j = 0; j < spec.np; j++)
 				cr_assert(same_bits(q[0][j], q[side][j]), "%s side %d: p%d %a vs %a", texts[t], side, j, q[0][j],
 				          q[side][j]);
