@@ -13,8 +13,12 @@ Each search's command is read from the "# command:" line of its committed
 results/search/NAME/front.csv (one source of truth: the Makefile's budgets as
 last run), less --gpu, --out and --link-prefix, plus --seed S --threads 1 and
 an --out under DIR (default /tmp/fronts_ab); --jobs commands run at a time.
-A run already in DIR (its front.csv there) is not rerun, so a second call with
-more seeds or another NEW binary reuses the old side.
+A run already in DIR (its front.csv there) is not rerun when its stamp (DIR's
+NAME.stamp: the SHA-256 of the binary that made it and its arguments) matches,
+so a second call with more seeds or another NEW binary reuses the old side; a
+run whose stamp does not match (another binary at the same path: a rebuilt
+build/brdfkit, or a DIR left by an earlier session) is made again, and a run
+with no stamp at all stops the script (remove it or give another --out).
 
 Printed, per search and seed: of the costs <= --max-cost at which either front
 has a member, those where the new front's best error at cost <= c is better
@@ -27,9 +31,11 @@ for a search's seeds together) for fronts_moved.py --seeds.
 """
 import argparse
 import csv
+import hashlib
 import math
 import os
 import shlex
+import shutil
 import subprocess
 import sys
 import time
@@ -59,17 +65,38 @@ def command(name):
     return out
 
 
-def run(binary, name, seed, d):
+def digest(binary):
+    h = hashlib.sha256()
+    with open(binary, "rb") as f:
+        for chunk in iter(lambda: f.read(1 << 20), b""):
+            h.update(chunk)
+    return h.hexdigest()
+
+
+def run(binary, key, name, seed, d):
+    """key: the binary's digest; the stamp is it with the arguments."""
     path = os.path.join(d, "front.csv")
-    if os.path.exists(path):
-        return name, seed, None
     argv = [binary] + command(name) + ["--seed", str(seed), "--threads", "1", "--out", d]
+    stamp = key + " " + " ".join(shlex.quote(x) for x in argv[1:]) + "\n"
+    stamp_path = d + ".stamp"
+    have = open(stamp_path).read() if os.path.exists(stamp_path) else None
+    if os.path.exists(d):
+        if have is None:
+            sys.exit("fronts_ab: %s holds a run with no stamp (%s): which binary made it is unknown; "
+                     "remove it or give another --out" % (d, stamp_path))
+        if have == stamp and os.path.exists(path):
+            return name, seed, None
+        shutil.rmtree(d)  # a run this script made, by another binary or with other arguments
+    if have is not None:
+        os.remove(stamp_path)
     t0, r0 = time.time(), os.times()
     with open(d + ".log", "w") as log:
         rc = subprocess.call(argv, stdout=log, stderr=log)
     r1 = os.times()
     if rc != 0:
         sys.exit("fronts_ab: %s failed (exit %d), see %s.log" % (" ".join(argv), rc, d))
+    with open(stamp_path, "w") as f:
+        f.write(stamp)
     return name, seed, (time.time() - t0, r1.children_user - r0.children_user)
 
 
@@ -102,11 +129,12 @@ def main():
     seeds = [int(x) for x in a.seeds.split(",")]
     jobs = []
     for side, binary in (("old", a.old), ("new", a.new)):
+        key = digest(binary)
         for sd in seeds:
             for n in SEARCHES:
                 d = os.path.join(a.out, side, "seed%d" % sd, n)
                 os.makedirs(os.path.dirname(d), exist_ok=True)
-                jobs.append((binary, n, sd, d))
+                jobs.append((binary, key, n, sd, d))
     with ThreadPoolExecutor(max_workers=a.jobs) as ex:
         for n, sd, t in ex.map(lambda j: run(*j), jobs):
             if t:
