@@ -59,8 +59,8 @@ static const double *block_k(const bk_fit_ctx *c, size_t lo, int m, double *buf)
  * either way: a product and a difference are IEEE element-wise, exact
  * whatever the vector width; -std=c11 keeps -ffp-contract=off and
  * target("avx2") does not enable FMA, so k (r - y) is never fused
- * (tests/test_simd.c: a whole fit on both paths). ~10 % of a vf2d search's
- * time was these loops (perf).
+ * (tests/test_cols.c: a whole fit on both paths, its cost bit for bit).
+ * residuals_cols was ~10 % of a vf2d search (perf), mostly these loops.
  */
 #define SCALE_LOOPS(SUFFIX, ATTR) \
 	ATTR static uint64_t scale_res_##SUFFIX(const double *restrict k, const double *restrict y, \

@@ -70,8 +70,8 @@
  * 2,048 are "small" to Eigen, so TinySolver's JᵀJ of a 1,024 x N screening
  * Jacobian (N <= 4) is N² dot products of length 1,024 (Eigen's coefficient
  * product, vectorised over the depth) instead of its blocked general
- * product, which packs J twice for a 4 x 4 result (18.5 % of a vf2d
- * screening solve, perf). Eigen's own configuration macro
+ * product, which packs J twice for a 4 x 4 result (with its packing,
+ * 18.5 % of a 1-thread vf2d search, perf). Eigen's own configuration macro
  * (EIGEN_CACHEFRIENDLY_PRODUCT_THRESHOLD, default 8). Sizes known only at
  * run time stay "large": the dynamic instantiations, and the cache sizes
  * pinned below, are as before. The sums run in another order than the
