@@ -53,7 +53,8 @@ static const double *block_k(const bk_fit_ctx *c, size_t lo, int m, double *buf)
 }
 
 /*
- * The columns' scaling loops of residuals_cols, twice: for the x86-64
+ * The scaling loops of the residuals (residuals and residuals_cols) and of
+ * residuals_cols' Jacobian columns, twice: for the x86-64
  * baseline (SSE2, 2 doubles a vector) and for AVX2 (4), picked at run time
  * as the IR picks its kernels (bk_ir_avx2, brdf_ops.h). The same bits
  * either way: a product and a difference are IEEE element-wise, exact
@@ -142,12 +143,7 @@ static int residuals(void *vctx, int block, const double *p, double *r, double *
 	double *restrict rr = r;
 	double kbuf[BLOCK];
 	const double *restrict k = block_k(c, lo, m, kbuf);
-	uint64_t rbits = 0;
-	for (int i = 0; i < m; i++) {
-		rr[i] = k[i] * (rr[i] - y[i]);
-		rbits |= zero_bits(rr[i]);
-	}
-	bad = ANY_NONFINITE(rbits);
+	bad = ANY_NONFINITE(SCALE(scale_res)(k, y, rr, m));
 	if (jac && !narrow) {
 		double *restrict J = jac;
 		switch (np) {

@@ -79,7 +79,10 @@ def run(binary, key, name, seed, d):
     argv = [binary] + command(name) + ["--seed", str(seed), "--threads", "1", "--out", d]
     stamp = key + " " + " ".join(shlex.quote(x) for x in argv[1:]) + "\n"
     stamp_path = d + ".stamp"
-    have = open(stamp_path).read() if os.path.exists(stamp_path) else None
+    have = None
+    if os.path.exists(stamp_path):
+        with open(stamp_path) as f:
+            have = f.read()
     if os.path.exists(d):
         if have is None:
             sys.exit("fronts_ab: %s holds a run with no stamp (%s): which binary made it is unknown; "
