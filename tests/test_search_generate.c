@@ -134,3 +134,64 @@ Test(search_generate, a_candidate_in_the_cache_is_not_made_again)
 	bk_search_free(s);
 	bk_samples_free(&sm);
 }
+
+/* The search of grown()'s options to n fits, one step at a time; with forget,
+ * the record of neighbour lists tried whole (nb_done) is emptied after every
+ * step, and with poison every list is recorded as tried before the first. */
+static bk_search *stepped(bk_samples *sm, int forget, int poison)
+{
+	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 6, sm);
+	char err[256];
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = sm;
+	o.shape = BK_SHAPE_PLAIN;
+	memset(&o.grammar, 0, sizeof o.grammar);
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq,mix", &o.grammar.ops, err, sizeof err), 0, "%s", err);
+	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	o.grammar.consts[0] = 1;
+	o.grammar.nconsts = 1;
+	o.grammar.max_params = 3;
+	o.grammar.max_size = 11;
+	o.enum_max = 100;
+	o.generation = 40;
+	o.evals = 900;
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	for (uint64_t k = 1; poison && k <= 3 * 2000; k++)
+		cr_assert_geq(bk_hashset_add(&s->nb_done, k), 0);
+	int rc;
+	while ((rc = bk_search_step(s, err, sizeof err)) == 1)
+		if (forget)
+			bk_hashset_free(&s->nb_done);
+	cr_assert_eq(rc, 0, "%s", err);
+	return s;
+}
+
+/* 1 when a and b fitted the same candidates in the same order */
+static int same_run(const bk_search *a, const bk_search *b)
+{
+	if (a->n != b->n)
+		return 0;
+	for (size_t i = 0; i < a->n; i++)
+		if (strcmp(a->cand[i].text, b->cand[i].text))
+			return 0;
+	return 1;
+}
+
+Test(search_generate, skipping_neighbour_lists_tried_whole_changes_no_candidate)
+{
+	bk_samples sm[3];
+	bk_search *kept = stepped(&sm[0], 0, 0), *remade = stepped(&sm[1], 1, 0);
+	cr_assert_gt(kept->nb_done.n, 20, "lists were skipped (%zu recorded)", kept->nb_done.n);
+	cr_assert(same_run(kept, remade), "the same %zu candidates with the lists made again", kept->n);
+	/* negative control: lists recorded as tried before they were (none then
+	 * comes from a neighbour) make another run, and same_run says so */
+	bk_search *poisoned = stepped(&sm[2], 0, 1);
+	cr_assert_not(same_run(kept, poisoned), "a run without neighbours differs");
+	bk_search_free(kept);
+	bk_search_free(remade);
+	bk_search_free(poisoned);
+	for (int k = 0; k < 3; k++)
+		bk_samples_free(&sm[k]);
+}

@@ -200,6 +200,7 @@ void bk_search_free(bk_search *s)
 		return;
 	bk_archive_free(s);
 	bk_hashset_free(&s->seen);
+	bk_hashset_free(&s->nb_done);
 	for (int k = 0; s->seed_text && k < s->o.nseeds; k++) {
 		free(s->seed_text[k]);
 		free(s->seed_text_b[k]);

@@ -35,6 +35,7 @@ struct bk_search {
 	bk_cand *cand;
 	size_t n, cap;
 	bk_hashset seen; /* hashes of the canonical texts tried (fitted or over a limit) */
+	bk_hashset nb_done; /* candidate index * 3 + pass + 1 of each neighbour list tried whole (generate.c) */
 	bk_level *lv;
 	int nlv;
 	bk_rng rng;
