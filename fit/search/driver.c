@@ -60,18 +60,29 @@ static int merge(bk_search *s, bk_gen_batch *b)
 	return 0;
 }
 
+static void made(void *crew, size_t n)
+{
+	bk_screen_ready(crew, n);
+}
+
 int bk_search_step(bk_search *s, char *err, size_t errlen)
 {
 	if (s->phase == 3 || s->evals >= s->o.evals)
 		return 0;
 	size_t want = bk_gen_want(s), room = want ? want : 1;
 	bk_gen_batch b = {calloc(room, sizeof *b.c), calloc(room, sizeof *b.start), calloc(room, sizeof *b.inherit),
-	                  want, 0};
-	int rc = !b.c || !b.start || !b.inherit || bk_gen_batch_make(s, &b) ? -1 : 0;
-	if (rc == 0) {
-		bk_screen_batch(s, b.c, b.start, b.n);
-		rc = merge(s, &b);
+	                  want, 0, NULL, NULL};
+	int rc = !b.c || !b.start || !b.inherit ? -1 : 0;
+	if (rc == 0) { /* the fits start as the candidates are made */
+		bk_screen_crew crew;
+		bk_screen_begin(&crew, s, b.c, b.start);
+		b.made = made;
+		b.made_ctx = &crew;
+		rc = bk_gen_batch_make(s, &b);
+		bk_screen_end(&crew, rc == 0 ? b.n : 0);
 	}
+	if (rc == 0)
+		rc = merge(s, &b);
 	for (size_t i = 0; i < b.n; i++)
 		bk_cand_free(&b.c[i]);
 	free(b.c);

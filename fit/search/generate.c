@@ -383,6 +383,8 @@ static int gen_neighbours(bk_search *s, bk_gen_batch *b, size_t cap)
 					return -1;
 				}
 				b->n += (size_t)r;
+				if (r && b->made)
+					b->made(b->made_ctx, b->n);
 			}
 			if (j == m && bk_hashset_add(&s->nb_done, done) < 0) {
 				free(nb);
@@ -417,6 +419,8 @@ static int gen_children(bk_search *s, bk_gen_batch *b)
 		if (r > 0 && s->o.inherit && inherited(&b->c[b->n], b->inherit[b->n]))
 			b->start[b->n] = b->inherit[b->n];
 		b->n += (size_t)r;
+		if (r && b->made)
+			b->made(b->made_ctx, b->n);
 	}
 	if (b->n == 0)
 		s->phase = 3;

@@ -22,6 +22,10 @@ typedef struct bk_gen_batch {
 	double (*inherit)[BK_MAX_PARAMS];
 	size_t want; /* room for this many */
 	size_t n;    /* made */
+	/* called (when set) with n each time a child or neighbour is whole: the
+	 * screening may start on it while the rest is made (screen.h) */
+	void (*made)(void *ctx, size_t n);
+	void *made_ctx;
 } bk_gen_batch;
 
 /* How many candidates the next step makes at most (a generation; every seed

@@ -240,34 +240,71 @@ done:
 
 /* ---- a batch on threads ----------------------------------------------------- */
 
-typedef struct batch {
-	const bk_search *s;
-	bk_cand *c;
-	const double *const *seed_p;
-	size_t n;
-	atomic_size_t next;
-} batch;
-
+/* The workers take candidates in order from `next` and fit each once it is
+ * published (i < ready) or leave once the batch is closed: so they may start
+ * while the generation still makes the batch (bk_screen_begin), on the
+ * candidates it has made. What a candidate's fit reads of s (the options,
+ * the samples, the seeds' names) the generation never writes. */
 static void *worker(void *arg)
 {
-	batch *b = arg;
-	for (size_t i; (i = atomic_fetch_add(&b->next, 1)) < b->n;)
-		bk_screen_one(b->s, &b->c[i], b->seed_p[i]);
-	return NULL;
+	bk_screen_crew *w = arg;
+	for (;;) {
+		size_t i = atomic_fetch_add(&w->next, 1);
+		pthread_mutex_lock(&w->mu);
+		while (i >= w->ready && !w->closed)
+			pthread_cond_wait(&w->cv, &w->mu);
+		int go = i < w->ready;
+		pthread_mutex_unlock(&w->mu);
+		if (!go)
+			return NULL;
+		bk_screen_one(w->s, &w->c[i], w->seed_p[i]);
+	}
+}
+
+void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p)
+{
+	w->s = s;
+	w->c = c;
+	w->seed_p = seed_p;
+	atomic_init(&w->next, 0);
+	w->ready = 0;
+	w->closed = 0;
+	w->started = 0;
+	pthread_mutex_init(&w->mu, NULL);
+	pthread_cond_init(&w->cv, NULL);
+	int nt = s->o.threads < 1 ? 1 : s->o.threads > 64 ? 64 : s->o.threads;
+	for (int t = 1; t < nt; t++)
+		if (pthread_create(&w->th[w->started], NULL, worker, w) == 0)
+			w->started++;
+}
+
+void bk_screen_ready(bk_screen_crew *w, size_t n)
+{
+	pthread_mutex_lock(&w->mu);
+	if (n > w->ready) {
+		w->ready = n;
+		pthread_cond_broadcast(&w->cv);
+	}
+	pthread_mutex_unlock(&w->mu);
+}
+
+void bk_screen_end(bk_screen_crew *w, size_t n)
+{
+	bk_screen_ready(w, n);
+	pthread_mutex_lock(&w->mu);
+	w->closed = 1;
+	pthread_cond_broadcast(&w->cv);
+	pthread_mutex_unlock(&w->mu);
+	worker(w); /* this thread works too; a thread that failed to start is only slower */
+	for (int t = 0; t < w->started; t++)
+		pthread_join(w->th[t], NULL);
+	pthread_cond_destroy(&w->cv);
+	pthread_mutex_destroy(&w->mu);
 }
 
 void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n)
 {
-	batch b = {s, c, seed_p, n, 0};
-	int nt = s->o.threads < 1 ? 1 : s->o.threads;
-	if ((size_t)nt > n)
-		nt = (int)n;
-	pthread_t th[64];
-	int started = 0;
-	for (int t = 1; t < nt && t < 64; t++)
-		if (pthread_create(&th[started], NULL, worker, &b) == 0)
-			started++;
-	worker(&b); /* this thread works too; a thread that failed to start is only slower */
-	for (int t = 0; t < started; t++)
-		pthread_join(th[t], NULL);
+	bk_screen_crew w;
+	bk_screen_begin(&w, s, c, seed_p);
+	bk_screen_end(&w, n);
 }
