@@ -144,9 +144,10 @@ build/san/obj/%.o: %.cc | deps
 # and their loops that zero or copy stay loops of vector stores (ir_adjoint.h).
 IR_KERNELS = build/obj/brdf/ir_eval.o build/obj/brdf/ir_diff.o build/san/obj/brdf/ir_eval.o build/san/obj/brdf/ir_diff.o
 $(IR_KERNELS): CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
-# the fit's residual loops (fit/fit_ctx.c): vectorised though their count varies
+# the fit's residual loops (fit/fit_ctx.c): vectorised though their count varies,
+# and its square roots (no errno: the same bits, sqrt is correctly rounded)
 FIT_LOOPS = build/obj/fit/fit_ctx.o build/san/obj/fit/fit_ctx.o
-$(FIT_LOOPS): CSTD += -fvect-cost-model=dynamic
+$(FIT_LOOPS): CSTD += -fvect-cost-model=dynamic -fno-math-errno
 
 $(LIB): $(call obj,build/obj,$(LIB_SRC))
 	ar rcs $@ $^

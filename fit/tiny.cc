@@ -94,6 +94,9 @@
 #include <cstring>
 #include <new>
 #include <vector>
+#ifdef __SSE2__
+#include <emmintrin.h>
+#endif
 
 namespace {
 
@@ -165,13 +168,33 @@ bool refuses(const bk_problem &p, const bk_fit_options &o, char *why, size_t len
 	return false;
 }
 
-/* 1 if every x[0..n) is finite. x * 0 is 0 for a finite x and NaN otherwise,
- * so one sum tells, with no overflow; Eigen vectorises the sum, which a loop
- * of isfinite with an early exit is not (this check was ~10 % of a vf2d
- * solve, perf). */
+/* 1 if every x[0..n) is finite. x - x is 0 for a finite x and NaN otherwise,
+ * so one sum tells, with no overflow, in any order. A loop of isfinite with
+ * an early exit does not vectorise (this check was ~10 % of a vf2d solve,
+ * perf); Eigen's sum of x * 0 did, with two vectors of partial sums, one
+ * serial chain of additions each (1.5 % of a vf2d search); four here. */
 bool all_finite(const double *x, size_t n)
 {
+#ifdef __SSE2__
+	__m128d a0 = _mm_setzero_pd(), a1 = a0, a2 = a0, a3 = a0;
+	size_t i = 0;
+	for (; i + 8 <= n; i += 8) {
+		__m128d v0 = _mm_loadu_pd(x + i), v1 = _mm_loadu_pd(x + i + 2);
+		__m128d v2 = _mm_loadu_pd(x + i + 4), v3 = _mm_loadu_pd(x + i + 6);
+		a0 = _mm_add_pd(a0, _mm_sub_pd(v0, v0));
+		a1 = _mm_add_pd(a1, _mm_sub_pd(v1, v1));
+		a2 = _mm_add_pd(a2, _mm_sub_pd(v2, v2));
+		a3 = _mm_add_pd(a3, _mm_sub_pd(v3, v3));
+	}
+	double t[2];
+	_mm_storeu_pd(t, _mm_add_pd(_mm_add_pd(a0, a1), _mm_add_pd(a2, a3)));
+	double sum = t[0] + t[1];
+	for (; i < n; i++)
+		sum += x[i] - x[i];
+	return std::isfinite(sum);
+#else
 	return std::isfinite((Eigen::Map<const Eigen::ArrayXd>(x, (Eigen::Index)n) * 0.0).sum());
+#endif
 }
 
 /* What the functor keeps between calls (on bk_solve_tiny's stack). */

@@ -523,6 +523,53 @@ Test(tiny, callback_failure_is_failure)
 		}
 }
 
+/* A line y = p0 + p1 x over 37 residuals with one of them, bad, made NaN or
+ * +-inf at the first call: the finiteness check reads them eight at a time
+ * and the rest one by one (fit/tiny.cc, all_finite), so the bad one is put
+ * at each place of both; every value finite is the control. */
+typedef struct bad_line {
+	int bad;
+	double v;
+} bad_line;
+
+static int line_with_a_bad_residual(void *ctx, int block, const double *p, double *r, double *jac)
+{
+	const bad_line *b = ctx;
+	(void)block;
+	for (int i = 0; i < 37; i++) {
+		r[i] = p[0] + p[1] * i - (0.5 + 0.25 * i);
+		if (jac)
+			jac[2 * i] = 1, jac[2 * i + 1] = i;
+	}
+	if (b->bad >= 0)
+		r[b->bad] = b->v;
+	return 0;
+}
+
+Test(tiny, a_non_finite_residual_is_found_at_any_place)
+{
+	int size[] = {37};
+	const double bad[] = {NAN, INFINITY, -INFINITY};
+	for (int k = -1; k < 37; k++)
+		for (int v = 0; v < 3; v++) {
+			bad_line b = {k, bad[v]};
+			bk_problem p = {2, 1, size, line_with_a_bad_residual, &b, NULL, NULL, NULL};
+			bk_fit_options o = BK_FIT_OPTIONS_INIT;
+			double q[2] = {1, 1};
+			bk_fit_summary s;
+			cr_assert_eq(bk_solve_tiny(&p, &o, q, &s), 0, "%s", s.message);
+			if (k < 0) { /* the control: every residual finite, the line's constants */
+				cr_assert_eq(s.termination, BK_TERM_CONVERGENCE, "%s", s.message);
+				cr_assert(fabs(q[0] - 0.5) < 1e-9 && fabs(q[1] - 0.25) < 1e-9, "%g %g", q[0], q[1]);
+				break;
+			}
+			char want[80];
+			snprintf(want, sizeof want, "non-finite residual: block 0, residual %d", k);
+			cr_assert_eq(s.termination, BK_TERM_FAILURE, "residual %d = %g: %s", k, bad[v], s.message);
+			cr_assert_str_eq(s.message, want);
+		}
+}
+
 /* And a healthy solve prints nothing either. */
 Test(tiny, healthy_solve_is_silent)
 {
