@@ -47,17 +47,27 @@ void bk_search_defaults(bk_search_options *o)
 /* ---- a step: generate -> screen -> merge ---------------------------------- */
 
 /* The batch's fits join the archive in candidate order (the same order for
- * any thread count), numbered as this island's fits. */
-static int merge(bk_search *s, bk_gen_batch *b)
+ * any thread count), numbered as this island's fits: one at a time, as the
+ * screening hands them on (screen.h). */
+typedef struct merging {
+	bk_search *s;
+	bk_gen_batch *b;
+	int rc;
+} merging;
+
+static void merge_one(void *ctx, size_t i)
 {
-	for (size_t i = 0; i < b->n; i++) {
-		b->c[i].found_at = ++s->evals;
-		b->c[i].island = s->o.island;
-		if (bk_archive_push(s, &b->c[i]))
-			return -1;
-		b->c[i].text = b->c[i].text_b = NULL; /* the archive's now */
+	merging *m = ctx;
+	bk_cand *c = &m->b->c[i];
+	if (m->rc)
+		return;
+	c->found_at = ++m->s->evals;
+	c->island = m->s->o.island;
+	if (bk_archive_push(m->s, c)) {
+		m->rc = -1;
+		return;
 	}
-	return 0;
+	c->text = c->text_b = NULL; /* the archive's now */
 }
 
 static void made(void *crew, size_t n)
@@ -73,16 +83,16 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	bk_gen_batch b = {calloc(room, sizeof *b.c), calloc(room, sizeof *b.start), calloc(room, sizeof *b.inherit),
 	                  want, 0, NULL, NULL};
 	int rc = !b.c || !b.start || !b.inherit ? -1 : 0;
-	if (rc == 0) { /* the fits start as the candidates are made */
+	if (rc == 0) { /* generate -> screen -> merge, the fits starting as the candidates are made */
 		bk_screen_crew crew;
-		bk_screen_begin(&crew, s, b.c, b.start);
+		bk_screen_begin(&crew, s, b.c, b.start, room);
 		b.made = made;
 		b.made_ctx = &crew;
 		rc = bk_gen_batch_make(s, &b);
-		bk_screen_end(&crew, rc == 0 ? b.n : 0);
+		merging m = {s, &b, 0};
+		bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m);
+		rc = rc ? rc : m.rc;
 	}
-	if (rc == 0)
-		rc = merge(s, &b);
 	for (size_t i = 0; i < b.n; i++)
 		bk_cand_free(&b.c[i]);
 	free(b.c);

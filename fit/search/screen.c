@@ -245,6 +245,19 @@ done:
  * while the generation still makes the batch (bk_screen_begin), on the
  * candidates it has made. What a candidate's fit reads of s (the options,
  * the samples, the seeds' names) the generation never writes. */
+/* c[i] is fitted: say so to end's thread, which hands the candidates on in
+ * order (done is NULL when there is no one to tell) */
+static void finished(bk_screen_crew *w, size_t i)
+{
+	if (!w->done)
+		return;
+	pthread_mutex_lock(&w->mu);
+	w->done[i] = 1;
+	if (w->waiting)
+		pthread_cond_broadcast(&w->cv);
+	pthread_mutex_unlock(&w->mu);
+}
+
 static void *worker(void *arg)
 {
 	bk_screen_crew *w = arg;
@@ -258,10 +271,11 @@ static void *worker(void *arg)
 		if (!go)
 			return NULL;
 		bk_screen_one(w->s, &w->c[i], w->seed_p[i]);
+		finished(w, i);
 	}
 }
 
-void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p)
+void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p, size_t cap)
 {
 	w->s = s;
 	w->c = c;
@@ -269,7 +283,9 @@ void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const do
 	atomic_init(&w->next, 0);
 	w->ready = 0;
 	w->closed = 0;
+	w->waiting = 0;
 	w->started = 0;
+	w->done = calloc(cap ? cap : 1, 1); /* NULL: end hands them on after the join */
 	pthread_mutex_init(&w->mu, NULL);
 	pthread_cond_init(&w->cv, NULL);
 	int nt = s->o.threads < 1 ? 1 : s->o.threads > 64 ? 64 : s->o.threads;
@@ -288,23 +304,60 @@ void bk_screen_ready(bk_screen_crew *w, size_t n)
 	pthread_mutex_unlock(&w->mu);
 }
 
-void bk_screen_end(bk_screen_crew *w, size_t n)
+/* each() of the fitted candidates from `from` on, in order, up to the first
+ * not yet fitted (or, wait, up to n); returns where it stopped. Called on
+ * end's thread alone, outside the lock: a candidate marked done was written
+ * before its worker let go of the lock. */
+static size_t hand_on(bk_screen_crew *w, size_t from, size_t n, int wait, void (*each)(void *, size_t), void *ctx)
+{
+	size_t to = from;
+	pthread_mutex_lock(&w->mu);
+	for (;;) {
+		while (to < n && w->done[to])
+			to++;
+		if (!wait || to == n)
+			break;
+		w->waiting = 1;
+		pthread_cond_wait(&w->cv, &w->mu);
+	}
+	w->waiting = 0;
+	pthread_mutex_unlock(&w->mu);
+	for (size_t i = from; i < to; i++)
+		each(ctx, i);
+	return to;
+}
+
+void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx)
 {
 	bk_screen_ready(w, n);
 	pthread_mutex_lock(&w->mu);
 	w->closed = 1;
 	pthread_cond_broadcast(&w->cv);
 	pthread_mutex_unlock(&w->mu);
-	worker(w); /* this thread works too; a thread that failed to start is only slower */
+	/* this thread fits too (a thread that failed to start is only slower),
+	 * and between its fits hands on, in order, what is fitted: the merge
+	 * then runs beside the other threads' last fits, not after them */
+	size_t handed = 0;
+	for (size_t i; (i = atomic_fetch_add(&w->next, 1)) < n;) {
+		bk_screen_one(w->s, &w->c[i], w->seed_p[i]);
+		finished(w, i);
+		if (each && w->done)
+			handed = hand_on(w, handed, n, 0, each, ctx);
+	}
+	if (each && w->done)
+		handed = hand_on(w, handed, n, 1, each, ctx);
 	for (int t = 0; t < w->started; t++)
 		pthread_join(w->th[t], NULL);
+	for (size_t i = handed; each && i < n; i++) /* without done: after the join */
+		each(ctx, i);
 	pthread_cond_destroy(&w->cv);
 	pthread_mutex_destroy(&w->mu);
+	free(w->done);
 }
 
 void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n)
 {
 	bk_screen_crew w;
-	bk_screen_begin(&w, s, c, seed_p);
-	bk_screen_end(&w, n);
+	bk_screen_begin(&w, s, c, seed_p, n);
+	bk_screen_end(&w, n, NULL, NULL);
 }

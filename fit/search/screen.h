@@ -22,28 +22,33 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p);
 /* bk_screen_one of c[i] from seed_p[i], i < n, on s->o.threads threads. */
 void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n);
 
-/* The same, with the fits under way while the batch is made (the step's
- * generation is serial, ~7 % of a 2-thread step before): begin starts
- * threads - 1 workers, which fit c[i] once ready(n) has said i < n; end
- * says the batch is n long, fits what is left on this thread too and joins
- * the workers. c[i] and seed_p[i] must be whole before ready names them, and
- * the caller must not write what bk_screen_one reads of s (its options)
- * between begin and end; each candidate's fit is its own, so the results
- * are those of bk_screen_batch. */
+/* The same, with the fits under way while the batch is made and the results
+ * handed on while the last fits run (the step's generation and merge are
+ * serial: ~7 % and ~1 % of a 2-thread step, idle threads beside them).
+ * begin starts threads - 1 workers for a batch of at most cap candidates;
+ * they fit c[i] once ready(n) has said i < n. end says the batch is n long,
+ * fits what is left on this thread too, calls each(ctx, i) on this thread
+ * for i = 0 .. n-1 in order, each as soon as c[0..i] are fitted, and joins
+ * the workers. c[i] and seed_p[i] must be whole before ready names them;
+ * between begin and end the caller must not write what bk_screen_one reads
+ * of s (its options), nor each() touch a candidate after i. Each fit is its
+ * own, so the results and their order are those of bk_screen_batch. */
 typedef struct bk_screen_crew {
 	const bk_search *s;
 	bk_cand *c;
 	const double *const *seed_p;
-	atomic_size_t next; /* the next candidate a worker takes */
-	size_t ready;       /* candidates published; under mu */
-	int closed;         /* no more will be; under mu */
+	atomic_size_t next;  /* the next candidate a worker takes */
+	size_t ready;        /* candidates published; under mu */
+	int closed;          /* no more will be; under mu */
+	unsigned char *done; /* fitted, by candidate; under mu (NULL: out of memory) */
+	int waiting;         /* end's thread waits for one; under mu */
 	pthread_mutex_t mu;
 	pthread_cond_t cv;
 	pthread_t th[64];
 	int started;
 } bk_screen_crew;
-void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p);
+void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p, size_t cap);
 void bk_screen_ready(bk_screen_crew *w, size_t n);
-void bk_screen_end(bk_screen_crew *w, size_t n);
+void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx);
 
 #endif
