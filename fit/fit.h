@@ -219,6 +219,10 @@ int bk_fit_problem_solve(bk_fit_problem *pb, double *p, const int *constant, bk_
 /* The same problem as the solver sees it (solver.h): residual blocks, their
  * callback, the spec's bounds and holds; valid while pb lives. */
 bk_problem bk_fit_problem_view(const bk_fit_problem *pb);
+/* The forms' values at p over the samples into v (spec->s->n), in f64:
+ * bk_fit_eval_forms' bits, from the problem's bound forms where its solves
+ * made them (what reads no parameter is not computed again). 0, or -1. */
+int bk_fit_problem_values(bk_fit_problem *pb, const double *p, double *v);
 
 /* Benchmark switch, public so that make bench's side-by-side needs no
  * internal header: 1 (default), residual blocks use forms bound to their

@@ -201,6 +201,9 @@ static int residuals_cols(void *vctx, int block, const double *p, double *r, dou
 		if (cols && !rows)
 			return -1;
 		int rc = residuals(vctx, block, p, r, rows), bad = 0;
+		for (int i = 0; rc == -1 && i < m; i++) /* residuals() fails on these, or out of memory */
+			if (!isfinite(r[i]))
+				rc = BK_COLS_RES_NONFINITE;
 		for (int j = 0; rc == 0 && cols && j < np; j++)
 			if (cols[j])
 				for (int i = 0; i < m; i++) {
@@ -232,7 +235,7 @@ static int residuals_cols(void *vctx, int block, const double *p, double *r, dou
 		}
 		jbits |= SCALE(scale_col)(k, J, m);
 	}
-	return ANY_NONFINITE(rbits) ? -1 : ANY_NONFINITE(jbits) ? BK_COLS_JAC_NONFINITE : 0;
+	return ANY_NONFINITE(rbits) ? BK_COLS_RES_NONFINITE : ANY_NONFINITE(jbits) ? BK_COLS_JAC_NONFINITE : 0;
 }
 
 /* The same residuals for the statistics (all blocks, at the solution). */

@@ -46,3 +46,15 @@ bk_problem bk_fit_problem_view(const bk_fit_problem *pb)
 	return (bk_problem){sp->np, pb->ctx.nblocks, pb->ctx.size, residuals, (void *)&pb->ctx, sp->lower, sp->upper,
 	                    sp->hold};
 }
+
+int bk_fit_problem_values(bk_fit_problem *pb, const double *p, double *v)
+{
+	const bk_fit_ctx *c = &pb->ctx;
+	for (int b = 0; b < c->nblocks; b++)
+		if (!c->bound[b])
+			return bk_fit_eval_forms(c->spec, p, v);
+	for (int b = 0; b < c->nblocks; b++)
+		if (bk_form_bound_eval(c->bound[b], p, v + c->lo[b], NULL))
+			return -1;
+	return 0;
+}

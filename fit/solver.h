@@ -109,13 +109,17 @@ int bk_solve_tiny_reusing(const bk_problem *p, const bk_fit_options *o, double *
                           bk_fit_summary *summary);
 /* The Jacobian by columns: one block's residuals into residuals and, when
  * cols is not NULL, d residual_i / d param_j into cols[j][i] for every j whose
- * cols[j] is not NULL (each then block_size rows). Returns 0;
- * BK_COLS_JAC_NONFINITE when the values are finite but a Jacobian entry it
- * wrote is not (the solver decides whether that Jacobian is used); any other
- * non-zero fails the solve. */
+ * cols[j] is not NULL (each then block_size rows). Returns 0 when every value
+ * it wrote is finite; BK_COLS_RES_NONFINITE when a residual is not (the
+ * solve fails naming the first, as bk_solve; the callback tests them as it
+ * writes them, so the solver need not read them again); BK_COLS_JAC_NONFINITE
+ * when the residuals are finite but a Jacobian entry it wrote is not (the
+ * solver decides whether that Jacobian is used); any other non-zero fails the
+ * solve. */
 typedef int (*bk_residual_cols_fn)(void *ctx, int block, const double *params, double *residuals,
                                    double *const *cols);
 #define BK_COLS_JAC_NONFINITE 1
+#define BK_COLS_RES_NONFINITE 2
 /* bk_solve_tiny_reusing with the Jacobian from cols (p->fn is not called, but
  * checked as bk_solve_tiny checks it): the callback writes each free
  * parameter's column straight into TinySolver's column-major Jacobian, where

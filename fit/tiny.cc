@@ -19,6 +19,9 @@
  *     function tolerance; a step's trial point is evaluated with jacobian =
  *     NULL. Its `options` are read afresh at every test, so the functor
  *     refreshes the tolerances that depend on the point (Tolerances below);
+ *   - a trial's values stay in the array the functor wrote them to (its
+ *     f_x_new_) until the next trial: the Update that accepts the trial
+ *     finds them there (bk_solve_tiny_cols copies them once, not twice);
  *   - its Jacobian (the array the functor is handed) is read only inside
  *     Update, right after the functor fills it: between two Updates nothing
  *     reads it (the step uses JᵀJ and g, made in Update), and the array stays
@@ -220,6 +223,7 @@ struct State {
 	char trial_why[160];
 	double *solver_jac = nullptr; /* TinySolver's Jacobian, from its first Update */
 	double *trial_at = nullptr;   /* where the last trial's Jacobian is */
+	const double *trial_rs = nullptr; /* and its values: TinySolver's array (see the header) */
 	std::vector<double> held; /* the held parameters' columns of one block (tested, not used) */
 };
 
@@ -362,7 +366,9 @@ private:
 	{
 		size_t m = (size_t)m_;
 		if (reuse) {
-			std::copy(st_->trial_r.data(), st_->trial_r.data() + m, r);
+			/* the trial's values are still where it wrote them (see the header) */
+			if (st_->trial_rs != r)
+				std::copy(st_->trial_rs, st_->trial_rs + m, r);
 			if (st_->trial_bad)
 				fail("%s", st_->trial_why);
 			if (st_->trial_at != jac) /* not where TinySolver reads it (see below) */
@@ -388,9 +394,10 @@ private:
 			for (int k = 0; k < nfree_; k++)
 				cp[free_[k]] = dst != nullptr ? dst + (size_t)k * m + row : nullptr;
 			int rc = cols_(p_.ctx, b, st_->x, rb, dst != nullptr ? cp : nullptr);
+			if (rc == BK_COLS_RES_NONFINITE) /* the first is named; the callback tested them all */
+				check_residuals(b, rb, mb);
 			if (rc != 0 && rc != BK_COLS_JAC_NONFINITE)
 				fail("callback failed: block %d returned %d", b, rc);
-			check_residuals(b, rb, mb);
 			if (rc == BK_COLS_JAC_NONFINITE && dst != nullptr && !st_->trial_bad) {
 				int bad_i = 0, bad_j = 0;
 				for (int i = mb - 1; i >= 0; i--) /* the first in row-major order */
@@ -404,10 +411,10 @@ private:
 				st_->trial_bad = true; /* fails at the acceptance: the first block's */
 				std::memcpy(st_->trial_why, why, sizeof why);
 			}
-			if (keep)
-				std::copy(rb, rb + mb, st_->trial_r.data() + row);
 			row += (size_t)mb;
 		}
+		if (keep)
+			st_->trial_rs = r;
 	}
 
 	/* A point TinySolver starts from or accepted: record it and set the

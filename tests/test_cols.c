@@ -223,11 +223,11 @@ static int failing_cols(void *ctx, int block, const double *p, double *r, double
 		if (f->what == 0)
 			return 7;
 		if (f->what == 1)
-			r[1] = NAN;
+			r[1] = NAN, rc = BK_COLS_RES_NONFINITE;
 		else if (cols != NULL)
 			jac[3] = NAN, rc = BK_COLS_JAC_NONFINITE;
 		else
-			r[0] = NAN;
+			r[0] = NAN, rc = BK_COLS_RES_NONFINITE;
 	}
 	for (int j = 0; cols && j < 2; j++)
 		if (cols[j])

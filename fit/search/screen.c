@@ -187,9 +187,10 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 				break;
 		}
 	}
-	bk_fit_problem_free(pb);
-	if (!(best_cost < HUGE_VAL))
+	if (!(best_cost < HUGE_VAL)) {
+		bk_fit_problem_free(pb);
 		goto done;
+	}
 	/* the albedo objective: one more solve, least squares of the cells'
 	 * albedo errors from the values' fit (fit/albfit.h), kept where it lowers
 	 * the albedo's max error (the front's refit then goes on to its minimax) */
@@ -202,14 +203,19 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		bk_albfit_free(af);
 	}
 	memcpy(c->p, best, sizeof c->p);
-	for (int q = 0; q < sm->ncomp; q++) { /* the values in the search's precision */
+	/* the values in the search's precision; in f64, from the fit's bound
+	 * forms (the same bits, without what reads no parameter) */
+	int bad = s->o.precision == BK_F64 && bk_fit_problem_values(pb, c->p, v);
+	for (int q = 0; !bad && s->o.precision != BK_F64 && q < sm->ncomp; q++) {
 		size_t lo = sm->start[q];
 		const double *in[BK_IN_COUNT];
 		for (int k = 0; k < BK_IN_COUNT; k++)
 			in[k] = sm->in[k] + lo;
-		if (bk_form_eval(spec.form[q], s->o.precision, sm->start[q + 1] - lo, in, c->p, v + lo))
-			goto done;
+		bad = bk_form_eval(spec.form[q], s->o.precision, sm->start[q + 1] - lo, in, c->p, v + lo) != 0;
 	}
+	bk_fit_problem_free(pb);
+	if (bad)
+		goto done;
 	c->status = BK_CAND_OK;
 	for (size_t i = 0; i < sm->n; i++)
 		if (!isfinite(v[i]) && isfinite(sm->y[i]))
