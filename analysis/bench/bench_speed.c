@@ -57,6 +57,21 @@
  * candidates.csv byte for byte. Neutral in speed: glibc's scalar exp2 was
  * ~7 % of the time, the vectorised one about as much (a 14-term polynomial
  * and exact products, for 0.62 ulp).
+ *
+ * Issue 22, 2-thread wall time (this machine: AMD EPYC, AVX-512, 48 KiB L1d,
+ * idle), every step the same candidates byte for byte: a step's generation
+ * was serial, 0.385 s of a 2.37 s run (16 %), while the other thread
+ * waited. Neighbour lists tried whole are not made again (0.385 -> 0.138 s):
+ * 8,397 -> ~9,250 fits/s; the fits start while the batch is made
+ * (bk_screen_begin/ready/end): 9,552; a fit's set-up without libm calls and
+ * the residuals' finiteness check with four partial sums: 9,943; the merge
+ * beside the step's last fits: 10,038; the cols callback reporting
+ * non-finite residuals (no second read) and one copy of a trial's values:
+ * 9,911-10,072 over runs. Tried and dropped: the trial's Jacobian deferred
+ * to its acceptance (the forward pass kept on a tape, ~240 KB a form; a
+ * third of the trials are rejected, but the tape's traffic through L2 cost
+ * more than their sweeps: 1 thread 5,040 -> 4,800 fits per CPU-s), and IR
+ * blocks of 256 samples (no faster than 128).
  */
 #include "brdf.h"
 #include "clock.h"

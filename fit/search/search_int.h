@@ -4,7 +4,8 @@
  * it, anywhere else). The public face is fit/search.h.
  *
  * The parts, each with its header, and the one way their calls run:
- *   driver.c    new, free, step (generate -> screen -> merge), run
+ *   driver.c    new, free, step (generate -> screen -> merge, overlapped:
+ *               screen.h), run
  *   generate.c  the batch of new candidates: seeds, enumeration, children
  *   screen.c    fitting and scoring a batch on threads
  *   archive.c   the MAP-Elites levels, the merge, the front
