@@ -212,7 +212,9 @@ struct State {
 	std::vector<double> block_jac; /* one block's row-major Jacobian, all np columns */
 	/* the last trial point (evaluated without a Jacobian asked for): its
 	 * values and, made in the same pass, its Jacobian (every block's rows, all
-	 * np columns), kept for the call that accepts it (see Residuals) */
+	 * np columns), kept for the call that accepts it (see Residuals); by
+	 * columns, its values stay where TinySolver keeps them (trial_rs), and
+	 * trial_r only says that trials are kept */
 	bool trial_valid = false;
 	double trial_x[kMaxParams];
 	std::vector<double> trial_r, trial_jac;

@@ -246,11 +246,6 @@ done:
 
 /* ---- a batch on threads ----------------------------------------------------- */
 
-/* The workers take candidates in order from `next` and fit each once it is
- * published (i < ready) or leave once the batch is closed: so they may start
- * while the generation still makes the batch (bk_screen_begin), on the
- * candidates it has made. What a candidate's fit reads of s (the options,
- * the samples, the seeds' names) the generation never writes. */
 /* c[i] is fitted: say so to end's thread, which hands the candidates on in
  * order (done is NULL when there is no one to tell) */
 static void finished(bk_screen_crew *w, size_t i)
@@ -264,6 +259,12 @@ static void finished(bk_screen_crew *w, size_t i)
 	pthread_mutex_unlock(&w->mu);
 }
 
+/* The workers take candidates in order from `next` and fit each once it is
+ * published (i < ready) or leave once the batch is closed: so they may start
+ * while the generation still makes the batch (bk_screen_begin), on the
+ * candidates it has made. What a candidate's fit reads of s (the options,
+ * the samples, the seeds' names) neither the generation nor the merge
+ * writes. */
 static void *worker(void *arg)
 {
 	bk_screen_crew *w = arg;
@@ -295,6 +296,8 @@ void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const do
 	pthread_mutex_init(&w->mu, NULL);
 	pthread_cond_init(&w->cv, NULL);
 	int nt = s->o.threads < 1 ? 1 : s->o.threads > 64 ? 64 : s->o.threads;
+	if (cap < (size_t)nt) /* no more threads than candidates (the seeds' first step may be one) */
+		nt = cap ? (int)cap : 1;
 	for (int t = 1; t < nt; t++)
 		if (pthread_create(&w->th[w->started], NULL, worker, w) == 0)
 			w->started++;
@@ -311,7 +314,8 @@ void bk_screen_ready(bk_screen_crew *w, size_t n)
 }
 
 /* each() of the fitted candidates from `from` on, in order, up to the first
- * not yet fitted (or, wait, up to n); returns where it stopped. Called on
+ * not yet fitted (with wait: up to n, waiting for them); returns where it
+ * stopped. Called on
  * end's thread alone, outside the lock: a candidate marked done was written
  * before its worker let go of the lock. */
 static size_t hand_on(bk_screen_crew *w, size_t from, size_t n, int wait, void (*each)(void *, size_t), void *ctx)
