@@ -13,21 +13,29 @@
 #include <stdlib.h>
 #include <string.h>
 
-static bk_search *grown(bk_samples *sm, const char *ops, int max_size, int max_params)
+/* The options of a search of the planted README form over LoH and r with
+ * the operations ops, up to max_size nodes and max_params parameters. */
+static void planted_options(bk_samples *sm, const char *ops, int max_size, int max_params, bk_search_options *o)
 {
 	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 6, sm);
 	char err[256];
+	bk_search_defaults(o);
+	o->screen = sm;
+	o->shape = BK_SHAPE_PLAIN;
+	memset(&o->grammar, 0, sizeof o->grammar);
+	cr_assert_eq(bk_grammar_parse_ops(ops, &o->grammar.ops, err, sizeof err), 0, "%s", err);
+	o->grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	o->grammar.consts[0] = 1;
+	o->grammar.nconsts = 1;
+	o->grammar.max_params = max_params;
+	o->grammar.max_size = max_size;
+}
+
+static bk_search *grown(bk_samples *sm, const char *ops, int max_size, int max_params)
+{
+	char err[256];
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = sm;
-	o.shape = BK_SHAPE_PLAIN;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	cr_assert_eq(bk_grammar_parse_ops(ops, &o.grammar.ops, err, sizeof err), 0, "%s", err);
-	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
-	o.grammar.consts[0] = 1;
-	o.grammar.nconsts = 1;
-	o.grammar.max_params = max_params;
-	o.grammar.max_size = max_size;
+	planted_options(sm, ops, max_size, max_params, &o);
 	o.enum_max = 150;
 	o.generation = 50;
 	o.evals = 300;
@@ -140,19 +148,9 @@ Test(search_generate, a_candidate_in_the_cache_is_not_made_again)
  * step, and with poison every list is recorded as tried before the first. */
 static bk_search *stepped(bk_samples *sm, int forget, int poison)
 {
-	fx_planted("0.3/(LoH*LoH + 0.7*r*r)", 0.3162, 1, 6, sm);
 	char err[256];
 	bk_search_options o;
-	bk_search_defaults(&o);
-	o.screen = sm;
-	o.shape = BK_SHAPE_PLAIN;
-	memset(&o.grammar, 0, sizeof o.grammar);
-	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq,mix", &o.grammar.ops, err, sizeof err), 0, "%s", err);
-	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
-	o.grammar.consts[0] = 1;
-	o.grammar.nconsts = 1;
-	o.grammar.max_params = 3;
-	o.grammar.max_size = 11;
+	planted_options(sm, "+,*,/,sq,mix", 11, 3, &o);
 	o.enum_max = 100;
 	o.generation = 40;
 	o.evals = 900;
