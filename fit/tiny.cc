@@ -213,8 +213,10 @@ struct State {
 	/* the last trial point (evaluated without a Jacobian asked for): its
 	 * values and, made in the same pass, its Jacobian (every block's rows, all
 	 * np columns), kept for the call that accepts it (see Residuals); by
-	 * columns, its values stay where TinySolver keeps them (trial_rs), and
-	 * trial_r only says that trials are kept */
+	 * columns, its values stay where TinySolver keeps them (trial_rs) and
+	 * its Jacobian is written where TinySolver reads it (trial_at), so the
+	 * two buffers are the row-major path's alone */
+	bool keeps = false; /* trials are kept for their acceptance */
 	bool trial_valid = false;
 	double trial_x[kMaxParams];
 	std::vector<double> trial_r, trial_jac;
@@ -254,7 +256,8 @@ public:
 			st->block_jac.resize((size_t)max_block * (size_t)p.np);
 		else if (nfree_ < p.np)
 			st->held.resize((size_t)max_block * (size_t)p.np);
-		if (reuse && bk_tiny_reuse_trial) {
+		st->keeps = reuse && bk_tiny_reuse_trial;
+		if (st->keeps && cols == nullptr) { /* zeroed at every solve: not where they go unused */
 			st->trial_r.resize((size_t)m_);
 			st->trial_jac.resize((size_t)m_ * (size_t)p.np);
 		}
@@ -290,7 +293,7 @@ public:
 			st_->x[free_[k]] = xf[k];
 		}
 		bool reuse = false, keep = false;
-		if (!st_->trial_r.empty()) {
+		if (st_->keeps) {
 			if (jac != nullptr) {
 				reuse = st_->trial_valid && std::memcmp(st_->trial_x, st_->x, sizeof(double) * (size_t)np) == 0;
 			} else {
@@ -381,7 +384,10 @@ private:
 			st_->solver_jac = jac;
 		/* a trial writes its Jacobian where TinySolver reads it (see the
 		 * header), so that its acceptance copies nothing; into a buffer of its
-		 * own only before TinySolver's first Update (never: that comes first) */
+		 * own only before TinySolver's first Update (never: that comes first;
+		 * made then, should a later TinySolver change that) */
+		if (keep && st_->solver_jac == nullptr)
+			st_->trial_jac.resize(m * (size_t)p_.np);
 		if (keep)
 			st_->trial_at = st_->solver_jac != nullptr ? st_->solver_jac : st_->trial_jac.data();
 		double *dst = keep ? st_->trial_at : jac;

@@ -315,9 +315,8 @@ void bk_screen_ready(bk_screen_crew *w, size_t n)
 
 /* each() of the fitted candidates from `from` on, in order, up to the first
  * not yet fitted (with wait: up to n, waiting for them); returns where it
- * stopped. Called on
- * end's thread alone, outside the lock: a candidate marked done was written
- * before its worker let go of the lock. */
+ * stopped. Called on end's thread alone, outside the lock: a candidate
+ * marked done was written before its worker let go of the lock. */
 static size_t hand_on(bk_screen_crew *w, size_t from, size_t n, int wait, void (*each)(void *, size_t), void *ctx)
 {
 	size_t to = from;
