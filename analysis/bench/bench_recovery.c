@@ -27,7 +27,11 @@
  * catalog's rediscovery rate. --quick runs the forms marked * at 2 seeds
  * (a minute on 2 cores), --only NAME,... chosen forms, --starts N the
  * screening starts per candidate (the search's default otherwise), --dump
- * PREFIX every candidate a run fitted into PREFIX.NAME.SEED.tsv.
+ * PREFIX every candidate a run fitted into PREFIX.NAME.SEED.tsv (rmse to 9
+ * digits: equal values mark one model spelled twice), --beyond N each run
+ * on to N fits: the budget's figures are the same (check() says why), and
+ * a second line says how many runs N fits recover, so that a rate short of
+ * its target is also read as the budget it would take.
  */
 #include "brdf.h"
 #include "catalog.h"
@@ -53,6 +57,7 @@ typedef struct planted {
 typedef struct opts {
 	const char *file, *only, *dump;
 	long evals;
+	long beyond; /* 0, or run each search on to this many fits (--beyond) */
 	int seeds, threads, quick, catalog, verbose, first;
 	int starts; /* screening starts per candidate; 0: the search's default */
 } opts;
@@ -130,7 +135,8 @@ static int parse_domain(const char *text, bk_target_options *to)
 }
 
 typedef struct result {
-	int recovered;
+	int recovered; /* within the budget (the fits a run at --evals makes) */
+	int later;     /* past it, within --beyond */
 	long found_at, evals;
 	double best; /* the least rmse of the run (screening) */
 	char text[256];
@@ -139,10 +145,18 @@ typedef struct result {
 typedef struct watch {
 	size_t seen;
 	double tol;
+	long budget;  /* --evals */
+	int past;     /* a step has ended at or past the budget */
 	result *r;
 } watch;
 
-/* after every step: any new candidate within tolerance stops the run */
+/* After every step: any new candidate within tolerance stops the run. A run
+ * with a larger budget makes the same batches (whole generations; the
+ * enumeration's cap is not a share of the budget: driver.c, generate.c;
+ * tests/test_search.c's resume_equals_an_uninterrupted_run holds a run at a
+ * budget to be the start of one at a larger), so the fits of the steps up to
+ * the one that reaches --evals are the fits of a run at --evals, and a
+ * recovery after it is --beyond's. */
 static int check(void *ctx, const bk_search *s)
 {
 	watch *w = ctx;
@@ -152,12 +166,13 @@ static int check(void *ctx, const bk_search *s)
 			continue;
 		w->r->best = c->rmse;
 		snprintf(w->r->text, sizeof w->r->text, "%s", c->text);
-		if (c->rmse <= w->tol && !w->r->recovered) {
-			w->r->recovered = 1;
+		if (c->rmse <= w->tol && !w->r->recovered && !w->r->later) {
+			*(w->past ? &w->r->later : &w->r->recovered) = 1;
 			w->r->found_at = c->found_at;
 		}
 	}
-	return w->r->recovered;
+	w->past |= bk_search_evals(s) >= w->budget;
+	return w->r->recovered || w->r->later;
 }
 
 /* the name of the form being run, for --dump's file names */
@@ -187,7 +202,7 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	double ss = 0;
 	for (size_t i = 0; i < sm.n; i++)
 		ss += sm.y[i] * sm.y[i];
-	watch w = {0, TOL * fmax(1.0, sqrt(ss / (double)sm.n)), r};
+	watch w = {0, TOL * fmax(1.0, sqrt(ss / (double)sm.n)), O->evals, 0, r};
 	bk_search_options o;
 	bk_search_defaults(&o);
 	o.screen = &sm;
@@ -204,7 +219,7 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	o.grammar.max_params = 4;
 	o.grammar.max_size = 24;
 	o.grammar.inputs = sm.provides;
-	o.evals = O->evals;
+	o.evals = O->beyond > O->evals ? O->beyond : O->evals;
 	o.seed = seed;
 	o.threads = O->threads;
 	o.enum_size = 5;
@@ -224,7 +239,7 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 		FILE *f = fopen(path, "w");
 		for (size_t i = 0; f && i < bk_search_count(s); i++) {
 			const bk_cand *c = bk_search_at(s, i);
-			fprintf(f, "%ld\t%d\t%.3g\t%.3g\t%s\n", c->found_at, (int)c->status, c->rmse, c->cost, c->text);
+			fprintf(f, "%ld\t%d\t%.9g\t%.3g\t%s\n", c->found_at, (int)c->status, c->rmse, c->cost, c->text);
 		}
 		if (f)
 			fclose(f);
@@ -232,12 +247,6 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	bk_search_free(s);
 	bk_samples_free(&sm);
 	return rc < 0 ? -1 : 0;
-}
-
-static int cmp_long(const void *a, const void *b)
-{
-	long x = *(const long *)a, y = *(const long *)b;
-	return (x > y) - (x < y);
 }
 
 static int listed(const char *only, const char *name)
@@ -253,11 +262,31 @@ static int listed(const char *only, const char *name)
 	return 0;
 }
 
-/* Runs one form at every seed and prints its line; adds to the tallies. */
-static void bench_form(const char *name, const char *form, const char *domain, const char *ops, const opts *O,
-                       int *runs, int *rec, int *all_seeds, long *fits, int *nfits)
+/* What a suite's runs came to: at the budget, and at --beyond's (which
+ * counts the budget's recoveries too). */
+typedef struct tally {
+	int runs, forms, rec, every, rec2, every2, nfits, nfits2;
+	long fits[MAX_FORMS * 16], fits2[MAX_FORMS * 16]; /* fits to recovery */
+} tally;
+
+static int cmp_long(const void *a, const void *b)
 {
-	int ok = 0;
+	long x = *(const long *)a, y = *(const long *)b;
+	return (x > y) - (x < y);
+}
+
+static long median(long *v, int n)
+{
+	qsort(v, (size_t)n, sizeof *v, cmp_long);
+	return n ? v[n / 2] : -1L;
+}
+
+/* Runs one form at every seed and prints its line: +N recovered at fit N,
+ * (+N) at fit N past the budget (--beyond), -E not (best rmse E). */
+static void bench_form(const char *name, const char *form, const char *domain, const char *ops, const opts *O,
+                       tally *t)
+{
+	int ok = 0, ok2 = 0;
 	dump_name = name;
 	printf("  %-22s", name);
 	double t0 = bk_clock_now();
@@ -265,12 +294,21 @@ static void bench_form(const char *name, const char *form, const char *domain, c
 		result r;
 		if (run_one(form, domain, ops, (unsigned long)k, O, &r))
 			exit(1);
-		(*runs)++;
+		t->runs++;
+		if (r.recovered || r.later) {
+			ok2++;
+			t->rec2++;
+			t->fits2[t->nfits2++] = r.found_at;
+		}
 		if (r.recovered) {
 			ok++;
-			(*rec)++;
-			fits[(*nfits)++] = r.found_at;
+			t->rec++;
+			t->fits[t->nfits++] = r.found_at;
 			printf(" +%-7ld", r.found_at);
+		} else if (r.later) {
+			char b[24];
+			snprintf(b, sizeof b, "(+%ld)", r.found_at);
+			printf(" %-8s", b);
 		} else {
 			printf(" -%-7.2g", r.best);
 		}
@@ -278,8 +316,21 @@ static void bench_form(const char *name, const char *form, const char *domain, c
 			printf(" [%s]", r.text);
 		fflush(stdout);
 	}
-	*all_seeds += ok == O->seeds;
+	t->forms++;
+	t->every += ok == O->seeds;
+	t->every2 += ok2 == O->seeds;
 	printf("  %5.1fs  %s\n", bk_clock_now() - t0, form);
+}
+
+/* The --beyond line under a suite's summary. */
+static void print_beyond(const opts *O, tally *t, const char *what)
+{
+	if (O->beyond <= O->evals)
+		return;
+	printf("  the same runs at %ld fits (--beyond): %d of %d runs (%.1f %%), %d of %d %s at every seed; "
+	       "median fits to recovery %ld\n",
+	       O->beyond, t->rec2, t->runs, t->runs ? 100.0 * t->rec2 / t->runs : 0.0, t->every2, t->forms, what,
+	       median(t->fits2, t->nfits2));
 }
 
 /* The catalog form's text with its published constants written in. */
@@ -377,7 +428,7 @@ static int catalog_domain(const bk_catalog_entry *e, const char *text, char *dom
 
 int main(int argc, char **argv)
 {
-	opts O = {"analysis/bench/planted.txt", NULL, NULL, 20000, 3, 2, 0, 1, 0, 1, 0};
+	opts O = {.file = "analysis/bench/planted.txt", .evals = 20000, .seeds = 3, .threads = 2, .catalog = 1, .first = 1};
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--quick"))
 			O.quick = 1, O.seeds = 2, O.catalog = 0;
@@ -389,6 +440,8 @@ int main(int argc, char **argv)
 			O.seeds = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--evals") && i + 1 < argc)
 			O.evals = atol(argv[++i]);
+		else if (!strcmp(argv[i], "--beyond") && i + 1 < argc)
+			O.beyond = atol(argv[++i]);
 		else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
 			O.threads = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--file") && i + 1 < argc)
@@ -403,36 +456,36 @@ int main(int argc, char **argv)
 			O.verbose = 1;
 		else {
 			fprintf(stderr, "usage: bench_recovery [--quick] [--only NAME,...] [--catalog] [--seeds N] [--first-seed K] "
-			                "[--evals N] [--threads N] [--starts N] [--file PLANTED] [--dump PREFIX] [-v]\n");
+			                "[--evals N] [--beyond N] [--threads N] [--starts N] [--file PLANTED] [--dump PREFIX] [-v]\n");
 			return 2;
 		}
 	}
 	static planted P[MAX_FORMS];
-	static long fits[MAX_FORMS * 16];
-	int np = read_suite(O.file, P, MAX_FORMS), runs = 0, rec = 0, every = 0, forms = 0, nfits = 0;
+	static tally T, C; /* the planted suite, the catalog */
+	int np = read_suite(O.file, P, MAX_FORMS);
 	double t0 = bk_clock_now();
 	if (O.catalog != 2) {
 		printf("recovery of planted forms (%s): %ld fits, %d threads, seeds %d..%d; "
 		       "+N recovered at fit N (rmse <= %g x max(1, rms target)), -E not (best rmse E)\n",
 		       O.file, O.evals, O.threads, O.first, O.first + O.seeds - 1, TOL);
+		if (O.beyond > O.evals)
+			printf("each run goes on to %ld fits (--beyond): (+N) recovered at fit N past the budget\n", O.beyond);
 		for (int i = 0; i < np; i++) {
 			if ((O.quick && !P[i].quick) || (O.only && !listed(O.only, P[i].name)))
 				continue;
-			forms++;
-			bench_form(P[i].name, P[i].form, P[i].domain, P[i].ops, &O, &runs, &rec, &every, fits, &nfits);
+			bench_form(P[i].name, P[i].form, P[i].domain, P[i].ops, &O, &T);
 		}
-		qsort(fits, (size_t)nfits, sizeof *fits, cmp_long);
 		printf("planted: %d of %d runs recovered (%.1f %%; target >= 95 %%), %d of %d forms at every seed; "
 		       "median fits to recovery %ld; %.0f s\n",
-		       rec, runs, runs ? 100.0 * rec / runs : 0.0, every, forms, nfits ? fits[nfits / 2] : -1L,
+		       T.rec, T.runs, T.runs ? 100.0 * T.rec / T.runs : 0.0, T.every, T.forms, median(T.fits, T.nfits),
 		       bk_clock_now() - t0);
+		print_beyond(&O, &T, "forms");
 	}
 	if (!O.catalog)
 		return 0;
 	printf("rediscovery of the catalog (every form of <= %d nodes in the default grammar, its published "
 	       "constants as literals): seeds %d..%d\n", MAX_NODES, O.first,
 	       O.first + O.seeds - 1);
-	int cruns = 0, crec = 0, cevery = 0, cforms = 0, cn = 0;
 	double t1 = bk_clock_now();
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
@@ -445,11 +498,11 @@ int main(int argc, char **argv)
 				printf("  %-22s skipped: %s\n", name, why);
 				continue;
 			}
-			cforms++;
-			bench_form(name, text, dom, "", &O, &cruns, &crec, &cevery, fits, &cn);
+			bench_form(name, text, dom, "", &O, &C);
 		}
 	}
 	printf("catalog: %d of %d forms rediscovered at every seed (%.1f %%; target >= 90 %%), %d of %d runs; %.0f s\n",
-	       cevery, cforms, cforms ? 100.0 * cevery / cforms : 0.0, crec, cruns, bk_clock_now() - t1);
+	       C.every, C.forms, C.forms ? 100.0 * C.every / C.forms : 0.0, C.rec, C.runs, bk_clock_now() - t1);
+	print_beyond(&O, &C, "forms");
 	return 0;
 }
