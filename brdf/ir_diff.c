@@ -266,8 +266,10 @@ static void bound_fill(bk_form_bound *b, size_t blk, size_t s, size_t m, const d
 	}
 }
 
-/* Block blk at a later call: the live instructions, the kept ones read in place. */
-static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const double *params)
+/* Block blk at a later call: the live instructions, the kept ones read in
+ * place; the result's instruction, when it is computed here over a whole
+ * block, straight into dst (the caller's values), which saves their copy. */
+static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const double *params, double *dst)
 {
 	const bk_form *f = b->f;
 	for (int i = 0; i < f->n; i++) {
@@ -281,16 +283,21 @@ static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const do
 		double *r = b->v + (size_t)i * BLOCK;
 		b->val[i] = r;
 		size_t k;
+		/* the value read once: r might alias c or params to the compiler,
+		 * which would then load it at every k and not vectorise */
+		double x;
 		switch (c->op) {
 		case BK_OP_CONST:
+			x = c->k;
 			if (blk == 0)
 				for (k = 0; k < BLOCK; k++)
-					r[k] = c->k;
+					r[k] = x;
 			break;
 		case BK_OP_PARAM:
+			x = params[c->slot];
 			if (blk == 0)
 				for (k = 0; k < BLOCK; k++)
-					r[k] = params[c->slot];
+					r[k] = x;
 			break;
 		case BK_OP_INPUT:
 			if (m == BLOCK) { /* a full block: read in place */
@@ -303,6 +310,8 @@ static void bound_run(bk_form_bound *b, size_t blk, size_t s, size_t m, const do
 				r[k] = r[m - 1];
 			break;
 		default: {
+			if (i == f->out && m == BLOCK)
+				b->val[i] = r = dst;
 			/* an operand the op does not read: any block that is not r */
 			const double *none = b->v;
 			bk_ir_op64(c, r, c->a >= 0 ? b->val[c->a] : none, c->b >= 0 ? b->val[c->b] : none,
@@ -322,10 +331,11 @@ static void bound_eval(bk_form_bound *b, const double *params, double *out, doub
 	for (size_t blk = 0, s = 0; s < b->n; blk++, s += BLOCK) {
 		size_t m = b->n - s < BLOCK ? b->n - s : BLOCK;
 		if (b->filled)
-			bound_run(b, blk, s, m, params);
+			bound_run(b, blk, s, m, params, out + s);
 		else
 			bound_fill(b, blk, s, m, params);
-		memcpy(out + s, b->val[f->out], sizeof(double) * m);
+		if (b->val[f->out] != out + s)
+			memcpy(out + s, b->val[f->out], sizeof(double) * m);
 		if (!np || (!jac && !cols))
 			continue;
 		double *col[BK_MAX_PARAMS];
