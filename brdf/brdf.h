@@ -321,7 +321,9 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
  * what it would keep exceeds about 256 MB. */
 typedef struct bk_form_bound bk_form_bound;
 bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT]);
-/* Values into out and, when jac is not NULL, the Jacobian as bk_form_eval_diff. */
+/* Values into out and, when jac is not NULL, the Jacobian as bk_form_eval_diff.
+ * out (n values) must not overlap the samples: it is written as the blocks
+ * are computed, and the samples are read in place at every call. */
 int bk_form_bound_eval(bk_form_bound *b, const double *params, double *out, double *jac);
 /* The same values, and the same Jacobian by columns: d out[k] / d p_j into
  * cols[j][k] for each j < the form's parameter count whose cols[j] is not

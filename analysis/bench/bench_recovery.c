@@ -471,6 +471,12 @@ int main(int argc, char **argv)
 			return 2;
 		}
 	}
+	/* a tally holds 16 runs a form */
+	if (O.seeds < 1 || O.seeds > 16 || O.evals < 1 || (O.beyond && O.beyond <= O.evals)) {
+		fprintf(stderr, "bench_recovery: --seeds %d (1 to 16), --evals %ld (>= 1), --beyond %ld (0 or more than "
+		                "--evals)\n", O.seeds, O.evals, O.beyond);
+		return 2;
+	}
 	static planted P[MAX_FORMS];
 	static tally T, C; /* the planted suite, the catalog */
 	int np = read_suite(O.file, P, MAX_FORMS);
