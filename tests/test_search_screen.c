@@ -86,6 +86,21 @@ Test(search_screen, constraint_decides_the_status)
 	bk_samples_free(&sm);
 }
 
+/* each() of bk_screen_end: the order the candidates are handed on in */
+typedef struct handed {
+	size_t order[16];
+	int n;
+} handed;
+
+static void hand(void *ctx, size_t i)
+{
+	handed *h = ctx;
+	h->order[h->n++] = i;
+}
+
+/* A batch as a step screens it (published in two parts while the workers
+ * wait, then closed): one thread and two give the same bits, and the
+ * candidates are handed on once each, in index order. */
 Test(search_screen, batch_on_threads_gives_the_same_bits)
 {
 	static const char *const texts[] = {"1/(LoH*LoH + p0*r*r)", "p0/(LoH + p1*r)", "p0*LoH + p1", "sq(p0 - r)*LoH",
@@ -98,7 +113,14 @@ Test(search_screen, batch_on_threads_gives_the_same_bits)
 		bk_search *s = search_on(&sm, "1/(LoH*LoH + 0.7*r*r)", 0, t + 1);
 		for (int i = 0; i < N; i++)
 			c[t][i] = cand(texts[i], 1 + (strstr(texts[i], "p1") != NULL));
-		bk_screen_batch(s, c[t], start, N);
+		bk_screen_crew crew;
+		handed h = {{0}, 0};
+		bk_screen_begin(&crew, s, c[t], start, N);
+		bk_screen_ready(&crew, 2);
+		bk_screen_end(&crew, N, hand, &h);
+		cr_assert_eq(h.n, N, "%d handed on", h.n);
+		for (int i = 0; i < N; i++)
+			cr_assert_eq(h.order[i], (size_t)i, "threads %d: place %d holds candidate %zu", t + 1, i, h.order[i]);
 		bk_search_free(s);
 		bk_samples_free(&sm);
 	}

@@ -363,10 +363,3 @@ void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i
 	pthread_mutex_destroy(&w->mu);
 	free(w->done);
 }
-
-void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n)
-{
-	bk_screen_crew w;
-	bk_screen_begin(&w, s, c, seed_p, n);
-	bk_screen_end(&w, n, NULL, NULL);
-}

@@ -19,20 +19,18 @@
  * inherited ones), or NULL for the default starts alone. */
 void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p);
 
-/* bk_screen_one of c[i] from seed_p[i], i < n, on s->o.threads threads. */
-void bk_screen_batch(const bk_search *s, bk_cand *c, const double *const *seed_p, size_t n);
-
-/* The same, with the fits under way while the batch is made and the results
- * handed on while the last fits run (the step's generation and merge are
- * serial: ~7 % and ~1 % of a 2-thread step, idle threads beside them).
- * begin starts threads - 1 workers for a batch of at most cap candidates;
+/* A batch: bk_screen_one of c[i] from seed_p[i] on s->o.threads threads,
+ * the fits under way while the batch is made and the results handed on
+ * while the last fits run (the step's generation and merge are serial: ~7 %
+ * and ~1 % of a 2-thread step, idle threads beside them). begin starts threads - 1 workers for a batch of at most cap candidates;
  * they fit c[i] once ready(n) has said i < n. end says the batch is n long,
  * fits what is left on this thread too, calls each(ctx, i) on this thread
  * for i = 0 .. n-1 in order, each as soon as c[0..i] are fitted, and joins
  * the workers. c[i] and seed_p[i] must be whole before ready names them;
  * between begin and end the caller must not write what bk_screen_one reads
  * of s (its options), nor each() touch a candidate after i. Each fit is its
- * own, so the results and their order are those of bk_screen_batch. */
+ * own, so the results do not depend on the threads or on when ready is
+ * called. */
 typedef struct bk_screen_crew {
 	const bk_search *s;
 	bk_cand *c;
