@@ -266,7 +266,12 @@ BENCH_OLD_TOOL ?=
 build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery $(TOOL) $(MPI_TOOL)
+# bench_enum: the unique-form enumeration's counts per size (raw trees, canonical,
+# twins, fitted, CPU s) for vf2d, f and env, its rate, the size 64 cores certify (issue 38)
+build/bench_enum: $(call obj,build/obj,analysis/bench/bench_enum.c $(FIT_SRC)) $(LIB)
+	$(CXX) $(OPT) $^ $(LIBS) -o $@
+
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery build/bench_enum $(TOOL) $(MPI_TOOL)
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
@@ -275,6 +280,7 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 	build/bench_speed
 	python3 analysis/bench/bench_vf2d_time.py $(TOOL) $(BENCH_OLD_TOOL)
 	nice build/bench_recovery --beyond 40000
+	build/bench_enum
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;

@@ -19,11 +19,37 @@ static void header(FILE *f, const bk_swrite *W, const char *what)
 		        W->F->so->islands, W->islands_name, W->migrate, W->migrants,
 		        W->merge_fronts ? "; --merge-fronts: the candidates of island 0, and of the others their "
 		                             "screening fronts" : "");
+	if (W->cert) {
+		char cert[2048];
+		bk_swrite_cert_text(W, cert, sizeof cert);
+		fprintf(f, "# certificate: %s\n", cert);
+	}
 	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops%s%s); "
 	        "error: %s in %s precision on the target's samples; conventions: r perceptual roughness, a = r^2, "
 	        "V includes 1/(4 NoL NoV)\n", W->F->so->simple_cost, W->F->so->complex_cost,
 	        W->cost_model ? ", cost model " : "", W->cost_model ? W->cost_model : "", bk_sfront_objective_name(W->F->so),
 	        bk_precision_name(W->F->so->precision));
+}
+
+void bk_swrite_cert_text(const bk_swrite *W, char *buf, size_t len)
+{
+	const bk_search_cert *c = W->cert;
+	char g[1024];
+	if (bk_grammar_describe(&W->F->so->grammar, g, sizeof g) < 0)
+		snprintf(g, sizeof g, "(too long to state)");
+	long drawn = 0, twins = 0, fitted = 0;
+	for (int k = 1; k <= c->complete_size; k++)
+		drawn += c->drawn[k], twins += c->twins[k], fitted += c->fitted[k];
+	char cost[64] = "";
+	if (isfinite(c->max_cost))
+		snprintf(cost, sizeof cost, " and cost <= %g", c->max_cost);
+	if (c->complete_size < 1)
+		snprintf(buf, len, "none: the enumeration completed no size (grammar: %s)", g);
+	else
+		snprintf(buf, len, "every unique form of the grammar up to %d nodes%s was fitted, with up to %d screening "
+		         "start%s each (%ld enumerated, %ld fitted, %ld left out as twins: the same values at three parameter "
+		         "vectors); grammar: %s", c->complete_size, cost, c->starts, c->starts == 1 ? "" : "s", drawn, fitted,
+		         twins, g);
 }
 
 static void params_field(FILE *f, const double *p, int np)
@@ -262,7 +288,15 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 	        W->F->so->simple_cost, W->F->so->complex_cost);
 	bk_html_text(f, W->command);
 	const char *P = W->prefix ? W->prefix : "";
-	fputs("</code></p>\n<figure><img src=\"", f);
+	fputs("</code></p>\n", f);
+	if (W->cert) {
+		char cert[2048];
+		bk_swrite_cert_text(W, cert, sizeof cert);
+		fputs("<p class=\"certificate\">Complete: ", f);
+		bk_html_text(f, cert);
+		fputs(".</p>\n", f);
+	}
+	fputs("<figure><img src=\"", f);
 	bk_html_text(f, P);
 	fprintf(f, "pareto.svg\" width=\"100%%\" alt=\"error against cost\">\n<figcaption>Error (%s in %s precision, "
 	        "log scale) against cost (brdfkit ops: simple \xc3\x97 %g + complex \xc3\x97 %g) on <code>%s</code>: the "
@@ -332,6 +366,11 @@ void bk_swrite_report(FILE *f, const bk_swrite *W)
 	fprintf(f, "search on %s: %ld fits, %zu distinct candidates; front (refitted on %zu samples, %s in %s):\n",
 	       bk_target_name(W->F->kind), W->total_evals, bk_search_count(W->F->S), W->F->s->n, bk_sfront_objective_name(W->F->so),
 	       bk_precision_name(W->F->so->precision));
+	if (W->cert) {
+		char cert[2048];
+		bk_swrite_cert_text(W, cert, sizeof cert);
+		fprintf(f, "complete: %s\n", cert);
+	}
 	for (int pass = 0; pass < 2; pass++)
 		for (int i = 0; i < W->F->nm; i++) {
 			const bk_sfront_member *m = &W->F->m[i];

@@ -20,6 +20,7 @@ typedef struct table {
 	bk_csvtab t;
 	const char *const *want; /* the columns, NULL-terminated */
 	char objective[BK_SUMMARY_NAME], cost_model[BK_SUMMARY_NAME];
+	int complete; /* "# certificate: every unique form ... up to N nodes": N; 0 "none"; -1 no such line */
 	char *err;
 	size_t errlen;
 } table;
@@ -39,7 +40,15 @@ static void objective_line(void *ctx, int lineno, const char *line)
 {
 	(void)lineno;
 	table *t = ctx;
-	static const char cost[] = "# cost: ";
+	static const char cost[] = "# cost: ", cert[] = "# certificate: ", upto[] = "every unique form of the grammar up to ";
+	if (!strncmp(line, cert, sizeof cert - 1) && t->complete < 0) {
+		const char *c = line + sizeof cert - 1;
+		int nodes, used = 0;
+		t->complete = 0; /* "none: ..." or anything not read as a size */
+		if (!strncmp(c, upto, sizeof upto - 1) && sscanf(c + sizeof upto - 1, "%d nodes%n", &nodes, &used) == 1 &&
+		    used > 0 && nodes > 0 && nodes <= 64)
+			t->complete = nodes;
+	}
 	const char *after = strstr(line, " after ");
 	if (!strncmp(line, cost, sizeof cost - 1) && after && !t->cost_model[0] &&
 	    (size_t)(after - line) - (sizeof cost - 1) < sizeof t->cost_model &&
@@ -75,7 +84,7 @@ static table *table_read(const char *path, const char *const *want, char *err, s
 		bk_csvtab_err(err, errlen, path, 0, "out of memory");
 		return NULL;
 	}
-	*t = (table){.want = want, .err = err, .errlen = errlen};
+	*t = (table){.want = want, .complete = -1, .err = err, .errlen = errlen};
 	bk_csvtab_spec spec = {.cols = want, .comment = objective_line, .ctx = t};
 	if (bk_csvtab_read(path, &spec, &t->t, err, errlen)) {
 		free(t);
@@ -253,6 +262,7 @@ int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errl
 		snprintf(row->objective, sizeof row->objective, "%s",
 		         search ? pt->objective : "max_abs in f64 precision (brdfkit compare)");
 		snprintf(row->cost_model, sizeof row->cost_model, "%s", pt->cost_model);
+		row->complete = ft ? ft->complete : -1;
 		rc = 0;
 	}
 	free(pp);
@@ -321,7 +331,7 @@ static void row_html(FILE *f, const bk_summary_row *r, const char *href)
 	num(f, r->pub.error);
 	fputs("</td>", f);
 	if (!r->has_search) {
-		fputs("<td colspan=\"5\">no search on this target</td></tr>\n", f);
+		fputs("<td colspan=\"6\">no search on this target</td></tr>\n", f);
 		return;
 	}
 	if (r->at_cost.line) {
@@ -346,7 +356,12 @@ static void row_html(FILE *f, const bk_summary_row *r, const char *href)
 		fputs(")", f);
 	} else
 		fputs("none", f);
-	fprintf(f, "</td><td>%d of %d</td></tr>\n", r->nbeaten, r->npub);
+	fprintf(f, "</td><td>%d of %d</td><td>", r->nbeaten, r->npub);
+	if (r->complete > 0)
+		fprintf(f, "%d nodes", r->complete);
+	else
+		fputs(r->complete == 0 ? "none" : "not stated", f);
+	fputs("</td></tr>\n", f);
 }
 
 void bk_summary_table(FILE *f, const bk_summary_row *rows, int n, const char *const *href)
@@ -354,7 +369,8 @@ void bk_summary_table(FILE *f, const bk_summary_row *rows, int n, const char *co
 	fputs("<table id=\"summary\" class=\"summary\">\n<tr><th rowspan=\"2\">target</th><th rowspan=\"2\">error, "
 	      "precision</th><th colspan=\"3\">best published form</th><th colspan=\"4\">best searched form at "
 	      "equal or lower cost</th><th rowspan=\"2\">cheapest searched form as accurate (cost)</th><th "
-	      "rowspan=\"2\">published forms beaten at their cost</th></tr>\n<tr><th>form</th><th>cost</th><th>error"
+	      "rowspan=\"2\">published forms beaten at their cost</th><th rowspan=\"2\" title=\"every unique form of the "
+	      "search's grammar up to this many nodes was fitted (front.csv's certificate)\">complete to</th></tr>\n<tr><th>form</th><th>cost</th><th>error"
 	      "</th><th>form</th><th>cost</th><th>error</th><th>error ratio</th></tr>\n",
 	      f);
 	for (int i = 0; i < n; i++)

@@ -60,6 +60,7 @@ typedef struct bk_summary_row {
 	char pub_file[BK_SUMMARY_PATH];  /* catalog.csv or compare.csv, the path read */
 	char front_file[BK_SUMMARY_PATH];/* front.csv; "" with no search */
 	int has_search;
+	int complete; /* front.csv's certificate: complete to this many nodes; 0 none, -1 not stated */
 	bk_summary_pick pub, at_cost, match;
 	int npub, nbeaten;
 } bk_summary_row;

@@ -696,17 +696,58 @@ uint64_t bk_grammar_default_ops(void)
 	       BIT(BK_OP_MIN) | BIT(BK_OP_MAX) | BIT(BK_OP_SATURATE) | BIT(BK_OP_MIX);
 }
 
+/* The names the operators have in an --ops list (the rest go by bk_op_name
+ * or their registry term's name). */
+typedef struct op_word {
+	const char *name;
+	int bit;
+} op_word;
+static const op_word op_sym[] = {
+	{"+", BK_OP_ADD}, {"-", BK_OP_SUB}, {"*", BK_OP_MUL}, {"/", BK_OP_DIV}, {"sq", SQ_BIT}};
+
+int bk_grammar_describe(const bk_grammar *g, char *buf, size_t len)
+{
+	size_t k = 0;
+	int n;
+#define PUT(...) ((n = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? -1 : (k += (size_t)n, 0))
+	PUT("operations ");
+	int first = 1;
+	for (int bit = 0; bit < 64; bit++) {
+		if (!(g->ops & BIT(bit)))
+			continue;
+		const char *name = NULL;
+		for (size_t i = 0; i < sizeof op_sym / sizeof op_sym[0]; i++)
+			if (op_sym[i].bit == bit)
+				name = op_sym[i].name;
+		if (!name && bit < BK_OP_COUNT)
+			name = bk_op_name(bit);
+		if (!name && bit >= TERM0 && (size_t)(bit - TERM0) < bk_term_count())
+			name = bk_term_at((size_t)(bit - TERM0))->name;
+		if (name && *name)
+			PUT("%s%s", first ? "" : " ", name), first = 0;
+	}
+	PUT("; inputs");
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (g->inputs & (1u << i))
+			PUT(" %s", bk_input_name((bk_input)i));
+	PUT("; literals");
+	for (int i = 0; i < g->nconsts; i++)
+		PUT(" %g", g->consts[i]);
+	PUT("; at most %d parameters; no unary operation directly over another", g->max_params);
+#undef PUT
+	return k < len ? (int)k : -1;
+}
+
 int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen)
 {
-	static const struct { const char *name; int bit; } sym[] = {
-		{"+", BK_OP_ADD}, {"-", BK_OP_SUB}, {"*", BK_OP_MUL}, {"/", BK_OP_DIV}, {"sq", SQ_BIT}};
+	const op_word *sym = op_sym;
 	uint64_t m = 0;
 	const char *p = list;
 	for (;;) {
 		const char *e = strchr(p, ',');
 		size_t n = e ? (size_t)(e - p) : strlen(p);
 		int bit = -1;
-		for (size_t i = 0; i < sizeof sym / sizeof sym[0] && bit < 0; i++)
+		for (size_t i = 0; i < sizeof op_sym / sizeof op_sym[0] && bit < 0; i++)
 			if (strlen(sym[i].name) == n && strncmp(sym[i].name, p, n) == 0)
 				bit = sym[i].bit;
 		for (int op = 0; op < BK_OP_COUNT && bit < 0; op++) {
@@ -790,6 +831,29 @@ static void opset_of(const bk_grammar *g, opset *s)
 			s->op[arity(op) - 1][s->n[arity(op) - 1]++] = op;
 	if (g->ops & (BIT(SQ_BIT) | BIT(BK_OP_MUL))) /* x*x is sq's only spelling */
 		s->op[0][s->n[0]++] = -1;
+}
+
+double bk_grammar_trees(const bk_grammar *g, int size)
+{
+	opset os;
+	opset_of(g, &os);
+	double t[BK_EXPR_MAX + 1] = {0};
+	int leaves = (g->max_params > 0) + g->nconsts;
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		leaves += (g->inputs >> i) & 1;
+	if (size < 1 || size > BK_EXPR_MAX)
+		return 0;
+	t[1] = leaves;
+	for (int n = 2; n <= size; n++) {
+		double bin = 0, ter = 0;
+		for (int x = 1; x <= n - 2; x++)
+			bin += t[x] * t[n - 1 - x];
+		for (int x = 1; x <= n - 3; x++)
+			for (int y = 1; x + y <= n - 2; y++)
+				ter += t[x] * t[y] * t[n - 1 - x - y];
+		t[n] = os.n[0] * t[n - 1] + os.n[1] * bin + os.n[2] * ter;
+	}
+	return t[size];
 }
 
 /* ---- rng ------------------------------------------------------------------ */
@@ -967,7 +1031,8 @@ struct bk_expr_enum {
 	bk_hashset seen;           /* their canonical texts */
 	int max, size, stage;      /* stage: 0 leaves, 1 unary, 2 binary, 3 ternary */
 	int u, x, y, i, j, k;
-	long count, limit;
+	long count, kept, limit; /* trees drawn; kept as operands, at most limit */
+	int cut;                 /* 1 once the limit ended it */
 };
 
 static void stage_reset(bk_expr_enum *E, int stage)
@@ -1115,7 +1180,7 @@ bk_expr_enum *bk_expr_enum_new(const bk_grammar *g, int max_size, long max_trees
 
 int bk_expr_enum_next(bk_expr_enum *E, bk_expr *out)
 {
-	while (E->count < E->limit && E->size <= E->max) {
+	while (E->size <= E->max) {
 		bk_expr e;
 		if (!(E->size == 1 ? raw_leaf(E, &e) : raw_next(E, &e))) { /* this size is done: the next */
 			E->size++;
@@ -1127,8 +1192,15 @@ int bk_expr_enum_next(bk_expr_enum *E, bk_expr *out)
 			return -1;
 		if (r == 0)
 			continue;
-		if (E->size < E->max && bucket_add(&E->b[E->size], &e)) /* an operand of larger trees */
-			return -1;
+		if (E->size < E->max) { /* an operand of larger trees: kept, within the limit */
+			if (E->kept >= E->limit) {
+				E->cut = 1;
+				return 0;
+			}
+			if (bucket_add(&E->b[E->size], &e))
+				return -1;
+			E->kept++;
+		}
 		E->count++;
 		*out = e;
 		return E->size;
@@ -1137,6 +1209,7 @@ int bk_expr_enum_next(bk_expr_enum *E, bk_expr *out)
 }
 
 long bk_expr_enum_count(const bk_expr_enum *E) { return E->count; }
+int bk_expr_enum_cut(const bk_expr_enum *E) { return E->cut; }
 
 void bk_expr_enum_free(bk_expr_enum *E)
 {

@@ -80,6 +80,10 @@ uint64_t bk_grammar_default_ops(void);
  * call, which the IR inlines (its cost is its definition's, after folding
  * and sharing with the rest of the form); its bit in ops is its op. */
 int bk_grammar_parse_ops(const char *list, uint64_t *ops, char *err, size_t errlen);
+/* The grammar in words, for a certificate ("operations + - * / sq sqrt ...;
+ * inputs LoH r a; literals 1; at most 4 parameters; no unary operation
+ * directly over another"). Returns the length, or -1 if len is too small. */
+int bk_grammar_describe(const bk_grammar *g, char *buf, size_t len);
 /* 1 if op is one a tree may hold: an IR opcode, or a registry term of 1 to
  * 3 arguments (checkpoints are read through it). */
 int bk_expr_op_valid(int op);
@@ -184,18 +188,28 @@ double bk_rng_unit(bk_rng *r);
 typedef int (*bk_expr_visit)(void *ctx, const bk_expr *e);
 long bk_expr_enumerate(const bk_grammar *g, int size, bk_expr_visit fn, void *ctx);
 
+/* The raw trees of exactly size nodes over g (as ESR's tables count them):
+ * every leaf (a parameter, each literal, each input) and every operation
+ * (sq a unary one) at every node, before any canonical rule, nesting limit
+ * or limit on parameters. A double: 2.3e8 trees of 8 nodes over five leaves. */
+double bk_grammar_trees(const bk_grammar *g, int size);
+
 /* The same trees drawn one at a time: every canonical candidate of size 1,
  * then of size 2, ... up to max_size (and the grammar's max_size), each in
- * bk_expr_enumerate's order, and no more than max_trees in all. Nothing is
- * built before it is drawn: memory grows with the trees drawn (each kept
- * until the last size, as an operand of larger ones: its nodes and a hash,
- * about 30 + 16 x nodes bytes), never with the sizes allowed. next returns
- * the size of the tree written to e, 0 after the last one, -1 when out of
- * memory. */
+ * bk_expr_enumerate's order. Nothing is built before it is drawn: memory
+ * grows with the trees kept as operands of larger ones (those below the
+ * last size: their nodes and a hash, about 30 + 16 x nodes bytes), never
+ * with the sizes allowed; the trees of the last size are not kept, so they
+ * cost nothing to draw. At most max_trees are kept: the enumeration ends
+ * (cut) at the tree that would be one more. next returns the size of the
+ * tree written to e, 0 after the last one, -1 when out of memory; count the
+ * trees drawn; cut 1 when the limit ended it (the last size is then not
+ * whole). */
 typedef struct bk_expr_enum bk_expr_enum;
 bk_expr_enum *bk_expr_enum_new(const bk_grammar *g, int max_size, long max_trees);
 int bk_expr_enum_next(bk_expr_enum *E, bk_expr *e);
 long bk_expr_enum_count(const bk_expr_enum *E);
+int bk_expr_enum_cut(const bk_expr_enum *E);
 void bk_expr_enum_free(bk_expr_enum *E);
 
 /* One offspring of parent by one random mutation: replace a subtree by a

@@ -46,12 +46,16 @@ extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
  * bk_expr_enum): a run with --enum-size 9 and a budget of 300 fits builds the
  * few hundred trees it fits, not the hundreds of millions up to 9 nodes (the
  * default grammar over two inputs has 2.2 million trees up to 7 nodes, about
- * 25 million of 8). It ends after this many trees whatever the sizes allowed,
- * the trees drawn being kept as operands of larger ones (30 + 16 bytes a
- * node each): measured, 157 to 159 MB for 1,048,576 trees of the default
+ * 25 million of 8). It ends once this many trees are kept as operands of
+ * larger ones (those below the last size, 30 + 16 bytes a node each): measured, 157 to 159 MB for 1,048,576 trees of the default
  * grammar over 2 to 4 inputs, drawn in 0.8 s. Past it the search goes on by
  * evolution. */
 #define BK_SEARCH_ENUM_TREES (1L << 20)
+/* The trees of the last size are not kept (expr.h): drawing them costs
+ * about 1 us each and no memory. A run draws at most this many in all (a
+ * few minutes of drawing; the default grammar over three inputs has about
+ * 1.25 million trees of 7 nodes, over one input about a million of 8). */
+#define BK_SEARCH_ENUM_DRAWN (1L << 28)
 
 /* env's constraints A, B >= 0 and A + B <= 1 hold to half an 8-bit unorm step:
  * less is invisible in an 8-bit render target, and an exact zero slack rejects
@@ -180,6 +184,31 @@ typedef int (*bk_search_after_step)(void *ctx, const bk_search *s);
 int bk_search_run(bk_search *s, bk_search_after_step after_step, void *ctx, char *err, size_t errlen);
 
 long bk_search_evals(const bk_search *s);
+
+/* How far a search is complete: every candidate the enumeration makes from
+ * the trees of up to complete_size nodes (bk_expr_size; a tree as the
+ * enumeration builds it, before its scale, search/generate.c) was fitted
+ * with up to `starts` screening starts, or is a twin of one fitted at no
+ * greater cost (the same values at three parameter vectors:
+ * search/unique.h), or was fitted before (a seed), or is outside the
+ * limits: costlier than max_cost, more parameters than the grammar allows.
+ * The grammar is the options' (operations, inputs, literals, parameters),
+ * without a unary operation directly over another (expr.h,
+ * bk_expr_enumerate). So no form of the grammar up to complete_size nodes
+ * and cost max_cost does better than the front, as far as a screening fit
+ * finds each model's best constants. 0: nothing is complete (a size-1 tree
+ * is a leaf). The counts are of this island's share, by tree size: the
+ * enumeration's candidates drawn, left out as twins, and fitted. */
+typedef struct bk_search_cert {
+	int complete_size;
+	double max_cost;
+	int starts;
+	int island, islands;
+	long drawn[BK_EXPR_MAX + 1], twins[BK_EXPR_MAX + 1], fitted[BK_EXPR_MAX + 1];
+	double dedup_seconds; /* CPU time the fingerprints took in this process (a measurement: varies) */
+} bk_search_cert;
+void bk_search_certificate(const bk_search *s, bk_search_cert *c);
+
 /* The distinct candidates fitted so far, in the order they were found. */
 size_t bk_search_count(const bk_search *s);
 const bk_cand *bk_search_at(const bk_search *s, size_t i);

@@ -325,7 +325,11 @@ static size_t enumerated(const bk_search *s, char ***out)
 static int by_text(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
 /* Islands share out the enumeration: together two islands' enumerated
- * candidates are the one island's, text for text. */
+ * candidates hold the one island's, text for text. An island leaves out the
+ * twins of the models it fitted (search/unique.h), not those of the models
+ * the other island fitted, which it does not see: so the two may fit a few
+ * spellings of one model that one island fits once (a superset: the
+ * certificate holds for the union). */
 Test(search, islands_share_the_enumeration)
 {
 	bk_samples s;
@@ -363,9 +367,14 @@ Test(search, islands_share_the_enumeration)
 	for (size_t i = 0; i < nb + nc; i++)
 		if (nu == 0 || strcmp(u[nu - 1], u[i]))
 			u[nu++] = u[i];
-	cr_assert_eq(nu, na, "islands %zu + %zu (%zu distinct), one island %zu", nb, nc, nu, na);
-	for (size_t i = 0; i < na; i++)
-		cr_assert_str_eq(u[i], a[i], "candidate %zu", i);
+	cr_assert_geq(nu, na, "islands %zu + %zu (%zu distinct), one island %zu", nb, nc, nu, na);
+	size_t j = 0; /* a in u, both sorted */
+	for (size_t i = 0; i < na; i++) {
+		while (j < nu && strcmp(u[j], a[i]) < 0)
+			j++;
+		cr_assert(j < nu && !strcmp(u[j], a[i]), "candidate %s of one island is neither island's", a[i]);
+	}
+	cr_assert_leq(nu - na, na / 2, "islands fit %zu twins more than one island's %zu", nu - na, na);
 	free(a), free(b), free(c), free(u);
 	bk_search_free(one);
 	bk_search_free(isl[0]);

@@ -171,6 +171,31 @@ Test(summary_read, a_search_by_column_name)
 	cr_expect(strstr(r.pub_file, "/t/catalog.csv") != NULL);
 }
 
+/* The certificate on the first screen: front.csv's "# certificate:" line
+ * read for its size; "none" is 0, no line is -1 (a front written before
+ * certificates), and a line that does not state a size is not read as one. */
+Test(summary_read, the_certificate_from_front_csv)
+{
+	static const struct {
+		const char *line;
+		int complete;
+	} cases[] = {
+		{"# certificate: every unique form of the grammar up to 7 nodes and cost <= 15 was fitted\n", 7},
+		{"# certificate: none: the enumeration completed no size (grammar: ...)\n", 0},
+		{"", -1},
+		{"# certificate: every unique form of the grammar up to many nodes\n", 0},
+		{"# certificate: every unique form of the grammar up to 99 nodes\n", 0}, /* past BK_EXPR_MAX */
+	};
+	put("t", "catalog.csv", catalog);
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char text[1024];
+		snprintf(text, sizeof text, HEAD "%sname,cost,error\ns1,2,0.2\n", cases[i].line);
+		bk_summary_row r;
+		cr_assert_eq(bk_summary_read(put("t", "front.csv", text), &r, err, sizeof err), 0, "%s", err);
+		cr_expect_eq(r.complete, cases[i].complete, "case %zu: %d", i, r.complete);
+	}
+}
+
 Test(summary_read, a_target_with_no_search_reads_compare_csv)
 {
 	const char *d = put("spec", "compare.csv", "name,kind,cost,max_abs,rmse\n"

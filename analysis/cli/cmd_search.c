@@ -145,6 +145,25 @@ static int after_step(void *ctx, const bk_search *S)
 	return J->a->seconds > 0 && now - J->seconds >= J->a->seconds;
 }
 
+/* The run's certificate (fit/search.h): this process's, or over the islands
+ * (each enumerates every K-th tree) the least size all of them completed and
+ * their counts summed. Collective. */
+static void certify(job *J)
+{
+	bk_search_certificate(J->S, &J->cert);
+	if (isl_size() == 1)
+		return;
+	int c = 0;
+	while (c < BK_EXPR_MAX && !isl_any(J->cert.complete_size < c + 1))
+		c++;
+	J->cert.complete_size = c;
+	for (int k = 0; k <= BK_EXPR_MAX; k++) {
+		J->cert.drawn[k] = isl_sum(J->cert.drawn[k]);
+		J->cert.twins[k] = isl_sum(J->cert.twins[k]);
+		J->cert.fitted[k] = isl_sum(J->cert.fitted[k]);
+	}
+}
+
 static int run_search(job *J)
 {
 	char err[512];
@@ -174,6 +193,7 @@ static int run_search(job *J)
 	if (rc < 0)
 		return cli_fail("search", "%s", err);
 	progress(J, 1);
+	certify(J);
 	if (J->a->checkpoint && ck_search_save(J->S, J->a->checkpoint, err, sizeof err))
 		return cli_fail("search", "--checkpoint %s", err);
 	return 0;
@@ -269,6 +289,7 @@ static int run_islands(job *J)
 	if (rc)
 		return 1;
 	J->total_evals = isl_sum(bk_search_evals(J->S));
+	certify(J);
 	return merge_islands(J);
 }
 
@@ -334,7 +355,7 @@ static int finish(job *J, const bk_seeds *sd)
 	if (bk_sfront_build(F, sd))
 		return cli_fail("search", "out of memory or a failed refit of the front");
 	bk_swrite W = {F, &J->to, J->command, J->a->out, J->a->prefix, J->a->cost_model, J->a->seed, J->total_evals,
-	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips, NULL, NULL};
+	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips, NULL, NULL, &J->cert};
 	bk_swrite_report(stdout, &W);
 	char err[700];
 	if (J->nchips && bk_sfront_gpu(F, J->chip, J->nchips, J->driver, sizeof J->driver, err, sizeof err))

@@ -54,6 +54,7 @@ typedef struct job {
 	bk_frontcsv start_fc; /* --start-front's rows: the seeds point at their texts */
 	bk_frontcsv vs_fc;    /* --vs-front's rows */
 	int ncatalog;         /* seeds before those: published (or --start), exempt from the constraints */
+	bk_search_cert cert;  /* how far the run is complete, all islands together */
 } job;
 
 /* --env-form f0 (or mix): env candidates are one form in f0. */

@@ -9,6 +9,7 @@
 #include "search/generate.h"
 #include "search/screen.h"
 #include "search/state.h"
+#include "search/unique.h"
 
 #include <limits.h>
 #include <math.h>
@@ -204,7 +205,7 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	if (s->o.scale && g.max_params > 0) /* the enumerated tree leaves room for its scale */
 		g.max_params--;
 	s->enum_g = g;
-	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)))
+	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)) || bk_unique_init(s))
 		goto oom;
 	s->fingerprint = bk_state_fingerprint(s, 1);
 	s->fingerprint_all = bk_state_fingerprint(s, 0);
@@ -232,9 +233,26 @@ void bk_search_free(bk_search *s)
 	free(s->seed_name);
 	free(s->seed_p);
 	bk_expr_enum_free(s->gen);
+	bk_unique_free(s);
 	free(s);
 }
 
 long bk_search_evals(const bk_search *s) { return s->evals; }
+
+void bk_search_certificate(const bk_search *s, bk_search_cert *c)
+{
+	memset(c, 0, sizeof *c);
+	c->complete_size = s->enum_complete;
+	c->max_cost = s->o.max_cost;
+	c->starts = s->o.starts;
+	c->island = s->o.island;
+	c->islands = s->o.islands;
+	c->dedup_seconds = s->dedup_seconds;
+	for (int k = 0; k <= BK_EXPR_MAX; k++) {
+		c->drawn[k] = s->enum_drawn[k];
+		c->twins[k] = s->enum_twins[k];
+		c->fitted[k] = s->enum_fitted[k];
+	}
+}
 size_t bk_search_count(const bk_search *s) { return s->n; }
 const bk_cand *bk_search_at(const bk_search *s, size_t i) { return i < s->n ? &s->cand[i] : NULL; }

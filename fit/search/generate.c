@@ -4,12 +4,14 @@
  */
 #include "search/generate.h"
 #include "search/cand.h"
+#include "search/unique.h"
 #include "brdf_ops.h" /* the opcode enum the trees are made of */
 
 #include <ctype.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
@@ -91,13 +93,16 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 
 /* ---- the enumeration ------------------------------------------------------ */
 
+static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size);
+
 int bk_gen_enum_tree(bk_search *s, size_t idx, bk_expr *t)
 {
-	while (s->drawn <= idx && s->gen) {
+	while (s->drawn <= idx && s->gen && s->drawn < (size_t)BK_SEARCH_ENUM_DRAWN) {
 		int r = bk_expr_enum_next(s->gen, &s->cur);
 		if (r < 0)
 			return -1;
 		if (r == 0) {
+			s->enum_cut = bk_expr_enum_cut(s->gen);
 			bk_expr_enum_free(s->gen);
 			s->gen = NULL;
 		} else {
@@ -123,8 +128,14 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 	while (b->n < b->want && s->evals + (long)b->n < cap &&
 	       (more = bk_gen_enum_tree(s, s->enum_pos / kinds, &tree)) > 0) {
 		size_t k = s->enum_pos++;
+		int size = bk_expr_size(&tree);
+		if (size - 1 > s->enum_complete) /* every tree of the sizes below is drawn */
+			s->enum_complete = size - 1;
 		if ((k / kinds) % (size_t)s->o.islands != (size_t)s->o.island)
 			continue; /* another island's share of the enumeration */
+		if (s->enum_leave_out && s->enum_leave_out(s->enum_leave_ctx, &tree))
+			continue;
+		s->enum_drawn[size]++;
 		bk_expr t[2] = {tree, lone_param()};
 		if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
 			t[1] = t[0];
@@ -134,7 +145,7 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 			if (bk_expr_nparams(&t[0]) > s->feat_g.max_params)
 				continue;
 		}
-		int r = bk_gen_prepare(s, t, &b->c[b->n]);
+		int r = prepare(s, t, &b->c[b->n], size);
 		if (r < 0)
 			return -1;
 		b->n += (size_t)r;
@@ -145,6 +156,10 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 	 * did when it was drawn whole up front (checkpoints say phase 2 there) */
 	if (more > 0 && s->evals + (long)b->n < cap && (more = bk_gen_enum_tree(s, s->enum_pos / kinds, &tree)) < 0)
 		return -1;
+	else if (more > 0 && s->evals + (long)b->n < cap && bk_expr_size(&tree) - 1 > s->enum_complete)
+		s->enum_complete = bk_expr_size(&tree) - 1; /* the next tree is of a larger size */
+	if (more == 0 && !s->enum_cut && s->drawn < (size_t)BK_SEARCH_ENUM_DRAWN) /* drawn whole */
+		s->enum_complete = s->o.enum_size < s->enum_g.max_size ? s->o.enum_size : s->enum_g.max_size;
 	if (more == 0 || s->evals + (long)b->n >= cap) {
 		s->phase = 2;
 		bk_expr_enum_free(s->gen); /* its trees are no longer needed */
@@ -185,7 +200,10 @@ static int scaled(bk_expr *t, unsigned inputs)
 	return 0;
 }
 
-int bk_gen_prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
+/* Candidate c from trees t0 (bk_gen_prepare); with size >= 0, an
+ * enumerated one of that size, left out when it is a twin of a model fitted
+ * before at no greater cost (unique.h), and counted. */
+static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 {
 	char a[4200], b[4200];
 	memset(c, 0, sizeof *c);
@@ -204,6 +222,17 @@ int bk_gen_prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 	if (bk_cand_cost(s, a, b, &c->ops, &c->cost, &c->np) || c->cost > s->o.max_cost ||
 	    c->np > s->o.grammar.max_params)
 		return 0;
+	if (size >= 0) {
+		struct timespec t0, t1; /* the deduplication's CPU time (the certificate's counts) */
+		clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+		uint64_t fp = bk_unique_fingerprint(s, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL);
+		clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+		s->dedup_seconds += (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+		int twin = bk_unique_twin(s, fp, c->cost);
+		if (twin)
+			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);
+		s->enum_fitted[size]++;
+	}
 	c->text = strdup(a);
 	c->text_b = s->o.shape == BK_SHAPE_PAIR ? strdup(b) : NULL;
 	if (!c->text || (s->o.shape == BK_SHAPE_PAIR && !c->text_b)) {
@@ -215,6 +244,8 @@ int bk_gen_prepare(bk_search *s, const bk_expr *t0, bk_cand *c)
 		c->tree[1] = t[1];
 	return 1;
 }
+
+int bk_gen_prepare(bk_search *s, const bk_expr *t, bk_cand *c) { return prepare(s, t, c, -1); }
 
 /* ---- children ------------------------------------------------------------- */
 

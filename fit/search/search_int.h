@@ -27,6 +27,18 @@ typedef struct bk_level {
 	int n;
 } bk_level;
 
+/* The enumeration's unique forms (unique.h): the probes a fingerprint reads
+ * and the fingerprints fitted, each with the least cost it was fitted at
+ * (open addressing, 0 marks a free slot). */
+typedef struct bk_unique_probes {
+	size_t m;
+	double *in[BK_IN_COUNT];
+	double theta[3][BK_MAX_PARAMS];
+	uint64_t *fp;
+	double *cost;
+	size_t cap, n;
+} bk_unique_probes;
+
 struct bk_search {
 	bk_search_options o;
 	char **seed_text, **seed_text_b, **seed_name; /* copies */
@@ -49,6 +61,21 @@ struct bk_search {
 	bk_expr_enum *gen; /* the enumeration, drawn as the search goes; NULL once done */
 	bk_expr cur;       /* the last tree drawn from it */
 	size_t drawn;      /* how many were drawn */
+	bk_unique_probes uq; /* the enumeration's twins (unique.h) */
+	/* the enumeration's candidates by the size of their tree (a pair's tree
+	 * counts once for each of its three kinds): drawn (this island's share),
+	 * left out as twins, fitted; and the largest size all of whose
+	 * candidates were drawn (the certificate: search.h) */
+	long enum_drawn[BK_EXPR_MAX + 1], enum_twins[BK_EXPR_MAX + 1], enum_fitted[BK_EXPR_MAX + 1];
+	int enum_complete;
+	double dedup_seconds; /* CPU time of the fingerprints (not in checkpoints: a measurement) */
+	int enum_cut; /* the enumerator ended at its most trees kept (expr.h) */
+	/* a white-box tests' hook: a tree of the enumeration for which it returns
+	 * non-zero is left out, as if the grammar did not have it (the
+	 * certificate's negative control, tests/test_search_unique.c); NULL in
+	 * every search the tool makes */
+	int (*enum_leave_out)(void *ctx, const bk_expr *tree);
+	void *enum_leave_ctx;
 };
 
 #endif

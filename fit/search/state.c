@@ -6,6 +6,7 @@
 #include "search/archive.h"
 #include "search/cand.h"
 #include "search/generate.h"
+#include "search/unique.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -14,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 3"
+#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 4"
 #define MIGRANTS_MAGIC "brdfkit-search-migrants 1"
 
 /* What must agree between a checkpoint and the run resuming it: everything
@@ -261,6 +262,7 @@ int bk_search_save(const bk_search *s, FILE *f)
 	for (size_t i = 0; i < s->seen.cap; i++)
 		if (s->seen.h[i])
 			fprintf(m, "%016llx\n", (unsigned long long)s->seen.h[i]);
+	bk_unique_save(s, m);
 	fprintf(m, "candidates %zu\n", s->n);
 	for (size_t i = 0; i < s->n; i++)
 		put_cand(s, m, &s->cand[i]);
@@ -358,7 +360,7 @@ static int check_state(bk_search *s, long budget, reader *r)
 	if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
 		return fail(r, "a generator state of zeros");
 	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
-	if (s->enum_pos > kinds * (size_t)BK_SEARCH_ENUM_TREES)
+	if (s->enum_pos > kinds * (size_t)BK_SEARCH_ENUM_DRAWN)
 		return fail(r, "enumeration position %zu past the most trees it draws", s->enum_pos);
 	bk_expr t;
 	int have = s->enum_pos == 0 ? 1 : bk_gen_enum_tree(s, (s->enum_pos - 1) / kinds, &t);
@@ -400,6 +402,9 @@ static int load_body(bk_search *s, reader *r, long *budget)
 			return fail(r, fresh == -1 ? "out of memory" : "cache entry %zu of %zu unreadable or repeated", i + 1,
 			            nseen);
 	}
+	char why[200];
+	if (bk_unique_load(s, f, why, sizeof why))
+		return fail(r, "%s", why);
 	if (fscanf(f, " candidates %zu", &ncand) != 1)
 		return fail(r, "no candidates line after the %zu cache entries", nseen);
 	for (size_t i = 0; i < ncand; i++) {

@@ -1,0 +1,186 @@
+/*
+ * bench_enum.c — the unique-form enumeration's counts and rate (issue 38),
+ * as ESR's tables give them: for each target's default grammar and each
+ * size, the raw trees of the grammar (bk_grammar_trees), the canonical
+ * trees the enumeration draws (a pair's tree once for each of its three
+ * kinds), the twins left out (fit/search/unique.h), the unique forms
+ * fitted, and the CPU seconds and wall seconds until the size was complete
+ * (the certificate's size reached). Then the rate (unique forms fitted per
+ * CPU-second and per wall-second), the fingerprints' share of the CPU time,
+ * and, from the growth of the last two sizes, the size a 64-core MPI run
+ * would certify in 10 minutes.
+ *
+ * usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T]
+ *   --max N       the last size enumerated (default: 7 for vf2d and env, 8 for f)
+ * The screening grid and the grammar are brdfkit search's (fit/search/seeds.h).
+ * Times vary with the machine; the counts do not.
+ */
+#define _GNU_SOURCE
+#include "search.h"
+#include "search/seeds.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+static double cpu_now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static double wall_now(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_MONOTONIC, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+typedef struct watch {
+	int done;                         /* the certificate's size so far */
+	int want;                         /* the size to stop at */
+	double cpu0, wall0;
+	double cpu[BK_EXPR_MAX + 1], wall[BK_EXPR_MAX + 1];
+} watch;
+
+static void progress(void *ctx, const bk_search *S)
+{
+	watch *w = ctx;
+	bk_search_cert c;
+	bk_search_certificate(S, &c);
+	for (; w->done < c.complete_size; w->done++) {
+		w->cpu[w->done + 1] = cpu_now() - w->cpu0;
+		w->wall[w->done + 1] = wall_now() - w->wall0;
+	}
+}
+
+static int whole(void *ctx, const bk_search *S)
+{
+	(void)S;
+	return ((const watch *)ctx)->done >= ((const watch *)ctx)->want;
+}
+
+static int run(bk_target_kind kind, const char *name, int max, int threads)
+{
+	bk_target_options to;
+	bk_target_defaults(kind, &to);
+	bk_seeds_screening_grid(&to);
+	bk_samples sm;
+	char err[512];
+	if (bk_target_build(&to, &sm, NULL, NULL, err, sizeof err)) {
+		fprintf(stderr, "bench_enum: %s: %s\n", name, err);
+		return 1;
+	}
+	bk_search_options o;
+	bk_search_defaults(&o);
+	o.screen = &sm;
+	o.shape = kind == BK_TARGET_VF2D ? BK_SHAPE_F0 : kind == BK_TARGET_ENV ? BK_SHAPE_PAIR : BK_SHAPE_PLAIN;
+	bk_seeds_grammar(&o.grammar, kind);
+	o.grammar.inputs = sm.provides; /* as brdfkit search gives them (analysis/cli/search_setup.c) */
+	if (kind == BK_TARGET_F)
+		o.grammar.inputs &= 1u << BK_IN_LOH | 1u << BK_IN_F0;
+	if (o.shape == BK_SHAPE_F0)
+		o.grammar.inputs &= ~(1u << BK_IN_F0);
+	o.enum_size = max;
+	o.enum_max = 1000000000L;
+	o.evals = 1000000000L; /* the run ends with the enumeration (stop below): no evolution */
+	o.generation = 4096;
+	o.threads = threads;
+	o.nonneg = 1;
+	o.env_bound = kind == BK_TARGET_ENV;
+	bk_search *S = bk_search_new(&o, err, sizeof err);
+	if (!S) {
+		fprintf(stderr, "bench_enum: %s: %s\n", name, err);
+		bk_samples_free(&sm);
+		return 1;
+	}
+	watch w = {0, max, cpu_now(), wall_now(), {0}, {0}};
+	bk_search_callbacks cb = {progress, whole, &w, 0};
+	if (bk_search_drive(S, &cb, err, sizeof err) < 0) {
+		fprintf(stderr, "bench_enum: %s: %s\n", name, err);
+		bk_search_free(S);
+		bk_samples_free(&sm);
+		return 1;
+	}
+	bk_search_cert c;
+	bk_search_certificate(S, &c);
+	char g[1024];
+	bk_grammar_describe(&o.grammar, g, sizeof g);
+	printf("%s (%zu screening samples, %s; %d thread%s): complete to %d nodes\n  grammar: %s\n", name, sm.n,
+	       o.shape == BK_SHAPE_PAIR ? "pairs: each tree as A, as B and as a shared feature" : "one tree each",
+	       threads, threads == 1 ? "" : "s", c.complete_size, g);
+	printf("  %4s %14s %11s %11s %10s %10s %9s %8s\n", "size", "raw trees", "canonical", "twins", "fitted",
+	       "cumulative", "CPU s", "wall s");
+	long cum = 0, all_drawn = 0;
+	for (int k = 1; k <= c.complete_size; k++) {
+		cum += c.fitted[k];
+		all_drawn += c.drawn[k];
+		printf("  %4d %14.4g %11ld %11ld %10ld %10ld %9.2f %8.2f\n", k, bk_grammar_trees(&o.grammar, k), c.drawn[k],
+		       c.twins[k], c.fitted[k], cum, w.cpu[k], w.wall[k]);
+	}
+	int n = c.complete_size;
+	double cpu = w.cpu[n], wall = w.wall[n];
+	printf("  rate: %.0f unique forms fitted per CPU-s, %.0f per wall-s; fingerprints %.2f CPU-s (%.1f us a "
+	       "fingerprinted candidate, %.1f %% of the CPU time)\n",
+	       cpu > 0 ? (double)cum / cpu : 0.0, wall > 0 ? (double)cum / wall : 0.0, c.dedup_seconds,
+	       all_drawn > 0 ? 1e6 * c.dedup_seconds / (double)all_drawn : 0.0, cpu > 0 ? 100 * c.dedup_seconds / cpu : 0.0);
+	if (n >= 3 && c.fitted[n - 1] > 0) {
+		/* the next sizes grow as the last did: fitted(k+1) = fitted(k) * g */
+		double growth = (double)c.fitted[n] / (double)c.fitted[n - 1], per = cpu / (double)cum;
+		double budget = 64 * 600.0, need = cpu, f = (double)c.fitted[n];
+		int k = n;
+		while (k < BK_EXPR_MAX) {
+			f *= growth;
+			if (need + f * per > budget)
+				break;
+			need += f * per;
+			k++;
+		}
+		printf("  growth %.1fx a node at size %d; 64 cores for 10 minutes (%.0f CPU-s at this rate, ranks sharing the "
+		       "index space) would certify %d nodes (%.0f CPU-s); one node more: %.2g core-hours\n", growth, n,
+		       budget, k, need, (need + f * per) / 3600);
+	}
+	bk_search_free(S);
+	bk_samples_free(&sm);
+	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	const char *targets = "vf2d,f,env";
+	int max = 0, threads = 2;
+	for (int i = 1; i < argc; i++) {
+		if (!strcmp(argv[i], "--targets") && i + 1 < argc)
+			targets = argv[++i];
+		else if (!strcmp(argv[i], "--max") && i + 1 < argc)
+			max = atoi(argv[++i]);
+		else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
+			threads = atoi(argv[++i]);
+		else {
+			fprintf(stderr, "usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T]\n");
+			return 2;
+		}
+	}
+	if (max < 0 || max > 9 || threads < 1 || threads > 64) {
+		fprintf(stderr, "bench_enum: --max 1 to 9, --threads 1 to 64\n");
+		return 2;
+	}
+	static const struct {
+		const char *name;
+		bk_target_kind kind;
+		int max;
+	} all[] = {{"vf2d", BK_TARGET_VF2D, 7}, {"f", BK_TARGET_F, 8}, {"env", BK_TARGET_ENV, 7}};
+	int rc = 0;
+	for (size_t i = 0; i < sizeof all / sizeof all[0]; i++) {
+		size_t n = strlen(all[i].name);
+		for (const char *p = targets; p; p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL)
+			if (!strncmp(p, all[i].name, n) && (p[n] == ',' || p[n] == '\0')) {
+				rc |= run(all[i].kind, all[i].name, max ? max : all[i].max, threads);
+				break;
+			}
+	}
+	return rc;
+}

@@ -1,0 +1,66 @@
+/*
+ * unique.h — semantically unique candidates (internal to the search): the
+ * enumeration fits one model once, however many spellings of it the grammar
+ * has. Two candidates are one model when their forms give the same values
+ * at UNIQUE_PROBES of the screening samples at each of three fixed
+ * parameter vectors (the fingerprint below); the cheaper is fitted (the
+ * earlier at equal cost), the others are counted as twins and never fitted.
+ *
+ * Why values and not rules: canonical rules (fit/expr.h) already make one
+ * text of x*1, a+b and b+a, p0*p1; what is left are identities over the
+ * domain (saturate(r) is r on [0, 1], max(1, NoH) is 1, rsqrt(a) is 1/r),
+ * about 28 % of the fits the search made (stop 36's measurement), which no
+ * local rule sees. ESR (Bartlett et al. 2023) dedups its functions the same
+ * way, numerically, after its rules.
+ *
+ * What "same values" means, and why it is safe for the certificate (a form
+ * left out as a twin must not be a better model than its twin): the
+ * fingerprint hashes, for each of three parameter vectors, each probe's
+ * value rounded to 32 significant bits, its class (NaN, +inf, -inf), and the
+ * number of parameters. The three vectors give every parameter one value in
+ * (0, 1), one above 1 and one negative, so that a branch (max(p0, r),
+ * sqrt(p0 - r)) taken at one is left at another. Two forms that differ only
+ * by rounding (a + (b + c) against (a + b) + c) may land either side of a
+ * rounding boundary: they are then fitted both, which costs a fit and loses
+ * nothing. A false twin needs two different functions of the parameters to
+ * agree to 32 bits at 3 x 64 points: the fingerprint is of the family's
+ * function of its parameters, not of one fit.
+ *
+ * What it does not see: reparametrisations (p0*(x + p1) against p0*x + p1
+ * are one model with other constants: different values at the same vector).
+ * Both are fitted; the counts in bk_search_unique_counts call them unique.
+ *
+ * Cost: about 3 us a candidate (the form parsed and evaluated 3 x 64 times),
+ * against about 200 us of CPU for a screening fit.
+ */
+#ifndef FIT_SEARCH_UNIQUE_H
+#define FIT_SEARCH_UNIQUE_H
+
+#include "search/search_int.h"
+
+#include <stdio.h>
+
+/* The screening samples a fingerprint reads (spread evenly over them). */
+#define UNIQUE_PROBES 64
+
+/* The probes of s's screening samples, made once (s->uq). 0, or -1 when out
+ * of memory. */
+int bk_unique_init(bk_search *s);
+void bk_unique_free(bk_search *s);
+
+/* The fingerprint of the form a (and b, a pair's B; NULL otherwise), or 0
+ * when it does not parse (never a real fingerprint: those are made non-zero). */
+uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b);
+
+/* Whether a candidate of fingerprint fp and cost is a twin of one fitted
+ * before at no greater cost: 1 (it is: not to be fitted), 0 (it is not; it is
+ * now the model's fitted spelling), -1 when out of memory. */
+int bk_unique_twin(bk_search *s, uint64_t fp, double cost);
+
+/* The enumeration's counts, its complete size and the twins' fingerprints,
+ * as lines of a checkpoint (state.c), and read back: 0, or -1 with what is
+ * wrong in why. */
+void bk_unique_save(const bk_search *s, FILE *f);
+int bk_unique_load(bk_search *s, FILE *f, char *why, size_t len);
+
+#endif
