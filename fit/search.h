@@ -4,16 +4,21 @@
  * solver, kept in an archive of the best per cost level, the Pareto front of
  * error against GPU cost read off it.
  *
- * How a run goes (fit/search/, driver.c and the parts it wires):
- *   1. the seeds (catalog entries of the target, --start forms) are fitted
- *      first, so the front starts at the published state of the art;
- *   2. every canonical candidate up to enum_size nodes, bottom-up;
- *   3. generations of `generation` children: first (not for pairs; at
- *      most half a generation) the neighbours of each cost level's best by
- *      one free constant (p*x, p + x) and of each front level's best by one
- *      input or a power (mix(p, p', in), x*in, sq(x)) and by a blend
- *      (mix(u, v, x)): expr.h, issue 22; then archive members' children by
- *      mutation and crossover, until the budget of fits (evals) is spent.
+ * How a run goes (fit/search/, driver.c and the parts it wires): a
+ * schedule of stages, each a list of generators sharing a step's batch
+ * (bk_search_generator below); by default three stages:
+ *   1. `seeds`: the seeds (catalog entries of the target, --start forms) are
+ *      fitted first, so the front starts at the published state of the art;
+ *   2. `enumeration`: every canonical candidate up to enum_size nodes,
+ *      bottom-up;
+ *   3. `neighbours` + `children` (evolution), generations of `generation`
+ *      candidates: first (not for pairs; at most half a generation) the
+ *      neighbours of each cost level's best by one free constant (p*x,
+ *      p + x) and of each front level's best by one input or a power
+ *      (mix(p, p', in), x*in, sq(x)) and by a blend (mix(u, v, x)): expr.h,
+ *      issue 22; then archive members' children by mutation and crossover
+ *      filling the rest, until the budget of fits (evals) is spent or a
+ *      generation comes out empty.
  * A candidate is fitted once: the cache holds the hash of each canonical
  * text. Fits of one generation run on threads; their results are merged in
  * candidate order, so the same seed and budget give the same archive for any
@@ -148,6 +153,62 @@ typedef struct bk_search bk_search;
 /* Checks the options and fits nothing yet. NULL with a message on a bad option. */
 bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen);
 void bk_search_free(bk_search *s);
+
+/* ---- the schedule: the generators that make the candidates ----------------
+ *
+ * A step's batch is made by the generators of the schedule's current stage,
+ * in order, each filling the batch up to its share of it; the stage is over
+ * after the batch in which every one of its generators said it was over,
+ * and the search is over after its last stage. A program adds its own
+ * generator (bk_search_schedule_add) before the search is stepped or
+ * loaded; a checkpoint names the current stage and each generator, with
+ * the state its save wrote, so that a search with another schedule refuses
+ * it. A generator's make offers trees (bk_search_offer): each is made a
+ * candidate as the built-in generators' are (canonical, scaled, shaped,
+ * fitted once: the cache), and fitted in the same step. */
+
+/* The batch a generator fills (its room: bk_search_sink_room). */
+typedef struct bk_search_sink bk_search_sink;
+
+typedef struct bk_search_generator {
+	const char *name; /* 1 to 31 of [a-z0-9_-], not "done", distinct within a schedule:
+	                     how checkpoints name it (copied) */
+	size_t room;      /* the batch its stage needs at the least (0: a generation) */
+	/* Offers the next candidates (bk_search_offer) while the sink has room.
+	 * 1 when it is over (its stage ends after the batch in which every one of
+	 * its generators said so), 0 when it has more, -1 on an error (out of
+	 * memory: the step fails). */
+	int (*make)(void *state, bk_search *s, bk_search_sink *sink);
+	/* Its state in a checkpoint, as whole lines of text (NULL: none). 0, or -1. */
+	int (*save)(const void *state, const bk_search *s, FILE *f);
+	/* Reads back what save wrote and checks it (NULL: none). when: < 0 its
+	 * stage is still to come, 0 it is the current one, > 0 it is over (make
+	 * is not called again). 0, or -1 with what is wrong in err. */
+	int (*load)(void *state, bk_search *s, int when, FILE *f, char *err, size_t errlen);
+	void (*free)(void *state); /* called with state by bk_search_free (NULL: nothing to free) */
+	void *state;
+} bk_search_generator;
+
+/* Adds g to the schedule of s (made by bk_search_new, not stepped or loaded
+ * yet). join 0: a stage of g alone before stage `stage` (0 to the number
+ * of stages: the default schedule has 0 seeds, 1 enumeration, 2 neighbours
+ * + children; 3 appends); join 1: g joins stage `stage` after its
+ * generators. share (0, 1]: g fills the batch up to that part of it
+ * (counted from the batch's start, at least one candidate); 1: whatever the
+ * generators before it left. On 0 s owns g->state (g->free); on -1 (what is
+ * wrong in err) the caller keeps it. */
+int bk_search_schedule_add(bk_search *s, int stage, int join, double share, const bk_search_generator *g, char *err,
+                           size_t errlen);
+
+/* How many more candidates the sink takes in this generator's share. */
+size_t bk_search_sink_room(const bk_search_sink *k);
+
+/* Offers the candidate of trees t (t[1] the second tree of a pair, empty: a
+ * shared feature; ignored unless a pair), canonicalised here, with start its
+ * first fit's starting constants (as many as it has parameters; NULL: the
+ * default starts). 1 taken (it is fitted in this step), 0 not taken (not a
+ * valid tree, seen before, over a limit, or no room), -1 out of memory. */
+int bk_search_offer(bk_search_sink *k, const bk_expr t[2], const double *start);
 
 /* Fits the next batch (a generation, or part of the seeds and enumeration).
  * Returns 1 while budget remains, 0 when the budget is spent or nothing new

@@ -143,7 +143,7 @@ head -c 3000 "$T/ckA" >"$T/ck_cut"
 expect_error "cut checkpoint" 1 "cut short" tiny --evals 3000 --resume "$T/ck_cut" --out "$T/x1"
 printf 'hello\n' >"$T/ck_junk"
 expect_error "not a checkpoint" 1 "--resume $T/ck_junk:" tiny --evals 3000 --resume "$T/ck_junk" --out "$T/x1"
-done_fits=$(sed -n 's/^state \([0-9]*\) .*/\1/p' "$T/ckA")
+done_fits=$(sed -n 's/^state \([0-9]*\)$/\1/p' "$T/ckA")
 expect_error "resume with a smaller budget" 1 "it holds $done_fits fits, more than --evals 1000 (its run had --evals 1200)" \
 	tiny --evals 1000 --resume "$T/ckA" --out "$T/x1"
 # a resume with the checkpoint's own budget fits nothing: 0 fits/s in this process

@@ -587,7 +587,9 @@ Test(search, checkpoint_ends_with_its_checksum)
  * that recomputes it): each refused with what is wrong, before any of it
  * is used (M1: a tree's input slot of 99999 crashed the printing; M1b: a
  * phase of 7, negative fits, an enumeration position far past its end were
- * taken). */
+ * taken; since checkpoint 4 the phase is a stage named by its generators,
+ * each generator named with its state: an unknown or misplaced name is
+ * refused alike). */
 Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
 {
 	bk_samples s;
@@ -599,17 +601,44 @@ Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
 	char *text = checkpoint_of(S, &len), err[512];
 	long evals = bk_search_evals(S);
 	char state[64], input[32], bad_input[32];
-	snprintf(state, sizeof state, "state %ld 2 ", evals);
+	snprintf(state, sizeof state, "\nstate %ld\n", evals);
 	snprintf(input, sizeof input, " %d:%d:", BK_OP_INPUT, BK_IN_LOH);
 	snprintf(bad_input, sizeof bad_input, " %d:99999:", BK_OP_INPUT);
 	char more[64];
-	snprintf(more, sizeof more, "state %ld 2 ", evals + 100);
+	snprintf(more, sizeof more, "\nstate %ld\n", evals + 100);
+	const char *evolution = "\nstage neighbours+children\n"; /* where the small search ends */
+	char *pos0 = strstr(text, "\nposition ");
+	cr_assert(strstr(text, evolution) && pos0, "no evolution stage or enumeration position:\n%.400s", text);
+	char position[64];
+	snprintf(position, sizeof position, "%.*s", (int)(strchr(pos0 + 1, '\n') - pos0 + 1), pos0);
+	/* the enumeration's counts and twins (search/unique.h): the line
+	 * "enumerated COMPLETE TOP" with the counts of size 1 after it, and
+	 * "twins N" */
+	char *en0 = strstr(text, "\nenumerated "), *tw0 = strstr(text, "\ntwins ");
+	cr_assert(en0 && tw0, "no enumeration counts or twins:\n%.600s", text);
+	char counts[96], counts_bad[96], twins[64];
+	const char *en1 = strchr(strchr(en0 + 1, '\n') + 1, '\n'); /* the end of the size-1 line */
+	snprintf(counts, sizeof counts, "%.*s", (int)(en1 - en0 + 1), en0);
+	snprintf(counts_bad, sizeof counts_bad, "%.*s1 1 1\n", (int)(strchr(en0 + 1, '\n') - en0 + 1), en0);
+	snprintf(twins, sizeof twins, "%.*s", (int)(strchr(tw0 + 1, '\n') - tw0 + 1), tw0);
 	const struct {
 		const char *from, *to, *says;
 	} damage[] = {
 		{input, bad_input, "input out of range"},
-		{state, "state 5 7 ", "phase 7 (0 to 3)"},
-		{state, "state -5 2 ", "-5 fits"},
+		{evolution, "\nstage sevens\n",
+		 "stage sevens: not one of this search's (seeds, enumeration, neighbours+children, done)"},
+		{evolution, "\nstage seeds\n", "before its stage"},
+		{"\ngenerator enumeration\n", "\ngenerator zebra\n",
+		 "generator zebra: not in this search's schedule (seeds, enumeration, neighbours, children)"},
+		{"\ngenerator seeds\n", "\ngenerator children\n", "generator children where this search's schedule has seeds"},
+		{"\ngenerator children\n", "\n", "no generator line for children"},
+		{"\ngenerator children\n", "\ngenerator children\ngenerator zebra\n", "generator zebra: not in this search's"},
+		{position, "\nposition x\n", "enumeration: no position line"},
+		{"\nenumerated ", "\nenumerated 99 ", "a size out of 0 to 64"},
+		{counts, counts_bad, "counts of size 1 unreadable or inconsistent"},
+		{twins, "\ntwins 999999\n", "of 999999 unreadable"},
+		{twins, "\ntwinz 1\n", "no twins line"},
+		{state, "\nstate -5\n", "-5 fits"},
 		{state, more, "fits for a budget of 24"},
 		{"\nbudget 24\n", "\nbudget 0\n", "for a budget of 0"},
 		{"\nc 1 0 ", "\nc 1 5 ", "island 5"},
@@ -629,14 +658,20 @@ Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
 		free(sealed);
 	}
 	/* the enumeration's position past its end: drawn again to there, and refused */
-	char *pos = strstr(text, state) + strlen(state), *tail = strchr(pos, '\n');
-	char *d = malloc(len + 32);
-	snprintf(d, len + 32, "%.*s999%s", (int)(pos - text), text, tail);
+	char *d = replaced(text, position, "\nposition 999\n");
 	size_t dl;
 	char *sealed = resealed(d, &dl);
 	cr_assert_eq(load_text(&o, sealed, dl, err, sizeof err, NULL), -1);
-	cr_assert(strstr(err, "enumeration position"), "%s", err);
+	cr_assert(strstr(err, "enumeration position 999 past its end"), "%s", err);
 	free(d), free(sealed);
+	/* the seeds' stage (the first) after fits, the enumeration not begun */
+	char *d1 = replaced(text, evolution, "\nstage seeds\n");
+	d = replaced(d1, position, "\nposition 0\n");
+	sealed = resealed(d, &dl);
+	cr_assert_eq(load_text(&o, sealed, dl, err, sizeof err, NULL), -1);
+	snprintf(more, sizeof more, "stage seeds (the first) after %ld fits", evals);
+	cr_assert(strstr(err, more), "%s", err);
+	free(d1), free(d), free(sealed);
 	/* migrants are candidates of the same format, checked alike */
 	size_t idx[64], nf = bk_search_front(S, idx, 64), ml = 0;
 	char *mig = NULL;

@@ -1,12 +1,12 @@
 /*
  * driver.c — the search's driver (fit/search.h): the options' defaults,
- * set-up, the step that wires the parts together (generate -> screen ->
+ * set-up, the step that wires the parts together (schedule -> screen ->
  * merge) and the one loop that drives it. The parts are in fit/search/
  * (search_int.h lists them).
  */
 #include "search/archive.h"
 #include "search/cand.h"
-#include "search/generate.h"
+#include "search/schedule.h"
 #include "search/screen.h"
 #include "search/state.h"
 #include "search/unique.h"
@@ -45,7 +45,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->islands = 1;
 }
 
-/* ---- a step: generate -> screen -> merge ---------------------------------- */
+/* ---- a step: schedule -> screen -> merge ---------------------------------- */
 
 /* The batch's fits join the archive in candidate order (the same order for
  * any thread count), numbered as this island's fits: one at a time, as the
@@ -78,9 +78,10 @@ static void made(void *crew, size_t n)
 
 int bk_search_step(bk_search *s, char *err, size_t errlen)
 {
-	if (s->phase == 3 || s->evals >= s->o.evals)
+	if (s->stage >= s->nstages || s->evals >= s->o.evals)
 		return 0;
-	size_t want = bk_gen_want(s), room = want ? want : 1;
+	s->begun = 1;
+	size_t want = bk_schedule_want(s), room = want ? want : 1;
 	bk_gen_batch b = {calloc(room, sizeof *b.c), calloc(room, sizeof *b.start), calloc(room, sizeof *b.inherit),
 	                  want, 0, NULL, NULL};
 	int rc = !b.c || !b.start || !b.inherit ? -1 : 0;
@@ -89,7 +90,7 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		bk_screen_begin(&crew, s, b.c, b.start, room);
 		b.made = made;
 		b.made_ctx = &crew;
-		rc = bk_gen_batch_make(s, &b);
+		rc = bk_schedule_make(s, &b);
 		merging m = {s, &b, 0};
 		bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m);
 		rc = rc ? rc : m.rc;
@@ -103,7 +104,7 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		snprintf(err, errlen, "out of memory after %ld fits", s->evals);
 		return -1;
 	}
-	return s->phase == 3 || s->evals >= s->o.evals ? 0 : 1;
+	return s->stage >= s->nstages || s->evals >= s->o.evals ? 0 : 1;
 }
 
 int bk_search_drive(bk_search *s, const bk_search_callbacks *cb, char *err, size_t errlen)
@@ -205,7 +206,8 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	if (s->o.scale && g.max_params > 0) /* the enumerated tree leaves room for its scale */
 		g.max_params--;
 	s->enum_g = g;
-	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)) || bk_unique_init(s))
+	if (!(s->gen = bk_expr_enum_new(&g, o->enum_size, BK_SEARCH_ENUM_TREES)) || bk_unique_init(s) ||
+	    bk_schedule_default(s))
 		goto oom;
 	s->fingerprint = bk_state_fingerprint(s, 1);
 	s->fingerprint_all = bk_state_fingerprint(s, 0);
@@ -234,6 +236,7 @@ void bk_search_free(bk_search *s)
 	free(s->seed_p);
 	bk_expr_enum_free(s->gen);
 	bk_unique_free(s);
+	bk_schedule_free(s);
 	free(s);
 }
 

@@ -1,6 +1,6 @@
 /*
- * generate.c — the batch of new candidates (generate.h): seeds, enumeration,
- * children by mutation and crossover, with inherited starts.
+ * generate.c — the built-in generators (generate.h): seeds, enumeration,
+ * neighbours, children by mutation and crossover, with inherited starts.
  */
 #include "search/generate.h"
 #include "search/cand.h"
@@ -16,11 +16,6 @@
 /* Children a generation tries to make before it gives up finding new ones:
  * late in a run most children are duplicates of what was fitted. */
 #define TRIES_PER_CHILD 30
-/* The share of a generation the neighbours may take (the rest are
- * children). Measured on the recovery suite's hard forms (seeds 1, 2): every
- * neighbour (no cap) 2 generations in 3 are neighbours alone; 0.5 and 0.75
- * recovered 23 and 22 of 42 runs, within the seeds' spread of each other. */
-#define NEIGHBOUR_SHARE 0.5
 
 /* ---- the seeds ------------------------------------------------------------ */
 
@@ -87,7 +82,6 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 		}
 		b->start[b->n - 1] = s->seed_p ? s->seed_p[k] : NULL;
 	}
-	s->phase = 1;
 	return 0;
 }
 
@@ -115,7 +109,8 @@ int bk_gen_enum_tree(bk_search *s, size_t idx, bk_expr *t)
 	return 1;
 }
 
-/* The next trees of the enumeration, this island's share. */
+/* The next trees of the enumeration, this island's share. 1 when it is
+ * over, 0 when it has more, -1 when out of memory. */
 static int gen_enum(bk_search *s, bk_gen_batch *b)
 {
 	/* at most enum_max fits (not a share of --evals: a resumed run with a
@@ -153,7 +148,8 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 	if (more < 0)
 		return -1;
 	/* the enumeration ends with the step that draws its last tree, as it
-	 * did when it was drawn whole up front (checkpoints say phase 2 there) */
+	 * did when it was drawn whole up front (checkpoints name the next stage
+	 * there) */
 	if (more > 0 && s->evals + (long)b->n < cap && (more = bk_gen_enum_tree(s, s->enum_pos / kinds, &tree)) < 0)
 		return -1;
 	else if (more > 0 && s->evals + (long)b->n < cap && bk_expr_size(&tree) - 1 > s->enum_complete)
@@ -161,9 +157,9 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 	if (more == 0 && !s->enum_cut && s->drawn < (size_t)BK_SEARCH_ENUM_DRAWN) /* drawn whole */
 		s->enum_complete = s->o.enum_size < s->enum_g.max_size ? s->o.enum_size : s->enum_g.max_size;
 	if (more == 0 || s->evals + (long)b->n >= cap) {
-		s->phase = 2;
 		bk_expr_enum_free(s->gen); /* its trees are no longer needed */
 		s->gen = NULL;
+		return 1;
 	}
 	return 0;
 }
@@ -427,19 +423,14 @@ static int gen_neighbours(bk_search *s, bk_gen_batch *b, size_t cap)
 	return 0;
 }
 
-/* A generation: first (not for pairs) the neighbours of the archive's
- * leaders, then children (those with inherited constants start from them). */
+/* Children filling the batch (after the neighbours: the schedule's
+ * evolution stage), those with inherited constants starting from them. 1
+ * when the batch is empty (nothing new can be made: the evolution is over),
+ * 0 when not, -1 when out of memory. */
 static int gen_children(bk_search *s, bk_gen_batch *b)
 {
-	if (s->nlv == 0) {
-		s->phase = 3;
-		return 0;
-	}
-	/* at most NEIGHBOUR_SHARE of a generation: the rest are children, which
-	 * make the structures no neighbour is one step from */
-	size_t cap = (size_t)(b->want * NEIGHBOUR_SHARE);
-	if (s->o.shape != BK_SHAPE_PAIR && gen_neighbours(s, b, cap < 1 ? 1 : cap) < 0)
-		return -1;
+	if (s->nlv == 0)
+		return 1;
 	for (size_t tries = 0; b->n < b->want && tries < b->want * TRIES_PER_CHILD; tries++) {
 		bk_expr t[2];
 		if (bk_gen_child(s, t))
@@ -453,31 +444,90 @@ static int gen_children(bk_search *s, bk_gen_batch *b)
 		if (r && b->made)
 			b->made(b->made_ctx, b->n);
 	}
-	if (b->n == 0)
-		s->phase = 3;
-	return 0;
+	return b->n == 0;
 }
 
-/* ---- the batch ------------------------------------------------------------ */
+/* ---- the generators ------------------------------------------------------ */
 
-size_t bk_gen_want(const bk_search *s)
+/* The built-ins as bk_search_generator (generate.h): their state is the
+ * search's own, their bodies above. */
+
+static int seeds_make(void *st, bk_search *s, bk_search_sink *k)
 {
-	/* whole generations, whatever the budget: a run stopped at a budget and
-	 * resumed with a larger one must make the same batches as a run that
-	 * never stopped (so a run may end up to generation - 1 fits past it) */
-	size_t want = (size_t)s->o.generation;
-	if (s->phase == 0 && want < (size_t)s->o.nseeds)
-		want = (size_t)s->o.nseeds;
-	return want;
+	(void)st;
+	return gen_seeds(s, k->b) < 0 ? -1 : 1;
 }
 
-int bk_gen_batch_make(bk_search *s, bk_gen_batch *b)
+static int enum_make(void *st, bk_search *s, bk_search_sink *k)
 {
-	b->n = 0;
-	switch (s->phase) {
-	case 0: return gen_seeds(s, b);
-	case 1: return gen_enum(s, b);
-	case 2: return gen_children(s, b);
-	default: return 0;
+	(void)st;
+	return gen_enum(s, k->b);
+}
+
+/* not for pairs, as the search has always had it (the neighbour lists are
+ * of a candidate's first tree alone) */
+static int neighbours_make(void *st, bk_search *s, bk_search_sink *k)
+{
+	(void)st;
+	if (s->o.shape == BK_SHAPE_PAIR)
+		return 1;
+	return gen_neighbours(s, k->b, k->b->want) < 0 ? -1 : 1;
+}
+
+static int children_make(void *st, bk_search *s, bk_search_sink *k)
+{
+	(void)st;
+	return gen_children(s, k->b);
+}
+
+/* The enumeration's state: the trees taken (x3 for a pair: as A, as B, as a
+ * shared feature), on a line "position N"; then its counts, the size it has
+ * completed and the twins' fingerprints (unique.h). */
+static int enum_save(const void *st, const bk_search *s, FILE *f)
+{
+	(void)st;
+	if (fprintf(f, "position %zu\n", s->enum_pos) < 0)
+		return -1;
+	bk_unique_save(s, f);
+	return ferror(f) ? -1 : 0;
+}
+
+/* The position checked against what the enumeration holds: none taken
+ * before its stage, no more than the most trees it draws, on a tree it has
+ * (drawn again up to there); once over its trees are not needed. */
+static int enum_load(void *st, bk_search *s, int when, FILE *f, char *err, size_t errlen)
+{
+	(void)st;
+	if (fscanf(f, " position %zu", &s->enum_pos) != 1) {
+		snprintf(err, errlen, "enumeration: no position line");
+		return -1;
 	}
+	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
+	if (when < 0 && s->enum_pos) {
+		snprintf(err, errlen, "enumeration position %zu before its stage", s->enum_pos);
+		return -1;
+	}
+	if (s->enum_pos > kinds * (size_t)BK_SEARCH_ENUM_DRAWN) {
+		snprintf(err, errlen, "enumeration position %zu past the most trees it draws", s->enum_pos);
+		return -1;
+	}
+	bk_expr t;
+	int have = s->enum_pos == 0 ? 1 : bk_gen_enum_tree(s, (s->enum_pos - 1) / kinds, &t);
+	if (have <= 0) {
+		if (have < 0)
+			snprintf(err, errlen, "out of memory drawing the enumeration to its position");
+		else
+			snprintf(err, errlen, "enumeration position %zu past its end (%zu trees)", s->enum_pos, s->drawn);
+		return -1;
+	}
+	if (when > 0) { /* the enumeration is over: its trees are not needed */
+		bk_expr_enum_free(s->gen);
+		s->gen = NULL;
+	}
+	return bk_unique_load(s, f, err, errlen);
 }
+
+const bk_search_generator bk_gen_seeds = {"seeds", 0, seeds_make, NULL, NULL, NULL, NULL};
+const bk_search_generator bk_gen_enumeration = {"enumeration", 0, enum_make, enum_save, enum_load, NULL, NULL};
+const bk_search_generator bk_gen_neighbours = {"neighbours", 0, neighbours_make, NULL, NULL, NULL, NULL};
+const bk_search_generator bk_gen_children = {"children", 0, children_make, NULL, NULL, NULL, NULL};

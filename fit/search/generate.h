@@ -1,10 +1,11 @@
 /*
- * generate.h — generation (internal to the search): the batch of new
- * candidates a step fits. Phase by phase: the seeds in the order given;
- * every canonical tree up to enum_size nodes, drawn bottom-up as the fits
- * need them (a pair's tree as A, as B and as a shared feature); then the
- * neighbours of the archive's leaders (up to half a generation) and
- * children of archive members by mutation (70 %) or crossover, a parent
+ * generate.h — generation (internal to the search): the built-in
+ * generators the default schedule runs (schedule.h), each a
+ * bk_search_generator (fit/search.h): `seeds`, the seeds in the order
+ * given; `enumeration`, every canonical tree up to enum_size nodes, drawn
+ * bottom-up as the fits need them (a pair's tree as A, as B and as a shared
+ * feature); `neighbours`, those of the archive's leaders (not for pairs);
+ * `children` of archive members by mutation (70 %) or crossover, a parent
  * being a cost level drawn uniformly and a member biased to its best.
  * A candidate is new when its canonical text's key is not in the cache
  * (s->seen): a form seen before is never fitted twice.
@@ -20,7 +21,7 @@ typedef struct bk_gen_batch {
 	bk_cand *c;
 	const double **start;
 	double (*inherit)[BK_MAX_PARAMS];
-	size_t want; /* room for this many */
+	size_t want; /* room for this many (while a generator makes: its share, schedule.c) */
 	size_t n;    /* made */
 	/* called (when set) with n each time a child or neighbour is whole: the
 	 * screening may start on it while the rest is made (screen.h) */
@@ -28,15 +29,20 @@ typedef struct bk_gen_batch {
 	void *made_ctx;
 } bk_gen_batch;
 
-/* How many candidates the next step makes at most (a generation; every seed
- * in the first step, however small the generation). */
-size_t bk_gen_want(const bk_search *s);
+/* What a generator's make is handed (bk_search_sink in fit/search.h): the
+ * search and its batch, b->want being the generator's share of it while it
+ * runs (schedule.c). */
+struct bk_search_sink {
+	bk_search *s;
+	bk_gen_batch *b;
+};
 
-/* Makes the next batch into b (b->n of them, each new to the cache and
- * within the limits), moving s->phase on as the seeds, the enumeration and
- * the evolution are used up (3: nothing new can be made). 0, or -1 when out
- * of memory (b->n: those made, to be freed). */
-int bk_gen_batch_make(bk_search *s, bk_gen_batch *b);
+/* The built-in generators; their state is the search's own (state NULL).
+ * seeds is over after its one batch (its room: set to the seeds' count by
+ * the schedule), enumeration when its trees or enum_max fits are used up,
+ * neighbours never holds its stage open (and makes none for pairs),
+ * children is over when the batch comes out empty. */
+extern const bk_search_generator bk_gen_seeds, bk_gen_enumeration, bk_gen_neighbours, bk_gen_children;
 
 /* Tree idx of the enumeration (idx never below the last one drawn: the
  * enumeration is read in order). 1 with it in *t, 0 when it has fewer trees

@@ -4,9 +4,12 @@
  * it, anywhere else). The public face is fit/search.h.
  *
  * The parts, each with its header, and the one way their calls run:
- *   driver.c    new, free, step (generate -> screen -> merge, overlapped:
+ *   driver.c    new, free, step (schedule -> screen -> merge, overlapped:
  *               screen.h), run
- *   generate.c  the batch of new candidates: seeds, enumeration, children
+ *   schedule.c  the schedule: its stages, the batch a stage's generators
+ *               make, their checkpoint lines; offering a candidate
+ *   generate.c  the built-in generators: seeds, enumeration, neighbours,
+ *               children
  *   screen.c    fitting and scoring a batch on threads
  *   archive.c   the MAP-Elites levels, the merge, the front
  *   state.c     checkpoints and migrants (save, load, export, import)
@@ -39,6 +42,15 @@ typedef struct bk_unique_probes {
 	size_t cap, n;
 } bk_unique_probes;
 
+/* One generator of the schedule: its table (the name copied), the share
+ * of the batch it fills up to, its stage. */
+typedef struct bk_sched_gen {
+	bk_search_generator g;
+	char name[32];
+	double share;
+	int stage;
+} bk_sched_gen;
+
 struct bk_search {
 	bk_search_options o;
 	char **seed_text, **seed_text_b, **seed_name; /* copies */
@@ -53,8 +65,11 @@ struct bk_search {
 	int nlv;
 	bk_rng rng;
 	long evals;
-	int phase;       /* 0 seeds, 1 enumeration, 2 evolution, 3 done */
-	size_t enum_pos;
+	bk_sched_gen *sched; /* the schedule (schedule.h): generators stage by stage, in order */
+	int nsched, nstages;
+	int stage;       /* the current stage (nstages: the search is over) */
+	int begun;       /* stepped or loaded: the schedule is fixed */
+	size_t enum_pos; /* the enumeration's state (generate.c): trees taken, x3 for a pair */
 	bk_grammar tree_g; /* the grammar of one tree: a pair's halves get half the parameters */
 	bk_grammar feat_g; /* the grammar of a pair's shared feature */
 	bk_grammar enum_g; /* the grammar of an enumerated tree (room for its scale) */

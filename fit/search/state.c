@@ -5,8 +5,7 @@
 #include "search/state.h"
 #include "search/archive.h"
 #include "search/cand.h"
-#include "search/generate.h"
-#include "search/unique.h"
+#include "search/schedule.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -258,16 +257,17 @@ int bk_search_save(const bk_search *s, FILE *f)
 	fprintf(m, "%s\nfingerprint %016llx\nrng %016llx %016llx %016llx %016llx\n", CHECKPOINT_MAGIC,
 	        (unsigned long long)s->fingerprint, (unsigned long long)s->rng.s[0], (unsigned long long)s->rng.s[1],
 	        (unsigned long long)s->rng.s[2], (unsigned long long)s->rng.s[3]);
-	fprintf(m, "state %ld %d %zu\nbudget %ld\nseen %zu\n", s->evals, s->phase, s->enum_pos, s->o.evals, s->seen.n);
+	fprintf(m, "state %ld\nbudget %ld\n", s->evals, s->o.evals);
+	int bad = bk_schedule_save(s, m); /* the stage, each generator and its state (schedule.h) */
+	fprintf(m, "seen %zu\n", s->seen.n);
 	for (size_t i = 0; i < s->seen.cap; i++)
 		if (s->seen.h[i])
 			fprintf(m, "%016llx\n", (unsigned long long)s->seen.h[i]);
-	bk_unique_save(s, m);
 	fprintf(m, "candidates %zu\n", s->n);
 	for (size_t i = 0; i < s->n; i++)
 		put_cand(s, m, &s->cand[i]);
 	fputs("end\n", m);
-	int bad = ferror(m);
+	bad |= ferror(m);
 	if (fclose(m) || bad) {
 		free(body);
 		return -1;
@@ -344,34 +344,21 @@ static int check_found(const bk_search *s, reader *r)
 	return rc;
 }
 
-/* The state line against the options: a phase, fits within the budget the
- * checkpoint's run had (it ends after the generation that reaches it), the
- * enumeration's position on a tree it has (the enumeration drawn again up
- * to there), a generator that is not stuck at zero. */
+/* The state against the options: fits within the budget the checkpoint's
+ * run had (it ends after the generation that reaches it), nothing fitted
+ * while the first stage is the seeds (they are its one batch), a random
+ * generator that is not stuck at zero. The stage's name and each
+ * generator's state (the enumeration's position on a tree it has) were
+ * checked as they were read (bk_schedule_load). */
 static int check_state(bk_search *s, long budget, reader *r)
 {
-	long step = s->o.generation > s->o.nseeds ? s->o.generation : s->o.nseeds; /* the most fits of one step */
-	if (s->phase < 0 || s->phase > 3)
-		return fail(r, "phase %d (0 to 3)", s->phase);
+	long step = (long)bk_schedule_most(s); /* the most fits of one step */
 	if (budget < 1 || s->evals < 0 || s->evals > budget + step - 1)
 		return fail(r, "%ld fits for a budget of %ld (one step is at most %ld)", s->evals, budget, step);
-	if (s->phase == 0 && (s->evals || s->n || s->enum_pos))
-		return fail(r, "phase 0 (the seeds) after %ld fits", s->evals);
+	if (s->stage == 0 && s->nsched > 0 && !strcmp(s->sched[0].name, "seeds") && (s->evals || s->n))
+		return fail(r, "stage seeds (the first) after %ld fits", s->evals);
 	if (!(s->rng.s[0] | s->rng.s[1] | s->rng.s[2] | s->rng.s[3]))
 		return fail(r, "a generator state of zeros");
-	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1;
-	if (s->enum_pos > kinds * (size_t)BK_SEARCH_ENUM_DRAWN)
-		return fail(r, "enumeration position %zu past the most trees it draws", s->enum_pos);
-	bk_expr t;
-	int have = s->enum_pos == 0 ? 1 : bk_gen_enum_tree(s, (s->enum_pos - 1) / kinds, &t);
-	if (have < 0)
-		return fail(r, "out of memory drawing the enumeration to its position");
-	if (!have)
-		return fail(r, "enumeration position %zu past its end (%zu trees)", s->enum_pos, s->drawn);
-	if (s->phase >= 2) { /* the enumeration is over: its trees are not needed */
-		bk_expr_enum_free(s->gen);
-		s->gen = NULL;
-	}
 	return 0;
 }
 
@@ -393,8 +380,13 @@ static int load_body(bk_search *s, reader *r, long *budget)
 		return fail(r, "no generator line");
 	for (int k = 0; k < 4; k++)
 		s->rng.s[k] = g[k];
-	if (fscanf(f, " state %ld %d %zu budget %ld seen %zu", &s->evals, &s->phase, &s->enum_pos, budget, &nseen) != 5)
-		return fail(r, "no state, budget or cache line");
+	if (fscanf(f, " state %ld budget %ld", &s->evals, budget) != 2)
+		return fail(r, "no state or budget line");
+	char why[1200];
+	if (bk_schedule_load(s, f, why, sizeof why))
+		return fail(r, "%s", why);
+	if (fscanf(f, " seen %zu", &nseen) != 1)
+		return fail(r, "no cache line");
 	for (size_t i = 0; i < nseen; i++) {
 		unsigned long long h;
 		int fresh = fscanf(f, " %16llx", &h) != 1 || h == 0 ? -2 : bk_hashset_add(&s->seen, h);
@@ -402,9 +394,6 @@ static int load_body(bk_search *s, reader *r, long *budget)
 			return fail(r, fresh == -1 ? "out of memory" : "cache entry %zu of %zu unreadable or repeated", i + 1,
 			            nseen);
 	}
-	char why[200];
-	if (bk_unique_load(s, f, why, sizeof why))
-		return fail(r, "%s", why);
 	if (fscanf(f, " candidates %zu", &ncand) != 1)
 		return fail(r, "no candidates line after the %zu cache entries", nseen);
 	for (size_t i = 0; i < ncand; i++) {
@@ -429,6 +418,7 @@ int bk_search_load(bk_search *s, FILE *f, char *err, size_t errlen)
 		fail(&r, "a checkpoint is loaded into a new search only");
 		return -1;
 	}
+	s->begun = 1; /* its schedule is the checkpoint's from here on */
 	size_t len;
 	char *text = slurp(f, &len);
 	if (!text) {
