@@ -146,6 +146,10 @@ typedef struct bk_cand {
 	double rmse, max_abs, albedo_max_abs; /* on the screening samples, in the search precision */
 	long found_at;            /* 1-based number of the fit, on its island */
 	int island;               /* the island that fitted it (0 without islands) */
+	int starts_run, start_won; /* the screening starts its fit ran and the one whose
+	                             constants it kept (0: the first; a seed's
+	                             published start is 0 too); a measurement, not
+	                             kept in checkpoints (0 there) */
 } bk_cand;
 
 typedef struct bk_search bk_search;

@@ -127,6 +127,21 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 	       "fingerprinted candidate, %.1f %% of the CPU time)\n",
 	       cpu > 0 ? (double)cum / cpu : 0.0, wall > 0 ? (double)cum / wall : 0.0, c.dedup_seconds,
 	       all_drawn > 0 ? 1e6 * c.dedup_seconds / (double)all_drawn : 0.0, cpu > 0 ? 100 * c.dedup_seconds / cpu : 0.0);
+	/* how often a start after the first changed the answer (screen.c: the
+	 * next start runs only where the one before did not converge, or
+	 * converged no better than a constant) */
+	long ok = 0, more = 0, won = 0;
+	for (size_t i = 0; i < bk_search_count(S); i++) {
+		const bk_cand *q = bk_search_at(S, i);
+		if (q->status != BK_CAND_OK)
+			continue;
+		ok++;
+		more += q->starts_run > 1;
+		won += q->start_won > 0;
+	}
+	printf("  starts: of %ld forms fitted within the limits, %ld ran a second start (%.1f %%) and %ld kept a later "
+	       "start's constants (%.1f %%)\n", ok, more, ok ? 100.0 * (double)more / (double)ok : 0.0, won,
+	       ok ? 100.0 * (double)won / (double)ok : 0.0);
 	if (n >= 3 && c.fitted[n - 1] > 0) {
 		/* the next sizes grow as the last did: fitted(k+1) = fitted(k) * g */
 		double growth = (double)c.fitted[n] / (double)c.fitted[n - 1], per = cpu / (double)cum;

@@ -47,11 +47,16 @@ int bk_cand_cost(const bk_search *s, const char *a, const char *b, bk_ops *ops, 
 	free(buf);
 	if (!f)
 		return -1;
+	bk_cand_cost_of(s, f, ops, cost, np);
+	bk_form_free(f);
+	return 0;
+}
+
+void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *cost, int *np)
+{
 	bk_form_count(f, ops);
 	*cost = bk_ops_cost(ops, s->o.simple_cost, s->o.complex_cost);
 	*np = bk_form_nparams(f);
-	bk_form_free(f);
-	return 0;
 }
 
 /* The hash of "a;b", in pieces (no buffer to outgrow). */

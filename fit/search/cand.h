@@ -19,6 +19,9 @@ int bk_cand_text(const bk_search *s, const bk_expr *t, char *a, char *b, size_t 
  * and the parameters it reads. 0, or -1 when the text is not a form. */
 int bk_cand_cost(const bk_search *s, const char *a, const char *b, bk_ops *ops, double *cost, int *np);
 
+/* The same of a form already parsed (one tree's text: not a pair's). */
+void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *cost, int *np);
+
 /* The cache's key of a candidate of texts a and b (NULL: none). */
 uint64_t bk_cand_key(const char *a, const char *b);
 

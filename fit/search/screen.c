@@ -92,6 +92,7 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	const bk_samples *sm = s->o.screen;
 	c->status = BK_CAND_FAILED;
 	c->err = c->rmse = c->max_abs = c->albedo_max_abs = HUGE_VAL;
+	c->starts_run = c->start_won = 0;
 	bk_form_error fe;
 	bk_form *f[2] = {bk_form_parse(c->text, &fe), c->text_b ? bk_form_parse(c->text_b, &fe) : NULL};
 	double *v = malloc(sizeof(double) * sm->n);
@@ -156,8 +157,10 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		} else {
 			sum.final_cost = 0;
 		}
+		c->starts_run = k + 1;
 		/* costs within the tie tolerance: the earlier start wins (fit.h) */
 		if (sum.final_cost < best_cost * (1 - BK_FIT_COST_TIE)) {
+			c->start_won = k;
 			best_cost = sum.final_cost;
 			best_term = sum.termination;
 			memcpy(best, p, sizeof best);

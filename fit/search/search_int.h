@@ -84,6 +84,7 @@ struct bk_search {
 	long enum_drawn[BK_EXPR_MAX + 1], enum_twins[BK_EXPR_MAX + 1], enum_fitted[BK_EXPR_MAX + 1];
 	int enum_complete;
 	double dedup_seconds; /* CPU time of the fingerprints (not in checkpoints: a measurement) */
+	long dedup_calls;
 	int enum_cut; /* the enumerator ended at its most trees kept (expr.h) */
 	/* a white-box tests' hook: a tree of the enumeration for which it returns
 	 * non-zero is left out, as if the grammar did not have it (the

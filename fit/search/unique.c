@@ -51,6 +51,14 @@ void bk_unique_free(bk_search *s)
 	s->uq.cap = s->uq.n = 0;
 }
 
+/* One value into the fingerprint: a multiply-xorshift mix (FNV-1a byte by
+ * byte was 9 % of an enumeration's CPU time, for 192 values a candidate). */
+static uint64_t mix(uint64_t h, uint64_t q)
+{
+	h = (h ^ q) * 0x9e3779b97f4a7c15ull;
+	return h ^ (h >> 29);
+}
+
 /* Value v as the fingerprint hashes it: its class, or its value rounded to
  * 32 significant bits. */
 static uint64_t quantum(double v)
@@ -67,38 +75,45 @@ static uint64_t quantum(double v)
 	return ((uint64_t)q << 12) ^ (uint64_t)(e + 2048) ^ 0x5bd1e995u;
 }
 
-static uint64_t hash_form(const bk_search *s, const char *text, uint64_t h)
+static uint64_t hash_parsed(const bk_search *s, const bk_form *f, uint64_t h)
 {
 	const bk_unique_probes *u = &s->uq;
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(text, &fe);
-	if (!f)
-		return 0;
-	int np = bk_form_nparams(f);
-	h = bk_hash_bytes(h, &np, sizeof np);
+	h = mix(h, (uint64_t)bk_form_nparams(f));
 	const double *in[BK_IN_COUNT];
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		in[k] = u->in[k];
 	double v[UNIQUE_PROBES];
 	for (int t = 0; t < 3; t++) {
-		if (bk_form_eval(f, BK_F64, u->m, in, u->theta[t], v)) {
-			bk_form_free(f);
+		if (bk_form_eval(f, BK_F64, u->m, in, u->theta[t], v))
 			return 0;
-		}
-		for (size_t i = 0; i < u->m; i++) {
-			uint64_t q = quantum(v[i]);
-			h = bk_hash_bytes(h, &q, sizeof q);
-		}
+		for (size_t i = 0; i < u->m; i++)
+			h = mix(h, quantum(v[i]));
 	}
+	return h;
+}
+
+static uint64_t hash_form(const bk_search *s, const char *text, uint64_t h)
+{
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(text, &fe);
+	if (!f)
+		return 0;
+	h = hash_parsed(s, f, h);
 	bk_form_free(f);
 	return h;
+}
+
+uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *f)
+{
+	uint64_t h = hash_parsed(s, f, BK_HASH_INIT);
+	return h ? h : 0;
 }
 
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b)
 {
 	uint64_t h = hash_form(s, a, BK_HASH_INIT);
 	if (h && b && *b)
-		h = hash_form(s, b, bk_hash_bytes(h, ";", 1));
+		h = hash_form(s, b, mix(h, ';'));
 	return h ? h : 0;
 }
 
