@@ -290,16 +290,18 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 SEARCH_EVALS = 100000
 SEARCH_EVALS_VF = 60000
 SEARCH_EVALS_F = 40000
-# the certified searches (issue 38): every unique form up to N nodes fitted first (the
-# front.csv's '# certificate:' line), then evolution with the budget above. The
-# enumeration's fits, from build/bench_enum: vf2d to 7 nodes 441,832; f to 8
-# 1,550,642; env pairs to 7 1,339,601
-ENUM_VF2D = --enum-size 7 --enum-max 1000000
-ENUM_F = --enum-size 8 --enum-max 2000000
-ENUM_ENV = --enum-size 7 --enum-max 2000000
-SEARCH_EVALS_VF2D_CERT = $(shell expr 441832 + $(SEARCH_EVALS))
-SEARCH_EVALS_F_CERT = $(shell expr 1550642 + $(SEARCH_EVALS_F))
-SEARCH_EVALS_ENV_CERT = $(shell expr 1339601 + $(SEARCH_EVALS))
+# the certified fronts (issue 38): a target's evolution runs first with the budget
+# above (build/evolved/T, as the search ran before the certificate), then the
+# certified search, seeded with that front (--start-front), fits every unique form
+# up to N nodes (front.csv's '# certificate:' line): the front holds what either
+# found. A search alone moves its front both ways with any change to its path (the
+# evolution from the enumeration's archive lost f's cost-5 to cost-16 members, up to
+# x10, and vf2d's 0.00496 at cost 8). The enumeration's fits, from build/bench_enum:
+# vf2d to 7 nodes 441,832; f to 8 1,550,642; env pairs to 7 1,339,601 (the budget
+# leaves a little room for the seeds: the run ends with its enumeration)
+ENUM_VF2D = --enum-size 7 --enum-max 1000000 --evals 443000
+ENUM_F = --enum-size 8 --enum-max 2000000 --evals 1552000
+ENUM_ENV = --enum-size 7 --enum-max 2000000 --evals 1341000
 # env as one form in f0 (Pesce-Iwanicki's kind): at 100,000 its generated forms stop at
 # 0.0324 rmse (cost 13); at 300,000 they beat every published form at cost <= 15 (2 minutes)
 SEARCH_EVALS_ENV_F0 = 300000
@@ -341,7 +343,7 @@ results: deps
 	  [ ! -d "$$d" ] || [ -e "$$d/.brdfkit-output" ] || rm -rf "$$d"; done
 	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
 	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
-	@mkdir -p results/fits results/compare results/search results/gpucost
+	@mkdir -p results/fits results/compare results/search results/gpucost build/evolved
 	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -Oline results-runs
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them, with seeds.csv,
@@ -427,13 +429,15 @@ results-stability:
 # the search for closed forms: fixed budgets and seeds, so the fronts are
 # reproducible; each front is refitted in full and compared with the catalog
 results-search-vf2d:
-	$(TOOL) search --target vf2d --objective max $(ENUM_VF2D) --evals $(SEARCH_EVALS_VF2D_CERT) --gpu $(GPU_CHIPS) \
-	  --out results/search/vf2d --link-prefix search/vf2d/
+	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --quiet --out build/evolved/vf2d >/dev/null
+	$(TOOL) search --target vf2d --objective max $(ENUM_VF2D) --start-front build/evolved/vf2d/front.csv \
+	  --gpu $(GPU_CHIPS) --out results/search/vf2d --link-prefix search/vf2d/
 results-search-vf:
 	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
 results-search-env:
-	$(TOOL) search --target env $(ENUM_ENV) --evals $(SEARCH_EVALS_ENV_CERT) --gpu $(GPU_CHIPS) --out results/search/env \
-	  --link-prefix search/env/
+	$(TOOL) search --target env --evals $(SEARCH_EVALS) --quiet --out build/evolved/env >/dev/null
+	$(TOOL) search --target env $(ENUM_ENV) --start-front build/evolved/env/front.csv --gpu $(GPU_CHIPS) \
+	  --out results/search/env --link-prefix search/env/
 results-search-env_f0:
 	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_ENV_F0) --gpu $(GPU_CHIPS) --out results/search/env_f0 \
 	  --link-prefix search/env_f0/
@@ -441,10 +445,13 @@ results-search-env_mix:
 	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_ENV_MIX) --gpu $(GPU_CHIPS) \
 	  --out results/search/env_mix --link-prefix search/env_mix/
 results-search-f_glass:
-	$(TOOL) search --target f $(ENUM_F) --evals $(SEARCH_EVALS_F_CERT) --gpu $(GPU_CHIPS) --out results/search/f_glass \
-	  --link-prefix search/f_glass/
+	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --quiet --out build/evolved/f_glass >/dev/null
+	$(TOOL) search --target f $(ENUM_F) --start-front build/evolved/f_glass/front.csv --gpu $(GPU_CHIPS) \
+	  --out results/search/f_glass --link-prefix search/f_glass/
 results-search-f_gold:
-	$(TOOL) search --target f --ior 0.27 --k 2.78 $(ENUM_F) --evals $(SEARCH_EVALS_F_CERT) --gpu $(GPU_CHIPS) --out results/search/f_gold \
+	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --quiet --out build/evolved/f_gold >/dev/null
+	$(TOOL) search --target f --ior 0.27 --k 2.78 $(ENUM_F) --start-front build/evolved/f_gold/front.csv --gpu $(GPU_CHIPS) \
+	  --out results/search/f_gold \
 	  --link-prefix search/f_gold/
 # the same searches with error in half precision (members safe in half only),
 # seeded with the double front and set beside it (vs_double.csv); each after its

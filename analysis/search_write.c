@@ -33,23 +33,7 @@ static void header(FILE *f, const bk_swrite *W, const char *what)
 
 void bk_swrite_cert_text(const bk_swrite *W, char *buf, size_t len)
 {
-	const bk_search_cert *c = W->cert;
-	char g[1024];
-	if (bk_grammar_describe(&W->F->so->grammar, g, sizeof g) < 0)
-		snprintf(g, sizeof g, "(too long to state)");
-	long drawn = 0, twins = 0, fitted = 0;
-	for (int k = 1; k <= c->complete_size; k++)
-		drawn += c->drawn[k], twins += c->twins[k], fitted += c->fitted[k];
-	char cost[64] = "";
-	if (isfinite(c->max_cost))
-		snprintf(cost, sizeof cost, " and cost <= %g", c->max_cost);
-	if (c->complete_size < 1)
-		snprintf(buf, len, "none: the enumeration completed no size (grammar: %s)", g);
-	else
-		snprintf(buf, len, "every unique form of the grammar up to %d nodes%s was fitted, with up to %d screening "
-		         "start%s each (%ld enumerated, %ld fitted, %ld left out as twins: the same values at three parameter "
-		         "vectors); grammar: %s", c->complete_size, cost, c->starts, c->starts == 1 ? "" : "s", drawn, fitted,
-		         twins, g);
+	bk_search_cert_text(W->cert, &W->F->so->grammar, buf, len);
 }
 
 static void params_field(FILE *f, const double *p, int np)

@@ -154,7 +154,12 @@ typedef struct bk_cand {
 
 typedef struct bk_search bk_search;
 
-/* Checks the options and fits nothing yet. NULL with a message on a bad option. */
+/* 1 if the options are usable; otherwise 0 and a one-line reason in why
+ * naming the option at fault ("starts: must be in 1..4, got 7"). */
+int bk_search_options_valid(const bk_search_options *o, char *why, size_t len);
+
+/* Checks the options (bk_search_options_valid: the message names the option)
+ * and fits nothing yet. NULL with a message on a bad option. */
 bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen);
 void bk_search_free(bk_search *s);
 
@@ -273,6 +278,18 @@ typedef struct bk_search_cert {
 	double dedup_seconds; /* CPU time the fingerprints took in this process (a measurement: varies) */
 } bk_search_cert;
 void bk_search_certificate(const bk_search *s, bk_search_cert *c);
+
+/* The certificate in words, one line (front.csv's '# certificate:' line,
+ * section.html, the report): "every unique form of the grammar up to N
+ * nodes [and cost <= K] was fitted, with up to S screening starts each (...);
+ * grammar: ..." or "none: ...". g: the search's grammar. The length, or -1
+ * when len was too small (cut). */
+int bk_search_cert_text(const bk_search_cert *c, const bk_grammar *g, char *buf, size_t len);
+
+/* The run in one paragraph, for a log or a notebook: fits, unique forms and
+ * twins, how far it is complete and what that means, the screening front's
+ * ends. The length, or -1 when len was too small (cut). */
+int bk_search_brief(const bk_search *s, char *buf, size_t len);
 
 /* The distinct candidates fitted so far, in the order they were found. */
 size_t bk_search_count(const bk_search *s);

@@ -9,6 +9,7 @@
 #include "search.h"
 
 #include <criterion/criterion.h>
+#include <stdlib.h>
 #include <string.h>
 
 typedef struct log {
@@ -129,4 +130,63 @@ Test(search_driver, run_is_the_same_loop)
 	cr_assert_geq(bk_search_evals(s), 400);
 	bk_search_free(s);
 	bk_samples_free(&sm);
+}
+
+/* Options are checked one by one, the option at fault named (as the
+ * fitter's bk_fit_options_valid does); the defaults pass (the control). */
+Test(search_driver, a_bad_option_is_named)
+{
+	bk_samples s;
+	fx_planted("0.5*LoH", 0.3162, 0, 8, &s);
+	bk_search_options good;
+	fx_plain_options(&good, &s, 1u << BK_IN_LOH, 2, 8);
+	char why[256];
+	cr_assert_eq(bk_search_options_valid(&good, why, sizeof why), 1, "%s", why);
+	static const char *const says[] = {"starts:", "threads:", "enum_size:", "grammar.max_params:", "max_cost:",
+	                                   "island, islands:", "evals:", "screen:", "generation:", "grammar.consts[0]:"};
+	for (size_t k = 0; k < sizeof says / sizeof says[0]; k++) {
+		bk_search_options o = good;
+		switch (k) {
+		case 0: o.starts = 7; break;
+		case 1: o.threads = 0; break;
+		case 2: o.enum_size = -1; break;
+		case 3: o.grammar.max_params = BK_MAX_PARAMS + 1; break;
+		case 4: o.max_cost = 0; break;
+		case 5: o.island = 2, o.islands = 2; break;
+		case 6: o.evals = 0; break;
+		case 7: o.screen = NULL; break;
+		case 8: o.generation = 0; break;
+		default: o.grammar.nconsts = 1, o.grammar.consts[0] = strtod("nan", NULL); break;
+		}
+		cr_assert_eq(bk_search_options_valid(&o, why, sizeof why), 0, "case %zu passed", k);
+		cr_assert(!strncmp(why, says[k], strlen(says[k])), "case %zu: %s", k, why);
+		char err[300];
+		cr_assert_null(bk_search_new(&o, err, sizeof err));
+		cr_assert(strstr(err, says[k]), "bk_search_new: %s", err);
+	}
+	bk_samples_free(&s);
+}
+
+/* The brief names what a reader needs: fits, unique forms, how far complete. */
+Test(search_driver, the_brief_says_how_far_it_is_complete)
+{
+	bk_samples s;
+	fx_planted("0.5*LoH + 0.25", 0.3162, 0, 8, &s);
+	bk_search_options o;
+	fx_plain_options(&o, &s, 1u << BK_IN_LOH, 2, 8);
+	o.grammar.consts[0] = 1;
+	o.grammar.nconsts = 1;
+	o.enum_size = 3;
+	o.enum_max = 100000;
+	o.evals = 600;
+	char err[256], brief[1024];
+	bk_search *S = bk_search_new(&o, err, sizeof err);
+	cr_assert(S, "%s", err);
+	cr_assert_geq(bk_search_run(S, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_assert_gt(bk_search_brief(S, brief, sizeof brief), 0);
+	cr_assert(strstr(brief, "complete to 3 nodes"), "%s", brief);
+	cr_assert(strstr(brief, " fits, "), "%s", brief);
+	cr_assert_eq(bk_search_brief(S, brief, 16), -1, "a short buffer is said to be cut");
+	bk_search_free(S);
+	bk_samples_free(&s);
 }

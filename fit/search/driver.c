@@ -161,14 +161,69 @@ static char *one_line(const char *t)
 	return c;
 }
 
+/* "name: must be ..., got ..." into why, and 0 */
+#define BAD(...) (snprintf(why, len, __VA_ARGS__), 0)
+
+int bk_search_options_valid(const bk_search_options *o, char *why, size_t len)
+{
+	if (!o)
+		return BAD("options are NULL");
+	if (!o->screen || o->screen->n == 0)
+		return BAD("screen: no screening samples (bk_target_build)");
+	if (o->shape != BK_SHAPE_PLAIN && o->shape != BK_SHAPE_F0 && o->shape != BK_SHAPE_PAIR)
+		return BAD("shape: must be BK_SHAPE_PLAIN, F0 or PAIR, got %d", (int)o->shape);
+	if (o->objective != BK_OBJ_RMSE && o->objective != BK_OBJ_MAX && o->objective != BK_OBJ_ALBEDO)
+		return BAD("objective: must be BK_OBJ_RMSE, MAX or ALBEDO, got %d", (int)o->objective);
+	if (o->precision != BK_F64 && o->precision != BK_F32 && o->precision != BK_F16)
+		return BAD("precision: must be BK_F64, F32 or F16, got %d", (int)o->precision);
+	if (o->grammar.max_params < 0 || o->grammar.max_params > BK_MAX_PARAMS)
+		return BAD("grammar.max_params: must be in 0..%d, got %d", BK_MAX_PARAMS, o->grammar.max_params);
+	if (o->grammar.max_size < 1 || o->grammar.max_size > BK_EXPR_MAX)
+		return BAD("grammar.max_size: must be in 1..%d, got %d", BK_EXPR_MAX, o->grammar.max_size);
+	if (o->grammar.nconsts < 0 || o->grammar.nconsts > 8)
+		return BAD("grammar.nconsts: must be in 0..8, got %d", o->grammar.nconsts);
+	for (int k = 0; k < o->grammar.nconsts; k++)
+		if (!isfinite(o->grammar.consts[k]))
+			return BAD("grammar.consts[%d]: must be finite, got %g", k, o->grammar.consts[k]);
+	if (o->grammar.inputs >> BK_IN_COUNT)
+		return BAD("grammar.inputs: bits past the %d inputs (0x%x)", BK_IN_COUNT, o->grammar.inputs);
+	if (!(o->max_cost > 0))
+		return BAD("max_cost: must be > 0 (HUGE_VAL: no limit), got %g", o->max_cost);
+	if (!(o->simple_cost >= 0) || !(o->complex_cost >= 0) || !isfinite(o->simple_cost) ||
+	    !isfinite(o->complex_cost) || o->simple_cost + o->complex_cost <= 0)
+		return BAD("simple_cost, complex_cost: must be finite, >= 0 and not both 0, got %g and %g", o->simple_cost,
+		           o->complex_cost);
+	if (o->evals < 1)
+		return BAD("evals: must be >= 1, got %ld", o->evals);
+	if (o->threads < 1 || o->threads > 64)
+		return BAD("threads: must be in 1..64, got %d", o->threads);
+	if (o->enum_size < 0 || o->enum_size > BK_EXPR_MAX)
+		return BAD("enum_size: must be in 0..%d, got %d", BK_EXPR_MAX, o->enum_size);
+	if (o->enum_max < 0)
+		return BAD("enum_max: must be >= 0, got %ld", o->enum_max);
+	if (o->generation < 1)
+		return BAD("generation: must be >= 1, got %d", o->generation);
+	if (o->per_level < 1)
+		return BAD("per_level: must be >= 1, got %d", o->per_level);
+	if (o->starts < 1 || o->starts > 4)
+		return BAD("starts: must be in 1..4, got %d", o->starts);
+	if (o->nseeds < 0 || (o->nseeds > 0 && !o->seeds))
+		return BAD("nseeds: %d seeds and %s", o->nseeds, o->seeds ? "a negative count" : "no seeds array");
+	for (int k = 0; k < o->nseeds; k++)
+		if (!o->seeds[k])
+			return BAD("seeds[%d]: NULL", k);
+	if (o->islands < 1 || o->island < 0 || o->island >= o->islands)
+		return BAD("island, islands: must be 0 <= island < islands, got %d of %d", o->island, o->islands);
+	return 1;
+}
+
+#undef BAD
+
 bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 {
-	if (o->evals < 1 || o->threads < 1 || o->threads > 64 || o->generation < 1 || o->per_level < 1 ||
-	    o->starts < 1 || o->starts > 4 || o->enum_size < 0 || o->enum_size > BK_EXPR_MAX ||
-	    o->grammar.max_params < 0 || o->grammar.max_params > BK_MAX_PARAMS || o->grammar.max_size < 1 ||
-	    o->grammar.max_size > BK_EXPR_MAX || !(o->max_cost > 0) || o->islands < 1 || o->island < 0 ||
-	    o->island >= o->islands) {
-		snprintf(err, errlen, "search options out of range");
+	char why[200];
+	if (!bk_search_options_valid(o, why, sizeof why)) {
+		snprintf(err, errlen, "search options: %s", why);
 		return NULL;
 	}
 	bk_search *s = calloc(1, sizeof *s);
@@ -241,6 +296,61 @@ void bk_search_free(bk_search *s)
 }
 
 long bk_search_evals(const bk_search *s) { return s->evals; }
+
+int bk_search_cert_text(const bk_search_cert *c, const bk_grammar *gr, char *buf, size_t len)
+{
+	char g[1024];
+	if (bk_grammar_describe(gr, g, sizeof g) < 0)
+		snprintf(g, sizeof g, "(too long to state)");
+	long drawn = 0, twins = 0, fitted = 0;
+	for (int k = 1; k <= c->complete_size; k++)
+		drawn += c->drawn[k], twins += c->twins[k], fitted += c->fitted[k];
+	char cost[64] = "";
+	if (isfinite(c->max_cost))
+		snprintf(cost, sizeof cost, " and cost <= %g", c->max_cost);
+	int n;
+	if (c->complete_size < 1)
+		n = snprintf(buf, len, "none: the enumeration completed no size (grammar: %s)", g);
+	else
+		n = snprintf(buf, len, "every unique form of the grammar up to %d nodes%s was fitted, with up to %d screening "
+		             "start%s each (%ld enumerated, %ld fitted, %ld left out as twins: the same values at three "
+		             "parameter vectors); grammar: %s", c->complete_size, cost, c->starts, c->starts == 1 ? "" : "s",
+		             drawn, fitted, twins, g);
+	return n >= 0 && (size_t)n < len ? n : -1;
+}
+
+int bk_search_brief(const bk_search *s, char *buf, size_t len)
+{
+	bk_search_cert c;
+	bk_search_certificate(s, &c);
+	long fitted = 0, twins = 0;
+	for (int k = 0; k <= BK_EXPR_MAX; k++)
+		fitted += c.fitted[k], twins += c.twins[k];
+	size_t idx[64];
+	size_t nf = bk_search_front(s, idx, 64);
+	size_t k = 0;
+	int n;
+#define PUT(...) ((n = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? 0 : (k += (size_t)n))
+	PUT("%ld fits, %zu distinct candidates; the enumeration fitted %ld unique forms and left out %ld twins; ", s->evals,
+	    s->n, fitted, twins);
+	if (c.complete_size > 0)
+		PUT("complete to %d nodes: no form of the grammar of at most %d nodes does better than the front "
+		    "(as far as a screening fit finds its constants). ", c.complete_size, c.complete_size);
+	else
+		PUT("no size of the enumeration is complete. ");
+	char cert[2048];
+	bk_search_cert_text(&c, &s->o.grammar, cert, sizeof cert);
+	PUT("Certificate: %s. ", cert);
+	if (nf == 0)
+		PUT("No candidate fitted within the limits.");
+	else {
+		const bk_cand *lo = &s->cand[idx[0]], *hi = &s->cand[idx[nf - 1]];
+		PUT("Front of %zu (screening): cost %g at error %.4g to cost %g at error %.4g (%s).", nf, lo->cost, lo->err,
+		    hi->cost, hi->err, hi->text);
+	}
+#undef PUT
+	return k < len ? (int)k : -1;
+}
 
 void bk_search_certificate(const bk_search *s, bk_search_cert *c)
 {
