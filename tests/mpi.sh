@@ -80,6 +80,19 @@ for np in 2 3; do
 	grep -q "^# islands: $np MPI ranks" "$T/p$np/front.csv" && csv_col "$T/p$np/front.csv" island >"$T/isl" &&
 		[ "$(grep -cv '^[0-9][0-9]*$' "$T/isl")" = 0 ] && ok || bad "$np ranks: front.csv does not state the islands"
 done
+# the certificate over islands (fit/search.h): the least size every island
+# completed, the trees the islands enumerated summed, as one process states
+# them (each island enumerates every K-th tree); the control: a cap of 20
+# enumerated fits completes less
+cert_of() { sed -n 's/^# certificate: every unique form of the grammar up to \([0-9]*\) nodes.*(\([0-9]*\) enumerated.*/\1 \2/p' "$1/front.csv"; }
+search 2 "$T/k2" --enum-size 4 --enum-max 100000 --evals 4000 --threads 1 >/dev/null 2>&1
+$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 --start 'p0/(LoH*LoH + p1)' \
+	--ops '+,*,/,sq' --max-params 2 --enum-size 4 --enum-max 100000 --evals 4000 --quiet --out "$T/k1" >/dev/null 2>&1
+k1=$(cert_of "$T/k1") k2=$(cert_of "$T/k2")
+[ "${k1%% *}" = 4 ] && [ "$k1" = "$k2" ] && ok || bad "2 ranks: certificate '$k2', one process '$k1' (want 4 nodes, the same trees)"
+search 2 "$T/k3" --enum-size 4 --enum-max 20 --evals 4000 --threads 1 >/dev/null 2>&1
+k3=$(cert_of "$T/k3")
+[ "${k3%% *}" != 4 ] && grep -q '^# certificate: ' "$T/k3/front.csv" && ok || bad "2 ranks, --enum-max 20: certificate '$k3'"
 # a second run of 3 ranks: the same bytes (determinism across runs)
 search 3 "$T/p3b" --evals 4000 --threads 1 >/dev/null 2>&1
 same "$T/p3" "$T/p3b" front.csv && ok || bad "3 ranks: two runs differ in front.csv"
