@@ -17,6 +17,14 @@ static inline double bk_clock_now(void)
 	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
+/* The CPU time of the process, all threads (a benchmark's CPU-seconds). */
+static inline double bk_clock_cpu(void)
+{
+	struct timespec t;
+	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
 static inline int bk_clock_cmp(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;

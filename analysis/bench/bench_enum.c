@@ -15,7 +15,7 @@
  * The screening grid and the grammar are brdfkit search's (fit/search/seeds.h).
  * Times vary with the machine; the counts do not.
  */
-#define _GNU_SOURCE
+#include "clock.h"
 #include "search.h"
 #include "search/seeds.h"
 
@@ -24,20 +24,6 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
-
-static double cpu_now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static double wall_now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_MONOTONIC, &t);
-	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
 
 typedef struct watch {
 	int done;                         /* the certificate's size so far */
@@ -52,8 +38,8 @@ static void progress(void *ctx, const bk_search *S)
 	bk_search_cert c;
 	bk_search_certificate(S, &c);
 	for (; w->done < c.complete_size; w->done++) {
-		w->cpu[w->done + 1] = cpu_now() - w->cpu0;
-		w->wall[w->done + 1] = wall_now() - w->wall0;
+		w->cpu[w->done + 1] = bk_clock_cpu() - w->cpu0;
+		w->wall[w->done + 1] = bk_clock_now() - w->wall0;
 	}
 }
 
@@ -97,7 +83,7 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 		bk_samples_free(&sm);
 		return 1;
 	}
-	watch w = {0, max, cpu_now(), wall_now(), {0}, {0}};
+	watch w = {0, max, bk_clock_cpu(), bk_clock_now(), {0}, {0}};
 	bk_search_callbacks cb = {progress, whole, &w, 0};
 	if (bk_search_drive(S, &cb, err, sizeof err) < 0) {
 		fprintf(stderr, "bench_enum: %s: %s\n", name, err);

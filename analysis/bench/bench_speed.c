@@ -98,13 +98,6 @@
 #define REPS 3
 #define EVALS 20000
 
-static double cpu_now(void)
-{
-	struct timespec t;
-	clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-	return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 static double thread_cpu_now(void)
 {
 	struct timespec t;
@@ -120,13 +113,13 @@ static bk_search *run_search(const bk_search_options *o, double *wall, double *c
 		fprintf(stderr, "bench_speed: %s\n", err);
 		exit(1);
 	}
-	double t0 = bk_clock_now(), c0 = cpu_now();
+	double t0 = bk_clock_now(), c0 = bk_clock_cpu();
 	if (bk_search_run(s, NULL, NULL, err, sizeof err) < 0) {
 		fprintf(stderr, "bench_speed: %s\n", err);
 		exit(1);
 	}
 	*wall = bk_clock_now() - t0;
-	*cpu = cpu_now() - c0;
+	*cpu = bk_clock_cpu() - c0;
 	return s;
 }
 
@@ -229,7 +222,7 @@ int main(int argc, char **argv)
 			bk_tiny_fixed = side;
 			bk_fit_ctx_cols = side;
 			failed[side] = 0, iters[side] = 0;
-			double t0 = thread_cpu_now();
+			double t0 = thread_bk_clock_cpu();
 			for (size_t i = 0; i < nc; i++) {
 				bk_fit_spec spec;
 				memset(&spec, 0, sizeof spec);
@@ -256,7 +249,7 @@ int main(int argc, char **argv)
 					failed[side]++;
 				bk_fit_problem_free(pb);
 			}
-			tf[side][r] = thread_cpu_now() - t0;
+			tf[side][r] = thread_bk_clock_cpu() - t0;
 		}
 	bk_tiny_fixed = 1;
 	bk_fit_ctx_cols = 1;
@@ -278,7 +271,7 @@ int main(int argc, char **argv)
 	size_t differ = 0;
 	for (int r = 0; r < (only_nodes || only_fits ? 0 : REPS); r++)
 		for (int m = 0; m < 2; m++) {
-			double t0 = thread_cpu_now();
+			double t0 = thread_bk_clock_cpu();
 			for (size_t i = 0; i < nc; i++) {
 				if (m == 0) {
 					for (int q = 0; q < PASSES; q++)
@@ -293,7 +286,7 @@ int main(int argc, char **argv)
 					bk_form_bound_free(b);
 				}
 			}
-			td[m][r] = thread_cpu_now() - t0;
+			td[m][r] = thread_bk_clock_cpu() - t0;
 		}
 	for (size_t i = 0; i < nc; i++) { /* the same bits */
 		int np = bk_form_nparams(cs[i].f);
@@ -325,11 +318,11 @@ int main(int argc, char **argv)
 			for (int isa = 0; isa < 2; isa++) {
 				bk_ir_force_libm(side == 0);
 				bk_ir_force_generic(isa == 0);
-				double t0 = thread_cpu_now();
+				double t0 = thread_bk_clock_cpu();
 				for (size_t i = 0; i < nc; i++)
 					for (int q = 0; q < 8; q++)
 						bk_form_eval(cs[i].f, BK_F32, sm.n, in, cs[i].p, v0);
-				tn[side][isa][r] = thread_cpu_now() - t0;
+				tn[side][isa][r] = thread_bk_clock_cpu() - t0;
 			}
 	/* the new side's two copies give the same bits, f32 and f16; and how
 	 * many candidates' f32 values moved from libm's (near-ties of exp2f and
