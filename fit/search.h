@@ -50,12 +50,14 @@ extern "C" { /* C linkage for a C++ program (tests/install.sh links one) */
 /* The enumeration is drawn tree by tree as the search consumes it (expr.h,
  * bk_expr_enum): a run with --enum-size 9 and a budget of 300 fits builds the
  * few hundred trees it fits, not the hundreds of millions up to 9 nodes (the
- * default grammar over two inputs has 2.2 million trees up to 7 nodes, about
- * 25 million of 8). It ends once this many trees are kept as operands of
- * larger ones (those below the last size, 30 + 16 bytes a node each): measured, 157 to 159 MB for 1,048,576 trees of the default
- * grammar over 2 to 4 inputs, drawn in 0.8 s. Past it the search goes on by
- * evolution. */
-#define BK_SEARCH_ENUM_TREES (1L << 20)
+ * default grammar over LoH, r and a has 1.37 million canonical trees up to 7
+ * nodes, bench_enum). It ends once this many trees are kept as operands of
+ * larger ones (those below the last size, 30 + 16 bytes a node each: 157 to
+ * 159 MB measured for 1,048,576 trees of the default grammar over 2 to 4
+ * inputs, so about 2.5 GB at this limit; certifying 8 nodes over three inputs
+ * keeps the 1.37 million, 9 nodes about 14 million). Past it the search goes
+ * on by evolution, and the certificate stops at the last size drawn whole. */
+#define BK_SEARCH_ENUM_TREES (1L << 24)
 /* The trees of the last size are not kept (expr.h): drawing them costs
  * about 1 us each and no memory. A run draws at most this many in all (a
  * few minutes of drawing; the default grammar over three inputs has about

@@ -128,21 +128,44 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 	printf("  starts: of %ld forms fitted within the limits, %ld ran a second start (%.1f %%) and %ld kept a later "
 	       "start's constants (%.1f %%)\n", ok, more, ok ? 100.0 * (double)more / (double)ok : 0.0, won,
 	       ok ? 100.0 * (double)won / (double)ok : 0.0);
-	if (n >= 3 && c.fitted[n - 1] > 0) {
-		/* the next sizes grow as the last did: fitted(k+1) = fitted(k) * g */
-		double growth = (double)c.fitted[n] / (double)c.fitted[n - 1], per = cpu / (double)cum;
-		double budget = 64 * 600.0, need = cpu, f = (double)c.fitted[n];
+	/* The drawing alone (expr.h's enumerator, one thread): every island of an
+	 * MPI run draws every tree and keeps its share, so the drawing is not
+	 * shared out; the fits are. */
+	bk_grammar eg = o.grammar; /* the enumerated tree's grammar (search/driver.c) */
+	if (o.shape == BK_SHAPE_PAIR && eg.max_params > 1)
+		eg.max_params /= 2;
+	if (o.scale && eg.max_params > 0)
+		eg.max_params--;
+	double t0 = bk_clock_now();
+	bk_expr_enum *E = bk_expr_enum_new(&eg, n, BK_SEARCH_ENUM_TREES);
+	long trees[BK_EXPR_MAX + 1] = {0}, all = 0;
+	bk_expr e;
+	for (int r; E && (r = bk_expr_enum_next(E, &e)) > 0;)
+		trees[r]++, all++;
+	bk_expr_enum_free(E);
+	double rate = all / fmax(bk_clock_now() - t0, 1e-9);
+	printf("  drawing alone: %.2g trees/s (one thread, the canonical rules and the nesting limit applied)\n", rate);
+	if (n >= 3 && c.fitted[n - 1] > 0 && trees[n - 1] > 0) {
+		/* the next sizes grow as the last did */
+		double gf = (double)c.fitted[n] / (double)c.fitted[n - 1], gt = (double)trees[n] / (double)trees[n - 1];
+		double per = cpu / (double)cum, f = (double)c.fitted[n], t = (double)trees[n];
+		double fits = (double)cum, drawn = (double)all, kept = (double)(all - trees[n]);
 		int k = n;
-		while (k < BK_EXPR_MAX) {
-			f *= growth;
-			if (need + f * per > budget)
+		double wall = 0, next = 0, keep_gb = 0;
+		for (;;) {
+			f *= gf, t *= gt;
+			double w = (drawn + t) / rate + (fits + f) * per / 64;
+			if (k >= BK_EXPR_MAX || w > 600) {
+				next = (fits + f) * per / 3600;
 				break;
-			need += f * per;
-			k++;
+			}
+			kept = drawn, drawn += t, fits += f, wall = w, k++;
 		}
-		printf("  growth %.1fx a node at size %d; 64 cores for 10 minutes (%.0f CPU-s at this rate, ranks sharing the "
-		       "index space) would certify %d nodes (%.0f CPU-s); one node more: %.2g core-hours\n", growth, n,
-		       budget, k, need, (need + f * per) / 3600);
+		keep_gb = kept * 160 / 1e9;
+		printf("  growth a node: fitted %.1fx, trees %.1fx at size %d; a 64-core MPI run of 10 minutes, each rank "
+		       "drawing every tree and fitting its share, would certify %d nodes (a rank: %.0f s, keeping %.2g "
+		       "GB of trees); the next node: %.2g core-hours of fits, its drawing alone %.0f s a rank\n",
+		       gf, gt, n, k, wall, keep_gb, next, (drawn + t) / rate);
 	}
 	bk_search_free(S);
 	bk_samples_free(&sm);

@@ -222,7 +222,7 @@ int main(int argc, char **argv)
 			bk_tiny_fixed = side;
 			bk_fit_ctx_cols = side;
 			failed[side] = 0, iters[side] = 0;
-			double t0 = thread_bk_clock_cpu();
+			double t0 = thread_cpu_now();
 			for (size_t i = 0; i < nc; i++) {
 				bk_fit_spec spec;
 				memset(&spec, 0, sizeof spec);
@@ -249,7 +249,7 @@ int main(int argc, char **argv)
 					failed[side]++;
 				bk_fit_problem_free(pb);
 			}
-			tf[side][r] = thread_bk_clock_cpu() - t0;
+			tf[side][r] = thread_cpu_now() - t0;
 		}
 	bk_tiny_fixed = 1;
 	bk_fit_ctx_cols = 1;
@@ -271,7 +271,7 @@ int main(int argc, char **argv)
 	size_t differ = 0;
 	for (int r = 0; r < (only_nodes || only_fits ? 0 : REPS); r++)
 		for (int m = 0; m < 2; m++) {
-			double t0 = thread_bk_clock_cpu();
+			double t0 = thread_cpu_now();
 			for (size_t i = 0; i < nc; i++) {
 				if (m == 0) {
 					for (int q = 0; q < PASSES; q++)
@@ -286,7 +286,7 @@ int main(int argc, char **argv)
 					bk_form_bound_free(b);
 				}
 			}
-			td[m][r] = thread_bk_clock_cpu() - t0;
+			td[m][r] = thread_cpu_now() - t0;
 		}
 	for (size_t i = 0; i < nc; i++) { /* the same bits */
 		int np = bk_form_nparams(cs[i].f);
@@ -318,11 +318,11 @@ int main(int argc, char **argv)
 			for (int isa = 0; isa < 2; isa++) {
 				bk_ir_force_libm(side == 0);
 				bk_ir_force_generic(isa == 0);
-				double t0 = thread_bk_clock_cpu();
+				double t0 = thread_cpu_now();
 				for (size_t i = 0; i < nc; i++)
 					for (int q = 0; q < 8; q++)
 						bk_form_eval(cs[i].f, BK_F32, sm.n, in, cs[i].p, v0);
-				tn[side][isa][r] = thread_bk_clock_cpu() - t0;
+				tn[side][isa][r] = thread_cpu_now() - t0;
 			}
 	/* the new side's two copies give the same bits, f32 and f16; and how
 	 * many candidates' f32 values moved from libm's (near-ties of exp2f and

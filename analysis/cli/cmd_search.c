@@ -414,7 +414,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--max-cost", .kind = CLI_NUM, .metavar = "C", .help = "candidates costlier than C are not fitted", .dest = &a.max_cost, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--max-params", .kind = CLI_INT, .metavar = "K", .help = "constants fitted per candidate (default 4; env 10, A and B together)", .dest = &a.max_params, .lo = 0, .hi = BK_MAX_PARAMS},
 		{.name = "--max-size", .kind = CLI_INT, .metavar = "N", .help = "nodes per tree (default 24)", .dest = &a.max_size, .lo = 1, .hi = BK_EXPR_MAX},
-		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5), drawn as the fits need them: at most 1,048,576 trees (about 160 MB), then evolution", .dest = &a.enum_size, .lo = 0, .hi = 9},
+		{.name = "--enum-size", .kind = CLI_INT, .metavar = "N", .help = "enumerate every tree up to N nodes first (default 5), drawn as the fits need them, each unique form fitted once (at most 16,777,216 trees kept as operands of larger ones, about 2.5 GB: vf2d keeps 1.37 million to reach 8 nodes), then evolution; front.csv's certificate says how far it got", .dest = &a.enum_size, .lo = 0, .hi = 9},
 		{.name = "--enum-max", .kind = CLI_INT, .metavar = "N", .help = "at most N fits of the enumeration (default 5000)", .dest = &a.enum_max, .lo = 0, .hi = 1e9},
 		{.name = "--generation", .kind = CLI_INT, .metavar = "N", .help = "children per generation (default 256)", .dest = &a.generation, .lo = 1, .hi = 65536},
 		{.name = "--objective", .kind = CLI_STR, .metavar = "rmse|max|albedo", .help = "the error of the front (default rmse; albedo: vf, spec)", .dest = &a.objective},
