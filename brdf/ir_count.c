@@ -48,8 +48,8 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
 /*
  * The cost models. The aco- weights are what `brdfkit gpucost --calibrate
  * --chips CHIP` prints given the front.csv of each search in results/search
- * (fp32, the 34 catalog forms and the 71 members of make results' seven
- * search fronts since parents come mostly from the front, Mesa 22.3.6 RADV/ACO,
+ * (fp32, the 34 catalog forms and the 56 members of make results' seven
+ * search fronts since the fronts were certified (issue 38), Mesa 22.3.6 RADV/ACO,
  * Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration
  * and fails if the driver's answer moves away from them. ACO issues a
  * transcendental as one instruction, hence complex weights of 1.1-1.8, not
@@ -58,10 +58,10 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
  */
 static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
-	{"aco-polaris10", 1.090, 1.357},         /* GCN 4, gfx8 */
-	{"aco-vega10", 1.090, 1.357},            /* GCN 5, gfx9 */
-	{"aco-navi21", 1.028, 1.123},            /* RDNA 2, gfx10.3 */
-	{"aco-gfx1100", 1.033, 1.741},           /* RDNA 3, gfx11 */
+	{"aco-polaris10", 1.100, 1.462},         /* GCN 4, gfx8 */
+	{"aco-vega10", 1.100, 1.462},            /* GCN 5, gfx9 */
+	{"aco-navi21", 1.036, 1.093},            /* RDNA 2, gfx10.3 */
+	{"aco-gfx1100", 1.042, 1.667},           /* RDNA 3, gfx11 */
 };
 
 const bk_cost_model *bk_cost_model_find(const char *name)
