@@ -10,6 +10,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The certificate in words (fit/search.h, bk_search_cert_text). */
+static void cert_text(const bk_swrite *W, char *buf, size_t len)
+{
+	bk_search_cert_text(W->cert, &W->F->so->grammar, buf, len);
+}
+
 static void header(FILE *f, const bk_swrite *W, const char *what)
 {
 	fprintf(f, "# brdfkit %s search %s\n# command: %s\n# target: %s\n", BK_VERSION, what, W->command, W->F->s->description);
@@ -21,7 +27,7 @@ static void header(FILE *f, const bk_swrite *W, const char *what)
 		                             "screening fronts" : "");
 	if (W->cert) {
 		char cert[2048];
-		bk_swrite_cert_text(W, cert, sizeof cert);
+		cert_text(W, cert, sizeof cert);
 		fprintf(f, "# certificate: %s\n", cert);
 	}
 	fprintf(f, "# cost: simple*%g + complex*%g after folding, sharing and multiply-add fusion (brdfkit ops%s%s); "
@@ -29,11 +35,6 @@ static void header(FILE *f, const bk_swrite *W, const char *what)
 	        "V includes 1/(4 NoL NoV)\n", W->F->so->simple_cost, W->F->so->complex_cost,
 	        W->cost_model ? ", cost model " : "", W->cost_model ? W->cost_model : "", bk_sfront_objective_name(W->F->so),
 	        bk_precision_name(W->F->so->precision));
-}
-
-void bk_swrite_cert_text(const bk_swrite *W, char *buf, size_t len)
-{
-	bk_search_cert_text(W->cert, &W->F->so->grammar, buf, len);
 }
 
 static void params_field(FILE *f, const double *p, int np)
@@ -275,7 +276,7 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 	fputs("</code></p>\n", f);
 	if (W->cert) {
 		char cert[2048];
-		bk_swrite_cert_text(W, cert, sizeof cert);
+		cert_text(W, cert, sizeof cert);
 		fputs("<p class=\"certificate\">Complete: ", f);
 		bk_html_text(f, cert);
 		fputs(".</p>\n", f);
@@ -352,7 +353,7 @@ void bk_swrite_report(FILE *f, const bk_swrite *W)
 	       bk_precision_name(W->F->so->precision));
 	if (W->cert) {
 		char cert[2048];
-		bk_swrite_cert_text(W, cert, sizeof cert);
+		cert_text(W, cert, sizeof cert);
 		fprintf(f, "complete: %s\n", cert);
 	}
 	for (int pass = 0; pass < 2; pass++)

@@ -31,9 +31,6 @@ typedef struct bk_swrite {
 	const bk_search_cert *cert; /* how far the run is complete (all islands) */
 } bk_swrite;
 
-/* The certificate in words, one line: "every unique form of the grammar up
- * to N nodes ... was fitted ..." or that none is complete. */
-void bk_swrite_cert_text(const bk_swrite *W, char *buf, size_t len);
 
 void bk_swrite_front_csv(FILE *f, const bk_swrite *W);
 void bk_swrite_catalog_csv(FILE *f, const bk_swrite *W);

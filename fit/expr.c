@@ -709,7 +709,7 @@ int bk_grammar_describe(const bk_grammar *g, char *buf, size_t len)
 {
 	size_t k = 0;
 	int n;
-#define PUT(...) ((n = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? -1 : (k += (size_t)n, 0))
+#define PUT(...) ((n = snprintf(k < len ? buf + k : NULL, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? -1 : (k += (size_t)n, 0))
 	PUT("operations ");
 	int first = 1;
 	for (int bit = 0; bit < 64; bit++) {

@@ -330,7 +330,7 @@ int bk_search_brief(const bk_search *s, char *buf, size_t len)
 	size_t nf = bk_search_front(s, idx, 64);
 	size_t k = 0;
 	int n;
-#define PUT(...) ((n = snprintf(buf + k, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? 0 : (k += (size_t)n))
+#define PUT(...) ((n = snprintf(k < len ? buf + k : NULL, k < len ? len - k : 0, __VA_ARGS__)) < 0 ? 0 : (k += (size_t)n))
 	PUT("%ld fits, %zu distinct candidates; the enumeration fitted %ld unique forms and left out %ld twins; ", s->evals,
 	    s->n, fitted, twins);
 	if (c.complete_size > 0)

@@ -75,46 +75,53 @@ static uint64_t quantum(double v)
 	return ((uint64_t)q << 12) ^ (uint64_t)(e + 2048) ^ 0x5bd1e995u;
 }
 
-static uint64_t hash_parsed(const bk_search *s, const bk_form *f, uint64_t h)
+/* f's values hashed into *h. 0, or -1 when it does not evaluate. */
+static int hash_parsed(const bk_search *s, const bk_form *f, uint64_t *h)
 {
 	const bk_unique_probes *u = &s->uq;
-	h = mix(h, (uint64_t)bk_form_nparams(f));
+	*h = mix(*h, (uint64_t)bk_form_nparams(f));
 	const double *in[BK_IN_COUNT];
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		in[k] = u->in[k];
 	double v[UNIQUE_PROBES];
 	for (int t = 0; t < 3; t++) {
 		if (bk_form_eval(f, BK_F64, u->m, in, u->theta[t], v))
-			return 0;
+			return -1;
 		for (size_t i = 0; i < u->m; i++)
-			h = mix(h, quantum(v[i]));
+			*h = mix(*h, quantum(v[i]));
 	}
-	return h;
+	return 0;
 }
 
-static uint64_t hash_form(const bk_search *s, const char *text, uint64_t h)
+static int hash_form(const bk_search *s, const char *text, uint64_t *h)
 {
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(text, &fe);
-	if (!f)
-		return 0;
-	h = hash_parsed(s, f, h);
+	int rc = f ? hash_parsed(s, f, h) : -1;
 	bk_form_free(f);
-	return h;
+	return rc;
 }
+
+/* A fingerprint is never 0: that value says "no fingerprint". */
+static uint64_t nonzero(uint64_t h) { return h ? h : 1; }
 
 uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *f)
 {
-	uint64_t h = hash_parsed(s, f, BK_HASH_INIT);
-	return h ? h : 0;
+	uint64_t h = BK_HASH_INIT;
+	return hash_parsed(s, f, &h) ? 0 : nonzero(h);
 }
 
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b)
 {
-	uint64_t h = hash_form(s, a, BK_HASH_INIT);
-	if (h && b && *b)
-		h = hash_form(s, b, mix(h, ';'));
-	return h ? h : 0;
+	uint64_t h = BK_HASH_INIT;
+	if (hash_form(s, a, &h))
+		return 0;
+	if (b && *b) {
+		h = mix(h, ';');
+		if (hash_form(s, b, &h))
+			return 0;
+	}
+	return nonzero(h);
 }
 
 /* The slot of fp in the open-addressed table (0 marks a free slot). */

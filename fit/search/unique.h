@@ -30,8 +30,9 @@
  * are one model with other constants: different values at the same vector).
  * Both are fitted; the counts in bk_search_unique_counts call them unique.
  *
- * Cost: about 3 us a candidate (the form parsed and evaluated 3 x 64 times),
- * against about 200 us of CPU for a screening fit.
+ * Cost: 3.6 to 7.5 us a candidate (the form evaluated 3 x 64 times; an
+ * enumerated one is parsed once for its cost and this), against 40 to 100 us
+ * of CPU for a screening fit (build/bench_enum).
  */
 #ifndef FIT_SEARCH_UNIQUE_H
 #define FIT_SEARCH_UNIQUE_H
@@ -49,7 +50,8 @@ int bk_unique_init(bk_search *s);
 void bk_unique_free(bk_search *s);
 
 /* The fingerprint of the form a (and b, a pair's B; NULL otherwise), or 0
- * when it does not parse (never a real fingerprint: those are made non-zero). */
+ * when it does not parse or evaluate (never a real fingerprint: those are
+ * made non-zero). */
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b);
 
 /* The same of one form already parsed (not a pair): the generation parses
