@@ -408,8 +408,9 @@ const char *bk_lang_word(bk_lang lang, size_t i);
 /* 1 if the generated code would compute a constant that is not finite: a
  * literal or parameter past FLT_MAX, or an operation on constants (params
  * baked in; NULL: parameters are not constants) whose single-precision result
- * is NaN or infinite, e.g. sqrt(-1), 1/0; what names the first, e.g.
- * "sqrt(-1) is NaN in single precision". 0 if none, -1 if out of memory. */
+ * is NaN or infinite, e.g. sqrt(-1), 1/0, or a division by a constant zero
+ * (NoV / 0); what names the first, e.g. "sqrt(-1) is NaN in single
+ * precision". 0 if none, -1 if out of memory. */
 int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t len);
 
 /* How many constants the code computes (literals, baked-in parameters,

@@ -319,18 +319,11 @@ static double held(double v, bk_precision prec)
  * computes it; stops at the first for which bad(exact, held) says so, and
  * names it in what: "exp2(127.99)", "the constant 1e-46", "p0 = 1e+39".
  * Returns how many are bad (the first named), -1 if out of memory. */
-static int const_walk(const bk_form *f, const double *params, bk_precision prec,
-                      int (*bad)(double, double, bk_precision),
-                      char *what, size_t len, double *first)
+/* The value of every instruction that reads only constants (known[i]), in
+ * precision prec as the code computes it (the rest left unset). */
+static void const_values(const bk_form *f, const double *params, bk_precision prec, double *exact, double *val,
+                         char *known)
 {
-	double *val = malloc(sizeof(double) * (size_t)f->n);
-	char *known = malloc((size_t)f->n);
-	int found = 0;
-	if (!val || !known) {
-		free(val);
-		free(known);
-		return -1;
-	}
 	for (int i = 0; i < f->n; i++) {
 		const bk_instr *in = &f->code[i];
 		int ops[3] = {in->a, in->b, in->c}, ar = bk_opinfo_table[in->op].arity;
@@ -341,20 +334,58 @@ static int const_walk(const bk_form *f, const double *params, bk_precision prec,
 			continue;
 		double a = ar > 0 ? val[ops[0]] : 0, b = ar > 1 ? val[ops[1]] : 0, c = ar > 2 ? val[ops[2]] : 0;
 		double v = in->op == BK_OP_CONST ? in->k : in->op == BK_OP_PARAM ? params[in->slot] : bk_ir_apply(in->op, a, b, c);
+		exact[i] = v;
 		val[i] = prec == BK_F16 && !is_leaf(in->op) ? bk_ir_apply_half(in->op, a, b, c) : held(v, prec);
-		if (!bad(v, val[i], prec) || found++)
+	}
+}
+
+static int const_walk(const bk_form *f, const double *params, bk_precision prec,
+                      int (*bad)(double, double, bk_precision),
+                      char *what, size_t len, double *first)
+{
+	double *val = malloc(sizeof(double) * (size_t)f->n * 2);
+	char *known = malloc((size_t)f->n);
+	int found = 0;
+	if (!val || !known) {
+		free(val);
+		free(known);
+		return -1;
+	}
+	double *exact = val + f->n;
+	const_values(f, params, prec, exact, val, known);
+	for (int i = 0; i < f->n; i++) {
+		const bk_instr *in = &f->code[i];
+		if (!known[i] || !bad(exact[i], val[i], prec) || found++)
 			continue;
 		*first = val[i];
 		if (in->op == BK_OP_CONST)
-			snprintf(what, len, "the constant %.9g", v);
+			snprintf(what, len, "the constant %.9g", exact[i]);
 		else if (in->op == BK_OP_PARAM)
-			snprintf(what, len, "p%d = %.9g", in->slot, v);
+			snprintf(what, len, "p%d = %.9g", in->slot, exact[i]);
 		else
 			spell_const_op(what, len, in, val);
 	}
 	free(val);
 	free(known);
 	return found;
+}
+
+/* 1 if some division's divisor is a constant zero (x / 0, x / min(p0, 0)):
+ * an infinity or NaN wherever it runs, and drivers disagree on which
+ * (lavapipe gives 0 for NoV / 0.0, tests/vk); -1 out of memory. */
+static int divides_by_zero(const bk_form *f, const double *params)
+{
+	double *val = malloc(sizeof(double) * (size_t)f->n * 2);
+	char *known = malloc((size_t)f->n);
+	int found = 0;
+	if (val && known) {
+		const_values(f, params, BK_F32, val + f->n, val, known);
+		for (int i = 0; i < f->n && !found; i++)
+			found = f->code[i].op == BK_OP_DIV && known[f->code[i].b] && val[f->code[i].b] == 0;
+	}
+	free(val);
+	free(known);
+	return val && known ? found : -1;
 }
 
 static int not_finite(double exact, double h, bk_precision prec)
@@ -370,6 +401,8 @@ int bk_form_nonfinite(const bk_form *f, const double *params, char *what, size_t
 	int n = const_walk(f, params, BK_F32, not_finite, op, sizeof op, &v);
 	if (n > 0)
 		snprintf(what, len, "%s is %s in single precision", op, isnan(v) ? "NaN" : v > 0 ? "+inf" : "-inf");
+	if (n == 0 && (n = divides_by_zero(f, params)) > 0)
+		snprintf(what, len, "a division by the constant 0 (an infinity or NaN at every input)");
 	return n < 0 ? -1 : n > 0;
 }
 

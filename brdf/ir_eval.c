@@ -69,20 +69,35 @@ static long double roundld(long double x) { return x; }
 #define MAX(x, y) ((((x) > (y)) | ((y) != (y))) ? (x) : (y))
 
 /*
- * pow, exp and log as a GPU runs them (the op table's classes: pow = log2 +
- * mul + exp2, exp = mul + exp2, log = log2 + mul; no GPU has e^x or x^y in
- * hardware, and GLSL defines pow's precision as exp2(y log2 x)'s): in half
- * (D = 1) each step is a mediump operation, rounded to half, the constants
- * log2(e) and ln 2 included, and pow of a negative base is NaN (log2 of it),
- * as GLSL and HLSL leave it. The other precisions compute C's pow, exp and
- * log, as the generated C does with powf, expf and logf (f32) or pow, exp
- * and log (f64), but on brdf/dmath.c's bk_dpow, bk_dexp and bk_dlog (f32:
- * theirs rounded once to float), not libm's: glibc picks an FMA or a non-FMA
- * variant of these at run time and the two differ in the last bit, so the
- * IR's results would depend on the CPU (vmath.h). Within an ulp of libm's.
+ * pow is exp2(y * log2(x)) in every precision: what GLSL and HLSL define it
+ * as (GLSL 4.60 8.2: "Results are undefined if x < 0 ... x = 0 and y <= 0";
+ * its precision is inherited from exp2(y log2 x)) and what every GPU runs, no
+ * GPU having x^y in hardware. So one meaning everywhere: the IR in f64, f32,
+ * f16 and long double, the generated C (exp2f(y * log2f(x))) and the shaders
+ * (pow, which drivers lower to the same three steps) give NaN where the
+ * specifications give pow no value: a negative base (log2 of it), and 0^y
+ * for y <= 0 (a negative zero included; three steps would give NaN for 0^0
+ * and +inf for 0^-1, but drivers differ there: lavapipe returns 0 for any
+ * 0^y, measured by tests/vk), and also inf^0 and 1^inf (0 * inf); 0^y is 0
+ * for y > 0. C's pow, which gives (-2)^9 = -512 and 0^0 = 1, is no
+ * evaluator's any more. A NaN is what every command refuses to score, so no
+ * number brdfkit reports stands where a GPU may compute anything. Each step
+ * is rounded to the precision, the product too.
+ * x^k for an integer |k| <= 8 never reaches pow: the parser writes it as
+ * multiplies (brdf/ir_parse.c), the same in every language.
  *
- * exp2 and log2 in f32 and f16 (V = 1), the exp2 and log2 inside f16's pow,
- * exp and log included, are vmath.h's bk_v_exp2f and bk_v_log2f: branch-free
+ * exp and log as a GPU runs them too in half (the op table's classes: exp =
+ * mul + exp2, log = log2 + mul): in half (D = 1) each step is a mediump
+ * operation, rounded to half, the constants log2(e) and ln 2 included. The
+ * other precisions compute C's exp and log, as the generated C does with expf
+ * and logf (f32) or exp and log (f64), but on brdf/dmath.c's bk_dexp and
+ * bk_dlog (f32: theirs rounded once to float), not libm's: glibc picks an FMA
+ * or a non-FMA variant of these at run time and the two differ in the last
+ * bit, so the IR's results would depend on the CPU (vmath.h). Within an ulp of
+ * libm's; the domains are the GPU's (NaN below 0, log(0) = -inf).
+ *
+ * exp2 and log2 in f32 and f16 (V = 1), the exp2 and log2 inside pow, exp
+ * and log included, are vmath.h's bk_v_exp2f and bk_v_log2f: branch-free
  * C that vectorises in both copies below with the same bits, within 1 ulp of
  * the correctly rounded value (vmath.h: rounded correctly for all but 1,442
  * and 4 of the 2^32 floats; glibc's exp2f and log2f, which the generated C
@@ -91,7 +106,7 @@ static long double roundld(long double x) { return x; }
  * and log2 reads a half and its result is rounded to half: over all 63,488
  * finite halves the two give the same halves, so no f16 result moved
  * (tests/test_vmath.c). f64's exp2 and log2 (V = 1 there too) are vmath.h's
- * bk_v_exp2 and bk_v_log2, for the same reason as pow's above (glibc's log2
+ * bk_v_exp2 and bk_v_log2, for the same reason as exp's above (glibc's log2
  * has an FMA variant: a search's screening errors moved with the CPU), and
  * they vectorise as the float ones (libm's exp2 was ~7 % of a screening fit).
  * bk_ir_force_libm(1) puts libm's back in every precision (make bench's side
@@ -113,20 +128,18 @@ void bk_ir_force_libm(int on)
  * functions (X2, L2) a parameter: vmath's or libm's (through tgmath). */
 #define E_EXP2(R, X2, L2) R(X2(A[k]))
 #define E_LOG2(R, X2, L2) R(L2(A[k]))
-#define E_POW16(R, X2, L2) R(X2(R(B[k] * R(L2(A[k])))))
+#define E_POW(R, X2, L2) ((A[k] == 0) & !(B[k] > 0) ? R((float)NAN) : R(X2(R(B[k] * R(L2(A[k]))))))
 #define E_EXP16(R, X2, L2) R(X2(R(A[k] * R((float)LOG2E))))
 #define E_LOG16(R, X2, L2) R(R(L2(A[k])) * R((float)LN2))
 /* vmath's functions of the kernel's type: the float ones in f32 and f16,
  * the double ones in f64 (long double's kernel never asks: V = 0) */
 #define V_EXP2(x) _Generic((x), float: bk_v_exp2f, default: bk_v_exp2)(x)
 #define V_LOG2(x) _Generic((x), float: bk_v_log2f, default: bk_v_log2)(x)
-/* f32's pow, exp and log (C's, not the GPU's decomposition): dmath's in
- * double, rounded once to float (glibc's powf, expf and logf, like its
- * double ones, pick FMA code from the CPU) */
-static float pow_f(float a, float b) { return (float)bk_dpow(a, b); }
+/* f32's exp and log (C's, not the GPU's decomposition): dmath's in
+ * double, rounded once to float (glibc's expf and logf, like its double
+ * ones, pick FMA code from the CPU) */
 static float exp_f(float a) { return (float)bk_dexp(a); }
 static float log_f(float a) { return (float)bk_dlog(a); }
-#define V_POW(x, y) _Generic((x), float: pow_f, default: bk_dpow)(x, y)
 #define V_EXP(x) _Generic((x), float: exp_f, default: bk_dexp)(x)
 #define V_LOG(x) _Generic((x), float: log_f, default: bk_dlog)(x)
 
@@ -139,7 +152,7 @@ static float log_f(float a) { return (float)bk_dlog(a); }
 		else                                                                                           \
 			for (k = 0; k < BLOCK; k++) r[k] = E(R, exp2, log2);                                      \
 	} while (0)
-/* C's pow, exp and log (D = 0): dmath's (vm) or libm's */
+/* C's exp and log (D = 0): dmath's (vm) or libm's */
 #define VC(R, CALL_V, CALL_L)                                                                           \
 	do {                                                                                               \
 		if (vm)                                                                                        \
@@ -148,9 +161,11 @@ static float log_f(float a) { return (float)bk_dlog(a); }
 			for (k = 0; k < BLOCK; k++) r[k] = R(CALL_L);                                             \
 	} while (0)
 
-/* KERNEL(name, T, R, D, V): R rounds a T to the precision being modelled; D: the
- * GPU's decomposed pow, exp and log; V: vmath's exp2 and log2 (above). */
-#define KERNEL(NAME, T, R, D, V, ATTR)                                                   \
+/* KERNEL(name, T, R, D, V, FUSE): R rounds a T to the precision being
+ * modelled; D: the GPU's decomposed exp and log (pow is decomposed in every
+ * precision); V: vmath's exp2 and log2 (above); FUSE: a * b + c rounded once,
+ * the mad (and the mad inside mix) as a driver may fuse it (below). */
+#define KERNEL(NAME, T, R, D, V, FUSE, ATTR)                                                   \
 	ATTR static inline void NAME##_op(const bk_instr *c, T *restrict r, const T *restrict A,  \
 	                             const T *restrict B, const T *restrict C)              \
 	{                                                                                    \
@@ -162,9 +177,9 @@ static float log_f(float a) { return (float)bk_dlog(a); }
 		case BK_OP_MUL: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] * B[k]); break;       \
 		case BK_OP_DIV: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] / B[k]); break;       \
 		case BK_OP_NEG: for (k = 0; k < BLOCK; k++) r[k] = -A[k]; break;                \
-		case BK_OP_MAD: for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); break; \
-		case BK_OP_POW: if (D) { VM(E_POW16, R); } \
-		                else { VC(R, V_POW(A[k], B[k]), pow(A[k], B[k])); } break; \
+		case BK_OP_MAD: if (FUSE) { for (k = 0; k < BLOCK; k++) r[k] = R((T)((double)A[k] * B[k] + C[k])); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(R(A[k] * B[k]) + C[k]); } break; \
+		case BK_OP_POW: VM(E_POW, R); break;                                              \
 		case BK_OP_SQRT: for (k = 0; k < BLOCK; k++) r[k] = R(sqrt(A[k])); break;       \
 		case BK_OP_RSQRT: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / sqrt(A[k])); break; \
 		case BK_OP_RCP: for (k = 0; k < BLOCK; k++) r[k] = R((T)1 / A[k]); break;       \
@@ -178,7 +193,8 @@ static float log_f(float a) { return (float)bk_dlog(a); }
 		case BK_OP_MAX: for (k = 0; k < BLOCK; k++) r[k] = MAX(A[k], B[k]); break;      \
 		case BK_OP_CLAMP: for (k = 0; k < BLOCK; k++) { T t = MAX(A[k], B[k]); r[k] = MIN(t, C[k]); } break; \
 		case BK_OP_SATURATE: for (k = 0; k < BLOCK; k++) { T t = MAX(A[k], (T)0); r[k] = MIN(t, (T)1); } break; \
-		case BK_OP_MIX: for (k = 0; k < BLOCK; k++) r[k] = R(A[k] + R(R(B[k] - A[k]) * C[k])); break; \
+		case BK_OP_MIX: if (FUSE) { for (k = 0; k < BLOCK; k++) r[k] = R((T)((double)R(B[k] - A[k]) * C[k] + A[k])); } \
+		                else { for (k = 0; k < BLOCK; k++) r[k] = R(A[k] + R(R(B[k] - A[k]) * C[k])); } break; \
 		case BK_OP_ABS: for (k = 0; k < BLOCK; k++) r[k] = fabs(A[k]); break;           \
 		default: for (k = 0; k < BLOCK; k++) r[k] = (T)NAN; break;                       \
 		}                                                                                \
@@ -239,14 +255,16 @@ static float log_f(float a) { return (float)bk_dlog(a); }
 #define AVX2
 #endif
 
-KERNEL(run64_gen, double, round64, 0, 1, )
-KERNEL(run32_gen, float, round32, 0, 1, )
-KERNEL(run16_gen, float, round16, 1, 1, )
-KERNEL(runld, long double, roundld, 0, 0, )
+KERNEL(run64_gen, double, round64, 0, 1, 0, )
+KERNEL(run32_gen, float, round32, 0, 1, 0, )
+KERNEL(run16_gen, float, round16, 1, 1, 0, )
+KERNEL(run16f_gen, float, round16, 1, 1, 1, )
+KERNEL(runld, long double, roundld, 0, 0, 0, )
 #if BK_IR_HAVE_AVX2
-KERNEL(run64_avx2, double, round64, 0, 1, AVX2)
-KERNEL(run32_avx2, float, round32, 0, 1, AVX2)
-KERNEL(run16_avx2, float, round16, 1, 1, AVX2)
+KERNEL(run64_avx2, double, round64, 0, 1, 0, AVX2)
+KERNEL(run32_avx2, float, round32, 0, 1, 0, AVX2)
+KERNEL(run16_avx2, float, round16, 1, 1, 0, AVX2)
+KERNEL(run16f_avx2, float, round16, 1, 1, 1, AVX2)
 #endif
 
 /* -1 not asked yet, 0 baseline, 1 AVX2; read and written relaxed: every
@@ -304,6 +322,12 @@ static void run16(const bk_form *f, size_t n, size_t ahead, int first, const dou
                   float *reg, double *out)
 {
 	DISPATCH(run16, f, n, ahead, first, in, par, reg, out);
+}
+
+static void run16f(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
+                   const double *par, float *reg, double *out)
+{
+	DISPATCH(run16f, f, n, ahead, first, in, par, reg, out);
 }
 
 void bk_ir_op64(const bk_instr *c, double *restrict r, const double *restrict A, const double *restrict B,
@@ -408,15 +432,53 @@ static void block_flags(const bk_form *f, bk_precision prec, size_t m, const voi
 	}
 }
 
+/*
+ * Half precision under the orders a driver may pick. Without `precise` (SPIR-V
+ * NoContraction), a compiler may fuse a * b + c into one rounding ("Evaluation
+ * of Expressions": Mesa's nir_opt_algebraic fuses a multiply used once into
+ * the add, LLVM contracts fmuladd, real mobile GPUs have a half fma): in half
+ * that moves results by many ulps where a * b cancels against c, and changes
+ * their kind where a * b alone passes 65504 (inf unfused, a number fused) or
+ * rounds to just below it (the reverse). So where a form has a mad or a mix
+ * (whose spelled-out x + (y - x) t ends in one), BK_F16 runs both orders and
+ * keeps, per sample, the worse: NaN over inf over a number, and of two numbers
+ * the one farther from the form's f64 value. A half score, a stability
+ * verdict or a flag then holds whichever order the driver takes; the flags are
+ * the union of both runs'. tests/vk runs the driver against both.
+ */
+static int fusable(const bk_form *f)
+{
+	for (int i = 0; i < f->n; i++)
+		if (f->code[i].op == BK_OP_MAD || f->code[i].op == BK_OP_MIX)
+			return 1;
+	return 0;
+}
+
+static double worse(double u, double w, double ref)
+{
+	if (u != u || w != w)
+		return u != u ? u : w;
+	if (isinf(u) || isinf(w))
+		return isinf(u) ? u : w;
+	return isfinite(ref) && fabs(w - ref) > fabs(u - ref) ? w : u;
+}
+
 static int eval(const bk_form *f, bk_precision prec, size_t n, const double *const in[BK_IN_COUNT],
                 const double *params, double *out, unsigned char *flags, int first_op[3])
 {
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return -1;
-	void *reg = malloc((size_t)f->n * BLOCK * width_of(prec));
+	int both = prec == BK_F16 && fusable(f);
+	size_t regs = (size_t)f->n * BLOCK;
+	/* the registers; with both orders also the fused run's, the f64 run's
+	 * and their two blocks of results */
+	char *reg = malloc(regs * width_of(prec) + (both ? regs * (sizeof(float) + sizeof(double)) +
+	                                                      2 * BLOCK * sizeof(double) : 0));
 	if (!reg)
 		return -1;
+	float *regf = (float *)(reg + regs * width_of(prec));
+	double *reg64 = (double *)(regf + (both ? regs : 0)), *fused = reg64 + (both ? regs : 0), *ref = fused + BLOCK;
 	if (first_op)
 		first_op[0] = first_op[1] = first_op[2] = -1;
 	const double *blk[BK_IN_COUNT];
@@ -431,6 +493,37 @@ static int eval(const bk_form *f, bk_precision prec, size_t n, const double *con
 				flags[s + k] = 0;
 			block_flags(f, prec, m, reg, blk, params, flags + s, first_op);
 		}
+		if (!both)
+			continue;
+		run16f(f, m, 0, s == 0, blk, params, regf, fused);
+		run64(f, m, 0, s == 0, blk, params, reg64, ref);
+		for (size_t k = 0; k < m; k++)
+			out[s + k] = worse(out[s + k], fused[k], ref[k]);
+		if (flags)
+			block_flags(f, prec, m, regf, blk, params, flags + s, first_op);
+	}
+	free(reg);
+	return 0;
+}
+
+int bk_ir_eval_half_orders(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT], const double *params,
+                           double *unfused, double *fused)
+{
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if ((f->inputs >> i & 1) && !in[i])
+			return -1;
+	float *reg = malloc((size_t)f->n * BLOCK * sizeof *reg * 2);
+	if (!reg)
+		return -1;
+	const double *blk[BK_IN_COUNT];
+	for (size_t s = 0; s < n; s += BLOCK) {
+		size_t m = n - s < BLOCK ? n - s : BLOCK;
+		for (int i = 0; i < BK_IN_COUNT; i++)
+			blk[i] = in[i] ? in[i] + s : NULL;
+		if (unfused)
+			run16(f, m, 0, s == 0, blk, params, reg, unfused + s);
+		if (fused)
+			run16f(f, m, 0, s == 0, blk, params, reg + (size_t)f->n * BLOCK, fused + s);
 	}
 	free(reg);
 	return 0;

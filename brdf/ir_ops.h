@@ -14,6 +14,12 @@
  *     a register read; pow = log2 + mul + exp2, exp = mul + exp2, log = log2 + mul,
  *     mix(x,y,t) = x + t(y - x) = add + mad).
  *
+ * pow(x, y) means exp2(y * log2(x)) in every evaluator and language, as GLSL
+ * and HLSL define it and GPUs run it, and NaN where they give it no value
+ * (x < 0; x = 0 with y <= 0): C's powf, finite for a negative base with an
+ * integral power, is not what a shader computes, so the C spelling is the
+ * decomposition itself with that domain (brdf/ir_eval.c).
+ *
  * mix is written out, never as GLSL mix() or HLSL lerp(): those are defined
  * as x(1 - t) + y t, which differs from x + t(y - x) in rounding, and in
  * overflow where y - x exceeds the format (in half: inf against a number),
@@ -33,7 +39,7 @@ OP(MUL,      "",          2, "%0 * %1",                     "%0 * %1",          
 OP(DIV,      "",          2, "%0 / %1",                     "%0 / %1",                "%0 / %1",                 BK_K_DIV)           /* R := A / B */
 OP(NEG,      "",          1, "-%0",                         "-%0",                    "-%0",                     BK_K_FREE)          /* R := -A (source modifier) */
 OP(MAD,      "",          3, "%0 * %1 + %2",                "%0 * %1 + %2",           "mad(%0, %1, %2)",         BK_K_MAD)           /* R := A * B + C, rounded twice */
-OP(POW,      "pow",       2, "powf(%0, %1)",                "pow(%0, %1)",            "pow(%0, %1)",             BK_K_LOG2, BK_K_MUL, BK_K_EXP2) /* R := A ^ B */
+OP(POW,      "pow",       2, "%0 == 0.0f && !(%1 > 0.0f) ? NAN : exp2f(%1 * log2f(%0))", "pow(%0, %1)",            "pow(%0, %1)",             BK_K_LOG2, BK_K_MUL, BK_K_EXP2) /* R := 2^(B log2 A): NaN for A < 0 */
 OP(SQRT,     "sqrt",      1, "sqrtf(%0)",                   "sqrt(%0)",               "sqrt(%0)",                BK_K_SQRT)          /* R := sqrt A */
 OP(RSQRT,    "rsqrt",     1, "1.0f / sqrtf(%0)",            "inversesqrt(%0)",        "rsqrt(%0)",               BK_K_RSQRT)         /* R := 1/sqrt A */
 OP(RCP,      "rcp",       1, "1.0f / %0",                   "1.0 / %0",               "rcp(%0)",                 BK_K_RCP)           /* R := 1/A */

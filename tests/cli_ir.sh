@@ -76,7 +76,8 @@ $BK stability 'NoV/(NoV + 1)' 2>/dev/null | grep -q '^safe in half as is$' && ok
 
 # ---- a form with no value is neither emitted nor measured (M6) ----------------
 for f in 'NoV/0' '1/(NoV-NoV)' '1/0' 'sqrt(0-1)'; do
-	case $f in *NoV*) token="NaN or infinite everywhere on its inputs' domain" ;;
+	case $f in NoV/0) token="not finite: a division by the constant 0" ;;
+	           *NoV*) token="NaN or infinite everywhere on its inputs' domain" ;;
 	           *) token="the code would compute a constant that is not finite" ;; esac
 	refused "codegen c $f" 2 "$token" $BK codegen --lang c "$f"
 	refused "codegen glsl $f" 2 "$token" $BK codegen --lang glsl "$f"

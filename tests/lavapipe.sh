@@ -65,6 +65,25 @@ for p in f32 f16; do
 	else bad "$p: samples and bounded samples '$n' (want > 100000, 95% bounded)"; fi
 done
 
+# ---- the fuzz corpus: 1,000 forms drawn from seed 1 (tests/vk/fuzz.c), every
+# op of the language over negative bases, zeros and the formats' edges; the
+# same checks (the kinds wherever the IR reports a number)
+"$V" --samples 2048 --fuzz 1000 --seed 1 >"$T/fuzz" 2>&1
+rc=$?
+grep -e '^f32: ' -e '^f16: ' -e '^FAIL' "$T/fuzz"
+[ "$rc" -eq 0 ] && ok || bad "vkrun on the fuzz corpus: exit $rc"
+"$V" --fuzz 1000 --seed 1 --list >"$T/list" 2>&1
+[ "$(grep -c '^fuzz:1:' "$T/list")" -eq 1000 ] && ok || bad "fuzz: $(grep -c '^fuzz:1:' "$T/list") forms listed, not 1000"
+# the corpus reaches what make results' forms do not: samples where the IR
+# made a NaN (pow of a negative base, 0/0); and tests/vk/edge.csv's
+# mad_half_overflow those where the kind depends on the order of a mad in half
+for p in f32 f16; do
+	n=$(sed -n "s/^$p: .*; \([0-9]*\) where the IR is NaN.*/\1/p" "$T/fuzz")
+	[ "${n:-0}" -gt 1000 ] && ok || bad "fuzz $p: '${n:-none}' samples where the IR is NaN (want > 1000)"
+done
+n=$(sed -n 's/^f16: .*; \([0-9]*\) samples whose kind depends on the order.*/\1/p' "$T/run")
+[ "${n:-0}" -gt 0 ] && ok || bad "f16: '${n:-none}' samples whose kind depends on a mad's order (want > 0)"
+
 # ---- negative controls: each check fails on a deliberate defect ---------------
 # expect_fail NAME PATTERN ARGS...: vkrun exits 1 and prints a FAIL line matching PATTERN
 expect_fail() {
@@ -83,6 +102,10 @@ expect_fail "f16 1%" '^FAIL: f16 catalog:vf_talk_r: .*driver outside the envelop
 	--perturb catalog:vf_talk_r --factor 1.01
 # NaN where the IR has a number: the kind check
 expect_fail "NaN" '^FAIL: f32 catalog:vf_talk_r: .*NaN/Inf kind [1-9]' --nan catalog:vf_talk_r
+# the same in a fuzz form, in half: the freedom where the IR is NaN is no
+# blanket (fuzz:1:0 is finite at most of its samples)
+expect_fail "NaN in a fuzz form" '^FAIL: f16 fuzz:1:0 .*NaN/Inf kind [1-9]' --fuzz 1 --seed 1 --nan "$(
+	"$V" --fuzz 1 --seed 1 --list | grep '^fuzz:1:0 ')"
 # the IR in half against the f32 run: the IR's own check
 expect_fail "IR in half" '^FAIL: f32 catalog:.*IR outside [1-9]' --ir-half
 # a committed file's function, its text edited

@@ -146,7 +146,13 @@ Test(nonfinite, ops_on_constants_and_literals_past_float)
 	nonfinite("p0*NoV", (const double[]){-1e39}, "p0 = -1e+39 is -inf in single precision");
 	nonfinite("sqrt(p0)*NoV", (const double[]){-4}, "sqrt(-4) is NaN in single precision");
 	/* not constant: a pole at an input is the form's, not the code's */
-	nonfinite("NoV/0 + sqrt(-NoL)", NULL, NULL);
+	nonfinite("NoL/NoV + sqrt(-NoL)", NULL, NULL);
+	/* but a division by a constant zero is the code's at every input, also
+	 * where a max hides it at some (drivers disagree on x / 0.0: tests/vk) */
+	nonfinite("NoV/0 + sqrt(-NoL)", NULL, "a division by the constant 0 (an infinity or NaN at every input)");
+	nonfinite("max(NoL, NoV/min(p0, 0))", (const double[]){0.75},
+	          "a division by the constant 0 (an infinity or NaN at every input)");
+	nonfinite("max(NoL, NoV/min(p0, 0))", NULL, NULL); /* p0 not baked in: not a constant */
 	nonfinite("sqrt(p0)*NoV", NULL, NULL); /* parameters not baked in */
 	nonfinite("sqrt(0.5)*NoV + 3.4e38", NULL, NULL);
 }

@@ -507,14 +507,32 @@ Test(eval, pow_exp_log_in_half_are_the_gpus_steps)
 		cr_assert_eq(eval_at("pow(NoV, p0)", BK_F16, lx, y), wp, "pow(%g, 2.5) in half", hl);
 	}
 	cr_assert_gt(differs, 3, "exp in half never differs from the correctly rounded value (%d)", differs);
-	/* a negative base: log2 of it is NaN on a GPU (GLSL and HLSL leave it undefined) */
-	double two[1] = {2};
-	cr_assert(isnan(eval_at("pow(NoV, p0)", BK_F16, -2, two)));
-	cr_assert_eq(eval_at("pow(NoV, p0)", BK_F64, -2, two), 4.0); /* libm's pow in double */
-	/* single precision stays what the generated C computes: expf, logf, powf */
-	cr_assert_eq(eval_at("exp(NoV)", BK_F32, 10, NULL), (double)expf(10.0f));
+	/* pow is exp2(y log2 x) in every precision, GLSL's definition: a negative
+	 * base is NaN (C's pow gives (-2)^2 = 4 and (-2)^3 = -8), 0^0 is NaN (C: 1),
+	 * 0 to a positive power 0 and to a negative one NaN too (GLSL: undefined;
+	 * C: +inf, and -inf for (-0)^-3) */
+	static const bk_precision all[] = {BK_F64, BK_F32, BK_F16, BK_FLD};
+	for (int q = 0; q < 4; q++) {
+		double two[1] = {2}, three[1] = {3}, zero[1] = {0}, mthree[1] = {-3};
+		const char *p = bk_precision_name(all[q]);
+		cr_assert(isnan(eval_at("pow(NoV, p0)", all[q], -2, two)), "%s: (-2)^2", p);
+		cr_assert(isnan(eval_at("pow(NoV, p0)", all[q], -2, three)), "%s: (-2)^3", p);
+		cr_assert(isnan(eval_at("pow(NoV, p0)", all[q], 0, zero)), "%s: 0^0", p);
+		cr_assert_eq(eval_at("pow(NoV, p0)", all[q], 0, two), 0.0, "%s: 0^2", p);
+		cr_assert(isnan(eval_at("pow(NoV, p0)", all[q], -0.0, mthree)), "%s: (-0)^-3", p);
+		cr_assert(isnan(eval_at("pow(NoV, p0)", all[q], 0.0, mthree)), "%s: 0^-3", p);
+		cr_assert_eq(eval_at("pow(NoV, p0)", all[q], 1, two), 1.0, "%s: 1^2", p);
+		/* x^9 is pow (only |k| <= 8 becomes multiplies): NaN below 0 too */
+		cr_assert(isnan(eval_at("(NoV - 1)^9", all[q], 0.5, NULL)), "%s: (-0.5)^9", p);
+		cr_assert_eq(eval_at("(NoV - 1)^3", all[q], 0.5, NULL), -0.125, "%s: (-0.5)^3 multiplies", p);
+	}
+	/* the value: within an ulp or two of libm's exp2(y log2 x), and of the
+	 * correctly rounded pow (in double: 2^-50 relative) */
 	double y[1] = {2.5};
-	cr_assert_eq(eval_at("pow(NoV, p0)", BK_F32, 0.7, y), (double)powf(0.7f, 2.5f));
+	double v32 = eval_at("pow(NoV, p0)", BK_F32, 0.7, y), c32 = exp2f(2.5f * log2f(0.7f));
+	cr_assert_leq(fabs(v32 - c32), 2 * (nextafterf((float)c32, 1) - (float)c32), "f32 %a against %a", v32, c32);
+	double v64 = eval_at("pow(NoV, p0)", BK_F64, 0.7, y);
+	cr_assert_leq(fabs(v64 - pow(0.7, 2.5)), 0x1p-50 * pow(0.7, 2.5));
 }
 
 /* ---- a form with no value anywhere on its inputs' domain ------------------------- */

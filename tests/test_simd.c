@@ -74,7 +74,7 @@ static double ref64_op(bk_op op, double A, double B, double C, int fused)
 	case BK_OP_DIV: return A / B;
 	case BK_OP_NEG: return -A;
 	case BK_OP_MAD: return fused ? fma(A, B, C) : A * B + C;
-	case BK_OP_POW: return bk_dpow(A, B);
+	case BK_OP_POW: return A == 0 && !(B > 0) ? NAN : bk_dexp2(B * bk_dlog2(A));
 	case BK_OP_SQRT: return sqrt(A);
 	case BK_OP_RSQRT: return 1.0 / sqrt(A);
 	case BK_OP_RCP: return 1.0 / A;
@@ -101,7 +101,7 @@ static float ref32_op(bk_op op, float A, float B, float C, int fused)
 	case BK_OP_DIV: return A / B;
 	case BK_OP_NEG: return -A;
 	case BK_OP_MAD: return fused ? fmaf(A, B, C) : A * B + C;
-	case BK_OP_POW: return (float)bk_dpow(A, B);
+	case BK_OP_POW: return A == 0 && !(B > 0) ? NAN : exp2f(B * log2f(A));
 	case BK_OP_SQRT: return sqrtf(A);
 	case BK_OP_RSQRT: return 1.0f / sqrtf(A);
 	case BK_OP_RCP: return 1.0f / A;
@@ -125,17 +125,18 @@ static float ref16_op(bk_op op, float A, float B, float C, int fused)
 	case BK_OP_NEG: return -A;
 	case BK_OP_ABS: return fabsf(A);
 	case BK_OP_MIN: case BK_OP_MAX: case BK_OP_CLAMP: case BK_OP_SATURATE: return ref32_op(op, A, B, C, 0);
-	case BK_OP_MAD: return fused ? h16(fmaf(A, B, C)) : h16(h16(A * B) + C);
-	case BK_OP_MIX: return h16(A + h16(h16(B - A) * C));
-	case BK_OP_POW: return h16(exp2f(h16(B * h16(log2f(A)))));
+	case BK_OP_MAD: return fused ? h16((float)((double)A * B + C)) : h16(h16(A * B) + C);
+	case BK_OP_MIX: return fused ? h16((float)((double)h16(B - A) * C + A)) : h16(A + h16(h16(B - A) * C));
+	case BK_OP_POW: return A == 0 && !(B > 0) ? NAN : h16(exp2f(h16(B * h16(log2f(A)))));
 	case BK_OP_EXP: return h16(exp2f(h16(A * h16((float)1.44269504088896340736))));
 	case BK_OP_LOG: return h16(h16(log2f(A)) * h16((float)0.693147180559945309417));
 	default: return h16(ref32_op(op, A, B, C, 0));
 	}
 }
 
-/* The reference value of f at sample k in precision p. */
-static double reference(const bk_form *f, bk_precision p, size_t k, const double *par, int fused)
+/* The reference value of f at sample k in precision p; fused: every mad (and
+ * mix's) rounded once. */
+static double reference_order(const bk_form *f, bk_precision p, size_t k, const double *par, int fused)
 {
 	double v[BK_FORM_MAX_INSTR];
 	for (int i = 0; i < f->n; i++) {
@@ -151,6 +152,30 @@ static double reference(const bk_form *f, bk_precision p, size_t k, const double
 			v[i] = leaf ? h16((float)x) : ref16_op(c->op, (float)A, (float)B, (float)C, fused);
 	}
 	return v[f->out];
+}
+
+static int has_mad(const bk_form *f)
+{
+	for (int i = 0; i < f->n; i++)
+		if (f->code[i].op == BK_OP_MAD || f->code[i].op == BK_OP_MIX)
+			return 1;
+	return 0;
+}
+
+/* The reference of bk_form_eval: in half, where a driver may fuse, the worse
+ * of the two orders (NaN over inf over a number, else the farther from f64's
+ * value: brdf/ir_eval.c); fused (the negative control): the fused order alone. */
+static double reference(const bk_form *f, bk_precision p, size_t k, const double *par, int fused)
+{
+	double u = reference_order(f, p, k, par, fused);
+	if (p != BK_F16 || fused || !has_mad(f))
+		return u;
+	double w = reference_order(f, p, k, par, 1), e = reference_order(f, BK_F64, k, par, 0);
+	if (isnan(u) || isnan(w))
+		return NAN;
+	if (isinf(u) || isinf(w))
+		return isinf(u) ? u : w;
+	return isfinite(e) && fabs(w - e) > fabs(u - e) ? w : u;
 }
 
 /* Every op, with and without parameters; the last are fused into MAD. */

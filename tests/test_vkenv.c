@@ -23,7 +23,7 @@ static vk_env env_at(const char *form, const double *params, bk_precision prec, 
 	const double *in[BK_IN_COUNT] = {0};
 	in[BK_IN_NOV] = &nov;
 	in[BK_IN_NOL] = &nol;
-	vk_rules rules = {prec, flush, fold, builtin};
+	vk_rules rules = {prec, flush, fold, builtin, 0};
 	vk_env out;
 	cr_assert_eq(vk_envelope(f, params, &rules, 1, in, &out), 0);
 	bk_form_free(f);

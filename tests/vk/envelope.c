@@ -290,8 +290,9 @@ static vk_env rsqrt(vk_env a, const vk_rules *R, const fmt *F)
 {
 	if (a.any || a.lo < 0)
 		return a.any ? a : UNDEFINED;
-	if (a.hi == 0)
-		return point(INFINITY, R, F);
+	if (a.hi == 0 || (a.lo == 0 && signbit(a.lo))) /* 1/sqrt(+-0) = +-inf (IEEE): the sign of a
+	                                                * zero the intervals do not keep; kinds alone */
+		return ANY;
 	vk_env e = widen(1 / sqrt(a.hi), a.lo > 0 ? 1 / sqrt(a.lo) : INFINITY, 0, 2, R, F);
 	if (a.lo < ldexp(1, F->emin))
 		e.hi = INFINITY;
@@ -320,7 +321,9 @@ static vk_env expo(vk_env a, int base2, const vk_rules *R, const fmt *F)
 {
 	if (a.any)
 		return a;
-	double k = F->exp_base + 2 * fmax(fabs(a.lo), fabs(a.hi));
+	double k = F->exp_base + 2 * fmax(fabs(a.lo), fabs(a.hi)) + R->exp_slack;
+	if (!isfinite(k)) /* an argument reaching an infinity: no ULP bound, any of [0, inf] */
+		return finish((vk_env){0, INFINITY, 0}, R, F);
 	double lo = base2 ? exp2(a.lo) : exp(a.lo), hi = base2 ? exp2(a.hi) : exp(a.hi);
 	/* exact: 2 to an integer power, e^0 */
 	int exact = base2 ? a.lo == floor(a.lo) && a.hi == floor(a.hi) : a.lo == 0 && a.hi == 0;

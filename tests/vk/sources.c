@@ -41,7 +41,7 @@ void vk_fns_free(vk_fns *fns)
 
 /* One emitted function: text parsed, bk_form_emit'd under a name unique in
  * the run (a catalog or front name may be a GLSL word). Group 0: emitted. */
-static int add_emitted(vk_fns *fns, const char *label, const char *text, const double *params, int np,
+int vk_add_emitted(vk_fns *fns, const char *label, const char *text, const double *params, int np,
                        char *err, size_t errlen)
 {
 	vk_fn *f = grow(fns);
@@ -79,10 +79,10 @@ int vk_add_catalog(vk_fns *fns, char *err, size_t errlen)
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		char label[200];
 		snprintf(label, sizeof label, "catalog:%s%s", e->name, e->form_b ? ":A" : "");
-		if (add_emitted(fns, label, e->form, e->defaults, e->nparams, err, errlen))
+		if (vk_add_emitted(fns, label, e->form, e->defaults, e->nparams, err, errlen))
 			return -1;
 		snprintf(label, sizeof label, "catalog:%s:B", e->name);
-		if (e->form_b && add_emitted(fns, label, e->form_b, e->defaults, e->nparams, err, errlen))
+		if (e->form_b && vk_add_emitted(fns, label, e->form_b, e->defaults, e->nparams, err, errlen))
 			return -1;
 	}
 	return 0;
@@ -115,10 +115,10 @@ int vk_add_front(vk_fns *fns, const char *path, char *err, size_t errlen)
 	for (int i = 0; i < fc.n && !rc; i++) {
 		const bk_frontcsv_row *w = &fc.row[i];
 		snprintf(label, sizeof label, "front:%s/%.80s%s", dir, w->name, w->form_b ? ":A" : "");
-		rc = add_emitted(fns, label, w->form, w->p, w->np, err, errlen);
+		rc = vk_add_emitted(fns, label, w->form, w->p, w->np, err, errlen);
 		snprintf(label, sizeof label, "front:%s/%.80s:B", dir, w->name);
 		if (!rc && w->form_b)
-			rc = add_emitted(fns, label, w->form_b, w->p, w->np, err, errlen);
+			rc = vk_add_emitted(fns, label, w->form_b, w->p, w->np, err, errlen);
 	}
 	if (!rc && fc.n == 0)
 		rc = -1, snprintf(err, errlen, "%s: no front member", path);

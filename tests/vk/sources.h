@@ -4,6 +4,8 @@
  *
  *   catalog   every entry of fit/catalog (A and B of a split-sum entry), its
  *             published constants baked in, emitted by bk_form_emit;
+ *   fuzz      forms drawn at random from the IR's ops (vk_add_fuzz), emitted
+ *             by bk_form_emit;
  *   front     every row of a search's front.csv (columns read by name: name,
  *             form, form_b, parameters), emitted by bk_form_emit;
  *   file      every function of a committed GLSL file (make results' scene
@@ -42,6 +44,13 @@ typedef struct vk_fns {
 int vk_add_catalog(vk_fns *fns, char *err, size_t errlen);
 int vk_add_front(vk_fns *fns, const char *path, char *err, size_t errlen);
 int vk_add_glsl(vk_fns *fns, const char *path, char *err, size_t errlen);
+/* One form's text emitted as the catalog's are (label unique in the run). */
+int vk_add_emitted(vk_fns *fns, const char *label, const char *text, const double *params, int np, char *err,
+                   size_t errlen);
+/* n forms drawn from seed (tests/vk/fuzz.c): every op of the IR, negative
+ * bases and arguments, constants past half's and float's range, emitted as
+ * the catalog's are; labelled "fuzz:SEED:K FORM". */
+int vk_add_fuzz(vk_fns *fns, int n, unsigned long seed, char *err, size_t errlen);
 
 void vk_fns_free(vk_fns *fns);
 

@@ -3,7 +3,7 @@
  * lavapipe), compared with the IR's evaluation in the same precision.
  *
  *   vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half]
- *         [--list] [--verbose] [FRONT.csv | SHADER.glsl]...
+ *         [--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]...
  *
  * Runs every catalog form, every member of the given search fronts and every
  * function of the given GLSL files brdfkit wrote (tests/vk/sources.h) on a grid of its
@@ -17,8 +17,15 @@
  *     operation, exp2/log2 included);
  *   - the IR's value (bk_form_eval in that precision) is one too: the IR
  *     describes a driver the specification allows;
- *   - NaN, +inf and -inf match in kind exactly (where the envelope bounds
- *     nothing, e.g. past a division by zero, only this is checked).
+ *   - NaN, +inf and -inf match in kind exactly wherever the specification
+ *     defines the operations, also where the envelope bounds nothing (past a
+ *     division by zero); in f16 the driver's kind is that of one of the two
+ *     orders of the mads (bk_ir_eval_half_orders), the IR reporting the worse;
+ *   - where the specification defines nothing (pow of a negative base, 0^0,
+ *     0/0, sqrt(-1)) the driver is free, and the IR must say NaN (or have made
+ *     one that a min or max hid): it never reports a number there.
+ *
+ * --fuzz N adds N forms drawn from --seed (tests/vk/fuzz.c) to the catalog.
  *
  * --perturb LABEL multiplies the first literal in that function's body by F
  * (default 1.001), --nan LABEL makes it return NaN, --ir-half compares the f32
@@ -48,12 +55,14 @@ typedef struct opts {
 	const char *perturb, *nan;
 	double factor;
 	int list, verbose, ir_half;
+	int fuzz;           /* forms drawn by tests/vk/fuzz.c */
+	unsigned long seed; /* their seed */
 } opts;
 
 static int usage(const char *msg)
 {
 	fprintf(stderr, "vkrun: %s; usage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half] "
-	                "[--list] [--verbose] [FRONT.csv | SHADER.glsl]...\n", msg);
+	                "[--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]...\n", msg);
 	return 2;
 }
 
@@ -112,15 +121,19 @@ static int make_grid(const vk_fns *fns, int samples, grid *g)
 typedef struct stats {
 	int verbose, ir_half;
 	long samples, bounded, unbounded, undefined, flushed, folded;
-	long driver_out, ir_out, kind;
+	long driver_out, ir_out, kind, orders, irnan, flushkind, open, overkind, slack;
 	int failed, flushed_fns, folded_fns, mostly_unbounded;
 	double max_ulp, max_ulp_tol; /* the largest |driver - IR| in ulps, and the tolerance there */
 	char max_at[200];
 } stats;
 
+/* The class of a value: a number, an infinity or NaN. The sign of an
+ * infinity is not compared: it follows the sign of a zero (1/-0), which a
+ * driver's algebra does not keep (x + y*0 folded to x gives -0 where IEEE
+ * gives +0: measured on lavapipe), and no shader reads it. */
 static int kind(double v)
 {
-	return isnan(v) ? 3 : v == INFINITY ? 1 : v == -INFINITY ? 2 : 0;
+	return isnan(v) ? 2 : isinf(v) ? 1 : 0;
 }
 
 static int uses_mix(const bk_form *f)
@@ -147,9 +160,12 @@ typedef struct fncheck {
 	const float *in, *drv;        /* SLOTS floats per sample; the driver's values */
 	const double *cols[BK_IN_COUNT];
 	double *x, *ir;               /* the inputs as columns; the IR's values */
+	double *alt;                  /* f16: the IR's values in each order a driver may take */
+	int ir16;                     /* the IR ran in f16 (alt holds its two orders) */
 	vk_env *env;                  /* n with every allowance, then n with none */
 	int builtin;                  /* the text calls GLSL mix() */
-	long bad, dout, iout, kinds, flushed, folded, any, undefined;
+	long bad, dout, iout, kinds, flushed, folded, slack, any, undefined, orders, iundef, flushkind, open, overkind;
+	unsigned char *flags;         /* the IR's flags (bk_form_eval_flags): a NaN made on the way */
 	double ulp, tol;              /* the largest |driver - IR| in ulps, the tolerance there */
 	size_t first;                 /* the first failing sample */
 } fncheck;
@@ -157,11 +173,13 @@ typedef struct fncheck {
 static int fc_prepare(fncheck *c, int ir_half)
 {
 	size_t n = c->n;
-	c->x = malloc(sizeof *c->x * n * (BK_IN_COUNT + 1) + 1);
+	c->x = malloc(sizeof *c->x * n * (BK_IN_COUNT + 3) + 1);
 	c->env = malloc(sizeof *c->env * n * 2 + 1);
-	if (!c->x || !c->env)
+	c->flags = malloc(n + 1);
+	if (!c->x || !c->env || !c->flags)
 		return -1;
 	c->ir = c->x + n * BK_IN_COUNT;
+	c->alt = c->ir + n;
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		if (c->f->args >> k & 1) {
 			for (size_t s = 0; s < n; s++)
@@ -169,36 +187,74 @@ static int fc_prepare(fncheck *c, int ir_half)
 			c->cols[k] = c->x + (size_t)k * n;
 		}
 	c->builtin = vk_calls(c->f->glsl, "mix");
-	vk_rules all = {c->prec, 1, 1, c->builtin}, strict = {c->prec, 0, 0, c->builtin};
+	vk_rules all = {c->prec, 1, 1, c->builtin, 1}, strict = {c->prec, 0, 0, c->builtin, 0};
 	c->first = n;
-	return bk_form_eval(c->f->form, ir_half ? BK_F16 : c->prec, n, c->cols, c->f->params, c->ir) ||
+	int half = c->ir16 = ir_half || c->prec == BK_F16;
+	return bk_form_eval_flags(c->f->form, ir_half ? BK_F16 : c->prec, n, c->cols, c->f->params, c->ir, c->flags,
+	                          NULL) ||
+	       (half && bk_ir_eval_half_orders(c->f->form, n, c->cols, c->f->params, c->alt, c->alt + n)) ||
 	       vk_envelope(c->f->form, c->f->params, &all, n, c->cols, c->env) ||
 	       vk_envelope(c->f->form, c->f->params, &strict, n, c->cols, c->env + n) ? -1 : 0;
 }
 
 /* A value the strict envelope refuses and the full one allows: which
- * allowance it needed (the flush alone, else the compiler's folding). */
+ * allowance it needed (the flush alone, the compiler's folding alone, else
+ * lavapipe's exp2 slack). */
 static void fc_allowance(fncheck *c, size_t s, double d)
 {
 	vk_env e;
-	vk_rules flush_only = {c->prec, 1, 0, c->builtin};
+	vk_rules flush_only = {c->prec, 1, 0, c->builtin, 0}, fold_only = {c->prec, 0, 1, c->builtin, 0};
 	const double *one[BK_IN_COUNT];
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		one[k] = c->cols[k] ? c->cols[k] + s : NULL;
 	if (vk_envelope(c->f->form, c->f->params, &flush_only, 1, one, &e) == 0 && vk_env_allows(&e, d))
 		c->flushed++;
-	else
+	else if (vk_envelope(c->f->form, c->f->params, &fold_only, 1, one, &e) == 0 && vk_env_allows(&e, d))
 		c->folded++;
+	else
+		c->slack++;
 }
 
 static void fc_sample(fncheck *c, size_t s, stats *st)
 {
 	double d = c->drv[s], v = c->ir[s];
 	const vk_env *e = &c->env[s], *strict = &c->env[c->n + s];
-	int od = !vk_env_allows(e, d), oi = !vk_env_allows(e, v), allowance = !od && !vk_env_allows(strict, d);
-	/* kinds must match, except where nothing is defined, or where an allowance
-	 * (a flushed denormal divisor, say) is what unbounds the value */
-	int kd = kind(d) != kind(v) && e->any != VK_UNDEFINED && !(allowance && !strict->any);
+	/* Where the IR made a NaN (its value, or one a later min, max or clamp
+	 * hid: flags), brdfkit reports no number, and the driver is free: the
+	 * specifications give such an operation no value (pow of a negative base,
+	 * 0^0, 0/0, sqrt(-1)) and drivers differ there (lavapipe gives 0 for 0^-1,
+	 * and a number for exp2 of a NaN, which it clamps; other GPUs NaN). So
+	 * where the IR is infinite and the operations' allowed error can reach an
+	 * undefined one (rsqrt of a difference that cancels to 0 in the IR, and
+	 * to a negative in a driver within its ULPs): no number is reported. */
+	int irnan = isnan(v) || (c->flags[s] & BK_FLAG_NAN) || (isinf(v) && e->any == VK_UNDEFINED);
+	int od = !irnan && !vk_env_allows(e, d), oi = !vk_env_allows(e, v);
+	int allowance = !irnan && !od && !vk_env_allows(strict, d);
+	/* Everywhere else the kinds (a number, +inf, -inf, NaN) must match, also
+	 * where the envelope bounds or defines nothing (an interval that may hold
+	 * a zero divisor) and where an allowance (a flushed denormal) moved the
+	 * value. In half the driver may take either order of a mad (fused or
+	 * not) and the IR reports the worse: the driver's kind must be that of
+	 * one of the two. */
+	double uf = c->ir16 ? c->alt[s] : v, fu = c->ir16 ? c->alt[c->n + s] : v;
+	int kd = !irnan && kind(d) != kind(v) && kind(d) != kind(uf) && kind(d) != kind(fu);
+	/* but for two cases the specification leaves open, each counted: a
+	 * driver that flushes a denormal the IR keeps (allowed; the IR flags the
+	 * denormal) may turn it into a division by zero, hence an infinity; and
+	 * where the envelope is an interval past the largest finite value (a
+	 * result within the operations' ULPs of overflow), both kinds are
+	 * allowed values and the IR's is one of them */
+	if (kd && (c->flags[s] & BK_FLAG_SUBNORMAL))
+		kd = 0, c->flushkind++;
+	else if (kd && !e->any && vk_env_allows(e, d) && vk_env_allows(e, v))
+		kd = 0, c->open++;
+	/* and an infinity the IR made on the way from finite operands (it flags
+	 * it: a division by a zero whose sign max(0, -0) leaves to the driver,
+	 * an overflow) where the specification bounds nothing after it */
+	else if (kd && e->any && (c->flags[s] & BK_FLAG_OVERFLOW))
+		kd = 0, c->overkind++;
+	c->iundef += irnan;
+	c->orders += kind(uf) != kind(fu);
 	c->any += e->any != 0;
 	c->undefined += e->any == VK_UNDEFINED;
 	c->dout += od;
@@ -237,6 +293,12 @@ static void fc_report(const fncheck *c, stats *st)
 	st->driver_out += c->dout;
 	st->ir_out += c->iout;
 	st->kind += c->kinds;
+	st->orders += c->orders;
+	st->irnan += c->iundef;
+	st->flushkind += c->flushkind;
+	st->open += c->open;
+	st->overkind += c->overkind;
+	st->slack += c->slack;
 	st->flushed += c->flushed;
 	st->flushed_fns += c->flushed > 0;
 	st->folded += c->folded;
@@ -277,6 +339,7 @@ static int check_fn(const vk_fn *f, const float *in, size_t n, const float *drv,
 		fc_report(&c, st);
 	free(c.x);
 	free(c.env);
+	free(c.flags);
 	return rc;
 }
 
@@ -358,12 +421,12 @@ static int run_precision(bk_lvp *v, const vk_fns *fns, const grid *g, bk_precisi
 		printf("%s: %d functions in %d shaders, %ld samples (%ld bounded; %ld where the specification bounds "
 		       "nothing: NaN/Inf kinds only; %ld where it defines nothing: 0/0 and the like; %d functions mostly "
 		       "unbounded); failed %d: driver outside the envelope %ld, IR outside %ld, "
-		       "NaN/Inf kind %ld; allowances used: a denormal flushed %ld samples in %d functions, a constant folded in double %ld samples in %d functions; max |driver - IR| %.3g ulp "
+		       "NaN/Inf kind %ld; %ld samples whose kind depends on the order of a mad (the IR keeps the worse); %ld where the IR is NaN or infinite past an undefined operation (the driver free); kinds left open: %ld by a denormal the IR flags, %ld within the ULPs of overflow, %ld past an infinity the IR flags; allowances used: a denormal flushed %ld samples in %d functions, a constant folded in double %ld samples in %d functions, lavapipe's exp2 slack %ld samples; max |driver - IR| %.3g ulp "
 		       "(%s, tolerance there %.3g ulp); time: glslang %.2f s, lavapipe "
 		       "pipelines %.2f s, run %.2f s, check %.2f s\n",
 		       bk_precision_name(prec), fns->n, b.npipe, st->samples, st->bounded, st->unbounded, st->undefined, st->mostly_unbounded,
 		       st->failed,
-		       st->driver_out, st->ir_out, st->kind, st->flushed, st->flushed_fns, st->folded, st->folded_fns, st->max_ulp,
+		       st->driver_out, st->ir_out, st->kind, st->orders, st->irnan, st->flushkind, st->open, st->overkind, st->flushed, st->flushed_fns, st->folded, st->folded_fns, st->slack, st->max_ulp,
 		       *st->max_at ? st->max_at : "-", st->max_ulp_tol, t1 - t0, t[0], t[1],
 		       bk_clock_now() - t2);
 	free_batch(&b);
@@ -383,6 +446,16 @@ static int parse(int argc, char **argv, opts *o, vk_fns *fns, char *err, size_t 
 			if (*end || n < 1 || n > 1 << 20)
 				return usage("--samples: a count in [1, 1048576]"), 2;
 			o->samples = (int)n, i++;
+		} else if (!strcmp(a, "--fuzz") && val) {
+			long n = strtol(val, &end, 10);
+			if (*end || n < 1 || n > 100000)
+				return usage("--fuzz: a count in [1, 100000]"), 2;
+			o->fuzz = (int)n, i++;
+		} else if (!strcmp(a, "--seed") && val) {
+			unsigned long n = strtoul(val, &end, 10);
+			if (*end || !*val || val[0] == '-')
+				return usage("--seed: a non-negative integer"), 2;
+			o->seed = n, i++;
 		} else if (!strcmp(a, "--factor") && val) {
 			o->factor = strtod(val, &end);
 			if (*end || !isfinite(o->factor))
@@ -439,6 +512,8 @@ int main(int argc, char **argv)
 	vk_fns fns = {.groups = 1};
 	char err[1024], driver[200] = "";
 	int rc = vk_add_catalog(&fns, err, sizeof err) ? 1 : parse(argc, argv, &o, &fns, err, sizeof err);
+	if (!rc && o.fuzz && vk_add_fuzz(&fns, o.fuzz, o.seed, err, sizeof err))
+		rc = 1;
 	if (rc == 1)
 		fprintf(stderr, "vkrun: %s\n", err);
 	if (!rc && o.list)
