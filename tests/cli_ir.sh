@@ -89,6 +89,18 @@ done
 accepted "codegen NoV/NoL" $BK codegen --lang c 'NoV/NoL'
 accepted "ops NoV/NoL" $BK ops 'NoV/NoL'
 
+# ---- pow of a negative base means what a GPU computes: no value (H1) --------------
+# the audit's commands: eval said f64 -0.001953125, stability 'f32 wrong 0',
+# codegen emitted pow(t2, 9.0) silently (NaN on every GPU)
+refused "eval (NoV-1)^9" 1 "value not finite at NoV=0.5: f64 nan" $BK eval '(NoV-1)^9' NoV=0.5
+refused "eval pow(NoV-1, NoH) at 0^0" 1 "f64 nan" $BK eval 'pow(NoV-1, NoH)' NoV=1 NoH=0
+$BK stability '(NoV-1)^9' 2>/dev/null | grep -q '^the form itself is NaN or infinite at 130 of 143 samples' && ok ||
+	bad "stability (NoV-1)^9: not NaN below NoV = 1"
+# controls: an integral power up to 8 is multiplies, a number below 0 too
+$BK eval '(NoV-1)^3' NoV=0.5 2>&1 | grep -q '^f64 -0.125$' && ok || bad "eval (NoV-1)^3 is not -0.125"
+$BK codegen --lang c 'NoV^2.5' | grep -qF 'exp2f(2.5f * log2f(NoV))' && ok ||
+	bad "codegen C: pow is not spelled exp2f(y * log2f(x))"
+
 # ---- pN= the form does not use; --chips duplicates and empty items (M10) -------
 refused "eval p1 unused" 2 "p1=VALUE has no effect: the form uses p0 only" $BK eval 'NoV*p0' p0=1 p1=2 NoV=0.5
 refused "codegen p1 unused" 2 "p1=VALUE has no effect" $BK codegen --lang c 'NoV*p0' p0=1 p1=2
