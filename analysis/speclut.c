@@ -8,6 +8,7 @@
 #include "out.h"
 #include "pngio.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,6 +65,59 @@ const char *bk_speclut_check(const bk_speclut *L)
 	if ((unsigned)L->fmt >= BK_LUT_FORMATS)
 		return "unknown format";
 	return NULL;
+}
+
+/* The scales at which every texel of L's intensities (L's own scale aside) is
+ * 0 or a finite normal float32: the texel is intensity/scale cast to float
+ * (spec.exr), so the largest intensity bounds the scale from below (FLT_MAX)
+ * and the smallest non-zero one from above (FLT_MIN); the shader constant is
+ * the scale itself, a normal float too: [FLT_MIN, FLT_MAX]. Outward by 1 %
+ * of the bound, past double's rounding of the quotient and printing to 3
+ * digits. */
+static void scale_range(const bk_speclut *L, const double *raw, size_t n, double *lo, double *hi)
+{
+	double imax = 0, imin = INFINITY;
+	for (size_t k = 0; k < n; k++) {
+		double t = raw[k] * L->scale;
+		imax = fmax(imax, t);
+		if (t > 0)
+			imin = fmin(imin, t);
+	}
+	*lo = fmax(FLT_MIN, imax / FLT_MAX) * 1.01;
+	*hi = fmin(FLT_MAX, imin / FLT_MIN) * 0.99;
+}
+
+int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len)
+{
+	if (bk_speclut_check(L))
+		return -1;
+	size_t n = (size_t)L->nu * (size_t)L->nr, inf = 0, sub = 0;
+	double *raw = malloc(n * sizeof *raw);
+	if (!raw)
+		return -1;
+	bk_speclut_bake(L, raw, NULL);
+	for (size_t k = 0; k < n; k++) {
+		float t = (float)raw[k];
+		inf += isinf(t) || isnan(t);
+		sub += raw[k] != 0 && fabsf(t) < FLT_MIN;
+	}
+	float s = (float)L->scale;
+	int bad_s = !(isfinite(s) && s >= FLT_MIN);
+	if (inf || sub || bad_s) {
+		double lo, hi;
+		scale_range(L, raw, n, &lo, &hi);
+		char what[160];
+		if (inf)
+			snprintf(what, sizeof what, "%zu of %zu texels are +inf in float32", inf, n);
+		else if (sub)
+			snprintf(what, sizeof what, "%zu of %zu texels are 0 or subnormal in float32", sub, n);
+		else
+			snprintf(what, sizeof what, "the shader constant %g is %s in float32", L->scale, s == 0 ? "0" : "subnormal");
+		snprintf(why, len, "%s; this LUT's texels and constant are normal floats for a scale in [%.3g, %.3g]", what,
+		         lo, hi);
+	}
+	free(raw);
+	return inf || sub || bad_s;
 }
 
 void bk_speclut_name(const bk_speclut *L, char *buf, size_t len)
@@ -331,6 +385,16 @@ int bk_speclut_write(const bk_speclut *L, const char *dir, const char *command, 
 		free(fl);
 		free(codes);
 		snprintf(err, errlen, "%s: out of memory", exr_path);
+		return -1;
+	}
+	/* a file that holds +inf where its CSV lists a number is never written
+	 * (H3): the command refuses such a scale first, this is the last guard */
+	char why[300];
+	if (bk_speclut_float_check(L, why, sizeof why)) {
+		snprintf(err, errlen, "%s: scale %g: %s", exr_path, L->scale, why);
+		free(raw);
+		free(fl);
+		free(codes);
 		return -1;
 	}
 	bk_speclut_bake(L, raw, NULL);

@@ -83,6 +83,14 @@ int bk_speclut_fresnel_parse(const char *s, bk_speclut_fresnel *f);
 /* NULL when L is a valid layout, else what is wrong ("warp 0 is outside 1..16"). */
 const char *bk_speclut_check(const bk_speclut *L);
 
+/* 1 if a texel of L (intensity/scale cast to float32, spec.exr's) is
+ * infinite, or not 0 but 0 or subnormal (0 where GPUs flush), or the shader's
+ * constant (the scale) is not a normal float32; why then says which and
+ * the scales this LUT admits ("39 of 4096 texels are +inf in float32; ...
+ * for a scale in [LO, HI]"). 0 if every one is, -1 on a bad layout or no
+ * memory. */
+int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len);
+
 /* "spec LUT 64x64 unorm8 rol^4 /16" (+ " schlick" with Fresnel in the shader). */
 void bk_speclut_name(const bk_speclut *L, char *buf, size_t len);
 

