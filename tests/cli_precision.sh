@@ -71,5 +71,23 @@ refused "nowhere finite" 2 "NaN or infinite everywhere" "$BK" codegen --lang c '
 [ -s fq/shader.c ] && ok || bad "fit: no shader.c"
 quiet "fit in range" "$BK" fit --target f --form 'p0 + (1-p0)*pow(1-LoH, 5)' p0=0.04 --out fr
 
+# ---- H3: lut --specular --scale where a texel or the constant is not a normal float
+refused "scale 1e-300" 2 "--scale 1e-300: 4096 of 4096 texels are +inf in float32" \
+	"$BK" lut --specular --scale 1e-300 --out ls1
+refused "scale 1e-38" 2 "--scale 1e-38: 39 of 4096 texels are +inf in float32" \
+	"$BK" lut --specular --scale 1e-38 --out ls2
+refused "scale 1e-45" 2 "--scale 1e-45: 4043 of 4096 texels" "$BK" lut --specular --scale 1e-45 --out ls3
+refused "sweep at 1e-300" 2 "--scale 1e-300" "$BK" lut --specular --sweep --scale 1e-300 --out ls4
+for d in ls1 ls2 ls3 ls4; do [ ! -e $d ] && ok || bad "$d written"; done
+# the bound the message states is the data's: at it the LUT is written, below it not
+lo=$(sed -n 's/.*scale in \[\([^,]*\),.*/\1/p' err)
+[ -n "$lo" ] && ok || bad "no bound in '$(cat err)'"
+quiet "scale at the bound $lo" "$BK" lut --specular --scale "$lo" --out ls5
+below=$(awk -v l="$lo" 'BEGIN { printf "%.3g", l/1.02 }')
+refused "scale below the bound ($below)" 2 "texels are +inf" "$BK" lut --specular --scale "$below" --out ls6
+# negative control: the default scale, every float finite and equal to the CSV's
+quiet "default scale" "$BK" lut --specular --out ls7
+[ "$(csv_col ls5/spec.csv float | grep -civ '^[0-9.e+-]*$')" -eq 0 ] && ok || bad "ls5 csv: a float not a number"
+
 echo "cli_precision: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

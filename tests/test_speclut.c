@@ -273,3 +273,86 @@ Test(speclut, score_on_planted_samples)
 	cr_assert_eq(bk_speclut_score(&L, BK_F64, &s, &m, NULL), 0);
 	cr_assert_gt(m.max_abs, 0.3 * scale);
 }
+
+/* H3: a scale at which a texel (intensity/scale as float32) or the shader's
+ * constant (the scale) is not a finite normal float is refused, by the check
+ * the command runs first and by the writer, which then writes nothing; at the
+ * bound the check states, the EXR holds finite texels equal to the CSV's
+ * float column (to float's rounding). */
+static int csv_float_column(const char *path, double *v, int n)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	int col = -1, k = 0;
+	while (f && fgets(line, sizeof line, f)) {
+		if (line[0] == '#')
+			continue;
+		if (col < 0) { /* the header: the column named float */
+			int c = 0;
+			for (char *t = strtok(line, ",\n"); t; t = strtok(NULL, ",\n"), c++)
+				if (!strcmp(t, "float"))
+					col = c;
+			if (col < 0)
+				break;
+			continue;
+		}
+		char *t = strtok(line, ",\n");
+		for (int c = 0; t && c < col; c++)
+			t = strtok(NULL, ",\n");
+		if (!t || k >= n)
+			break;
+		v[k++] = strtod(t, NULL);
+	}
+	if (f)
+		fclose(f);
+	return k;
+}
+
+Test(speclut, scales_past_float_refused_exr_agrees_with_csv)
+{
+	bk_speclut L = BK_SPECLUT_TALK;
+	char why[300], err[600], dir[] = "/tmp/bk_speclut_XXXXXX", path[256];
+	L.scale = 1e-38; /* the audit's: 39 texels past FLT_MAX */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	cr_assert_not_null(strstr(why, "39 of 4096 texels are +inf in float32"), "%s", why);
+	L.scale = 1e-300;
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	cr_assert_not_null(strstr(why, "4096 of 4096 texels are +inf"), "%s", why);
+	L.scale = 1e-45; /* the shader constant 1e-45 is subnormal too */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	/* the range it states: its lower bound passes, 2 % below it does not */
+	char *at = strstr(why, "scale in [");
+	cr_assert_not_null(at, "%s", why);
+	double lo = strtod(at + strlen("scale in ["), NULL);
+	cr_assert(lo > 1e-38 && lo < 1e-37, "%g", lo);
+	L.scale = lo / 1.02;
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	L.scale = 16; /* negative control: the talk's */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 0);
+	/* the writer refuses too, and leaves nothing */
+	cr_assert_not_null(mkdtemp(dir));
+	L.scale = 1e-38;
+	cr_assert_eq(bk_speclut_write(&L, dir, "t", err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "+inf in float32"), "%s", err);
+	snprintf(path, sizeof path, "%s/" BK_SPECLUT_EXR, dir);
+	cr_assert_neq(access(path, F_OK), 0, "spec.exr written");
+	/* at the bound: every texel finite, the EXR's float the CSV's number */
+	L.scale = lo;
+	cr_assert_eq(bk_speclut_write(&L, dir, "t", err, sizeof err), 0, "%s", err);
+	bk_exr_image img;
+	cr_assert_eq(bk_exr_read(path, &img, err, sizeof err), 0, "%s", err);
+	static double csv[4096];
+	snprintf(path, sizeof path, "%s/" BK_SPECLUT_CSV, dir);
+	cr_assert_eq(csv_float_column(path, csv, 4096), 4096);
+	float big = 0;
+	for (int k = 0; k < 4096; k++) {
+		cr_assert(isfinite(img.data[0][k]), "texel %d: %g", k, img.data[0][k]);
+		cr_assert_leq(fabs(img.data[0][k] - csv[k]), 1e-7 * fabs(csv[k]), "texel %d: %g, csv %g", k, img.data[0][k],
+		              csv[k]);
+		big = fmaxf(big, img.data[0][k]);
+	}
+	cr_assert_gt(big, 1e38f); /* near FLT_MAX: the bound is tight */
+	bk_exr_image_free(&img);
+	snprintf(path, sizeof path, "rm -rf '%s'", dir);
+	cr_assert_eq(system(path), 0);
+}

@@ -275,7 +275,7 @@ int cmd_lut_specular(int argc, char **argv)
 		{.name = "--specular", .kind = CLI_FLAG, .help = "the specular LUT (this command; without it, the DFG LUT)", .dest = &specular, .required = 1},
 		{.name = "--axis", .kind = CLI_STR, .metavar = "rol|noh", .help = "x = saturate(R.L) (default, the talk's) or N.H", .dest = &axis},
 		{.name = "--warp", .kind = CLI_INT, .metavar = "P", .help = "u = x^P, an integer power 1..16 (default 4, the talk's)", .dest = &warp, .lo = 1, .hi = BK_SPECLUT_MAX_WARP},
-		{.name = "--scale", .kind = CLI_NUM, .metavar = "S", .help = "texel = intensity/S (default 16, the talk's)", .dest = &scale, .lo = 0, .lo_open = 1, .hi = 1e6},
+		{.name = "--scale", .kind = CLI_NUM, .metavar = "S", .help = "texel = intensity/S, a normal float32 as S must be (default 16, the talk's)", .dest = &scale, .lo = 0, .lo_open = 1, .hi = 1e6},
 		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "texels along u (default 64)", .dest = &size, .lo = 2, .hi = BK_SPECLUT_MAX_SIZE},
 		{.name = "--rows", .kind = CLI_INT, .metavar = "H", .help = "texels along roughness (default: W)", .dest = &rows, .lo = 2, .hi = BK_SPECLUT_MAX_SIZE},
 		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "rows over roughness LO..HI (default 0:1)", .dest = &r_range},
