@@ -302,6 +302,32 @@ double bk_speclut_plane_rms(const bk_samples *s, const double *plane)
 	return used ? sqrt(sum / (double)used) : NAN;
 }
 
+int bk_speclut_plane_albedo(const bk_samples *s, double *albedo)
+{
+	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny;
+	double *zero = calloc(s->n ? s->n : 1, sizeof *zero);
+	if (!zero)
+		return -1;
+	bk_samples_plane_error(s, zero, albedo); /* 0 - exact, per cell */
+	for (size_t k = 0; k < n; k++)
+		albedo[k] = -albedo[k];
+	free(zero);
+	return 0;
+}
+
+double bk_speclut_plane_rel_rms(const bk_samples *s, const double *plane, const double *albedo)
+{
+	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny, used = 0;
+	double sum = 0;
+	for (size_t k = 0; k < n; k++)
+		if (isfinite(plane[k]) && isfinite(albedo[k]) && albedo[k] > 0) {
+			double e = plane[k] / albedo[k];
+			sum += e * e;
+			used++;
+		}
+	return used ? sqrt(sum / (double)used) : NAN;
+}
+
 int bk_speclut_ops(const bk_speclut *L, bk_ops *ops)
 {
 	memset(ops, 0, sizeof *ops);

@@ -145,6 +145,20 @@ int bk_speclut_score_storage(const bk_speclut *L, const bk_samples *s, bk_fit_me
  * most grazing cell, which no texture of D/4 gets right). */
 double bk_speclut_plane_rms(const bk_samples *s, const double *plane);
 
+/* The exact directional albedo per cell of the plane of s (the spec
+ * target's (NoV, r) cells): minus the plane error of a LUT of zeros. Returns
+ * 0, or -1 with no memory. */
+int bk_speclut_plane_albedo(const bk_samples *s, double *albedo);
+
+/* The root mean square over the cells of plane / albedo (albedo from
+ * bk_speclut_plane_albedo; cells whose albedo is 0 or not finite left out):
+ * the error relative to the energy each cell has, so that every cell counts
+ * the same and a LUT that outputs 0 scores exactly 1 (M5: the absolute rms
+ * is dominated by the grazing and smoothest cells, whose albedo is largest
+ * and which no 8-bit LUT of D/4 gets right, and puts a LUT of zeros within
+ * 3 % of the best). NAN when no cell counts. */
+double bk_speclut_plane_rel_rms(const bk_samples *s, const double *plane, const double *albedo);
+
 /* The shader's ALU ops beyond the fetch, counted by the IR on the text it
  * runs: rol: dot(R, L) as 3 simple ops (one mul, two mad: a scalar ALU's
  * dot3; NoH, like every form's input, is free in brdfkit), saturate(x) for

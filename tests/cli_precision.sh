@@ -89,5 +89,24 @@ refused "scale below the bound ($below)" 2 "texels are +inf" "$BK" lut --specula
 quiet "default scale" "$BK" lut --specular --out ls7
 [ "$(csv_col ls5/spec.csv float | grep -civ '^[0-9.e+-]*$')" -eq 0 ] && ok || bad "ls5 csv: a float not a number"
 
+# ---- M5: the sweep's ranking tells a LUT of zeros from the best ----------------
+# --scale 1e6 makes every 8-bit code 0 (the largest intensity is about 20): the
+# given LUT outputs 0. It must score 1 on the ranking column and clearly worse
+# (by a fifth or more) than the best.
+clearly_worse() { # FILE COLUMN: the given row's COLUMN >= 1.2 x the best row's
+	g=$(csv_where "$1" role given "$2") && b=$(csv_where "$1" role best "$2") &&
+		awk -v g="$g" -v b="$b" 'BEGIN { exit !(g + 0 >= 1.2 * b && b + 0 > 0) }'
+}
+for fr in none schlick; do
+	"$BK" lut --specular --sweep --fresnel $fr --scale 1e6 --quiet --out z_$fr >out 2>err && ok || bad "sweep $fr: $(cat err)"
+	[ "$(csv_where z_$fr/sweep.csv role given albedo_rel_rms)" = 1 ] && ok \
+		|| bad "zeros ($fr): albedo_rel_rms $(csv_where z_$fr/sweep.csv role given albedo_rel_rms), not 1"
+	clearly_worse z_$fr/sweep.csv albedo_rel_rms && ok || bad "zeros ($fr) not clearly worse than the best"
+	# negative control: the absolute rms (the old ranking) has them within 10 %
+	expect_fail "absolute rms ($fr)" clearly_worse z_$fr/sweep.csv albedo_rms
+done
+# the given LUT really is zeros: every code of its PNG's CSV column is 0
+[ "$(csv_col z_none/spec.csv unorm8 | sort -u)" = 0 ] && ok || bad "scale 1e6: codes not all 0"
+
 echo "cli_precision: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

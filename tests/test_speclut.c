@@ -356,3 +356,30 @@ Test(speclut, scales_past_float_refused_exr_agrees_with_csv)
 	snprintf(path, sizeof path, "rm -rf '%s'", dir);
 	cr_assert_eq(system(path), 0);
 }
+
+/* M5: the sweep's ranking, the rms over cells of the albedo error over the
+ * cell's albedo: a LUT of zeros (error = -albedo in every cell) scores
+ * exactly 1 however the albedo spreads over the cells, where the absolute
+ * rms is ruled by the largest cells; half the albedo in every cell is 0.5;
+ * a cell without albedo (0, NaN) is left out. */
+Test(speclut, relative_albedo_score_puts_zeros_at_one)
+{
+	bk_samples s;
+	memset(&s, 0, sizeof s);
+	s.plane_nx = 4, s.plane_ny = 2;
+	double albedo[8] = {0.858, 0.6, 0.2, 0.04, 0.04, 0.03, 0, NAN}, zero[8], half[8], good[8];
+	for (int k = 0; k < 8; k++) {
+		zero[k] = -albedo[k];
+		half[k] = -0.5 * albedo[k];
+		good[k] = k < 2 ? -albedo[k] : 0.1 * albedo[k]; /* the big cells missed, the rest within 10 % */
+	}
+	cr_assert_float_eq(bk_speclut_plane_rel_rms(&s, zero, albedo), 1.0, 1e-15);
+	cr_assert_float_eq(bk_speclut_plane_rel_rms(&s, half, albedo), 0.5, 1e-15);
+	double rz = bk_speclut_plane_rel_rms(&s, zero, albedo), rg = bk_speclut_plane_rel_rms(&s, good, albedo);
+	cr_assert_lt(rg, 0.6 * rz, "relative: good %g, zeros %g", rg, rz);
+	/* negative control: on the absolute rms the same two are within 20 % */
+	double az = bk_speclut_plane_rms(&s, zero), ag = bk_speclut_plane_rms(&s, good);
+	cr_assert_gt(ag, 0.8 * az, "absolute: good %g, zeros %g", ag, az);
+	double none[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+	cr_assert(isnan(bk_speclut_plane_rel_rms(&s, zero, none)));
+}
