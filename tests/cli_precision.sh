@@ -108,5 +108,42 @@ done
 # the given LUT really is zeros: every code of its PNG's CSV column is 0
 [ "$(csv_col z_none/spec.csv unorm8 | sort -u)" = 0 ] && ok || bad "scale 1e6: codes not all 0"
 
+# ---- L7: render's summary does not read better for non-finite pixels ------------
+# exp2(1000*(r-0.5)) overflows half at r = 0.6 (450 f16 pixels +inf): f16's
+# difference there is the whole display range, 1, not the 1e-4 of the few
+# finite pixels; at r = 0.1 (all finite) it stays what it was.
+"$BK" render --form 'exp2(1000*(r-0.5))' --term vf --size 40 --roughness 0.1,0.6 --out rg >out 2>err && ok \
+	|| bad "render: $(cat err)"
+grep -qF "f16 450 (exact f16 0)" out && ok || bad "render: not 450 non-finite: $(cat out)"
+grep -qF "f16 display difference max 1 " out && ok || bad "render: f16 summary $(cat out)"
+# per sphere: not finite somewhere -> max 1 and mean >= f32's; the rule's
+# negative control: all finite -> below 1
+sphere_rule() { # FILE: every sphere with non-finite f16 pixels has max_diff_f16 1, mean_diff_f16 >= mean_diff_f32
+	csv_cols "$1" nonfinite_candidate_f16 max_diff_f16 mean_diff_f16 mean_diff_f32 |
+		awk -F '\t' '$1 > 0 { n++; if ($2 != 1 || $3 < $4) bad = 1 } END { exit !(n > 0 && !bad) }'
+}
+sphere_rule rg/spheres.csv && ok || bad "spheres.csv: $(cat rg/spheres.csv | tail -4)"
+csv_cols rg/spheres.csv nonfinite_candidate_f16 max_diff_f16 |
+	awk -F '\t' '$1 == 0 { n++; if ($2 >= 1) bad = 1 } END { exit !(n > 0 && !bad) }' && ok \
+	|| bad "finite spheres read 1"
+# the check refuses the old summary (non-finite pixels left out: max 9.8e-5)
+csv_set rg/spheres.csv max_diff_f16 col 1 9.8091e-05 >old.csv && ok || bad "csv_set spheres.csv"
+expect_fail "summary without the non-finite pixels" sphere_rule old.csv
+
+# the same rule in stability's largest relative error: the same form is +inf
+# in half and single at r = 0.7 and 1, so max_rel is inf there, not the 0 of
+# the finite samples; double (finite everywhere) keeps its number
+"$BK" stability 'exp2(1000*(r-0.5))' --quiet --out st >out 2>err && ok || bad "stability: $(cat err)"
+maxrel_inf() { # FILE PREC: PREC's max_rel is inf where its inf column is not 0
+	i=$(csv_where "$1" precision "$2" inf) && m=$(csv_where "$1" precision "$2" max_rel) &&
+		[ "$i" -gt 0 ] && [ "$m" = inf ]
+}
+for p in f16 f32; do maxrel_inf st/details.csv $p && ok || bad "details.csv $p: $(grep "^form,.*,$p," st/details.csv)"; done
+m=$(csv_where st/details.csv precision f64 max_rel)
+awk -v m="$m" 'BEGIN { exit !(m + 0 > 0 && m + 0 < 1e-12) }' && ok || bad "f64 max_rel '$m'"
+[ "$(csv_col st/stability.csv f16_max_rel)" = inf ] && ok || bad "stability.csv f16_max_rel $(csv_col st/stability.csv f16_max_rel)"
+csv_set st/details.csv max_rel precision f16 0 >old2.csv && ok || bad "csv_set details.csv"
+expect_fail "max_rel without the non-finite samples" maxrel_inf old2.csv f16
+
 echo "cli_precision: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
