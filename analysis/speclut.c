@@ -320,7 +320,9 @@ double bk_speclut_plane_rel_rms(const bk_samples *s, const double *plane, const 
 	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny, used = 0;
 	double sum = 0;
 	for (size_t k = 0; k < n; k++)
-		if (isfinite(plane[k]) && isfinite(albedo[k]) && albedo[k] > 0) {
+		if (isfinite(albedo[k]) && albedo[k] > 0) { /* a cell with samples and energy */
+			if (!isfinite(plane[k]))
+				return HUGE_VAL; /* L7: a LUT with no value in a cell is not scored without it */
 			double e = plane[k] / albedo[k];
 			sum += e * e;
 			used++;

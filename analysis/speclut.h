@@ -151,7 +151,8 @@ double bk_speclut_plane_rms(const bk_samples *s, const double *plane);
 int bk_speclut_plane_albedo(const bk_samples *s, double *albedo);
 
 /* The root mean square over the cells of plane / albedo (albedo from
- * bk_speclut_plane_albedo; cells whose albedo is 0 or not finite left out):
+ * bk_speclut_plane_albedo; cells whose albedo is 0 or not finite left out;
+ * +inf if plane is not finite in a cell that counts):
  * the error relative to the energy each cell has, so that every cell counts
  * the same and a LUT that outputs 0 scores exactly 1 (M5: the absolute rms
  * is dominated by the grazing and smoothest cells, whose albedo is largest

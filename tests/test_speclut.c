@@ -380,6 +380,9 @@ Test(speclut, relative_albedo_score_puts_zeros_at_one)
 	/* negative control: on the absolute rms the same two are within 20 % */
 	double az = bk_speclut_plane_rms(&s, zero), ag = bk_speclut_plane_rms(&s, good);
 	cr_assert_gt(ag, 0.8 * az, "absolute: good %g, zeros %g", ag, az);
+	zero[2] = NAN; /* no value in a cell that has albedo: the worst score, not a cell less */
+	cr_assert(isinf(bk_speclut_plane_rel_rms(&s, zero, albedo)));
+	zero[2] = -albedo[2];
 	double none[8] = {0, 0, 0, 0, 0, 0, 0, 0};
 	cr_assert(isnan(bk_speclut_plane_rel_rms(&s, zero, none)));
 }
