@@ -69,6 +69,10 @@ refused "nowhere finite" 2 "NaN or infinite everywhere" "$BK" codegen --lang c '
 [ $rc -eq 3 ] && [ "$(wc -l <err)" -eq 1 ] && grep -qF "brdfkit fit: warning: brdfkit_fit: $LOST single" err && ok \
 	|| bad "fit shaders: exit $rc, stderr '$(cat err)'"
 [ -s fq/shader.c ] && ok || bad "fit: no shader.c"
+# gpucost compiles the form in the precision asked: the same warning, the same control
+warns "gpucost half" "brdfkit gpucost: warning: form1: $LOST half" \
+	"$BK" gpucost --quiet --precision half '(NoV+300)*(NoV+300)'
+quiet "gpucost single" "$BK" gpucost --quiet '(NoV+300)*(NoV+300)'
 quiet "fit in range" "$BK" fit --target f --form 'p0 + (1-p0)*pow(1-LoH, 5)' p0=0.04 --out fr
 
 # ---- H3: lut --specular --scale where a texel or the constant is not a normal float
