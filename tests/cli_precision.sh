@@ -73,6 +73,7 @@ refused "nowhere finite" 2 "NaN or infinite everywhere" "$BK" codegen --lang c '
 warns "gpucost half" "brdfkit gpucost: warning: form1: $LOST half" \
 	"$BK" gpucost --quiet --precision half '(NoV+300)*(NoV+300)'
 quiet "gpucost single" "$BK" gpucost --quiet '(NoV+300)*(NoV+300)'
+warns "time" "brdfkit time: warning: form1: $LOST single" "$BK" time --quiet --reps 1 '(NoV+1e38)*(NoV+1e38)'
 quiet "fit in range" "$BK" fit --target f --form 'p0 + (1-p0)*pow(1-LoH, 5)' p0=0.04 --out fr
 
 # ---- H3: lut --specular --scale where a texel or the constant is not a normal float
