@@ -67,13 +67,13 @@ const char *bk_speclut_check(const bk_speclut *L)
 	return NULL;
 }
 
-/* The scales at which every texel of L's intensities (L's own scale aside) is
- * 0 or a finite normal float32: the texel is intensity/scale cast to float
+/* The scales at which every texel of L's layout is 0 or a finite normal
+ * float32, whatever L's own scale: the texel is intensity/scale cast to float
  * (spec.exr), so the largest intensity bounds the scale from below (FLT_MAX)
  * and the smallest non-zero one from above (FLT_MIN); the shader constant is
- * the scale itself, a normal float too: [FLT_MIN, FLT_MAX]. Outward by 1 %
+ * the scale itself, a normal float too: [FLT_MIN, FLT_MAX]. Inward by 1 %
  * of the bound, past double's rounding of the quotient and printing to 3
- * digits. */
+ * digits. raw: the texels at L's scale (bk_speclut_bake). */
 static void scale_range(const bk_speclut *L, const double *raw, size_t n, double *lo, double *hi)
 {
 	double imax = 0, imin = INFINITY;
@@ -87,15 +87,10 @@ static void scale_range(const bk_speclut *L, const double *raw, size_t n, double
 	*hi = fmin(FLT_MAX, imin / FLT_MIN) * 0.99;
 }
 
-int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len)
+/* bk_speclut_float_check on texels raw already baked. */
+static int float_bad(const bk_speclut *L, const double *raw, char *why, size_t len)
 {
-	if (bk_speclut_check(L))
-		return -1;
 	size_t n = (size_t)L->nu * (size_t)L->nr, inf = 0, sub = 0;
-	double *raw = malloc(n * sizeof *raw);
-	if (!raw)
-		return -1;
-	bk_speclut_bake(L, raw, NULL);
 	for (size_t k = 0; k < n; k++) {
 		float t = (float)raw[k];
 		inf += isinf(t) || isnan(t);
@@ -116,8 +111,20 @@ int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len)
 		snprintf(why, len, "%s; this LUT's texels and constant are normal floats for a scale in [%.3g, %.3g]", what,
 		         lo, hi);
 	}
-	free(raw);
 	return inf || sub || bad_s;
+}
+
+int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len)
+{
+	if (bk_speclut_check(L))
+		return -1;
+	double *raw = malloc((size_t)L->nu * (size_t)L->nr * sizeof *raw);
+	if (!raw)
+		return -1;
+	bk_speclut_bake(L, raw, NULL);
+	int rc = float_bad(L, raw, why, len);
+	free(raw);
+	return rc;
 }
 
 void bk_speclut_name(const bk_speclut *L, char *buf, size_t len)
@@ -415,17 +422,17 @@ int bk_speclut_write(const bk_speclut *L, const char *dir, const char *command, 
 		snprintf(err, errlen, "%s: out of memory", exr_path);
 		return -1;
 	}
+	bk_speclut_bake(L, raw, NULL);
 	/* a file that holds +inf where its CSV lists a number is never written
 	 * (H3): the command refuses such a scale first, this is the last guard */
 	char why[300];
-	if (bk_speclut_float_check(L, why, sizeof why)) {
+	if (float_bad(L, raw, why, sizeof why)) {
 		snprintf(err, errlen, "%s: scale %g: %s", exr_path, L->scale, why);
 		free(raw);
 		free(fl);
 		free(codes);
 		return -1;
 	}
-	bk_speclut_bake(L, raw, NULL);
 	for (size_t k = 0; k < n; k++) {
 		fl[k] = (float)raw[k];
 		codes[k] = (unsigned char)round(fmin(fmax(raw[k], 0.0), 1.0) * 255.0);

@@ -57,7 +57,7 @@ void form_warn_precision(const char *cmd, const char *name, const bk_form *f, co
 		cmd = cli_name();
 	int n = bk_form_const_range(f, params, prec, what, sizeof what);
 	if (n > 0)
-		fprintf(stderr, "brdfkit %s: warning: %s%s\n", cmd, what,
+		fprintf(stderr, "brdfkit %s: warning: %s: %s%s\n", cmd, name, what,
 		        n > 1 ? " (and more constants the precision cannot hold)" : "");
 	/* A constant out of range is usually why the result is lost too: one
 	 * warning names the cause, not two the same thing. */
