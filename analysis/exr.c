@@ -14,6 +14,7 @@
 
 #include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -380,6 +381,15 @@ int bk_exr_write(const char *path, int width, int height, int nchan,
 	}
 	cur_sink = NULL;
 	return rc;
+}
+
+size_t bk_exr_nonfinite(const float *data, size_t n, int half)
+{
+	/* 65520 = 65504 + half an ulp (16): the least float HALF rounds to +inf */
+	size_t bad = 0;
+	for (size_t k = 0; k < n; k++)
+		bad += !isfinite(data[k]) || (half && fabsf(data[k]) >= 65520.0f);
+	return bad;
 }
 
 /* ---- read -------------------------------------------------------------------- */

@@ -38,6 +38,12 @@ int bk_exr_write(const char *path, int width, int height, int nchan,
                  const char *const *names, const float *const *data, int half,
                  const bk_exr_attr *attrs, int nattrs, char *err, size_t errlen);
 
+/* How many of data's n values are NaN or infinite as stored: as floats, or
+ * as HALF (half != 0: |x| >= 65520 rounds to inf). A LUT writer refuses a
+ * table with any (a data file, unlike a heatmap, has no non-finite values
+ * to show); bk_exr_write itself writes what it is given. */
+size_t bk_exr_nonfinite(const float *data, size_t n, int half);
+
 typedef struct bk_exr_image {
 	int width, height, nchan;
 	char names[4][32];    /* in file order, which EXR sorts by name ("G" before "R") */

@@ -129,6 +129,14 @@ int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
 		snprintf(channels, sizeof channels, "R = A (scale of f0), G = B (bias): f0*A + B = integral of D*V*F*NoL, GGX D, "
 		         "Schlick F with f90 = 1; linear data, never load as sRGB");
 	to_rows(d, A, B, R, G);
+	size_t bad = bk_exr_nonfinite(R, n, d->half) + (folded ? 0 : bk_exr_nonfinite(G, n, d->half));
+	if (bad) { /* never a file whose texels are not numbers (H3) */
+		snprintf(err, errlen, "%s: %zu texels are NaN or infinite in %s: nothing written", exr_path, bad,
+		         d->half ? "half" : "float32");
+		free(R);
+		free(G);
+		return -1;
+	}
 
 	bk_out co;
 	int rc = bk_out_open(&co, csv, err, errlen);

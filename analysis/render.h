@@ -130,7 +130,11 @@ int bk_render_dfg(double NoV, double r, double *A, double *B);
  * transfer function, in [0, 1]. The difference images: per pixel the largest
  * over the channels of |display(candidate) - display(exact)|, times
  * BK_RENDER_DIFF_GAIN, clamped to 1, through a black-red-yellow-white ramp;
- * non-finite values are magenta (255, 0, 255) in every PNG. */
+ * non-finite values are magenta (255, 0, 255) in every PNG. The summaries
+ * (max and mean per image and per sphere) are over the pixels where the
+ * exact f32 image is finite; a candidate pixel that is not finite there
+ * counts as 1, the whole display range, so that an image with non-finite
+ * pixels never reads better than one without. */
 #define BK_RENDER_DIFF_GAIN 8.0
 double bk_render_display(double x);
 

@@ -77,11 +77,17 @@ static void radiance_png(const float *img, size_t npix, unsigned char *rgb)
 			rgb[p * 3 + c] = finite3(img + p * 3) ? byte(bk_render_display(img[p * 3 + c])) : magenta[c];
 }
 
-/* The display difference of one pixel (render.h), NaN if either is not finite. */
+/* The display difference of candidate pixel a against exact pixel b
+ * (render.h): NaN where b is not finite (the reference has no value there:
+ * the exact image's own non-finite count says so); 1, the whole display
+ * range, where a alone is not finite (L7: a candidate must not read better
+ * for the pixels it has no value at, in the max, the mean or the PNG). */
 static double display_diff(const float *a, const float *b)
 {
-	if (!finite3(a) || !finite3(b))
+	if (!finite3(b))
 		return NAN;
+	if (!finite3(a))
+		return 1;
 	double m = 0;
 	for (int c = 0; c < 3; c++)
 		m = fmax(m, fabs(bk_render_display(a[c]) - bk_render_display(b[c])));
@@ -180,7 +186,8 @@ static int write_spheres(const char *path, const bk_render_out *o, char *err, si
 	fprintf(f, "# brdfkit render: per sphere, its cell (pixels, x0 y0 inclusive, x1 y1 exclusive, y down), "
 	           "material and roughness; per image the pixels that are not finite (NaN or Inf in any channel; "
 	           "empty: not rendered); the largest and mean display difference against the exact f32 image over "
-	           "the sphere's finite pixels (display = sRGB of Reinhard x/(1+x), 0..1; the PNGs show it x8)\n");
+	           "the sphere's pixels where that image is finite, a candidate pixel that is not finite counting as 1, "
+	           "the whole display range (display = sRGB of Reinhard x/(1+x), 0..1; the PNGs show it x8)\n");
 	fprintf(f, "# command: %s\n", bk_out_command());
 	fprintf(f, "row,col,material,r,x0,y0,x1,y1,pixels,nonfinite_exact_f32,nonfinite_candidate_f32,"
 	           "nonfinite_exact_f16,nonfinite_candidate_f16,max_diff_f32,max_diff_f16,mean_diff_f32,mean_diff_f16\n");
@@ -248,7 +255,7 @@ int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 		size_t n = 0;
 		for (size_t p = 0; p < npix; p++) {
 			double d = display_diff(c + p * 3, e + p * 3);
-			if (isnan(d))
+			if (isnan(d) || !finite3(c + p * 3)) /* magenta marks it; its difference counts as 1 */
 				memcpy(rgb + p * 3, magenta, 3);
 			else
 				ramp(d * BK_RENDER_DIFF_GAIN, rgb + p * 3);

@@ -8,6 +8,7 @@
 #include "out.h"
 #include "pngio.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -64,6 +65,66 @@ const char *bk_speclut_check(const bk_speclut *L)
 	if ((unsigned)L->fmt >= BK_LUT_FORMATS)
 		return "unknown format";
 	return NULL;
+}
+
+/* The scales at which every texel of L's layout is 0 or a finite normal
+ * float32, whatever L's own scale: the texel is intensity/scale cast to float
+ * (spec.exr), so the largest intensity bounds the scale from below (FLT_MAX)
+ * and the smallest non-zero one from above (FLT_MIN); the shader constant is
+ * the scale itself, a normal float too: [FLT_MIN, FLT_MAX]. Inward by 1 %
+ * of the bound, past double's rounding of the quotient and printing to 3
+ * digits. raw: the texels at L's scale (bk_speclut_bake). */
+static void scale_range(const bk_speclut *L, const double *raw, size_t n, double *lo, double *hi)
+{
+	double imax = 0, imin = INFINITY;
+	for (size_t k = 0; k < n; k++) {
+		double t = raw[k] * L->scale;
+		imax = fmax(imax, t);
+		if (t > 0)
+			imin = fmin(imin, t);
+	}
+	*lo = fmax(FLT_MIN, imax / FLT_MAX) * 1.01;
+	*hi = fmin(FLT_MAX, imin / FLT_MIN) * 0.99;
+}
+
+/* bk_speclut_float_check on texels raw already baked. */
+static int float_bad(const bk_speclut *L, const double *raw, char *why, size_t len)
+{
+	size_t n = (size_t)L->nu * (size_t)L->nr, inf = 0, sub = 0;
+	for (size_t k = 0; k < n; k++) {
+		float t = (float)raw[k];
+		inf += isinf(t) || isnan(t);
+		sub += raw[k] != 0 && fabsf(t) < FLT_MIN;
+	}
+	float s = (float)L->scale;
+	int bad_s = !(isfinite(s) && s >= FLT_MIN);
+	if (inf || sub || bad_s) {
+		double lo, hi;
+		scale_range(L, raw, n, &lo, &hi);
+		char what[160];
+		if (inf)
+			snprintf(what, sizeof what, "%zu of %zu texels are +inf in float32", inf, n);
+		else if (sub)
+			snprintf(what, sizeof what, "%zu of %zu texels are 0 or subnormal in float32", sub, n);
+		else
+			snprintf(what, sizeof what, "the shader constant %g is %s in float32", L->scale, s == 0 ? "0" : "subnormal");
+		snprintf(why, len, "%s; this LUT's texels and constant are normal floats for a scale in [%.3g, %.3g]", what,
+		         lo, hi);
+	}
+	return inf || sub || bad_s;
+}
+
+int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len)
+{
+	if (bk_speclut_check(L))
+		return -1;
+	double *raw = malloc((size_t)L->nu * (size_t)L->nr * sizeof *raw);
+	if (!raw)
+		return -1;
+	bk_speclut_bake(L, raw, NULL);
+	int rc = float_bad(L, raw, why, len);
+	free(raw);
+	return rc;
 }
 
 void bk_speclut_name(const bk_speclut *L, char *buf, size_t len)
@@ -248,6 +309,34 @@ double bk_speclut_plane_rms(const bk_samples *s, const double *plane)
 	return used ? sqrt(sum / (double)used) : NAN;
 }
 
+int bk_speclut_plane_albedo(const bk_samples *s, double *albedo)
+{
+	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny;
+	double *zero = calloc(s->n ? s->n : 1, sizeof *zero);
+	if (!zero)
+		return -1;
+	bk_samples_plane_error(s, zero, albedo); /* 0 - exact, per cell */
+	for (size_t k = 0; k < n; k++)
+		albedo[k] = -albedo[k];
+	free(zero);
+	return 0;
+}
+
+double bk_speclut_plane_rel_rms(const bk_samples *s, const double *plane, const double *albedo)
+{
+	size_t n = (size_t)s->plane_nx * (size_t)s->plane_ny, used = 0;
+	double sum = 0;
+	for (size_t k = 0; k < n; k++)
+		if (isfinite(albedo[k]) && albedo[k] > 0) { /* a cell with samples and energy */
+			if (!isfinite(plane[k]))
+				return HUGE_VAL; /* L7: a LUT with no value in a cell is not scored without it */
+			double e = plane[k] / albedo[k];
+			sum += e * e;
+			used++;
+		}
+	return used ? sqrt(sum / (double)used) : NAN;
+}
+
 int bk_speclut_ops(const bk_speclut *L, bk_ops *ops)
 {
 	memset(ops, 0, sizeof *ops);
@@ -334,6 +423,16 @@ int bk_speclut_write(const bk_speclut *L, const char *dir, const char *command, 
 		return -1;
 	}
 	bk_speclut_bake(L, raw, NULL);
+	/* a file that holds +inf where its CSV lists a number is never written
+	 * (H3): the command refuses such a scale first, this is the last guard */
+	char why[300];
+	if (float_bad(L, raw, why, sizeof why)) {
+		snprintf(err, errlen, "%s: scale %g: %s", exr_path, L->scale, why);
+		free(raw);
+		free(fl);
+		free(codes);
+		return -1;
+	}
 	for (size_t k = 0; k < n; k++) {
 		fl[k] = (float)raw[k];
 		codes[k] = (unsigned char)round(fmin(fmax(raw[k], 0.0), 1.0) * 255.0);

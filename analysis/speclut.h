@@ -83,6 +83,14 @@ int bk_speclut_fresnel_parse(const char *s, bk_speclut_fresnel *f);
 /* NULL when L is a valid layout, else what is wrong ("warp 0 is outside 1..16"). */
 const char *bk_speclut_check(const bk_speclut *L);
 
+/* 1 if a texel of L (intensity/scale cast to float32, spec.exr's) is
+ * infinite, or not 0 but 0 or subnormal (0 where GPUs flush), or the shader's
+ * constant (the scale) is not a normal float32; why then says which and
+ * the scales this LUT admits ("39 of 4096 texels are +inf in float32; ...
+ * for a scale in [LO, HI]"). 0 if every one is, -1 on a bad layout or no
+ * memory. */
+int bk_speclut_float_check(const bk_speclut *L, char *why, size_t len);
+
 /* "spec LUT 64x64 unorm8 rol^4 /16" (+ " schlick" with Fresnel in the shader). */
 void bk_speclut_name(const bk_speclut *L, char *buf, size_t len);
 
@@ -136,6 +144,21 @@ int bk_speclut_score_storage(const bk_speclut *L, const bk_samples *s, bk_fit_me
  * error, where the largest is the same for every LUT (the smoothest,
  * most grazing cell, which no texture of D/4 gets right). */
 double bk_speclut_plane_rms(const bk_samples *s, const double *plane);
+
+/* The exact directional albedo per cell of the plane of s (the spec
+ * target's (NoV, r) cells): minus the plane error of a LUT of zeros. Returns
+ * 0, or -1 with no memory. */
+int bk_speclut_plane_albedo(const bk_samples *s, double *albedo);
+
+/* The root mean square over the cells of plane / albedo (albedo from
+ * bk_speclut_plane_albedo; cells whose albedo is 0 or not finite left out;
+ * +inf if plane is not finite in a cell that counts):
+ * the error relative to the energy each cell has, so that every cell counts
+ * the same and a LUT that outputs 0 scores exactly 1 (M5: the absolute rms
+ * is dominated by the grazing and smoothest cells, whose albedo is largest
+ * and which no 8-bit LUT of D/4 gets right, and puts a LUT of zeros within
+ * 3 % of the best). NAN when no cell counts. */
+double bk_speclut_plane_rel_rms(const bk_samples *s, const double *plane, const double *albedo);
 
 /* The shader's ALU ops beyond the fetch, counted by the IR on the text it
  * runs: rol: dot(R, L) as 3 simple ops (one mul, two mad: a scalar ALU's

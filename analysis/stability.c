@@ -243,8 +243,9 @@ static void score(const bk_form *f, const double *params, bk_precision prec, int
 		double moved = fabs(rp[k] - R->v[k]) / fabs(R->v[k]); /* what input rounding alone does */
 		if (moved <= tol) {
 			sp->well++;
-			if (isfinite(v[k]))
-				sp->max_rel = fmax(sp->max_rel, fabs(v[k] - R->v[k]) / fabs(R->v[k]));
+			/* L7: NaN or inf where the reference is a normal number is the
+			 * largest error of all, not a sample left out of it */
+			sp->max_rel = fmax(sp->max_rel, isfinite(v[k]) ? fabs(v[k] - R->v[k]) / fabs(R->v[k]) : HUGE_VAL);
 		} else {
 			ill[k] = 1;
 			sp->ill++;

@@ -33,7 +33,8 @@ typedef struct bk_stab_prec {
 	                      operation overflowed or made a NaN that a later min, max or
 	                      clamp hid (the reference finite): never right but by luck */
 	size_t hidden;     /* of those, the ones with a right value: the hidden kind */
-	double max_rel;    /* largest relative error over the well-conditioned samples */
+	double max_rel;    /* largest relative error over the well-conditioned samples:
+	                      +inf where one of them is NaN or infinite */
 	size_t ill;        /* off by more than tol where the reference is ill conditioned
 	                      (input rounding alone moves it: 1 - NoH^2 near the highlight) */
 	double max_rel_ill;

@@ -434,6 +434,18 @@ int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, s
  * input: +inf"). 0 if it is finite somewhere, -1 if out of memory. */
 int bk_form_nowhere_finite(const bk_form *f, const double *params, char *what, size_t len);
 
+/* How many samples of bk_form_nowhere_finite's grid prec cannot hold f's
+ * value at (params as there), when it holds it at none of them: the code
+ * emitted in prec (BK_F32: C float, highp, HLSL float; BK_F16: mediump,
+ * half) computes +inf or NaN where double is finite, or 0 or a subnormal
+ * (0 where GPUs flush) where double is not 0, at every sample where double
+ * has a value, e.g. (NoV+300)*(NoV+300) in half. A sample where double is
+ * not finite, or 0 and prec finite, does not count. 0 if prec holds the value
+ * at some sample (or no sample counts); what names the first lost one
+ * ("NoV = 0: 90000 is +inf in half precision"). -1 if out of memory or prec
+ * is not BK_F32 or BK_F16. */
+int bk_form_range_lost(const bk_form *f, const double *params, bk_precision prec, char *what, size_t len);
+
 /* src as text inside a generated comment: the one rule for every comment
  * brdfkit writes (C block comments, GLSL and HLSL line comments, CSV '#'
  * lines), so that nothing a user typed can end the comment or start code.

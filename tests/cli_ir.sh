@@ -143,9 +143,9 @@ warn_once() {
 	"$@" >"$T/out" 2>"$T/err" && [ -s "$T/out" ] && [ "$(wc -l <"$T/err")" -eq 1 ] && grep -qF -- "$token" "$T/err" &&
 		ok || bad "$name: stderr '$(cat "$T/err")'"
 }
-warn_once "exp2 in half" "warning: exp2(128) is +inf in half precision" \
+warn_once "exp2 in half" "warning: form: exp2(128) is +inf in half precision" \
 	$BK codegen --lang glsl --precision half 'exp2(127.99)*NoV'
-warn_once "1e-46 in float" "warning: the constant 1e-46 is 0 in single precision" $BK codegen --lang c '1e-46*NoV'
+warn_once "1e-46 in float" "warning: form: the constant 1e-46 is 0 in single precision" $BK codegen --lang c '1e-46*NoV'
 warn_once "clamp reversed" "warning: clamp(x, 1, 0) has its lower bound above its upper" \
 	$BK codegen --lang glsl 'clamp(NoV, 1, 0)'
 grep -qF 'min(max(NoV, 1.0), 0.0)' "$T/out" && ok || bad "clamp reversed: not spelled min(max())"

@@ -568,6 +568,42 @@ Test(eval, nowhere_finite_forms_are_found)
 	cr_assert_eq(nowhere("sqrt(p0*NoV - 1)", NULL, what, sizeof what), -1); /* parameters needed */
 }
 
+/* ---- a result the emitted precision cannot hold anywhere (M3) ------------------- */
+
+static int lost(const char *text, bk_precision prec, char *what, size_t len)
+{
+	bk_form *f = parse_ok(text);
+	int rc = bk_form_range_lost(f, NULL, prec, what, len);
+	bk_form_free(f);
+	return rc;
+}
+
+Test(eval, range_lost_everywhere_is_found)
+{
+	char what[128];
+	/* the audit's two: finite in double, +inf in the emitted precision at every sample */
+	cr_assert_eq(lost("(NoV+1e38)*(NoV+1e38)", BK_F32, what, sizeof what), 5);
+	cr_assert_str_eq(what, "NoV = 0: 1e+76 is +inf in single precision");
+	cr_assert_eq(lost("(NoV+300)*(NoV+300)", BK_F16, what, sizeof what), 5);
+	cr_assert_str_eq(what, "NoV = 0: 90000 is +inf in half precision");
+	/* underflow: not 0 in double, subnormal (0 where GPUs flush) or 0 */
+	cr_assert_eq(lost("((NoV+1)*1e-20)*((NoV+1)*1e-20)", BK_F32, what, sizeof what), 5);
+	cr_assert_str_eq(what, "NoV = 0: 1e-40 is subnormal in single precision");
+	cr_assert_eq(lost("((NoV+1)*1e-30)*((NoV+1)*1e-30)", BK_F32, what, sizeof what), 5);
+	cr_assert_str_eq(what, "NoV = 0: 1e-60 is 0 in single precision");
+	/* a sample where double is 0 and the precision too does not count; one
+	 * where double has no value (0/0) neither */
+	cr_assert_eq(lost("(NoV*1e30)*(NoV*1e30)", BK_F32, what, sizeof what), 4);
+	cr_assert_eq(lost("(NoV*1e30)*(NoV*1e30)/NoV", BK_F32, what, sizeof what), 4);
+	/* negative controls: held at some sample (overflow at NoV = 1 only; in
+	 * single precision's range; 0 everywhere, exactly) */
+	cr_assert_eq(lost("(NoV*300)*(NoV*300)", BK_F16, what, sizeof what), 0);
+	cr_assert_eq(lost("(NoV+300)*(NoV+300)", BK_F32, what, sizeof what), 0);
+	cr_assert_eq(lost("(NoV+1e19)*(NoV+1e19)", BK_F32, what, sizeof what), 0);
+	cr_assert_eq(lost("NoV*0", BK_F16, what, sizeof what), 0);
+	cr_assert_eq(lost("NoV", BK_F64, what, sizeof what), -1); /* only the precisions code is emitted in */
+}
+
 /* bk_form_count_add sums the counts of pieces counted one by one: sqrt(NoV)
  * is one sqrt (complex), r*p0 + p1 one mad (simple); the sum is both, and a
  * text that does not parse adds nothing and says so. */

@@ -179,6 +179,39 @@ Test(lut, failed_write_leaves_nothing, .init = setup, .fini = teardown)
 	cr_assert_eq(entries(dir), 0);
 }
 
+/* H3: a table with a texel that is NaN or infinite as stored (a float past
+ * FLT_MAX, or past half's 65504 in a half file) is refused and nothing is
+ * written; the same table with finite texels (negative control) is. */
+Test(lut, non_finite_texels_refused, .init = setup, .fini = teardown)
+{
+	char err[256];
+	double A2[N * N], B2[N * N];
+	memcpy(A2, A, sizeof A2);
+	memcpy(B2, B, sizeof B2);
+	bk_lut_desc d = {.L = CLASSIC, .origin_top = 1, .command = "test"};
+	A2[5] = INFINITY;
+	cr_assert_eq(bk_lut_write(&d, dir, A2, B2, err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "1 texels are NaN or infinite in float32"), "%s", err);
+	A2[5] = 1e39; /* finite in double, +inf once a float */
+	B2[7] = NAN;
+	cr_assert_eq(bk_lut_write(&d, dir, A2, B2, err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "2 texels"), "%s", err);
+	A2[5] = 7e4; /* a float, but +inf in half */
+	B2[7] = B[7];
+	d.half = 1;
+	cr_assert_eq(bk_lut_write(&d, dir, A2, B2, err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "in half"), "%s", err);
+	cr_assert_eq(entries(dir), 0);
+	d.half = 0; /* negative control: the same table is a float file */
+	cr_assert_eq(bk_lut_write(&d, dir, A2, B2, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(entries(dir), 2);
+	char path[300];
+	snprintf(path, sizeof path, "%s/" BK_LUT_EXR, dir);
+	unlink(path);
+	snprintf(path, sizeof path, "%s/" BK_LUT_CSV, dir);
+	unlink(path);
+}
+
 /* The pair written by bk_lut_write is the only content of its directory:
  * dfg.exr and dfg.csv, no temporaries. */
 Test(lut, writes_the_pair_into_its_directory, .init = setup, .fini = teardown)

@@ -273,3 +273,116 @@ Test(speclut, score_on_planted_samples)
 	cr_assert_eq(bk_speclut_score(&L, BK_F64, &s, &m, NULL), 0);
 	cr_assert_gt(m.max_abs, 0.3 * scale);
 }
+
+/* H3: a scale at which a texel (intensity/scale as float32) or the shader's
+ * constant (the scale) is not a finite normal float is refused, by the check
+ * the command runs first and by the writer, which then writes nothing; at the
+ * bound the check states, the EXR holds finite texels equal to the CSV's
+ * float column (to float's rounding). */
+static int csv_float_column(const char *path, double *v, int n)
+{
+	FILE *f = fopen(path, "r");
+	char line[512];
+	int col = -1, k = 0;
+	while (f && fgets(line, sizeof line, f)) {
+		if (line[0] == '#')
+			continue;
+		if (col < 0) { /* the header: the column named float */
+			int c = 0;
+			for (char *t = strtok(line, ",\n"); t; t = strtok(NULL, ",\n"), c++)
+				if (!strcmp(t, "float"))
+					col = c;
+			if (col < 0)
+				break;
+			continue;
+		}
+		char *t = strtok(line, ",\n");
+		for (int c = 0; t && c < col; c++)
+			t = strtok(NULL, ",\n");
+		if (!t || k >= n)
+			break;
+		v[k++] = strtod(t, NULL);
+	}
+	if (f)
+		fclose(f);
+	return k;
+}
+
+Test(speclut, scales_past_float_refused_exr_agrees_with_csv)
+{
+	bk_speclut L = BK_SPECLUT_TALK;
+	char why[300], err[600], dir[] = "/tmp/bk_speclut_XXXXXX", path[256];
+	L.scale = 1e-38; /* the audit's: 39 texels past FLT_MAX */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	cr_assert_not_null(strstr(why, "39 of 4096 texels are +inf in float32"), "%s", why);
+	L.scale = 1e-300;
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	cr_assert_not_null(strstr(why, "4096 of 4096 texels are +inf"), "%s", why);
+	L.scale = 1e-45; /* the shader constant 1e-45 is subnormal too */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	/* the range it states: its lower bound passes, 2 % below it does not */
+	char *at = strstr(why, "scale in [");
+	cr_assert_not_null(at, "%s", why);
+	double lo = strtod(at + strlen("scale in ["), NULL);
+	cr_assert(lo > 1e-38 && lo < 1e-37, "%g", lo);
+	L.scale = lo / 1.02;
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 1);
+	L.scale = 16; /* negative control: the talk's */
+	cr_assert_eq(bk_speclut_float_check(&L, why, sizeof why), 0);
+	/* the writer refuses too, and leaves nothing */
+	cr_assert_not_null(mkdtemp(dir));
+	L.scale = 1e-38;
+	cr_assert_eq(bk_speclut_write(&L, dir, "t", err, sizeof err), -1);
+	cr_assert_not_null(strstr(err, "+inf in float32"), "%s", err);
+	snprintf(path, sizeof path, "%s/" BK_SPECLUT_EXR, dir);
+	cr_assert_neq(access(path, F_OK), 0, "spec.exr written");
+	/* at the bound: every texel finite, the EXR's float the CSV's number */
+	L.scale = lo;
+	cr_assert_eq(bk_speclut_write(&L, dir, "t", err, sizeof err), 0, "%s", err);
+	bk_exr_image img;
+	cr_assert_eq(bk_exr_read(path, &img, err, sizeof err), 0, "%s", err);
+	static double csv[4096];
+	snprintf(path, sizeof path, "%s/" BK_SPECLUT_CSV, dir);
+	cr_assert_eq(csv_float_column(path, csv, 4096), 4096);
+	float big = 0;
+	for (int k = 0; k < 4096; k++) {
+		cr_assert(isfinite(img.data[0][k]), "texel %d: %g", k, img.data[0][k]);
+		cr_assert_leq(fabs(img.data[0][k] - csv[k]), 1e-7 * fabs(csv[k]), "texel %d: %g, csv %g", k, img.data[0][k],
+		              csv[k]);
+		big = fmaxf(big, img.data[0][k]);
+	}
+	cr_assert_gt(big, 1e38f); /* near FLT_MAX: the bound is tight */
+	bk_exr_image_free(&img);
+	snprintf(path, sizeof path, "rm -rf '%s'", dir);
+	cr_assert_eq(system(path), 0);
+}
+
+/* M5: the sweep's ranking, the rms over cells of the albedo error over the
+ * cell's albedo: a LUT of zeros (error = -albedo in every cell) scores
+ * exactly 1 however the albedo spreads over the cells, where the absolute
+ * rms is ruled by the largest cells; half the albedo in every cell is 0.5;
+ * a cell without albedo (0, NaN) is left out. */
+Test(speclut, relative_albedo_score_puts_zeros_at_one)
+{
+	bk_samples s;
+	memset(&s, 0, sizeof s);
+	s.plane_nx = 4, s.plane_ny = 2;
+	double albedo[8] = {0.858, 0.6, 0.2, 0.04, 0.04, 0.03, 0, NAN}, zero[8], half[8], good[8];
+	for (int k = 0; k < 8; k++) {
+		zero[k] = -albedo[k];
+		half[k] = -0.5 * albedo[k];
+		good[k] = k < 2 ? -albedo[k] : 0.1 * albedo[k]; /* the big cells missed, the rest within 10 % */
+	}
+	cr_assert_float_eq(bk_speclut_plane_rel_rms(&s, zero, albedo), 1.0, 1e-15);
+	cr_assert_float_eq(bk_speclut_plane_rel_rms(&s, half, albedo), 0.5, 1e-15);
+	double rz = bk_speclut_plane_rel_rms(&s, zero, albedo), rg = bk_speclut_plane_rel_rms(&s, good, albedo);
+	cr_assert_lt(rg, 0.6 * rz, "relative: good %g, zeros %g", rg, rz);
+	/* negative control: on the absolute rms the same two are within 20 % */
+	double az = bk_speclut_plane_rms(&s, zero), ag = bk_speclut_plane_rms(&s, good);
+	cr_assert_gt(ag, 0.8 * az, "absolute: good %g, zeros %g", ag, az);
+	zero[2] = NAN; /* no value in a cell that has albedo: the worst score, not a cell less */
+	cr_assert(isinf(bk_speclut_plane_rel_rms(&s, zero, albedo)));
+	zero[2] = -albedo[2];
+	double none[8] = {0, 0, 0, 0, 0, 0, 0, 0};
+	cr_assert(isnan(bk_speclut_plane_rel_rms(&s, zero, none)));
+}

@@ -42,6 +42,7 @@ static int keep(char *text)
 }
 
 void cli_set_name(const char *cmd) { cur_cmd = cmd; }
+const char *cli_name(void) { return cur_cmd; }
 
 int cli_fail(const char *cmd, const char *fmt, ...)
 {

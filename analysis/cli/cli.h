@@ -93,6 +93,8 @@ int cli_check_text(const char *buf, size_t len, char *why, size_t wlen);
 int cli_fail(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 void cli_set_name(const char *cmd);
+/* The command running, as cli_set_name set it (fit or search in fit_out.c). */
+const char *cli_name(void);
 /* A usage error found after cli_parse (a value that conflicts with another,
  * an option with no effect in context): "brdfkit CMD: message (see brdfkit
  * CMD --help)" on stderr, one line. Returns 2. */

@@ -13,6 +13,7 @@
 #include "compare.h"
 #include "fit.h"
 #include "fit_out.h"
+#include "form_check.h"
 #include "gpucost.h"
 #include "heatmap.h"
 #include "lutrows.h"
@@ -409,6 +410,8 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 	/* shaders for every form row: published and refit constants alike */
 	static const struct { const char *ext; bk_lang lang; } langs[] = {
 		{"c", BK_LANG_C}, {"glsl", BK_LANG_GLSL}, {"hlsl", BK_LANG_HLSL}};
+	if (f && rc == 0) /* the shaders are single precision */
+		form_warn_precision("compare", sl, f, r->params, BK_F32);
 	for (size_t k = 0; f && rc == 0 && k < 3; k++) {
 		char domain[600], error[160], fname[128];
 		snprintf(domain, sizeof domain, "%s", S->s.description);

@@ -426,6 +426,8 @@ static int run(cli_cmd *cmd, gc_row *rows, bk_gpucost_job *jobs, const char *chi
 	for (int i = 0; i < n; i++) {
 		if (parse_row(&rows[i]))
 			return 2;
+		for (int p = 0; p < 2 && rows[i].f[p]; p++) /* the code it compiles: codegen's warning (M3) */
+			form_warn_precision("gpucost", rows[i].name, rows[i].f[p], rows[i].params, fp16 ? BK_F16 : BK_F32);
 		jobs[i].form[0] = rows[i].f[0];
 		jobs[i].form[1] = rows[i].f[1];
 		jobs[i].params = rows[i].params;

@@ -363,7 +363,12 @@ int cmd_codegen(int argc, char **argv)
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
 	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME [p0=X ...]",
-	               "Catalog entries use their published constants unless p0=... overrides them.",
+	               "Catalog entries use their published constants unless p0=... overrides them.\n"
+	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
+	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
+	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
+	               "sample where it has a value (+inf, NaN, or not 0 but 0 or subnormal) is warned about\n"
+	               "on stderr (exit 0), as is a constant the precision cannot hold.",
 	               opts, 4, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
@@ -427,16 +432,10 @@ int cmd_codegen(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	/* Warnings, not errors: the code is valid and computes what the IR does
-	 * in that precision (bk_form_eval rounds the same literals), and a GPU
-	 * may run mediump at single precision's range; but a constant the
-	 * precision cannot hold is rarely what was meant. A clamp whose bounds
-	 * are out of order is hi everywhere: spelled min(max()), defined. */
+	/* A clamp whose bounds are out of order is hi everywhere: spelled
+	 * min(max()), defined; a warning like the precision's (form_check.h). */
+	form_warn_precision("codegen", fa.entry ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
 	char what[200];
-	int nbad = bk_form_const_range(fa.f, fa.params, half ? BK_F16 : BK_F32, what, sizeof what);
-	if (nbad > 0)
-		fprintf(stderr, "brdfkit codegen: warning: %s%s\n", what,
-		        nbad > 1 ? " (and more constants the precision cannot hold)" : "");
 	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",

@@ -382,7 +382,9 @@ int cmd_render(int argc, char **argv)
 	               "the environment BRDF f0 A + B (a form reading f0, or --form A --form-b B).\n"
 	               "Difference images: the largest over R, G, B of |display(candidate) - display(exact f32)|,\n"
 	               "display = sRGB of Reinhard x/(1 + x), times 8 (a ramp black-red-yellow-white); magenta\n"
-	               "marks non-finite pixels. The scene's numbers: analysis/render.h and every file's header.\n"
+	               "marks non-finite pixels. The summary's max and mean are over the pixels where the exact\n"
+	               "f32 image is finite; a candidate pixel that is not finite counts as 1, the whole display\n"
+	               "range. The scene's numbers: analysis/render.h and every file's header.\n"
 	               "lavapipe needs the Debian package mesa-vulkan-drivers.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);

@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "expr.h"
+#include "form_check.h"
 #include "gpucost.h"
 #include "out.h"
 #include "page.h"
@@ -448,6 +449,27 @@ static void tell_unmet(const scene_run *S)
 		}
 }
 
+/* M3: a term whose shader code, in the scene's precision, cannot hold the
+ * result anywhere on its inputs' domain gets codegen's warning (form_check.h);
+ * a LUT or a term the specular LUT replaces emits no such code. */
+static void tell_lost(const scene_run *S)
+{
+	for (int i = 0; i < S->nset; i++)
+		for (int t = 0; t < BK_SCENE_TERMS; t++) {
+			const bk_scene_choice *c = &S->R[i].ch[t];
+			if (!S->R[i].has[t] || c->lut || !c->text ||
+			    (t == BK_SCENE_TERM_D && S->R[i].ch[BK_SCENE_TERM_VF].speclut))
+				continue;
+			bk_form_error fe;
+			bk_form *f = bk_form_parse(c->text, &fe);
+			char name[160];
+			snprintf(name, sizeof name, "%s: %s_%s", S->stem, S->R[i].set.name, bk_scene_term_name(t));
+			if (f)
+				form_warn_precision("scene", name, f, c->p, S->sc.half ? BK_F16 : BK_F32);
+			bk_form_free(f);
+		}
+}
+
 /* --id: it goes into an HTML attribute and comes back through brdfkit report's
  * section check, whose id is letters, digits, '-' and '_'. */
 static int id_ok(const char *id)
@@ -604,6 +626,7 @@ int cmd_scene(int argc, char **argv)
 			bk_scene_doc d = doc_of(&S[k]);
 			bk_scene_report(stdout, &d, !no_time);
 			tell_unmet(&S[k]);
+			tell_lost(&S[k]);
 		}
 		for (int i = 0; i < S[k].nset; i++)
 			for (int t = 0; t < BK_SCENE_TERMS; t++) {

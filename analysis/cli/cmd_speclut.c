@@ -30,18 +30,25 @@ static const int sweep_sizes[] = {32, 64, 128, 256};
 typedef struct scored {
 	bk_speclut L;
 	bk_fit_metrics m;      /* against the exact D·V·F·NoL */
+	double albedo_rel;     /* rms over the cells of that error over the cell's exact albedo: the ranking */
 	double albedo_rms;     /* rms over the cells of the directional albedo error */
 	bk_fit_metrics st;     /* against the function the LUT encodes (storage alone) */
 	double st_albedo_rms;
 	double cost;           /* ALU (ir weights) + one fetch at ALU:TEX 16 */
 } scored;
 
-/* The ranking: the rms over the (NoV, r) cells of the directional albedo
- * error against the exact lobe (what a lit surface gets wrong in energy;
- * the largest of them is the same for every LUT: the smoothest, most
- * grazing cell), then rmse, then cheaper, then smaller. */
+/* The ranking (M5): the rms over the (NoV, r) cells of the directional
+ * albedo error against the exact lobe, each over the cell's exact albedo
+ * (what a lit surface gets wrong in energy, as a share of what it has: 1 is
+ * a LUT of zeros), then the absolute rms, rmse, cheaper, smaller. The
+ * absolute rms alone is dominated by the grazing and smoothest cells, whose
+ * albedo is largest and which no 8-bit LUT of D/4 without Fresnel gets
+ * right: it put a LUT of zeros (0.1625) within 3 % of the best (0.1574),
+ * where the relative one puts it at 1 against 0.68. */
 static int better(const scored *a, const scored *b)
 {
+	if (a->albedo_rel != b->albedo_rel)
+		return a->albedo_rel < b->albedo_rel;
 	if (a->albedo_rms != b->albedo_rms)
 		return a->albedo_rms < b->albedo_rms;
 	if (a->m.rmse != b->m.rmse)
@@ -51,13 +58,14 @@ static int better(const scored *a, const scored *b)
 	return (long)a->L.nu * a->L.nr < (long)b->L.nu * b->L.nr;
 }
 
-static int score_one(const bk_samples *s, const bk_speclut *L, double *plane, scored *o)
+static int score_one(const bk_samples *s, const double *albedo, const bk_speclut *L, double *plane, scored *o)
 {
 	bk_ops ops;
 	o->L = *L;
 	if (bk_speclut_score(L, BK_F64, s, &o->m, plane) || bk_speclut_ops(L, &ops))
 		return -1;
 	o->albedo_rms = bk_speclut_plane_rms(s, plane);
+	o->albedo_rel = bk_speclut_plane_rel_rms(s, plane, albedo);
 	if (bk_speclut_score_storage(L, s, &o->st, plane))
 		return -1;
 	o->st_albedo_rms = bk_speclut_plane_rms(s, plane);
@@ -69,9 +77,10 @@ static void csv_row(FILE *f, const scored *o, const char *role)
 {
 	char name[96];
 	bk_speclut_name(&o->L, name, sizeof name);
-	fprintf(f, "%s,%s,%s,%d,%d,%d,%.9g,%s,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%g\n", name, role,
+	fprintf(f, "%s,%s,%s,%d,%d,%d,%.9g,%s,%s,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%g\n", name, role,
 	        bk_speclut_axis_name(o->L.axis), o->L.warp, o->L.nu, o->L.nr, o->L.scale,
-	        bk_speclut_fresnel_name(o->L.fresnel), bk_lut_format_name(o->L.fmt), o->albedo_rms, o->m.albedo_max_abs,
+	        bk_speclut_fresnel_name(o->L.fresnel), bk_lut_format_name(o->L.fmt), o->albedo_rel, o->albedo_rms,
+	        o->m.albedo_max_abs,
 	        o->m.rmse, o->m.weighted_rmse, o->m.max_abs, o->m.max_rel, o->st_albedo_rms, o->st.albedo_max_abs,
 	        o->st.rmse, o->cost);
 }
@@ -84,14 +93,16 @@ static void write_sweep_csv(FILE *f, const scored *rows, int n, const scored *gi
 	fputs("# error of fetch*scale*NoL*F against the exact D*V*F*NoL on the spec target's samples (below), the LUT "
 	      "as sampled (texel centres, clamp to edge, 8-bit weights and texels)\n", f);
 	fprintf(f, "# samples: %s\n", description);
-	fputs("# albedo_rms: rms over the (NoV, r) cells of the directional albedo error (the ranking, then rmse); "
-	      "albedo_max_abs, rmse, weighted_rmse, max_abs, max_rel as brdfkit compare --target spec; storage_*: the "
+	fputs("# albedo_rel_rms (the ranking, then albedo_rms, then rmse): rms over the (NoV, r) cells of the "
+	      "directional albedo error over the cell's exact albedo, every cell counting the same (1: a LUT of zeros; "
+	      "the grazing and smoothest cells, which no 8-bit LUT of D/4 gets right, are near 1 for every LUT); "
+	      "albedo_rms: rms over the cells of the absolute error, dominated by those cells; albedo_max_abs, rmse, weighted_rmse, max_abs, max_rel as brdfkit compare --target spec; storage_*: the "
 	      "same against the function the LUT encodes, D(NoH(x), r^2)/4*NoL*F exact (the texture's own error: warp, "
 	      "scale, size, 8 bits)\n", f);
 	fprintf(f, "# cost: ALU ops (ir weights: simple 1, complex 4) + one fetch at ALU:TEX %d; role: given (the "
 	        "options' LUT), best, or sweep\n", bk_tier_alu_per_tex[0]);
 	fprintf(f, "# command: %s\n", command ? command : "");
-	fputs("name,role,axis,warp,width,height,scale,fresnel,format,albedo_rms,albedo_max_abs,rmse,weighted_rmse,max_abs,"
+	fputs("name,role,axis,warp,width,height,scale,fresnel,format,albedo_rel_rms,albedo_rms,albedo_max_abs,rmse,weighted_rmse,max_abs,"
 	      "max_rel,storage_albedo_rms,storage_albedo_max_abs,storage_rmse,cost\n", f);
 	csv_row(f, given, "given");
 	for (int k = 0; k < n; k++)
@@ -106,7 +117,8 @@ static void html_row(FILE *f, const char *what, const scored *o, const char *lin
 	bk_html_text(f, what);
 	fputs("</td><td>", f);
 	bk_html_text(f, name);
-	fprintf(f, "</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%g</td><td>", o->albedo_rms,
+	fprintf(f, "</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%.4g</td><td>%g</td><td>",
+	        o->albedo_rel, o->albedo_rms,
 	        o->m.albedo_max_abs, o->m.rmse, o->st_albedo_rms, o->st.albedo_max_abs, o->cost);
 	if (link) {
 		fputs("<a href=\"", f);
@@ -128,12 +140,13 @@ static void write_section(FILE *f, const scored *given, const scored *best, cons
 	      "shader multiplying back by 16&#183;NoL&#183;f0 (no Fresnel). Scored as sampled (bilinear, texel centres, "
 	      "8-bit texels) against the exact D&#183;V&#183;F&#183;NoL on ", f);
 	bk_html_text(f, description);
-	fprintf(f, ". Ranked by the rms over the (NoV, r) cells of the directional albedo error, then rmse (the largest "
-	           "cell error is the same for every LUT: the smoothest, most grazing cell). Storage: the same against "
+	fprintf(f, ". Ranked by the rms over the (NoV, r) cells of the directional albedo error relative to the cell's "
+	           "exact albedo (1: a LUT of zeros), then the absolute rms, then rmse (the absolute errors are largest "
+	           "in the smoothest, most grazing cells, which no 8-bit LUT of D/4 gets right, for every LUT alike). Storage: the same against "
 	           "the function the LUT encodes, D/4&#183;NoL&#183;f0 exact: what the texture alone gets wrong. Cost: "
 	           "ALU ops plus one fetch at ALU:TEX %d. The talk names no size: 64&#215;64 is brdfkit's reading. "
 	           "R&#183;L is mapped to N&#183;H by NoH = sqrt((1 + R&#183;L)/2), exact only in the plane of "
-	           "incidence.</p>\n<table>\n<tr><th></th><th>LUT</th><th>albedo error, rms over cells</th>"
+	           "incidence.</p>\n<table>\n<tr><th></th><th>LUT</th><th>albedo error / albedo, rms over cells</th><th>albedo error, rms over cells</th>"
 	           "<th>albedo max |error|</th><th>rmse</th><th>storage: albedo rms</th><th>storage: albedo max</th>"
 	           "<th>cost</th><th>texture</th></tr>\n",
 	        bk_tier_alu_per_tex[0]);
@@ -175,7 +188,7 @@ static int write_all(const bk_speclut *L, int sweep, const char *out, const char
 	bk_samples s;
 	memset(&s, 0, sizeof s);
 	scored *rows = NULL, given;
-	double *plane = NULL;
+	double *plane = NULL, *albedo = NULL;
 	int n = 0, best = -1;
 	if (sweep) {
 		bk_target_options to;
@@ -187,7 +200,11 @@ static int write_all(const bk_speclut *L, int sweep, const char *out, const char
 			rc = cli_fail("lut", "%s", err);
 		if (!rc && !(plane = malloc(((size_t)s.plane_nx * (size_t)s.plane_ny + 1) * sizeof *plane)))
 			rc = cli_fail("lut", "out of memory");
-		if (!rc && score_one(&s, L, plane, &given))
+		if (!rc && !(albedo = malloc(((size_t)s.plane_nx * (size_t)s.plane_ny + 1) * sizeof *albedo)))
+			rc = cli_fail("lut", "out of memory");
+		if (!rc && bk_speclut_plane_albedo(&s, albedo))
+			rc = cli_fail("lut", "out of memory");
+		if (!rc && score_one(&s, albedo, L, plane, &given))
 			rc = cli_fail("lut", "the LUT could not be scored");
 		for (int a = 0; !rc && a < BK_SPECLUT_AXES; a++)
 			for (int w = 0; !rc && w < NW; w++)
@@ -195,7 +212,7 @@ static int write_all(const bk_speclut *L, int sweep, const char *out, const char
 					for (int z = 0; !rc && z < NZ; z++) {
 						bk_speclut c = {(bk_speclut_axis)a, sweep_warps[w], sweep_sizes[z], sweep_sizes[z], L->r_lo,
 						                L->r_hi, sweep_scales[q], L->fresnel, BK_LUT_UNORM8};
-						if (score_one(&s, &c, plane, &rows[n]))
+						if (score_one(&s, albedo, &c, plane, &rows[n]))
 							rc = cli_fail("lut", "a LUT of the sweep could not be scored");
 						else if (best < 0 || better(&rows[n], &rows[best]))
 							best = n;
@@ -229,14 +246,17 @@ static int write_all(const bk_speclut *L, int sweep, const char *out, const char
 			char a[96], b[96];
 			bk_speclut_name(L, a, sizeof a);
 			bk_speclut_name(&rows[best].L, b, sizeof b);
-			printf("given: %s: albedo_rms %.5g, albedo_max_abs %.4g, storage albedo_rms %.4g, cost %g\n", a,
-			       given.albedo_rms, given.m.albedo_max_abs, given.st_albedo_rms, given.cost);
-			printf("best:  %s: albedo_rms %.5g, albedo_max_abs %.4g, storage albedo_rms %.4g, cost %g\n", b,
-			       rows[best].albedo_rms, rows[best].m.albedo_max_abs, rows[best].st_albedo_rms, rows[best].cost);
+			printf("given: %s: albedo_rel_rms %.4g, albedo_rms %.5g, albedo_max_abs %.4g, storage albedo_rms %.4g, "
+			       "cost %g\n", a, given.albedo_rel, given.albedo_rms, given.m.albedo_max_abs, given.st_albedo_rms,
+			       given.cost);
+			printf("best:  %s: albedo_rel_rms %.4g, albedo_rms %.5g, albedo_max_abs %.4g, storage albedo_rms %.4g, "
+			       "cost %g\n", b, rows[best].albedo_rel, rows[best].albedo_rms, rows[best].m.albedo_max_abs,
+			       rows[best].st_albedo_rms, rows[best].cost);
 		}
 	}
 	free(rows);
 	free(plane);
+	free(albedo);
 	bk_samples_free(&s);
 	if (rc) {
 		bk_out_dir_abort(&od);
@@ -275,7 +295,7 @@ int cmd_lut_specular(int argc, char **argv)
 		{.name = "--specular", .kind = CLI_FLAG, .help = "the specular LUT (this command; without it, the DFG LUT)", .dest = &specular, .required = 1},
 		{.name = "--axis", .kind = CLI_STR, .metavar = "rol|noh", .help = "x = saturate(R.L) (default, the talk's) or N.H", .dest = &axis},
 		{.name = "--warp", .kind = CLI_INT, .metavar = "P", .help = "u = x^P, an integer power 1..16 (default 4, the talk's)", .dest = &warp, .lo = 1, .hi = BK_SPECLUT_MAX_WARP},
-		{.name = "--scale", .kind = CLI_NUM, .metavar = "S", .help = "texel = intensity/S (default 16, the talk's)", .dest = &scale, .lo = 0, .lo_open = 1, .hi = 1e6},
+		{.name = "--scale", .kind = CLI_NUM, .metavar = "S", .help = "texel = intensity/S, a normal float32 as S must be (default 16, the talk's)", .dest = &scale, .lo = 0, .lo_open = 1, .hi = 1e6},
 		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "texels along u (default 64)", .dest = &size, .lo = 2, .hi = BK_SPECLUT_MAX_SIZE},
 		{.name = "--rows", .kind = CLI_INT, .metavar = "H", .help = "texels along roughness (default: W)", .dest = &rows, .lo = 2, .hi = BK_SPECLUT_MAX_SIZE},
 		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "rows over roughness LO..HI (default 0:1)", .dest = &r_range},
@@ -298,7 +318,9 @@ int cmd_lut_specular(int argc, char **argv)
 	               "exact only when L is in the plane of V and N. 8 bits cut intensities above S.\n"
 	               "--sweep scores this LUT and every axis x warp (1,2,3,4,6,8) x scale (1,2,4,8,16,32) x\n"
 	               "size (32..256) at 8 bits on brdfkit's spec target (the exact D*V*F*NoL, f0 0.04),\n"
-	               "as sampled; ranks them by the rms over cells of the albedo error, then rmse; writes\n"
+	               "as sampled; ranks them by the rms over (NoV, r) cells of the albedo error over the\n"
+	               "cell's albedo (1: a LUT of zeros; every cell counts the same), then the absolute rms,\n"
+	               "then rmse; writes\n"
 	               "DIR/sweep.csv, DIR/best/ (the best LUT's three files) and DIR/section.html.",
 	               opts, (int)(sizeof opts / sizeof opts[0]), 0, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
@@ -324,5 +346,10 @@ int cmd_lut_specular(int argc, char **argv)
 	const char *bad = bk_speclut_check(&L);
 	if (bad)
 		return cli_usage(&cmd, "%s", bad);
+	char why[300];
+	if ((rc = bk_speclut_float_check(&L, why, sizeof why)) > 0) /* H3: the bound is the data's, not the option's */
+		return cli_usage(&cmd, "--scale %g: %s", scale, why);
+	if (rc < 0)
+		return cli_fail("lut", "out of memory");
 	return write_all(&L, sweep, out, prefix); /* the prefix reaches HTML through bk_html_text */
 }

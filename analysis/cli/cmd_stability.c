@@ -157,12 +157,14 @@ static void summary_header(FILE *f)
 	      "safe_in_half,guards,guard_error_r,guard_error_cos,guarded_form,constants,advice\n", f);
 }
 
+/* x, "inf" for an infinity (a max_rel with a NaN or inf value in it: the
+ * largest error, not none), empty for NaN (none found, nothing measured). */
 static void num(FILE *f, double x)
 {
 	if (isfinite(x))
 		fprintf(f, ",%.4g", x);
 	else
-		fputs(",", f);
+		fputs(isinf(x) ? (x > 0 ? ",inf" : ",-inf") : ",", f);
 }
 
 static void summary_row(FILE *f, const bk_stability *st, const char *text)

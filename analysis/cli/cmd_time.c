@@ -152,6 +152,8 @@ static int check_row(time_table *T, int i)
 		rc = form_check_params("time", r->name, np, T->have[i], T->typed[i] ? T->given[i] : NULL);
 	for (int p = 0; p < 2 && f[p] && !rc; p++)
 		rc = form_check_finite("time", r->name, f[p], r->params);
+	for (int p = 0; p < 2 && f[p] && !rc; p++) /* the C it times is float: codegen's warning (M3) */
+		form_warn_precision("time", r->name, f[p], r->params, BK_F32);
 	if (rc) {
 		bk_form_free(f[0]);
 		bk_form_free(f[1]);

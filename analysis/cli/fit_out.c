@@ -2,6 +2,7 @@
  * fit_out.c — the files of a fit's result directory (fit_out.h).
  */
 #include "fit_out.h"
+#include "form_check.h"
 #include "heatmap.h"
 #include "out.h"
 
@@ -147,6 +148,8 @@ static int write_shaders(const fit_run *R, const char *dir)
 	snprintf(domain, sizeof domain, "%s", R->s->description);
 	snprintf(error, sizeof error, "rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
 	         R->res->fitted.rmse, R->res->fitted.max_abs, R->res->fitted.max_rel, R->spec->relative ? "relative" : "absolute");
+	for (int q = 0; q < (R->split ? 2 : 1); q++) /* the shaders are single precision */
+		form_warn_precision(NULL, R->fname, R->f[q], R->res->p, BK_F32);
 	for (size_t k = 0; k < 3; k++) {
 		FILE *f = open_in(dir, out[k].file);
 		if (!f)

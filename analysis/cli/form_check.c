@@ -49,3 +49,20 @@ int form_check_finite(const char *cmd, const char *name, const bk_form *f, const
 	}
 	return rc < 0 ? cli_fail(cmd, "out of memory") : 0;
 }
+
+void form_warn_precision(const char *cmd, const char *name, const bk_form *f, const double *params, bk_precision prec)
+{
+	char what[200];
+	if (!cmd)
+		cmd = cli_name();
+	int n = bk_form_const_range(f, params, prec, what, sizeof what);
+	if (n > 0)
+		fprintf(stderr, "brdfkit %s: warning: %s: %s%s\n", cmd, name, what,
+		        n > 1 ? " (and more constants the precision cannot hold)" : "");
+	/* A constant out of range is usually why the result is lost too: one
+	 * warning names the cause, not two the same thing. */
+	else if ((n = bk_form_range_lost(f, params, prec, what, sizeof what)) > 0)
+		fprintf(stderr, "brdfkit %s: warning: %s: the result is out of %s precision's range at every one of the "
+		        "%d samples of its inputs' domain where it has a value (%s)\n", cmd, name,
+		        prec == BK_F16 ? "half" : "single", n, what);
+}

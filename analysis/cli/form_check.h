@@ -24,4 +24,17 @@ int form_check_params(const char *cmd, const char *name, int np, const int *have
  * of memory) after one line too. */
 int form_check_finite(const char *cmd, const char *name, const bk_form *f, const double *params);
 
+/* Warnings, not refusals (the code is valid and computes what the IR does
+ * in prec; a GPU may run mediump at single precision's range), one line each
+ * on stderr ("brdfkit CMD: warning: NAME: ..."), for code emitted in prec
+ * (BK_F32 or BK_F16): a constant the precision cannot hold
+ * (bk_form_const_range), and a result it cannot hold at any sample of the
+ * grid form_check_finite refuses on (bk_form_range_lost: overflow to inf,
+ * or a value that is not 0 flushed to 0 or a subnormal). The one rule: NaN
+ * or infinite everywhere in double is refused, lost everywhere in the
+ * emitted precision is warned about (unless a constant the precision
+ * cannot hold was named first: it is then most likely why). */
+/* cmd NULL: the command running (cli_name). */
+void form_warn_precision(const char *cmd, const char *name, const bk_form *f, const double *params, bk_precision prec);
+
 #endif
