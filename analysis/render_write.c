@@ -213,6 +213,23 @@ static int write_spheres(const char *path, const bk_render_out *o, char *err, si
 	return 0;
 }
 
+int bk_render_file_name(const char *name)
+{
+	static const char *const fixed[] = {"diff_f32.png", "diff_f16.png", "shader_f32.comp", "shader_f16.comp",
+	                                    "spheres.csv", "section.html", NULL};
+	char file[128];
+	for (const char *const *s = fixed; *s; s++)
+		if (!strcmp(name, *s))
+			return 1;
+	for (int i = 0; i < BK_RI_COUNT; i++)
+		for (int k = 0; k < 2; k++) {
+			snprintf(file, sizeof file, "%s.%s", image_stem[i], k ? "png" : "exr");
+			if (!strcmp(name, file))
+				return 1;
+		}
+	return 0;
+}
+
 int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen)
 {
 	const bk_render_geom *g = o->g;

@@ -93,6 +93,10 @@ int cli_check_text(const char *buf, size_t len, char *why, size_t wlen);
 int cli_fail(const char *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
 void cli_set_name(const char *cmd);
+/* --out FILE of a command that writes one file (out NULL: standard output)
+ * checked before the work: bk_out_file_check's refusal through cli_fail (1),
+ * else 0. */
+int cli_out_file(const char *cmd, const char *out);
 /* A usage error found after cli_parse (a value that conflicts with another,
  * an option with no effect in context): "brdfkit CMD: message (see brdfkit
  * CMD --help)" on stderr, one line. Returns 2. */

@@ -208,6 +208,11 @@ static int read_batch(const char *path, item *items, int *n)
 		rc = resolve(&items[*n], bk_csvtab_get(&t, i, 0), bk_csvtab_get(&t, i, 2), bk_csvtab_get(&t, i, 3),
 		             bk_csvtab_get(&t, i, 4), *term ? term : NULL); /* resolve says what is wrong */
 		++*n;
+		if (!rc && bk_render_file_name(items[*n - 1].name)) { /* the batch's own top-level file */
+			bk_csvtab_err(err, sizeof err, path, t.line[i], "the name '%s' is a file the batch writes beside the "
+			              "renders' directories; choose another", items[*n - 1].name);
+			rc = batch_fail(err);
+		}
 		for (int j = 0; j < *n - 1 && !rc; j++)
 			if (!strcmp(items[j].name, items[*n - 1].name)) {
 				bk_csvtab_err(err, sizeof err, path, t.line[i], "the name '%s' twice", items[j].name);
