@@ -1439,6 +1439,51 @@ int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen)
 	return rc;
 }
 
+/* ---- files of a tree being built ---------------------------------------------- */
+
+/* path for a message: under a live build tree DIR.tmpXXXXXX (the registry),
+ * shown under DIR, where the file goes; control characters as '?'. */
+static const char *shown_path(const char *path, char *buf, size_t len)
+{
+	for (int k = 0; k < LIVE_MAX; k++) {
+		size_t n = strlen(live[k].path);
+		if (live[k].state == 2 && n > 10 && !strncmp(path, live[k].path, n) && path[n] == '/') {
+			char p[8400];
+			snprintf(p, sizeof p, "%.*s%s", (int)(n - 10), path, path + n); /* ".tmpXXXXXX" left out */
+			return printable(p, buf, len);
+		}
+	}
+	return printable(path, buf, len);
+}
+
+FILE *bk_out_fopen(const char *path, char *err, size_t errlen)
+{
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		int e = errno;
+		char p[1024];
+		snprintf(err, errlen, "%s: cannot create: %s", shown_path(path, p, sizeof p), errtext(e));
+		return NULL;
+	}
+	errno = 0; /* so that the errno bk_out_fclose finds beside ferror is a write's */
+	return f;
+}
+
+int bk_out_fclose(FILE *f, const char *path, char *err, size_t errlen)
+{
+	/* stdio keeps no errno with its error flag: the failed write(2) set it,
+	 * and the formatting since (printf's) leaves it as it is */
+	int e = ferror(f) ? (errno ? errno : EIO) : 0;
+	errno = 0;
+	if (fclose(f) != 0 && !e)
+		e = errno ? errno : EIO;
+	if (!e)
+		return 0;
+	char p[1024];
+	snprintf(err, errlen, "%s: cannot write: %s", shown_path(path, p, sizeof p), errtext(e));
+	return -1;
+}
+
 /* ---- a single file the user names -------------------------------------------- */
 
 /* How each single-file output says that brdfkit wrote it, at the start of one

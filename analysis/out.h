@@ -88,6 +88,14 @@ int bk_out_dir_begin(bk_out_dir *d, const char *path, const char *command, char 
 int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen);
 void bk_out_dir_abort(bk_out_dir *d);
 
+/* A file of a tree being built (under a bk_out_dir's tmp), opened "w"; closed
+ * by bk_out_fclose, which says whether every write reached it. A failure is
+ * one line in err naming the file as it will be named once the tree is
+ * swapped in (DIR/..., not DIR.tmpXXXXXX/...) and the errno: "sW/front.csv:
+ * cannot write: no space left on device". NULL or -1 then. */
+FILE *bk_out_fopen(const char *path, char *err, size_t errlen);
+int bk_out_fclose(FILE *f, const char *path, char *err, size_t errlen);
+
 /* Once, from main: records the command line for markers and installs the
  * handler that removes the live temporaries on SIGINT, SIGTERM and SIGHUP
  * before dying of the signal (exit status 128 + signal). */

@@ -325,13 +325,11 @@ static int write_all(const char *out, item *items, int n, int batch, const bk_re
 	}
 	if (!rc) {
 		snprintf(path, sizeof path, "%s/section.html", od.tmp);
-		FILE *f = fopen(path, "w");
+		FILE *f = bk_out_fopen(path, err, sizeof err);
 		if (f)
 			bk_render_section(f, o, n, prefix, batch);
-		if (!f || ferror(f) | fclose(f)) {
-			snprintf(err, sizeof err, "%.1000s: cannot write", path);
+		if (!f || bk_out_fclose(f, path, err, sizeof err))
 			rc = -1;
-		}
 	}
 	for (int i = 0; i < n && !rc; i++) {
 		printf("render: %s (replaces %s): non-finite pixels", items[i].name, o[i].term);
