@@ -247,9 +247,8 @@ int cmd_report(int argc, char **argv)
 		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");
 		return 2;
 	}
-	if ((rc = cli_out_file("report", out)))
-		return rc;
-	struct stat out_st;
+	struct stat out_st; /* --out is checked as it is opened (bk_out_open_file): the sections, read first,
+	                     * say more precisely when it is one of them */
 	int out_exists = !stat(out, &out_st);
 	bk_summary_row *R = NULL;
 	char **href = NULL;
