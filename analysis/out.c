@@ -375,8 +375,11 @@ static int make_temp(bk_out *o, const char *dir)
 	return fd;
 }
 
+static const char *shown_path(const char *path, char *buf, size_t len);
+
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen)
 {
+	char sp[1024]; /* path in messages: where it goes, not its build tree's name */
 	o->f = NULL;
 	o->slot = -1;
 	o->guard = 0;
@@ -390,12 +393,14 @@ int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen)
 	clean_file_leftovers(dir, split_path(path, dir, sizeof dir));
 	int fd = make_temp(o, dir);
 	if (fd < 0) {
-		snprintf(err, errlen, "%s: cannot create: %s", path, errtext(errno));
+		int e = errno;
+		snprintf(err, errlen, "%s: cannot create: %s", shown_path(path, sp, sizeof sp), errtext(e));
 		return -1;
 	}
 	o->f = fdopen(fd, "w");
 	if (!o->f) {
-		snprintf(err, errlen, "%s: %s", path, errtext(errno));
+		int e = errno;
+		snprintf(err, errlen, "%s: %s", shown_path(path, sp, sizeof sp), errtext(e));
 		close(fd);
 		unlink(o->tmp);
 		bk_out_untrack(o->slot);
@@ -425,10 +430,12 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	/* fsync before rename: otherwise a crash can leave path naming an empty
 	 * file. The lock stays (on a duplicate) until the rename: a run that
 	 * could take it would count the temporary as a dead run's. */
+	char sp[1024];
 	int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
 	int e = errno, keep = fcntl(fileno(o->f), F_DUPFD_CLOEXEC, 0);
 	if (fclose(o->f) != 0 || bad) {
-		snprintf(err, errlen, "%s: write failed: %s", o->path, errtext(bad ? e : errno));
+		e = bad ? e : errno;
+		snprintf(err, errlen, "%s: write failed: %s", shown_path(o->path, sp, sizeof sp), errtext(e));
 		o->f = NULL;
 		unlink(o->tmp);
 		bk_out_untrack(o->slot);
@@ -453,12 +460,12 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	if (keep >= 0)
 		close(keep);
 	if (!moved) {
-		snprintf(err, errlen, "%s: cannot rename into place: %s", o->path, errtext(e));
+		snprintf(err, errlen, "%s: cannot rename into place: %s", shown_path(o->path, sp, sizeof sp), errtext(e));
 		return -1;
 	}
 	if (sync_parent(o->path)) {
 		snprintf(err, errlen, "%s: written, but the fsync of its directory failed: %s (it may not survive a crash)",
-		         o->path, errtext(errno));
+		         shown_path(o->path, sp, sizeof sp), errtext(errno));
 		return -1;
 	}
 	return 0;
@@ -1454,6 +1461,11 @@ static const char *shown_path(const char *path, char *buf, size_t len)
 		}
 	}
 	return printable(path, buf, len);
+}
+
+const char *bk_out_shown(const char *path, char *buf, size_t len)
+{
+	return shown_path(path, buf, len);
 }
 
 FILE *bk_out_fopen(const char *path, char *err, size_t errlen)

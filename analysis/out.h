@@ -95,6 +95,8 @@ void bk_out_dir_abort(bk_out_dir *d);
  * cannot write: no space left on device". NULL or -1 then. */
 FILE *bk_out_fopen(const char *path, char *err, size_t errlen);
 int bk_out_fclose(FILE *f, const char *path, char *err, size_t errlen);
+/* path as those messages show it (for a writer with its own temporaries). */
+const char *bk_out_shown(const char *path, char *buf, size_t len);
 
 /* Once, from main: records the command line for markers and installs the
  * handler that removes the live temporaries on SIGINT, SIGTERM and SIGHUP

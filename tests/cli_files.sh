@@ -168,6 +168,17 @@ if command -v strace >/dev/null && strace -f -o /dev/null true 2>/dev/null; then
 			grep -q "^brdfkit search: sW: writing the results failed: sW/[a-z_/0-9]*\.[a-z]*: cannot write: no space left on device$" err &&
 			[ ! -e sW ] && ok || bad "ENOSPC at write $w: exit $r, $(cat err)"
 	done
+	# the same class in the other writers of a directory: the file where it goes and the errno
+	for c in "stability NoV" "compare --target f --no-refit --no-time"; do
+		for w in 10 20; do
+			ASAN_OPTIONS=detect_leaks=0 strace -f -o /dev/null -e trace=write -e inject=write:error=ENOSPC:when=$w \
+				"$BK" $c --out oW --quiet >/dev/null 2>err
+			r=$?
+			[ $r -eq 1 ] && [ "$(wc -l <err)" -eq 1 ] &&
+				grep -q ": oW: writing the results failed: oW/[a-z_/0-9]*\.[a-z]*: [a-z ]*: no space left on device$" err &&
+				[ ! -e oW ] && ok || bad "${c%% *}: ENOSPC at write $w: exit $r, $(cat err)"
+		done
+	done
 else
 	echo "cli_files: strace cannot trace here: the ENOSPC checks are skipped"
 fi
