@@ -11,6 +11,7 @@
  * when that field spans lines.)
  */
 #include "csvtab.h"
+#include "out.h"
 
 #include <csv.h>
 #include <errno.h>
@@ -18,6 +19,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define COMMENT_MAX 1024
 
@@ -254,11 +256,20 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 	r->spec = spec, r->t = t, r->err = err, r->errlen = errlen, r->line = r->at_start = 1;
 	r->max_rows = spec->max_rows > 0 ? spec->max_rows : BK_CSVTAB_MAX_ROWS;
 	long max_bytes = spec->max_bytes > 0 ? spec->max_bytes : BK_CSVTAB_MAX_BYTES, total = 0;
-	FILE *f = fopen(path, "rb");
+	/* opened without blocking on a FIFO (no writer: no end), and only a
+	 * regular file read: every CSV handed in is a file brdfkit or a user wrote */
+	char why[96];
+	int fd = bk_in_open(path, why, sizeof why), e = errno;
+	FILE *f = fd >= 0 ? fdopen(fd, "rb") : NULL;
 	struct csv_parser p;
-	if (!f) {
+	if (fd >= 0 && !f)
+		e = errno, close(fd);
+	if (fd == -2) {
 		r->io = 1;
-		fail(r, 0, "cannot be read (%s)", strerror(errno));
+		fail(r, 0, "%s", why);
+	} else if (!f) {
+		r->io = 1;
+		fail(r, 0, "cannot be read (%s)", strerror(e));
 	} else if (csv_init(&p, CSV_APPEND_NULL)) {
 		fclose(f);
 		f = NULL;

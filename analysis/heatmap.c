@@ -221,8 +221,8 @@ static const char *errtext(int e, char *buf, size_t len)
 
 static int fail_errno(char *err, size_t errlen, const char *path, const char *what, int e)
 {
-	char buf[128];
-	snprintf(err, errlen, "%s: %s: %s", path, what, errtext(e, buf, sizeof buf));
+	char buf[128], shown[1024]; /* the path where the file goes, not its build tree's (out.h) */
+	snprintf(err, errlen, "%s: %s: %s", bk_out_shown(path, shown, sizeof shown), what, errtext(e, buf, sizeof buf));
 	return -1;
 }
 

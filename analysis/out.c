@@ -375,10 +375,14 @@ static int make_temp(bk_out *o, const char *dir)
 	return fd;
 }
 
+static const char *shown_path(const char *path, char *buf, size_t len);
+
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen)
 {
+	char sp[1024]; /* path in messages: where it goes, not its build tree's name */
 	o->f = NULL;
 	o->slot = -1;
+	o->guard = 0;
 	o->tmp[0] = '\0';
 	if (strlen(path) >= sizeof o->path) {
 		snprintf(err, errlen, "%.64s...: path too long", path);
@@ -389,12 +393,14 @@ int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen)
 	clean_file_leftovers(dir, split_path(path, dir, sizeof dir));
 	int fd = make_temp(o, dir);
 	if (fd < 0) {
-		snprintf(err, errlen, "%s: cannot create: %s", path, errtext(errno));
+		int e = errno;
+		snprintf(err, errlen, "%s: cannot create: %s", shown_path(path, sp, sizeof sp), errtext(e));
 		return -1;
 	}
 	o->f = fdopen(fd, "w");
 	if (!o->f) {
-		snprintf(err, errlen, "%s: %s", path, errtext(errno));
+		int e = errno;
+		snprintf(err, errlen, "%s: %s", shown_path(path, sp, sizeof sp), errtext(e));
 		close(fd);
 		unlink(o->tmp);
 		bk_out_untrack(o->slot);
@@ -424,10 +430,12 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	/* fsync before rename: otherwise a crash can leave path naming an empty
 	 * file. The lock stays (on a duplicate) until the rename: a run that
 	 * could take it would count the temporary as a dead run's. */
+	char sp[1024];
 	int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
 	int e = errno, keep = fcntl(fileno(o->f), F_DUPFD_CLOEXEC, 0);
 	if (fclose(o->f) != 0 || bad) {
-		snprintf(err, errlen, "%s: write failed: %s", o->path, errtext(bad ? e : errno));
+		e = bad ? e : errno;
+		snprintf(err, errlen, "%s: write failed: %s", shown_path(o->path, sp, sizeof sp), errtext(e));
 		o->f = NULL;
 		unlink(o->tmp);
 		bk_out_untrack(o->slot);
@@ -436,6 +444,14 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 		return -1;
 	}
 	o->f = NULL;
+	/* a user's file put at path while we wrote is not ours to replace either */
+	if (o->guard && bk_out_file_check(o->path, err, errlen)) {
+		unlink(o->tmp);
+		bk_out_untrack(o->slot);
+		if (keep >= 0)
+			close(keep);
+		return -1;
+	}
 	int moved = rename(o->tmp, o->path) == 0;
 	e = errno;
 	if (!moved)
@@ -444,12 +460,12 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	if (keep >= 0)
 		close(keep);
 	if (!moved) {
-		snprintf(err, errlen, "%s: cannot rename into place: %s", o->path, errtext(e));
+		snprintf(err, errlen, "%s: cannot rename into place: %s", shown_path(o->path, sp, sizeof sp), errtext(e));
 		return -1;
 	}
 	if (sync_parent(o->path)) {
 		snprintf(err, errlen, "%s: written, but the fsync of its directory failed: %s (it may not survive a crash)",
-		         o->path, errtext(errno));
+		         shown_path(o->path, sp, sizeof sp), errtext(errno));
 		return -1;
 	}
 	return 0;
@@ -838,6 +854,7 @@ typedef struct look {
 	int marker;       /* DIR_FOREIGN: it has a .brdfkit-output, not brdfkit's */
 	int mfd;          /* DIR_OURS, asked to lock: the marker, locked */
 	int err;          /* DIR_ERROR: errno */
+	int link;         /* DIR_FOREIGN: a symlink (to anything: never followed) */
 	manifest m;       /* DIR_OURS: what its run listed */
 	char first[4096]; /* DIR_UNLISTED: the first entry it did not list */
 } look;
@@ -903,6 +920,7 @@ static int classify(int pfd, const char *name, const char *shown, look *k)
 	struct stat st, now;
 	if (fstatat(pfd, name, &st, AT_SYMLINK_NOFOLLOW) != 0)
 		return looked(k, errno == ENOENT ? DIR_ABSENT : DIR_ERROR);
+	k->link = S_ISLNK(st.st_mode);
 	if (!S_ISDIR(st.st_mode))
 		return looked(k, DIR_FOREIGN);
 	int dfd = openat(pfd, name, O_RDONLY | O_DIRECTORY | O_NOFOLLOW | O_CLOEXEC);
@@ -958,6 +976,11 @@ static void refusal(const look *k, const char *given, const char *doing, char *e
 	char p[512];
 	switch (k->kind) {
 	case DIR_FOREIGN:
+		if (k->link) { /* one to brdfkit's directory too: the swap would replace the link, not DIR */
+			snprintf(err, errlen, "%s: is a symlink: give the directory itself (a symlink is never followed)",
+			         given);
+			break;
+		}
 		snprintf(err, errlen, "%s: " NOT_OURS "%s; choose another path or remove it", given,
 		         k->marker ? " (its " BK_OUT_MARKER " is not one brdfkit wrote)" : "");
 		break;
@@ -1421,6 +1444,194 @@ int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen)
 	close(tfd);
 	close(pfd);
 	return rc;
+}
+
+/* ---- files of a tree being built ---------------------------------------------- */
+
+/* path for a message: under a live build tree DIR.tmpXXXXXX (the registry),
+ * shown under DIR, where the file goes; control characters as '?'. */
+static const char *shown_path(const char *path, char *buf, size_t len)
+{
+	for (int k = 0; k < LIVE_MAX; k++) {
+		size_t n = strlen(live[k].path);
+		if (live[k].state == 2 && n > 10 && !strncmp(path, live[k].path, n) && path[n] == '/') {
+			char p[8400];
+			snprintf(p, sizeof p, "%.*s%s", (int)(n - 10), path, path + n); /* ".tmpXXXXXX" left out */
+			return printable(p, buf, len);
+		}
+	}
+	return printable(path, buf, len);
+}
+
+const char *bk_out_shown(const char *path, char *buf, size_t len)
+{
+	return shown_path(path, buf, len);
+}
+
+FILE *bk_out_fopen(const char *path, char *err, size_t errlen)
+{
+	FILE *f = fopen(path, "w");
+	if (!f) {
+		int e = errno;
+		char p[1024];
+		snprintf(err, errlen, "%s: cannot create: %s", shown_path(path, p, sizeof p), errtext(e));
+		return NULL;
+	}
+	errno = 0; /* so that the errno bk_out_fclose finds beside ferror is a write's */
+	return f;
+}
+
+int bk_out_fclose(FILE *f, const char *path, char *err, size_t errlen)
+{
+	/* stdio keeps no errno with its error flag: the failed write(2) set it,
+	 * and the formatting since (printf's) leaves it as it is */
+	int e = ferror(f) ? (errno ? errno : EIO) : 0;
+	errno = 0;
+	if (fclose(f) != 0 && !e)
+		e = errno ? errno : EIO;
+	if (!e)
+		return 0;
+	char p[1024];
+	snprintf(err, errlen, "%s: cannot write: %s", shown_path(path, p, sizeof p), errtext(e));
+	return -1;
+}
+
+/* ---- a single file the user names -------------------------------------------- */
+
+/* How each single-file output says that brdfkit wrote it, at the start of one
+ * of its first lines: generated code's comment (codegen: line 2), the '#'
+ * header of the CSVs (albedo, gpucost and its --calibrate, time: line 1) and
+ * the page's title (report: line 3). A checkpoint ("brdfkit-search ...") is
+ * not among them: it is state, not a result to write over. */
+static const char *const signed_lines[] = {" * Generated by brdfkit ", "# brdfkit ", "<title>brdfkit ", NULL};
+#define SIGNED_LINES 3
+
+static int signed_by_brdfkit(int fd)
+{
+	char buf[4096];
+	ssize_t n = pread(fd, buf, sizeof buf - 1, 0);
+	if (n <= 0)
+		return 0;
+	buf[n] = '\0';
+	const char *p = buf;
+	for (int line = 0; line < SIGNED_LINES && p; line++) {
+		for (const char *const *s = signed_lines; *s; s++)
+			if (!strncmp(p, *s, strlen(*s)))
+				return 1;
+		if ((p = strchr(p, '\n')))
+			p++;
+	}
+	return 0;
+}
+
+/* The directory holding path, or one above it, holds BK_OUT_MARKER: the
+ * nearest such into at (resolved), 1; 0 when none does (or the directory
+ * does not exist, which bk_out_open reports). */
+static int inside_output(const char *path, char *at, size_t len)
+{
+	char dir[4096], real[PATH_MAX], m[PATH_MAX + 32];
+	split_path(path, dir, sizeof dir);
+	if (!realpath(dir, real))
+		return 0;
+	for (;;) {
+		struct stat st;
+		snprintf(m, sizeof m, "%s/" BK_OUT_MARKER, strcmp(real, "/") ? real : "");
+		if (lstat(m, &st) == 0) {
+			snprintf(at, len, "%s", real);
+			return 1;
+		}
+		char *slash = strrchr(real, '/');
+		if (!slash || !strcmp(real, "/"))
+			return 0;
+		slash[slash == real] = '\0'; /* "/a" -> "/" */
+	}
+}
+
+int bk_out_file_check(const char *path, char *err, size_t errlen)
+{
+	char p[512], at[PATH_MAX], q[512];
+	struct stat st;
+	printable(path, p, sizeof p);
+	if (!*path || strlen(path) >= 4096 - 16) {
+		snprintf(err, errlen, "%.64s: %s", p, *path ? "path too long" : "empty path");
+		return -1;
+	}
+	if (inside_output(path, at, sizeof at)) {
+		snprintf(err, errlen, "%s: inside %s, a directory brdfkit writes whole (its next run would refuse or "
+		         "delete the file); choose a path outside it", p, printable(at, q, sizeof q));
+		return -1;
+	}
+	if (lstat(path, &st) != 0) /* nothing there, or no directory: bk_out_open says so */
+		return 0;
+	if (S_ISLNK(st.st_mode)) {
+		snprintf(err, errlen, "%s: is a symlink (not followed, not replaced); give the file itself or another path", p);
+		return -1;
+	}
+	if (!S_ISREG(st.st_mode)) {
+		snprintf(err, errlen, "%s: exists and is %s (not replaced); choose another path", p,
+		         S_ISDIR(st.st_mode) ? "a directory" : "not a regular file");
+		return -1;
+	}
+	if (st.st_size == 0) /* nothing to lose: a touched file, a killed shell redirect */
+		return 0;
+	int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+	int ours = fd >= 0 && signed_by_brdfkit(fd);
+	int e = errno;
+	if (fd >= 0)
+		close(fd);
+	if (fd < 0)
+		snprintf(err, errlen, "%s: exists and cannot be read to tell whether brdfkit wrote it: %s (not replaced)", p,
+		         errtext(e));
+	else if (!ours)
+		snprintf(err, errlen, "%s: " NOT_OURS " (not replaced); choose another path or remove it", p);
+	return fd >= 0 && ours ? 0 : -1;
+}
+
+int bk_out_open_file(bk_out *o, const char *path, char *err, size_t errlen)
+{
+	o->f = NULL;
+	o->slot = -1;
+	o->tmp[0] = '\0';
+	o->guard = 0;
+	if (bk_out_file_check(path, err, errlen) || bk_out_open(o, path, err, errlen))
+		return -1;
+	o->guard = 1;
+	return 0;
+}
+
+/* ---- inputs ----------------------------------------------------------------- */
+
+int bk_in_open(const char *path, char *why, size_t len)
+{
+	/* O_NONBLOCK: a FIFO with no writer would block the open itself */
+	int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+	struct stat st;
+	if (fd < 0 || fstat(fd, &st) != 0) {
+		int e = errno;
+		snprintf(why, len, "%s", errtext(e));
+		if (fd >= 0)
+			close(fd);
+		errno = e;
+		return -1;
+	}
+	if (!S_ISREG(st.st_mode)) {
+		snprintf(why, len, "%s", S_ISDIR(st.st_mode) ? "is a directory"
+		                         : S_ISFIFO(st.st_mode) ? "not a regular file (a FIFO)"
+		                         : S_ISCHR(st.st_mode) ? "not a regular file (a character device)"
+		                         : S_ISBLK(st.st_mode) ? "not a regular file (a block device)"
+		                                               : "not a regular file");
+		close(fd);
+		return -2;
+	}
+	int fl = fcntl(fd, F_GETFL);
+	if (fl < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0) {
+		int e = errno;
+		snprintf(why, len, "%s", errtext(e));
+		close(fd);
+		errno = e;
+		return -1;
+	}
+	return fd;
 }
 
 void bk_csv_field(FILE *f, const char *s)

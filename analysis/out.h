@@ -20,12 +20,33 @@
 typedef struct bk_out {
 	FILE *f;
 	char path[4096], tmp[4112];
-	int slot; /* in the registry of live temporaries (bk_out_track) */
+	int slot;  /* in the registry of live temporaries (bk_out_track) */
+	int guard; /* a file the user named: bk_out_file_check again before the rename */
 } bk_out;
 
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen);
 int bk_out_commit(bk_out *o, char *err, size_t errlen);
 void bk_out_abort(bk_out *o);
+
+/* A single file the user names (--out FILE): as safe as a directory. What
+ * stands at path is replaced only when brdfkit wrote it, as its first lines
+ * say (each format's provenance line: out.c's table), or when it is empty; a
+ * symlink (never followed), anything not a regular file, a file of other
+ * content, and any path inside a directory brdfkit writes whole (one holding
+ * BK_OUT_MARKER, here or above: that run would delete or refuse it) are
+ * refused with one line naming path. check: for a command to refuse before
+ * the work; open_file: the check, then bk_out_open; its commit checks again
+ * just before the rename. */
+int bk_out_file_check(const char *path, char *err, size_t errlen);
+int bk_out_open_file(bk_out *o, const char *path, char *err, size_t errlen);
+
+/* An input file opened for reading without blocking on a FIFO or a device
+ * (O_NONBLOCK, dropped once it is known to be a regular file): its fd; -1
+ * when it cannot be opened (errno kept, why its text), -2 when it is not a
+ * regular file (why "is a directory" or "not a regular file (a FIFO)"). For
+ * the files brdfkit reads back (CSVs, report's sections, checkpoints); a form
+ * and a scene file may come from a pipe, and are read as streams. */
+int bk_in_open(const char *path, char *why, size_t len);
 
 /* An output directory, replaced whole: begin makes DIR.tmpXXXXXX (d->tmp) for
  * the caller to fill, commit swaps it in with one rename, abort removes it.
@@ -66,6 +87,16 @@ int bk_out_dir_begin(bk_out_dir *d, const char *path, const char *command, char 
  * end with one whole result. */
 int bk_out_dir_commit(bk_out_dir *d, char *err, size_t errlen);
 void bk_out_dir_abort(bk_out_dir *d);
+
+/* A file of a tree being built (under a bk_out_dir's tmp), opened "w"; closed
+ * by bk_out_fclose, which says whether every write reached it. A failure is
+ * one line in err naming the file as it will be named once the tree is
+ * swapped in (DIR/..., not DIR.tmpXXXXXX/...) and the errno: "sW/front.csv:
+ * cannot write: no space left on device". NULL or -1 then. */
+FILE *bk_out_fopen(const char *path, char *err, size_t errlen);
+int bk_out_fclose(FILE *f, const char *path, char *err, size_t errlen);
+/* path as those messages show it (for a writer with its own temporaries). */
+const char *bk_out_shown(const char *path, char *buf, size_t len);
 
 /* Once, from main: records the command line for markers and installs the
  * handler that removes the live temporaries on SIGINT, SIGTERM and SIGHUP

@@ -81,11 +81,18 @@ static char *read_fd(int fd, size_t cap, size_t hint, size_t *len, char *err, si
 	return buf;
 }
 
-char *bk_read_bounded(const char *path, size_t cap, size_t *len, char *err, size_t errlen)
+/* bk_read_bounded and bk_read_regular: regular, a path other than "-" must
+ * name a regular file, opened without blocking on a FIFO (bk_in_open). */
+static char *read_path(const char *path, int regular, size_t cap, size_t *len, char *err, size_t errlen)
 {
 	int stdin_ = !strcmp(path, "-");
-	int fd = stdin_ ? 0 : open(path, O_RDONLY | O_CLOEXEC);
+	char why[96];
+	int fd = stdin_ ? 0 : regular ? bk_in_open(path, why, sizeof why) : open(path, O_RDONLY | O_CLOEXEC);
 	struct stat st;
+	if (fd == -2) {
+		snprintf(err, errlen, "%s", why);
+		return NULL;
+	}
 	if (fd < 0 || fstat(fd, &st)) {
 		reason(err, errlen, errno);
 		if (fd > 0)
@@ -102,6 +109,16 @@ char *bk_read_bounded(const char *path, size_t cap, size_t *len, char *err, size
 	if (!stdin_)
 		close(fd);
 	return text;
+}
+
+char *bk_read_bounded(const char *path, size_t cap, size_t *len, char *err, size_t errlen)
+{
+	return read_path(path, 0, cap, len, err, errlen);
+}
+
+char *bk_read_regular(const char *path, size_t cap, size_t *len, char *err, size_t errlen)
+{
+	return read_path(path, 1, cap, len, err, errlen);
 }
 
 char *bk_html_escaped(const char *s)

@@ -22,6 +22,10 @@
  * length), or NULL with err: "cannot be read: REASON", "is a directory",
  * "is N bytes, more than C", "is longer than C bytes". */
 char *bk_read_bounded(const char *path, size_t cap, size_t *len, char *err, size_t errlen);
+/* The same for a file brdfkit wrote (report's sections): a path other than
+ * "-" must be a regular file, else err "is a directory" or "not a regular
+ * file (a FIFO)", found without blocking on the open (bk_in_open). */
+char *bk_read_regular(const char *path, size_t cap, size_t *len, char *err, size_t errlen);
 
 /* s escaped as bk_html_text writes it (& < > "), malloc'd; NULL when out of
  * memory. For a link prefix a section writer pastes into many attributes. */

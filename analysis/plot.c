@@ -4,6 +4,7 @@
  * function onto whichever cairo surface the format asks for.
  */
 #include "plot.h"
+#include "out.h"
 #include "brdf.h" /* BK_VERSION */
 #include "pngio.h"
 
@@ -1024,13 +1025,14 @@ int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, cha
 	for (int k = 0; k < 3; k++) {
 		char path[4400];
 		snprintf(path, sizeof path, "%.4000s/%.300s.%s", dir, stem, ext[k]);
-		FILE *f = fopen(path, "wb");
-		int e = errno;
-		int rc = f ? bk_plot_write(p, (bk_plot_format)k, f) : -1;
-		if (f && (fclose(f) || rc))
-			rc = -1, e = e ? e : EIO;
-		if (rc) {
-			snprintf(err, errlen, "%s: %s", path, f ? "writing the figure failed" : strerror(e));
+		FILE *f = bk_out_fopen(path, err, errlen); /* failures name the file and the errno */
+		if (!f)
+			return -1;
+		int rc = bk_plot_write(p, (bk_plot_format)k, f);
+		if (bk_out_fclose(f, path, err, errlen))
+			return -1;
+		if (rc) { /* no write failed: cairo's drawing did */
+			snprintf(err, errlen, "%s: drawing the figure failed", path);
 			return -1;
 		}
 	}

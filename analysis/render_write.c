@@ -38,11 +38,9 @@ static const char diff_text[] =
 static int write_png(const char *path, int w, int h, const unsigned char *rgb, const char *title, const char *desc,
                      char *err, size_t errlen)
 {
-	FILE *f = fopen(path, "wb");
-	if (!f) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
+	FILE *f = bk_out_fopen(path, err, errlen);
+	if (!f)
 		return -1;
-	}
 	const bk_png_text text[4] = {
 		{"Title", title},
 		{"Description", desc},
@@ -51,8 +49,10 @@ static int write_png(const char *path, int w, int h, const unsigned char *rgb, c
 	};
 	char e2[256];
 	int rc = bk_png_write(f, w, h, 3, 1, 0, rgb, text, 4, e2, sizeof e2);
-	if (fclose(f) || rc) {
-		snprintf(err, errlen, "%s: %s", path, rc ? e2 : "cannot write the PNG");
+	if (bk_out_fclose(f, path, err, errlen)) /* the file and the errno */
+		return -1;
+	if (rc) {
+		snprintf(err, errlen, "%s: %s", path, e2);
 		return -1;
 	}
 	return 0;
@@ -140,14 +140,11 @@ static int write_exr(const char *path, const bk_render_out *o, const float *img,
 
 static int write_text(const char *path, const char *text, char *err, size_t errlen)
 {
-	FILE *f = fopen(path, "w");
-	if (!f || fputs(text, f) < 0 || fclose(f)) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
-		if (f)
-			fclose(f);
+	FILE *f = bk_out_fopen(path, err, errlen);
+	if (!f)
 		return -1;
-	}
-	return 0;
+	fputs(text, f);
+	return bk_out_fclose(f, path, err, errlen);
 }
 
 static int write_spheres(const char *path, const bk_render_out *o, char *err, size_t errlen)
@@ -156,9 +153,10 @@ static int write_spheres(const char *path, const bk_render_out *o, char *err, si
 	int ns = 2 * g->ncols, cell = g->width / g->ncols;
 	size_t *cnt = calloc((size_t)ns * (BK_RI_COUNT + 1), sizeof *cnt);
 	double *dmax = calloc((size_t)ns * 4, sizeof *dmax);
-	FILE *f = cnt && dmax ? fopen(path, "w") : NULL;
+	FILE *f = cnt && dmax ? bk_out_fopen(path, err, errlen) : NULL;
 	if (!f) {
-		snprintf(err, errlen, "%s: %s", path, cnt && dmax ? strerror(errno) : "out of memory");
+		if (!cnt || !dmax)
+			snprintf(err, errlen, "%s: out of memory", path);
 		free(cnt);
 		free(dmax);
 		return -1;
@@ -213,10 +211,23 @@ static int write_spheres(const char *path, const bk_render_out *o, char *err, si
 	}
 	free(cnt);
 	free(dmax);
-	if (fclose(f)) {
-		snprintf(err, errlen, "%s: %s", path, strerror(errno));
-		return -1;
-	}
+	return bk_out_fclose(f, path, err, errlen);
+}
+
+int bk_render_file_name(const char *name)
+{
+	static const char *const fixed[] = {"diff_f32.png", "diff_f16.png", "shader_f32.comp", "shader_f16.comp",
+	                                    "spheres.csv", "section.html", NULL};
+	char file[128];
+	for (const char *const *s = fixed; *s; s++)
+		if (!strcmp(name, *s))
+			return 1;
+	for (int i = 0; i < BK_RI_COUNT; i++)
+		for (int k = 0; k < 2; k++) {
+			snprintf(file, sizeof file, "%s.%s", image_stem[i], k ? "png" : "exr");
+			if (!strcmp(name, file))
+				return 1;
+		}
 	return 0;
 }
 

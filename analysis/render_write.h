@@ -54,6 +54,11 @@ typedef struct bk_render_out {
 /* The files above into dir (which exists). 0, or -1 with a message. */
 int bk_render_write(const char *dir, bk_render_out *o, char *err, size_t errlen);
 
+/* Whether name is one of the files above (section.html included): a batch
+ * writes them in its top directory too, where each render is a directory by
+ * its name, so a render may not be so named. */
+int bk_render_file_name(const char *name);
+
 /* One section.html for renders o[0..n) (written), each under
  * prefix + (n > 1 || in_subdirs ? name + "/" : ""). */
 void bk_render_section(FILE *f, const bk_render_out *o, int n, const char *prefix, int in_subdirs);

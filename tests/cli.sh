@@ -229,7 +229,7 @@ expect_error "replace with a symlink inside" "--out $O/s: holds 'link', which br
 rm "$O/s/link" "$O/s/maps/file_link"
 # a symlink at --out itself is not brdfkit's directory
 ln -s s "$O/slink"
-expect_error "--out a symlink" "--out $O/slink: exists and was not written by brdfkit" $BK stability NoV --out "$O/slink"
+expect_error "--out a symlink" "--out $O/slink: is a symlink: give the directory itself" $BK stability NoV --out "$O/slink"
 # look-alikes of a killed run's temporary, with a marker or without, whose
 # names brdfkit never recorded, stay (issue 21, H4; a real killed run's
 # temporary is removed: tests/fault.sh, tests/cli_out.sh)

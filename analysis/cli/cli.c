@@ -4,6 +4,7 @@
  */
 #include "cli.h"
 #include "clock.h"
+#include "out.h"
 
 #include <errno.h>
 #include <math.h>
@@ -53,6 +54,12 @@ int cli_fail(const char *cmd, const char *fmt, ...)
 	va_end(ap);
 	fputc('\n', stderr);
 	return 1;
+}
+
+int cli_out_file(const char *cmd, const char *out)
+{
+	char err[1200];
+	return out && bk_out_file_check(out, err, sizeof err) ? cli_fail(cmd, "%s", err) : 0;
 }
 
 static void range_text(const cli_opt *o, char *buf, size_t len)

@@ -95,6 +95,10 @@ int cli_fail(const char *cmd, const char *fmt, ...)
 void cli_set_name(const char *cmd);
 /* The command running, as cli_set_name set it (fit or search in fit_out.c). */
 const char *cli_name(void);
+/* --out FILE of a command that writes one file (out NULL: standard output)
+ * checked before the work: bk_out_file_check's refusal through cli_fail (1),
+ * else 0. */
+int cli_out_file(const char *cmd, const char *out);
 /* A usage error found after cli_parse (a value that conflicts with another,
  * an option with no effect in context): "brdfkit CMD: message (see brdfkit
  * CMD --help)" on stderr, one line. Returns 2. */

@@ -163,9 +163,11 @@ int cmd_albedo(int argc, char **argv)
 	}
 	if (!out)
 		return run_grid(&g, stdout);
+	if ((rc = cli_out_file("albedo", out))) /* before the integrals, not after */
+		return rc;
 	bk_out co;
 	char err[512];
-	if (bk_out_open(&co, out, err, sizeof err))
+	if (bk_out_open_file(&co, out, err, sizeof err))
 		return cli_fail("albedo", "%s", err);
 	fprintf(co.f, "# brdfkit %s directional albedo: integral of D*V*F*NoL over the light hemisphere\n", BK_VERSION);
 	fprintf(co.f, "# roughness perceptual (alpha = r^2); V includes 1/(4 NoL NoV); exact Fresnel uses eta + ik; tol %g\n", g.tol);

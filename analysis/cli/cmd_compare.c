@@ -421,8 +421,10 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 		                     domain, error, "brdfkit compare (see results/index.html)"};
 		char *text = bk_form_emit(f, langs[k].lang, 0, r->params, &info);
 		snprintf(path, sizeof path, "%.4000s/shaders/%.120s.%s", dir, sl, langs[k].ext);
-		FILE *o = text ? fopen(path, "w") : NULL;
-		if (!o || fputs(text, o) < 0 || fclose(o))
+		FILE *o = text ? bk_out_fopen(path, err, errlen) : NULL;
+		if (o)
+			fputs(text, o);
+		if (!o || bk_out_fclose(o, path, err, errlen))
 			rc = -1;
 		free(text);
 	}
@@ -444,11 +446,12 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	rc |= mkdir(path, 0777);
 	static const char *const files[] = {"compare.csv", "timing.csv", NULL, NULL, "section.html"};
 	FILE *f[5] = {0};
+	char paths[5][4400];
 	for (int k = 0; k < 5 && rc == 0; k++) {
 		if (!files[k] || (S->untimed[0] && k == 1))
 			continue; /* not measured: no table of empty fields, no plot without points */
-		snprintf(path, sizeof path, "%s/%s", tmp, files[k]);
-		if (!(f[k] = fopen(path, "w")))
+		snprintf(paths[k], sizeof paths[k], "%s/%s", tmp, files[k]);
+		if (!(f[k] = bk_out_fopen(paths[k], err, sizeof err))) /* a failure named with its errno */
 			rc = -1;
 	}
 	if (rc == 0) {
@@ -470,9 +473,14 @@ static int write_dir(study *S, const char *out, const char *prefix)
 		}
 		write_section(S, f[4], tmp, prefix);
 	}
-	for (int k = 0; k < 5; k++)
-		if (f[k] && (ferror(f[k]) | fclose(f[k])))
+	for (int k = 0; k < 5; k++) {
+		char e[1200];
+		if (f[k] && bk_out_fclose(f[k], paths[k], e, sizeof e)) {
+			if (!rc)
+				snprintf(err, sizeof err, "%.500s", e);
 			rc = -1;
+		}
+	}
 	for (int i = 0; i < S->n && rc == 0; i++) {
 		rc = write_row_files(S, &S->rows[i], tmp, err, sizeof err);
 		cli_progress("compare: heatmaps and shaders", i + 1, S->n);

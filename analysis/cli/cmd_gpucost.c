@@ -177,7 +177,7 @@ static int output(const char *path, const gc_row *rows, const bk_gpucost_job *jo
 	}
 	bk_out o;
 	char err[512];
-	if (bk_out_open(&o, path, err, sizeof err))
+	if (bk_out_open_file(&o, path, err, sizeof err))
 		return cli_fail("gpucost", "%s", err);
 	write_csv(o.f, rows, jobs, n, chip, nchips, fp16, driver);
 	if (bk_out_commit(&o, err, sizeof err))
@@ -376,7 +376,7 @@ static int calibrate(cli_cmd *cmd, const char *chip, int fp16, const char *out)
 		if (!out) {
 			write_calibration(stdout, c, order, n, &ci);
 			rc = fflush(stdout) ? cli_fail("gpucost", "stdout: write failed") : 0;
-		} else if (bk_out_open(&o, out, err, sizeof err))
+		} else if (bk_out_open_file(&o, out, err, sizeof err))
 			rc = cli_fail("gpucost", "%s", err);
 		else {
 			write_calibration(o.f, c, order, n, &ci);
@@ -492,6 +492,8 @@ int cmd_gpucost(int argc, char **argv)
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
+	if ((rc = cli_out_file("gpucost", out))) /* before the compiles, not after */
+		return rc;
 	/* room for the whole catalog (--calibrate) or the positionals */
 	int max = GC_MAX_ROWS > (int)bk_catalog_count() ? GC_MAX_ROWS : (int)bk_catalog_count();
 	gc_row *rows = calloc((size_t)max, sizeof *rows);

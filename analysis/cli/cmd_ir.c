@@ -450,7 +450,7 @@ int cmd_codegen(int argc, char **argv)
 	} else {
 		bk_out co;
 		char err[512];
-		if (bk_out_open(&co, out, err, sizeof err) == 0) {
+		if (bk_out_open_file(&co, out, err, sizeof err) == 0) {
 			fputs(text, co.f);
 			if (bk_out_commit(&co, err, sizeof err))
 				rc = cli_fail("codegen", "%s", err);

@@ -208,6 +208,11 @@ static int read_batch(const char *path, item *items, int *n)
 		rc = resolve(&items[*n], bk_csvtab_get(&t, i, 0), bk_csvtab_get(&t, i, 2), bk_csvtab_get(&t, i, 3),
 		             bk_csvtab_get(&t, i, 4), *term ? term : NULL); /* resolve says what is wrong */
 		++*n;
+		if (!rc && bk_render_file_name(items[*n - 1].name)) { /* the batch's own top-level file */
+			bk_csvtab_err(err, sizeof err, path, t.line[i], "the name '%s' is a file the batch writes beside the "
+			              "renders' directories; choose another", items[*n - 1].name);
+			rc = batch_fail(err);
+		}
 		for (int j = 0; j < *n - 1 && !rc; j++)
 			if (!strcmp(items[j].name, items[*n - 1].name)) {
 				bk_csvtab_err(err, sizeof err, path, t.line[i], "the name '%s' twice", items[j].name);
@@ -320,13 +325,11 @@ static int write_all(const char *out, item *items, int n, int batch, const bk_re
 	}
 	if (!rc) {
 		snprintf(path, sizeof path, "%s/section.html", od.tmp);
-		FILE *f = fopen(path, "w");
+		FILE *f = bk_out_fopen(path, err, sizeof err);
 		if (f)
 			bk_render_section(f, o, n, prefix, batch);
-		if (!f || ferror(f) | fclose(f)) {
-			snprintf(err, sizeof err, "%.1000s: cannot write", path);
+		if (!f || bk_out_fclose(f, path, err, sizeof err))
 			rc = -1;
-		}
 	}
 	for (int i = 0; i < n && !rc; i++) {
 		printf("render: %s (replaces %s): non-finite pixels", items[i].name, o[i].term);

@@ -69,7 +69,7 @@ static int load_section(section *S, int k, const char *out, const struct stat *o
 {
 	section *x = &S[k];
 	char err[512], why[64];
-	x->text = bk_read_bounded(x->path, BK_PAGE_SECTION_MAX, &x->len, err, sizeof err);
+	x->text = bk_read_regular(x->path, BK_PAGE_SECTION_MAX, &x->len, err, sizeof err);
 	if (!x->text && !stat(x->path, &x->st) && S_ISREG(x->st.st_mode) && (size_t)x->st.st_size > BK_PAGE_SECTION_MAX)
 		return refuse_big(x->path, err);
 	if (!x->text)
@@ -247,7 +247,8 @@ int cmd_report(int argc, char **argv)
 		fprintf(stderr, "brdfkit report: missing SECTION.html (see brdfkit report --help)\n");
 		return 2;
 	}
-	struct stat out_st;
+	struct stat out_st; /* --out is checked as it is opened (bk_out_open_file): the sections, read first,
+	                     * say more precisely when it is one of them */
 	int out_exists = !stat(out, &out_st);
 	bk_summary_row *R = NULL;
 	char **href = NULL;
@@ -263,7 +264,7 @@ int cmd_report(int argc, char **argv)
 	}
 	bk_out co;
 	char err[512];
-	if (!rc && bk_out_open(&co, out, err, sizeof err))
+	if (!rc && bk_out_open_file(&co, out, err, sizeof err))
 		rc = cli_fail("report", "%s", err);
 	if (!rc) {
 		page_head(co.f, S, cmd.npos, R, nr, (const char *const *)href);

@@ -185,11 +185,11 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 			if (!(S->sc.languages & (1u << li)))
 				continue;
 			snprintf(path, sizeof path, "%s/%s/shader.%s", dir, S->R[i].set.name, bk_scene_lang_ext(li));
-			FILE *f = fopen(path, "w");
+			FILE *f = bk_out_fopen(path, err, errlen); /* failures named with their errno */
 			if (!f)
 				return -1;
 			rc = bk_scene_shader(f, &d, i, li, err, errlen);
-			if (ferror(f) | fclose(f))
+			if (bk_out_fclose(f, path, rc ? NULL : err, rc ? 0 : errlen))
 				rc = -1;
 		}
 	}
@@ -198,7 +198,7 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		if (k == 3 && !timed)
 			break;
 		snprintf(path, sizeof path, "%s/%s", dir, files[k]);
-		FILE *f = fopen(path, "w");
+		FILE *f = bk_out_fopen(path, err, errlen);
 		if (!f)
 			return -1;
 		switch (k) {
@@ -207,7 +207,7 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		case 2: bk_scene_report(f, &d, 0); break;
 		default: bk_scene_timing_csv(f, &d, TIME_REPS); break;
 		}
-		if (ferror(f) | fclose(f))
+		if (bk_out_fclose(f, path, err, errlen))
 			rc = -1;
 	}
 	return rc;
@@ -225,7 +225,7 @@ static int write_all(const char *dir, const scene_run *S, int n, const char *pre
 		rc = write_scene(n > 1 ? path : dir, &S[k], timed, err, errlen);
 	}
 	snprintf(path, sizeof path, "%s/section.html", dir);
-	FILE *f = rc ? NULL : fopen(path, "w");
+	FILE *f = rc ? NULL : bk_out_fopen(path, err, errlen);
 	if (!f)
 		return -1;
 	bk_scene_section_open(f, id);
@@ -242,7 +242,7 @@ static int write_all(const char *dir, const scene_run *S, int n, const char *pre
 		free(pre);
 	}
 	bk_scene_section_close(f);
-	if (ferror(f) | fclose(f))
+	if (bk_out_fclose(f, path, rc ? NULL : err, rc ? 0 : errlen))
 		rc = -1;
 	return rc;
 }

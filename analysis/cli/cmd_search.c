@@ -295,15 +295,20 @@ static int run_islands(job *J)
 
 /* ---- outputs: search_write.h's writers, fit's files per member ------------- */
 
-static int write_file(const char *dir, const char *name, void (*fn)(FILE *, const bk_swrite *), const bk_swrite *W)
+/* dir/name written by fn; a failure names the file and the errno in err
+ * (the first one: later files are not tried once one failed). */
+static int write_file(const char *dir, const char *name, void (*fn)(FILE *, const bk_swrite *), const bk_swrite *W,
+                      char *err, size_t errlen)
 {
 	char path[4300];
+	if (*err)
+		return -1;
 	snprintf(path, sizeof path, "%.4000s/%s", dir, name);
-	FILE *f = fopen(path, "w");
+	FILE *f = bk_out_fopen(path, err, errlen);
 	if (!f)
 		return -1;
 	fn(f, W);
-	return ferror(f) | fclose(f) ? -1 : 0;
+	return bk_out_fclose(f, path, err, errlen);
 }
 
 static int write_outputs(const job *J, const bk_swrite *W)
@@ -312,17 +317,18 @@ static int write_outputs(const job *J, const bk_swrite *W)
 	bk_out_dir od;
 	if (bk_out_dir_begin(&od, J->a->out, J->command, err, sizeof err))
 		return cli_fail("search", "--out %s", err);
-	int rc = write_file(od.tmp, "front.csv", bk_swrite_front_csv, W);
-	rc |= write_file(od.tmp, "catalog.csv", bk_swrite_catalog_csv, W);
-	rc |= write_file(od.tmp, "candidates.csv", bk_swrite_candidates_csv, W);
-	if (bk_swrite_plot(W, od.tmp, err, sizeof err))
-		rc = -1, fprintf(stderr, "brdfkit search: %s\n", err);
-	rc |= write_file(od.tmp, "section.html", bk_swrite_section, W);
+	int rc = write_file(od.tmp, "front.csv", bk_swrite_front_csv, W, err, sizeof err);
+	rc |= write_file(od.tmp, "catalog.csv", bk_swrite_catalog_csv, W, err, sizeof err);
+	rc |= write_file(od.tmp, "candidates.csv", bk_swrite_candidates_csv, W, err, sizeof err);
+	if (!rc && bk_swrite_plot(W, od.tmp, err, sizeof err))
+		rc = -1;
+	rc |= write_file(od.tmp, "section.html", bk_swrite_section, W, err, sizeof err);
 	if (W->vs)
-		rc |= write_file(od.tmp, "vs_double.csv", bk_swrite_vs_csv, W);
+		rc |= write_file(od.tmp, "vs_double.csv", bk_swrite_vs_csv, W, err, sizeof err);
 	char dir[4300];
 	snprintf(dir, sizeof dir, "%.4000s/front", od.tmp);
-	rc |= mkdir(dir, 0777);
+	if (!rc && mkdir(dir, 0777))
+		rc = -1, snprintf(err, sizeof err, "%s/front: cannot create: %s", J->a->out, strerror(errno));
 	for (int i = 0; rc == 0 && i < J->F.nm; i++) {
 		const bk_sfront_member *m = &J->F.m[i];
 		if (!m->front)
@@ -337,7 +343,10 @@ static int write_outputs(const job *J, const bk_swrite *W)
 			         m->c->found_at, J->total_evals);
 		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
 		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0};
-		rc = mkdir(dir, 0777) || fit_write_into(&v, dir, err, sizeof err);
+		if (mkdir(dir, 0777))
+			rc = -1, snprintf(err, sizeof err, "%s/front/%s: cannot create: %s", J->a->out, m->name, strerror(errno));
+		else
+			rc = fit_write_into(&v, dir, err, sizeof err);
 	}
 	if (rc) {
 		bk_out_dir_abort(&od);

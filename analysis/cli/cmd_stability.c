@@ -415,12 +415,16 @@ int cmd_stability(int argc, char **argv)
 			err[0] = '\0';
 			snprintf(path, sizeof path, "%s/maps", tmp);
 			mkdir(path, 0777);
-			snprintf(path, sizeof path, "%s/stability.csv", tmp);
-			FILE *f = fopen(path, "w");
-			snprintf(path, sizeof path, "%s/details.csv", tmp);
-			FILE *d = fopen(path, "w");
-			snprintf(path, sizeof path, "%s/section.html", tmp);
-			FILE *h = fopen(path, "w");
+			/* the three files, each failure named with its errno (out.h) */
+			static const char *const names[3] = {"stability.csv", "details.csv", "section.html"};
+			char paths[3][4400];
+			FILE *fs[3] = {NULL, NULL, NULL};
+			for (int k = 0; k < 3; k++) {
+				snprintf(paths[k], sizeof paths[k], "%s/%s", tmp, names[k]);
+				if (!*err && !(fs[k] = bk_out_fopen(paths[k], err, sizeof err)))
+					rc = -1;
+			}
+			FILE *f = fs[0], *d = fs[1], *h = fs[2];
 			char *pre = bk_html_escaped(prefix); /* it goes into attributes (page.h) */
 			if (!f || !d || !h || !pre)
 				rc = -1;
@@ -455,12 +459,14 @@ int cmd_stability(int argc, char **argv)
 				           "Data: <a href=\"%sstability.csv\">stability.csv</a>.</figcaption></figure>\n</section>\n",
 				        pre, pre);
 			}
-			if (f && (ferror(f) | fclose(f)))
-				rc = -1;
-			if (d && (ferror(d) | fclose(d)))
-				rc = -1;
-			if (h && (ferror(h) | fclose(h)))
-				rc = -1;
+			for (int k = 0; k < 3; k++) {
+				char e[1200];
+				if (fs[k] && bk_out_fclose(fs[k], paths[k], e, sizeof e)) {
+					if (!*err)
+						snprintf(err, sizeof err, "%.500s", e);
+					rc = -1;
+				}
+			}
 			free(pre);
 			if (rc) {
 				bk_out_dir_abort(&od);

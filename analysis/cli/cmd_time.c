@@ -197,6 +197,10 @@ static void spirv_row(bk_compare_row *r, int *warned)
 
 static void write_csv(FILE *f, const bk_compare_row *rows, int n)
 {
+	/* the provenance line every brdfkit CSV opens with: it also lets a later
+	 * --out replace this file (out.h, bk_out_file_check) */
+	fprintf(f, "# brdfkit %s time: CPU ns per evaluation (median, min, max of the runs), op counts, SPIR-V size; "
+	           "command: %s\n", BK_VERSION, bk_out_command());
 	fputs("name,form,ns_per_eval,ns_min,ns_max", f);
 	for (int k = 1; k < BK_K_COUNT; k++)
 		fprintf(f, ",%s", bk_opclass_name((bk_opclass)k));
@@ -223,7 +227,7 @@ static int output(const char *path, const bk_compare_row *rows, int n)
 	}
 	bk_out o;
 	char err[512];
-	if (bk_out_open(&o, path, err, sizeof err))
+	if (bk_out_open_file(&o, path, err, sizeof err))
 		return cli_fail("time", "%s", err);
 	write_csv(o.f, rows, n);
 	if (bk_out_commit(&o, err, sizeof err))
@@ -269,6 +273,8 @@ int cmd_time(int argc, char **argv)
 		return rc == 1 ? 0 : rc;
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
+	if ((rc = cli_out_file("time", out))) /* before the compiles and the timing, not after */
+		return rc;
 	time_table *T = calloc(1, sizeof *T);
 	if (!T)
 		return cli_fail("time", "out of memory");

@@ -138,8 +138,38 @@ static int link_tmp(ck_file *c)
 	return -1;
 }
 
+/* The checkpoint this process wrote last, kept open with its flock(LOCK_EX)
+ * from the rename to the next save or the end of the run: as the marker of
+ * an --out directory, it tells a second run given the same --checkpoint that
+ * the file is another's (a rename gives the path a new inode each save, so
+ * the lock moves with it). */
+static int held_fd = -1;
+static dev_t held_dev;
+static ino_t held_ino;
+
+/* Whether the checkpoint at path is locked by another live run (not ours). */
+static int locked_by_another(const char *path)
+{
+	int fd = open(path, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+	struct stat st;
+	int busy = 0;
+	if (fd < 0)
+		return 0;
+	if (fstat(fd, &st) == 0 && !(held_fd >= 0 && st.st_dev == held_dev && st.st_ino == held_ino))
+		busy = flock(fd, LOCK_EX | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+	close(fd); /* a probe's lock goes with it */
+	return busy;
+}
+
+#define LOCKED_TEXT "another brdfkit search is writing it (it is locked); give each run its own --checkpoint"
+
 int ck_commit(ck_file *c, const char *keep, char *err, size_t errlen)
 {
+	if (locked_by_another(c->path)) { /* two runs started together: the first to save keeps the path */
+		snprintf(err, errlen, "%s: " LOCKED_TEXT, c->path);
+		ck_abort(c);
+		return -1;
+	}
 	if (!c->named && link_tmp(c)) {
 		snprintf(err, errlen, "%s: cannot name the written file: %s", c->path, why(errno));
 		ck_abort(c);
@@ -158,7 +188,16 @@ int ck_commit(ck_file *c, const char *keep, char *err, size_t errlen)
 	bk_out_untrack(c->slot);
 	c->slot = -1;
 	c->named = 0;
-	close(c->fd); /* the lock goes with it */
+	struct stat st;
+	if (fstat(c->fd, &st) == 0) { /* the new file's lock held, the previous one's dropped */
+		if (held_fd >= 0)
+			close(held_fd);
+		held_fd = c->fd;
+		held_dev = st.st_dev;
+		held_ino = st.st_ino;
+	} else {
+		close(c->fd);
+	}
 	c->fd = -1;
 	char dir[4096];
 	const char *base;
@@ -263,6 +302,10 @@ int ck_check_write(const char *path, const char *out, char *err, size_t errlen)
 	}
 	if (replaceable(path, err, errlen))
 		return -1;
+	if (locked_by_another(path)) {
+		snprintf(err, errlen, "%s: " LOCKED_TEXT, path);
+		return -1;
+	}
 	struct stat st;
 	int found = stat(dir, &st) == 0;
 	if (!found || !S_ISDIR(st.st_mode)) {
@@ -290,12 +333,12 @@ int ck_check_read(const char *path, const char *out, int must_exist, char *err, 
 	}
 	if (!must_exist)
 		return 0;
-	int fd = open(path, O_RDONLY | O_CLOEXEC);
-	struct stat st;
-	if (fd < 0 || fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-		snprintf(err, errlen, "%s: cannot be read: %s", path, why(fd < 0 ? errno : EISDIR));
-		if (fd >= 0)
-			close(fd);
+	/* a FIFO or a device is refused, not opened blocking; /dev/zero is no
+	 * directory, so the reason is bk_in_open's, not an errno's */
+	char reason[96];
+	int fd = bk_in_open(path, reason, sizeof reason);
+	if (fd < 0) {
+		snprintf(err, errlen, "%s: cannot be read: %s", path, fd == -1 ? why(errno) : reason);
 		return -1;
 	}
 	close(fd);

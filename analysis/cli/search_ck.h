@@ -41,9 +41,11 @@ void ck_abort(ck_file *c);
 
 /* Whether a checkpoint can be written at path, before any work: its
  * directory exists and takes a new file, path is nothing or a brdfkit
- * checkpoint (a regular file beginning with "brdfkit-"), and path lies
- * outside the output directory out (which is replaced whole at the end, and
- * what is inside it with it). 0, or -1 with "PATH: what" in err. */
+ * checkpoint (a regular file beginning with "brdfkit-") that no live run
+ * holds (a run keeps the checkpoint it wrote last locked, flock, until its
+ * next save or its end; ck_commit checks the same before its rename), and
+ * path lies outside the output directory out (which is replaced whole at the
+ * end, and what is inside it with it). 0, or -1 with "PATH: what" in err. */
 int ck_check_write(const char *path, const char *out, char *err, size_t errlen);
 /* Whether path is a file to resume from (with must_exist; else only where
  * one would be), outside out: 0, or -1 (err). */
