@@ -205,8 +205,6 @@ int search_setup(job *J)
 int search_setup_inputs(job *J)
 {
 	unsigned prov = J->screen.provides;
-	if (J->kind == BK_TARGET_F)
-		prov &= 1u << BK_IN_LOH | 1u << BK_IN_F0; /* r is a dummy there */
 	if (J->a->inputs)
 		return parse_inputs(J->cmd, J->a->inputs, prov, &J->so.grammar.inputs);
 	if (J->so.shape == BK_SHAPE_F0)
