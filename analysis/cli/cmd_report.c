@@ -97,10 +97,10 @@ static int load_section(section *S, int k, const char *out, const struct stat *o
 static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 {
 	fputs("<figure class=\"main\" id=\"main-figure\"><a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.pdf\"><img src=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.png\" alt=\"error against cost of the search on ", f);
+	bk_html_link(f, href, "pareto.pdf");
+	fputs("\"><img src=\"", f);
+	bk_html_link(f, href, "pareto.png");
+	fputs("\" alt=\"error against cost of the search on ", f);
 	bk_html_text(f, r->target);
 	fputs("\"></a>\n<figcaption><b>Figure 1.</b> The search on <code>", f);
 	bk_html_text(f, r->target);
@@ -111,14 +111,14 @@ static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 	fputs("). Blue: the front, refitted on the full samples, "
 	      "a staircase; triangles: the published forms with their published constants; squares: the same forms "
 	      "refitted; grey: every candidate at screening. Data: <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("front.csv\">front.csv</a> and <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("catalog.csv\">catalog.csv</a>; as <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.pdf\">PDF</a>, <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.svg\">SVG</a>.</figcaption></figure>\n", f);
+	bk_html_link(f, href, "front.csv");
+	fputs("\">front.csv</a> and <a href=\"", f);
+	bk_html_link(f, href, "catalog.csv");
+	fputs("\">catalog.csv</a>; as <a href=\"", f);
+	bk_html_link(f, href, "pareto.pdf");
+	fputs("\">PDF</a>, <a href=\"", f);
+	bk_html_link(f, href, "pareto.svg");
+	fputs("\">SVG</a>.</figcaption></figure>\n", f);
 }
 
 /* The summary: what was found, first (summary.h), with its figure. */
