@@ -144,7 +144,7 @@ static int name_len(const char *desc)
 	return n > 40 ? 40 : (int)n;
 }
 
-/* desc with its sample counts as '#': a run of digits (and "NxM") right
+/* desc with its sample counts as 'N': a run of digits (and "NxM") right
  * after '(' or "a ", not the start of a decimal number, is a count of cells
  * ("(256 cell centres)", "(64)", "a 32x16 grid"); the ranges, f0 and the
  * index of refraction stay. */
@@ -157,7 +157,7 @@ static void mask_counts(const char *in, char *out, size_t len)
 		while (after && (isdigit((unsigned char)in[j]) || (j > i && in[j] == 'x' && isdigit((unsigned char)in[j + 1]))))
 			j++;
 		if (j > i && in[j] != '.') {
-			out[k++] = '#';
+			out[k++] = 'N';
 			i = j;
 		} else
 			out[k++] = in[i++];
@@ -189,11 +189,12 @@ int bk_frontcsv_head_check(const bk_frontcsv_head *h, const char *path, int kind
 		mask_counts(h->target, a, sizeof a);
 		mask_counts(target, b, sizeof b);
 		const char *x = exact ? h->target : a, *y = exact ? target : b;
-		if (strcmp(x, y)) {
+		if (strcmp(x, y)) { /* shown from the first difference and the words before it */
 			size_t i = 0, back = 0;
-			while (x[i] == y[i])
+			int spaces = 0;
+			while (x[i] && x[i] == y[i])
 				i++;
-			while (i > 0 && back < 30 && x[i - 1] != ' ')
+			while (i > 0 && back < 30 && (x[i - 1] != ' ' || ++spaces < 3))
 				i--, back++;
 			return bk_csvtab_err(err, errlen, path, 0, "%s of target %.*s %s: it says '%s%.60s', %s '%s%.60s'",
 			                     what[kind], n, h->target, exact ? "on other samples, domain or options" :

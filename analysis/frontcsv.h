@@ -62,7 +62,8 @@ void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line);
  * kind (BK_FRONTCSV_FRONT or _CATALOG) of the target described by target
  * (whose: "this search's", whose target it is; "": stated, any; exact: the
  * whole description; else the sample counts, digits after '(' or "a ", may
- * differ: the same target and domain on another grid), and the objective and
+ * differ, and are shown as N: the same target and domain on another grid),
+ * and the objective and
  * precision given (NULL: any). 0, or -1 with err "PATH: a front of target
  * vf2d, this search's target is f" (one mismatch named, the first of kind,
  * target, objective, precision). */
