@@ -4,6 +4,8 @@
  * Spaces are data: libcsv's default trims spaces and tabs around unquoted
  * fields, so " 5" would read as the number 5 and a name " x" as "x"; its
  * space function here says no byte is one, and a field is read as written.
+ * A line of blanks alone is still no record: the blanks that start a line
+ * are held until its next byte says which it is.
  *
  * A record's first line: libcsv begins a record at the first byte after the
  * previous one that is not a CR or LF, and ends it only at an
@@ -36,6 +38,8 @@ typedef struct reader {
 	int at_start;  /* the next byte starts a line */
 	int open;      /* inside a record, which started on rec_line */
 	int rec_line, header_done, nfield;
+	char pend[64]; /* spaces and tabs that start a line: a record's first bytes, or a blank line */
+	size_t npend;
 	char *head[BK_CSVTAB_MAX_FIELDS]; /* the header's names while it is read */
 	int want[BK_CSVTAB_MAX_FIELDS];   /* field j is cols[want[j]], or -1 */
 	char *cur[BK_CSVTAB_MAX_COLS];    /* the record's cells asked for */
@@ -232,7 +236,14 @@ static void process(reader *r, struct csv_parser *p, const char *s, size_t n)
 				r->clen = 0;
 				continue;
 			}
+			if ((c == ' ' || c == '\t') && r->npend < sizeof r->pend) { /* known at the line's next other byte */
+				r->pend[r->npend++] = (char)c;
+				r->at_start = 0;
+				i++;
+				continue;
+			}
 			if (c == '\r' || c == '\n') { /* libcsv skips these between records */
+				r->npend = 0;             /* and a line of blanks with them, as before */
 				feed(r, p, s + i, 1);
 				r->at_start = c == '\n';
 				r->line += c == '\n';
@@ -241,6 +252,10 @@ static void process(reader *r, struct csv_parser *p, const char *s, size_t n)
 			}
 			r->open = 1;
 			r->rec_line = r->line;
+			if (r->npend) { /* data: the record's first field starts with them */
+				feed(r, p, r->pend, r->npend);
+				r->npend = 0;
+			}
 		}
 		size_t k = i; /* the piece: up to and with the next CR or LF */
 		while (k < n && s[k] != '\r' && s[k] != '\n' && s[k] != '\0')

@@ -289,6 +289,38 @@ Test(summary_read, files_that_say_nothing)
 	          err);
 }
 
+/* front.csv and catalog.csv of one search: the same target, objective and
+ * precision stated (H2), each mismatch named */
+Test(summary_read, front_and_catalog_of_one_search)
+{
+	static const struct {
+		const char *sub, *front, *tail;
+	} cases[] = {
+		{"tgt", "# brdfkit search front\n# target: u: another on x in [0, 1] (4 cell centres)\n"
+		        "# cost: x after y; error: max_abs in f16 precision on the samples\n",
+		 "a front of target u, its catalog.csv's target is t"},
+		{"dom", "# brdfkit search front\n# target: t: a test target on x in [0, 2] (4 cell centres)\n"
+		        "# cost: x after y; error: max_abs in f16 precision on the samples\n",
+		 "a front of target t on other samples, domain or options: it says '...in [0, 2] (4 cell centres)', "
+		 "its catalog.csv's '...in [0, 1] (4 cell centres)'"},
+		{"obj", "# brdfkit search front\n# target: t: a test target on x in [0, 1] (4 cell centres)\n"
+		        "# cost: x after y; error: rmse in f16 precision on the samples\n",
+		 "a front of objective rmse, its catalog.csv's objective is max_abs"},
+		{"prec", "# brdfkit search front\n# target: t: a test target on x in [0, 1] (4 cell centres)\n"
+		         "# cost: x after y; error: max_abs in f64 precision on the samples\n",
+		 "a front in f64 precision, not f16"},
+		{"cat", HEAD, "a catalog of brdfkit search (its published forms), not a front"},
+		{"none", "# a front\n", "no '# brdfkit ... search front' line: not a front.csv of brdfkit search"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char text[1024];
+		put(cases[i].sub, "catalog.csv", catalog);
+		snprintf(text, sizeof text, "%sname,cost,error\ns1,2,0.2\n", cases[i].front);
+		put(cases[i].sub, "front.csv", text);
+		expect_error(cases[i].sub, "front.csv", 0, cases[i].tail);
+	}
+}
+
 /* ---- the table: every value escaped --------------------------------------------------- */
 
 Test(summary_read, the_table_escapes_what_it_read)
@@ -305,7 +337,7 @@ Test(summary_read, the_table_escapes_what_it_read)
 	fclose(f);
 	cr_expect(strstr(buf, "&lt;script&gt;alert(1)&lt;/script&gt; &amp; &quot;q&quot;") != NULL, "%s", buf);
 	cr_expect(strstr(buf, "&lt;b&gt;") != NULL);
-	cr_expect(strstr(buf, "href=\"a&quot;b/front.csv\"") != NULL);
+	cr_expect(strstr(buf, "href=\"a%22b/front.csv\"") != NULL, "a link percent-encoded (out.h)");
 	cr_expect(strstr(buf, "<script") == NULL && strstr(buf, "<b>") == NULL && strstr(buf, "a\"b") == NULL);
 	/* the numbers: ratio 0.2/0.1 = 2, the line of each name */
 	cr_expect(strstr(buf, "<td>2</td>") != NULL);
