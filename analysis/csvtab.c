@@ -360,7 +360,6 @@ int bk_csvtab_number(const char *text, double *x)
 	}
 	if (*s)
 		return -1;
-	errno = 0;
 	double v = strtod(text, NULL);
 	/* ERANGE is also how strtod reports a subnormal result, which is a number
 	 * like any other; overflow to inf, and a nonzero text that underflows to

@@ -1476,7 +1476,8 @@ void bk_html_text(FILE *f, const char *s)
  * '/'); any other is percent-encoded (out.h). */
 static int link_plain(unsigned char c)
 {
-	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || (c && strchr("-._~!$&'()*+,;=@/", c));
+	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+	       (c && strchr("-._~!$&'()*+,;=@/", c));
 }
 
 static void link_part(FILE *f, const char *s)
