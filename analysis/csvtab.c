@@ -1,8 +1,14 @@
 /*
  * csvtab.c — a CSV file read whole by column name (csvtab.h).
  *
+ * Spaces are data: libcsv's default trims spaces and tabs around unquoted
+ * fields, so " 5" would read as the number 5 and a name " x" as "x"; its
+ * space function here says no byte is one, and a field is read as written.
+ * A line of blanks alone is still no record: the blanks that start a line
+ * are held until its next byte says which it is.
+ *
  * A record's first line: libcsv begins a record at the first byte after the
- * previous one that is not a space, tab, CR or LF, and ends it only at an
+ * previous one that is not a CR or LF, and ends it only at an
  * unquoted CR or LF. So between records the bytes go to libcsv one at a
  * time until that first byte (its line is the record's), and inside a record
  * in pieces that each end at a CR or LF: after every piece the line count and
@@ -15,6 +21,7 @@
 
 #include <csv.h>
 #include <errno.h>
+#include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,6 +40,8 @@ typedef struct reader {
 	int at_start;  /* the next byte starts a line */
 	int open;      /* inside a record, which started on rec_line */
 	int rec_line, header_done, nfield;
+	char pend[64]; /* spaces and tabs that start a line: a record's first bytes, or a blank line */
+	size_t npend;
 	char *head[BK_CSVTAB_MAX_FIELDS]; /* the header's names while it is read */
 	int want[BK_CSVTAB_MAX_FIELDS];   /* field j is cols[want[j]], or -1 */
 	char *cur[BK_CSVTAB_MAX_COLS];    /* the record's cells asked for */
@@ -190,6 +199,13 @@ static void comment_end(reader *r)
 	r->in_comment = 0;
 }
 
+/* No byte is a space to trim (the header says why). */
+static int no_space(unsigned char c)
+{
+	(void)c;
+	return 0;
+}
+
 /* Bytes s[0..n) of the file, in order (csvtab.c's header says how). */
 static void process(reader *r, struct csv_parser *p, const char *s, size_t n)
 {
@@ -222,7 +238,14 @@ static void process(reader *r, struct csv_parser *p, const char *s, size_t n)
 				r->clen = 0;
 				continue;
 			}
-			if (c == ' ' || c == '\t' || c == '\r' || c == '\n') { /* libcsv skips these between records */
+			if ((c == ' ' || c == '\t') && r->npend < sizeof r->pend) { /* known at the line's next other byte */
+				r->pend[r->npend++] = (char)c;
+				r->at_start = 0;
+				i++;
+				continue;
+			}
+			if (c == '\r' || c == '\n') { /* libcsv skips these between records */
+				r->npend = 0;             /* and a line of blanks with them, as before */
 				feed(r, p, s + i, 1);
 				r->at_start = c == '\n';
 				r->line += c == '\n';
@@ -231,6 +254,10 @@ static void process(reader *r, struct csv_parser *p, const char *s, size_t n)
 			}
 			r->open = 1;
 			r->rec_line = r->line;
+			if (r->npend) { /* data: the record's first field starts with them */
+				feed(r, p, r->pend, r->npend);
+				r->npend = 0;
+			}
 		}
 		size_t k = i; /* the piece: up to and with the next CR or LF */
 		while (k < n && s[k] != '\r' && s[k] != '\n' && s[k] != '\0')
@@ -274,7 +301,8 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 		fclose(f);
 		f = NULL;
 		fail(r, 0, "out of memory");
-	}
+	} else
+		csv_set_space_func(&p, no_space);
 	if (f) {
 		size_t got;
 		for (int first = 1; !r->bad && (got = fread(r->buf, 1, sizeof r->buf, f)) > 0; first = 0) {
@@ -321,4 +349,34 @@ void bk_csvtab_free(bk_csvtab *t)
 	free(t->cell);
 	free(t->line);
 	memset(t, 0, sizeof *t);
+}
+
+int bk_csvtab_number(const char *text, double *x)
+{
+	static const char digits[] = "0123456789";
+	const char *s = text + (*text == '+' || *text == '-'), *mant = s;
+	s += strspn(s, digits);
+	if (*s == '.')
+		s += 1 + strspn(s + 1, digits);
+	size_t nmant = (size_t)(s - mant);
+	if (nmant == 0 || (nmant == 1 && *mant == '.'))
+		return -1;
+	int nonzero = strcspn(mant, "123456789") < nmant;
+	if (*s == 'e' || *s == 'E') {
+		s += 1 + (s[1] == '+' || s[1] == '-');
+		size_t e = strspn(s, digits);
+		if (e == 0)
+			return -1;
+		s += e;
+	}
+	if (*s)
+		return -1;
+	double v = strtod(text, NULL);
+	/* ERANGE is also how strtod reports a subnormal result, which is a number
+	 * like any other; overflow to inf, and a nonzero text that underflows to
+	 * zero, are not the value typed. */
+	if (!isfinite(v) || (v == 0.0 && nonzero))
+		return -1;
+	*x = v;
+	return 0;
 }

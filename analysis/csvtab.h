@@ -18,6 +18,8 @@
  *               skipped, as libcsv does). A row too short to hold a column
  *               asked for is an error "N fields, fewer than the header's";
  *               other short or long rows are read, as before.
+ *   spaces      are data: a field is read as written, not trimmed (" 5"
+ *               is no number, bk_csvtab_number).
  *   BOM         a UTF-8 byte order mark at the file's start is dropped (a
  *               spreadsheet's export), so its first column keeps its name.
  *   limits      at most spec.max_rows data rows, spec.max_bytes bytes and
@@ -70,6 +72,14 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 const char *bk_csvtab_get(const bk_csvtab *t, int i, int k);
 
 void bk_csvtab_free(bk_csvtab *t);
+
+/* The one number syntax of brdfkit, for a field of a user's file as for an
+ * option (cli_number forwards here): [+-] digits ['.' [digits]] |
+ * [+-] '.' digits, then an optional exponent [eE][+-]digits; nothing before
+ * or after (no space). Not hex, inf or nan (which strtod alone would take).
+ * Subnormal values are accepted; a value that overflows double, or a nonzero
+ * text that underflows to 0, is not. Returns 0 with *x set, or -1. */
+int bk_csvtab_number(const char *text, double *x);
 
 /* err = "PATH:LINE: what" (line > 0) or "PATH: what"; returns -1. */
 int bk_csvtab_err(char *err, size_t errlen, const char *path, int line, const char *fmt, ...)

@@ -6,7 +6,7 @@
 
 #include "csvtab.h"
 
-#include <errno.h>
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,14 +15,8 @@
 enum { C_NAME, C_FORM, C_FORM_B, C_PARAMS, C_COST, C_ERROR, C_N };
 static const char *const col_name[C_N + 1] = {"name", "form", "form_b", "parameters", "cost", "error", NULL};
 
-/* A whole field as a finite number; -1 when it is not one. */
-static int number(const char *t, double *v)
-{
-	char *end;
-	errno = 0;
-	*v = strtod(t, &end);
-	return *t && !*end && errno != ERANGE && isfinite(*v) ? 0 : -1;
-}
+/* A whole field as a finite decimal number (csvtab.h); -1 when it is not one. */
+static int number(const char *t, double *v) { return bk_csvtab_number(t, v); }
 
 /* "p0=0.1;p1=2" into row->p; a message, or NULL. */
 static const char *params(const char *text, bk_frontcsv_row *w, int *given)
@@ -36,12 +30,14 @@ static const char *params(const char *text, bk_frontcsv_row *w, int *given)
 		if (given[i])
 			return "parameters: one given twice";
 		const char *v = end + 1;
-		double x = strtod(v, &end);
-		if (end == v || !isfinite(x) || (*end && *end != ';'))
-			return "parameters: a value is not a finite number";
+		size_t n = strcspn(v, ";");
+		char num[64];
+		double x;
+		if (n >= sizeof num || (memcpy(num, v, n), num[n] = '\0', bk_csvtab_number(num, &x)))
+			return "parameters: a value is not a finite decimal number";
 		w->p[i] = x;
 		given[i] = 1;
-		t = *end ? end + 1 : end;
+		t = v[n] ? v + n + 1 : v + n;
 	}
 	return NULL;
 }
@@ -112,6 +108,109 @@ void bk_frontcsv_free(bk_frontcsv *fc)
 	fc->n = 0;
 }
 
+/* ---- the '#' lines: what the file states it is ----------------------------- */
+
+void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line)
+{
+	static const char by[] = "# brdfkit ", target[] = "# target: ", cost[] = "# cost: ";
+	const char *s;
+	if (!strncmp(line, by, sizeof by - 1) && h->kind == BK_FRONTCSV_UNKNOWN && (s = strstr(line, " search "))) {
+		if (!strncmp(s + 8, "front", 5))
+			h->kind = BK_FRONTCSV_FRONT;
+		else if (!strncmp(s + 8, "published forms", 15))
+			h->kind = BK_FRONTCSV_CATALOG;
+	} else if (!strncmp(line, target, sizeof target - 1) && !h->target[0])
+		snprintf(h->target, sizeof h->target, "%s", line + sizeof target - 1);
+	else if (!strncmp(line, cost, sizeof cost - 1) && !h->objective[0] && (s = strstr(line, "; error: "))) {
+		char o[sizeof h->objective], p[sizeof h->precision];
+		int used = 0;
+		if (sscanf(s + 9, "%31s in %15s precision%n", o, p, &used) == 2 && used > 0) {
+			memcpy(h->objective, o, sizeof o);
+			memcpy(h->precision, p, sizeof p);
+		}
+	}
+}
+
+static void head_comment(void *ctx, int line, const char *text)
+{
+	(void)line;
+	bk_frontcsv_head_line(ctx, text);
+}
+
+/* The target's name: its description up to the first ':'. */
+static int name_len(const char *desc)
+{
+	size_t n = strcspn(desc, ":");
+	return n > 40 ? 40 : (int)n;
+}
+
+/* desc with its sample counts as 'N': a run of digits (and "NxM") right
+ * after '(' or "a ", not the start of a decimal number, is a count of cells
+ * ("(256 cell centres)", "(64)", "a 32x16 grid"); the ranges, f0 and the
+ * index of refraction stay. */
+static void mask_counts(const char *in, char *out, size_t len)
+{
+	size_t k = 0;
+	for (size_t i = 0; in[i] && k + 1 < len;) {
+		int after = i > 0 && (in[i - 1] == '(' || (i > 2 && in[i - 1] == ' ' && in[i - 2] == 'a' && in[i - 3] == ' '));
+		size_t j = i;
+		while (after && (isdigit((unsigned char)in[j]) || (j > i && in[j] == 'x' && isdigit((unsigned char)in[j + 1]))))
+			j++;
+		if (j > i && in[j] != '.') {
+			out[k++] = 'N';
+			i = j;
+		} else
+			out[k++] = in[i++];
+	}
+	out[k] = '\0';
+}
+
+int bk_frontcsv_head_check(const bk_frontcsv_head *h, const char *path, int kind, const char *whose,
+                           const char *target, int exact, const char *objective, const char *precision, char *err,
+                           size_t errlen)
+{
+	static const char *const what[] = {"a file", "a front", "a catalog"};
+	if (h->kind == BK_FRONTCSV_UNKNOWN)
+		return bk_csvtab_err(err, errlen, path, 0, "no '# brdfkit ... search %s' line: not %s of brdfkit search",
+		                     kind == BK_FRONTCSV_FRONT ? "front" : "published forms",
+		                     kind == BK_FRONTCSV_FRONT ? "a front.csv" : "a catalog.csv");
+	if (h->kind != kind)
+		return bk_csvtab_err(err, errlen, path, 0, "%s of brdfkit search (%s), not %s", what[h->kind],
+		                     h->kind == BK_FRONTCSV_CATALOG ? "its published forms" : "its searched forms", what[kind]);
+	if (target && !h->target[0])
+		return bk_csvtab_err(err, errlen, path, 0, "no '# target:' line: %s does not say which target it is of",
+		                     what[kind]);
+	if (target && target[0]) {
+		int n = name_len(h->target), m = name_len(target);
+		if (n != m || strncmp(h->target, target, (size_t)n))
+			return bk_csvtab_err(err, errlen, path, 0, "%s of target %.*s, %s target is %.*s", what[kind], n, h->target,
+			                     whose, m, target);
+		char a[sizeof h->target], b[sizeof h->target];
+		mask_counts(h->target, a, sizeof a);
+		mask_counts(target, b, sizeof b);
+		const char *x = exact ? h->target : a, *y = exact ? target : b;
+		if (strcmp(x, y)) { /* shown from the first difference and the words before it */
+			size_t i = 0, back = 0;
+			int spaces = 0;
+			while (x[i] && x[i] == y[i])
+				i++;
+			while (i > 0 && back < 30 && (x[i - 1] != ' ' || ++spaces < 3))
+				i--, back++;
+			return bk_csvtab_err(err, errlen, path, 0, "%s of target %.*s %s: it says '%s%.60s', %s '%s%.60s'",
+			                     what[kind], n, h->target, exact ? "on other samples, domain or options" :
+			                     "on another domain or with other options", i ? "..." : "", x + i, whose,
+			                     i ? "..." : "", y + i);
+		}
+	}
+	if (objective && strcmp(h->objective, objective))
+		return bk_csvtab_err(err, errlen, path, 0, "%s of objective %s, %s objective is %s", what[kind],
+		                     h->objective[0] ? h->objective : "(not stated)", whose, objective);
+	if (precision && strcmp(h->precision, precision))
+		return bk_csvtab_err(err, errlen, path, 0, "%s in %s precision, not %s", what[kind],
+		                     h->precision[0] ? h->precision : "(not stated)", precision);
+	return 0;
+}
+
 int bk_frontcsv_read(const char *path, unsigned need, bk_frontcsv *fc, char *err, size_t errlen)
 {
 	memset(fc, 0, sizeof *fc);
@@ -119,7 +218,8 @@ int bk_frontcsv_read(const char *path, unsigned need, bk_frontcsv *fc, char *err
 	unsigned forms = need & BK_FRONTCSV_FORMS ? 0 : 1u << C_FORM | 1u << C_FORM_B | 1u << C_PARAMS;
 	unsigned scores = need & BK_FRONTCSV_SCORES ? 0 : 1u << C_COST | 1u << C_ERROR;
 	bk_csvtab_spec spec = {.cols = col_name, .optional = 1u << C_NAME | forms | scores,
-	                       .hint = "not a front.csv of brdfkit search", .max_rows = BK_FRONTCSV_MAX_ROWS};
+	                       .hint = "not a front.csv of brdfkit search", .max_rows = BK_FRONTCSV_MAX_ROWS,
+	                       .comment = head_comment, .ctx = &fc->head};
 	bk_csvtab t;
 	if (bk_csvtab_read(path, &spec, &t, err, errlen))
 		return -1;

@@ -31,14 +31,44 @@ typedef struct bk_frontcsv_row {
 	double cost, error;   /* SCORES; NaN otherwise */
 } bk_frontcsv_row;
 
+/* What a file of brdfkit search states in its '#' lines before the header
+ * (analysis/search_write.c writes them): which file it is, the target
+ * (the samples' description, bk_samples), the objective and precision
+ * ("# cost: ...; error: OBJ in PREC precision ..."). "" where not stated. */
+enum { BK_FRONTCSV_UNKNOWN, BK_FRONTCSV_FRONT, BK_FRONTCSV_CATALOG };
+typedef struct bk_frontcsv_head {
+	int kind;            /* "# brdfkit V search front ..." / "... search published forms ..." */
+	char target[520];    /* the "# target: " line's text */
+	char objective[32];  /* rmse, max_abs, ... */
+	char precision[16];  /* f64, f32, f16 */
+} bk_frontcsv_head;
+
 typedef struct bk_frontcsv {
 	bk_frontcsv_row *row;
 	int n;
+	bk_frontcsv_head head;
 } bk_frontcsv;
 
 /* Reads path; 0, or -1 with err "PATH:LINE: what" (or "PATH: what"), and
  * fc empty. */
 int bk_frontcsv_read(const char *path, unsigned need, bk_frontcsv *fc, char *err, size_t errlen);
 void bk_frontcsv_free(bk_frontcsv *fc);
+
+/* One '#' line (without its line break) into h; a csvtab comment
+ * callback's work, for readers with their own (summary.c). */
+void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line);
+
+/* The file at path is refused unless h states a file of brdfkit search of
+ * kind (BK_FRONTCSV_FRONT or _CATALOG) of the target described by target
+ * (whose: "this search's", whose target it is; "": stated, any; exact: the
+ * whole description; else the sample counts, digits after '(' or "a ", may
+ * differ, and are shown as N: the same target and domain on another grid),
+ * and the objective and
+ * precision given (NULL: any). 0, or -1 with err "PATH: a front of target
+ * vf2d, this search's target is f" (one mismatch named, the first of kind,
+ * target, objective, precision). */
+int bk_frontcsv_head_check(const bk_frontcsv_head *h, const char *path, int kind, const char *whose,
+                           const char *target, int exact, const char *objective, const char *precision, char *err,
+                           size_t errlen);
 
 #endif

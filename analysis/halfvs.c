@@ -136,8 +136,8 @@ void bk_halfvs_html(FILE *f, const bk_halfvs *v, const char *dpath, const char *
 		fprintf(f, "; the worst ratio is %.3g", v->worst);
 	fputs(". Each row: the best member of each front at that cost or below; every member of the half front is "
 	      "safe in half (as is or with its guards). <a href=\"", f);
-	bk_html_text(f, prefix ? prefix : "");
-	fputs("vs_double.csv\">vs_double.csv</a></p>\n<table>\n<tr><th>cost &le;</th><th>double front</th><th>error (double)</th><th>half front</th>"
+	bk_html_link(f, prefix, "vs_double.csv");
+	fputs("\">vs_double.csv</a></p>\n<table>\n<tr><th>cost &le;</th><th>double front</th><th>error (double)</th><th>half front</th>"
 	      "<th>error (half)</th><th>ratio</th><th>&le; 1.25</th></tr>\n", f);
 	for (int i = 0; i < v->nrow; i++) {
 		const bk_halfvs_row *r = &v->row[i];

@@ -1683,6 +1683,69 @@ void bk_html_text(FILE *f, const char *s)
 		}
 }
 
+/* A byte a path segment holds as it is (RFC 3986 pchar less ':' and with
+ * '/'); any other is percent-encoded (out.h). */
+static int link_plain(unsigned char c)
+{
+	return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+	       (c && strchr("-._~!$&'()*+,;=@/", c));
+}
+
+static void link_part(FILE *f, const char *s)
+{
+	for (; s && *s; s++) {
+		unsigned char c = (unsigned char)*s;
+		if (c == '&')
+			fputs("&amp;", f); /* the one plain byte HTML needs escaped in a quoted attribute */
+		else if (link_plain(c))
+			fputc(c, f);
+		else
+			fprintf(f, "%%%02X", c);
+	}
+}
+
+void bk_html_link(FILE *f, const char *prefix, const char *path)
+{
+	link_part(f, prefix);
+	link_part(f, path);
+}
+
+char *bk_html_link_text(const char *prefix, const char *path)
+{
+	char *out = NULL;
+	size_t size = 0;
+	FILE *f = open_memstream(&out, &size);
+	if (!f)
+		return NULL;
+	bk_html_link(f, prefix, path);
+	if (fclose(f)) {
+		free(out);
+		return NULL;
+	}
+	return out;
+}
+
+int bk_link_prefix_check(const char *prefix, char *err, size_t errlen)
+{
+	for (const char *c = prefix; *c; c++)
+		if ((unsigned char)*c < 0x20 || *c == 0x7f) { /* not echoed: the line stays one */
+			snprintf(err, errlen, "--link-prefix: a control character (byte %d)", (int)(c - prefix) + 1);
+			return -1;
+		}
+	const char *why = NULL;
+	size_t seg = strcspn(prefix, "/");
+	if ((prefix[0] == '/' || prefix[0] == '\\') && (prefix[1] == '/' || prefix[1] == '\\'))
+		why = "a network path (another host to a browser): give a path relative to the page";
+	else if (memchr(prefix, ':', seg))
+		why = "a URL scheme: give a path relative to the page (no javascript:, data:, http: ...)";
+	else if (strchr(prefix, '\\'))
+		why = "a backslash (a '/' to a browser): write '/'";
+	if (!why)
+		return 0;
+	snprintf(err, errlen, "--link-prefix '%.80s': %s", prefix, why);
+	return -1;
+}
+
 void bk_sb_put(bk_strbuf *b, const char *fmt, ...)
 {
 	for (;;) {

@@ -119,6 +119,26 @@ void bk_slug(const char *name, char *buf, size_t len);
 /* s escaped for HTML text and attribute values. */
 void bk_html_text(FILE *f, const char *s);
 
+/* The one writer of a link (an href or src value) in every section and page:
+ * prefix (--link-prefix, checked by bk_link_prefix_check; NULL: none) then
+ * path, both file paths relative to the page, percent-encoded as RFC 3986
+ * path segments: every byte but unreserved (A-Z a-z 0-9 - . _ ~), the
+ * sub-delims ! $ & ' ( ) * + , ; = , '@' and '/' becomes %XX (':' too, so
+ * no first segment reads as a scheme). So a folder "a#b" is not a fragment,
+ * "c%41d" is not "cAd", "e?f" is not a query, a space or a non-ASCII name
+ * is a path; what is left is HTML-escaped ('&'). */
+void bk_html_link(FILE *f, const char *prefix, const char *path);
+/* The same as a string (malloc'd; NULL when out of memory), for a prefix a
+ * writer pastes into many attributes with printf. */
+char *bk_html_link_text(const char *prefix, const char *path);
+/* --link-prefix, checked where the option is parsed, with report's rule for
+ * links (page.h) made stricter: a relative path only. Refused: a scheme (a
+ * ':' before the first '/': javascript:, data:, http:), a network path
+ * ("//host", "\\host", "/\host", which browsers read as another host), a
+ * backslash anywhere (a '/' to a browser), a control character. 0, or -1
+ * with err "--link-prefix 'P': why". */
+int bk_link_prefix_check(const char *prefix, char *err, size_t errlen);
+
 /* Writes s as one CSV field, quoted when it holds a comma, quote, CR or LF,
  * starts with '#' or starts or ends with a blank. */
 void bk_csv_field(FILE *f, const char *s);

@@ -212,8 +212,9 @@ static int url_check(scan *S, const char *v, size_t n)
 		char c;
 	} refs[] = {{"&amp;", '&'}, {"&lt;", '<'}, {"&gt;", '>'}, {"&quot;", '"'}, {"&#39;", '\''}};
 	char url[16];
-	size_t u = 0;
-	for (size_t i = 0; i < n;) {
+	size_t u = 0, pos = 0, lead = 0; /* pos: characters read; lead: the spaces a browser strips first */
+	char first = 0;
+	for (size_t i = 0; i < n; pos++) {
 		char c = v[i];
 		size_t step = 1;
 		if (c == '&') {
@@ -228,7 +229,20 @@ static int url_check(scan *S, const char *v, size_t n)
 		}
 		if ((unsigned char)c < 0x20 || c == 0x7f) /* browsers drop tabs and line breaks from a URL */
 			return refuse(S, v, "a control character in a link");
-		if (c == '/' || c == '?' || c == '#') /* the path starts: no scheme */
+		int slash = c == '/' || c == '\\'; /* a backslash is a '/' to a browser */
+		if (c == ' ' && pos == lead) { /* stripped by a browser: the link starts after */
+			lead++;
+			i += step;
+			continue;
+		}
+		if (pos == lead && slash) { /* the next character decides: a path, or "//host" */
+			first = c;
+			i += step;
+			continue;
+		}
+		if (pos == lead + 1 && first && slash) /* two slashes of either kind: another host */
+			return refuse(S, v, "a network-path link ('//host' or '\\\\host': another host, not a relative link)");
+		if (first || c == '/' || c == '?' || c == '#') /* the path starts: no scheme */
 			return 0;
 		if (c == ':') {
 			url[u] = '\0';

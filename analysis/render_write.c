@@ -306,13 +306,14 @@ static void cell_img(FILE *f, const char *prefix, const char *sub, const char *s
 		fputs("<td>(not rendered)</td>", f);
 		return;
 	}
+	char path[300];
+	snprintf(path, sizeof path, "%s%s.%s", sub, stem, strncmp(stem, "diff", 4) ? "exr" : "png");
 	fputs("<td><a href=\"", f);
-	bk_html_text(f, prefix);
-	bk_html_text(f, sub);
-	fprintf(f, "%s.%s\"><img src=\"", stem, strncmp(stem, "diff", 4) ? "exr" : "png");
-	bk_html_text(f, prefix);
-	bk_html_text(f, sub);
-	fprintf(f, "%s.png\" width=\"320\" alt=\"%s\"></a></td>", stem, alt);
+	bk_html_link(f, prefix, path);
+	snprintf(path, sizeof path, "%s%s.png", sub, stem);
+	fputs("\"><img src=\"", f);
+	bk_html_link(f, prefix, path);
+	fprintf(f, "\" width=\"320\" alt=\"%s\"></a></td>", alt);
 }
 
 void bk_render_section(FILE *f, const bk_render_out *o, int n, const char *prefix, int in_subdirs)

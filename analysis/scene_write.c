@@ -508,16 +508,14 @@ void bk_scene_section_close(FILE *f)
 	fputs("</section>\n", f);
 }
 
-/* <a href="PREFIXFILE">TEXT</a>, every part escaped. */
+/* <a href="PREFIX[DIR/]FILE">TEXT</a>: the link through the one writer
+ * (out.h), the text escaped. */
 static void link(FILE *f, const char *prefix, const char *dir, const char *file, const char *text)
 {
+	char path[512];
+	snprintf(path, sizeof path, "%s%s%s", dir ? dir : "", dir ? "/" : "", file);
 	fputs("<a href=\"", f);
-	bk_html_text(f, prefix);
-	if (dir) {
-		bk_html_text(f, dir);
-		fputc('/', f);
-	}
-	bk_html_text(f, file);
+	bk_html_link(f, prefix, path);
 	fputs("\">", f);
 	bk_html_text(f, text);
 	fputs("</a>", f);

@@ -282,21 +282,21 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 		fputs(".</p>\n", f);
 	}
 	fputs("<figure><img src=\"", f);
-	bk_html_text(f, P);
-	fprintf(f, "pareto.svg\" width=\"100%%\" alt=\"error against cost\">\n<figcaption>Error (%s in %s precision, "
+	bk_html_link(f, P, "pareto.svg");
+	fprintf(f, "\" width=\"100%%\" alt=\"error against cost\">\n<figcaption>Error (%s in %s precision, "
 	        "log scale) against cost (brdfkit ops: simple \xc3\x97 %g + complex \xc3\x97 %g) on <code>%s</code>: the "
 	        "front refitted on the full samples (the dashed staircase), the published forms with their published "
 	        "and their refitted constants (as the legend marks them), every candidate at screening (grey, %ld fits). "
 	        "Data: <a href=\"", bk_sfront_objective_name(W->F->so), bk_precision_name(W->F->so->precision),
 	        W->F->so->simple_cost, W->F->so->complex_cost, id, W->total_evals);
-	bk_html_text(f, P);
-	fputs("front.csv\">front.csv</a>, <a href=\"", f);
-	bk_html_text(f, P);
-	fputs("catalog.csv\">catalog.csv</a>; as <a href=\"", f);
-	bk_html_text(f, P);
-	fputs("pareto.pdf\">PDF</a>, <a href=\"", f);
-	bk_html_text(f, P);
-	fputs("pareto.png\">PNG</a>.</figcaption></figure>\n<table>\n<tr><th>name</th><th>form</th><th>cost</th>"
+	bk_html_link(f, P, "front.csv");
+	fputs("\">front.csv</a>, <a href=\"", f);
+	bk_html_link(f, P, "catalog.csv");
+	fputs("\">catalog.csv</a>; as <a href=\"", f);
+	bk_html_link(f, P, "pareto.pdf");
+	fputs("\">PDF</a>, <a href=\"", f);
+	bk_html_link(f, P, "pareto.png");
+	fputs("\">PNG</a>.</figcaption></figure>\n<table>\n<tr><th>name</th><th>form</th><th>cost</th>"
 	      "<th>error</th><th>rmse</th><th>max |err|</th><th>half</th><th>beats</th><th>files</th></tr>\n", f);
 	for (int pass = 0; pass < 2; pass++)
 		for (int i = 0; i < W->F->nm; i++) {
@@ -324,9 +324,11 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 				static const char *const file[3] = {"heatmap.png", "shader.glsl", "shader.hlsl"};
 				if (k == 0 && !(W->to->kind != BK_TARGET_FORM || W->to->ndomain <= 2))
 					continue;
+				char path[300];
+				snprintf(path, sizeof path, "front/%s/%s", m->name, file[k]);
 				fputs("<a href=\"", f);
-				bk_html_text(f, P);
-				fprintf(f, "front/%s/%s\">%s</a> ", m->name, file[k], file[k]);
+				bk_html_link(f, P, path);
+				fprintf(f, "\">%s</a> ", file[k]);
 			}
 			fputs("</td></tr>\n", f);
 		}

@@ -6,9 +6,9 @@
 #include "summary.h"
 
 #include "csvtab.h"
+#include "frontcsv.h"
 #include "out.h"
 
-#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +21,7 @@ typedef struct table {
 	const char *const *want; /* the columns, NULL-terminated */
 	char objective[BK_SUMMARY_NAME], cost_model[BK_SUMMARY_NAME];
 	int complete; /* "# certificate: every unique form ... up to N nodes": N; 0 "none"; -1 no such line */
+	bk_frontcsv_head head; /* which file, target, objective, precision (frontcsv.h) */
 	char *err;
 	size_t errlen;
 } table;
@@ -40,6 +41,7 @@ static void objective_line(void *ctx, int lineno, const char *line)
 {
 	(void)lineno;
 	table *t = ctx;
+	bk_frontcsv_head_line(&t->head, line);
 	static const char cost[] = "# cost: ", cert[] = "# certificate: ", upto[] = "every unique form of the grammar up to ";
 	if (!strncmp(line, cert, sizeof cert - 1) && t->complete < 0) {
 		const char *c = line + sizeof cert - 1;
@@ -97,10 +99,7 @@ static table *table_read(const char *path, const char *const *want, char *err, s
 static int number(table *t, int i, int k, double *v)
 {
 	const char *s = bk_csvtab_get(&t->t, i, k);
-	char *end;
-	errno = 0;
-	*v = strtod(s, &end);
-	if (*s && !*end && errno != ERANGE && isfinite(*v) && *v >= 0)
+	if (!bk_csvtab_number(s, v) && *v >= 0) /* decimal only: no hex, no space (csvtab.h) */
 		return 0;
 	return bk_csvtab_err(t->err, t->errlen, t->t.path, t->t.line[i], "%s: expected a finite number >= 0, got '%.40s'",
 	                     t->want[k], s);
@@ -257,7 +256,14 @@ int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errl
 	else if (search && !pt->objective[0])
 		snprintf(err, errlen, "%.300s: no '# ... error: OBJECTIVE in P precision' line (not a catalog.csv of brdfkit search)",
 		         row->pub_file);
-	else {
+	/* the page sets the front's errors against the catalog's: both files of
+	 * one search, of one target, objective and precision */
+	else if (search && (bk_frontcsv_head_check(&pt->head, row->pub_file, BK_FRONTCSV_CATALOG, "", "", 1, NULL, NULL,
+	                                           err, errlen) ||
+	                    bk_frontcsv_head_check(&ft->head, front_path, BK_FRONTCSV_FRONT, "its catalog.csv's",
+	                                           pt->head.target, 1, pt->head.objective, pt->head.precision, err,
+	                                           errlen))) {
+	} else {
 		bk_summary_compute(pp, npub, fp, nfront, row);
 		snprintf(row->objective, sizeof row->objective, "%s",
 		         search ? pt->objective : "max_abs in f64 precision (brdfkit compare)");
@@ -292,8 +298,7 @@ static void cite(FILE *f, const char *href, const char *path, const bk_summary_p
 	char file[64];
 	file_of(path, file, sizeof file);
 	fputs("<a href=\"", f);
-	bk_html_text(f, href);
-	bk_html_text(f, file);
+	bk_html_link(f, href, file);
 	fputs("\" title=\"", f);
 	bk_html_text(f, file);
 	fprintf(f, ", line %d\">", p->line);
@@ -318,7 +323,7 @@ static void objective(FILE *f, const char *o)
 static void row_html(FILE *f, const bk_summary_row *r, const char *href)
 {
 	fputs("<tr><th><a href=\"", f);
-	bk_html_text(f, href);
+	bk_html_link(f, href, NULL);
 	fputs("\">", f);
 	bk_html_text(f, r->target);
 	fputs("</a></th><td>", f);

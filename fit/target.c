@@ -287,13 +287,13 @@ static int build_d(const bk_target_options *o, bk_samples *s, char *err, size_t 
 	for (int j = 0; j < o->nr; j++)
 		for (int k = 0; k < o->nx; k++, i++) {
 			double NoH = centre(o->x_lo, o->x_hi, k, o->nx), r = centre(o->r_lo, o->r_hi, j, o->nr);
-			put(s, i, NAN, NAN, NoH, NAN, r, o->f0[0]);
+			put(s, i, NAN, NAN, NoH, NAN, r, NAN); /* D has no f0: a form reading it is refused */
 			s->y[i] = bk_D_ggx(NoH, r * r);
 			s->w[i] = 1.0;
 			s->cell[i] = j * o->nx + k;
 		}
 	s->n = n;
-	s->provides = 1u << BK_IN_NOH | 1u << BK_IN_R | 1u << BK_IN_A | 1u << BK_IN_F0;
+	s->provides = 1u << BK_IN_NOH | 1u << BK_IN_R | 1u << BK_IN_A;
 	normalise_rows(s, 0, n, o->nr, o->nx);
 	plane(s, o->nx, o->nr, o->x_lo, o->x_hi, o->r_lo, o->r_hi, "NoH", "r");
 	snprintf(s->description, sizeof s->description,
@@ -310,13 +310,15 @@ static int build_f(const bk_target_options *o, bk_samples *s, char *err, size_t 
 	double f0 = bk_f0_from_ior(o->eta, o->k);
 	for (int k = 0; k < o->nx; k++) {
 		double LoH = centre(o->x_lo, o->x_hi, k, o->nx);
-		put(s, (size_t)k, NAN, NAN, NAN, LoH, 0.5, f0);
+		/* no roughness: F does not depend on it, so a form reading r or a
+		 * would be fitted to a constant the target does not have */
+		put(s, (size_t)k, NAN, NAN, NAN, LoH, NAN, f0);
 		s->y[k] = o->k > 0 ? bk_F_conductor(LoH, o->eta, o->k) : bk_F_dielectric(LoH, o->eta);
 		s->w[k] = 1.0 / o->nx;
 		s->cell[k] = k;
 	}
 	s->n = n;
-	s->provides = (1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A | 1u << BK_IN_F0);
+	s->provides = 1u << BK_IN_LOH | 1u << BK_IN_F0;
 	plane(s, o->nx, 1, o->x_lo, o->x_hi, 0, 1, "LoH", "-");
 	snprintf(s->description, sizeof s->description,
 	         "f: exact unpolarised Fresnel of index %g + %gi (f0 = %.6g, the input f0 of forms) on LoH in "

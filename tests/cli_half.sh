@@ -41,12 +41,16 @@ grep -q '1 refitted member not safe in half was left off' "$T/h/section.html" &&
 # --start-front: a planted front (search_f_6 of a double search: rmse 2.3e-4 at
 # cost 6, found there after 31,664 fits); its member, named, is fitted among
 # the seeds (found_at at most the seeds' count) and is no catalog row
-cat >"$T/planted.csv" <<'EOF'
-# a planted front
+# (its '#' lines state what a front of these searches states: read and checked)
+HEAD='# brdfkit 0.1.0 search front (refitted on the full samples)
+# target: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (32 cell centres)
+# cost: simple*1 + complex*4 after folding, sharing and multiply-add fusion (brdfkit ops); error: rmse in f64 precision on the samples'
+{ echo "$HEAD"; cat <<'EOF'
 name,cost,error,form,form_b,parameters
 planted_f6,6,0.000234584,p0 * (p1 + (p2 + sq(sq(p3 + LoH))) * (4 + sq(p2 + sq(sq(p3 + LoH))))),,p0=0.032058;p1=-4.7171;p2=1.12995;p3=-1.15279
 planted_one,0,0.3,p0,,p0=0.3
 EOF
+} >"$T/planted.csv"
 run --evals 300 --enum-max 100 --precision half --start-front "$T/planted.csv" --vs-front "$T/planted.csv" --out "$T/s"
 run --evals 300 --enum-max 100 --precision half --out "$T/s0"
 nseeds=$(csv_col "$T/s/candidates.csv" seed | grep -c .)
@@ -129,13 +133,13 @@ expect_error() { # NAME TOKEN ARGS...
 }
 printf '# x\nname,form,form_b\nx,LoH,\n' >"$T/nocol.csv"
 printf 'name,form,form_b,parameters\nx,LoH,,\ny,LoH * (p0,,p0=1\n' >"$T/badform.csv"
-printf 'name,form,form_b,parameters\nx,NoV * LoH,,\n' >"$T/input.csv"
+{ echo "$HEAD"; printf 'name,form,form_b,parameters\nx,NoV * LoH,,\n'; } >"$T/input.csv"
 printf 'name,cost,error\nx,1,oops\n' >"$T/vsbad.csv"
-printf 'name,form,form_b,parameters\nx,LoH,,\nx,LoH * LoH,,\n' >"$T/twice.csv"
+{ echo "$HEAD"; printf 'name,form,form_b,parameters\nx,LoH,,\nx,LoH * LoH,,\n'; } >"$T/twice.csv"
 expect_error "missing column" "$T/nocol.csv:2: no column 'parameters'" --start-front "$T/nocol.csv"
 expect_error "bad form" "$T/badform.csv:3: form: column" --start-front "$T/badform.csv"
-expect_error "input not provided" "$T/input.csv:2: x: the form reads an input" --start-front "$T/input.csv"
-expect_error "a name twice" "$T/twice.csv:3: the name 'x' is a seed's already" --start-front "$T/twice.csv"
+expect_error "input not provided" "$T/input.csv:5: x: the form reads an input" --start-front "$T/input.csv"
+expect_error "a name twice" "$T/twice.csv:6: the name 'x' is a seed's already" --start-front "$T/twice.csv"
 expect_error "missing file" "$T/none.csv: cannot be read" --start-front "$T/none.csv"
 expect_error "bad --vs-front" "$T/vsbad.csv:2: error:" --vs-front "$T/vsbad.csv"
 "$BK" search --target f --evals 10 --vs-front "$T/planted.csv" --out "$T/bad" >/dev/null 2>&1

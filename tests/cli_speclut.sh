@@ -72,8 +72,8 @@ awk -v b="$B" -v m="$M" -v g="$G" 'BEGIN { exit !(b + 0 == m + 0 && b + 0 <= g +
 [ "$(csv_where sw/sweep.csv role given name)" = "spec LUT 64x64 unorm8 rol^4 /16" ] && ok || bad "given is not the talk's"
 for f in spec.exr spec.png spec.csv; do [ -s "sw/best/$f" ] && ok || bad "sw/best/$f missing"; done
 "$BK" report --out page.html sw/section.html >/dev/null 2>err && ok || bad "report of the sweep's section: $(cat err)"
-grep -qF 'href="s&#39;&quot;/sweep.csv"' page.html || grep -qF "href=\"s'&quot;/sweep.csv\"" page.html \
-	&& ok || bad "the link prefix is not escaped: $(grep -o 'href="[^>]*sweep.csv"' page.html)"
+grep -qF "href=\"s'%22/sweep.csv\"" page.html \
+	&& ok || bad "the link prefix is not percent-encoded: $(grep -o 'href="[^>]*sweep.csv"' page.html)"
 
 # ---- compare --target spec: the LUT rows --------------------------------------------
 "$BK" compare --target spec --no-time --no-refit --out cs >/dev/null 2>err && ok || bad "compare spec: $(cat err)"

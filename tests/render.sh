@@ -141,7 +141,7 @@ printf 'name,term,form,form_b,parameters\ntalk,,vf_talk_r,,\nkaris,,env_karis201
 # shellcheck disable=SC2086
 run batch --batch "$T/b3.csv" $S --precision half --link-prefix 'r/<x>/'
 for n in talk karis mine; do [ -s "$T/batch/$n/candidate_f16.png" ] && ok || bad "batch: no $n/candidate_f16.png"; done
-[ "$(grep -c '<tr><th colspan' "$T/batch/section.html")" -eq 3 ] && grep -q 'r/&lt;x&gt;/karis/candidate_f16.png' "$T/batch/section.html" && grep -q 'r/&lt;x&gt;/exact_f16.png' "$T/batch/section.html" && [ -s "$T/batch/exact_f16.exr" ] && [ ! -e "$T/batch/talk/exact_f16.exr" ] &&
+[ "$(grep -c '<tr><th colspan' "$T/batch/section.html")" -eq 3 ] && grep -q 'r/%3Cx%3E/karis/candidate_f16.png' "$T/batch/section.html" && grep -q 'r/%3Cx%3E/exact_f16.png' "$T/batch/section.html" && [ -s "$T/batch/exact_f16.exr" ] && [ ! -e "$T/batch/talk/exact_f16.exr" ] &&
 	! grep -q '<x>' "$T/batch/section.html" && ok || bad "batch section: rows or escaping"
 
 echo "render: $pass passed, $fail failed"

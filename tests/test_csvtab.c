@@ -361,3 +361,36 @@ Test(csvtab, nul_byte_and_open_quote)
 	READ_BAD("a,b\n1,2\nx\0y,3\n", &spec, ":3: a NUL byte (not a text file)");
 	READ_BAD("a,b\n1,2\n\"open,3\nmore\n", &spec, ":3: 1 fields, fewer than the header's");
 }
+
+/* Spaces are data (L8): a field is read as written, so " 5" is no number;
+ * a line of blanks alone is still no row. */
+Test(csvtab, spaces_are_data)
+{
+	bk_csvtab_spec spec = {.cols = AB};
+	bk_csvtab t;
+	read_ok("a,b\n 5,x \n  \t\n\t7,y\n", &spec, &t);
+	cr_assert_eq(t.n, 2);
+	cr_expect_str_eq(bk_csvtab_get(&t, 0, 0), " 5");
+	cr_expect_str_eq(bk_csvtab_get(&t, 0, 1), "x ");
+	cr_expect_str_eq(bk_csvtab_get(&t, 1, 0), "\t7");
+	cr_expect_eq(t.line[1], 4);
+	double x;
+	cr_expect_eq(bk_csvtab_number(bk_csvtab_get(&t, 0, 0), &x), -1);
+	bk_csvtab_free(&t);
+}
+
+/* The one number syntax: decimal, nothing around it. */
+Test(csvtab, decimal_numbers_only)
+{
+	static const char *const good[] = {"5", "+5", "-0.5e-3", ".5", "5.", "1E3", "4.9e-324"};
+	static const double want[] = {5, 5, -0.5e-3, 0.5, 5, 1000, 4.9e-324};
+	static const char *const bad[] = {" 5", "5 ", "0x10", "0x1p-30", "inf", "nan", "1e999", "1e-400", "", "5abc", ".",
+	                                  "e5", "1e", "\t5"};
+	double x;
+	for (size_t i = 0; i < sizeof good / sizeof good[0]; i++) {
+		cr_expect_eq(bk_csvtab_number(good[i], &x), 0, "'%s' refused", good[i]);
+		cr_expect_eq(x, want[i], "'%s' read as %g", good[i], x);
+	}
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+		cr_expect_eq(bk_csvtab_number(bad[i], &x), -1, "'%s' accepted", bad[i]);
+}

@@ -6,6 +6,7 @@
  * code in a page is refused with its line.
  */
 #include "page.h"
+#include "out.h"
 #include "fixture_tmpdir.h"
 
 #include <criterion/criterion.h>
@@ -177,6 +178,61 @@ Test(section, nothing_that_runs)
 	        "line 3: title=: not an attribute brdfkit writes");
 	refused(OPEN "<a href=\"x\" alt=\"</section><script>\">t</a>" CLOSE,
 	        "line 3: alt: a raw '<' in an attribute's value");
+	/* a network path is another host whichever slashes spell it (L3) */
+	static const char *const net[] = {"//evil.example/x", "\\\\evil.example\\x", "/\\evil", "\\/evil",
+	                                  " //evil", "&#47;/evil"};
+	for (size_t i = 0; i < sizeof net / sizeof net[0]; i++) {
+		char text[256];
+		snprintf(text, sizeof text, OPEN "<a href=\"%s\">x</a>" CLOSE, net[i]);
+		refused(text, strncmp(net[i], "&#", 2) ? "line 3: a network-path link ('//host' or '\\\\host': another host, "
+		                                         "not a relative link)"
+		                                       : "line 3: a character reference in a link (brdfkit writes only "
+		                                         "&amp; &lt; &gt; &quot;)");
+	}
+}
+
+/* the controls of the network paths: a path from the root, or one step down */
+Test(section, relative_links_pass)
+{
+	static const char text[] = OPEN "<a href=\"/abs/x\">a</a><a href=\"./a%23b/front.csv\">b</a>"
+	                                "<a href=\"\\x\">c</a><a href=\"http://h/x\">d</a>" CLOSE;
+	cr_expect_eq(check(text), 0, "%s", err);
+}
+
+/* The one link writer (out.h): RFC 3986 path segments, then '&' escaped. */
+Test(section, links_percent_encoded)
+{
+	static const struct {
+		const char *prefix, *path, *want;
+	} cases[] = {
+		{"./a#b/", "front.csv", "./a%23b/front.csv"},
+		{"./c%41d/", NULL, "./c%2541d/"},
+		{"e?f/", "x y.png", "e%3Ff/x%20y.png"},
+		{NULL, "caf\xc3\xa9/x", "caf%C3%A9/x"},
+		{"x'\"<b>&/", "a:b", "x'%22%3Cb%3E&amp;/a%3Ab"},
+		{"../r_1-2.~/", "!$()*+,;=@", "../r_1-2.~/!$()*+,;=@"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char *s = bk_html_link_text(cases[i].prefix, cases[i].path);
+		cr_assert_not_null(s);
+		cr_expect_str_eq(s, cases[i].want, "case %zu", i);
+		free(s);
+	}
+}
+
+/* --link-prefix: a relative path, nothing else (H4) */
+Test(section, link_prefix_rule)
+{
+	static const char *const bad[] = {"javascript:alert(1)//", "data:text/html;base64,PHN#", "http://x/", "//evil/",
+	                                  "\\\\evil/", "/\\evil/", "a\\b/", "a\nb/"};
+	static const char *const good[] = {"x/", "search/vf2d/", "../up/", "/abs/", "a b#c?/", "x/y:z/"};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++)
+		cr_expect_eq(bk_link_prefix_check(bad[i], err, sizeof err), -1, "bad %zu accepted", i);
+	for (size_t i = 0; i < sizeof good / sizeof good[0]; i++)
+		cr_expect_eq(bk_link_prefix_check(good[i], err, sizeof err), 0, "good %zu: %s", i, err);
+	bk_link_prefix_check("javascript:x/", err, sizeof err);
+	cr_expect_str_eq(err, "--link-prefix 'javascript:x/': a URL scheme: give a path relative to the page (no "
+	                      "javascript:, data:, http: ...)");
 }
 
 Test(section, html_escaped)

@@ -131,8 +131,11 @@ static const char *put(const char *sub, const char *name, const char *text)
 
 TestSuite(summary_read, .init = make_dir, .fini = remove_dir, .timeout = 30);
 
-#define HEAD "# brdfkit search published forms\n# command: brdfkit search\n" \
-             "# cost: simple*1 + complex*4 after folding; error: max_abs in f16 precision on the target's samples\n"
+/* a catalog's and a front's '#' lines: one search's (frontcsv.h checks them) */
+#define TARGET_COST "# target: t: a test target on x in [0, 1] (4 cell centres)\n" \
+                    "# cost: simple*1 + complex*4 after folding; error: max_abs in f16 precision on the target's samples\n"
+#define HEAD "# brdfkit search published forms\n" TARGET_COST
+#define FHEAD "# brdfkit search front (refitted)\n" TARGET_COST
 
 /* Columns in another order than brdfkit writes them and one more: read by
  * name. Lines: 1-3 comments, 4 header, 5 on. Published: p (8, 0.25) and q
@@ -146,7 +149,7 @@ static const char catalog[] = HEAD "error,extra,cost,name\n"
                               "0.25,x,6,q\n"
                               "0.01,x,6,q (refit)\n"
                               "0,x,1,LUT 16x16 unorm8\n";
-static const char front_csv[] = HEAD "name,cost,error\n"
+static const char front_csv[] = FHEAD "name,cost,error\n"
                                 "s1,2,0.2\n"
                                 "s2,5,0.05\n"
                                 "s3,9,0.001\n";
@@ -189,7 +192,7 @@ Test(summary_read, the_certificate_from_front_csv)
 	put("t", "catalog.csv", catalog);
 	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
 		char text[1024];
-		snprintf(text, sizeof text, HEAD "%sname,cost,error\ns1,2,0.2\n", cases[i].line);
+		snprintf(text, sizeof text, FHEAD "%sname,cost,error\ns1,2,0.2\n", cases[i].line);
 		bk_summary_row r;
 		cr_assert_eq(bk_summary_read(put("t", "front.csv", text), &r, err, sizeof err), 0, "%s", err);
 		cr_expect_eq(r.complete, cases[i].complete, "case %zu: %d", i, r.complete);
@@ -233,7 +236,7 @@ Test(summary_read, bad_fields_name_file_and_line)
 	cr_assert_eq(bk_summary_read(put("ok", "front.csv", front_csv), &r, err, sizeof err), 0, "control: %s", err);
 
 	put("empty", "catalog.csv", catalog);
-	put("empty", "front.csv", HEAD "name,cost,error\ns1,2,0.2\ns2,5,\n");
+	put("empty", "front.csv", FHEAD "name,cost,error\ns1,2,0.2\ns2,5,\n");
 	expect_error("empty", "front.csv", 6, "error: expected a finite number >= 0, got ''");
 
 	put("nan", "catalog.csv", HEAD "name,cost,error\np,8,nan\n");
@@ -245,7 +248,7 @@ Test(summary_read, bad_fields_name_file_and_line)
 	expect_error("neg", "catalog.csv", 5, "cost: expected a finite number >= 0, got '-1'");
 
 	put("short", "catalog.csv", catalog);
-	put("short", "front.csv", HEAD "name,cost,error\ns1,2\n");
+	put("short", "front.csv", FHEAD "name,cost,error\ns1,2\n");
 	expect_error("short", "front.csv", 5, "2 fields, fewer than the header's");
 
 	put("nocol", "catalog.csv", HEAD "name,cost,err\np,8,0.2\n");
@@ -254,7 +257,7 @@ Test(summary_read, bad_fields_name_file_and_line)
 
 	/* a quoted field over two lines: the error names the line the row starts on */
 	put("multi", "catalog.csv", catalog);
-	put("multi", "front.csv", HEAD "name,cost,error\n\"s\n1\",2,x\n");
+	put("multi", "front.csv", FHEAD "name,cost,error\n\"s\n1\",2,x\n");
 	expect_error("multi", "front.csv", 5, "error: expected a finite number >= 0, got 'x'");
 }
 
@@ -265,7 +268,7 @@ Test(summary_read, files_that_say_nothing)
 	expect_error("own", "catalog.csv", 0, "no published form (every row is a refit, a typed start or a LUT)");
 
 	put("nofront", "catalog.csv", catalog);
-	put("nofront", "front.csv", HEAD "name,cost,error\n");
+	put("nofront", "front.csv", FHEAD "name,cost,error\n");
 	expect_error("nofront", "front.csv", 0, "no member (an empty front)");
 
 	put("noobj", "catalog.csv", "name,cost,error\np,8,0.2\n");
@@ -286,13 +289,45 @@ Test(summary_read, files_that_say_nothing)
 	          err);
 }
 
+/* front.csv and catalog.csv of one search: the same target, objective and
+ * precision stated (H2), each mismatch named */
+Test(summary_read, front_and_catalog_of_one_search)
+{
+	static const struct {
+		const char *sub, *front, *tail;
+	} cases[] = {
+		{"tgt", "# brdfkit search front\n# target: u: another on x in [0, 1] (4 cell centres)\n"
+		        "# cost: x after y; error: max_abs in f16 precision on the samples\n",
+		 "a front of target u, its catalog.csv's target is t"},
+		{"dom", "# brdfkit search front\n# target: t: a test target on x in [0, 2] (4 cell centres)\n"
+		        "# cost: x after y; error: max_abs in f16 precision on the samples\n",
+		 "a front of target t on other samples, domain or options: it says '...in [0, 2] (4 cell centres)', "
+		 "its catalog.csv's '...in [0, 1] (4 cell centres)'"},
+		{"obj", "# brdfkit search front\n# target: t: a test target on x in [0, 1] (4 cell centres)\n"
+		        "# cost: x after y; error: rmse in f16 precision on the samples\n",
+		 "a front of objective rmse, its catalog.csv's objective is max_abs"},
+		{"prec", "# brdfkit search front\n# target: t: a test target on x in [0, 1] (4 cell centres)\n"
+		         "# cost: x after y; error: max_abs in f64 precision on the samples\n",
+		 "a front in f64 precision, not f16"},
+		{"cat", HEAD, "a catalog of brdfkit search (its published forms), not a front"},
+		{"none", "# a front\n", "no '# brdfkit ... search front' line: not a front.csv of brdfkit search"},
+	};
+	for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+		char text[1024];
+		put(cases[i].sub, "catalog.csv", catalog);
+		snprintf(text, sizeof text, "%sname,cost,error\ns1,2,0.2\n", cases[i].front);
+		put(cases[i].sub, "front.csv", text);
+		expect_error(cases[i].sub, "front.csv", 0, cases[i].tail);
+	}
+}
+
 /* ---- the table: every value escaped --------------------------------------------------- */
 
 Test(summary_read, the_table_escapes_what_it_read)
 {
 	put("x", "catalog.csv", HEAD "name,cost,error\n\"<script>alert(1)</script> & \"\"q\"\"\",8,0.2\n");
 	bk_summary_row r;
-	cr_assert_eq(bk_summary_read(put("x", "front.csv", HEAD "name,cost,error\n<b>,2,0.1\n"), &r, err, sizeof err), 0,
+	cr_assert_eq(bk_summary_read(put("x", "front.csv", FHEAD "name,cost,error\n<b>,2,0.1\n"), &r, err, sizeof err), 0,
 	             "%s", err);
 	char *buf = NULL;
 	size_t len = 0;
@@ -302,7 +337,7 @@ Test(summary_read, the_table_escapes_what_it_read)
 	fclose(f);
 	cr_expect(strstr(buf, "&lt;script&gt;alert(1)&lt;/script&gt; &amp; &quot;q&quot;") != NULL, "%s", buf);
 	cr_expect(strstr(buf, "&lt;b&gt;") != NULL);
-	cr_expect(strstr(buf, "href=\"a&quot;b/front.csv\"") != NULL);
+	cr_expect(strstr(buf, "href=\"a%22b/front.csv\"") != NULL, "a link percent-encoded (out.h)");
 	cr_expect(strstr(buf, "<script") == NULL && strstr(buf, "<b>") == NULL && strstr(buf, "a\"b") == NULL);
 	/* the numbers: ratio 0.2/0.1 = 2, the line of each name */
 	cr_expect(strstr(buf, "<td>2</td>") != NULL);

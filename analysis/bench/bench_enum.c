@@ -66,8 +66,6 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 	o.shape = kind == BK_TARGET_VF2D ? BK_SHAPE_F0 : kind == BK_TARGET_ENV ? BK_SHAPE_PAIR : BK_SHAPE_PLAIN;
 	bk_seeds_grammar(&o.grammar, kind);
 	o.grammar.inputs = sm.provides; /* as brdfkit search gives them (analysis/cli/search_setup.c) */
-	if (kind == BK_TARGET_F)
-		o.grammar.inputs &= 1u << BK_IN_LOH | 1u << BK_IN_F0;
 	if (o.shape == BK_SHAPE_F0)
 		o.grammar.inputs &= ~(1u << BK_IN_F0);
 	o.enum_size = max;

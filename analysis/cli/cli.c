@@ -4,6 +4,7 @@
  */
 #include "cli.h"
 #include "clock.h"
+#include "csvtab.h"
 #include "out.h"
 
 #include <errno.h>
@@ -118,33 +119,7 @@ int cli_seen(const cli_cmd *cmd, const char *name)
 
 int cli_number(const char *text, double *x)
 {
-	static const char digits[] = "0123456789";
-	const char *s = text + (*text == '+' || *text == '-'), *mant = s;
-	s += strspn(s, digits);
-	if (*s == '.')
-		s += 1 + strspn(s + 1, digits);
-	size_t nmant = (size_t)(s - mant);
-	if (nmant == 0 || (nmant == 1 && *mant == '.'))
-		return -1;
-	int nonzero = strcspn(mant, "123456789") < nmant;
-	if (*s == 'e' || *s == 'E') {
-		s += 1 + (s[1] == '+' || s[1] == '-');
-		size_t e = strspn(s, digits);
-		if (e == 0)
-			return -1;
-		s += e;
-	}
-	if (*s)
-		return -1;
-	errno = 0;
-	double v = strtod(text, NULL);
-	/* ERANGE is also how strtod reports a subnormal result, which is a number
-	 * like any other; overflow to inf, and a nonzero text that underflows to
-	 * zero, are not the value typed. */
-	if (!isfinite(v) || (v == 0.0 && nonzero))
-		return -1;
-	*x = v;
-	return 0;
+	return bk_csvtab_number(text, x); /* one number syntax, options and files alike */
 }
 
 /* Strict number: the whole text must be a finite number inside the range. */
@@ -226,6 +201,15 @@ static int set_value(const cli_cmd *cmd, cli_opt *o, const char *text)
 		if (!*text)
 			return cli_usage(cmd, "%s: empty value", o->name);
 		return cli_form_arg(text, o->dest);
+	case CLI_LINK: { /* one rule for every section's links (out.h) */
+		char err[160];
+		if (!*text)
+			return cli_usage(cmd, "%s: empty value", o->name);
+		if (bk_link_prefix_check(text, err, sizeof err))
+			return cli_usage(cmd, "%s", err);
+		*(const char **)o->dest = text;
+		return 0;
+	}
 	}
 	return 2;
 }
@@ -638,7 +622,7 @@ static const char *table_fault(const cli_cmd *cmd, const cli_table *t, char *buf
 		else if (r->dim != CLI_EVERYWHERE && (!r->acts || r->acts >> nvalues(&t->dims[r->dim])))
 			snprintf(buf, len, "a rule of %s acts on no value, or on values %s does not have", r->opt,
 			         t->dims[r->dim].name);
-		else if (r->value && o->kind != CLI_STR && o->kind != CLI_FORM)
+		else if (r->value && o->kind != CLI_STR && o->kind != CLI_FORM && o->kind != CLI_LINK)
 			snprintf(buf, len, "a value rule of %s, which takes no text", r->opt);
 		else if (r->dim != CLI_EVERYWHERE && o->kind != CLI_FLAG && !r->value && !r->example)
 			snprintf(buf, len, "the rule of %s on %s has no example value for the walk", r->opt,

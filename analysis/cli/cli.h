@@ -13,7 +13,9 @@
 #define CLI_LIST_MAX 64
 
 /* CLI_FORM: a string that is a form, read through cli_form_arg (@FILE, -). */
-typedef enum cli_kind { CLI_NUM, CLI_INT, CLI_STR, CLI_FLAG, CLI_LIST, CLI_FORM } cli_kind;
+/* CLI_LINK: a string that is a --link-prefix, checked as it is parsed
+ * (bk_link_prefix_check, out.h: a relative path, no scheme or other host). */
+typedef enum cli_kind { CLI_NUM, CLI_INT, CLI_STR, CLI_FLAG, CLI_LIST, CLI_FORM, CLI_LINK } cli_kind;
 
 typedef struct cli_list {
 	int n;
@@ -56,10 +58,8 @@ int cli_parse(cli_cmd *cmd, int argc, char **argv);
 void cli_help(const cli_cmd *cmd, FILE *out);
 
 /* The one number syntax of the tool, for option values, list items and
- * NAME=VALUE: [+-] digits ['.' [digits]] | [+-] '.' digits, then an optional
- * exponent [eE][+-]digits; nothing before or after. Not hex, inf or nan
- * (which strtod alone would take). Subnormal values are accepted; a value
- * that overflows double is not. Returns 0 with *x set, or -1. */
+ * NAME=VALUE: bk_csvtab_number's (csvtab.h), which the CSV readers share.
+ * Returns 0 with *x set, or -1. */
 int cli_number(const char *text, double *x);
 
 /* A FORM argument as text: "@FILE" is the whole file, "-" all of standard

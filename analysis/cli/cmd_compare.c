@@ -574,7 +574,7 @@ int cmd_compare(int argc, char **argv)
 		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec: leave out the LUT rows", .dest = &no_lut},
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
 		{.name = "--fetch-cost", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "a texture fetch priced as K simple ops, the talk's ALU:TEX tiers, for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page)", .dest = &prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page): a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "weights of the ALU cost: ir (default; simple 1, complex 4) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100", .dest = &model},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &gpu},
 	};
@@ -708,7 +708,7 @@ int cmd_compare(int argc, char **argv)
 		return rc;
 	}
 	bk_pareto(S.rows, S.n, t);
-	char *pre = bk_html_escaped(prefix); /* it goes into attributes (page.h) */
+	char *pre = bk_html_link_text(prefix, NULL); /* the one link writer (out.h): encoded, escaped */
 	rc = pre ? write_dir(&S, out, pre) : cli_fail("compare", "out of memory");
 	free(pre);
 	bk_samples_free(&S.s);

@@ -370,7 +370,7 @@ int cmd_render(int argc, char **argv)
 		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square, two rows", .dest = &size, .lo = 16, .hi = 8192},
 		{.name = "--roughness", .kind = CLI_LIST, .metavar = "R,...", .help = "the columns' roughness (default 0.1,0.25,0.5,0.75,1)", .dest = &rough, .lo = 0, .hi = 1, .lo_open = 1},
 		{.name = "--device", .kind = CLI_STR, .metavar = "lavapipe|cpu", .help = "lavapipe: the emitted GLSL on Mesa's software Vulkan (default); cpu: the IR (double for f32, BK_F16 for f16), the reference", .dest = &device},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of the links in section.html", .dest = &prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of the links in section.html: a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "the output directory, replaced whole (EXR, PNG, spheres.csv, shaders, section.html)", .dest = &out, .required = 1},
 	};
 	cli_cmd cmd = {"render",

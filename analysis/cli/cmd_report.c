@@ -97,10 +97,10 @@ static int load_section(section *S, int k, const char *out, const struct stat *o
 static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 {
 	fputs("<figure class=\"main\" id=\"main-figure\"><a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.pdf\"><img src=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.png\" alt=\"error against cost of the search on ", f);
+	bk_html_link(f, href, "pareto.pdf");
+	fputs("\"><img src=\"", f);
+	bk_html_link(f, href, "pareto.png");
+	fputs("\" alt=\"error against cost of the search on ", f);
 	bk_html_text(f, r->target);
 	fputs("\"></a>\n<figcaption><b>Figure 1.</b> The search on <code>", f);
 	bk_html_text(f, r->target);
@@ -111,14 +111,14 @@ static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 	fputs("). Blue: the front, refitted on the full samples, "
 	      "a staircase; triangles: the published forms with their published constants; squares: the same forms "
 	      "refitted; grey: every candidate at screening. Data: <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("front.csv\">front.csv</a> and <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("catalog.csv\">catalog.csv</a>; as <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.pdf\">PDF</a>, <a href=\"", f);
-	bk_html_text(f, href);
-	fputs("pareto.svg\">SVG</a>.</figcaption></figure>\n", f);
+	bk_html_link(f, href, "front.csv");
+	fputs("\">front.csv</a> and <a href=\"", f);
+	bk_html_link(f, href, "catalog.csv");
+	fputs("\">catalog.csv</a>; as <a href=\"", f);
+	bk_html_link(f, href, "pareto.pdf");
+	fputs("\">PDF</a>, <a href=\"", f);
+	bk_html_link(f, href, "pareto.svg");
+	fputs("\">SVG</a>.</figcaption></figure>\n", f);
 }
 
 /* The summary: what was found, first (summary.h), with its figure. */
@@ -231,14 +231,15 @@ int cmd_report(int argc, char **argv)
 	               "A section is a file brdfkit compare, stability, search, scene, lut --specular --sweep or\n"
 	               "render wrote (at most 4 MiB; at most 32 sections): it\n"
 	               "opens with <section id=\"ID\"> and holds only the elements and attributes those commands\n"
-	               "write (no script, no event handler, links relative or http(s)); each is given once, with\n"
-	               "an id of its own, and none is --out itself. Tables of more than 6 rows are folded\n"
-	               "(<details>). --summary reads each DIR's catalog.csv and front.csv (or, with no search,\n"
-	               "compare.csv) by column name and writes, first, one row per DIR: the most accurate published\n"
-	               "form (cost, error), the most accurate front member at equal or lower cost and the error\n"
-	               "ratio, the cheapest member as accurate, and how many published forms the front beats at\n"
-	               "their own cost, in the objective the files state; then the first searched DIR's\n"
-	               "pareto.png as Figure 1. Links are relative from the page's folder.",
+	               "write (no script, no event handler, links relative or http(s), none to //host); each is\n"
+	               "given once, with an id of its own, and none is --out itself. Tables of more than 6 rows\n"
+	               "are folded (<details>). --summary reads each DIR's catalog.csv and front.csv (or, with no\n"
+	               "search, compare.csv) by column name and writes, first, one row per DIR: the most accurate\n"
+	               "published form (cost, error), the most accurate front member at equal or lower cost and\n"
+	               "the error ratio, the cheapest member as accurate, and how many published forms the front\n"
+	               "beats at their own cost, in the objective the files state (front.csv must state its\n"
+	               "catalog.csv's target, objective and precision); then the first searched DIR's pareto.png\n"
+	               "as Figure 1. Links are relative from the page's folder, percent-encoded.",
 	               opts, 2, 32, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))

@@ -522,7 +522,7 @@ int cmd_scene(int argc, char **argv)
 	cli_opt opts[] = {
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for the shaders, scene.csv, sets.csv, report.txt, section.html (replaced whole)", .dest = &out, .required = 1},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip the CPU timing (timing.csv)", .dest = &no_time},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html: a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 		{.name = "--id", .kind = CLI_STR, .metavar = "ID", .help = "the section's HTML id: letters, digits, '-', '_' (default scenes)", .dest = &id},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of every set's V*F and env forms and the generic's per chip (brdfkit gpucost), in scene.csv and sets.csv", .dest = &chips},
 	};

@@ -434,12 +434,12 @@ static int search_main(int argc, char **argv)
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts of the front and the catalog rows per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &a.gpu},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
-		{.name = "--start-front", .kind = CLI_STR, .metavar = "FILE", .help = "also seed the search with every member of a front.csv of brdfkit search (columns form, form_b, parameters), after the catalog's (or --start's) seeds, e.g. the double front of the same target for a half search", .dest = &a.start_front},
-		{.name = "--vs-front", .kind = CLI_STR, .metavar = "FILE", .help = "with --precision half: the double front.csv of the same target and objective beside this front in section.html, and DIR/vs_double.csv (at each cost <= 16 the best of each, their ratio, pass = ratio <= 1.25)", .dest = &a.vs_front},
+		{.name = "--start-front", .kind = CLI_STR, .metavar = "FILE", .help = "also seed the search with every member of a front.csv of brdfkit search (columns form, form_b, parameters), after the catalog's (or --start's) seeds; its '# target:' line must state this target and domain (the grid may differ), its objective and precision may (a double front seeds a half search and back)", .dest = &a.start_front},
+		{.name = "--vs-front", .kind = CLI_STR, .metavar = "FILE", .help = "with --precision half: the double front.csv of the same target, samples and objective (its '#' lines are checked) beside this front in section.html, and DIR/vs_double.csv (at each cost <= 16 the best of each, their ratio, pass = ratio <= 1.25)", .dest = &a.vs_front},
 		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
 		{.name = "--inherit", .kind = CLI_FLAG, .help = "children start their fits from their parents' constants", .dest = &a.inherit},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "P", .help = "prefix of the links in section.html (its place relative to the page)", .dest = &a.prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "P", .help = "prefix of the links in section.html (its place relative to the page): a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &a.prefix},
 		{.name = "--checkpoint", .kind = CLI_STR, .metavar = "FILE", .help = "write the state here every --every fits and at the end", .dest = &a.checkpoint},
 		{.name = "--every", .kind = CLI_INT, .metavar = "K", .help = "fits between checkpoints (default 5000)", .dest = &a.every, .lo = 1, .hi = 1e9},
 		{.name = "--resume", .kind = CLI_STR, .metavar = "FILE", .help = "continue from a checkpoint (same options; --evals may grow)", .dest = &a.resume},
@@ -545,10 +545,19 @@ static int search_main(int argc, char **argv)
 	}
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
-	if (R == 0 && a.vs_front && bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err))
-		rc = cli_fail("search", "--vs-front %s", err); /* said now, not after the search */
+	/* --vs-front: the double front of the same target and objective, said
+	 * now, not after the search; its samples are checked with the full ones */
+	if (R == 0 && a.vs_front &&
+	    (bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err) ||
+	     bk_frontcsv_head_check(&J.vs_fc.head, a.vs_front, BK_FRONTCSV_FRONT, "this search's", J.screen.description, 0,
+	                            bk_sfront_objective_name(&J.so), bk_precision_name(BK_F64), err, sizeof err)))
+		rc = cli_fail("search", "--vs-front %s", err);
 	else if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
+	else if (R == 0 && a.vs_front &&
+	         bk_frontcsv_head_check(&J.vs_fc.head, a.vs_front, BK_FRONTCSV_FRONT, "this search's", J.s.description, 1,
+	                                NULL, NULL, err, sizeof err))
+		rc = cli_fail("search", "--vs-front %s", err);
 	else if (R == 0) /* a pole between the screening samples */
 		rc = search_check_starts(&J, &sd, &J.s);
 	if (K > 1 && isl_any(rc))

@@ -122,7 +122,7 @@ static void html_row(FILE *f, const char *what, const scored *o, const char *lin
 	        o->m.albedo_max_abs, o->m.rmse, o->st_albedo_rms, o->st.albedo_max_abs, o->cost);
 	if (link) {
 		fputs("<a href=\"", f);
-		bk_html_text(f, link);
+		bk_html_link(f, NULL, link);
 		fputs("\">spec.png</a>", f);
 	}
 	fputs("</td></tr>\n", f);
@@ -174,8 +174,8 @@ static void write_section(FILE *f, const scored *given, const scored *best, cons
 			html_row(f, what, &rows[b], NULL);
 	}
 	fprintf(f, "</table>\n<p>Every LUT of the sweep (%d): <a href=\"", n);
-	bk_html_text(f, prefix);
-	fputs("sweep.csv\">sweep.csv</a>.</p>\n</section>\n", f);
+	bk_html_link(f, prefix, "sweep.csv");
+	fputs("\">sweep.csv</a>.</p>\n</section>\n", f);
 }
 
 static int write_all(const bk_speclut *L, int sweep, const char *out, const char *prefix)
@@ -301,7 +301,7 @@ int cmd_lut_specular(int argc, char **argv)
 		{.name = "--r-range", .kind = CLI_STR, .metavar = "LO:HI", .help = "rows over roughness LO..HI (default 0:1)", .dest = &r_range},
 		{.name = "--fresnel", .kind = CLI_STR, .metavar = "none|schlick", .help = "the shader multiplies by f0 (default, the talk's) or by F_schlick(f0, 1, LoH)", .dest = &fresnel},
 		{.name = "--sweep", .kind = CLI_FLAG, .help = "also score the sweep on the spec target: sweep.csv, best/, section.html", .dest = &sweep},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html: a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for " BK_SPECLUT_EXR ", " BK_SPECLUT_PNG " and " BK_SPECLUT_CSV " (replaced whole)", .dest = &out, .required = 1},
 	};
 	cli_cmd cmd = {"lut", "--specular: the low tier's specular LUT (the talk's \"Optimizing for Low-end\"): the\n"

@@ -319,7 +319,7 @@ int cmd_stability(int argc, char **argv)
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for stability.csv, maps/ (EXR, PNG, SVG, PDF) and section.html (replaced whole)", .dest = &out},
 		{.name = "--all", .kind = CLI_FLAG, .help = "every registry term and catalog form", .dest = &all},
 		{.name = "--tol", .kind = CLI_NUM, .metavar = "T", .help = "relative error that counts as wrong (default 0.02)", .dest = &tol, .lo = 1e-6, .hi = 1},
-		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of links in section.html", .dest = &prefix},
+		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html: a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 	};
 	cli_cmd cmd = {"stability", "Evaluates forms on a stress grid with the extremes (r from 0, cosines from 0 and up to\n"
 	               "0.99999, f0 from 0) in half, single and double precision against long double; reports\n"
@@ -425,7 +425,7 @@ int cmd_stability(int argc, char **argv)
 					rc = -1;
 			}
 			FILE *f = fs[0], *d = fs[1], *h = fs[2];
-			char *pre = bk_html_escaped(prefix); /* it goes into attributes (page.h) */
+			char *pre = bk_html_link_text(prefix, NULL); /* the one link writer (out.h): encoded, escaped */
 			if (!f || !d || !h || !pre)
 				rc = -1;
 			if (rc == 0) {

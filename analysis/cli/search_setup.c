@@ -205,8 +205,6 @@ int search_setup(job *J)
 int search_setup_inputs(job *J)
 {
 	unsigned prov = J->screen.provides;
-	if (J->kind == BK_TARGET_F)
-		prov &= 1u << BK_IN_LOH | 1u << BK_IN_F0; /* r is a dummy there */
 	if (J->a->inputs)
 		return parse_inputs(J->cmd, J->a->inputs, prov, &J->so.grammar.inputs);
 	if (J->so.shape == BK_SHAPE_F0)
@@ -297,7 +295,12 @@ static int add_front_seeds(job *J, bk_seeds *sd)
 {
 	char err[700];
 	const char *path = J->a->start_front;
-	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &J->start_fc, err, sizeof err))
+	/* a seed is a start: the objective and precision it was searched with
+	 * may differ (a double front seeds a half search and back), the target
+	 * and its domain may not (its forms would answer another question) */
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &J->start_fc, err, sizeof err) ||
+	    bk_frontcsv_head_check(&J->start_fc.head, path, BK_FRONTCSV_FRONT, "this search's", J->screen.description, 0,
+	                           NULL, NULL, err, sizeof err))
 		return cli_fail("search", "--start-front %s", err);
 	for (int i = 0; i < J->start_fc.n; i++) {
 		const bk_frontcsv_row *w = &J->start_fc.row[i];
