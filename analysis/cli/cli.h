@@ -98,6 +98,10 @@ void cli_set_name(const char *cmd);
  * CMD --help)" on stderr, one line. Returns 2. */
 int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
+/* cli_usage where the option table is not at hand: the command running
+ * (cli_set_name) names itself. Every usage error ends with the "(see ...)"
+ * suffix, so a script's user knows where the rules are. Returns 2. */
+int cli_bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Whether option name (e.g. "--ior") was given. */
 int cli_seen(const cli_cmd *cmd, const char *name);
 
@@ -239,6 +243,17 @@ extern const char *const cli_targets[];
 #define CLI_NTARGETS 7
 /* text among names[0..n): its index; else -1 after cli_unknown_value. */
 int cli_choice(const char *opt, const char *text, const char *const *names, int n);
+
+/* LO:HI (--x-range, --r-range, --domain, the lut ranges): two cli_numbers
+ * with min <= LO < HI <= max (-0 refused where min >= 0, as for options),
+ * and wide enough to sample: HI - LO >= CLI_RANGE_MIN_REL * max(|LO|, |HI|)
+ * (a range a few ulps wide is a point whose samples all round alike).
+ * Returns 0 with *lo, *hi set, or 2 after one usage line naming opt. */
+#define CLI_RANGE_MIN_REL 1e-6
+int cli_range(const char *opt, const char *text, double min, double max, double *lo, double *hi);
+/* Its width check alone, for a reader with its own syntax (--domain):
+ * 0, or 2 after the usage line. */
+int cli_range_width(const char *opt, const char *text, double lo, double hi);
 
 /* Precision, one spelling for every command: double, single, half (and
  * render's both). Scene files keep GLSL's words (target.precision

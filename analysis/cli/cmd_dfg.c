@@ -146,15 +146,8 @@ int cmd_lut(int argc, char **argv)
 	                 .tol = tol, .command = bk_out_command()};
 	if (parse_smith("lut", smith, &d.smith))
 		return 2;
-	if (r_range) {
-		char *end;
-		d.L.r_lo = strtod(r_range, &end);
-		if (end == r_range || *end != ':' || (d.L.r_hi = strtod(end + 1, &end), *end) ||
-		    !(d.L.r_lo >= 0 && d.L.r_lo < d.L.r_hi && d.L.r_hi <= 1)) {
-			fprintf(stderr, "brdfkit lut: --r-range: expected LO:HI with 0 <= LO < HI <= 1, got '%s'\n", r_range);
-			return 2;
-		}
-	}
+	if (r_range && cli_range("--r-range", r_range, 0, 1, &d.L.r_lo, &d.L.r_hi))
+		return 2;
 	static const char *const warps[] = {"none", "sqrt"}, *const origins[] = {"top", "bottom"};
 	int w = cli_choice("--warp", warp, warps, 2);
 	if (w < 0 || cli_choice("--origin", origin, origins, 2) < 0)

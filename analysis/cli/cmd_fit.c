@@ -23,15 +23,7 @@
 
 int fit_range(const char *opt, const char *text, double *lo, double *hi)
 {
-	const char *colon = strchr(text, ':');
-	char lo_text[64] = "";
-	if (colon && (size_t)(colon - text) < sizeof lo_text)
-		memcpy(lo_text, text, (size_t)(colon - text));
-	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi)) {
-		cli_fail(NULL, "%s: expected LO:HI with LO < HI, got '%s'", opt, text); /* fit or search: the command running */
-		return 2;
-	}
-	return 0;
+	return cli_range(opt, text, -HUGE_VAL, HUGE_VAL, lo, hi); /* fit or search: the command running */
 }
 
 /* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1. */
@@ -92,6 +84,11 @@ int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
 			return cli_usage(cmd, "--domain: %s: expected LO:HI (two numbers), got '%s:%s'", t, eq + 1, colon + 1);
 		if (!(lo < hi))
 			return cli_usage(cmd, "--domain: %s: expected LO < HI, got '%s:%s'", t, eq + 1, colon + 1);
+		char opt[64], text_lh[160];
+		snprintf(opt, sizeof opt, "--domain: %.40s", t);
+		snprintf(text_lh, sizeof text_lh, "%.70s:%.70s", eq + 1, colon + 1);
+		if (cli_range_width(opt, text_lh, lo, hi))
+			return 2;
 		if (to->ndomain == BK_IN_COUNT)
 			return cli_usage(cmd, "--domain: more than %d inputs", BK_IN_COUNT);
 		to->dom_in[to->ndomain] = in;

@@ -1,0 +1,106 @@
+#!/bin/sh
+# cli_parsing.sh — option and input parsing, each rule checked as a class
+# over every command and input that shares its mechanism (issue 39 item 6:
+# the audit's M4, M6, M7, M12, M13, M14, L5, L6, L9): a CSV quote left open,
+# ranges too narrow to sample, negative zero where no negative is allowed,
+# a term budget for a term the scene lacks, --quiet twice, the "(see ...)"
+# suffix of usage errors. Every refusal beside a control just inside it.
+# usage: sh tests/cli_parsing.sh path/to/brdfkit
+set -u
+BK=${1:?usage: cli_parsing.sh path/to/brdfkit}
+case $BK in /*) ;; *) BK=$(pwd)/$BK ;; esac
+ROOT=$(pwd)
+CSVGET=${CSVGET:-$ROOT/build/csvget}
+T=$(mktemp -d /tmp/bk_parsing_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+. "$ROOT/tests/lib.sh"
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+cd "$T" || exit 1
+
+# expect_rc NAME RC TOKEN CMD...: exit RC, one line on stderr holding TOKEN.
+# (timeout: a binary that accepts a scene or a search would run for minutes)
+expect_rc() {
+	name=$1 want=$2 token=$3; shift 3
+	timeout 60 "$@" >out 2>err; rc=$?
+	[ $rc -eq "$want" ] && [ "$(wc -l <err)" -eq 1 ] && grep -qF -- "$token" err && ok \
+		|| bad "$name: exit $rc (want $want), stderr '$(head -c 300 err)'"
+}
+expect_usage() { name=$1; shift; expect_rc "$name" 2 "$@"; }
+# accepted NAME CMD...: exit 0
+accepted() {
+	name=$1; shift
+	timeout 120 "$@" >out 2>err && ok || bad "$name: refused: $(head -c 300 err)"
+}
+
+# ---- M13: a quote left open in a CSV, in every reader (csvtab.c) ---------------
+printf 'name,term,form\na,vf,"vf_talk_r\n' >open.csv
+expect_usage "render --batch open quote" "open.csv:2: unterminated quoted field" \
+	"$BK" render --batch open.csv --size 40 --out rb
+printf 'name,form,form_b,parameters,cost,error\nx,"NoV,,,1,0.1\n' >front_open.csv
+expect_rc "search --start-front open quote" 1 "front_open.csv:2: unterminated quoted field" \
+	"$BK" search --target f --start-front front_open.csv --evals 300 --threads 1 --out so
+# control: the quote closed on the next line is a field (and the error is the form's)
+printf 'name,term,form\na,vf,"vf_talk_r\n"\n' >closed.csv
+"$BK" render --batch closed.csv --size 40 --out rb >out 2>err
+grep -q "unterminated" err && bad "closed quote: $(cat err)" || ok
+
+# ---- L5: ranges too narrow to sample, every range option --------------------------
+N=0.5:0.5000000000000001 W=0.5:0.5000006
+expect_usage "search --x-range 1 ulp" "--x-range: '$N' is too narrow to sample" \
+	"$BK" search --target f --x-range $N --evals 300 --threads 1 --out q
+expect_usage "search --r-range 1 ulp" "--r-range: '$N' is too narrow to sample" \
+	"$BK" search --target vf --r-range $N --evals 300 --threads 1 --out q
+expect_usage "fit --x-range 1 ulp" "--x-range: '$N' is too narrow to sample" \
+	"$BK" fit --target f --form 'p0+LoH' p0=1 --x-range $N --out q
+expect_usage "fit --domain 1 ulp" "--domain: LoH: '$N' is too narrow to sample" \
+	"$BK" fit --target form --target-form LoH --domain LoH=$N --form 'p0+LoH' p0=1 --out q
+expect_usage "lut --r-range 1 ulp" "--r-range: '$N' is too narrow to sample" "$BK" lut --size 4 --r-range $N --out q
+expect_usage "lut --specular --r-range 1 ulp" "--r-range: '$N' is too narrow to sample" \
+	"$BK" lut --specular --size 4 --r-range $N --out q
+# controls: 1.2e-6 of the larger end is wide enough
+accepted "fit --x-range just wide enough" "$BK" fit --target f --form 'p0+LoH' p0=1 --x-range $W --out q
+accepted "lut --r-range just wide enough" "$BK" lut --size 4 --r-range $W --out q
+
+# ---- L6: negative zero where no negative is allowed -------------------------------
+expect_usage "lut --r-range -0" "--r-range: expected LO:HI" "$BK" lut --size 4 --r-range -0:1 --out q
+expect_usage "lut --f0 -0" "-0 is out of range" "$BK" lut --size 4 --f0 -0 --out q
+accepted "lut --f0 0 (control)" "$BK" lut --size 4 --f0 0 --out q
+accepted "lut --r-range 0:1 (control)" "$BK" lut --size 4 --r-range 0:1 --out q
+
+# ---- L9: --quiet twice; the "(see ... --help)" suffix ------------------------------
+expect_usage "--quiet twice" "--quiet given twice (see brdfkit eval --help)" "$BK" eval --quiet --quiet NoV NoV=1
+accepted "--quiet once" "$BK" eval --quiet NoV NoV=1
+expect_usage "lut --r-range inf" "(see brdfkit lut --help)" "$BK" lut --size 4 --r-range 0:inf --out q
+
+# ---- scenes: L6 negative zero, L5 narrow ranges, M7 budgets of absent terms --------
+# (scene errors are bad files: exit 1, as every scene error)
+scene() { printf '{"scene":"s","materials":[{"name":"m",%s}]%s}\n' "$1" "$2" >s.json; }
+scene '"roughness":-0.0,"f0":0.04' ''
+expect_rc "scene roughness -0.0" 1 "-0.0 is negative zero" "$BK" scene s.json --no-time --out sc
+scene '"roughness":0.5,"f0":{"min":-0,"max":0.5}' ''
+expect_rc "scene f0 min -0" 1 "-0 is negative zero" "$BK" scene s.json --no-time --out sc
+scene '"roughness":{"min":0.5,"max":0.5000000000000001},"f0":0.04' ''
+expect_rc "scene roughness 1 ulp" 1 "materials[0].roughness: [0.5, 0.50000000000000011] is too narrow" \
+	"$BK" scene s.json --no-time --out sc
+scene '"roughness":[0.5,0.5000000000000001],"f0":0.04' ''
+expect_rc "scene roughness list 1 ulp" 1 "is too narrow" "$BK" scene s.json --no-time --out sc
+scene '"roughness":0.5,"f0":0.04' ',"target":{"error":{"env":0.01}},"lighting":{"ibl":false}'
+expect_rc "scene error.env without ibl" 1 \
+	"target.error.env: has no effect without image-based lighting (lighting.ibl is false)" \
+	"$BK" scene s.json --no-time --out sc
+scene '"roughness":0.5,"f0":0.04' ',"target":{"error":{"vf":0.01}},"lighting":{"punctual":false}'
+expect_rc "scene error.vf without punctual" 1 "target.error.vf: has no effect without punctual lights" \
+	"$BK" scene s.json --no-time --out sc
+scene '"specular":false' ',"target":{"error":{"vf":0.01}}'
+expect_rc "scene error.vf, nothing specular" 1 "target.error.vf: has no effect when no material is specular" \
+	"$BK" scene s.json --no-time --out sc
+# controls: diffuse-only scenes (no fit: instant) with a budget that applies to every term
+scene '"specular":false' ',"target":{"error":0.01}'
+accepted "scene one budget, nothing specular" "$BK" scene s.json --no-time --out sc
+scene '"specular":false,"roughness":0' ''
+accepted "scene roughness 0" "$BK" scene s.json --no-time --out sc
+
+echo "cli_parsing: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
