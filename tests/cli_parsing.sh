@@ -102,5 +102,36 @@ accepted "scene one budget, nothing specular" "$BK" scene s.json --no-time --out
 scene '"specular":false,"roughness":0' ''
 accepted "scene roughness 0" "$BK" scene s.json --no-time --out sc
 
+# ---- M12: render --size states the cell limit, as a usage error --------------------
+expect_usage "render --size 8192, one column" "--size 8192: cells of 8192 pixels for 1 column (a cell is 8 to 4096 pixels" \
+	"$BK" render --form vf_talk_r --size 8192 --roughness 0.5 --out rbig
+expect_usage "render --size 16, three columns" "(a cell is 8 to 4096 pixels: W from 24" \
+	"$BK" render --form vf_talk_r --size 16 --roughness 0.1,0.5,1 --out rbig
+accepted "render --size 64, one column (control)" "$BK" render --form vf_talk_r --size 64 --roughness 0.5 --device cpu --out rok
+"$BK" render --help | grep -q -- "--size W .*(8 to 4096 pixels)" && ok || bad "render --help: the cell limit"
+
+# ---- M6: C11's library names refused as --name (a sample of every header) ---------
+for n in assert NDEBUG static_assert cabs cexpf I complex isalpha toupper errno EDOM ENOENT feclearexcept FE_UPWARD \
+	FLT_MAX DBL_EPSILON DECIMAL_DIG PRId64 SCNu8 strtoimax and xor_eq INT_MAX CHAR_BIT setlocale LC_ALL jmp_buf \
+	longjmp signal raise SIGINT SIG_IGN alignas va_list va_start atomic_load atomic_int memory_order_seq_cst \
+	ATOMIC_VAR_INIT bool true size_t offsetof NULL int32_t uint_fast8_t INT8_C UINTMAX_MAX printf stdin FILE EOF \
+	fopen exit abort malloc qsort EXIT_SUCCESS noreturn memcpy strlen thrd_create mtx_lock thread_local call_once \
+	time clock_t CLOCKS_PER_SEC char16_t mbrtoc32 wprintf WEOF wint_t iswalpha towupper printf_s errno_t; do
+	expect_usage "c --name $n" "'$n' is reserved in c" "$BK" codegen --lang c --name "$n" 'NoV*NoL'
+done
+# controls: names a header's family does not reach are accepted, and compile
+# with every C11 header included (gnu11: glibc's widest declarations)
+{ for h in assert complex ctype errno fenv float inttypes iso646 limits locale setjmp signal stdalign stdarg \
+	stdatomic stdbool stddef stdint stdio stdlib stdnoreturn string tgmath threads time uchar wchar wctype; do
+	echo "#include <$h.h>"; done; } >all.h
+for n in Float total strength tm Exposure intensity D_ggx_fit print_ exit2 Signal; do
+	"$BK" codegen --lang c --name "$n" 'NoV*NoL' >f.c 2>err || { bad "c --name $n refused: $(cat err)"; continue; }
+	cat all.h f.c >g.c
+	gcc -std=c11 -Wall -Werror -c g.c -o g.o 2>cc && ok || bad "c --name $n with every header: $(head -2 cc)"
+done
+# negative control: the same compile fails for a refused name written in by hand
+"$BK" codegen --lang c --name ctl 'NoV*NoL' | sed 's/ ctl(/ printf(/' | cat all.h - >g.c
+gcc -std=c11 -Wall -Werror -c g.c -o g.o 2>/dev/null && bad "control: printf compiled with <stdio.h>" || ok
+
 echo "cli_parsing: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -364,7 +364,7 @@ int cmd_render(int argc, char **argv)
 		{.name = "--name", .kind = CLI_STR, .metavar = "NAME", .help = "the render's name in the outputs (default: the catalog name or 'candidate')", .dest = &name},
 		{.name = "--batch", .kind = CLI_STR, .metavar = "CSV", .help = "many candidates: columns name, term, form, form_b, parameters (read by name); each into DIR/NAME/", .dest = &batch},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half|both", .help = "which shaders run: float (f32 outputs), float16_t (f16 outputs) or both (default)", .dest = &precision},
-		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square, two rows", .dest = &size, .lo = 16, .hi = 8192},
+		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square (8 to 4096 pixels), two rows", .dest = &size, .lo = 16, .hi = 8192},
 		{.name = "--roughness", .kind = CLI_LIST, .metavar = "R,...", .help = "the columns' roughness (default 0.1,0.25,0.5,0.75,1)", .dest = &rough, .lo = 0, .hi = 1, .lo_open = 1},
 		{.name = "--device", .kind = CLI_STR, .metavar = "lavapipe|cpu", .help = "lavapipe: the emitted GLSL on Mesa's software Vulkan (default); cpu: the IR (double for f32, BK_F16 for f16), the reference", .dest = &device},
 		{.name = "--link-prefix", .kind = CLI_STR, .metavar = "PATH/", .help = "prefix of the links in section.html", .dest = &prefix},
@@ -408,8 +408,11 @@ int cmd_render(int argc, char **argv)
 		return cli_usage(&cmd, "--roughness: at most %d columns", BK_RENDER_MAX_COLS);
 	bk_render_scene sc = {.cell = (int)(size / rough.n), .ncols = rough.n};
 	memcpy(sc.r, rough.v, sizeof(double) * (size_t)rough.n);
-	if (sc.cell < 8)
-		return cli_usage(&cmd, "--size %ld: cells of %d pixels for %d columns (at least 8)", size, sc.cell, rough.n);
+	if (sc.cell < BK_RENDER_MIN_CELL || sc.cell > BK_RENDER_MAX_CELL) /* the help's [16, 8192] is W's, not a cell's */
+		return cli_usage(&cmd, "--size %ld: cells of %d pixels for %d column%s (a cell is %d to %d pixels: W from %ld "
+		                 "to %ld here)", size, sc.cell, rough.n, rough.n > 1 ? "s" : "", BK_RENDER_MIN_CELL,
+		                 BK_RENDER_MAX_CELL, (long)BK_RENDER_MIN_CELL * rough.n,
+		                 (long)BK_RENDER_MAX_CELL * rough.n < 8192 ? (long)BK_RENDER_MAX_CELL * rough.n : 8192L);
 	char err[1200];
 	if (bk_out_dir_check(out, err, sizeof err))
 		return cli_fail("render", "--out %s", err);
