@@ -133,5 +133,55 @@ done
 "$BK" codegen --lang c --name ctl 'NoV*NoL' | sed 's/ ctl(/ printf(/' | cat all.h - >g.c
 gcc -std=c11 -Wall -Werror -c g.c -o g.o 2>/dev/null && bad "control: printf compiled with <stdio.h>" || ok
 
+# ---- M4: pN=VALUE read by one function (form_check.h), twice and empty refused ------
+expect_usage "render --params twice" "parameters: p0 given twice in the list 'p0=1;p0=2'" \
+	"$BK" render --form 'p0*f0' --params 'p0=1;p0=2' --term vf --size 40 --out r4
+expect_usage "render --params empty" "parameters: empty item in the list 'p0=1;;'" \
+	"$BK" render --form 'p0*f0' --params 'p0=1;;' --term vf --size 40 --out r4
+expect_usage "render --params leading empty" "parameters: empty item" \
+	"$BK" render --form 'p0*f0' --params ',p0=1' --term vf --size 40 --out r4
+printf 'name,term,form,form_b,parameters\na,vf,p0*f0,,p0=1;p0=3\n' >b_twice.csv
+expect_usage "render --batch parameters twice" "a: parameters: p0 given twice" "$BK" render --batch b_twice.csv --size 40 --out rb
+printf 'name,term,form,form_b,parameters\na,vf,p0*f0,,p0=1;\n' >b_empty.csv
+expect_usage "render --batch parameters empty" "a: parameters: empty item" "$BK" render --batch b_empty.csv --size 40 --out rb
+for c in eval codegen gpucost time stability; do
+	case $c in eval) pre="" post="NoV=0.5" ;; codegen) pre="--lang c" post="" ;; *) pre="" post="" ;; esac
+	# shellcheck disable=SC2086 # pre and post are words
+	expect_usage "$c p01 (a second name for p1)" "unknown parameter 'p01' (p0..p15)" \
+		"$BK" $c $pre 'p1*NoV+p0' p0=1 p01=2 $post
+	# shellcheck disable=SC2086
+	expect_usage "$c p16" "unknown parameter 'p16' (p0..p15)" "$BK" $c $pre 'p0*NoV' p0=1 p16=2 $post
+done
+expect_usage "eval p0 twice" "p0 given twice" "$BK" eval 'p0*NoV' p0=1 p0=2 NoV=0.5
+expect_usage "codegen p0 twice" "p0 given twice" "$BK" codegen --lang c 'p0*NoV' p0=1 p0=2
+expect_usage "stability p0 twice" "p0 given twice" "$BK" stability 'p0*NoV' p0=1 p0=2
+expect_usage "fit p0 twice" "p0 given twice" "$BK" fit --target f --form 'p0+LoH' p0=1 p0=2 --out q
+expect_usage "fit p01" "unknown parameter 'p01'" "$BK" fit --target f --form 'p1*LoH+p0' p0=1 p01=2 --out q
+# controls: each once
+accepted "render --params once" "$BK" render --form 'p0*f0' --params 'p0=1' --term vf --size 40 --device cpu --out r4
+accepted "eval p0 once" "$BK" eval 'p0*NoV' p0=1 NoV=0.5
+
+# ---- M14: parameters numbered from p0, without a gap, in every command ---------------
+for c in eval codegen gpucost time stability; do
+	case $c in eval) pre="" post="NoV=0.5" ;; codegen) pre="--lang c" post="" ;; *) pre="" post="" ;; esac
+	# shellcheck disable=SC2086
+	expect_usage "$c p15 alone" "uses p15 but not p0: number the parameters from p0, without a gap" \
+		"$BK" $c $pre 'p15*NoV' p15=1 $post
+	# shellcheck disable=SC2086
+	expect_usage "$c p0 and p2" "uses p2 but not p1: number the parameters from p0" \
+		"$BK" $c $pre 'p0+p2*NoV' p0=1 p2=1 $post
+done
+expect_usage "fit p15 alone" "the form uses p15 but not p0" "$BK" fit --target f --form 'p15+LoH' p15=1 --out q
+expect_usage "render p1 alone" "uses p1 but not p0" "$BK" render --form 'p1*f0' --params p1=1 --term vf --size 40 --out r4
+printf 'name,form,form_b,parameters,cost,error\nx,p3*LoH,,p3=1,1,0.1\n' >front_gap.csv
+expect_rc "search --start-front p3 alone" 1 "front_gap.csv:2: the form uses p3 but not p0" \
+	"$BK" search --target f --start-front front_gap.csv --evals 300 --threads 1 --out so
+printf 'name,form,form_b,parameters,cost,error\nx,p0*LoH,,p0=1;,1,0.1\n' >front_empty.csv
+expect_rc "search --start-front empty item" 1 "front_empty.csv:2: parameters: an empty item" \
+	"$BK" search --target f --start-front front_empty.csv --evals 300 --threads 1 --out so
+# controls: numbered from p0
+accepted "codegen p0 p1" "$BK" codegen --lang c 'p0+p1*NoV' p0=1 p1=2
+accepted "time p0" "$BK" time 'p0*NoV' p0=1 --reps 1
+
 echo "cli_parsing: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "fit.h"
 #include "fit_out.h"
+#include "form_check.h"
 #include "heatmap.h"
 
 #include <ctype.h>
@@ -282,19 +283,22 @@ static int setup_spec(run *R, char **pos, int npos)
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
-		char *end = NULL;
-		long j = pos[i][0] == 'p' && isdigit((unsigned char)pos[i][1]) ? strtol(pos[i] + 1, &end, 10) : -1;
-		double v = NAN;
-		if (j < 0 || j >= BK_MAX_PARAMS || *end != '=' || cli_number(end + 1, &v)) {
-			fprintf(stderr, "brdfkit fit: expected pN=VALUE (a starting value), got '%s'\n", pos[i]);
+		int j;
+		double v;
+		int rc = form_param(pos[i], &j, &v);
+		if (rc == 0)
+			return cli_bad("expected pN=VALUE (a starting value), got '%s'", pos[i]);
+		if (rc != 1)
 			return 2;
-		}
-		if (given[j]++) {
-			fprintf(stderr, "brdfkit fit: p%ld given twice ('%s')\n", j, pos[i]);
-			return 2;
-		}
+		if (given[j]++)
+			return cli_bad("p%d given twice ('%s')", j, pos[i]);
 		sp->start[j] = v;
 	}
+	unsigned used = bk_form_params(R->fs.f[0]) | (R->fs.split ? bk_form_params(R->fs.f[1]) : 0);
+	for (int j = 0; j < sp->np; j++) /* numbered from p0, as every command takes them (form_check.h) */
+		if (!(used >> j & 1u))
+			return cli_bad("the form uses p%d but not p%d: number the parameters from p0, without a gap", sp->np - 1,
+			               j);
 	for (int j = 0; j < sp->np; j++)
 		if (!isfinite(sp->start[j])) {
 			fprintf(stderr, "brdfkit fit: no starting value for p%d: give p%d=VALUE\n", j, j);
@@ -457,7 +461,7 @@ static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 		return cli_usage(cmd, "--f0: target %s uses one value, got %d", bk_target_name(kind), a->f0.n);
 	const bk_fit_spec *sp = &R->spec;
 	for (int i = 0; i < npos; i++) { /* pN=VALUE, checked by setup_spec */
-		long j = strtol(pos[i] + 1, NULL, 10);
+		long j = atol(pos[i] + 1);
 		if (j >= sp->np && sp->np == 0)
 			return cli_usage(cmd, "'%s' has no effect: the form has no parameters", pos[i]);
 		if (j >= sp->np && sp->np == 1)

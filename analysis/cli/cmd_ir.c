@@ -92,6 +92,16 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 	for (int i = 0; i < npos; i++) {
 		char name[32];
 		double v;
+		int k, rc = form_param(pos[i], &k, &v); /* pN=VALUE: every command's one reader */
+		if (rc == 2)
+			return 2;
+		if (rc == 1) {
+			if (given_p[k]) /* a second value would silently replace the first */
+				return cli_bad("p%d given twice", k);
+			fa->params[k] = v;
+			fa->have[k] = given_p[k] = 1;
+			continue;
+		}
 		if (assignment(cmd, pos[i], name, sizeof name, &v))
 			return 2;
 		for (int j = 0; j < i; j++) /* a second value would silently replace the first */
@@ -99,17 +109,6 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 				fprintf(stderr, "brdfkit %s: %s given twice\n", cmd, name);
 				return 2;
 			}
-		char *end;
-		if (name[0] == 'p' && name[1] >= '0' && name[1] <= '9') {
-			long k = strtol(name + 1, &end, 10);
-			if (*end || k >= BK_MAX_PARAMS) {
-				fprintf(stderr, "brdfkit %s: unknown parameter '%s' (p0..p%d)\n", cmd, name, BK_MAX_PARAMS - 1);
-				return 2;
-			}
-			fa->params[k] = v;
-			fa->have[k] = given_p[k] = 1;
-			continue;
-		}
 		int found = 0;
 		for (int k = 0; inputs && k < BK_IN_COUNT; k++)
 			if (strcmp(name, bk_input_name((bk_input)k)) == 0 ||
@@ -130,7 +129,7 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 			return 2;
 		}
 	}
-	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_nparams(fa->f), fa->have, given_p);
+	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_params(fa->f), fa->have, given_p);
 }
 
 /* Significant digits that read back as x: 0.1, not 0.10000000000000001. */

@@ -64,32 +64,6 @@ static int name_ok(const char *s)
 	return strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") == n;
 }
 
-/* "p0=X;p1=Y" (front.csv's parameters column; ',' also separates) into
- * params/have. 0, or 2 after a usage line. */
-static int parse_params(const char *who, const char *text, double *params, int *have, int *given)
-{
-	char *copy = strdup(text), *save = NULL;
-	if (!copy)
-		return cli_fail("render", "out of memory");
-	int rc = 0;
-	for (char *t = strtok_r(copy, ";,", &save); t && !rc; t = strtok_r(NULL, ";,", &save)) {
-		t += strspn(t, " ");
-		char *eq = strchr(t, '='), *end;
-		long k = t[0] == 'p' && t[1] >= '0' && t[1] <= '9' ? strtol(t + 1, &end, 10) : -1;
-		if (!eq || k < 0 || end != eq || k >= BK_MAX_PARAMS || cli_number(eq + 1, &params[k])) {
-			fprintf(stderr, "brdfkit render: %s: parameters: expected p0=X;p1=Y with N in 0..%d and finite "
-			                "numbers, got '%.60s'\n", who, BK_MAX_PARAMS - 1, t);
-			rc = 2;
-		} else {
-			have[k] = 1;
-			if (given)
-				given[k] = 1;
-		}
-	}
-	free(copy);
-	return rc;
-}
-
 /* Resolves and checks one candidate: a catalog NAME (its published
  * parameters, its target's term unless term is given) or a form. 0, or 2
  * after one line naming the input. */
@@ -144,9 +118,10 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	if (params && *params) {
-		int rc = parse_params(it->name, params, it->params, it->have, given);
-		if (rc)
-			return rc;
+		if (form_param_list(it->name, params, it->params, given))
+			return 2;
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			it->have[j] |= given[j];
 		it->params_text = strdup(params);
 	} else if (e) {
 		char buf[1024] = "";
@@ -158,7 +133,7 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	bk_form_error fe;
 	const char *texts[2] = {it->form, it->form_b};
 	bk_form **fs[2] = {&it->f, &it->fb};
-	int np = 0;
+	unsigned used = 0;
 	for (int k = 0; k < 2; k++) {
 		if (!texts[k])
 			continue;
@@ -167,9 +142,9 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 			        fe.message);
 			return 2;
 		}
-		np = bk_form_nparams(*fs[k]) > np ? bk_form_nparams(*fs[k]) : np;
+		used |= bk_form_params(*fs[k]);
 	}
-	int rc = form_check_params("render", it->name, np, it->have, params && *params ? given : NULL);
+	int rc = form_check_params("render", it->name, used, it->have, params && *params ? given : NULL);
 	for (int k = 0; !rc && k < 2; k++)
 		if (*fs[k])
 			rc = form_check_finite("render", it->name, *fs[k], it->params);
