@@ -183,5 +183,38 @@ expect_rc "search --start-front empty item" 1 "front_empty.csv:2: parameters: an
 accepted "codegen p0 p1" "$BK" codegen --lang c 'p0+p1*NoV' p0=1 p1=2
 accepted "time p0" "$BK" time 'p0*NoV' p0=1 --reps 1
 
+# ---- L9 as a class: every usage error about an option or an argument ends with
+# "(see brdfkit CMD --help)", whichever check refuses it -------------------------------
+suffix() { # NAME CMD ARGS...: exit 2, one line ending with the command's suffix
+	name=$1; shift
+	"$BK" "$@" >out 2>err; rc=$?
+	[ $rc -eq 2 ] && [ "$(wc -l <err)" -eq 1 ] && grep -q "(see brdfkit $1 --help)\$" err && ok \
+		|| bad "$name: exit $rc, stderr '$(cat err)'"
+}
+suffix "compare --target form" compare --target form --out q
+suffix "fit --bound x" fit --target f --form p0+LoH p0=1 --bound x --out q
+suffix "fit no form" fit --target f --out q
+suffix "fit --smith" fit --target f --form p0+LoH p0=1 --smith nope --out q
+suffix "fit --x-range 0:2" fit --target vf --form vf_talk_r --x-range 0:2 --out q
+suffix "gpucost p0 first" gpucost p0=1
+suffix "eval unknown name" eval NoV foo=1
+suffix "eval not a number" eval NoV NoV=x
+suffix "eval VoH LoH differ" eval LoH LoH=0.5 VoH=0.6
+suffix "eval unread input" eval NoV NoV=0.5 NoL=0.5
+suffix "eval missing input" eval NoV
+suffix "codegen --name 1x" codegen --lang c --name 1x NoV
+suffix "codegen --name printf" codegen --lang c --name printf NoV
+suffix "render --term" render --form vf_talk_r --term bad --out q
+suffix "terms --role" terms --role X
+suffix "time unknown part" time vf_talk_r:Z
+suffix "time p0 first" time p0=1
+suffix "lut --r-range 0:inf" lut --size 4 --r-range 0:inf --out q
+suffix "lut --specular --r-range" lut --specular --r-range 0.5:0.2 --out q
+suffix "codegen p15 alone" codegen --lang c p15 p15=1
+suffix "eval p0 unset" eval 'p0*NoV' NoV=0.5
+# control: a form's syntax error keeps its own location, without the suffix
+"$BK" eval 'NoV+' NoV=0.5 >out 2>err
+grep -q "form:1:" err && ! grep -q "(see brdfkit" err && ok || bad "form syntax error: $(cat err)"
+
 echo "cli_parsing: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

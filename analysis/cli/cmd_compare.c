@@ -589,8 +589,7 @@ int cmd_compare(int argc, char **argv)
 		return cli_unknown_value("--target", target, cli_targets, CLI_NTARGETS);
 	}
 	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
-		fprintf(stderr, "brdfkit compare: --target form: compare scores the catalog; fit a form target with brdfkit fit\n");
-		return 2;
+		return cli_bad("--target form: compare scores the catalog; fit a form target with brdfkit fit");
 	}
 	int t = -1;
 	for (int k = 0; k < BK_TIERS; k++)

@@ -48,8 +48,7 @@ static int bounds(const cli_cmd *cmd, const char *text, double *lower, double *u
 			memcpy(name, items[k], (size_t)(eq - items[k]));
 		int j = param_index(name);
 		if (j < 0) {
-			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", items[k]);
-			return 2;
+			return cli_bad("--bound: expected pN=LO:HI, got '%s'", items[k]);
 		}
 		if (seen[j]++)
 			return cli_usage(cmd, "--bound: p%d given twice in the list '%.200s'", j, text);
@@ -122,8 +121,7 @@ static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 {
 	memset(fs, 0, sizeof *fs);
 	if (!!a->form == !!(a->form_a || a->form_b) || (!a->form && !(a->form_a && a->form_b))) {
-		fprintf(stderr, "brdfkit fit: give --form FORM|NAME, or --form-a and --form-b\n");
-		return 2;
+		return cli_bad("give --form FORM|NAME, or --form-a and --form-b");
 	}
 	if (a->form && (fs->entry = bk_catalog_find(a->form))) {
 		fs->text[0] = fs->entry->form;
@@ -136,8 +134,7 @@ static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 	}
 	fs->split = fs->text[1] != NULL;
 	if (fs->split && kind != BK_TARGET_ENV) {
-		fprintf(stderr, "brdfkit fit: two forms (A and B) fit only the env target\n");
-		return 2;
+		return cli_bad("two forms (A and B) fit only the env target");
 	}
 	if (parse_form(fs->split ? "form-a" : "form", fs->text[0], &fs->f[0]))
 		return 2;
@@ -234,7 +231,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 	if (a->x_range && fit_range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
 		return 2;
 	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
-		cli_fail(NULL, "ranges must lie in [0, 1] (cosines and perceptual roughness)");
+		cli_bad("ranges must lie in [0, 1] (cosines and perceptual roughness)");
 		return 2;
 	}
 	if (a->nx) to->nx = (int)a->nx;
@@ -243,7 +240,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 	if (a->nphi) to->nphi = (int)a->nphi;
 	if (a->f0.n) {
 		if (a->f0.n > BK_TARGET_MAX_F0) {
-			cli_fail(NULL, "--f0: at most %d values", BK_TARGET_MAX_F0);
+			cli_bad("--f0: at most %d values", BK_TARGET_MAX_F0);
 			return 2;
 		}
 		to->nf0 = a->f0.n;
@@ -255,7 +252,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 		return 2;
 	to->talk_alpha = a->talk && v == 1;
 	if (a->smith && bk_smith_parse(a->smith, &to->smith)) {
-		cli_fail(NULL, "--smith: unknown model '%s'", a->smith);
+		cli_bad("--smith: unknown model '%s'", a->smith);
 		return 2;
 	}
 	if (a->ior > 0)
@@ -301,8 +298,7 @@ static int setup_spec(run *R, char **pos, int npos)
 			               j);
 	for (int j = 0; j < sp->np; j++)
 		if (!isfinite(sp->start[j])) {
-			fprintf(stderr, "brdfkit fit: no starting value for p%d: give p%d=VALUE\n", j, j);
-			return 2;
+			return cli_bad("no starting value for p%d: give p%d=VALUE", j, j);
 		}
 	if (a->bounds && bounds(R->cmd, a->bounds, sp->lower, sp->upper))
 		return 2;
@@ -313,9 +309,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	for (int k = 0; k < n; k++) {
 		int j = param_index(items[k]);
 		if (j < 0 || j >= sp->np) {
-			fprintf(stderr, "brdfkit fit: --hold: expected parameters of the form (p0..p%d), got '%s'\n",
-			        sp->np - 1, items[k]);
-			return 2;
+			return cli_bad("--hold: expected parameters of the form (p0..p%d), got '%s'",
+			               sp->np - 1, items[k]);
 		}
 		if (sp->hold[j]++)
 			return cli_usage(R->cmd, "--hold: p%d given twice in the list '%.200s'", j, a->hold);

@@ -38,13 +38,10 @@ static int param_arg(const char *arg, gc_row *last)
 	if (rc != 1)
 		return rc;
 	if (!last || !last->typed) {
-		fprintf(stderr, "brdfkit gpucost: '%.100s' must follow a typed form (catalog entries use their "
-		                "published constants)\n", arg);
-		return 2;
+		return cli_bad("'%.100s' must follow a typed form (catalog entries use their published constants)", arg);
 	}
 	if (last->given[i]) {
-		fprintf(stderr, "brdfkit gpucost: p%d given twice for %s\n", i, last->name);
-		return 2;
+		return cli_bad("p%d given twice for %s", i, last->name);
 	}
 	last->params[i] = v;
 	last->have[i] = last->given[i] = 1;
@@ -74,8 +71,7 @@ static int read_row(const char *arg, int index, gc_row *r)
 	const char *part = colon ? colon + 1 : "";
 	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
 	if (colon && (!e->form_b || !(a || b))) {
-		fprintf(stderr, "brdfkit gpucost: '%s': unknown part '%.20s'\n", name, part);
-		return 2;
+		return cli_bad("'%s': unknown part '%.20s'", name, part);
 	}
 	r->text[0] = b ? e->form_b : e->form;
 	r->text[1] = !colon ? e->form_b : NULL;

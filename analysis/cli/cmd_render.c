@@ -77,14 +77,10 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	const bk_catalog_entry *e = bk_catalog_find(form);
 	snprintf(it->name, sizeof it->name, "%s", name ? name : e ? e->name : "candidate");
 	if (!name_ok(it->name)) {
-		fprintf(stderr, "brdfkit render: name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)\n",
-		        it->name);
-		return 2;
+		return cli_bad("name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)", it->name);
 	}
 	if (term && bk_render_term_parse(term, &it->term)) {
-		fprintf(stderr, "brdfkit render: %s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'\n",
-		        it->name, term);
-		return 2;
+		return cli_bad("%s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'", it->name, term);
 	}
 	if (e) {
 		it->form = strdup(e->form);
@@ -93,19 +89,15 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 		for (int j = 0; j < e->nparams; j++)
 			it->have[j] = 1;
 		if (!term && bk_render_term_of_target(e->target, &it->term)) {
-			fprintf(stderr, "brdfkit render: %s: its target %s replaces no term of the render (give --term)\n",
-			        it->name, e->target);
-			return 2;
+			return cli_bad("%s: its target %s replaces no term of the render (give --term)",
+			               it->name, e->target);
 		}
 		if (form_b) {
-			fprintf(stderr, "brdfkit render: %s: --form-b: a catalog entry brings its own B\n", it->name);
-			return 2;
+			return cli_bad("%s: --form-b: a catalog entry brings its own B", it->name);
 		}
 	} else {
 		if (!term) {
-			fprintf(stderr, "brdfkit render: %s: a typed form needs --term (vf2d, vf, d, v, f, dvf or env)\n",
-			        it->name);
-			return 2;
+			return cli_bad("%s: a typed form needs --term (vf2d, vf, d, v, f, dvf or env)", it->name);
 		}
 		it->form = strdup(form);
 		it->form_b = dup_or_null(form_b);
@@ -113,8 +105,7 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	if (!it->form || (form_b && *form_b && !it->form_b))
 		return cli_fail("render", "out of memory");
 	if (it->form_b && it->term != BK_RT_ENV) {
-		fprintf(stderr, "brdfkit render: %s: a B form is only for --term env (f0 A + B)\n", it->name);
-		return 2;
+		return cli_bad("%s: a B form is only for --term env (f0 A + B)", it->name);
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	if (params && *params) {

@@ -46,8 +46,7 @@ static int catalog_row(const char *arg, bk_compare_row *r, int *have)
 	const char *part = colon ? colon + 1 : "";
 	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
 	if (colon && (!e->form_b || !(a || b))) {
-		fprintf(stderr, "brdfkit time: '%s': unknown part '%s'\n", name, part);
-		return 2;
+		return cli_bad("'%s': unknown part '%s'", name, part);
 	}
 	snprintf(r->form, sizeof r->form, "%s", b ? e->form_b : e->form);
 	if (!colon && e->form_b)
@@ -66,8 +65,7 @@ static int catalog_row(const char *arg, bk_compare_row *r, int *have)
 static int typed_row(const char *arg, int index, bk_compare_row *r)
 {
 	if (strlen(arg) >= sizeof r->form) {
-		fprintf(stderr, "brdfkit time: form %d: longer than %zu characters\n", index, sizeof r->form - 1);
-		return 2;
+		return cli_bad("form %d: longer than %zu characters", index, sizeof r->form - 1);
 	}
 	snprintf(r->form, sizeof r->form, "%s", arg);
 	snprintf(r->name, sizeof r->name, "form%d", index);
@@ -87,13 +85,11 @@ static int read_rows(char **pos, int npos, time_table *T)
 			return 2;
 		if (rc == 1) {
 			if (last < 0 || !T->typed[last]) {
-				fprintf(stderr, "brdfkit time: '%s' must follow a typed form (catalog entries use their "
-				                "published constants)\n", pos[i]);
-				return 2;
+				return cli_bad("'%s' must follow a typed form (catalog entries use their published constants)",
+				               pos[i]);
 			}
 			if (T->given[last][k]) {
-				fprintf(stderr, "brdfkit time: p%d given twice for %s\n", k, T->rows[last].name);
-				return 2;
+				return cli_bad("p%d given twice for %s", k, T->rows[last].name);
 			}
 			T->rows[last].params[k] = v;
 			T->have[last][k] = T->given[last][k] = 1;
