@@ -216,5 +216,28 @@ suffix "eval p0 unset" eval 'p0*NoV' NoV=0.5
 "$BK" eval 'NoV+' NoV=0.5 >out 2>err
 grep -q "form:1:" err && ! grep -q "(see brdfkit" err && ok || bad "form syntax error: $(cat err)"
 
+# ---- M8: work of hours or GBs is estimated before it starts (cli_estimate) ----------
+# early KILL CMD...: CMD's stderr in err, stopped after 3 s (the work itself would run for minutes to years)
+early() { timeout 3 "$@" >out 2>err; }
+early "$BK" lut --size 4096 --samples 1073741824 --out q6
+head -1 err | grep -q "^brdfkit lut: warning: the table: about .* years (.*); Ctrl-C stops it" && ok \
+	|| bad "lut 2^30 samples: no warning first: $(head -c 300 err)"
+early "$BK" lut --size 4096 --out q6 --quiet
+grep -q "^brdfkit lut: warning: the table: about .* min" err && ok || bad "lut 4096 --quiet: the warning: $(head -c 300 err)"
+early "$BK" lut --size 1024 --out q6
+grep -q "^brdfkit lut: the table: about .* min" err && ok || bad "lut 1024: no estimate: $(head -c 300 err)"
+early "$BK" lut --size 1024 --out q6 --quiet
+[ ! -s err ] && ok || bad "lut 1024 --quiet: an estimate that is no warning is quiet: $(head -c 300 err)"
+early "$BK" render --form vf_talk_r --size 2048 --device cpu --out rbig
+grep -q "^brdfkit render: 1 candidate at 2048x818 pixels: about .* min" err && ok \
+	|| bad "render --size 2048: no estimate: $(head -c 300 err)"
+early "$BK" search --target vf2d --nx 2048 --nr 2048 --evals 300 --threads 1 --out q4
+grep -q "^brdfkit search: 4.19M samples of target vf2d: about .*, 0.7 GB of memory" err && ok \
+	|| bad "search --nx 2048 --nr 2048: no estimate: $(head -c 300 err)"
+# controls: small work says nothing
+"$BK" lut --size 16 --out q7 2>err >out && ! grep -q "about" err && ok || bad "lut 16: $(cat err)"
+"$BK" render --form vf_talk_r --size 64 --device cpu --out r64 2>err >out && ! grep -q "about" err && ok \
+	|| bad "render 64: $(cat err)"
+
 echo "cli_parsing: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

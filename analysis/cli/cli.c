@@ -756,6 +756,27 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx)
 
 int cli_quiet(void) { return quiet; }
 
+void cli_estimate(const char *what, double seconds, double bytes, const char *basis)
+{
+	int warn = seconds > CLI_WARN_S || bytes > CLI_WARN_BYTES;
+	if ((seconds < CLI_SAY_S && bytes < CLI_SAY_BYTES) || (quiet && !warn))
+		return;
+	static const struct {
+		double s;
+		const char *unit;
+	} units[] = {{365.25 * 86400, "years"}, {86400, "days"}, {3600, "h"}, {60, "min"}, {1, "s"}};
+	char t[64] = "", m[48] = "";
+	size_t u = 0;
+	while (u + 1 < sizeof units / sizeof units[0] && seconds < 2 * units[u].s)
+		u++;
+	if (seconds > 0)
+		snprintf(t, sizeof t, "about %.3g %s", seconds / units[u].s, units[u].unit);
+	if (bytes > 0)
+		snprintf(m, sizeof m, "%s%.1f GB of memory", *t ? ", " : "about ", bytes / 1e9);
+	fprintf(stderr, "brdfkit %s: %s%s: %s%s (%s)%s\n", cur_cmd, warn ? "warning: " : "", what, t, m, basis,
+	        warn ? "; Ctrl-C stops it" : "");
+}
+
 void cli_note(const char *fmt, ...)
 {
 	if (quiet)

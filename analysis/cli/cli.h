@@ -206,6 +206,19 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx);
  * after a usage error listing the names. */
 int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex);
 
+/* Work that may run long or fill the memory, said before it starts (as
+ * scene says its own estimate): nothing below CLI_SAY_S seconds and
+ * CLI_SAY_BYTES; above, one line "brdfkit CMD: WHAT: about T, M of memory
+ * (BASIS)", and past CLI_WARN_S or CLI_WARN_BYTES it is a warning, printed
+ * under --quiet too, that ends "; Ctrl-C stops it". seconds or bytes 0:
+ * not estimated. No size is refused: the options bound it, the line says
+ * what it costs. */
+#define CLI_SAY_S 60.0
+#define CLI_WARN_S (30 * 60.0)
+#define CLI_SAY_BYTES (1024.0 * 1024 * 1024)
+#define CLI_WARN_BYTES (4 * CLI_SAY_BYTES)
+void cli_estimate(const char *what, double seconds, double bytes, const char *basis);
+
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). Nothing under --quiet. */
 void cli_progress(void *label, int done, int total);

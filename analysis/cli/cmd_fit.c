@@ -27,6 +27,14 @@ int fit_range(const char *opt, const char *text, double *lo, double *hi)
 	return cli_range(opt, text, -HUGE_VAL, HUGE_VAL, lo, hi); /* fit or search: the command running */
 }
 
+void fit_say_size(const bk_target_options *to)
+{
+	double n = (double)bk_target_samples(to);
+	char what[64];
+	snprintf(what, sizeof what, "%.3gM samples of target %s", n / 1e6, bk_target_name(to->kind));
+	cli_estimate(what, n * 15e-6, n * 168, "168 bytes and 15 us a sample, measured");
+}
+
 /* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1. */
 static int param_index(const char *t)
 {
@@ -685,6 +693,7 @@ int cmd_fit(int argc, char **argv)
 		goto done;
 	}
 	say_estimate(&R.to);
+	fit_say_size(&R.to);
 	if (bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err)) {
 		rc = cli_fail("fit", "%s", err);
 		goto done;

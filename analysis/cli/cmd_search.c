@@ -536,6 +536,8 @@ static int search_main(int argc, char **argv)
 	}
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
+	if (R == 0)
+		fit_say_size(&J.to); /* before the reference: --nx 4096 --nr 4096 is GBs */
 	if (R == 0 && a.vs_front && bk_frontcsv_read(a.vs_front, BK_FRONTCSV_SCORES, &J.vs_fc, err, sizeof err))
 		rc = cli_fail("search", "--vs-front %s", err); /* said now, not after the search */
 	else if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))

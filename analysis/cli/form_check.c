@@ -12,6 +12,11 @@
 
 int form_param(const char *text, int *k, double *v)
 {
+	return form_param_in(NULL, text, k, v);
+}
+
+int form_param_in(const char *where, const char *text, int *k, double *v)
+{
 	const char *eq = strchr(text, '=');
 	if (text[0] != 'p' || !isdigit((unsigned char)text[1]) || !eq)
 		return 0;
@@ -20,10 +25,12 @@ int form_param(const char *text, int *k, double *v)
 		return 0;
 	/* one spelling per parameter: "p01" would be a second name for p1 */
 	if ((text[1] == '0' && nd > 1) || nd > 2 || atoi(text + 1) >= BK_MAX_PARAMS)
-		return cli_bad("unknown parameter '%.*s' (p0..p%d)", (int)(nd < 20 ? nd + 1 : 20), text, BK_MAX_PARAMS - 1);
+		return cli_bad("%s%sunknown parameter '%.*s' (p0..p%d)", where ? where : "", where ? ": " : "",
+		               (int)(nd < 20 ? nd + 1 : 20), text, BK_MAX_PARAMS - 1);
 	*k = atoi(text + 1);
 	if (cli_number(eq + 1, v)) /* the one number syntax of every command */
-		return cli_bad("p%d: expected a finite number, got '%.100s'", *k, eq + 1);
+		return cli_bad("%s%sp%d: expected a finite number, got '%.100s'", where ? where : "", where ? ": " : "", *k,
+		               eq + 1);
 	return 1;
 }
 
@@ -38,7 +45,9 @@ int form_param_list(const char *who, const char *text, double *params, int *give
 		double v;
 		if (!*s)
 			return cli_bad("%s: parameters: empty item in the list '%.200s'", who, text);
-		int rc = form_param(s, &k, &v);
+		char where[160];
+		snprintf(where, sizeof where, "%.100s: parameters", who);
+		int rc = form_param_in(where, s, &k, &v);
 		if (rc == 0)
 			return cli_bad("%s: parameters: expected pN=VALUE with N in 0..%d, got '%.60s'", who, BK_MAX_PARAMS - 1,
 			               s);

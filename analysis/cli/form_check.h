@@ -24,6 +24,8 @@ int form_check_params(const char *cmd, const char *name, unsigned used, const in
  * "="), so the caller can read it as something else or refuse it; 2 after
  * a usage line (an unknown parameter, not a number). */
 int form_param(const char *text, int *k, double *v);
+/* form_param whose refusals start "WHERE: " (NULL: none). */
+int form_param_in(const char *where, const char *text, int *k, double *v);
 
 /* A list of them, "p0=X;p1=Y" (';' or ','; front.csv's parameters column,
  * render --params and a batch's parameters), into params[k] and given[k]:
