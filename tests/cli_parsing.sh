@@ -66,6 +66,12 @@ accepted "lut --r-range just wide enough" "$BK" lut --size 4 --r-range $W --out 
 # ---- L6: negative zero where no negative is allowed -------------------------------
 expect_usage "lut --r-range -0" "--r-range: expected LO:HI" "$BK" lut --size 4 --r-range -0:1 --out q
 expect_usage "lut --f0 -0" "-0 is out of range" "$BK" lut --size 4 --f0 -0 --out q
+expect_usage "fit --x-range -0" "--x-range: expected LO:HI with LO < HI in [0, 1], got '-0:1'" \
+	"$BK" fit --target f --form 'p0+LoH' p0=1 --x-range -0:1 --out q
+expect_usage "search --r-range -0" "--r-range: expected LO:HI with LO < HI in [0, 1], got '-0:0.5'" \
+	"$BK" search --target vf --r-range -0:0.5 --evals 300 --threads 1 --out q
+# a bound is not sampled: no least width (--hold keeps a parameter fixed)
+accepted "fit --bound 1 ulp wide" "$BK" fit --target f --form 'p0+LoH' p0=1 --bound p0=1:1.0000000000000002 --out q
 accepted "lut --f0 0 (control)" "$BK" lut --size 4 --f0 0 --out q
 accepted "lut --r-range 0:1 (control)" "$BK" lut --size 4 --r-range 0:1 --out q
 

@@ -22,9 +22,17 @@
 #include <unistd.h>
 
 
-int fit_range(const char *opt, const char *text, double *lo, double *hi)
+/* --bound's LO:HI: any two numbers with LO < HI (a bound is not sampled: no
+ * least width; --hold is the way to keep a parameter fixed). */
+static int bound_range(const char *text, double *lo, double *hi)
 {
-	return cli_range(opt, text, -HUGE_VAL, HUGE_VAL, lo, hi); /* fit or search: the command running */
+	const char *colon = strchr(text, ':');
+	char lo_text[64] = "";
+	if (colon && (size_t)(colon - text) < sizeof lo_text)
+		memcpy(lo_text, text, (size_t)(colon - text));
+	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi))
+		return cli_bad("--bound: expected LO:HI with LO < HI, got '%s'", text);
+	return 0;
 }
 
 void fit_say_size(const bk_target_options *to)
@@ -60,7 +68,7 @@ static int bounds(const cli_cmd *cmd, const char *text, double *lower, double *u
 		}
 		if (seen[j]++)
 			return cli_usage(cmd, "--bound: p%d given twice in the list '%.200s'", j, text);
-		if (fit_range("--bound", eq + 1, &lower[j], &upper[j]))
+		if (bound_range(eq + 1, &lower[j], &upper[j]))
 			return 2;
 	}
 	return n < 0 ? 2 : 0;
@@ -234,14 +242,11 @@ static int write_outputs(const run *R, const char *out)
 int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
 {
 	bk_target_defaults(kind, to);
-	if (a->r_range && fit_range("--r-range", a->r_range, &to->r_lo, &to->r_hi))
+	/* cosines and perceptual roughness: [0, 1], -0 refused as an option's would be */
+	if (a->r_range && cli_range("--r-range", a->r_range, 0, 1, &to->r_lo, &to->r_hi))
 		return 2;
-	if (a->x_range && fit_range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
+	if (a->x_range && cli_range("--x-range", a->x_range, 0, 1, &to->x_lo, &to->x_hi))
 		return 2;
-	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
-		cli_bad("ranges must lie in [0, 1] (cosines and perceptual roughness)");
-		return 2;
-	}
 	if (a->nx) to->nx = (int)a->nx;
 	if (a->nr) to->nr = (int)a->nr;
 	if (a->nu) to->nu = (int)a->nu;

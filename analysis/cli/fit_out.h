@@ -58,8 +58,6 @@ typedef struct fit_cli {
 	int relative;
 } fit_cli;
 
-/* LO:HI with LO < HI into lo, hi; 2 after an error naming opt. */
-int fit_range(const char *opt, const char *text, double *lo, double *hi);
 /* fit and search: the memory and time of the target's samples, said before
  * they are built when that is much (cli_estimate): about 168 bytes and 15 us
  * a sample for the reference, the fits and the refit (measured: search on
