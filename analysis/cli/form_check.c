@@ -39,7 +39,9 @@ int form_param_list(const char *who, const char *text, double *params, int *give
 	for (const char *t = text;;) {
 		size_t n = strcspn(t, ";,");
 		char item[128];
-		snprintf(item, sizeof item, "%.*s", (int)(n < sizeof item - 1 ? n : sizeof item - 1), t);
+		if (n >= sizeof item) /* cut, it would be another number */
+			return cli_bad("%s: parameters: an item longer than %zu characters in '%.60s...'", who, sizeof item - 1, t);
+		snprintf(item, sizeof item, "%.*s", (int)n, t);
 		char *s = item + strspn(item, " ");
 		int k;
 		double v;
