@@ -185,6 +185,10 @@ expect_rc "search --start-front p3 alone" 1 "front_gap.csv:2: the form uses p3 b
 printf 'name,form,form_b,parameters,cost,error\nx,p0*LoH,,p0=1;,1,0.1\n' >front_empty.csv
 expect_rc "search --start-front empty item" 1 "front_empty.csv:2: parameters: an empty item" \
 	"$BK" search --target f --start-front front_empty.csv --evals 300 --threads 1 --out so
+expect_usage "search --start p15 alone" "--start 'p15*LoH' uses p15 but not p0: number the parameters from p0" \
+	"$BK" search --target f --start 'p15*LoH' --evals 300 --threads 1 --out so
+expect_usage "compare p15 names what it uses" "'p15*LoH' uses p15: compare scores a typed form as written" \
+	"$BK" compare --target f --out co 'p15*LoH'
 # controls: numbered from p0
 accepted "codegen p0 p1" "$BK" codegen --lang c 'p0+p1*NoV' p0=1 p1=2
 accepted "time p0" "$BK" time 'p0*NoV' p0=1 --reps 1

@@ -65,15 +65,40 @@ int form_param_list(const char *who, const char *text, double *params, int *give
 	}
 }
 
-int form_check_params(const char *cmd, const char *name, unsigned used, const int *have, const int *given)
+void form_params_text(unsigned used, char *buf, size_t len)
+{
+	int np = 0, gap = 0;
+	while (np < BK_MAX_PARAMS && used >> np)
+		gap |= !(used >> np++ & 1u);
+	*buf = '\0';
+	if (!gap && np > 1)
+		snprintf(buf, len, "p0..p%d", np - 1);
+	else
+		for (int k = 0; k < np; k++)
+			if (used >> k & 1u)
+				snprintf(buf + strlen(buf), len - strlen(buf), "%sp%d", *buf ? ", " : "", k);
+}
+
+int form_gap(unsigned used, int *missing)
 {
 	int np = 0;
 	while (np < BK_MAX_PARAMS && used >> np)
 		np++;
 	for (int k = 0; k < np; k++)
-		if (!(used >> k & 1u)) /* the values would be positional: p0..p14 all needed, all unused */
-			return cli_bad("%s uses p%d but not p%d: number the parameters from p0, without a gap", name, np - 1,
-			               k);
+		if (!(used >> k & 1u)) {
+			*missing = k;
+			return np - 1;
+		}
+	return -1;
+}
+
+int form_check_params(const char *cmd, const char *name, unsigned used, const int *have, const int *given)
+{
+	int np = 0, missing, top = form_gap(used, &missing);
+	while (np < BK_MAX_PARAMS && used >> np)
+		np++;
+	if (top >= 0) /* the values would be positional: p0..p14 all needed, all unused */
+		return cli_bad("%s uses p%d but not p%d: number the parameters from p0, without a gap", name, top, missing);
 	for (int k = 0; k < np; k++)
 		if (!have[k]) {
 			if (np == 1)

@@ -10,6 +10,8 @@
 
 #include "brdf.h"
 
+#include <stddef.h>
+
 /* used: the parameters the form(s) read (bk_form_params, or-ed over a
  * pair); have[k]: p_k has a value; given[k]: it was given on the command
  * line (NULL: none was). A value missing would be a silent zero, a value
@@ -17,6 +19,13 @@
  * form of p15 alone would need p0..p14 fitted, emitted and given, all
  * unused). Returns 0, or 2 after one usage line on stderr naming NAME. */
 int form_check_params(const char *cmd, const char *name, unsigned used, const int *have, const int *given);
+
+/* The parameters a mask names, for a message: "p0", "p0..p3", or each
+ * one where there is a gap ("p2, p5"). */
+void form_params_text(unsigned used, char *buf, size_t len);
+/* The highest parameter of a mask with a gap below it (*missing: the first
+ * absent one), or -1 when it is p0..pN whole (or empty). */
+int form_gap(unsigned used, int *missing);
 
 /* Every command's reader of one parameter value, "pN=VALUE": N a plain
  * decimal (p0..p15; not p01, a second name for p1), VALUE a cli_number.
