@@ -321,6 +321,13 @@ int bk_csvtab_read(const char *path, const bk_csvtab_spec *spec, bk_csvtab *t, c
 		}
 		if (!r->bad && r->in_comment)
 			comment_end(r);
+		/* libcsv's lenient mode takes a quote left open to the end of the
+		 * file into one field, and csv_fini would end the record as if it
+		 * were whole: a misleading error about its content follows. Its
+		 * state says so before: a quoted field begun (libcsv's FIELD_BEGUN
+		 * is 2, csv.c) and not closed. */
+		if (!r->bad && r->open && p.quoted && p.pstate == 2)
+			fail(r, r->rec_line, "unterminated quoted field (a quote opened in this row is never closed)");
 		if (!r->bad && csv_fini(&p, on_field, on_record, r))
 			fail(r, r->rec_line, "%s", csv_strerror(csv_error(&p)));
 		if (!r->bad && !r->header_done)

@@ -24,10 +24,10 @@
  *               spreadsheet's export), so its first column keeps its name.
  *   limits      at most spec.max_rows data rows, spec.max_bytes bytes and
  *               BK_CSVTAB_MAX_FIELDS fields a record, so a hostile file
- *               cannot exhaust memory; a NUL byte is not text. (libcsv's
- *               lenient mode, as before: a quote left open takes the rest
- *               of the file into its field, and its row, short, fails on
- *               its first line.)
+ *               cannot exhaust memory; a NUL byte is not text. A quote
+ *               left open to the end of the file is an error "unterminated
+ *               quoted field" on the line its row starts on (libcsv's
+ *               lenient mode would take the rest of the file as the field).
  *   errors      one line, "PATH:LINE: what" or "PATH: what", written once
  *               by bk_csvtab_err (callers use it for their own row errors).
  */

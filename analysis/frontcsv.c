@@ -24,6 +24,8 @@ static const char *params(const char *text, bk_frontcsv_row *w, int *given)
 	for (const char *t = text; *t;) {
 		char *end;
 		long i;
+		if (*t == ';')
+			return "parameters: an empty item";
 		if (*t != 'p' || t[1] < '0' || t[1] > '9' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS ||
 		    *end != '=')
 			return "parameters: expected p0=X;p1=Y;... (p0 to p15)";
@@ -37,19 +39,24 @@ static const char *params(const char *text, bk_frontcsv_row *w, int *given)
 			return "parameters: a value is not a finite decimal number";
 		w->p[i] = x;
 		given[i] = 1;
+		if (v[n] == ';' && !v[n + 1])
+			return "parameters: an empty item";
 		t = v[n] ? v + n + 1 : v + n;
 	}
 	return NULL;
 }
 
-/* One form text through the parser: its parameter count, or -1 with err. */
-static int parse(const bk_csvtab *t, int line, const char *what, const char *text, char *err, size_t errlen)
+/* One form text through the parser: its parameter count (*used: or-ed
+ * with the parameters it reads), or -1 with err. */
+static int parse(const bk_csvtab *t, int line, const char *what, const char *text, unsigned *used, char *err,
+                 size_t errlen)
 {
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(text, &fe);
 	if (!f)
 		return bk_csvtab_err(err, errlen, t->path, line, "%s: column %d: %s", what, fe.column, fe.message);
 	int np = bk_form_nparams(f);
+	*used |= bk_form_params(f);
 	bk_form_free(f);
 	return np;
 }
@@ -72,11 +79,16 @@ static int data_row(const bk_csvtab *t, int i, unsigned need, bk_frontcsv_row *w
 		const char *fb = bk_csvtab_get(t, i, C_FORM_B), *pt = bk_csvtab_get(t, i, C_PARAMS);
 		if (!(w->form = strdup(bk_csvtab_get(t, i, C_FORM))) || (*fb && !(w->form_b = strdup(fb))))
 			return bk_csvtab_err(err, errlen, t->path, 0, "out of memory");
-		int np = parse(t, line, "form", w->form, err, errlen);
-		int nb = np < 0 ? 0 : w->form_b ? parse(t, line, "form_b", w->form_b, err, errlen) : 0;
+		unsigned used = 0;
+		int np = parse(t, line, "form", w->form, &used, err, errlen);
+		int nb = np < 0 ? 0 : w->form_b ? parse(t, line, "form_b", w->form_b, &used, err, errlen) : 0;
 		if (np < 0 || nb < 0)
 			return -1;
 		w->np = np > nb ? np : nb;
+		for (int j = 0; j < w->np; j++) /* as every command takes them (analysis/cli/form_check.h) */
+			if (!(used >> j & 1u))
+				return bk_csvtab_err(err, errlen, t->path, line, "the form uses p%d but not p%d: number the "
+				                     "parameters from p0, without a gap", w->np - 1, j);
 		int given[BK_MAX_PARAMS] = {0};
 		const char *msg = params(pt, w, given);
 		if (msg)

@@ -229,7 +229,7 @@ int bk_render_geometry(const bk_render_scene *s, bk_render_env_fn env, void *ctx
 	memset(g, 0, sizeof *g);
 	if (!env)
 		env = sky_fn;
-	if (s->cell < 8 || s->ncols < 1 || s->ncols > BK_RENDER_MAX_COLS || s->cell > 4096) {
+	if (s->cell < BK_RENDER_MIN_CELL || s->ncols < 1 || s->ncols > BK_RENDER_MAX_COLS || s->cell > BK_RENDER_MAX_CELL) {
 		snprintf(err, errlen, "a scene of %d columns of %d pixels", s->ncols, s->cell);
 		return -1;
 	}

@@ -52,6 +52,10 @@
 #include <stddef.h>
 
 #define BK_RENDER_MAX_COLS 16
+/* A cell's side in pixels: 8 shows a sphere, 4096 bounds one cell's
+ * buffers (render.c checks it; render --size says it in terms of W). */
+#define BK_RENDER_MIN_CELL 8
+#define BK_RENDER_MAX_CELL 4096
 #define BK_RENDER_STRIDE 12
 enum {
 	BK_RS_NOV, BK_RS_NOL, BK_RS_NOH, BK_RS_LOH, BK_RS_R, BK_RS_A, BK_RS_F0, /* the form inputs, brdf.h's order */
@@ -70,7 +74,7 @@ int bk_render_term_parse(const char *s, bk_render_term *t);
 int bk_render_term_of_target(const char *target, bk_render_term *t);
 
 typedef struct bk_render_scene {
-	int cell;                       /* pixels per cell, >= 8 */
+	int cell;                       /* pixels per cell, BK_RENDER_MIN_CELL..BK_RENDER_MAX_CELL */
 	int ncols;                      /* 1..BK_RENDER_MAX_COLS */
 	double r[BK_RENDER_MAX_COLS];   /* roughness of each column, in (0, 1] */
 } bk_render_scene;

@@ -95,10 +95,22 @@ static int number(reader *R, const json_t *v, const char *path, double lo, doubl
 {
 	if (!json_is_number(v))
 		return fail(R, path, "expected a number, got %s", kind(v));
-	double x = json_number_value(v) + 0.0; /* -0 is 0: the same value, printed without its sign */
+	double x = json_number_value(v); /* never -0: numbers_exact refused it */
 	if (!(x >= lo && x <= hi))
 		return fail(R, path, "%g is outside [%g, %g]", x, lo, hi);
 	*out = x;
+	return 0;
+}
+
+/* A range of more than one value is wide enough to sample, as the command
+ * line's (cli_range: CLI_RANGE_MIN_REL of the larger end): [0.5, 0.5 + 1e-16]
+ * is one value written as a range. Returns 0 or -1. */
+static int narrow(reader *R, const char *path, double lo, double hi)
+{
+	double need = 1e-6 * fmax(fabs(lo), fabs(hi));
+	if (lo < hi && hi - lo < need)
+		return fail(R, path, "[%.17g, %.17g] is too narrow to sample: max - min must be at least %g (1e-6 of the "
+		            "larger end), or give one number", lo, hi, need);
 	return 0;
 }
 
@@ -142,7 +154,7 @@ static int range(reader *R, const json_t *v, const char *path, double lo, double
 			*rlo = fmin(*rlo, x);
 			*rhi = fmax(*rhi, x);
 		}
-		return 0;
+		return narrow(R, path, *rlo, *rhi);
 	}
 	if (json_is_object(v)) {
 		static const char *const keys[] = {"min", "max", NULL};
@@ -158,7 +170,7 @@ static int range(reader *R, const json_t *v, const char *path, double lo, double
 		}
 		if (*rlo > *rhi)
 			return fail(R, path, "min %g is above max %g", *rlo, *rhi);
-		return 0;
+		return narrow(R, path, *rlo, *rhi);
 	}
 	return fail(R, path, "expected a number, a list or {\"min\", \"max\"}, got %s", kind(v));
 }
@@ -398,7 +410,9 @@ static size_t number_len(const char *s, const char *end)
 
 /* Every number of the (valid) JSON text is the value it spells: jansson
  * reads 1e-999 as 0 without a word, the command line refuses it
- * (cli_number), and so does a scene. The check is on the text, outside
+ * (cli_number), and so does a scene. A negative zero is refused too: every
+ * number a scene takes is 0 or above, as an option whose range excludes
+ * negatives refuses -0 (cli.c). The check is on the text, outside
  * strings, with the line and column an editor shows. Returns 0 or -1. */
 static int numbers_exact(const char *text, size_t len, char *err, size_t errlen)
 {
@@ -421,6 +435,12 @@ static int numbers_exact(const char *text, size_t len, char *err, size_t errlen)
 			}
 			int nonzero = strcspn(tok, "123456789") < (mant < n ? mant : n);
 			double x = strtod(tok, NULL);
+			if (x == 0 && *tok == '-') { /* a sign typed by mistake, or a value computed elsewhere */
+				snprintf(err, errlen, "line %d, column %d: %.40s%s is negative zero (every number of a scene is 0 or "
+				                      "above: write 0)", line, col, tok, n > 40 ? "..." : "");
+				free(tok);
+				return -1;
+			}
 			if (x == 0 && nonzero) {
 				snprintf(err, errlen, "line %d, column %d: %.40s%s is not 0 but underflows to it (brdfkit reads "
 				                      "numbers from about 4.9e-324 up, and 0)", line, col, tok, n > 40 ? "..." : "");
@@ -436,6 +456,28 @@ static int numbers_exact(const char *text, size_t len, char *err, size_t errlen)
 		if (((unsigned char)*s & 0xc0) != 0x80) /* a column per character, not per byte */
 			col++;
 	}
+	return 0;
+}
+
+/* A budget given per term ({"vf", "env"}) for a term no material of the
+ * scene needs would change nothing, silently: refused, saying why the term
+ * is absent. (A single number is every term's budget: nothing to check.) */
+static int term_budgets(reader *R, const json_t *v, const bk_scene *sc)
+{
+	int vf = 0, env = 0, spec = 0;
+	for (int m = 0; m < sc->nmat; m++) {
+		bk_scene_needs n;
+		bk_scene_material_needs(sc, m, &n);
+		vf |= n.vf;
+		env |= n.env;
+		spec |= sc->mat[m].specular;
+	}
+	if (json_is_object(v) && json_object_get(v, "vf") && !vf)
+		return fail(R, "target.error.vf", "has no effect %s", !spec ? "when no material is specular"
+		                                                             : "without punctual lights (lighting.punctual is false)");
+	if (json_is_object(v) && json_object_get(v, "env") && !env)
+		return fail(R, "target.error.env", "has no effect %s", !spec ? "when no material is specular"
+		                                                              : "without image-based lighting (lighting.ibl is false)");
 	return 0;
 }
 
@@ -489,6 +531,8 @@ int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t
 	    target(&R, json_object_get(root, "target"), sc))
 		goto done;
 	/* conflicts between sections */
+	if (term_budgets(&R, json_object_get(json_object_get(root, "target"), "error"), sc))
+		goto done;
 	for (int m = 0; m < sc->nmat && !R.failed; m++)
 		if (!sc->mat[m].specular && !sc->diffuse) {
 			char p[64];

@@ -271,6 +271,7 @@ void bk_form_free(bk_form *f);
 const char *bk_form_text(const bk_form *f);
 int bk_form_nparams(const bk_form *f);     /* highest p index used + 1 */
 unsigned bk_form_inputs(const bk_form *f); /* bit i set: input i is read */
+unsigned bk_form_params(const bk_form *f); /* bit k set: p_k is read */
 const char *bk_input_name(bk_input i);
 /* The constants the compiled form uses (after folding), up to max of them;
  * returns how many there are. What a shader will spell as literals. */

@@ -23,6 +23,7 @@ struct bk_form {
 	int out;           /* the result register; after bk_ir_finish, n - 1 */
 	int nparams;
 	unsigned inputs;
+	unsigned params;   /* bit k: p_k is read (after bk_ir_finish) */
 	int *hash, hcap;   /* while building: register + 1 by instruction hash (0: empty) */
 };
 

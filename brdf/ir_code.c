@@ -351,11 +351,13 @@ int bk_ir_finish(bk_form *f, int out)
 	f->hash = NULL;
 	f->hcap = 0;
 	f->out = n - 1;
-	/* Recompute what is read: dead inputs do not count. */
-	f->inputs = 0;
+	/* Recompute what is read: dead inputs and parameters do not count. */
+	f->inputs = f->params = 0;
 	for (int i = 0; i < n; i++)
 		if (dst[i].op == BK_OP_INPUT)
 			f->inputs |= 1u << dst[i].slot;
+		else if (dst[i].op == BK_OP_PARAM)
+			f->params |= 1u << dst[i].slot;
 	return 0;
 }
 

@@ -4,7 +4,9 @@
  * function already gives a meaning (a function of that name would not
  * compile, or would silently be another), and the names of the body itself.
  *
- *   C     C11 keywords (6.4.1); every identifier <math.h> declares or defines
+ *   C     C11 keywords (6.4.1); every name C11's library headers declare or
+ *         define (7.2 to 7.30, Annex K), their macro and type families;
+ *         every identifier <math.h> declares or defines
  *         with glibc's widest feature set (_GNU_SOURCE): C11 7.12, TS 18661
  *         (fadd, roundeven, f32 ... f128x variants), POSIX/SVID/GNU extras
  *         (j0, y1, gamma, M_PI); main; the predefined macros linux and unix of
@@ -48,7 +50,94 @@ static const char *const c_words[] = {
 	/* what the templates of ir_ops.h call: in the list above or below, named
 	 * here too for the table's readers */
 	"sqrtf", "powf", "expf", "exp2f", "logf", "log2f", "fminf", "fmaxf", "fabsf",
+	/* the rest of C11's library (7.2 to 7.30): every function, macro, type
+	 * and object a header declares; a caller that includes the header
+	 * would meet a conflicting declaration or a macro expansion (7.1.3).
+	 * Families (FLT_..., SIGxxx, int..._t, atomic_...) are rules below. */
+	/* <assert.h> */
+	"assert", "static_assert", "NDEBUG",
+	/* <complex.h> (the functions come with f and l: c_cfamily) */
+	"complex", "imaginary", "I", "CMPLX", "CMPLXF", "CMPLXL",
+	/* <ctype.h> */
+	"isalnum", "isalpha", "isblank", "iscntrl", "isdigit", "isgraph", "islower", "isprint", "ispunct",
+	"isspace", "isupper", "isxdigit", "tolower", "toupper",
+	/* <errno.h> (E and a digit or an uppercase letter: a rule) */
+	"errno",
+	/* <fenv.h> (FE_: a rule) */
+	"fenv_t", "fexcept_t", "feclearexcept", "fegetexceptflag", "feraiseexcept", "fesetexceptflag",
+	"fetestexcept", "fegetround", "fesetround", "fegetenv", "feholdexcept", "fesetenv", "feupdateenv",
+	/* <float.h> (FLT_, DBL_, LDBL_: a rule) */
+	"DECIMAL_DIG",
+	/* <inttypes.h> (PRI, SCN: a rule) */
+	"imaxdiv_t", "imaxabs", "imaxdiv", "strtoimax", "strtoumax", "wcstoimax", "wcstoumax",
+	/* <iso646.h> */
+	"and", "and_eq", "bitand", "bitor", "compl", "not", "not_eq", "or", "or_eq", "xor", "xor_eq",
+	/* <limits.h> */
+	"CHAR_BIT", "SCHAR_MIN", "SCHAR_MAX", "UCHAR_MAX", "CHAR_MIN", "CHAR_MAX", "MB_LEN_MAX", "SHRT_MIN",
+	"SHRT_MAX", "USHRT_MAX", "INT_MIN", "INT_MAX", "UINT_MAX", "LONG_MIN", "LONG_MAX", "ULONG_MAX",
+	"LLONG_MIN", "LLONG_MAX", "ULLONG_MAX",
+	/* <locale.h> (LC_: a rule; struct lconv is a tag, another name space) */
+	"setlocale", "localeconv",
+	/* <setjmp.h> */
+	"jmp_buf", "setjmp", "longjmp",
+	/* <signal.h> (SIG and SIG_ with an uppercase letter: a rule) */
+	"sig_atomic_t", "signal", "raise",
+	/* <stdalign.h>, <stdbool.h>, <stdnoreturn.h> */
+	"alignas", "alignof", "bool", "true", "false", "noreturn",
+	/* <stdarg.h> */
+	"va_list", "va_arg", "va_copy", "va_end", "va_start",
+	/* <stdatomic.h> (atomic_ and a lowercase letter, memory_order, ATOMIC_: rules) */
+	"kill_dependency",
+	/* <stddef.h>, <stdint.h> (int..._t and INT..._MAX/_MIN/_C: rules) */
+	"ptrdiff_t", "size_t", "max_align_t", "wchar_t", "NULL", "offsetof", "PTRDIFF_MIN", "PTRDIFF_MAX",
+	"SIG_ATOMIC_MIN", "SIG_ATOMIC_MAX", "SIZE_MAX", "WCHAR_MIN", "WCHAR_MAX", "WINT_MIN", "WINT_MAX",
+	/* <stdio.h> */
+	"FILE", "fpos_t", "_IOFBF", "_IOLBF", "_IONBF", "BUFSIZ", "EOF", "FOPEN_MAX", "FILENAME_MAX", "L_tmpnam",
+	"SEEK_CUR", "SEEK_END", "SEEK_SET", "TMP_MAX", "stderr", "stdin", "stdout", "remove", "rename", "tmpfile",
+	"tmpnam", "fclose", "fflush", "fopen", "freopen", "setbuf", "setvbuf", "fprintf", "fscanf", "printf",
+	"scanf", "snprintf", "sprintf", "sscanf", "vfprintf", "vfscanf", "vprintf", "vscanf", "vsnprintf",
+	"vsprintf", "vsscanf", "fgetc", "fgets", "fputc", "fputs", "getc", "getchar", "gets", "putc", "putchar",
+	"puts", "ungetc", "fread", "fwrite", "fgetpos", "fseek", "fsetpos", "ftell", "rewind", "clearerr", "feof",
+	"ferror", "perror",
+	/* <stdlib.h> */
+	"div_t", "ldiv_t", "lldiv_t", "EXIT_FAILURE", "EXIT_SUCCESS", "RAND_MAX", "MB_CUR_MAX", "atof", "atoi",
+	"atol", "atoll", "strtod", "strtof", "strtold", "strtol", "strtoll", "strtoul", "strtoull", "rand", "srand",
+	"aligned_alloc", "calloc", "free", "malloc", "realloc", "abort", "atexit", "at_quick_exit", "exit",
+	"getenv", "quick_exit", "system", "bsearch", "qsort", "abs", "labs", "llabs", "div", "ldiv", "lldiv",
+	"mblen", "mbtowc", "wctomb", "mbstowcs", "wcstombs",
+	/* <string.h> */
+	"memcpy", "memmove", "strcpy", "strncpy", "strcat", "strncat", "memcmp", "strcmp", "strcoll", "strncmp",
+	"strxfrm", "memchr", "strchr", "strcspn", "strpbrk", "strrchr", "strspn", "strstr", "strtok", "memset",
+	"strerror", "strlen",
+	/* <threads.h> (cnd_, mtx_, thrd_, tss_ and a lowercase letter: a rule) */
+	"thread_local", "ONCE_FLAG_INIT", "TSS_DTOR_ITERATIONS", "once_flag", "call_once",
+	/* <time.h> (struct tm and timespec are tags: another name space) */
+	"CLOCKS_PER_SEC", "TIME_UTC", "clock_t", "time_t", "clock", "difftime", "mktime",
+	"time", "timespec_get", "asctime", "ctime", "gmtime", "localtime", "strftime",
+	/* <uchar.h> */
+	"mbstate_t", "char16_t", "char32_t", "mbrtoc16", "c16rtomb", "mbrtoc32", "c32rtomb",
+	/* <wchar.h> */
+	"wint_t", "WEOF", "fwprintf", "fwscanf", "swprintf", "swscanf", "vfwprintf", "vfwscanf", "vswprintf",
+	"vswscanf", "vwprintf", "vwscanf", "wprintf", "wscanf", "fgetwc", "fgetws", "fputwc", "fputws", "fwide",
+	"getwc", "getwchar", "putwc", "putwchar", "ungetwc", "wcstod", "wcstof", "wcstold", "wcstol", "wcstoll",
+	"wcstoul", "wcstoull", "wcscpy", "wcsncpy", "wmemcpy", "wmemmove", "wcscat", "wcsncat", "wcscmp",
+	"wcscoll", "wcsncmp", "wcsxfrm", "wmemcmp", "wcschr", "wcscspn", "wcspbrk", "wcsrchr", "wcsspn", "wcsstr",
+	"wcstok", "wmemchr", "wcslen", "wmemset", "wcsftime", "btowc", "wctob", "mbsinit", "mbrlen", "mbrtowc",
+	"wcrtomb", "mbsrtowcs", "wcsrtombs",
+	/* <wctype.h> */
+	"wctrans_t", "wctype_t", "iswalnum", "iswalpha", "iswblank", "iswcntrl", "iswdigit", "iswgraph",
+	"iswlower", "iswprint", "iswpunct", "iswspace", "iswupper", "iswxdigit", "iswctype", "wctype", "towlower",
+	"towupper", "towctrans", "wctrans",
+	/* Annex K's types and macros (its functions are NAME_s: a rule) */
+	"errno_t", "rsize_t", "RSIZE_MAX", "L_tmpnam_s", "TMP_MAX_S", "constraint_handler_t",
+	"set_constraint_handler_s", "abort_handler_s", "ignore_handler_s",
 	NULL,
+};
+
+/* <complex.h>'s functions, each with f and l (cabs, cabsf, cabsl). */
+static const char *const c_complex[] = {
+	"cacos", "casin", "catan", "ccos", "csin", "ctan", "cacosh", "casinh", "catanh", "ccosh", "csinh",
+	"ctanh", "cexp", "clog", "cabs", "cpow", "csqrt", "carg", "cimag", "conj", "cproj", "creal",
 };
 
 /* <math.h> functions and constants that come with every type suffix
@@ -110,11 +199,74 @@ static int c_narrowing(const char *name)
 	return 0;
 }
 
+/* prefix then a character of set: "SIG" and an uppercase letter */
+static int prefix_then(const char *name, const char *prefix, const char *set)
+{
+	size_t n = strlen(prefix);
+	return !strncmp(name, prefix, n) && name[n] && strchr(set, name[n]);
+}
+
+static int ends(const char *name, const char *tail)
+{
+	size_t n = strlen(name), t = strlen(tail);
+	return n > t && !strcmp(name + n - t, tail);
+}
+
+#define UPPER "ABCDEFGHIJKLMNOPQRSTUVWXYZ"
+#define LOWER "abcdefghijklmnopqrstuvwxyz"
+
+/* The macro and type families of C11's headers, each as the header states
+ * it (7.31, future library directions, where that is no wider than the
+ * header's own names): E and a digit or an uppercase letter (errno.h), FE_,
+ * FLT_, DBL_, LDBL_, LC_, SIG and SIG_ with an uppercase letter, PRI and SCN
+ * with a lowercase letter or X, int/uint..._t, INT/UINT..._MAX/_MIN/_C,
+ * atomic_ and cnd_/mtx_/thrd_/tss_ with a lowercase letter, memory_order,
+ * ATOMIC_; Annex K's NAME_s of a library function. Left out: 7.31's
+ * is/to/str/mem/wcs prefixes with a lowercase letter, which no header
+ * declares beyond the names listed (refusing them would refuse "total" and
+ * "strength"). */
+static int c_library_family(const char *name)
+{
+	static const char *const upper_prefix[] = {"FE_", "FLT_", "DBL_", "LDBL_", "LC_", "SIG_", "SIG", "ATOMIC_"};
+	static const char *const lower_prefix[] = {"atomic_", "cnd_", "mtx_", "thrd_", "tss_"};
+	for (size_t i = 0; i < sizeof upper_prefix / sizeof upper_prefix[0]; i++)
+		if (prefix_then(name, upper_prefix[i], UPPER))
+			return 1;
+	for (size_t i = 0; i < sizeof lower_prefix / sizeof lower_prefix[0]; i++)
+		if (prefix_then(name, lower_prefix[i], LOWER))
+			return 1;
+	if (prefix_then(name, "E", "0123456789" UPPER) || prefix_then(name, "PRI", LOWER "X") ||
+	    prefix_then(name, "SCN", LOWER "X") || !strncmp(name, "memory_order", 12))
+		return 1;
+	if ((!strncmp(name, "int", 3) || !strncmp(name, "uint", 4)) && ends(name, "_t"))
+		return 1;
+	if ((!strncmp(name, "INT", 3) || !strncmp(name, "UINT", 4)) &&
+	    (ends(name, "_MAX") || ends(name, "_MIN") || ends(name, "_C")))
+		return 1;
+	for (size_t i = 0; i < sizeof c_complex / sizeof c_complex[0]; i++) {
+		size_t n = strlen(c_complex[i]);
+		if (!strncmp(name, c_complex[i], n) && (!name[n] || ((name[n] == 'f' || name[n] == 'l') && !name[n + 1])))
+			return 1;
+	}
+	if (ends(name, "_s")) { /* Annex K: printf_s, strcpy_s, ... */
+		char stem[BK_NAME_MAX + 1];
+		size_t n = strlen(name) - 2;
+		memcpy(stem, name, n);
+		stem[n] = '\0';
+		for (const char *const *w = c_words; *w; w++)
+			if (!strcmp(*w, stem) && (*w)[0] >= 'a' && (*w)[0] <= 'z')
+				return 1;
+	}
+	return 0;
+}
+
 static int c_family(const char *name)
 {
 	for (size_t i = 0; i < sizeof c_math / sizeof c_math[0]; i++)
 		if (stem_suffix(name, c_math[i], ""))
 			return 1;
+	if (c_library_family(name))
+		return 1;
 	if (stem_suffix(name, "lgamma", "_r") || c_narrowing(name))
 		return 1;
 	/* macro families: FP_ and an uppercase letter is the implementation's

@@ -434,3 +434,4 @@ void bk_form_free(bk_form *f)
 const char *bk_form_text(const bk_form *f) { return f->text; }
 int bk_form_nparams(const bk_form *f) { return f->nparams; }
 unsigned bk_form_inputs(const bk_form *f) { return f->inputs; }
+unsigned bk_form_params(const bk_form *f) { return f->params; }

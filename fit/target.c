@@ -515,6 +515,22 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	return rc;
 }
 
+size_t bk_target_samples(const bk_target_options *o)
+{
+	size_t cells = (size_t)o->nx * (size_t)o->nr, n = 1;
+	switch (o->kind) {
+	case BK_TARGET_VF:
+	case BK_TARGET_SPEC: return cells * (size_t)o->nu * (size_t)o->nphi; /* build_lobe's cap */
+	case BK_TARGET_ENV: return cells * (size_t)(o->env_f0_form ? o->nf0 : 2);
+	case BK_TARGET_F: return (size_t)o->nx;
+	case BK_TARGET_FORM:
+		for (int d = 0; d < o->ndomain; d++)
+			n *= (size_t)bk_target_form_cells(o);
+		return n;
+	default: return cells; /* vf2d, d */
+	}
+}
+
 static double seconds_now(void)
 {
 	struct timespec t;

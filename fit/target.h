@@ -89,6 +89,9 @@ void bk_samples_free(bk_samples *s);
 int bk_target_form_check(const bk_target_options *o, char *err, size_t errlen);
 /* form: the cells per axis a build will use. */
 int bk_target_form_cells(const bk_target_options *o);
+/* The samples bk_target_build allocates for o (vf/spec: before the cells
+ * under the horizon are dropped), so a caller can say the memory before. */
+size_t bk_target_samples(const bk_target_options *o);
 
 /* The work of bk_target_build up front: *integrals, the reference integrals
  * it will compute (env: one per cell; 0 for the targets whose samples are

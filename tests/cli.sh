@@ -360,7 +360,7 @@ expect_error "option leading space" "' 0.5'" $BK dfg --nov ' 0.5' --roughness 0.
 expect_error "eval hex input" "NoV: expected a finite number, got '0x1'" $BK eval NoV NoV=0x1
 expect_error "eval inf input" "NoV: expected a finite number, got 'inf'" $BK eval NoV NoV=inf
 expect_error "time hex param" "p0: expected a finite number, got '0x1'" $BK time 'p0*NoV' p0=0x1
-expect_error "fit hex start" "'p0=0x1'" $BK fit --target f --form 'p0*LoH' p0=0x1 --out "$T/fit"
+expect_error "fit hex start" "p0: expected a finite number, got '0x1'" $BK fit --target f --form 'p0*LoH' p0=0x1 --out "$T/fit"
 expect_error "fit hex range" "'0x0:1'" $BK fit --target f --form 'p0*LoH' p0=1 --r-range 0x0:1 --out "$T/fit"
 # 1e-320 is subnormal (below 2^-1022 ~ 2.2e-308) and finite: accepted
 $BK dfg --nov 1e-320 --roughness 0.5 >"$T/out" 2>"$T/err" && ok || bad "subnormal option: $(cat "$T/err")"

@@ -352,14 +352,23 @@ Test(csvtab, long_comment_cut)
 	}
 }
 
-/* Not text, or a quote left open (libcsv, lenient, takes the rest of the
- * file into the field: the row is one field short): errors on the line of
- * the NUL, and of the row that opened the quote. */
+/* Not text, or a quote left open (libcsv, lenient, would take the rest of
+ * the file into the field): errors on the line of the NUL, and of the row
+ * that opened the quote, in the first field or a later one, with or without
+ * a line break after it. A quote closed on a later line is a field. */
+#define OPEN_QUOTE "unterminated quoted field (a quote opened in this row is never closed)"
 Test(csvtab, nul_byte_and_open_quote)
 {
 	bk_csvtab_spec spec = {.cols = AB};
 	READ_BAD("a,b\n1,2\nx\0y,3\n", &spec, ":3: a NUL byte (not a text file)");
-	READ_BAD("a,b\n1,2\n\"open,3\nmore\n", &spec, ":3: 1 fields, fewer than the header's");
+	READ_BAD("a,b\n1,2\n\"open,3\nmore\n", &spec, ":3: " OPEN_QUOTE);
+	READ_BAD("a,b\n1,2\nx,\"open\n", &spec, ":3: " OPEN_QUOTE);
+	READ_BAD("a,b\n1,\"open", &spec, ":2: " OPEN_QUOTE);
+	bk_csvtab t;
+	read_ok("a,b\n1,\"two\nlines\"\n3,4\n", &spec, &t);
+	cr_expect_eq(t.n, 2);
+	cr_expect_eq(t.line[1], 4);
+	bk_csvtab_free(&t);
 }
 
 /* Spaces are data (L8): a field is read as written, so " 5" is no number;

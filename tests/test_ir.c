@@ -97,6 +97,25 @@ static void expect_error(const char *text, int column, const char *message)
 	cr_assert_str_eq(e.message, message, "'%s'", text);
 }
 
+/* bk_form_params: the parameters a form reads, a gap kept (p0 and p2: not
+ * p1), so every command can refuse one (issue 39 M14); bk_form_nparams is
+ * the highest + 1. */
+Test(parse, params_read_as_a_mask)
+{
+	static const struct {
+		const char *text;
+		unsigned mask;
+		int np;
+	} c[] = {{"NoV", 0, 0}, {"p0*NoV", 1, 1}, {"p0+p2*NoV", 5, 3}, {"p15", 1u << 15, 16}, {"p1*p0+p1", 3, 2}};
+	for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+		bk_form *f = bk_form_parse(c[i].text, NULL);
+		cr_assert_not_null(f, "%s", c[i].text);
+		cr_expect_eq(bk_form_params(f), c[i].mask, "%s", c[i].text);
+		cr_expect_eq(bk_form_nparams(f), c[i].np, "%s", c[i].text);
+		bk_form_free(f);
+	}
+}
+
 Test(parse, errors_name_column_and_expectation)
 {
 	expect_error("1/(LoH*LoH*(r+p0)", 18, "expected ')' at end of form");

@@ -59,7 +59,7 @@ Test(scene, value_forms)
 	                   "\"lighting\": {\"ibl\": false},"
 	                   "\"geometry\": {\"nov\": {\"min\": 0.1, \"max\": 1}},"
 	                   "\"target\": {\"precision\": \"mediump\", \"alu_tex\": 16, \"languages\": [\"glsl\"], "
-	                   "\"error\": {\"vf\": 0.02, \"env\": 0.03}}}"),
+	                   "\"error\": {\"vf\": 0.02}}}"), /* no env budget: no IBL (term_budgets_...) */
 	             0, "%s", err);
 	cr_expect_str_eq(sc.name, "s");
 	cr_expect_eq(sc.mat[0].r_lo, 0.2); /* a list: its hull */
@@ -78,7 +78,7 @@ Test(scene, value_forms)
 	cr_expect_eq(sc.fetch_cost, 16);
 	cr_expect_eq(sc.languages, BK_SCENE_GLSL);
 	cr_expect_eq(sc.budget_vf, 0.02);
-	cr_expect_eq(sc.budget_env, 0.03);
+	cr_expect_eq(sc.budget_env, BK_SCENE_BUDGET_GENERIC);
 }
 
 Test(scene, explicit_costs)
@@ -138,8 +138,9 @@ Test(scene, syntax_errors_have_a_line_and_column)
 }
 
 /* Numbers follow the command line's rules (cli_number): a number that is
- * not 0 but underflows to it is refused where it stands, -0 is read as 0,
- * and a subnormal is a number like any other. */
+ * not 0 but underflows to it is refused where it stands, and so is -0 (a
+ * scene has no negative number: a sign typed by mistake), and a subnormal
+ * is a number like any other. */
 Test(scene, numbers_are_the_values_typed)
 {
 	/* column 36: the "1" of 1e-999 (35 characters before it) */
@@ -156,15 +157,45 @@ Test(scene, numbers_are_the_values_typed)
 	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"error\": {\"vf\": 1e-400}}}",
 	             "line 1, column 59: 1e-400 is not 0 but underflows to it (brdfkit reads numbers from about 4.9e-324 up, "
 	             "and 0)");
+	/* a negative zero, where every number is 0 or above (issue 39 L6) */
+	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": [-0.0, 0.5]}]}",
+	             "line 1, column 44: -0.0 is negative zero (every number of a scene is 0 or above: write 0)");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"f0\": -0}]}",
+	             "line 1, column 36: -0 is negative zero (every number of a scene is 0 or above: write 0)");
 	/* negative controls: zeros, a subnormal, and a string that spells a small number */
-	cr_assert_eq(parse("{\"scene\": \"1e-999\", \"materials\": [{\"name\": \"m\", \"roughness\": [-0.0, 0e5, 1e-310],"
-	                   " \"f0\": -0}]}"),
+	cr_assert_eq(parse("{\"scene\": \"1e-999\", \"materials\": [{\"name\": \"m\", \"roughness\": [0.0, 0e5, 1e-310],"
+	                   " \"f0\": 0}]}"),
 	             0, "%s", err);
 	cr_expect_eq(sc.mat[0].r_lo, 0);
-	cr_expect(!signbit(sc.mat[0].r_lo), "-0 is read as 0");
-	cr_expect(!signbit(sc.mat[0].f0_lo), "-0 is read as 0");
+	cr_expect(!signbit(sc.mat[0].r_lo));
 	cr_expect_eq(sc.mat[0].r_hi, 1e-310);
 	cr_expect_str_eq(sc.name, "1e-999");
+}
+
+/* A budget per term for a term no material needs changes nothing: refused,
+ * saying why the term is absent (issue 39 M7); a range narrower than 1e-6
+ * of its larger end is one value written as a range (L5). */
+Test(scene, term_budgets_and_narrow_ranges)
+{
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"ibl\": false}, "
+	             "\"target\": {\"error\": {\"env\": 0.01}}}",
+	             "target.error.env: has no effect without image-based lighting (lighting.ibl is false)");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"punctual\": false}, "
+	             "\"target\": {\"error\": {\"vf\": 0.01}}}",
+	             "target.error.vf: has no effect without punctual lights (lighting.punctual is false)");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"specular\": false}], \"target\": {\"error\": {\"env\": 0.01}}}",
+	             "target.error.env: has no effect when no material is specular");
+	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.5, \"max\": 0.5000001}}]}",
+	             "materials[0].roughness: [0.5, 0.50000009999999995] is too narrow to sample: max - min must be at "
+	             "least 5e-07 (1e-6 of the larger end), or give one number");
+	/* controls: the same budgets where the terms are, one number for all, a
+	 * point given as one number, a range just wide enough */
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"ibl\": false}, "
+	                   "\"target\": {\"error\": 0.01}}"), 0, "%s", err);
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\", \"roughness\": 0.5}], "
+	                   "\"target\": {\"error\": {\"vf\": 0.01, \"env\": 0.01}}}"), 0, "%s", err);
+	cr_assert_eq(parse("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.5, \"max\": 0.5000006}}]}"),
+	             0, "%s", err);
 }
 
 Test(scene, a_byte_order_mark_is_named)

@@ -109,6 +109,17 @@ int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 	return 2;
 }
 
+int cli_bad(const char *fmt, ...)
+{
+	va_list ap;
+	fprintf(stderr, "brdfkit %s: ", cur_cmd);
+	va_start(ap, fmt);
+	vfprintf(stderr, fmt, ap);
+	va_end(ap);
+	fprintf(stderr, " (see brdfkit %s --help)\n", cur_cmd);
+	return 2;
+}
+
 int cli_seen(const cli_cmd *cmd, const char *name)
 {
 	for (int k = 0; k < cmd->nopts; k++)
@@ -135,7 +146,9 @@ static int parse_number(const cli_cmd *cmd, const cli_opt *o, const char *text,
 	if (o->kind == CLI_INT && x != floor(x))
 		return cli_usage(cmd, "%s: expected an integer in %s, got '%s'", o->name,
 		                   r, text);
-	int below = o->lo_open ? !(x > o->lo) : !(x >= o->lo);
+	/* -0 where no negative is allowed: a sign typed by mistake, or a value
+	 * computed elsewhere that is not the one meant; it would print as -0 */
+	int below = (o->lo_open ? !(x > o->lo) : !(x >= o->lo)) || (o->lo >= 0 && signbit(x));
 	int above = o->hi_open ? !(x < o->hi) : !(x <= o->hi);
 	if (below || above)
 		return cli_usage(cmd, "%s: %s is out of range %s", o->name, text, r);
@@ -257,7 +270,7 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			printf("none\t%s\n", cmd->name);
 		return 1;
 	}
-	int options = 1; /* until "--" */
+	int options = 1, quiet_seen = 0; /* until "--" */
 	for (int i = 0; i < argc; i++) {
 		const char *arg = argv[i];
 		if (options && strcmp(arg, "--") == 0) {
@@ -269,6 +282,8 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			return 1;
 		}
 		if (options && strcmp(arg, "--quiet") == 0) { /* every command's: cli_quiet */
+			if (quiet_seen++) /* as every other option given twice */
+				return cli_usage(cmd, "--quiet given twice");
 			quiet = 1;
 			continue;
 		}
@@ -733,6 +748,27 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx)
 
 int cli_quiet(void) { return quiet; }
 
+void cli_estimate(const char *what, double seconds, double bytes, const char *basis)
+{
+	int warn = seconds > CLI_WARN_S || bytes > CLI_WARN_BYTES;
+	if ((seconds < CLI_SAY_S && bytes < CLI_SAY_BYTES) || (quiet && !warn))
+		return;
+	static const struct {
+		double s;
+		const char *unit;
+	} units[] = {{365.25 * 86400, "years"}, {86400, "days"}, {3600, "h"}, {60, "min"}, {1, "s"}};
+	char t[64] = "", m[48] = "";
+	size_t u = 0;
+	while (u + 1 < sizeof units / sizeof units[0] && seconds < 2 * units[u].s)
+		u++;
+	if (seconds > 0)
+		snprintf(t, sizeof t, "about %.3g %s", seconds / units[u].s, units[u].unit);
+	if (bytes > 0)
+		snprintf(m, sizeof m, "%s%.1f GB of memory", *t ? ", " : "about ", bytes / 1e9);
+	fprintf(stderr, "brdfkit %s: %s%s: %s%s (%s)%s\n", cur_cmd, warn ? "warning: " : "", what, t, m, basis,
+	        warn ? "; Ctrl-C stops it" : "");
+}
+
 void cli_note(const char *fmt, ...)
 {
 	if (quiet)
@@ -806,6 +842,34 @@ int cli_unknown_value(const char *opt, const char *text, const char *const *name
 }
 
 const char *const cli_targets[CLI_NTARGETS] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+
+int cli_range_width(const char *opt, const char *text, double lo, double hi)
+{
+	double need = CLI_RANGE_MIN_REL * fmax(fabs(lo), fabs(hi));
+	if (hi - lo < need)
+		return cli_bad("%s: '%.100s' is too narrow to sample: HI - LO must be at least %g (1e-6 of the larger end)",
+		               opt, text, need);
+	return 0;
+}
+
+int cli_range(const char *opt, const char *text, double min, double max, double *lo, double *hi)
+{
+	const char *colon = strchr(text, ':');
+	char lo_text[64] = "", where[80] = "";
+	if (colon && (size_t)(colon - text) < sizeof lo_text)
+		memcpy(lo_text, text, (size_t)(colon - text));
+	if (min > -HUGE_VAL || max < HUGE_VAL)
+		snprintf(where, sizeof where, " in [%g, %g]", min, max);
+	double a, b;
+	if (!colon || cli_number(lo_text, &a) || cli_number(colon + 1, &b) || !(a < b) || a < min || b > max ||
+	    (min >= 0 && signbit(a)))
+		return cli_bad("%s: expected LO:HI with LO < HI%s, got '%.100s'", opt, where, text);
+	if (cli_range_width(opt, text, a, b))
+		return 2;
+	*lo = a;
+	*hi = b;
+	return 0;
+}
 
 int cli_choice(const char *opt, const char *text, const char *const *names, int n)
 {

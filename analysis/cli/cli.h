@@ -104,6 +104,10 @@ int cli_out_file(const char *cmd, const char *out);
  * CMD --help)" on stderr, one line. Returns 2. */
 int cli_usage(const cli_cmd *cmd, const char *fmt, ...)
 	__attribute__((format(printf, 2, 3)));
+/* cli_usage where the option table is not at hand: the command running
+ * (cli_set_name) names itself. Every usage error ends with the "(see ...)"
+ * suffix, so a script's user knows where the rules are. Returns 2. */
+int cli_bad(const char *fmt, ...) __attribute__((format(printf, 1, 2)));
 /* Whether option name (e.g. "--ior") was given. */
 int cli_seen(const cli_cmd *cmd, const char *name);
 
@@ -208,6 +212,19 @@ int cli_applicable(const cli_cmd *cmd, const int *ctx);
  * after a usage error listing the names. */
 int cli_cost_model(const cli_cmd *cmd, const char *name, double *simple, double *complex);
 
+/* Work that may run long or fill the memory, said before it starts (as
+ * scene says its own estimate): nothing below CLI_SAY_S seconds and
+ * CLI_SAY_BYTES; above, one line "brdfkit CMD: WHAT: about T, M of memory
+ * (BASIS)", and past CLI_WARN_S or CLI_WARN_BYTES it is a warning, printed
+ * under --quiet too, that ends "; Ctrl-C stops it". seconds or bytes 0:
+ * not estimated. No size is refused: the options bound it, the line says
+ * what it costs. */
+#define CLI_SAY_S 60.0
+#define CLI_WARN_S (30 * 60.0)
+#define CLI_SAY_BYTES (1024.0 * 1024 * 1024)
+#define CLI_WARN_BYTES (4 * CLI_SAY_BYTES)
+void cli_estimate(const char *what, double seconds, double bytes, const char *basis);
+
 /* Progress on stderr: a live counter on a terminal, one line per finished stage
  * otherwise (logs stay short). Nothing under --quiet. */
 void cli_progress(void *label, int done, int total);
@@ -245,6 +262,17 @@ extern const char *const cli_targets[];
 #define CLI_NTARGETS 7
 /* text among names[0..n): its index; else -1 after cli_unknown_value. */
 int cli_choice(const char *opt, const char *text, const char *const *names, int n);
+
+/* LO:HI (--x-range, --r-range, --domain, the lut ranges): two cli_numbers
+ * with min <= LO < HI <= max (-0 refused where min >= 0, as for options),
+ * and wide enough to sample: HI - LO >= CLI_RANGE_MIN_REL * max(|LO|, |HI|)
+ * (a range a few ulps wide is a point whose samples all round alike).
+ * Returns 0 with *lo, *hi set, or 2 after one usage line naming opt. */
+#define CLI_RANGE_MIN_REL 1e-6
+int cli_range(const char *opt, const char *text, double min, double max, double *lo, double *hi);
+/* Its width check alone, for a reader with its own syntax (--domain):
+ * 0, or 2 after the usage line. */
+int cli_range_width(const char *opt, const char *text, double lo, double hi);
 
 /* Precision, one spelling for every command: double, single, half (and
  * render's both). Scene files keep GLSL's words (target.precision

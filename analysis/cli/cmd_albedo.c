@@ -147,8 +147,7 @@ int cmd_albedo(int argc, char **argv)
 	if (rc)
 		return rc == 1 ? 0 : rc;
 	if (opts[5].seen == opts[7].seen) {
-		fprintf(stderr, "brdfkit albedo: give exactly one of --f0 and --ior\n");
-		return 2;
+		return cli_bad("give exactly one of --f0 and --ior");
 	}
 	if ((rc = pick_terms(BK_ROLE_D, dn, g.d, &g.nd)) || (rc = pick_terms(BK_ROLE_V, vn, g.v, &g.nv)) ||
 	    (rc = pick_terms(BK_ROLE_F, fn, g.f, &g.nf)))

@@ -541,15 +541,13 @@ static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides
 			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
 			return 2;
 		}
-		int np = bk_form_nparams(f);
-		unsigned extra = bk_form_inputs(f) & ~provides;
+		unsigned used = bk_form_params(f), extra = bk_form_inputs(f) & ~provides;
 		bk_form_free(f);
-		char last[16] = "";
-		if (np > 1)
-			snprintf(last, sizeof last, "..p%d", np - 1);
-		if (np)
-			return cli_usage(cmd, "'%s' uses p0%s: compare scores a typed form as written (write its constants "
-			                 "as numbers, or fit it with brdfkit fit)", cmd->pos[i], last);
+		char uses[80];
+		form_params_text(used, uses, sizeof uses);
+		if (used)
+			return cli_usage(cmd, "'%s' uses %s: compare scores a typed form as written (write its constants "
+			                 "as numbers, or fit it with brdfkit fit)", cmd->pos[i], uses);
 		for (int k = 0; provides && k < BK_IN_COUNT; k++)
 			if (extra >> k & 1)
 				return cli_usage(cmd, "'%s' reads %s, which target %s does not provide", cmd->pos[i],
@@ -600,8 +598,7 @@ int cmd_compare(int argc, char **argv)
 		return cli_unknown_value("--target", target, cli_targets, CLI_NTARGETS);
 	}
 	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
-		fprintf(stderr, "brdfkit compare: --target form: compare scores the catalog; fit a form target with brdfkit fit\n");
-		return 2;
+		return cli_bad("--target form: compare scores the catalog; fit a form target with brdfkit fit");
 	}
 	int t = -1;
 	for (int k = 0; k < BK_TIERS; k++)

@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "fit.h"
 #include "fit_out.h"
+#include "form_check.h"
 #include "heatmap.h"
 
 #include <ctype.h>
@@ -21,17 +22,25 @@
 #include <unistd.h>
 
 
-int fit_range(const char *opt, const char *text, double *lo, double *hi)
+/* --bound's LO:HI: any two numbers with LO < HI (a bound is not sampled: no
+ * least width; --hold is the way to keep a parameter fixed). */
+static int bound_range(const char *text, double *lo, double *hi)
 {
 	const char *colon = strchr(text, ':');
 	char lo_text[64] = "";
 	if (colon && (size_t)(colon - text) < sizeof lo_text)
 		memcpy(lo_text, text, (size_t)(colon - text));
-	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi)) {
-		cli_fail(NULL, "%s: expected LO:HI with LO < HI, got '%s'", opt, text); /* fit or search: the command running */
-		return 2;
-	}
+	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi))
+		return cli_bad("--bound: expected LO:HI with LO < HI, got '%s'", text);
 	return 0;
+}
+
+void fit_say_size(const bk_target_options *to)
+{
+	double n = (double)bk_target_samples(to);
+	char what[64];
+	snprintf(what, sizeof what, "%.3gM samples of target %s", n / 1e6, bk_target_name(to->kind));
+	cli_estimate(what, n * 15e-6, n * 168, "168 bytes and 15 us a sample, measured");
 }
 
 /* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1. */
@@ -55,12 +64,11 @@ static int bounds(const cli_cmd *cmd, const char *text, double *lower, double *u
 			memcpy(name, items[k], (size_t)(eq - items[k]));
 		int j = param_index(name);
 		if (j < 0) {
-			fprintf(stderr, "brdfkit fit: --bound: expected pN=LO:HI, got '%s'\n", items[k]);
-			return 2;
+			return cli_bad("--bound: expected pN=LO:HI, got '%s'", items[k]);
 		}
 		if (seen[j]++)
 			return cli_usage(cmd, "--bound: p%d given twice in the list '%.200s'", j, text);
-		if (fit_range("--bound", eq + 1, &lower[j], &upper[j]))
+		if (bound_range(eq + 1, &lower[j], &upper[j]))
 			return 2;
 	}
 	return n < 0 ? 2 : 0;
@@ -92,6 +100,11 @@ int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
 			return cli_usage(cmd, "--domain: %s: expected LO:HI (two numbers), got '%s:%s'", t, eq + 1, colon + 1);
 		if (!(lo < hi))
 			return cli_usage(cmd, "--domain: %s: expected LO < HI, got '%s:%s'", t, eq + 1, colon + 1);
+		char opt[64], text_lh[160];
+		snprintf(opt, sizeof opt, "--domain: %.40s", t);
+		snprintf(text_lh, sizeof text_lh, "%.70s:%.70s", eq + 1, colon + 1);
+		if (cli_range_width(opt, text_lh, lo, hi))
+			return 2;
 		if (to->ndomain == BK_IN_COUNT)
 			return cli_usage(cmd, "--domain: more than %d inputs", BK_IN_COUNT);
 		to->dom_in[to->ndomain] = in;
@@ -124,8 +137,7 @@ static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 {
 	memset(fs, 0, sizeof *fs);
 	if (!!a->form == !!(a->form_a || a->form_b) || (!a->form && !(a->form_a && a->form_b))) {
-		fprintf(stderr, "brdfkit fit: give --form FORM|NAME, or --form-a and --form-b\n");
-		return 2;
+		return cli_bad("give --form FORM|NAME, or --form-a and --form-b");
 	}
 	if (a->form && (fs->entry = bk_catalog_find(a->form))) {
 		fs->text[0] = fs->entry->form;
@@ -138,8 +150,7 @@ static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 	}
 	fs->split = fs->text[1] != NULL;
 	if (fs->split && kind != BK_TARGET_ENV) {
-		fprintf(stderr, "brdfkit fit: two forms (A and B) fit only the env target\n");
-		return 2;
+		return cli_bad("two forms (A and B) fit only the env target");
 	}
 	if (parse_form(fs->split ? "form-a" : "form", fs->text[0], &fs->f[0]))
 		return 2;
@@ -231,21 +242,18 @@ static int write_outputs(const run *R, const char *out)
 int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
 {
 	bk_target_defaults(kind, to);
-	if (a->r_range && fit_range("--r-range", a->r_range, &to->r_lo, &to->r_hi))
+	/* cosines and perceptual roughness: [0, 1], -0 refused as an option's would be */
+	if (a->r_range && cli_range("--r-range", a->r_range, 0, 1, &to->r_lo, &to->r_hi))
 		return 2;
-	if (a->x_range && fit_range("--x-range", a->x_range, &to->x_lo, &to->x_hi))
+	if (a->x_range && cli_range("--x-range", a->x_range, 0, 1, &to->x_lo, &to->x_hi))
 		return 2;
-	if (to->r_lo < 0 || to->r_hi > 1 || to->x_lo < 0 || to->x_hi > 1) {
-		cli_fail(NULL, "ranges must lie in [0, 1] (cosines and perceptual roughness)");
-		return 2;
-	}
 	if (a->nx) to->nx = (int)a->nx;
 	if (a->nr) to->nr = (int)a->nr;
 	if (a->nu) to->nu = (int)a->nu;
 	if (a->nphi) to->nphi = (int)a->nphi;
 	if (a->f0.n) {
 		if (a->f0.n > BK_TARGET_MAX_F0) {
-			cli_fail(NULL, "--f0: at most %d values", BK_TARGET_MAX_F0);
+			cli_bad("--f0: at most %d values", BK_TARGET_MAX_F0);
 			return 2;
 		}
 		to->nf0 = a->f0.n;
@@ -257,7 +265,7 @@ int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *t
 		return 2;
 	to->talk_alpha = a->talk && v == 1;
 	if (a->smith && bk_smith_parse(a->smith, &to->smith)) {
-		cli_fail(NULL, "--smith: unknown model '%s'", a->smith);
+		cli_bad("--smith: unknown model '%s'", a->smith);
 		return 2;
 	}
 	if (a->ior > 0)
@@ -285,23 +293,25 @@ static int setup_spec(run *R, char **pos, int npos)
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
-		char *end = NULL;
-		long j = pos[i][0] == 'p' && isdigit((unsigned char)pos[i][1]) ? strtol(pos[i] + 1, &end, 10) : -1;
-		double v = NAN;
-		if (j < 0 || j >= BK_MAX_PARAMS || *end != '=' || cli_number(end + 1, &v)) {
-			fprintf(stderr, "brdfkit fit: expected pN=VALUE (a starting value), got '%s'\n", pos[i]);
+		int j;
+		double v;
+		int rc = form_param(pos[i], &j, &v);
+		if (rc == 0)
+			return cli_bad("expected pN=VALUE (a starting value), got '%s'", pos[i]);
+		if (rc != 1)
 			return 2;
-		}
-		if (given[j]++) {
-			fprintf(stderr, "brdfkit fit: p%ld given twice ('%s')\n", j, pos[i]);
-			return 2;
-		}
+		if (given[j]++)
+			return cli_bad("p%d given twice ('%s')", j, pos[i]);
 		sp->start[j] = v;
 	}
+	unsigned used = bk_form_params(R->fs.f[0]) | (R->fs.split ? bk_form_params(R->fs.f[1]) : 0);
+	for (int j = 0; j < sp->np; j++) /* numbered from p0, as every command takes them (form_check.h) */
+		if (!(used >> j & 1u))
+			return cli_bad("the form uses p%d but not p%d: number the parameters from p0, without a gap", sp->np - 1,
+			               j);
 	for (int j = 0; j < sp->np; j++)
 		if (!isfinite(sp->start[j])) {
-			fprintf(stderr, "brdfkit fit: no starting value for p%d: give p%d=VALUE\n", j, j);
-			return 2;
+			return cli_bad("no starting value for p%d: give p%d=VALUE", j, j);
 		}
 	if (a->bounds && bounds(R->cmd, a->bounds, sp->lower, sp->upper))
 		return 2;
@@ -312,9 +322,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	for (int k = 0; k < n; k++) {
 		int j = param_index(items[k]);
 		if (j < 0 || j >= sp->np) {
-			fprintf(stderr, "brdfkit fit: --hold: expected parameters of the form (p0..p%d), got '%s'\n",
-			        sp->np - 1, items[k]);
-			return 2;
+			return cli_bad("--hold: expected parameters of the form (p0..p%d), got '%s'",
+			               sp->np - 1, items[k]);
 		}
 		if (sp->hold[j]++)
 			return cli_usage(R->cmd, "--hold: p%d given twice in the list '%.200s'", j, a->hold);
@@ -460,7 +469,7 @@ static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 		return cli_usage(cmd, "--f0: target %s uses one value, got %d", bk_target_name(kind), a->f0.n);
 	const bk_fit_spec *sp = &R->spec;
 	for (int i = 0; i < npos; i++) { /* pN=VALUE, checked by setup_spec */
-		long j = strtol(pos[i] + 1, NULL, 10);
+		long j = atol(pos[i] + 1);
 		if (j >= sp->np && sp->np == 0)
 			return cli_usage(cmd, "'%s' has no effect: the form has no parameters", pos[i]);
 		if (j >= sp->np && sp->np == 1)
@@ -689,6 +698,7 @@ int cmd_fit(int argc, char **argv)
 		goto done;
 	}
 	say_estimate(&R.to);
+	fit_say_size(&R.to);
 	if (bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err)) {
 		rc = cli_fail("fit", "%s", err);
 		goto done;

@@ -32,29 +32,16 @@ typedef struct gc_row {
 /* pN=VALUE after a typed form: 1 when arg is one (stored), 0 when not, 2 after an error. */
 static int param_arg(const char *arg, gc_row *last)
 {
-	if (arg[0] != 'p' || arg[1] < '0' || arg[1] > '9' || !strchr(arg, '='))
-		return 0;
-	char *end;
-	long i = strtol(arg + 1, &end, 10);
+	int i;
 	double v;
-	if (*end != '=')
-		return 0;
-	if (i >= BK_MAX_PARAMS) {
-		fprintf(stderr, "brdfkit gpucost: unknown parameter 'p%ld' (p0..p%d)\n", i, BK_MAX_PARAMS - 1);
-		return 2;
-	}
-	if (cli_number(end + 1, &v)) {
-		fprintf(stderr, "brdfkit gpucost: p%ld: expected a finite number, got '%.100s'\n", i, end + 1);
-		return 2;
-	}
+	int rc = form_param(arg, &i, &v);
+	if (rc != 1)
+		return rc;
 	if (!last || !last->typed) {
-		fprintf(stderr, "brdfkit gpucost: '%.100s' must follow a typed form (catalog entries use their "
-		                "published constants)\n", arg);
-		return 2;
+		return cli_bad("'%.100s' must follow a typed form (catalog entries use their published constants)", arg);
 	}
 	if (last->given[i]) {
-		fprintf(stderr, "brdfkit gpucost: p%ld given twice for %s\n", i, last->name);
-		return 2;
+		return cli_bad("p%d given twice for %s", i, last->name);
 	}
 	last->params[i] = v;
 	last->have[i] = last->given[i] = 1;
@@ -84,8 +71,7 @@ static int read_row(const char *arg, int index, gc_row *r)
 	const char *part = colon ? colon + 1 : "";
 	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
 	if (colon && (!e->form_b || !(a || b))) {
-		fprintf(stderr, "brdfkit gpucost: '%s': unknown part '%.20s'\n", name, part);
-		return 2;
+		return cli_bad("'%s': unknown part '%.20s'", name, part);
 	}
 	r->text[0] = b ? e->form_b : e->form;
 	r->text[1] = !colon ? e->form_b : NULL;
@@ -102,17 +88,17 @@ static int read_row(const char *arg, int index, gc_row *r)
  * a form with a value somewhere (form_check.h). */
 static int parse_row(gc_row *r)
 {
-	int np = 0, rc;
+	unsigned used = 0;
+	int rc;
 	for (int p = 0; p < 2 && r->text[p]; p++) {
 		bk_form_error fe;
 		if (!(r->f[p] = bk_form_parse(r->text[p], &fe))) {
 			fprintf(stderr, "brdfkit gpucost: %s:1:%d: %s\n", r->typed ? "form" : r->name, fe.column, fe.message);
 			return 2;
 		}
-		int k = bk_form_nparams(r->f[p]);
-		np = k > np ? k : np;
+		used |= bk_form_params(r->f[p]);
 	}
-	if ((rc = form_check_params("gpucost", r->name, np, r->have, r->typed ? r->given : NULL)))
+	if ((rc = form_check_params("gpucost", r->name, used, r->have, r->typed ? r->given : NULL)))
 		return rc;
 	for (int p = 0; p < 2 && r->f[p]; p++)
 		if ((rc = form_check_finite("gpucost", r->name, r->f[p], r->params)))

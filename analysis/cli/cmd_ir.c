@@ -40,13 +40,10 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 		const bk_catalog_entry *e = fa->entry;
 		int want_b = colon && (strcmp(colon + 1, "B") == 0 || strcmp(colon + 1, "b") == 0);
 		if (e->form_b && !colon) {
-			fprintf(stderr, "brdfkit %s: '%s' has two forms (split sum): write %s:A or %s:B\n", cmd,
-			        name, name, name);
-			return 2;
+			return cli_bad("'%s' has two forms (split sum): write %s:A or %s:B", name, name, name);
 		}
 		if (colon && (!e->form_b || (!want_b && strcmp(colon + 1, "A") && strcmp(colon + 1, "a")))) {
-			fprintf(stderr, "brdfkit %s: '%s': unknown part '%s'\n", cmd, name, colon + 1);
-			return 2;
+			return cli_bad("'%s': unknown part '%s'", name, colon + 1);
 		}
 		text = want_b ? e->form_b : e->form;
 		for (int i = 0; i < e->nparams; i++) {
@@ -67,18 +64,16 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 }
 
 /* NAME=VALUE with a strict finite number. */
-static int assignment(const char *cmd, const char *arg, char *name, size_t nlen, double *v)
+static int assignment(const char *arg, char *name, size_t nlen, double *v)
 {
 	const char *eq = strchr(arg, '=');
 	if (!eq || eq == arg || (size_t)(eq - arg) >= nlen) {
-		fprintf(stderr, "brdfkit %s: expected NAME=VALUE, got '%s'\n", cmd, arg);
-		return 2;
+		return cli_bad("expected NAME=VALUE, got '%s'", arg);
 	}
 	memcpy(name, arg, (size_t)(eq - arg));
 	name[eq - arg] = '\0';
 	if (cli_number(eq + 1, v)) {
-		fprintf(stderr, "brdfkit %s: %s: expected a finite number, got '%s'\n", cmd, name, eq + 1);
-		return 2;
+		return cli_bad("%s: expected a finite number, got '%s'", name, eq + 1);
 	}
 	return 0;
 }
@@ -92,45 +87,41 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 	for (int i = 0; i < npos; i++) {
 		char name[32];
 		double v;
-		if (assignment(cmd, pos[i], name, sizeof name, &v))
+		int k, rc = form_param(pos[i], &k, &v); /* pN=VALUE: every command's one reader */
+		if (rc == 2)
 			return 2;
-		for (int j = 0; j < i; j++) /* a second value would silently replace the first */
-			if (strncmp(pos[j], name, strlen(name)) == 0 && pos[j][strlen(name)] == '=') {
-				fprintf(stderr, "brdfkit %s: %s given twice\n", cmd, name);
-				return 2;
-			}
-		char *end;
-		if (name[0] == 'p' && name[1] >= '0' && name[1] <= '9') {
-			long k = strtol(name + 1, &end, 10);
-			if (*end || k >= BK_MAX_PARAMS) {
-				fprintf(stderr, "brdfkit %s: unknown parameter '%s' (p0..p%d)\n", cmd, name, BK_MAX_PARAMS - 1);
-				return 2;
-			}
+		if (rc == 1) {
+			if (given_p[k]) /* a second value would silently replace the first */
+				return cli_bad("p%d given twice", k);
 			fa->params[k] = v;
 			fa->have[k] = given_p[k] = 1;
 			continue;
 		}
+		if (assignment(pos[i], name, sizeof name, &v))
+			return 2;
+		for (int j = 0; j < i; j++) /* a second value would silently replace the first */
+			if (strncmp(pos[j], name, strlen(name)) == 0 && pos[j][strlen(name)] == '=') {
+				return cli_bad("%s given twice", name);
+			}
 		int found = 0;
 		for (int k = 0; inputs && k < BK_IN_COUNT; k++)
 			if (strcmp(name, bk_input_name((bk_input)k)) == 0 ||
 			    (k == BK_IN_LOH && strcmp(name, "VoH") == 0)) {
 				/* VoH = LoH for the half vector: both may be given, with one value */
 				if (given[k] && inputs[k] != v) {
-					fprintf(stderr, "brdfkit %s: %s and %s differ: for the half vector VoH and LoH are "
-					                "the same cosine\n", cmd, pos[given[k] - 1], pos[i]);
-					return 2;
+					return cli_bad("%s and %s differ: for the half vector VoH and LoH are the same cosine",
+					               pos[given[k] - 1], pos[i]);
 				}
 				inputs[k] = v;
 				given[k] = i + 1; /* which argument, for the message above */
 				found = 1;
 			}
 		if (!found) {
-			fprintf(stderr, "brdfkit %s: unknown name '%s' (%s)\n", cmd, name,
-			        inputs ? "inputs NoV NoL NoH LoH VoH r a f0, parameters p0..p15" : "parameters p0..p15");
-			return 2;
+			return cli_bad("unknown name '%s' (%s)", name,
+			               inputs ? "inputs NoV NoL NoH LoH VoH r a f0, parameters p0..p15" : "parameters p0..p15");
 		}
 	}
-	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_nparams(fa->f), fa->have, given_p);
+	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_params(fa->f), fa->have, given_p);
 }
 
 /* Significant digits that read back as x: 0.1, not 0.10000000000000001. */
@@ -155,9 +146,8 @@ static int check_inputs(const bk_form *f, const char *name, char **args, const i
 		int via_a = k == BK_IN_R && (reads >> BK_IN_A & 1) && !given[BK_IN_A];
 		if (given[k] && !(reads >> k & 1) && !via_a) {
 			const char *arg = args[given[k] - 1], *eq = strchr(arg, '=');
-			fprintf(stderr, "brdfkit eval: %.*s=VALUE has no effect: %s does not read %.*s\n", (int)(eq - arg),
-			        arg, name, (int)(eq - arg), arg); /* VoH, not LoH, when VoH= was given */
-			return 2;
+			return cli_bad("%.*s=VALUE has no effect: %s does not read %.*s", (int)(eq - arg), arg, name,
+			               (int)(eq - arg), arg); /* VoH, not LoH, when VoH= was given */
 		}
 	}
 	return 0;
@@ -207,9 +197,8 @@ int cmd_eval(int argc, char **argv)
 	for (int k = 0; k < BK_IN_COUNT; k++) {
 		ptr[k] = &in[k];
 		if ((bk_form_inputs(fa.f) >> k & 1) && !given[k]) {
-			fprintf(stderr, "brdfkit eval: missing %s=VALUE (the form reads it)\n", bk_input_name((bk_input)k));
 			bk_form_free(fa.f);
-			return 2;
+			return cli_bad("missing %s=VALUE (the form reads it)", bk_input_name((bk_input)k));
 		}
 	}
 	/* digits that round-trip each precision: 17, 9 and 5 significant */
@@ -390,18 +379,15 @@ int cmd_codegen(int argc, char **argv)
 		return 2;
 	}
 	if (fname && !identifier(fname)) {
-		fprintf(stderr, "brdfkit codegen: --name: not an identifier: '%s'\n", fname);
-		return 2;
+		return cli_bad("--name: not an identifier: '%s'", fname);
 	}
 	if (fname && strlen(fname) > BK_NAME_MAX) {
-		fprintf(stderr, "brdfkit codegen: --name: %zu characters, more than %d (C11 keeps %d significant in an "
-		                "internal name)\n", strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
-		return 2;
+		return cli_bad("--name: %zu characters, more than %d (C11 keeps %d significant in an internal name)",
+		               strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
 	}
 	if (fname && bk_lang_reserved(L, fname)) {
-		fprintf(stderr, "brdfkit codegen: --name: '%s' is reserved in %s (a keyword, type, standard library "
-		                "function or macro, entry point, reserved prefix, or a name the body uses)\n", fname, lang);
-		return 2;
+		return cli_bad("--name: '%s' is reserved in %s (a keyword, type, standard library function or macro, entry "
+		               "point, reserved prefix, or a name the body uses)", fname, lang);
 	}
 	if (cli_form_positionals(&cmd, 0))
 		return 2;

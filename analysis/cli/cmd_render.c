@@ -64,32 +64,6 @@ static int name_ok(const char *s)
 	return strspn(s, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") == n;
 }
 
-/* "p0=X;p1=Y" (front.csv's parameters column; ',' also separates) into
- * params/have. 0, or 2 after a usage line. */
-static int parse_params(const char *who, const char *text, double *params, int *have, int *given)
-{
-	char *copy = strdup(text), *save = NULL;
-	if (!copy)
-		return cli_fail("render", "out of memory");
-	int rc = 0;
-	for (char *t = strtok_r(copy, ";,", &save); t && !rc; t = strtok_r(NULL, ";,", &save)) {
-		t += strspn(t, " ");
-		char *eq = strchr(t, '='), *end;
-		long k = t[0] == 'p' && t[1] >= '0' && t[1] <= '9' ? strtol(t + 1, &end, 10) : -1;
-		if (!eq || k < 0 || end != eq || k >= BK_MAX_PARAMS || cli_number(eq + 1, &params[k])) {
-			fprintf(stderr, "brdfkit render: %s: parameters: expected p0=X;p1=Y with N in 0..%d and finite "
-			                "numbers, got '%.60s'\n", who, BK_MAX_PARAMS - 1, t);
-			rc = 2;
-		} else {
-			have[k] = 1;
-			if (given)
-				given[k] = 1;
-		}
-	}
-	free(copy);
-	return rc;
-}
-
 /* Resolves and checks one candidate: a catalog NAME (its published
  * parameters, its target's term unless term is given) or a form. 0, or 2
  * after one line naming the input. */
@@ -103,14 +77,10 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	const bk_catalog_entry *e = bk_catalog_find(form);
 	snprintf(it->name, sizeof it->name, "%s", name ? name : e ? e->name : "candidate");
 	if (!name_ok(it->name)) {
-		fprintf(stderr, "brdfkit render: name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)\n",
-		        it->name);
-		return 2;
+		return cli_bad("name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)", it->name);
 	}
 	if (term && bk_render_term_parse(term, &it->term)) {
-		fprintf(stderr, "brdfkit render: %s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'\n",
-		        it->name, term);
-		return 2;
+		return cli_bad("%s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'", it->name, term);
 	}
 	if (e) {
 		it->form = strdup(e->form);
@@ -119,19 +89,15 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 		for (int j = 0; j < e->nparams; j++)
 			it->have[j] = 1;
 		if (!term && bk_render_term_of_target(e->target, &it->term)) {
-			fprintf(stderr, "brdfkit render: %s: its target %s replaces no term of the render (give --term)\n",
-			        it->name, e->target);
-			return 2;
+			return cli_bad("%s: its target %s replaces no term of the render (give --term)",
+			               it->name, e->target);
 		}
 		if (form_b) {
-			fprintf(stderr, "brdfkit render: %s: --form-b: a catalog entry brings its own B\n", it->name);
-			return 2;
+			return cli_bad("%s: --form-b: a catalog entry brings its own B", it->name);
 		}
 	} else {
 		if (!term) {
-			fprintf(stderr, "brdfkit render: %s: a typed form needs --term (vf2d, vf, d, v, f, dvf or env)\n",
-			        it->name);
-			return 2;
+			return cli_bad("%s: a typed form needs --term (vf2d, vf, d, v, f, dvf or env)", it->name);
 		}
 		it->form = strdup(form);
 		it->form_b = dup_or_null(form_b);
@@ -139,14 +105,14 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	if (!it->form || (form_b && *form_b && !it->form_b))
 		return cli_fail("render", "out of memory");
 	if (it->form_b && it->term != BK_RT_ENV) {
-		fprintf(stderr, "brdfkit render: %s: a B form is only for --term env (f0 A + B)\n", it->name);
-		return 2;
+		return cli_bad("%s: a B form is only for --term env (f0 A + B)", it->name);
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	if (params && *params) {
-		int rc = parse_params(it->name, params, it->params, it->have, given);
-		if (rc)
-			return rc;
+		if (form_param_list(it->name, params, it->params, given))
+			return 2;
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			it->have[j] |= given[j];
 		it->params_text = strdup(params);
 	} else if (e) {
 		char buf[1024] = "";
@@ -158,7 +124,7 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	bk_form_error fe;
 	const char *texts[2] = {it->form, it->form_b};
 	bk_form **fs[2] = {&it->f, &it->fb};
-	int np = 0;
+	unsigned used = 0;
 	for (int k = 0; k < 2; k++) {
 		if (!texts[k])
 			continue;
@@ -167,9 +133,9 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 			        fe.message);
 			return 2;
 		}
-		np = bk_form_nparams(*fs[k]) > np ? bk_form_nparams(*fs[k]) : np;
+		used |= bk_form_params(*fs[k]);
 	}
-	int rc = form_check_params("render", it->name, np, it->have, params && *params ? given : NULL);
+	int rc = form_check_params("render", it->name, used, it->have, params && *params ? given : NULL);
 	for (int k = 0; !rc && k < 2; k++)
 		if (*fs[k])
 			rc = form_check_finite("render", it->name, *fs[k], it->params);
@@ -367,7 +333,7 @@ int cmd_render(int argc, char **argv)
 		{.name = "--name", .kind = CLI_STR, .metavar = "NAME", .help = "the render's name in the outputs (default: the catalog name or 'candidate')", .dest = &name},
 		{.name = "--batch", .kind = CLI_STR, .metavar = "CSV", .help = "many candidates: columns name, term, form, form_b, parameters (read by name); each into DIR/NAME/", .dest = &batch},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half|both", .help = "which shaders run: float (f32 outputs), float16_t (f16 outputs) or both (default)", .dest = &precision},
-		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square, two rows", .dest = &size, .lo = 16, .hi = 8192},
+		{.name = "--size", .kind = CLI_INT, .metavar = "W", .help = "image width in pixels (default 640); cells are W / columns square (8 to 4096 pixels), two rows", .dest = &size, .lo = 16, .hi = 8192},
 		{.name = "--roughness", .kind = CLI_LIST, .metavar = "R,...", .help = "the columns' roughness (default 0.1,0.25,0.5,0.75,1)", .dest = &rough, .lo = 0, .hi = 1, .lo_open = 1},
 		{.name = "--device", .kind = CLI_STR, .metavar = "lavapipe|cpu", .help = "lavapipe: the emitted GLSL on Mesa's software Vulkan (default); cpu: the IR (double for f32, BK_F16 for f16), the reference", .dest = &device},
 		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of the links in section.html: a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
@@ -413,8 +379,11 @@ int cmd_render(int argc, char **argv)
 		return cli_usage(&cmd, "--roughness: at most %d columns", BK_RENDER_MAX_COLS);
 	bk_render_scene sc = {.cell = (int)(size / rough.n), .ncols = rough.n};
 	memcpy(sc.r, rough.v, sizeof(double) * (size_t)rough.n);
-	if (sc.cell < 8)
-		return cli_usage(&cmd, "--size %ld: cells of %d pixels for %d columns (at least 8)", size, sc.cell, rough.n);
+	if (sc.cell < BK_RENDER_MIN_CELL || sc.cell > BK_RENDER_MAX_CELL) /* the help's [16, 8192] is W's, not a cell's */
+		return cli_usage(&cmd, "--size %ld: cells of %d pixels for %d column%s (a cell is %d to %d pixels: W from %ld "
+		                 "to %ld here)", size, sc.cell, rough.n, rough.n > 1 ? "s" : "", BK_RENDER_MIN_CELL,
+		                 BK_RENDER_MAX_CELL, (long)BK_RENDER_MIN_CELL * rough.n,
+		                 (long)BK_RENDER_MAX_CELL * rough.n < 8192 ? (long)BK_RENDER_MAX_CELL * rough.n : 8192L);
 	char err[1200];
 	if (bk_out_dir_check(out, err, sizeof err))
 		return cli_fail("render", "--out %s", err);
@@ -432,6 +401,15 @@ int cmd_render(int argc, char **argv)
 	bk_render_geom g = {0};
 	bk_lvp *v = NULL;
 	char driver[256] = "", devname[400];
+	if (!rc) { /* M8: --size 2048 or a 64-row batch runs for many minutes: said before */
+		/* samples: 3 channels of the sphere pixels, pi (0.45 cell)^2 in each of 2 x ncols cells;
+		 * the sky's integral at each costs about 0.2 ms, each candidate's images about 0.02 ms
+		 * (measured at --size 160 and 320, one and two candidates) */
+		double ns = 3 * 2 * sc.ncols * 3.14159 * 0.2025 * (double)sc.cell * sc.cell;
+		char what[64];
+		snprintf(what, sizeof what, "%d candidate%s at %ldx%d pixels", n, n == 1 ? "" : "s", size, 2 * sc.cell);
+		cli_estimate(what, ns * (2e-4 + n * 2e-5), 0, "0.2 ms a sample for the sky, 0.02 ms for each candidate");
+	}
 	if (!rc && bk_render_geometry(&sc, NULL, NULL, &g, err, sizeof err))
 		rc = cli_fail("render", "%s", err);
 	if (!rc && lvp_dev) {

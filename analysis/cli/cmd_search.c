@@ -545,6 +545,8 @@ static int search_main(int argc, char **argv)
 	}
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
+	if (R == 0)
+		fit_say_size(&J.to); /* before the reference: --nx 4096 --nr 4096 is GBs */
 	/* --vs-front: the double front of the same target and objective, said
 	 * now, not after the search; its samples are checked with the full ones */
 	if (R == 0 && a.vs_front &&

@@ -332,13 +332,8 @@ int cmd_lut_specular(int argc, char **argv)
 		return cli_unknown_value("--axis", axis, axes, 2);
 	if (bk_speclut_fresnel_parse(fresnel, &L.fresnel))
 		return cli_unknown_value("--fresnel", fresnel, fresnels, 2);
-	if (r_range) {
-		char *end;
-		L.r_lo = strtod(r_range, &end);
-		if (end == r_range || *end != ':' || (L.r_hi = strtod(end + 1, &end), *end) ||
-		    !(L.r_lo >= 0 && L.r_lo < L.r_hi && L.r_hi <= 1))
-			return cli_usage(&cmd, "--r-range: expected LO:HI with 0 <= LO < HI <= 1, got '%s'", r_range);
-	}
+	if (r_range && cli_range("--r-range", r_range, 0, 1, &L.r_lo, &L.r_hi))
+		return 2;
 	L.warp = (int)warp;
 	L.scale = scale;
 	L.nu = (int)size;

@@ -96,15 +96,10 @@ static int resolve(const char *arg, item *it)
  * published value is overridden). Returns 0 or 2 (usage error). */
 static int assignment(const cli_cmd *cmd, const char *arg, int *j, double *v)
 {
-	char *end;
-	const char *eq = strchr(arg, '=');
-	long k = arg[0] == 'p' && arg[1] >= '0' && arg[1] <= '9' ? strtol(arg + 1, &end, 10) : -1;
-	if (k < 0 || end != eq || k >= BK_MAX_PARAMS)
+	int rc = form_param(arg, j, v);
+	if (rc == 0)
 		return cli_usage(cmd, "expected pN=VALUE with N in 0..%d, got '%s'", BK_MAX_PARAMS - 1, arg);
-	if (cli_number(eq + 1, v)) /* the one number syntax of every command */
-		return cli_usage(cmd, "p%ld: expected a finite number, got '%s'", k, eq + 1);
-	*j = (int)k;
-	return 0;
+	return rc == 1 ? 0 : 2;
 }
 
 /* Every parameter a form uses has a value, and every value given is used by
@@ -117,9 +112,10 @@ static int check_params(const cli_cmd *cmd, const item *items, int n, const int 
 		bk_form_error e;
 		bk_form *f = bk_form_parse(items[i].text, &e);
 		int np = f ? bk_form_nparams(f) : 0; /* a parse error is reported by the run */
+		unsigned mask = f ? bk_form_params(f) : 0;
 		bk_form_free(f);
 		used = np > used ? np : used;
-		int rc = form_check_params("stability", items[i].name, np, items[i].have, NULL);
+		int rc = form_check_params("stability", items[i].name, mask, items[i].have, NULL);
 		if (rc)
 			return rc;
 	}

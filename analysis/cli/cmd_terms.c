@@ -36,8 +36,7 @@ int cmd_terms(int argc, char **argv)
 			if (strcmp(role, bk_role_name((bk_role)r)) == 0)
 				want = r;
 		if (want < 0) {
-			fprintf(stderr, "brdfkit terms: --role: unknown role '%s' (expected D, V, F or Fd)\n", role);
-			return 2;
+			return cli_bad("--role: unknown role '%s' (expected D, V, F or Fd)", role);
 		}
 	}
 	if (csv)

@@ -28,28 +28,6 @@ typedef struct time_table {
 	int n;
 } time_table;
 
-/* pN=VALUE: 1 and the index and value; 0 when arg is not of that shape;
- * 2 after an error message. */
-static int param_arg(const char *arg, int *k, double *v)
-{
-	if (arg[0] != 'p' || arg[1] < '0' || arg[1] > '9' || !strchr(arg, '='))
-		return 0;
-	char *end;
-	long i = strtol(arg + 1, &end, 10);
-	if (*end != '=')
-		return 0;
-	if (i >= BK_MAX_PARAMS) {
-		fprintf(stderr, "brdfkit time: unknown parameter 'p%ld' (p0..p%d)\n", i, BK_MAX_PARAMS - 1);
-		return 2;
-	}
-	if (cli_number(end + 1, v)) {
-		fprintf(stderr, "brdfkit time: p%ld: expected a finite number, got '%s'\n", i, strchr(arg, '=') + 1);
-		return 2;
-	}
-	*k = (int)i;
-	return 1;
-}
-
 /* NAME, NAME:A or NAME:B from the catalog; 0 when arg names no entry, 1 when
  * it does, 2 after an error message. A split-sum entry without a part is
  * timed as one evaluation of A and B. */
@@ -68,8 +46,7 @@ static int catalog_row(const char *arg, bk_compare_row *r, int *have)
 	const char *part = colon ? colon + 1 : "";
 	int a = !strcmp(part, "A") || !strcmp(part, "a"), b = !strcmp(part, "B") || !strcmp(part, "b");
 	if (colon && (!e->form_b || !(a || b))) {
-		fprintf(stderr, "brdfkit time: '%s': unknown part '%s'\n", name, part);
-		return 2;
+		return cli_bad("'%s': unknown part '%s'", name, part);
 	}
 	snprintf(r->form, sizeof r->form, "%s", b ? e->form_b : e->form);
 	if (!colon && e->form_b)
@@ -88,8 +65,7 @@ static int catalog_row(const char *arg, bk_compare_row *r, int *have)
 static int typed_row(const char *arg, int index, bk_compare_row *r)
 {
 	if (strlen(arg) >= sizeof r->form) {
-		fprintf(stderr, "brdfkit time: form %d: longer than %zu characters\n", index, sizeof r->form - 1);
-		return 2;
+		return cli_bad("form %d: longer than %zu characters", index, sizeof r->form - 1);
 	}
 	snprintf(r->form, sizeof r->form, "%s", arg);
 	snprintf(r->name, sizeof r->name, "form%d", index);
@@ -105,17 +81,15 @@ static int read_rows(char **pos, int npos, time_table *T)
 	for (int i = 0; i < npos; i++) {
 		int k, rc, last = T->n - 1;
 		double v;
-		if ((rc = param_arg(pos[i], &k, &v)) == 2)
+		if ((rc = form_param(pos[i], &k, &v)) == 2)
 			return 2;
 		if (rc == 1) {
 			if (last < 0 || !T->typed[last]) {
-				fprintf(stderr, "brdfkit time: '%s' must follow a typed form (catalog entries use their "
-				                "published constants)\n", pos[i]);
-				return 2;
+				return cli_bad("'%s' must follow a typed form (catalog entries use their published constants)",
+				               pos[i]);
 			}
 			if (T->given[last][k]) {
-				fprintf(stderr, "brdfkit time: p%d given twice for %s\n", k, T->rows[last].name);
-				return 2;
+				return cli_bad("p%d given twice for %s", k, T->rows[last].name);
 			}
 			T->rows[last].params[k] = v;
 			T->have[last][k] = T->given[last][k] = 1;
@@ -139,17 +113,20 @@ static int check_row(time_table *T, int i)
 	bk_compare_row *r = &T->rows[i];
 	const char *text[2] = {r->form, r->form_b};
 	bk_form *f[2] = {NULL, NULL};
-	int np = 0, rc = 0;
+	unsigned used = 0;
+	int rc = 0, np = 0;
 	for (int p = 0; p < 2 && text[p][0] && !rc; p++) {
 		bk_form_error fe;
 		if (!(f[p] = bk_form_parse(text[p], &fe))) {
 			fprintf(stderr, "brdfkit time: %s:1:%d: %s\n", T->typed[i] ? "form" : r->name, fe.column, fe.message);
 			rc = 2;
-		} else if (bk_form_nparams(f[p]) > np)
-			np = bk_form_nparams(f[p]);
+		} else {
+			used |= bk_form_params(f[p]);
+			np = bk_form_nparams(f[p]) > np ? bk_form_nparams(f[p]) : np;
+		}
 	}
 	if (!rc)
-		rc = form_check_params("time", r->name, np, T->have[i], T->typed[i] ? T->given[i] : NULL);
+		rc = form_check_params("time", r->name, used, T->have[i], T->typed[i] ? T->given[i] : NULL);
 	for (int p = 0; p < 2 && f[p] && !rc; p++)
 		rc = form_check_finite("time", r->name, f[p], r->params);
 	for (int p = 0; p < 2 && f[p] && !rc; p++) /* the C it times is float: codegen's warning (M3) */

@@ -5,30 +5,115 @@
 
 #include "cli.h"
 
+#include <ctype.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
-int form_check_params(const char *cmd, const char *name, int np, const int *have, const int *given)
+int form_param(const char *text, int *k, double *v)
 {
+	return form_param_in(NULL, text, k, v);
+}
+
+int form_param_in(const char *where, const char *text, int *k, double *v)
+{
+	const char *eq = strchr(text, '=');
+	if (text[0] != 'p' || !isdigit((unsigned char)text[1]) || !eq)
+		return 0;
+	size_t nd = strspn(text + 1, "0123456789");
+	if (text + 1 + nd != eq) /* "p1x=2": not a parameter's name */
+		return 0;
+	/* one spelling per parameter: "p01" would be a second name for p1 */
+	if ((text[1] == '0' && nd > 1) || nd > 2 || atoi(text + 1) >= BK_MAX_PARAMS)
+		return cli_bad("%s%sunknown parameter '%.*s' (p0..p%d)", where ? where : "", where ? ": " : "",
+		               (int)(nd < 20 ? nd + 1 : 20), text, BK_MAX_PARAMS - 1);
+	*k = atoi(text + 1);
+	if (cli_number(eq + 1, v)) /* the one number syntax of every command */
+		return cli_bad("%s%sp%d: expected a finite number, got '%.100s'", where ? where : "", where ? ": " : "", *k,
+		               eq + 1);
+	return 1;
+}
+
+int form_param_list(const char *who, const char *text, double *params, int *given)
+{
+	for (const char *t = text;;) {
+		size_t n = strcspn(t, ";,");
+		char item[128];
+		if (n >= sizeof item) /* cut, it would be another number */
+			return cli_bad("%s: parameters: an item longer than %zu characters in '%.60s...'", who, sizeof item - 1, t);
+		snprintf(item, sizeof item, "%.*s", (int)n, t);
+		char *s = item + strspn(item, " ");
+		int k;
+		double v;
+		if (!*s)
+			return cli_bad("%s: parameters: empty item in the list '%.200s'", who, text);
+		char where[160];
+		snprintf(where, sizeof where, "%.100s: parameters", who);
+		int rc = form_param_in(where, s, &k, &v);
+		if (rc == 0)
+			return cli_bad("%s: parameters: expected pN=VALUE with N in 0..%d, got '%.60s'", who, BK_MAX_PARAMS - 1,
+			               s);
+		if (rc != 1)
+			return 2;
+		if (given[k])
+			return cli_bad("%s: parameters: p%d given twice in the list '%.200s'", who, k, text);
+		given[k] = 1;
+		params[k] = v;
+		if (!t[n])
+			return 0;
+		t += n + 1;
+	}
+}
+
+void form_params_text(unsigned used, char *buf, size_t len)
+{
+	int np = 0, gap = 0;
+	while (np < BK_MAX_PARAMS && used >> np)
+		gap |= !(used >> np++ & 1u);
+	*buf = '\0';
+	if (!gap && np > 1)
+		snprintf(buf, len, "p0..p%d", np - 1);
+	else
+		for (int k = 0; k < np; k++)
+			if (used >> k & 1u)
+				snprintf(buf + strlen(buf), len - strlen(buf), "%sp%d", *buf ? ", " : "", k);
+}
+
+int form_gap(unsigned used, int *missing)
+{
+	int np = 0;
+	while (np < BK_MAX_PARAMS && used >> np)
+		np++;
+	for (int k = 0; k < np; k++)
+		if (!(used >> k & 1u)) {
+			*missing = k;
+			return np - 1;
+		}
+	return -1;
+}
+
+int form_check_params(const char *cmd, const char *name, unsigned used, const int *have, const int *given)
+{
+	int np = 0, missing, top = form_gap(used, &missing);
+	while (np < BK_MAX_PARAMS && used >> np)
+		np++;
+	if (top >= 0) /* the values would be positional: p0..p14 all needed, all unused */
+		return cli_bad("%s uses p%d but not p%d: number the parameters from p0, without a gap", name, top, missing);
 	for (int k = 0; k < np; k++)
 		if (!have[k]) {
 			if (np == 1)
-				fprintf(stderr, "brdfkit %s: %s uses p0 but no value was given (p0=VALUE)\n", cmd, name);
-			else
-				fprintf(stderr, "brdfkit %s: %s uses p0..p%d but no value was given for p%d (p%d=VALUE)\n", cmd,
-				        name, np - 1, k, k);
-			return 2;
+				return cli_bad("%s uses p0 but no value was given (p0=VALUE)", name);
+			return cli_bad("%s uses p0..p%d but no value was given for p%d (p%d=VALUE)", name, np - 1, k, k);
 		}
 	for (int k = np; given && k < BK_MAX_PARAMS; k++)
 		if (given[k]) {
 			if (np == 0)
-				fprintf(stderr, "brdfkit %s: p%d=VALUE has no effect: %s uses no parameter\n", cmd, k, name);
-			else if (np == 1)
-				fprintf(stderr, "brdfkit %s: p%d=VALUE has no effect: %s uses p0 only\n", cmd, k, name);
-			else
-				fprintf(stderr, "brdfkit %s: p%d=VALUE has no effect: %s uses p0..p%d only\n", cmd, k, name,
-				        np - 1);
-			return 2;
+				return cli_bad("p%d=VALUE has no effect: %s uses no parameter", k, name);
+			if (np == 1)
+				return cli_bad("p%d=VALUE has no effect: %s uses p0 only", k, name);
+			return cli_bad("p%d=VALUE has no effect: %s uses p0..p%d only", k, name, np - 1);
 		}
+	(void)cmd;
 	return 0;
 }
 

@@ -10,11 +10,38 @@
 
 #include "brdf.h"
 
-/* np: the highest parameter the form(s) use + 1; have[k]: p_k has a value;
- * given[k]: it was given on the command line (NULL: none was). A value
- * missing would be a silent zero, a value unused a silent no-op. Returns 0,
- * or 2 after "brdfkit CMD: NAME: ..." on stderr. */
-int form_check_params(const char *cmd, const char *name, int np, const int *have, const int *given);
+#include <stddef.h>
+
+/* used: the parameters the form(s) read (bk_form_params, or-ed over a
+ * pair); have[k]: p_k has a value; given[k]: it was given on the command
+ * line (NULL: none was). A value missing would be a silent zero, a value
+ * unused a silent no-op; parameters are numbered from p0 without a gap (a
+ * form of p15 alone would need p0..p14 fitted, emitted and given, all
+ * unused). Returns 0, or 2 after one usage line on stderr naming NAME. */
+int form_check_params(const char *cmd, const char *name, unsigned used, const int *have, const int *given);
+
+/* The parameters a mask names, for a message: "p0", "p0..p3", or each
+ * one where there is a gap ("p2, p5"). */
+void form_params_text(unsigned used, char *buf, size_t len);
+/* The highest parameter of a mask with a gap below it (*missing: the first
+ * absent one), or -1 when it is p0..pN whole (or empty). */
+int form_gap(unsigned used, int *missing);
+
+/* Every command's reader of one parameter value, "pN=VALUE": N a plain
+ * decimal (p0..p15; not p01, a second name for p1), VALUE a cli_number.
+ * 1 with *k and *v set; 0 when text does not have that shape ("p" digits
+ * "="), so the caller can read it as something else or refuse it; 2 after
+ * a usage line (an unknown parameter, not a number). */
+int form_param(const char *text, int *k, double *v);
+/* form_param whose refusals start "WHERE: " (NULL: none). */
+int form_param_in(const char *where, const char *text, int *k, double *v);
+
+/* A list of them, "p0=X;p1=Y" (';' or ','; front.csv's parameters column,
+ * render --params and a batch's parameters), into params[k] and given[k]:
+ * an empty item and a parameter given twice are refused, as the other lists
+ * of the tool refuse them (cli_words). 0, or 2 after a usage line naming
+ * who. */
+int form_param_list(const char *who, const char *text, double *params, int *given);
 
 /* The form at params can be computed: no operation on constants that is NaN
  * or infinite in single precision (the code would compute it: 1/0,

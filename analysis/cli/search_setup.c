@@ -4,6 +4,7 @@
 #include "search_setup.h"
 
 #include "catalog.h"
+#include "form_check.h"
 #include "islands.h"
 #include "out.h"
 #include "search/catalogmap.h"
@@ -359,6 +360,12 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 		if (!e && !f) {
 			fprintf(stderr, "brdfkit search: --start:1:%d: %s\n", fe.column, fe.message);
 			return 2;
+		}
+		int missing, top = f ? form_gap(bk_form_params(f), &missing) : -1;
+		if (top >= 0) { /* as every command takes parameters (form_check.h) */
+			bk_form_free(f);
+			return cli_usage(J->cmd, "--start '%s' uses p%d but not p%d: number the parameters from p0, without a "
+			                 "gap", J->a->start[k], top, missing);
 		}
 		if (f && (bk_form_inputs(f) & ~J->screen.provides)) {
 			bk_form_free(f);
