@@ -119,7 +119,7 @@ float16_t bk_exact_F(float16_t LoH, float16_t f0)
  * fitted domain: not fitted
  * fitted error: unknown
  * parameters baked in:
- *   p0 = 0.383544922
+ *   p0 = 0.383789062
  *   p1 = 0.292724609
  *   p2 = 1.98339844
  *   p3 = 3.68164062
@@ -137,7 +137,7 @@ float16_t bk_cand(float16_t LoH, float16_t a, float16_t f0)
 	float16_t t7 = t4 * 3.681640625hf + 1.9833984375hf;
 	float16_t t8 = a - t7;
 	float16_t t10 = LoH * t8 + 0.292724609375hf;
-	float16_t t11 = 0.383544921875hf / t10;
+	float16_t t11 = 0.3837890625hf / t10;
 	float16_t t12 = f0 * t11;
 	return t12;
 }

@@ -118,7 +118,7 @@ highp float bk_exact_F(highp float LoH, highp float f0)
  * fitted domain: not fitted
  * fitted error: unknown
  * parameters baked in:
- *   p0 = 0.383544922
+ *   p0 = 0.383789062
  *   p1 = 0.292724609
  *   p2 = 1.98339844
  *   p3 = 3.68164062
@@ -136,7 +136,7 @@ highp float bk_cand(highp float LoH, highp float a, highp float f0)
 	highp float t7 = t4 * 3.6816406 + 1.9833984;
 	highp float t8 = a - t7;
 	highp float t10 = LoH * t8 + 0.2927246;
-	highp float t11 = 0.38354492 / t10;
+	highp float t11 = 0.38378906 / t10;
 	highp float t12 = f0 * t11;
 	return t12;
 }

@@ -33,8 +33,8 @@ static inline float env_ross_refit(float NoV, float a, float f0)
 	float t8 = t6 * a;
 	float t9 = expf(t8);
 	float t10 = 5.0f * t9;
-	float t11 = powf(t3, t10);
-	float t14 = powf(a, 1.334f);
+	float t11 = t3 == 0.0f && !(t10 > 0.0f) ? NAN : exp2f(t10 * log2f(t3));
+	float t14 = a == 0.0f && !(1.334f > 0.0f) ? NAN : exp2f(1.334f * log2f(a));
 	float t15 = 25.71f * t14 + 1.0f;
 	float t16 = t11 / t15;
 	float t17 = 1.0f - t16;

@@ -51,7 +51,7 @@ static inline float spec_ibl_diffuse_anyf0_D(float NoH, float a)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
- * fitted error: albedo_max_abs 0.00458 in half on the domain (budget 0.00458); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
+ * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.00461); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and

@@ -48,7 +48,7 @@ half spec_ibl_diffuse_anyf0_D(half NoH, half a)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
- * fitted error: albedo_max_abs 0.00458 in half on the domain (budget 0.00458); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
+ * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.00461); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
  * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):

@@ -7,15 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0253, max |error| 0.222, max relative 0.589 (absolute residuals)
+ * fitted error: rmse 0.0253, max |error| 0.223, max relative 0.596 (absolute residuals)
  * parameters baked in:
  *   p0 = 1.0546875
- *   p1 = -0.0138626099
+ *   p1 = -0.0135574341
  *   p2 = 0.927734375
- *   p3 = -0.0603942871
- *   p4 = -0.630371094
+ *   p3 = -0.0595703125
+ *   p4 = -0.629394531
  *   p5 = 0.0394592285
- *   p6 = 0.799316406
+ *   p6 = 0.798828125
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -29,16 +29,16 @@
 #include <math.h>
 static inline float seed_search_env_12(float NoV, float r, float a, float f0)
 {
-	float t4 = -(-0.6303711f);
-	float t7 = t4 * a + (-0.060394287f);
+	float t4 = -(-0.62939453f);
+	float t7 = t4 * a + (-0.059570312f);
 	float t8 = fminf(NoV, t7);
 	float t9 = 0.9277344f - t8;
-	float t13 = 0.7993164f - NoV;
+	float t13 = 0.7988281f - NoV;
 	float t15 = fmaxf(NoV, r);
 	float t16 = t13 - t15;
 	float t17 = fmaxf(0.03945923f, t16);
 	float t18 = f0 + (0.9277344f - f0) * t17;
-	float t20 = t9 * t18 + (-0.01386261f);
+	float t20 = t9 * t18 + (-0.013557434f);
 	float t21 = 1.0546875f * t20;
 	return t21;
 }

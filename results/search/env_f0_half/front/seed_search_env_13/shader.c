@@ -9,11 +9,11 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: rmse 0.0226, max |error| 0.122, max relative 1.09 (absolute residuals)
  * parameters baked in:
- *   p0 = 1.35449219
- *   p1 = 0.00859832764
+ *   p0 = 1.35546875
+ *   p1 = 0.00859069824
  *   p2 = 0.744140625
- *   p3 = 0.478027344
- *   p4 = 0.911621094
+ *   p3 = 0.478271484
+ *   p4 = 0.909667969
  *   p5 = 0
  *   p6 = 1.00488281
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -29,7 +29,7 @@
 #include <math.h>
 static inline float seed_search_env_13(float NoV, float r, float a, float f0)
 {
-	float t5 = 0.47802734f * a;
+	float t5 = 0.47827148f * a;
 	float t6 = fminf(NoV, t5);
 	float t7 = 0.7441406f - t6;
 	float t12 = 1.0048828f - NoV;
@@ -37,8 +37,8 @@ static inline float seed_search_env_13(float NoV, float r, float a, float f0)
 	float t15 = t12 - t14;
 	float t16 = fmaxf(0.0f, t15);
 	float t17 = t16 * t16;
-	float t18 = f0 + (0.9116211f - f0) * t17;
-	float t20 = t7 * t18 + 0.008598328f;
-	float t21 = 1.3544922f * t20;
+	float t18 = f0 + (0.90966797f - f0) * t17;
+	float t20 = t7 * t18 + 0.008590698f;
+	float t21 = 1.3554688f * t20;
 	return t21;
 }

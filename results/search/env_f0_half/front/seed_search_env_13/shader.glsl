@@ -9,11 +9,11 @@
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
  * fitted error: rmse 0.0226, max |error| 0.122, max relative 1.09 (absolute residuals)
  * parameters baked in:
- *   p0 = 1.35449219
- *   p1 = 0.00859832764
+ *   p0 = 1.35546875
+ *   p1 = 0.00859069824
  *   p2 = 0.744140625
- *   p3 = 0.478027344
- *   p4 = 0.911621094
+ *   p3 = 0.478271484
+ *   p4 = 0.909667969
  *   p5 = 0
  *   p6 = 1.00488281
  * precision: GLSL ES 3.00 highp (fp32)
@@ -26,7 +26,7 @@
  */
 highp float seed_search_env_13(highp float NoV, highp float r, highp float a, highp float f0)
 {
-	highp float t5 = 0.47802734 * a;
+	highp float t5 = 0.47827148 * a;
 	highp float t6 = min(NoV, t5);
 	highp float t7 = 0.7441406 - t6;
 	highp float t12 = 1.0048828 - NoV;
@@ -34,8 +34,8 @@ highp float seed_search_env_13(highp float NoV, highp float r, highp float a, hi
 	highp float t15 = t12 - t14;
 	highp float t16 = max(0.0, t15);
 	highp float t17 = t16 * t16;
-	highp float t18 = f0 + (0.9116211 - f0) * t17;
-	highp float t20 = t7 * t18 + 0.008598328;
-	highp float t21 = 1.3544922 * t20;
+	highp float t18 = f0 + (0.90966797 - f0) * t17;
+	highp float t20 = t7 * t18 + 0.008590698;
+	highp float t21 = 1.3554688 * t20;
 	return t21;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.021, max |error| 0.143, max relative 0.567 (absolute residuals)
+ * fitted error: rmse 0.021, max |error| 0.143, max relative 0.565 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.905761719
  *   p1 = 1.02539062
  *   p2 = -0.152954102
  *   p3 = -1.79296875
- *   p4 = -7.87890625
+ *   p4 = -7.88671875
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -33,7 +33,7 @@ static inline float seed_search_env_14(float NoV, float a, float f0)
 	float t8 = t4 * t6 + (-0.1529541f);
 	float t10 = t2 * t8 + 1.0253906f;
 	float t13 = NoV + a;
-	float t14 = (-7.8789062f) * t13;
+	float t14 = (-7.8867188f) * t13;
 	float t15 = exp2f(t14);
 	float t16 = f0 + (1.0253906f - f0) * t15;
 	float t17 = t10 * t16;

@@ -7,11 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178, max |error| 0.129, max relative 0.616 (absolute residuals)
+ * fitted error: rmse 0.0178, max |error| 0.129, max relative 0.615 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.381835938
- *   p1 = 0.00821685791
- *   p2 = 2.64257812
+ *   p0 = 0.382080078
+ *   p1 = 0.0080947876
+ *   p2 = 2.640625
  *   p3 = 0.915039062
  *   p4 = -7.625
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -33,12 +33,12 @@ static inline float seed_search_env_17(float NoV, float r, float a, float f0)
 	float t4 = -t3;
 	float t6 = fminf(a, NoV);
 	float t7 = sqrtf(t6);
-	float t9 = t4 * t7 + 2.6425781f;
+	float t9 = t4 * t7 + 2.640625f;
 	float t13 = a + NoV;
 	float t14 = (-7.625f) * t13;
 	float t15 = exp2f(t14);
 	float t16 = f0 + (0.91503906f - f0) * t15;
-	float t18 = t9 * t16 + 0.008216858f;
-	float t19 = 0.38183594f * t18;
+	float t18 = t9 * t16 + 0.008094788f;
+	float t19 = 0.38208008f * t18;
 	return t19;
 }

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178, max |error| 0.129, max relative 0.611 (absolute residuals)
+ * fitted error: rmse 0.0178, max |error| 0.129, max relative 0.609 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.385253906
- *   p1 = 0.00724411011
- *   p2 = 2.62304688
- *   p3 = 0.9140625
+ *   p0 = 0.384765625
+ *   p1 = 0.00723648071
+ *   p2 = 2.625
+ *   p3 = 0.913574219
  *   p4 = -7.625
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -33,13 +33,13 @@ static inline float seed_search_env_18(float NoV, float r, float a, float f0)
 	float t4 = -t3;
 	float t6 = fminf(a, NoV);
 	float t7 = sqrtf(t6);
-	float t9 = t4 * t7 + 2.6230469f;
+	float t9 = t4 * t7 + 2.625f;
 	float t10 = fmaxf(a, t9);
 	float t14 = a + NoV;
 	float t15 = (-7.625f) * t14;
 	float t16 = exp2f(t15);
-	float t17 = f0 + (0.9140625f - f0) * t16;
-	float t19 = t10 * t17 + 0.00724411f;
-	float t20 = 0.3852539f * t19;
+	float t17 = f0 + (0.9135742f - f0) * t16;
+	float t19 = t10 * t17 + 0.0072364807f;
+	float t20 = 0.38476562f * t19;
 	return t20;
 }

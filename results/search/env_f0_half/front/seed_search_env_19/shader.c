@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178, max |error| 0.13, max relative 0.593 (absolute residuals)
+ * fitted error: rmse 0.0178, max |error| 0.13, max relative 0.594 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.386962891
  *   p1 = 2.58398438
- *   p2 = 2.62304688
- *   p3 = 0.91015625
- *   p4 = -7.515625
+ *   p2 = 2.625
+ *   p3 = 0.909179688
+ *   p4 = -7.51171875
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -33,12 +33,12 @@ static inline float seed_search_env_19(float NoV, float r, float a, float f0)
 	float t5 = -t4;
 	float t7 = fminf(a, NoV);
 	float t8 = sqrtf(t7);
-	float t10 = t5 * t8 + 2.6230469f;
+	float t10 = t5 * t8 + 2.625f;
 	float t11 = fmaxf(a, t10);
 	float t15 = a + NoV;
-	float t16 = (-7.515625f) * t15;
+	float t16 = (-7.5117188f) * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (0.91015625f - f0) * t17;
+	float t18 = f0 + (0.9091797f - f0) * t17;
 	float t19 = t11 * t18;
 	float t20 = fminf(2.5839844f, t19);
 	float t21 = 0.3869629f * t20;

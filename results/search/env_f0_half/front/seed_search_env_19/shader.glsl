@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178, max |error| 0.13, max relative 0.593 (absolute residuals)
+ * fitted error: rmse 0.0178, max |error| 0.13, max relative 0.594 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.386962891
  *   p1 = 2.58398438
- *   p2 = 2.62304688
- *   p3 = 0.91015625
- *   p4 = -7.515625
+ *   p2 = 2.625
+ *   p3 = 0.909179688
+ *   p4 = -7.51171875
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -30,12 +30,12 @@ highp float seed_search_env_19(highp float NoV, highp float r, highp float a, hi
 	highp float t5 = -t4;
 	highp float t7 = min(a, NoV);
 	highp float t8 = sqrt(t7);
-	highp float t10 = t5 * t8 + 2.6230469;
+	highp float t10 = t5 * t8 + 2.625;
 	highp float t11 = max(a, t10);
 	highp float t15 = a + NoV;
-	highp float t16 = (-7.515625) * t15;
+	highp float t16 = (-7.5117188) * t15;
 	highp float t17 = exp2(t16);
-	highp float t18 = f0 + (0.91015625 - f0) * t17;
+	highp float t18 = f0 + (0.9091797 - f0) * t17;
 	highp float t19 = t11 * t18;
 	highp float t20 = min(2.5839844, t19);
 	highp float t21 = 0.3869629 * t20;

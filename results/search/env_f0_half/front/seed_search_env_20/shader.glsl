@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.017, max |error| 0.104, max relative 0.664 (absolute residuals)
+ * fitted error: rmse 0.017, max |error| 0.105, max relative 0.684 (absolute residuals)
  * parameters baked in:
  *   p0 = 1.01269531
- *   p1 = -0.0110855103
+ *   p1 = -0.0113449097
  *   p2 = -1.53515625
- *   p3 = 0.973144531
+ *   p3 = 0.972167969
  *   p4 = -4.11328125
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -37,8 +37,8 @@ highp float seed_search_env_20(highp float NoV, highp float r, highp float a, hi
 	highp float t15 = NoV + t14;
 	highp float t16 = (-4.1132812) * t15;
 	highp float t17 = exp2(t16);
-	highp float t18 = f0 + (0.97314453 - f0) * t17;
-	highp float t20 = t8 * t18 + (-0.01108551);
+	highp float t18 = f0 + (0.97216797 - f0) * t17;
+	highp float t20 = t8 * t18 + (-0.01134491);
 	highp float t21 = 1.0126953 * t20;
 	return t21;
 }

@@ -10,7 +10,7 @@
  * fitted error: rmse 0.0938, max |error| 0.859, max relative 4.55 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.857910156
- *   p1 = 0.078918457
+ *   p1 = 0.0789794922
  *   p2 = 1.0546875
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -25,7 +25,7 @@ static inline float seed_search_env_4(float NoV, float a, float f0)
 {
 	float t3 = -NoV;
 	float t6 = t3 * a + 1.0546875f;
-	float t8 = f0 * t6 + 0.07891846f;
+	float t8 = f0 * t6 + 0.07897949f;
 	float t9 = 0.85791016f * t8;
 	return t9;
 }

@@ -10,7 +10,7 @@
  * fitted error: rmse 0.0938, max |error| 0.859, max relative 4.55 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.857910156
- *   p1 = 0.078918457
+ *   p1 = 0.0789794922
  *   p2 = 1.0546875
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,7 +22,7 @@ highp float seed_search_env_4(highp float NoV, highp float a, highp float f0)
 {
 	highp float t3 = -NoV;
 	highp float t6 = t3 * a + 1.0546875;
-	highp float t8 = f0 * t6 + 0.07891846;
+	highp float t8 = f0 * t6 + 0.07897949;
 	highp float t9 = 0.85791016 * t8;
 	return t9;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.025, max |error| 0.122, max relative 0.673 (absolute residuals)
+ * fitted error: rmse 0.025, max |error| 0.122, max relative 0.671 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.534179688
  *   p1 = 0.11151123
  *   p2 = 1.30664062
  *   p3 = -1.12207031
- *   p4 = 1.88085938
+ *   p4 = 1.88183594
  *   p5 = 2.53710938
  *   p6 = 0.670898438
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -29,7 +29,7 @@
 #include <math.h>
 static inline float seed_search_env_11(float NoV, float r, float a, float f0)
 {
-	float t3 = -1.8808594f;
+	float t3 = -1.8818359f;
 	float t8 = (-1.1220703f) * r + 1.3066406f;
 	float t9 = t3 * NoV + t8;
 	float t10 = fmaxf(0.11151123f, t9);

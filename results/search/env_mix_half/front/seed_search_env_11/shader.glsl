@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.025, max |error| 0.122, max relative 0.673 (absolute residuals)
+ * fitted error: rmse 0.025, max |error| 0.122, max relative 0.671 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.534179688
  *   p1 = 0.11151123
  *   p2 = 1.30664062
  *   p3 = -1.12207031
- *   p4 = 1.88085938
+ *   p4 = 1.88183594
  *   p5 = 2.53710938
  *   p6 = 0.670898438
  * precision: GLSL ES 3.00 highp (fp32)
@@ -26,7 +26,7 @@
  */
 highp float seed_search_env_11(highp float NoV, highp float r, highp float a, highp float f0)
 {
-	highp float t3 = -1.8808594;
+	highp float t3 = -1.8818359;
 	highp float t8 = (-1.1220703) * r + 1.3066406;
 	highp float t9 = t3 * NoV + t8;
 	highp float t10 = max(0.11151123, t9);

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0701, max |error| 0.654, max relative 3.44 (absolute residuals)
+ * fitted error: rmse 0.0701, max |error| 0.653, max relative 3.45 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.13293457
+ *   p0 = 0.1328125
  *   p1 = 6.5234375
  *   p2 = -4.19921875
- *   p3 = 2.1015625
+ *   p3 = 2.10546875
  *   p4 = 4.4453125
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -28,9 +28,9 @@ static inline float seed_search_env_6(float NoV, float a, float f0)
 {
 	float t5 = (-4.1992188f) * a + 6.5234375f;
 	float t7 = -4.4453125f;
-	float t10 = t7 * NoV + 2.1015625f;
+	float t10 = t7 * NoV + 2.1054688f;
 	float t11 = fmaxf(f0, t10);
 	float t12 = f0 * t5 + t11;
-	float t13 = 0.13293457f * t12;
+	float t13 = 0.1328125f * t12;
 	return t13;
 }

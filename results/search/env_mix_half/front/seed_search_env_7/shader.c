@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0553, max |error| 0.183, max relative 0.888 (absolute residuals)
+ * fitted error: rmse 0.0553, max |error| 0.184, max relative 0.894 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.782226562
- *   p1 = 0.239135742
- *   p2 = 1.1015625
- *   p3 = -1.28710938
+ *   p1 = 0.239868164
+ *   p2 = 1.10253906
+ *   p3 = -1.28417969
  *   p4 = -2.1015625
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -27,8 +27,8 @@
 static inline float seed_search_env_7(float NoV, float r, float a, float f0)
 {
 	float t3 = -NoV;
-	float t6 = t3 * a + 0.23913574f;
-	float t11 = (-1.2871094f) * r + 1.1015625f;
+	float t6 = t3 * a + 0.23986816f;
+	float t11 = (-1.2841797f) * r + 1.1025391f;
 	float t12 = NoV * (-2.1015625f) + t11;
 	float t13 = fmaxf(f0, t12);
 	float t14 = f0 * t6 + t13;

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0553, max |error| 0.183, max relative 0.888 (absolute residuals)
+ * fitted error: rmse 0.0553, max |error| 0.184, max relative 0.894 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.782226562
- *   p1 = 0.239135742
- *   p2 = 1.1015625
- *   p3 = -1.28710938
+ *   p1 = 0.239868164
+ *   p2 = 1.10253906
+ *   p3 = -1.28417969
  *   p4 = -2.1015625
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,8 +24,8 @@
 float seed_search_env_7(float NoV, float r, float a, float f0)
 {
 	float t3 = -NoV;
-	float t6 = mad(t3, a, 0.23913574);
-	float t11 = mad((-1.2871094), r, 1.1015625);
+	float t6 = mad(t3, a, 0.23986816);
+	float t11 = mad((-1.2841797), r, 1.1025391);
 	float t12 = mad(NoV, (-2.1015625), t11);
 	float t13 = max(f0, t12);
 	float t14 = mad(f0, t6, t13);

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0385, max |error| 0.279, max relative 0.924 (absolute residuals)
+ * fitted error: rmse 0.0385, max |error| 0.278, max relative 0.924 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.508789062
- *   p1 = 0.541503906
- *   p2 = 1.34960938
- *   p3 = -1.41601562
- *   p4 = -2.36132812
+ *   p0 = 0.509277344
+ *   p1 = 0.545410156
+ *   p2 = 1.35058594
+ *   p3 = -1.41796875
+ *   p4 = -2.36523438
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -28,12 +28,12 @@
 static inline float seed_search_env_8(float NoV, float r, float a, float f0)
 {
 	float t3 = -a;
-	float t6 = 0.5415039f + NoV;
+	float t6 = 0.54541016f + NoV;
 	float t8 = t3 * t6 + 0.991396f;
-	float t13 = (-1.4160156f) * r + 1.3496094f;
-	float t14 = NoV * (-2.3613281f) + t13;
+	float t13 = (-1.4179688f) * r + 1.3505859f;
+	float t14 = NoV * (-2.3652344f) + t13;
 	float t15 = fmaxf(f0, t14);
 	float t16 = f0 * t8 + t15;
-	float t17 = 0.50878906f * t16;
+	float t17 = 0.50927734f * t16;
 	return t17;
 }

@@ -12,8 +12,8 @@
  *   p0 = 0.622558594
  *   p1 = 0.0288085938
  *   p2 = 1.20800781
- *   p3 = -1.39746094
- *   p4 = 2.43164062
+ *   p3 = -1.3984375
+ *   p4 = 2.4296875
  *   p5 = 1.65332031
  *   p6 = 0.391601562
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -29,8 +29,8 @@
 #include <math.h>
 static inline float seed_search_env_9(float NoV, float r, float a, float f0)
 {
-	float t3 = -2.4316406f;
-	float t8 = (-1.3974609f) * r + 1.2080078f;
+	float t3 = -2.4296875f;
+	float t8 = (-1.3984375f) * r + 1.2080078f;
 	float t9 = t3 * NoV + t8;
 	float t10 = fmaxf(0.028808594f, t9);
 	float t11 = -r;

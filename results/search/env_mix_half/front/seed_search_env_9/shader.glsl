@@ -12,8 +12,8 @@
  *   p0 = 0.622558594
  *   p1 = 0.0288085938
  *   p2 = 1.20800781
- *   p3 = -1.39746094
- *   p4 = 2.43164062
+ *   p3 = -1.3984375
+ *   p4 = 2.4296875
  *   p5 = 1.65332031
  *   p6 = 0.391601562
  * precision: GLSL ES 3.00 highp (fp32)
@@ -26,8 +26,8 @@
  */
 highp float seed_search_env_9(highp float NoV, highp float r, highp float a, highp float f0)
 {
-	highp float t3 = -2.4316406;
-	highp float t8 = (-1.3974609) * r + 1.2080078;
+	highp float t3 = -2.4296875;
+	highp float t8 = (-1.3984375) * r + 1.2080078;
 	highp float t9 = t3 * NoV + t8;
 	highp float t10 = max(0.028808594, t9);
 	highp float t11 = -r;

@@ -12,8 +12,8 @@
  *   p0 = 0.622558594
  *   p1 = 0.0288085938
  *   p2 = 1.20800781
- *   p3 = -1.39746094
- *   p4 = 2.43164062
+ *   p3 = -1.3984375
+ *   p4 = 2.4296875
  *   p5 = 1.65332031
  *   p6 = 0.391601562
  * precision: HLSL float (fp32)
@@ -26,8 +26,8 @@
  */
 float seed_search_env_9(float NoV, float r, float a, float f0)
 {
-	float t3 = -2.4316406;
-	float t8 = mad((-1.3974609), r, 1.2080078);
+	float t3 = -2.4296875;
+	float t8 = mad((-1.3984375), r, 1.2080078);
 	float t9 = mad(t3, NoV, t8);
 	float t10 = max(0.028808594, t9);
 	float t11 = -r;

@@ -12,11 +12,11 @@
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
- *   p3 = 2.08203125
- *   p4 = -1.64355469
- *   p5 = -0.0020942688
+ *   p3 = 2.078125
+ *   p4 = -1.63964844
+ *   p5 = -0.00210380554
  *   p6 = -0.0489807129
- *   p7 = -0.812011719
+ *   p7 = -0.8125
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -30,16 +30,16 @@
 #include <math.h>
 static inline float seed_seed_halves_10(float NoV, float r, float f0)
 {
-	float t3 = (-0.8120117f) + NoV;
+	float t3 = (-0.8125f) + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
 	float t9 = t3 * t7 + (-0.048980713f);
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0020942688f);
-	float t13 = (-1.6435547f) * t12;
+	float t12 = t10 * t9 + (-0.0021038055f);
+	float t13 = (-1.6396484f) * t12;
 	float t15 = -r;
 	float t17 = -NoV;
-	float t18 = r * 2.0820312f + t17;
+	float t18 = r * 2.078125f + t17;
 	float t20 = NoV * t18 + 0.21228027f;
 	float t22 = t15 * t20 + 1.7480469f;
 	float t23 = 0.5673828f * t22;

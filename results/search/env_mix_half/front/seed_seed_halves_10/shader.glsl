@@ -12,11 +12,11 @@
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
- *   p3 = 2.08203125
- *   p4 = -1.64355469
- *   p5 = -0.0020942688
+ *   p3 = 2.078125
+ *   p4 = -1.63964844
+ *   p5 = -0.00210380554
  *   p6 = -0.0489807129
- *   p7 = -0.812011719
+ *   p7 = -0.8125
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -27,16 +27,16 @@
  */
 highp float seed_seed_halves_10(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = (-0.8120117) + NoV;
+	highp float t3 = (-0.8125) + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
 	highp float t9 = t3 * t7 + (-0.048980713);
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.0020942688);
-	highp float t13 = (-1.6435547) * t12;
+	highp float t12 = t10 * t9 + (-0.0021038055);
+	highp float t13 = (-1.6396484) * t12;
 	highp float t15 = -r;
 	highp float t17 = -NoV;
-	highp float t18 = r * 2.0820312 + t17;
+	highp float t18 = r * 2.078125 + t17;
 	highp float t20 = NoV * t18 + 0.21228027;
 	highp float t22 = t15 * t20 + 1.7480469;
 	highp float t23 = 0.5673828 * t22;

@@ -12,11 +12,11 @@
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
- *   p3 = 2.08203125
- *   p4 = -1.64355469
- *   p5 = -0.0020942688
+ *   p3 = 2.078125
+ *   p4 = -1.63964844
+ *   p5 = -0.00210380554
  *   p6 = -0.0489807129
- *   p7 = -0.812011719
+ *   p7 = -0.8125
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -27,16 +27,16 @@
  */
 float seed_seed_halves_10(float NoV, float r, float f0)
 {
-	float t3 = (-0.8120117) + NoV;
+	float t3 = (-0.8125) + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
 	float t9 = mad(t3, t7, (-0.048980713));
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.0020942688));
-	float t13 = (-1.6435547) * t12;
+	float t12 = mad(t10, t9, (-0.0021038055));
+	float t13 = (-1.6396484) * t12;
 	float t15 = -r;
 	float t17 = -NoV;
-	float t18 = mad(r, 2.0820312, t17);
+	float t18 = mad(r, 2.078125, t17);
 	float t20 = mad(NoV, t18, 0.21228027);
 	float t22 = mad(t15, t20, 1.7480469);
 	float t23 = 0.5673828 * t22;

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0144, max |error| 0.0764, max relative 0.604 (absolute residuals)
+ * fitted error: rmse 0.0144, max |error| 0.0769, max relative 0.603 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.993164062
+ *   p0 = 0.992675781
  *   p1 = 2.69921875
- *   p2 = 0.919433594
- *   p3 = 1.9296875
- *   p4 = 0.701660156
- *   p5 = -1.81054688
- *   p6 = -0.00197792053
- *   p7 = -0.0397033691
- *   p8 = -0.772460938
+ *   p2 = 0.919921875
+ *   p3 = 1.92871094
+ *   p4 = 0.702148438
+ *   p5 = -1.80957031
+ *   p6 = -0.00188922882
+ *   p7 = -0.0401916504
+ *   p8 = -0.7734375
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -31,20 +31,20 @@
 #include <math.h>
 static inline float seed_seed_halves_11(float NoV, float r, float f0)
 {
-	float t3 = (-0.77246094f) + NoV;
+	float t3 = (-0.7734375f) + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.03970337f);
+	float t9 = t3 * t7 + (-0.04019165f);
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0019779205f);
-	float t13 = (-1.8105469f) * t12;
-	float t17 = NoV * r + 0.9194336f;
+	float t12 = t10 * t9 + (-0.0018892288f);
+	float t13 = (-1.8095703f) * t12;
+	float t17 = NoV * r + 0.9199219f;
 	float t18 = -t17;
 	float t19 = -NoV;
-	float t22 = t19 * 0.70166016f + 1.9296875f;
+	float t22 = t19 * 0.70214844f + 1.9287109f;
 	float t24 = t18 * t22 + 2.6992188f;
 	float t25 = fminf(1.0f, t24);
-	float t26 = 0.99316406f * t25;
+	float t26 = 0.9926758f * t25;
 	float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0144, max |error| 0.0764, max relative 0.604 (absolute residuals)
+ * fitted error: rmse 0.0144, max |error| 0.0769, max relative 0.603 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.993164062
+ *   p0 = 0.992675781
  *   p1 = 2.69921875
- *   p2 = 0.919433594
- *   p3 = 1.9296875
- *   p4 = 0.701660156
- *   p5 = -1.81054688
- *   p6 = -0.00197792053
- *   p7 = -0.0397033691
- *   p8 = -0.772460938
+ *   p2 = 0.919921875
+ *   p3 = 1.92871094
+ *   p4 = 0.702148438
+ *   p5 = -1.80957031
+ *   p6 = -0.00188922882
+ *   p7 = -0.0401916504
+ *   p8 = -0.7734375
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
@@ -28,20 +28,20 @@
  */
 float seed_seed_halves_11(float NoV, float r, float f0)
 {
-	float t3 = (-0.77246094) + NoV;
+	float t3 = (-0.7734375) + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.03970337));
+	float t9 = mad(t3, t7, (-0.04019165));
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.0019779205));
-	float t13 = (-1.8105469) * t12;
-	float t17 = mad(NoV, r, 0.9194336);
+	float t12 = mad(t10, t9, (-0.0018892288));
+	float t13 = (-1.8095703) * t12;
+	float t17 = mad(NoV, r, 0.9199219);
 	float t18 = -t17;
 	float t19 = -NoV;
-	float t22 = mad(t19, 0.70166016, 1.9296875);
+	float t22 = mad(t19, 0.70214844, 1.9287109);
 	float t24 = mad(t18, t22, 2.6992188);
 	float t25 = min(1.0, t24);
-	float t26 = 0.99316406 * t25;
+	float t26 = 0.9926758 * t25;
 	float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0116, max |error| 0.0712, max relative 0.532 (absolute residuals)
+ * fitted error: rmse 0.0116, max |error| 0.0702, max relative 0.532 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.651855469
  *   p1 = 1.52734375
  *   p2 = 1.47363281
  *   p3 = 1.55859375
- *   p4 = -1.23632812
- *   p5 = 1.16992188
- *   p6 = -1.64648438
- *   p7 = -0.00185871124
- *   p8 = -0.0494995117
+ *   p4 = -1.23535156
+ *   p5 = 1.17089844
+ *   p6 = -1.6484375
+ *   p7 = -0.00186061859
+ *   p8 = -0.0494689941
  *   p9 = -0.813964844
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -35,13 +35,13 @@ static inline float seed_seed_halves_12(float NoV, float r, float a, float f0)
 	float t3 = (-0.81396484f) + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04949951f);
+	float t9 = t3 * t7 + (-0.049468994f);
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0018587112f);
-	float t13 = (-1.6464844f) * t12;
+	float t12 = t10 * t9 + (-0.0018606186f);
+	float t13 = (-1.6484375f) * t12;
 	float t16 = -NoV;
-	float t19 = NoV * (-1.2363281f) + 1.5585938f;
-	float t21 = r * 1.1699219f + t16;
+	float t19 = NoV * (-1.2353516f) + 1.5585938f;
+	float t21 = r * 1.1708984f + t16;
 	float t23 = t19 * t21 + a;
 	float t25 = t16 * t23 + 1.4736328f;
 	float t26 = fminf(1.5273438f, t25);

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0116, max |error| 0.0712, max relative 0.532 (absolute residuals)
+ * fitted error: rmse 0.0116, max |error| 0.0702, max relative 0.532 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.651855469
  *   p1 = 1.52734375
  *   p2 = 1.47363281
  *   p3 = 1.55859375
- *   p4 = -1.23632812
- *   p5 = 1.16992188
- *   p6 = -1.64648438
- *   p7 = -0.00185871124
- *   p8 = -0.0494995117
+ *   p4 = -1.23535156
+ *   p5 = 1.17089844
+ *   p6 = -1.6484375
+ *   p7 = -0.00186061859
+ *   p8 = -0.0494689941
  *   p9 = -0.813964844
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -32,13 +32,13 @@ float seed_seed_halves_12(float NoV, float r, float a, float f0)
 	float t3 = (-0.81396484) + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.04949951));
+	float t9 = mad(t3, t7, (-0.049468994));
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.0018587112));
-	float t13 = (-1.6464844) * t12;
+	float t12 = mad(t10, t9, (-0.0018606186));
+	float t13 = (-1.6484375) * t12;
 	float t16 = -NoV;
-	float t19 = mad(NoV, (-1.2363281), 1.5585938);
-	float t21 = mad(r, 1.1699219, t16);
+	float t19 = mad(NoV, (-1.2353516), 1.5585938);
+	float t21 = mad(r, 1.1708984, t16);
 	float t23 = mad(t19, t21, a);
 	float t25 = mad(t16, t23, 1.4736328);
 	float t26 = min(1.5273438, t25);

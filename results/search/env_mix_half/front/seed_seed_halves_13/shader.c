@@ -12,11 +12,11 @@
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.828125
- *   p4 = -2.40820312
+ *   p3 = 1.82910156
+ *   p4 = -2.41796875
  *   p5 = 1.22460938
  *   p6 = -1.65625
- *   p7 = -0.00189113617
+ *   p7 = -0.00188732147
  *   p8 = -0.0480041504
  *   p9 = -0.810058594
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -37,11 +37,11 @@ static inline float seed_seed_halves_13(float NoV, float r, float a, float f0)
 	float t7 = (-1.0f) + t6;
 	float t9 = t3 * t7 + (-0.04800415f);
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0018911362f);
+	float t12 = t10 * t9 + (-0.0018873215f);
 	float t13 = (-1.65625f) * t12;
 	float t16 = -NoV;
-	float t18 = NoV + (-2.4082031f);
-	float t20 = NoV * t18 + 1.828125f;
+	float t18 = NoV + (-2.4179688f);
+	float t20 = NoV * t18 + 1.8291016f;
 	float t22 = r * 1.2246094f + t16;
 	float t24 = t20 * t22 + a;
 	float t26 = t16 * t24 + 1.4912109f;

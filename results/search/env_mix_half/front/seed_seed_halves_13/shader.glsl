@@ -12,11 +12,11 @@
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.828125
- *   p4 = -2.40820312
+ *   p3 = 1.82910156
+ *   p4 = -2.41796875
  *   p5 = 1.22460938
  *   p6 = -1.65625
- *   p7 = -0.00189113617
+ *   p7 = -0.00188732147
  *   p8 = -0.0480041504
  *   p9 = -0.810058594
  * precision: GLSL ES 3.00 highp (fp32)
@@ -34,11 +34,11 @@ highp float seed_seed_halves_13(highp float NoV, highp float r, highp float a, h
 	highp float t7 = (-1.0) + t6;
 	highp float t9 = t3 * t7 + (-0.04800415);
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.0018911362);
+	highp float t12 = t10 * t9 + (-0.0018873215);
 	highp float t13 = (-1.65625) * t12;
 	highp float t16 = -NoV;
-	highp float t18 = NoV + (-2.4082031);
-	highp float t20 = NoV * t18 + 1.828125;
+	highp float t18 = NoV + (-2.4179688);
+	highp float t20 = NoV * t18 + 1.8291016;
 	highp float t22 = r * 1.2246094 + t16;
 	highp float t24 = t20 * t22 + a;
 	highp float t26 = t16 * t24 + 1.4912109;

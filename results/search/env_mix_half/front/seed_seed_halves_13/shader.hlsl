@@ -12,11 +12,11 @@
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.828125
- *   p4 = -2.40820312
+ *   p3 = 1.82910156
+ *   p4 = -2.41796875
  *   p5 = 1.22460938
  *   p6 = -1.65625
- *   p7 = -0.00189113617
+ *   p7 = -0.00188732147
  *   p8 = -0.0480041504
  *   p9 = -0.810058594
  * precision: HLSL float (fp32)
@@ -34,11 +34,11 @@ float seed_seed_halves_13(float NoV, float r, float a, float f0)
 	float t7 = (-1.0) + t6;
 	float t9 = mad(t3, t7, (-0.04800415));
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.0018911362));
+	float t12 = mad(t10, t9, (-0.0018873215));
 	float t13 = (-1.65625) * t12;
 	float t16 = -NoV;
-	float t18 = NoV + (-2.4082031);
-	float t20 = mad(NoV, t18, 1.828125);
+	float t18 = NoV + (-2.4179688);
+	float t20 = mad(NoV, t18, 1.8291016);
 	float t22 = mad(r, 1.2246094, t16);
 	float t24 = mad(t20, t22, a);
 	float t26 = mad(t16, t24, 1.4912109);

@@ -7,16 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0208, max |error| 0.117, max relative 0.636 (absolute residuals)
+ * fitted error: rmse 0.0208, max |error| 0.117, max relative 0.637 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.574707031
  *   p1 = 1.72851562
  *   p2 = 0.212768555
  *   p3 = 2.06640625
- *   p4 = 0.0364379883
+ *   p4 = 0.0364990234
  *   p5 = 4.96484375
  *   p6 = -4.3203125
- *   p7 = 7.01171875
+ *   p7 = 7.02734375
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -30,13 +30,13 @@
 #include <math.h>
 static inline float seed_seed_halves_9(float NoV, float r, float f0)
 {
-	float t3 = -7.0117188f;
+	float t3 = -7.0273438f;
 	float t8 = (-4.3203125f) * r + 4.9648438f;
 	float t9 = t3 * NoV + t8;
 	float t10 = fmaxf(1.0f, t9);
 	float t11 = -NoV;
 	float t12 = t10 * t10 + t11;
-	float t13 = 0.03643799f * t12;
+	float t13 = 0.036499023f * t12;
 	float t15 = -r;
 	float t17 = r * 2.0664062f + t11;
 	float t19 = NoV * t17 + 0.21276855f;

@@ -7,16 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0208, max |error| 0.117, max relative 0.636 (absolute residuals)
+ * fitted error: rmse 0.0208, max |error| 0.117, max relative 0.637 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.574707031
  *   p1 = 1.72851562
  *   p2 = 0.212768555
  *   p3 = 2.06640625
- *   p4 = 0.0364379883
+ *   p4 = 0.0364990234
  *   p5 = 4.96484375
  *   p6 = -4.3203125
- *   p7 = 7.01171875
+ *   p7 = 7.02734375
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -27,13 +27,13 @@
  */
 float seed_seed_halves_9(float NoV, float r, float f0)
 {
-	float t3 = -7.0117188;
+	float t3 = -7.0273438;
 	float t8 = mad((-4.3203125), r, 4.9648438);
 	float t9 = mad(t3, NoV, t8);
 	float t10 = max(1.0, t9);
 	float t11 = -NoV;
 	float t12 = mad(t10, t10, t11);
-	float t13 = 0.03643799 * t12;
+	float t13 = 0.036499023 * t12;
 	float t15 = -r;
 	float t17 = mad(r, 2.0664062, t11);
 	float t19 = mad(NoV, t17, 0.21276855);

@@ -7,11 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 7.93e-05, max |error| 0.000332, max relative 0.00824 (absolute residuals)
+ * fitted error: rmse 7.98e-05, max |error| 0.000332, max relative 0.00822 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -8.703125
- *   p2 = -3.87109375
+ *   p2 = -3.86914062
  *   p3 = 0.610839844
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
@@ -30,7 +30,7 @@ static inline float seed_search_f_12(float LoH, float f0)
 	float t4 = 0.61083984f - LoH;
 	float t5 = LoH * t4;
 	float t6 = -t5;
-	float t8 = (-3.8710938f) + t5;
+	float t8 = (-3.8691406f) + t5;
 	float t10 = t6 * t8 + (-8.703125f);
 	float t11 = LoH * t10;
 	float t12 = exp2f(t11);

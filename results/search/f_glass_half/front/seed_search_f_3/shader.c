@@ -7,10 +7,10 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0121, max |error| 0.0483, max relative 0.419 (absolute residuals)
+ * fitted error: rmse 0.0121, max |error| 0.0484, max relative 0.418 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.0481872559
- *   p1 = 0.0368347168
+ *   p1 = 0.0367736816
  *   p2 = 0.955078125
  *   p3 = -1.19335938
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
@@ -24,7 +24,7 @@
 static inline float seed_search_f_3(float LoH)
 {
 	float t3 = (-1.1933594f) * LoH + 0.9550781f;
-	float t5 = t3 * t3 + 0.036834717f;
+	float t5 = t3 * t3 + 0.03677368f;
 	float t7 = t5 * t5 + 0.048187256f;
 	return t7;
 }

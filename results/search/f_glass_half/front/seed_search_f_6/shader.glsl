@@ -7,10 +7,10 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000309, max |error| 0.00097, max relative 0.0149 (absolute residuals)
+ * fitted error: rmse 0.000276, max |error| 0.0011, max relative 0.0144 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.103088379
- *   p1 = 0.270019531
+ *   p0 = 0.103027344
+ *   p1 = 0.270507812
  *   p2 = 2.18945312
  *   p3 = 0.958984375
  * precision: GLSL ES 3.00 highp (fp32)
@@ -25,9 +25,9 @@ highp float seed_search_f_6(highp float LoH, highp float f0)
 	highp float t3 = 0.9589844 - LoH;
 	highp float t4 = t3 * t3;
 	highp float t6 = t4 * t4 + 2.1894531;
-	highp float t8 = t4 * t6 + 0.27001953;
+	highp float t8 = t4 * t6 + 0.2705078;
 	highp float t10 = t8 * t8 + 0.70710677;
 	highp float t12 = -f0;
-	highp float t13 = 0.10308838 * t10 + t12;
+	highp float t13 = 0.103027344 * t10 + t12;
 	return t13;
 }

@@ -7,10 +7,10 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000309, max |error| 0.00097, max relative 0.0149 (absolute residuals)
+ * fitted error: rmse 0.000276, max |error| 0.0011, max relative 0.0144 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.103088379
- *   p1 = 0.270019531
+ *   p0 = 0.103027344
+ *   p1 = 0.270507812
  *   p2 = 2.18945312
  *   p3 = 0.958984375
  * precision: HLSL float (fp32)
@@ -25,9 +25,9 @@ float seed_search_f_6(float LoH, float f0)
 	float t3 = 0.9589844 - LoH;
 	float t4 = t3 * t3;
 	float t6 = mad(t4, t4, 2.1894531);
-	float t8 = mad(t4, t6, 0.27001953);
+	float t8 = mad(t4, t6, 0.2705078);
 	float t10 = mad(t8, t8, 0.70710677);
 	float t12 = -f0;
-	float t13 = mad(0.10308838, t10, t12);
+	float t13 = mad(0.103027344, t10, t12);
 	return t13;
 }

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00016, max |error| 0.000696, max relative 0.0174 (absolute residuals)
+ * fitted error: rmse 0.000151, max |error| 0.000692, max relative 0.0173 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -7.703125
- *   p2 = 2.30273438
- *   p3 = -3.77734375
+ *   p2 = 2.31054688
+ *   p3 = -3.77929688
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -26,7 +26,7 @@
 #include <math.h>
 static inline float seed_search_f_9(float LoH, float f0)
 {
-	float t5 = LoH * (-3.7773438f) + 2.3027344f;
+	float t5 = LoH * (-3.7792969f) + 2.3105469f;
 	float t7 = LoH * t5 + (-7.703125f);
 	float t8 = -LoH;
 	float t9 = LoH * t7 + t8;

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00016, max |error| 0.000696, max relative 0.0174 (absolute residuals)
+ * fitted error: rmse 0.000151, max |error| 0.000692, max relative 0.0173 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -7.703125
- *   p2 = 2.30273438
- *   p3 = -3.77734375
+ *   p2 = 2.31054688
+ *   p3 = -3.77929688
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
@@ -23,7 +23,7 @@
  */
 float seed_search_f_9(float LoH, float f0)
 {
-	float t5 = mad(LoH, (-3.7773438), 2.3027344);
+	float t5 = mad(LoH, (-3.7792969), 2.3105469);
 	float t7 = mad(LoH, t5, (-7.703125));
 	float t8 = -LoH;
 	float t9 = mad(LoH, t7, t8);

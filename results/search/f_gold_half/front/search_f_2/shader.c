@@ -10,7 +10,7 @@
  * fitted error: rmse 0.0201, max |error| 0.067, max relative 0.0671 (absolute residuals)
  * parameters baked in:
  *   p0 = 1.05371094
- *   p1 = -0.0661010742
+ *   p1 = -0.0660400391
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -22,7 +22,7 @@
 #include <math.h>
 static inline float search_f_2(float LoH, float f0)
 {
-	float t4 = (-0.066101074f) * LoH + f0;
+	float t4 = (-0.06604004f) * LoH + f0;
 	float t5 = 1.0537109f * t4;
 	return t5;
 }

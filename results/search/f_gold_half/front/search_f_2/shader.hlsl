@@ -10,7 +10,7 @@
  * fitted error: rmse 0.0201, max |error| 0.067, max relative 0.0671 (absolute residuals)
  * parameters baked in:
  *   p0 = 1.05371094
- *   p1 = -0.0661010742
+ *   p1 = -0.0660400391
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
@@ -19,7 +19,7 @@
  */
 float search_f_2(float LoH, float f0)
 {
-	float t4 = mad((-0.066101074), LoH, f0);
+	float t4 = mad((-0.06604004), LoH, f0);
 	float t5 = 1.0537109 * t4;
 	return t5;
 }

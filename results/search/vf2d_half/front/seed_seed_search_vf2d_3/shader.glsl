@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: rmse 0.0297, max |error| 0.0541, max relative 3.85 (absolute residuals)
+ * fitted error: rmse 0.0316, max |error| 0.0531, max relative 4.11 (absolute residuals)
  * parameters baked in:
  *   p0 = 28.25
  *   p1 = 11.2734375
- *   p2 = 2.3984375
- *   p3 = 4.984375
+ *   p2 = 2.39257812
+ *   p3 = 4.9921875
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
@@ -23,8 +23,8 @@
 highp float seed_seed_search_vf2d_3(highp float LoH, highp float r, highp float f0)
 {
 	highp float t2 = -11.2734375;
-	highp float t7 = 4.984375 * LoH + r;
-	highp float t8 = min(2.3984375, t7);
+	highp float t7 = 4.9921875 * LoH + r;
+	highp float t8 = min(2.3925781, t7);
 	highp float t10 = t2 * t8 + 28.25;
 	highp float t11 = f0 * t10;
 	return t11;

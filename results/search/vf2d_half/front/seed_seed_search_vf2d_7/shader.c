@@ -7,9 +7,9 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: rmse 0.00257, max |error| 0.00589, max relative 0.485 (absolute residuals)
+ * fitted error: rmse 0.00258, max |error| 0.00573, max relative 0.485 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.383544922
+ *   p0 = 0.383789062
  *   p1 = 0.292724609
  *   p2 = 1.98339844
  *   p3 = 3.68164062
@@ -30,7 +30,7 @@ static inline float seed_seed_search_vf2d_7(float LoH, float a, float f0)
 	float t7 = t4 * 3.6816406f + 1.9833984f;
 	float t8 = a - t7;
 	float t10 = LoH * t8 + 0.2927246f;
-	float t11 = 0.38354492f / t10;
+	float t11 = 0.38378906f / t10;
 	float t12 = f0 * t11;
 	return t12;
 }
