@@ -38,6 +38,18 @@ expect_fail "off_front on the double front" off_front "$T/d" seed_start_2
 grep -q '1 refitted member not safe in half was left off' "$T/h/section.html" && ok ||
 	bad "half: section.html does not say what was left off"
 
+# a half front's code is half (issue 40): GLSL mediump, HLSL half, and its
+# "fitted error" the front's error in f16; a double front's stays float, in f64
+g="$T/h/front/seed_start_1/shader"
+grep -q '^mediump float seed_start_1(' "$g.glsl" && grep -q '^half seed_start_1(' "$g.hlsl" && ok ||
+	bad "half: the member's shaders are not half"
+e=$(csv_where "$T/h/front.csv" name seed_start_1 error)
+grep -q "fitted error: rmse $(printf '%.3g' "$e") in f16" "$g.glsl" && ok ||
+	bad "half: the shader's fitted error is not the front's f16 error $e: $(grep 'fitted error' "$g.glsl")"
+d="$T/d/front/seed_start_1/shader"
+grep -q '^highp float seed_start_1(' "$d.glsl" && grep -q 'fitted error: in f64' "$d.glsl" && ok ||
+	bad "double: the member's shader is not highp, in f64"
+
 # --start-front: a planted front (search_f_6 of a double search: rmse 2.3e-4 at
 # cost 6, found there after 31,664 fits); its member, named, is fitted among
 # the seeds (found_at at most the seeds' count) and is no catalog row

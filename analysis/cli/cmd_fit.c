@@ -193,7 +193,7 @@ static fit_run view(const run *R)
 	             e ? e->name : R->fs.split ? "form-a/form-b" : R->fs.text[0],
 	             e ? e->name : "brdfkit_fit", e ? e->source : "user form",
 	             e ? e->convention : "as the target's units (see domain)", R->has_published ? e->defaults : NULL,
-	             R->fs.split, {R->fs.f[0], R->fs.f[1]}, 1};
+	             R->fs.split, {R->fs.f[0], R->fs.f[1]}, 1, 0, NULL};
 	return v;
 }
 

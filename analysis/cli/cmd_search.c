@@ -341,8 +341,16 @@ static int write_outputs(const job *J, const bk_swrite *W)
 		else
 			snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
 			         m->c->found_at, J->total_evals);
+		/* a half front's member: its code in half (GLSL mediump, HLSL half),
+		 * its error the front's, in f16 under either order of its mads */
+		char error[300];
+		int half = J->so.precision == BK_F16;
+		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it (either order of its mads), "
+		         "max |error| %.3g; in f64: rmse %.3g", bk_sfront_objective_name(&J->so), m->err, m->f16_max,
+		         m->res.fitted.rmse);
 		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
-		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0};
+		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0,
+		             half, half ? error : NULL};
 		if (mkdir(dir, 0777))
 			rc = -1, snprintf(err, sizeof err, "%s/front/%s: cannot create: %s", J->a->out, m->name, strerror(errno));
 		else

@@ -154,12 +154,17 @@ static int write_shaders(const fit_run *R, const char *dir, char *err, size_t er
 	char path[4200];
 	static const struct { const char *file; bk_lang lang; } out[] = {
 		{"shader.c", BK_LANG_C}, {"shader.glsl", BK_LANG_GLSL}, {"shader.hlsl", BK_LANG_HLSL}};
-	char domain[600], error[200];
+	char domain[600], error[400];
 	snprintf(domain, sizeof domain, "%s", R->s->description);
-	snprintf(error, sizeof error, "rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
-	         R->res->fitted.rmse, R->res->fitted.max_abs, R->res->fitted.max_rel, R->spec->relative ? "relative" : "absolute");
-	for (int q = 0; q < (R->split ? 2 : 1); q++) /* the shaders are single precision */
-		form_warn_precision(NULL, R->fname, R->f[q], R->res->p, BK_F32);
+	if (R->error)
+		snprintf(error, sizeof error, "%s", R->error);
+	else
+		snprintf(error, sizeof error, "in f64: rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
+		         R->res->fitted.rmse, R->res->fitted.max_abs, R->res->fitted.max_rel,
+		         R->spec->relative ? "relative" : "absolute");
+	/* a half search's member is pasted as half code (C has no half: float) */
+	for (int q = 0; q < (R->split ? 2 : 1); q++)
+		form_warn_precision(NULL, R->fname, R->f[q], R->res->p, R->half ? BK_F16 : BK_F32);
 	for (size_t k = 0; k < 3; k++) {
 		FILE *f = open_in(dir, out[k].file, path, err, errlen);
 		if (!f)
@@ -171,7 +176,7 @@ static int write_shaders(const fit_run *R, const char *dir, char *err, size_t er
 			bk_emit_info info = {name, R->source,
 			                     R->convention,
 			                     domain, error, R->command};
-			char *text = bk_form_emit(R->f[q], out[k].lang, 0, R->res->p, &info);
+			char *text = bk_form_emit(R->f[q], out[k].lang, R->half && out[k].lang != BK_LANG_C, R->res->p, &info);
 			if (!text) {
 				fclose(f);
 				snprintf(err, errlen, "%s: out of memory", path);

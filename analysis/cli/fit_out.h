@@ -26,6 +26,8 @@ typedef struct fit_run {
 	int split;                    /* env: two forms A, B */
 	const bk_form *f[2];
 	int cell_csv;                 /* 1: heatmaps also as per-cell CSV */
+	int half;                     /* the shaders in half precision (a half search's front member) */
+	const char *error;            /* the shaders' "fitted error" line, or NULL: the fit's f64 metrics */
 } fit_run;
 
 /* Whether the target has a plane to draw: a form target over three or more
