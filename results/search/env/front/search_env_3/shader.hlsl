@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.134, max |error| 0.894, max relative 66.7 (absolute residuals)
+ * fitted error: in f64: rmse 0.134, max |error| 0.894, max relative 66.7 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.6747
  *   p1 = 1.258
@@ -36,7 +36,7 @@ float search_env_3_A(float NoV, float a)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.134, max |error| 0.894, max relative 66.7 (absolute residuals)
+ * fitted error: in f64: rmse 0.134, max |error| 0.894, max relative 66.7 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.6747
  *   p1 = 1.258

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
+ * fitted error: in f64: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
  *   p1 = 0.000232834538
@@ -50,7 +50,7 @@ float seed_env_karis2014_split_A(float NoV, float r)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
+ * fitted error: in f64: rmse 0.0526, max |error| 0.287, max relative 34 (absolute residuals)
  * parameters baked in:
  *   p0 = -2.0363
  *   p1 = 0.000232834538

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
+ * fitted error: in f64: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
  * parameters: none
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -69,7 +69,7 @@ highp float seed_env_materialx_A(highp float NoV, highp float a)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
+ * fitted error: in f64: rmse 0.00954, max |error| 0.114, max relative 1.63 (absolute residuals)
  * parameters: none
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.0776, max |error| 0.531, max relative 24.7 (absolute residuals)
+ * fitted error: in f64: rmse 0.0776, max |error| 0.531, max relative 24.7 (absolute residuals)
  * parameters baked in:
  *   p0 = 2.6917
  *   p1 = 0.18024
@@ -40,7 +40,7 @@ float seed_search_env_9_A(float NoV, float a)
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); forms A and B share parameters
- * fitted error: rmse 0.0776, max |error| 0.531, max relative 24.7 (absolute residuals)
+ * fitted error: in f64: rmse 0.0776, max |error| 0.531, max relative 24.7 (absolute residuals)
  * parameters baked in:
  *   p0 = 2.6917
  *   p1 = 0.18024

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0733, max |error| 0.706, max relative 2.66 (absolute residuals)
+ * fitted error: in f64: rmse 0.0733, max |error| 0.706, max relative 2.66 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.50669
  *   p1 = 0.44005

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0168, max |error| 0.0993, max relative 0.561 (absolute residuals)
+ * fitted error: rmse 0.0168 in f16, as this half code computes it (either order of its mads), max |error| 0.0993; in f64: rmse 0.0168
  * parameters baked in:
  *   p0 = 0.567382812
  *   p1 = 1.74804688
@@ -17,7 +17,7 @@
  *   p5 = -0.00210380554
  *   p6 = -0.0489807129
  *   p7 = -0.8125
- * precision: HLSL float (fp32)
+ * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -25,21 +25,21 @@
  *   minmax 1
  *   simple 12, complex 0, cost 12 (simple = 1, complex = 4)
  */
-float seed_seed_halves_10(float NoV, float r, float f0)
+half seed_seed_halves_10(half NoV, half r, half f0)
 {
-	float t3 = (-0.8125) + NoV;
-	float t6 = max(NoV, r);
-	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.048980713));
-	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.0021038055));
-	float t13 = (-1.6396484) * t12;
-	float t15 = -r;
-	float t17 = -NoV;
-	float t18 = mad(r, 2.078125, t17);
-	float t20 = mad(NoV, t18, 0.21228027);
-	float t22 = mad(t15, t20, 1.7480469);
-	float t23 = 0.5673828 * t22;
-	float t25 = t13 + (t23 - t13) * f0;
+	half t3 = (-0.8125) + NoV;
+	half t6 = max(NoV, r);
+	half t7 = (-1.0) + t6;
+	half t9 = mad(t3, t7, (-0.048980713));
+	half t10 = -t9;
+	half t12 = mad(t10, t9, (-0.0021038055));
+	half t13 = (-1.6396484) * t12;
+	half t15 = -r;
+	half t17 = -NoV;
+	half t18 = mad(r, 2.078125, t17);
+	half t20 = mad(NoV, t18, 0.21228027);
+	half t22 = mad(t15, t20, 1.7480469);
+	half t23 = 0.5673828 * t22;
+	half t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 7.78e-05, max |error| 0.00033, max relative 0.00817 (absolute residuals)
+ * fitted error: in f64: rmse 7.78e-05, max |error| 0.00033, max relative 0.00817 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.9613529
  *   p1 = -8.69978

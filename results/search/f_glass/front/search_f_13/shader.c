@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 3.83e-05, max |error| 0.000224, max relative 0.000376 (absolute residuals)
+ * fitted error: in f64: rmse 3.83e-05, max |error| 0.000224, max relative 0.000376 (absolute residuals)
  * parameters baked in:
  *   p0 = -0.142518
  *   p1 = -4.52993

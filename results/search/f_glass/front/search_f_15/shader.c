@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 1.4e-05, max |error| 4.78e-05, max relative 0.00034 (absolute residuals)
+ * fitted error: in f64: rmse 1.4e-05, max |error| 4.78e-05, max relative 0.00034 (absolute residuals)
  * parameters baked in:
  *   p0 = -0.088778
  *   p1 = 0.2357249

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.229, max |error| 0.788, max relative 4.03 (absolute residuals)
+ * fitted error: in f64: rmse 0.229, max |error| 0.788, max relative 4.03 (absolute residuals)
  * parameters baked in:
  *   p0 = 0.2012
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA

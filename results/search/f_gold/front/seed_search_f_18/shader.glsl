@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 7.41e-05, max |error| 0.000293, max relative 0.000294 (absolute residuals)
+ * fitted error: in f64: rmse 7.41e-05, max |error| 0.000293, max relative 0.000294 (absolute residuals)
  * parameters baked in:
  *   p0 = 1.4283608
  *   p1 = 0.1749003

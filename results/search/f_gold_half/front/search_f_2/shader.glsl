@@ -7,19 +7,19 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0201, max |error| 0.067, max relative 0.0671 (absolute residuals)
+ * fitted error: rmse 0.0201 in f16, as this half code computes it (either order of its mads), max |error| 0.0671; in f64: rmse 0.0201
  * parameters baked in:
  *   p0 = 1.05371094
  *   p1 = -0.0660400391
- * precision: GLSL ES 3.00 highp (fp32)
+ * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float search_f_2(highp float LoH, highp float f0)
+mediump float search_f_2(mediump float LoH, mediump float f0)
 {
-	highp float t4 = (-0.06604004) * LoH + f0;
-	highp float t5 = 1.0537109 * t4;
+	mediump float t4 = (-0.06604004) * LoH + f0;
+	mediump float t5 = 1.0537109 * t4;
 	return t5;
 }

@@ -7,25 +7,25 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000546, max |error| 0.00175, max relative 0.00175 (absolute residuals)
+ * fitted error: rmse 0.000553 in f16, as this half code computes it (either order of its mads), max |error| 0.00169; in f64: rmse 0.000546
  * parameters baked in:
  *   p0 = 0.880371094
  *   p1 = 0.495361328
  *   p2 = 0.975097656
  *   p3 = 0.0242919922
- * precision: GLSL ES 3.00 highp (fp32)
+ * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_f_4(highp float LoH)
+mediump float search_f_4(mediump float LoH)
 {
-	highp float t1 = -0.97509766;
-	highp float t4 = t1 * LoH + 0.49536133;
-	highp float t6 = max(t4, 0.024291992);
-	highp float t7 = t4 * t6;
-	highp float t9 = t4 * t7 + 0.8803711;
+	mediump float t1 = -0.97509766;
+	mediump float t4 = t1 * LoH + 0.49536133;
+	mediump float t6 = max(t4, 0.024291992);
+	mediump float t7 = t4 * t6;
+	mediump float t9 = t4 * t7 + 0.8803711;
 	return t9;
 }

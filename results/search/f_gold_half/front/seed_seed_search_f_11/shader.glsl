@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000153, max |error| 0.000506, max relative 0.000507 (absolute residuals)
+ * fitted error: rmse 0.000221 in f16, as this half code computes it (either order of its mads), max |error| 0.000566; in f64: rmse 0.000153
  * parameters baked in:
  *   p0 = 0.877929688
  *   p1 = 0.181396484
  *   p2 = 0.935058594
  *   p3 = 0.993164062
- * precision: GLSL ES 3.00 highp (fp32)
+ * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 3
@@ -21,18 +21,18 @@
  *   minmax 1
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
-highp float seed_seed_search_f_11(highp float LoH, highp float f0)
+mediump float seed_seed_search_f_11(mediump float LoH, mediump float f0)
 {
-	highp float t2 = -LoH;
-	highp float t4 = t2 * LoH + 0.18139648;
-	highp float t6 = f0 - LoH;
-	highp float t7 = max(LoH, t6);
-	highp float t8 = t4 * t7;
-	highp float t10 = 0.9350586 - LoH;
-	highp float t11 = t10 * t10;
-	highp float t12 = t11 * t11;
-	highp float t15 = LoH + (0.0 - LoH) * 0.99316406;
-	highp float t16 = t8 * t12 + t15;
-	highp float t17 = 0.8779297 + t16;
+	mediump float t2 = -LoH;
+	mediump float t4 = t2 * LoH + 0.18139648;
+	mediump float t6 = f0 - LoH;
+	mediump float t7 = max(LoH, t6);
+	mediump float t8 = t4 * t7;
+	mediump float t10 = 0.9350586 - LoH;
+	mediump float t11 = t10 * t10;
+	mediump float t12 = t11 * t11;
+	mediump float t15 = LoH + (0.0 - LoH) * 0.99316406;
+	mediump float t16 = t8 * t12 + t15;
+	mediump float t17 = 0.8779297 + t16;
 	return t17;
 }

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf: exact height-correlated Smith GGX V (1/4 included) x Schlick F (f0 = 0.04, f90 = 1) over NoV in [0, 1] (16), r in [0, 1] (16), H on a 32x16 grid in the GGX CDF and azimuth; weight D*NoL*dω (where the highlight's energy is), each roughness weighing the same
- * fitted error: rmse 31.4, max |error| 1.58e+03, max relative 1 (absolute residuals)
+ * fitted error: in f64: rmse 31.4, max |error| 1.58e+03, max relative 1 (absolute residuals)
  * parameters baked in:
  *   p0 = 5.976684
  * precision: GLSL ES 3.00 highp (fp32)

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: rmse 0.0262, max |error| 0.0574, max relative 3.35 (absolute residuals)
+ * fitted error: in f64: rmse 0.0262, max |error| 0.0574, max relative 3.35 (absolute residuals)
  * parameters baked in:
  *   p0 = 28.1863
  *   p1 = 11.2664

@@ -7,25 +7,25 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: rmse 0.0316, max |error| 0.0531, max relative 4.11 (absolute residuals)
+ * fitted error: max_abs 0.053 in f16, as this half code computes it (either order of its mads), max |error| 0.053; in f64: rmse 0.0316
  * parameters baked in:
  *   p0 = 28.25
  *   p1 = 11.2734375
  *   p2 = 2.39257812
  *   p3 = 4.9921875
- * precision: GLSL ES 3.00 highp (fp32)
+ * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float seed_seed_search_vf2d_3(highp float LoH, highp float r, highp float f0)
+mediump float seed_seed_search_vf2d_3(mediump float LoH, mediump float r, mediump float f0)
 {
-	highp float t2 = -11.2734375;
-	highp float t7 = 4.9921875 * LoH + r;
-	highp float t8 = min(2.3925781, t7);
-	highp float t10 = t2 * t8 + 28.25;
-	highp float t11 = f0 * t10;
+	mediump float t2 = -11.2734375;
+	mediump float t7 = 4.9921875 * LoH + r;
+	mediump float t8 = min(2.3925781, t7);
+	mediump float t10 = t2 * t8 + 28.25;
+	mediump float t11 = f0 * t10;
 	return t11;
 }

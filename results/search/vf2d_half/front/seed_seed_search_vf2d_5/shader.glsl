@@ -7,27 +7,27 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: rmse 0.0141, max |error| 0.033, max relative 1.72 (absolute residuals)
+ * fitted error: max_abs 0.033 in f16, as this half code computes it (either order of its mads), max |error| 0.033; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 3.11523438
  *   p1 = 0.803222656
  *   p2 = 2.74804688
  *   p3 = 5.00390625
- * precision: GLSL ES 3.00 highp (fp32)
+ * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   mad 2
  *   minmax 1
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-highp float seed_seed_search_vf2d_5(highp float LoH, highp float r, highp float f0)
+mediump float seed_seed_search_vf2d_5(mediump float LoH, mediump float r, mediump float f0)
 {
-	highp float t2 = -0.80322266;
-	highp float t7 = 5.0039062 * LoH + r;
-	highp float t8 = min(2.7480469, t7);
-	highp float t10 = t2 * t8 + 3.1152344;
-	highp float t11 = t10 * t10;
-	highp float t12 = t11 * t11;
-	highp float t13 = f0 * t12;
+	mediump float t2 = -0.80322266;
+	mediump float t7 = 5.0039062 * LoH + r;
+	mediump float t8 = min(2.7480469, t7);
+	mediump float t10 = t2 * t8 + 3.1152344;
+	mediump float t11 = t10 * t10;
+	mediump float t12 = t11 * t11;
+	mediump float t13 = f0 * t12;
 	return t13;
 }
