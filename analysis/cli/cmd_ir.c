@@ -279,8 +279,10 @@ int cmd_eval(int argc, char **argv)
 {
 	cli_cmd cmd = {"eval", "Evaluates a form at one point in double, single and half precision (half:\n"
 	               "IEEE binary16 with rounding after every operation, as a mediump GPU).",
-	               "'FORM'|NAME [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
-	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.",
+	               "'FORM'|NAME|FILE.csv:MEMBER [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
+	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search, its parameters baked in\n"
+	               "(MEMBER:A or MEMBER:B of a split sum); the file part ends at the last \".csv:\".",
 	               NULL, 0, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &eval_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
@@ -369,13 +371,15 @@ int cmd_ops(int argc, char **argv)
 	};
 	cli_cmd cmd = {"ops", "Counts a form's operations per class after constant folding, sharing of common\n"
 	               "subexpressions, small integer powers to multiplies and a*b+c to one multiply-add.",
-	               "'FORM'|NAME [--csv] [--simple-cost C] [--complex-cost C] [--cost-model NAME]",
+	               "'FORM'|NAME|FILE.csv:MEMBER [--csv] [--simple-cost C] [--complex-cost C] [--cost-model NAME]",
 	               "Complex ops (transcendental unit): rcp div sqrt rsqrt exp2 log2; pow = log2+mul+exp2,\n"
 	               "exp = mul+exp2, log = log2+mul; negation and abs are free source modifiers.\n"
 	               "cost = simple * simple-cost + complex * complex-cost (the talk: many simple ops per\n"
 	               "cycle, only one complex). --cost-model takes both weights from a named model:\n"
 	               "ir, or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (least squares of AMD's\n"
-	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).",
+	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B\n"
+	               "of a split sum); the file part ends at the last \".csv:\".",
 	               opts, 4, 1, 0, {0}};
 	int rc = cli_parse_table(&cmd, &ops_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){model ? WEIGHTS_MODEL : WEIGHTS_OPTIONS})))
@@ -461,13 +465,17 @@ int cmd_codegen(int argc, char **argv)
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
-		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
+		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME [p0=X ...]",
+	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
+	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
+	               "the same way, and the comment's source, fitted domain and fitted error come from the\n"
+	               "file (its target line, the member's error with the objective and precision stated).\n"
 	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
 	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
