@@ -1,7 +1,10 @@
 /*
  * cmd_ir.c — the formula IR on the command line: brdfkit eval, ops, codegen and
- * catalog. A FORM argument is either formula text or a catalog entry's name
- * (an environment entry's two forms are NAME:A and NAME:B).
+ * catalog. A FORM argument is formula text, a catalog entry's name (an
+ * environment entry's two forms are NAME:A and NAME:B), or a member of a
+ * front.csv of brdfkit search as FILE.csv:NAME (FILE.csv:NAME:A, :B): the
+ * file part ends at the last ".csv:", which no form contains (forms have no
+ * ':').
  */
 #include "brdf.h"
 #include "catalog.h"
@@ -9,6 +12,7 @@
 #include "out.h"
 #include "cmd.h"
 #include "form_check.h"
+#include "frontcsv.h"
 
 #include <errno.h>
 #include <math.h>
@@ -19,16 +23,115 @@
 typedef struct form_arg {
 	bk_form *f;
 	const bk_catalog_entry *entry; /* NULL for typed text */
+	int named;                     /* a catalog entry or a front member: params baked in */
+	int member;                    /* a front member: its parameters numbered across A and B */
 	double params[BK_MAX_PARAMS];
 	int have[BK_MAX_PARAMS];
 	char label[160];
+	char fname[BK_NAME_MAX + 1];   /* codegen's default function name; "" for none */
+	char source[600], domain[600], error[160]; /* a front member's provenance */
 } form_arg;
+
+/* The split of FILE.csv:NAME[:A|:B]: at the last ".csv:" (forms have no ':';
+ * a path may, a member name may not hold ".csv:"). NULL: not a member. */
+static const char *member_split(const char *arg)
+{
+	const char *at = NULL;
+	for (const char *s = strstr(arg, ".csv:"); s; s = strstr(s + 1, ".csv:"))
+		at = s;
+	return at ? at + 4 : NULL;
+}
+
+/* FILE.csv:NAME: the member's form (or form_b for :B), its parameters
+ * baked in like a catalog entry's constants, and its provenance from the
+ * file's '#' lines and row. text is malloc'd. */
+static int load_member(const char *arg, const char *colon, form_arg *fa, char **text)
+{
+	char path[1024], err[600];
+	if ((size_t)(colon - arg) >= sizeof path)
+		return cli_bad("%.40s...: path too long", arg);
+	memcpy(path, arg, (size_t)(colon - arg));
+	path[colon - arg] = '\0';
+	const char *rest = colon + 1;
+	bk_frontcsv fc;
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS | BK_FRONTCSV_SCORES, &fc, err, sizeof err))
+		return cli_bad("%s", err);
+	if (fc.head.kind != BK_FRONTCSV_FRONT) {
+		bk_frontcsv_free(&fc);
+		return cli_bad("%s: not a front.csv of brdfkit search (no '# brdfkit ... search front' line)", path);
+	}
+	/* NAME exactly, else NAME:PART split at the last ':' */
+	const char *part = NULL;
+	size_t nlen = strlen(rest);
+	const bk_frontcsv_row *r = NULL;
+	for (int pass = 0; pass < 2 && !r; pass++) {
+		if (pass == 1) {
+			part = strrchr(rest, ':');
+			if (!part)
+				break;
+			nlen = (size_t)(part++ - rest);
+		}
+		for (int i = 0; i < fc.n && !r; i++)
+			if (strlen(fc.row[i].name) == nlen && !strncmp(fc.row[i].name, rest, nlen))
+				r = &fc.row[i];
+	}
+	int rc = 0;
+	if (!r) {
+		rc = cli_bad("%s: no member '%s' (%d members: %s%s%s%s)", path, rest, fc.n, fc.n ? fc.row[0].name : "",
+		             fc.n > 1 ? ", " : "", fc.n > 1 ? fc.row[1].name : "", fc.n > 2 ? ", ..." : "");
+	} else if (r->form_b && !part) {
+		rc = cli_bad("'%s' has two forms (split sum): write %s:A or %s:B", r->name, arg, arg);
+	} else if (part && (!r->form_b || (strcmp(part, "A") && strcmp(part, "a") && strcmp(part, "B") &&
+	                                   strcmp(part, "b")))) {
+		rc = cli_bad("'%s': unknown part '%s'", r->name, part);
+	}
+	int want_b = part && (*part == 'B' || *part == 'b');
+	if (!rc && !(*text = strdup(want_b ? r->form_b : r->form)))
+		rc = cli_fail(NULL, "out of memory");
+	if (rc) {
+		bk_frontcsv_free(&fc);
+		return rc;
+	}
+	fa->named = fa->member = 1;
+	for (int i = 0; i < r->np; i++) {
+		fa->params[i] = r->p[i];
+		fa->have[i] = 1;
+	}
+	snprintf(fa->label, sizeof fa->label, "%s%s", arg, "");
+	/* too long a name leaves fname "": codegen's default brdfkit_form */
+	if (snprintf(fa->fname, sizeof fa->fname, "%s%s", r->name, part ? (want_b ? "_B" : "_A") : "") >=
+	    (int)sizeof fa->fname)
+		fa->fname[0] = '\0';
+	if (snprintf(fa->source, sizeof fa->source, "member %s of %s (brdfkit search front)", r->name, path) < 0)
+		fa->source[0] = '\0';
+	snprintf(fa->domain, sizeof fa->domain, "%s", fc.head.target[0] ? fc.head.target : "not stated in the file");
+	snprintf(fa->error, sizeof fa->error, "%s %.6g in %s precision on the target's samples (%s)",
+	         fc.head.objective[0] ? fc.head.objective : "error", r->error,
+	         fc.head.precision[0] ? fc.head.precision : "unstated", r->form_b ? "A and B as a pair" : "one form");
+	bk_frontcsv_free(&fc);
+	return 0;
+}
 
 static int load_form(const char *cmd, const char *arg, form_arg *fa)
 {
 	memset(fa, 0, sizeof *fa);
 	char name[128];
-	const char *colon = strchr(arg, ':');
+	const char *colon = member_split(arg);
+	if (colon) {
+		char *mtext = NULL;
+		int rc = load_member(arg, colon, fa, &mtext);
+		if (rc)
+			return rc;
+		bk_form_error err;
+		fa->f = bk_form_parse(mtext, &err);
+		free(mtext);
+		if (!fa->f) {
+			fprintf(stderr, "brdfkit %s: %s:1:%d: %s\n", cmd, fa->label, err.column, err.message);
+			return 2;
+		}
+		return 0;
+	}
+	colon = strchr(arg, ':');
 	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
 	const char *text = arg;
 	if (len < sizeof name) {
@@ -51,6 +154,13 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 			fa->have[i] = 1;
 		}
 		snprintf(fa->label, sizeof fa->label, "%s%s", arg, "");
+		fa->named = 1;
+		if (strlen(arg) < sizeof fa->fname) {
+			snprintf(fa->fname, sizeof fa->fname, "%s", arg);
+			for (char *c = fa->fname; *c; c++)
+				if (*c == ':')
+					*c = '_';
+		}
 	} else {
 		snprintf(fa->label, sizeof fa->label, "user form");
 	}
@@ -121,7 +231,12 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 			               inputs ? "inputs NoV NoL NoH LoH VoH r a f0, parameters p0..p15" : "parameters p0..p15");
 		}
 	}
-	return form_check_params(cmd, fa->entry ? fa->label : "the form", bk_form_params(fa->f), fa->have, given_p);
+	/* A split member's B may use p2..p4 of the pair's p0..p4, each with its
+	 * value: the numbering is the member's, not the one form's. */
+	unsigned used = bk_form_params(fa->f);
+	for (int k = 0; fa->member && k < BK_MAX_PARAMS; k++)
+		used |= (unsigned)fa->have[k] << k;
+	return form_check_params(cmd, fa->named ? fa->label : "the form", used, fa->have, given_p);
 }
 
 /* Significant digits that read back as x: 0.1, not 0.10000000000000001. */
@@ -164,8 +279,10 @@ int cmd_eval(int argc, char **argv)
 {
 	cli_cmd cmd = {"eval", "Evaluates a form at one point in double, single and half precision (half:\n"
 	               "IEEE binary16 with rounding after every operation, as a mediump GPU).",
-	               "'FORM'|NAME [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
-	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.",
+	               "'FORM'|NAME|FILE.csv:MEMBER [NoV=X NoL=X NoH=X LoH=X r=X a=X f0=X p0=X ...]",
+	               "a defaults to r*r when r is given. Prints three lines: f64 VALUE, f32 VALUE, f16 VALUE.\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search, its parameters baked in\n"
+	               "(MEMBER:A or MEMBER:B of a split sum); the file part ends at the last \".csv:\".",
 	               NULL, 0, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &eval_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
@@ -185,7 +302,7 @@ int cmd_eval(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	if ((rc = check_inputs(fa.f, fa.entry ? fa.label : "the form", cmd.pos + 1, given))) {
+	if ((rc = check_inputs(fa.f, fa.named ? fa.label : "the form", cmd.pos + 1, given))) {
 		bk_form_free(fa.f);
 		return rc;
 	}
@@ -254,13 +371,15 @@ int cmd_ops(int argc, char **argv)
 	};
 	cli_cmd cmd = {"ops", "Counts a form's operations per class after constant folding, sharing of common\n"
 	               "subexpressions, small integer powers to multiplies and a*b+c to one multiply-add.",
-	               "'FORM'|NAME [--csv] [--simple-cost C] [--complex-cost C] [--cost-model NAME]",
+	               "'FORM'|NAME|FILE.csv:MEMBER [--csv] [--simple-cost C] [--complex-cost C] [--cost-model NAME]",
 	               "Complex ops (transcendental unit): rcp div sqrt rsqrt exp2 log2; pow = log2+mul+exp2,\n"
 	               "exp = mul+exp2, log = log2+mul; negation and abs are free source modifiers.\n"
 	               "cost = simple * simple-cost + complex * complex-cost (the talk: many simple ops per\n"
 	               "cycle, only one complex). --cost-model takes both weights from a named model:\n"
 	               "ir, or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (least squares of AMD's\n"
-	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).",
+	               "ACO instruction counts over the catalog, brdfkit gpucost --calibrate).\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B\n"
+	               "of a split sum); the file part ends at the last \".csv:\".",
 	               opts, 4, 1, 0, {0}};
 	int rc = cli_parse_table(&cmd, &ops_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){model ? WEIGHTS_MODEL : WEIGHTS_OPTIONS})))
@@ -277,7 +396,7 @@ int cmd_ops(int argc, char **argv)
 	if ((rc = load_form("ops", cmd.pos[0], &fa)))
 		return rc;
 	/* no pN= here: a typed form's parameters are unknown, only its constants are checked */
-	if ((rc = form_check_finite("ops", fa.entry ? fa.label : "form", fa.f, fa.entry ? fa.params : NULL))) {
+	if ((rc = form_check_finite("ops", fa.named ? fa.label : "form", fa.f, fa.named ? fa.params : NULL))) {
 		bk_form_free(fa.f);
 		return rc;
 	}
@@ -346,13 +465,17 @@ int cmd_codegen(int argc, char **argv)
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
-		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog name, or brdfkit_form)", .dest = &fname},
+		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME [p0=X ...]",
+	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
+	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
+	               "the same way, and the comment's source, fitted domain and fitted error come from the\n"
+	               "file (its target line, the member's error with the objective and precision stated).\n"
 	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
 	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
@@ -398,29 +521,26 @@ int cmd_codegen(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	char name[128], command[2048];
-	if (!fname && fa.entry) {
-		snprintf(name, sizeof name, "%s", cmd.pos[0]);
-		for (char *c = name; *c; c++)
-			if (*c == ':')
-				*c = '_';
-		fname = name;
-	}
+	char command[2048];
+	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname))
+		fname = fa.fname;
 	shell_words(command, sizeof command, "brdfkit codegen", argc, argv);
 	bk_emit_info info = {
 		.name = fname,
-		.source = fa.entry ? fa.entry->source : "user form",
+		.source = fa.entry ? fa.entry->source : fa.named ? fa.source : "user form",
 		.conventions = fa.entry ? fa.entry->convention
 		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
+		.domain = fa.domain[0] ? fa.domain : NULL,
+		.error = fa.error[0] ? fa.error : NULL,
 		.command = command,
 	};
-	if ((rc = form_check_finite("codegen", fa.entry ? fa.label : "form", fa.f, fa.params))) {
+	if ((rc = form_check_finite("codegen", fa.named ? fa.label : "form", fa.f, fa.params))) {
 		bk_form_free(fa.f);
 		return rc;
 	}
 	/* A clamp whose bounds are out of order is hi everywhere: spelled
 	 * min(max()), defined; a warning like the precision's (form_check.h). */
-	form_warn_precision("codegen", fa.entry ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
+	form_warn_precision("codegen", fa.named ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
 	char what[200];
 	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
