@@ -48,15 +48,21 @@ int bk_ir_finish(bk_form *f, int out);
 void bk_ir_forward64(const bk_form *f, size_t n, size_t ahead, int first, const double *const *in,
                      const double *par, double *reg);
 
-/* One non-leaf instruction of the f64 kernel over a whole block: r[k] :=
- * op(A[k], B[k], C[k]) for k < BK_IR_BLOCK (the operands a unary or binary op
- * does not read may be any block). r overlaps none of A, B, C. */
 /* Half precision in each order a driver may pick (brdf/ir_eval.c): every
  * mad and mix rounded twice (unfused) and once (fused); either may be NULL.
  * bk_form_eval's BK_F16 keeps the worse of the two per sample; tests/vk
  * checks the driver against both. 0, or -1 as bk_form_eval. */
 int bk_ir_eval_half_orders(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT], const double *params,
                            double *unfused, double *fused);
+
+/* pow(x, y) has no value (NaN in every evaluator: brdf/ir_eval.c) at 0^y for
+ * y <= 0, where GLSL leaves it undefined; a negative base needs no test (log2
+ * of it is NaN). Bitwise & so that the kernels' loops stay branch-free. */
+#define BK_POW_AT_ZERO_UNDEFINED(x, y) (((x) == 0) & !((y) > 0))
+
+/* One non-leaf instruction of the f64 kernel over a whole block: r[k] :=
+ * op(A[k], B[k], C[k]) for k < BK_IR_BLOCK (the operands a unary or binary op
+ * does not read may be any block). r overlaps none of A, B, C. */
 void bk_ir_op64(const bk_instr *c, double *restrict r, const double *restrict A, const double *restrict B,
                 const double *restrict C);
 

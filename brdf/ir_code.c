@@ -23,7 +23,7 @@ double bk_ir_apply(bk_op op, double a, double b, double c)
 	case BK_OP_DIV: return a / b;
 	case BK_OP_NEG: return -a;
 	case BK_OP_MAD: return a * b + c;
-	case BK_OP_POW: return a == 0 && !(b > 0) ? NAN : bk_dexp2(b * bk_dlog2(a)); /* the GPU's pow (ir_eval.c) */
+	case BK_OP_POW: return BK_POW_AT_ZERO_UNDEFINED(a, b) ? NAN : bk_dexp2(b * bk_dlog2(a)); /* the GPU's pow (ir_eval.c) */
 	case BK_OP_SQRT: return sqrt(a);
 	case BK_OP_RSQRT: return 1.0 / sqrt(a);
 	case BK_OP_RCP: return 1.0 / a;
@@ -53,7 +53,7 @@ double bk_ir_apply_half(bk_op op, double a, double b, double c)
 	switch (op) {
 	case BK_OP_MAD: return h(h(a * b) + c);
 	case BK_OP_MIX: return h(a + h(h(b - a) * c));
-	case BK_OP_POW: return a == 0 && !(b > 0) ? NAN : h(bk_dexp2(h(b * h(bk_dlog2(a)))));
+	case BK_OP_POW: return BK_POW_AT_ZERO_UNDEFINED(a, b) ? NAN : h(bk_dexp2(h(b * h(bk_dlog2(a)))));
 	case BK_OP_EXP: return h(bk_dexp2(h(a * h(1.44269504088896340736))));
 	case BK_OP_LOG: return h(h(bk_dlog2(a)) * h(0.693147180559945309417));
 	default: return h(bk_ir_apply(op, a, b, c));

@@ -313,12 +313,6 @@ static double held(double v, bk_precision prec)
 	return prec == BK_F16 ? bk_half_round((float)v) : (double)(float)v;
 }
 
-/* Walks the instructions the code computes from constants alone (literals,
- * baked-in parameters; params NULL: parameters are not constants) in
- * precision prec, each on its operands as prec holds them, as the code
- * computes it; stops at the first for which bad(exact, held) says so, and
- * names it in what: "exp2(127.99)", "the constant 1e-46", "p0 = 1e+39".
- * Returns how many are bad (the first named), -1 if out of memory. */
 /* The value of every instruction that reads only constants (known[i]), in
  * precision prec as the code computes it (the rest left unset). */
 static void const_values(const bk_form *f, const double *params, bk_precision prec, double *exact, double *val,
@@ -339,6 +333,12 @@ static void const_values(const bk_form *f, const double *params, bk_precision pr
 	}
 }
 
+/* Walks the instructions the code computes from constants alone (literals,
+ * baked-in parameters; params NULL: parameters are not constants) in
+ * precision prec, each on its operands as prec holds them, as the code
+ * computes it; stops at the first for which bad(exact, held) says so, and
+ * names it in what: "exp2(127.99)", "the constant 1e-46", "p0 = 1e+39".
+ * Returns how many are bad (the first named), -1 if out of memory. */
 static int const_walk(const bk_form *f, const double *params, bk_precision prec,
                       int (*bad)(double, double, bk_precision),
                       char *what, size_t len, double *first)
@@ -377,15 +377,15 @@ static int divides_by_zero(const bk_form *f, const double *params)
 {
 	double *val = malloc(sizeof(double) * (size_t)f->n * 2);
 	char *known = malloc((size_t)f->n);
-	int found = 0;
-	if (val && known) {
+	int found = val && known ? 0 : -1;
+	if (found == 0) {
 		const_values(f, params, BK_F32, val + f->n, val, known);
 		for (int i = 0; i < f->n && !found; i++)
 			found = f->code[i].op == BK_OP_DIV && known[f->code[i].b] && val[f->code[i].b] == 0;
 	}
 	free(val);
 	free(known);
-	return val && known ? found : -1;
+	return found;
 }
 
 static int not_finite(double exact, double h, bk_precision prec)

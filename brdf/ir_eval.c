@@ -128,7 +128,7 @@ void bk_ir_force_libm(int on)
  * functions (X2, L2) a parameter: vmath's or libm's (through tgmath). */
 #define E_EXP2(R, X2, L2) R(X2(A[k]))
 #define E_LOG2(R, X2, L2) R(L2(A[k]))
-#define E_POW(R, X2, L2) ((A[k] == 0) & !(B[k] > 0) ? R((float)NAN) : R(X2(R(B[k] * R(L2(A[k]))))))
+#define E_POW(R, X2, L2) (BK_POW_AT_ZERO_UNDEFINED(A[k], B[k]) ? R((float)NAN) : R(X2(R(B[k] * R(L2(A[k]))))))
 #define E_EXP16(R, X2, L2) R(X2(R(A[k] * R((float)LOG2E))))
 #define E_LOG16(R, X2, L2) R(R(L2(A[k])) * R((float)LN2))
 /* vmath's functions of the kernel's type: the float ones in f32 and f16,
