@@ -11,8 +11,9 @@
 #                  spheres, the page results/index.html (brdfkit report) and notebooks_data/
 #   make test      the test suite, then again under AddressSanitizer + UBSan; the page in Chromium
 #   make bench     benchmarks (medians of repeated runs, side by side; SciPy for comparison)
-#   make install   PREFIX=/usr/local DESTDIR=  (libbrdf, libbrdfkit-fit: .a and .so; brdf.h, brdfkit/*.h,
-#                  brdfkit.pc, the tools, the manual pages in share/man/man1)
+#   make install   PREFIX=/usr/local DESTDIR=  (libbrdf, libbrdfkit-fit: .a and stripped .so, their debug
+#                  info in lib/debug/.build-id; brdf.h, brdfkit/*.h, brdfkit.pc, the tools, the manual
+#                  pages in share/man/man1 and share/man/man3, the Python module brdfkit)
 #   make fuzz      libFuzzer on the formula IR and the search's checkpoint reader (clang)
 #
 # Every target that compiles runs `deps` first: it installs the missing Debian
@@ -55,6 +56,10 @@ FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
 NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matplotlib
+# tests/python.sh: `import brdfkit` (analysis/python/brdfkit, installed by make
+# install) loads the installed libraries through cffi's ABI mode, NumPy arrays
+# in and out, fronts as pandas DataFrames (Debian's, no PyPI)
+PY_DEBS = python3-cffi python3-numpy python3-pandas
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -80,8 +85,10 @@ MPI_TOOL = build/brdfkit-mpi
 MPI_CFLAGS = $(shell pkg-config --cflags mpi-c)
 MPI_LIBS   = $(shell pkg-config --libs mpi-c)
 # The manual pages: one scdoc source per page in analysis/man/ (brdfkit.1.scd,
-# brdfkit-COMMAND.1.scd, brdfkit-mpi.1.scd), roff in build/man/ for man(1) and
-# `make install`; tests/man.sh checks them against the tool's --help.
+# brdfkit-COMMAND.1.scd, brdfkit-mpi.1.scd; the library's API in section 3,
+# one page per installed header, brdfkit_HEADER.3.scd), roff in build/man/ for
+# man(1) and `make install`; tests/man.sh checks them against the tool's --help
+# and the installed headers.
 MAN_SRC = $(sort $(wildcard analysis/man/*.scd))
 MAN     = $(patsubst analysis/man/%.scd,build/man/%,$(MAN_SRC))
 TESTS = build/test_brdfkit
@@ -204,7 +211,7 @@ TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/v
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
-	$(call need,$(NOTEBOOK_DEBS))
+	$(call need,$(NOTEBOOK_DEBS) $(PY_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
@@ -223,6 +230,7 @@ test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
 	sh tests/readme.sh $(TOOL)
 	sh tests/man.sh $(TOOL)
 	sh tests/notebook.sh notebooks_data
+	MAKE="$(MAKE)" sh tests/python.sh $(TOOL)
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
 	sh tests/fault.sh $(TOOL)
 	MAKE="$(MAKE)" sh tests/install.sh
@@ -543,11 +551,13 @@ fuzz: build/fuzz_ir build/fuzz_ckpt
 
 # the fitter and the search as a library a program links (libbrdfkit-fit, with
 # libbrdf under it) through the installed headers of PUB_H in include/brdfkit/:
-# fit/search.h (bk_search_new, bk_search_drive), fit/fit.h (bk_fit_run_cb), the
-# headers they include, and the opcodes the search's trees are made of
+# fit/search.h (bk_search_new, bk_search_drive), fit/fit.h (bk_fit_run_cb),
+# fit/catalog.h (the published forms by name, bk_catalog_form), the headers
+# they include, and the opcodes the search's trees are made of
 # (brdf_ops.h, from the table ir_ops.h)
 FIT_LIB = build/libbrdfkit-fit.a
-PUB_H   = brdf/brdf.h brdf/brdf_ops.h brdf/ir_ops.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h
+PUB_H   = brdf/brdf.h brdf/brdf_ops.h brdf/ir_ops.h fit/solver.h fit/target.h fit/fit.h fit/expr.h fit/search.h \
+          fit/catalog.h
 $(FIT_LIB): $(call obj,build/obj,$(FIT_SRC))
 	ar rcs $@ $^
 
@@ -587,19 +597,43 @@ $(SO_FIT): $(call obj,build/pic,$(FIT_SRC)) $(SO_LIB)
 	$(CXX) -shared $(OPT) -Wl,-soname,libbrdfkit-fit.so.$(SOVER) -Wl,--version-script=build/pic/libbrdfkit-fit.map \
 	  -Wl,-z,defs $^ -lceres -lglog -lpthread -lm -o $@
 
+# What make install puts in lib/: each shared library stripped (build/strip/,
+# 0.4 MB where the -g file is 44 MB), its debug info split into build/debug/
+# (objcopy --only-keep-debug) and installed as lib/debug/.build-id/NN/REST.debug,
+# the layout gdb and debuginfod look up by the library's build id (gdb: set
+# debug-file-directory PREFIX/lib/debug; /usr/lib/debug where PREFIX is /usr),
+# with a .gnu_debuglink naming it as well. Debian's dh_strip does the same.
+build/strip/%: build/%
+	@mkdir -p build/strip build/debug
+	objcopy --only-keep-debug $< build/debug/$*.debug.tmp && mv build/debug/$*.debug.tmp build/debug/$*.debug
+	objcopy --strip-debug --strip-unneeded --add-gnu-debuglink=build/debug/$*.debug $< $@.tmp && mv $@.tmp $@
+# build_id(library): its build id, hex (the NN/REST of the .build-id path)
+build_id = $$(readelf -n $(1) | sed -n 's/.*Build ID: *\([0-9a-f]*\).*/\1/p')
+
 # lib/: the archives, and each shared library as its file, its soname and the
 # name -l finds (symlinks). brdfkit.pc's Libs carry -Wl,-rpath,${libdir}: a
 # program built with `pkg-config --cflags --libs brdfkit` runs from any PREFIX
 # without LD_LIBRARY_PATH or ldconfig (which a DESTDIR or non-root install
 # cannot run); Libs.private what a static link adds (pkg-config --static).
-install: all $(FIT_LIB) $(SO_LIB) $(SO_FIT)
+# The Python module: its sources, the installed headers' declarations
+# preprocessed for cffi (_decls.h: no compiler needed at import) and the prefix
+# it loads the libraries from (_config.py), in Debian's dist-packages layout
+# (PYTHONPATH=PREFIX/lib/python3/dist-packages outside /usr).
+PY_SRC = $(sort $(wildcard analysis/python/brdfkit/*.py))
+PY_DIR = $(PREFIX)/lib/python3/dist-packages/brdfkit
+install: all $(FIT_LIB) $(SO_LIB) $(SO_FIT) $(SO_LIB:build/%=build/strip/%) $(SO_FIT:build/%=build/strip/%)
 	install -d $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(PREFIX)/include/brdfkit $(DESTDIR)$(PREFIX)/bin \
-	  $(DESTDIR)$(PREFIX)/share/man/man1
-	install -m 644 $(MAN) $(DESTDIR)$(PREFIX)/share/man/man1/
+	  $(DESTDIR)$(PREFIX)/share/man/man1 $(DESTDIR)$(PREFIX)/share/man/man3
+	install -m 644 $(filter %.1,$(MAN)) $(DESTDIR)$(PREFIX)/share/man/man1/
+	install -m 644 $(filter %.3,$(MAN)) $(DESTDIR)$(PREFIX)/share/man/man3/
 	install -m 644 $(LIB) $(DESTDIR)$(PREFIX)/lib/libbrdf.a
 	install -m 644 $(FIT_LIB) $(DESTDIR)$(PREFIX)/lib/libbrdfkit-fit.a
 	for l in libbrdf libbrdfkit-fit; do \
-	  install -m 755 build/$$l.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/ && \
+	  id=$(call build_id,build/strip/$$l.so.$(VERSION)) && [ -n "$$id" ] && \
+	  install -d $(DESTDIR)$(PREFIX)/lib/debug/.build-id/$$(echo $$id | cut -c1-2) && \
+	  install -m 644 build/debug/$$l.so.$(VERSION).debug \
+	    $(DESTDIR)$(PREFIX)/lib/debug/.build-id/$$(echo $$id | cut -c1-2)/$$(echo $$id | cut -c3-).debug && \
+	  install -m 755 build/strip/$$l.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/ && \
 	  ln -sf $$l.so.$(VERSION) $(DESTDIR)$(PREFIX)/lib/$$l.so.$(SOVER) && \
 	  ln -sf $$l.so.$(SOVER) $(DESTDIR)$(PREFIX)/lib/$$l.so || exit 1; \
 	done
@@ -609,6 +643,11 @@ install: all $(FIT_LIB) $(SO_LIB) $(SO_FIT)
 	install -m 755 $(MPI_TOOL) $(DESTDIR)$(PREFIX)/bin/brdfkit-mpi
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' brdf/brdfkit.pc.in \
 	  > $(DESTDIR)$(PREFIX)/lib/pkgconfig/brdfkit.pc
+	install -d $(DESTDIR)$(PY_DIR)
+	install -m 644 $(PY_SRC) $(DESTDIR)$(PY_DIR)/
+	python3 analysis/python/brdfkit/_decls.py $(DESTDIR)$(PREFIX)/include >$(DESTDIR)$(PY_DIR)/_decls.h.tmp && \
+	  mv $(DESTDIR)$(PY_DIR)/_decls.h.tmp $(DESTDIR)$(PY_DIR)/_decls.h
+	printf 'PREFIX = "%s"  # written by make install\n' '$(PREFIX)' >$(DESTDIR)$(PY_DIR)/_config.py
 
 clean:
 	rm -rf build

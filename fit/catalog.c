@@ -27,6 +27,7 @@
  */
 #include "catalog.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #define PI "3.141592653589793"
@@ -325,4 +326,22 @@ const bk_catalog_entry *bk_catalog_find(const char *name)
 		if (strcmp(entries[i].name, name) == 0)
 			return &entries[i];
 	return NULL;
+}
+
+bk_form *bk_catalog_form(const char *name, double *params, bk_form_error *err)
+{
+	const bk_catalog_entry *e = bk_catalog_find(name);
+	if (!e) {
+		if (err) {
+			err->column = 0;
+			/* the name quoted as the user gave it, cut to fit the message */
+			snprintf(err->message, sizeof err->message, "unknown catalog form '%.150s'", name ? name : "(null)");
+		}
+		return NULL;
+	}
+	bk_form *f = bk_form_parse(e->form, err);
+	if (f && params)
+		for (int k = 0; k < BK_MAX_PARAMS; k++)
+			params[k] = k < e->nparams ? e->defaults[k] : 0;
+	return f;
 }

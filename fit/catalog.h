@@ -10,6 +10,10 @@
 
 #include <stddef.h>
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 typedef struct bk_catalog_entry {
 	const char *name;       /* e.g. "vf_talk_r": unique, lowercase */
 	const char *target;     /* what it approximates: "D", "V", "F", "VF" (V·F), "DVF",
@@ -26,5 +30,17 @@ typedef struct bk_catalog_entry {
 size_t bk_catalog_count(void);
 const bk_catalog_entry *bk_catalog_at(size_t i);
 const bk_catalog_entry *bk_catalog_find(const char *name);
+/* The entry NAME's form parsed (for a split sum "env", its A half; the B half
+ * is bk_form_parse(entry->form_b)), and its published constants copied into
+ * params (BK_MAX_PARAMS doubles; those past nparams 0; params may be NULL).
+ * Here, not in bk_form_parse: libbrdf knows the formula language, not the
+ * catalog, which lives a layer above it (DESIGN.md's data flow). Returns the
+ * form (bk_form_free it), or NULL with err set: "unknown catalog form 'NAME'"
+ * (column 0), or the parser's error. */
+bk_form *bk_catalog_form(const char *name, double *params, bk_form_error *err);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

@@ -224,17 +224,6 @@ bk_problem bk_fit_problem_view(const bk_fit_problem *pb);
  * made them (what reads no parameter is not computed again). 0, or -1. */
 int bk_fit_problem_values(bk_fit_problem *pb, const double *p, double *v);
 
-/* Benchmark switch, public so that make bench's side-by-side needs no
- * internal header: 1 (default), residual blocks use forms bound to their
- * samples (brdf.h, bk_form_bind); 0, the plain evaluators, every instruction
- * at every call (bench_speed's "old" side: the same bits, only slower).
- * Set before any fit starts, never during one. */
-extern int bk_fit_ctx_bind;
-/* The same for the Jacobian's layout: 1 (default), TinySolver's fits take it
- * by columns (bk_solve_tiny_cols); 0, row-major (bk_solve_tiny_reusing), as
- * before (the same bits). */
-extern int bk_fit_ctx_cols;
-
 #ifdef __cplusplus
 }
 #endif

@@ -6,6 +6,7 @@
  */
 #include "fit.h"
 #include "fit_int.h"
+#include "switches.h"
 #include "brdf_ops.h" /* bk_ir_avx2 */
 
 #include <math.h>

@@ -130,15 +130,6 @@ typedef int (*bk_residual_cols_fn)(void *ctx, int block, const double *params, d
  * and the same bits when cols gives fn's values. */
 int bk_solve_tiny_cols(const bk_problem *p, bk_residual_cols_fn cols, const bk_fit_options *o, double *params,
                        bk_fit_summary *summary);
-/* 1 (default); 0: bk_solve_tiny_reusing is bk_solve_tiny (bench_speed's
- * "old" side). Set before any solve starts. */
-extern int bk_tiny_reuse_trial;
-/* 1 (default): TinySolver is instantiated with the free parameters' count
- * fixed at compile time where it is 1..4 (fit/tiny.cc, solve_n); 0: always
- * with dynamic sizes (bench_speed's "old" side; other last bits). Set before
- * any solve starts. */
-extern int bk_tiny_fixed;
-
 #ifdef __cplusplus
 }
 #endif

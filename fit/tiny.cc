@@ -86,6 +86,7 @@
 #define EIGEN_CACHEFRIENDLY_PRODUCT_THRESHOLD 2048
 #include "solver.h"
 #include "bridge.h"
+#include "switches.h"
 
 #include <ceres/tiny_solver.h>
 

@@ -22,9 +22,23 @@
 # Libs.private) fail with undefined symbols; a C++ program against brdf.h
 # without its extern "C" guard fails to link; the shared program without the
 # rpath cannot find libbrdf at run time.
+# The catalog (issue 40): a C and a C++ program through pkg-config name a
+# published form, bk_catalog_form("vf_talk_r"), and evaluate it; the value is
+# the talk's printed f0/(4 LoH^2 (r + 0.5)) computed here by hand (0.05 at
+# LoH 0.5, r 0.3, f0 0.04); an unknown name fails with its message (control).
+# Exports: `nm -D --defined-only` of the two installed libraries lists exactly
+# the bk_ functions the installed headers declare (read from the preprocessed
+# headers, not from the Makefile's version script), each once, and no
+# internal symbol (the search's modules, the benchmark switches); negative
+# control: libbrdf's objects linked without the version script export more.
+# Stripped: the installed .so has no .debug_info, its split debug file under
+# lib/debug/.build-id/ has it, and gdb finds bk_catalog_form's source line
+# through it (set debug-file-directory); negative control: without that
+# directory gdb finds no line.
 # The manual pages: a page per command under share/man/man1 of the stage, and
 # from PREFIX `MANPATH=PREFIX/share/man man -w` finds brdfkit(1) and
 # brdfkit-search(1), which render without a warning (man --warnings); its
+# brdfkit_catalog(3) (section 3: the library's pages); its
 # negative control: a page that was not installed is not found.
 set -u
 T=$(mktemp -d /tmp/bk_install_XXXXXX)
@@ -41,7 +55,7 @@ ${MAKE:-make} -s install PREFIX=/opt/bk DESTDIR="$T/stage" >/dev/null || bad "ma
 for f in lib/libbrdf.a lib/libbrdfkit-fit.a lib/libbrdf.so.$V lib/libbrdfkit-fit.so.$V include/brdf.h \
 	include/brdfkit/search.h include/brdfkit/fit.h include/brdfkit/expr.h include/brdfkit/target.h \
 	include/brdfkit/solver.h include/brdfkit/brdf.h include/brdfkit/brdf_ops.h include/brdfkit/ir_ops.h \
-	lib/pkgconfig/brdfkit.pc bin/brdfkit bin/brdfkit-mpi; do
+	include/brdfkit/catalog.h lib/pkgconfig/brdfkit.pc bin/brdfkit bin/brdfkit-mpi share/man/man3/brdfkit_catalog.3; do
 	[ -f "$S/$f" ] && ok || bad "missing $f under DESTDIR/PREFIX"
 done
 for l in libbrdf libbrdfkit-fit; do # the soname and the name -l finds, links to the file
@@ -54,6 +68,80 @@ for c in $(build/brdfkit --help | awk '/^commands:/ { on = 1; next } on && /^  [
 	[ -f "$S/share/man/man1/brdfkit-$c.1" ] || bad "no manual page share/man/man1/brdfkit-$c.1 under DESTDIR/PREFIX"
 done
 [ -f "$S/share/man/man1/brdfkit.1" ] && ok || bad "no manual page share/man/man1/brdfkit.1 under DESTDIR/PREFIX"
+
+# ---- exports: exactly the installed headers' functions ------------------------
+# declared INCDIR: the bk_ names the installed headers declare as functions
+# (NAME followed by '(' after preprocessing: macros and comments gone, a
+# function-pointer type reads "(*NAME)") or as extern data, one a line
+declared() {
+	for h in brdf.h brdf_ops.h solver.h target.h fit.h expr.h search.h catalog.h; do echo "#include <brdfkit/$h>"; done >"$T/all.c"
+	gcc -std=c11 -E -P -I"$1" "$T/all.c" | tr -s ' \t\n' '   ' | sed 's/[;{}]/&\n/g' >"$T/decl.i" || return 1
+	{ grep -o '\bbk_[A-Za-z0-9_]*[ ]*(' "$T/decl.i" | sed 's/[ (]*$//'
+	  grep '^ *extern [^(]*;' "$T/decl.i" | grep -o '\bbk_[A-Za-z0-9_]*[] []*;' | sed 's/[] [;]*$//'; } | LC_ALL=C sort -u
+}
+# exported LIB...: the symbols the libraries define for others, one a line (a
+# name twice if two define it)
+exported() { for l in "$@"; do nm -D --defined-only "$l" | awk 'NF == 3 { print $3 }'; done | LC_ALL=C sort; }
+# exports_exact LIB...: exported == declared, or the difference printed
+exports_exact() {
+	exported "$@" >"$T/exp.txt"
+	diff "$T/decl.txt" "$T/exp.txt" >"$T/exp.diff" || { head -8 "$T/exp.diff"; return 1; }
+}
+declared "$S/include" >"$T/decl.txt" && [ "$(wc -l <"$T/decl.txt")" -ge 150 ] && ok ||
+	bad "the installed headers' declarations: $(wc -l <"$T/decl.txt") names read"
+exports_exact "$S/lib/libbrdf.so.$V" "$S/lib/libbrdfkit-fit.so.$V" && ok || bad "exports are not the headers' functions"
+for sym in bk_tiny_fixed bk_fit_ctx_bind bk_ir_code; do # internal: a benchmark switch, an IR module
+	! exported "$S/lib/libbrdf.so.$V" "$S/lib/libbrdfkit-fit.so.$V" | grep -qx "$sym" && ok || bad "internal $sym exported"
+done
+exported "$S/lib/libbrdfkit-fit.so.$V" | grep -qx bk_catalog_form && ok || bad "bk_catalog_form not exported"
+# negative control: libbrdf's own objects, linked without the version script
+gcc -shared build/pic/brdf/*.o -lm -o "$T/libopen.so" &&
+	! exports_exact "$T/libopen.so" "$S/lib/libbrdfkit-fit.so.$V" >/dev/null && ok ||
+	bad "a library exporting everything passed the exports check"
+
+# ---- stripped, the debug info split off ---------------------------------------
+for l in libbrdf libbrdfkit-fit; do
+	so="$S/lib/$l.so.$V"
+	id=$(readelf -n "$so" | sed -n 's/.*Build ID: *\([0-9a-f]*\).*/\1/p')
+	dbg="$S/lib/debug/.build-id/$(echo "$id" | cut -c1-2)/$(echo "$id" | cut -c3-).debug"
+	! readelf -S "$so" | grep -q '\.debug_info' && readelf -S "$so" | grep -q '\.gnu_debuglink' && ok ||
+		bad "$l.so.$V: not stripped, or no debug link"
+	[ -n "$id" ] && [ -f "$dbg" ] && readelf -S "$dbg" | grep -q '\.debug_info' && ok || bad "$l: no debug file $dbg"
+	echo "install: $l.so.$V $(wc -c <"$so") bytes, debug $(wc -c <"$dbg" 2>/dev/null) bytes (the -g build: $(wc -c <build/$l.so.$V))"
+done
+gdbline() { gdb -nx -batch -ex "set debug-file-directory $1" -ex "file $S/lib/libbrdfkit-fit.so.$V" -ex 'info line bk_catalog_form' 2>&1; }
+gdbline "$S/lib/debug" | grep -q 'Line [0-9]* of "fit/catalog.c"' && ok || bad "gdb through lib/debug: $(gdbline "$S/lib/debug" | tail -1)"
+! gdbline "$T/nowhere" | grep -q 'Line [0-9]* of' && ok || bad "gdb found a line without the debug files: the check proves nothing"
+
+# ---- the catalog's program ------------------------------------------------------
+# the catalog by name, C and C++: vf_talk_r at LoH 0.5, r 0.3, f0 0.04, and an
+# unknown name
+cat >"$T/cat.c" <<'C'
+#include <brdfkit/catalog.h>
+#include <stdio.h>
+int main(void)
+{
+	bk_form_error fe;
+	double p[BK_MAX_PARAMS];
+	bk_form *f = bk_catalog_form("vf_talk_r", p, &fe);
+	if (!f)
+		return fprintf(stderr, "%s\n", fe.message), 1;
+	double loh = 0.5, r = 0.3, f0 = 0.04, v = -1;
+	const double *in[BK_IN_COUNT] = {0};
+	in[BK_IN_LOH] = &loh, in[BK_IN_R] = &r, in[BK_IN_F0] = &f0;
+	int rc = bk_form_eval(f, BK_F64, 1, in, p, &v);
+	bk_form_free(f);
+	bk_form *g = bk_catalog_form("zz_no_such_form", p, &fe);
+	printf("%d %.17g %s\n", rc, v, g ? "found" : fe.message);
+	return 0;
+}
+C
+cp "$T/cat.c" "$T/cat.cc"
+# the talk's printed V*F with brdfkit's 1/4 (catalog.c's note): f0/(4 LoH^2 (r + 0.5))
+cat_expect() {
+	awk '{ want = 0.04 / (4 * 0.5 * 0.5 * (0.3 + 0.5)); d = $2 - want; if (d < 0) d = -d
+		exit !($1 == 0 && d <= 1e-15 * want && $0 ~ /unknown catalog form .zz_no_such_form./) }' "$1"
+}
 
 # ---- the programs -------------------------------------------------------------
 cat >"$T/use.c" <<'C'
@@ -219,13 +307,20 @@ awk -v p="$(num progress)" -v q="$(num stop)" 'BEGIN { exit !(p >= 1 && q >= 1) 
 g++ -std=c++17 -Wall -Wextra -Werror -c "$T/use.cc" $(PKG_CONFIG_PATH="$U/lib/pkgconfig" pkg-config --cflags brdfkit) \
 	-o "$T/use_cc.o" && g++ "$T/use_cc.o" $flags -o "$T/use_cc" && "$T/use_cc" >"$T/use_cc.out" && cxx_expect "$T/use_cc.out" &&
 	ok || bad "a C++ program through pkg-config: $(cat "$T/use_cc.out" 2>/dev/null)"
+cc -std=c11 -Wall -Wextra -Werror "$T/cat.c" $flags -o "$T/cat" && "$T/cat" >"$T/cat.out" && cat_expect "$T/cat.out" && ok ||
+	bad "the catalog by name from C: $(cat "$T/cat.out" 2>/dev/null)"
+g++ -std=c++17 -Wall -Wextra -Werror "$T/cat.cc" $flags -o "$T/cat_cc" && "$T/cat_cc" >"$T/cat_cc.out" &&
+	cat_expect "$T/cat_cc.out" && ok || bad "the catalog by name from C++: $(cat "$T/cat_cc.out" 2>/dev/null)"
+# negative control: the expectation rejects a value off by one part in 1e12
+sed 's/^0 [^ ]*/0 0.05000000000005/' "$T/cat.out" >"$T/cat.off" && ! cat_expect "$T/cat.off" && ok ||
+	bad "a wrong catalog value passed the check"
 # C linkage: the C++ object refers to our functions by their C names only
 nm -u "$T/use_cc.o" | grep -q ' bk_D_ggx$' && ! nm -u "$T/use_cc.o" | grep -q '_Z.*bk_' && ok ||
 	bad "mangled brdfkit names in the C++ object: $(nm -u "$T/use_cc.o" | grep '_Z.*bk_' | head -3)"
 # each installed header alone, C11 and C++17 (ir_ops.h is the opcode table
 # brdf_ops.h expands, no header of its own)
 for h in brdf.h brdfkit/brdf.h brdfkit/brdf_ops.h brdfkit/solver.h brdfkit/target.h brdfkit/fit.h brdfkit/expr.h \
-	brdfkit/search.h; do
+	brdfkit/search.h brdfkit/catalog.h; do
 	echo "#include <$h>" >"$T/h.c"
 	cp "$T/h.c" "$T/h.cc"
 	gcc -std=c11 -Wall -Wextra -Werror -I"$U/include" -c "$T/h.c" -o /dev/null &&
@@ -265,6 +360,9 @@ for p in brdfkit brdfkit-search; do
 	MANPATH="$U/share/man" MANWIDTH=80 LC_ALL=C.UTF-8 man --warnings "$p" >"$T/man.out" 2>"$T/man.err" &&
 		[ ! -s "$T/man.err" ] && grep -q "^NAME" "$T/man.out" && ok || bad "man $p: $(head -3 "$T/man.err")"
 done
+# section 3: the catalog's page, from PREFIX
+f=$(MANPATH="$U/share/man" man -w 3 brdfkit_catalog 2>/dev/null)
+[ "$f" = "$U/share/man/man3/brdfkit_catalog.3" ] && ok || bad "man -w 3 brdfkit_catalog: '$f'"
 # negative control: a page that was not installed is not found
 ! MANPATH="$U/share/man" man -w brdfkit-zzfake >/dev/null 2>&1 && ok || bad "man -w found a page never installed"
 

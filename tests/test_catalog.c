@@ -730,3 +730,36 @@ Test(catalog, karis_split_equals_gated_above_2_percent)
 	for (int k = 0; k < 3; k++)
 		check_close(g[k], p[k].f0 * A[k] + B[k], 1e-12, "G%d", k + 1);
 }
+
+/* bk_catalog_form: every entry by its name is its form text with its published
+ * constants (those past nparams 0), and the talk's V·F at one point is its
+ * printed f0/(4 LoH^2 (r + 0.5)) by hand; an unknown name is an error naming
+ * it, and a form parsed from the text alone (not a catalog name) is refused
+ * (the control: bk_form_parse does not know the catalog). */
+Test(catalog, form_by_name)
+{
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		double p[BK_MAX_PARAMS];
+		bk_form_error fe;
+		bk_form *f = bk_catalog_form(e->name, p, &fe);
+		cr_assert(f, "%s: %s", e->name, fe.message);
+		cr_expect_str_eq(bk_form_text(f), e->form);
+		for (int k = 0; k < BK_MAX_PARAMS; k++)
+			cr_expect_eq(p[k], k < e->nparams ? e->defaults[k] : 0, "%s p%d", e->name, k);
+		bk_form_free(f);
+	}
+	double p[BK_MAX_PARAMS], loh = 0.6, r = 0.3, f0 = 0.04, v = -1;
+	bk_form_error fe;
+	bk_form *f = bk_catalog_form("vf_talk_r", p, &fe);
+	const double *in[BK_IN_COUNT] = {0};
+	in[BK_IN_LOH] = &loh, in[BK_IN_R] = &r, in[BK_IN_F0] = &f0;
+	cr_assert(f && bk_form_eval(f, BK_F64, 1, in, p, &v) == 0);
+	double want = 0.04 / (4 * 0.6 * 0.6 * (0.3 + 0.5));
+	cr_expect(fabs(v - want) <= 2e-16 * want, "%.17g vs %.17g", v, want);
+	bk_form_free(f);
+	cr_expect_null(bk_catalog_form("zz_none", NULL, &fe));
+	cr_expect_str_eq(fe.message, "unknown catalog form 'zz_none'");
+	cr_expect_eq(fe.column, 0);
+	cr_expect_null(bk_form_parse("vf_talk_r", &fe));
+}

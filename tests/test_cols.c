@@ -12,6 +12,7 @@
 #include "brdf_ops.h" /* bk_ir_force_generic */
 #include "fit.h"
 #include "solver.h"
+#include "switches.h" /* bk_tiny_fixed, bk_fit_ctx_cols, bk_fit_ctx_bind */
 #include "solver_fixtures.h"
 
 #include <criterion/criterion.h>

@@ -361,6 +361,7 @@ Test(bound, keeps_what_reads_no_parameter, .init = make_inputs, .fini = free_inp
 /* ---- TinySolver keeping a trial's Jacobian (fit/tiny.cc) --------------------- */
 
 #include "solver.h"
+#include "switches.h" /* bk_tiny_reuse_trial */
 
 /* y = a exp(b x) at 40 points, from a start far off: a solve with accepted and
  * rejected steps. Counts the calls and those that asked for the Jacobian. */

@@ -87,7 +87,8 @@
 #include "brdf_ops.h" /* bk_ir_force_generic: the old side */
 #include "bench_vf2d.h"
 #include "search.h"
-#include "solver.h" /* bk_tiny_reuse_trial: the old side */
+#include "solver.h"
+#include "switches.h" /* the old side */
 
 #include <math.h>
 #include <stdio.h>

@@ -1,0 +1,146 @@
+#!/bin/sh
+# python.sh — `import brdfkit` (analysis/python/brdfkit) over the libraries
+# `make install` installed into a scratch PREFIX, with Debian's /usr/bin/python3
+# (python3-cffi, python3-numpy, python3-pandas), against the command-line tool:
+#   - Form.catalog("vf_talk_r").eval on a NumPy array, in f64, f32 and f16, is
+#     `brdfkit eval vf_talk_r ...` at each point, to the digits it prints (f64
+#     17, f32 9, f16 5: the same value once rounded to the CLI's digits and to
+#     the precision), and f64 is the talk's f0/(4 LoH^2 (r + 0.5)) by hand;
+#   - a front member (read_front, member) evaluated in f64 is `brdfkit eval
+#     FRONT.csv:MEMBER` (results/search/vf2d/front.csv, committed);
+#   - fit() of p0 + p1 LoH + p2 LoH^2 to exp(-2 LoH) on [0, 1]: its rmse and
+#     constants are brdfkit fit's, read from its metrics.csv and
+#     coefficients.csv by column name (build/csvget);
+#   - search() of a planted 0.45 LoH^2 + 0.2: run to its budget it finds the
+#     plant (rmse below 1e-9); stopped by its stop callback after 200 fits it
+#     returns early (evals below the budget), its progress callback heard;
+#   - errors: a parse error and an unknown catalog name raise ValueError with
+#     the library's message, the one the CLI prints.
+# Negative controls, each showing a check can fail: the comparison rejects the
+# f16 value of another point and a fit of another form; the search's
+# early-stop check rejects the unstopped run; the import fails without the
+# installed prefix's libraries (BRDFKIT_PREFIX at an empty directory).
+# usage: sh tests/python.sh path/to/brdfkit
+set -u
+BK=${1:?usage: python.sh path/to/brdfkit}
+case $BK in /*) ;; *) BK=$PWD/$BK ;; esac
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+T=$(mktemp -d /tmp/bk_python_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+CSVGET=$ROOT/build/csvget
+. "$ROOT/tests/lib.sh"
+PY=/usr/bin/python3
+if ! $PY -c 'import cffi, numpy, pandas' 2>/dev/null; then
+	echo "python.sh: skipped: /usr/bin/python3 without cffi, numpy or pandas (apt-get install python3-cffi python3-numpy python3-pandas)"
+	exit 0
+fi
+pass=0 fail=0
+ok() { pass=$((pass + 1)); }
+bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
+
+U=$T/usr
+(cd "$ROOT" && ${MAKE:-make} -s install PREFIX="$U" >"$T/install.log" 2>&1) || { cat "$T/install.log"; bad "make install PREFIX=$U"; }
+export PYTHONPATH="$U/lib/python3/dist-packages"
+[ -f "$PYTHONPATH/brdfkit/_decls.h" ] && [ -f "$PYTHONPATH/brdfkit/_config.py" ] && ok || bad "the module's installed files"
+
+# the CLI's numbers
+X="0.3 0.55 0.8 1"
+for x in $X; do "$BK" eval --quiet vf_talk_r LoH=$x r=0.3 f0=0.04 >"$T/eval.$x" || bad "brdfkit eval at LoH=$x"; done
+"$BK" eval --quiet "$ROOT/results/search/vf2d/front.csv:seed_search_vf2d_7" LoH=0.6 r=0.3 f0=0.04 >"$T/member" ||
+	bad "brdfkit eval of a front member"
+"$BK" fit --quiet --target form --target-form 'exp(-2*LoH)' --domain LoH=0:1 --form 'p0 + p1*LoH + p2*LoH*LoH' \
+	p0=1 p1=1 p2=1 --out "$T/fit" >/dev/null || bad "brdfkit fit"
+for k in cost rmse max_abs; do csv_where "$T/fit/metrics.csv" constants fitted $k >"$T/fit.$k" || bad "metrics.csv $k"; done
+for j in 0 1 2; do csv_where "$T/fit/coefficients.csv" parameter p$j value >"$T/fit.p$j" || bad "coefficients.csv p$j"; done
+"$BK" eval --quiet 'p0+' >/dev/null 2>"$T/parse.err"
+
+cat >"$T/check.py" <<'PY'
+import os, sys
+import numpy as np
+import brdfkit
+
+T, X = sys.argv[1], [float(x) for x in sys.argv[2].split()]
+ROOT = sys.argv[3]
+out = []
+def check(name, cond, detail=""):
+    out.append(("ok " if cond else "FAIL ") + name + ("" if cond else ": " + detail))
+
+def cli(path):  # "f64 V\nf32 V\nf16 V" -> {precision: text}
+    return dict(line.split() for line in open(path))
+
+# same(prec, mine, text): my value, rounded to the precision, and to the digits
+# the CLI printed, is the CLI's
+def same(prec, mine, text):
+    if prec == "f64":
+        return float(text) == float(mine)
+    t = np.float32 if prec == "f32" else np.float16
+    digits = len(text.replace("-", "").replace(".", "").lstrip("0").split("e")[0])
+    return t(float(text)) == t(mine) and float("%.*g" % (digits, t(mine))) == float(text)
+
+f = brdfkit.Form.catalog("vf_talk_r")
+check("catalog form", f.text == "f0/(4*LoH*LoH*(r + p0))" and f.params == [0.5], repr((f.text, f.params)))
+x = np.array(X)
+for prec in ("f64", "f32", "f16"):
+    v = f.eval(LoH=x, r=0.3, f0=0.04, precision=prec)
+    for i, xi in enumerate(X):
+        c = cli(os.path.join(T, "eval.%g" % xi))[prec]
+        check("eval %s LoH=%g" % (prec, xi), v.shape == x.shape and same(prec, v[i], c), "%r vs the CLI's %s" % (v[i], c))
+# negative control: the f16 value of the next point is not this point's
+c = cli(os.path.join(T, "eval.%g" % X[0]))["f16"]
+check("control: another point's f16 differs", not same("f16", f.eval(LoH=X[1], r=0.3, f0=0.04, precision="f16"), c))
+# by hand: the talk's printed form, f64 within an ulp or two
+hand = 0.04 / (4 * x * x * (0.3 + 0.5))
+check("eval f64 by hand", np.all(np.abs(f.eval(LoH=x, r=0.3, f0=0.04) - hand) <= 4e-16 * hand))
+# half is not single: the f16 values are not the f64 ones rounded once
+check("f16 rounds every operation", np.any(f.eval(LoH=x, r=0.3, f0=0.04, precision="f16") != hand.astype(np.float16)))
+
+front = brdfkit.read_front(os.path.join(ROOT, "results/search/vf2d/front.csv"))
+m = brdfkit.member(front, "seed_search_vf2d_7")
+c = cli(os.path.join(T, "member"))["f64"]
+check("front member", same("f64", m.eval(LoH=0.6, r=0.3, f0=0.04), c), "%r vs %s" % (m.eval(LoH=0.6, r=0.3, f0=0.04), c))
+check("front columns by name", {"name", "form", "cost", "max_abs"} <= set(front.columns) and front.attrs["comments"])
+
+def near(a, text):  # the CLI prints 9 significant digits
+    return abs(a - float(text)) <= 1e-8 * abs(float(text))
+rd = lambda k: open(os.path.join(T, "fit." + k)).read().strip()
+r = brdfkit.fit("p0 + p1*LoH + p2*LoH*LoH", "exp(-2*LoH)", {"LoH": (0, 1)})
+check("fit converged", r.converged, r.message)
+for k in ("cost", "rmse", "max_abs"):
+    check("fit %s" % k, near(getattr(r, k), rd(k)), "%r vs %s" % (getattr(r, k), rd(k)))
+for j in range(3):
+    check("fit p%d" % j, float("%.5g" % r.params[j]) == float(rd("p%d" % j)), "%r vs %s" % (r.params[j], rd("p%d" % j)))
+r2 = brdfkit.fit("p0 + p1*LoH", "exp(-2*LoH)", {"LoH": (0, 1)})
+check("control: another form's fit differs", not near(r2.rmse, rd("rmse")))
+
+heard = []
+full = brdfkit.search("0.45*LoH*LoH + 0.2", {"LoH": (0, 1)}, evals=600, max_params=2, max_size=9, threads=2)
+best = full.iloc[-1]
+check("search finds the plant", best["rmse"] < 1e-9 and full.attrs["evals"] >= 600, repr(best.to_dict()))
+early = brdfkit.search("0.45*LoH*LoH + 0.2", {"LoH": (0, 1)}, evals=600, max_params=2, max_size=9, threads=2,
+                       progress=heard.append, stop=lambda n: n >= 200)
+stopped = lambda df: 200 <= df.attrs["evals"] < 600
+check("search stopped by the callback", stopped(early) and heard, "%r %r" % (early.attrs, heard))
+check("control: the unstopped run is not stopped", not stopped(full))
+
+def raises(fn, text):
+    try:
+        fn()
+    except ValueError as e:
+        return text in str(e)
+    return False
+check("unknown catalog name", raises(lambda: brdfkit.Form.catalog("zz_none"), "unknown catalog form 'zz_none'"))
+err = open(os.path.join(T, "parse.err")).read().split("form:", 1)[-1].strip()
+check("parse error as the CLI's", err and raises(lambda: brdfkit.Form("p0+"), err), err)
+print("\n".join(out))
+PY
+$PY "$T/check.py" "$T" "$X" "$ROOT" >"$T/check.out" 2>&1 || bad "check.py: $(tail -5 "$T/check.out")"
+while read -r w rest; do
+	case $w in ok) ok ;; FAIL) bad "$rest" ;; esac
+done <"$T/check.out"
+[ "$(grep -c '^ok ' "$T/check.out")" -ge 20 ] && ok || bad "fewer than 20 checks ran: $(tail -3 "$T/check.out")"
+# negative control: with no libraries where BRDFKIT_PREFIX points, the import fails
+mkdir -p "$T/empty/lib" "$T/empty/include"
+! BRDFKIT_PREFIX="$T/empty" $PY -c 'import brdfkit' 2>/dev/null && ok || bad "the import worked without libraries"
+
+echo "python: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
