@@ -47,6 +47,8 @@ pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 V=$(sed -n 's/^#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
+CSVGET=build/csvget
+. tests/lib.sh # api_names
 SO=${V%%.*}
 
 # ---- the layout under DESTDIR/PREFIX ----------------------------------------
@@ -70,15 +72,6 @@ done
 [ -f "$S/share/man/man1/brdfkit.1" ] && ok || bad "no manual page share/man/man1/brdfkit.1 under DESTDIR/PREFIX"
 
 # ---- exports: exactly the installed headers' functions ------------------------
-# declared INCDIR: the bk_ names the installed headers declare as functions
-# (NAME followed by '(' after preprocessing: macros and comments gone, a
-# function-pointer type reads "(*NAME)") or as extern data, one a line
-declared() {
-	for h in brdf.h brdf_ops.h solver.h target.h fit.h expr.h search.h catalog.h; do echo "#include <brdfkit/$h>"; done >"$T/all.c"
-	gcc -std=c11 -E -P -I"$1" "$T/all.c" | tr -s ' \t\n' '   ' | sed 's/[;{}]/&\n/g' >"$T/decl.i" || return 1
-	{ grep -o '\bbk_[A-Za-z0-9_]*[ ]*(' "$T/decl.i" | sed 's/[ (]*$//'
-	  grep '^ *extern [^(]*;' "$T/decl.i" | grep -o '\bbk_[A-Za-z0-9_]*[] []*;' | sed 's/[] [;]*$//'; } | LC_ALL=C sort -u
-}
 # exported LIB...: the symbols the libraries define for others, one a line (a
 # name twice if two define it)
 exported() { for l in "$@"; do nm -D --defined-only "$l" | awk 'NF == 3 { print $3 }'; done | LC_ALL=C sort; }
@@ -87,7 +80,7 @@ exports_exact() {
 	exported "$@" >"$T/exp.txt"
 	diff "$T/decl.txt" "$T/exp.txt" >"$T/exp.diff" || { head -8 "$T/exp.diff"; return 1; }
 }
-declared "$S/include" >"$T/decl.txt" && [ "$(wc -l <"$T/decl.txt")" -ge 150 ] && ok ||
+api_names "$S/include" >"$T/decl.txt" && [ "$(wc -l <"$T/decl.txt")" -ge 150 ] && ok ||
 	bad "the installed headers' declarations: $(wc -l <"$T/decl.txt") names read"
 exports_exact "$S/lib/libbrdf.so.$V" "$S/lib/libbrdfkit-fit.so.$V" && ok || bad "exports are not the headers' functions"
 for sym in bk_tiny_fixed bk_fit_ctx_bind bk_ir_code; do # internal: a benchmark switch, an IR module

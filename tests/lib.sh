@@ -109,3 +109,17 @@ front_answers() {
 	done <"$T/.front_answers"
 	return $_lib_found
 }
+
+# api_names INCDIR: the bk_ names the installed headers (INCDIR/brdfkit/*.h of
+# the Makefile's PUB_H) declare as functions or extern data, one a line, read
+# from the preprocessed headers: macros and comments gone, a function name is
+# followed by '(' (a function-pointer type reads "(*NAME)"). tests/install.sh
+# checks the libraries' exports against it, tests/man.sh the section-3 pages.
+api_names() {
+	for _lib_h in brdf.h brdf_ops.h solver.h target.h fit.h expr.h search.h catalog.h; do
+		echo "#include <brdfkit/$_lib_h>"
+	done >"${T:?}/.api.c"
+	gcc -std=c11 -E -P -I"$1" "$T/.api.c" | tr -s ' \t\n' '   ' | sed 's/[;{}]/&\n/g' >"$T/.api.i" || return 1
+	{ grep -o '\bbk_[A-Za-z0-9_]*[ ]*(' "$T/.api.i" | sed 's/[ (]*$//'
+	  grep '^ *extern [^(]*;' "$T/.api.i" | grep -o '\bbk_[A-Za-z0-9_]*[] []*;' | sed 's/[] [;]*$//'; } | LC_ALL=C sort -u
+}

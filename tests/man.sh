@@ -14,13 +14,21 @@
 #     `groff -Kutf-8 -t -man -ww -z` without a warning;
 #   - an example block that shows output ("$ " lines) is run by tests/readme.sh
 #     and must print what the page shows;
+#   - section 3 (brdfkit_HEADER.3.scd, the library's API): every function the
+#     installed headers declare (the Makefile's PUB_H, preprocessed: tests/lib.sh
+#     api_names) is documented, bold as *bk_name*() in some page's text, and
+#     every name a page documents or shows in its SYNOPSIS is declared; each
+#     page has NAME (its own file), SYNOPSIS, DESCRIPTION, RETURN VALUES,
+#     ERRORS, EXAMPLES and SEE ALSO, and goes through scdoc and groff cleanly;
 #   - CITATION.cff parses as YAML (python3-yaml; else a line check), has the
 #     fields a citation needs, and its version is brdf/brdf.h's BK_VERSION.
 # Negative controls, each showing a check can fail: a tool whose --help lists
 # one more command, one whose dfg --help prints one more option, a page with a
 # roff request groff does not know, a page without its OPTIONS section, an
 # example whose shown output is wrong, a CITATION.cff of another version and one
-# that is not YAML.
+# that is not YAML; headers declaring one function more than the pages document,
+# a page documenting a function no header declares, a section-3 page without
+# its ERRORS section.
 set -u
 BK=${1:?usage: man.sh path/to/brdfkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,6 +36,8 @@ case $BK in /*) ;; *) BK=$PWD/$BK ;; esac
 MAN=$ROOT/analysis/man
 T=$(mktemp -d /tmp/bk_man_XXXXXX)
 trap 'rm -rf "$T"' EXIT
+CSVGET=$ROOT/build/csvget
+. "$ROOT/tests/lib.sh" # api_names
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
@@ -92,6 +102,43 @@ check_page() {
 check_roff() {
 	groff -Kutf-8 -t -man -ww -z "$1" >"$T/groff.err" 2>&1 && [ ! -s "$T/groff.err" ] || { cat "$T/groff.err"; return 1; }
 }
+# pub_headers: the installed headers (the Makefile's PUB_H), as an include
+# directory $T/inc/brdfkit/ of links, the names they are installed under
+pub_headers() {
+	rm -rf "$T/inc" && mkdir -p "$T/inc/brdfkit"
+	for h in $(awk '/^PUB_H *=/ { on = 1; sub(/^PUB_H *= */, "") } on { c = sub(/\\$/, ""); print; if (!c) exit }' \
+		"$ROOT/Makefile"); do
+		ln -s "$ROOT/$h" "$T/inc/brdfkit/$(basename "$h")" || return 1
+	done
+	[ -e "$T/inc/brdfkit/catalog.h" ] || { echo "PUB_H not read from the Makefile"; return 1; }
+}
+# check_api INCDIR DIR: the functions INCDIR/brdfkit declares against the
+# section-3 pages DIR/*.3.scd (documented: *bk_name*( in the text; named: that,
+# or bk_name( in a SYNOPSIS)
+check_api() {
+	api_names "$1" >"$T/api.names" || return 1
+	[ "$(wc -l <"$T/api.names")" -ge 150 ] || { echo "only $(wc -l <"$T/api.names") names read from $1"; return 1; }
+	cat "$2"/*.3.scd | grep -o '\*bk_[A-Za-z0-9_]*\*(' | tr -d '*(' | LC_ALL=C sort -u >"$T/api.bold"
+	for p in "$2"/*.3.scd; do awk '/^# SYNOPSIS/ { on = 1; next } /^# / { on = 0 } on' "$p"; done |
+		grep -o '\bbk_[A-Za-z0-9_]*(' | tr -d '(' | LC_ALL=C sort -u >"$T/api.syn"
+	rc=0
+	for n in $(LC_ALL=C comm -23 "$T/api.names" "$T/api.bold"); do echo "$n: declared, documented in no section-3 page"; rc=1; done
+	for n in $(LC_ALL=C sort -u "$T/api.bold" "$T/api.syn" | LC_ALL=C comm -13 "$T/api.names" -); do
+		echo "$n: in a section-3 page, declared in no installed header"; rc=1
+	done
+	return $rc
+}
+# check_page3 FILE.3.scd: the sections, scdoc, and groff without a warning
+check_page3() {
+	n=$(basename "$1" .3.scd)
+	head -1 "$1" | grep -qx "$n(3)" || { echo "$1: first line is not $n(3)"; return 1; }
+	for s in NAME SYNOPSIS DESCRIPTION "RETURN VALUES" ERRORS EXAMPLES "SEE ALSO"; do
+		grep -qx "# $s" "$1" || { echo "$1: no section $s"; return 1; }
+	done
+	awk '/^# NAME/ { getline; getline; print; exit }' "$1" | grep -q "^$n - " || { echo "$1: NAME is not '$n - ...'"; return 1; }
+	scdoc <"$1" >"$T/page.3" 2>"$T/scdoc.err" || { echo "$1: scdoc: $(cat "$T/scdoc.err")"; return 1; }
+	check_roff "$T/page.3" || { echo "$1: roff warnings above"; return 1; }
+}
 # check_cff FILE HEADER: YAML, the fields, the version of HEADER
 check_cff() {
 	v=$(sed -n 's/^#define BK_VERSION "\(.*\)"/\1/p' "$2")
@@ -113,7 +160,19 @@ PY
 }
 
 # ---- the pages ------------------------------------------------------------------
-[ -x "$BK" ] || { bad "no tool at $BK"; echo "man: $pass passed, $fail failed"; exit 1; }
+[ -x "$BK" ] || { bad "no tool at $BK"; # section 3: headers declaring one function more, a page naming one no header
+# declares, a page without ERRORS
+mkdir -p "$T/more/brdfkit" "$T/man3"
+cp -L "$T/inc/brdfkit/"*.h "$T/more/brdfkit/"
+printf '#ifdef __cplusplus\nextern "C" {\n#endif\nint bk_zz_undocumented(void);\n#ifdef __cplusplus\n}\n#endif\n' >>"$T/more/brdfkit/catalog.h"
+expect_fail "a declared function without a page" check_api "$T/more" "$MAN"
+cp "$MAN"/*.3.scd "$T/man3/"
+printf '\n*bk_zz_fake*() is not in any header.\n' >>"$T/man3/brdfkit_catalog.3.scd"
+expect_fail "a page naming an undeclared function" check_api "$T/inc" "$T/man3"
+sed 's/^# ERRORS$/# ERROR/' "$MAN/brdfkit_fit.3.scd" >"$T/man3/brdfkit_fit.3.scd"
+expect_fail "a section-3 page without ERRORS" check_page3 "$T/man3/brdfkit_fit.3.scd"
+
+echo "man: $pass passed, $fail failed"; exit 1; }
 check_pages "$BK" "$MAN" && ok || bad "a page per command"
 check_options "$BK" "$MAN" && ok || bad "every option in its page"
 for p in "$MAN"/*.1.scd; do check_page "$p" && ok || bad "page $(basename "$p")"; done
@@ -122,6 +181,11 @@ for p in "$MAN"/*.1.scd; do
 	grep -q '^\$ ' "$p" || continue
 	README_CONTROLS=0 sh "$ROOT/tests/readme.sh" "$BK" "$p" >"$T/ex.out" 2>&1 && ok || { bad "examples of $(basename "$p")"; cat "$T/ex.out"; }
 done
+# section 3
+n3=0
+for p in "$MAN"/*.3.scd; do check_page3 "$p" && ok || bad "page $(basename "$p")"; n3=$((n3 + 1)); done
+[ "$n3" -ge 8 ] && ok || bad "$n3 section-3 pages, fewer than the 8 installed headers"
+pub_headers && check_api "$T/inc" "$MAN" && ok || bad "the section-3 pages against the installed headers"
 check_cff "$ROOT/CITATION.cff" "$ROOT/brdf/brdf.h" && ok || bad "CITATION.cff"
 [ -f "$ROOT/LICENSE" ] && grep -q '^MIT License' "$ROOT/LICENSE" && grep -q 'Copyright (c) 2026 the brdfkit developers' "$ROOT/LICENSE" &&
 	ok || bad "LICENSE"

@@ -15,7 +15,9 @@
 #    runs to completion in a scratch copy (headless), every cell tagged "figure"
 #    shows an image and is followed by its caption (a markdown cell starting
 #    "**Figure"), and the committed notebook holds no outputs. Elsewhere one line
-#    says that part was skipped.
+#    says that part was skipped. Figure 5 drives the library through `import
+#    brdfkit` (analysis/python, BRDFKIT_PYTHON; build/'s shared libraries) and
+#    asserts that its errors are the CSV's.
 set -eu
 DIR=${1:-notebooks_data}
 T=$(mktemp -d)
@@ -203,7 +205,9 @@ EOF
 mkdir "$T/nb"
 cp "$DIR"/*.csv "$DIR"/*.meta.txt "$nb" "$T/nb/"
 start=$(date +%s)
-( cd "$T/nb" && MPLBACKEND=Agg MPLCONFIGDIR="$T/mpl" PYDEVD_DISABLE_FILE_VALIDATION=1 \
+# figure 5 imports brdfkit from this tree (analysis/python, over build/'s libraries)
+PYMOD=$(cd "${0%/*}/../analysis/python" && pwd)
+( cd "$T/nb" && BRDFKIT_PYTHON="$PYMOD" MPLBACKEND=Agg MPLCONFIGDIR="$T/mpl" PYDEVD_DISABLE_FILE_VALIDATION=1 \
 	jupyter-nbconvert --to notebook --execute --ExecutePreprocessor.timeout=120 \
 	--output executed.ipynb figures.ipynb >"$T/nbconvert.log" 2>&1 ) || { cat "$T/nbconvert.log" >&2; fail "$nb does not run"; }
 secs=$(($(date +%s) - start))
