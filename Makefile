@@ -58,8 +58,9 @@ PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matplotlib
 # tests/python.sh: `import brdfkit` (analysis/python/brdfkit, installed by make
 # install) loads the installed libraries through cffi's ABI mode, NumPy arrays
-# in and out, fronts as pandas DataFrames (Debian's, no PyPI)
-PY_DEBS = python3-cffi python3-numpy python3-pandas
+# in and out, fronts as pandas DataFrames (Debian's, no PyPI); tests/install.sh
+# reads the split debug info back with gdb
+LIB_DEBS = python3-cffi python3-numpy python3-pandas gdb
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -211,7 +212,7 @@ TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/v
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
-	$(call need,$(NOTEBOOK_DEBS) $(PY_DEBS))
+	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html

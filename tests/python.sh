@@ -13,7 +13,8 @@
 #     coefficients.csv by column name (build/csvget);
 #   - search() of a planted 0.45 LoH^2 + 0.2: run to its budget it finds the
 #     plant (rmse below 1e-9); stopped by its stop callback after 200 fits it
-#     returns early (evals below the budget), its progress callback heard;
+#     returns early (evals below the budget), its progress callback heard; an
+#     exception in either callback stops it and is raised, not swallowed;
 #   - errors: a parse error and an unknown catalog name raise ValueError with
 #     the library's message, the one the CLI prints.
 # Negative controls, each showing a check can fail: the comparison rejects the
@@ -121,6 +122,14 @@ early = brdfkit.search("0.45*LoH*LoH + 0.2", {"LoH": (0, 1)}, evals=600, max_par
 stopped = lambda df: 200 <= df.attrs["evals"] < 600
 check("search stopped by the callback", stopped(early) and heard, "%r %r" % (early.attrs, heard))
 check("control: the unstopped run is not stopped", not stopped(full))
+def boom(n):
+    raise RuntimeError("boom")
+for kw in ({"stop": boom}, {"progress": boom}):
+    try:
+        brdfkit.search("0.45*LoH*LoH + 0.2", {"LoH": (0, 1)}, evals=600, **kw)
+        check("a callback's exception raised (%s)" % list(kw)[0], False, "swallowed")
+    except RuntimeError:
+        check("a callback's exception raised (%s)" % list(kw)[0], True)
 
 def raises(fn, text):
     try:

@@ -12,7 +12,7 @@ Where the libraries are (_lib.locate): $BRDFKIT_PREFIX, else the prefix
 `make install` wrote into _config.py, else this source tree's build/ (the
 in-tree use of notebooks_data/figures.ipynb and tests/python.sh).
 Nothing here is computed in Python: values, fits and searches are the C
-library's, so they are the command-line tool's to the last bit.
+library's, the command-line tool's own (tests/python.sh compares them).
 """
 from ._lib import ffi, lib
 from .api import Form, FitResult, fit, search, read_front, member

@@ -206,18 +206,28 @@ def search(target_form, domain, evals=600, inputs=None, ops=None, max_params=2, 
         raise ValueError(ffi.string(err).decode())
     s = ffi.gc(s, lib.bk_search_free)
 
-    @ffi.callback("void(void *, const bk_search *)")
-    def on_progress(ctx, sp):
-        if progress:
-            progress(lib.bk_search_evals(sp))
+    # an exception in a callback stops the search and is raised again here
+    # (C cannot unwind through bk_search_drive): never swallowed
+    raised = []
 
-    @ffi.callback("int(void *, const bk_search *)", onerror=lambda *a: 1)
+    def keep(exc, value, tb):  # void progress: returns None
+        raised.append(value)
+
+    @ffi.callback("int(void *, const bk_search *)", onerror=lambda *e: keep(*e) or 1)
     def on_stop(ctx, sp):
-        return 1 if stop and stop(lib.bk_search_evals(sp)) else 0
+        return 1 if raised or (stop and stop(lib.bk_search_evals(sp))) else 0
+
+    @ffi.callback("void(void *, const bk_search *)", onerror=keep)
+    def on_progress(ctx, sp):
+        if progress and not raised:
+            progress(lib.bk_search_evals(sp))
 
     cb = ffi.new("bk_search_callbacks *")
     cb.progress, cb.stop, cb.progress_every = on_progress, on_stop, progress_every
-    if lib.bk_search_drive(s, cb, err, 512) < 0:
+    rc = lib.bk_search_drive(s, cb, err, 512)
+    if raised:
+        raise raised[0]
+    if rc < 0:
         raise ValueError(ffi.string(err).decode())
     idx = ffi.new("size_t[]", 4096)
     n = lib.bk_search_front(s, idx, 4096)
