@@ -20,6 +20,9 @@
 #     every name a page documents or shows in its SYNOPSIS is declared; each
 #     page has NAME (its own file), SYNOPSIS, DESCRIPTION, RETURN VALUES,
 #     ERRORS, EXAMPLES and SEE ALSO, and goes through scdoc and groff cleanly;
+#     an example that is a whole program compiles (C11, -Werror) and runs
+#     (brdfkit_brdf(3)'s prints GGX D(1, 1)·π = 1, then its form in half as
+#     brdfkit eval prints it);
 #   - CITATION.cff parses as YAML (python3-yaml; else a line check), has the
 #     fields a citation needs, and its version is brdf/brdf.h's BK_VERSION.
 # Negative controls, each showing a check can fail: a tool whose --help lists
@@ -28,7 +31,7 @@
 # example whose shown output is wrong, a CITATION.cff of another version and one
 # that is not YAML; headers declaring one function more than the pages document,
 # a page documenting a function no header declares, a section-3 page without
-# its ERRORS section.
+# its ERRORS section, an example calling an undeclared function.
 set -u
 BK=${1:?usage: man.sh path/to/brdfkit}
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
@@ -139,6 +142,17 @@ check_page3() {
 	scdoc <"$1" >"$T/page.3" 2>"$T/scdoc.err" || { echo "$1: scdoc: $(cat "$T/scdoc.err")"; return 1; }
 	check_roff "$T/page.3" || { echo "$1: roff warnings above"; return 1; }
 }
+# example3 FILE.3.scd: the code of its EXAMPLES section (the fenced lines)
+example3() { awk '/^# EXAMPLES/ { on = 1; next } /^# / { on = 0 } on && /^```/ { code = !code; next } on && code' "$1"; }
+# run_example3 FILE.3.scd OUT: an example that is a whole program (int main)
+# compiled as C11 with -Wall -Wextra -Werror against the installed headers'
+# names ($T/inc, brdf.h) and libbrdf, run, its output in OUT; 2: no program
+run_example3() {
+	example3 "$1" >"$T/ex3.c"
+	grep -q '^int main' "$T/ex3.c" || return 2
+	cc -std=c11 -Wall -Wextra -Werror -I"$T/inc" -I"$ROOT/brdf" "$T/ex3.c" "$ROOT/build/libbrdf.a" -lm -o "$T/ex3" \
+		2>"$2" && "$T/ex3" >"$2" 2>&1
+}
 # check_cff FILE HEADER: YAML, the fields, the version of HEADER
 check_cff() {
 	v=$(sed -n 's/^#define BK_VERSION "\(.*\)"/\1/p' "$2")
@@ -171,6 +185,8 @@ printf '\n*bk_zz_fake*() is not in any header.\n' >>"$T/man3/brdfkit_catalog.3.s
 expect_fail "a page naming an undeclared function" check_api "$T/inc" "$T/man3"
 sed 's/^# ERRORS$/# ERROR/' "$MAN/brdfkit_fit.3.scd" >"$T/man3/brdfkit_fit.3.scd"
 expect_fail "a section-3 page without ERRORS" check_page3 "$T/man3/brdfkit_fit.3.scd"
+sed 's/bk_D_ggx(1, 1)/bk_D_ggx_zz(1, 1)/' "$MAN/brdfkit_brdf.3.scd" >"$T/man3/brdfkit_brdf.3.scd"
+expect_fail "an example calling a function no header declares" run_example3 "$T/man3/brdfkit_brdf.3.scd" "$T/ex3.out"
 
 echo "man: $pass passed, $fail failed"; exit 1; }
 check_pages "$BK" "$MAN" && ok || bad "a page per command"
@@ -186,6 +202,20 @@ n3=0
 for p in "$MAN"/*.3.scd; do check_page3 "$p" && ok || bad "page $(basename "$p")"; n3=$((n3 + 1)); done
 [ "$n3" -ge 8 ] && ok || bad "$n3 section-3 pages, fewer than the 8 installed headers"
 pub_headers && check_api "$T/inc" "$MAN" && ok || bad "the section-3 pages against the installed headers"
+# the examples that are whole programs compile and run (libbrdf's); brdfkit_brdf(3)'s
+# first number is GGX D at NoH = 1, a = 1 times π: 1
+nx=0
+for p in "$MAN"/*.3.scd; do
+	run_example3 "$p" "$T/ex3.out"
+	case $? in 0) ok; nx=$((nx + 1)) ;; 2) ;; *) bad "example of $(basename "$p"): $(head -3 "$T/ex3.out")" ;; esac
+done
+[ "$nx" -ge 2 ] && ok || bad "$nx section-3 examples compiled and ran, fewer than 2"
+# and its second the form in half, as brdfkit eval prints it (5 digits: within
+# 1e-4, less than half a half ulp there, 2^-11 relative)
+h=$("$BK" eval --quiet 'D_ggx(NoH, a) * p0' NoH=0.9 a=0.25 p0=2 | awk '$1 == "f16" { print $2 }')
+run_example3 "$MAN/brdfkit_brdf.3.scd" "$T/ex3.out" &&
+	awk -v h="$h" '{ d = $2 - h; if (d < 0) d = -d; exit !($1 == 1 && h != "" && d <= 1e-4 * h) }' "$T/ex3.out" && ok ||
+	bad "brdfkit_brdf(3)'s example: $(cat "$T/ex3.out"), brdfkit eval's f16 $h"
 check_cff "$ROOT/CITATION.cff" "$ROOT/brdf/brdf.h" && ok || bad "CITATION.cff"
 [ -f "$ROOT/LICENSE" ] && grep -q '^MIT License' "$ROOT/LICENSE" && grep -q 'Copyright (c) 2026 the brdfkit developers' "$ROOT/LICENSE" &&
 	ok || bad "LICENSE"
