@@ -8,9 +8,10 @@
 #     the precision), and f64 is the talk's f0/(4 LoH^2 (r + 0.5)) by hand;
 #   - a front member (read_front, member) evaluated in f64 is `brdfkit eval
 #     FRONT.csv:MEMBER` (results/search/vf2d/front.csv, committed);
-#   - fit() of p0 + p1 LoH + p2 LoH^2 to exp(-2 LoH) on [0, 1]: its rmse and
-#     constants are brdfkit fit's, read from its metrics.csv and
-#     coefficients.csv by column name (build/csvget);
+#   - fit() of p0 + p1 LoH + p2 LoH^2 to exp(-2 LoH) on [0, 1], and of the
+#     catalog's vf_talk_r to the built-in vf2d target: rmse and constants are
+#     brdfkit fit's, read from its metrics.csv and coefficients.csv by column
+#     name (build/csvget);
 #   - search() of a planted 0.45 LoH^2 + 0.2: run to its budget it finds the
 #     plant (rmse below 1e-9); stopped by its stop callback after 200 fits it
 #     returns early (evals below the budget), its progress callback heard; an
@@ -53,6 +54,9 @@ for x in $X; do "$BK" eval --quiet vf_talk_r LoH=$x r=0.3 f0=0.04 >"$T/eval.$x" 
 	p0=1 p1=1 p2=1 --out "$T/fit" >/dev/null || bad "brdfkit fit"
 for k in cost rmse max_abs; do csv_where "$T/fit/metrics.csv" constants fitted $k >"$T/fit.$k" || bad "metrics.csv $k"; done
 for j in 0 1 2; do csv_where "$T/fit/coefficients.csv" parameter p$j value >"$T/fit.p$j" || bad "coefficients.csv p$j"; done
+"$BK" fit --quiet --target vf2d --form vf_talk_r --out "$T/fitvf" >/dev/null || bad "brdfkit fit --target vf2d"
+csv_where "$T/fitvf/metrics.csv" constants fitted rmse >"$T/fitvf.rmse" || bad "vf2d metrics.csv rmse"
+csv_where "$T/fitvf/coefficients.csv" parameter p0 value >"$T/fitvf.p0" || bad "vf2d coefficients.csv p0"
 "$BK" eval --quiet 'p0+' >/dev/null 2>"$T/parse.err"
 
 cat >"$T/check.py" <<'PY'
@@ -110,6 +114,11 @@ for k in ("cost", "rmse", "max_abs"):
     check("fit %s" % k, near(getattr(r, k), rd(k)), "%r vs %s" % (getattr(r, k), rd(k)))
 for j in range(3):
     check("fit p%d" % j, float("%.5g" % r.params[j]) == float(rd("p%d" % j)), "%r vs %s" % (r.params[j], rd("p%d" % j)))
+# a built-in target by name, the catalog's form from its published constant
+rv = brdfkit.fit("vf_talk_r", "vf2d")
+vf = lambda k: open(os.path.join(T, "fitvf." + k)).read().strip()
+check("fit vf2d rmse", near(rv.rmse, vf("rmse")), "%r vs %s" % (rv.rmse, vf("rmse")))
+check("fit vf2d p0", float("%.6g" % rv.params[0]) == float(vf("p0")), "%r vs %s" % (rv.params[0], vf("p0")))
 r2 = brdfkit.fit("p0 + p1*LoH", "exp(-2*LoH)", {"LoH": (0, 1)})
 check("control: another form's fit differs", not near(r2.rmse, rd("rmse")))
 

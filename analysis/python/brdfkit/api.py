@@ -123,17 +123,25 @@ class FitResult:
 
 
 class _Target:
-    """A target form on a domain (bk_target_build, kind form): samples kept
-    alive with the strings they were made from."""
+    """A target's samples (bk_target_build), kept alive with the strings they
+    were made from: a built-in target by name with its defaults (domain None:
+    "vf2d", "vf", "spec", "d", "f"), or an expression of the inputs on domain
+    ({input: (lo, hi)}, the first varying fastest: kind form)."""
 
-    def __init__(self, target_form, domain, nx=0):
+    def __init__(self, target, domain, nx=0):
         o = ffi.new("bk_target_options *")
-        lib.bk_target_defaults(lib.BK_TARGET_FORM, o)
-        self._text = _s(target_form)
-        o.form_text = self._text
-        o.ndomain = len(domain)
-        for i, (n, (lo, hi)) in enumerate(domain.items()):
-            o.dom_in[i], o.dom_lo[i], o.dom_hi[i] = _input(n), lo, hi
+        if domain is None:
+            kind = ffi.new("bk_target_kind *")
+            if lib.bk_target_parse(target.encode(), kind) or kind[0] == lib.BK_TARGET_FORM:
+                raise ValueError("target '%s': a built-in target's name, or an expression with a domain" % target)
+            lib.bk_target_defaults(kind[0], o)
+        else:
+            lib.bk_target_defaults(lib.BK_TARGET_FORM, o)
+            self._text = _s(target)
+            o.form_text = self._text
+            o.ndomain = len(domain)
+            for i, (n, (lo, hi)) in enumerate(domain.items()):
+                o.dom_in[i], o.dom_lo[i], o.dom_hi[i] = _input(n), lo, hi
         if nx:
             o.nx = nx
         err = ffi.new("char[]", 512)
@@ -143,14 +151,16 @@ class _Target:
         self.samples = ffi.gc(self.samples, lib.bk_samples_free)
 
 
-def fit(form, target_form, domain, start=None, starts=4, seed=1, nx=0):
-    """Fits form (text, Form, or a catalog name) to target_form on domain
-    ({input: (lo, hi)}, the first varying fastest), as `brdfkit fit --target
-    form --target-form ... --domain ... --starts STARTS` does (constants
-    rounded to the digits their standard errors justify, as its default)."""
+def fit(form, target, domain=None, start=None, starts=4, seed=1, nx=0):
+    """Fits form (text, Form, or a catalog name, whose published constants
+    start it) to a target: a built-in one by name ("vf2d", ...; domain None)
+    as `brdfkit fit --target vf2d --form ...` does, or the expression target on
+    domain ({input: (lo, hi)}) as `brdfkit fit --target form --target-form
+    TARGET --domain ...` does; starts deterministic starts, constants rounded
+    to the digits their standard errors justify (the CLI's defaults)."""
     f = form if isinstance(form, Form) else (Form.catalog(form) if form.isidentifier() and "_" in form and
                                               lib.bk_catalog_find(form.encode()) != ffi.NULL else Form(form))
-    t = _Target(target_form, domain, nx)
+    t = _Target(target, domain, nx)
     sp = ffi.new("bk_fit_spec *")
     lib.bk_fit_defaults(sp)
     sp.s = t.samples
