@@ -14,8 +14,8 @@
 #     `groff -Kutf-8 -t -man -ww -z` without a warning;
 #   - an example block that shows output ("$ " lines) is run by tests/readme.sh
 #     and must print what the page shows;
-#   - section 3 (brdfkit_HEADER.3.scd, the library's API): every function the
-#     installed headers declare (the Makefile's PUB_H, preprocessed: tests/lib.sh
+#   - section 3 (brdfkit_HEADER.3.scd, the library's API, each named in
+#     brdfkit(1)'s SEE ALSO): every function the installed headers declare (the Makefile's PUB_H, preprocessed: tests/lib.sh
 #     api_names) is documented, bold as *bk_name*() in some page's text, and
 #     every name a page documents or shows in its SYNOPSIS is declared; each
 #     page has NAME (its own file), SYNOPSIS, DESCRIPTION, RETURN VALUES,
@@ -131,6 +131,16 @@ check_api() {
 	done
 	return $rc
 }
+# check_see3 DIR: brdfkit(1)'s SEE ALSO names every section-3 page of DIR
+check_see3() {
+	rc=0
+	for p in "$1"/*.3.scd; do
+		n=$(basename "$p" .3.scd)
+		awk '/^# SEE ALSO/ { on = 1 } on' "$MAN/brdfkit.1.scd" | grep -q "\*$n\*(3)" ||
+			{ echo "brdfkit(1) does not name $n(3) in SEE ALSO"; rc=1; }
+	done
+	return $rc
+}
 # check_page3 FILE.3.scd: the sections, scdoc, and groff without a warning
 check_page3() {
 	n=$(basename "$1" .3.scd)
@@ -185,6 +195,8 @@ printf '\n*bk_zz_fake*() is not in any header.\n' >>"$T/man3/brdfkit_catalog.3.s
 expect_fail "a page naming an undeclared function" check_api "$T/inc" "$T/man3"
 sed 's/^# ERRORS$/# ERROR/' "$MAN/brdfkit_fit.3.scd" >"$T/man3/brdfkit_fit.3.scd"
 expect_fail "a section-3 page without ERRORS" check_page3 "$T/man3/brdfkit_fit.3.scd"
+cp "$MAN/brdfkit_fit.3.scd" "$T/man3/brdfkit_zzfake.3.scd"
+expect_fail "a section-3 page brdfkit(1) does not name" check_see3 "$T/man3"
 sed 's/bk_D_ggx(1, 1)/bk_D_ggx_zz(1, 1)/' "$MAN/brdfkit_brdf.3.scd" >"$T/man3/brdfkit_brdf.3.scd"
 expect_fail "an example calling a function no header declares" run_example3 "$T/man3/brdfkit_brdf.3.scd" "$T/ex3.out"
 
@@ -201,6 +213,7 @@ done
 n3=0
 for p in "$MAN"/*.3.scd; do check_page3 "$p" && ok || bad "page $(basename "$p")"; n3=$((n3 + 1)); done
 [ "$n3" -ge 8 ] && ok || bad "$n3 section-3 pages, fewer than the 8 installed headers"
+check_see3 "$MAN" && ok || bad "brdfkit(1)'s SEE ALSO and the section-3 pages"
 pub_headers && check_api "$T/inc" "$MAN" && ok || bad "the section-3 pages against the installed headers"
 # the examples that are whole programs compile and run (libbrdf's); brdfkit_brdf(3)'s
 # first number is GGX D at NoH = 1, a = 1 times π: 1
