@@ -20,8 +20,8 @@
 #     the library's message, the one the CLI prints.
 # Negative controls, each showing a check can fail: the comparison rejects the
 # f16 value of another point and a fit of another form; the search's
-# early-stop check rejects the unstopped run; the import fails without the
-# installed prefix's libraries (BRDFKIT_PREFIX at an empty directory).
+# early-stop check rejects the unstopped run; the import fails, naming them,
+# from a prefix with the headers and no libraries (BRDFKIT_PREFIX).
 # usage: sh tests/python.sh path/to/brdfkit
 set -u
 BK=${1:?usage: python.sh path/to/brdfkit}
@@ -156,9 +156,13 @@ while read -r w rest; do
 	case $w in ok) ok ;; FAIL) bad "$rest" ;; esac
 done <"$T/check.out"
 [ "$(grep -c '^ok ' "$T/check.out")" -ge 20 ] && ok || bad "fewer than 20 checks ran: $(tail -3 "$T/check.out")"
-# negative control: with no libraries where BRDFKIT_PREFIX points, the import fails
-mkdir -p "$T/empty/lib" "$T/empty/include"
-! BRDFKIT_PREFIX="$T/empty" $PY -c 'import brdfkit' 2>/dev/null && ok || bad "the import worked without libraries"
+# the import from BRDFKIT_PREFIX (declarations preprocessed from its headers);
+# negative control: a prefix with the headers and no libraries fails, naming them
+BRDFKIT_PREFIX="$U" $PY -c 'import brdfkit; print(brdfkit.Form.catalog("vf_talk_r").params)' >"$T/imp.out" 2>&1 &&
+	[ "$(cat "$T/imp.out")" = "[0.5]" ] && ok || bad "import with BRDFKIT_PREFIX: $(tail -2 "$T/imp.out")"
+mkdir -p "$T/empty/lib" && cp -R "$U/include" "$T/empty/"
+! BRDFKIT_PREFIX="$T/empty" $PY -c 'import brdfkit' >"$T/imp.out" 2>&1 && grep -q "no libbrdf.so.\* in $T/empty/lib" "$T/imp.out" &&
+	ok || bad "the import without libraries: $(tail -2 "$T/imp.out")"
 
 echo "python: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
