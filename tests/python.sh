@@ -17,9 +17,12 @@
 #     returns early (evals below the budget), its progress callback heard; an
 #     exception in either callback stops it and is raised, not swallowed;
 #   - errors: a parse error and an unknown catalog name raise ValueError with
-#     the library's message, the one the CLI prints.
+#     the library's message, the one the CLI prints;
+#   - cffi's sizes and offsets of the structures the module fills or reads are
+#     the C compiler's (a program of the installed headers prints them).
 # Negative controls, each showing a check can fail: the comparison rejects the
-# f16 value of another point and a fit of another form; the search's
+# f16 value of another point and a fit of another form; the layout check
+# rejects one wrong offset; the search's
 # early-stop check rejects the unstopped run; the import fails, naming them,
 # from a prefix with the headers and no libraries (BRDFKIT_PREFIX).
 # usage: sh tests/python.sh path/to/brdfkit
@@ -58,6 +61,44 @@ for j in 0 1 2; do csv_where "$T/fit/coefficients.csv" parameter p$j value >"$T/
 csv_where "$T/fitvf/metrics.csv" constants fitted rmse >"$T/fitvf.rmse" || bad "vf2d metrics.csv rmse"
 csv_where "$T/fitvf/coefficients.csv" parameter p0 value >"$T/fitvf.p0" || bad "vf2d coefficients.csv p0"
 "$BK" eval --quiet 'p0+' >/dev/null 2>"$T/parse.err"
+
+# the C compiler's layout of the structures the module fills or reads, for
+# cffi's own (ABI mode computes it; a mismatch would corrupt silently)
+cat >"$T/layout.c" <<'C'
+#include <brdfkit/catalog.h>
+#include <brdfkit/search.h>
+#include <stddef.h>
+#include <stdio.h>
+#define S(T) printf("sizeof %s %zu\n", #T, sizeof(T))
+#define O(T, F) printf("offsetof %s %s %zu\n", #T, #F, offsetof(T, F))
+int main(void)
+{
+	S(bk_form_error), S(bk_target_options), S(bk_samples), S(bk_fit_spec), S(bk_fit_result), S(bk_fit_metrics);
+	S(bk_search_options), S(bk_search_callbacks), S(bk_cand), S(bk_grammar), S(bk_catalog_entry);
+	O(bk_target_options, form_text), O(bk_target_options, dom_hi), O(bk_fit_spec, digits), O(bk_fit_result, fitted);
+	O(bk_fit_result, message), O(bk_search_options, evals), O(bk_search_options, threads), O(bk_search_options, grammar);
+	O(bk_cand, p), O(bk_cand, cost), O(bk_cand, err), O(bk_cand, found_at), O(bk_search_callbacks, progress_every);
+	return 0;
+}
+C
+cc -std=c11 -I"$U/include" "$T/layout.c" -o "$T/layout" && "$T/layout" >"$T/layout.txt" || bad "the layout program"
+cat >"$T/layout.py" <<'PY'
+import sys
+from brdfkit import ffi
+bad = 0
+for line in open(sys.argv[1]):
+    w = line.split()
+    mine = ffi.sizeof(w[1]) if w[0] == "sizeof" else ffi.offsetof(w[1], w[2])
+    if mine != int(w[-1]):
+        print("%s: cffi %d, C %s" % (" ".join(w[:-1]), mine, w[-1]))
+        bad = 1
+sys.exit(bad)
+PY
+n=$(wc -l <"$T/layout.txt")
+$PY "$T/layout.py" "$T/layout.txt" && [ "$n" -ge 20 ] && ok || bad "cffi's layouts are not the C compiler's ($n read)"
+# negative control: the last offset with a digit put in front
+sed '$s/ \([0-9]*\)$/ 1\1/' "$T/layout.txt" >"$T/layout.bad"
+! $PY "$T/layout.py" "$T/layout.bad" >/dev/null && ok || bad "a wrong layout passed"
 
 cat >"$T/check.py" <<'PY'
 import os, sys
