@@ -574,6 +574,11 @@ $(FIT_LIB): $(call obj,build/obj,$(FIT_SRC))
 SOVER   = $(firstword $(subst ., ,$(VERSION)))
 SO_LIB  = build/libbrdf.so.$(VERSION)
 SO_FIT  = build/libbrdfkit-fit.so.$(VERSION)
+# (here, below SO_LIB and SO_FIT: a rule's prerequisites are expanded as it is
+# read, so TEST_BUILD's mention of them above comes out empty) the suites'
+# shared libraries: install.sh and python.sh install them, and figures.ipynb's
+# figure 5 (tests/notebook.sh) loads them from build/
+test-build test-plain: $(SO_LIB) $(SO_FIT)
 build/pic/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) $(OPT) -fPIC $(INC) -MMD -MP -c $< -o $@
