@@ -488,9 +488,9 @@ results-scenes:
 # float16_t): the catalog forms RENDER_CATALOG, and of each search front in
 # RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
 # the most accurate member at cost <= RENDER_MAX_COST, chosen by the cost and
-# error columns (a half front's rows are not in cost order: the last row at
-# that cost was once a cost-5 member of env_f0_half, rmse 0.073, where a
-# cost-16 one had 0.026; tests/render.sh checks the choice). It reads the fronts
+# error columns, not by row order (search now writes fronts in cost order, but
+# the last row at that cost was once a cost-5 member of env_f0_half, rmse 0.073,
+# where a cost-16 one had 0.026; tests/render.sh checks the choice). It reads the fronts
 # the searches write: `make results` runs it as results-render-after, once
 # those searches are done.
 # To add a front (a half-precision search's), add DIR:TERM here.
