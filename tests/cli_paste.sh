@@ -1,6 +1,7 @@
 #!/bin/sh
 # cli_paste.sh — a front member pasted by name (issue 40 item 2): FILE.csv:NAME
-# is a form wherever eval, ops and codegen take one, with the member's
+# is a form wherever eval, ops, codegen, stability, time, gpucost, render and
+# fit (its start) take one (one reader, analysis/cli/member.c), with the member's
 # parameters baked in and, for codegen, its provenance (source, fitted domain
 # and error) from the front.csv; a split-sum member is FILE.csv:NAME:A or :B.
 # Each check has a negative control that shows it can fail.
@@ -10,6 +11,7 @@ BK=${1:?usage: sh tests/cli_paste.sh path/to/brdfkit}
 T=$(mktemp -d /tmp/bk_cli_paste_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 CSVGET=${CSVGET:-build/csvget}
+EXRCMP=${EXRCMP:-build/exrcmp}
 . tests/lib.sh
 pass=0 fail=0
 
@@ -136,6 +138,86 @@ check_refused "split without part" "write $ENV:$s:A or $ENV:$s:B" "$BK" ops "$EN
 check_refused "split, part C" "unknown part 'C'" "$BK" ops "$ENV:$s:C"
 check_refused "one form with a part" "unknown part 'A'" "$BK" ops "$VF:$m:A"
 expect_fail "split with part refused" refused "split A" "unknown part" "$BK" ops "$ENV:$s:A"
+
+# ---- every command that takes a form takes a member (one reader, member.h) --------
+# Each runs the member and the same form typed with the member's parameters
+# and compares what it states of the form: the member reaches the command
+# with its own parameters (a changed p0 is seen), its name and its target.
+MP=$(echo "$pars" | tr ';' ' ')
+
+# stability: the same report as the typed form with its parameters, but for the name
+stab_same() {
+	# shellcheck disable=SC2086 # parameters are words pN=VALUE
+	"$BK" stability "$1" >"$T/sm" 2>/dev/null && "$BK" stability "$form" $2 >"$T/sf" 2>/dev/null || return 1
+	[ -s "$T/sm" ] && [ "$(sed 1d "$T/sm")" = "$(sed 1d "$T/sf")" ] && head -1 "$T/sm" | grep -q "^$m:"
+}
+stab_same "$VF:$m" "$MP" && ok || bad "stability $VF:$m differs from '$form' $MP"
+expect_fail "stability with p0 changed" stab_same "$VF:$m" "$(echo "$bumped" | tr ';' ' ')"
+
+# time: the row names the member, its form and its op counts are the typed form's
+time_same() {
+	# shellcheck disable=SC2086
+	"$BK" time --reps 1 "$1" "$form" $2 >"$T/tm" 2>/dev/null || return 1
+	[ "$(csv_col "$T/tm" name | head -1)" = "$m" ] &&
+		[ "$(csv_cols "$T/tm" form simple complex cost spirv | sort -u | wc -l)" -eq 1 ]
+}
+time_same "$VF:$m" "$MP" && ok || bad "time $VF:$m: not the row of '$form'"
+expect_fail "time of another member" time_same "$VF:$first" "$MP"
+
+# gpucost: the same ACO counts as the typed form with the member's parameters
+if "$BK" gpucost --chips navi21 "$VF:$m" "$form" $MP >"$T/gm" 2>"$T/err"; then
+	[ "$(csv_col "$T/gm" name | head -1)" = "$m" ] &&
+		[ "$(csv_cols "$T/gm" instructions vgprs transcendental | sort -u | wc -l)" -eq 1 ] && ok ||
+		bad "gpucost $VF:$m: not the counts of '$form': $(cat "$T/gm")"
+	check_refused "gpucost: a member takes no pN=" "must follow a typed form" "$BK" gpucost "$VF:$m" p0=1
+else
+	echo "SKIP: gpucost (no RADV here): $(head -c 200 "$T/err")"
+fi
+
+# fit: the member's parameters start the fit; the generated files name it
+"$BK" fit --target vf2d --form "$VF:$m" --out "$T/fit" >"$T/fit.txt" 2>"$T/err" &&
+	grep -q "^fit $m on vf2d:" "$T/fit.txt" && grep -q "^ \* source: member $m of $VF " "$T/fit/shader.c" &&
+	grep -q "^static inline float $m(" "$T/fit/shader.c" && ok || bad "fit --form $VF:$m: $(cat "$T/err" "$T/fit.txt")"
+# a start at the member's own optimum (max_abs front, rmse fit): the fit
+# starts from the member's values, so its first cost is the member's rmse^2/2
+# summed, not the cost at a typed p0=1 start
+start_cost() { sed -n 's/.* cost \([0-9.e+-]*\) -> .*/\1/p' "$1"; }
+# shellcheck disable=SC2086
+"$BK" fit --target vf2d --form "$form" $MP --out "$T/fit2" >"$T/fit2.txt" 2>&1
+[ -n "$(start_cost "$T/fit.txt")" ] && [ "$(start_cost "$T/fit.txt")" = "$(start_cost "$T/fit2.txt")" ] && ok ||
+	bad "fit from $VF:$m does not start at its parameters: $(start_cost "$T/fit.txt") vs $(start_cost "$T/fit2.txt")"
+# shellcheck disable=SC2046
+"$BK" fit --target vf2d --form "$form" $(echo "$bumped" | tr ';' ' ') --out "$T/fit3" >"$T/fit3.txt" 2>&1
+[ "$(start_cost "$T/fit.txt")" != "$(start_cost "$T/fit3.txt")" ] && ok ||
+	bad "control: fit from p0 changed starts at the same cost $(start_cost "$T/fit3.txt")"
+
+# render: the member, its front's target as the term, named after it; the
+# same image as the typed form with --term and --params
+render_same() {
+	"$BK" render --device cpu --size 40 --precision single --form "$1" --out "$T/r1" >/dev/null 2>"$T/err" &&
+		"$BK" render --device cpu --size 40 --precision single --form "$form" --term vf --params "$2" \
+			--out "$T/r2" >/dev/null 2>>"$T/err" || return 1
+	grep -qF -- "--form $1 " "$T/r1/spheres.csv" && "$EXRCMP" "$T/r1/candidate_f32.exr" "$T/r2/candidate_f32.exr" 0 0
+}
+render_same "$VF:$m" "$pars" && ok || bad "render --form $VF:$m: not the image of '$form' with $pars: $(cat "$T/err")"
+expect_fail "render with p0 changed" render_same "$VF:$m" "$bumped"
+"$BK" render --device cpu --size 40 --precision single --form "$ENV:$s" --out "$T/r3" >"$T/r3.txt" 2>"$T/err" &&
+	grep -q "^render: $s (replaces env)" "$T/r3.txt" && ok || bad "render --form $ENV:$s: $(cat "$T/err" "$T/r3.txt")"
+check_refused "render: member with --form-b" "a front member brings its own B" \
+	"$BK" render --device cpu --form "$ENV:$s" --form-b 1 --out "$T/r4"
+
+# the reader's refusals, in each command: unknown member, not a front, a
+# front whose header lacks a column (form renamed)
+sed '/^name,/s/,form,/,formula,/' "$VF" >"$T/cols.csv"
+for c in "stability" "time --reps 1" "gpucost" "render --device cpu --out $T/r5 --form" "fit --target vf2d --out $T/f5 --form"; do
+	# shellcheck disable=SC2086 # c is words
+	check_refused "$c: unknown member" "no member 'nope_$m'" "$BK" $c "$VF:nope_$m"
+	# shellcheck disable=SC2086
+	check_refused "$c: not a front" "not a front.csv of brdfkit search" "$BK" $c "$T/plain.csv:$m"
+	# shellcheck disable=SC2086
+	check_refused "$c: wrong columns" "$T/cols.csv" "$BK" $c "$T/cols.csv:$m"
+done
+[ ! -e "$T/r5" ] && [ ! -e "$T/f5" ] && ok || bad "a refused member left --out behind"
 
 echo "cli_paste: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -12,7 +12,7 @@
 #include "out.h"
 #include "cmd.h"
 #include "form_check.h"
-#include "frontcsv.h"
+#include "member.h"
 
 #include <errno.h>
 #include <math.h>
@@ -32,83 +32,28 @@ typedef struct form_arg {
 	char source[600], domain[600], error[160]; /* a front member's provenance */
 } form_arg;
 
-/* The split of FILE.csv:NAME[:A|:B]: at the last ".csv:" (forms have no ':';
- * a path may, a member name may not hold ".csv:"). NULL: not a member. */
-static const char *member_split(const char *arg)
-{
-	const char *at = NULL;
-	for (const char *s = strstr(arg, ".csv:"); s; s = strstr(s + 1, ".csv:"))
-		at = s;
-	return at ? at + 4 : NULL;
-}
-
 /* FILE.csv:NAME: the member's form (or form_b for :B), its parameters
- * baked in like a catalog entry's constants, and its provenance from the
- * file's '#' lines and row. text is malloc'd. */
-static int load_member(const char *arg, const char *colon, form_arg *fa, char **text)
+ * baked in like a catalog entry's constants, and its provenance
+ * (member.h). text is malloc'd. */
+static int load_member(const char *arg, form_arg *fa, char **text)
 {
-	char path[1024], err[600];
-	if ((size_t)(colon - arg) >= sizeof path)
-		return cli_bad("%.40s...: path too long", arg);
-	memcpy(path, arg, (size_t)(colon - arg));
-	path[colon - arg] = '\0';
-	const char *rest = colon + 1;
-	bk_frontcsv fc;
-	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS | BK_FRONTCSV_SCORES, &fc, err, sizeof err))
-		return cli_bad("%s", err);
-	if (fc.head.kind != BK_FRONTCSV_FRONT) {
-		bk_frontcsv_free(&fc);
-		return cli_bad("%s: not a front.csv of brdfkit search (no '# brdfkit ... search front' line)", path);
-	}
-	/* NAME exactly, else NAME:PART split at the last ':' */
-	const char *part = NULL;
-	size_t nlen = strlen(rest);
-	const bk_frontcsv_row *r = NULL;
-	for (int pass = 0; pass < 2 && !r; pass++) {
-		if (pass == 1) {
-			part = strrchr(rest, ':');
-			if (!part)
-				break;
-			nlen = (size_t)(part++ - rest);
-		}
-		for (int i = 0; i < fc.n && !r; i++)
-			if (strlen(fc.row[i].name) == nlen && !strncmp(fc.row[i].name, rest, nlen))
-				r = &fc.row[i];
-	}
-	int rc = 0;
-	if (!r) {
-		rc = cli_bad("%s: no member '%s' (%d members: %s%s%s%s)", path, rest, fc.n, fc.n ? fc.row[0].name : "",
-		             fc.n > 1 ? ", " : "", fc.n > 1 ? fc.row[1].name : "", fc.n > 2 ? ", ..." : "");
-	} else if (r->form_b && !part) {
-		rc = cli_bad("'%s' has two forms (split sum): write %s:A or %s:B", r->name, arg, arg);
-	} else if (part && (!r->form_b || (strcmp(part, "A") && strcmp(part, "a") && strcmp(part, "B") &&
-	                                   strcmp(part, "b")))) {
-		rc = cli_bad("'%s': unknown part '%s'", r->name, part);
-	}
-	int want_b = part && (*part == 'B' || *part == 'b');
-	if (!rc && !(*text = strdup(want_b ? r->form_b : r->form)))
-		rc = cli_fail(NULL, "out of memory");
-	if (rc) {
-		bk_frontcsv_free(&fc);
+	cli_member m;
+	int rc = cli_member_load(arg, 0, &m);
+	if (rc)
 		return rc;
-	}
 	fa->named = fa->member = 1;
-	for (int i = 0; i < r->np; i++) {
-		fa->params[i] = r->p[i];
+	for (int i = 0; i < m.np; i++) {
+		fa->params[i] = m.p[i];
 		fa->have[i] = 1;
 	}
 	snprintf(fa->label, sizeof fa->label, "%s%s", arg, "");
-	/* too long a name leaves fname "": codegen's default brdfkit_form */
-	if (snprintf(fa->fname, sizeof fa->fname, "%s%s", r->name, part ? (want_b ? "_B" : "_A") : "") >=
-	    (int)sizeof fa->fname)
-		fa->fname[0] = '\0';
-	if (snprintf(fa->source, sizeof fa->source, "member %s of %s (brdfkit search front)", r->name, path) < 0)
-		fa->source[0] = '\0';
-	snprintf(fa->domain, sizeof fa->domain, "%s", fc.head.target[0] ? fc.head.target : "not stated in the file");
-	snprintf(fa->error, sizeof fa->error, "%s %.6g in %s precision on the target's samples (%s)",
-	         fc.head.objective[0] ? fc.head.objective : "error", r->error,
-	         fc.head.precision[0] ? fc.head.precision : "unstated", r->form_b ? "A and B as a pair" : "one form");
-	bk_frontcsv_free(&fc);
+	snprintf(fa->fname, sizeof fa->fname, "%s", m.fname);
+	snprintf(fa->source, sizeof fa->source, "%s", m.source);
+	snprintf(fa->domain, sizeof fa->domain, "%s", m.domain);
+	snprintf(fa->error, sizeof fa->error, "%s", m.errtext);
+	*text = m.form;
+	m.form = NULL;
+	cli_member_free(&m);
 	return 0;
 }
 
@@ -116,10 +61,10 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 {
 	memset(fa, 0, sizeof *fa);
 	char name[128];
-	const char *colon = member_split(arg);
+	const char *colon = cli_member_split(arg);
 	if (colon) {
 		char *mtext = NULL;
-		int rc = load_member(arg, colon, fa, &mtext);
+		int rc = load_member(arg, fa, &mtext);
 		if (rc)
 			return rc;
 		bk_form_error err;
