@@ -31,13 +31,32 @@ inputs() {
 # body FILE: the generated function after the provenance comment.
 body() { sed -n '/^ \*\//,$p' "$1" | tail -n +2; }
 
-# same_body MEMBER FORM PARAMS: codegen of the member and of FORM with PARAMS
-# ("p0=X;p1=Y") as pN=VALUE write the same function.
-same_body() {
+# same_code MEMBER FORM PARAMS: the member's C (its front's one signature,
+# its constants named) and FORM's with PARAMS ("p0=X;p1=Y"; the inputs FORM
+# reads, literals) compute the same float, bit for bit, at 64 points: the
+# named constants hold the same values and the expression is the same.
+args_of() { sed -n "s/^static inline float $1(\(.*\))\$/\1/p" "$2" | sed 's/float //g'; }
+same_code() {
 	# shellcheck disable=SC2046 # PARAMS are words pN=VALUE
-	"$BK" codegen --lang glsl --name f "$1" >"$T/m.glsl" &&
-		"$BK" codegen --lang glsl --name f "$2" $(echo "$3" | tr ';' ' ') >"$T/f.glsl" || return 1
-	[ -s "$T/m.glsl" ] && [ "$(body "$T/m.glsl")" = "$(body "$T/f.glsl")" ]
+	"$BK" codegen --lang c --name mfun "$1" >"$T/m.c" &&
+		"$BK" codegen --lang c --name ffun "$2" $(echo "$3" | tr ';' ' ') >"$T/f.c" || return 1
+	cat >"$T/same.c" <<-EOC
+	#include <stdio.h>
+	#include "m.c"
+	#include "f.c"
+	int main(void)
+	{
+		for (int i = 0; i < 64; i++) {
+			float NoV = 0.01f + 0.0155f * (float)i, NoL = 0.9f - 0.013f * (float)i, NoH = 0.5f + 0.007f * (float)i;
+			float LoH = 0.32f + 0.0106f * (float)i, VoH = LoH, r = 0.03f + 0.015f * (float)i, a = r * r, f0 = 0.04f;
+			(void)NoV, (void)NoL, (void)NoH, (void)LoH, (void)VoH, (void)r, (void)a, (void)f0;
+			printf("%a %a\\n", (double)mfun($(args_of mfun "$T/m.c")), (double)ffun($(args_of ffun "$T/f.c")));
+		}
+		return 0;
+	}
+	EOC
+	cc -std=c11 -O1 -ffp-contract=off -o "$T/same" "$T/same.c" -lm 2>"$T/cc.err" && "$T/same" >"$T/same.txt" &&
+		[ "$(wc -l <"$T/same.txt")" -eq 64 ] && awk '$1 != $2 { exit 1 }' "$T/same.txt"
 }
 
 # same_eval MEMBER FORM ARGS...: eval of the member and of FORM with ARGS
@@ -72,9 +91,9 @@ form=$(csv_where "$VF" name "$m" form)
 pars=$(csv_where "$VF" name "$m" parameters)
 err=$(csv_where "$VF" name "$m" error)
 [ -n "$m" ] && [ -n "$form" ] && [ -n "$pars" ] && ok || bad "$VF: no member read"
-same_body "$VF:$m" "$form" "$pars" && ok || bad "codegen $VF:$m: not the body of '$form' with $pars"
+same_code "$VF:$m" "$form" "$pars" && ok || bad "codegen $VF:$m: not the values of '$form' with $pars: $(cat "$T/cc.err")"
 bumped=$(echo "$pars" | awk -F';' -v OFS=';' '{ split($1, a, "="); $1 = "p0=" a[2] * 1.5 + 0.25; print }')
-expect_fail "body with p0 changed" same_body "$VF:$m" "$form" "$bumped"
+expect_fail "code with p0 changed" same_code "$VF:$m" "$form" "$bumped"
 # shellcheck disable=SC2046 # parameters are words pN=VALUE
 same_eval "$VF:$m" "$form" $(echo "$pars" | tr ';' ' ') && ok || bad "eval $VF:$m differs from '$form' with $pars"
 # shellcheck disable=SC2046
@@ -106,6 +125,74 @@ same_eval "$ENV:$s:B" "$(subst "$sb" "$sp")" && ok || bad "eval $ENV:$s:B differ
 expect_fail "B evaluated as A" same_eval "$ENV:$s:B" "$(subst "$sa" "$sp")"
 "$BK" codegen --lang hlsl "$ENV:$s:B" >"$T/b.hlsl" 2>"$T/err" && grep -q "${s}_B(" "$T/b.hlsl" &&
 	grep -qF " * form: $sb" "$T/b.hlsl" && ok || bad "codegen $ENV:$s:B: $(cat "$T/err")"
+
+# ---- one signature per front (issue 40 item 2) ----------------------------------
+# Every member of a front is emitted with the same parameter list (the inputs
+# any member reads, a as r), so members swap at one call site; a member of
+# another target has another one (the control).
+sig() { "$BK" codegen --lang glsl --name f "$1" 2>/dev/null | grep '^highp [a-z0-9]* f('; }
+one_signature() {
+	_f=$1; _first=""
+	for _n in $(csv_col "$_f" name); do
+		_s=$(sig "$_f:$_n") && [ -n "$_s" ] || return 1
+		[ -z "$_first" ] && _first=$_s
+		[ "$_s" = "$_first" ] || return 1
+	done
+	echo "$_first"
+}
+vsig=$(one_signature "$VF") && [ "$vsig" = "highp float f(highp float LoH, highp float r, highp float f0)" ] && ok ||
+	bad "$VF: members' signatures differ, or not (LoH, r, f0): '$vsig'"
+esig=$(one_signature "$ENV") && [ "$esig" = "highp vec2 f(highp float NoV, highp float r)" ] && ok ||
+	bad "$ENV: pairs' wrappers differ, or not vec2 (NoV, r): '$esig'"
+F0=results/search/env_f0/front.csv
+[ "$(sig "$F0:$(csv_col "$F0" name | tail -1)")" != "$vsig" ] && ok || bad "control: an env_f0 member has vf2d's signature"
+# the check on a vf2d front with an env_f0 member (NoV) mixed in fails
+{ sed -n '1,/^name,/p' "$VF"; grep -v '^#' "$VF" | sed 1d | head -2; grep -v '^#' "$F0" | sed 1d | head -1; } >"$T/mixed.csv"
+vf_signature() { [ "$(one_signature "$1")" = "$vsig" ]; }
+expect_fail "a front with an env_f0 member mixed in" vf_signature "$T/mixed.csv"
+
+# ---- a split-sum pair as engines call it: NAME(NoV, r) returning (A, B) -----------
+# The C wrapper compiled and run gives A and B as eval gives them for :A and
+# :B (f32 line, 2^-20 relative: C's float against the IR's BK_F32 rounding).
+"$BK" codegen --lang c "$ENV:$s" >"$T/pair.c" 2>"$T/err" || bad "codegen $ENV:$s: $(cat "$T/err")"
+cat >"$T/pair_main.c" <<EOC
+#include <stdio.h>
+#include "pair.c"
+int main(void)
+{
+	float A, B;
+	$s(0.6f, 0.5f, &A, &B);
+	printf("%.9g %.9g\\n", (double)A, (double)B);
+	return 0;
+}
+EOC
+pair_ok() { # pair_ok A B: the wrapper's output within 2^-20 of A and B
+	cc -std=c11 -O1 -ffp-contract=off -o "$T/pair" "$T/pair_main.c" -lm 2>"$T/cc.err" && "$T/pair" >"$T/pair.txt" &&
+		awk -v a="$1" -v b="$2" 'function off(x, y) { d = x - y; if (d < 0) d = -d; return d > 9.5367431640625e-7 * (y < 0 ? -y : y) }
+			{ exit off($1, a) || off($2, b) }' "$T/pair.txt"
+}
+# shellcheck disable=SC2046 # inputs are words NAME=VALUE: NoV 0.6, r 0.5, a 0.25 as the call's
+ea=$("$BK" eval "$ENV:$s:A" $(inputs "$sa") 2>/dev/null | awk '$1 == "f32" { print $2 }')
+# shellcheck disable=SC2046
+eb=$("$BK" eval "$ENV:$s:B" $(inputs "$sb") 2>/dev/null | awk '$1 == "f32" { print $2 }')
+pair_ok "$ea" "$eb" && ok || bad "$s(0.6, 0.5): $(cat "$T/pair.txt" "$T/cc.err"), eval A $ea B $eb"
+expect_fail "wrapper against B, A swapped" pair_ok "$eb" "$ea"
+grep -q "^static inline void $s(float NoV, float r, float \*A, float \*B)\$" "$T/pair.c" && ok ||
+	bad "codegen $ENV:$s: no wrapper $s(NoV, r, *A, *B)"
+
+# the members' GLSL (a pair's wrapper, a one-form member in half) compiles
+# with glslang in one fragment shader; the control drops a named constant
+frag() {
+	{ echo '#version 310 es'; echo 'precision highp float;'; cat "$1"
+		echo 'layout(std140, binding = 0) uniform U { highp float u0, u1, u2; };'
+		echo 'layout(location = 0) out vec4 o;'
+		echo "void main() { o = vec4($s(u0, u1), $m(u0, u1, u2), 0.0); }"; } >"$T/t.frag"
+	glslangValidator -V -o "$T/t.spv" "$T/t.frag" >"$T/gl.log" 2>&1
+}
+{ "$BK" codegen --lang glsl "$ENV:$s" && "$BK" codegen --lang glsl --precision half "$VF:$m"; } >"$T/members.glsl"
+frag "$T/members.glsl" && ok || bad "the members' GLSL does not compile: $(tail -5 "$T/gl.log")"
+grep -v "^	const .*${m}_p0 = " "$T/members.glsl" >"$T/broken.glsl"
+expect_fail "GLSL without ${m}_p0" frag "$T/broken.glsl"
 
 # ---- a path with ':' in it: the file part ends at the last ".csv:" -----------------
 mkdir -p "$T/a:b" && cp "$VF" "$T/a:b/front.csv"
@@ -197,7 +284,7 @@ render_same() {
 	"$BK" render --device cpu --size 40 --precision single --form "$1" --out "$T/r1" >/dev/null 2>"$T/err" &&
 		"$BK" render --device cpu --size 40 --precision single --form "$form" --term vf --params "$2" \
 			--out "$T/r2" >/dev/null 2>>"$T/err" || return 1
-	grep -qF -- "--form $1 " "$T/r1/spheres.csv" && "$EXRCMP" "$T/r1/candidate_f32.exr" "$T/r2/candidate_f32.exr" 0 0
+	grep -qF -- "--form $1 " "$T/r1/spheres.csv" && "$EXRCMP" "$T/r1/candidate_f32.exr" "$T/r2/candidate_f32.exr" 0 0 >/dev/null
 }
 render_same "$VF:$m" "$pars" && ok || bad "render --form $VF:$m: not the image of '$form' with $pars: $(cat "$T/err")"
 expect_fail "render with p0 changed" render_same "$VF:$m" "$bumped"

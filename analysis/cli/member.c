@@ -51,6 +51,30 @@ static void provenance(cli_member *m, const bk_frontcsv *fc, const bk_frontcsv_r
 		snprintf(m->target, sizeof m->target, "%.*s", (int)t, fc->head.target);
 }
 
+/* The inputs every row of r's kind reads (member.h's signature) into *sig;
+ * -1 if a form does not parse (frontcsv.h has parsed them all: out of
+ * memory), else 0. */
+static int signature(const bk_frontcsv *fc, const bk_frontcsv_row *r, unsigned *sig)
+{
+	unsigned in = 0;
+	for (int i = 0; i < fc->n; i++) {
+		const bk_frontcsv_row *w = &fc->row[i];
+		if (!w->form_b != !r->form_b)
+			continue;
+		for (int k = 0; k < 2; k++) {
+			bk_form *f = k == 0 || w->form_b ? bk_form_parse(k ? w->form_b : w->form, NULL) : NULL;
+			if (!f && (k == 0 || w->form_b))
+				return -1;
+			in |= f ? bk_form_inputs(f) : 0;
+			bk_form_free(f);
+		}
+	}
+	if (in >> BK_IN_A & 1)
+		in = (in & ~(1u << BK_IN_A)) | 1u << BK_IN_R;
+	*sig = in;
+	return 0;
+}
+
 int cli_member_load(const char *arg, int pair, cli_member *m)
 {
 	memset(m, 0, sizeof *m);
@@ -106,7 +130,12 @@ int cli_member_load(const char *arg, int pair, cli_member *m)
 	    (int)sizeof m->fname)
 		m->fname[0] = '\0';
 	provenance(m, &fc, r, path);
+	int bad = signature(&fc, r, &m->signature);
 	bk_frontcsv_free(&fc);
+	if (bad) {
+		cli_member_free(m);
+		return cli_fail(NULL, "out of memory");
+	}
 	return 0;
 }
 

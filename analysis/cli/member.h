@@ -22,6 +22,11 @@ typedef struct cli_member {
 	double cost, error;        /* the row's cost and error columns */
 	char target[32];           /* the front's target: the "# target: " line's first word (vf2d, env, f, ...) */
 	char fname[BK_NAME_MAX + 1]; /* NAME, NAME_A or NAME_B as a function name; "" when too long */
+	/* The one signature of the front's members of its kind (one form, or
+	 * split-sum pairs): bit i, bk_input i, every input any of them reads,
+	 * a as r (the code computes a = r*r), so that a member's code swaps for
+	 * another's at one call site (bk_emit_style). */
+	unsigned signature;
 	char source[600], domain[600], errtext[160]; /* provenance, as codegen states it */
 } cli_member;
 
