@@ -515,17 +515,23 @@ char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double
 	return t.s;
 }
 
-/* The wrapper's return type from the float type: C returns through
- * pointers; GLSL's vec2 keeps the precision qualifier (no default float
- * precision in a fragment shader); HLSL's float2 or half2. */
-static void pair_type(char *out, size_t len, const char *type, bk_lang lang)
+/* The wrapper's return type and constructor from the scalar type: C
+ * returns through pointers; GLSL's vec2 keeps the precision qualifier (no
+ * default float precision in a fragment shader), float16_t's is f16vec2;
+ * HLSL's is the scalar's name with 2 (float2, half2, min16float2). */
+static void pair_type(char *ret, char *ctor, size_t len, const char *type, bk_lang lang)
 {
-	if (lang == BK_LANG_C)
-		snprintf(out, len, "void");
-	else if (lang == BK_LANG_GLSL)
-		snprintf(out, len, "%.*svec2", (int)(strlen(type) - strlen("float")), type);
-	else
-		snprintf(out, len, "%s2", type);
+	const char *fl = strstr(type, "float");
+	if (lang == BK_LANG_C) {
+		snprintf(ret, len, "void");
+	} else if (lang == BK_LANG_GLSL && strstr(type, "float16_t")) {
+		snprintf(ret, len, "f16vec2");
+	} else if (lang == BK_LANG_GLSL && fl) {
+		snprintf(ret, len, "%.*svec2", (int)(fl - type), type); /* "highp float" -> "highp vec2" */
+	} else {
+		snprintf(ret, len, "%s2", type);
+	}
+	snprintf(ctor, len, "%s", lang == BK_LANG_GLSL && strchr(ret, ' ') ? strchr(ret, ' ') + 1 : ret);
 }
 
 char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int half, const double *params,
@@ -556,12 +562,20 @@ char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int 
 		free(code[1]);
 		return NULL;
 	}
-	const char *type = type_name[lang][lang == BK_LANG_C ? 0 : half != 0];
+	/* the scalar type bk_form_emit_styled wrote: NAME_A's signature line
+	 * opens with it (C: float) */
+	char type[32] = "float";
+	const char *sig = strstr(code[0], " */\n");
+	if (sig && lang != BK_LANG_C) {
+		sig += 4;
+		const char *at = strstr(sig, part[0]);
+		if (at && at > sig && (size_t)(at - sig) <= sizeof type)
+			snprintf(type, sizeof type, "%.*s", (int)(at - sig - 1), sig);
+	}
 	text t = {malloc(1024), 0, 1024, 0};
 	t.failed = !t.s;
 	char ret[32], ctor[32];
-	pair_type(ret, sizeof ret, type, lang);
-	snprintf(ctor, sizeof ctor, "%s", lang == BK_LANG_GLSL ? "vec2" : ret);
+	pair_type(ret, ctor, sizeof ret, type, lang);
 	put(&t, "%s\n%s\n", code[0], code[1]);
 	put(&t, "/* %s: the split sum's A and B at once, as engines call an environment BRDF:\n"
 	        " * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see %s_A and %s_B). */\n", name, name, name);
