@@ -487,7 +487,8 @@ results-scenes:
 # rendered comparisons (brdfkit render, emitted GLSL on lavapipe, f32 and
 # float16_t): the catalog forms RENDER_CATALOG, and of each search front in
 # RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
-# the most accurate member at cost <= RENDER_MAX_COST, chosen by the cost and
+# the most accurate member at cost <= RENDER_MAX_COST, named in the batch as
+# FILE.csv:NAME (render reads its forms and parameters from the front), chosen by the cost and
 # error columns, not by row order (search now writes fronts in cost order, but
 # the last row at that cost was once a cost-5 member of env_f0_half, rmse 0.073,
 # where a cost-16 one had 0.026; tests/render.sh checks the choice). It reads the fronts
@@ -508,8 +509,7 @@ results-render: $(TOOL) build/csvget
 	      awk -v m=$(RENDER_MAX_COST) '$$1 <= m && (k == "" || $$2 < e) { k = NR; e = $$2 } END { print k }'); \
 	    [ -n "$$k" ] || { echo "results-render: $$f: no member at cost <= $(RENDER_MAX_COST)" >&2; exit 1; }; \
 	    n=$$(build/csvget $$f name | sed -n "$${k}p"); \
-	    printf '%s,%s,"%s","%s","%s"\n' "$$d-$$n" "$$t" "$$(build/csvget $$f form name $$n)" \
-	      "$$(build/csvget $$f form_b name $$n)" "$$(build/csvget $$f parameters name $$n)" || exit 1; \
+	    printf '%s,%s,%s,,\n' "$$d-$$n" "$$t" "$$f:$$n" || exit 1; \
 	  done; } >build/render_batch.csv
 	$(TOOL) render --batch build/render_batch.csv --size 500 --out results/render --link-prefix render/
 # make results' turn for it: after the searches whose fronts it reads (a rule

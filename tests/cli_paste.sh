@@ -290,6 +290,12 @@ render_same "$VF:$m" "$pars" && ok || bad "render --form $VF:$m: not the image o
 expect_fail "render with p0 changed" render_same "$VF:$m" "$bumped"
 "$BK" render --device cpu --size 40 --precision single --form "$ENV:$s" --out "$T/r3" >"$T/r3.txt" 2>"$T/err" &&
 	grep -q "^render: $s (replaces env)" "$T/r3.txt" && ok || bad "render --form $ENV:$s: $(cat "$T/err" "$T/r3.txt")"
+# a batch's form column takes a member as --form does (the Makefile's
+# results-render names the chosen members so): the same image as the typed row
+printf 'name,term,form,form_b,parameters\nm,vf,%s,,\nt,vf,"%s",,"%s"\n' "$VF:$m" "$form" "$pars" >"$T/batch.csv"
+"$BK" render --device cpu --size 40 --precision single --batch "$T/batch.csv" --out "$T/rb" >/dev/null 2>"$T/err" &&
+	"$EXRCMP" "$T/rb/m/candidate_f32.exr" "$T/rb/t/candidate_f32.exr" 0 0 >/dev/null && ok ||
+	bad "render --batch with $VF:$m: not the typed row's image: $(cat "$T/err")"
 check_refused "render: member with --form-b" "a front member brings its own B" \
 	"$BK" render --device cpu --form "$ENV:$s" --form-b 1 --out "$T/r4"
 
