@@ -50,7 +50,9 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # scdoc turns the manual pages' sources analysis/man/*.scd into roff).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc
+       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc python3
+# (python3: tests/cli_render_scene.sh rebuilds render pixels from brdfkit-render(1)
+# in an evaluator independent of brdfkit's C, tests/tools/render_pixel.py)
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
