@@ -253,8 +253,9 @@ static const char *const type_name[3][2] = {
 	{"float", "half"},
 };
 
-/* Only the inputs the form reads (or those of inputs, bk_emit_info), in
- * bk_input order, so a call site can be written from the input names alone. */
+/* Only the inputs the form reads (or a member's, bk_emit_style's inputs),
+ * in bk_input order, so a call site can be written from the input names
+ * alone. */
 static void put_signature(text *t, const bk_form *f, const char *type, const char *name, bk_lang lang,
                           unsigned inputs)
 {
@@ -269,7 +270,7 @@ static void put_signature(text *t, const bk_form *f, const char *type, const cha
 	put(t, "%s)\n", *sep || lang != BK_LANG_C ? "" : "void");
 }
 
-/* A parameter read by name (bk_emit_info's named_params): NAME_pK. */
+/* A parameter read by name (bk_emit_style's named_params): NAME_pK. */
 static void param_name(char *out, const bk_form *f, int i, const char *named)
 {
 	if (named && f->code[i].op == BK_OP_PARAM)
@@ -298,17 +299,16 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 	put(t, "\treturn %s;\n", ops[0]);
 }
 
-/* The top of a member's body (bk_emit_style): a
- * computed from r, C's (void) for an input the signature takes and the
- * code does not read (no -Wunused-parameter at the user's), the named
- * constants. */
+/* The top of a member's body (bk_emit_style): a computed from r, C's
+ * (void) for an input the signature takes and the code does not read (no
+ * -Wunused-parameter at the user's), the named constants. */
 static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params,
                          const bk_emit_style *st, const char *name)
 {
 	unsigned reads = bk_form_inputs(f), derive_a = st->inputs && (reads >> BK_IN_A & 1) &&
 	                                                !(st->inputs >> BK_IN_A & 1);
 	if (derive_a)
-		put(t, "	%s a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */\n", type);
+		put(t, "\t%s a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */\n", type);
 	for (int i = 0; lang == BK_LANG_C && i < BK_IN_COUNT; i++)
 		if ((st->inputs >> i & 1) && !(reads >> i & 1) && !(i == BK_IN_R && derive_a))
 			put(t, "\t(void)%s;\n", bk_input_name((bk_input)i));
