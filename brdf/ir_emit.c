@@ -313,6 +313,8 @@ static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang la
 		if ((st->inputs >> i & 1) && !(reads >> i & 1) && !(i == BK_IN_R && derive_a))
 			put(t, "\t(void)%s;\n", bk_input_name((bk_input)i));
 	for (int p = 0; st->named_params && p < bk_form_nparams(f); p++) {
+		if (!(bk_form_params(f) >> p & 1)) /* a pair's B may read p2..p4 of its p0..p4 */
+			continue;
 		char v[OPERAND];
 		literal(v, params[p], lang);
 		put(t, "\tconst %s %.40s_p%d = %s;\n", type, name, p, v);

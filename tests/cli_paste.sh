@@ -194,6 +194,22 @@ frag "$T/members.glsl" && ok || bad "the members' GLSL does not compile: $(tail 
 grep -v "^	const .*${m}_p0 = " "$T/members.glsl" >"$T/broken.glsl"
 expect_fail "GLSL without ${m}_p0" frag "$T/broken.glsl"
 
+# every member's C pastes cleanly into code built with -Wall -Wextra -Werror
+# (a pair's B reads p2..p4 of p0..p4: only those are named; an input the
+# member does not read is (void)); the control adds an unused constant
+c_clean() {
+	printf '#include "%s"\nint main(void) { return 0; }\n' "$1" >"$T/clean_main.c"
+	cc -std=c11 -Wall -Wextra -Werror -Wno-unused-function -c -o "$T/clean.o" "$T/clean_main.c" 2>"$T/cc.err"
+}
+all_clean() {
+	for _n in $(csv_col "$1" name); do
+		"$BK" codegen --lang c "$1:$_n" >"$T/clean.c" 2>/dev/null && c_clean "$T/clean.c" || return 1
+	done
+}
+all_clean "$ENV" && all_clean "$VF" && ok || bad "a member's C does not build with -Wall -Wextra -Werror: $(head -3 "$T/cc.err")"
+"$BK" codegen --lang c "$VF:$m" | sed 's/^{$/{\n\tconst float unused_k = 1.0f;/' >"$T/unclean.c"
+expect_fail "C with an unused constant" c_clean "$T/unclean.c"
+
 # ---- a path with ':' in it: the file part ends at the last ".csv:" -----------------
 mkdir -p "$T/a:b" && cp "$VF" "$T/a:b/front.csv"
 # shellcheck disable=SC2046
