@@ -51,7 +51,9 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # scdoc turns the manual pages' sources analysis/man/*.scd into roff).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc
+       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc python3
+# (python3: tests/cli_render_scene.sh rebuilds render pixels from brdfkit-render(1)
+# in an evaluator independent of brdfkit's C, tests/tools/render_pixel.py)
 FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
@@ -496,10 +498,11 @@ results-scenes:
 # rendered comparisons (brdfkit render, emitted GLSL on lavapipe, f32 and
 # float16_t): the catalog forms RENDER_CATALOG, and of each search front in
 # RENDER_FRONTS (DIR:TERM, results/search/DIR/front.csv, read by column name)
-# the most accurate member at cost <= RENDER_MAX_COST, chosen by the cost and
-# error columns (a half front's rows are not in cost order: the last row at
-# that cost was once a cost-5 member of env_f0_half, rmse 0.073, where a
-# cost-16 one had 0.026; tests/render.sh checks the choice). It reads the fronts
+# the most accurate member at cost <= RENDER_MAX_COST, named in the batch as
+# FILE.csv:NAME (render reads its forms and parameters from the front), chosen by the cost and
+# error columns, not by row order (search now writes fronts in cost order, but
+# the last row at that cost was once a cost-5 member of env_f0_half, rmse 0.073,
+# where a cost-16 one had 0.026; tests/render.sh checks the choice). It reads the fronts
 # the searches write: `make results` runs it as results-render-after, once
 # those searches are done.
 # To add a front (a half-precision search's), add DIR:TERM here.
@@ -517,8 +520,7 @@ results-render: $(TOOL) build/csvget
 	      awk -v m=$(RENDER_MAX_COST) '$$1 <= m && (k == "" || $$2 < e) { k = NR; e = $$2 } END { print k }'); \
 	    [ -n "$$k" ] || { echo "results-render: $$f: no member at cost <= $(RENDER_MAX_COST)" >&2; exit 1; }; \
 	    n=$$(build/csvget $$f name | sed -n "$${k}p"); \
-	    printf '%s,%s,"%s","%s","%s"\n' "$$d-$$n" "$$t" "$$(build/csvget $$f form name $$n)" \
-	      "$$(build/csvget $$f form_b name $$n)" "$$(build/csvget $$f parameters name $$n)" || exit 1; \
+	    printf '%s,%s,%s,,\n' "$$d-$$n" "$$t" "$$f:$$n" || exit 1; \
 	  done; } >build/render_batch.csv
 	$(TOOL) render --batch build/render_batch.csv --size 500 --out results/render --link-prefix render/
 # make results' turn for it: after the searches whose fronts it reads (a rule

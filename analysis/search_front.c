@@ -355,6 +355,21 @@ static int score_all(const bk_sfront *F, score_job *job, int njobs, int nfront)
 	return P.failed ? -1 : 0;
 }
 
+/* qsort's order of search members: cost, then error, then name (unique),
+ * so the order is total and the same for any thread count; a member that
+ * was dropped (NaN error) after every one with an error. */
+static int by_cost(const void *a, const void *b)
+{
+	const member *p = a, *q = b;
+	if (p->cost != q->cost)
+		return p->cost < q->cost ? -1 : 1;
+	if (isnan(p->err) != isnan(q->err))
+		return isnan(p->err) ? 1 : -1;
+	if (p->err != q->err && !isnan(p->err))
+		return p->err < q->err ? -1 : 1;
+	return strcmp(p->name, q->name);
+}
+
 /* Catalog rows (published and refitted), then the screening front refitted;
  * the final front: the refitted members no other beats at no greater cost. */
 int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
@@ -445,6 +460,15 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 	for (size_t i = 0; i < k; i++)
 		F->m[pt[i].id].front = 1;
 	free(pt);
+	/* the search members in cost order, the one order of every file written
+	 * from them (front.csv, the plot's staircase, the page, the report): a
+	 * reader taking "the last row at cost <= C" gets the best there. They
+	 * are the tail of m (catalog and LUT rows first); the names stay those
+	 * given above, so a member keeps its name. */
+	int first = F->nm;
+	while (first > 0 && F->m[first - 1].c)
+		first--;
+	qsort(F->m + first, (size_t)(F->nm - first), sizeof *F->m, by_cost);
 	return 0;
 }
 

@@ -395,6 +395,32 @@ typedef struct bk_emit_info {
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
                    const bk_emit_info *info);
 
+/* What a front member's code needs so that members swap at one call site
+ * (bk_form_emit_styled; NULL or zeros: bk_form_emit's function). inputs:
+ * bit i, bk_input i: the signature's inputs, in bk_input order, whether f
+ * reads them or not; a, when f reads it and inputs has r but not a, is
+ * computed first as a = r*r (one mul more than the op counts, which are
+ * f's; the line says so); any other input f reads outside inputs makes the
+ * emitter return NULL. named_params: each parameter a local constant
+ * NAME_pK at the top of the body (NAME the function's), read by name: the
+ * same values, the same op counts. */
+typedef struct bk_emit_style {
+	unsigned inputs;
+	int named_params;
+} bk_emit_style;
+char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double *params, const bk_emit_info *info,
+                          const bk_emit_style *style);
+
+/* A split-sum pair (f0·A + B) as engines call it: bk_form_emit_styled of
+ * fa as NAME_A and of fb as NAME_B (info's name NAME, "brdfkit_form" if
+ * NULL; the same style for both, its inputs style->inputs or else those
+ * either reads), then NAME(inputs) returning both: GLSL vec2 (A, B), HLSL float2, C
+ * through two pointers (void NAME(inputs, float *A, float *B)). params are
+ * the pair's (numbered across A and B). Malloc'd text, or NULL as
+ * bk_form_emit. */
+char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int half, const double *params,
+                        const bk_emit_info *info, const bk_emit_style *style);
+
 /* 1 if name cannot be the generated function's name in lang: a keyword or
  * reserved word, a type, a name the language's standard library (C's
  * <math.h>, every GLSL built-in function, every HLSL intrinsic) or entry

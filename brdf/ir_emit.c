@@ -253,14 +253,16 @@ static const char *const type_name[3][2] = {
 	{"float", "half"},
 };
 
-/* Only the inputs the form reads, in bk_input order, so a call site can be
- * written from the input names alone. */
-static void put_signature(text *t, const bk_form *f, const char *type, const char *name, bk_lang lang)
+/* Only the inputs the form reads (or a member's, bk_emit_style's inputs),
+ * in bk_input order, so a call site can be written from the input names
+ * alone. */
+static void put_signature(text *t, const bk_form *f, const char *type, const char *name, bk_lang lang,
+                          unsigned inputs)
 {
 	put(t, "%s%s %s(", lang == BK_LANG_C ? "static inline " : "", type, name);
 	const char *sep = "";
 	for (int i = 0; i < BK_IN_COUNT; i++) {
-		if (!(bk_form_inputs(f) >> i & 1))
+		if (!((inputs ? inputs : bk_form_inputs(f)) >> i & 1))
 			continue;
 		put(t, "%s%s %s", sep, type, bk_input_name((bk_input)i));
 		sep = ", ";
@@ -268,7 +270,15 @@ static void put_signature(text *t, const bk_form *f, const char *type, const cha
 	put(t, "%s)\n", *sep || lang != BK_LANG_C ? "" : "void");
 }
 
-static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params)
+/* A parameter read by name (bk_emit_style's named_params): NAME_pK. */
+static void param_name(char *out, const bk_form *f, int i, const char *named)
+{
+	if (named && f->code[i].op == BK_OP_PARAM)
+		snprintf(out, OPERAND, "%.40s_p%d", named, f->code[i].slot);
+}
+
+static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params,
+                     const char *named)
 {
 	char ops[3][OPERAND];
 	for (int i = 0; i < f->n; i++) {
@@ -276,14 +286,39 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 		if (is_leaf(in->op))
 			continue;
 		int args[3] = {in->a, in->b, in->c};
-		for (int j = 0; j < bk_opinfo_table[in->op].arity; j++)
+		for (int j = 0; j < bk_opinfo_table[in->op].arity; j++) {
 			operand(ops[j], f, args[j], lang, params);
+			param_name(ops[j], f, args[j], named);
+		}
 		put(t, "\t%s t%d = ", type, i);
 		put_spelled(t, spelling(f, in, lang, params), ops);
 		put(t, ";\n");
 	}
 	operand(ops[0], f, f->out, lang, params);
+	param_name(ops[0], f, f->out, named);
 	put(t, "\treturn %s;\n", ops[0]);
+}
+
+/* The top of a member's body (bk_emit_style): a computed from r, C's
+ * (void) for an input the signature takes and the code does not read (no
+ * -Wunused-parameter at the user's), the named constants. */
+static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params,
+                         const bk_emit_style *st, const char *name)
+{
+	unsigned reads = bk_form_inputs(f), derive_a = st->inputs && (reads >> BK_IN_A & 1) &&
+	                                                !(st->inputs >> BK_IN_A & 1);
+	if (derive_a)
+		put(t, "\t%s a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */\n", type);
+	for (int i = 0; lang == BK_LANG_C && i < BK_IN_COUNT; i++)
+		if ((st->inputs >> i & 1) && !(reads >> i & 1) && !(i == BK_IN_R && derive_a))
+			put(t, "\t(void)%s;\n", bk_input_name((bk_input)i));
+	for (int p = 0; st->named_params && p < bk_form_nparams(f); p++) {
+		if (!(bk_form_params(f) >> p & 1)) /* a pair's B may read p2..p4 of its p0..p4 */
+			continue;
+		char v[OPERAND];
+		literal(v, params[p], lang);
+		put(t, "\tconst %s %.40s_p%d = %s;\n", type, name, p, v);
+	}
 }
 
 /* ---- constants the generated code would compute as NaN or infinity -------- */
@@ -444,23 +479,130 @@ int bk_form_clamp_reversed(const bk_form *f, const double *params, char *what, s
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
                    const bk_emit_info *info)
 {
+	return bk_form_emit_styled(f, lang, half, params, info, NULL);
+}
+
+char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double *params, const bk_emit_info *info,
+                          const bk_emit_style *st)
+{
 	static const bk_emit_info none;
+	static const bk_emit_style plain;
+	if (!st)
+		st = &plain;
 	if (!f || (unsigned)lang > BK_LANG_HLSL || (bk_form_nparams(f) > 0 && !params))
 		return NULL;
 	if (!info)
 		info = &none;
 	if (info->name && bk_lang_reserved(lang, info->name))
 		return NULL;
+	unsigned outside = st->inputs ? bk_form_inputs(f) & ~st->inputs : 0;
+	if (outside & ~(1u << BK_IN_A) || (outside && !(st->inputs >> BK_IN_R & 1)))
+		return NULL; /* an input the signature neither takes nor gives */
 	const char *type = type_name[lang][lang == BK_LANG_C ? 0 : half != 0];
 	text t = {malloc(1024), 0, 1024, 0};
 	t.failed = !t.s;
 	put_header(&t, f, lang, half, params, info);
 	if (lang == BK_LANG_C)
 		put(&t, "#include <math.h>\n");
-	put_signature(&t, f, type, info->name ? info->name : "brdfkit_form", lang);
+	const char *name = info->name ? info->name : "brdfkit_form";
+	put_signature(&t, f, type, name, lang, st->inputs);
 	put(&t, "{\n");
-	put_body(&t, f, type, lang, params);
+	put_prologue(&t, f, type, lang, params, st, name);
+	put_body(&t, f, type, lang, params, st->named_params ? name : NULL);
 	put(&t, "}\n");
+	if (t.failed) {
+		free(t.s);
+		return NULL;
+	}
+	return t.s;
+}
+
+/* The wrapper's return type and constructor from the scalar type: C
+ * returns through pointers; GLSL's vec2 keeps the precision qualifier (no
+ * default float precision in a fragment shader), float16_t's is f16vec2;
+ * HLSL's is the scalar's name with 2 (float2, half2, min16float2). */
+static void pair_type(char *ret, char *ctor, size_t len, const char *type, bk_lang lang)
+{
+	const char *fl = strstr(type, "float");
+	if (lang == BK_LANG_C) {
+		snprintf(ret, len, "void");
+	} else if (lang == BK_LANG_GLSL && strstr(type, "float16_t")) {
+		snprintf(ret, len, "f16vec2");
+	} else if (lang == BK_LANG_GLSL && fl) {
+		snprintf(ret, len, "%.*svec2", (int)(fl - type), type); /* "highp float" -> "highp vec2" */
+	} else {
+		snprintf(ret, len, "%s2", type);
+	}
+	snprintf(ctor, len, "%s", lang == BK_LANG_GLSL && strchr(ret, ' ') ? strchr(ret, ' ') + 1 : ret);
+}
+
+char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int half, const double *params,
+                        const bk_emit_info *info, const bk_emit_style *style)
+{
+	static const bk_emit_info none;
+	static const bk_emit_style plain;
+	if (!style)
+		style = &plain;
+	if (!fa || !fb || (unsigned)lang > BK_LANG_HLSL)
+		return NULL;
+	if (!info)
+		info = &none;
+	const char *name = info->name ? info->name : "brdfkit_form";
+	char part[2][BK_NAME_MAX + 8];
+	bk_emit_info pi[2] = {*info, *info};
+	bk_emit_style st = *style;
+	unsigned inputs = st.inputs ? st.inputs : bk_form_inputs(fa) | bk_form_inputs(fb);
+	st.inputs = inputs;
+	char *code[2] = {NULL, NULL};
+	for (int k = 0; k < 2; k++) {
+		snprintf(part[k], sizeof part[k], "%s_%c", name, "AB"[k]);
+		pi[k].name = part[k];
+		code[k] = bk_form_emit_styled(k ? fb : fa, lang, half, params, &pi[k], &st);
+	}
+	if (!code[0] || !code[1] || bk_lang_reserved(lang, name)) {
+		free(code[0]);
+		free(code[1]);
+		return NULL;
+	}
+	/* the scalar type bk_form_emit_styled wrote: NAME_A's signature line
+	 * opens with it (C: float) */
+	char type[32] = "float";
+	const char *sig = strstr(code[0], " */\n");
+	if (sig && lang != BK_LANG_C) {
+		sig += 4;
+		const char *at = strstr(sig, part[0]);
+		if (at && at > sig && (size_t)(at - sig) <= sizeof type)
+			snprintf(type, sizeof type, "%.*s", (int)(at - sig - 1), sig);
+	}
+	text t = {malloc(1024), 0, 1024, 0};
+	t.failed = !t.s;
+	char ret[32], ctor[32];
+	pair_type(ret, ctor, sizeof ret, type, lang);
+	put(&t, "%s\n%s\n", code[0], code[1]);
+	put(&t, "/* %s: the split sum's A and B at once, as engines call an environment BRDF:\n"
+	        " * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see %s_A and %s_B). */\n", name, name, name);
+	put(&t, "%s%s %s(", lang == BK_LANG_C ? "static inline " : "", ret, name);
+	const char *sep = "";
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (inputs >> i & 1) {
+			put(&t, "%s%s %s", sep, type, bk_input_name((bk_input)i));
+			sep = ", ";
+		}
+	if (lang == BK_LANG_C)
+		put(&t, "%s%s *A, %s *B", sep, type, type);
+	put(&t, ")\n{\n");
+	char args[BK_IN_COUNT * 8] = "";
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (inputs >> i & 1)
+			snprintf(args + strlen(args), sizeof args - strlen(args), "%s%s", *args ? ", " : "",
+			         bk_input_name((bk_input)i));
+	if (lang == BK_LANG_C)
+		put(&t, "\t*A = %s(%s);\n\t*B = %s(%s);\n", part[0], args, part[1], args);
+	else
+		put(&t, "\treturn %s(%s(%s), %s(%s));\n", ctor, part[0], args, part[1], args);
+	put(&t, "}\n");
+	free(code[0]);
+	free(code[1]);
 	if (t.failed) {
 		free(t.s);
 		return NULL;

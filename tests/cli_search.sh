@@ -283,5 +283,22 @@ for args in "--target f --inputs LoH --ops +,*" "--target vf2d --nr 4 --nx 4" "-
 		bad "accepted options refused: $args: $(cat "$T/err")"
 done
 
+# ---- the front in cost order (issue 40): front.csv's rows by ascending cost,
+# ties by error, so "the last row at cost <= C" is the best member there (a
+# half front once listed costs 18 23 19: env_f0_half rendered a cost-5 member)
+# by_cost FILE: the cost column never goes down, and at equal cost nor the error.
+by_cost() {
+	csv_cols "$1" cost error >"$T/ce" && [ -s "$T/ce" ] &&
+		awk -F'\t' 'NR > 1 && ($1 < c || ($1 == c && $2 < e)) { exit 1 } { c = $1; e = $2 }' "$T/ce"
+}
+tiny --evals 600 --start 'p0' --start 'LoH*LoH*p0 + p1' --out "$T/sorted" >/dev/null 2>&1
+by_cost "$T/sorted/front.csv" && ok || bad "front.csv not in cost order: $(csv_col "$T/sorted/front.csv" cost | tr '\n' ' ')"
+[ "$(csv_col "$T/sorted/front.csv" cost | wc -l)" -ge 4 ] && ok || bad "the sorted front has under 4 members"
+# the control: the same rows with the first two swapped are refused
+{ grep '^#' "$T/sorted/front.csv"; grep -v '^#' "$T/sorted/front.csv" | sed -n 1p
+	grep -v '^#' "$T/sorted/front.csv" | sed -n 3p; grep -v '^#' "$T/sorted/front.csv" | sed -n 2p
+	grep -v '^#' "$T/sorted/front.csv" | sed -n '4,$p'; } >"$T/swapped.csv"
+expect_fail "front with two rows swapped" by_cost "$T/swapped.csv"
+
 echo "cli_search: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -772,3 +772,57 @@ Test(emit, constants_out_of_the_precisions_range)
 	const_range("0.5*NoV + exp2(15) + 0*NoL", BK_F16, 0, NULL);
 	const_range("1e-30*NoV + 1e38", BK_F32, 0, NULL);
 }
+
+/* ---- a front member's style: one signature, named constants, the pair's wrapper ----
+ * (bk_emit_style; tests/cli_paste.sh compiles and runs what codegen writes) */
+Test(emit, member_style_signature_and_named_constants)
+{
+	bk_form *f = parse_or_fail("p0*a*LoH + p1*f0");
+	double p[2] = {1.5, 0.25};
+	bk_emit_info info = {.name = "gen"};
+	bk_emit_style st = {1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_F0 | 1u << BK_IN_NOV, 1};
+	char *c = bk_form_emit_styled(f, BK_LANG_C, 0, p, &info, &st);
+	cr_assert_not_null(c);
+	assert_contains(c, "static inline float gen(float NoV, float LoH, float r, float f0)\n{\n"
+	                   "\tfloat a = r * r; /* alpha from the signature's r");
+	assert_contains(c, "\t(void)NoV;\n\tconst float gen_p0 = 1.5f;\n\tconst float gen_p1 = 0.25f;\n");
+	cr_assert_null(strstr(c, "(void)r;"), "r is read (for a):\n%s", c);
+	cr_assert_null(strstr(c, " 1.5f *"), "a parameter written as a literal:\n%s", c);
+	free(c);
+	/* the plain function: the inputs f reads, literals (the control) */
+	c = bk_form_emit(f, BK_LANG_C, 0, p, &info);
+	assert_contains(c, "static inline float gen(float LoH, float a, float f0)");
+	cr_assert_null(strstr(c, "gen_p0"), "%s", c);
+	free(c);
+	/* an input neither taken nor computed: refused */
+	bk_emit_style narrow = {1u << BK_IN_LOH | 1u << BK_IN_F0, 1};
+	cr_assert_null(bk_form_emit_styled(f, BK_LANG_C, 0, p, &info, &narrow));
+	bk_form_free(f);
+}
+
+Test(emit, member_style_pair_wrapper)
+{
+	bk_form *fa = parse_or_fail("p0*NoV"), *fb = parse_or_fail("p1*a");
+	double p[2] = {0.5, 2};
+	bk_emit_info info = {.name = "env"};
+	bk_emit_style st = {1u << BK_IN_NOV | 1u << BK_IN_R, 1};
+	static const struct { bk_lang lang; int half; const char *sig, *body; } want[] = {
+		{BK_LANG_C, 0, "static inline void env(float NoV, float r, float *A, float *B)\n",
+		 "\t*A = env_A(NoV, r);\n\t*B = env_B(NoV, r);\n"},
+		{BK_LANG_GLSL, 0, "highp vec2 env(highp float NoV, highp float r)\n", "\treturn vec2(env_A(NoV, r), env_B(NoV, r));\n"},
+		{BK_LANG_GLSL, 1, "mediump vec2 env(mediump float NoV, mediump float r)\n", "\treturn vec2(env_A(NoV, r), "},
+		{BK_LANG_HLSL, 0, "float2 env(float NoV, float r)\n", "\treturn float2(env_A(NoV, r), env_B(NoV, r));\n"},
+	};
+	for (size_t k = 0; k < sizeof want / sizeof want[0]; k++) {
+		char *s = bk_form_emit_pair(fa, fb, want[k].lang, want[k].half, p, &info, &st);
+		cr_assert_not_null(s);
+		assert_contains(s, want[k].sig);
+		assert_contains(s, want[k].body);
+		/* each part names only the parameters it reads: B reads p1 */
+		cr_assert_null(strstr(s, "env_B_p0"), "%s", s);
+		assert_contains(s, "env_B_p1 = 2");
+		free(s);
+	}
+	bk_form_free(fa);
+	bk_form_free(fb);
+}

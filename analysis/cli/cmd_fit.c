@@ -11,6 +11,7 @@
 #include "fit.h"
 #include "fit_out.h"
 #include "form_check.h"
+#include "member.h"
 #include "heatmap.h"
 
 #include <ctype.h>
@@ -131,7 +132,15 @@ typedef struct forms {
 	const char *text[2];
 	const bk_catalog_entry *entry;
 	int split;
+	int member;  /* --form FILE.csv:NAME: m holds the texts and the starting values */
+	cli_member m;
 } forms;
+
+/* The form in the report's first line: a catalog or member name, else "form". */
+static const char *form_label(const forms *fs)
+{
+	return fs->entry ? fs->entry->name : fs->member ? fs->m.name : "form";
+}
 
 static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 {
@@ -139,7 +148,14 @@ static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
 	if (!!a->form == !!(a->form_a || a->form_b) || (!a->form && !(a->form_a && a->form_b))) {
 		return cli_bad("give --form FORM|NAME, or --form-a and --form-b");
 	}
-	if (a->form && (fs->entry = bk_catalog_find(a->form))) {
+	if (a->form && cli_member_split(a->form)) { /* a front member (member.h): its fitted values start the fit */
+		int rc = cli_member_load(a->form, 1, &fs->m);
+		if (rc)
+			return rc;
+		fs->member = 1;
+		fs->text[0] = fs->m.form;
+		fs->text[1] = fs->m.form_b;
+	} else if (a->form && (fs->entry = bk_catalog_find(a->form))) {
 		fs->text[0] = fs->entry->form;
 		fs->text[1] = fs->entry->form_b;
 	} else if (a->form) {
@@ -189,9 +205,10 @@ typedef struct run {
 static fit_run view(const run *R)
 {
 	const bk_catalog_entry *e = R->fs.entry;
+	const cli_member *m = R->fs.member ? &R->fs.m : NULL;
 	fit_run v = {R->command, &R->to, R->a->domain, &R->s, &R->spec, &R->res,
-	             e ? e->name : R->fs.split ? "form-a/form-b" : R->fs.text[0],
-	             e ? e->name : "brdfkit_fit", e ? e->source : "user form",
+	             e ? e->name : m ? m->name : R->fs.split ? "form-a/form-b" : R->fs.text[0],
+	             e ? e->name : m && m->fname[0] ? m->fname : "brdfkit_fit", e ? e->source : m ? m->source : "user form",
 	             e ? e->convention : "as the target's units (see domain)", R->has_published ? e->defaults : NULL,
 	             R->fs.split, {R->fs.f[0], R->fs.f[1]}, 1, 0, NULL};
 	return v;
@@ -289,7 +306,8 @@ static int setup_spec(run *R, char **pos, int npos)
 	for (int j = 0; j < BK_MAX_PARAMS; j++) {
 		sp->lower[j] = -HUGE_VAL;
 		sp->upper[j] = HUGE_VAL;
-		sp->start[j] = R->fs.entry && j < R->fs.entry->nparams ? R->fs.entry->defaults[j] : NAN;
+		sp->start[j] = R->fs.entry && j < R->fs.entry->nparams ? R->fs.entry->defaults[j]
+		               : R->fs.member && j < R->fs.m.np ? R->fs.m.p[j] : NAN;
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
@@ -546,11 +564,11 @@ static void report(const run *R, int rc)
 	static const char *const term[] = {"converged", "did not converge", "failed"};
 	unsigned t = (unsigned)res->summary.termination;
 	if (R->spec.np == 0) /* the fitter never ran: no iterations, no cost to lower */
-		printf("fit %s on %s: no parameters: evaluated, not fitted\n", R->fs.entry ? R->fs.entry->name : "form",
+		printf("fit %s on %s: no parameters: evaluated, not fitted\n", form_label(&R->fs),
 		       bk_target_name(R->to.kind));
 	else
 		printf("fit %s on %s: %s after %d iterations (%d bound re-solves), cost %.6g -> %.6g, %.2f s\n",
-		       R->fs.entry ? R->fs.entry->name : "form", bk_target_name(R->to.kind),
+		       form_label(&R->fs), bk_target_name(R->to.kind),
 		       rc == 0 ? term[0] : t < 3 && t ? term[t] : term[1], res->summary.iterations,
 		       res->summary.bound_resolves, res->summary.initial_cost, res->summary.final_cost,
 		       res->summary.seconds);
@@ -606,7 +624,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.target, .required = 1},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the target's expression (inputs only, no pN), evaluated in double", .dest = &a.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
-		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME", .help = "the form, or a catalog entry (its constants start the fit)", .dest = &a.form},
+		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME|FILE.csv:MEMBER", .help = "the form, a catalog entry (its constants start the fit) or a member of a search's front.csv (its fitted values start the fit)", .dest = &a.form},
 		{.name = "--form-a", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of A (with --form-b, sharing parameters)", .dest = &a.form_a},
 		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "env: the form of B", .dest = &a.form_b},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
@@ -658,8 +676,10 @@ int cmd_fit(int argc, char **argv)
 	if (bk_target_parse(a.target, &kind)) {
 		return cli_unknown_value("--target", a.target, cli_targets, CLI_NTARGETS);
 	}
-	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs)))
+	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs))) {
+		cli_member_free(&R.fs.m);
 		return rc;
+	}
 	bk_form *wform = NULL;
 	if ((rc = check_applicable(&R, kind)))
 		goto done;
@@ -725,6 +745,7 @@ samples:
 done:
 	bk_form_free(R.fs.f[0]);
 	bk_form_free(R.fs.f[1]);
+	cli_member_free(&R.fs.m);
 	bk_form_free(wform);
 	return rc;
 }

@@ -9,6 +9,7 @@
 #include "cmd.h"
 #include "form_check.h"
 #include "frontcsv.h"
+#include "member.h"
 #include "gpucost.h"
 #include "out.h"
 
@@ -53,6 +54,19 @@ static int param_arg(const char *arg, gc_row *last)
  * evaluating A and B. */
 static int read_row(const char *arg, int index, gc_row *r)
 {
+	if (cli_member_split(arg)) { /* FILE.csv:NAME (member.h): a pair whole, as a catalog pair */
+		cli_member m;
+		int rc = cli_member_load(arg, 1, &m);
+		if (rc)
+			return rc;
+		snprintf(r->name, sizeof r->name, "%.150s", m.fname[0] ? m.fname : m.name);
+		r->text[0] = r->own[0] = m.form; /* the member's texts move to r */
+		r->text[1] = r->own[1] = m.form_b;
+		memcpy(r->params, m.p, sizeof r->params);
+		for (int j = 0; j < m.np; j++)
+			r->have[j] = 1;
+		return 0;
+	}
 	char name[128];
 	const char *colon = strchr(arg, ':');
 	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
@@ -452,10 +466,12 @@ int cmd_gpucost(int argc, char **argv)
 	cli_cmd cmd = {"gpucost", "Compiles each form to AMD machine code with Mesa RADV's null device (the ACO\n"
 	               "compiler; no GPU needed) for each chip, and counts what it costs net of a\n"
 	               "load/store baseline shader: one CSV row per form and chip.",
-	               "'FORM'|NAME [p0=X ...] ... [--chips LIST] [--precision single|half] [--out FILE]\n"
+	               "'FORM'|NAME|FILE.csv:MEMBER [p0=X ...] ... [--chips LIST] [--precision single|half] [--out FILE]\n"
 	               "       brdfkit gpucost --calibrate [FRONT.csv ...] [--chips CHIP] [--out FILE]",
 	               "NAME is a catalog entry with its published constants (NAME:A, NAME:B for one part\n"
-	               "of a split-sum entry; without a part both are evaluated in one shader). The form's\n"
+	               "of a split-sum entry; without a part both are evaluated in one shader).\n"
+	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search with its parameters\n"
+	               "(MEMBER:A, MEMBER:B for one part of a split-sum member). The form's\n"
 	               "GLSL runs in a compute shader that reads its inputs from a storage buffer and\n"
 	               "stores the result, compiled in-process by glslang. Columns: name,form,chip,gfx,\n"
 	               "precision,instructions,vgprs,sgprs,latency,inv_throughput (ACO's statistics),\n"
@@ -488,6 +504,8 @@ int cmd_gpucost(int argc, char **argv)
 	for (int i = 0; rows && i < max; i++) {
 		bk_form_free(rows[i].f[0]);
 		bk_form_free(rows[i].f[1]);
+		free(rows[i].own[0]);
+		free(rows[i].own[1]);
 	}
 	free(rows);
 	free(jobs);

@@ -12,7 +12,7 @@
 #include "out.h"
 #include "cmd.h"
 #include "form_check.h"
-#include "frontcsv.h"
+#include "member.h"
 
 #include <errno.h>
 #include <math.h>
@@ -30,85 +30,32 @@ typedef struct form_arg {
 	char label[160];
 	char fname[BK_NAME_MAX + 1];   /* codegen's default function name; "" for none */
 	char source[600], domain[600], error[160]; /* a front member's provenance */
+	unsigned signature;            /* a front member: its front's one signature (member.h) */
 } form_arg;
 
-/* The split of FILE.csv:NAME[:A|:B]: at the last ".csv:" (forms have no ':';
- * a path may, a member name may not hold ".csv:"). NULL: not a member. */
-static const char *member_split(const char *arg)
-{
-	const char *at = NULL;
-	for (const char *s = strstr(arg, ".csv:"); s; s = strstr(s + 1, ".csv:"))
-		at = s;
-	return at ? at + 4 : NULL;
-}
-
 /* FILE.csv:NAME: the member's form (or form_b for :B), its parameters
- * baked in like a catalog entry's constants, and its provenance from the
- * file's '#' lines and row. text is malloc'd. */
-static int load_member(const char *arg, const char *colon, form_arg *fa, char **text)
+ * baked in like a catalog entry's constants, and its provenance
+ * (member.h). text is malloc'd. */
+static int load_member(const char *arg, form_arg *fa, char **text)
 {
-	char path[1024], err[600];
-	if ((size_t)(colon - arg) >= sizeof path)
-		return cli_bad("%.40s...: path too long", arg);
-	memcpy(path, arg, (size_t)(colon - arg));
-	path[colon - arg] = '\0';
-	const char *rest = colon + 1;
-	bk_frontcsv fc;
-	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS | BK_FRONTCSV_SCORES, &fc, err, sizeof err))
-		return cli_bad("%s", err);
-	if (fc.head.kind != BK_FRONTCSV_FRONT) {
-		bk_frontcsv_free(&fc);
-		return cli_bad("%s: not a front.csv of brdfkit search (no '# brdfkit ... search front' line)", path);
-	}
-	/* NAME exactly, else NAME:PART split at the last ':' */
-	const char *part = NULL;
-	size_t nlen = strlen(rest);
-	const bk_frontcsv_row *r = NULL;
-	for (int pass = 0; pass < 2 && !r; pass++) {
-		if (pass == 1) {
-			part = strrchr(rest, ':');
-			if (!part)
-				break;
-			nlen = (size_t)(part++ - rest);
-		}
-		for (int i = 0; i < fc.n && !r; i++)
-			if (strlen(fc.row[i].name) == nlen && !strncmp(fc.row[i].name, rest, nlen))
-				r = &fc.row[i];
-	}
-	int rc = 0;
-	if (!r) {
-		rc = cli_bad("%s: no member '%s' (%d members: %s%s%s%s)", path, rest, fc.n, fc.n ? fc.row[0].name : "",
-		             fc.n > 1 ? ", " : "", fc.n > 1 ? fc.row[1].name : "", fc.n > 2 ? ", ..." : "");
-	} else if (r->form_b && !part) {
-		rc = cli_bad("'%s' has two forms (split sum): write %s:A or %s:B", r->name, arg, arg);
-	} else if (part && (!r->form_b || (strcmp(part, "A") && strcmp(part, "a") && strcmp(part, "B") &&
-	                                   strcmp(part, "b")))) {
-		rc = cli_bad("'%s': unknown part '%s'", r->name, part);
-	}
-	int want_b = part && (*part == 'B' || *part == 'b');
-	if (!rc && !(*text = strdup(want_b ? r->form_b : r->form)))
-		rc = cli_fail(NULL, "out of memory");
-	if (rc) {
-		bk_frontcsv_free(&fc);
+	cli_member m;
+	int rc = cli_member_load(arg, 0, &m);
+	if (rc)
 		return rc;
-	}
 	fa->named = fa->member = 1;
-	for (int i = 0; i < r->np; i++) {
-		fa->params[i] = r->p[i];
+	for (int i = 0; i < m.np; i++) {
+		fa->params[i] = m.p[i];
 		fa->have[i] = 1;
 	}
 	snprintf(fa->label, sizeof fa->label, "%s%s", arg, "");
-	/* too long a name leaves fname "": codegen's default brdfkit_form */
-	if (snprintf(fa->fname, sizeof fa->fname, "%s%s", r->name, part ? (want_b ? "_B" : "_A") : "") >=
-	    (int)sizeof fa->fname)
-		fa->fname[0] = '\0';
-	if (snprintf(fa->source, sizeof fa->source, "member %s of %s (brdfkit search front)", r->name, path) < 0)
-		fa->source[0] = '\0';
-	snprintf(fa->domain, sizeof fa->domain, "%s", fc.head.target[0] ? fc.head.target : "not stated in the file");
-	snprintf(fa->error, sizeof fa->error, "%s %.6g in %s precision on the target's samples (%s)",
-	         fc.head.objective[0] ? fc.head.objective : "error", r->error,
-	         fc.head.precision[0] ? fc.head.precision : "unstated", r->form_b ? "A and B as a pair" : "one form");
-	bk_frontcsv_free(&fc);
+	snprintf(fa->fname, sizeof fa->fname, "%s", m.fname);
+	snprintf(fa->source, sizeof fa->source, "%s", m.source);
+	snprintf(fa->domain, sizeof fa->domain, "%s", m.domain);
+	snprintf(fa->error, sizeof fa->error, "%s", m.errtext);
+	fa->signature = m.signature;
+	*text = m.form;
+	m.form = NULL;
+	cli_member_free(&m);
 	return 0;
 }
 
@@ -116,10 +63,10 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 {
 	memset(fa, 0, sizeof *fa);
 	char name[128];
-	const char *colon = member_split(arg);
+	const char *colon = cli_member_split(arg);
 	if (colon) {
 		char *mtext = NULL;
-		int rc = load_member(arg, colon, fa, &mtext);
+		int rc = load_member(arg, fa, &mtext);
 		if (rc)
 			return rc;
 		bk_form_error err;
@@ -459,8 +406,55 @@ static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", 
 static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
                                         sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
 
+static int write_code(char *text, const char *out);
+
+/* FILE.csv:NAME of a split-sum pair without a part: NAME_A, NAME_B and NAME
+ * returning both as engines call it (bk_form_emit_pair), in the front's one
+ * signature with named constants. -1 when the member is one form (the
+ * one-form path takes it), else the exit status (a bad member: 2 after the
+ * reader's line). */
+static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, const char *fname, const char *out,
+                        const char *command)
+{
+	cli_member m;
+	int rc = cli_member_load(cmd->pos[0], 1, &m);
+	if (rc)
+		return rc;
+	if (!m.form_b) {
+		cli_member_free(&m);
+		return -1;
+	}
+	bk_form *f[2] = {bk_form_parse(m.form, NULL), bk_form_parse(m.form_b, NULL)};
+	if (cmd->npos > 1)
+		rc = cli_bad("'%s': a member's parameters are baked in ('%s'): give MEMBER:A or MEMBER:B to change one",
+		             cmd->pos[0], cmd->pos[1]);
+	else if (!f[0] || !f[1])
+		rc = cli_fail("codegen", "out of memory"); /* the reader parsed both */
+	for (int k = 0; k < 2 && !rc; k++)
+		rc = form_check_finite("codegen", cmd->pos[0], f[k], m.p);
+	for (int k = 0; k < 2 && !rc; k++)
+		form_warn_precision("codegen", cmd->pos[0], f[k], m.p, half ? BK_F16 : BK_F32);
+	if (!fname && m.fname[0] && identifier(m.fname) && !bk_lang_reserved(L, m.fname))
+		fname = m.fname;
+	bk_emit_info info = {
+		.name = fname,
+		.source = m.source,
+		.conventions = "r perceptual roughness, a = r^2; split sum: f0 A + B = integral of D V F NoL",
+		.domain = m.domain,
+		.error = m.errtext,
+		.command = command,
+	};
+	bk_emit_style style = {m.signature, 1};
+	char *text = rc ? NULL : bk_form_emit_pair(f[0], f[1], L, half, m.p, &info, &style);
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+	cli_member_free(&m);
+	return rc ? rc : write_code(text, out);
+}
+
 int cmd_codegen(int argc, char **argv)
 {
+	char command_line[2048];
 	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
 		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
@@ -476,6 +470,10 @@ int cmd_codegen(int argc, char **argv)
 	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
 	               "the same way, and the comment's source, fitted domain and fitted error come from the\n"
 	               "file (its target line, the member's error with the objective and precision stated).\n"
+	               "Every member of a front is written with one signature (the inputs its members read, r\n"
+	               "for a: a = r*r computed first) and its constants named NAME_p0, ...; a split-sum member\n"
+	               "without a part as NAME_A, NAME_B and NAME(NoV, r) returning both (vec2, float2; C: two\n"
+	               "pointers), as engines call an environment BRDF.\n"
 	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
 	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
@@ -514,6 +512,9 @@ int cmd_codegen(int argc, char **argv)
 	}
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
+	shell_words(command_line, sizeof command_line, "brdfkit codegen", argc, argv);
+	if (cli_member_split(cmd.pos[0]) && (rc = codegen_pair(&cmd, L, half, fname, out, command_line)) != -1)
+		return rc;
 	form_arg fa;
 	if ((rc = load_form("codegen", cmd.pos[0], &fa)))
 		return rc;
@@ -521,10 +522,8 @@ int cmd_codegen(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	char command[2048];
 	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname))
 		fname = fa.fname;
-	shell_words(command, sizeof command, "brdfkit codegen", argc, argv);
 	bk_emit_info info = {
 		.name = fname,
 		.source = fa.entry ? fa.entry->source : fa.named ? fa.source : "user form",
@@ -532,8 +531,11 @@ int cmd_codegen(int argc, char **argv)
 		                        : "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV); NoL not included",
 		.domain = fa.domain[0] ? fa.domain : NULL,
 		.error = fa.error[0] ? fa.error : NULL,
-		.command = command,
+		.command = command_line,
 	};
+	/* a member: its front's one signature and its constants named, so that
+	 * members swap at one call site */
+	bk_emit_style style = {fa.member ? fa.signature : 0, fa.member};
 	if ((rc = form_check_finite("codegen", fa.named ? fa.label : "form", fa.f, fa.params))) {
 		bk_form_free(fa.f);
 		return rc;
@@ -546,11 +548,17 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
 		        what);
-	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
+	char *text = bk_form_emit_styled(fa.f, L, half, fa.params, &info, &style);
 	bk_form_free(fa.f);
+	return write_code(text, out);
+}
+
+/* text (malloc'd, freed here; NULL: out of memory) to stdout or --out FILE. */
+static int write_code(char *text, const char *out)
+{
+	int rc = 0;
 	if (!text)
 		return cli_fail("codegen", "code generation failed (out of memory)");
-	rc = 0;
 	if (!out) {
 		fputs(text, stdout);
 	} else {

@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "csvtab.h"
 #include "form_check.h"
+#include "member.h"
 #include "out.h"
 #include "render.h"
 #include "render_write.h"
@@ -31,6 +32,7 @@ typedef struct item {
 	double params[BK_MAX_PARAMS];
 	int have[BK_MAX_PARAMS];
 	bk_render_term term;
+	int member;                        /* a front member: its parameter count (else 0) */
 	bk_form *f, *fb;
 	float *img[BK_RI_COUNT];
 	char *shader[2];
@@ -65,8 +67,10 @@ static int name_ok(const char *s)
 }
 
 /* Resolves and checks one candidate: a catalog NAME (its published
- * parameters, its target's term unless term is given) or a form. 0, or 2
- * after one line naming the input. */
+ * parameters, its target's term unless term is given), a front member
+ * FILE.csv:NAME (its fitted parameters, its front's target's term unless
+ * term is given, named NAME unless name is) or a form. 0, or 2 after one
+ * line naming the input. */
 static int resolve(item *it, const char *name, const char *form, const char *form_b, const char *params,
                    const char *term)
 {
@@ -74,15 +78,38 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 		form_b = NULL;
 	if (params && !*params)
 		params = NULL;
-	const bk_catalog_entry *e = bk_catalog_find(form);
-	snprintf(it->name, sizeof it->name, "%s", name ? name : e ? e->name : "candidate");
+	const bk_catalog_entry *e = cli_member_split(form) ? NULL : bk_catalog_find(form);
+	cli_member m = {0};
+	if (!e && cli_member_split(form)) { /* FILE.csv:NAME (member.h): a pair whole */
+		int rc = cli_member_load(form, 1, &m);
+		if (rc)
+			return rc;
+	}
+	snprintf(it->name, sizeof it->name, "%.63s",
+	         name ? name : e ? e->name : m.form ? (m.fname[0] ? m.fname : m.name) : "candidate");
 	if (!name_ok(it->name)) {
+		cli_member_free(&m);
 		return cli_bad("name '%.80s': use 1 to 63 of A-Z a-z 0-9 _ . - (not first . or -)", it->name);
 	}
 	if (term && bk_render_term_parse(term, &it->term)) {
+		cli_member_free(&m);
 		return cli_bad("%s: --term: expected vf2d, vf, d, v, f, dvf or env, got '%.40s'", it->name, term);
 	}
-	if (e) {
+	if (m.form) { /* the member's texts move to it; its target is the term unless --term says */
+		it->member = m.np;
+		it->form = m.form;
+		it->form_b = m.form_b;
+		memcpy(it->params, m.p, sizeof it->params);
+		for (int j = 0; j < m.np; j++)
+			it->have[j] = 1;
+		if (!term && bk_render_term_parse(m.target, &it->term)) {
+			return cli_bad("%s: its front's target '%s' replaces no term of the render (give --term)", it->name,
+			               m.target);
+		}
+		if (form_b) {
+			return cli_bad("%s: --form-b: a front member brings its own B", it->name);
+		}
+	} else if (e) {
 		it->form = strdup(e->form);
 		it->form_b = dup_or_null(e->form_b);
 		memcpy(it->params, e->defaults, sizeof it->params);
@@ -114,11 +141,13 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 		for (int j = 0; j < BK_MAX_PARAMS; j++)
 			it->have[j] |= given[j];
 		it->params_text = strdup(params);
-	} else if (e) {
+	} else if (e || it->member) { /* the published values (9 digits, as the catalog states them) or the
+	                                * fitted ones (17, as front.csv writes them) */
 		char buf[1024] = "";
 		size_t len = 0;
-		for (int j = 0; j < e->nparams && len < sizeof buf - 40; j++)
-			len += (size_t)snprintf(buf + len, sizeof buf - len, "%sp%d=%.9g", j ? ";" : "", j, e->defaults[j]);
+		for (int j = 0, np = e ? e->nparams : it->member; j < np && len < sizeof buf - 40; j++)
+			len += (size_t)snprintf(buf + len, sizeof buf - len, e ? "%sp%d=%.9g" : "%sp%d=%.17g", j ? ";" : "",
+			                        j, it->params[j]);
 		it->params_text = strdup(buf);
 	}
 	bk_form_error fe;
@@ -326,7 +355,7 @@ int cmd_render(int argc, char **argv)
 	long size = 640;
 	cli_list rough = {5, {0.1, 0.25, 0.5, 0.75, 1}};
 	cli_opt opts[] = {
-		{.name = "--form", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "the candidate: a catalog name (its published parameters and target) or a form", .dest = &form},
+		{.name = "--form", .kind = CLI_FORM, .metavar = "NAME|FILE.csv:MEMBER|FORM", .help = "the candidate: a catalog name (its published parameters and target), a member of a search's front.csv (its fitted parameters and target) or a form", .dest = &form},
 		{.name = "--form-b", .kind = CLI_FORM, .metavar = "FORM", .help = "with --term env: B of f0 A + B (--form is then A)", .dest = &form_b},
 		{.name = "--params", .kind = CLI_STR, .metavar = "p0=X;p1=Y", .help = "parameter values (front.csv's parameters column; override a catalog entry's)", .dest = &params},
 		{.name = "--term", .kind = CLI_STR, .metavar = "vf2d|vf|d|v|f|dvf|env", .help = "the term the candidate replaces (default: a catalog entry's target)", .dest = &term},
@@ -346,9 +375,11 @@ int cmd_render(int argc, char **argv)
 	               "on Mesa's lavapipe (software Vulkan; no GPU needed) in f32 and in float16_t, as a mobile\n"
 	               "mediump shader computes. Writes linear EXR, sRGB PNG, the display difference at a stated\n"
 	               "scale, per-sphere counts (spheres.csv) and a page section.",
-	               "--form NAME|FORM [--form-b FORM] [--params p0=X;...] [--term T] --out DIR | --batch CSV --out DIR",
+	               "--form NAME|FILE.csv:MEMBER|FORM [--form-b FORM] [--params p0=X;...] [--term T] --out DIR | --batch CSV --out DIR",
 	               "Terms: vf (vf2d) replaces V·F in D·V·F·NoL; d, v, f one factor; dvf the whole D·V·F; env\n"
 	               "the environment BRDF f0 A + B (a form reading f0, or --form A --form-b B).\n"
+	               "FILE.csv:MEMBER (--form, or a batch's form column) is a member of a front.csv of brdfkit\n"
+	               "search: its form(s), fitted parameters and the term of its front's target.\n"
 	               "Difference images: the largest over R, G, B of |display(candidate) - display(exact f32)|,\n"
 	               "display = sRGB of Reinhard x/(1 + x), times 8 (a ramp black-red-yellow-white); magenta\n"
 	               "marks non-finite pixels. The summary's max and mean are over the pixels where the exact\n"

@@ -11,6 +11,7 @@
 #include "cmd.h"
 #include "form_check.h"
 #include "heatmap.h"
+#include "member.h"
 #include "page.h"
 #include "search/pair.h"
 #include "stability.h"
@@ -69,10 +70,30 @@ typedef struct item {
 	int have[BK_MAX_PARAMS];
 } item;
 
-/* Returns 0, or -1 if out of memory. */
+/* FILE.csv:NAME (member.h): the member's form (a pair whole, as a catalog
+ * pair is analysed) and parameters, named NAME (NAME_A, NAME_B for a part).
+ * Returns 0, -1 if out of memory, or 2 after a line naming the input. */
+static int resolve_member(const char *arg, item *it)
+{
+	cli_member m;
+	int rc = cli_member_load(arg, 1, &m);
+	if (rc)
+		return rc == 1 ? -1 : rc;
+	snprintf(it->name, sizeof it->name, "%s", m.fname[0] ? m.fname : m.name);
+	it->text = m.form_b ? bk_pair_dup(m.form, m.form_b) : strdup(m.form);
+	memcpy(it->params, m.p, sizeof it->params);
+	for (int j = 0; j < m.np; j++)
+		it->have[j] = 1;
+	cli_member_free(&m);
+	return it->text ? 0 : -1;
+}
+
+/* Returns 0, -1 if out of memory, or 2 after a usage line. */
 static int resolve(const char *arg, item *it)
 {
 	memset(it, 0, sizeof *it);
+	if (cli_member_split(arg))
+		return resolve_member(arg, it);
 	snprintf(it->name, sizeof it->name, "%s", arg);
 	const bk_catalog_entry *e = bk_catalog_find(arg);
 	const bk_term *t = bk_term_find(arg);
@@ -321,14 +342,15 @@ int cmd_stability(int argc, char **argv)
 	               "0.99999, f0 from 0) in half, single and double precision against long double; reports\n"
 	               "NaN, Inf, overflow past 65504, subnormals, the largest error, where it breaks, the minimum\n"
 	               "safe inputs in half, and guards that fix it with the error each adds.",
-	               "FORM|NAME|TERM ... [pN=VALUE ...] [--out DIR] | --all --out DIR",
+	               "FORM|NAME|TERM|FILE.csv:MEMBER ... [pN=VALUE ...] [--out DIR] | --all --out DIR",
 	               "A precision is judged against the long-double value at inputs rounded as it holds them\n"
 	               "(half: mediump); where that rounding alone moves the value by more than the tolerance\n"
 	               "the sample is ill conditioned (reported apart: 1 - NoH^2 near the highlight). NaN or\n"
 	               "Inf where that value is finite is always wrong.\n"
 	               "Parameters: pN=VALUE, for every form given; a typed form must have a value for each\n"
 	               "parameter it uses, and a catalog entry's published values apply unless pN=VALUE\n"
-	               "overrides them.",
+	               "overrides them. FILE.csv:MEMBER is a member of a front.csv of brdfkit search with its\n"
+	               "fitted parameters (a split-sum member's pair whole, or MEMBER:A or MEMBER:B).",
 	               opts, 4, 32, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){out ? TO_DIR : TO_STDOUT})))
@@ -381,9 +403,9 @@ int cmd_stability(int argc, char **argv)
 			if (given[j])
 				items[i].params[j] = values[j], items[i].have[j] = 1;
 	}
-	if (rc)
+	if (rc == -1)
 		rc = cli_fail("stability", "out of memory");
-	else
+	else if (rc == 0)
 		rc = check_params(&cmd, items, n, given);
 	for (int i = 0; i < n && rc == 0; i++) {
 		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {

@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "compare.h"
 #include "form_check.h"
+#include "member.h"
 
 #include <errno.h>
 #include <math.h>
@@ -62,6 +63,34 @@ static int catalog_row(const char *arg, bk_compare_row *r, int *have)
 	return 1;
 }
 
+/* FILE.csv:NAME (member.h): 0 when arg names no member, 1 when it does, 2
+ * after its line on stderr (a bad member, or out of memory). A split-sum member
+ * without a part is timed as one evaluation of A and B, as a catalog pair. */
+static int member_row(const char *arg, bk_compare_row *r, int *have)
+{
+	if (!cli_member_split(arg))
+		return 0;
+	cli_member m;
+	int rc = cli_member_load(arg, 1, &m);
+	if (rc)
+		return 2;
+	if (strlen(m.form) >= sizeof r->form || (m.form_b && strlen(m.form_b) >= sizeof r->form_b)) {
+		cli_member_free(&m);
+		return cli_bad("%s: form longer than %zu characters", arg, sizeof r->form - 1);
+	}
+	snprintf(r->form, sizeof r->form, "%s", m.form);
+	snprintf(r->form_b, sizeof r->form_b, "%s", m.form_b ? m.form_b : "");
+	snprintf(r->name, sizeof r->name, "%s", m.fname[0] ? m.fname : m.name);
+	snprintf(r->kind, sizeof r->kind, "member");
+	snprintf(r->source, sizeof r->source, "%.255s", m.source);
+	r->nparams = m.np;
+	memcpy(r->params, m.p, sizeof r->params);
+	for (int i = 0; i < m.np; i++)
+		have[i] = 1;
+	cli_member_free(&m);
+	return 1;
+}
+
 static int typed_row(const char *arg, int index, bk_compare_row *r)
 {
 	if (strlen(arg) >= sizeof r->form) {
@@ -96,7 +125,8 @@ static int read_rows(char **pos, int npos, time_table *T)
 			continue;
 		}
 		int j = T->n++;
-		if ((rc = catalog_row(pos[i], &T->rows[j], T->have[j])) == 2)
+		if ((rc = member_row(pos[i], &T->rows[j], T->have[j])) == 2 ||
+		    (rc == 0 && (rc = catalog_row(pos[i], &T->rows[j], T->have[j])) == 2))
 			return 2;
 		T->typed[j] = rc == 0;
 		if (rc == 0 && typed_row(pos[i], T->n, &T->rows[j]))
@@ -233,8 +263,9 @@ int cmd_time(int argc, char **argv)
 	cli_cmd cmd = {"time", "Measures what forms cost: CPU ns per evaluation of the generated C (cc -std=c11 -O2,\n"
 	               "no fast-math, scalar), the IR's op counts and the SPIR-V instructions of the\n"
 	               "generated GLSL after spirv-opt -O. One CSV row per form.",
-	               "'FORM'|NAME [p0=X ...] ['FORM'|NAME [p0=X ...] ...] [--reps N] [--out FILE]",
-	               "NAME is a catalog entry (brdfkit catalog) with its published constants; a split-sum\n"
+	               "'FORM'|NAME|FILE.csv:MEMBER [p0=X ...] ['FORM'|NAME [p0=X ...] ...] [--reps N] [--out FILE]",
+	               "NAME is a catalog entry (brdfkit catalog) with its published constants, FILE.csv:MEMBER\n"
+	               "a member of a front.csv of brdfkit search with its parameters (the same); a split-sum\n"
 	               "entry is timed as one evaluation of A and B together (form column 'A; B', op counts\n"
 	               "and SPIR-V summed), NAME:A or NAME:B for one part. pN=X after a typed FORM gives its\n"
 	               "parameters. Every form runs over the same 2^20 inputs (cosines in (0.01, 1],\n"

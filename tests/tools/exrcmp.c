@@ -8,6 +8,12 @@
  * prints "exrcmp: N values, K outside, max |B - A| / (rel |A| + abs) X, at
  * (x, y) channel C" and exits 0 when K = 0, 1 when K > 0, 2 on an unreadable
  * file or images of other sizes or channels.
+ *
+ *   exrcmp --pixel A.exr X Y
+ *
+ * prints pixel (X, Y) (y down) of A, each channel as "NAME VALUE" (%.9g, a
+ * float exactly) on one line, for tests/cli_render_scene.sh; exit 2 when the
+ * file is unreadable or the pixel outside it.
  */
 #include "exr.h"
 
@@ -16,10 +22,38 @@
 #include <stdlib.h>
 #include <string.h>
 
+static int pixel(const char *path, const char *xs, const char *ys)
+{
+	bk_exr_image a = {0};
+	char err[600], *e1, *e2;
+	long x = strtol(xs, &e1, 10), y = strtol(ys, &e2, 10);
+	if (*e1 || *e2 || !*xs || !*ys) {
+		fprintf(stderr, "exrcmp: --pixel: X and Y are integers, got '%s' '%s'\n", xs, ys);
+		return 2;
+	}
+	if (bk_exr_read(path, &a, err, sizeof err)) {
+		fprintf(stderr, "exrcmp: %s\n", err);
+		return 2;
+	}
+	int rc = 0;
+	if (x < 0 || y < 0 || x >= a.width || y >= a.height) {
+		fprintf(stderr, "exrcmp: %s: pixel (%ld, %ld) outside %dx%d\n", path, x, y, a.width, a.height);
+		rc = 2;
+	}
+	for (int c = 0; !rc && c < a.nchan; c++)
+		printf("%s%s %.9g", c ? " " : "", a.names[c], a.data[c][(size_t)y * (size_t)a.width + (size_t)x]);
+	if (!rc)
+		putchar('\n');
+	bk_exr_image_free(&a);
+	return rc;
+}
+
 int main(int argc, char **argv)
 {
+	if (argc == 5 && !strcmp(argv[1], "--pixel"))
+		return pixel(argv[2], argv[3], argv[4]);
 	if (argc != 5) {
-		fprintf(stderr, "usage: exrcmp A.exr B.exr REL ABS\n");
+		fprintf(stderr, "usage: exrcmp A.exr B.exr REL ABS | exrcmp --pixel A.exr X Y\n");
 		return 2;
 	}
 	bk_exr_image a = {0}, b = {0};
