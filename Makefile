@@ -55,6 +55,8 @@ FUZZ_DEBS = clang libclang-rt-14-dev
 PAGE_DEBS = chromium   # the results page is opened headless by tests/page.sh
 # tests/notebook.sh runs notebooks_data/figures.ipynb (skipped where these are missing)
 NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matplotlib
+# tests/cli_formula.sh executes codegen --lang sympy's snippets against brdfkit eval
+FORMULA_DEBS = python3-sympy
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -204,7 +206,7 @@ TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/v
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
-	$(call need,$(NOTEBOOK_DEBS))
+	$(call need,$(NOTEBOOK_DEBS) $(FORMULA_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html

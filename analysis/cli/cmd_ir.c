@@ -7,6 +7,7 @@
  * ':').
  */
 #include "brdf.h"
+#include "brdf_math.h"
 #include "catalog.h"
 #include "cli.h"
 #include "out.h"
@@ -447,15 +448,17 @@ static int identifier(const char *s)
 /* codegen: --precision picks GLSL's qualifier or HLSL's half/float; the C
  * output is float whatever it says. */
 static const cli_dim codegen_dims[] = {
-	{"lang", {"c", "glsl", "hlsl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl"}},
+	{"lang", {"c", "glsl", "hlsl", "latex", "sympy"},
+	 {" with --lang c", " with --lang glsl", " with --lang hlsl", " with --lang latex", " with --lang sympy"}},
 };
 static const cli_rule codegen_rules[] = {
-	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "half"},
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "it picks a shader's float type: C is float only, LaTeX and SymPy have none", "half"},
 	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
 };
-static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", NULL};
+static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", "--lang latex NoV",
+                                             "--lang sympy NoV", NULL};
 static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
                                         sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
 
@@ -463,14 +466,14 @@ int cmd_codegen(int argc, char **argv)
 {
 	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
-		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
+		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl|latex|sympy", .help = "target language (latex: an equation, sympy: a Python snippet)", .dest = &lang, .required = 1},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
+	               "--lang c|glsl|hlsl|latex|sympy [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
 	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
 	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
@@ -480,18 +483,22 @@ int cmd_codegen(int argc, char **argv)
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
 	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
 	               "sample where it has a value (+inf, NaN, or not 0 but 0 or subnormal) is warned about\n"
-	               "on stderr (exit 0), as is a constant the precision cannot hold.",
+	               "on stderr (exit 0), as is a constant the precision cannot hold.\n"
+	               "latex writes an equation (the constants as the shaders hold them); sympy a Python\n"
+	               "snippet defining the symbols, params (exact values), expr and fitted = expr.subs(params),\n"
+	               "with brdfkit's meanings (pow is x**y for x > 0, mix(x, y, t) = x + (y - x)*t).",
 	               opts, 4, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	static const char *const langs[] = {"c", "glsl", "hlsl"};
-	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL};
-	int li = cli_choice("--lang", lang, langs, 3);
+	static const char *const langs[] = {"c", "glsl", "hlsl", "latex", "sympy"};
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C, BK_LANG_C};
+	int li = cli_choice("--lang", lang, langs, 5);
 	if (li < 0)
 		return 2;
 	bk_lang L = lang_of[li];
-	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
+	int math = li >= 3; /* latex, sympy: brdf_math.h, the name checked as for C */
+	if ((rc = cli_applicable(&cmd, (int[]){li})))
 		return rc;
 	cli_prec prec;
 	if ((rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
@@ -540,13 +547,15 @@ int cmd_codegen(int argc, char **argv)
 	}
 	/* A clamp whose bounds are out of order is hi everywhere: spelled
 	 * min(max()), defined; a warning like the precision's (form_check.h). */
-	form_warn_precision("codegen", fa.named ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
+	if (!math)
+		form_warn_precision("codegen", fa.named ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
 	char what[200];
-	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
+	if (!math && bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
 		        what);
-	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
+	char *text = math ? bk_form_math_doc(fa.f, li == 3 ? BK_MATH_LATEX : BK_MATH_SYMPY, fa.params, &info)
+	                  : bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);
 	if (!text)
 		return cli_fail("codegen", "code generation failed (out of memory)");
