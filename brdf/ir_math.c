@@ -518,7 +518,7 @@ static char *print(const bk_form *f, bk_math_lang lang, const double *params, in
 static void expression(printer *p, const void *out)
 {
 	if (p->lang == BK_MATH_MATHML)
-		fputs("<math display=\"block\"><mrow>", p->o);
+		fputs("<math><mrow>", p->o);
 	node(p, *(const int *)out, 0);
 	if (p->lang == BK_MATH_MATHML)
 		fputs("</mrow></math>", p->o);
