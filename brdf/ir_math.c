@@ -172,9 +172,37 @@ static int is_number(const printer *p, int i)
 
 /* The factor of a product (MUL, MAD's a b) written first: a number before
  * the rest (4·LoH, as papers write it; the product commutes), else a. */
+/* The factors of a product written as one: the operands of nested MULs
+ * (not MAD), the numbers first (4·LoH, as papers write it), each other
+ * factor in its order; the product commutes, so this is a display choice.
+ * Into f (cap entries: a deeper chain stays nested); returns the count. */
+enum { FACTORS = 32 };
+static int gather(const printer *p, int i, int *f, int n)
+{
+	const bk_instr *in = &p->code[i];
+	if (in->op == BK_OP_MUL && n + 2 <= FACTORS) {
+		n = gather(p, in->a, f, n);
+		return gather(p, in->b, f, n);
+	}
+	f[n] = i;
+	return n + 1;
+}
+
+static int factors(const printer *p, int a, int b, int *f)
+{
+	int g[FACTORS], n = gather(p, b, g, gather(p, a, g, 0)), k = 0;
+	for (int pass = 0; pass < 2; pass++)
+		for (int j = 0; j < n; j++)
+			if (is_number(p, g[j]) == !pass)
+				f[k++] = g[j];
+	return k;
+}
+
 static int factor_first(const printer *p, const bk_instr *in)
 {
-	return is_number(p, in->b) && !is_number(p, in->a) ? in->b : in->a;
+	int f[FACTORS];
+	factors(p, in->a, in->b, f);
+	return f[0];
 }
 
 /* 1 if register i is written with a leading minus. */
@@ -355,11 +383,35 @@ static double number_value(const printer *p, int i)
 	return in->op == BK_OP_CONST ? in->k : p->params[in->slot];
 }
 
-/* a b of MUL or MAD, factor_first's first. */
+/* a b of MUL or MAD as factors() orders them, a factor repeated (the same
+ * register: a shared subexpression) written once as a power: LoH^2. */
 static void product(printer *p, const bk_instr *in)
 {
-	int first = factor_first(p, in);
-	infix(p, first, '*', first == in->a ? in->b : in->a, P_MUL);
+	int f[FACTORS], n = factors(p, in->a, in->b, f), done[FACTORS] = {0};
+	if (p->lang == BK_MATH_MATHML)
+		fputs("<mrow>", p->o);
+	for (int j = 0, first = 1; j < n; j++) {
+		if (done[j])
+			continue;
+		int times = 0;
+		for (int k = j; k < n; k++)
+			if (f[k] == f[j])
+				times += done[k] = 1;
+		if (!first)
+			put_op(p, '*');
+		if (times == 1) {
+			operand(p, f[j], P_MUL, first);
+		} else {
+			if (p->lang == BK_MATH_MATHML)
+				fputs("<msup>", p->o);
+			operand(p, f[j], P_ATOM, 0);
+			fprintf(p->o, p->lang == BK_MATH_LATEX ? "^{%d}" : p->lang == BK_MATH_SYMPY ? "**%d" : "<mn>%d</mn></msup>",
+			        times);
+		}
+		first = 0;
+	}
+	if (p->lang == BK_MATH_MATHML)
+		fputs("</mrow>", p->o);
 }
 
 /* "+ b", or "- 0.5" for a negative number b (not "+ (-0.5)"). */

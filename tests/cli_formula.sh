@@ -154,7 +154,7 @@ if balanced "$T/l2.tex"; then bad "control: a dropped \\right passed"; else ok; 
 # product, the terms in the IR's canonical order); the control is a
 # different constant.
 "$BK" codegen --lang latex --name my_f 'f0/(LoH*LoH*(r + p0)) + sqrt(NoV)*2 + exp2(-NoV) - 0.25' p0=0.5 >"$T/k.tex"
-want='\mathrm{my\_f}\left(\mathrm{NoV}, \mathrm{LoH}, r, f_0\right) = 2 \cdot \sqrt{\mathrm{NoV}} + \frac{f_0}{\mathrm{LoH} \cdot \mathrm{LoH} \cdot \left(r + 0.5\right)} + 2^{-\mathrm{NoV}} - 0.25'
+want='\mathrm{my\_f}\left(\mathrm{NoV}, \mathrm{LoH}, r, f_0\right) = 2 \cdot \sqrt{\mathrm{NoV}} + \frac{f_0}{\mathrm{LoH}^{2} \cdot \left(r + 0.5\right)} + 2^{-\mathrm{NoV}} - 0.25'
 got=$(grep '^\\mathrm' "$T/k.tex")
 if [ "$got" = "$want" ]; then ok; else bad "latex of a known form:"; printf '  got  %s\n  want %s\n' "$got" "$want"; fi
 "$BK" codegen --lang latex --name my_f 'f0/(LoH*LoH*(r + p0)) + sqrt(NoV)*2 + exp2(-NoV) - 0.25' p0=0.6 >"$T/k2.tex"

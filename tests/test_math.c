@@ -30,14 +30,15 @@ static void expect(const char *text, bk_math_lang lang, const double *p, int dig
 }
 
 /* f0/(LoH*LoH*(r + p0)) at p0 = 0.5: a fraction over a product whose last
- * factor is a sum (parenthesised), f0 as f with subscript 0, LoH one word. */
+ * factor is a sum (parenthesised), LoH*LoH (one register, shared) as LoH
+ * squared, f0 as f with subscript 0, LoH one word. */
 Test(math, mathml_of_a_known_form)
 {
 	double p[] = {0.5};
 	expect("f0/(LoH*LoH*(r + p0))", BK_MATH_MATHML, p, 4,
-	       "<math><mrow><mfrac><mrow><msub><mi>f</mi><mn>0</mn></msub></mrow><mrow><mrow><mrow><mi>LoH</mi>"
-	       "<mo>&#x22C5;</mo><mi>LoH</mi></mrow><mo>&#x22C5;</mo><mrow><mo>(</mo><mrow><mi>r</mi><mo>+</mo>"
-	       "<mn>0.5</mn></mrow><mo>)</mo></mrow></mrow></mrow></mfrac></mrow></math>");
+	       "<math><mrow><mfrac><mrow><msub><mi>f</mi><mn>0</mn></msub></mrow><mrow><mrow><msup><mi>LoH</mi>"
+	       "<mn>2</mn></msup><mo>&#x22C5;</mo><mrow><mo>(</mo><mrow><mi>r</mi><mo>+</mo><mn>0.5</mn></mrow>"
+	       "<mo>)</mo></mrow></mrow></mrow></mfrac></mrow></math>");
 	/* control: another constant is another text */
 	double q[] = {0.25};
 	char *s = math("f0/(LoH*LoH*(r + p0))", BK_MATH_MATHML, q, 4);
@@ -83,6 +84,9 @@ Test(math, latex_precedence)
 	double p[] = {-0.5, 3};
 	expect("NoV + p0", BK_MATH_LATEX, p, 0, "\\mathrm{NoV} - 0.5");
 	expect("r*p1", BK_MATH_LATEX, p, 0, "3 \\cdot r");
+	/* a product's factors flattened, numbers first, a repeated one a power */
+	expect("LoH*(4*LoH)*r", BK_MATH_LATEX, NULL, 0, "4 \\cdot \\mathrm{LoH}^{2} \\cdot r");
+	expect("LoH*(4*LoH)*r", BK_MATH_SYMPY, NULL, 0, "4*LoH**2*r");
 	expect("sqrt(r)/exp2(-NoV)", BK_MATH_LATEX, NULL, 0, "\\frac{\\sqrt{r}}{2^{-\\mathrm{NoV}}}");
 }
 
