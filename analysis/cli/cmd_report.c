@@ -287,7 +287,9 @@ int cmd_report(int argc, char **argv)
 	               "the error ratio, the cheapest member as accurate, and how many published forms the front\n"
 	               "beats at their own cost, in the objective the files state (front.csv must state its\n"
 	               "catalog.csv's target, objective and precision); then the first searched DIR's pareto.png\n"
-	               "as Figure 1. Links are relative from the page's folder, percent-encoded.",
+	               "as Figure 1, and per DIR a findings sentence written from those numbers with the formula of\n"
+	               "the member at cost (MathML, constants to 4 digits; from the files' form, form_b and\n"
+	               "parameters columns). Links are relative from the page's folder, percent-encoded.",
 	               opts, 2, 32, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
