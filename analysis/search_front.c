@@ -265,29 +265,33 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 	return rc;
 }
 
-/* A refitted search member's dead branches (search/prune.h): the form
- * without them is refitted from the member's constants and replaces the
- * member where it is scored (finite, admissible) with an error no worse than
- * the member's, both as the front reports them (bk_search_round_err): at the
- * member's constants it has the same values on every sample in double, so
- * the refit starts from the member's error, at fewer ops. One form only: a
- * split pair's parts live on different samples. Returns 0, or -1 as
- * score_member (out of memory). */
+/* A refitted search member's dead branches (search/prune.h): the form (or
+ * split pair) without them is refitted from the member's constants and
+ * replaces the member where it is scored (finite, admissible) with an error
+ * no worse than the member's, both as the front reports them
+ * (bk_search_round_err): at the member's constants it has the same values on
+ * every sample in double, so the refit starts from the member's error, at
+ * fewer ops. Returns 0, or -1 as score_member (out of memory). */
 static int prune_member(const bk_sfront *F, member *m)
 {
-	if (!m->c || m->text_b || m->status)
+	if (!m->c || m->status)
 		return 0;
-	char text[4096];
+	char text[2][4096];
 	double p[BK_MAX_PARAMS];
-	int n = bk_prune_dead(m->text, m->res.p, F->s, text, sizeof text, p);
+	int n = bk_prune_dead_pair(m->text, m->text_b, m->res.p, F->s, text[0], text[1], sizeof text[0], p);
 	if (n <= 0)
 		return 0; /* nothing dead, or a tree bk_expr cannot hold: the member as it is */
 	member t = *m;
 	t.f[0] = t.f[1] = NULL;
-	t.text = t.pruned = strdup(text);
-	t.npruned = n;
-	if (!t.pruned)
+	size_t la = strlen(text[0]) + 1, lb = m->text_b ? strlen(text[1]) + 1 : 0;
+	if (!(t.pruned = malloc(la + lb)))
 		return -1;
+	memcpy(t.pruned, text[0], la);
+	if (lb)
+		memcpy(t.pruned + la, text[1], lb);
+	t.text = t.pruned;
+	t.text_b = lb ? t.pruned + la : NULL; /* one block: bk_sfront_free frees it once */
+	t.npruned = n;
 	int rc = score_member(F, &t, p, 1);
 	if (rc || t.status || !(t.err <= m->err)) {
 		bk_form_free(t.f[0]);

@@ -76,3 +76,27 @@ Test(prune, min_clamp_saturate)
 	/* a side NaN somewhere proves nothing: kept */
 	cr_expect_eq(bk_prune_dead("max(sqrt(LoH - 0.5), -1)", NULL, &S, out, sizeof out, q), 0);
 }
+
+/* A split pair: A judged on the first component's samples, B on the
+ * second's, the shared parameters renumbered over A then B. B = min(p2, NoV)
+ * with p2 = 0.5 is p2 on the second component (NoV 0.6, 0.9), though not on
+ * the first (NoV 0.1, 0.2): judged on all samples it would stay, so the
+ * answer shows the ranges. A = max(p0, p1 NoV) at p0 = 0 loses p0. */
+Test(prune, a_split_pair_by_component)
+{
+	double nov[] = {0.1, 0.2, 0.6, 0.9};
+	bk_samples t = {.n = 4, .ncomp = 2, .start = {0, 2, 4}};
+	t.in[BK_IN_NOV] = nov;
+	char a[256], b[256];
+	double q[BK_MAX_PARAMS];
+	cr_assert_eq(bk_prune_dead_pair("max(p0, p1 * NoV)", "min(p2, NoV)", (double[]){0, 1, 0.5}, &t, a, b, sizeof a, q),
+	             2);
+	cr_expect_str_eq(a, "p0 * NoV");
+	cr_expect_str_eq(b, "p1");
+	cr_expect(q[0] == 1 && q[1] == 0.5, "p0 = %g, p1 = %g", q[0], q[1]);
+	/* control: B's component holding every sample keeps its min (and A,
+	 * with no sample, is not judged: nothing shows a side dead) */
+	t.start[1] = 0;
+	cr_expect_eq(bk_prune_dead_pair("max(p0, p1 * NoV)", "min(p2, NoV)", (double[]){0, 1, 0.5}, &t, a, b, sizeof a, q),
+	             0);
+}

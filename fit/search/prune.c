@@ -14,8 +14,22 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The samples a form is judged on: n of them from in. */
+typedef struct range {
+	size_t n;
+	const double *in[BK_IN_COUNT];
+} range;
+
+static range range_of(const bk_samples *s, size_t lo, size_t hi)
+{
+	range r = {hi - lo, {0}};
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		r.in[k] = s->in[k] ? s->in[k] + lo : NULL;
+	return r;
+}
+
 /* The values of the subtree at node i of e on the samples; 0 or -1. */
-static int subtree_values(const bk_expr *e, int i, const double *p, const bk_samples *s, double *v)
+static int subtree_values(const bk_expr *e, int i, const double *p, const range *s, double *v)
 {
 	bk_expr sub;
 	sub.n = bk_expr_span(e, i);
@@ -27,7 +41,7 @@ static int subtree_values(const bk_expr *e, int i, const double *p, const bk_sam
 	bk_form *f = bk_form_parse(text, &fe);
 	if (!f)
 		return -1;
-	int rc = bk_form_eval(f, BK_F64, s->n, (const double *const *)s->in, p, v);
+	int rc = bk_form_eval(f, BK_F64, s->n, s->in, p, v);
 	bk_form_free(f);
 	return rc;
 }
@@ -46,7 +60,7 @@ static int always_le(const double *lo, const double *hi, double c, size_t n)
 
 /* Which operand (0, 1, 2) node i always equals, or -1. v: three buffers of
  * s->n values. */
-static int winner(const bk_expr *e, int i, const double *p, const bk_samples *s, double *v[3], int *err)
+static int winner(const bk_expr *e, int i, const double *p, const range *s, double *v[3], int *err)
 {
 	int op = e->node[i].op;
 	if (op != BK_OP_MAX && op != BK_OP_MIN && op != BK_OP_CLAMP && op != BK_OP_SATURATE)
@@ -80,55 +94,78 @@ static void splice(bk_expr *e, int i, int j)
 	e->n -= whole - keep;
 }
 
-/* Parameters renumbered by first appearance, their values from p. */
-static void renumber(bk_expr *e, const double *p, double *pout)
+/* Parameters renumbered by first appearance over the trees e[0..n), their
+ * values from p. */
+static void renumber(bk_expr *e, int n, const double *p, double *pout)
 {
 	int map[BK_MAX_PARAMS], next = 0;
 	for (int k = 0; k < BK_MAX_PARAMS; k++)
 		map[k] = -1;
-	for (int i = 0; i < e->n; i++) {
-		bk_enode *x = &e->node[i];
-		if (x->op != BK_OP_PARAM)
-			continue;
-		if (map[x->slot] < 0) {
-			pout[next] = p[x->slot];
-			map[x->slot] = next++;
+	for (int t = 0; t < n; t++)
+		for (int i = 0; i < e[t].n; i++) {
+			bk_enode *x = &e[t].node[i];
+			if (x->op != BK_OP_PARAM)
+				continue;
+			if (map[x->slot] < 0) {
+				pout[next] = p[x->slot];
+				map[x->slot] = next++;
+			}
+			x->slot = map[x->slot];
+			x->k = pout[x->slot]; /* where a fit of the tree starts (expr.h) */
 		}
-		x->slot = map[x->slot];
-		x->k = pout[x->slot]; /* where a fit of the tree starts (expr.h) */
-	}
 	for (int k = next; k < BK_MAX_PARAMS; k++)
 		pout[k] = 0;
 }
 
-int bk_prune_dead(const char *text, const double *p, const bk_samples *s, char *out, size_t len, double *pout)
+/* text's tree into e, its dead nodes replaced on the samples r; the count
+ * replaced, or -1. */
+static int prune_tree(const char *text, const double *p, const range *r, bk_expr *e)
 {
 	bk_form_error fe;
 	bk_form *f = bk_form_parse(text, &fe);
 	if (!f)
 		return -1;
-	bk_expr e;
-	int rc = bk_expr_from_form(f, &e);
+	int rc = bk_expr_from_form(f, e);
 	bk_form_free(f);
-	double *buf = rc ? NULL : malloc(sizeof(double) * 3 * (s->n ? s->n : 1));
+	if (!rc && r->n == 0)
+		return 0; /* no sample: nothing shows a side dead */
+	double *buf = rc ? NULL : malloc(sizeof(double) * 3 * r->n);
 	if (!buf)
 		return -1;
-	double *v[3] = {buf, buf + s->n, buf + 2 * s->n};
+	double *v[3] = {buf, buf + r->n, buf + 2 * r->n};
 	int pruned = 0, err = 0;
-	for (int i = 0; i < e.n && !err;) {
-		int j = winner(&e, i, p, s, v, &err);
+	for (int i = 0; i < e->n && !err;) {
+		int j = winner(e, i, p, r, v, &err);
 		if (j < 0) {
 			i++;
 			continue;
 		}
-		splice(&e, i, j);
+		splice(e, i, j);
 		pruned++; /* node i is now the kept side: looked at again */
 	}
 	free(buf);
-	if (err)
+	return err ? -1 : pruned;
+}
+
+int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, const bk_samples *s, char *out_a,
+                       char *out_b, size_t len, double *pout)
+{
+	int two = text_b != NULL;
+	size_t split = two && s->ncomp > 1 ? s->start[1] : s->n;
+	range r[2] = {range_of(s, 0, split), range_of(s, split, s->n)};
+	bk_expr e[2];
+	int na = prune_tree(text_a, p, &r[0], &e[0]), nb = two ? prune_tree(text_b, p, &r[1], &e[1]) : 0;
+	if (na < 0 || nb < 0)
 		return -1;
-	if (!pruned)
+	if (na + nb == 0)
 		return 0;
-	renumber(&e, p, pout);
-	return bk_expr_print(&e, out, len) < 0 ? -1 : pruned;
+	renumber(e, two ? 2 : 1, p, pout);
+	if (bk_expr_print(&e[0], out_a, len) < 0 || (two && bk_expr_print(&e[1], out_b, len) < 0))
+		return -1;
+	return na + nb;
+}
+
+int bk_prune_dead(const char *text, const double *p, const bk_samples *s, char *out, size_t len, double *pout)
+{
+	return bk_prune_dead_pair(text, NULL, p, s, out, NULL, len, pout);
 }

@@ -13,9 +13,8 @@
 
 #include <stddef.h>
 
-/* For text (one form, not a split pair) at parameters p on the samples s,
- * evaluated in double precision: repeatedly, the first node (prefix order)
- * that is
+/* For text (one form) at parameters p on the samples s, evaluated in
+ * double precision: repeatedly, the first node (prefix order) that is
  *   max(x, y) with x >= y at every sample (then x; y >= x: y),
  *   min(x, y) with x <= y at every sample (then x; y <= x: y),
  *   clamp(x, lo, hi) with lo <= x <= hi at every sample (then x),
@@ -27,5 +26,13 @@
  * form does not parse, its tree does not fit bk_expr, an evaluation fails,
  * or out is too small. */
 int bk_prune_dead(const char *text, const double *p, const bk_samples *s, char *out, size_t len, double *pout);
+
+/* The same for a split pair f0 A + B (text_b not NULL): A judged on the
+ * samples of s's first component, B on the rest (as the refit evaluates a
+ * pair: fit/search/refit.h), the parameters, which the two forms share,
+ * renumbered over A then B. out_a and out_b hold len bytes each; both are
+ * written when anything was replaced. text_b NULL: bk_prune_dead. */
+int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, const bk_samples *s, char *out_a,
+                       char *out_b, size_t len, double *pout);
 
 #endif
