@@ -246,7 +246,7 @@ static void put_op(printer *p, char op)
 		fprintf(p->o, " %c ", op);
 }
 
-static void node(printer *p, int i, int need);
+static void node(printer *p, int i);
 
 /* Register i where at least precedence need is required, wrapped if lower,
  * or if it leads with a minus and minus_ok is 0. */
@@ -254,10 +254,10 @@ static void operand(printer *p, int i, int need, int minus_ok)
 {
 	if (prec_of(p, i) < need || (!minus_ok && leads_minus(p, i))) {
 		open_paren(p);
-		node(p, i, 0);
+		node(p, i);
 		close_paren(p);
 	} else {
-		node(p, i, need);
+		node(p, i);
 	}
 }
 
@@ -286,7 +286,7 @@ static void call(printer *p, const char *latex, const char *sympy, const char *m
 	for (int k = 0; k < n; k++) {
 		if (k)
 			fputs(p->lang == BK_MATH_MATHML ? "<mo>,</mo>" : ", ", p->o);
-		node(p, args[k], 0);
+		node(p, args[k]);
 	}
 	fputs(p->lang == BK_MATH_LATEX ? "\\right)" : p->lang == BK_MATH_SYMPY ? ")" : "<mo>)</mo></mrow>", p->o);
 }
@@ -304,7 +304,7 @@ static void fraction(printer *p, int num, int den, int sq)
 		fputs("/", p->o);
 		if (sq) {
 			fputs("sp.sqrt(", p->o);
-			node(p, den, 0);
+			node(p, den);
 			fputs(")", p->o);
 		} else {
 			operand(p, den, P_POW, 0);
@@ -315,11 +315,11 @@ static void fraction(printer *p, int num, int den, int sq)
 	if (num < 0)
 		fputs(p->lang == BK_MATH_LATEX ? "1" : "<mn>1</mn>", p->o);
 	else
-		node(p, num, 0);
+		node(p, num);
 	fputs(p->lang == BK_MATH_LATEX ? "}{" : "</mrow><mrow>", p->o);
 	if (sq)
 		fputs(p->lang == BK_MATH_LATEX ? "\\sqrt{" : "<msqrt>", p->o);
-	node(p, den, 0);
+	node(p, den);
 	if (sq)
 		fputs(p->lang == BK_MATH_LATEX ? "}" : "</msqrt>", p->o);
 	fputs(p->lang == BK_MATH_LATEX ? "}" : "</mrow></mfrac>", p->o);
@@ -342,7 +342,7 @@ static void power(printer *p, int base, const char *lit, int ex)
 	}
 	fputs(p->lang == BK_MATH_LATEX ? "^" : "", p->o);
 	group_open(p);
-	node(p, ex, 0);
+	node(p, ex);
 	group_close(p);
 	if (p->lang == BK_MATH_MATHML)
 		fputs("</msup>", p->o);
@@ -426,9 +426,8 @@ static void plus(printer *p, int b)
 	}
 }
 
-static void node(printer *p, int i, int need)
+static void node(printer *p, int i)
 {
-	(void)need;
 	const bk_instr *in = &p->code[i];
 	int a = in->a, b = in->b, c = in->c;
 	switch (in->op) {
@@ -483,7 +482,7 @@ static void node(printer *p, int i, int need)
 			call(p, "", "sp.sqrt", "", &a, 1);
 		} else {
 			fputs(p->lang == BK_MATH_LATEX ? "\\sqrt{" : "<msqrt>", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs(p->lang == BK_MATH_LATEX ? "}" : "</msqrt>", p->o);
 		}
 		break;
@@ -491,13 +490,13 @@ static void node(printer *p, int i, int need)
 	case BK_OP_LOG2:
 		if (p->lang == BK_MATH_SYMPY) {
 			fputs("sp.log(", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs(", 2)", p->o);
 		} else if (p->lang == BK_MATH_LATEX) {
 			call(p, "\\log_2", "", "", &a, 1);
 		} else {
 			fputs("<mrow><msub><mi>log</mi><mn>2</mn></msub><mo>(</mo>", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs("<mo>)</mo></mrow>", p->o);
 		}
 		break;
@@ -506,11 +505,11 @@ static void node(printer *p, int i, int need)
 	case BK_OP_CLAMP:
 		if (p->lang == BK_MATH_SYMPY) { /* min(max(x, lo), hi), as the IR (also for lo > hi) */
 			fputs("sp.Min(sp.Max(", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs(", ", p->o);
-			node(p, b, 0);
+			node(p, b);
 			fputs("), ", p->o);
-			node(p, c, 0);
+			node(p, c);
 			fputs(")", p->o);
 		} else {
 			call(p, "\\operatorname{clamp}", "", "clamp", (int[]){a, b, c}, 3);
@@ -519,7 +518,7 @@ static void node(printer *p, int i, int need)
 	case BK_OP_SATURATE:
 		if (p->lang == BK_MATH_SYMPY) {
 			fputs("sp.Min(sp.Max(", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs(", 0), 1)", p->o);
 		} else {
 			call(p, "\\operatorname{saturate}", "", "saturate", &a, 1);
@@ -531,7 +530,7 @@ static void node(printer *p, int i, int need)
 			call(p, "", "sp.Abs", "", &a, 1);
 		} else {
 			fputs(p->lang == BK_MATH_LATEX ? "\\left|" : "<mrow><mo>|</mo>", p->o);
-			node(p, a, 0);
+			node(p, a);
 			fputs(p->lang == BK_MATH_LATEX ? "\\right|" : "<mo>|</mo></mrow>", p->o);
 		}
 		break;
@@ -571,7 +570,7 @@ static void expression(printer *p, const void *out)
 {
 	if (p->lang == BK_MATH_MATHML)
 		fputs("<math><mrow>", p->o);
-	node(p, *(const int *)out, 0);
+	node(p, *(const int *)out);
 	if (p->lang == BK_MATH_MATHML)
 		fputs("</mrow></math>", p->o);
 }
@@ -666,7 +665,7 @@ static void latex_doc(printer *p, const void *ctx)
 			sep = ", ";
 		}
 	fputs("\\right) = ", p->o);
-	node(p, out, 0);
+	node(p, out);
 	fputs("\n\\end{equation}\n", p->o);
 }
 
@@ -682,14 +681,14 @@ static void sympy_doc(printer *p, const void *ctx)
 	      "#   mix(x, y, t) = x + (y - x)*t; saturate(x) = Min(Max(x, 0), 1);\n"
 	      "#   clamp(x, lo, hi) = Min(Max(x, lo), hi); rcp(x) = 1/x; rsqrt(x) = 1/sqrt(x)\n"
 	      "import sympy as sp\n\n", o);
-	fputs("inputs = sp.symbols('", o);
-	input_list(o, d->f, " ");
-	fputs("', real=True, seq=True)\n", o);
-	if (bk_form_inputs(d->f)) {
+	if (bk_form_inputs(d->f)) { /* sp.symbols refuses an empty list */
+		fputs("inputs = sp.symbols('", o);
+		input_list(o, d->f, " ");
+		fputs("', real=True, seq=True)\n", o);
 		input_list(o, d->f, ", ");
 		fputs(", = inputs\n", o);
 	}
-	fputs("inputs = tuple(inputs)\n", o);
+	fputs(bk_form_inputs(d->f) ? "inputs = tuple(inputs)\n" : "inputs = ()\n", o);
 	if (np > 0) {
 		fputs("p = sp.symbols('", o);
 		for (int k = 0; k < np; k++)
@@ -704,7 +703,7 @@ static void sympy_doc(printer *p, const void *ctx)
 		fprintf(o, "%sp%d: sp.Float('%.17g', 17)", k ? ", " : "", k, d->params[k]);
 	fputs("}\n", o);
 	fputs("expr = ", o);
-	node(p, out, 0);
+	node(p, out);
 	fputs("\nfitted = expr.subs(params)\n", o);
 }
 

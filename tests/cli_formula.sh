@@ -120,6 +120,18 @@ assert sp.simplify(s["expr"] - f0 / (4 * LoH**2 * (r + 2 * p0))) != 0
 EOF
 then ok; else bad "vf_talk_r's sympy expression is not f0/(4 LoH^2 (r + p0))"; fi
 
+# A form that reads no input still gives a snippet that runs (sympy.symbols
+# refuses an empty name list): p0 + 1 at p0 = 2 is 3; the control, p0 = 2.5,
+# is not.
+for v in 2:ok 2.5:control; do
+	"$BK" codegen --lang sympy 'p0 + 1' "p0=${v%:*}" >"$T/c.py"
+	if /usr/bin/python3 -c "import sys; s = {}; exec(open(sys.argv[1]).read(), s); sys.exit(0 if s['fitted'] == 3 and s['inputs'] == () else 1)" "$T/c.py" 2>"$T/err"; then
+		[ "${v#*:}" = ok ] && ok || bad "control: p0 = 2.5 gave 3"
+	else
+		[ "${v#*:}" = control ] && ok || bad "the snippet of a form without inputs: $(tail -1 "$T/err")"
+	fi
+done
+
 # ---- LaTeX ------------------------------------------------------------------
 
 # balanced FILE: braces (not \{ \}) and \left/\right pair up, never below 0.
