@@ -270,8 +270,8 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
  * replaces the member where it is scored (finite, admissible) with an error
  * no worse than the member's, both as the front reports them
  * (bk_search_round_err): at the member's constants it has the same values on
- * every sample in double, so the refit starts from the member's error, at
- * fewer ops. Returns 0, or -1 as score_member (out of memory). */
+ * every sample in double (a mix at t = 1 up to its rounding), so the refit
+ * starts from the member's error, at fewer ops. Returns 0, or -1 as score_member (out of memory). */
 static int prune_member(const bk_sfront *F, member *m)
 {
 	if (!m->c || m->status)

@@ -73,6 +73,10 @@ Test(prune, min_clamp_saturate)
 	cr_expect_eq(bk_prune_dead("max(LoH, 0.5)", NULL, &S, out, sizeof out, q), 0);
 	cr_expect_eq(bk_prune_dead("clamp(LoH, 0, p0)", (double[]){0.9}, &S, out, sizeof out, q), 0);
 	cr_expect_eq(bk_prune_dead("saturate(2 * LoH)", NULL, &S, out, sizeof out, q), 0);
+	/* mix(x, y, t) with t 0 (or 1) everywhere is x (or y); t = LoH is live */
+	expect_pruned("mix(LoH, p0, p1 * LoH)", (double[]){2, 0}, 1, "LoH", NULL, 0);
+	expect_pruned("mix(LoH, p0, p1)", (double[]){2, 1}, 1, "p0", (double[]){2}, 1);
+	cr_expect_eq(bk_prune_dead("mix(LoH, 2, LoH)", NULL, &S, out, sizeof out, q), 0);
 	/* a side NaN somewhere proves nothing: kept */
 	cr_expect_eq(bk_prune_dead("max(sqrt(LoH - 0.5), -1)", NULL, &S, out, sizeof out, q), 0);
 }

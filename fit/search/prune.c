@@ -63,7 +63,7 @@ static int always_le(const double *lo, const double *hi, double c, size_t n)
 static int winner(const bk_expr *e, int i, const double *p, const range *s, double *v[3], int *err)
 {
 	int op = e->node[i].op;
-	if (op != BK_OP_MAX && op != BK_OP_MIN && op != BK_OP_CLAMP && op != BK_OP_SATURATE)
+	if (op != BK_OP_MAX && op != BK_OP_MIN && op != BK_OP_CLAMP && op != BK_OP_SATURATE && op != BK_OP_MIX)
 		return -1;
 	int at = i + 1;
 	for (int j = 0; j < bk_op_arity(op); j++) {
@@ -78,6 +78,10 @@ static int winner(const bk_expr *e, int i, const double *p, const range *s, doub
 	case BK_OP_MAX: return always_le(v[1], v[0], 0, n) ? 0 : always_le(v[0], v[1], 0, n) ? 1 : -1;
 	case BK_OP_MIN: return always_le(v[0], v[1], 0, n) ? 0 : always_le(v[1], v[0], 0, n) ? 1 : -1;
 	case BK_OP_CLAMP: return always_le(v[1], v[0], 0, n) && always_le(v[0], v[2], 0, n) ? 0 : -1;
+	case BK_OP_MIX: /* x + (y - x) t: x where t is 0 at every sample, y where 1 (x, y finite) */
+		return always_le(v[2], NULL, 0, n) && always_le(NULL, v[2], 0, n) && always_le(v[0], v[0], 0, n)    ? 0
+		       : always_le(v[2], NULL, 1, n) && always_le(NULL, v[2], 1, n) && always_le(v[1], v[1], 0, n) ? 1
+		                                                                                                     : -1;
 	default: return always_le(NULL, v[0], 0, n) && always_le(v[0], NULL, 1, n) ? 0 : -1; /* saturate */
 	}
 }

@@ -19,7 +19,9 @@
  *   min(x, y) with x <= y at every sample (then x; y <= x: y),
  *   clamp(x, lo, hi) with lo <= x <= hi at every sample (then x),
  *   saturate(x) with 0 <= x <= 1 at every sample (then x),
- * every compared value finite, is replaced by the side kept. Then the
+ *   mix(x, y, t) with t = 0 at every sample (then x; t = 1: y, which
+ *     x + (y - x) is up to its rounding),
+ * every compared value finite (mix: x and y too), is replaced by the side kept. Then the
  * parameters are renumbered p0, p1, ... in order of first appearance, their
  * values in pout (BK_MAX_PARAMS). Returns how many nodes were replaced (0:
  * out and pout untouched), the new text in out (len bytes), or -1 when the
