@@ -14,7 +14,10 @@
 # 0x0 plot, one loading a remote script, and an empty page. Issue 24's checks
 # (every picture in a <figure> with a caption, tables over 6 rows folded in
 # <details>, the summary table and Figure 1 on the first screen of a 1280x800
-# window) are refused on a doctored copy of the page.
+# window) are refused on a doctored copy of the page. Issue 40's: every
+# <math> of the page renders as MathML (a box, fractions stacked) and the first
+# finding is on the first screen; refused on the page with spans for <math>
+# and on the doctored copy.
 set -u
 PAGE=${1:-results/index.html}
 CHROMIUM=${CHROMIUM:-chromium}
