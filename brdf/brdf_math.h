@@ -26,7 +26,8 @@ typedef enum bk_math_lang { BK_MATH_LATEX, BK_MATH_SYMPY, BK_MATH_MATHML } bk_ma
 char *bk_form_math(const bk_form *f, bk_math_lang lang, const double *params, int digits);
 
 /* A whole document for codegen: LaTeX as an equation environment named by
- * name (NULL: brdfkit_form) with a '%' comment header; SymPy as a Python
+ * name (NULL: brdfkit_form) with a '%' comment header (which also holds the
+ * expression with p_0, p_1, ... for its constants); SymPy as a Python
  * snippet defining the input and parameter symbols, params (their values,
  * exact doubles), expr (symbolic) and fitted (params substituted) under a
  * '#' comment header with the meanings. info's fields go only into

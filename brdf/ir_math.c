@@ -653,6 +653,14 @@ static void latex_doc(printer *p, const void *ctx)
 	int out;
 	bk_form_code(d->f, NULL, &out);
 	header(p, "% ", d);
+	if (bk_form_nparams(d->f) > 0) { /* for a paper that tabulates its constants */
+		fputs("% with the constants as symbols (p_k = the pk above):\n% ", p->o);
+		const double *values = p->params;
+		p->params = NULL;
+		node(p, out);
+		p->params = values;
+		fputs("\n", p->o);
+	}
 	fputs("% constants: the fitted values as the generated shaders hold them (float)\n", p->o);
 	fputs("\\begin{equation}\n", p->o);
 	latex_name(p->o, d->info->name ? d->info->name : "brdfkit_form");

@@ -171,6 +171,15 @@ got=$(grep '^\\mathrm' "$T/k.tex")
 if [ "$got" = "$want" ]; then ok; else bad "latex of a known form:"; printf '  got  %s\n  want %s\n' "$got" "$want"; fi
 "$BK" codegen --lang latex --name my_f 'f0/(LoH*LoH*(r + p0)) + sqrt(NoV)*2 + exp2(-NoV) - 0.25' p0=0.6 >"$T/k2.tex"
 if [ "$(grep '^\\mathrm' "$T/k2.tex")" = "$want" ]; then bad "control: p0 = 0.6 gave p0 = 0.5's text"; else ok; fi
+# the symbolic form in the header's comment (p_0 for the constant), beside
+# the equation's fitted value; the control: the same form with 0.5 written in
+# has no constant to name, so no such line
+"$BK" codegen --lang latex vf_talk_r >"$T/s.tex"
+"$BK" codegen --lang latex 'f0/(4*LoH*LoH*(r + 0.5))' >"$T/s0.tex"
+sym='% \frac{f_0}{4 \cdot \mathrm{LoH}^{2} \cdot \left(r + p_{0}\right)}'
+if grep -qxF "$sym" "$T/s.tex"; then ok; else bad "latex: no symbolic comment line '$sym'"; fi
+if grep -qxF "$sym" "$T/s0.tex"; then bad "control: a form without parameters has the symbolic line"; else ok; fi
+if grep '^\\mathrm' "$T/s.tex" | grep -qF 'p_{0}'; then bad "the equation holds p_0, not 0.5"; else ok; fi
 # comments only: nothing a user wrote reaches the equation but the escaped name
 "$BK" codegen --lang latex 'NoV + 1' >"$T/c.tex"
 if [ "$(grep -vc '^%' "$T/c.tex")" -eq 3 ]; then ok; else bad "latex: lines outside comments besides the equation"; fi
