@@ -322,6 +322,21 @@ grep -q '^PAGECHECK-DONE' "$T/probe_nomath.txt" && ok || bad "the page without M
 expect_fail "formulas rendered" formulas "$T/probe_nomath.txt" "$nmath"
 expect_fail "the first finding on the first screen" formulas "$T/probe_doc.txt" "$nmath"
 
+# one_finding_per_row PAGE: as many findings (<p class="finding"
+# id="finding-TARGET">) as the summary table has targets (its rows that open
+# with a linked <th>), each target's id once
+one_finding_per_row() {
+	rows=$(sed -n '/<table id="summary"/,/<\/table>/p' "$1" | grep -o '<tr><th><a href=' | wc -l)
+	found=$(grep -o '<p class="finding" id="finding-[^"]*"' "$1" | sort -u | wc -l)
+	all=$(grep -o '<p class="finding" id="finding-[^"]*"' "$1" | wc -l)
+	[ "$rows" -gt 0 ] || { echo "no summary row"; return 1; }
+	[ "$found" -eq "$rows" ] && [ "$all" -eq "$rows" ] || { echo "$all findings ($found ids) for $rows summary rows"; return 1; }
+}
+check "a finding per summary row" one_finding_per_row "$PAGE"
+# control: the page with its second finding dropped
+awk '/<p class="finding" id="finding-/ && ++n == 2 { next } { print }' "$PAGE" >"$T/onefewer.html"
+expect_fail "a finding per summary row" one_finding_per_row "$T/onefewer.html"
+
 # ---- a screenshot of the page itself: not blank ------------------------------------
 
 # Its PNG must be clearly larger than one of an empty page taken the same way
