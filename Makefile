@@ -63,6 +63,8 @@ NOTEBOOK_DEBS = jupyter-nbconvert python3-ipykernel python3-pandas python3-matpl
 # in and out, fronts as pandas DataFrames (Debian's, no PyPI); tests/install.sh
 # reads the split debug info back with gdb
 LIB_DEBS = python3-cffi python3-numpy python3-pandas gdb
+# tests/cli_formula.sh executes codegen --lang sympy's snippets against brdfkit eval
+FORMULA_DEBS = python3-sympy
 # make bench only: bench_fit runs the same fit with SciPy's least_squares
 BENCH_DEBS = python3-scipy
 
@@ -214,7 +216,7 @@ TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/v
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
-	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS))
+	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS) $(FORMULA_DEBS))
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html

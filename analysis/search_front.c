@@ -11,6 +11,7 @@
 #include "search/constraint.h"
 #include "search/pair.h"
 #include "search/pareto.h"
+#include "search/prune.h"
 #include "search/refit.h"
 #include "stability.h"
 
@@ -264,6 +265,46 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 	return rc;
 }
 
+/* A refitted search member's dead branches (search/prune.h): the form (or
+ * split pair) without them is refitted from the member's constants and
+ * replaces the member where it is scored (finite, admissible) with an error
+ * no worse than the member's, both as the front reports them
+ * (bk_search_round_err): at the member's constants it has the same values on
+ * every sample in double (a mix at t = 1 up to its rounding), so the refit
+ * starts from the member's error, at fewer ops. Returns 0, or -1 as score_member (out of memory). */
+static int prune_member(const bk_sfront *F, member *m)
+{
+	if (!m->c || m->status)
+		return 0;
+	char text[2][4096];
+	double p[BK_MAX_PARAMS];
+	int n = bk_prune_dead_pair(m->text, m->text_b, m->res.p, F->s, text[0], text[1], sizeof text[0], p);
+	if (n <= 0)
+		return 0; /* nothing dead, or a tree bk_expr cannot hold: the member as it is */
+	member t = *m;
+	t.f[0] = t.f[1] = NULL;
+	size_t la = strlen(text[0]) + 1, lb = m->text_b ? strlen(text[1]) + 1 : 0;
+	if (!(t.pruned = malloc(la + lb)))
+		return -1;
+	memcpy(t.pruned, text[0], la);
+	if (lb)
+		memcpy(t.pruned + la, text[1], lb);
+	t.text = t.pruned;
+	t.text_b = lb ? t.pruned + la : NULL; /* one block: bk_sfront_free frees it once */
+	t.npruned = n;
+	int rc = score_member(F, &t, p, 1);
+	if (rc || t.status || !(t.err <= m->err)) {
+		bk_form_free(t.f[0]);
+		bk_form_free(t.f[1]);
+		free(t.pruned);
+		return rc;
+	}
+	bk_form_free(m->f[0]);
+	bk_form_free(m->f[1]);
+	*m = t;
+	return 0;
+}
+
 /* env --fetch-cost K: the DFG LUTs of compare (lutrows.h, the generic
  * layout) as rows of cost K (the fetch) + 1 (the mad of f0·A + B), scored
  * on the same samples. */
@@ -328,6 +369,8 @@ static void *score_worker(void *arg)
 			return NULL;
 		score_job *j = &P->job[k];
 		int rc = score_member(P->F, &P->F->m[j->m], j->start, j->fit);
+		if (!rc && j->front)
+			rc = prune_member(P->F, &P->F->m[j->m]);
 		pthread_mutex_lock(&P->mu);
 		P->failed |= rc != 0;
 		int d = ++P->done[j->front];
@@ -477,6 +520,7 @@ void bk_sfront_free(bk_sfront *F)
 	for (int i = 0; F->m && i < F->nm; i++) {
 		bk_form_free(F->m[i].f[0]);
 		bk_form_free(F->m[i].f[1]);
+		free(F->m[i].pruned);
 	}
 	free(F->m);
 	F->m = NULL;

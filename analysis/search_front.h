@@ -42,6 +42,8 @@ typedef struct bk_sfront_member {
 	int front;
 	int lut;                       /* a DFG texture row (--fetch-cost): no form, one fetch */
 	double gpu_insn[BK_GPUCOST_MAX_CHIPS], gpu_transc[BK_GPUCOST_MAX_CHIPS]; /* NaN: not compiled */
+	char *pruned;                  /* owned: text (and text_b after it) once dead branches are removed (search/prune.h), or NULL */
+	int npruned;                   /* how many min/max/clamp/saturate nodes that removed */
 } bk_sfront_member;
 
 typedef struct bk_sfront {

@@ -5,6 +5,7 @@
  */
 #include "summary.h"
 
+#include "brdf_math.h"
 #include "csvtab.h"
 #include "frontcsv.h"
 #include "out.h"
@@ -269,6 +270,12 @@ int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errl
 		         search ? pt->objective : "max_abs in f64 precision (brdfkit compare)");
 		snprintf(row->cost_model, sizeof row->cost_model, "%s", pt->cost_model);
 		row->complete = ft ? ft->complete : -1;
+		/* the formula is shown, not checked: a file without form columns
+		 * (a hand-made fixture) shows none */
+		if (row->at_cost.line)
+			bk_summary_formula(front_path, &row->at_cost, row->formula, sizeof row->formula);
+		else if (!search)
+			bk_summary_formula(row->pub_file, &row->pub, row->formula, sizeof row->formula);
 		rc = 0;
 	}
 	free(pp);
@@ -276,6 +283,61 @@ int bk_summary_read(const char *dir, bk_summary_row *row, char *err, size_t errl
 	table_free(pt);
 	if (ft)
 		table_free(ft);
+	return rc;
+}
+
+/* ---- the formula ------------------------------------------------------------------------- */
+
+/* text's MathML (its parameters p[]) appended at out + *at; -1 if it does
+ * not parse or fit. */
+static int put_math(const char *text, const double *p, char *out, size_t len, size_t *at)
+{
+	bk_form_error fe;
+	bk_form *f = bk_form_parse(text, &fe);
+	if (!f)
+		return -1;
+	char *m = bk_form_math(f, BK_MATH_MATHML, p, 4);
+	bk_form_free(f);
+	size_t n = m ? strlen(m) : 0;
+	int ok = m && *at + n < len;
+	if (ok) {
+		memcpy(out + *at, m, n + 1);
+		*at += n;
+	}
+	free(m);
+	return ok ? 0 : -1;
+}
+
+int bk_summary_formula(const char *path, const bk_summary_pick *pick, char *out, size_t len)
+{
+	out[0] = '\0';
+	bk_frontcsv fc;
+	char err[256];
+	if (!pick->line || len < 64 || bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, sizeof err))
+		return -1;
+	int rc = -1;
+	for (int i = 0; i < fc.n; i++) {
+		const bk_frontcsv_row *r = &fc.row[i];
+		if (r->line != pick->line)
+			continue;
+		size_t at = 0;
+		if (!r->form_b) {
+			rc = put_math(r->form, r->p, out, len, &at);
+		} else { /* a split sum f0 A + B: both parts, named as the conventions name them */
+			at = (size_t)snprintf(out, len, "A = ");
+			rc = put_math(r->form, r->p, out, len, &at);
+			if (!rc && at + 8 < len) {
+				at += (size_t)snprintf(out + at, len - at, ", B = ");
+				rc = put_math(r->form_b, r->p, out, len, &at);
+			} else {
+				rc = -1;
+			}
+		}
+		break;
+	}
+	if (rc)
+		out[0] = '\0';
+	bk_frontcsv_free(&fc);
 	return rc;
 }
 
@@ -381,4 +443,60 @@ void bk_summary_table(FILE *f, const bk_summary_row *rows, int n, const char *co
 	for (int i = 0; i < n; i++)
 		row_html(f, &rows[i], href[i]);
 	fputs("</table>\n", f);
+}
+
+/* ---- the findings ---------------------------------------------------------------------- */
+
+/* The error name of an objective ("max_abs in f64 precision": "max_abs"). */
+static void error_word(char *buf, size_t len, const char *objective)
+{
+	const char *in = strstr(objective, " in ");
+	snprintf(buf, len, "%.*s", in ? (int)(in - objective) : (int)strlen(objective), objective);
+}
+
+/* The sentence into out (len bytes, room for every part: BK_SUMMARY_NAME
+ * names and a few numbers), as bk_summary_finding describes it. */
+static size_t finding_text(const bk_summary_row *r, char *out, size_t len)
+{
+	char err[BK_SUMMARY_NAME];
+	error_word(err, sizeof err, r->objective);
+	const bk_summary_pick *p = &r->pub, *a = &r->at_cost;
+	if (!r->has_search)
+		return (size_t)snprintf(out, len, "No search on %s; the best published form is %s (cost %.3g, %s %.3g).",
+		                        r->target, p->name, p->cost, err, p->error);
+	size_t n;
+	int better = a->line && a->error < p->error;
+	if (!a->line)
+		n = (size_t)snprintf(out, len, "No searched form costs %.3g or less, the cost of %s (%s %.3g)", p->cost,
+		                     p->name, err, p->error);
+	else if (better && a->error == 0)
+		n = (size_t)snprintf(out, len, "At %s's cost %.3g, %s (cost %.3g) is exact where %s has %s %.3g",
+		                     p->name, p->cost, a->name, a->cost, p->name, err, p->error);
+	else if (better)
+		n = (size_t)snprintf(out, len, "At %s's cost %.3g, %s (cost %.3g) has %s %.3g, %.3gx less than %s's %.3g",
+		                     p->name, p->cost, a->name, a->cost, err, a->error, p->error / a->error, p->name,
+		                     p->error);
+	else if (a->error == p->error)
+		n = (size_t)snprintf(out, len, "No searched form at cost %.3g or less beats %s (%s %.3g): the best there, "
+		                     "%s, equals it", p->cost, p->name, err, p->error, a->name);
+	else
+		n = (size_t)snprintf(out, len, "No searched form at cost %.3g or less beats %s (%s %.3g): the best there, "
+		                     "%s, has %.3g", p->cost, p->name, err, p->error, a->name, a->error);
+	if (n >= len)
+		return n;
+	if (!better && r->match.line && r->match.line != a->line)
+		n += (size_t)snprintf(out + n, len - n, "; as accurate takes cost %.3g (%s)", r->match.cost, r->match.name);
+	if (n >= len)
+		return n;
+	n += (size_t)snprintf(out + n, len - n, "%s %d of %d published form%s %s beaten at %s own cost.",
+	                      better || !r->nbeaten ? ";" : ", yet", r->nbeaten, r->npub, r->npub == 1 ? "" : "s",
+	                      r->nbeaten == 1 ? "is" : "are", r->nbeaten == 1 ? "its" : "their");
+	return n;
+}
+
+size_t bk_summary_finding(const bk_summary_row *r, char *out, size_t len)
+{
+	char whole[8 * BK_SUMMARY_NAME + 512];
+	finding_text(r, whole, sizeof whole);
+	return (size_t)snprintf(out, len, "%s", whole);
 }

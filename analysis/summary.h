@@ -38,6 +38,7 @@
 
 #define BK_SUMMARY_NAME 160
 #define BK_SUMMARY_PATH 512
+#define BK_SUMMARY_FORMULA 32768 /* the largest front formula in results/ is about 9 KB of MathML */
 
 /* One scored row of a file: what a summary cell shows and where it is from. */
 typedef struct bk_summary_pick {
@@ -63,7 +64,18 @@ typedef struct bk_summary_row {
 	int complete; /* front.csv's certificate: complete to this many nodes; 0 none, -1 not stated */
 	bk_summary_pick pub, at_cost, match;
 	int npub, nbeaten;
+	/* The formula the row shows (the at-cost member's; with no search, the
+	 * best published form's), constants baked in to 4 digits: MathML Core
+	 * from brdf_math.h ("A = <math>..</math>, B = <math>..</math>" for a
+	 * split sum); "" when its file has no form column or it does not fit. */
+	char formula[BK_SUMMARY_FORMULA];
 } bk_summary_row;
+
+/* pick's formula as the page shows it (bk_summary_row.formula), from the row
+ * at pick's line of path (a front.csv, catalog.csv or compare.csv: columns
+ * form, form_b, parameters by name). 0; -1 with out "" when the file has no
+ * such columns or row, or the formula does not fit in len. */
+int bk_summary_formula(const char *path, const bk_summary_pick *pick, char *out, size_t len);
 
 /* The rules over published rows pub[0..npub) and front rows front[0..nfront)
  * (nfront 0: no search; at_cost, match and nbeaten stay empty). Fills the
@@ -83,5 +95,16 @@ double bk_summary_ratio(const bk_summary_row *row);
  * directory as a link from the page (ending in '/', already escaped or
  * plain: it is escaped here). */
 void bk_summary_table(FILE *f, const bk_summary_row *rows, int n, const char *const *href);
+
+/* One sentence of what the row's numbers say, plain text (the caller
+ * escapes it), written from the picks and counts alone: the searched form
+ * at the best published form's cost against it ("At vf_talk_r's cost 8,
+ * search_vf2d_7 (cost 8) has max_abs 0.00496, 51.5x less than vf_talk_r's
+ * 0.256; 15 of 16 published forms are beaten at their own cost."), or that
+ * none at that cost beats it (with what matching it costs, and ", yet N of
+ * M ..." when some published forms are beaten), or that the target has no
+ * search. Writes at most len bytes with the NUL; returns the whole length,
+ * as snprintf. */
+size_t bk_summary_finding(const bk_summary_row *row, char *out, size_t len);
 
 #endif

@@ -42,11 +42,13 @@ first "eval NoV*NoL" "f64 0.125" $BK eval 'NoV*NoL' NoV=0.5 NoL=0.25
 first "eval a from r" "f64 0.25" $BK eval a r=0.5
 first "eval LoH from VoH" "f64 0.5" $BK eval LoH VoH=0.5
 
-# ---- codegen --precision: C output is float only ------------------------------
+# ---- codegen --precision: C output is float only, LaTeX and SymPy have none ----
 for p in single half; do
-	refused "codegen c $p" "brdfkit codegen: --precision has no effect with --lang c (C output is float only)" \
+	refused "codegen c $p" "brdfkit codegen: --precision has no effect with --lang c (it picks a shader's float type: C is float only, LaTeX and SymPy have none)" \
 		$BK codegen --lang c --precision $p NoV
 done
+refused "codegen latex half" "brdfkit codegen: --precision has no effect with --lang latex (it picks a shader's float type: C is float only, LaTeX and SymPy have none)" \
+	$BK codegen --lang latex --precision half NoV
 # controls: C without it; GLSL mediump declares it, HLSL mediump is half
 $BK codegen --lang c NoV >"$T/c" 2>"$T/err" && grep -q '^static inline float brdfkit_form(' "$T/c" && ok ||
 	bad "codegen c: $(cat "$T/err")"

@@ -14,7 +14,10 @@
 # 0x0 plot, one loading a remote script, and an empty page. Issue 24's checks
 # (every picture in a <figure> with a caption, tables over 6 rows folded in
 # <details>, the summary table and Figure 1 on the first screen of a 1280x800
-# window) are refused on a doctored copy of the page.
+# window) are refused on a doctored copy of the page. Issue 40's: every
+# <math> of the page renders as MathML (a box, fractions stacked) and the first
+# finding is on the first screen; refused on the page with spans for <math>
+# and on the doctored copy.
 set -u
 PAGE=${1:-results/index.html}
 CHROMIUM=${CHROMIUM:-chromium}
@@ -172,6 +175,23 @@ window.addEventListener('load', function () {
 		var r = e.getBoundingClientRect();
 		return Math.round(r.top + window.scrollY) + ' ' + Math.round(r.bottom + window.scrollY);
 	};
+	// formulas (issue 40): each <math> a MathML element with a box, each
+	// fraction laid out stacked (numerator above denominator), as Chromium
+	// renders MathML Core and no HTML fallback would
+	var ms = document.querySelectorAll('math');
+	for (var m = 0; m < ms.length; m++) {
+		var mr = ms[m].getBoundingClientRect();
+		out.push('PAGECHECK-MATH ' + (ms[m].namespaceURI === 'http://www.w3.org/1998/Math/MathML' ? 'mathml' : 'other') +
+			' ' + Math.round(mr.width) + ' ' + Math.round(mr.height));
+	}
+	var fr = document.querySelectorAll('mfrac');
+	for (var q = 0; q < fr.length; q++) {
+		var kids = fr[q].children;
+		var stacked = kids.length === 2 && kids[0].getBoundingClientRect().bottom <= kids[1].getBoundingClientRect().top + 1 &&
+			kids[0].getBoundingClientRect().height > 0;
+		out.push('PAGECHECK-MFRAC ' + (stacked ? 'stacked' : 'flat'));
+	}
+	out.push('PAGECHECK-FINDING ' + box('first-finding'));
 	out.push('PAGECHECK-WINDOW ' + window.innerWidth + ' ' + window.innerHeight);
 	out.push('PAGECHECK-SUMMARY ' + box('summary'));
 	out.push('PAGECHECK-FIGURE ' + box('main-figure'));
@@ -273,6 +293,49 @@ grep -q '^PAGECHECK-DONE' "$T/probe_doc.txt" && ok || bad "doctored page not loa
 expect_fail "every picture captioned" captioned "$T/probe_doc.txt"
 expect_fail "long tables folded" folded "$T/probe_doc.txt"
 expect_fail "the first screen: summary and Figure 1" first_screen "$T/probe_doc.txt"
+
+# ---- formulas and findings (issue 40) ------------------------------------------------
+
+# formulas PROBE NMATH: the page's NMATH <math> elements (counted in its
+# source) are all in the DOM as MathML with a non-empty box, it has at least
+# one fraction and every fraction renders stacked, and the first finding
+# (Figure 1's target, with its formula) is on the first screen
+formulas() {
+	grep -q '^PAGECHECK-DONE' "$1" || { echo "no probe output"; return 1; }
+	[ "$2" -gt 0 ] || { echo "the page has no formula (<math>)"; return 1; }
+	n=$(grep -c '^PAGECHECK-MATH mathml [1-9][0-9]* [1-9]' "$1")
+	[ "$n" -eq "$2" ] || { echo "$n of $2 formulas in the DOM as MathML with a box"; return 1; }
+	grep -q '^PAGECHECK-MFRAC stacked' "$1" || { echo "no fraction rendered stacked"; return 1; }
+	! grep -q '^PAGECHECK-MFRAC flat' "$1" || { echo "$(grep -c '^PAGECHECK-MFRAC flat' "$1") fractions not stacked"; return 1; }
+	set -- $(sed -n 's/^PAGECHECK-WINDOW //p' "$1") $(sed -n 's/^PAGECHECK-FINDING //p' "$1")
+	[ "$#" -eq 4 ] || { echo "no first finding (id first-finding)"; return 1; }
+	[ "$3" -ge 0 ] && [ "$4" -le "$2" ] || { echo "the first finding spans y $3 to $4, not within the first $2 px"; return 1; }
+}
+nmath=$(tr '\n' ' ' <"$PAGE" | grep -o '<math>' | wc -l)
+check "formulas rendered, the first finding on the first screen" formulas "$T/probe.txt" "$nmath"
+# controls: the same page with its formulas made HTML spans (no MathML, so
+# nothing stacks) must be refused, and so must the doctored copy above
+# (its first finding pushed 900 px down)
+sed -e 's/<math>/<span>/g; s/<\/math>/<\/span>/g' "$PAGE" >"$T/nomath.html"
+probe "$T/nomath.html" "$T/probe_nomath.txt" "$DIR"
+grep -q '^PAGECHECK-DONE' "$T/probe_nomath.txt" && ok || bad "the page without MathML not loaded: its control proves nothing"
+expect_fail "formulas rendered" formulas "$T/probe_nomath.txt" "$nmath"
+expect_fail "the first finding on the first screen" formulas "$T/probe_doc.txt" "$nmath"
+
+# one_finding_per_row PAGE: as many findings (<p class="finding"
+# id="finding-TARGET">) as the summary table has targets (its rows that open
+# with a linked <th>), each target's id once
+one_finding_per_row() {
+	rows=$(sed -n '/<table id="summary"/,/<\/table>/p' "$1" | grep -o '<tr><th><a href=' | wc -l)
+	found=$(grep -o '<p class="finding" id="finding-[^"]*"' "$1" | sort -u | wc -l)
+	all=$(grep -o '<p class="finding" id="finding-[^"]*"' "$1" | wc -l)
+	[ "$rows" -gt 0 ] || { echo "no summary row"; return 1; }
+	[ "$found" -eq "$rows" ] && [ "$all" -eq "$rows" ] || { echo "$all findings ($found ids) for $rows summary rows"; return 1; }
+}
+check "a finding per summary row" one_finding_per_row "$PAGE"
+# control: the page with its second finding dropped
+awk '/<p class="finding" id="finding-/ && ++n == 2 { next } { print }' "$PAGE" >"$T/onefewer.html"
+expect_fail "a finding per summary row" one_finding_per_row "$T/onefewer.html"
 
 # ---- a screenshot of the page itself: not blank ------------------------------------
 

@@ -345,3 +345,73 @@ Test(summary_read, the_table_escapes_what_it_read)
 	cr_expect(strstr(buf, "<td>1 of 1</td>") != NULL);
 	free(buf);
 }
+
+/* ---- the findings (issue 40): one sentence from the numbers --------------------------- */
+
+/* The planted rule points above: A (8, 0.2) against f3 (8, 0.1) at its cost,
+ * 3 of 3 beaten; the sentence says so, with the ratio 2. The control moves
+ * the front's members above A's error: the sentence turns to "no searched
+ * form ... beats", names what matching costs and how many are still beaten. */
+Test(summary_findings, a_sentence_from_the_numbers)
+{
+	bk_summary_row r;
+	cr_assert_eq(bk_summary_compute(pub, 3, front, 5, &r), 0);
+	snprintf(r.target, sizeof r.target, "t");
+	snprintf(r.objective, sizeof r.objective, "max_abs in f64 precision");
+	char s[512];
+	bk_summary_finding(&r, s, sizeof s);
+	cr_expect_str_eq(s, "At A's cost 8, f3 (cost 8) has max_abs 0.1, 2x less than A's 0.2; 3 of 3 published forms "
+	                    "are beaten at their own cost.");
+	/* control: the front at cost <= 8 no better than 0.3; f5 (dearer) matches */
+	bk_summary_pt worse[] = {PT(11, "g1", 4, 0.25), PT(12, "g2", 8, 0.3), PT(13, "g3", 12, 0.15)};
+	cr_assert_eq(bk_summary_compute(pub, 3, worse, 3, &r), 0);
+	bk_summary_finding(&r, s, sizeof s);
+	cr_expect_str_eq(s, "No searched form at cost 8 or less beats A (max_abs 0.2): the best there, g1, has 0.25; as "
+	                    "accurate takes cost 12 (g3), yet 1 of 3 published forms is beaten at its own cost.",
+	                 "B (4, 0.3) is beaten by g1 (4, 0.25): %s", s);
+	/* and no search at all */
+	cr_assert_eq(bk_summary_compute(pub, 3, NULL, 0, &r), 0);
+	bk_summary_finding(&r, s, sizeof s);
+	cr_expect_str_eq(s, "No search on t; the best published form is A (cost 8, max_abs 0.2).");
+}
+
+/* snprintf's contract: the whole length returned, the text cut and ended. */
+Test(summary_findings, cut_to_the_buffer)
+{
+	bk_summary_row r;
+	cr_assert_eq(bk_summary_compute(pub, 3, front, 5, &r), 0);
+	snprintf(r.target, sizeof r.target, "t");
+	snprintf(r.objective, sizeof r.objective, "rmse in f16 precision");
+	char whole[512], cut[20];
+	size_t n = bk_summary_finding(&r, whole, sizeof whole);
+	cr_expect_eq(n, strlen(whole));
+	cr_expect_eq(bk_summary_finding(&r, cut, sizeof cut), n);
+	cr_expect_eq(strlen(cut), sizeof cut - 1);
+	cr_expect(!strncmp(cut, whole, sizeof cut - 1));
+	cr_expect(strstr(whole, "rmse 0.1"), "the objective's error name: %s", whole);
+}
+
+/* The formula of the at-cost member (s2, line 6) from the front's form and
+ * parameters columns, found by line: its MathML with p0 = 0.5 baked in; a
+ * split sum gives both parts. Control: the same front without those
+ * columns (the fixtures above) shows no formula. */
+Test(summary_read, the_formula_of_the_member_at_cost)
+{
+	put("t", "catalog.csv", catalog);
+	bk_summary_row r;
+	cr_assert_eq(bk_summary_read(put("t", "front.csv", FHEAD "name,form,form_b,parameters,cost,error\n"
+	                                                          "s1,NoV,,,2,0.2\n"
+	                                                          "s2,r + p0,,p0=0.5,5,0.05\n"),
+	                             &r, err, sizeof err),
+	             0, "%s", err);
+	cr_expect_str_eq(r.at_cost.name, "s2");
+	cr_expect_str_eq(r.formula, "<math><mrow><mrow><mi>r</mi><mo>+</mo><mn>0.5</mn></mrow></mrow></math>");
+	cr_assert_eq(bk_summary_read(put("t", "front.csv", FHEAD "name,form,form_b,parameters,cost,error\n"
+	                                                          "s2,r + p0,NoV*p1,p0=0.5;p1=2,5,0.05\n"),
+	                             &r, err, sizeof err),
+	             0, "%s", err);
+	cr_expect(!strncmp(r.formula, "A = <math>", 10) && strstr(r.formula, ", B = <math>") &&
+	          strstr(r.formula, "<mn>2</mn>"), "%s", r.formula);
+	cr_assert_eq(bk_summary_read(put("t", "front.csv", front_csv), &r, err, sizeof err), 0, "%s", err);
+	cr_expect_str_eq(r.formula, "", "no form column: no formula");
+}

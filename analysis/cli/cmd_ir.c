@@ -7,6 +7,7 @@
  * ':').
  */
 #include "brdf.h"
+#include "brdf_math.h"
 #include "catalog.h"
 #include "cli.h"
 #include "out.h"
@@ -394,15 +395,17 @@ static int identifier(const char *s)
 /* codegen: --precision picks GLSL's qualifier or HLSL's half/float; the C
  * output is float whatever it says. */
 static const cli_dim codegen_dims[] = {
-	{"lang", {"c", "glsl", "hlsl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl"}},
+	{"lang", {"c", "glsl", "hlsl", "latex", "sympy"},
+	 {" with --lang c", " with --lang glsl", " with --lang hlsl", " with --lang latex", " with --lang sympy"}},
 };
 static const cli_rule codegen_rules[] = {
-	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "half"},
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "it picks a shader's float type: C is float only, LaTeX and SymPy have none", "half"},
 	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
 };
-static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", NULL};
+static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", "--lang latex NoV",
+                                             "--lang sympy NoV", NULL};
 static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
                                         sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
 
@@ -413,8 +416,8 @@ static int write_code(char *text, const char *out);
  * signature with named constants. -1 when the member is one form (the
  * one-form path takes it), else the exit status (a bad member: 2 after the
  * reader's line). */
-static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, const char *fname, const char *out,
-                        const char *command)
+static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int math, bk_math_lang ml, const char *fname,
+                        const char *out, const char *command)
 {
 	cli_member m;
 	int rc = cli_member_load(cmd->pos[0], 1, &m);
@@ -428,6 +431,9 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, const char *fna
 	if (cmd->npos > 1)
 		rc = cli_bad("'%s': a member's parameters are baked in ('%s'): give MEMBER:A or MEMBER:B to change one",
 		             cmd->pos[0], cmd->pos[1]);
+	else if (math && ml == BK_MATH_SYMPY) /* one snippet binds one expr */
+		rc = cli_bad("'%s' is a split-sum pair: give %s:A or %s:B for a SymPy snippet", cmd->pos[0], cmd->pos[0],
+		             cmd->pos[0]);
 	else if (!f[0] || !f[1])
 		rc = cli_fail("codegen", "out of memory"); /* the reader parsed both */
 	for (int k = 0; k < 2 && !rc; k++)
@@ -445,7 +451,24 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, const char *fna
 		.command = command,
 	};
 	bk_emit_style style = {m.signature, 1};
-	char *text = rc ? NULL : bk_form_emit_pair(f[0], f[1], L, half, m.p, &info, &style);
+	char *text = NULL;
+	if (!rc && math) { /* a formula each: NAME_A and NAME_B, as the code names them */
+		char name[2][BK_NAME_MAX + 3];
+		char *doc[2] = {NULL, NULL};
+		for (int k = 0; k < 2; k++) {
+			bk_emit_info part = info;
+			snprintf(name[k], sizeof name[k], "%s_%c", fname ? fname : "brdfkit_form", "AB"[k]);
+			part.name = name[k];
+			doc[k] = bk_form_math_doc(f[k], ml, m.p, &part);
+		}
+		size_t n0 = doc[0] ? strlen(doc[0]) : 0, n1 = doc[1] ? strlen(doc[1]) : 0;
+		if (doc[0] && doc[1] && (text = malloc(n0 + n1 + 2)))
+			snprintf(text, n0 + n1 + 2, "%s\n%s", doc[0], doc[1]);
+		free(doc[0]);
+		free(doc[1]);
+	} else if (!rc) {
+		text = bk_form_emit_pair(f[0], f[1], L, half, m.p, &info, &style);
+	}
 	bk_form_free(f[0]);
 	bk_form_free(f[1]);
 	cli_member_free(&m);
@@ -457,14 +480,14 @@ int cmd_codegen(int argc, char **argv)
 	char command_line[2048];
 	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
-		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
+		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl|latex|sympy", .help = "target language (latex: an equation, sympy: a Python snippet)", .dest = &lang, .required = 1},
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
+	               "--lang c|glsl|hlsl|latex|sympy [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
 	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
 	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
@@ -478,18 +501,22 @@ int cmd_codegen(int argc, char **argv)
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
 	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
 	               "sample where it has a value (+inf, NaN, or not 0 but 0 or subnormal) is warned about\n"
-	               "on stderr (exit 0), as is a constant the precision cannot hold.",
+	               "on stderr (exit 0), as is a constant the precision cannot hold.\n"
+	               "latex writes an equation (the constants as the shaders hold them); sympy a Python\n"
+	               "snippet defining the symbols, params (exact values), expr and fitted = expr.subs(params),\n"
+	               "with brdfkit's meanings (pow is x**y for x > 0, mix(x, y, t) = x + (y - x)*t).",
 	               opts, 4, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	static const char *const langs[] = {"c", "glsl", "hlsl"};
-	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL};
-	int li = cli_choice("--lang", lang, langs, 3);
+	static const char *const langs[] = {"c", "glsl", "hlsl", "latex", "sympy"};
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C, BK_LANG_C};
+	int li = cli_choice("--lang", lang, langs, 5);
 	if (li < 0)
 		return 2;
 	bk_lang L = lang_of[li];
-	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
+	int math = li >= 3; /* latex, sympy: brdf_math.h, the name checked as for C */
+	if ((rc = cli_applicable(&cmd, (int[]){li})))
 		return rc;
 	cli_prec prec;
 	if ((rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
@@ -513,7 +540,8 @@ int cmd_codegen(int argc, char **argv)
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
 	shell_words(command_line, sizeof command_line, "brdfkit codegen", argc, argv);
-	if (cli_member_split(cmd.pos[0]) && (rc = codegen_pair(&cmd, L, half, fname, out, command_line)) != -1)
+	if (cli_member_split(cmd.pos[0]) && (rc = codegen_pair(&cmd, L, half, math, li == 3 ? BK_MATH_LATEX : BK_MATH_SYMPY, fname, out,
+	                                                             command_line)) != -1)
 		return rc;
 	form_arg fa;
 	if ((rc = load_form("codegen", cmd.pos[0], &fa)))
@@ -542,13 +570,15 @@ int cmd_codegen(int argc, char **argv)
 	}
 	/* A clamp whose bounds are out of order is hi everywhere: spelled
 	 * min(max()), defined; a warning like the precision's (form_check.h). */
-	form_warn_precision("codegen", fa.named ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
+	if (!math)
+		form_warn_precision("codegen", fa.named ? fa.label : "form", fa.f, fa.params, half ? BK_F16 : BK_F32);
 	char what[200];
-	if (bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
+	if (!math && bk_form_clamp_reversed(fa.f, fa.params, what, sizeof what) > 0)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
 		        what);
-	char *text = bk_form_emit_styled(fa.f, L, half, fa.params, &info, &style);
+	char *text = math ? bk_form_math_doc(fa.f, li == 3 ? BK_MATH_LATEX : BK_MATH_SYMPY, fa.params, &info)
+	                  : bk_form_emit_styled(fa.f, L, half, fa.params, &info, &style);
 	bk_form_free(fa.f);
 	return write_code(text, out);
 }

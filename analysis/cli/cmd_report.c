@@ -29,7 +29,10 @@ static const char *const style =
 	"table.summary{font-size:12px;margin:.5em 0}table.summary td,table.summary th{padding:1px 5px}table.summary td{white-space:nowrap}"
 	"figure.main{display:flex;gap:1em;align-items:flex-start;margin:.5em 0}"
 	"figure.main>a{flex:0 0 58%}figure.main img{width:100%;height:auto}figure.main figcaption{flex:1}"
-	"h1{margin:.2em 0 .3em}p.lead{margin:.3em 0}p.note{font-size:12px;color:#444;margin:.2em 0}";
+	"h1{margin:.2em 0 .3em}p.lead{margin:.3em 0}p.note{font-size:12px;color:#444;margin:.2em 0}"
+	/* a formula is as wide as its form (MathML does not wrap): its own line,
+	 * scrolled sideways when wider than the page, never widening it */
+	"p.finding{font-size:13px;margin:.3em 0}span.formula{display:block;overflow-x:auto;padding:2px 0}";
 
 /* A table of more rows than this is folded (page.h): the first screen is
  * the summary, and a reader opens what they want. */
@@ -121,12 +124,56 @@ static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 	fputs("\">SVG</a>.</figcaption></figure>\n", f);
 }
 
+/* Row r's finding (summary.h) and formula, escaped (the formula is MathML
+ * brdf_math.h wrote: numbers and input names only). */
+static void finding(FILE *f, const bk_summary_row *r)
+{
+	char text[1024];
+	bk_summary_finding(r, text, sizeof text);
+	fputs("<b>", f);
+	bk_html_text(f, r->target);
+	fputs("</b>: ", f);
+	bk_html_text(f, text);
+	if (!r->formula[0])
+		return;
+	fputs(" <span class=\"formula\"><code>", f);
+	bk_html_text(f, r->has_search ? r->at_cost.name : r->pub.name);
+	fputs(strncmp(r->formula, "A = ", 4) ? "</code> = " : "</code>: ", f); /* a split sum's "A = .., B = .." */
+	fputs(r->formula, f);
+	fputs("</span>", f);
+}
+
+/* Every row's finding and formula, after Figure 1: a formula is as wide as
+ * its form (MathML does not wrap), too wide for the summary's cells. */
+static void findings(FILE *f, const bk_summary_row *R, int n)
+{
+	fputs("<div id=\"findings\" class=\"findings\"><h2>Findings</h2>\n<p class=\"note\">Per target, written from "
+	      "the summary's numbers; each formula is the searched form at the best published form's cost (with no "
+	      "search, the best published form), its constants to 4 digits (the exact ones: the row of its file, or "
+	      "<code>brdfkit codegen --lang latex|sympy FILE.csv:MEMBER</code>).</p>\n", f);
+	for (int i = 0; i < n; i++) {
+		fputs("<p class=\"finding\" id=\"finding-", f);
+		bk_html_text(f, R[i].target);
+		fputs("\">", f);
+		finding(f, &R[i]);
+		fputs("</p>\n", f);
+	}
+	fputs("</div>\n", f);
+}
+
 /* The summary: what was found, first (summary.h), with its figure. */
 static void page_summary(FILE *f, const bk_summary_row *R, int n, const char *const *href)
 {
 	fputs("<p class=\"lead\">Per target: the most accurate published form against the search's front on the same "
 	      "samples and objective; the error ratio is the published error over the searched one (larger is better). "
 	      "Each name links to the file it is read from (the line in its tooltip).</p>\n", f);
+	for (int i = 0; i < n; i++) /* the first screen's finding: Figure 1's target */
+		if (R[i].has_search) {
+			fputs("<p class=\"finding\" id=\"first-finding\">", f);
+			finding(f, &R[i]);
+			fputs("</p>\n", f);
+			break;
+		}
 	bk_summary_table(f, R, n, href);
 	int same = R[0].cost_model[0] != '\0';
 	for (int i = 1; i < n; i++)
@@ -147,6 +194,7 @@ static void page_summary(FILE *f, const bk_summary_row *R, int n, const char *co
 			main_figure(f, &R[i], href[i]);
 			break;
 		}
+	findings(f, R, n);
 }
 
 static void page_head(FILE *f, const section *S, int n, const bk_summary_row *R, int nr, const char *const *href)
@@ -239,7 +287,9 @@ int cmd_report(int argc, char **argv)
 	               "the error ratio, the cheapest member as accurate, and how many published forms the front\n"
 	               "beats at their own cost, in the objective the files state (front.csv must state its\n"
 	               "catalog.csv's target, objective and precision); then the first searched DIR's pareto.png\n"
-	               "as Figure 1. Links are relative from the page's folder, percent-encoded.",
+	               "as Figure 1, and per DIR a findings sentence written from those numbers with the formula of\n"
+	               "the member at cost (MathML, constants to 4 digits; from the files' form, form_b and\n"
+	               "parameters columns). Links are relative from the page's folder, percent-encoded.",
 	               opts, 2, 32, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
