@@ -78,6 +78,19 @@ static double nice_step(double raw)
 	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
+/* The colour bar's value range: -m..m (m = max |vmin|, |vmax|) on a diverging map,
+ * vmin..vmax on a sequential one; a range of nothing is widened to one unit. */
+static void bar_range(const bk_plot_heat *h, double *a, double *b)
+{
+	double m = fmax(fabs(h->vmin), fabs(h->vmax));
+	*a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin;
+	*b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
+	if (!(*b > *a))
+		*b = *a + 1.0;
+}
+
+enum { BAR_TICKS = 4 }; /* intervals asked of the colour bar's ticks */
+
 /* The rounded range of v alone (see bk_plot_axis_fit); 0 when v has no value to show. */
 static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
 {
@@ -134,11 +147,97 @@ typedef struct ticks {
 	int n;
 	double v[MAX_TICKS];
 	int major[MAX_TICKS]; /* labelled */
-	char text[MAX_TICKS][24];
+	char text[MAX_TICKS][BK_PLOT_TICK_LEN];
 } ticks;
 
-/* Linear: a 1-2-5 step for about `want` intervals; log: every decade labelled (every
- * other one when there are many), 2..9 unlabelled between when there are few. */
+/* The 1-2-5 step just below s (s itself one of them). */
+static double smaller_step(double s)
+{
+	double mag = bk_dpow(10.0, floor(bk_dlog10(s) + 1e-9)), r = s / mag;
+	return r > 4.5 ? 2.0 * mag : r > 1.5 ? mag : 0.5 * mag;
+}
+
+/* Labels v[0..n) with the fewest significant digits (1..17) that make every label
+ * read back within a thousandth of step of its value, so two ticks never share a label
+ * ("%g"'s six digits would turn 1.0000001 and 1.0000002 into one "1"). */
+static void label_ticks(ticks *t, int from, double step)
+{
+	for (int prec = 1; prec <= 17; prec++) {
+		int ok = 1;
+		for (int i = from; i < t->n; i++) {
+			snprintf(t->text[i], BK_PLOT_TICK_LEN, "%.*g", prec, t->v[i]);
+			ok = ok && fabs(strtod(t->text[i], NULL) - t->v[i]) <= 1e-3 * step;
+		}
+		if (ok)
+			return;
+	}
+}
+
+/* Linear ticks: multiples of a 1-2-5 step for about `want` intervals, the step made
+ * smaller until at least BK_PLOT_MIN_TICKS of them lie in [lo, hi] (a colour bar of
+ * -4e-4..4e-4 at want 4 would otherwise get the step 5e-4 and the one tick "0"). */
+static void linear_ticks(double lo, double hi, int want, ticks *t)
+{
+	double s = nice_step((hi - lo) / want);
+	while (floor(hi / s + 1e-9) - ceil(lo / s - 1e-9) + 1 < BK_PLOT_MIN_TICKS)
+		s = smaller_step(s);
+	while (floor(hi / s + 1e-9) - ceil(lo / s - 1e-9) + 1 > MAX_TICKS) /* rounding at the extremes */
+		s = nice_step(s * 1.01);
+	t->n = 0;
+	for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
+		t->v[t->n] = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
+		t->major[t->n++] = 1;
+	}
+	label_ticks(t, 0, s);
+}
+
+/* Log ticks in [lo, hi]: every decade labelled (every other one when there are many),
+ * 2..9 unlabelled between when there are few; when fewer than BK_PLOT_MIN_TICKS
+ * decades fall in the range, 2 and 5 (then every 1..9) times a decade are labelled
+ * too, and within less than a decade's factor of 3 the labels are linear ones. */
+static void log_ticks(const bk_plot_axis *a, ticks *t)
+{
+	int d0 = (int)floor(bk_dlog10(a->lo) + 1e-9), d1 = (int)ceil(bk_dlog10(a->hi) - 1e-9);
+	double lo = a->lo * (1 - 1e-9), hi = a->hi * (1 + 1e-9);
+	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5, decades = 0;
+	for (int d = d0; d <= d1; d++)
+		decades += bk_dpow(10.0, d) >= lo && bk_dpow(10.0, d) <= hi;
+	int label_125 = decades < BK_PLOT_MIN_TICKS, label_all = 0;
+	if (label_125) { /* would 1, 2, 5 x 10^d give enough? */
+		int n = 0;
+		for (int d = d0; d <= d1; d++)
+			for (int m = 1; m <= 5; m += m == 1 ? 1 : 3)
+				n += m * bk_dpow(10.0, d) >= lo && m * bk_dpow(10.0, d) <= hi;
+		label_all = n < BK_PLOT_MIN_TICKS;
+	}
+	if (label_all && a->hi < 3.0 * a->lo && !a->zero_at_lo) {
+		linear_ticks(a->lo, a->hi, 4, t);
+		return;
+	}
+	t->n = 0;
+	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++)
+		for (int m = 1; m <= 9 && t->n < MAX_TICKS; m++) {
+			double v = m * bk_dpow(10.0, d);
+			int at_zero = a->zero_at_lo && d == d0;
+			if (v < lo || v > hi || (m > 1 && (at_zero || !(minor || label_125))))
+				continue;
+			int lab = m == 1 ? (d - d0) % every == 0 || label_125 : label_all || (label_125 && (m == 2 || m == 5));
+			t->v[t->n] = v;
+			t->major[t->n] = lab;
+			if (at_zero && m == 1)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "0");
+			else if (!lab)
+				t->text[t->n][0] = '\0';
+			else if (d >= -3 && d <= 3)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "%g", v);
+			else if (m == 1)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "1e%d", d);
+			else
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "%de%d", m, d);
+			t->n++;
+		}
+}
+
 static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 {
 	t->n = 0;
@@ -146,39 +245,35 @@ static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 		for (int k = 0; k < a->ncat && k < MAX_TICKS; k++) {
 			t->v[t->n] = a->lo + (k + 0.5) * (a->hi - a->lo) / a->ncat;
 			t->major[t->n] = 1;
-			snprintf(t->text[t->n++], 24, "%s", a->cat[k] ? a->cat[k] : "");
+			snprintf(t->text[t->n++], BK_PLOT_TICK_LEN, "%s", a->cat[k] ? a->cat[k] : "");
 		}
 		return;
 	}
-	if (!a->log) { /* a reversed axis (lo > hi) takes the same ticks */
-		double lo = fmin(a->lo, a->hi), hi = fmax(a->lo, a->hi);
-		double s = nice_step((hi - lo) / want);
-		for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
-			double v = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
-			t->v[t->n] = v;
-			t->major[t->n] = 1;
-			snprintf(t->text[t->n++], 24, "%g", v);
+	if (!a->log) /* a reversed axis (lo > hi) takes the same ticks */
+		linear_ticks(fmin(a->lo, a->hi), fmax(a->lo, a->hi), want, t);
+	else
+		log_ticks(a, t);
+}
+
+int bk_plot_ticks(const bk_plot_axis *a, int want, double *v, char (*text)[BK_PLOT_TICK_LEN], int max)
+{
+	ticks t;
+	make_ticks(a, want, &t);
+	int k = 0;
+	for (int i = 0; i < t.n && k < max; i++)
+		if (t.major[i]) {
+			v[k] = t.v[i];
+			memcpy(text[k++], t.text[i], BK_PLOT_TICK_LEN);
 		}
-		return;
-	}
-	int d0 = (int)floor(bk_dlog10(a->lo) + 1e-9), d1 = (int)ceil(bk_dlog10(a->hi) - 1e-9);
-	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5;
-	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++) {
-		t->v[t->n] = bk_dpow(10.0, d);
-		t->major[t->n] = (d - d0) % every == 0;
-		if (a->zero_at_lo && d == d0)
-			snprintf(t->text[t->n], 24, "0");
-		else if (d >= -3 && d <= 3)
-			snprintf(t->text[t->n], 24, "%g", bk_dpow(10.0, d));
-		else
-			snprintf(t->text[t->n], 24, "1e%d", d);
-		t->n++;
-		for (int m = 2; minor && d < d1 && m <= 9 && t->n < MAX_TICKS && !(a->zero_at_lo && d == d0); m++) {
-			t->v[t->n] = m * bk_dpow(10.0, d);
-			t->major[t->n] = 0;
-			t->text[t->n++][0] = '\0';
-		}
-	}
+	return k;
+}
+
+int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TICK_LEN], int max)
+{
+	double a, b;
+	bar_range(h, &a, &b);
+	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
+	return bk_plot_ticks(&ax, BAR_TICKS, v, text, max);
 }
 
 /* ---- layout ------------------------------------------------------------------------ */
@@ -599,10 +694,8 @@ static int draw_heat(cairo_t *cr, const bk_plot *p, const layout *lo)
 static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 {
 	const bk_plot_heat *h = p->heat;
-	double x = lo->bar_x, w = 8.0, m = fmax(fabs(h->vmin), fabs(h->vmax));
-	double a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin, b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
-	if (!(b > a))
-		b = a + 1.0;
+	double x = lo->bar_x, w = 8.0, a, b;
+	bar_range(h, &a, &b);
 	/* a 1 x 128 image, nearest filter: no seams; the end rows take the map's ends exactly */
 	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 128);
 	if (cairo_surface_status(img) == CAIRO_STATUS_SUCCESS) {
@@ -631,7 +724,7 @@ static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 	cairo_stroke(cr);
 	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
 	ticks t;
-	make_ticks(&ax, 4, &t);
+	make_ticks(&ax, BAR_TICKS, &t);
 	set_font(cr, FS_TICK, 0);
 	for (int i = 0; i < t.n; i++) {
 		double y = lo->B - (t.v[i] - a) / (b - a) * (lo->B - lo->T);

@@ -95,6 +95,17 @@ void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n);
 /* Widens a to the union of its range and v's fitted range (lo = hi = 0: none yet). */
 void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n);
 
+/* The labelled ticks an axis gets for about `want` intervals (the figure asks 6 of x,
+ * 5 of y; categories: one per cell): at least BK_PLOT_MIN_TICKS of them inside
+ * [lo, hi] on every linear or log range (log: 1-2-5 or every digit within too few
+ * decades), each label distinct and reading back within a thousandth of the step of
+ * its value. Writes at most max; returns how many there are (at most max). */
+#define BK_PLOT_TICK_LEN 24
+#define BK_PLOT_MIN_TICKS 3
+int bk_plot_ticks(const bk_plot_axis *a, int want, double *v, char (*text)[BK_PLOT_TICK_LEN], int max);
+/* The colour bar's labelled ticks for a heatmap (as bk_plot_ticks, over its range). */
+int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TICK_LEN], int max);
+
 /* Writes the figure to f in one format. Returns 0, or -1 (cairo or write error). */
 int bk_plot_write(const bk_plot *p, bk_plot_format fmt, FILE *f);
 /* DIR/STEM.png, .svg and .pdf. Returns 0, or -1 with "path: what" in err. */

@@ -373,3 +373,69 @@ Test(plot, heatmap_cells_take_their_colours)
 	cr_expect_gt(right, 85.0, "the high cell is light (L* %.1f)", right);
 	free(im.rgb);
 }
+
+/* ---- ticks: at least three, distinct, inside the range ------------------------------- */
+
+/* Checks bk_plot_ticks over [lo, hi]: >= 3 labels, all distinct, each inside the range
+ * and reading back (strtod) close to its tick. Returns the number of failures. */
+static int tick_faults(int log, double lo, double hi, int want)
+{
+	bk_plot_axis a = {NULL, log, lo, hi, 0, 0, NULL};
+	double v[32];
+	char text[32][BK_PLOT_TICK_LEN];
+	int n = bk_plot_ticks(&a, want, v, text, 32), bad = n < 3;
+	double span = fabs(hi - lo);
+	for (int i = 0; i < n; i++) {
+		bad += v[i] < fmin(lo, hi) - 1e-9 * span || v[i] > fmax(lo, hi) + 1e-9 * span;
+		double back = strtod(text[i], NULL);
+		bad += !(fabs(back - v[i]) <= 1e-3 * span + 1e-300);
+		for (int j = 0; j < i; j++)
+			bad += strcmp(text[i], text[j]) == 0;
+	}
+	if (bad)
+		cr_log_info("ticks on %g..%g (log %d): %d, first \"%s\"", lo, hi, log, n, n ? text[0] : "");
+	return bad;
+}
+
+Test(plot, ticks_three_distinct_labels_in_every_range)
+{
+	int bad = 0, cases = 0;
+	/* the committed defect: a diverging colour bar of +-4.02e-4 had the one tick "0" */
+	bad += tick_faults(0, -4.02e-4, 4.02e-4, 4), cases++;
+	static const double mant[] = {1.0, 1.03, 1.5, 2.01, 2.5, 3.3, 4.02, 4.99, 5.01, 7.7, 9.99};
+	for (int e = -12; e <= 12; e += 3)
+		for (size_t k = 0; k < sizeof mant / sizeof mant[0]; k++) {
+			double m = mant[k] * pow(10.0, e);
+			for (int want = 3; want <= 6; want++) {
+				bad += tick_faults(0, -m, m, want), cases++;        /* symmetric about zero */
+				bad += tick_faults(0, 0, m, want), cases++;         /* from zero */
+				bad += tick_faults(0, -3 * m, -m, want), cases++;   /* all negative */
+				if (m >= 1e-6) /* a tiny span far from zero, well above double's resolution */
+					bad += tick_faults(0, 1.0, 1.0 + m * 1e-3, want), cases++;
+				bad += tick_faults(0, m, 1.0001 * m, want), cases++;
+			}
+			bad += tick_faults(1, m, 10 * m, 5), cases++;      /* log: about one decade */
+			bad += tick_faults(1, m, 1.2 * m, 5), cases++;     /* log: less than a factor 3 */
+			bad += tick_faults(1, m, 1e6 * m, 5), cases++;     /* log: many decades */
+		}
+	cr_log_info("%d tick ranges", cases);
+	cr_expect_eq(bad, 0, "%d faults in %d tick ranges", bad, cases);
+	/* negative controls: the checker fails a single tick and a repeated label */
+	bk_plot_axis none = {NULL, 0, 0, 1, 0, 0, NULL};
+	double v[2];
+	char text[2][BK_PLOT_TICK_LEN];
+	cr_expect_eq(bk_plot_ticks(&none, 5, v, text, 2), 2, "max bounds the count");
+	cr_expect_gt(tick_faults(0, 5, 5 + 1e-15, 4), 0, "a range under double's resolution cannot take 3 distinct labels");
+}
+
+Test(plot, colour_bar_of_the_committed_heatmap_has_three_ticks)
+{
+	/* results/search/vf2d/front/search_vf2d_7/heatmap.png: max |error| 4.02e-4 gave "0" alone */
+	double val[2] = {-4.02e-4, 3.1e-4}, v[32];
+	char text[32][BK_PLOT_TICK_LEN];
+	bk_plot_heat h = {2, 1, val, 0, 1, 0, 1, BK_PLOT_DIVERGING, -4.02e-4, 4.02e-4, "error"};
+	int n = bk_plot_bar_ticks(&h, v, text, 32);
+	cr_expect_geq(n, 3);
+	for (int i = 0; i < n; i++)
+		cr_expect(fabs(v[i]) <= 4.02e-4, "tick %s outside the bar", text[i]);
+}
