@@ -284,6 +284,7 @@ int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TIC
 #define FS_LABEL 6.0
 #define FS_NOTE 6.0
 #define MARK_R 2.4 /* marker radius, pt */
+#define NOTE_GAP 2.0 /* between footnote lines, pt */
 
 typedef struct layout {
 	double W, H;                 /* page, pt */
@@ -385,7 +386,7 @@ static int legend_rows(cairo_t *cr, const bk_plot *p, double W, double *x, int *
 	return rows;
 }
 
-static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
+static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo, int note_lines)
 {
 	lo->W = p->width_in * 72.0;
 	lo->H = p->height_in * 72.0;
@@ -399,6 +400,7 @@ static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
 	lo->L = 6.0 + FS_AXIS + 4.0 + tw + 4.0;
 	lo->T = p->title ? 6.0 + FS_TITLE + 6.0 : 8.0;
 	lo->B = lo->H - (4.0 + FS_TICK + 4.0 + FS_AXIS + 4.0 + FS_NOTE + 6.0);
+	lo->B -= (note_lines > 1 ? note_lines - 1 : 0) * (FS_NOTE + NOTE_GAP); /* a footnote of several lines */
 	double right = 8.0, lw = legend_width(cr, p);
 	lo->bar_x = lo->legend_x = 0.0;
 	if (p->heat) {
@@ -462,12 +464,14 @@ static int visible(const layout *lo, const bk_plot *p, double x, double y, doubl
 	       *py <= lo->B + 0.01;
 }
 
+static void settled_layout(cairo_t *cr, const bk_plot *p, layout *lo);
+
 void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py)
 {
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
+	settled_layout(cr, p, &lo);
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	*px = page_x(&lo, p, x);
@@ -479,7 +483,7 @@ void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4])
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
+	settled_layout(cr, p, &lo);
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	plot[0] = lo.L, plot[1] = lo.T, plot[2] = lo.R, plot[3] = lo.B;
@@ -506,34 +510,127 @@ static int count_labels(const bk_plot *p)
 	return n;
 }
 
-/* Places every label (plot.h); out holds count_labels(p) entries. */
-static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
+/* Whether the segment (ax, ay)-(bx, by) meets box b (Liang-Barsky clipping): a line
+ * series' segments keep labels off as markers do. */
+static int segment_meets(double ax, double ay, double bx, double by, box b)
 {
-	int nm = 0, nl = count_labels(p), k = 0;
+	double t0 = 0.0, t1 = 1.0, dx = bx - ax, dy = by - ay;
+	double pq[4][2] = {{-dx, ax - b.x0}, {dx, b.x1 - ax}, {-dy, ay - b.y0}, {dy, b.y1 - ay}};
+	for (int k = 0; k < 4; k++) {
+		double P = pq[k][0], Q = pq[k][1];
+		if (P == 0.0) {
+			if (Q < 0.0)
+				return 0;
+			continue;
+		}
+		double r = Q / P;
+		if (P < 0.0)
+			t0 = fmax(t0, r);
+		else
+			t1 = fmin(t1, r);
+		if (t0 > t1)
+			return 0;
+	}
+	return 1;
+}
+
+/* The drawn marks labels must not touch: marker boxes, staircase steps and error bars
+ * as boxes (the bars 1.2 pt thick), a line series' segments as segments. */
+typedef struct marks {
+	box *b;
+	int n, cap;
+	double (*seg)[4];
+	int nseg;
+} marks;
+
+static int marks_init(const bk_plot *p, const layout *lo, marks *m, int extra)
+{
+	int nb = extra, ns = 0;
 	for (int s = 0; s < p->nseries; s++)
-		nm += p->series[s].style == BK_PLOT_LINE ? 0 : 2 * p->series[s].n;
-	box *taken = malloc(sizeof *taken * (size_t)(nm + nl + 1));
-	if (!taken)
+		if (p->series[s].style == BK_PLOT_LINE)
+			ns += p->series[s].n;
+		else
+			nb += 3 * p->series[s].n;
+	m->b = malloc(sizeof *m->b * (size_t)(nb + 1));
+	m->seg = malloc(sizeof *m->seg * (size_t)(ns + 1));
+	m->n = m->nseg = 0;
+	m->cap = nb;
+	if (!m->b || !m->seg)
 		return -1;
-	int nt = 0;
-	for (int s = 0; s < p->nseries; s++) { /* every marker and every staircase step is an obstacle */
+	for (int s = 0; s < p->nseries; s++) {
 		const bk_plot_series *S = &p->series[s];
 		double px, py, qx = 0.0, qy = 0.0;
 		int prev = 0;
-		for (int i = 0; S->style != BK_PLOT_LINE && i < S->n; i++) {
+		for (int i = 0; i < S->n; i++) {
 			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
 				continue;
-			if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
-				taken[nt++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
-			else if (prev) { /* right along qy, then down to py */
-				taken[nt++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
-				taken[nt++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			if (S->style == BK_PLOT_LINE) {
+				if (prev)
+					memcpy(m->seg[m->nseg++], (double[4]){qx, qy, px, py}, sizeof m->seg[0]);
+			} else if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
+				m->b[m->n++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
+			else if (S->style == BK_PLOT_STEPS && prev) { /* right along qy, then down to py */
+				m->b[m->n++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
+				m->b[m->n++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			}
+			if (S->xlo && S->xhi && isfinite(S->xlo[i]) && isfinite(S->xhi[i])) { /* drawn clipped to the plot */
+				double a = fmax(lo->L, fmin(page_x(lo, p, S->xlo[i]), lo->R));
+				double b = fmax(lo->L, fmin(page_x(lo, p, S->xhi[i]), lo->R));
+				m->b[m->n++] = (box){fmin(a, b), py - 0.6, fmax(a, b), py + 0.6};
 			}
 			prev = 1, qx = px, qy = py;
 		}
 	}
-	set_font(cr, FS_LABEL, 0);
+	return 0;
+}
+
+static void marks_free(marks *m)
+{
+	free(m->b);
+	free(m->seg);
+}
+
+static int marks_meet(const marks *m, box b)
+{
+	for (int j = 0; j < m->n; j++)
+		if (meets(b, m->b[j]))
+			return 1;
+	for (int j = 0; j < m->nseg; j++)
+		if (segment_meets(m->seg[j][0], m->seg[j][1], m->seg[j][2], m->seg[j][3], b))
+			return 1;
+	return 0;
+}
+
+/* The first free place for a w x h box around (px, py) at gap g: right, upper right,
+ * above, upper left, left, lower left, below, lower right; then the same twice as far
+ * out. Returns 1 with the box in *out. */
+static int free_place(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
+{
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+	for (int ring = 1; ring <= 2; ring++)
+		for (int d = 0; d < 8; d++) {
+			double g = ring * (MARK_R + 1.0);
+			double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
+			box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
+			if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B || marks_meet(m, b))
+				continue;
+			*out = b;
+			return 1;
+		}
+	return 0;
+}
+
+/* Places every label (plot.h); out holds count_labels(p) entries. A label with no free
+ * place tries its key number ("3", named in the footnote's key) in the same places. */
+static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
+{
+	int nl = count_labels(p), k = 0, nkey = 0;
+	marks m;
+	if (marks_init(p, lo, &m, nl)) {
+		marks_free(&m);
+		return -1;
+	}
+	set_font(cr, FS_LABEL, 0);
 	for (int pass = 0; pass < 2; pass++) /* filled markers' labels first, then hollow ones' */
 	for (int s = 0; s < p->nseries; s++) {
 		const bk_plot_series *S = &p->series[s];
@@ -543,28 +640,104 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 			if (!S->label[i])
 				continue;
 			bk_plot_label *L = &out[k++];
-			*L = (bk_plot_label){s, i, 0, 0, 0, 0, 0};
+			*L = (bk_plot_label){s, i, 0, 0, 0, 0, 0, 0};
 			double px, py;
 			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
 				continue;
-			double w = text_w(cr, S->label[i]), h = FS_LABEL, g = MARK_R + 1.0;
-			for (int d = 0; d < 8 && !L->placed; d++) {
-				double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
-				box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
-				if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B)
-					continue;
-				int clash = 0;
-				for (int j = 0; j < nt && !clash; j++)
-					clash = meets(b, taken[j]);
-				if (clash)
-					continue;
-				taken[nt++] = b;
-				*L = (bk_plot_label){s, i, 1, b.x0, b.y0, b.x1, b.y1};
+			box b;
+			char num[16];
+			snprintf(num, sizeof num, "%d", nkey + 1);
+			if (free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, &b))
+				L->placed = 1;
+			else if (free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b))
+				L->placed = 1, L->key = ++nkey;
+			if (L->placed) {
+				m.b[m.n++] = b;
+				L->x0 = b.x0, L->y0 = b.y0, L->x1 = b.x1, L->y1 = b.y1;
 			}
 		}
 	}
-	free(taken);
+	marks_free(&m);
 	return k;
+}
+
+enum { NOTE_MAX = 8 }; /* footnote lines at most */
+
+/* The footnote in lines of at most W - 12 pt: the caller's note (one line, shrunk to
+ * fit when longer), then the key of numbered labels ("key: 1 name, 2 name") and the
+ * labels with no place at all, wrapped at entries. Returns the number of lines. */
+static int note_text(cairo_t *cr, const bk_plot *p, double W, const bk_plot_label *lab, int nl,
+                     char line[NOTE_MAX][1024])
+{
+	int n = 0, dropped = 0;
+	set_font(cr, FS_NOTE, 0);
+	line[0][0] = '\0';
+	if (p->note)
+		snprintf(line[n++], 1024, "%s", p->note);
+	for (int k = 0; k < nl; k++)
+		dropped += !lab[k].placed;
+	for (int pass = 0; pass < 2; pass++) {
+		int first = 1;
+		for (int k = 0; k < nl; k++) {
+			if (pass == 0 ? lab[k].key == 0 : lab[k].placed)
+				continue;
+			const char *name = p->series[lab[k].series].label[lab[k].point];
+			char entry[1100];
+			if (pass == 0)
+				snprintf(entry, sizeof entry, "%s%d %s", first ? "key: " : "", lab[k].key, name);
+			else
+				snprintf(entry, sizeof entry, "%s", name);
+			char head[64] = "";
+			if (first && pass == 1)
+				snprintf(head, sizeof head, "%d not labelled (no free place): ", dropped);
+			char next[2200];
+			int cur = n > 0 ? n - 1 : 0;
+			snprintf(next, sizeof next, "%s%s%s%s", line[cur], n == 0 ? "" : first ? "; " : ", ", head, entry);
+			size_t len = strlen(next);
+			if (n > 0 && len < 1024 && text_w(cr, next) <= W - 12.0)
+				memcpy(line[cur], next, len + 1);
+			else if (n < NOTE_MAX)
+				snprintf(line[n++], 1024, "%.60s%.900s", head, entry);
+			else { /* out of lines: say so on the last */
+				size_t len = strlen(line[NOTE_MAX - 1]);
+				if (len < 1000 && !strstr(line[NOTE_MAX - 1], "\xe2\x80\xa6"))
+					snprintf(line[NOTE_MAX - 1] + len, 1024 - len, " \xe2\x80\xa6");
+			}
+			first = 0;
+		}
+	}
+	return n;
+}
+
+/* The layout with room for the footnote's lines and the labels placed in it: placing
+ * may key labels whose key needs more lines, which shortens the plot, so it is redone
+ * until the lines suffice (three rounds at most; a key only shrinks as room grows less). */
+static int settle(cairo_t *cr, const bk_plot *p, layout *lo, bk_plot_label *lab)
+{
+	char (*line)[1024] = malloc(sizeof(char[NOTE_MAX][1024]));
+	int nl = count_labels(p), lines = 1, rc = 0;
+	if (!line)
+		return -1;
+	for (int round = 0; round < 3; round++) {
+		make_layout(cr, p, lo, lines);
+		if ((rc = place_labels(cr, p, lo, lab)) < 0)
+			break;
+		int need = note_text(cr, p, lo->W, lab, nl, line);
+		if (need <= lines)
+			break;
+		lines = need;
+	}
+	free(line);
+	return rc;
+}
+
+/* The layout alone, as the drawing settles it (out of memory: one footnote line). */
+static void settled_layout(cairo_t *cr, const bk_plot *p, layout *lo)
+{
+	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(count_labels(p) + 1));
+	if (!lab || settle(cr, p, lo, lab) < 0)
+		make_layout(cr, p, lo, 1);
+	free(lab);
 }
 
 int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max)
@@ -574,13 +747,32 @@ int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max)
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
-	int k = all ? place_labels(cr, p, &lo, all) : -1;
+	int k = all ? settle(cr, p, &lo, all) : -1;
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	if (k >= 0)
 		memcpy(out, all, sizeof *all * (size_t)(k < max ? k : max));
 	free(all);
+	return k;
+}
+
+int bk_plot_marks(const bk_plot *p, double (*box_out)[4], int max)
+{
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	int n = count_labels(p), k = -1;
+	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(n + 1));
+	marks m = {0};
+	if (lab && settle(cr, p, &lo, lab) >= 0 && !marks_init(p, &lo, &m, 0)) {
+		k = m.n;
+		for (int j = 0; j < m.n && j < max; j++)
+			box_out[j][0] = m.b[j].x0, box_out[j][1] = m.b[j].y0, box_out[j][2] = m.b[j].x1, box_out[j][3] = m.b[j].y1;
+	}
+	marks_free(&m);
+	free(lab);
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
 	return k;
 }
 
@@ -907,43 +1099,26 @@ static void draw_legend(cairo_t *cr, const bk_plot *p, const layout *lo)
 	}
 }
 
-/* The footnote: the caller's note, then the labels that found no place. */
-static void draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_label *lab, int nl)
+/* The footnote (note_text): its lines upward from the page's bottom edge. */
+static int draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_label *lab, int nl)
 {
-	char buf[1024] = "";
-	size_t n = 0;
-	if (p->note)
-		n += (size_t)snprintf(buf, sizeof buf, "%s", p->note);
-	int dropped = 0;
-	for (int k = 0; k < nl; k++)
-		dropped += !lab[k].placed;
-	if (dropped && n < sizeof buf)
-		n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%d not labelled (no free place):", n ? "; " : "", dropped);
-	set_font(cr, FS_NOTE, 0);
-	for (int k = 0; k < nl && n < sizeof buf; k++)
-		if (!lab[k].placed) {
-			const char *s = p->series[lab[k].series].label[lab[k].point];
-			char next[1200];
-			snprintf(next, sizeof next, "%s %s", buf, s);
-			if (text_w(cr, next) > lo->W - 12.0 - 10.0) {
-				n += (size_t)snprintf(buf + n, sizeof buf - n, " \xe2\x80\xa6");
-				break;
-			}
-			n += (size_t)snprintf(buf + n, sizeof buf - n, " %s", s);
-		}
-	if (!buf[0])
-		return;
+	char (*line)[1024] = malloc(sizeof(char[NOTE_MAX][1024]));
+	if (!line)
+		return -1;
+	int n = note_text(cr, p, lo->W, lab, nl, line);
 	cairo_set_source_rgb(cr, 0.33, 0.33, 0.33);
-	text_fit(cr, 6.0, lo->H - 5.0, 0.0, buf, FS_NOTE, 0, lo->W - 12.0);
+	for (int k = 0; k < n; k++)
+		text_fit(cr, 6.0, lo->H - 5.0 - (n - 1 - k) * (FS_NOTE + NOTE_GAP), 0.0, line[k], FS_NOTE, 0, lo->W - 12.0);
+	free(line);
+	return 0;
 }
 
 static int draw(cairo_t *cr, const bk_plot *p)
 {
 	layout lo;
-	make_layout(cr, p, &lo);
 	int nl = count_labels(p);
 	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(nl + 1));
-	if (!lab || place_labels(cr, p, &lo, lab) < 0) {
+	if (!lab || settle(cr, p, &lo, lab) < 0) {
 		free(lab);
 		return -1;
 	}
@@ -960,16 +1135,20 @@ static int draw(cairo_t *cr, const bk_plot *p)
 	for (int k = 0; k < nl; k++)
 		if (lab[k].placed) {
 			/* white halo first: a label stays legible over a grid line or a step */
+			char num[16];
+			snprintf(num, sizeof num, "%d", lab[k].key);
 			cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
 			text_at(cr, lab[k].x0, lab[k].y1 - FS_LABEL * 0.2, 0.0,
-			        p->series[lab[k].series].label[lab[k].point]);
+			        lab[k].key ? num : p->series[lab[k].series].label[lab[k].point]);
 		}
 	draw_frame(cr, p, &lo);
 	if (p->heat)
 		draw_bar(cr, p, &lo);
 	draw_legend(cr, p, &lo);
-	draw_note(cr, p, &lo, lab, nl);
+	int rc = draw_note(cr, p, &lo, lab, nl);
 	free(lab);
+	if (rc)
+		return -1;
 	return cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
 }
 

@@ -14,11 +14,14 @@
  *   labels   placed greedily, the labels of filled markers' series before those of
  *            hollow ones', each in series order, then point order: the first of 8
  *            positions around the marker (right, upper right, above, upper left, left,
- *            lower left, below, lower right) whose box stays inside the plot area and
- *            meets no marker, no staircase step and no label placed before; a label with
- *            no such position is
- *            dropped and named in the footnote ("N not labelled (no free place): a b ...",
- *            cut with "..." at the page edge).
+ *            lower left, below, lower right), then the same twice as far out, whose box
+ *            stays inside the plot area and meets no marker, no staircase step, no error
+ *            bar, no segment of a line and no label placed before; a label with no such
+ *            position is drawn as a number in the first such position for the number,
+ *            the footnote's key naming it ("key: 1 name, 2 name"); with no place even
+ *            for that it is named in the footnote ("N not labelled (no free place): a,
+ *            b"). The footnote wraps onto up to 8 lines (the plot grows shorter), "..."
+ *            ending the last when even that is not enough.
  *   colours  sequential data (magnitudes, shares): BK_PLOT_SEQUENTIAL, a map of our own
  *            computation with OKLab lightness rising linearly 0.30 -> 0.92 (dark blue-
  *            violet to pale yellow); signed error: BK_PLOT_DIVERGING, ColorBrewer RdBu
@@ -129,8 +132,15 @@ void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4]);
 typedef struct bk_plot_label {
 	int series, point, placed;
 	double x0, y0, x1, y1;
+	int key;  /* > 0: placed as this number, named in the footnote's key */
 } bk_plot_label;
 int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max);
+
+/* The boxes of the marks labels keep off, in points as above: markers (not dots),
+ * staircase steps and error bars (1.2 pt thick), in series and point order; a line
+ * series' segments are kept off as segments and not listed. Returns how many (at
+ * most max written), or -1 when out of memory. */
+int bk_plot_marks(const bk_plot *p, double (*box)[4], int max);
 
 /* The colour of t in [0, 1] (clamped) on a map, 8-bit sRGB. */
 void bk_plot_colour(int map, double t, unsigned char rgb[3]);
