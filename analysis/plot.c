@@ -1152,6 +1152,38 @@ static int draw(cairo_t *cr, const bk_plot *p)
 	return cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
 }
 
+int bk_plot_unexplained(const bk_plot *p)
+{
+	int hollow_key = 0;
+	for (int s = 0; s < p->nseries; s++)
+		hollow_key |= p->series[s].name && p->series[s].hollow && p->series[s].n == 0;
+	layout lo;
+	cairo_surface_t *sf;
+	cairo_t *cr = measure_ctx(&sf);
+	settled_layout(cr, p, &lo);
+	cairo_destroy(cr);
+	cairo_surface_destroy(sf);
+	for (int s = 0; s < p->nseries; s++) {
+		const bk_plot_series *S = &p->series[s];
+		int drawn = 0;
+		double px, py;
+		for (int i = 0; i < S->n && !drawn; i++)
+			drawn = visible(&lo, p, S->x[i], S->y[i], &px, &py);
+		if (!drawn || S->name)
+			continue;
+		int ok = 0;
+		for (int t = 0; t < p->nseries && !ok; t++) {
+			const bk_plot_series *E = &p->series[t];
+			if (!E->name || E->style != S->style || E->marker != S->marker || E->rgb != S->rgb)
+				continue;
+			ok = S->style != BK_PLOT_POINTS || !E->hollow == !S->hollow || (S->hollow && hollow_key);
+		}
+		if (!ok)
+			return s;
+	}
+	return -1;
+}
+
 /* ---- output ------------------------------------------------------------------------ */
 
 static cairo_status_t to_file(void *closure, const unsigned char *data, unsigned int len)

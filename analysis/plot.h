@@ -142,6 +142,13 @@ int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max);
  * most max written), or -1 when out of memory. */
 int bk_plot_marks(const bk_plot *p, double (*box)[4], int max);
 
+/* The first series with a visible marker the legend does not explain, or -1: a
+ * marker is explained by a legend entry (named series) of its own, or by one of
+ * the same shape and colour, filled or hollow as it is, or, hollow, by one of the
+ * same shape and colour filled beside a named hollow series of no points (a key
+ * "hollow: what it means"). Lines and steps: by their own name. */
+int bk_plot_unexplained(const bk_plot *p);
+
 /* The colour of t in [0, 1] (clamped) on a map, 8-bit sRGB. */
 void bk_plot_colour(int map, double t, unsigned char rgb[3]);
 

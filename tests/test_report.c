@@ -18,6 +18,7 @@
  * markup, and two writes giving the same PNG, SVG and PDF bytes.
  */
 #include "compare.h"
+#include "plot.h"
 
 #include <criterion/criterion.h>
 
@@ -481,4 +482,29 @@ Test(report, plot_escapes_every_string)
 		free(buf);
 		remove_plot(dir);
 	}
+}
+
+/* Hollow markers (off the front) were drawn with no legend entry saying so
+ * (results/compare/vf2d/pareto_ns.png): every marker style drawn is explained. */
+Test(report, legend_explains_every_marker_drawn)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	for (int xaxis = 0; xaxis < 2; xaxis++)
+		cr_expect_eq(bk_compare_plot_unexplained(rows, NBASIC, xaxis, NULL), -1, "x axis %d", xaxis);
+	/* negative control: the same legend without the hollow key leaves the hollow series unexplained */
+	double x[2] = {1, 2}, y[2] = {0.1, 0.2};
+	bk_plot_series s[3] = {
+		{"published constants", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, 1, x, y, NULL, NULL, NULL},
+		{NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 1, 0x1f77b4, 1, x + 1, y + 1, NULL, NULL, NULL},
+		{"hollow: off the front", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 1, 0x7f7f7f, 0, x, y, NULL, NULL, NULL},
+	};
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, NULL, NULL, NULL, {"x", 0, 0, 3, 0, 0, NULL}, {"y", 1, 0.01, 1, 0, 0, NULL},
+	             s, 3, NULL};
+	cr_expect_eq(bk_plot_unexplained(&p), -1, "with the key");
+	p.nseries = 2;
+	cr_expect_eq(bk_plot_unexplained(&p), 1, "without the key the hollow series is unexplained");
+	s[0].marker = BK_PLOT_SQUARE;
+	p.nseries = 3;
+	cr_expect_eq(bk_plot_unexplained(&p), 1, "a key does not explain a shape no entry has");
 }
