@@ -19,6 +19,9 @@
  */
 #include "compare.h"
 #include "plot.h"
+#include "search_front.h"
+#include "search_write.h"
+#include "target.h"
 
 #include <criterion/criterion.h>
 
@@ -507,4 +510,41 @@ Test(report, legend_explains_every_marker_drawn)
 	s[0].marker = BK_PLOT_SQUARE;
 	p.nseries = 3;
 	cr_expect_eq(bk_plot_unexplained(&p), 1, "a key does not explain a shape no entry has");
+}
+
+/* results/search/env_f0 and env_mix's plots were titled "search on env" as env's:
+ * a title names the study's own target. */
+Test(report, search_titles_name_the_env_form_and_the_index)
+{
+	bk_sfront F;
+	memset(&F, 0, sizeof F);
+	bk_target_options to;
+	memset(&to, 0, sizeof to);
+	bk_swrite W;
+	memset(&W, 0, sizeof W);
+	W.F = &F;
+	W.to = &to;
+	char lab[4][160];
+	F.kind = BK_TARGET_ENV;
+	W.env_form = NULL;
+	bk_swrite_target_label(&W, lab[0], sizeof lab[0]);
+	W.env_form = "f0";
+	bk_swrite_target_label(&W, lab[1], sizeof lab[1]);
+	W.env_form = "mix";
+	bk_swrite_target_label(&W, lab[2], sizeof lab[2]);
+	cr_expect_str_eq(lab[0], "env");
+	cr_expect_not_null(strstr(lab[1], "env_f0"), "%s", lab[1]);
+	cr_expect_not_null(strstr(lab[2], "env_mix"), "%s", lab[2]);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < i; j++)
+			cr_expect_str_neq(lab[i], lab[j], "two env studies share a title");
+	/* f: the index and its f0 (gold: 0.27 + 2.78i), computed here from the
+	 * normal-incidence Fresnel ((n-1)^2 + k^2)/((n+1)^2 + k^2) */
+	F.kind = BK_TARGET_F;
+	to.eta = 0.27, to.k = 2.78;
+	bk_swrite_target_label(&W, lab[3], sizeof lab[3]);
+	double f0 = ((0.27 - 1) * (0.27 - 1) + 2.78 * 2.78) / ((0.27 + 1) * (0.27 + 1) + 2.78 * 2.78);
+	char want[64];
+	snprintf(want, sizeof want, "n = 0.27 + 2.78i, f0 = %.3g", f0);
+	cr_expect_not_null(strstr(lab[3], want), "%s (want %s)", lab[3], want);
 }
