@@ -280,7 +280,7 @@ int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TIC
 
 #define FS_TITLE 9.0
 #define FS_AXIS 8.0
-#define FS_TICK 7.0
+#define FS_TICK BK_PLOT_TICK_PT
 #define FS_LABEL 6.0
 #define FS_NOTE 6.0
 #define MARK_R 2.4 /* marker radius, pt */

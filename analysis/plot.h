@@ -40,6 +40,8 @@
 #define BK_PLOT_DOUBLE_W 7.0
 #define BK_PLOT_DPI 200
 #define BK_PLOT_FONT "DejaVu Sans"
+#define BK_PLOT_TICK_PT 7.0 /* tick labels' and the legend's font size, pt (a page shows a PNG's
+                               at BK_PLOT_TICK_PT * BK_PLOT_DPI / 72 px times its display scale) */
 #define BK_PLOT_PDF_DATE "2000-01-01T00:00:00Z"
 
 typedef struct bk_plot_axis {
