@@ -294,6 +294,7 @@ typedef struct layout {
 	double legend_x, bar_x;      /* legend and colour bar columns (0: none) */
 	int legend_top;              /* narrow figures: the legend in rows under the title */
 	double legend_y;             /* its first row's baseline */
+	int note_lines;              /* footnote lines room was made for (>= 1) */
 } layout;
 
 static void set_font(cairo_t *cr, double size, int bold)
@@ -400,7 +401,8 @@ static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo, int note_line
 	lo->L = 6.0 + FS_AXIS + 4.0 + tw + 4.0;
 	lo->T = p->title ? 6.0 + FS_TITLE + 6.0 : 8.0;
 	lo->B = lo->H - (4.0 + FS_TICK + 4.0 + FS_AXIS + 4.0 + FS_NOTE + 6.0);
-	lo->B -= (note_lines > 1 ? note_lines - 1 : 0) * (FS_NOTE + NOTE_GAP); /* a footnote of several lines */
+	lo->note_lines = note_lines > 1 ? note_lines : 1;
+	lo->B -= (lo->note_lines - 1) * (FS_NOTE + NOTE_GAP); /* a footnote of several lines */
 	double right = 8.0, lw = legend_width(cr, p);
 	lo->bar_x = lo->legend_x = 0.0;
 	if (p->heat) {
@@ -1106,6 +1108,11 @@ static int draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_p
 	if (!line)
 		return -1;
 	int n = note_text(cr, p, lo->W, lab, nl, line);
+	if (n > lo->note_lines) { /* settle ran out of rounds: the lines it made room for, "..." after */
+		n = lo->note_lines;
+		size_t len = strlen(line[n - 1]);
+		snprintf(line[n - 1] + (len < 1000 ? len : 1000), 24, " \xe2\x80\xa6");
+	}
 	cairo_set_source_rgb(cr, 0.33, 0.33, 0.33);
 	for (int k = 0; k < n; k++)
 		text_fit(cr, 6.0, lo->H - 5.0 - (n - 1 - k) * (FS_NOTE + NOTE_GAP), 0.0, line[k], FS_NOTE, 0, lo->W - 12.0);
