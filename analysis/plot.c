@@ -554,7 +554,7 @@ static int marks_init(const bk_plot *p, const layout *lo, marks *m, int extra)
 		else
 			nb += 3 * p->series[s].n;
 	m->b = malloc(sizeof *m->b * (size_t)(nb + 1));
-	m->seg = malloc(sizeof *m->seg * (size_t)(ns + 1));
+	m->seg = malloc(sizeof *m->seg * (size_t)(ns + extra + 1)); /* extra: the labels' leaders too */
 	m->n = m->nseg = 0;
 	m->cap = nb;
 	if (!m->b || !m->seg)
@@ -603,21 +603,50 @@ static int marks_meet(const marks *m, box b)
 	return 0;
 }
 
+/* The point of box b nearest to (px, py): where a leader line from the marker ends. */
+static void nearest_on(box b, double px, double py, double *qx, double *qy)
+{
+	*qx = fmax(b.x0, fmin(px, b.x1));
+	*qy = fmax(b.y0, fmin(py, b.y1));
+}
+
+/* Whether a leader from the marker at (px, py) to box b meets a marker or a label
+ * other than the marker's own (the segment starts at the marker's edge). Bars and
+ * staircase steps (boxes 1.2 pt thin) it may cross: a thin grey line over a thin
+ * coloured one stays readable, and a crowd of bars would leave no leader at all. */
+static int leader_meets(const marks *m, double px, double py, box b)
+{
+	double qx, qy;
+	nearest_on(b, px, py, &qx, &qy);
+	double dx = qx - px, dy = qy - py, d = hypot(dx, dy);
+	if (d <= MARK_R + 0.5)
+		return 0;
+	double sx = px + dx * (MARK_R + 0.5) / d, sy = py + dy * (MARK_R + 0.5) / d;
+	for (int j = 0; j < m->n; j++)
+		if (fmin(m->b[j].x1 - m->b[j].x0, m->b[j].y1 - m->b[j].y0) > 1.3 &&
+		    segment_meets(sx, sy, qx, qy, m->b[j]) && !(m->b[j].x0 <= px && px <= m->b[j].x1 && m->b[j].y0 <= py &&
+		                                               py <= m->b[j].y1))
+			return 1;
+	return 0;
+}
+
 /* The first free place for a w x h box around (px, py) at gap g: right, upper right,
- * above, upper left, left, lower left, below, lower right; then the same twice as far
- * out. Returns 1 with the box in *out. */
+ * above, upper left, left, lower left, below, lower right; then the same twice and
+ * three times as far out, where a leader line will tie the label to its marker (and
+ * must itself cross no mark). Returns 0 (none), or the ring (1..3) with the box in *out. */
 static int free_place(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
 {
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-	for (int ring = 1; ring <= 2; ring++)
+	for (int ring = 1; ring <= 3; ring++)
 		for (int d = 0; d < 8; d++) {
 			double g = ring * (MARK_R + 1.0);
 			double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
 			box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
-			if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B || marks_meet(m, b))
+			if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B || marks_meet(m, b) ||
+			    (ring > 1 && leader_meets(m, px, py, b)))
 				continue;
 			*out = b;
-			return 1;
+			return ring;
 		}
 	return 0;
 }
@@ -649,12 +678,18 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 			box b;
 			char num[16];
 			snprintf(num, sizeof num, "%d", nkey + 1);
-			if (free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, &b))
+			int ring = free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, &b);
+			if (ring)
 				L->placed = 1;
-			else if (free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b))
+			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b)))
 				L->placed = 1, L->key = ++nkey;
 			if (L->placed) {
 				m.b[m.n++] = b;
+				if (ring > 1) { /* its leader keeps later labels off too */
+					double qx, qy;
+					nearest_on(b, px, py, &qx, &qy);
+					memcpy(m.seg[m.nseg++], (double[4]){px, py, qx, qy}, sizeof m.seg[0]);
+				}
 				L->x0 = b.x0, L->y0 = b.y0, L->x1 = b.x1, L->y1 = b.y1;
 			}
 		}
@@ -1138,6 +1173,21 @@ static int draw(cairo_t *cr, const bk_plot *p)
 	draw_axes(cr, p, &lo);
 	for (int s = 0; s < p->nseries; s++)
 		draw_series(cr, p, &lo, &p->series[s]);
+	for (int k = 0; k < nl; k++) { /* a label set apart (the second ring) is tied to its marker */
+		const bk_plot_series *S = &p->series[lab[k].series];
+		double px, py, qx, qy;
+		if (!lab[k].placed || !visible(&lo, p, S->x[lab[k].point], S->y[lab[k].point], &px, &py))
+			continue;
+		nearest_on((box){lab[k].x0, lab[k].y0, lab[k].x1, lab[k].y1}, px, py, &qx, &qy);
+		double d = hypot(qx - px, qy - py);
+		if (d <= 1.5 * (MARK_R + 1.0)) /* the first ring's: beside its marker, no leader */
+			continue;
+		cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+		cairo_set_line_width(cr, 0.4);
+		cairo_move_to(cr, px + (qx - px) * (MARK_R + 0.5) / d, py + (qy - py) * (MARK_R + 0.5) / d);
+		cairo_line_to(cr, qx, qy);
+		cairo_stroke(cr);
+	}
 	set_font(cr, FS_LABEL, 0);
 	for (int k = 0; k < nl; k++)
 		if (lab[k].placed) {
