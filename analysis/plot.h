@@ -14,9 +14,11 @@
  *   labels   placed greedily, the labels of filled markers' series before those of
  *            hollow ones', each in series order, then point order: the first of 8
  *            positions around the marker (right, upper right, above, upper left, left,
- *            lower left, below, lower right), then the same twice as far out, whose box
- *            stays inside the plot area and meets no marker, no staircase step, no error
- *            bar, no segment of a line and no label placed before; a label with no such
+ *            lower left, below, lower right), then the same twice and three times as far
+ *            out (tied to the marker by a thin grey leader that crosses no marker and no
+ *            label), whose box stays inside the plot area and meets no marker, no staircase
+ *            step, no error bar, no segment of a line, no leader and no label placed
+ *            before; a label with no such
  *            position is drawn as a number in the first such position for the number,
  *            the footnote's key naming it ("key: 1 name, 2 name"); with no place even
  *            for that it is named in the footnote ("N not labelled (no free place): a,
