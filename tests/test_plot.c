@@ -401,8 +401,8 @@ static int tick_faults(int log, double lo, double hi, int want)
 Test(plot, ticks_three_distinct_labels_in_every_range)
 {
 	int bad = 0, cases = 0;
-	/* the committed defect: a diverging colour bar of +-4.02e-4 had the one tick "0" */
-	bad += tick_faults(0, -4.02e-4, 4.02e-4, 4), cases++;
+	/* the committed defect: a diverging colour bar of +-0.00495586 had the one tick "0" */
+	bad += tick_faults(0, -0.00495586, 0.00495586, 4), cases++;
 	static const double mant[] = {1.0, 1.03, 1.5, 2.01, 2.5, 3.3, 4.02, 4.99, 5.01, 7.7, 9.99};
 	for (int e = -12; e <= 12; e += 3)
 		for (size_t k = 0; k < sizeof mant / sizeof mant[0]; k++) {
@@ -431,14 +431,15 @@ Test(plot, ticks_three_distinct_labels_in_every_range)
 
 Test(plot, colour_bar_of_the_committed_heatmap_has_three_ticks)
 {
-	/* results/search/vf2d/front/search_vf2d_7/heatmap.png: max |error| 4.02e-4 gave "0" alone */
-	double val[2] = {-4.02e-4, 3.1e-4}, v[32];
+	/* results/search/vf2d/front/seed_search_vf2d_7/heatmap.png: max |error| 0.00495586
+	 * (front.csv's max_abs) gave the step 0.005 and "0" alone */
+	double m = 0.00495586, val[2] = {-m, 0.9 * m}, v[32];
 	char text[32][BK_PLOT_TICK_LEN];
-	bk_plot_heat h = {2, 1, val, 0, 1, 0, 1, BK_PLOT_DIVERGING, -4.02e-4, 4.02e-4, "error"};
+	bk_plot_heat h = {2, 1, val, 0, 1, 0, 1, BK_PLOT_DIVERGING, -m, m, "error"};
 	int n = bk_plot_bar_ticks(&h, v, text, 32);
 	cr_expect_geq(n, 3);
 	for (int i = 0; i < n; i++)
-		cr_expect(fabs(v[i]) <= 4.02e-4, "tick %s outside the bar", text[i]);
+		cr_expect(fabs(v[i]) <= m, "tick %s outside the bar", text[i]);
 }
 
 /* ---- labels: every front point labelled or keyed, no label on a drawn mark -------------- */
