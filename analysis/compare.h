@@ -112,5 +112,8 @@ int bk_compare_plot(const bk_compare_row *rows, int n, int xaxis, const char *ti
 /* What that plot holds, for tests: points drawn, front staircase vertices, labels placed. */
 int bk_compare_plot_points(const bk_compare_row *rows, int n, int xaxis, const bk_compare_info *info,
                            int *shown, int *front, int *labels_placed);
+/* bk_plot_unexplained of that plot: -1 when the legend explains every marker drawn;
+ * -2 when out of memory. */
+int bk_compare_plot_unexplained(const bk_compare_row *rows, int n, int xaxis, const bk_compare_info *info);
 
 #endif

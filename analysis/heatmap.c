@@ -32,9 +32,18 @@ typedef struct plan {
 	double vmax; /* max |value| over finite cells; 0 when there are none */
 	int has_nan;
 	const bk_heatmap_style *st; /* NULL: diverging, numeric axes */
+	int line;                   /* one row and no y categories: value against x, a line */
+	double *xs;                 /* the line's cell centres (malloc'd; plan_free) */
+	bk_plot_series series;
 	bk_plot plot;
 	bk_plot_heat heat;
 } plan;
+
+static void plan_free(plan *p)
+{
+	free(p->xs);
+	p->xs = NULL;
+}
 
 static const char *or_default(const char *s, const char *d) { return s ? s : d; }
 
@@ -96,6 +105,46 @@ static int make_plan(const bk_heatmap *h, const bk_heatmap_style *st, plan *p, c
 		p->plot.x.ncat = h->nx, p->plot.x.cat = st->xcat;
 	if (st && st->ycat)
 		p->plot.y.ncat = h->ny, p->plot.y.cat = st->ycat;
+	/* a plane one cell high is a 1-input target (f over LoH): a colour band under a
+	 * meaningless y axis ("-") hides what a line shows, so it is value against x */
+	p->line = h->ny == 1 && !(st && st->ycat);
+	if (p->line) {
+		if (!(p->xs = malloc(sizeof *p->xs * (size_t)h->nx))) {
+			snprintf(err, errlen, "%s: out of memory", who);
+			return -1;
+		}
+		for (int i = 0; i < h->nx; i++)
+			p->xs[i] = h->x0 + (i + 0.5) * (h->x1 - h->x0) / h->nx;
+		p->series = (bk_plot_series){NULL, BK_PLOT_LINE, BK_PLOT_CIRCLE, 0, 0x2166ac, h->nx, p->xs, h->value,
+		                             NULL, NULL, NULL};
+		p->plot.heat = NULL;
+		p->plot.series = &p->series;
+		p->plot.nseries = 1;
+		p->plot.y = (bk_plot_axis){p->vname, 0, 0, 0, 0, 0, NULL};
+		bk_plot_axis_fit(&p->plot.y, h->value, h->nx);
+		if (p->heat.map == BK_PLOT_DIVERGING && p->vmax > 0) {
+			/* signed error: symmetric about zero, as the colour scale would be */
+			bk_plot_axis sym = {NULL, 0, 0, 0, 0, 0, NULL};
+			double ends[2] = {-p->vmax, p->vmax};
+			bk_plot_axis_fit(&sym, ends, 2);
+			double t = fmax(-sym.lo, sym.hi);
+			p->plot.y.lo = -t, p->plot.y.hi = t;
+		}
+	}
+	return 0;
+}
+
+int bk_heatmap_figure(const bk_heatmap *h, const bk_heatmap_style *st, bk_heatmap_figure_info *out, char *err,
+                      size_t errlen)
+{
+	plan p;
+	if (err && errlen)
+		err[0] = '\0';
+	if (make_plan(h, st, &p, "heatmap", err, errlen))
+		return -1;
+	*out = (bk_heatmap_figure_info){p.line ? BK_HEATMAP_LINE : BK_HEATMAP_MAP, p.plot.x.label, p.plot.y.label,
+	                                p.plot.heat != NULL, p.plot.y.lo, p.plot.y.hi};
+	plan_free(&p);
 	return 0;
 }
 
@@ -108,6 +157,7 @@ int bk_heatmap_png_layout(const bk_heatmap *h, bk_heatmap_layout *out, char *err
 		return -1;
 	double a[4], b[4], k = BK_PLOT_DPI / 72.0;
 	bk_plot_areas(&p.plot, a, b);
+	plan_free(&p);
 	/* pixels whose centres lie inside each rectangle */
 	int ax0 = (int)ceil(a[0] * k - 0.5), ay0 = (int)ceil(a[1] * k - 0.5);
 	int bx0 = (int)ceil(b[0] * k - 0.5), by0 = (int)ceil(b[1] * k - 0.5);
@@ -296,7 +346,8 @@ static int out_of_memory(char *err, size_t errlen, const char *path)
 static int write_figure(plan *p, staged *s, bk_plot_format fmt, char *err, size_t errlen)
 {
 	int seq = p->heat.map == BK_PLOT_SEQUENTIAL;
-	char *desc = xprintf("%s: %s, colour scale %.4g to %.4g, grey = no data; x = %s, y = %s, y0 at the bottom; %s",
+	char *desc = p->line ? xprintf("%s against x = %s (a line: one cell high, no y); %s", p->vname, p->xname,
+	                               or_default(p->h->conventions, "")) : xprintf("%s: %s, colour scale %.4g to %.4g, grey = no data; x = %s, y = %s, y0 at the bottom; %s",
 	                     p->vname, seq ? "dark (low) to light (high)" : "blue < 0 < red", p->heat.vmin, p->heat.vmax,
 	                     p->xname, p->yname, or_default(p->h->conventions, ""));
 	if (!desc)
@@ -459,5 +510,6 @@ int bk_heatmap_write_styled(const bk_heatmap *h, const bk_heatmap_style *st, con
 	             ? -1 : place_all(s, err, errlen);
 	if (rc)
 		discard(s);
+	plan_free(&p);
 	return rc;
 }

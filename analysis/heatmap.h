@@ -43,7 +43,8 @@ typedef struct bk_heatmap {
  *        title above; colour scale symmetric about zero: ColorBrewer RdBu, blue =
  *        -max|value|, near white = 0, red = +max|value| over the finite values; NaN
  *        grey (128,128,128) and a "grey: no data" footnote, +-inf the extreme colours;
- *        a colour bar labelled value_name. Text in DejaVu Sans, long names shrunk to
+ *        a colour bar labelled value_name (a plane one cell high: a line instead, see
+ *        bk_heatmap_figure). Text in DejaVu Sans, long names shrunk to
  *        fit. Title and a description (scale, conventions) in PNG tEXt, the PDF's
  *        metadata and an SVG comment. Same bytes for the same input.
  *   CSV  '#' comment lines (title, axes, conventions), a header naming the columns
@@ -74,6 +75,21 @@ typedef struct bk_heatmap_style {
 
 int bk_heatmap_write_styled(const bk_heatmap *h, const bk_heatmap_style *st, const char *dir, const char *stem,
                             char *err, size_t errlen);
+
+/* What the figure draws: a map (cells under a colour bar) or, for a plane one cell high
+ * without y categories (a 1-input target, f over LoH), the value as a line against x,
+ * its y axis labelled value_name (symmetric about zero for signed error), no colour bar;
+ * the EXR and CSV stay nx x 1 as above. Labels point into h or the style. Returns 0, or
+ * -1 with a message as bk_heatmap_png_layout's. */
+enum { BK_HEATMAP_MAP, BK_HEATMAP_LINE };
+typedef struct bk_heatmap_figure_info {
+	int kind;                   /* BK_HEATMAP_MAP or BK_HEATMAP_LINE */
+	const char *xlabel, *ylabel;
+	int colour_bar;             /* drawn */
+	double ylo, yhi;            /* the y axis range */
+} bk_heatmap_figure_info;
+int bk_heatmap_figure(const bk_heatmap *h, const bk_heatmap_style *st, bk_heatmap_figure_info *out, char *err,
+                      size_t errlen);
 
 /* Where things land in the PNG, in pixels from its top-left corner: the pixels whose
  * centres lie inside the plot rectangle (the cells' edges x0..x1, y0..y1) and inside

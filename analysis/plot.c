@@ -78,6 +78,19 @@ static double nice_step(double raw)
 	return (r <= 1.0 ? 1.0 : r <= 2.0 ? 2.0 : r <= 5.0 ? 5.0 : 10.0) * mag;
 }
 
+/* The colour bar's value range: -m..m (m = max |vmin|, |vmax|) on a diverging map,
+ * vmin..vmax on a sequential one; a range of nothing is widened to one unit. */
+static void bar_range(const bk_plot_heat *h, double *a, double *b)
+{
+	double m = fmax(fabs(h->vmin), fabs(h->vmax));
+	*a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin;
+	*b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
+	if (!(*b > *a))
+		*b = *a + 1.0;
+}
+
+enum { BAR_TICKS = 4 }; /* intervals asked of the colour bar's ticks */
+
 /* The rounded range of v alone (see bk_plot_axis_fit); 0 when v has no value to show. */
 static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
 {
@@ -134,11 +147,97 @@ typedef struct ticks {
 	int n;
 	double v[MAX_TICKS];
 	int major[MAX_TICKS]; /* labelled */
-	char text[MAX_TICKS][24];
+	char text[MAX_TICKS][BK_PLOT_TICK_LEN];
 } ticks;
 
-/* Linear: a 1-2-5 step for about `want` intervals; log: every decade labelled (every
- * other one when there are many), 2..9 unlabelled between when there are few. */
+/* The 1-2-5 step just below s (s itself one of them). */
+static double smaller_step(double s)
+{
+	double mag = bk_dpow(10.0, floor(bk_dlog10(s) + 1e-9)), r = s / mag;
+	return r > 4.5 ? 2.0 * mag : r > 1.5 ? mag : 0.5 * mag;
+}
+
+/* Labels v[0..n) with the fewest significant digits (1..17) that make every label
+ * read back within a thousandth of step of its value, so two ticks never share a label
+ * ("%g"'s six digits would turn 1.0000001 and 1.0000002 into one "1"). */
+static void label_ticks(ticks *t, int from, double step)
+{
+	for (int prec = 1; prec <= 17; prec++) {
+		int ok = 1;
+		for (int i = from; i < t->n; i++) {
+			snprintf(t->text[i], BK_PLOT_TICK_LEN, "%.*g", prec, t->v[i]);
+			ok = ok && fabs(strtod(t->text[i], NULL) - t->v[i]) <= 1e-3 * step;
+		}
+		if (ok)
+			return;
+	}
+}
+
+/* Linear ticks: multiples of a 1-2-5 step for about `want` intervals, the step made
+ * smaller until at least BK_PLOT_MIN_TICKS of them lie in [lo, hi] (a colour bar of
+ * -4e-4..4e-4 at want 4 would otherwise get the step 5e-4 and the one tick "0"). */
+static void linear_ticks(double lo, double hi, int want, ticks *t)
+{
+	double s = nice_step((hi - lo) / want);
+	while (floor(hi / s + 1e-9) - ceil(lo / s - 1e-9) + 1 < BK_PLOT_MIN_TICKS)
+		s = smaller_step(s);
+	while (floor(hi / s + 1e-9) - ceil(lo / s - 1e-9) + 1 > MAX_TICKS) /* rounding at the extremes */
+		s = nice_step(s * 1.01);
+	t->n = 0;
+	for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
+		t->v[t->n] = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
+		t->major[t->n++] = 1;
+	}
+	label_ticks(t, 0, s);
+}
+
+/* Log ticks in [lo, hi]: every decade labelled (every other one when there are many),
+ * 2..9 unlabelled between when there are few; when fewer than BK_PLOT_MIN_TICKS
+ * decades fall in the range, 2 and 5 (then every 1..9) times a decade are labelled
+ * too, and within less than a decade's factor of 3 the labels are linear ones. */
+static void log_ticks(const bk_plot_axis *a, ticks *t)
+{
+	int d0 = (int)floor(bk_dlog10(a->lo) + 1e-9), d1 = (int)ceil(bk_dlog10(a->hi) - 1e-9);
+	double lo = a->lo * (1 - 1e-9), hi = a->hi * (1 + 1e-9);
+	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5, decades = 0;
+	for (int d = d0; d <= d1; d++)
+		decades += bk_dpow(10.0, d) >= lo && bk_dpow(10.0, d) <= hi;
+	int label_125 = decades < BK_PLOT_MIN_TICKS, label_all = 0;
+	if (label_125) { /* would 1, 2, 5 x 10^d give enough? */
+		int n = 0;
+		for (int d = d0; d <= d1; d++)
+			for (int m = 1; m <= 5; m += m == 1 ? 1 : 3)
+				n += m * bk_dpow(10.0, d) >= lo && m * bk_dpow(10.0, d) <= hi;
+		label_all = n < BK_PLOT_MIN_TICKS;
+	}
+	if (label_all && a->hi < 3.0 * a->lo && !a->zero_at_lo) {
+		linear_ticks(a->lo, a->hi, 4, t);
+		return;
+	}
+	t->n = 0;
+	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++)
+		for (int m = 1; m <= 9 && t->n < MAX_TICKS; m++) {
+			double v = m * bk_dpow(10.0, d);
+			int at_zero = a->zero_at_lo && d == d0;
+			if (v < lo || v > hi || (m > 1 && (at_zero || !(minor || label_125))))
+				continue;
+			int lab = m == 1 ? (d - d0) % every == 0 || label_125 : label_all || (label_125 && (m == 2 || m == 5));
+			t->v[t->n] = v;
+			t->major[t->n] = lab;
+			if (at_zero && m == 1)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "0");
+			else if (!lab)
+				t->text[t->n][0] = '\0';
+			else if (d >= -3 && d <= 3)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "%g", v);
+			else if (m == 1)
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "1e%d", d);
+			else
+				snprintf(t->text[t->n], BK_PLOT_TICK_LEN, "%de%d", m, d);
+			t->n++;
+		}
+}
+
 static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 {
 	t->n = 0;
@@ -146,49 +245,46 @@ static void make_ticks(const bk_plot_axis *a, int want, ticks *t)
 		for (int k = 0; k < a->ncat && k < MAX_TICKS; k++) {
 			t->v[t->n] = a->lo + (k + 0.5) * (a->hi - a->lo) / a->ncat;
 			t->major[t->n] = 1;
-			snprintf(t->text[t->n++], 24, "%s", a->cat[k] ? a->cat[k] : "");
+			snprintf(t->text[t->n++], BK_PLOT_TICK_LEN, "%s", a->cat[k] ? a->cat[k] : "");
 		}
 		return;
 	}
-	if (!a->log) { /* a reversed axis (lo > hi) takes the same ticks */
-		double lo = fmin(a->lo, a->hi), hi = fmax(a->lo, a->hi);
-		double s = nice_step((hi - lo) / want);
-		for (double k = ceil(lo / s - 1e-9); t->n < MAX_TICKS && k * s <= hi + 1e-9 * s; k++) {
-			double v = fabs(k * s) < 1e-9 * s ? 0.0 : k * s;
-			t->v[t->n] = v;
-			t->major[t->n] = 1;
-			snprintf(t->text[t->n++], 24, "%g", v);
+	if (!a->log) /* a reversed axis (lo > hi) takes the same ticks */
+		linear_ticks(fmin(a->lo, a->hi), fmax(a->lo, a->hi), want, t);
+	else
+		log_ticks(a, t);
+}
+
+int bk_plot_ticks(const bk_plot_axis *a, int want, double *v, char (*text)[BK_PLOT_TICK_LEN], int max)
+{
+	ticks t;
+	make_ticks(a, want, &t);
+	int k = 0;
+	for (int i = 0; i < t.n && k < max; i++)
+		if (t.major[i]) {
+			v[k] = t.v[i];
+			memcpy(text[k++], t.text[i], BK_PLOT_TICK_LEN);
 		}
-		return;
-	}
-	int d0 = (int)floor(bk_dlog10(a->lo) + 1e-9), d1 = (int)ceil(bk_dlog10(a->hi) - 1e-9);
-	int every = d1 - d0 > 8 ? 2 : 1, minor = d1 - d0 <= 5;
-	for (int d = d0; d <= d1 && t->n < MAX_TICKS; d++) {
-		t->v[t->n] = bk_dpow(10.0, d);
-		t->major[t->n] = (d - d0) % every == 0;
-		if (a->zero_at_lo && d == d0)
-			snprintf(t->text[t->n], 24, "0");
-		else if (d >= -3 && d <= 3)
-			snprintf(t->text[t->n], 24, "%g", bk_dpow(10.0, d));
-		else
-			snprintf(t->text[t->n], 24, "1e%d", d);
-		t->n++;
-		for (int m = 2; minor && d < d1 && m <= 9 && t->n < MAX_TICKS && !(a->zero_at_lo && d == d0); m++) {
-			t->v[t->n] = m * bk_dpow(10.0, d);
-			t->major[t->n] = 0;
-			t->text[t->n++][0] = '\0';
-		}
-	}
+	return k;
+}
+
+int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TICK_LEN], int max)
+{
+	double a, b;
+	bar_range(h, &a, &b);
+	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
+	return bk_plot_ticks(&ax, BAR_TICKS, v, text, max);
 }
 
 /* ---- layout ------------------------------------------------------------------------ */
 
 #define FS_TITLE 9.0
 #define FS_AXIS 8.0
-#define FS_TICK 7.0
+#define FS_TICK BK_PLOT_TICK_PT
 #define FS_LABEL 6.0
 #define FS_NOTE 6.0
 #define MARK_R 2.4 /* marker radius, pt */
+#define NOTE_GAP 2.0 /* between footnote lines, pt */
 
 typedef struct layout {
 	double W, H;                 /* page, pt */
@@ -198,6 +294,7 @@ typedef struct layout {
 	double legend_x, bar_x;      /* legend and colour bar columns (0: none) */
 	int legend_top;              /* narrow figures: the legend in rows under the title */
 	double legend_y;             /* its first row's baseline */
+	int note_lines;              /* footnote lines room was made for (>= 1) */
 } layout;
 
 static void set_font(cairo_t *cr, double size, int bold)
@@ -290,7 +387,7 @@ static int legend_rows(cairo_t *cr, const bk_plot *p, double W, double *x, int *
 	return rows;
 }
 
-static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
+static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo, int note_lines)
 {
 	lo->W = p->width_in * 72.0;
 	lo->H = p->height_in * 72.0;
@@ -304,6 +401,8 @@ static void make_layout(cairo_t *cr, const bk_plot *p, layout *lo)
 	lo->L = 6.0 + FS_AXIS + 4.0 + tw + 4.0;
 	lo->T = p->title ? 6.0 + FS_TITLE + 6.0 : 8.0;
 	lo->B = lo->H - (4.0 + FS_TICK + 4.0 + FS_AXIS + 4.0 + FS_NOTE + 6.0);
+	lo->note_lines = note_lines > 1 ? note_lines : 1;
+	lo->B -= (lo->note_lines - 1) * (FS_NOTE + NOTE_GAP); /* a footnote of several lines */
 	double right = 8.0, lw = legend_width(cr, p);
 	lo->bar_x = lo->legend_x = 0.0;
 	if (p->heat) {
@@ -367,12 +466,14 @@ static int visible(const layout *lo, const bk_plot *p, double x, double y, doubl
 	       *py <= lo->B + 0.01;
 }
 
+static void settled_layout(cairo_t *cr, const bk_plot *p, layout *lo);
+
 void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py)
 {
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
+	settled_layout(cr, p, &lo);
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	*px = page_x(&lo, p, x);
@@ -384,7 +485,7 @@ void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4])
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
+	settled_layout(cr, p, &lo);
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	plot[0] = lo.L, plot[1] = lo.T, plot[2] = lo.R, plot[3] = lo.B;
@@ -411,34 +512,156 @@ static int count_labels(const bk_plot *p)
 	return n;
 }
 
-/* Places every label (plot.h); out holds count_labels(p) entries. */
-static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
+/* Whether the segment (ax, ay)-(bx, by) meets box b (Liang-Barsky clipping): a line
+ * series' segments keep labels off as markers do. */
+static int segment_meets(double ax, double ay, double bx, double by, box b)
 {
-	int nm = 0, nl = count_labels(p), k = 0;
+	double t0 = 0.0, t1 = 1.0, dx = bx - ax, dy = by - ay;
+	double pq[4][2] = {{-dx, ax - b.x0}, {dx, b.x1 - ax}, {-dy, ay - b.y0}, {dy, b.y1 - ay}};
+	for (int k = 0; k < 4; k++) {
+		double P = pq[k][0], Q = pq[k][1];
+		if (P == 0.0) {
+			if (Q < 0.0)
+				return 0;
+			continue;
+		}
+		double r = Q / P;
+		if (P < 0.0)
+			t0 = fmax(t0, r);
+		else
+			t1 = fmin(t1, r);
+		if (t0 > t1)
+			return 0;
+	}
+	return 1;
+}
+
+/* The drawn marks labels must not touch: marker boxes, staircase steps and error bars
+ * as boxes (the bars 1.2 pt thick), a line series' segments as segments. */
+typedef struct marks {
+	box *b;
+	int n, cap;
+	double (*seg)[4];
+	int nseg;
+} marks;
+
+static int marks_init(const bk_plot *p, const layout *lo, marks *m, int extra)
+{
+	int nb = extra, ns = 0;
 	for (int s = 0; s < p->nseries; s++)
-		nm += p->series[s].style == BK_PLOT_LINE ? 0 : 2 * p->series[s].n;
-	box *taken = malloc(sizeof *taken * (size_t)(nm + nl + 1));
-	if (!taken)
+		if (p->series[s].style == BK_PLOT_LINE)
+			ns += p->series[s].n;
+		else
+			nb += 3 * p->series[s].n;
+	m->b = malloc(sizeof *m->b * (size_t)(nb + 1));
+	m->seg = malloc(sizeof *m->seg * (size_t)(ns + extra + 1)); /* extra: the labels' leaders too */
+	m->n = m->nseg = 0;
+	m->cap = nb;
+	if (!m->b || !m->seg)
 		return -1;
-	int nt = 0;
-	for (int s = 0; s < p->nseries; s++) { /* every marker and every staircase step is an obstacle */
+	for (int s = 0; s < p->nseries; s++) {
 		const bk_plot_series *S = &p->series[s];
 		double px, py, qx = 0.0, qy = 0.0;
 		int prev = 0;
-		for (int i = 0; S->style != BK_PLOT_LINE && i < S->n; i++) {
+		for (int i = 0; i < S->n; i++) {
 			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
 				continue;
-			if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
-				taken[nt++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
-			else if (prev) { /* right along qy, then down to py */
-				taken[nt++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
-				taken[nt++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			if (S->style == BK_PLOT_LINE) {
+				if (prev)
+					memcpy(m->seg[m->nseg++], (double[4]){qx, qy, px, py}, sizeof m->seg[0]);
+			} else if (S->style == BK_PLOT_POINTS && S->marker != BK_PLOT_DOT) /* dots: a background cloud */
+				m->b[m->n++] = (box){px - MARK_R, py - MARK_R, px + MARK_R, py + MARK_R};
+			else if (S->style == BK_PLOT_STEPS && prev) { /* right along qy, then down to py */
+				m->b[m->n++] = (box){fmin(qx, px), qy - 0.6, fmax(qx, px), qy + 0.6};
+				m->b[m->n++] = (box){px - 0.6, fmin(qy, py), px + 0.6, fmax(qy, py)};
+			}
+			if (S->xlo && S->xhi && isfinite(S->xlo[i]) && isfinite(S->xhi[i])) { /* drawn clipped to the plot */
+				double a = fmax(lo->L, fmin(page_x(lo, p, S->xlo[i]), lo->R));
+				double b = fmax(lo->L, fmin(page_x(lo, p, S->xhi[i]), lo->R));
+				m->b[m->n++] = (box){fmin(a, b), py - 0.6, fmax(a, b), py + 0.6};
 			}
 			prev = 1, qx = px, qy = py;
 		}
 	}
-	set_font(cr, FS_LABEL, 0);
+	return 0;
+}
+
+static void marks_free(marks *m)
+{
+	free(m->b);
+	free(m->seg);
+}
+
+static int marks_meet(const marks *m, box b)
+{
+	for (int j = 0; j < m->n; j++)
+		if (meets(b, m->b[j]))
+			return 1;
+	for (int j = 0; j < m->nseg; j++)
+		if (segment_meets(m->seg[j][0], m->seg[j][1], m->seg[j][2], m->seg[j][3], b))
+			return 1;
+	return 0;
+}
+
+/* The point of box b nearest to (px, py): where a leader line from the marker ends. */
+static void nearest_on(box b, double px, double py, double *qx, double *qy)
+{
+	*qx = fmax(b.x0, fmin(px, b.x1));
+	*qy = fmax(b.y0, fmin(py, b.y1));
+}
+
+/* Whether a leader from the marker at (px, py) to box b meets a marker or a label
+ * other than the marker's own (the segment starts at the marker's edge). Bars and
+ * staircase steps (boxes 1.2 pt thin) it may cross: a thin grey line over a thin
+ * coloured one stays readable, and a crowd of bars would leave no leader at all. */
+static int leader_meets(const marks *m, double px, double py, box b)
+{
+	double qx, qy;
+	nearest_on(b, px, py, &qx, &qy);
+	double dx = qx - px, dy = qy - py, d = hypot(dx, dy);
+	if (d <= MARK_R + 0.5)
+		return 0;
+	double sx = px + dx * (MARK_R + 0.5) / d, sy = py + dy * (MARK_R + 0.5) / d;
+	for (int j = 0; j < m->n; j++)
+		if (fmin(m->b[j].x1 - m->b[j].x0, m->b[j].y1 - m->b[j].y0) > 1.3 &&
+		    segment_meets(sx, sy, qx, qy, m->b[j]) && !(m->b[j].x0 <= px && px <= m->b[j].x1 && m->b[j].y0 <= py &&
+		                                               py <= m->b[j].y1))
+			return 1;
+	return 0;
+}
+
+/* The first free place for a w x h box around (px, py) at gap g: right, upper right,
+ * above, upper left, left, lower left, below, lower right; then the same twice and
+ * three times as far out, where a leader line will tie the label to its marker (and
+ * must itself cross no mark). Returns 0 (none), or the ring (1..3) with the box in *out. */
+static int free_place(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
+{
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
+	for (int ring = 1; ring <= 3; ring++)
+		for (int d = 0; d < 8; d++) {
+			double g = ring * (MARK_R + 1.0);
+			double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
+			box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
+			if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B || marks_meet(m, b) ||
+			    (ring > 1 && leader_meets(m, px, py, b)))
+				continue;
+			*out = b;
+			return ring;
+		}
+	return 0;
+}
+
+/* Places every label (plot.h); out holds count_labels(p) entries. A label with no free
+ * place tries its key number ("3", named in the footnote's key) in the same places. */
+static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
+{
+	int nl = count_labels(p), k = 0, nkey = 0;
+	marks m;
+	if (marks_init(p, lo, &m, nl)) {
+		marks_free(&m);
+		return -1;
+	}
+	set_font(cr, FS_LABEL, 0);
 	for (int pass = 0; pass < 2; pass++) /* filled markers' labels first, then hollow ones' */
 	for (int s = 0; s < p->nseries; s++) {
 		const bk_plot_series *S = &p->series[s];
@@ -448,28 +671,110 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 			if (!S->label[i])
 				continue;
 			bk_plot_label *L = &out[k++];
-			*L = (bk_plot_label){s, i, 0, 0, 0, 0, 0};
+			*L = (bk_plot_label){s, i, 0, 0, 0, 0, 0, 0};
 			double px, py;
 			if (!visible(lo, p, S->x[i], S->y[i], &px, &py))
 				continue;
-			double w = text_w(cr, S->label[i]), h = FS_LABEL, g = MARK_R + 1.0;
-			for (int d = 0; d < 8 && !L->placed; d++) {
-				double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
-				box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
-				if (b.x0 < lo->L || b.x1 > lo->R || b.y0 < lo->T || b.y1 > lo->B)
-					continue;
-				int clash = 0;
-				for (int j = 0; j < nt && !clash; j++)
-					clash = meets(b, taken[j]);
-				if (clash)
-					continue;
-				taken[nt++] = b;
-				*L = (bk_plot_label){s, i, 1, b.x0, b.y0, b.x1, b.y1};
+			box b;
+			char num[16];
+			snprintf(num, sizeof num, "%d", nkey + 1);
+			int ring = free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, &b);
+			if (ring)
+				L->placed = 1;
+			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b)))
+				L->placed = 1, L->key = ++nkey;
+			if (L->placed) {
+				m.b[m.n++] = b;
+				if (ring > 1) { /* its leader keeps later labels off too */
+					double qx, qy;
+					nearest_on(b, px, py, &qx, &qy);
+					memcpy(m.seg[m.nseg++], (double[4]){px, py, qx, qy}, sizeof m.seg[0]);
+				}
+				L->x0 = b.x0, L->y0 = b.y0, L->x1 = b.x1, L->y1 = b.y1;
 			}
 		}
 	}
-	free(taken);
+	marks_free(&m);
 	return k;
+}
+
+enum { NOTE_MAX = 8 }; /* footnote lines at most */
+
+/* The footnote in lines of at most W - 12 pt: the caller's note (one line, shrunk to
+ * fit when longer), then the key of numbered labels ("key: 1 name, 2 name") and the
+ * labels with no place at all, wrapped at entries. Returns the number of lines. */
+static int note_text(cairo_t *cr, const bk_plot *p, double W, const bk_plot_label *lab, int nl,
+                     char line[NOTE_MAX][1024])
+{
+	int n = 0, dropped = 0;
+	set_font(cr, FS_NOTE, 0);
+	line[0][0] = '\0';
+	if (p->note)
+		snprintf(line[n++], 1024, "%s", p->note);
+	for (int k = 0; k < nl; k++)
+		dropped += !lab[k].placed;
+	for (int pass = 0; pass < 2; pass++) {
+		int first = 1;
+		for (int k = 0; k < nl; k++) {
+			if (pass == 0 ? lab[k].key == 0 : lab[k].placed)
+				continue;
+			const char *name = p->series[lab[k].series].label[lab[k].point];
+			char entry[1100];
+			if (pass == 0)
+				snprintf(entry, sizeof entry, "%s%d %s", first ? "key: " : "", lab[k].key, name);
+			else
+				snprintf(entry, sizeof entry, "%s", name);
+			char head[64] = "";
+			if (first && pass == 1)
+				snprintf(head, sizeof head, "%d not labelled (no free place): ", dropped);
+			char next[2200];
+			int cur = n > 0 ? n - 1 : 0;
+			snprintf(next, sizeof next, "%s%s%s%s", line[cur], n == 0 ? "" : first ? "; " : ", ", head, entry);
+			size_t len = strlen(next);
+			if (n > 0 && len < 1024 && text_w(cr, next) <= W - 12.0)
+				memcpy(line[cur], next, len + 1);
+			else if (n < NOTE_MAX)
+				snprintf(line[n++], 1024, "%.60s%.900s", head, entry);
+			else { /* out of lines: say so on the last */
+				size_t len = strlen(line[NOTE_MAX - 1]);
+				if (len < 1000 && !strstr(line[NOTE_MAX - 1], "\xe2\x80\xa6"))
+					snprintf(line[NOTE_MAX - 1] + len, 1024 - len, " \xe2\x80\xa6");
+			}
+			first = 0;
+		}
+	}
+	return n;
+}
+
+/* The layout with room for the footnote's lines and the labels placed in it: placing
+ * may key labels whose key needs more lines, which shortens the plot, so it is redone
+ * until the lines suffice (three rounds at most; a key only shrinks as room grows less). */
+static int settle(cairo_t *cr, const bk_plot *p, layout *lo, bk_plot_label *lab)
+{
+	char (*line)[1024] = malloc(sizeof(char[NOTE_MAX][1024]));
+	int nl = count_labels(p), lines = 1, rc = 0;
+	if (!line)
+		return -1;
+	for (int round = 0; round < 3; round++) {
+		make_layout(cr, p, lo, lines);
+		if ((rc = place_labels(cr, p, lo, lab)) < 0)
+			break;
+		int need = note_text(cr, p, lo->W, lab, nl, line);
+		if (need <= lines)
+			break;
+		lines = need;
+	}
+	free(line);
+	return rc;
+}
+
+/* The layout alone, as the drawing settles it (out of memory: one footnote line). */
+static void settled_layout(cairo_t *cr, const bk_plot *p, layout *lo)
+{
+	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(count_labels(p) + 1));
+	if (!lab || settle(cr, p, lo, lab) < 0)
+		make_layout(cr, p, lo, 1);
+	free(lab);
 }
 
 int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max)
@@ -479,13 +784,32 @@ int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max)
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	make_layout(cr, p, &lo);
-	int k = all ? place_labels(cr, p, &lo, all) : -1;
+	int k = all ? settle(cr, p, &lo, all) : -1;
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
 	if (k >= 0)
 		memcpy(out, all, sizeof *all * (size_t)(k < max ? k : max));
 	free(all);
+	return k;
+}
+
+int bk_plot_marks(const bk_plot *p, double (*box_out)[4], int max)
+{
+	cairo_surface_t *s;
+	cairo_t *cr = measure_ctx(&s);
+	layout lo;
+	int n = count_labels(p), k = -1;
+	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(n + 1));
+	marks m = {0};
+	if (lab && settle(cr, p, &lo, lab) >= 0 && !marks_init(p, &lo, &m, 0)) {
+		k = m.n;
+		for (int j = 0; j < m.n && j < max; j++)
+			box_out[j][0] = m.b[j].x0, box_out[j][1] = m.b[j].y0, box_out[j][2] = m.b[j].x1, box_out[j][3] = m.b[j].y1;
+	}
+	marks_free(&m);
+	free(lab);
+	cairo_destroy(cr);
+	cairo_surface_destroy(s);
 	return k;
 }
 
@@ -599,10 +923,8 @@ static int draw_heat(cairo_t *cr, const bk_plot *p, const layout *lo)
 static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 {
 	const bk_plot_heat *h = p->heat;
-	double x = lo->bar_x, w = 8.0, m = fmax(fabs(h->vmin), fabs(h->vmax));
-	double a = h->map == BK_PLOT_DIVERGING ? -m : h->vmin, b = h->map == BK_PLOT_DIVERGING ? m : h->vmax;
-	if (!(b > a))
-		b = a + 1.0;
+	double x = lo->bar_x, w = 8.0, a, b;
+	bar_range(h, &a, &b);
 	/* a 1 x 128 image, nearest filter: no seams; the end rows take the map's ends exactly */
 	cairo_surface_t *img = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 128);
 	if (cairo_surface_status(img) == CAIRO_STATUS_SUCCESS) {
@@ -631,7 +953,7 @@ static void draw_bar(cairo_t *cr, const bk_plot *p, const layout *lo)
 	cairo_stroke(cr);
 	bk_plot_axis ax = {NULL, 0, a, b, 0, 0, NULL};
 	ticks t;
-	make_ticks(&ax, 4, &t);
+	make_ticks(&ax, BAR_TICKS, &t);
 	set_font(cr, FS_TICK, 0);
 	for (int i = 0; i < t.n; i++) {
 		double y = lo->B - (t.v[i] - a) / (b - a) * (lo->B - lo->T);
@@ -814,43 +1136,31 @@ static void draw_legend(cairo_t *cr, const bk_plot *p, const layout *lo)
 	}
 }
 
-/* The footnote: the caller's note, then the labels that found no place. */
-static void draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_label *lab, int nl)
+/* The footnote (note_text): its lines upward from the page's bottom edge. */
+static int draw_note(cairo_t *cr, const bk_plot *p, const layout *lo, const bk_plot_label *lab, int nl)
 {
-	char buf[1024] = "";
-	size_t n = 0;
-	if (p->note)
-		n += (size_t)snprintf(buf, sizeof buf, "%s", p->note);
-	int dropped = 0;
-	for (int k = 0; k < nl; k++)
-		dropped += !lab[k].placed;
-	if (dropped && n < sizeof buf)
-		n += (size_t)snprintf(buf + n, sizeof buf - n, "%s%d not labelled (no free place):", n ? "; " : "", dropped);
-	set_font(cr, FS_NOTE, 0);
-	for (int k = 0; k < nl && n < sizeof buf; k++)
-		if (!lab[k].placed) {
-			const char *s = p->series[lab[k].series].label[lab[k].point];
-			char next[1200];
-			snprintf(next, sizeof next, "%s %s", buf, s);
-			if (text_w(cr, next) > lo->W - 12.0 - 10.0) {
-				n += (size_t)snprintf(buf + n, sizeof buf - n, " \xe2\x80\xa6");
-				break;
-			}
-			n += (size_t)snprintf(buf + n, sizeof buf - n, " %s", s);
-		}
-	if (!buf[0])
-		return;
+	char (*line)[1024] = malloc(sizeof(char[NOTE_MAX][1024]));
+	if (!line)
+		return -1;
+	int n = note_text(cr, p, lo->W, lab, nl, line);
+	if (n > lo->note_lines) { /* settle ran out of rounds: the lines it made room for, "..." after */
+		n = lo->note_lines;
+		size_t len = strlen(line[n - 1]);
+		snprintf(line[n - 1] + (len < 1000 ? len : 1000), 24, " \xe2\x80\xa6");
+	}
 	cairo_set_source_rgb(cr, 0.33, 0.33, 0.33);
-	text_fit(cr, 6.0, lo->H - 5.0, 0.0, buf, FS_NOTE, 0, lo->W - 12.0);
+	for (int k = 0; k < n; k++)
+		text_fit(cr, 6.0, lo->H - 5.0 - (n - 1 - k) * (FS_NOTE + NOTE_GAP), 0.0, line[k], FS_NOTE, 0, lo->W - 12.0);
+	free(line);
+	return 0;
 }
 
 static int draw(cairo_t *cr, const bk_plot *p)
 {
 	layout lo;
-	make_layout(cr, p, &lo);
 	int nl = count_labels(p);
 	bk_plot_label *lab = malloc(sizeof *lab * (size_t)(nl + 1));
-	if (!lab || place_labels(cr, p, &lo, lab) < 0) {
+	if (!lab || settle(cr, p, &lo, lab) < 0) {
 		free(lab);
 		return -1;
 	}
@@ -863,21 +1173,72 @@ static int draw(cairo_t *cr, const bk_plot *p)
 	draw_axes(cr, p, &lo);
 	for (int s = 0; s < p->nseries; s++)
 		draw_series(cr, p, &lo, &p->series[s]);
+	for (int k = 0; k < nl; k++) { /* a label set apart (the second ring) is tied to its marker */
+		const bk_plot_series *S = &p->series[lab[k].series];
+		double px, py, qx, qy;
+		if (!lab[k].placed || !visible(&lo, p, S->x[lab[k].point], S->y[lab[k].point], &px, &py))
+			continue;
+		nearest_on((box){lab[k].x0, lab[k].y0, lab[k].x1, lab[k].y1}, px, py, &qx, &qy);
+		double d = hypot(qx - px, qy - py);
+		if (d <= 1.5 * (MARK_R + 1.0)) /* the first ring's: beside its marker, no leader */
+			continue;
+		cairo_set_source_rgb(cr, 0.45, 0.45, 0.45);
+		cairo_set_line_width(cr, 0.4);
+		cairo_move_to(cr, px + (qx - px) * (MARK_R + 0.5) / d, py + (qy - py) * (MARK_R + 0.5) / d);
+		cairo_line_to(cr, qx, qy);
+		cairo_stroke(cr);
+	}
 	set_font(cr, FS_LABEL, 0);
 	for (int k = 0; k < nl; k++)
 		if (lab[k].placed) {
 			/* white halo first: a label stays legible over a grid line or a step */
+			char num[16];
+			snprintf(num, sizeof num, "%d", lab[k].key);
 			cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
 			text_at(cr, lab[k].x0, lab[k].y1 - FS_LABEL * 0.2, 0.0,
-			        p->series[lab[k].series].label[lab[k].point]);
+			        lab[k].key ? num : p->series[lab[k].series].label[lab[k].point]);
 		}
 	draw_frame(cr, p, &lo);
 	if (p->heat)
 		draw_bar(cr, p, &lo);
 	draw_legend(cr, p, &lo);
-	draw_note(cr, p, &lo, lab, nl);
+	int rc = draw_note(cr, p, &lo, lab, nl);
 	free(lab);
+	if (rc)
+		return -1;
 	return cairo_status(cr) == CAIRO_STATUS_SUCCESS ? 0 : -1;
+}
+
+int bk_plot_unexplained(const bk_plot *p)
+{
+	int hollow_key = 0;
+	for (int s = 0; s < p->nseries; s++)
+		hollow_key |= p->series[s].name && p->series[s].hollow && p->series[s].n == 0;
+	layout lo;
+	cairo_surface_t *sf;
+	cairo_t *cr = measure_ctx(&sf);
+	settled_layout(cr, p, &lo);
+	cairo_destroy(cr);
+	cairo_surface_destroy(sf);
+	for (int s = 0; s < p->nseries; s++) {
+		const bk_plot_series *S = &p->series[s];
+		int drawn = 0;
+		double px, py;
+		for (int i = 0; i < S->n && !drawn; i++)
+			drawn = visible(&lo, p, S->x[i], S->y[i], &px, &py);
+		if (!drawn || S->name)
+			continue;
+		int ok = 0;
+		for (int t = 0; t < p->nseries && !ok; t++) {
+			const bk_plot_series *E = &p->series[t];
+			if (!E->name || E->style != S->style || E->marker != S->marker || E->rgb != S->rgb)
+				continue;
+			ok = S->style != BK_PLOT_POINTS || !E->hollow == !S->hollow || (S->hollow && hollow_key);
+		}
+		if (!ok)
+			return s;
+	}
+	return -1;
 }
 
 /* ---- output ------------------------------------------------------------------------ */

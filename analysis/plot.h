@@ -14,11 +14,16 @@
  *   labels   placed greedily, the labels of filled markers' series before those of
  *            hollow ones', each in series order, then point order: the first of 8
  *            positions around the marker (right, upper right, above, upper left, left,
- *            lower left, below, lower right) whose box stays inside the plot area and
- *            meets no marker, no staircase step and no label placed before; a label with
- *            no such position is
- *            dropped and named in the footnote ("N not labelled (no free place): a b ...",
- *            cut with "..." at the page edge).
+ *            lower left, below, lower right), then the same twice and three times as far
+ *            out (tied to the marker by a thin grey leader that crosses no marker and no
+ *            label), whose box stays inside the plot area and meets no marker, no staircase
+ *            step, no error bar, no segment of a line, no leader and no label placed
+ *            before; a label with no such
+ *            position is drawn as a number in the first such position for the number,
+ *            the footnote's key naming it ("key: 1 name, 2 name"); with no place even
+ *            for that it is named in the footnote ("N not labelled (no free place): a,
+ *            b"). The footnote wraps onto up to 8 lines (the plot grows shorter), "..."
+ *            ending the last when even that is not enough.
  *   colours  sequential data (magnitudes, shares): BK_PLOT_SEQUENTIAL, a map of our own
  *            computation with OKLab lightness rising linearly 0.30 -> 0.92 (dark blue-
  *            violet to pale yellow); signed error: BK_PLOT_DIVERGING, ColorBrewer RdBu
@@ -37,6 +42,8 @@
 #define BK_PLOT_DOUBLE_W 7.0
 #define BK_PLOT_DPI 200
 #define BK_PLOT_FONT "DejaVu Sans"
+#define BK_PLOT_TICK_PT 7.0 /* tick labels' and the legend's font size, pt (a page shows a PNG's
+                               at BK_PLOT_TICK_PT * BK_PLOT_DPI / 72 px times its display scale) */
 #define BK_PLOT_PDF_DATE "2000-01-01T00:00:00Z"
 
 typedef struct bk_plot_axis {
@@ -95,6 +102,17 @@ void bk_plot_axis_fit(bk_plot_axis *a, const double *v, int n);
 /* Widens a to the union of its range and v's fitted range (lo = hi = 0: none yet). */
 void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n);
 
+/* The labelled ticks an axis gets for about `want` intervals (the figure asks 6 of x,
+ * 5 of y; categories: one per cell): at least BK_PLOT_MIN_TICKS of them inside
+ * [lo, hi] on every linear or log range (log: 1-2-5 or every digit within too few
+ * decades), each label distinct and reading back within a thousandth of the step of
+ * its value. Writes at most max; returns how many there are (at most max). */
+#define BK_PLOT_TICK_LEN 24
+#define BK_PLOT_MIN_TICKS 3
+int bk_plot_ticks(const bk_plot_axis *a, int want, double *v, char (*text)[BK_PLOT_TICK_LEN], int max);
+/* The colour bar's labelled ticks for a heatmap (as bk_plot_ticks, over its range). */
+int bk_plot_bar_ticks(const bk_plot_heat *h, double *v, char (*text)[BK_PLOT_TICK_LEN], int max);
+
 /* Writes the figure to f in one format. Returns 0, or -1 (cairo or write error). */
 int bk_plot_write(const bk_plot *p, bk_plot_format fmt, FILE *f);
 /* DIR/STEM.png, .svg and .pdf. Returns 0, or -1 with "path: what" in err. */
@@ -118,8 +136,22 @@ void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4]);
 typedef struct bk_plot_label {
 	int series, point, placed;
 	double x0, y0, x1, y1;
+	int key;  /* > 0: placed as this number, named in the footnote's key */
 } bk_plot_label;
 int bk_plot_labels(const bk_plot *p, bk_plot_label *out, int max);
+
+/* The boxes of the marks labels keep off, in points as above: markers (not dots),
+ * staircase steps and error bars (1.2 pt thick), in series and point order; a line
+ * series' segments are kept off as segments and not listed. Returns how many (at
+ * most max written), or -1 when out of memory. */
+int bk_plot_marks(const bk_plot *p, double (*box)[4], int max);
+
+/* The first series with a visible marker the legend does not explain, or -1: a
+ * marker is explained by a legend entry (named series) of its own, or by one of
+ * the same shape and colour, filled or hollow as it is, or, hollow, by one of the
+ * same shape and colour filled beside a named hollow series of no points (a key
+ * "hollow: what it means"). Lines and steps: by their own name. */
+int bk_plot_unexplained(const bk_plot *p);
 
 /* The colour of t in [0, 1] (clamped) on a map, 8-bit sRGB. */
 void bk_plot_colour(int map, double t, unsigned char rgb[3]);

@@ -231,7 +231,7 @@ static int front_before(const bk_compare_row *rows, int a, int b, int axis)
 /* Everything a compare plot holds; arrays sized by the row count. */
 typedef struct cfig {
 	bk_plot p;
-	bk_plot_series s[2 * NKINDS + 1];
+	bk_plot_series s[2 * NKINDS + 2]; /* the staircase, dominated and front per kind, the hollow key */
 	double *x, *y, *lo, *hi; /* per series slot: n each */
 	const char **label;
 	char xlabel[400], note[200], title[200];
@@ -311,6 +311,12 @@ static int cfig_build(cfig *c, const bk_compare_row *rows, int n, int xaxis, con
 	for (int k = 0; k < NKINDS; k++) /* the legend names each kind drawn once, at its filled series */
 		if (c->s[1 + k].n == 0 && c->s[1 + NKINDS + k].n == 0)
 			c->s[1 + NKINDS + k].name = NULL;
+	int hollow = 0;
+	for (int k = 0; k < NKINDS; k++)
+		hollow += c->s[1 + k].n;
+	/* a legend entry of its own (no points) says what hollow means, whatever the kind */
+	c->s[ns] = (bk_plot_series){hollow ? "hollow: off the front" : NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 1, 0x7f7f7f, 0,
+	                            c->x, c->y, NULL, NULL, NULL};
 	/* the staircase: front members by repeated minimum (fronts are short) */
 	bk_plot_series *F = &c->s[0];
 	*F = (bk_plot_series){"Pareto front", BK_PLOT_STEPS, BK_PLOT_CIRCLE, 0, 0x333333, 0, c->x, c->y, NULL, NULL, NULL};
@@ -369,7 +375,7 @@ static int cfig_build(cfig *c, const bk_compare_row *rows, int n, int xaxis, con
 	c->p.note = c->note[0] ? c->note : NULL;
 	c->p.provenance = "brdfkit compare: max |error| over the samples against cost; see compare.csv";
 	c->p.series = c->s;
-	c->p.nseries = ns;
+	c->p.nseries = ns + 1;
 	return 0;
 }
 
@@ -388,6 +394,20 @@ int bk_compare_plot(const bk_compare_row *rows, int n, int xaxis, const char *ti
 	int rc = bk_plot_write_files(&c.p, dir, stem, err, errlen);
 	cfig_free(&c);
 	return rc;
+}
+
+int bk_compare_plot_unexplained(const bk_compare_row *rows, int n, int xaxis, const bk_compare_info *info)
+{
+	cfig c;
+	if (!info)
+		info = &default_info;
+	if (xaxis < 0 || xaxis >= 2 + info->nchips)
+		xaxis = 0;
+	if (cfig_build(&c, rows, n, xaxis, "t", info))
+		return -2;
+	int k = bk_plot_unexplained(&c.p);
+	cfig_free(&c);
+	return k;
 }
 
 int bk_compare_plot_points(const bk_compare_row *rows, int n, int xaxis, const bk_compare_info *info,

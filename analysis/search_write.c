@@ -153,6 +153,22 @@ void bk_swrite_candidates_csv(FILE *f, const bk_swrite *W)
 	free(on);
 }
 
+void bk_swrite_target_label(const bk_swrite *W, char *out, size_t len)
+{
+	const char *ef = W->F->kind == BK_TARGET_ENV ? W->env_form : NULL;
+	const bk_target_options *to = W->to;
+	if (ef && !strcmp(ef, "f0"))
+		snprintf(out, len, "env_f0 (f0 A + B as one form in f0)");
+	else if (ef && !strcmp(ef, "mix"))
+		snprintf(out, len, "env_mix (f0 A + B in f0, seeded with mix(B, A + B, f0))");
+	else if (W->F->kind == BK_TARGET_F && to && to->k > 0)
+		snprintf(out, len, "f (Fresnel of n = %g + %gi, f0 = %.3g)", to->eta, to->k, bk_f0_from_ior(to->eta, to->k));
+	else if (W->F->kind == BK_TARGET_F && to)
+		snprintf(out, len, "f (Fresnel of n = %g, f0 = %.3g)", to->eta, bk_f0_from_ior(to->eta, 0.0));
+	else
+		snprintf(out, len, "%s", bk_target_name(W->F->kind));
+}
+
 /* The figure (plot.h, 7 x 4.2 in): every screened candidate as a grey dot (one per
  * 1/72 in cell it covers: tens of thousands of candidates fall on a few thousand
  * cells), the front as a blue staircase with labelled circles, the catalog
@@ -207,8 +223,9 @@ int bk_swrite_plot(const bk_swrite *sw, const char *dir, char *err, size_t errle
 	}
 	(void)nref;
 	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, NULL, NULL, NULL, {0}, {0}, NULL, 0, NULL};
-	char title[300], xl[200], note[200];
-	snprintf(title, sizeof title, "search on %s: %s (%s precision) against cost", bk_target_name(F->kind),
+	char title[300], xl[200], note[200], what[160];
+	bk_swrite_target_label(sw, what, sizeof what);
+	snprintf(title, sizeof title, "search on %s: %s (%s precision) against cost", what,
 	         bk_sfront_objective_name(F->so), bk_precision_name(F->so->precision));
 	snprintf(xl, sizeof xl, "cost (simple ALU ops \xc3\x97 %g + complex \xc3\x97 %g)", F->so->simple_cost,
 	         F->so->complex_cost);

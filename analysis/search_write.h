@@ -29,7 +29,13 @@ typedef struct bk_swrite {
 	const bk_halfvs *vs;      /* --vs-front: the half front against the double one, or NULL */
 	const char *vs_path;      /* its front.csv */
 	const bk_search_cert *cert; /* how far the run is complete (all islands) */
+	const char *env_form;     /* env: --env-form (pair, f0, mix), or NULL */
 } bk_swrite;
+
+/* What was searched, for titles: the target's name and what sets this study apart
+ * from another on the same target: env's form ("env_f0: f0 A + B as one form in f0",
+ * "env_mix: ..."), f's index ("f: Fresnel of n = 0.27 + 2.78i, f0 = 0.884"). */
+void bk_swrite_target_label(const bk_swrite *W, char *out, size_t len);
 
 
 void bk_swrite_front_csv(FILE *f, const bk_swrite *W);

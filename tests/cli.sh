@@ -181,6 +181,15 @@ head -1 "$T/cmp/compare.csv" | grep -q '^name,kind,source,form,form_b,parameters
 # the talk's form and its refit are rows with an rmse
 is_num "$(csv_where "$T/cmp/compare.csv" name vf_talk_r rmse)" &&
 	is_num "$(csv_where "$T/cmp/compare.csv" name 'vf_talk_r (refit)' rmse)" && ok || bad "compare.csv: no vf_talk_r rows"
+# the target is never a competitor (results/compare/vf2d/pareto_cost.png drew vf2d's own
+# v_kelemen_talk_r x F_schlick at error 0): no row exact on every sample, and the
+# page names what was left out; negative control: the committed compare.csv of
+# before (it has the row at max_abs 0) fails the same check
+csv_any_le "$T/cmp/compare.csv" max_abs 0 && bad "compare: a row at error 0 (the target itself)" || ok
+grep -q 'Left out as the target itself (exact on every sample): v_kelemen_talk_r x F_schlick' "$T/cmp/section.html" &&
+	ok || bad "compare: section.html does not name the target left out"
+printf 'name,max_abs\nv_kelemen_talk_r x F_schlick,0\nvf_talk_r,0.26\n' >"$T/self.csv"
+csv_any_le "$T/self.csv" max_abs 0 && ok || bad "negative control: a row at error 0 is not seen"
 grep -q "<img src=\"pareto_cost.svg\"" "$T/cmp/section.html" && [ -s "$T/cmp/pareto_cost.pdf" ] && [ -s "$T/cmp/pareto_cost.png" ] && ok || bad "section without its plot"
 $BK report --out "$T/page.html" "$T/cmp/section.html" && grep -q '<h2>Target <code>vf2d</code></h2>' "$T/page.html" && ok || bad "report"
 rm -rf "$T/cmp" "$T/page.html"

@@ -17,7 +17,11 @@
 # window) are refused on a doctored copy of the page. Issue 40's: every
 # <math> of the page renders as MathML (a box, fractions stacked) and the first
 # finding is on the first screen; refused on the page with spans for <math>
-# and on the doctored copy.
+# and on the doctored copy; at 1280 and
+# 1900 px wide every table and the render table's difference column lie inside
+# the window, and Figure 1's tick labels show at >= 9 CSS px (the PNG's drawn
+# size, its img's data-tick-px, times displayed width / natural width); refused
+# on a copy with the page's style of before and Figure 1 at half the width.
 set -u
 PAGE=${1:-results/index.html}
 CHROMIUM=${CHROMIUM:-chromium}
@@ -192,6 +196,25 @@ window.addEventListener('load', function () {
 		out.push('PAGECHECK-MFRAC ' + (stacked ? 'stacked' : 'flat'));
 	}
 	out.push('PAGECHECK-FINDING ' + box('first-finding'));
+	// issue 40: tables inside the window (a table in a closed fold has no box),
+	// the render table's third column (difference) too, and Figure 1's ticks
+	var vw = document.documentElement.clientWidth;
+	var all = document.querySelectorAll('table');
+	for (var w = 0; w < all.length; w++) {
+		var rb = all[w].getBoundingClientRect(), sw = all[w].closest('section');
+		if (rb.width > 0 && (rb.left < -0.5 || rb.right > vw + 0.5))
+			out.push('PAGECHECK-WIDE ' + Math.round(rb.left) + ' ' + Math.round(rb.right) + ' of ' + vw + ' in ' + (sw ? sw.id : 'the page'));
+	}
+	var diff = document.querySelectorAll('#render td, #render th'), dr = -1;
+	for (var q = 0; q < diff.length; q++)
+		if (diff[q].cellIndex === 2 && diff[q].colSpan === 1)
+			dr = Math.max(dr, diff[q].getBoundingClientRect().right);
+	if (document.getElementById('render'))
+		out.push('PAGECHECK-DIFFCOL ' + Math.round(dr) + ' ' + vw);
+	var mi = document.querySelector('#main-figure img');
+	if (mi)
+		out.push('PAGECHECK-TICK ' + (mi.getAttribute('data-tick-px') || 'none') + ' ' + mi.naturalWidth + ' ' +
+			mi.getBoundingClientRect().width.toFixed(1));
 	out.push('PAGECHECK-WINDOW ' + window.innerWidth + ' ' + window.innerHeight);
 	out.push('PAGECHECK-SUMMARY ' + box('summary'));
 	out.push('PAGECHECK-FIGURE ' + box('main-figure'));
@@ -203,8 +226,8 @@ window.addEventListener('load', function () {
 });
 </script>
 EOF
-# probe PAGE OUT [DIR]: load a copy of PAGE in chromium, in a 1280x800 window
-# (a laptop's first screen), its probe's lines into OUT. <base> first thing in
+# probe PAGE OUT [DIR] [WIDTH]: load a copy of PAGE in chromium, in a 1280x800
+# window (a laptop's first screen; WIDTH x 800 when given), its probe's lines into OUT. <base> first thing in
 # <head> (or the document) so relative src resolve to the page's folder (or
 # DIR, for a doctored copy kept elsewhere); the probe last, after everything
 # it looks at.
@@ -218,7 +241,7 @@ probe() {
 		{ echo "$base"; cat "$1"; } >"$T/copy.html"
 	fi
 	cat "$T/probe.html" >>"$T/copy.html"
-	chromium_run --window-size=1280,800 --dump-dom "file://$T/copy.html" >"$T/dom.html"
+	chromium_run --window-size="${4:-1280}",800 --dump-dom "file://$T/copy.html" >"$T/dom.html"
 	grep '^PAGECHECK-' "$T/dom.html" >"$2"
 }
 # loaded_ok PROBE NIMG NSVG: the probe ran, the DOM holds the page's NIMG
@@ -336,6 +359,39 @@ check "a finding per summary row" one_finding_per_row "$PAGE"
 # control: the page with its second finding dropped
 awk '/<p class="finding" id="finding-/ && ++n == 2 { next } { print }' "$PAGE" >"$T/onefewer.html"
 expect_fail "a finding per summary row" one_finding_per_row "$T/onefewer.html"
+# ---- issue 40: tables inside the window, Figure 1's ticks readable ---------------------
+
+# fits PROBE: no table past the window's edges, and the render table's difference
+# column (when the page has the render section) inside it
+fits() {
+	grep -q '^PAGECHECK-DONE' "$1" || { echo "no probe output"; return 1; }
+	! grep '^PAGECHECK-WIDE' "$1" | head -3 | sed 's/^PAGECHECK-WIDE /a table spans x /' | grep . || return 1
+	set -- $(sed -n 's/^PAGECHECK-DIFFCOL //p' "$1")
+	[ "$#" -eq 0 ] && return 0
+	[ "$1" -gt 0 ] && [ "$1" -le "$2" ] || { echo "the render table's difference column ends at x $1, the window at $2"; return 1; }
+}
+# ticks_readable PROBE: Figure 1's tick labels at >= 9 CSS px as displayed: the
+# PNG's tick font in its pixels times displayed width / natural width
+ticks_readable() {
+	set -- $(sed -n 's/^PAGECHECK-TICK //p' "$1")
+	[ "$#" -eq 3 ] && [ "$1" != none ] || { echo "no Figure 1 with data-tick-px: $*"; return 1; }
+	awk -v t="$1" -v n="$2" -v w="$3" 'BEGIN {
+		if (!(n > 0)) { print "Figure 1 not decoded"; exit 1 }
+		px = t * w / n
+		if (px < 9) { printf "Figure 1 tick labels at %.2f CSS px (%s px drawn, %s of %s px shown): under 9\n", px, t, w, n; exit 1 } }'
+}
+check "tables inside a 1280 px window" fits "$T/probe.txt"
+check "Figure 1 tick labels >= 9 px at 1280" ticks_readable "$T/probe.txt"
+probe "$PAGE" "$T/probe_1900.txt" "$DIR" 1900
+check "tables inside a 1900 px window" fits "$T/probe_1900.txt"
+# the controls: the page without the rules for the render table and long headers (the
+# style of before) and Figure 1 at 40 % of the width; both checks must refuse it
+sed -e 's/figure\.main>a{flex:0 0 [0-9]*%}/figure.main>a{flex:0 0 40%}/' -e 's/#render table{[^}]*}//' \
+	-e 's/#render img{[^}]*}//' -e 's/td code,th code,th{overflow-wrap:anywhere}//' "$PAGE" >"$T/old_style.html"
+probe "$T/old_style.html" "$T/probe_old.txt" "$DIR"
+grep -q '^PAGECHECK-DONE' "$T/probe_old.txt" && ok || bad "old-style page not loaded: its controls prove nothing"
+expect_fail "tables inside a 1280 px window" fits "$T/probe_old.txt"
+expect_fail "Figure 1 tick labels >= 9 px at 1280" ticks_readable "$T/probe_old.txt"
 
 # ---- a screenshot of the page itself: not blank ------------------------------------
 

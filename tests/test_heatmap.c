@@ -242,7 +242,8 @@ static rgb_image write_and_read_png(const bk_heatmap *h, bk_heatmap_layout *L)
 	assert_dark_edge(&im, L->plot_x + L->plot_w - 1, L->plot_y + L->plot_h / 2, 1, 0, "plot frame, right");
 	assert_dark_edge(&im, L->plot_x + L->plot_w / 2, L->plot_y - 1, 0, 1, "plot frame, top");
 	assert_dark_edge(&im, L->plot_x + L->plot_w / 2, L->plot_y + L->plot_h - 1, 0, 1, "plot frame, bottom");
-	assert_dark_edge(&im, L->bar_x - 1, L->bar_y + L->bar_h / 3, 1, 0, "bar frame");
+	if (L->bar_w > 0) /* a plane one cell high is a line, without a bar (bk_heatmap_figure) */
+		assert_dark_edge(&im, L->bar_x - 1, L->bar_y + L->bar_h / 3, 1, 0, "bar frame");
 	assert_blank_border(&im);
 	return im;
 }
@@ -535,4 +536,46 @@ Test(heatmap, bad_arguments_fail_with_a_message_and_no_files)
 	list_dir(listing, sizeof listing);
 	cr_assert_str_eq(listing, "");
 	cr_assert_eq(bk_heatmap_write(&h, dir, "h", NULL, 0), 0, "err may be NULL when errlen is 0");
+}
+
+/* ---- a 1-input target is a line ------------------------------------------------------ */
+
+/* results/search/f_gold/front/search_f_6/heatmap.png drew f's error over LoH as a
+ * 2-D map with a "-" y axis; a plane one cell high is a line of the value against x. */
+Test(heatmap, one_input_target_is_a_line_with_value_on_y)
+{
+	static double v[64];
+	for (int i = 0; i < 64; i++) /* Fresnel-fit-like error: signed, a few 1e-4 */
+		v[i] = 3e-4 * sin(0.3 * i) - 1e-4;
+	bk_heatmap f = {64, 1, v, 0, 1, 0, 1, "LoH", "-", "search_f_6 fitted on f_gold", "error", ""};
+	bk_heatmap_figure_info fi;
+	char err[256];
+	cr_assert_eq(bk_heatmap_figure(&f, NULL, &fi, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(fi.kind, BK_HEATMAP_LINE);
+	cr_expect_str_eq(fi.xlabel, "LoH");
+	cr_expect_str_eq(fi.ylabel, "error", "the y axis is the value, not the plane's \"-\"");
+	cr_expect_not(fi.colour_bar);
+	/* every value is on the y axis, which is symmetric about zero for signed error */
+	double m = 0;
+	for (int i = 0; i < 64; i++)
+		m = fmax(m, fabs(v[i]));
+	cr_expect(fi.ylo <= -m && fi.yhi >= m && fi.ylo == -fi.yhi, "y %g..%g for max |error| %g", fi.ylo, fi.yhi, m);
+	cr_expect(fi.yhi < 4 * m, "y range %g hugs the data (max %g)", fi.yhi, m);
+	/* it writes, and the bar area is empty */
+	bk_heatmap_layout L;
+	rgb_image im = write_and_read_png(&f, &L);
+	cr_expect_eq(L.bar_w, 0);
+	free(im.px);
+	/* negative control: a plane two cells high stays a map with the plane's y name and a bar */
+	static double v2[128];
+	bk_heatmap g = {64, 2, v2, 0, 1, 0, 1, "LoH", "r", "vf2d", "error", ""};
+	cr_assert_eq(bk_heatmap_figure(&g, NULL, &fi, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(fi.kind, BK_HEATMAP_MAP);
+	cr_expect_str_eq(fi.ylabel, "r");
+	cr_expect(fi.colour_bar);
+	/* and one row with y categories (stability's one precision) stays a map */
+	static const char *const ycat[1] = {"f16"};
+	bk_heatmap_style st = {1, 0, NULL, ycat};
+	cr_assert_eq(bk_heatmap_figure(&f, &st, &fi, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(fi.kind, BK_HEATMAP_MAP);
 }

@@ -9,6 +9,7 @@
  * Each check has a negative control that shows it can fail.
  */
 #include "plot.h"
+#include "csvtab.h"
 
 #include <criterion/criterion.h>
 
@@ -270,11 +271,11 @@ Test(plot, crowded_labels_never_overlap)
 		for (int j = 0; j < NCROWD && l[i].placed; j++) {
 			double mx, my;
 			bk_plot_to_page(&p, x[j], y[j], &mx, &my);
-			bk_plot_label m = {0, j, 1, mx - 2.4, my - 2.4, mx + 2.4, my + 2.4};
+			bk_plot_label m = {0, j, 1, mx - 2.4, my - 2.4, mx + 2.4, my + 2.4, 0};
 			cr_expect_not(boxes_meet(&l[i], &m), "label %d covers marker %d", i, j);
 		}
 	/* negative control: the overlap check sees two boxes planted on each other */
-	bk_plot_label two[2] = {{0, 0, 1, 0, 0, 10, 5}, {0, 1, 1, 5, 2, 15, 7}};
+	bk_plot_label two[2] = {{0, 0, 1, 0, 0, 10, 5, 0}, {0, 1, 1, 5, 2, 15, 7, 0}};
 	cr_expect_eq(overlaps(two, 2), 1);
 	/* the picture says how many are left out */
 	FILE *f = tmpfile();
@@ -372,4 +373,227 @@ Test(plot, heatmap_cells_take_their_colours)
 	cr_expect_lt(left, 30.0, "the low cell is dark (L* %.1f)", left);
 	cr_expect_gt(right, 85.0, "the high cell is light (L* %.1f)", right);
 	free(im.rgb);
+}
+
+/* ---- ticks: at least three, distinct, inside the range ------------------------------- */
+
+/* Checks bk_plot_ticks over [lo, hi]: >= 3 labels, all distinct, each inside the range
+ * and reading back (strtod) close to its tick. Returns the number of failures. */
+static int tick_faults(int log, double lo, double hi, int want)
+{
+	bk_plot_axis a = {NULL, log, lo, hi, 0, 0, NULL};
+	double v[32];
+	char text[32][BK_PLOT_TICK_LEN];
+	int n = bk_plot_ticks(&a, want, v, text, 32), bad = n < 3;
+	double span = fabs(hi - lo);
+	for (int i = 0; i < n; i++) {
+		bad += v[i] < fmin(lo, hi) - 1e-9 * span || v[i] > fmax(lo, hi) + 1e-9 * span;
+		double back = strtod(text[i], NULL);
+		bad += !(fabs(back - v[i]) <= 1e-3 * span + 1e-300);
+		for (int j = 0; j < i; j++)
+			bad += strcmp(text[i], text[j]) == 0;
+	}
+	if (bad)
+		cr_log_info("ticks on %g..%g (log %d): %d, first \"%s\"", lo, hi, log, n, n ? text[0] : "");
+	return bad;
+}
+
+Test(plot, ticks_three_distinct_labels_in_every_range)
+{
+	int bad = 0, cases = 0;
+	/* the committed defect: a diverging colour bar of +-0.00495586 had the one tick "0" */
+	bad += tick_faults(0, -0.00495586, 0.00495586, 4), cases++;
+	static const double mant[] = {1.0, 1.03, 1.5, 2.01, 2.5, 3.3, 4.02, 4.99, 5.01, 7.7, 9.99};
+	for (int e = -12; e <= 12; e += 3)
+		for (size_t k = 0; k < sizeof mant / sizeof mant[0]; k++) {
+			double m = mant[k] * pow(10.0, e);
+			for (int want = 3; want <= 6; want++) {
+				bad += tick_faults(0, -m, m, want), cases++;        /* symmetric about zero */
+				bad += tick_faults(0, 0, m, want), cases++;         /* from zero */
+				bad += tick_faults(0, -3 * m, -m, want), cases++;   /* all negative */
+				if (m >= 1e-6) /* a tiny span far from zero, well above double's resolution */
+					bad += tick_faults(0, 1.0, 1.0 + m * 1e-3, want), cases++;
+				bad += tick_faults(0, m, 1.0001 * m, want), cases++;
+			}
+			bad += tick_faults(1, m, 10 * m, 5), cases++;      /* log: about one decade */
+			bad += tick_faults(1, m, 1.2 * m, 5), cases++;     /* log: less than a factor 3 */
+			bad += tick_faults(1, m, 1e6 * m, 5), cases++;     /* log: many decades */
+		}
+	cr_log_info("%d tick ranges", cases);
+	cr_expect_eq(bad, 0, "%d faults in %d tick ranges", bad, cases);
+	/* negative controls: the checker fails a single tick and a repeated label */
+	bk_plot_axis none = {NULL, 0, 0, 1, 0, 0, NULL};
+	double v[2];
+	char text[2][BK_PLOT_TICK_LEN];
+	cr_expect_eq(bk_plot_ticks(&none, 5, v, text, 2), 2, "max bounds the count");
+	cr_expect_gt(tick_faults(0, 5, 5 + 1e-15, 4), 0, "a range under double's resolution cannot take 3 distinct labels");
+}
+
+Test(plot, colour_bar_of_the_committed_heatmap_has_three_ticks)
+{
+	/* results/search/vf2d/front/seed_search_vf2d_7/heatmap.png: max |error| 0.00495586
+	 * (front.csv's max_abs) gave the step 0.005 and "0" alone */
+	double m = 0.00495586, val[2] = {-m, 0.9 * m}, v[32];
+	char text[32][BK_PLOT_TICK_LEN];
+	bk_plot_heat h = {2, 1, val, 0, 1, 0, 1, BK_PLOT_DIVERGING, -m, m, "error"};
+	int n = bk_plot_bar_ticks(&h, v, text, 32);
+	cr_expect_geq(n, 3);
+	for (int i = 0; i < n; i++)
+		cr_expect(fabs(v[i]) <= m, "tick %s outside the bar", text[i]);
+}
+
+/* ---- labels: every front point labelled or keyed, no label on a drawn mark -------------- */
+
+enum { MAXPTS = 64 };
+
+typedef struct pts {
+	int n;
+	double x[MAXPTS], y[MAXPTS], lo[MAXPTS], hi[MAXPTS];
+	char name[MAXPTS][96];
+	const char *lab[MAXPTS];
+} pts;
+
+/* Reads x, y (and optional lo, hi) columns of a committed CSV by name; rows whose
+ * join column (name) is in `also` take their x, lo, hi from it (timing.csv). */
+static void read_pts(pts *P, const char *path, const char *xcol, const char *ycol)
+{
+	const char *cols[] = {"name", xcol, ycol, NULL};
+	bk_csvtab_spec spec = {cols, 0, NULL, 0, 0, NULL, NULL};
+	bk_csvtab t;
+	char err[512];
+	cr_assert_eq(bk_csvtab_read(path, &spec, &t, err, sizeof err), 0, "%s (run from the repository root)", err);
+	P->n = 0;
+	for (int i = 0; i < t.n && P->n < MAXPTS; i++) {
+		double x, y;
+		if (bk_csvtab_number(bk_csvtab_get(&t, i, 1), &x) || bk_csvtab_number(bk_csvtab_get(&t, i, 2), &y))
+			continue;
+		snprintf(P->name[P->n], sizeof P->name[0], "%s", bk_csvtab_get(&t, i, 0));
+		P->lab[P->n] = P->name[P->n];
+		P->x[P->n] = x, P->y[P->n] = y, P->lo[P->n] = P->hi[P->n] = NAN;
+		P->n++;
+	}
+	bk_csvtab_free(&t);
+}
+
+static int box_meets(const double a[4], const bk_plot_label *l)
+{
+	return a[0] < l->x1 && l->x0 < a[2] && a[1] < l->y1 && l->y0 < a[3];
+}
+
+/* Faults of a figure's labels: unplaced ones, ones crossing a drawn mark or another label. */
+static int label_faults(const bk_plot *p, int want_labels)
+{
+	static bk_plot_label l[4 * MAXPTS];
+	static double m[16 * MAXPTS][4];
+	int nl = bk_plot_labels(p, l, 4 * MAXPTS), nm = bk_plot_marks(p, m, 16 * MAXPTS), bad = 0;
+	cr_assert_eq(nl, want_labels);
+	cr_assert_geq(nm, 0);
+	for (int i = 0; i < nl; i++) {
+		if (!l[i].placed) {
+			cr_log_info("label %d (series %d point %d) not placed", i, l[i].series, l[i].point);
+			bad++;
+			continue;
+		}
+		for (int j = 0; j < nm && j < 16 * MAXPTS; j++)
+			if (box_meets(m[j], &l[i])) {
+				cr_log_info("label %d meets mark %d", i, j);
+				bad++;
+			}
+	}
+	return bad + overlaps(l, nl);
+}
+
+/* results/search/vf2d/pareto.png: 8 of 10 front points were unlabelled. */
+Test(plot, every_front_point_of_the_committed_search_is_labelled_or_keyed)
+{
+	static pts F, C;
+	read_pts(&F, "results/search/vf2d/front.csv", "cost", "max_abs");
+	read_pts(&C, "results/search/vf2d/catalog.csv", "cost", "max_abs");
+	cr_assert_eq(F.n, 10, "the committed front has 10 members");
+	for (int i = 1; i < F.n; i++) /* in cost order, as bk_swrite_plot's staircase takes it */
+		for (int j = i; j > 0 && F.x[j] < F.x[j - 1]; j--) {
+			double t = F.x[j]; F.x[j] = F.x[j - 1]; F.x[j - 1] = t;
+			t = F.y[j]; F.y[j] = F.y[j - 1]; F.y[j - 1] = t;
+			const char *l = F.lab[j]; F.lab[j] = F.lab[j - 1]; F.lab[j - 1] = l;
+		}
+	bk_plot_series s[3] = {
+		{"search front (refitted)", BK_PLOT_STEPS, BK_PLOT_CIRCLE, 0, 0x1f5fbf, F.n, F.x, F.y, NULL, NULL, NULL},
+		{"published", BK_PLOT_POINTS, BK_PLOT_TRIANGLE, 0, 0xc0392b, C.n, C.x, C.y, NULL, NULL, NULL},
+		{NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f5fbf, F.n, F.x, F.y, F.lab, NULL, NULL},
+	};
+	/* as bk_swrite_plot draws it: 7 x 4.2 in, log error against cost */
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "search on vf2d", "a note", NULL, {"cost", 0, 0, 15, 0, 0, NULL},
+	             {"error", 1, 1e-3, 1, 0, 0, NULL}, s, 3, NULL};
+	cr_expect_eq(label_faults(&p, F.n), 0, "7 x 4.2 in");
+	/* and the same front in a single column: still every point
+	 * labelled or keyed (numbers fit where names do not) */
+	p.width_in = BK_PLOT_SINGLE_W, p.height_in = 2.6;
+	static bk_plot_label l[MAXPTS];
+	cr_assert_eq(bk_plot_labels(&p, l, MAXPTS), F.n);
+	int keyed = 0;
+	for (int i = 0; i < F.n; i++)
+		keyed += l[i].key > 0;
+	cr_expect_gt(keyed, 0, "a small figure keys some labels");
+	cr_expect_eq(label_faults(&p, F.n), 0, "3.5 x 2.6 in");
+}
+
+/* results/compare/vf2d/pareto_ns.png: labels crossed by the min..max time bars. */
+Test(plot, labels_keep_off_the_committed_compare_error_bars)
+{
+	static pts P, T;
+	read_pts(&P, "results/compare/vf2d/compare.csv", "cost", "max_abs");
+	read_pts(&T, "results/compare/vf2d/timing.csv", "ns_per_eval", "ns_min");
+	static pts H;
+	read_pts(&H, "results/compare/vf2d/timing.csv", "ns_per_eval", "ns_max");
+	int n = 0;
+	static pts Q; /* error against time, with the bars, for each timed row */
+	for (int i = 0; i < P.n; i++)
+		for (int j = 0; j < T.n; j++)
+			if (!strcmp(P.name[i], T.name[j]) && P.y[i] > 0) {
+				snprintf(Q.name[n], sizeof Q.name[0], "%s", P.name[i]);
+				Q.lab[n] = Q.name[n];
+				Q.x[n] = T.x[j], Q.y[n] = P.y[i], Q.lo[n] = T.y[j], Q.hi[n] = H.y[j];
+				n++;
+			}
+	Q.n = n;
+	cr_assert_geq(n, 10, "the committed compare has its timed rows");
+	bk_plot_series s[1] = {{"rows", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, n, Q.x, Q.y, Q.lab, Q.lo, Q.hi}};
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "vf2d", NULL, NULL, {"ns", 0, 0, 4, 0, 0, NULL}, {"error", 1, 0.01, 1, 0, 0, NULL},
+	             s, 1, NULL};
+	cr_expect_eq(label_faults(&p, n), 0);
+	/* the bars are marks: one box per bar beside each marker's */
+	static double m[4 * MAXPTS][4];
+	cr_expect_eq(bk_plot_marks(&p, m, 4 * MAXPTS), 2 * n);
+	/* negative control: a label planted on a bar is caught */
+	double bx[4] = {m[1][0], m[1][1], m[1][2], m[1][3]};
+	bk_plot_label on = {0, 0, 1, (bx[0] + bx[2]) / 2 - 3, bx[1] - 2, (bx[0] + bx[2]) / 2 + 3, bx[3] + 2, 0};
+	cr_expect(box_meets(bx, &on));
+}
+
+/* A planted crowd with long bars through it and a line across it. */
+Test(plot, planted_crowd_with_bars_and_a_line_labels_keep_off)
+{
+	static pts P;
+	for (int i = 0; i < 24; i++) { /* 4 rows of 6, bars reaching past the neighbours */
+		P.x[i] = 2.0 + 0.8 * (i % 6) + 0.3 * (i / 6), P.y[i] = 2.0 + 1.2 * (i / 6);
+		P.lo[i] = P.x[i] - 1.5, P.hi[i] = P.x[i] + 1.2;
+		snprintf(P.name[i], sizeof P.name[0], "member_%d", i);
+		P.lab[i] = P.name[i];
+	}
+	double lx[2] = {0, 10}, ly[2] = {0, 10};
+	bk_plot_series s[2] = {{"diagonal", BK_PLOT_LINE, BK_PLOT_CIRCLE, 0, 0x444444, 2, lx, ly, NULL, NULL, NULL},
+	                       {"rows", BK_PLOT_POINTS, BK_PLOT_SQUARE, 0, 0xd62728, 24, P.x, P.y, P.lab, P.lo, P.hi}};
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "crowd", NULL, NULL, {"x", 0, 0, 10, 0, 0, NULL}, {"y", 0, 0, 10, 0, 0, NULL},
+	             s, 2, NULL};
+	cr_expect_eq(label_faults(&p, 24), 0);
+	/* the line: no placed label box holds a point of the diagonal */
+	static bk_plot_label l[24];
+	cr_assert_eq(bk_plot_labels(&p, l, 24), 24);
+	double qx[201], qy[201];
+	for (int k = 0; k <= 200; k++)
+		bk_plot_to_page(&p, k / 20.0, k / 20.0, &qx[k], &qy[k]);
+	for (int i = 0; i < 24; i++)
+		for (int k = 0; k <= 200 && l[i].placed; k++)
+			cr_expect_not(qx[k] > l[i].x0 && qx[k] < l[i].x1 && qy[k] > l[i].y0 && qy[k] < l[i].y1,
+			              "label %d on the line", i);
 }

@@ -18,6 +18,10 @@
  * markup, and two writes giving the same PNG, SVG and PDF bytes.
  */
 #include "compare.h"
+#include "plot.h"
+#include "search_front.h"
+#include "search_write.h"
+#include "target.h"
 
 #include <criterion/criterion.h>
 
@@ -481,4 +485,66 @@ Test(report, plot_escapes_every_string)
 		free(buf);
 		remove_plot(dir);
 	}
+}
+
+/* Hollow markers (off the front) were drawn with no legend entry saying so
+ * (results/compare/vf2d/pareto_ns.png): every marker style drawn is explained. */
+Test(report, legend_explains_every_marker_drawn)
+{
+	bk_compare_row rows[NBASIC];
+	basic_rows(rows);
+	for (int xaxis = 0; xaxis < 2; xaxis++)
+		cr_expect_eq(bk_compare_plot_unexplained(rows, NBASIC, xaxis, NULL), -1, "x axis %d", xaxis);
+	/* negative control: the same legend without the hollow key leaves the hollow series unexplained */
+	double x[2] = {1, 2}, y[2] = {0.1, 0.2};
+	bk_plot_series s[3] = {
+		{"published constants", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, 1, x, y, NULL, NULL, NULL},
+		{NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 1, 0x1f77b4, 1, x + 1, y + 1, NULL, NULL, NULL},
+		{"hollow: off the front", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 1, 0x7f7f7f, 0, x, y, NULL, NULL, NULL},
+	};
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, NULL, NULL, NULL, {"x", 0, 0, 3, 0, 0, NULL}, {"y", 1, 0.01, 1, 0, 0, NULL},
+	             s, 3, NULL};
+	cr_expect_eq(bk_plot_unexplained(&p), -1, "with the key");
+	p.nseries = 2;
+	cr_expect_eq(bk_plot_unexplained(&p), 1, "without the key the hollow series is unexplained");
+	s[0].marker = BK_PLOT_SQUARE;
+	p.nseries = 3;
+	cr_expect_eq(bk_plot_unexplained(&p), 1, "a key does not explain a shape no entry has");
+}
+
+/* results/search/env_f0 and env_mix's plots were titled "search on env" as env's:
+ * a title names the study's own target. */
+Test(report, search_titles_name_the_env_form_and_the_index)
+{
+	bk_sfront F;
+	memset(&F, 0, sizeof F);
+	bk_target_options to;
+	memset(&to, 0, sizeof to);
+	bk_swrite W;
+	memset(&W, 0, sizeof W);
+	W.F = &F;
+	W.to = &to;
+	char lab[4][160];
+	F.kind = BK_TARGET_ENV;
+	W.env_form = NULL;
+	bk_swrite_target_label(&W, lab[0], sizeof lab[0]);
+	W.env_form = "f0";
+	bk_swrite_target_label(&W, lab[1], sizeof lab[1]);
+	W.env_form = "mix";
+	bk_swrite_target_label(&W, lab[2], sizeof lab[2]);
+	cr_expect_str_eq(lab[0], "env");
+	cr_expect_not_null(strstr(lab[1], "env_f0"), "%s", lab[1]);
+	cr_expect_not_null(strstr(lab[2], "env_mix"), "%s", lab[2]);
+	for (int i = 0; i < 3; i++)
+		for (int j = 0; j < i; j++)
+			cr_expect_str_neq(lab[i], lab[j], "two env studies share a title");
+	/* f: the index and its f0 (gold: 0.27 + 2.78i), computed here from the
+	 * normal-incidence Fresnel ((n-1)^2 + k^2)/((n+1)^2 + k^2) */
+	F.kind = BK_TARGET_F;
+	to.eta = 0.27, to.k = 2.78;
+	bk_swrite_target_label(&W, lab[3], sizeof lab[3]);
+	double f0 = ((0.27 - 1) * (0.27 - 1) + 2.78 * 2.78) / ((0.27 + 1) * (0.27 + 1) + 2.78 * 2.78);
+	char want[64];
+	snprintf(want, sizeof want, "n = 0.27 + 2.78i, f0 = %.3g", f0);
+	cr_expect_not_null(strstr(lab[3], want), "%s (want %s)", lab[3], want);
 }

@@ -41,6 +41,7 @@ typedef struct study {
 	long reps;
 	bk_compare_info info; /* the cost model, and the chips of --gpu */
 	char driver[256];     /* the Vulkan driver that compiled for --gpu */
+	char self[300];               /* the catalog entries left out as the target itself, or "" */
 	int speclut[MAX_ROWS];        /* 1: the row is a specular LUT (spec), laid out as spec_layout[i] */
 	bk_speclut spec_layout[MAX_ROWS];
 } study;
@@ -145,6 +146,15 @@ static int add_entry(study *S, const bk_catalog_entry *e)
 	memcpy(r->params, e->defaults, sizeof r->params);
 	r->ns = r->ns_min = r->ns_max = NAN;
 	score(S, r, f);
+	if (r->m.max_abs == 0.0 && r->m.rmse == 0.0) {
+		/* exact on every sample: the entry is the target itself (vf2d is the talk's
+		 * Kelemen V times Schlick F, v_kelemen_talk_r x F_schlick), no competitor:
+		 * drawn at error 0 it would stand on every front; named in section.html */
+		size_t at = strlen(S->self);
+		snprintf(S->self + at, sizeof S->self - at, "%s%.120s", at ? ", " : "", r->name);
+		bk_form_free(f);
+		return 0;
+	}
 	S->n++;
 	if (S->refit && refit(S, r, f, &S->rows[S->n]) == 0)
 		S->n++;
@@ -278,6 +288,11 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 		fputs("<p>CPU run time: not measured (", f);
 		bk_html_text(f, S->untimed);
 		fprintf(f, "). Table: <a href=\"%scompare.csv\">compare.csv</a>.</p>\n", prefix);
+	}
+	if (S->self[0]) {
+		fputs("<p>Left out as the target itself (exact on every sample): ", f);
+		bk_html_text(f, S->self);
+		fputs(".</p>\n", f);
 	}
 	fprintf(f, "<p><b>On the Pareto front</b> (no other entry both cheaper and more accurate; a texture fetch priced "
 	           "at %d simple ops, %s): ", bk_tier_alu_per_tex[S->tier],

@@ -9,6 +9,7 @@
 #include "out.h"
 #include "cmd.h"
 #include "page.h"
+#include "plot.h"
 #include "summary.h"
 
 #include <errno.h>
@@ -28,7 +29,12 @@ static const char *const style =
 	"details.fold>summary{cursor:pointer;font-size:13px;color:#444;margin:.5em 0}"
 	"table.summary{font-size:12px;margin:.5em 0}table.summary td,table.summary th{padding:1px 5px}table.summary td{white-space:nowrap}"
 	"figure.main{display:flex;gap:1em;align-items:flex-start;margin:.5em 0}"
-	"figure.main>a{flex:0 0 58%}figure.main img{width:100%;height:auto}figure.main figcaption{flex:1}"
+	"figure.main>a{flex:0 0 64%}figure.main img{width:100%;height:auto}figure.main figcaption{flex:1}"
+	/* wide tables fit the window: the render table's three pictures shrink with it (their
+	 * width attribute is the most), a long formula or header ("polaris10/vega10/...") breaks
+	 * anywhere rather than push a column off (tests/page.sh, at 1280 and 1900 px) */
+	"#render table{table-layout:fixed;width:100%}#render img{max-width:100%;height:auto}"
+	"td code,th code,th{overflow-wrap:anywhere}"
 	"h1{margin:.2em 0 .3em}p.lead{margin:.3em 0}p.note{font-size:12px;color:#444;margin:.2em 0}"
 	/* a formula is as wide as its form (MathML does not wrap): its own line,
 	 * scrolled sideways when wider than the page, never widening it */
@@ -103,7 +109,8 @@ static void main_figure(FILE *f, const bk_summary_row *r, const char *href)
 	bk_html_link(f, href, "pareto.pdf");
 	fputs("\"><img src=\"", f);
 	bk_html_link(f, href, "pareto.png");
-	fputs("\" alt=\"error against cost of the search on ", f);
+	/* the PNG's tick labels in its own pixels, for the page's check of their size on screen */
+	fprintf(f, "\" data-tick-px=\"%.4g\" alt=\"error against cost of the search on ", BK_PLOT_TICK_PT * BK_PLOT_DPI / 72.0);
 	bk_html_text(f, r->target);
 	fputs("\"></a>\n<figcaption><b>Figure 1.</b> The search on <code>", f);
 	bk_html_text(f, r->target);

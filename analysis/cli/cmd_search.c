@@ -372,7 +372,8 @@ static int finish(job *J, const bk_seeds *sd)
 	if (bk_sfront_build(F, sd))
 		return cli_fail("search", "out of memory or a failed refit of the front");
 	bk_swrite W = {F, &J->to, J->command, J->a->out, J->a->prefix, J->a->cost_model, J->a->seed, J->total_evals,
-	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips, NULL, NULL, &J->cert};
+	               isl_name(), J->a->migrate, J->a->migrants, J->a->merge_fronts, J->chip, J->nchips, NULL, NULL, &J->cert,
+	               J->a->env_form};
 	bk_swrite_report(stdout, &W);
 	char err[700];
 	if (J->nchips && bk_sfront_gpu(F, J->chip, J->nchips, J->driver, sizeof J->driver, err, sizeof err))
