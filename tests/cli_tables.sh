@@ -47,11 +47,13 @@ for p in single half; do
 	refused "codegen c $p" "brdfkit codegen: --precision has no effect with --lang c (C output is float only)" \
 		$BK codegen --lang c --precision $p NoV
 done
-# controls: C without it; GLSL mediump declares it, HLSL mediump is half
+# controls: C without it; GLSL mediump declares it, HLSL's half precisions are min16float and half
 $BK codegen --lang c NoV >"$T/c" 2>"$T/err" && grep -q '^static inline float brdfkit_form(' "$T/c" && ok ||
 	bad "codegen c: $(cat "$T/err")"
 $BK codegen --lang glsl --precision half NoV 2>"$T/err" | grep -q 'mediump float' && ok || bad "glsl mediump: $(cat "$T/err")"
-$BK codegen --lang hlsl --precision half NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl mediump: $(cat "$T/err")"
+$BK codegen --lang hlsl --precision half NoV 2>"$T/err" | grep -q '^min16float ' && ok || bad "hlsl min16float: $(cat "$T/err")"
+$BK codegen --lang hlsl --precision float16 NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl half: $(cat "$T/err")"
+$BK codegen --lang glsl --precision float16 NoV 2>"$T/err" | grep -q '^float16_t ' && ok || bad "glsl float16_t: $(cat "$T/err")"
 
 # ---- ops: --cost-model sets both weights ------------------------------------------
 refused "ops model and simple" "brdfkit ops: --simple-cost has no effect with --cost-model (it sets both weights)" \

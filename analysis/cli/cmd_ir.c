@@ -13,6 +13,7 @@
 #include "cmd.h"
 #include "form_check.h"
 #include "frontcsv.h"
+#include "msl.h"
 
 #include <errno.h>
 #include <math.h>
@@ -444,18 +445,21 @@ static int identifier(const char *s)
 	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
 }
 
-/* codegen: --precision picks GLSL's qualifier or HLSL's half/float; the C
- * output is float whatever it says. */
+/* codegen: --precision picks GLSL's qualifier or HLSL's and MSL's type; the
+ * C output is float whatever it says. Index CODEGEN_MSL of the language
+ * dimension is Metal, which is no bk_lang: SPIRV-Cross writes it
+ * (analysis/msl.c). */
+enum { CODEGEN_MSL = BK_LANG_HLSL + 1 };
 static const cli_dim codegen_dims[] = {
-	{"lang", {"c", "glsl", "hlsl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl"}},
+	{"lang", {"c", "glsl", "hlsl", "msl"}, {" with --lang c", " with --lang glsl", " with --lang hlsl", " with --lang msl"}},
 };
 static const cli_rule codegen_rules[] = {
-	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "C output is float only", "half"},
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL | 1u << CODEGEN_MSL, "C output is float only", "half"},
 	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
 };
-static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", NULL};
+static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", "--lang msl NoV", NULL};
 static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
                                         sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
 
@@ -463,14 +467,14 @@ int cmd_codegen(int argc, char **argv)
 {
 	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
-		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl", .help = "target language", .dest = &lang, .required = 1},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
+		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl|msl", .help = "target language (msl: Metal, by SPIRV-Cross from the GLSL's SPIR-V)", .dest = &lang, .required = 1},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half|float16", .help = "single: GLSL highp / HLSL float / MSL float (default); half: GLSL mediump / HLSL min16float / MSL half; float16: GLSL float16_t / HLSL half (dxc -enable-16bit-types) / MSL half; half and float16 write constants as binary16 values; not with --lang c (C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
+	               "--lang c|glsl|hlsl|msl [--precision single|half|float16] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
 	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
 	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
@@ -478,25 +482,29 @@ int cmd_codegen(int argc, char **argv)
 	               "file (its target line, the member's error with the objective and precision stated).\n"
 	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
-	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
+	               "precision (single: C float, highp, HLSL float; half, float16: fp16) cannot hold at any\n"
 	               "sample where it has a value (+inf, NaN, or not 0 but 0 or subnormal) is warned about\n"
 	               "on stderr (exit 0), as is a constant the precision cannot hold.",
 	               opts, 4, 33, 0, {0}};
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	static const char *const langs[] = {"c", "glsl", "hlsl"};
-	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL};
-	int li = cli_choice("--lang", lang, langs, 3);
+	static const char *const langs[] = {"c", "glsl", "hlsl", "msl"};
+	/* Metal's names are checked as GLSL's: its function is the GLSL's, translated */
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_GLSL};
+	int li = cli_choice("--lang", lang, langs, 4);
 	if (li < 0)
 		return 2;
 	bk_lang L = lang_of[li];
-	if ((rc = cli_applicable(&cmd, (int[]){(int)L})))
+	if ((rc = cli_applicable(&cmd, (int[]){li})))
 		return rc;
-	cli_prec prec;
-	if ((rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
+	cli_prec prec = CLI_PREC_HALF;
+	int half = BK_EMIT_F16; /* float16: explicit 16-bit types */
+	if (strcmp(precision, "float16") &&
+	    (rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
 		return rc;
-	int half = prec == CLI_PREC_HALF;
+	if (strcmp(precision, "float16"))
+		half = prec == CLI_PREC_HALF ? BK_EMIT_RELAXED : BK_EMIT_SINGLE;
 	if (cmd.npos < 1) {
 		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
 		return 2;
@@ -546,10 +554,12 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
 		        what);
-	char *text = bk_form_emit(fa.f, L, half, fa.params, &info);
+	char msl_err[600] = "out of memory";
+	char *text = li == CODEGEN_MSL ? bk_msl_emit(fa.f, half, fa.params, &info, msl_err, sizeof msl_err)
+	                               : bk_form_emit(fa.f, L, half, fa.params, &info);
 	bk_form_free(fa.f);
 	if (!text)
-		return cli_fail("codegen", "code generation failed (out of memory)");
+		return cli_fail("codegen", "code generation failed (%s)", msl_err);
 	rc = 0;
 	if (!out) {
 		fputs(text, stdout);

@@ -1,7 +1,8 @@
 /*
  * fit_out.h — what `brdfkit fit --out DIR` writes (coefficients.csv,
- * metrics.csv, metrics_env.csv, heatmap*.{exr,png,csv}, shader.{c,glsl,hlsl}),
- * shared by fit and by search, which writes the same for each front member.
+ * metrics.csv, metrics_env.csv, heatmap*.{exr,png,csv}, shader.{c,glsl,hlsl},
+ * shader.metal, and a half run's shader_f16.{glsl,hlsl}), shared by fit and
+ * by search, which writes the same for each front member.
  */
 #ifndef ANALYSIS_CLI_FIT_OUT_H
 #define ANALYSIS_CLI_FIT_OUT_H

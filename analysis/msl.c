@@ -1,0 +1,133 @@
+/*
+ * msl.c — a form's Metal function through SPIRV-Cross (msl.h).
+ */
+#include "msl.h"
+#include "gpucost.h"
+#include "out.h"
+
+#include <spirv_cross/spirv_cross_c.h>
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The compute shader that keeps the function alive: each input read from
+ * slot (its bk_input) of one buffer, the result stored to slot 15, so
+ * nothing folds away and the function keeps its parameters. */
+static char *wrapper(const char *fn, const char *name, unsigned inputs, int half)
+{
+	const char *T = half ? "float16_t" : "float";
+	bk_strbuf b = {0};
+	bk_sb_put(&b, "#version 450\n%slayout(local_size_x = 1) in;\n"
+	          "layout(std430, set = 0, binding = 0) buffer Data { float v[]; } data;\n%s\nvoid main()\n{\n"
+	          "\tdata.v[15] = float(%s(",
+	          half ? "#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n" : "", fn, name);
+	const char *sep = "";
+	for (int c = 0; c < BK_IN_COUNT; c++)
+		if (inputs >> c & 1) {
+			bk_sb_put(&b, "%s%s(data.v[%d])", sep, T, c);
+			sep = ", ";
+		}
+	bk_sb_put(&b, "));\n}\n");
+	if (b.oom) {
+		free(b.s);
+		return NULL;
+	}
+	return b.s;
+}
+
+/* SPIR-V to one MSL translation unit (malloc'd), or NULL with err. */
+static char *cross(const unsigned *words, size_t n, char *err, size_t errlen)
+{
+	spvc_context ctx = NULL;
+	spvc_parsed_ir ir = NULL;
+	spvc_compiler comp = NULL;
+	spvc_compiler_options opt = NULL;
+	const char *src = NULL;
+	char *out = NULL;
+	if (spvc_context_create(&ctx) != SPVC_SUCCESS) {
+		snprintf(err, errlen, "spirv-cross: cannot create a context");
+		return NULL;
+	}
+	/* MSL 2.1 (iOS 12, macOS 10.14): half arithmetic and everything the
+	 * forms use; nothing newer is needed */
+	if (spvc_context_parse_spirv(ctx, words, n, &ir) != SPVC_SUCCESS ||
+	    spvc_context_create_compiler(ctx, SPVC_BACKEND_MSL, ir, SPVC_CAPTURE_MODE_TAKE_OWNERSHIP, &comp) != SPVC_SUCCESS ||
+	    spvc_compiler_create_compiler_options(comp, &opt) != SPVC_SUCCESS ||
+	    spvc_compiler_options_set_uint(opt, SPVC_COMPILER_OPTION_MSL_VERSION, SPVC_MAKE_MSL_VERSION(2, 1, 0)) != SPVC_SUCCESS ||
+	    spvc_compiler_install_compiler_options(comp, opt) != SPVC_SUCCESS ||
+	    spvc_compiler_compile(comp, &src) != SPVC_SUCCESS)
+		snprintf(err, errlen, "spirv-cross: %.400s", spvc_context_get_last_error_string(ctx));
+	else if (!(out = strdup(src)))
+		snprintf(err, errlen, "out of memory");
+	spvc_context_destroy(ctx);
+	return out;
+}
+
+/* The function named name in SPIRV-Cross's unit, written with the
+ * signature "T name(T NoV, ...)" and its body as translated. 0, or -1. */
+static int cut(bk_strbuf *b, const char *unit, const char *name, const char *T, unsigned inputs)
+{
+	char head[96];
+	snprintf(head, sizeof head, " %s(", name);
+	const char *s = strstr(unit, head);
+	const char *body = s ? strstr(s, "\n{\n") : NULL;
+	const char *end = body ? strstr(body, "\n}\n") : NULL;
+	if (!end)
+		return -1;
+	bk_sb_put(b, "%s %s(", T, name);
+	const char *sep = "";
+	for (int c = 0; c < BK_IN_COUNT; c++)
+		if (inputs >> c & 1) {
+			bk_sb_put(b, "%s%s %s", sep, T, bk_input_name((bk_input)c));
+			sep = ", ";
+		}
+	bk_sb_put(b, ")%.*s\n", (int)(end + 3 - body - 1), body);
+	return 0;
+}
+
+char *bk_msl_emit(const bk_form *f, int half, const double *params, const bk_emit_info *info, char *err,
+                  size_t errlen)
+{
+	const char *name = info && info->name ? info->name : "brdfkit_form";
+	char *fn = bk_form_emit(f, BK_LANG_GLSL, half ? BK_EMIT_F16 : BK_EMIT_SINGLE, params, info);
+	if (!fn) {
+		snprintf(err, errlen, "code generation failed (out of memory, or '%s' is reserved in GLSL)", name);
+		return NULL;
+	}
+	unsigned inputs = bk_form_inputs(f);
+	char *glsl = wrapper(fn, name, inputs, half);
+	size_t n = 0;
+	unsigned *words = glsl ? bk_gpucost_spirv(glsl, &n, err, errlen) : NULL;
+	char *unit = words ? cross(words, n, err, errlen) : NULL;
+	bk_strbuf b = {0};
+	char *res = NULL;
+	if (unit) {
+		/* bk_form_emit's comment, its precision line said for Metal */
+		const char *end = strstr(fn, " */\n");
+		const char *prec = strstr(fn, " * precision: ");
+		const char *next = prec ? strstr(prec, "\n * op counts") : NULL;
+		if (prec && next && end) {
+			bk_sb_put(&b, "%.*s * precision: MSL %s; SPIRV-Cross's translation of the SPIR-V of\n"
+			          " *   brdfkit codegen --lang glsl --precision %s. Metal compiles with fast math unless\n"
+			          " *   told -fno-fast-math: it may reorder and fuse, as GPU drivers do\n", (int)(prec - fn), fn,
+			          half ? "half with binary16 constants (fp16; bk_form_eval BK_F16)" : "float (fp32)",
+			          half ? "float16" : "single");
+			bk_sb_put(&b, "%.*s", (int)(end + 4 - next - 1), next + 1);
+		}
+		bk_sb_put(&b, "#include <metal_stdlib>\nusing namespace metal;\n\n");
+		if (cut(&b, unit, name, half ? "half" : "float", inputs) < 0)
+			snprintf(err, errlen, "spirv-cross: no function '%s' in its output", name);
+		else if (b.oom)
+			snprintf(err, errlen, "out of memory");
+		else
+			res = b.s;
+	}
+	if (!res)
+		free(b.s);
+	free(unit);
+	free(words);
+	free(glsl);
+	free(fn);
+	return res;
+}
