@@ -73,8 +73,7 @@ typedef struct opts {
 static int usage(const char *msg)
 {
 	fprintf(stderr, "vkrun: %s; usage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half] "
-	                "[--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]...\n"
-	                "       vkrun --half-front FRONT.csv --target KIND [--nx N] [--nr N] [--ior X] [--k Y] [--precise] [--perturb NAME [--factor F]] "
+	                "[--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]... | vkrun --half-front FRONT.csv --target KIND [--nx N] [--nr N] [--ior X] [--k Y] [--precise] [--perturb NAME [--factor F]] "
 	                "[--verbose]\n", msg);
 	return 2;
 }
