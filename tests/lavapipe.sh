@@ -131,19 +131,26 @@ if [ -z "$m" ]; then bad "vf2d_half: no member with a p0"
 elif hf_holds --perturb "$m" --factor 1.01; then bad "control 'half front, $m's p0 x 1.01': the check passed"
 elif grep -q "^EXCEEDS: $m " "$T/hf"; then ok
 else bad "control 'half front, $m's p0 x 1.01': $(cat "$T/hf")"; fi
-# the f fronts (rmse over 256 samples) do not all hold: lavapipe's f16
-# differs from the IR's operation-by-operation rounding at 5-15% of samples
-# by an ulp or so (precise changes nothing, so it is not contraction or
-# reassociation; the Vulkan specification's ULP envelope allows it), and on
-# 256 samples that moves an rmse by up to 7%. Said, not failed; an error
-# (exit 3) fails.
-for t in "f_glass_half --target f" "f_gold_half --target f --ior 0.27 --k 2.78"; do
+# and the same shader is past both of the IR's orders (the check below)
+grep -q "^half-front: \([0-9]*\) of \1 within the worse" "$T/hf" &&
+	bad "control 'half front, $m's p0 x 1.01': within the IR's orders" || ok
+# The f fronts (rmse over 256 samples) do not all hold their stated error:
+# lavapipe computes every sample exactly as the IR's unfused order (each mad
+# rounded twice), but the stated f16 error keeps per sample the order worse
+# against the form's own value, not against the target, and its rmse can be
+# below both orders' (f_glass_half seed_search_f_3: stated 0.0120484,
+# unfused 0.0120533, fused 0.0121029). Said, not failed; what must hold is
+# the bound the IR could state instead, the worse of its two orders' errors
+# against the target, for every member of the three fronts.
+for t in "vf2d_half --target vf2d" "f_glass_half --target f" "f_gold_half --target f --ior 0.27 --k 2.78"; do
 	set -- $t
 	f=results/search/$1/front.csv; shift
 	"$V" --half-front "$f" "$@" >"$T/hf" 2>&1
 	rc=$?
 	[ "$rc" -le 1 ] && ok || bad "$f: vkrun --half-front: exit $rc: $(cat "$T/hf")"
-	grep '^half-front: ' "$T/hf" | sed "s|^half-front: |note: $f: |"
+	grep -q "^half-front: \([0-9]*\) of \1 within the worse of the IR's two mad orders" "$T/hf" && ok ||
+		bad "$f: a member past both of the IR's mad orders: $(grep -v '^vkrun' "$T/hf")"
+	grep '^half-front: .*members hold' "$T/hf" | sed "s|^half-front: |note: $f: |"
 done
 "$V" --half-front results/search/vf2d_half/front.csv --target f >"$T/out" 2>"$T/err"
 rc=$?
