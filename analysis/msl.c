@@ -11,6 +11,49 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* Words Metal takes that GLSL leaves free (bk_msl_reserved). */
+static const char *const msl_words[] = {
+	/* C++14 keywords and alternative tokens GLSL does not reserve */
+	"alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "catch", "char16_t", "char32_t",
+	"compl", "const_cast", "constexpr", "decltype", "delete", "dynamic_cast", "explicit", "export", "extern",
+	"false", "friend", "goto", "mutable", "new", "noexcept", "not", "not_eq", "nullptr", "operator", "or", "or_eq",
+	"private", "protected", "public", "register", "reinterpret_cast", "signed", "sizeof", "static_assert",
+	"static_cast", "template", "this", "thread_local", "throw", "true", "try", "typedef", "typeid", "typename",
+	"union", "unsigned", "using", "virtual", "wchar_t", "xor", "xor_eq", "namespace", "class", "enum", "static",
+	"inline", "volatile", "char", "short", "long", "size_t", "ptrdiff_t",
+	/* Metal: address spaces, function and argument qualifiers, types */
+	"device", "constant", "thread", "threadgroup", "threadgroup_imageblock", "ray_data", "object_data", "kernel",
+	"vertex", "fragment", "visible", "stitchable", "intersection", "mesh", "object", "packed", "uchar", "ushort",
+	"ulong", "half", "bfloat", "texture1d", "texture2d", "texture3d", "texturecube", "sampler", "array", "atomic",
+	"metal", "fast", "precise", "simd", "uniform", "main0", /* SPIRV-Cross's name for the entry point */
+	/* <metal_stdlib> functions a translation may call */
+	"rsqrt", "saturate", "as_type", "select", "fmin", "fmax", "fmin3", "fmax3", "median3", "fdim", "fmod",
+	"copysign", "powr", "rint", "trunc", "exp10", "log10", "divide", "sincos", "cospi", "sinpi", "tanpi",
+	"isordered", "isunordered", "signbit", "ctz", "clz", "popcount", "rotate", "madhi", "mulhi", "addsat",
+	"subsat", "absdiff", "extract_bits", "insert_bits", "reverse_bits", "min3", "max3",
+};
+
+int bk_msl_reserved(const char *name)
+{
+	for (size_t i = 0; i < sizeof msl_words / sizeof msl_words[0]; i++)
+		if (!strcmp(name, msl_words[i]))
+			return 1;
+	/* the vector and matrix types: bool2, half4, float3x3, ushort2 ... */
+	static const char *const scalar[] = {"bool", "char", "uchar", "short", "ushort", "int", "uint", "long", "ulong",
+	                                     "half", "float", "bfloat", "packed_half", "packed_float", "packed_int",
+	                                     "packed_uint", "packed_short", "packed_ushort", "packed_char",
+	                                     "packed_uchar"};
+	for (size_t i = 0; i < sizeof scalar / sizeof scalar[0]; i++) {
+		size_t k = strlen(scalar[i]);
+		const char *t = name + k;
+		if (strncmp(name, scalar[i], k) || t[0] < '2' || t[0] > '4')
+			continue;
+		if (!t[1] || (t[1] == 'x' && t[2] >= '2' && t[2] <= '4' && !t[3]))
+			return 1;
+	}
+	return 0;
+}
+
 /* The compute shader that keeps the function alive: each input read from
  * slot (its bk_input) of one buffer, the result stored to slot 15, so
  * nothing folds away and the function keeps its parameters. */
@@ -90,6 +133,10 @@ char *bk_msl_emit(const bk_form *f, int half, const double *params, const bk_emi
                   size_t errlen)
 {
 	const char *name = info && info->name ? info->name : "brdfkit_form";
+	if (bk_msl_reserved(name)) {
+		snprintf(err, errlen, "'%s' is reserved in Metal", name);
+		return NULL;
+	}
 	char *fn = bk_form_emit(f, BK_LANG_GLSL, half ? BK_EMIT_F16 : BK_EMIT_SINGLE, params, info);
 	if (!fn) {
 		snprintf(err, errlen, "code generation failed (out of memory, or '%s' is reserved in GLSL)", name);

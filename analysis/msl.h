@@ -17,9 +17,19 @@
 
 #include <stddef.h>
 
+/* 1 if name cannot be a Metal function's name beyond what GLSL already
+ * refuses (bk_lang_reserved(BK_LANG_GLSL, ...), which msl's names pass
+ * too): C++14's keywords, Metal's address spaces and function qualifiers
+ * (device, kernel, ...), its scalar, vector and matrix types (half4,
+ * float3x3, ...), its namespaces and the <metal_stdlib> functions brdfkit's
+ * code or SPIRV-Cross's translation may call (rsqrt, saturate, as_type,
+ * ...); SPIRV-Cross keeps such a name as it is, which would not compile. */
+int bk_msl_reserved(const char *name);
+
 /* f as one MSL function: half 0 (BK_EMIT_SINGLE) float, otherwise half (MSL
  * has one 16-bit type; the constants on the half grid, bk_form_emit's rule).
- * info as bk_form_emit's (its name must be free in GLSL and MSL). Returns
+ * info as bk_form_emit's (its name must be free in GLSL and Metal:
+ * bk_msl_reserved). Returns
  * malloc'd text, or NULL with a message in err. */
 char *bk_msl_emit(const bk_form *f, int half, const double *params, const bk_emit_info *info, char *err,
                   size_t errlen);

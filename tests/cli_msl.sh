@@ -204,6 +204,15 @@ grep -q '^min16float brdfkit_form(' "$T/h.half.hlsl" && grep -q '^half brdfkit_f
 	grep -q '^mediump float brdfkit_form(' "$T/h.half.glsl" && grep -q '^float16_t brdfkit_form(' "$T/h.float16.glsl" && ok ||
 	bad "the half files' types are not mediump, float16_t, min16float, half"
 
+# names Metal reserves and GLSL does not (a keyword, an address space, a vector
+# type, a <metal_stdlib> function) are refused by name; SPIRV-Cross would keep
+# them and the file would not compile. Control: a free name is taken.
+for n in kernel device half4 float3x3 saturate; do
+	"$BK" codegen --lang msl --name $n NoV >/dev/null 2>"$T/err" && bad "msl --name $n accepted" ||
+		{ grep -q "'$n' is reserved in msl" "$T/err" && ok || bad "msl --name $n: $(cat "$T/err")"; }
+done
+"$BK" codegen --lang msl --name my_fn NoV | grep -q '^float my_fn(float NoV)$' && ok || bad "msl --name my_fn"
+
 # usage: an unknown precision names itself
 "$BK" codegen --lang msl --precision quarter NoV >/dev/null 2>"$T/err" && bad "--precision quarter accepted" ||
 	{ grep -q "quarter" "$T/err" && ok || bad "--precision quarter: $(cat "$T/err")"; }

@@ -516,7 +516,7 @@ int cmd_codegen(int argc, char **argv)
 		return cli_bad("--name: %zu characters, more than %d (C11 keeps %d significant in an internal name)",
 		               strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
 	}
-	if (fname && bk_lang_reserved(L, fname)) {
+	if (fname && (bk_lang_reserved(L, fname) || (li == CODEGEN_MSL && bk_msl_reserved(fname)))) {
 		return cli_bad("--name: '%s' is reserved in %s (a keyword, type, standard library function or macro, entry "
 		               "point, reserved prefix, or a name the body uses)", fname, lang);
 	}
@@ -530,7 +530,8 @@ int cmd_codegen(int argc, char **argv)
 		return rc;
 	}
 	char command[2048];
-	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname))
+	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname) &&
+	    !(li == CODEGEN_MSL && bk_msl_reserved(fa.fname)))
 		fname = fa.fname;
 	shell_words(command, sizeof command, "brdfkit codegen", argc, argv);
 	bk_emit_info info = {
