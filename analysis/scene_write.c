@@ -83,7 +83,9 @@ static int emit(FILE *f, const char *text, const double *p, bk_lang lang, int ha
 		snprintf(err, errlen, "%s: %s", info->name, fe.message);
 		return -1;
 	}
-	char *code = bk_form_emit(form, lang, half, p, info);
+	/* the scene's C is float with the fitted constants, as its tests compare
+	 * it with the IR's single precision (half: the GLSL's and HLSL's types) */
+	char *code = bk_form_emit(form, lang, lang == BK_LANG_C ? BK_EMIT_SINGLE : half, p, info);
 	bk_form_free(form);
 	if (!code) {
 		snprintf(err, errlen, "%s: code generation failed", info->name);
