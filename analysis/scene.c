@@ -370,7 +370,7 @@ static int target(reader *R, const json_t *v, bk_scene *sc)
 			return -1;
 	}
 	if ((e = json_object_get(v, "languages"))) {
-		static const char *const langs[] = {"glsl", "hlsl", "c"};
+		static const char *const langs[BK_SCENE_LANGS] = {"glsl", "hlsl", "c", "msl"};
 		if (!json_is_array(e))
 			return fail(R, "target.languages", "expected a list, got %s", kind(e));
 		if (!json_array_size(e))
@@ -383,10 +383,10 @@ static int target(reader *R, const json_t *v, bk_scene *sc)
 			snprintf(p, sizeof p, "target.languages[%zu]", i);
 			const char *s = json_is_string(l) ? json_string_value(l) : NULL;
 			int k = 0;
-			while (s && k < 3 && strcmp(s, langs[k]))
+			while (s && k < BK_SCENE_LANGS && strcmp(s, langs[k]))
 				k++;
-			if (!s || k == 3)
-				return s ? fail(R, p, "unknown language '%s' (known: 'glsl', 'hlsl', 'c')", s)
+			if (!s || k == BK_SCENE_LANGS)
+				return s ? fail(R, p, "unknown language '%s' (known: 'glsl', 'hlsl', 'c', 'msl')", s)
 				         : fail(R, p, "expected a string, got %s", kind(l));
 			for (size_t j = 0; j < i; j++)
 				if (!strcmp(s, json_string_value(json_array_get(e, j))))

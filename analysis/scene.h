@@ -58,7 +58,10 @@ typedef struct bk_scene_material {
 	int specular;
 } bk_scene_material;
 
-enum { BK_SCENE_GLSL = 1, BK_SCENE_HLSL = 2, BK_SCENE_C = 4 };
+/* MSL (Metal, SPIRV-Cross's translation of the GLSL, analysis/msl.h) only
+ * when "languages" names it: the default stays GLSL, HLSL and C. */
+enum { BK_SCENE_GLSL = 1, BK_SCENE_HLSL = 2, BK_SCENE_C = 4, BK_SCENE_MSL = 8 };
+#define BK_SCENE_LANGS 4
 
 /* Error budget: a number per term, or the generic shader's error. */
 #define BK_SCENE_BUDGET_GENERIC (-1.0)

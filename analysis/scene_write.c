@@ -5,6 +5,7 @@
  * typed by a user or not, can end the comment.
  */
 #include "scene_write.h"
+#include "msl.h"
 
 #include "out.h"
 
@@ -13,12 +14,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const lang_ext[3] = {"glsl", "hlsl", "c"};
-static const bk_lang lang_of[3] = {BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C};
+static const char *const lang_ext[BK_SCENE_LANGS] = {"glsl", "hlsl", "c", "metal"};
+/* MSL: the GLSL's function translated (emit()), so its names are GLSL's */
+static const bk_lang lang_of[BK_SCENE_LANGS] = {BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C, BK_LANG_GLSL};
+enum { LI_MSL = 3 };
 
 const char *bk_scene_lang_ext(int li)
 {
-	return li >= 0 && li < 3 ? lang_ext[li] : "?";
+	return li >= 0 && li < BK_SCENE_LANGS ? lang_ext[li] : "?";
 }
 
 /* ---- comment lines ---------------------------------------------------------- */
@@ -73,20 +76,26 @@ static const char *err_unit(bk_scene_term t)
 	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
 }
 
-/* One generated function of text (constants p) into f. Returns 0 or -1. */
-static int emit(FILE *f, const char *text, const double *p, bk_lang lang, int half, const bk_emit_info *info, char *err,
+/* One generated function of text (constants p) into f in language li.
+ * Returns 0 or -1. */
+static int emit(FILE *f, const char *text, const double *p, int li, int half, const bk_emit_info *info, char *err,
                 size_t errlen)
 {
+	bk_lang lang = lang_of[li];
 	bk_form_error fe;
 	bk_form *form = bk_form_parse(text, &fe);
 	if (!form) {
 		snprintf(err, errlen, "%s: %s", info->name, fe.message);
 		return -1;
 	}
-	char *code = bk_form_emit(form, lang, half, p, info);
+	/* the scene's C is float with the fitted constants, as its tests compare
+	 * it with the IR's single precision (half: the GLSL's and HLSL's types) */
+	char why[600] = "code generation failed";
+	char *code = li == LI_MSL ? bk_msl_emit(form, half, p, info, NULL, why, sizeof why)
+	                          : bk_form_emit(form, lang, lang == BK_LANG_C ? BK_EMIT_SINGLE : half, p, info);
 	bk_form_free(form);
 	if (!code) {
-		snprintf(err, errlen, "%s: code generation failed", info->name);
+		snprintf(err, errlen, "%s: %s", info->name, why);
 		return -1;
 	}
 	fprintf(f, "%s\n", code);
@@ -192,14 +201,14 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
 		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
 		                     errtext, d->command};
-		if (emit(f, c->text, c->p, lang_of[li], sc->half, &info, err, errlen))
+		if (emit(f, c->text, c->p, li, sc->half, &info, err, errlen))
 			return -1;
 	}
 	if (R->set.needs.diffuse) {
 		char fname[96];
 		snprintf(fname, sizeof fname, "%s_diffuse", R->set.name);
 		bk_emit_info info = {fname, "Lambert", "times the diffuse colour (1/pi included)", NULL, "exact", d->command};
-		if (emit(f, "Fd_lambert()", NULL, lang_of[li], sc->half, &info, err, errlen))
+		if (emit(f, "Fd_lambert()", NULL, li, sc->half, &info, err, errlen))
 			return -1;
 	}
 	return 0;
@@ -574,7 +583,7 @@ static void section_savings(FILE *f, const bk_scene_doc *d, const char *prefix)
 		else
 			fprintf(f, "<td>%.3g</td><td>%.3g</td><td>%.2fx</td>", e, ge, ge / e);
 		fputs("<td>", f);
-		for (int li = 0; li < 3; li++)
+		for (int li = 0; li < BK_SCENE_LANGS; li++)
 			if (d->sc->languages & (1u << li)) {
 				char file[16];
 				snprintf(file, sizeof file, "shader.%s", lang_ext[li]);

@@ -46,8 +46,8 @@ typedef struct bk_scene_doc {
 	const char *driver;
 } bk_scene_doc;
 
-/* Languages by their bit in bk_scene.languages: 0 GLSL, 1 HLSL, 2 C. */
-const char *bk_scene_lang_ext(int li); /* "glsl", "hlsl", "c" */
+/* Languages by their bit in bk_scene.languages: 0 GLSL, 1 HLSL, 2 C, 3 MSL. */
+const char *bk_scene_lang_ext(int li); /* "glsl", "hlsl", "c", "metal" */
 
 /* Set i's functions in language li: a provenance comment, the chosen
  * terms, the diffuse, a comment for a LUT. Returns 0, or -1 with a message. */

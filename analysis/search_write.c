@@ -337,9 +337,12 @@ void bk_swrite_section(FILE *f, const bk_swrite *W)
 					first = 0;
 				}
 			fputs("</td><td>", f);
-			for (int k = 0; pass == 0 && k < 3; k++) { /* the member's heatmap and shaders */
-				static const char *const file[3] = {"heatmap.png", "shader.glsl", "shader.hlsl"};
+			for (int k = 0; pass == 0 && k < 6; k++) { /* the member's heatmap and shaders (fit_out.c) */
+				static const char *const file[6] = {"heatmap.png", "shader.glsl", "shader.hlsl", "shader.metal",
+				                                    "shader_f16.glsl", "shader_f16.hlsl"};
 				if (k == 0 && !(W->to->kind != BK_TARGET_FORM || W->to->ndomain <= 2))
+					continue;
+				if (k >= 4 && W->F->so->precision != BK_F16) /* float16_t and half: half fronts only */
 					continue;
 				char path[300];
 				snprintf(path, sizeof path, "front/%s/%s", m->name, file[k]);

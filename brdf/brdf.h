@@ -389,9 +389,24 @@ typedef struct bk_emit_info {
 	const char *command;     /* the command line that produced it; may be NULL */
 } bk_emit_info;
 
+/* bk_form_emit's precision (its half argument), the type each language is
+ * written in:
+ *   BK_EMIT_SINGLE   C float, GLSL highp float, HLSL float;
+ *   BK_EMIT_RELAXED  GLSL mediump float, HLSL min16float: fp16 where the GPU
+ *                    has it (the portable half code);
+ *   BK_EMIT_F16      explicit 16-bit types: GLSL float16_t (its literals hf;
+ *                    GL_EXT_shader_explicit_arithmetic_types_float16), HLSL
+ *                    half (literals h; dxc -enable-16bit-types, shader model
+ *                    6.2: without it half is float).
+ * C is float in all three. Under either half precision every constant and
+ * baked-in parameter is written as the binary16 value bk_form_eval's BK_F16
+ * computes with (bk_half_round of its float), in C too, so that each file of
+ * a half front holds the same numbers as the error stated for it. */
+enum { BK_EMIT_SINGLE = 0, BK_EMIT_RELAXED = 1, BK_EMIT_F16 = 2 };
+
 /* Returns malloc'd source text, or NULL (out of memory, params missing for a
- * form that has parameters, or a name bk_lang_reserved refuses). half: GLSL
- * mediump / HLSL half instead of highp / float (C is always float). */
+ * form that has parameters, a half outside BK_EMIT_*, or a name
+ * bk_lang_reserved refuses). */
 char *bk_form_emit(const bk_form *f, bk_lang lang, int half, const double *params,
                    const bk_emit_info *info);
 

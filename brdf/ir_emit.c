@@ -116,13 +116,33 @@ static void put_line(text *t, const char *label, const char *value, const char *
 	put(t, "\n");
 }
 
-static const char *const precision_line[3][2] = {
-	{"C11 float; rounds like bk_form_eval BK_F32 when built without FMA\n"
-	 " *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and\n"
-	 " *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp", ""},
-	{"GLSL ES 3.00 highp (fp32)", "GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)"},
-	{"HLSL float (fp32)", "HLSL half (fp16 where supported; bk_form_eval BK_F16)"},
+/* [lang][BK_EMIT_*]: what the type means, and what the code needs. */
+#define C_FLOAT_NOTE " *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and\n" \
+	" *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp"
+static const char *const precision_line[3][3] = {
+	{"C11 float; rounds like bk_form_eval BK_F32 when built without FMA\n" C_FLOAT_NOTE,
+	 "C11 float with the half code's constants (binary16 values); rounds like\n"
+	 " *   bk_form_eval BK_F32 of those constants when built without FMA\n" C_FLOAT_NOTE,
+	 "C11 float with the half code's constants (binary16 values); rounds like\n"
+	 " *   bk_form_eval BK_F32 of those constants when built without FMA\n" C_FLOAT_NOTE},
+	{"GLSL ES 3.00 highp (fp32)",
+	 "GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)",
+	 "GLSL float16_t with binary16 constants (fp16; bk_form_eval BK_F16); needs\n"
+	 " *   #extension GL_EXT_shader_explicit_arithmetic_types_float16 : require"},
+	{"HLSL float (fp32)",
+	 "HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)",
+	 "HLSL half with binary16 constants (fp16; bk_form_eval BK_F16); needs dxc\n"
+	 " *   -enable-16bit-types (shader model 6.2+): without it half is float"},
 };
+#undef C_FLOAT_NOTE
+
+/* A value as the code holds it: the float, or under a half precision the
+ * binary16 value bk_form_eval BK_F16 computes with (its rounding of the
+ * float, brdf/ir_eval.c). */
+static double written(double v, int half)
+{
+	return half ? bk_half_round((float)v) : (double)(float)v;
+}
 
 /* The op counts, from the same counter analysis/ reads (bk_form_count). */
 static void put_counts(text *t, const bk_form *f)
@@ -155,9 +175,13 @@ static void put_header(text *t, const bk_form *f, bk_lang lang, int half, const 
 		put(t, " * parameters: none\n");
 	else
 		put(t, " * parameters baked in:\n");
-	for (int p = 0; p < bk_form_nparams(f); p++)
-		put(t, " *   p%d = %.9g\n", p, params[p]);
-	put(t, " * precision: %s\n", precision_line[lang][lang == BK_LANG_C ? 0 : half != 0]);
+	for (int p = 0; p < bk_form_nparams(f); p++) {
+		put(t, " *   p%d = %.9g", p, params[p]);
+		if (half && written(params[p], half) != (double)(float)params[p]) /* the half grid's value, as the code writes it */
+			put(t, " (%.9g in half, as written below)", written(params[p], half));
+		put(t, "\n");
+	}
+	put(t, " * precision: %s\n", precision_line[lang][half]);
 	put_counts(t, f);
 	put(t, " */\n");
 }
@@ -175,26 +199,38 @@ static const char *const special[3][3] = {
 	{"asfloat(0x7f800000u)", "asfloat(0xff800000u)", "asfloat(0x7fc00000u)"},
 };
 
-/* v as the float the function computes with, in the fewest significant
- * digits that read back as that float (0.1, not 0.100000001; 9 always do); a
- * '.' or an exponent makes it a floating literal in every language, and C's
- * 'f' keeps the arithmetic in float. */
-static void literal(char *out, double v, bk_lang lang)
+/* A literal's suffix, [lang][BK_EMIT_*]: C's 'f' keeps the arithmetic in
+ * float; GLSL never converts float to float16_t implicitly (hf); HLSL's h
+ * makes a half, as a bare literal (a float) would not under 16-bit types. */
+static const char *const suffix[3][3] = {{"f", "f", "f"}, {"", "", "hf"}, {"", "", "h"}};
+
+/* v as the code computes with it (written()), in the fewest significant
+ * digits that read back as that float (0.1, not 0.100000001; 9 always do),
+ * or under a half precision as exactly that binary16 value in double
+ * (0.0999755859375 for 0.1; 17 always do), so that the text is the half
+ * grid's value, and a float or half parse of it gives the same value too
+ * (it is far nearer to it than to any neighbour). A '.' or an exponent makes
+ * it a floating literal in every language. */
+static void literal(char *out, double v, bk_lang lang, int half)
 {
-	float x = (float)v;
+	double x = written(v, half);
 	if (isnan(x) || isinf(x)) {
-		snprintf(out, OPERAND, "%s", special[lang][isnan(x) ? 2 : x < 0 ? 1 : 0]);
+		const char *s = special[lang][isnan(x) ? 2 : x < 0 ? 1 : 0];
+		if (half == BK_EMIT_F16 && lang != BK_LANG_C) /* bits of a float, converted */
+			snprintf(out, OPERAND, "%s(%s)", lang == BK_LANG_GLSL ? "float16_t" : "half", s);
+		else
+			snprintf(out, OPERAND, "%s", s);
 		return;
 	}
-	char num[32];
-	for (int digits = 1; digits <= 9; digits++) {
-		snprintf(num, sizeof num, "%.*g", digits, (double)x);
-		if (strtof(num, NULL) == x)
+	char num[40];
+	for (int digits = 1; digits <= 17; digits++) {
+		snprintf(num, sizeof num, "%.*g", digits, x);
+		if (half ? strtod(num, NULL) == x : strtof(num, NULL) == (float)x)
 			break;
 	}
 	if (!strpbrk(num, ".e"))
 		strcat(num, ".0");
-	snprintf(out, OPERAND, signbit(x) ? "(%s%s)" : "%s%s", num, lang == BK_LANG_C ? "f" : "");
+	snprintf(out, OPERAND, signbit(x) ? "(%s%s)" : "%s%s", num, suffix[lang][half]);
 }
 
 static int is_leaf(bk_op op)
@@ -203,27 +239,33 @@ static int is_leaf(bk_op op)
 }
 
 /* Register i as an operand: a leaf inlined, anything else its temporary. */
-static void operand(char *out, const bk_form *f, int i, bk_lang lang, const double *params)
+static void operand(char *out, const bk_form *f, int i, bk_lang lang, int half, const double *params)
 {
 	const bk_instr *in = &f->code[i];
 	if (in->op == BK_OP_INPUT)
 		snprintf(out, OPERAND, "%s", bk_input_name((bk_input)in->slot));
 	else if (in->op == BK_OP_CONST)
-		literal(out, in->k, lang);
+		literal(out, in->k, lang, half);
 	else if (in->op == BK_OP_PARAM)
-		literal(out, params[in->slot], lang);
+		literal(out, params[in->slot], lang, half);
 	else
 		snprintf(out, OPERAND, "t%d", i);
 }
 
-/* A template with %0 %1 %2 replaced by the operands. */
-static void put_spelled(text *t, const char *tmpl, char ops[3][OPERAND])
+/* A template with %0 %1 %2 replaced by the operands; a number of the
+ * template itself ("1.0 / %0") takes the literal suffix sfx. */
+static void put_spelled(text *t, const char *tmpl, char ops[3][OPERAND], const char *sfx)
 {
 	for (const char *s = tmpl; *s; s++) {
-		if (s[0] == '%' && s[1] >= '0' && s[1] <= '2')
+		if (s[0] == '%' && s[1] >= '0' && s[1] <= '2') {
 			put(t, "%s", ops[*++s - '0']);
-		else
+		} else if (*sfx && s[0] >= '0' && s[0] <= '9' && s[1] == '.') {
+			size_t k = 1 + strspn(s + 1, ".0123456789");
+			put(t, "%.*s%s", (int)k, s, sfx);
+			s += k - 1;
+		} else {
 			put(t, "%c", *s);
+		}
 	}
 }
 
@@ -234,6 +276,7 @@ static float bound(const bk_form *f, int i, const double *params)
 	const bk_instr *in = &f->code[i];
 	return (float)(in->op == BK_OP_CONST ? in->k : params[in->slot]);
 }
+/* (rounding to half is monotonic: bounds in order as floats stay in order) */
 
 /* An instruction's template. GLSL's and HLSL's clamp(x, lo, hi) are
  * undefined for lo > hi, where the IR (and C's fminf(fmaxf())) give hi: the
@@ -247,10 +290,10 @@ static const char *spelling(const bk_form *f, const bk_instr *in, bk_lang lang, 
 	return bk_opinfo_table[in->op].spell[lang];
 }
 
-static const char *const type_name[3][2] = {
-	{"float", "float"},
-	{"highp float", "mediump float"},
-	{"float", "half"},
+static const char *const type_name[3][3] = {
+	{"float", "float", "float"},
+	{"highp float", "mediump float", "float16_t"},
+	{"float", "min16float", "half"},
 };
 
 /* Only the inputs the form reads (or a member's, bk_emit_style's inputs),
@@ -277,7 +320,7 @@ static void param_name(char *out, const bk_form *f, int i, const char *named)
 		snprintf(out, OPERAND, "%.40s_p%d", named, f->code[i].slot);
 }
 
-static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params,
+static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, int half, const double *params,
                      const char *named)
 {
 	char ops[3][OPERAND];
@@ -287,14 +330,14 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 			continue;
 		int args[3] = {in->a, in->b, in->c};
 		for (int j = 0; j < bk_opinfo_table[in->op].arity; j++) {
-			operand(ops[j], f, args[j], lang, params);
+			operand(ops[j], f, args[j], lang, half, params);
 			param_name(ops[j], f, args[j], named);
 		}
 		put(t, "\t%s t%d = ", type, i);
-		put_spelled(t, spelling(f, in, lang, params), ops);
+		put_spelled(t, spelling(f, in, lang, params), ops, lang == BK_LANG_C ? "" : suffix[lang][half]);
 		put(t, ";\n");
 	}
-	operand(ops[0], f, f->out, lang, params);
+	operand(ops[0], f, f->out, lang, half, params);
 	param_name(ops[0], f, f->out, named);
 	put(t, "\treturn %s;\n", ops[0]);
 }
@@ -302,7 +345,7 @@ static void put_body(text *t, const bk_form *f, const char *type, bk_lang lang, 
 /* The top of a member's body (bk_emit_style): a computed from r, C's
  * (void) for an input the signature takes and the code does not read (no
  * -Wunused-parameter at the user's), the named constants. */
-static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang lang, const double *params,
+static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang lang, int half, const double *params,
                          const bk_emit_style *st, const char *name)
 {
 	unsigned reads = bk_form_inputs(f), derive_a = st->inputs && (reads >> BK_IN_A & 1) &&
@@ -316,7 +359,7 @@ static void put_prologue(text *t, const bk_form *f, const char *type, bk_lang la
 		if (!(bk_form_params(f) >> p & 1)) /* a pair's B may read p2..p4 of its p0..p4 */
 			continue;
 		char v[OPERAND];
-		literal(v, params[p], lang);
+		literal(v, params[p], lang, half);
 		put(t, "\tconst %s %.40s_p%d = %s;\n", type, name, p, v);
 	}
 }
@@ -489,7 +532,7 @@ char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double
 	static const bk_emit_style plain;
 	if (!st)
 		st = &plain;
-	if (!f || (unsigned)lang > BK_LANG_HLSL || (bk_form_nparams(f) > 0 && !params))
+	if (!f || (unsigned)lang > BK_LANG_HLSL || (unsigned)half > BK_EMIT_F16 || (bk_form_nparams(f) > 0 && !params))
 		return NULL;
 	if (!info)
 		info = &none;
@@ -498,7 +541,7 @@ char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double
 	unsigned outside = st->inputs ? bk_form_inputs(f) & ~st->inputs : 0;
 	if (outside & ~(1u << BK_IN_A) || (outside && !(st->inputs >> BK_IN_R & 1)))
 		return NULL; /* an input the signature neither takes nor gives */
-	const char *type = type_name[lang][lang == BK_LANG_C ? 0 : half != 0];
+	const char *type = type_name[lang][half];
 	text t = {malloc(1024), 0, 1024, 0};
 	t.failed = !t.s;
 	put_header(&t, f, lang, half, params, info);
@@ -507,8 +550,8 @@ char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double
 	const char *name = info->name ? info->name : "brdfkit_form";
 	put_signature(&t, f, type, name, lang, st->inputs);
 	put(&t, "{\n");
-	put_prologue(&t, f, type, lang, params, st, name);
-	put_body(&t, f, type, lang, params, st->named_params ? name : NULL);
+	put_prologue(&t, f, type, lang, half, params, st, name);
+	put_body(&t, f, type, lang, half, params, st->named_params ? name : NULL);
 	put(&t, "}\n");
 	if (t.failed) {
 		free(t.s);

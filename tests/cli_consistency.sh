@@ -52,7 +52,7 @@ usage "value vf2" "brdfkit fit: --target: unknown value 'vf2'; did you mean 'vf2
 	$BK fit --target vf2 --form vf_talk_r --out f
 usage "value mx" "brdfkit search: --objective: unknown value 'mx'; did you mean 'max'? (known: rmse, max, albedo) (see brdfkit search --help)" \
 	$BK search --target f --objective mx --out s
-usage "value glls" "brdfkit codegen: --lang: unknown value 'glls'; did you mean 'glsl'? (known: c, glsl, hlsl, latex, sympy) (see brdfkit codegen --help)" \
+usage "value glls" "brdfkit codegen: --lang: unknown value 'glls'; did you mean 'glsl'? (known: c, glsl, hlsl, msl, latex, sympy) (see brdfkit codegen --help)" \
 	$BK codegen --lang glls NoV
 nohint "value far off" "unknown value 'banana'" $BK compare --target banana --out c
 # one letter is one edit from 'd' and 'f' alike: too short to mean either

@@ -38,11 +38,39 @@ expect_fail "off_front on the double front" off_front "$T/d" seed_start_2
 grep -q '1 refitted member not safe in half was left off' "$T/h/section.html" && ok ||
 	bad "half: section.html does not say what was left off"
 
-# a half front's code is half (issue 40): GLSL mediump, HLSL half, and its
-# "fitted error" the front's error in f16; a double front's stays float, in f64
+# a half front's code is half (issue 40): GLSL mediump and float16_t, HLSL
+# min16float and half, MSL half, and its "fitted error" the front's error in
+# f16; a double front's stays float, in f64
 g="$T/h/front/seed_start_1/shader"
-grep -q '^mediump float seed_start_1(' "$g.glsl" && grep -q '^half seed_start_1(' "$g.hlsl" && ok ||
+grep -q '^mediump float seed_start_1(' "$g.glsl" && grep -q '^min16float seed_start_1(' "$g.hlsl" &&
+	grep -q '^float16_t seed_start_1(' "${g}_f16.glsl" && grep -q '^half seed_start_1(' "${g}_f16.hlsl" &&
+	grep -q '^half seed_start_1(' "$g.metal" && ok ||
 	bad "half: the member's shaders are not half"
+for f in "$g.glsl" "${g}_f16.glsl" "$g.hlsl" "${g}_f16.hlsl" "$g.metal" "$g.c"; do
+	grep -q '^ \* precision: .* with binary16 constants\|^ \* precision: C11 float with the half code' "$f" && ok ||
+		bad "half: $f does not state its precision and half constants: $(grep 'precision:' "$f")"
+done
+[ ! -e "$T/d/front/seed_start_1/shader_f16.glsl" ] && grep -q '^float seed_start_1(' "$T/d/front/seed_start_1/shader.metal" && ok ||
+	bad "double: the member has float16 files, or its Metal is not float"
+# each half file compiles: GLSL mediump as ES 3.00, float16_t under its
+# extension, HLSL min16float and half (glslang's HLSL front end takes both)
+{ printf '#version 300 es\nprecision highp float;\n'; cat "$g.glsl"
+  printf 'uniform highp float u;\nout vec4 o;\nvoid main() { o = vec4(seed_start_1(u, u)); }\n'; } >"$T/m.frag"
+glslangValidator "$T/m.frag" >"$T/glsl.log" 2>&1 && ok || bad "half: shader.glsl does not compile: $(tail -3 "$T/glsl.log")"
+{ printf '#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n'; cat "${g}_f16.glsl"
+  printf 'layout(location = 0) in vec4 u;\nlayout(location = 0) out vec4 o;\n'
+  printf 'void main() { o = vec4(seed_start_1(float16_t(u.x), float16_t(u.y))); }\n'; } >"$T/m16.frag"
+glslangValidator -V -o "$T/m16.spv" "$T/m16.frag" >"$T/glsl.log" 2>&1 && ok ||
+	bad "half: shader_f16.glsl does not compile: $(tail -3 "$T/glsl.log")"
+for h in "$g.hlsl" "${g}_f16.hlsl"; do
+	{ cat "$h"; printf 'float4 main(float4 u : TEXCOORD0) : SV_Target { return float4(seed_start_1(u.x, u.y), 0, 0, 1); }\n'; } >"$T/m.hlsl"
+	glslangValidator -V -D -S frag -e main -o "$T/m.spv" "$T/m.hlsl" >"$T/hlsl.log" 2>&1 && ok ||
+		bad "half: $h does not compile: $(tail -3 "$T/hlsl.log")"
+done
+# the half files' constants are binary16 values (tests/tools/halflit.c)
+cc -std=c11 -Wall -Wextra -Werror -Ibrdf tests/tools/halflit.c -lm -o "$T/halflit" &&
+	"$T/halflit" "$g.glsl" "${g}_f16.glsl" "$g.hlsl" "${g}_f16.hlsl" "$g.metal" "$g.c" >"$T/hl" && ok ||
+	bad "half: a constant of the half files is no binary16 value: $(cat "$T/hl")"
 e=$(csv_where "$T/h/front.csv" name seed_start_1 error)
 grep -q "fitted error: rmse $(printf '%.3g' "$e") in f16" "$g.glsl" && ok ||
 	bad "half: the shader's fitted error is not the front's f16 error $e: $(grep 'fitted error' "$g.glsl")"

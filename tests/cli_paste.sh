@@ -151,6 +151,38 @@ F0=results/search/env_f0/front.csv
 vf_signature() { [ "$(one_signature "$1")" = "$vsig" ]; }
 expect_fail "a front with an env_f0 member mixed in" vf_signature "$T/mixed.csv"
 
+# The search's own front files are the same code: each member's
+# front/NAME/shader.{glsl,c} has the body codegen FILE.csv:NAME writes (the one
+# signature, named constants, a pair's wrapper), and one signature line across
+# the members. Control: a member's file compared with another member's code.
+code_lines() { grep -v '^ \*\|^/\*' "$1"; } # FILE: without its provenance comments (a pair has two)
+same_files() { # DIR LANG EXT: every member's file body = codegen's
+	for _n in $(csv_col "$1/front.csv" name); do
+		"$BK" codegen --lang "$2" "$1/front.csv:$_n" >"$T/cg" 2>/dev/null || return 1
+		[ "$(code_lines "$T/cg")" = "$(code_lines "$1/front/$_n/shader.$3")" ] || { echo "$_n: shader.$3 differs"; return 1; }
+	done
+}
+signature_lines() { # DIR EXT: the distinct signature lines of the members' files, names as f
+	for _n in $(csv_col "$1/front.csv" name); do
+		grep -h "^[a-z].* $_n(" "$1/front/$_n/shader.$2" | sed "s/ $_n(/ f(/"
+	done | sort -u
+}
+"$BK" search --target vf2d --evals 3000 --quiet --out "$T/sv" >/dev/null 2>"$T/err" || bad "search vf2d: $(cat "$T/err")"
+"$BK" search --target env --evals 2000 --quiet --out "$T/se" >/dev/null 2>"$T/err" || bad "search env: $(cat "$T/err")"
+for _d in sv se; do
+	for _l in glsl c; do
+		_why=$(same_files "$T/$_d" $_l $_l) && ok || bad "search $_d: front files against codegen FILE.csv:MEMBER: $_why"
+	done
+done
+[ "$(signature_lines "$T/sv" glsl)" = "highp float f(highp float LoH, highp float r, highp float f0)" ] && ok ||
+	bad "search vf2d: front files' signatures: $(signature_lines "$T/sv" glsl)"
+[ "$(signature_lines "$T/se" glsl)" = "highp vec2 f(highp float NoV, highp float r)" ] && ok ||
+	bad "search env: front files' pair signatures: $(signature_lines "$T/se" glsl)"
+_n1=$(csv_col "$T/sv/front.csv" name | head -1)
+_n2=$(csv_col "$T/sv/front.csv" name | tail -1)
+cp -r "$T/sv" "$T/sv_swapped" && cp "$T/sv/front/$_n2/shader.glsl" "$T/sv_swapped/front/$_n1/shader.glsl"
+expect_fail "front files = codegen, one member's file another's" same_files "$T/sv_swapped" glsl glsl
+
 # ---- a split-sum pair as engines call it: NAME(NoV, r) returning (A, B) -----------
 # The C wrapper compiled and run gives A and B as eval gives them for :A and
 # :B (f32 line, 2^-20 relative: C's float against the IR's BK_F32 rounding).

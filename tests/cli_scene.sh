@@ -172,5 +172,21 @@ expect_error "report of 33 sections" "'many33.html': at most 32 arguments" \
 	"$BK" report --out page33.html $(for i in $(seq 1 33); do echo "many$i.html"; done)
 [ ! -e page33.html ] && ok || bad "a refused report of 33 sections left its page"
 
+# "languages": ["msl"]: Metal alone, SPIRV-Cross's translation (analysis/msl.c),
+# half in mediump and float in highp (control: the default writes no Metal)
+for p in mediump highp; do
+	printf '{"scene": "m", "materials": [{"name": "m1", "specular": false}], "target": {"languages": ["msl"], "precision": "%s"}}\n' $p >msl.json
+	rm -rf mo
+	if "$BK" scene msl.json --out mo >out 2>err; then ok; else bad "scene msl $p: $(cat err)"; fi
+	t=float; [ $p = mediump ] && t=half
+	[ "$(ls mo/diffuse)" = shader.metal ] && grep -q "^$t diffuse_diffuse()\$" mo/diffuse/shader.metal &&
+		grep -q '^using namespace metal;$' mo/diffuse/shader.metal && ok ||
+		bad "scene msl $p: $(ls mo/diffuse) $(grep diffuse_diffuse mo/diffuse/shader.metal)"
+done
+printf '{"scene": "m", "materials": [{"name": "m1", "specular": false}]}\n' >nomsl.json
+rm -rf mo
+"$BK" scene nomsl.json --out mo >out 2>err && [ ! -e mo/diffuse/shader.metal ] && [ -e mo/diffuse/shader.glsl ] && ok ||
+	bad "scene: Metal by default, or no GLSL: $(ls mo/diffuse) $(cat err)"
+
 echo "cli_scene: $pass passed, $fail failed"
 [ $fail -eq 0 ]

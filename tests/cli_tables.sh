@@ -49,11 +49,13 @@ for p in single half; do
 done
 refused "codegen latex half" "brdfkit codegen: --precision has no effect with --lang latex (it picks a shader's float type: C is float only, LaTeX and SymPy have none)" \
 	$BK codegen --lang latex --precision half NoV
-# controls: C without it; GLSL mediump declares it, HLSL mediump is half
+# controls: C without it; GLSL mediump declares it, HLSL's half precisions are min16float and half
 $BK codegen --lang c NoV >"$T/c" 2>"$T/err" && grep -q '^static inline float brdfkit_form(' "$T/c" && ok ||
 	bad "codegen c: $(cat "$T/err")"
 $BK codegen --lang glsl --precision half NoV 2>"$T/err" | grep -q 'mediump float' && ok || bad "glsl mediump: $(cat "$T/err")"
-$BK codegen --lang hlsl --precision half NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl mediump: $(cat "$T/err")"
+$BK codegen --lang hlsl --precision half NoV 2>"$T/err" | grep -q '^min16float ' && ok || bad "hlsl min16float: $(cat "$T/err")"
+$BK codegen --lang hlsl --precision float16 NoV 2>"$T/err" | grep -q '^half ' && ok || bad "hlsl half: $(cat "$T/err")"
+$BK codegen --lang glsl --precision float16 NoV 2>"$T/err" | grep -q '^float16_t ' && ok || bad "glsl float16_t: $(cat "$T/err")"
 
 # ---- ops: --cost-model sets both weights ------------------------------------------
 refused "ops model and simple" "brdfkit ops: --simple-cost has no effect with --cost-model (it sets both weights)" \

@@ -8,7 +8,9 @@
 # front members', the catalog comparisons').
 # The tolerance is per sample, from the Vulkan specification's precision of
 # each SPIR-V operation (tests/vk/envelope.h); NaN and infinities must match in
-# kind. Then the negative controls: a constant perturbed by 1e-6 (f32) and by
+# kind. Then a half front's float16_t files held to the f16 error they state
+# (vkrun --half-front, over the target's samples against the exact target).
+# Then the negative controls: a constant perturbed by 1e-6 (f32) and by
 # 1% (f16), a NaN returned, the IR evaluated in the wrong precision, a
 # committed file's function perturbed; and a missing driver is one line.
 # usage: sh tests/lavapipe.sh build/vkrun   (from the repository root; needs build/csvget)
@@ -112,6 +114,47 @@ expect_fail "IR in half" '^FAIL: f32 catalog:.*IR outside [1-9]' --ir-half
 S=results/scenes/car_paint/spec_ibl_diffuse_f0_040/shader.glsl
 expect_fail "file 1e-5" "^FAIL: f32 file:$S:spec_ibl_diffuse_f0_040_D: .*driver outside the envelope [1-9]" \
 	--perturb "file:$S:spec_ibl_diffuse_f0_040_D" --factor 1.00001 "$S"
+
+# ---- a half front's float16_t files held to the error they state (issue 40) --------
+# vkrun --half-front: each one-form member emitted as its shader_f16.glsl
+# (float16_t, binary16 constants, no precise) over the target's own samples,
+# its error against the exact target in double (fit/target.c) compared with
+# the member's f16 error column, the error its files' headers state.
+# vf2d_half (max_abs over 65536 samples): every member must hold.
+hf_holds() { "$V" --half-front results/search/vf2d_half/front.csv --target vf2d "$@" >"$T/hf" 2>&1 &&
+	grep -q '^half-front: \([0-9]*\) of \1 members hold' "$T/hf"; }
+hf_holds && ok || bad "vf2d_half: a member exceeds its stated f16 error on lavapipe: $(grep -v '^vkrun:' "$T/hf")"
+cat "$T/hf"
+# control: one member's p0 1% off in the shader (its stated error unchanged) is caught
+m=$(csv_cols results/search/vf2d_half/front.csv name parameters | awk -F'\t' '$2 ~ /p0=/ { print $1; exit }')
+if [ -z "$m" ]; then bad "vf2d_half: no member with a p0"
+elif hf_holds --perturb "$m" --factor 1.01; then bad "control 'half front, $m's p0 x 1.01': the check passed"
+elif grep -q "^EXCEEDS: $m " "$T/hf"; then ok
+else bad "control 'half front, $m's p0 x 1.01': $(cat "$T/hf")"; fi
+# and the same shader is past both of the IR's orders (the check below)
+grep -q "^half-front: \([0-9]*\) of \1 within the worse" "$T/hf" &&
+	bad "control 'half front, $m's p0 x 1.01': within the IR's orders" || ok
+# The f fronts (rmse over 256 samples) do not all hold their stated error:
+# lavapipe computes every sample exactly as the IR's unfused order (each mad
+# rounded twice), but the stated f16 error keeps per sample the order worse
+# against the form's own value, not against the target, and its rmse can be
+# below both orders' (f_glass_half seed_search_f_3: stated 0.0120484,
+# unfused 0.0120533, fused 0.0121029). Said, not failed; what must hold is
+# the bound the IR could state instead, the worse of its two orders' errors
+# against the target, for every member of the three fronts.
+for t in "vf2d_half --target vf2d" "f_glass_half --target f" "f_gold_half --target f --ior 0.27 --k 2.78"; do
+	set -- $t
+	f=results/search/$1/front.csv; shift
+	"$V" --half-front "$f" "$@" >"$T/hf" 2>&1
+	rc=$?
+	[ "$rc" -le 1 ] && ok || bad "$f: vkrun --half-front: exit $rc: $(cat "$T/hf")"
+	grep -q "^half-front: \([0-9]*\) of \1 within the worse of the IR's two mad orders" "$T/hf" && ok ||
+		bad "$f: a member past both of the IR's mad orders: $(grep -v '^vkrun' "$T/hf")"
+	grep '^half-front: .*members hold' "$T/hf" | sed "s|^half-front: |note: $f: |"
+done
+"$V" --half-front results/search/vf2d_half/front.csv --target f >"$T/out" 2>"$T/err"
+rc=$?
+[ "$rc" -eq 3 ] && grep -q 'vf2d' "$T/err" && ok || bad "half front on the wrong target: exit $rc, stderr '$(cat "$T/err")'"
 
 # ---- errors: one line ------------------------------------------------------------
 VK_ICD_FILENAMES=/nonexistent/lvp_icd.json "$V" --samples 16 >"$T/out" 2>"$T/err"

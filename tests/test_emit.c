@@ -324,6 +324,27 @@ static char *glsl_shader(const char *code, const bk_form *f)
 	return s;
 }
 
+/* The float16_t variant: a Vulkan GLSL 4.50 fragment shader with the
+ * extension, its inputs converted from one interpolant each. */
+static char *glsl16_shader(const char *code, const bk_form *f)
+{
+	char decl[512] = "", call[256] = "";
+	for (int i = 0, n = 0; i < BK_IN_COUNT; i++) {
+		if (!(bk_form_inputs(f) >> i & 1))
+			continue;
+		size_t k = strlen(decl), c = strlen(call);
+		snprintf(decl + k, sizeof decl - k, "layout(location = %d) in float u_%s;\n", i, bk_input_name(i));
+		snprintf(call + c, sizeof call - c, "%sfloat16_t(u_%s)", n++ ? ", " : "", bk_input_name(i));
+	}
+	size_t len = strlen(code) + 1024;
+	char *s = malloc(len);
+	snprintf(s, len,
+	         "#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n"
+	         "%s%slayout(location = 0) out vec4 o;\nvoid main() { o = vec4(gen(%s)); }\n",
+	         code, decl, call);
+	return s;
+}
+
 /* HLSL pixel shader: the inputs from two interpolants, one call. */
 static char *hlsl_shader(const char *code, const bk_form *f)
 {
@@ -350,13 +371,16 @@ static void check_shader(const form_case *fc, bk_lang lang, int half, const work
 	bk_emit_info info = {.name = "gen", .source = "test_emit.c */ /* not a comment end"};
 	char *code = bk_form_emit(f, lang, half, fc->params, &info);
 	cr_assert_not_null(code, "emit '%s'", fc->text);
-	char *shader = lang == BK_LANG_GLSL ? glsl_shader(code, f) : hlsl_shader(code, f);
+	char *shader = lang == BK_LANG_HLSL ? hlsl_shader(code, f) : half == BK_EMIT_F16 ? glsl16_shader(code, f)
+	                                                                                 : glsl_shader(code, f);
 	char src[128], spv[128], log[128];
 	snprintf(src, sizeof src, "%s/gen.%s", w->path, lang == BK_LANG_GLSL ? "frag" : "hlsl");
 	snprintf(spv, sizeof spv, "%s/gen.spv", w->path);
 	snprintf(log, sizeof log, "%s/log.txt", w->path);
 	spit(src, shader);
-	if (lang == BK_LANG_GLSL)
+	if (lang == BK_LANG_GLSL && half == BK_EMIT_F16) /* float16_t is Vulkan GLSL's: compiled to SPIR-V */
+		run_or_fail(log, src, "glslangValidator -V -o '%s' '%s'", spv, src);
+	else if (lang == BK_LANG_GLSL)
 		run_or_fail(log, src, "glslangValidator '%s'", src);
 	else /* glslang checks HLSL only on the way to SPIR-V */
 		run_or_fail(log, src, "glslangValidator -V -D -S frag -e main -o '%s' '%s'", spv, src);
@@ -370,13 +394,13 @@ static void check_shaders(bk_lang lang)
 	need_glslang();
 	workdir w = workdir_new();
 	for (size_t i = 0; i < sizeof c_cases / sizeof c_cases[0]; i++)
-		for (int half = 0; half <= 1; half++)
+		for (int half = BK_EMIT_SINGLE; half <= BK_EMIT_F16; half++)
 			check_shader(&c_cases[i], lang, half, &w);
 	workdir_free(&w);
 }
 
-Test(emit, glsl_highp_and_mediump_compile) { check_shaders(BK_LANG_GLSL); }
-Test(emit, hlsl_float_and_half_compile) { check_shaders(BK_LANG_HLSL); }
+Test(emit, glsl_highp_mediump_and_float16_compile) { check_shaders(BK_LANG_GLSL); }
+Test(emit, hlsl_float_min16float_and_half_compile) { check_shaders(BK_LANG_HLSL); }
 
 /* A NaN parameter has no literal in any language; its spelling must compile. */
 Test(emit, nan_parameter_compiles)
@@ -384,8 +408,10 @@ Test(emit, nan_parameter_compiles)
 	form_case fc = {"NoV + p0", {NAN}};
 	need_glslang();
 	workdir w = workdir_new();
-	check_shader(&fc, BK_LANG_GLSL, 0, &w);
-	check_shader(&fc, BK_LANG_HLSL, 1, &w);
+	for (int half = BK_EMIT_SINGLE; half <= BK_EMIT_F16; half++) {
+		check_shader(&fc, BK_LANG_GLSL, half, &w);
+		check_shader(&fc, BK_LANG_HLSL, half, &w);
+	}
 	workdir_free(&w);
 	static grid g;
 	grid_fill(&g);
@@ -495,12 +521,15 @@ Test(emit, signature_lists_inputs_read_in_fixed_order)
 {
 	bk_form *f = parse_or_fail("f0*LoH + r*NoV");
 	char *c = bk_form_emit(f, BK_LANG_C, 0, NULL, NULL);
-	char *h = bk_form_emit(f, BK_LANG_HLSL, 1, NULL, NULL);
+	char *h = bk_form_emit(f, BK_LANG_HLSL, BK_EMIT_F16, NULL, NULL);
+	char *m = bk_form_emit(f, BK_LANG_HLSL, BK_EMIT_RELAXED, NULL, NULL);
 	cr_assert_not_null(c);
 	cr_assert_not_null(h);
+	cr_assert_not_null(m);
 	assert_contains(c, "static inline float brdfkit_form(float NoV, float LoH, float r, float f0)\n");
 	assert_contains(h, "half brdfkit_form(half NoV, half LoH, half r, half f0)\n");
-	free(c), free(h);
+	assert_contains(m, "min16float brdfkit_form(min16float NoV, min16float LoH, min16float r, min16float f0)\n");
+	free(c), free(h), free(m);
 	bk_form_free(f);
 }
 
@@ -825,4 +854,35 @@ Test(emit, member_style_pair_wrapper)
 	}
 	bk_form_free(fa);
 	bk_form_free(fb);
+}
+
+/* Under a half precision every constant is the binary16 value the f16
+ * evaluator computes with (bk_half_round of its float), written so that it
+ * reads back exactly: p0 = 0.3 is 0.300048828125 (= 1229/4096) and 0.1 is
+ * 0.0999755859375 (= 1638/16384) in C, GLSL and HLSL alike. Control: the
+ * single-precision text keeps 0.3, which binary16 cannot hold. */
+Test(emit, half_constants_on_the_binary16_grid)
+{
+	bk_form *f = parse_or_fail("NoV*p0 + 0.1");
+	double p[] = {0.3};
+	cr_assert_eq(bk_half_round(0.3), 1229.0 / 4096);
+	cr_assert_eq(bk_half_round(0.1), 1638.0 / 16384);
+	for (bk_lang lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++)
+		for (int half = BK_EMIT_RELAXED; half <= BK_EMIT_F16; half++) {
+			char *s = bk_form_emit(f, lang, half, p, NULL);
+			cr_assert_not_null(s);
+			const char *body = strstr(s, " */\n");
+			cr_assert_not_null(body);
+			assert_contains(body, "0.300048828125");
+			assert_contains(body, "0.0999755859375");
+			cr_assert_null(strstr(body, "0.3f"), "%s", s);
+			free(s);
+		}
+	char *s = bk_form_emit(f, BK_LANG_GLSL, BK_EMIT_SINGLE, p, NULL);
+	assert_contains(strstr(s, " */\n"), "NoV * 0.3 + 0.1;");
+	cr_assert_neq(bk_half_round(0.3), 0.3);
+	free(s);
+	s = bk_form_emit(f, BK_LANG_GLSL, 3, p, NULL); /* no such precision */
+	cr_assert_null(s);
+	bk_form_free(f);
 }

@@ -121,8 +121,8 @@ Test(scene, bad_files_name_the_key)
 	             "materials[0].specular: false, and lighting.diffuse is false: material 'm' would not be shaded at all");
 	expect_error("{\"materials\": [{\"name\": \"m\"}], \"lighting\": {\"ibl\": \"yes\"}}",
 	             "lighting.ibl: expected true or false, got a string");
-	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"languages\": [\"msl\"]}}",
-	             "target.languages[0]: unknown language 'msl' (known: 'glsl', 'hlsl', 'c')");
+	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"languages\": [\"wgsl\"]}}",
+	             "target.languages[0]: unknown language 'wgsl' (known: 'glsl', 'hlsl', 'c', 'msl')");
 	expect_error("[1, 2]", "scene: expected an object, got a list");
 	expect_error("{\"materials\": [{\"name\": \"m\"}], \"target\": {\"lut\": 0}}",
 	             "target.lut: expected true or false, got a number");

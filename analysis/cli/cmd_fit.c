@@ -210,7 +210,7 @@ static fit_run view(const run *R)
 	             e ? e->name : m ? m->name : R->fs.split ? "form-a/form-b" : R->fs.text[0],
 	             e ? e->name : m && m->fname[0] ? m->fname : "brdfkit_fit", e ? e->source : m ? m->source : "user form",
 	             e ? e->convention : "as the target's units (see domain)", R->has_published ? e->defaults : NULL,
-	             R->fs.split, {R->fs.f[0], R->fs.f[1]}, 1, 0, NULL};
+	             R->fs.split, {R->fs.f[0], R->fs.f[1]}, 1, 0, NULL, 0};
 	return v;
 }
 

@@ -14,6 +14,7 @@
 #include "cmd.h"
 #include "form_check.h"
 #include "member.h"
+#include "msl.h"
 
 #include <errno.h>
 #include <math.h>
@@ -392,20 +393,25 @@ static int identifier(const char *s)
 	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
 }
 
-/* codegen: --precision picks GLSL's qualifier or HLSL's half/float; the C
- * output is float whatever it says. */
+/* codegen: --precision picks GLSL's qualifier or HLSL's and MSL's type; the
+ * C output is float whatever it says. Index CODEGEN_MSL of the language
+ * dimension is Metal, which is no bk_lang: SPIRV-Cross writes it
+ * (analysis/msl.c). */
+enum { CODEGEN_MSL = BK_LANG_HLSL + 1 };
 static const cli_dim codegen_dims[] = {
-	{"lang", {"c", "glsl", "hlsl", "latex", "sympy"},
-	 {" with --lang c", " with --lang glsl", " with --lang hlsl", " with --lang latex", " with --lang sympy"}},
+	{"lang", {"c", "glsl", "hlsl", "msl", "latex", "sympy"},
+	 {" with --lang c", " with --lang glsl", " with --lang hlsl", " with --lang msl", " with --lang latex",
+	  " with --lang sympy"}},
 };
 static const cli_rule codegen_rules[] = {
-	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL, "it picks a shader's float type: C is float only, LaTeX and SymPy have none", "half"},
+	{"--precision", NULL, 0, 1u << BK_LANG_GLSL | 1u << BK_LANG_HLSL | 1u << CODEGEN_MSL,
+	 "it picks a shader's float type: C is float only, LaTeX and SymPy have none", "half"},
 	{"--lang", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
 	{"--name", NULL, CLI_EVERYWHERE, 0, NULL, "f"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, "o.glsl"},
 };
-static const char *const codegen_setups[] = {"--lang c NoV", "--lang glsl NoV", "--lang hlsl NoV", "--lang latex NoV",
-                                             "--lang sympy NoV", NULL};
+static const char *const codegen_setups[] = {"--lang c NoV",     "--lang glsl NoV",  "--lang hlsl NoV",
+                                             "--lang msl NoV",   "--lang latex NoV", "--lang sympy NoV", NULL};
 static const cli_table codegen_table = {codegen_dims, 1, codegen_rules,
                                         sizeof codegen_rules / sizeof codegen_rules[0], codegen_setups};
 
@@ -416,9 +422,10 @@ static int write_code(char *text, const char *out);
  * signature with named constants. -1 when the member is one form (the
  * one-form path takes it), else the exit status (a bad member: 2 after the
  * reader's line). */
-static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int math, bk_math_lang ml, const char *fname,
+static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int li, bk_math_lang ml, const char *fname,
                         const char *out, const char *command)
 {
+	int math = li > CODEGEN_MSL;
 	cli_member m;
 	int rc = cli_member_load(cmd->pos[0], 1, &m);
 	if (rc)
@@ -431,6 +438,8 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int math, bk_ma
 	if (cmd->npos > 1)
 		rc = cli_bad("'%s': a member's parameters are baked in ('%s'): give MEMBER:A or MEMBER:B to change one",
 		             cmd->pos[0], cmd->pos[1]);
+	else if (li == CODEGEN_MSL) /* bk_msl_emit translates one function */
+		rc = cli_bad("'%s' is a split-sum pair: give %s:A or %s:B for Metal", cmd->pos[0], cmd->pos[0], cmd->pos[0]);
 	else if (math && ml == BK_MATH_SYMPY) /* one snippet binds one expr */
 		rc = cli_bad("'%s' is a split-sum pair: give %s:A or %s:B for a SymPy snippet", cmd->pos[0], cmd->pos[0],
 		             cmd->pos[0]);
@@ -480,14 +489,14 @@ int cmd_codegen(int argc, char **argv)
 	char command_line[2048];
 	const char *lang = NULL, *precision = "single", *fname = NULL, *out = NULL;
 	cli_opt opts[] = {
-		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl|latex|sympy", .help = "target language (latex: an equation, sympy: a Python snippet)", .dest = &lang, .required = 1},
-		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "single: GLSL highp / HLSL float (default); half: GLSL mediump / HLSL half; not with --lang c (C output is float)", .dest = &precision},
+		{.name = "--lang", .kind = CLI_STR, .metavar = "c|glsl|hlsl|msl|latex|sympy", .help = "target language (msl: Metal, by SPIRV-Cross from the GLSL's SPIR-V; latex: an equation; sympy: a Python snippet)", .dest = &lang, .required = 1},
+		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half|float16", .help = "single: GLSL highp / HLSL float / MSL float (default); half: GLSL mediump / HLSL min16float / MSL half; float16: GLSL float16_t / HLSL half (dxc -enable-16bit-types) / MSL half; half and float16 write constants as binary16 values; not with --lang c (C output is float)", .dest = &precision},
 		{.name = "--name", .kind = CLI_STR, .metavar = "IDENT", .help = "function name (default: the catalog or member name, or brdfkit_form)", .dest = &fname},
 		{.name = "--out", .kind = CLI_STR, .metavar = "FILE", .help = "write there (atomically) instead of stdout", .dest = &out},
 	};
 	cli_cmd cmd = {"codegen", "Generates one function evaluating a form, parameters baked in as constants,\n"
 	               "with a provenance comment (form, source, conventions, op counts).",
-	               "--lang c|glsl|hlsl|latex|sympy [--precision single|half] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
+	               "--lang c|glsl|hlsl|msl|latex|sympy [--precision single|half|float16] 'FORM'|NAME|FILE.csv:MEMBER [p0=X ...]",
 	               "Catalog entries use their published constants unless p0=... overrides them.\n"
 	               "FILE.csv:MEMBER is a member of a front.csv of brdfkit search (MEMBER:A or MEMBER:B of\n"
 	               "a split sum; the file part ends at the last \".csv:\"): its parameters are baked in\n"
@@ -499,7 +508,7 @@ int cmd_codegen(int argc, char **argv)
 	               "pointers), as engines call an environment BRDF.\n"
 	               "One rule on the values (each input sampled at 0, 1e-3, 0.3, 0.7, 1): a form NaN or\n"
 	               "infinite at every sample in double is refused (exit 2); one whose result the emitted\n"
-	               "precision (single: C float, highp, HLSL float; half: mediump, half) cannot hold at any\n"
+	               "precision (single: C float, highp, HLSL float; half, float16: fp16) cannot hold at any\n"
 	               "sample where it has a value (+inf, NaN, or not 0 but 0 or subnormal) is warned about\n"
 	               "on stderr (exit 0), as is a constant the precision cannot hold.\n"
 	               "latex writes an equation (the constants as the shaders hold them); sympy a Python\n"
@@ -509,19 +518,25 @@ int cmd_codegen(int argc, char **argv)
 	int rc = cli_parse_table(&cmd, &codegen_table, argc, argv);
 	if (rc)
 		return rc == 1 ? 0 : rc;
-	static const char *const langs[] = {"c", "glsl", "hlsl", "latex", "sympy"};
-	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_C, BK_LANG_C};
-	int li = cli_choice("--lang", lang, langs, 5);
+	static const char *const langs[] = {"c", "glsl", "hlsl", "msl", "latex", "sympy"};
+	/* Metal's names are checked as GLSL's (its function is the GLSL's,
+	 * translated) and Metal's own; LaTeX's and SymPy's as C's */
+	static const bk_lang lang_of[] = {BK_LANG_C, BK_LANG_GLSL, BK_LANG_HLSL, BK_LANG_GLSL, BK_LANG_C, BK_LANG_C};
+	int li = cli_choice("--lang", lang, langs, 6);
 	if (li < 0)
 		return 2;
 	bk_lang L = lang_of[li];
-	int math = li >= 3; /* latex, sympy: brdf_math.h, the name checked as for C */
+	int math = li >= CODEGEN_MSL + 1; /* latex, sympy: brdf_math.h */
+	bk_math_lang ml = li == CODEGEN_MSL + 1 ? BK_MATH_LATEX : BK_MATH_SYMPY;
 	if ((rc = cli_applicable(&cmd, (int[]){li})))
 		return rc;
-	cli_prec prec;
-	if ((rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
+	cli_prec prec = CLI_PREC_HALF;
+	int half = BK_EMIT_F16; /* float16: explicit 16-bit types */
+	if (strcmp(precision, "float16") &&
+	    (rc = cli_precision(precision, CLI_PREC_BIT(CLI_PREC_SINGLE) | CLI_PREC_BIT(CLI_PREC_HALF), &prec)))
 		return rc;
-	int half = prec == CLI_PREC_HALF;
+	if (strcmp(precision, "float16"))
+		half = prec == CLI_PREC_HALF ? BK_EMIT_RELAXED : BK_EMIT_SINGLE;
 	if (cmd.npos < 1) {
 		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
 		return 2;
@@ -533,14 +548,14 @@ int cmd_codegen(int argc, char **argv)
 		return cli_bad("--name: %zu characters, more than %d (C11 keeps %d significant in an internal name)",
 		               strlen(fname), BK_NAME_MAX, BK_NAME_MAX);
 	}
-	if (fname && bk_lang_reserved(L, fname)) {
+	if (fname && (bk_lang_reserved(L, fname) || (li == CODEGEN_MSL && bk_msl_reserved(fname)))) {
 		return cli_bad("--name: '%s' is reserved in %s (a keyword, type, standard library function or macro, entry "
 		               "point, reserved prefix, or a name the body uses)", fname, lang);
 	}
 	if (cli_form_positionals(&cmd, 0))
 		return 2;
 	shell_words(command_line, sizeof command_line, "brdfkit codegen", argc, argv);
-	if (cli_member_split(cmd.pos[0]) && (rc = codegen_pair(&cmd, L, half, math, li == 3 ? BK_MATH_LATEX : BK_MATH_SYMPY, fname, out,
+	if (cli_member_split(cmd.pos[0]) && (rc = codegen_pair(&cmd, L, half, li, ml, fname, out,
 	                                                             command_line)) != -1)
 		return rc;
 	form_arg fa;
@@ -550,7 +565,8 @@ int cmd_codegen(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname))
+	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname) &&
+	    !(li == CODEGEN_MSL && bk_msl_reserved(fa.fname)))
 		fname = fa.fname;
 	bk_emit_info info = {
 		.name = fname,
@@ -577,8 +593,14 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: warning: %s has its lower bound above its upper: it is the upper "
 		        "bound everywhere (GLSL and HLSL leave clamp() undefined there; the code writes min(max()))\n",
 		        what);
-	char *text = math ? bk_form_math_doc(fa.f, li == 3 ? BK_MATH_LATEX : BK_MATH_SYMPY, fa.params, &info)
-	                  : bk_form_emit_styled(fa.f, L, half, fa.params, &info, &style);
+	char msl_err[600] = "out of memory";
+	char *text = math ? bk_form_math_doc(fa.f, ml, fa.params, &info)
+	             : li == CODEGEN_MSL ? bk_msl_emit(fa.f, half, fa.params, &info, &style, msl_err, sizeof msl_err)
+	                                 : bk_form_emit_styled(fa.f, L, half, fa.params, &info, &style);
+	if (!text && li == CODEGEN_MSL) {
+		bk_form_free(fa.f);
+		return cli_fail("codegen", "code generation failed (%s)", msl_err);
+	}
 	bk_form_free(fa.f);
 	return write_code(text, out);
 }

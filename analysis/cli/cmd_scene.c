@@ -181,7 +181,7 @@ static int write_scene(const char *dir, const scene_run *S, int timed, char *err
 		snprintf(path, sizeof path, "%s/%s", dir, S->R[i].set.name);
 		if (mkdir(path, 0777))
 			return -1;
-		for (int li = 0; li < 3 && !rc; li++) {
+		for (int li = 0; li < BK_SCENE_LANGS && !rc; li++) {
 			if (!(S->sc.languages & (1u << li)))
 				continue;
 			snprintf(path, sizeof path, "%s/%s/shader.%s", dir, S->R[i].set.name, bk_scene_lang_ext(li));
@@ -548,9 +548,9 @@ int cmd_scene(int argc, char **argv)
 	               "16^2 to 128^2 in unorm8, half or float, in the engines' layout and laid out for the set\n"
 	               "(one f0 folded into one channel, rows over its roughness range, x at sqrt(NoV); the\n"
 	               "shader's comment gives the brdfkit lut command that makes it and the coordinates).\n"
-	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, LUT allowed, all languages,\n"
-	               "error \"generic\""
-	               " (each term as accurate as the generic shader's on the domain, in the scene's precision).\n"
+	               "Defaults: all lighting on, NoV in [0, 1], highp, alu_tex 32, LUT allowed, glsl, hlsl and c\n"
+	               "(msl on request), error \"generic\" (each term as accurate as the generic shader's on the\n"
+	               "domain, in the scene's precision).\n"
 	               "\"at-generic-cost\": each term the most accurate form at no more than the generic's cost\n"
 	               "(a LUT: and no more texture memory) instead of the cheapest at a budget.\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"

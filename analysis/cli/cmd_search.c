@@ -329,6 +329,16 @@ static int write_outputs(const job *J, const bk_swrite *W)
 	snprintf(dir, sizeof dir, "%.4000s/front", od.tmp);
 	if (!rc && mkdir(dir, 0777))
 		rc = -1, snprintf(err, sizeof err, "%s/front: cannot create: %s", J->a->out, strerror(errno));
+	/* one signature per kind (one form, or pairs): the inputs its front
+	 * members read, r for a, as codegen FILE.csv:MEMBER writes them
+	 * (member.c), so that members swap at one call site */
+	unsigned sig[2] = {0, 0};
+	for (int i = 0; i < J->F.nm; i++)
+		for (int q = 0; J->F.m[i].front && q < 2; q++)
+			sig[J->F.m[i].text_b != NULL] |= J->F.m[i].f[q] ? bk_form_inputs(J->F.m[i].f[q]) : 0;
+	for (int k = 0; k < 2; k++)
+		if (sig[k] >> BK_IN_A & 1)
+			sig[k] = (sig[k] & ~(1u << BK_IN_A)) | 1u << BK_IN_R;
 	for (int i = 0; rc == 0 && i < J->F.nm; i++) {
 		const bk_sfront_member *m = &J->F.m[i];
 		if (!m->front)
@@ -341,16 +351,20 @@ static int write_outputs(const job *J, const bk_swrite *W)
 		else
 			snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
 			         m->c->found_at, J->total_evals);
-		/* a half front's member: its code in half (GLSL mediump, HLSL half),
-		 * its error the front's, in f16 under either order of its mads */
-		char error[300];
+		/* a half front's member: its code in half (fit_out.c), its error the
+		 * front's in f16, each sample in the order of its mads farther from
+		 * the form's own f64 value (bk_form_eval BK_F16); against the target
+		 * a driver's order can do slightly worse (lavapipe, which takes the
+		 * unfused order: up to 7% on results' f_gold_half, tests/lavapipe.sh) */
+		char error[400];
 		int half = J->so.precision == BK_F16;
-		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it (either order of its mads), "
+		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it (each sample in the order of its "
+		         "mads farther from the form's own value; a driver's order may do slightly worse against the target), "
 		         "max |error| %.3g; in f64: rmse %.3g", bk_sfront_objective_name(&J->so), m->err, m->f16_max,
 		         m->res.fitted.rmse);
 		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
 		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0,
-		             half, half ? error : NULL};
+		             half, half ? error : NULL, sig[m->text_b != NULL]};
 		if (mkdir(dir, 0777))
 			rc = -1, snprintf(err, sizeof err, "%s/front/%s: cannot create: %s", J->a->out, m->name, strerror(errno));
 		else

@@ -4,6 +4,7 @@
 #include "fit_out.h"
 #include "form_check.h"
 #include "heatmap.h"
+#include "msl.h"
 #include "out.h"
 
 #include <math.h>
@@ -149,11 +150,66 @@ static int write_heatmaps(const fit_run *R, const char *dir, char *err, size_t e
 	return rc;
 }
 
-static int write_shaders(const fit_run *R, const char *dir, char *err, size_t errlen)
+/* The shader files: name, language (-1: Metal, analysis/msl.c), precision
+ * [single, half]. A half search's member is pasted as half code in both of
+ * each language's half types (C has no half: float, with the half code's
+ * constants), so a half front has two more files. */
+static const struct shader_file {
+	const char *file;
+	int lang;
+	int emit[2];
+} shader_files[] = {
+	{"shader.c", BK_LANG_C, {BK_EMIT_SINGLE, BK_EMIT_RELAXED}},
+	{"shader.glsl", BK_LANG_GLSL, {BK_EMIT_SINGLE, BK_EMIT_RELAXED}},
+	{"shader_f16.glsl", BK_LANG_GLSL, {-1, BK_EMIT_F16}},
+	{"shader.hlsl", BK_LANG_HLSL, {BK_EMIT_SINGLE, BK_EMIT_RELAXED}},
+	{"shader_f16.hlsl", BK_LANG_HLSL, {-1, BK_EMIT_F16}},
+	{"shader.metal", -1, {BK_EMIT_SINGLE, BK_EMIT_F16}},
+};
+
+static int write_shader(const fit_run *R, const char *dir, const struct shader_file *sf, const char *domain,
+                        const char *error, char *err, size_t errlen)
 {
 	char path[4200];
-	static const struct { const char *file; bk_lang lang; } out[] = {
-		{"shader.c", BK_LANG_C}, {"shader.glsl", BK_LANG_GLSL}, {"shader.hlsl", BK_LANG_HLSL}};
+	int emit = sf->emit[R->half != 0];
+	if (emit < 0) /* a single-precision run has no explicit-half file */
+		return 0;
+	FILE *f = open_in(dir, sf->file, path, err, errlen);
+	if (!f)
+		return -1;
+	bk_emit_style style = {R->signature, R->signature != 0};
+	const bk_emit_style *st = R->signature ? &style : NULL;
+	if (R->split && st && sf->lang >= 0) { /* NAME_A, NAME_B and NAME(NoV, r) returning both */
+		bk_emit_info info = {R->fname, R->source, R->convention, domain, error, R->command};
+		char *text = bk_form_emit_pair(R->f[0], R->f[1], (bk_lang)sf->lang, emit, R->res->p, &info, st);
+		if (!text) {
+			fclose(f); /* in the result's temporary tree, which goes */
+			snprintf(err, errlen, "%s: out of memory, or a form outside its front's signature", path);
+			return -1;
+		}
+		fputs(text, f);
+		free(text);
+		return close_in(f, path, 0, err, errlen) ? -1 : 0;
+	}
+	for (int q = 0; q < (R->split ? 2 : 1); q++) {
+		char name[64], why[600] = "out of memory";
+		snprintf(name, sizeof name, "%s%s", R->fname, R->split ? (q ? "_B" : "_A") : "");
+		bk_emit_info info = {name, R->source, R->convention, domain, error, R->command};
+		char *text = sf->lang < 0 ? bk_msl_emit(R->f[q], emit, R->res->p, &info, st, why, sizeof why)
+		                          : bk_form_emit_styled(R->f[q], (bk_lang)sf->lang, emit, R->res->p, &info, st);
+		if (!text) {
+			fclose(f); /* in the result's temporary tree, which goes */
+			snprintf(err, errlen, "%s: %s", path, why);
+			return -1;
+		}
+		fprintf(f, "%s%s", q ? "\n" : "", text);
+		free(text);
+	}
+	return close_in(f, path, 0, err, errlen) ? -1 : 0;
+}
+
+static int write_shaders(const fit_run *R, const char *dir, char *err, size_t errlen)
+{
 	char domain[600], error[400];
 	snprintf(domain, sizeof domain, "%s", R->s->description);
 	if (R->error)
@@ -162,32 +218,11 @@ static int write_shaders(const fit_run *R, const char *dir, char *err, size_t er
 		snprintf(error, sizeof error, "in f64: rmse %.3g, max |error| %.3g, max relative %.3g (%s residuals)",
 		         R->res->fitted.rmse, R->res->fitted.max_abs, R->res->fitted.max_rel,
 		         R->spec->relative ? "relative" : "absolute");
-	/* a half search's member is pasted as half code (C has no half: float) */
 	for (int q = 0; q < (R->split ? 2 : 1); q++)
 		form_warn_precision(NULL, R->fname, R->f[q], R->res->p, R->half ? BK_F16 : BK_F32);
-	for (size_t k = 0; k < 3; k++) {
-		FILE *f = open_in(dir, out[k].file, path, err, errlen);
-		if (!f)
+	for (size_t k = 0; k < sizeof shader_files / sizeof shader_files[0]; k++)
+		if (write_shader(R, dir, &shader_files[k], domain, error, err, errlen))
 			return -1;
-		for (int q = 0; q < (R->split ? 2 : 1); q++) {
-			char name[64];
-			snprintf(name, sizeof name, "%s%s", R->fname,
-			         R->split ? (q ? "_B" : "_A") : "");
-			bk_emit_info info = {name, R->source,
-			                     R->convention,
-			                     domain, error, R->command};
-			char *text = bk_form_emit(R->f[q], out[k].lang, R->half && out[k].lang != BK_LANG_C, R->res->p, &info);
-			if (!text) {
-				fclose(f);
-				snprintf(err, errlen, "%s: out of memory", path);
-				return -1;
-			}
-			fprintf(f, "%s%s", q ? "\n" : "", text);
-			free(text);
-		}
-		if (close_in(f, path, 0, err, errlen))
-			return -1;
-	}
 	return 0;
 }
 

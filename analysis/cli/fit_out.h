@@ -1,7 +1,8 @@
 /*
  * fit_out.h — what `brdfkit fit --out DIR` writes (coefficients.csv,
- * metrics.csv, metrics_env.csv, heatmap*.{exr,png,csv}, shader.{c,glsl,hlsl}),
- * shared by fit and by search, which writes the same for each front member.
+ * metrics.csv, metrics_env.csv, heatmap*.{exr,png,csv}, shader.{c,glsl,hlsl},
+ * shader.metal, and a half run's shader_f16.{glsl,hlsl}), shared by fit and
+ * by search, which writes the same for each front member.
  */
 #ifndef ANALYSIS_CLI_FIT_OUT_H
 #define ANALYSIS_CLI_FIT_OUT_H
@@ -28,6 +29,8 @@ typedef struct fit_run {
 	int cell_csv;                 /* 1: heatmaps also as per-cell CSV */
 	int half;                     /* the shaders in half precision (a half search's front member) */
 	const char *error;            /* the shaders' "fitted error" line, or NULL: the fit's f64 metrics */
+	unsigned signature;           /* a front member: its front's one signature (member.h; bk_emit_style's
+	                               * inputs, constants named; a pair also wrapped); 0: the form's own inputs */
 } fit_run;
 
 /* Whether the target has a plane to draw: a form target over three or more

@@ -27,6 +27,15 @@
  *
  * --fuzz N adds N forms drawn from --seed (tests/vk/fuzz.c) to the catalog.
  *
+ * --half-front FRONT.csv --target KIND [--nx N] [--nr N] [--ior X --k Y] instead runs the
+ * members of a half search's front as their shader_f16.glsl is emitted
+ * (float16_t, binary16 constants, no precise) over that target's samples and
+ * holds each to the f16 error its files state (tests/vk/halfbound.h); there
+ * --perturb NAME multiplies that member's p0 by F, the control; --precise
+ * declares every temporary precise (no contraction or reassociation), the
+ * diagnosis of a member that does not hold. Exit status there: 0 every
+ * member holds, 1 some exceed their stated error, 3 an error (one line).
+ *
  * --perturb LABEL multiplies the first literal in that function's body by F
  * (default 1.001), --nan LABEL makes it return NaN, --ir-half compares the f32
  * run with the IR's f16: negative controls of each check, which must fail. Exit status: 0 all agree, 1 a mismatch or a run-time error (one
@@ -34,6 +43,7 @@
  */
 #include "envelope.h"
 #include "glsl.h"
+#include "halfbound.h"
 #include "lvp.h" /* analysis/lvp.h */
 #include "sources.h"
 
@@ -56,13 +66,15 @@ typedef struct opts {
 	double factor;
 	int list, verbose, ir_half;
 	int fuzz;           /* forms drawn by tests/vk/fuzz.c */
+	vk_halfbound_opts hb; /* --half-front: hb.front set */
 	unsigned long seed; /* their seed */
 } opts;
 
 static int usage(const char *msg)
 {
 	fprintf(stderr, "vkrun: %s; usage: vkrun [--samples N] [--perturb LABEL [--factor F] | --nan LABEL] [--ir-half] "
-	                "[--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]...\n", msg);
+	                "[--fuzz N [--seed S]] [--list] [--verbose] [FRONT.csv | SHADER.glsl]... | vkrun --half-front FRONT.csv --target KIND [--nx N] [--nr N] [--ior X] [--k Y] [--precise] [--perturb NAME [--factor F]] "
+	                "[--verbose]\n", msg);
 	return 2;
 }
 
@@ -472,6 +484,23 @@ static int parse(int argc, char **argv, opts *o, vk_fns *fns, char *err, size_t 
 			o->verbose = 1;
 		else if (!strcmp(a, "--ir-half"))
 			o->ir_half = 1;
+		else if (!strcmp(a, "--precise"))
+			o->hb.precise = 1;
+		else if (!strcmp(a, "--half-front") && val)
+			o->hb.front = argv[++i];
+		else if (!strcmp(a, "--target") && val)
+			o->hb.target = argv[++i];
+		else if ((!strcmp(a, "--ior") || !strcmp(a, "--k")) && val) {
+			double x = strtod(val, &end);
+			if (*end || !*val || !isfinite(x))
+				return usage("--ior, --k: a number"), 2;
+			*(a[2] == 'i' ? &o->hb.ior : &o->hb.k) = x, i++;
+		} else if ((!strcmp(a, "--nx") || !strcmp(a, "--nr")) && val) {
+			long n = strtol(val, &end, 10);
+			if (*end || n < 1 || n > 4096)
+				return usage("--nx, --nr: a count in [1, 4096]"), 2;
+			*(a[3] == 'x' ? &o->hb.nx : &o->hb.nr) = (int)n, i++;
+		}
 		else if (a[0] == '-')
 			return usage("unknown option, a missing value, or --perturb with --nan"), 2;
 		else {
@@ -507,12 +536,36 @@ static int apply_control(vk_fns *fns, const opts *o)
 	return 1;
 }
 
+/* --half-front: the front's float16_t code against its stated errors. */
+static int half_front(opts *o, vk_fns *fns)
+{
+	char err[1024], driver[200] = "";
+	bk_lvp *v = NULL;
+	int rc;
+	vk_fns_free(fns);
+	if (!o->hb.front || !o->hb.target)
+		return usage("--half-front and --target go together");
+	o->hb.perturb = o->perturb;
+	o->hb.factor = o->factor;
+	o->hb.verbose = o->verbose;
+	if ((rc = bk_lvp_open(&v, driver, sizeof driver, err, sizeof err)) != 0) {
+		fprintf(stderr, "vkrun: %s\n", err);
+		return 3;
+	}
+	printf("vkrun: %s; half front %s on target %s\n", driver, o->hb.front, o->hb.target);
+	rc = vk_halfbound(v, &o->hb);
+	bk_lvp_close(v);
+	return rc < 0 ? 3 : rc;
+}
+
 int main(int argc, char **argv)
 {
-	opts o = {.samples = 1024, .factor = 1.001};
+	opts o = {.samples = 1024, .factor = 1.001, .hb = {.ior = NAN, .k = NAN}};
 	vk_fns fns = {.groups = 1};
 	char err[1024], driver[200] = "";
 	int rc = vk_add_catalog(&fns, err, sizeof err) ? 1 : parse(argc, argv, &o, &fns, err, sizeof err);
+	if (!rc && (o.hb.front || o.hb.target))
+		return half_front(&o, &fns);
 	if (!rc && o.fuzz && vk_add_fuzz(&fns, o.fuzz, o.seed, err, sizeof err))
 		rc = 1;
 	if (rc == 1)
