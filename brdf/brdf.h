@@ -294,6 +294,17 @@ double bk_half_round(double x);
 int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
                  const double *const in[BK_IN_COUNT], const double *params, double *out);
 
+/* BK_F16 measured against a target y (n values): per sample, of the two
+ * orders a driver may take for each mad and mix (rounded twice, or fused
+ * once), the value farther from y[k] (NaN over inf over a number; where y[k]
+ * is not finite, the unfused one). bk_form_eval's BK_F16 keeps the order
+ * farther from the form's own f64 value instead, which against a target can
+ * land between the two orders' errors; an error computed from these values
+ * holds whichever order the driver takes (tests/vk holds lavapipe to it).
+ * 0, or -1 as bk_form_eval. */
+int bk_form_eval_half_vs(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT], const double *params,
+                         const double *y, double *out);
+
 /* What happened inside an evaluation, per sample (bits of flags[k]): an
  * operation made a NaN from non-NaN operands, overflowed to infinity from
  * finite operands (past 65504 in half; a constant, parameter or input the

@@ -529,6 +529,22 @@ int bk_ir_eval_half_orders(const bk_form *f, size_t n, const double *const in[BK
 	return 0;
 }
 
+int bk_form_eval_half_vs(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT], const double *params,
+                         const double *y, double *out)
+{
+	if (!fusable(f))
+		return eval(f, BK_F16, n, in, params, out, NULL, NULL);
+	double *fused = malloc((n ? n : 1) * sizeof *fused);
+	if (!fused || bk_ir_eval_half_orders(f, n, in, params, out, fused)) {
+		free(fused);
+		return -1;
+	}
+	for (size_t k = 0; k < n; k++) /* worse() keeps the unfused where y[k] is no number */
+		out[k] = worse(out[k], fused[k], y[k]);
+	free(fused);
+	return 0;
+}
+
 int bk_form_eval(const bk_form *f, bk_precision prec, size_t n,
                  const double *const in[BK_IN_COUNT], const double *params, double *out)
 {

@@ -617,6 +617,48 @@ Test(emit, mix_in_half_is_the_spelled_out_formula)
 	bk_form_free(f);
 }
 
+/* bk_form_eval_half_vs: per sample the order of the mad farther from a
+ * target y, computed here step by step with the half rounding rule (mad
+ * rounded twice: h16(h16(a b) + c); fused: h16(a b + c)). A target placed
+ * between the two orders' values near the unfused one picks the fused, where
+ * BK_F16 (farther from the form's own f64 value) may pick the other: the
+ * control that the choice is the target's. */
+static double mad_unfused16(double a, double b, double c) { return h16(h16(a * b) + c); }
+static double mad_fused16(double a, double b, double c) { return h16(a * b + c); }
+
+Test(emit, half_vs_target_keeps_the_order_farther_from_the_target)
+{
+	bk_form *f = parse_or_fail("NoV*NoL + LoH");
+	enum { N = 4096 };
+	static double x[N], y[N], z[N], target[N], got[N], own[N];
+	const double *ptr[BK_IN_COUNT] = {0};
+	ptr[BK_IN_NOV] = x, ptr[BK_IN_NOL] = y, ptr[BK_IN_LOH] = z;
+	unsigned seed = 12345;
+	for (int k = 0; k < N; k++) {
+		seed = seed * 1103515245u + 12345u;
+		x[k] = h16(1 + (seed >> 8 & 1023) / 1024.0);
+		seed = seed * 1103515245u + 12345u;
+		y[k] = h16(1 + (seed >> 8 & 1023) / 1024.0);
+		z[k] = h16(-x[k] * y[k] + (seed >> 20 & 7) / 4096.0); /* cancels: the orders differ */
+		double u = mad_unfused16(x[k], y[k], z[k]), w = mad_fused16(x[k], y[k], z[k]);
+		target[k] = k % 2 ? u + (w - u) * 0.25 : w + (u - w) * 0.25; /* nearer one order, in turn */
+	}
+	cr_assert_eq(bk_form_eval_half_vs(f, N, ptr, NULL, target, got), 0);
+	cr_assert_eq(bk_form_eval(f, BK_F16, N, ptr, NULL, own), 0);
+	int differ = 0, picks_other = 0;
+	for (int k = 0; k < N; k++) {
+		double u = mad_unfused16(x[k], y[k], z[k]), w = mad_fused16(x[k], y[k], z[k]);
+		double want = fabs(w - target[k]) > fabs(u - target[k]) ? w : u;
+		cr_assert_eq(got[k], want, "sample %d: %g*%g + %g: got %g, unfused %g, fused %g, target %g", k, x[k], y[k],
+		             z[k], got[k], u, w, target[k]);
+		differ += u != w;
+		picks_other += own[k] != got[k];
+	}
+	cr_assert_gt(differ, N / 8, "the two orders rarely differ (%d of %d): the test proves little", differ, N);
+	cr_assert_gt(picks_other, 0, "BK_F16 (against the form's own value) always picks as the target does");
+	bk_form_free(f);
+}
+
 /* The text: no mix()/lerp() call in any language, the IR's formula instead;
  * and the mediump GLSL compiled by the reference front end has no FMix. */
 Test(emit, mix_is_spelled_out_in_every_language)

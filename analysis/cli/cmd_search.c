@@ -352,16 +352,15 @@ static int write_outputs(const job *J, const bk_swrite *W)
 			snprintf(source, sizeof source, "found by brdfkit search (seed %ld, fit %ld of %ld)", J->a->seed,
 			         m->c->found_at, J->total_evals);
 		/* a half front's member: its code in half (fit_out.c), its error the
-		 * front's in f16, each sample in the order of its mads farther from
-		 * the form's own f64 value (bk_form_eval BK_F16); against the target
-		 * a driver's order can do slightly worse (lavapipe, which takes the
-		 * unfused order: up to 7% on results' f_gold_half, tests/lavapipe.sh) */
+		 * front's in f16, each sample in the order of its mads (each rounded
+		 * twice, or fused) farther from the target (bk_form_eval_half_vs):
+		 * whichever of the two a driver takes, the error is at most this
+		 * (tests/lavapipe.sh holds lavapipe's float16_t run to it) */
 		char error[400];
 		int half = J->so.precision == BK_F16;
-		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it (each sample in the order of its "
-		         "mads farther from the form's own value; a driver's order may do slightly worse against the target), "
-		         "max |error| %.3g; in f64: rmse %.3g", bk_sfront_objective_name(&J->so), m->err, m->f16_max,
-		         m->res.fitted.rmse);
+		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it in either order of its mads "
+		         "(each sample in the order farther from the target), max |error| %.3g; in f64: rmse %.3g",
+		         bk_sfront_objective_name(&J->so), m->err, m->f16_max, m->res.fitted.rmse);
 		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
 		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0,
 		             half, half ? error : NULL, sig[m->text_b != NULL]};

@@ -42,7 +42,12 @@ int bk_refit_values(const bk_fit_spec *sp, const double *p, bk_precision prec, d
 		const double *in[BK_IN_COUNT];
 		for (int k = 0; k < BK_IN_COUNT; k++)
 			in[k] = s->in[k] + lo;
-		if (bk_form_eval(sp->form[q < 1 ? 0 : 1], prec, s->start[q + 1] - lo, in, p, v + lo))
+		/* half: the order of each mad farther from the target (a score that
+		 * holds whichever order a driver takes), not from the form's f64 */
+		const bk_form *f = sp->form[q < 1 ? 0 : 1];
+		size_t m = s->start[q + 1] - lo;
+		if (prec == BK_F16 ? bk_form_eval_half_vs(f, m, in, p, s->y + lo, v + lo)
+		                   : bk_form_eval(f, prec, m, in, p, v + lo))
 			return -1;
 	}
 	return 0;

@@ -31,8 +31,10 @@ bk_fit_options bk_refit_albedo_options(void);
 
 /* The values of sp's forms at constants p on sp's samples, each component
  * (A, B of a pair) by its own form, evaluated in precision prec: the one
- * per-component evaluation of a refitted member. 0, or -1 when a form does
- * not evaluate. */
+ * per-component evaluation of a refitted member. BK_F16 takes, per sample,
+ * the order of the form's mads farther from the target's value
+ * (bk_form_eval_half_vs), so that a half error holds whichever order a
+ * driver takes. 0, or -1 when a form does not evaluate. */
 int bk_refit_values(const bk_fit_spec *sp, const double *p, bk_precision prec, double *v);
 
 #endif
