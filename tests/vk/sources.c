@@ -7,6 +7,8 @@
 
 #include "catalog.h"
 #include "frontcsv.h"
+#include "half.h"
+#include "ir.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -210,6 +212,28 @@ static int signature(vk_fn *f, const char *sig, char *err, size_t errlen)
 	return 0;
 }
 
+/* text with every identifier a replaced by (r*r): malloc'd, or NULL. */
+static char *with_a_from_r(const char *text)
+{
+	size_t n = strlen(text), k = 0;
+	char *out = malloc(n * 5 + 1);
+	if (!out)
+		return NULL;
+	for (size_t i = 0; i < n; i++) {
+		int word = (isalnum((unsigned char)text[i]) || text[i] == '_');
+		int before = i > 0 && (isalnum((unsigned char)text[i - 1]) || text[i - 1] == '_');
+		int after = i + 1 < n && (isalnum((unsigned char)text[i + 1]) || text[i + 1] == '_');
+		if (word && text[i] == 'a' && !before && !after) {
+			memcpy(out + k, "(r*r)", 5);
+			k += 5;
+		} else {
+			out[k++] = text[i];
+		}
+	}
+	out[k] = '\0';
+	return out;
+}
+
 /* One function block [s, e) of a GLSL file. */
 static int file_fn(vk_fns *fns, const char *where, const char *s, const char *e, char *err, size_t errlen)
 {
@@ -233,6 +257,18 @@ static int file_fn(vk_fns *fns, const char *where, const char *s, const char *e,
 	char *text = strndup(form, flen);
 	bk_form_error fe;
 	f->form = text ? bk_form_parse(text, &fe) : NULL;
+	/* A front member's one signature (bk_emit_style) may take r where the
+	 * form reads a and compute a = r * r first, in the shader's precision:
+	 * the IR is then the form with a spelled (r*r), which rounds the same
+	 * product; and it may take inputs the form does not read. */
+	if (f->form && (bk_form_inputs(f->form) >> BK_IN_A & 1) && !(f->args >> BK_IN_A & 1) &&
+	    (f->args >> BK_IN_R & 1)) {
+		char *sub = with_a_from_r(text);
+		bk_form_free(f->form);
+		f->form = sub ? bk_form_parse(sub, &fe) : NULL;
+		free(text);
+		text = sub;
+	}
 	if (!f->form) {
 		snprintf(err, errlen, "%s: form '%.100s':%d: %s", f->label, text ? text : "", fe.column, fe.message);
 		free(text);
@@ -248,7 +284,20 @@ static int file_fn(vk_fns *fns, const char *where, const char *s, const char *e,
 			have = i + 1 > have ? i + 1 : have;
 		}
 	}
-	if (bk_form_nparams(f->form) > have || f->args != bk_form_inputs(f->form)) {
+	/* A half file (mediump, float16_t: "with binary16 constants") writes
+	 * each constant and parameter as the binary16 value of its float
+	 * (brdf/ir_emit.c's literal()), so the IR it is compared with computes
+	 * with those values; its comment keeps the fitted ones. */
+	const char *prec = strstr(s, " * precision: ");
+	if (prec && prec < cend && strstr(prec, "with binary16 constants") &&
+	    strstr(prec, "with binary16 constants") < strchr(prec + 1, '\n')) {
+		for (int i = 0; i < have; i++)
+			f->params[i] = bk_half_round((float)f->params[i]);
+		for (int i = 0; i < f->form->n; i++)
+			if (f->form->code[i].op == BK_OP_CONST)
+				f->form->code[i].k = bk_half_round((float)f->form->code[i].k);
+	}
+	if (bk_form_nparams(f->form) > have || (bk_form_inputs(f->form) & ~f->args)) {
 		snprintf(err, errlen, "%s: the comment gives %d parameters and the signature other inputs than the form",
 		         f->label, have);
 		bk_form_free(f->form);

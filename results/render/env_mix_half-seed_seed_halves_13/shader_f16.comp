@@ -122,12 +122,12 @@ float16_t bk_exact_F(float16_t LoH, float16_t f0)
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.82910156
- *   p4 = -2.41796875
+ *   p3 = 1.828125
+ *   p4 = -2.40820312
  *   p5 = 1.22460938
- *   p6 = -1.65625
- *   p7 = -0.00188732147
- *   p8 = -0.0480041504
+ *   p6 = -1.65527344
+ *   p7 = -0.001953125
+ *   p8 = -0.0478515625
  *   p9 = -0.810058594
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -142,13 +142,13 @@ float16_t bk_cand(float16_t NoV, float16_t r, float16_t a, float16_t f0)
 	float16_t t3 = (-0.81005859375hf) + NoV;
 	float16_t t6 = max(NoV, r);
 	float16_t t7 = (-1.0hf) + t6;
-	float16_t t9 = t3 * t7 + (-0.048004150390625hf);
+	float16_t t9 = t3 * t7 + (-0.0478515625hf);
 	float16_t t10 = -t9;
-	float16_t t12 = t10 * t9 + (-0.00188732147216796875hf);
-	float16_t t13 = (-1.65625hf) * t12;
+	float16_t t12 = t10 * t9 + (-0.001953125hf);
+	float16_t t13 = (-1.6552734375hf) * t12;
 	float16_t t16 = -NoV;
-	float16_t t18 = NoV + (-2.41796875hf);
-	float16_t t20 = NoV * t18 + 1.8291015625hf;
+	float16_t t18 = NoV + (-2.408203125hf);
+	float16_t t20 = NoV * t18 + 1.828125hf;
 	float16_t t22 = r * 1.224609375hf + t16;
 	float16_t t24 = t20 * t22 + a;
 	float16_t t26 = t16 * t24 + 1.4912109375hf;

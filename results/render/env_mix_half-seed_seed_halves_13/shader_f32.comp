@@ -121,12 +121,12 @@ highp float bk_exact_F(highp float LoH, highp float f0)
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.82910156
- *   p4 = -2.41796875
+ *   p3 = 1.828125
+ *   p4 = -2.40820312
  *   p5 = 1.22460938
- *   p6 = -1.65625
- *   p7 = -0.00188732147
- *   p8 = -0.0480041504
+ *   p6 = -1.65527344
+ *   p7 = -0.001953125
+ *   p8 = -0.0478515625
  *   p9 = -0.810058594
  * precision: GLSL ES 3.00 highp (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
@@ -141,13 +141,13 @@ highp float bk_cand(highp float NoV, highp float r, highp float a, highp float f
 	highp float t3 = (-0.8100586) + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
-	highp float t9 = t3 * t7 + (-0.04800415);
+	highp float t9 = t3 * t7 + (-0.047851562);
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.0018873215);
-	highp float t13 = (-1.65625) * t12;
+	highp float t12 = t10 * t9 + (-0.001953125);
+	highp float t13 = (-1.6552734) * t12;
 	highp float t16 = -NoV;
-	highp float t18 = NoV + (-2.4179688);
-	highp float t20 = NoV * t18 + 1.8291016;
+	highp float t18 = NoV + (-2.4082031);
+	highp float t20 = NoV * t18 + 1.828125;
 	highp float t22 = r * 1.2246094 + t16;
 	highp float t24 = t20 * t22 + a;
 	highp float t26 = t16 * t24 + 1.4912109;

@@ -14,7 +14,7 @@
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -25,7 +25,7 @@
  */
 mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
 {
-	mediump float t2 = max(a, 0.040618896);
+	mediump float t2 = max(a, 0.040618896484375);
 	mediump float t3 = t2 * t2;
 	mediump float t7 = 1.0 - NoH;
 	mediump float t8 = NoH + 1.0;
@@ -34,7 +34,7 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
 	mediump float t11 = t2 * t10;
 	mediump float t12 = t7 * t8 + t11;
 	mediump float t13 = t12 * t12;
-	mediump float t14 = 3.1415927 * t13;
+	mediump float t14 = 3.140625 * t13;
 	mediump float t15 = t3 / t14;
 	return t15;
 }
@@ -50,7 +50,7 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0995 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 5
@@ -61,14 +61,14 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  */
 mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
 {
-	mediump float t3 = max(LoH, 0.01);
+	mediump float t3 = max(LoH, 0.01000213623046875);
 	mediump float t4 = t3 * t3;
 	mediump float t5 = 0.25 / t4;
 	mediump float t7 = 1.0 - t3;
 	mediump float t8 = t7 * t7;
-	mediump float t10 = t8 * 0.96;
+	mediump float t10 = t8 * 0.9599609375;
 	mediump float t11 = t8 * t10;
-	mediump float t13 = t7 * t11 + 0.04;
+	mediump float t13 = t7 * t11 + 0.040008544921875;
 	mediump float t14 = t5 * t13;
 	return t14;
 }
@@ -84,12 +84,12 @@ mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: max_abs 0.0458 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = -0.8048
- *   p1 = -0.28304
- *   p2 = 0.97538
- *   p3 = 0.07509
- *   p4 = -8.1526
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = -0.8048 (-0.8046875 in half, as written below)
+ *   p1 = -0.28304 (-0.282958984 in half, as written below)
+ *   p2 = 0.97538 (0.975585938 in half, as written below)
+ *   p3 = 0.07509 (0.0750732422 in half, as written below)
+ *   p4 = -8.1526 (-8.15625 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -99,12 +99,12 @@ mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
  */
 mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
 {
-	mediump float t3 = (-0.8048) * r + 0.97538;
+	mediump float t3 = (-0.8046875) * r + 0.9755859375;
 	mediump float t4 = t3 * t3;
-	mediump float t7 = (-8.1526) * NoV;
+	mediump float t7 = (-8.15625) * NoV;
 	mediump float t8 = exp2(t7);
 	mediump float t9 = min(t4, t8);
-	mediump float t12 = r * (-0.28304) + 0.07509;
+	mediump float t12 = r * (-0.282958984375) + 0.0750732421875;
 	mediump float t13 = t3 * t9 + t12;
 	return t13;
 }
@@ -120,12 +120,12 @@ mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -23,19 +23,19 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_D(half NoH, half a)
+min16float spec_ibl_diffuse_f0_040_D(min16float NoH, min16float a)
 {
-	half t2 = max(a, 0.040618896);
-	half t3 = t2 * t2;
-	half t7 = 1.0 - NoH;
-	half t8 = NoH + 1.0;
-	half t9 = NoH * NoH;
-	half t10 = t2 * t9;
-	half t11 = t2 * t10;
-	half t12 = mad(t7, t8, t11);
-	half t13 = t12 * t12;
-	half t14 = 3.1415927 * t13;
-	half t15 = t3 / t14;
+	min16float t2 = max(a, 0.040618896484375);
+	min16float t3 = t2 * t2;
+	min16float t7 = 1.0 - NoH;
+	min16float t8 = NoH + 1.0;
+	min16float t9 = NoH * NoH;
+	min16float t10 = t2 * t9;
+	min16float t11 = t2 * t10;
+	min16float t12 = mad(t7, t8, t11);
+	min16float t13 = t12 * t12;
+	min16float t14 = 3.140625 * t13;
+	min16float t15 = t3 / t14;
 	return t15;
 }
 
@@ -50,7 +50,7 @@ half spec_ibl_diffuse_f0_040_D(half NoH, half a)
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0995 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 5
@@ -59,17 +59,17 @@ half spec_ibl_diffuse_f0_040_D(half NoH, half a)
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_vf(half LoH)
+min16float spec_ibl_diffuse_f0_040_vf(min16float LoH)
 {
-	half t3 = max(LoH, 0.01);
-	half t4 = t3 * t3;
-	half t5 = 0.25 / t4;
-	half t7 = 1.0 - t3;
-	half t8 = t7 * t7;
-	half t10 = t8 * 0.96;
-	half t11 = t8 * t10;
-	half t13 = mad(t7, t11, 0.04);
-	half t14 = t5 * t13;
+	min16float t3 = max(LoH, 0.01000213623046875);
+	min16float t4 = t3 * t3;
+	min16float t5 = 0.25 / t4;
+	min16float t7 = 1.0 - t3;
+	min16float t8 = t7 * t7;
+	min16float t10 = t8 * 0.9599609375;
+	min16float t11 = t8 * t10;
+	min16float t13 = mad(t7, t11, 0.040008544921875);
+	min16float t14 = t5 * t13;
 	return t14;
 }
 
@@ -84,12 +84,12 @@ half spec_ibl_diffuse_f0_040_vf(half LoH)
  * fitted domain: r in [0.05, 0.3], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: max_abs 0.0458 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = -0.8048
- *   p1 = -0.28304
- *   p2 = 0.97538
- *   p3 = 0.07509
- *   p4 = -8.1526
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = -0.8048 (-0.8046875 in half, as written below)
+ *   p1 = -0.28304 (-0.282958984 in half, as written below)
+ *   p2 = 0.97538 (0.975585938 in half, as written below)
+ *   p3 = 0.07509 (0.0750732422 in half, as written below)
+ *   p4 = -8.1526 (-8.15625 in half, as written below)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -97,15 +97,15 @@ half spec_ibl_diffuse_f0_040_vf(half LoH)
  *   exp2 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_env(half NoV, half r)
+min16float spec_ibl_diffuse_f0_040_env(min16float NoV, min16float r)
 {
-	half t3 = mad((-0.8048), r, 0.97538);
-	half t4 = t3 * t3;
-	half t7 = (-8.1526) * NoV;
-	half t8 = exp2(t7);
-	half t9 = min(t4, t8);
-	half t12 = mad(r, (-0.28304), 0.07509);
-	half t13 = mad(t3, t9, t12);
+	min16float t3 = mad((-0.8046875), r, 0.9755859375);
+	min16float t4 = t3 * t3;
+	min16float t7 = (-8.15625) * NoV;
+	min16float t8 = exp2(t7);
+	min16float t9 = min(t4, t8);
+	min16float t12 = mad(r, (-0.282958984375), 0.0750732421875);
+	min16float t13 = mad(t3, t9, t12);
 	return t13;
 }
 
@@ -120,12 +120,12 @@ half spec_ibl_diffuse_f0_040_env(half NoV, half r)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_diffuse()
+min16float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0.5, 1], NoV in [0.3, 1], f0 in [0.5, 1]
  * fitted error: guard_max_rel 0 in half on the domain (budget nan); fp16 guards: none: r >= 0.5 on this set, and half is right from r >= 0.20
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -32,7 +32,7 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 	mediump float t9 = a * t8;
 	mediump float t10 = t5 * t6 + t9;
 	mediump float t11 = t10 * t10;
-	mediump float t12 = 3.1415927 * t11;
+	mediump float t12 = 3.140625 * t11;
 	mediump float t13 = t1 / t12;
 	return t13;
 }
@@ -48,10 +48,10 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0.5, 1], NoV in [0.3, 1], f0 in [0.5, 1]
  * fitted error: albedo_max_abs 0.0347 in half on the domain (budget 0.1); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = 0.00770508114
- *   p1 = 0.325612185
- *   p2 = 3.41505062
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.00770508114 (0.00770568848 in half, as written below)
+ *   p1 = 0.325612185 (0.325683594 in half, as written below)
+ *   p2 = 3.41505062 (3.41601562 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 1
@@ -62,8 +62,8 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 mediump float spec_ibl_diffuse_anyf0_vf(mediump float LoH, mediump float a, mediump float f0)
 {
 	mediump float t3 = LoH * LoH;
-	mediump float t4 = max(0.0077050813, t3);
-	mediump float t8 = 0.3256122 * a + 3.4150505;
+	mediump float t4 = max(0.0077056884765625, t3);
+	mediump float t8 = 0.32568359375 * a + 3.416015625;
 	mediump float t9 = t4 * t8;
 	mediump float t10 = f0 / t9;
 	return t10;
@@ -80,12 +80,12 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float LoH, mediump float a, medi
  * fitted domain: r in [0.5, 1], NoV in [0.3, 1], f0 in [0.5, 1]
  * fitted error: max_abs 0.0398 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = 32.96
- *   p1 = -6.19
- *   p2 = 0.39911
- *   p3 = 0.33118
- *   p4 = 0.014
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 32.96 (32.96875 in half, as written below)
+ *   p1 = -6.19 (-6.19140625 in half, as written below)
+ *   p2 = 0.39911 (0.399169922 in half, as written below)
+ *   p3 = 0.33118 (0.331298828 in half, as written below)
+ *   p4 = 0.014 (0.013999939 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 1
@@ -98,13 +98,13 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float LoH, mediump float a, medi
 mediump float spec_ibl_diffuse_anyf0_env(mediump float NoV, mediump float r, mediump float a, mediump float f0)
 {
 	mediump float t2 = -a;
-	mediump float t6 = (-6.19) * a;
-	mediump float t7 = 32.96 * NoV + t6;
+	mediump float t6 = (-6.19140625) * a;
+	mediump float t7 = 32.96875 * NoV + t6;
 	mediump float t8 = -t7;
 	mediump float t9 = exp2(t8);
-	mediump float t13 = NoV * 0.33118 + 0.39911;
+	mediump float t13 = NoV * 0.331298828125 + 0.399169921875;
 	mediump float t14 = min(r, t13);
-	mediump float t16 = t14 - 0.014;
+	mediump float t16 = t14 - 0.01399993896484375;
 	mediump float t17 = max(t9, t16);
 	mediump float t19 = 1.0 - t9;
 	mediump float t20 = t2 * t17 + t19;
@@ -124,12 +124,12 @@ mediump float spec_ibl_diffuse_anyf0_env(mediump float NoV, mediump float r, med
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_anyf0_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -20,12 +20,12 @@
  * fitted domain: r in [0.5, 1], NoV in [0.3, 1], f0 = 0.04 (folded)
  * fitted error: max_abs 0.0075 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = -0.23684
- *   p1 = -0.065602
- *   p2 = 0.47014
- *   p3 = 0.075957
- *   p4 = -9.8045
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = -0.23684 (-0.236816406 in half, as written below)
+ *   p1 = -0.065602 (-0.065612793 in half, as written below)
+ *   p2 = 0.47014 (0.470214844 in half, as written below)
+ *   p3 = 0.075957 (0.0759277344 in half, as written below)
+ *   p4 = -9.8045 (-9.8046875 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -35,12 +35,12 @@
  */
 mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
 {
-	mediump float t3 = (-0.23684) * r + 0.47014;
+	mediump float t3 = (-0.23681640625) * r + 0.47021484375;
 	mediump float t4 = t3 * t3;
-	mediump float t7 = (-9.8045) * NoV;
+	mediump float t7 = (-9.8046875) * NoV;
 	mediump float t8 = exp2(t7);
 	mediump float t9 = min(t4, t8);
-	mediump float t12 = r * (-0.065602) + 0.075957;
+	mediump float t12 = r * (-0.06561279296875) + 0.075927734375;
 	mediump float t13 = t3 * t9 + t12;
 	return t13;
 }
@@ -56,12 +56,12 @@ mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 0 in half on the domain (budget nan); fp16 guards: none: r >= 0.4 on this set, and half is right from r >= 0.20
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -32,7 +32,7 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
 	mediump float t9 = a * t8;
 	mediump float t10 = t5 * t6 + t9;
 	mediump float t11 = t10 * t10;
-	mediump float t12 = 3.1415927 * t11;
+	mediump float t12 = 3.140625 * t11;
 	mediump float t13 = t1 / t12;
 	return t13;
 }
@@ -48,7 +48,7 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0721 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   minmax 1
@@ -57,11 +57,11 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  */
 mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
 {
-	mediump float t3 = max(LoH, 0.01);
+	mediump float t3 = max(LoH, 0.01000213623046875);
 	mediump float t5 = 4.0 * t3;
 	mediump float t6 = t3 * t5;
 	mediump float t7 = t3 * t6;
-	mediump float t8 = 0.04 / t7;
+	mediump float t8 = 0.040008544921875 / t7;
 	return t8;
 }
 
@@ -76,12 +76,12 @@ mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: max_abs 0.0417 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = -0.8017
- *   p1 = -0.01282
- *   p2 = 0.9153
- *   p3 = 0.06165
- *   p4 = -13.008
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = -0.8017 (-0.801757812 in half, as written below)
+ *   p1 = -0.01282 (-0.0128173828 in half, as written below)
+ *   p2 = 0.9153 (0.915527344 in half, as written below)
+ *   p3 = 0.06165 (0.0616455078 in half, as written below)
+ *   p4 = -13.008 (-13.0078125 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -91,12 +91,12 @@ mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH)
  */
 mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
 {
-	mediump float t3 = (-0.8017) * r + 0.9153;
+	mediump float t3 = (-0.8017578125) * r + 0.91552734375;
 	mediump float t4 = t3 * t3;
-	mediump float t7 = (-13.008) * NoV;
+	mediump float t7 = (-13.0078125) * NoV;
 	mediump float t8 = exp2(t7);
 	mediump float t9 = min(t4, t8);
-	mediump float t12 = r * (-0.01282) + 0.06165;
+	mediump float t12 = r * (-0.0128173828125) + 0.0616455078125;
 	mediump float t13 = t3 * t9 + t12;
 	return t13;
 }
@@ -112,12 +112,12 @@ mediump float spec_ibl_diffuse_f0_040_env(mediump float NoV, mediump float r)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 0 in half on the domain (budget nan); fp16 guards: none: r >= 0.4 on this set, and half is right from r >= 0.20
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -22,18 +22,18 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_D(half NoH, half a)
+min16float spec_ibl_diffuse_f0_040_D(min16float NoH, min16float a)
 {
-	half t1 = a * a;
-	half t5 = 1.0 - NoH;
-	half t6 = NoH + 1.0;
-	half t7 = NoH * NoH;
-	half t8 = a * t7;
-	half t9 = a * t8;
-	half t10 = mad(t5, t6, t9);
-	half t11 = t10 * t10;
-	half t12 = 3.1415927 * t11;
-	half t13 = t1 / t12;
+	min16float t1 = a * a;
+	min16float t5 = 1.0 - NoH;
+	min16float t6 = NoH + 1.0;
+	min16float t7 = NoH * NoH;
+	min16float t8 = a * t7;
+	min16float t9 = a * t8;
+	min16float t10 = mad(t5, t6, t9);
+	min16float t11 = t10 * t10;
+	min16float t12 = 3.140625 * t11;
+	min16float t13 = t1 / t12;
 	return t13;
 }
 
@@ -48,20 +48,20 @@ half spec_ibl_diffuse_f0_040_D(half NoH, half a)
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0721 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   minmax 1
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_vf(half LoH)
+min16float spec_ibl_diffuse_f0_040_vf(min16float LoH)
 {
-	half t3 = max(LoH, 0.01);
-	half t5 = 4.0 * t3;
-	half t6 = t3 * t5;
-	half t7 = t3 * t6;
-	half t8 = 0.04 / t7;
+	min16float t3 = max(LoH, 0.01000213623046875);
+	min16float t5 = 4.0 * t3;
+	min16float t6 = t3 * t5;
+	min16float t7 = t3 * t6;
+	min16float t8 = 0.040008544921875 / t7;
 	return t8;
 }
 
@@ -76,12 +76,12 @@ half spec_ibl_diffuse_f0_040_vf(half LoH)
  * fitted domain: r in [0.4, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: max_abs 0.0417 in half on the domain (budget 0.06); fp16 guards: none: right in half on the whole stress grid
  * parameters baked in:
- *   p0 = -0.8017
- *   p1 = -0.01282
- *   p2 = 0.9153
- *   p3 = 0.06165
- *   p4 = -13.008
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = -0.8017 (-0.801757812 in half, as written below)
+ *   p1 = -0.01282 (-0.0128173828 in half, as written below)
+ *   p2 = 0.9153 (0.915527344 in half, as written below)
+ *   p3 = 0.06165 (0.0616455078 in half, as written below)
+ *   p4 = -13.008 (-13.0078125 in half, as written below)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 2
  *   mad 3
@@ -89,15 +89,15 @@ half spec_ibl_diffuse_f0_040_vf(half LoH)
  *   exp2 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_env(half NoV, half r)
+min16float spec_ibl_diffuse_f0_040_env(min16float NoV, min16float r)
 {
-	half t3 = mad((-0.8017), r, 0.9153);
-	half t4 = t3 * t3;
-	half t7 = (-13.008) * NoV;
-	half t8 = exp2(t7);
-	half t9 = min(t4, t8);
-	half t12 = mad(r, (-0.01282), 0.06165);
-	half t13 = mad(t3, t9, t12);
+	min16float t3 = mad((-0.8017578125), r, 0.91552734375);
+	min16float t4 = t3 * t3;
+	min16float t7 = (-13.0078125) * NoV;
+	min16float t8 = exp2(t7);
+	min16float t9 = min(t4, t8);
+	min16float t12 = mad(r, (-0.0128173828125), 0.0616455078125);
+	min16float t13 = mad(t3, t9, t12);
 	return t13;
 }
 
@@ -112,12 +112,12 @@ half spec_ibl_diffuse_f0_040_env(half NoV, half r)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_diffuse()
+min16float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

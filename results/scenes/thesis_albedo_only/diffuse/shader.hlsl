@@ -14,12 +14,12 @@
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half diffuse_diffuse()
+min16float diffuse_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

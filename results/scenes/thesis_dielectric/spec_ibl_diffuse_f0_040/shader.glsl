@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -25,7 +25,7 @@
  */
 mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
 {
-	mediump float t2 = max(a, 0.040618896);
+	mediump float t2 = max(a, 0.040618896484375);
 	mediump float t3 = t2 * t2;
 	mediump float t7 = 1.0 - NoH;
 	mediump float t8 = NoH + 1.0;
@@ -34,7 +34,7 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
 	mediump float t11 = t2 * t10;
 	mediump float t12 = t7 * t8 + t11;
 	mediump float t13 = t12 * t12;
-	mediump float t14 = 3.1415927 * t13;
+	mediump float t14 = 3.140625 * t13;
 	mediump float t15 = t3 / t14;
 	return t15;
 }
@@ -50,8 +50,8 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0228 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters baked in:
- *   p0 = 0.319055627
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.319055627 (0.319091797 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 7
@@ -62,18 +62,18 @@ mediump float spec_ibl_diffuse_f0_040_D(mediump float NoH, mediump float a)
  */
 mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH, mediump float a)
 {
-	mediump float t3 = max(LoH, 0.01);
+	mediump float t3 = max(LoH, 0.01000213623046875);
 	mediump float t4 = t3 * t3;
-	mediump float t8 = 0.31905562 * a;
+	mediump float t8 = 0.319091796875 * a;
 	mediump float t9 = t8 * t8;
 	mediump float t10 = 1.0 - t9;
 	mediump float t11 = t4 * t10 + t9;
 	mediump float t12 = 0.25 / t11;
 	mediump float t13 = 1.0 - t3;
 	mediump float t14 = t13 * t13;
-	mediump float t16 = t14 * 0.96;
+	mediump float t16 = t14 * 0.9599609375;
 	mediump float t17 = t14 * t16;
-	mediump float t19 = t13 * t17 + 0.04;
+	mediump float t19 = t13 * t17 + 0.040008544921875;
 	mediump float t20 = t12 * t19;
 	return t20;
 }
@@ -94,12 +94,12 @@ mediump float spec_ibl_diffuse_f0_040_vf(mediump float LoH, mediump float a)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

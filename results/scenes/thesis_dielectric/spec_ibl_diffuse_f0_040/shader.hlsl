@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -23,19 +23,19 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_D(half NoH, half a)
+min16float spec_ibl_diffuse_f0_040_D(min16float NoH, min16float a)
 {
-	half t2 = max(a, 0.040618896);
-	half t3 = t2 * t2;
-	half t7 = 1.0 - NoH;
-	half t8 = NoH + 1.0;
-	half t9 = NoH * NoH;
-	half t10 = t2 * t9;
-	half t11 = t2 * t10;
-	half t12 = mad(t7, t8, t11);
-	half t13 = t12 * t12;
-	half t14 = 3.1415927 * t13;
-	half t15 = t3 / t14;
+	min16float t2 = max(a, 0.040618896484375);
+	min16float t3 = t2 * t2;
+	min16float t7 = 1.0 - NoH;
+	min16float t8 = NoH + 1.0;
+	min16float t9 = NoH * NoH;
+	min16float t10 = t2 * t9;
+	min16float t11 = t2 * t10;
+	min16float t12 = mad(t7, t8, t11);
+	min16float t13 = t12 * t12;
+	min16float t14 = 3.140625 * t13;
+	min16float t15 = t3 / t14;
 	return t15;
 }
 
@@ -50,8 +50,8 @@ half spec_ibl_diffuse_f0_040_D(half NoH, half a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 = 0.04 (folded)
  * fitted error: albedo_max_abs 0.0228 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters baked in:
- *   p0 = 0.319055627
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = 0.319055627 (0.319091797 in half, as written below)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 7
@@ -60,21 +60,21 @@ half spec_ibl_diffuse_f0_040_D(half NoH, half a)
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_vf(half LoH, half a)
+min16float spec_ibl_diffuse_f0_040_vf(min16float LoH, min16float a)
 {
-	half t3 = max(LoH, 0.01);
-	half t4 = t3 * t3;
-	half t8 = 0.31905562 * a;
-	half t9 = t8 * t8;
-	half t10 = 1.0 - t9;
-	half t11 = mad(t4, t10, t9);
-	half t12 = 0.25 / t11;
-	half t13 = 1.0 - t3;
-	half t14 = t13 * t13;
-	half t16 = t14 * 0.96;
-	half t17 = t14 * t16;
-	half t19 = mad(t13, t17, 0.04);
-	half t20 = t12 * t19;
+	min16float t3 = max(LoH, 0.01000213623046875);
+	min16float t4 = t3 * t3;
+	min16float t8 = 0.319091796875 * a;
+	min16float t9 = t8 * t8;
+	min16float t10 = 1.0 - t9;
+	min16float t11 = mad(t4, t10, t9);
+	min16float t12 = 0.25 / t11;
+	min16float t13 = 1.0 - t3;
+	min16float t14 = t13 * t13;
+	min16float t16 = t14 * 0.9599609375;
+	min16float t17 = t14 * t16;
+	min16float t19 = mad(t13, t17, 0.040008544921875);
+	min16float t20 = t12 * t19;
 	return t20;
 }
 
@@ -94,12 +94,12 @@ half spec_ibl_diffuse_f0_040_vf(half LoH, half a)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_f0_040_diffuse()
+min16float spec_ibl_diffuse_f0_040_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -25,7 +25,7 @@
  */
 mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 {
-	mediump float t2 = max(a, 0.040618896);
+	mediump float t2 = max(a, 0.040618896484375);
 	mediump float t3 = t2 * t2;
 	mediump float t7 = 1.0 - NoH;
 	mediump float t8 = NoH + 1.0;
@@ -34,7 +34,7 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 	mediump float t11 = t2 * t10;
 	mediump float t12 = t7 * t8 + t11;
 	mediump float t13 = t12 * t12;
-	mediump float t14 = 3.1415927 * t13;
+	mediump float t14 = 3.140625 * t13;
 	mediump float t15 = t3 / t14;
 	return t15;
 }
@@ -50,7 +50,7 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 8
@@ -62,8 +62,8 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
  */
 mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, mediump float LoH, mediump float a, mediump float f0)
 {
-	mediump float t3 = max(0.01, NoL);
-	mediump float t5 = max(NoV, 0.01);
+	mediump float t3 = max(0.01000213623046875, NoL);
+	mediump float t5 = max(NoV, 0.01000213623046875);
 	mediump float t6 = t5 * t5;
 	mediump float t9 = a * a;
 	mediump float t10 = 1.0 - t9;
@@ -75,7 +75,7 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, me
 	mediump float t16 = t5 * t15;
 	mediump float t17 = t3 * t12 + t16;
 	mediump float t18 = 0.5 / t17;
-	mediump float t20 = max(0.01, LoH);
+	mediump float t20 = max(0.01000213623046875, LoH);
 	mediump float t21 = 1.0 - t20;
 	mediump float t22 = t21 * t21;
 	mediump float t24 = 1.0 - f0;
@@ -97,21 +97,21 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, me
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: max_abs 0.922 in half on the domain (budget 0.06); fp16 guards: roughness floor r >= 1 (adds up to 0.98 relative error where
  * parameters baked in:
- *   p0 = -0.2139
- *   p1 = 2.1183
- *   p2 = 0.9141
- *   p3 = -4.5326
- *   p4 = 7.263
- *   p5 = -3.6312
- *   p6 = 0.90456
- *   p7 = 1.0299
- *   p8 = -1.2602
- *   p9 = -2.917
- *   p10 = 1.6676
- *   p11 = 0.7216
- *   p12 = 2.243
+ *   p0 = -0.2139 (-0.213867188 in half, as written below)
+ *   p1 = 2.1183 (2.11914062 in half, as written below)
+ *   p2 = 0.9141 (0.9140625 in half, as written below)
+ *   p3 = -4.5326 (-4.53125 in half, as written below)
+ *   p4 = 7.263 (7.26171875 in half, as written below)
+ *   p5 = -3.6312 (-3.63085938 in half, as written below)
+ *   p6 = 0.90456 (0.904785156 in half, as written below)
+ *   p7 = 1.0299 (1.03027344 in half, as written below)
+ *   p8 = -1.2602 (-1.25976562 in half, as written below)
+ *   p9 = -2.917 (-2.91796875 in half, as written below)
+ *   p10 = 1.6676 (1.66796875 in half, as written below)
+ *   p11 = 0.7216 (0.721679688 in half, as written below)
+ *   p12 = 2.243 (2.2421875 in half, as written below)
  *   p13 = 50
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 12
@@ -126,25 +126,25 @@ mediump float spec_ibl_diffuse_anyf0_env(mediump float NoV, mediump float r, med
 	mediump float t3 = max(1.0, r);
 	mediump float t4 = sqrt(t3);
 	mediump float t5 = 1.0 - t4;
-	mediump float t7 = t5 * 2.243;
+	mediump float t7 = t5 * 2.2421875;
 	mediump float t8 = t5 * t7;
-	mediump float t11 = NoV * 0.7216;
-	mediump float t13 = t5 * 1.6676;
-	mediump float t15 = t5 * (-2.917);
-	mediump float t19 = 1.0299 * t5 + 0.90456;
-	mediump float t20 = (-1.2602) * NoV + t19;
+	mediump float t11 = NoV * 0.7216796875;
+	mediump float t13 = t5 * 1.66796875;
+	mediump float t15 = t5 * (-2.91796875);
+	mediump float t19 = 1.0302734375 * t5 + 0.90478515625;
+	mediump float t20 = (-1.259765625) * NoV + t19;
 	mediump float t21 = t5 * t15 + t20;
 	mediump float t22 = NoV * t13 + t21;
 	mediump float t23 = NoV * t11 + t22;
 	mediump float t24 = t5 * t8 + t23;
 	mediump float t25 = clamp(t24, 0.0, 1.0);
-	mediump float t28 = t5 * 2.1183;
+	mediump float t28 = t5 * 2.119140625;
 	mediump float t29 = t5 * t28;
-	mediump float t30 = t5 * (-0.2139) + t29;
-	mediump float t32 = NoV * (-3.6312);
+	mediump float t30 = t5 * (-0.2138671875) + t29;
+	mediump float t32 = NoV * (-3.630859375);
 	mediump float t33 = NoV * t32;
-	mediump float t35 = NoV * 7.263;
-	mediump float t38 = NoV * (-4.5326) + 0.9141;
+	mediump float t35 = NoV * 7.26171875;
+	mediump float t38 = NoV * (-4.53125) + 0.9140625;
 	mediump float t39 = NoV * t35 + t38;
 	mediump float t40 = NoV * t33 + t39;
 	mediump float t41 = min(t30, t40);
@@ -168,12 +168,12 @@ mediump float spec_ibl_diffuse_anyf0_env(mediump float NoV, mediump float r, med
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_anyf0_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -23,19 +23,19 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_D(half NoH, half a)
+min16float spec_ibl_diffuse_anyf0_D(min16float NoH, min16float a)
 {
-	half t2 = max(a, 0.040618896);
-	half t3 = t2 * t2;
-	half t7 = 1.0 - NoH;
-	half t8 = NoH + 1.0;
-	half t9 = NoH * NoH;
-	half t10 = t2 * t9;
-	half t11 = t2 * t10;
-	half t12 = mad(t7, t8, t11);
-	half t13 = t12 * t12;
-	half t14 = 3.1415927 * t13;
-	half t15 = t3 / t14;
+	min16float t2 = max(a, 0.040618896484375);
+	min16float t3 = t2 * t2;
+	min16float t7 = 1.0 - NoH;
+	min16float t8 = NoH + 1.0;
+	min16float t9 = NoH * NoH;
+	min16float t10 = t2 * t9;
+	min16float t11 = t2 * t10;
+	min16float t12 = mad(t7, t8, t11);
+	min16float t13 = t12 * t12;
+	min16float t14 = 3.140625 * t13;
+	min16float t15 = t3 / t14;
 	return t15;
 }
 
@@ -50,7 +50,7 @@ half spec_ibl_diffuse_anyf0_D(half NoH, half a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.1); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 8
@@ -60,29 +60,29 @@ half spec_ibl_diffuse_anyf0_D(half NoH, half a)
  *   sqrt 2
  *   simple 18, complex 3, cost 30 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_vf(half NoV, half NoL, half LoH, half a, half f0)
+min16float spec_ibl_diffuse_anyf0_vf(min16float NoV, min16float NoL, min16float LoH, min16float a, min16float f0)
 {
-	half t3 = max(0.01, NoL);
-	half t5 = max(NoV, 0.01);
-	half t6 = t5 * t5;
-	half t9 = a * a;
-	half t10 = 1.0 - t9;
-	half t11 = mad(t6, t10, t9);
-	half t12 = sqrt(t11);
-	half t13 = t3 * t3;
-	half t14 = mad(t10, t13, t9);
-	half t15 = sqrt(t14);
-	half t16 = t5 * t15;
-	half t17 = mad(t3, t12, t16);
-	half t18 = 0.5 / t17;
-	half t20 = max(0.01, LoH);
-	half t21 = 1.0 - t20;
-	half t22 = t21 * t21;
-	half t24 = 1.0 - f0;
-	half t25 = t22 * t24;
-	half t26 = t22 * t25;
-	half t27 = mad(t21, t26, f0);
-	half t28 = t18 * t27;
+	min16float t3 = max(0.01000213623046875, NoL);
+	min16float t5 = max(NoV, 0.01000213623046875);
+	min16float t6 = t5 * t5;
+	min16float t9 = a * a;
+	min16float t10 = 1.0 - t9;
+	min16float t11 = mad(t6, t10, t9);
+	min16float t12 = sqrt(t11);
+	min16float t13 = t3 * t3;
+	min16float t14 = mad(t10, t13, t9);
+	min16float t15 = sqrt(t14);
+	min16float t16 = t5 * t15;
+	min16float t17 = mad(t3, t12, t16);
+	min16float t18 = 0.5 / t17;
+	min16float t20 = max(0.01000213623046875, LoH);
+	min16float t21 = 1.0 - t20;
+	min16float t22 = t21 * t21;
+	min16float t24 = 1.0 - f0;
+	min16float t25 = t22 * t24;
+	min16float t26 = t22 * t25;
+	min16float t27 = mad(t21, t26, f0);
+	min16float t28 = t18 * t27;
 	return t28;
 }
 
@@ -97,21 +97,21 @@ half spec_ibl_diffuse_anyf0_vf(half NoV, half NoL, half LoH, half a, half f0)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: max_abs 0.922 in half on the domain (budget 0.06); fp16 guards: roughness floor r >= 1 (adds up to 0.98 relative error where
  * parameters baked in:
- *   p0 = -0.2139
- *   p1 = 2.1183
- *   p2 = 0.9141
- *   p3 = -4.5326
- *   p4 = 7.263
- *   p5 = -3.6312
- *   p6 = 0.90456
- *   p7 = 1.0299
- *   p8 = -1.2602
- *   p9 = -2.917
- *   p10 = 1.6676
- *   p11 = 0.7216
- *   p12 = 2.243
+ *   p0 = -0.2139 (-0.213867188 in half, as written below)
+ *   p1 = 2.1183 (2.11914062 in half, as written below)
+ *   p2 = 0.9141 (0.9140625 in half, as written below)
+ *   p3 = -4.5326 (-4.53125 in half, as written below)
+ *   p4 = 7.263 (7.26171875 in half, as written below)
+ *   p5 = -3.6312 (-3.63085938 in half, as written below)
+ *   p6 = 0.90456 (0.904785156 in half, as written below)
+ *   p7 = 1.0299 (1.03027344 in half, as written below)
+ *   p8 = -1.2602 (-1.25976562 in half, as written below)
+ *   p9 = -2.917 (-2.91796875 in half, as written below)
+ *   p10 = 1.6676 (1.66796875 in half, as written below)
+ *   p11 = 0.7216 (0.721679688 in half, as written below)
+ *   p12 = 2.243 (2.2421875 in half, as written below)
  *   p13 = 50
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 12
@@ -121,39 +121,39 @@ half spec_ibl_diffuse_anyf0_vf(half NoV, half NoL, half LoH, half a, half f0)
  *   sqrt 1
  *   simple 30, complex 1, cost 34 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_env(half NoV, half r, half f0)
+min16float spec_ibl_diffuse_anyf0_env(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = max(1.0, r);
-	half t4 = sqrt(t3);
-	half t5 = 1.0 - t4;
-	half t7 = t5 * 2.243;
-	half t8 = t5 * t7;
-	half t11 = NoV * 0.7216;
-	half t13 = t5 * 1.6676;
-	half t15 = t5 * (-2.917);
-	half t19 = mad(1.0299, t5, 0.90456);
-	half t20 = mad((-1.2602), NoV, t19);
-	half t21 = mad(t5, t15, t20);
-	half t22 = mad(NoV, t13, t21);
-	half t23 = mad(NoV, t11, t22);
-	half t24 = mad(t5, t8, t23);
-	half t25 = saturate(t24);
-	half t28 = t5 * 2.1183;
-	half t29 = t5 * t28;
-	half t30 = mad(t5, (-0.2139), t29);
-	half t32 = NoV * (-3.6312);
-	half t33 = NoV * t32;
-	half t35 = NoV * 7.263;
-	half t38 = mad(NoV, (-4.5326), 0.9141);
-	half t39 = mad(NoV, t35, t38);
-	half t40 = mad(NoV, t33, t39);
-	half t41 = min(t30, t40);
-	half t42 = saturate(t41);
-	half t43 = t25 - t42;
-	half t45 = f0 * 5e+01;
-	half t46 = saturate(t45);
-	half t47 = t42 * t46;
-	half t48 = mad(f0, t43, t47);
+	min16float t3 = max(1.0, r);
+	min16float t4 = sqrt(t3);
+	min16float t5 = 1.0 - t4;
+	min16float t7 = t5 * 2.2421875;
+	min16float t8 = t5 * t7;
+	min16float t11 = NoV * 0.7216796875;
+	min16float t13 = t5 * 1.66796875;
+	min16float t15 = t5 * (-2.91796875);
+	min16float t19 = mad(1.0302734375, t5, 0.90478515625);
+	min16float t20 = mad((-1.259765625), NoV, t19);
+	min16float t21 = mad(t5, t15, t20);
+	min16float t22 = mad(NoV, t13, t21);
+	min16float t23 = mad(NoV, t11, t22);
+	min16float t24 = mad(t5, t8, t23);
+	min16float t25 = saturate(t24);
+	min16float t28 = t5 * 2.119140625;
+	min16float t29 = t5 * t28;
+	min16float t30 = mad(t5, (-0.2138671875), t29);
+	min16float t32 = NoV * (-3.630859375);
+	min16float t33 = NoV * t32;
+	min16float t35 = NoV * 7.26171875;
+	min16float t38 = mad(NoV, (-4.53125), 0.9140625);
+	min16float t39 = mad(NoV, t35, t38);
+	min16float t40 = mad(NoV, t33, t39);
+	min16float t41 = min(t30, t40);
+	min16float t42 = saturate(t41);
+	min16float t43 = t25 - t42;
+	min16float t45 = f0 * 5e+01;
+	min16float t46 = saturate(t45);
+	min16float t47 = t42 * t46;
+	min16float t48 = mad(f0, t43, t47);
 	return t48;
 }
 
@@ -168,12 +168,12 @@ half spec_ibl_diffuse_anyf0_env(half NoV, half r, half f0)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_diffuse()
+min16float spec_ibl_diffuse_anyf0_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -25,7 +25,7 @@
  */
 mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 {
-	mediump float t2 = max(a, 0.040618896);
+	mediump float t2 = max(a, 0.040618896484375);
 	mediump float t3 = t2 * t2;
 	mediump float t7 = 1.0 - NoH;
 	mediump float t8 = NoH + 1.0;
@@ -34,7 +34,7 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
 	mediump float t11 = t2 * t10;
 	mediump float t12 = t7 * t8 + t11;
 	mediump float t13 = t12 * t12;
-	mediump float t14 = 3.1415927 * t13;
+	mediump float t14 = 3.140625 * t13;
 	mediump float t15 = t3 / t14;
 	return t15;
 }
@@ -50,7 +50,7 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.00461); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 8
@@ -62,8 +62,8 @@ mediump float spec_ibl_diffuse_anyf0_D(mediump float NoH, mediump float a)
  */
 mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, mediump float LoH, mediump float a, mediump float f0)
 {
-	mediump float t3 = max(0.01, NoL);
-	mediump float t5 = max(NoV, 0.01);
+	mediump float t3 = max(0.01000213623046875, NoL);
+	mediump float t5 = max(NoV, 0.01000213623046875);
 	mediump float t6 = t5 * t5;
 	mediump float t9 = a * a;
 	mediump float t10 = 1.0 - t9;
@@ -75,7 +75,7 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, me
 	mediump float t16 = t5 * t15;
 	mediump float t17 = t3 * t12 + t16;
 	mediump float t18 = 0.5 / t17;
-	mediump float t20 = max(0.01, LoH);
+	mediump float t20 = max(0.01000213623046875, LoH);
 	mediump float t21 = 1.0 - t20;
 	mediump float t22 = t21 * t21;
 	mediump float t24 = 1.0 - f0;
@@ -102,12 +102,12 @@ mediump float spec_ibl_diffuse_anyf0_vf(mediump float NoV, mediump float NoL, me
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 mediump float spec_ibl_diffuse_anyf0_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

@@ -14,7 +14,7 @@
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: guard_max_rel 2.37e+05 in half on the domain (budget nan); fp16 guards: roughness floor r >= 0.2015 (adds up to 2.37e+05 relative er
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 6
@@ -23,19 +23,19 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_D(half NoH, half a)
+min16float spec_ibl_diffuse_anyf0_D(min16float NoH, min16float a)
 {
-	half t2 = max(a, 0.040618896);
-	half t3 = t2 * t2;
-	half t7 = 1.0 - NoH;
-	half t8 = NoH + 1.0;
-	half t9 = NoH * NoH;
-	half t10 = t2 * t9;
-	half t11 = t2 * t10;
-	half t12 = mad(t7, t8, t11);
-	half t13 = t12 * t12;
-	half t14 = 3.1415927 * t13;
-	half t15 = t3 / t14;
+	min16float t2 = max(a, 0.040618896484375);
+	min16float t3 = t2 * t2;
+	min16float t7 = 1.0 - NoH;
+	min16float t8 = NoH + 1.0;
+	min16float t9 = NoH * NoH;
+	min16float t10 = t2 * t9;
+	min16float t11 = t2 * t10;
+	min16float t12 = mad(t7, t8, t11);
+	min16float t13 = t12 * t12;
+	min16float t14 = 3.140625 * t13;
+	min16float t15 = t3 / t14;
 	return t15;
 }
 
@@ -50,7 +50,7 @@ half spec_ibl_diffuse_anyf0_D(half NoH, half a)
  * fitted domain: r in [0, 1], NoV in [0, 1], f0 in [0.02, 1]
  * fitted error: albedo_max_abs 0.00461 in half on the domain (budget 0.00461); fp16 guards: cosines floored at 0.01 (half is right from r >= 0 with it; 
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 8
@@ -60,29 +60,29 @@ half spec_ibl_diffuse_anyf0_D(half NoH, half a)
  *   sqrt 2
  *   simple 18, complex 3, cost 30 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_vf(half NoV, half NoL, half LoH, half a, half f0)
+min16float spec_ibl_diffuse_anyf0_vf(min16float NoV, min16float NoL, min16float LoH, min16float a, min16float f0)
 {
-	half t3 = max(0.01, NoL);
-	half t5 = max(NoV, 0.01);
-	half t6 = t5 * t5;
-	half t9 = a * a;
-	half t10 = 1.0 - t9;
-	half t11 = mad(t6, t10, t9);
-	half t12 = sqrt(t11);
-	half t13 = t3 * t3;
-	half t14 = mad(t10, t13, t9);
-	half t15 = sqrt(t14);
-	half t16 = t5 * t15;
-	half t17 = mad(t3, t12, t16);
-	half t18 = 0.5 / t17;
-	half t20 = max(0.01, LoH);
-	half t21 = 1.0 - t20;
-	half t22 = t21 * t21;
-	half t24 = 1.0 - f0;
-	half t25 = t22 * t24;
-	half t26 = t22 * t25;
-	half t27 = mad(t21, t26, f0);
-	half t28 = t18 * t27;
+	min16float t3 = max(0.01000213623046875, NoL);
+	min16float t5 = max(NoV, 0.01000213623046875);
+	min16float t6 = t5 * t5;
+	min16float t9 = a * a;
+	min16float t10 = 1.0 - t9;
+	min16float t11 = mad(t6, t10, t9);
+	min16float t12 = sqrt(t11);
+	min16float t13 = t3 * t3;
+	min16float t14 = mad(t10, t13, t9);
+	min16float t15 = sqrt(t14);
+	min16float t16 = t5 * t15;
+	min16float t17 = mad(t3, t12, t16);
+	min16float t18 = 0.5 / t17;
+	min16float t20 = max(0.01000213623046875, LoH);
+	min16float t21 = 1.0 - t20;
+	min16float t22 = t21 * t21;
+	min16float t24 = 1.0 - f0;
+	min16float t25 = t22 * t24;
+	min16float t26 = t22 * t25;
+	min16float t27 = mad(t21, t26, f0);
+	min16float t28 = t18 * t27;
 	return t28;
 }
 
@@ -102,12 +102,12 @@ half spec_ibl_diffuse_anyf0_vf(half NoV, half NoL, half LoH, half a, half f0)
  * fitted domain: not fitted
  * fitted error: exact
  * parameters: none
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half spec_ibl_diffuse_anyf0_diffuse()
+min16float spec_ibl_diffuse_anyf0_diffuse()
 {
-	return 0.31830987;
+	return 0.318359375;
 }
 

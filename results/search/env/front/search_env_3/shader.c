@@ -21,12 +21,15 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_3_A(float NoV, float a)
+static inline float search_env_3_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_3_A_p0 = 0.6747f;
+	const float search_env_3_A_p1 = 1.258f;
 	float t2 = -a;
 	float t4 = fminf(a, NoV);
-	float t6 = t2 * t4 + 1.258f;
-	float t7 = 0.6747f * t6;
+	float t6 = t2 * t4 + search_env_3_A_p1;
+	float t7 = search_env_3_A_p0 * t6;
 	return t7;
 }
 
@@ -51,7 +54,18 @@ static inline float search_env_3_A(float NoV, float a)
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_3_B(void)
+static inline float search_env_3_B(float NoV, float r)
 {
-	return 0.06774f;
+	(void)NoV;
+	(void)r;
+	const float search_env_3_B_p2 = 0.06774f;
+	return search_env_3_B_p2;
+}
+
+/* search_env_3: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_3_A and search_env_3_B). */
+static inline void search_env_3(float NoV, float r, float *A, float *B)
+{
+	*A = search_env_3_A(NoV, r);
+	*B = search_env_3_B(NoV, r);
 }

@@ -18,12 +18,15 @@
  *   minmax 1
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_env_3_A(highp float NoV, highp float a)
+highp float search_env_3_A(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_3_A_p0 = 0.6747;
+	const highp float search_env_3_A_p1 = 1.258;
 	highp float t2 = -a;
 	highp float t4 = min(a, NoV);
-	highp float t6 = t2 * t4 + 1.258;
-	highp float t7 = 0.6747 * t6;
+	highp float t6 = t2 * t4 + search_env_3_A_p1;
+	highp float t7 = search_env_3_A_p0 * t6;
 	return t7;
 }
 
@@ -45,7 +48,15 @@ highp float search_env_3_A(highp float NoV, highp float a)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float search_env_3_B()
+highp float search_env_3_B(highp float NoV, highp float r)
 {
-	return 0.06774;
+	const highp float search_env_3_B_p2 = 0.06774;
+	return search_env_3_B_p2;
+}
+
+/* search_env_3: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_3_A and search_env_3_B). */
+highp vec2 search_env_3(highp float NoV, highp float r)
+{
+	return vec2(search_env_3_A(NoV, r), search_env_3_B(NoV, r));
 }

@@ -18,12 +18,15 @@
  *   minmax 1
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-float search_env_3_A(float NoV, float a)
+float search_env_3_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_3_A_p0 = 0.6747;
+	const float search_env_3_A_p1 = 1.258;
 	float t2 = -a;
 	float t4 = min(a, NoV);
-	float t6 = mad(t2, t4, 1.258);
-	float t7 = 0.6747 * t6;
+	float t6 = mad(t2, t4, search_env_3_A_p1);
+	float t7 = search_env_3_A_p0 * t6;
 	return t7;
 }
 
@@ -45,7 +48,15 @@ float search_env_3_A(float NoV, float a)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float search_env_3_B()
+float search_env_3_B(float NoV, float r)
 {
-	return 0.06774;
+	const float search_env_3_B_p2 = 0.06774;
+	return search_env_3_B_p2;
+}
+
+/* search_env_3: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_3_A and search_env_3_B). */
+float2 search_env_3(float NoV, float r)
+{
+	return float2(search_env_3_A(NoV, r), search_env_3_B(NoV, r));
 }

@@ -21,12 +21,15 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_4_A(float NoV, float a)
+static inline float search_env_4_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_4_A_p0 = 0.6363f;
+	const float search_env_4_A_p1 = 1.3421f;
 	float t4 = a * a;
 	float t5 = fminf(NoV, t4);
-	float t6 = 1.3421f - t5;
-	float t7 = 0.6363f * t6;
+	float t6 = search_env_4_A_p1 - t5;
+	float t7 = search_env_4_A_p0 * t6;
 	return t7;
 }
 
@@ -51,7 +54,18 @@ static inline float search_env_4_A(float NoV, float a)
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_4_B(void)
+static inline float search_env_4_B(float NoV, float r)
 {
-	return 0.06774f;
+	(void)NoV;
+	(void)r;
+	const float search_env_4_B_p2 = 0.06774f;
+	return search_env_4_B_p2;
+}
+
+/* search_env_4: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_4_A and search_env_4_B). */
+static inline void search_env_4(float NoV, float r, float *A, float *B)
+{
+	*A = search_env_4_A(NoV, r);
+	*B = search_env_4_B(NoV, r);
 }

@@ -18,12 +18,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_env_4_A(float NoV, float a)
+float search_env_4_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_4_A_p0 = 0.6363;
+	const float search_env_4_A_p1 = 1.3421;
 	float t4 = a * a;
 	float t5 = min(NoV, t4);
-	float t6 = 1.3421 - t5;
-	float t7 = 0.6363 * t6;
+	float t6 = search_env_4_A_p1 - t5;
+	float t7 = search_env_4_A_p0 * t6;
 	return t7;
 }
 
@@ -45,7 +48,15 @@ float search_env_4_A(float NoV, float a)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float search_env_4_B()
+float search_env_4_B(float NoV, float r)
 {
-	return 0.06774;
+	const float search_env_4_B_p2 = 0.06774;
+	return search_env_4_B_p2;
+}
+
+/* search_env_4: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_4_A and search_env_4_B). */
+float2 search_env_4(float NoV, float r)
+{
+	return float2(search_env_4_A(NoV, r), search_env_4_B(NoV, r));
 }

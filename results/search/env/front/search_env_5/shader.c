@@ -20,13 +20,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_5_A(float NoV, float r, float a)
+static inline float search_env_5_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_5_A_p0 = 0.35005f;
+	const float search_env_5_A_p1 = 1.6717f;
 	float t3 = -NoV;
 	float t5 = a * t3 + 1.0f;
-	float t8 = r * t5 + 1.6717f;
+	float t8 = r * t5 + search_env_5_A_p1;
 	float t9 = t5 * t8 + NoV;
-	float t10 = 0.35005f * t9;
+	float t10 = search_env_5_A_p0 * t9;
 	return t10;
 }
 
@@ -52,8 +55,18 @@ static inline float search_env_5_A(float NoV, float r, float a)
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_5_B(float r)
+static inline float search_env_5_B(float NoV, float r)
 {
-	float t2 = 0.0557f * r;
+	(void)NoV;
+	const float search_env_5_B_p2 = 0.0557f;
+	float t2 = search_env_5_B_p2 * r;
 	return t2;
+}
+
+/* search_env_5: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_5_A and search_env_5_B). */
+static inline void search_env_5(float NoV, float r, float *A, float *B)
+{
+	*A = search_env_5_A(NoV, r);
+	*B = search_env_5_B(NoV, r);
 }

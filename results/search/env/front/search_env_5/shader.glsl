@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_env_5_A(highp float NoV, highp float r, highp float a)
+highp float search_env_5_A(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_5_A_p0 = 0.35005;
+	const highp float search_env_5_A_p1 = 1.6717;
 	highp float t3 = -NoV;
 	highp float t5 = a * t3 + 1.0;
-	highp float t8 = r * t5 + 1.6717;
+	highp float t8 = r * t5 + search_env_5_A_p1;
 	highp float t9 = t5 * t8 + NoV;
-	highp float t10 = 0.35005 * t9;
+	highp float t10 = search_env_5_A_p0 * t9;
 	return t10;
 }
 
@@ -46,8 +49,16 @@ highp float search_env_5_A(highp float NoV, highp float r, highp float a)
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-highp float search_env_5_B(highp float r)
+highp float search_env_5_B(highp float NoV, highp float r)
 {
-	highp float t2 = 0.0557 * r;
+	const highp float search_env_5_B_p2 = 0.0557;
+	highp float t2 = search_env_5_B_p2 * r;
 	return t2;
+}
+
+/* search_env_5: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_5_A and search_env_5_B). */
+highp vec2 search_env_5(highp float NoV, highp float r)
+{
+	return vec2(search_env_5_A(NoV, r), search_env_5_B(NoV, r));
 }

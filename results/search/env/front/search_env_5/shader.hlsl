@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_env_5_A(float NoV, float r, float a)
+float search_env_5_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_5_A_p0 = 0.35005;
+	const float search_env_5_A_p1 = 1.6717;
 	float t3 = -NoV;
 	float t5 = mad(a, t3, 1.0);
-	float t8 = mad(r, t5, 1.6717);
+	float t8 = mad(r, t5, search_env_5_A_p1);
 	float t9 = mad(t5, t8, NoV);
-	float t10 = 0.35005 * t9;
+	float t10 = search_env_5_A_p0 * t9;
 	return t10;
 }
 
@@ -46,8 +49,16 @@ float search_env_5_A(float NoV, float r, float a)
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-float search_env_5_B(float r)
+float search_env_5_B(float NoV, float r)
 {
-	float t2 = 0.0557 * r;
+	const float search_env_5_B_p2 = 0.0557;
+	float t2 = search_env_5_B_p2 * r;
 	return t2;
+}
+
+/* search_env_5: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_5_A and search_env_5_B). */
+float2 search_env_5(float NoV, float r)
+{
+	return float2(search_env_5_A(NoV, r), search_env_5_B(NoV, r));
 }

@@ -20,13 +20,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_6_A(float NoV, float r, float a)
+static inline float search_env_6_A(float NoV, float r)
 {
-	float t4 = NoV * r + 2.5896f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_A_p0 = 0.27205f;
+	const float search_env_6_A_p1 = 2.5896f;
+	float t4 = NoV * r + search_env_6_A_p1;
 	float t6 = -NoV;
 	float t8 = a * t6 + 1.0f;
 	float t9 = t4 * t8 + NoV;
-	float t10 = 0.27205f * t9;
+	float t10 = search_env_6_A_p0 * t9;
 	return t10;
 }
 
@@ -53,9 +56,19 @@ static inline float search_env_6_A(float NoV, float r, float a)
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_6_B(float NoV)
+static inline float search_env_6_B(float NoV, float r)
 {
+	(void)r;
+	const float search_env_6_B_p2 = (-0.16915f);
 	float t3 = (-1.0f) + NoV;
-	float t4 = (-0.16915f) * t3;
+	float t4 = search_env_6_B_p2 * t3;
 	return t4;
+}
+
+/* search_env_6: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_6_A and search_env_6_B). */
+static inline void search_env_6(float NoV, float r, float *A, float *B)
+{
+	*A = search_env_6_A(NoV, r);
+	*B = search_env_6_B(NoV, r);
 }

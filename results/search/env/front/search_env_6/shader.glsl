@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_env_6_A(highp float NoV, highp float r, highp float a)
+highp float search_env_6_A(highp float NoV, highp float r)
 {
-	highp float t4 = NoV * r + 2.5896;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_6_A_p0 = 0.27205;
+	const highp float search_env_6_A_p1 = 2.5896;
+	highp float t4 = NoV * r + search_env_6_A_p1;
 	highp float t6 = -NoV;
 	highp float t8 = a * t6 + 1.0;
 	highp float t9 = t4 * t8 + NoV;
-	highp float t10 = 0.27205 * t9;
+	highp float t10 = search_env_6_A_p0 * t9;
 	return t10;
 }
 
@@ -47,9 +50,17 @@ highp float search_env_6_A(highp float NoV, highp float r, highp float a)
  *   mul 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float search_env_6_B(highp float NoV)
+highp float search_env_6_B(highp float NoV, highp float r)
 {
+	const highp float search_env_6_B_p2 = (-0.16915);
 	highp float t3 = (-1.0) + NoV;
-	highp float t4 = (-0.16915) * t3;
+	highp float t4 = search_env_6_B_p2 * t3;
 	return t4;
+}
+
+/* search_env_6: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_6_A and search_env_6_B). */
+highp vec2 search_env_6(highp float NoV, highp float r)
+{
+	return vec2(search_env_6_A(NoV, r), search_env_6_B(NoV, r));
 }

@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_env_6_A(float NoV, float r, float a)
+float search_env_6_A(float NoV, float r)
 {
-	float t4 = mad(NoV, r, 2.5896);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_A_p0 = 0.27205;
+	const float search_env_6_A_p1 = 2.5896;
+	float t4 = mad(NoV, r, search_env_6_A_p1);
 	float t6 = -NoV;
 	float t8 = mad(a, t6, 1.0);
 	float t9 = mad(t4, t8, NoV);
-	float t10 = 0.27205 * t9;
+	float t10 = search_env_6_A_p0 * t9;
 	return t10;
 }
 
@@ -47,9 +50,17 @@ float search_env_6_A(float NoV, float r, float a)
  *   mul 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float search_env_6_B(float NoV)
+float search_env_6_B(float NoV, float r)
 {
+	const float search_env_6_B_p2 = (-0.16915);
 	float t3 = (-1.0) + NoV;
-	float t4 = (-0.16915) * t3;
+	float t4 = search_env_6_B_p2 * t3;
 	return t4;
+}
+
+/* search_env_6: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_6_A and search_env_6_B). */
+float2 search_env_6(float NoV, float r)
+{
+	return float2(search_env_6_A(NoV, r), search_env_6_B(NoV, r));
 }

@@ -20,13 +20,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_8_A(float NoV, float r, float a)
+static inline float search_env_8_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_A_p0 = 0.35005f;
+	const float search_env_8_A_p1 = 1.6717f;
 	float t3 = -NoV;
 	float t5 = a * t3 + 1.0f;
-	float t8 = r * t5 + 1.6717f;
+	float t8 = r * t5 + search_env_8_A_p1;
 	float t9 = t5 * t8 + NoV;
-	float t10 = 0.35005f * t9;
+	float t10 = search_env_8_A_p0 * t9;
 	return t10;
 }
 
@@ -55,9 +58,18 @@ static inline float search_env_8_A(float NoV, float r, float a)
 #include <math.h>
 static inline float search_env_8_B(float NoV, float r)
 {
+	const float search_env_8_B_p2 = 0.37079f;
 	float t3 = (-1.0f) + NoV;
 	float t5 = (-1.0f) + r;
 	float t6 = t3 * t5;
-	float t7 = 0.37079f * t6;
+	float t7 = search_env_8_B_p2 * t6;
 	return t7;
+}
+
+/* search_env_8: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_8_A and search_env_8_B). */
+static inline void search_env_8(float NoV, float r, float *A, float *B)
+{
+	*A = search_env_8_A(NoV, r);
+	*B = search_env_8_B(NoV, r);
 }

@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_env_8_A(highp float NoV, highp float r, highp float a)
+highp float search_env_8_A(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_8_A_p0 = 0.35005;
+	const highp float search_env_8_A_p1 = 1.6717;
 	highp float t3 = -NoV;
 	highp float t5 = a * t3 + 1.0;
-	highp float t8 = r * t5 + 1.6717;
+	highp float t8 = r * t5 + search_env_8_A_p1;
 	highp float t9 = t5 * t8 + NoV;
-	highp float t10 = 0.35005 * t9;
+	highp float t10 = search_env_8_A_p0 * t9;
 	return t10;
 }
 
@@ -49,9 +52,17 @@ highp float search_env_8_A(highp float NoV, highp float r, highp float a)
  */
 highp float search_env_8_B(highp float NoV, highp float r)
 {
+	const highp float search_env_8_B_p2 = 0.37079;
 	highp float t3 = (-1.0) + NoV;
 	highp float t5 = (-1.0) + r;
 	highp float t6 = t3 * t5;
-	highp float t7 = 0.37079 * t6;
+	highp float t7 = search_env_8_B_p2 * t6;
 	return t7;
+}
+
+/* search_env_8: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_8_A and search_env_8_B). */
+highp vec2 search_env_8(highp float NoV, highp float r)
+{
+	return vec2(search_env_8_A(NoV, r), search_env_8_B(NoV, r));
 }

@@ -17,13 +17,16 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_env_8_A(float NoV, float r, float a)
+float search_env_8_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_A_p0 = 0.35005;
+	const float search_env_8_A_p1 = 1.6717;
 	float t3 = -NoV;
 	float t5 = mad(a, t3, 1.0);
-	float t8 = mad(r, t5, 1.6717);
+	float t8 = mad(r, t5, search_env_8_A_p1);
 	float t9 = mad(t5, t8, NoV);
-	float t10 = 0.35005 * t9;
+	float t10 = search_env_8_A_p0 * t9;
 	return t10;
 }
 
@@ -49,9 +52,17 @@ float search_env_8_A(float NoV, float r, float a)
  */
 float search_env_8_B(float NoV, float r)
 {
+	const float search_env_8_B_p2 = 0.37079;
 	float t3 = (-1.0) + NoV;
 	float t5 = (-1.0) + r;
 	float t6 = t3 * t5;
-	float t7 = 0.37079 * t6;
+	float t7 = search_env_8_B_p2 * t6;
 	return t7;
+}
+
+/* search_env_8: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see search_env_8_A and search_env_8_B). */
+float2 search_env_8(float NoV, float r)
+{
+	return float2(search_env_8_A(NoV, r), search_env_8_B(NoV, r));
 }

@@ -32,15 +32,23 @@
 #include <math.h>
 static inline float seed_env_karis2014_split_A(float NoV, float r)
 {
-	float t4 = (-2.0363f) * r + 1.42185f;
+	const float seed_env_karis2014_split_A_p0 = (-2.0363f);
+	const float seed_env_karis2014_split_A_p1 = 0.00023283454f;
+	const float seed_env_karis2014_split_A_p2 = (-0.65099f);
+	const float seed_env_karis2014_split_A_p4 = 1.42185f;
+	const float seed_env_karis2014_split_A_p5 = 0.0013329933f;
+	const float seed_env_karis2014_split_A_p6 = 1.15653f;
+	const float seed_env_karis2014_split_A_p8 = (-7.1974f);
+	const float seed_env_karis2014_split_A_p9 = (-0.86932f);
+	float t4 = seed_env_karis2014_split_A_p0 * r + seed_env_karis2014_split_A_p4;
 	float t5 = t4 * t4;
-	float t8 = (-7.1974f) * NoV;
+	float t8 = seed_env_karis2014_split_A_p8 * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.00023283454f + 0.0013329933f;
+	float t13 = r * seed_env_karis2014_split_A_p1 + seed_env_karis2014_split_A_p5;
 	float t14 = t4 * t10 + t13;
-	float t17 = r * (-0.65099f) + 1.15653f;
-	float t18 = (-0.86932f) * t14 + t17;
+	float t17 = r * seed_env_karis2014_split_A_p2 + seed_env_karis2014_split_A_p6;
+	float t18 = seed_env_karis2014_split_A_p9 * t14 + t17;
 	return t18;
 }
 
@@ -79,14 +87,30 @@ static inline float seed_env_karis2014_split_A(float NoV, float r)
 #include <math.h>
 static inline float seed_env_karis2014_split_B(float NoV, float r)
 {
-	float t4 = (-2.0363f) * r + 1.42185f;
+	const float seed_env_karis2014_split_B_p0 = (-2.0363f);
+	const float seed_env_karis2014_split_B_p1 = 0.00023283454f;
+	const float seed_env_karis2014_split_B_p3 = 0.08009f;
+	const float seed_env_karis2014_split_B_p4 = 1.42185f;
+	const float seed_env_karis2014_split_B_p5 = 0.0013329933f;
+	const float seed_env_karis2014_split_B_p7 = (-0.03062f);
+	const float seed_env_karis2014_split_B_p8 = (-7.1974f);
+	const float seed_env_karis2014_split_B_p10 = 0.7345f;
+	float t4 = seed_env_karis2014_split_B_p0 * r + seed_env_karis2014_split_B_p4;
 	float t5 = t4 * t4;
-	float t8 = (-7.1974f) * NoV;
+	float t8 = seed_env_karis2014_split_B_p8 * NoV;
 	float t9 = exp2f(t8);
 	float t10 = fminf(t5, t9);
-	float t13 = r * 0.00023283454f + 0.0013329933f;
+	float t13 = r * seed_env_karis2014_split_B_p1 + seed_env_karis2014_split_B_p5;
 	float t14 = t4 * t10 + t13;
-	float t17 = r * 0.08009f + (-0.03062f);
-	float t18 = 0.7345f * t14 + t17;
+	float t17 = r * seed_env_karis2014_split_B_p3 + seed_env_karis2014_split_B_p7;
+	float t18 = seed_env_karis2014_split_B_p10 * t14 + t17;
 	return t18;
+}
+
+/* seed_env_karis2014_split: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_karis2014_split_A and seed_env_karis2014_split_B). */
+static inline void seed_env_karis2014_split(float NoV, float r, float *A, float *B)
+{
+	*A = seed_env_karis2014_split_A(NoV, r);
+	*B = seed_env_karis2014_split_B(NoV, r);
 }

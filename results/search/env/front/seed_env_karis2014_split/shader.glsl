@@ -29,15 +29,23 @@
  */
 highp float seed_env_karis2014_split_A(highp float NoV, highp float r)
 {
-	highp float t4 = (-2.0363) * r + 1.42185;
+	const highp float seed_env_karis2014_split_A_p0 = (-2.0363);
+	const highp float seed_env_karis2014_split_A_p1 = 0.00023283454;
+	const highp float seed_env_karis2014_split_A_p2 = (-0.65099);
+	const highp float seed_env_karis2014_split_A_p4 = 1.42185;
+	const highp float seed_env_karis2014_split_A_p5 = 0.0013329933;
+	const highp float seed_env_karis2014_split_A_p6 = 1.15653;
+	const highp float seed_env_karis2014_split_A_p8 = (-7.1974);
+	const highp float seed_env_karis2014_split_A_p9 = (-0.86932);
+	highp float t4 = seed_env_karis2014_split_A_p0 * r + seed_env_karis2014_split_A_p4;
 	highp float t5 = t4 * t4;
-	highp float t8 = (-7.1974) * NoV;
+	highp float t8 = seed_env_karis2014_split_A_p8 * NoV;
 	highp float t9 = exp2(t8);
 	highp float t10 = min(t5, t9);
-	highp float t13 = r * 0.00023283454 + 0.0013329933;
+	highp float t13 = r * seed_env_karis2014_split_A_p1 + seed_env_karis2014_split_A_p5;
 	highp float t14 = t4 * t10 + t13;
-	highp float t17 = r * (-0.65099) + 1.15653;
-	highp float t18 = (-0.86932) * t14 + t17;
+	highp float t17 = r * seed_env_karis2014_split_A_p2 + seed_env_karis2014_split_A_p6;
+	highp float t18 = seed_env_karis2014_split_A_p9 * t14 + t17;
 	return t18;
 }
 
@@ -73,14 +81,29 @@ highp float seed_env_karis2014_split_A(highp float NoV, highp float r)
  */
 highp float seed_env_karis2014_split_B(highp float NoV, highp float r)
 {
-	highp float t4 = (-2.0363) * r + 1.42185;
+	const highp float seed_env_karis2014_split_B_p0 = (-2.0363);
+	const highp float seed_env_karis2014_split_B_p1 = 0.00023283454;
+	const highp float seed_env_karis2014_split_B_p3 = 0.08009;
+	const highp float seed_env_karis2014_split_B_p4 = 1.42185;
+	const highp float seed_env_karis2014_split_B_p5 = 0.0013329933;
+	const highp float seed_env_karis2014_split_B_p7 = (-0.03062);
+	const highp float seed_env_karis2014_split_B_p8 = (-7.1974);
+	const highp float seed_env_karis2014_split_B_p10 = 0.7345;
+	highp float t4 = seed_env_karis2014_split_B_p0 * r + seed_env_karis2014_split_B_p4;
 	highp float t5 = t4 * t4;
-	highp float t8 = (-7.1974) * NoV;
+	highp float t8 = seed_env_karis2014_split_B_p8 * NoV;
 	highp float t9 = exp2(t8);
 	highp float t10 = min(t5, t9);
-	highp float t13 = r * 0.00023283454 + 0.0013329933;
+	highp float t13 = r * seed_env_karis2014_split_B_p1 + seed_env_karis2014_split_B_p5;
 	highp float t14 = t4 * t10 + t13;
-	highp float t17 = r * 0.08009 + (-0.03062);
-	highp float t18 = 0.7345 * t14 + t17;
+	highp float t17 = r * seed_env_karis2014_split_B_p3 + seed_env_karis2014_split_B_p7;
+	highp float t18 = seed_env_karis2014_split_B_p10 * t14 + t17;
 	return t18;
+}
+
+/* seed_env_karis2014_split: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_karis2014_split_A and seed_env_karis2014_split_B). */
+highp vec2 seed_env_karis2014_split(highp float NoV, highp float r)
+{
+	return vec2(seed_env_karis2014_split_A(NoV, r), seed_env_karis2014_split_B(NoV, r));
 }

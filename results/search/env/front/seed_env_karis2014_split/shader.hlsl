@@ -29,15 +29,23 @@
  */
 float seed_env_karis2014_split_A(float NoV, float r)
 {
-	float t4 = mad((-2.0363), r, 1.42185);
+	const float seed_env_karis2014_split_A_p0 = (-2.0363);
+	const float seed_env_karis2014_split_A_p1 = 0.00023283454;
+	const float seed_env_karis2014_split_A_p2 = (-0.65099);
+	const float seed_env_karis2014_split_A_p4 = 1.42185;
+	const float seed_env_karis2014_split_A_p5 = 0.0013329933;
+	const float seed_env_karis2014_split_A_p6 = 1.15653;
+	const float seed_env_karis2014_split_A_p8 = (-7.1974);
+	const float seed_env_karis2014_split_A_p9 = (-0.86932);
+	float t4 = mad(seed_env_karis2014_split_A_p0, r, seed_env_karis2014_split_A_p4);
 	float t5 = t4 * t4;
-	float t8 = (-7.1974) * NoV;
+	float t8 = seed_env_karis2014_split_A_p8 * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.00023283454, 0.0013329933);
+	float t13 = mad(r, seed_env_karis2014_split_A_p1, seed_env_karis2014_split_A_p5);
 	float t14 = mad(t4, t10, t13);
-	float t17 = mad(r, (-0.65099), 1.15653);
-	float t18 = mad((-0.86932), t14, t17);
+	float t17 = mad(r, seed_env_karis2014_split_A_p2, seed_env_karis2014_split_A_p6);
+	float t18 = mad(seed_env_karis2014_split_A_p9, t14, t17);
 	return t18;
 }
 
@@ -73,14 +81,29 @@ float seed_env_karis2014_split_A(float NoV, float r)
  */
 float seed_env_karis2014_split_B(float NoV, float r)
 {
-	float t4 = mad((-2.0363), r, 1.42185);
+	const float seed_env_karis2014_split_B_p0 = (-2.0363);
+	const float seed_env_karis2014_split_B_p1 = 0.00023283454;
+	const float seed_env_karis2014_split_B_p3 = 0.08009;
+	const float seed_env_karis2014_split_B_p4 = 1.42185;
+	const float seed_env_karis2014_split_B_p5 = 0.0013329933;
+	const float seed_env_karis2014_split_B_p7 = (-0.03062);
+	const float seed_env_karis2014_split_B_p8 = (-7.1974);
+	const float seed_env_karis2014_split_B_p10 = 0.7345;
+	float t4 = mad(seed_env_karis2014_split_B_p0, r, seed_env_karis2014_split_B_p4);
 	float t5 = t4 * t4;
-	float t8 = (-7.1974) * NoV;
+	float t8 = seed_env_karis2014_split_B_p8 * NoV;
 	float t9 = exp2(t8);
 	float t10 = min(t5, t9);
-	float t13 = mad(r, 0.00023283454, 0.0013329933);
+	float t13 = mad(r, seed_env_karis2014_split_B_p1, seed_env_karis2014_split_B_p5);
 	float t14 = mad(t4, t10, t13);
-	float t17 = mad(r, 0.08009, (-0.03062));
-	float t18 = mad(0.7345, t14, t17);
+	float t17 = mad(r, seed_env_karis2014_split_B_p3, seed_env_karis2014_split_B_p7);
+	float t18 = mad(seed_env_karis2014_split_B_p10, t14, t17);
 	return t18;
+}
+
+/* seed_env_karis2014_split: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_karis2014_split_A and seed_env_karis2014_split_B). */
+float2 seed_env_karis2014_split(float NoV, float r)
+{
+	return float2(seed_env_karis2014_split_A(NoV, r), seed_env_karis2014_split_B(NoV, r));
 }

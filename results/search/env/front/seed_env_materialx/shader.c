@@ -20,8 +20,9 @@
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_env_materialx_A(float NoV, float a)
+static inline float seed_env_materialx_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	float t3 = NoV * (-5.448f);
 	float t4 = NoV * t3;
 	float t5 = a * t4;
@@ -85,8 +86,9 @@ static inline float seed_env_materialx_A(float NoV, float a)
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_env_materialx_B(float NoV, float a)
+static inline float seed_env_materialx_B(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	float t3 = NoV * 0.6286f;
 	float t4 = NoV * t3;
 	float t5 = a * t4;
@@ -126,4 +128,12 @@ static inline float seed_env_materialx_B(float NoV, float a)
 	float t56 = t28 / t55;
 	float t57 = fminf(fmaxf(t56, 0.0f), 1.0f);
 	return t57;
+}
+
+/* seed_env_materialx: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_materialx_A and seed_env_materialx_B). */
+static inline void seed_env_materialx(float NoV, float r, float *A, float *B)
+{
+	*A = seed_env_materialx_A(NoV, r);
+	*B = seed_env_materialx_B(NoV, r);
 }

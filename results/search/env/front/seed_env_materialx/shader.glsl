@@ -17,8 +17,9 @@
  *   div 1
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
-highp float seed_env_materialx_A(highp float NoV, highp float a)
+highp float seed_env_materialx_A(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	highp float t3 = NoV * (-5.448);
 	highp float t4 = NoV * t3;
 	highp float t5 = a * t4;
@@ -79,8 +80,9 @@ highp float seed_env_materialx_A(highp float NoV, highp float a)
  *   div 1
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
-highp float seed_env_materialx_B(highp float NoV, highp float a)
+highp float seed_env_materialx_B(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	highp float t3 = NoV * 0.6286;
 	highp float t4 = NoV * t3;
 	highp float t5 = a * t4;
@@ -120,4 +122,11 @@ highp float seed_env_materialx_B(highp float NoV, highp float a)
 	highp float t56 = t28 / t55;
 	highp float t57 = clamp(t56, 0.0, 1.0);
 	return t57;
+}
+
+/* seed_env_materialx: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_materialx_A and seed_env_materialx_B). */
+highp vec2 seed_env_materialx(highp float NoV, highp float r)
+{
+	return vec2(seed_env_materialx_A(NoV, r), seed_env_materialx_B(NoV, r));
 }

@@ -17,8 +17,9 @@
  *   div 1
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
-float seed_env_materialx_A(float NoV, float a)
+float seed_env_materialx_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	float t3 = NoV * (-5.448);
 	float t4 = NoV * t3;
 	float t5 = a * t4;
@@ -79,8 +80,9 @@ float seed_env_materialx_A(float NoV, float a)
  *   div 1
  *   simple 37, complex 1, cost 41 (simple = 1, complex = 4)
  */
-float seed_env_materialx_B(float NoV, float a)
+float seed_env_materialx_B(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	float t3 = NoV * 0.6286;
 	float t4 = NoV * t3;
 	float t5 = a * t4;
@@ -120,4 +122,11 @@ float seed_env_materialx_B(float NoV, float a)
 	float t56 = t28 / t55;
 	float t57 = saturate(t56);
 	return t57;
+}
+
+/* seed_env_materialx: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_env_materialx_A and seed_env_materialx_B). */
+float2 seed_env_materialx(float NoV, float r)
+{
+	return float2(seed_env_materialx_A(NoV, r), seed_env_materialx_B(NoV, r));
 }

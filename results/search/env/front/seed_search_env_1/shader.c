@@ -17,9 +17,12 @@
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_1_A(void)
+static inline float seed_search_env_1_A(float NoV, float r)
 {
-	return 0.76201f;
+	(void)NoV;
+	(void)r;
+	const float seed_search_env_1_A_p0 = 0.76201f;
+	return seed_search_env_1_A_p0;
 }
 
 /*
@@ -42,7 +45,18 @@ static inline float seed_search_env_1_A(void)
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_1_B(void)
+static inline float seed_search_env_1_B(float NoV, float r)
 {
-	return 0.06774f;
+	(void)NoV;
+	(void)r;
+	const float seed_search_env_1_B_p1 = 0.06774f;
+	return seed_search_env_1_B_p1;
+}
+
+/* seed_search_env_1: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_1_A and seed_search_env_1_B). */
+static inline void seed_search_env_1(float NoV, float r, float *A, float *B)
+{
+	*A = seed_search_env_1_A(NoV, r);
+	*B = seed_search_env_1_B(NoV, r);
 }

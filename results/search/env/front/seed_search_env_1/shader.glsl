@@ -14,9 +14,10 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float seed_search_env_1_A()
+highp float seed_search_env_1_A(highp float NoV, highp float r)
 {
-	return 0.76201;
+	const highp float seed_search_env_1_A_p0 = 0.76201;
+	return seed_search_env_1_A_p0;
 }
 
 /*
@@ -36,7 +37,15 @@ highp float seed_search_env_1_A()
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float seed_search_env_1_B()
+highp float seed_search_env_1_B(highp float NoV, highp float r)
 {
-	return 0.06774;
+	const highp float seed_search_env_1_B_p1 = 0.06774;
+	return seed_search_env_1_B_p1;
+}
+
+/* seed_search_env_1: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_1_A and seed_search_env_1_B). */
+highp vec2 seed_search_env_1(highp float NoV, highp float r)
+{
+	return vec2(seed_search_env_1_A(NoV, r), seed_search_env_1_B(NoV, r));
 }

@@ -14,9 +14,10 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float seed_search_env_1_A()
+float seed_search_env_1_A(float NoV, float r)
 {
-	return 0.76201;
+	const float seed_search_env_1_A_p0 = 0.76201;
+	return seed_search_env_1_A_p0;
 }
 
 /*
@@ -36,7 +37,15 @@ float seed_search_env_1_A()
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float seed_search_env_1_B()
+float seed_search_env_1_B(float NoV, float r)
 {
-	return 0.06774;
+	const float seed_search_env_1_B_p1 = 0.06774;
+	return seed_search_env_1_B_p1;
+}
+
+/* seed_search_env_1: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_1_A and seed_search_env_1_B). */
+float2 seed_search_env_1(float NoV, float r)
+{
+	return float2(seed_search_env_1_A(NoV, r), seed_search_env_1_B(NoV, r));
 }

@@ -20,10 +20,14 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_2_A(float r, float a)
+static inline float seed_search_env_2_A(float NoV, float r)
 {
-	float t4 = r * a + (-2.1998f);
-	float t5 = (-0.39082f) * t4;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	(void)NoV;
+	const float seed_search_env_2_A_p0 = (-0.39082f);
+	const float seed_search_env_2_A_p1 = (-2.1998f);
+	float t4 = r * a + seed_search_env_2_A_p1;
+	float t5 = seed_search_env_2_A_p0 * t4;
 	return t5;
 }
 
@@ -48,7 +52,18 @@ static inline float seed_search_env_2_A(float r, float a)
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_2_B(void)
+static inline float seed_search_env_2_B(float NoV, float r)
 {
-	return 0.06774f;
+	(void)NoV;
+	(void)r;
+	const float seed_search_env_2_B_p2 = 0.06774f;
+	return seed_search_env_2_B_p2;
+}
+
+/* seed_search_env_2: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_2_A and seed_search_env_2_B). */
+static inline void seed_search_env_2(float NoV, float r, float *A, float *B)
+{
+	*A = seed_search_env_2_A(NoV, r);
+	*B = seed_search_env_2_B(NoV, r);
 }

@@ -17,10 +17,13 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float seed_search_env_2_A(float r, float a)
+float seed_search_env_2_A(float NoV, float r)
 {
-	float t4 = mad(r, a, (-2.1998));
-	float t5 = (-0.39082) * t4;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_2_A_p0 = (-0.39082);
+	const float seed_search_env_2_A_p1 = (-2.1998);
+	float t4 = mad(r, a, seed_search_env_2_A_p1);
+	float t5 = seed_search_env_2_A_p0 * t4;
 	return t5;
 }
 
@@ -42,7 +45,15 @@ float seed_search_env_2_A(float r, float a)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float seed_search_env_2_B()
+float seed_search_env_2_B(float NoV, float r)
 {
-	return 0.06774;
+	const float seed_search_env_2_B_p2 = 0.06774;
+	return seed_search_env_2_B_p2;
+}
+
+/* seed_search_env_2: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_2_A and seed_search_env_2_B). */
+float2 seed_search_env_2(float NoV, float r)
+{
+	return float2(seed_search_env_2_A(NoV, r), seed_search_env_2_B(NoV, r));
 }

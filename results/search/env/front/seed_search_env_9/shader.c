@@ -22,15 +22,19 @@
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_9_A(float NoV, float a)
+static inline float seed_search_env_9_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_9_A_p0 = 2.6917f;
+	const float seed_search_env_9_A_p1 = 0.18024f;
+	const float seed_search_env_9_A_p2 = 0.42495f;
 	float t3 = sqrtf(NoV);
 	float t5 = -NoV;
-	float t6 = t5 * a + 0.18024f;
-	float t8 = a * t6 + 0.42495f;
+	float t6 = t5 * a + seed_search_env_9_A_p1;
+	float t8 = a * t6 + seed_search_env_9_A_p2;
 	float t9 = t8 * t8;
-	float t10 = 0.18024f * t3 + t9;
-	float t11 = 2.6917f * t10;
+	float t10 = seed_search_env_9_A_p1 * t3 + t9;
+	float t11 = seed_search_env_9_A_p0 * t10;
 	return t11;
 }
 
@@ -62,10 +66,19 @@ static inline float seed_search_env_9_A(float NoV, float a)
 #include <math.h>
 static inline float seed_search_env_9_B(float NoV, float r)
 {
+	const float seed_search_env_9_B_p3 = (-0.44114f);
 	float t2 = -NoV;
 	float t5 = fmaxf(NoV, r);
 	float t6 = (-1.0f) + t5;
 	float t7 = t2 * t6 + t6;
-	float t8 = (-0.44114f) * t7;
+	float t8 = seed_search_env_9_B_p3 * t7;
 	return t8;
+}
+
+/* seed_search_env_9: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_9_A and seed_search_env_9_B). */
+static inline void seed_search_env_9(float NoV, float r, float *A, float *B)
+{
+	*A = seed_search_env_9_A(NoV, r);
+	*B = seed_search_env_9_B(NoV, r);
 }

@@ -19,15 +19,19 @@
  *   sqrt 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-highp float seed_search_env_9_A(highp float NoV, highp float a)
+highp float seed_search_env_9_A(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_env_9_A_p0 = 2.6917;
+	const highp float seed_search_env_9_A_p1 = 0.18024;
+	const highp float seed_search_env_9_A_p2 = 0.42495;
 	highp float t3 = sqrt(NoV);
 	highp float t5 = -NoV;
-	highp float t6 = t5 * a + 0.18024;
-	highp float t8 = a * t6 + 0.42495;
+	highp float t6 = t5 * a + seed_search_env_9_A_p1;
+	highp float t8 = a * t6 + seed_search_env_9_A_p2;
 	highp float t9 = t8 * t8;
-	highp float t10 = 0.18024 * t3 + t9;
-	highp float t11 = 2.6917 * t10;
+	highp float t10 = seed_search_env_9_A_p1 * t3 + t9;
+	highp float t11 = seed_search_env_9_A_p0 * t10;
 	return t11;
 }
 
@@ -56,10 +60,18 @@ highp float seed_search_env_9_A(highp float NoV, highp float a)
  */
 highp float seed_search_env_9_B(highp float NoV, highp float r)
 {
+	const highp float seed_search_env_9_B_p3 = (-0.44114);
 	highp float t2 = -NoV;
 	highp float t5 = max(NoV, r);
 	highp float t6 = (-1.0) + t5;
 	highp float t7 = t2 * t6 + t6;
-	highp float t8 = (-0.44114) * t7;
+	highp float t8 = seed_search_env_9_B_p3 * t7;
 	return t8;
+}
+
+/* seed_search_env_9: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_9_A and seed_search_env_9_B). */
+highp vec2 seed_search_env_9(highp float NoV, highp float r)
+{
+	return vec2(seed_search_env_9_A(NoV, r), seed_search_env_9_B(NoV, r));
 }

@@ -19,15 +19,19 @@
  *   sqrt 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-float seed_search_env_9_A(float NoV, float a)
+float seed_search_env_9_A(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_9_A_p0 = 2.6917;
+	const float seed_search_env_9_A_p1 = 0.18024;
+	const float seed_search_env_9_A_p2 = 0.42495;
 	float t3 = sqrt(NoV);
 	float t5 = -NoV;
-	float t6 = mad(t5, a, 0.18024);
-	float t8 = mad(a, t6, 0.42495);
+	float t6 = mad(t5, a, seed_search_env_9_A_p1);
+	float t8 = mad(a, t6, seed_search_env_9_A_p2);
 	float t9 = t8 * t8;
-	float t10 = mad(0.18024, t3, t9);
-	float t11 = 2.6917 * t10;
+	float t10 = mad(seed_search_env_9_A_p1, t3, t9);
+	float t11 = seed_search_env_9_A_p0 * t10;
 	return t11;
 }
 
@@ -56,10 +60,18 @@ float seed_search_env_9_A(float NoV, float a)
  */
 float seed_search_env_9_B(float NoV, float r)
 {
+	const float seed_search_env_9_B_p3 = (-0.44114);
 	float t2 = -NoV;
 	float t5 = max(NoV, r);
 	float t6 = (-1.0) + t5;
 	float t7 = mad(t2, t6, t6);
-	float t8 = (-0.44114) * t7;
+	float t8 = seed_search_env_9_B_p3 * t7;
 	return t8;
+}
+
+/* seed_search_env_9: the split sum's A and B at once, as engines call an environment BRDF:
+ * specular = prefiltered * (f0 * A + B). DO NOT EDIT (see seed_search_env_9_A and seed_search_env_9_B). */
+float2 seed_search_env_9(float NoV, float r)
+{
+	return float2(seed_search_env_9_A(NoV, r), seed_search_env_9_B(NoV, r));
 }

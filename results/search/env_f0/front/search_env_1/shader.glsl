@@ -14,7 +14,8 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float search_env_1()
+highp float search_env_1(highp float NoV, highp float r, highp float f0)
 {
-	return 0.45891;
+	const highp float search_env_1_p0 = 0.45891;
+	return search_env_1_p0;
 }

@@ -27,18 +27,26 @@
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_10(float NoV, float r, float a, float f0)
+static inline float search_env_10(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_10_p0 = 0.95459f;
+	const float search_env_10_p1 = 1.02734f;
+	const float search_env_10_p2 = 0.78664f;
+	const float search_env_10_p3 = (-0.42184f);
+	const float search_env_10_p4 = (-1.05619f);
+	const float search_env_10_p5 = 0.82223f;
+	const float search_env_10_p6 = 0.57757f;
 	float t4 = -NoV;
-	float t7 = (-0.42184f) + a;
-	float t9 = t4 * t7 + 0.78664f;
-	float t12 = -0.57757f;
-	float t15 = t12 * r + 0.82223f;
+	float t7 = search_env_10_p3 + a;
+	float t9 = t4 * t7 + search_env_10_p2;
+	float t12 = -search_env_10_p6;
+	float t15 = t12 * r + search_env_10_p5;
 	float t16 = fmaxf(NoV, t15);
-	float t17 = NoV * (-1.05619f) + t16;
+	float t17 = NoV * search_env_10_p4 + t16;
 	float t18 = t17 * t17;
 	float t19 = f0 * t9 + t18;
-	float t20 = fminf(1.02734f, t19);
-	float t21 = 0.95459f * t20;
+	float t20 = fminf(search_env_10_p1, t19);
+	float t21 = search_env_10_p0 * t20;
 	return t21;
 }

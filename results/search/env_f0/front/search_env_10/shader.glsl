@@ -24,18 +24,26 @@
  *   minmax 2
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-highp float search_env_10(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_10(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_10_p0 = 0.95459;
+	const highp float search_env_10_p1 = 1.02734;
+	const highp float search_env_10_p2 = 0.78664;
+	const highp float search_env_10_p3 = (-0.42184);
+	const highp float search_env_10_p4 = (-1.05619);
+	const highp float search_env_10_p5 = 0.82223;
+	const highp float search_env_10_p6 = 0.57757;
 	highp float t4 = -NoV;
-	highp float t7 = (-0.42184) + a;
-	highp float t9 = t4 * t7 + 0.78664;
-	highp float t12 = -0.57757;
-	highp float t15 = t12 * r + 0.82223;
+	highp float t7 = search_env_10_p3 + a;
+	highp float t9 = t4 * t7 + search_env_10_p2;
+	highp float t12 = -search_env_10_p6;
+	highp float t15 = t12 * r + search_env_10_p5;
 	highp float t16 = max(NoV, t15);
-	highp float t17 = NoV * (-1.05619) + t16;
+	highp float t17 = NoV * search_env_10_p4 + t16;
 	highp float t18 = t17 * t17;
 	highp float t19 = f0 * t9 + t18;
-	highp float t20 = min(1.02734, t19);
-	highp float t21 = 0.95459 * t20;
+	highp float t20 = min(search_env_10_p1, t19);
+	highp float t21 = search_env_10_p0 * t20;
 	return t21;
 }

@@ -24,18 +24,26 @@
  *   minmax 2
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-float search_env_10(float NoV, float r, float a, float f0)
+float search_env_10(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_10_p0 = 0.95459;
+	const float search_env_10_p1 = 1.02734;
+	const float search_env_10_p2 = 0.78664;
+	const float search_env_10_p3 = (-0.42184);
+	const float search_env_10_p4 = (-1.05619);
+	const float search_env_10_p5 = 0.82223;
+	const float search_env_10_p6 = 0.57757;
 	float t4 = -NoV;
-	float t7 = (-0.42184) + a;
-	float t9 = mad(t4, t7, 0.78664);
-	float t12 = -0.57757;
-	float t15 = mad(t12, r, 0.82223);
+	float t7 = search_env_10_p3 + a;
+	float t9 = mad(t4, t7, search_env_10_p2);
+	float t12 = -search_env_10_p6;
+	float t15 = mad(t12, r, search_env_10_p5);
 	float t16 = max(NoV, t15);
-	float t17 = mad(NoV, (-1.05619), t16);
+	float t17 = mad(NoV, search_env_10_p4, t16);
 	float t18 = t17 * t17;
 	float t19 = mad(f0, t9, t18);
-	float t20 = min(1.02734, t19);
-	float t21 = 0.95459 * t20;
+	float t20 = min(search_env_10_p1, t19);
+	float t21 = search_env_10_p0 * t20;
 	return t21;
 }

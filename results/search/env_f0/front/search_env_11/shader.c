@@ -27,17 +27,25 @@
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_11(float NoV, float r, float a, float f0)
+static inline float search_env_11(float NoV, float r, float f0)
 {
-	float t3 = -(-0.69007f);
-	float t6 = t3 * a + (-0.082f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_11_p0 = 0.974592f;
+	const float search_env_11_p1 = (-0.082f);
+	const float search_env_11_p2 = (-0.69007f);
+	const float search_env_11_p3 = 0.90964f;
+	const float search_env_11_p4 = 0.024861f;
+	const float search_env_11_p5 = 0.8602f;
+	const float search_env_11_p6 = (-1.77791f);
+	float t3 = -search_env_11_p2;
+	float t6 = t3 * a + search_env_11_p1;
 	float t7 = fminf(NoV, t6);
-	float t8 = 0.974592f - t7;
-	float t15 = 0.8602f - r;
-	float t16 = NoV * (-1.77791f) + t15;
-	float t17 = fmaxf(0.024861f, t16);
-	float t18 = f0 + (0.90964f - f0) * t17;
+	float t8 = search_env_11_p0 - t7;
+	float t15 = search_env_11_p5 - r;
+	float t16 = NoV * search_env_11_p6 + t15;
+	float t17 = fmaxf(search_env_11_p4, t16);
+	float t18 = f0 + (search_env_11_p3 - f0) * t17;
 	float t19 = t8 * t18;
-	float t20 = 0.974592f * t19;
+	float t20 = search_env_11_p0 * t19;
 	return t20;
 }

@@ -24,17 +24,25 @@
  *   minmax 2
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
-highp float search_env_11(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_11(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = -(-0.69007);
-	highp float t6 = t3 * a + (-0.082);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_11_p0 = 0.974592;
+	const highp float search_env_11_p1 = (-0.082);
+	const highp float search_env_11_p2 = (-0.69007);
+	const highp float search_env_11_p3 = 0.90964;
+	const highp float search_env_11_p4 = 0.024861;
+	const highp float search_env_11_p5 = 0.8602;
+	const highp float search_env_11_p6 = (-1.77791);
+	highp float t3 = -search_env_11_p2;
+	highp float t6 = t3 * a + search_env_11_p1;
 	highp float t7 = min(NoV, t6);
-	highp float t8 = 0.974592 - t7;
-	highp float t15 = 0.8602 - r;
-	highp float t16 = NoV * (-1.77791) + t15;
-	highp float t17 = max(0.024861, t16);
-	highp float t18 = f0 + (0.90964 - f0) * t17;
+	highp float t8 = search_env_11_p0 - t7;
+	highp float t15 = search_env_11_p5 - r;
+	highp float t16 = NoV * search_env_11_p6 + t15;
+	highp float t17 = max(search_env_11_p4, t16);
+	highp float t18 = f0 + (search_env_11_p3 - f0) * t17;
 	highp float t19 = t8 * t18;
-	highp float t20 = 0.974592 * t19;
+	highp float t20 = search_env_11_p0 * t19;
 	return t20;
 }

@@ -24,17 +24,25 @@
  *   minmax 2
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
-float search_env_11(float NoV, float r, float a, float f0)
+float search_env_11(float NoV, float r, float f0)
 {
-	float t3 = -(-0.69007);
-	float t6 = mad(t3, a, (-0.082));
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_11_p0 = 0.974592;
+	const float search_env_11_p1 = (-0.082);
+	const float search_env_11_p2 = (-0.69007);
+	const float search_env_11_p3 = 0.90964;
+	const float search_env_11_p4 = 0.024861;
+	const float search_env_11_p5 = 0.8602;
+	const float search_env_11_p6 = (-1.77791);
+	float t3 = -search_env_11_p2;
+	float t6 = mad(t3, a, search_env_11_p1);
 	float t7 = min(NoV, t6);
-	float t8 = 0.974592 - t7;
-	float t15 = 0.8602 - r;
-	float t16 = mad(NoV, (-1.77791), t15);
-	float t17 = max(0.024861, t16);
-	float t18 = f0 + (0.90964 - f0) * t17;
+	float t8 = search_env_11_p0 - t7;
+	float t15 = search_env_11_p5 - r;
+	float t16 = mad(NoV, search_env_11_p6, t15);
+	float t17 = max(search_env_11_p4, t16);
+	float t18 = f0 + (search_env_11_p3 - f0) * t17;
 	float t19 = t8 * t18;
-	float t20 = 0.974592 * t19;
+	float t20 = search_env_11_p0 * t19;
 	return t20;
 }

@@ -27,18 +27,26 @@
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_12(float NoV, float r, float a, float f0)
+static inline float search_env_12(float NoV, float r, float f0)
 {
-	float t4 = -(-0.6296f);
-	float t7 = t4 * a + (-0.05972f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_12_p0 = 1.05504f;
+	const float search_env_12_p1 = (-0.01354f);
+	const float search_env_12_p2 = 0.92778f;
+	const float search_env_12_p3 = (-0.05972f);
+	const float search_env_12_p4 = (-0.6296f);
+	const float search_env_12_p5 = 0.03924f;
+	const float search_env_12_p6 = 0.79901f;
+	float t4 = -search_env_12_p4;
+	float t7 = t4 * a + search_env_12_p3;
 	float t8 = fminf(NoV, t7);
-	float t9 = 0.92778f - t8;
-	float t13 = 0.79901f - NoV;
+	float t9 = search_env_12_p2 - t8;
+	float t13 = search_env_12_p6 - NoV;
 	float t15 = fmaxf(NoV, r);
 	float t16 = t13 - t15;
-	float t17 = fmaxf(0.03924f, t16);
-	float t18 = f0 + (0.92778f - f0) * t17;
-	float t20 = t9 * t18 + (-0.01354f);
-	float t21 = 1.05504f * t20;
+	float t17 = fmaxf(search_env_12_p5, t16);
+	float t18 = f0 + (search_env_12_p2 - f0) * t17;
+	float t20 = t9 * t18 + search_env_12_p1;
+	float t21 = search_env_12_p0 * t20;
 	return t21;
 }

@@ -24,18 +24,26 @@
  *   minmax 3
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
-highp float search_env_12(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_12(highp float NoV, highp float r, highp float f0)
 {
-	highp float t4 = -(-0.6296);
-	highp float t7 = t4 * a + (-0.05972);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_12_p0 = 1.05504;
+	const highp float search_env_12_p1 = (-0.01354);
+	const highp float search_env_12_p2 = 0.92778;
+	const highp float search_env_12_p3 = (-0.05972);
+	const highp float search_env_12_p4 = (-0.6296);
+	const highp float search_env_12_p5 = 0.03924;
+	const highp float search_env_12_p6 = 0.79901;
+	highp float t4 = -search_env_12_p4;
+	highp float t7 = t4 * a + search_env_12_p3;
 	highp float t8 = min(NoV, t7);
-	highp float t9 = 0.92778 - t8;
-	highp float t13 = 0.79901 - NoV;
+	highp float t9 = search_env_12_p2 - t8;
+	highp float t13 = search_env_12_p6 - NoV;
 	highp float t15 = max(NoV, r);
 	highp float t16 = t13 - t15;
-	highp float t17 = max(0.03924, t16);
-	highp float t18 = f0 + (0.92778 - f0) * t17;
-	highp float t20 = t9 * t18 + (-0.01354);
-	highp float t21 = 1.05504 * t20;
+	highp float t17 = max(search_env_12_p5, t16);
+	highp float t18 = f0 + (search_env_12_p2 - f0) * t17;
+	highp float t20 = t9 * t18 + search_env_12_p1;
+	highp float t21 = search_env_12_p0 * t20;
 	return t21;
 }

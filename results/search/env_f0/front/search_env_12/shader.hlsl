@@ -24,18 +24,26 @@
  *   minmax 3
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
-float search_env_12(float NoV, float r, float a, float f0)
+float search_env_12(float NoV, float r, float f0)
 {
-	float t4 = -(-0.6296);
-	float t7 = mad(t4, a, (-0.05972));
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_12_p0 = 1.05504;
+	const float search_env_12_p1 = (-0.01354);
+	const float search_env_12_p2 = 0.92778;
+	const float search_env_12_p3 = (-0.05972);
+	const float search_env_12_p4 = (-0.6296);
+	const float search_env_12_p5 = 0.03924;
+	const float search_env_12_p6 = 0.79901;
+	float t4 = -search_env_12_p4;
+	float t7 = mad(t4, a, search_env_12_p3);
 	float t8 = min(NoV, t7);
-	float t9 = 0.92778 - t8;
-	float t13 = 0.79901 - NoV;
+	float t9 = search_env_12_p2 - t8;
+	float t13 = search_env_12_p6 - NoV;
 	float t15 = max(NoV, r);
 	float t16 = t13 - t15;
-	float t17 = max(0.03924, t16);
-	float t18 = f0 + (0.92778 - f0) * t17;
-	float t20 = mad(t9, t18, (-0.01354));
-	float t21 = 1.05504 * t20;
+	float t17 = max(search_env_12_p5, t16);
+	float t18 = f0 + (search_env_12_p2 - f0) * t17;
+	float t20 = mad(t9, t18, search_env_12_p1);
+	float t21 = search_env_12_p0 * t20;
 	return t21;
 }

@@ -27,18 +27,26 @@
  *   simple 12, complex 0, cost 12 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_13(float NoV, float r, float a, float f0)
+static inline float search_env_13(float NoV, float r, float f0)
 {
-	float t5 = 0.50208f * a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_13_p0 = 1.28672f;
+	const float search_env_13_p1 = 0.012158f;
+	const float search_env_13_p2 = 0.77758f;
+	const float search_env_13_p3 = 0.50208f;
+	const float search_env_13_p4 = 0.9199f;
+	const float search_env_13_p5 = (-0.0f);
+	const float search_env_13_p6 = 0.99902f;
+	float t5 = search_env_13_p3 * a;
 	float t6 = fminf(NoV, t5);
-	float t7 = 0.77758f - t6;
-	float t12 = 0.99902f - NoV;
+	float t7 = search_env_13_p2 - t6;
+	float t12 = search_env_13_p6 - NoV;
 	float t14 = fmaxf(NoV, r);
 	float t15 = t12 - t14;
-	float t16 = fmaxf((-0.0f), t15);
+	float t16 = fmaxf(search_env_13_p5, t15);
 	float t17 = t16 * t16;
-	float t18 = f0 + (0.9199f - f0) * t17;
-	float t20 = t7 * t18 + 0.012158f;
-	float t21 = 1.28672f * t20;
+	float t18 = f0 + (search_env_13_p4 - f0) * t17;
+	float t20 = t7 * t18 + search_env_13_p1;
+	float t21 = search_env_13_p0 * t20;
 	return t21;
 }

@@ -24,18 +24,26 @@
  *   minmax 3
  *   simple 12, complex 0, cost 12 (simple = 1, complex = 4)
  */
-highp float search_env_13(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_13(highp float NoV, highp float r, highp float f0)
 {
-	highp float t5 = 0.50208 * a;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_13_p0 = 1.28672;
+	const highp float search_env_13_p1 = 0.012158;
+	const highp float search_env_13_p2 = 0.77758;
+	const highp float search_env_13_p3 = 0.50208;
+	const highp float search_env_13_p4 = 0.9199;
+	const highp float search_env_13_p5 = (-0.0);
+	const highp float search_env_13_p6 = 0.99902;
+	highp float t5 = search_env_13_p3 * a;
 	highp float t6 = min(NoV, t5);
-	highp float t7 = 0.77758 - t6;
-	highp float t12 = 0.99902 - NoV;
+	highp float t7 = search_env_13_p2 - t6;
+	highp float t12 = search_env_13_p6 - NoV;
 	highp float t14 = max(NoV, r);
 	highp float t15 = t12 - t14;
-	highp float t16 = max((-0.0), t15);
+	highp float t16 = max(search_env_13_p5, t15);
 	highp float t17 = t16 * t16;
-	highp float t18 = f0 + (0.9199 - f0) * t17;
-	highp float t20 = t7 * t18 + 0.012158;
-	highp float t21 = 1.28672 * t20;
+	highp float t18 = f0 + (search_env_13_p4 - f0) * t17;
+	highp float t20 = t7 * t18 + search_env_13_p1;
+	highp float t21 = search_env_13_p0 * t20;
 	return t21;
 }

@@ -24,18 +24,26 @@
  *   minmax 3
  *   simple 12, complex 0, cost 12 (simple = 1, complex = 4)
  */
-float search_env_13(float NoV, float r, float a, float f0)
+float search_env_13(float NoV, float r, float f0)
 {
-	float t5 = 0.50208 * a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_13_p0 = 1.28672;
+	const float search_env_13_p1 = 0.012158;
+	const float search_env_13_p2 = 0.77758;
+	const float search_env_13_p3 = 0.50208;
+	const float search_env_13_p4 = 0.9199;
+	const float search_env_13_p5 = (-0.0);
+	const float search_env_13_p6 = 0.99902;
+	float t5 = search_env_13_p3 * a;
 	float t6 = min(NoV, t5);
-	float t7 = 0.77758 - t6;
-	float t12 = 0.99902 - NoV;
+	float t7 = search_env_13_p2 - t6;
+	float t12 = search_env_13_p6 - NoV;
 	float t14 = max(NoV, r);
 	float t15 = t12 - t14;
-	float t16 = max((-0.0), t15);
+	float t16 = max(search_env_13_p5, t15);
 	float t17 = t16 * t16;
-	float t18 = f0 + (0.9199 - f0) * t17;
-	float t20 = mad(t7, t18, 0.012158);
-	float t21 = 1.28672 * t20;
+	float t18 = f0 + (search_env_13_p4 - f0) * t17;
+	float t20 = mad(t7, t18, search_env_13_p1);
+	float t21 = search_env_13_p0 * t20;
 	return t21;
 }

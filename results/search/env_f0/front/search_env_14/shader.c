@@ -25,18 +25,24 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_14(float NoV, float a, float f0)
+static inline float search_env_14(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_14_p0 = 0.90598f;
+	const float search_env_14_p1 = 1.02524f;
+	const float search_env_14_p2 = (-0.15283f);
+	const float search_env_14_p3 = (-1.79187f);
+	const float search_env_14_p4 = (-7.8812f);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.79187f);
-	float t8 = t4 * t6 + (-0.15283f);
-	float t10 = t2 * t8 + 1.02524f;
+	float t6 = NoV + search_env_14_p3;
+	float t8 = t4 * t6 + search_env_14_p2;
+	float t10 = t2 * t8 + search_env_14_p1;
 	float t13 = NoV + a;
-	float t14 = (-7.8812f) * t13;
+	float t14 = search_env_14_p4 * t13;
 	float t15 = exp2f(t14);
-	float t16 = f0 + (1.02524f - f0) * t15;
+	float t16 = f0 + (search_env_14_p1 - f0) * t15;
 	float t17 = t10 * t16;
-	float t18 = 0.90598f * t17;
+	float t18 = search_env_14_p0 * t17;
 	return t18;
 }

@@ -22,18 +22,24 @@
  *   exp2 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-highp float search_env_14(highp float NoV, highp float a, highp float f0)
+highp float search_env_14(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_14_p0 = 0.90598;
+	const highp float search_env_14_p1 = 1.02524;
+	const highp float search_env_14_p2 = (-0.15283);
+	const highp float search_env_14_p3 = (-1.79187);
+	const highp float search_env_14_p4 = (-7.8812);
 	highp float t2 = -NoV;
 	highp float t4 = -a;
-	highp float t6 = NoV + (-1.79187);
-	highp float t8 = t4 * t6 + (-0.15283);
-	highp float t10 = t2 * t8 + 1.02524;
+	highp float t6 = NoV + search_env_14_p3;
+	highp float t8 = t4 * t6 + search_env_14_p2;
+	highp float t10 = t2 * t8 + search_env_14_p1;
 	highp float t13 = NoV + a;
-	highp float t14 = (-7.8812) * t13;
+	highp float t14 = search_env_14_p4 * t13;
 	highp float t15 = exp2(t14);
-	highp float t16 = f0 + (1.02524 - f0) * t15;
+	highp float t16 = f0 + (search_env_14_p1 - f0) * t15;
 	highp float t17 = t10 * t16;
-	highp float t18 = 0.90598 * t17;
+	highp float t18 = search_env_14_p0 * t17;
 	return t18;
 }

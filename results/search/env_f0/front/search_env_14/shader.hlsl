@@ -22,18 +22,24 @@
  *   exp2 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-float search_env_14(float NoV, float a, float f0)
+float search_env_14(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_14_p0 = 0.90598;
+	const float search_env_14_p1 = 1.02524;
+	const float search_env_14_p2 = (-0.15283);
+	const float search_env_14_p3 = (-1.79187);
+	const float search_env_14_p4 = (-7.8812);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.79187);
-	float t8 = mad(t4, t6, (-0.15283));
-	float t10 = mad(t2, t8, 1.02524);
+	float t6 = NoV + search_env_14_p3;
+	float t8 = mad(t4, t6, search_env_14_p2);
+	float t10 = mad(t2, t8, search_env_14_p1);
 	float t13 = NoV + a;
-	float t14 = (-7.8812) * t13;
+	float t14 = search_env_14_p4 * t13;
 	float t15 = exp2(t14);
-	float t16 = f0 + (1.02524 - f0) * t15;
+	float t16 = f0 + (search_env_14_p1 - f0) * t15;
 	float t17 = t10 * t16;
-	float t18 = 0.90598 * t17;
+	float t18 = search_env_14_p0 * t17;
 	return t18;
 }

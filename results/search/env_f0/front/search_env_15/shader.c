@@ -27,19 +27,26 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_15(float NoV, float a, float f0)
+static inline float search_env_15(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_15_p0 = 0.991142f;
+	const float search_env_15_p1 = 0.938387f;
+	const float search_env_15_p2 = (-0.18015f);
+	const float search_env_15_p3 = (-1.77029f);
+	const float search_env_15_p4 = 1.01404f;
+	const float search_env_15_p5 = (-7.8725f);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.77029f);
-	float t8 = t4 * t6 + (-0.18015f);
-	float t10 = t2 * t8 + 0.938387f;
+	float t6 = NoV + search_env_15_p3;
+	float t8 = t4 * t6 + search_env_15_p2;
+	float t10 = t2 * t8 + search_env_15_p1;
 	float t11 = fminf(fmaxf(t10, 0.0f), 1.0f);
 	float t15 = NoV + a;
-	float t16 = (-7.8725f) * t15;
+	float t16 = search_env_15_p5 * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (1.01404f - f0) * t17;
+	float t18 = f0 + (search_env_15_p4 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = 0.991142f * t19;
+	float t20 = search_env_15_p0 * t19;
 	return t20;
 }

@@ -24,19 +24,26 @@
  *   exp2 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-highp float search_env_15(highp float NoV, highp float a, highp float f0)
+highp float search_env_15(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_15_p0 = 0.991142;
+	const highp float search_env_15_p1 = 0.938387;
+	const highp float search_env_15_p2 = (-0.18015);
+	const highp float search_env_15_p3 = (-1.77029);
+	const highp float search_env_15_p4 = 1.01404;
+	const highp float search_env_15_p5 = (-7.8725);
 	highp float t2 = -NoV;
 	highp float t4 = -a;
-	highp float t6 = NoV + (-1.77029);
-	highp float t8 = t4 * t6 + (-0.18015);
-	highp float t10 = t2 * t8 + 0.938387;
+	highp float t6 = NoV + search_env_15_p3;
+	highp float t8 = t4 * t6 + search_env_15_p2;
+	highp float t10 = t2 * t8 + search_env_15_p1;
 	highp float t11 = clamp(t10, 0.0, 1.0);
 	highp float t15 = NoV + a;
-	highp float t16 = (-7.8725) * t15;
+	highp float t16 = search_env_15_p5 * t15;
 	highp float t17 = exp2(t16);
-	highp float t18 = f0 + (1.01404 - f0) * t17;
+	highp float t18 = f0 + (search_env_15_p4 - f0) * t17;
 	highp float t19 = t11 * t18;
-	highp float t20 = 0.991142 * t19;
+	highp float t20 = search_env_15_p0 * t19;
 	return t20;
 }

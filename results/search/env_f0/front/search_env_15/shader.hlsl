@@ -24,19 +24,26 @@
  *   exp2 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-float search_env_15(float NoV, float a, float f0)
+float search_env_15(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_15_p0 = 0.991142;
+	const float search_env_15_p1 = 0.938387;
+	const float search_env_15_p2 = (-0.18015);
+	const float search_env_15_p3 = (-1.77029);
+	const float search_env_15_p4 = 1.01404;
+	const float search_env_15_p5 = (-7.8725);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.77029);
-	float t8 = mad(t4, t6, (-0.18015));
-	float t10 = mad(t2, t8, 0.938387);
+	float t6 = NoV + search_env_15_p3;
+	float t8 = mad(t4, t6, search_env_15_p2);
+	float t10 = mad(t2, t8, search_env_15_p1);
 	float t11 = saturate(t10);
 	float t15 = NoV + a;
-	float t16 = (-7.8725) * t15;
+	float t16 = search_env_15_p5 * t15;
 	float t17 = exp2(t16);
-	float t18 = f0 + (1.01404 - f0) * t17;
+	float t18 = f0 + (search_env_15_p4 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = 0.991142 * t19;
+	float t20 = search_env_15_p0 * t19;
 	return t20;
 }

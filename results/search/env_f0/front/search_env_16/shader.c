@@ -27,19 +27,26 @@
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_16(float NoV, float a, float f0)
+static inline float search_env_16(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_16_p0 = 0.991134f;
+	const float search_env_16_p1 = 0.938501f;
+	const float search_env_16_p2 = 1.5911f;
+	const float search_env_16_p3 = 1.77095f;
+	const float search_env_16_p4 = 1.01399f;
+	const float search_env_16_p5 = (-7.874f);
 	float t2 = -NoV;
-	float t6 = 1.77095f + (NoV - 1.77095f) * a;
-	float t7 = 1.5911f - t6;
-	float t9 = t2 * t7 + 0.938501f;
+	float t6 = search_env_16_p3 + (NoV - search_env_16_p3) * a;
+	float t7 = search_env_16_p2 - t6;
+	float t9 = t2 * t7 + search_env_16_p1;
 	float t10 = fminf(fmaxf(t9, 0.0f), 1.0f);
 	float t14 = NoV + a;
 	float t15 = fminf(fmaxf(t14, 0.0f), 1.0f);
-	float t16 = (-7.874f) * t15;
+	float t16 = search_env_16_p5 * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (1.01399f - f0) * t17;
+	float t18 = f0 + (search_env_16_p4 - f0) * t17;
 	float t19 = t10 * t18;
-	float t20 = 0.991134f * t19;
+	float t20 = search_env_16_p0 * t19;
 	return t20;
 }

@@ -24,19 +24,26 @@
  *   exp2 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-highp float search_env_16(highp float NoV, highp float a, highp float f0)
+highp float search_env_16(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_16_p0 = 0.991134;
+	const highp float search_env_16_p1 = 0.938501;
+	const highp float search_env_16_p2 = 1.5911;
+	const highp float search_env_16_p3 = 1.77095;
+	const highp float search_env_16_p4 = 1.01399;
+	const highp float search_env_16_p5 = (-7.874);
 	highp float t2 = -NoV;
-	highp float t6 = 1.77095 + (NoV - 1.77095) * a;
-	highp float t7 = 1.5911 - t6;
-	highp float t9 = t2 * t7 + 0.938501;
+	highp float t6 = search_env_16_p3 + (NoV - search_env_16_p3) * a;
+	highp float t7 = search_env_16_p2 - t6;
+	highp float t9 = t2 * t7 + search_env_16_p1;
 	highp float t10 = clamp(t9, 0.0, 1.0);
 	highp float t14 = NoV + a;
 	highp float t15 = clamp(t14, 0.0, 1.0);
-	highp float t16 = (-7.874) * t15;
+	highp float t16 = search_env_16_p5 * t15;
 	highp float t17 = exp2(t16);
-	highp float t18 = f0 + (1.01399 - f0) * t17;
+	highp float t18 = f0 + (search_env_16_p4 - f0) * t17;
 	highp float t19 = t10 * t18;
-	highp float t20 = 0.991134 * t19;
+	highp float t20 = search_env_16_p0 * t19;
 	return t20;
 }

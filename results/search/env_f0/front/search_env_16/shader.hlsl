@@ -24,19 +24,26 @@
  *   exp2 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-float search_env_16(float NoV, float a, float f0)
+float search_env_16(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_16_p0 = 0.991134;
+	const float search_env_16_p1 = 0.938501;
+	const float search_env_16_p2 = 1.5911;
+	const float search_env_16_p3 = 1.77095;
+	const float search_env_16_p4 = 1.01399;
+	const float search_env_16_p5 = (-7.874);
 	float t2 = -NoV;
-	float t6 = 1.77095 + (NoV - 1.77095) * a;
-	float t7 = 1.5911 - t6;
-	float t9 = mad(t2, t7, 0.938501);
+	float t6 = search_env_16_p3 + (NoV - search_env_16_p3) * a;
+	float t7 = search_env_16_p2 - t6;
+	float t9 = mad(t2, t7, search_env_16_p1);
 	float t10 = saturate(t9);
 	float t14 = NoV + a;
 	float t15 = saturate(t14);
-	float t16 = (-7.874) * t15;
+	float t16 = search_env_16_p5 * t15;
 	float t17 = exp2(t16);
-	float t18 = f0 + (1.01399 - f0) * t17;
+	float t18 = f0 + (search_env_16_p4 - f0) * t17;
 	float t19 = t10 * t18;
-	float t20 = 0.991134 * t19;
+	float t20 = search_env_16_p0 * t19;
 	return t20;
 }

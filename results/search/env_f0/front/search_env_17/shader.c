@@ -27,18 +27,24 @@
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_17(float NoV, float r, float a, float f0)
+static inline float search_env_17(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_17_p0 = 0.382169f;
+	const float search_env_17_p1 = 0.008239f;
+	const float search_env_17_p2 = 2.63978f;
+	const float search_env_17_p3 = 0.91615f;
+	const float search_env_17_p4 = (-7.6278f);
 	float t3 = r + a;
 	float t4 = -t3;
 	float t6 = fminf(a, NoV);
 	float t7 = sqrtf(t6);
-	float t9 = t4 * t7 + 2.63978f;
+	float t9 = t4 * t7 + search_env_17_p2;
 	float t13 = a + NoV;
-	float t14 = (-7.6278f) * t13;
+	float t14 = search_env_17_p4 * t13;
 	float t15 = exp2f(t14);
-	float t16 = f0 + (0.91615f - f0) * t15;
-	float t18 = t9 * t16 + 0.008239f;
-	float t19 = 0.382169f * t18;
+	float t16 = f0 + (search_env_17_p3 - f0) * t15;
+	float t18 = t9 * t16 + search_env_17_p1;
+	float t19 = search_env_17_p0 * t18;
 	return t19;
 }

@@ -24,18 +24,24 @@
  *   exp2 1
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
-highp float search_env_17(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_17(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_17_p0 = 0.382169;
+	const highp float search_env_17_p1 = 0.008239;
+	const highp float search_env_17_p2 = 2.63978;
+	const highp float search_env_17_p3 = 0.91615;
+	const highp float search_env_17_p4 = (-7.6278);
 	highp float t3 = r + a;
 	highp float t4 = -t3;
 	highp float t6 = min(a, NoV);
 	highp float t7 = sqrt(t6);
-	highp float t9 = t4 * t7 + 2.63978;
+	highp float t9 = t4 * t7 + search_env_17_p2;
 	highp float t13 = a + NoV;
-	highp float t14 = (-7.6278) * t13;
+	highp float t14 = search_env_17_p4 * t13;
 	highp float t15 = exp2(t14);
-	highp float t16 = f0 + (0.91615 - f0) * t15;
-	highp float t18 = t9 * t16 + 0.008239;
-	highp float t19 = 0.382169 * t18;
+	highp float t16 = f0 + (search_env_17_p3 - f0) * t15;
+	highp float t18 = t9 * t16 + search_env_17_p1;
+	highp float t19 = search_env_17_p0 * t18;
 	return t19;
 }

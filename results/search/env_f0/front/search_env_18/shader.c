@@ -27,19 +27,25 @@
  *   simple 10, complex 2, cost 18 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_18(float NoV, float r, float a, float f0)
+static inline float search_env_18(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_18_p0 = 0.384645f;
+	const float search_env_18_p1 = 0.00729f;
+	const float search_env_18_p2 = 2.62591f;
+	const float search_env_18_p3 = 0.91464f;
+	const float search_env_18_p4 = (-7.612f);
 	float t3 = a + r;
 	float t4 = -t3;
 	float t6 = fminf(a, NoV);
 	float t7 = sqrtf(t6);
-	float t9 = t4 * t7 + 2.62591f;
+	float t9 = t4 * t7 + search_env_18_p2;
 	float t10 = fmaxf(a, t9);
 	float t14 = a + NoV;
-	float t15 = (-7.612f) * t14;
+	float t15 = search_env_18_p4 * t14;
 	float t16 = exp2f(t15);
-	float t17 = f0 + (0.91464f - f0) * t16;
-	float t19 = t10 * t17 + 0.00729f;
-	float t20 = 0.384645f * t19;
+	float t17 = f0 + (search_env_18_p3 - f0) * t16;
+	float t19 = t10 * t17 + search_env_18_p1;
+	float t20 = search_env_18_p0 * t19;
 	return t20;
 }

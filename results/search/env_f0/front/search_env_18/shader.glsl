@@ -24,19 +24,25 @@
  *   exp2 1
  *   simple 10, complex 2, cost 18 (simple = 1, complex = 4)
  */
-highp float search_env_18(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_18(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_18_p0 = 0.384645;
+	const highp float search_env_18_p1 = 0.00729;
+	const highp float search_env_18_p2 = 2.62591;
+	const highp float search_env_18_p3 = 0.91464;
+	const highp float search_env_18_p4 = (-7.612);
 	highp float t3 = a + r;
 	highp float t4 = -t3;
 	highp float t6 = min(a, NoV);
 	highp float t7 = sqrt(t6);
-	highp float t9 = t4 * t7 + 2.62591;
+	highp float t9 = t4 * t7 + search_env_18_p2;
 	highp float t10 = max(a, t9);
 	highp float t14 = a + NoV;
-	highp float t15 = (-7.612) * t14;
+	highp float t15 = search_env_18_p4 * t14;
 	highp float t16 = exp2(t15);
-	highp float t17 = f0 + (0.91464 - f0) * t16;
-	highp float t19 = t10 * t17 + 0.00729;
-	highp float t20 = 0.384645 * t19;
+	highp float t17 = f0 + (search_env_18_p3 - f0) * t16;
+	highp float t19 = t10 * t17 + search_env_18_p1;
+	highp float t20 = search_env_18_p0 * t19;
 	return t20;
 }

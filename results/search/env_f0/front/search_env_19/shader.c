@@ -27,20 +27,26 @@
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_19(float NoV, float r, float a, float f0)
+static inline float search_env_19(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_19_p0 = 0.386813f;
+	const float search_env_19_p1 = 2.58458f;
+	const float search_env_19_p2 = 2.62501f;
+	const float search_env_19_p3 = 0.90929f;
+	const float search_env_19_p4 = (-7.5115f);
 	float t4 = a + r;
 	float t5 = -t4;
 	float t7 = fminf(a, NoV);
 	float t8 = sqrtf(t7);
-	float t10 = t5 * t8 + 2.62501f;
+	float t10 = t5 * t8 + search_env_19_p2;
 	float t11 = fmaxf(a, t10);
 	float t15 = a + NoV;
-	float t16 = (-7.5115f) * t15;
+	float t16 = search_env_19_p4 * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (0.90929f - f0) * t17;
+	float t18 = f0 + (search_env_19_p3 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = fminf(2.58458f, t19);
-	float t21 = 0.386813f * t20;
+	float t20 = fminf(search_env_19_p1, t19);
+	float t21 = search_env_19_p0 * t20;
 	return t21;
 }

@@ -24,20 +24,26 @@
  *   exp2 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-highp float search_env_19(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_19(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_19_p0 = 0.386813;
+	const highp float search_env_19_p1 = 2.58458;
+	const highp float search_env_19_p2 = 2.62501;
+	const highp float search_env_19_p3 = 0.90929;
+	const highp float search_env_19_p4 = (-7.5115);
 	highp float t4 = a + r;
 	highp float t5 = -t4;
 	highp float t7 = min(a, NoV);
 	highp float t8 = sqrt(t7);
-	highp float t10 = t5 * t8 + 2.62501;
+	highp float t10 = t5 * t8 + search_env_19_p2;
 	highp float t11 = max(a, t10);
 	highp float t15 = a + NoV;
-	highp float t16 = (-7.5115) * t15;
+	highp float t16 = search_env_19_p4 * t15;
 	highp float t17 = exp2(t16);
-	highp float t18 = f0 + (0.90929 - f0) * t17;
+	highp float t18 = f0 + (search_env_19_p3 - f0) * t17;
 	highp float t19 = t11 * t18;
-	highp float t20 = min(2.58458, t19);
-	highp float t21 = 0.386813 * t20;
+	highp float t20 = min(search_env_19_p1, t19);
+	highp float t21 = search_env_19_p0 * t20;
 	return t21;
 }

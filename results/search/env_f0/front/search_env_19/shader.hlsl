@@ -24,20 +24,26 @@
  *   exp2 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-float search_env_19(float NoV, float r, float a, float f0)
+float search_env_19(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_19_p0 = 0.386813;
+	const float search_env_19_p1 = 2.58458;
+	const float search_env_19_p2 = 2.62501;
+	const float search_env_19_p3 = 0.90929;
+	const float search_env_19_p4 = (-7.5115);
 	float t4 = a + r;
 	float t5 = -t4;
 	float t7 = min(a, NoV);
 	float t8 = sqrt(t7);
-	float t10 = mad(t5, t8, 2.62501);
+	float t10 = mad(t5, t8, search_env_19_p2);
 	float t11 = max(a, t10);
 	float t15 = a + NoV;
-	float t16 = (-7.5115) * t15;
+	float t16 = search_env_19_p4 * t15;
 	float t17 = exp2(t16);
-	float t18 = f0 + (0.90929 - f0) * t17;
+	float t18 = f0 + (search_env_19_p3 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = min(2.58458, t19);
-	float t21 = 0.386813 * t20;
+	float t20 = min(search_env_19_p1, t19);
+	float t21 = search_env_19_p0 * t20;
 	return t21;
 }

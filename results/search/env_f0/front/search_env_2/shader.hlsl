@@ -15,8 +15,9 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-float search_env_2(float f0)
+float search_env_2(float NoV, float r, float f0)
 {
-	float t2 = 0.84536 * f0;
+	const float search_env_2_p0 = 0.84536;
+	float t2 = search_env_2_p0 * f0;
 	return t2;
 }

@@ -20,9 +20,13 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_3(float f0)
+static inline float search_env_3(float NoV, float r, float f0)
 {
-	float t4 = (-11.249f) * f0 + (-1.0f);
-	float t5 = (-0.06774f) * t4;
+	(void)NoV;
+	(void)r;
+	const float search_env_3_p0 = (-0.06774f);
+	const float search_env_3_p1 = (-11.249f);
+	float t4 = search_env_3_p1 * f0 + (-1.0f);
+	float t5 = search_env_3_p0 * t4;
 	return t5;
 }

@@ -17,9 +17,11 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float search_env_3(highp float f0)
+highp float search_env_3(highp float NoV, highp float r, highp float f0)
 {
-	highp float t4 = (-11.249) * f0 + (-1.0);
-	highp float t5 = (-0.06774) * t4;
+	const highp float search_env_3_p0 = (-0.06774);
+	const highp float search_env_3_p1 = (-11.249);
+	highp float t4 = search_env_3_p1 * f0 + (-1.0);
+	highp float t5 = search_env_3_p0 * t4;
 	return t5;
 }

@@ -17,9 +17,11 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float search_env_3(float f0)
+float search_env_3(float NoV, float r, float f0)
 {
-	float t4 = mad((-11.249), f0, (-1.0));
-	float t5 = (-0.06774) * t4;
+	const float search_env_3_p0 = (-0.06774);
+	const float search_env_3_p1 = (-11.249);
+	float t4 = mad(search_env_3_p1, f0, (-1.0));
+	float t5 = search_env_3_p0 * t4;
 	return t5;
 }

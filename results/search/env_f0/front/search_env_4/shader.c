@@ -21,11 +21,15 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_4(float NoV, float a, float f0)
+static inline float search_env_4(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_4_p0 = 0.8584f;
+	const float search_env_4_p1 = 0.07891f;
+	const float search_env_4_p2 = 1.05437f;
 	float t3 = -NoV;
-	float t6 = t3 * a + 1.05437f;
-	float t8 = f0 * t6 + 0.07891f;
-	float t9 = 0.8584f * t8;
+	float t6 = t3 * a + search_env_4_p2;
+	float t8 = f0 * t6 + search_env_4_p1;
+	float t9 = search_env_4_p0 * t8;
 	return t9;
 }

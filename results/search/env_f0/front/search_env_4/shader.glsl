@@ -18,11 +18,15 @@
  *   mad 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_env_4(highp float NoV, highp float a, highp float f0)
+highp float search_env_4(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_4_p0 = 0.8584;
+	const highp float search_env_4_p1 = 0.07891;
+	const highp float search_env_4_p2 = 1.05437;
 	highp float t3 = -NoV;
-	highp float t6 = t3 * a + 1.05437;
-	highp float t8 = f0 * t6 + 0.07891;
-	highp float t9 = 0.8584 * t8;
+	highp float t6 = t3 * a + search_env_4_p2;
+	highp float t8 = f0 * t6 + search_env_4_p1;
+	highp float t9 = search_env_4_p0 * t8;
 	return t9;
 }

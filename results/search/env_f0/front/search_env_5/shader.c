@@ -22,12 +22,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_5(float NoV, float a, float f0)
+static inline float search_env_5(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_5_p0 = (-0.15931f);
+	const float search_env_5_p1 = 5.8629f;
+	const float search_env_5_p2 = (-3.5157f);
 	float t3 = -f0;
-	float t7 = (-3.5157f) * a + 5.8629f;
+	float t7 = search_env_5_p2 * a + search_env_5_p1;
 	float t9 = t3 * t7 + NoV;
 	float t10 = (-1.0f) + t9;
-	float t11 = (-0.15931f) * t10;
+	float t11 = search_env_5_p0 * t10;
 	return t11;
 }

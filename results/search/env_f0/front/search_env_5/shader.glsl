@@ -19,12 +19,16 @@
  *   mad 2
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_env_5(highp float NoV, highp float a, highp float f0)
+highp float search_env_5(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_5_p0 = (-0.15931);
+	const highp float search_env_5_p1 = 5.8629;
+	const highp float search_env_5_p2 = (-3.5157);
 	highp float t3 = -f0;
-	highp float t7 = (-3.5157) * a + 5.8629;
+	highp float t7 = search_env_5_p2 * a + search_env_5_p1;
 	highp float t9 = t3 * t7 + NoV;
 	highp float t10 = (-1.0) + t9;
-	highp float t11 = (-0.15931) * t10;
+	highp float t11 = search_env_5_p0 * t10;
 	return t11;
 }

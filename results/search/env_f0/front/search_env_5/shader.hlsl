@@ -19,12 +19,16 @@
  *   mad 2
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_env_5(float NoV, float a, float f0)
+float search_env_5(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_5_p0 = (-0.15931);
+	const float search_env_5_p1 = 5.8629;
+	const float search_env_5_p2 = (-3.5157);
 	float t3 = -f0;
-	float t7 = mad((-3.5157), a, 5.8629);
+	float t7 = mad(search_env_5_p2, a, search_env_5_p1);
 	float t9 = mad(t3, t7, NoV);
 	float t10 = (-1.0) + t9;
-	float t11 = (-0.15931) * t10;
+	float t11 = search_env_5_p0 * t10;
 	return t11;
 }

@@ -24,14 +24,20 @@
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_6(float NoV, float a, float f0)
+static inline float search_env_6(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_p0 = 0.50669f;
+	const float search_env_6_p1 = 0.44005f;
+	const float search_env_6_p2 = 0.94035f;
+	const float search_env_6_p3 = (-1.881f);
+	const float search_env_6_p4 = 1.1054f;
 	float t2 = -f0;
-	float t6 = 1.1054f * a + (-1.881f);
+	float t6 = search_env_6_p4 * a + search_env_6_p3;
 	float t8 = -NoV;
-	float t11 = fmaxf(0.44005f, NoV);
-	float t12 = t8 * 0.94035f + t11;
+	float t11 = fmaxf(search_env_6_p1, NoV);
+	float t12 = t8 * search_env_6_p2 + t11;
 	float t13 = t2 * t6 + t12;
-	float t14 = 0.50669f * t13;
+	float t14 = search_env_6_p0 * t13;
 	return t14;
 }

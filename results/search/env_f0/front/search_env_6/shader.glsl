@@ -21,14 +21,20 @@
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-highp float search_env_6(highp float NoV, highp float a, highp float f0)
+highp float search_env_6(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_6_p0 = 0.50669;
+	const highp float search_env_6_p1 = 0.44005;
+	const highp float search_env_6_p2 = 0.94035;
+	const highp float search_env_6_p3 = (-1.881);
+	const highp float search_env_6_p4 = 1.1054;
 	highp float t2 = -f0;
-	highp float t6 = 1.1054 * a + (-1.881);
+	highp float t6 = search_env_6_p4 * a + search_env_6_p3;
 	highp float t8 = -NoV;
-	highp float t11 = max(0.44005, NoV);
-	highp float t12 = t8 * 0.94035 + t11;
+	highp float t11 = max(search_env_6_p1, NoV);
+	highp float t12 = t8 * search_env_6_p2 + t11;
 	highp float t13 = t2 * t6 + t12;
-	highp float t14 = 0.50669 * t13;
+	highp float t14 = search_env_6_p0 * t13;
 	return t14;
 }

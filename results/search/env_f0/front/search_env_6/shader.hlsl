@@ -21,14 +21,20 @@
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-float search_env_6(float NoV, float a, float f0)
+float search_env_6(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_p0 = 0.50669;
+	const float search_env_6_p1 = 0.44005;
+	const float search_env_6_p2 = 0.94035;
+	const float search_env_6_p3 = (-1.881);
+	const float search_env_6_p4 = 1.1054;
 	float t2 = -f0;
-	float t6 = mad(1.1054, a, (-1.881));
+	float t6 = mad(search_env_6_p4, a, search_env_6_p3);
 	float t8 = -NoV;
-	float t11 = max(0.44005, NoV);
-	float t12 = mad(t8, 0.94035, t11);
+	float t11 = max(search_env_6_p1, NoV);
+	float t12 = mad(t8, search_env_6_p2, t11);
 	float t13 = mad(t2, t6, t12);
-	float t14 = 0.50669 * t13;
+	float t14 = search_env_6_p0 * t13;
 	return t14;
 }

@@ -26,13 +26,18 @@
 #include <math.h>
 static inline float search_env_7(float NoV, float r, float f0)
 {
+	const float search_env_7_p0 = 0.67185f;
+	const float search_env_7_p1 = 1.44735f;
+	const float search_env_7_p2 = 0.38901f;
+	const float search_env_7_p3 = 0.99256f;
+	const float search_env_7_p4 = (-1.76997f);
 	float t3 = -f0;
-	float t7 = 1.0905077f * r + (-1.76997f);
+	float t7 = 1.0905077f * r + search_env_7_p4;
 	float t9 = -NoV;
-	float t12 = fmaxf(0.38901f, NoV);
-	float t13 = t9 * 0.99256f + t12;
+	float t12 = fmaxf(search_env_7_p2, NoV);
+	float t13 = t9 * search_env_7_p3 + t12;
 	float t14 = t3 * t7 + t13;
-	float t15 = fminf(1.44735f, t14);
-	float t16 = 0.67185f * t15;
+	float t15 = fminf(search_env_7_p1, t14);
+	float t16 = search_env_7_p0 * t15;
 	return t16;
 }

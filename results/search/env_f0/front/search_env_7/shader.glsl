@@ -23,13 +23,18 @@
  */
 highp float search_env_7(highp float NoV, highp float r, highp float f0)
 {
+	const highp float search_env_7_p0 = 0.67185;
+	const highp float search_env_7_p1 = 1.44735;
+	const highp float search_env_7_p2 = 0.38901;
+	const highp float search_env_7_p3 = 0.99256;
+	const highp float search_env_7_p4 = (-1.76997);
 	highp float t3 = -f0;
-	highp float t7 = 1.0905077 * r + (-1.76997);
+	highp float t7 = 1.0905077 * r + search_env_7_p4;
 	highp float t9 = -NoV;
-	highp float t12 = max(0.38901, NoV);
-	highp float t13 = t9 * 0.99256 + t12;
+	highp float t12 = max(search_env_7_p2, NoV);
+	highp float t13 = t9 * search_env_7_p3 + t12;
 	highp float t14 = t3 * t7 + t13;
-	highp float t15 = min(1.44735, t14);
-	highp float t16 = 0.67185 * t15;
+	highp float t15 = min(search_env_7_p1, t14);
+	highp float t16 = search_env_7_p0 * t15;
 	return t16;
 }

@@ -23,13 +23,18 @@
  */
 float search_env_7(float NoV, float r, float f0)
 {
+	const float search_env_7_p0 = 0.67185;
+	const float search_env_7_p1 = 1.44735;
+	const float search_env_7_p2 = 0.38901;
+	const float search_env_7_p3 = 0.99256;
+	const float search_env_7_p4 = (-1.76997);
 	float t3 = -f0;
-	float t7 = mad(1.0905077, r, (-1.76997));
+	float t7 = mad(1.0905077, r, search_env_7_p4);
 	float t9 = -NoV;
-	float t12 = max(0.38901, NoV);
-	float t13 = mad(t9, 0.99256, t12);
+	float t12 = max(search_env_7_p2, NoV);
+	float t13 = mad(t9, search_env_7_p3, t12);
 	float t14 = mad(t3, t7, t13);
-	float t15 = min(1.44735, t14);
-	float t16 = 0.67185 * t15;
+	float t15 = min(search_env_7_p1, t14);
+	float t16 = search_env_7_p0 * t15;
 	return t16;
 }

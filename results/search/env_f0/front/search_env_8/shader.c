@@ -26,15 +26,22 @@
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_8(float NoV, float r, float a, float f0)
+static inline float search_env_8(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_p0 = 0.84871f;
+	const float search_env_8_p1 = (-0.98832f);
+	const float search_env_8_p2 = 0.5682f;
+	const float search_env_8_p3 = (-0.45704f);
+	const float search_env_8_p4 = 0.83822f;
+	const float search_env_8_p5 = (-0.47126f);
 	float t3 = -NoV;
-	float t6 = (-0.47126f) + a;
-	float t8 = t3 * t6 + 0.83822f;
-	float t13 = (-0.45704f) * r + 0.5682f;
+	float t6 = search_env_8_p5 + a;
+	float t8 = t3 * t6 + search_env_8_p4;
+	float t13 = search_env_8_p3 * r + search_env_8_p2;
 	float t14 = fmaxf(NoV, t13);
-	float t15 = (-0.98832f) * NoV + t14;
+	float t15 = search_env_8_p1 * NoV + t14;
 	float t16 = f0 * t8 + t15;
-	float t17 = 0.84871f * t16;
+	float t17 = search_env_8_p0 * t16;
 	return t17;
 }

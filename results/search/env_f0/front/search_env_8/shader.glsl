@@ -23,15 +23,22 @@
  *   minmax 1
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
-highp float search_env_8(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_8(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_8_p0 = 0.84871;
+	const highp float search_env_8_p1 = (-0.98832);
+	const highp float search_env_8_p2 = 0.5682;
+	const highp float search_env_8_p3 = (-0.45704);
+	const highp float search_env_8_p4 = 0.83822;
+	const highp float search_env_8_p5 = (-0.47126);
 	highp float t3 = -NoV;
-	highp float t6 = (-0.47126) + a;
-	highp float t8 = t3 * t6 + 0.83822;
-	highp float t13 = (-0.45704) * r + 0.5682;
+	highp float t6 = search_env_8_p5 + a;
+	highp float t8 = t3 * t6 + search_env_8_p4;
+	highp float t13 = search_env_8_p3 * r + search_env_8_p2;
 	highp float t14 = max(NoV, t13);
-	highp float t15 = (-0.98832) * NoV + t14;
+	highp float t15 = search_env_8_p1 * NoV + t14;
 	highp float t16 = f0 * t8 + t15;
-	highp float t17 = 0.84871 * t16;
+	highp float t17 = search_env_8_p0 * t16;
 	return t17;
 }

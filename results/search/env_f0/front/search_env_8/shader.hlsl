@@ -23,15 +23,22 @@
  *   minmax 1
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
-float search_env_8(float NoV, float r, float a, float f0)
+float search_env_8(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_p0 = 0.84871;
+	const float search_env_8_p1 = (-0.98832);
+	const float search_env_8_p2 = 0.5682;
+	const float search_env_8_p3 = (-0.45704);
+	const float search_env_8_p4 = 0.83822;
+	const float search_env_8_p5 = (-0.47126);
 	float t3 = -NoV;
-	float t6 = (-0.47126) + a;
-	float t8 = mad(t3, t6, 0.83822);
-	float t13 = mad((-0.45704), r, 0.5682);
+	float t6 = search_env_8_p5 + a;
+	float t8 = mad(t3, t6, search_env_8_p4);
+	float t13 = mad(search_env_8_p3, r, search_env_8_p2);
 	float t14 = max(NoV, t13);
-	float t15 = mad((-0.98832), NoV, t14);
+	float t15 = mad(search_env_8_p1, NoV, t14);
 	float t16 = mad(f0, t8, t15);
-	float t17 = 0.84871 * t16;
+	float t17 = search_env_8_p0 * t16;
 	return t17;
 }

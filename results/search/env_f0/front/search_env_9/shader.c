@@ -27,17 +27,24 @@
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_9(float NoV, float r, float a, float f0)
+static inline float search_env_9(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_9_p0 = 0.976349f;
+	const float search_env_9_p1 = (-0.99369f);
+	const float search_env_9_p2 = 0.55262f;
+	const float search_env_9_p3 = 0.52483f;
+	const float search_env_9_p4 = 0.79504f;
+	const float search_env_9_p5 = (-0.38588f);
 	float t3 = -NoV;
-	float t6 = (-0.38588f) + a;
-	float t8 = t3 * t6 + 0.79504f;
-	float t11 = -0.52483f;
-	float t14 = t11 * r + 0.55262f;
+	float t6 = search_env_9_p5 + a;
+	float t8 = t3 * t6 + search_env_9_p4;
+	float t11 = -search_env_9_p3;
+	float t14 = t11 * r + search_env_9_p2;
 	float t15 = fmaxf(NoV, t14);
-	float t16 = (-0.99369f) * NoV + t15;
+	float t16 = search_env_9_p1 * NoV + t15;
 	float t17 = f0 * t8 + t16;
 	float t18 = fminf(fmaxf(t17, 0.0f), 1.0f);
-	float t19 = 0.976349f * t18;
+	float t19 = search_env_9_p0 * t18;
 	return t19;
 }

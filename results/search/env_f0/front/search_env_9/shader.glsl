@@ -24,17 +24,24 @@
  *   saturate 1
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-highp float search_env_9(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_9(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_9_p0 = 0.976349;
+	const highp float search_env_9_p1 = (-0.99369);
+	const highp float search_env_9_p2 = 0.55262;
+	const highp float search_env_9_p3 = 0.52483;
+	const highp float search_env_9_p4 = 0.79504;
+	const highp float search_env_9_p5 = (-0.38588);
 	highp float t3 = -NoV;
-	highp float t6 = (-0.38588) + a;
-	highp float t8 = t3 * t6 + 0.79504;
-	highp float t11 = -0.52483;
-	highp float t14 = t11 * r + 0.55262;
+	highp float t6 = search_env_9_p5 + a;
+	highp float t8 = t3 * t6 + search_env_9_p4;
+	highp float t11 = -search_env_9_p3;
+	highp float t14 = t11 * r + search_env_9_p2;
 	highp float t15 = max(NoV, t14);
-	highp float t16 = (-0.99369) * NoV + t15;
+	highp float t16 = search_env_9_p1 * NoV + t15;
 	highp float t17 = f0 * t8 + t16;
 	highp float t18 = clamp(t17, 0.0, 1.0);
-	highp float t19 = 0.976349 * t18;
+	highp float t19 = search_env_9_p0 * t18;
 	return t19;
 }

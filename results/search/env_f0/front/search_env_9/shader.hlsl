@@ -24,17 +24,24 @@
  *   saturate 1
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-float search_env_9(float NoV, float r, float a, float f0)
+float search_env_9(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_9_p0 = 0.976349;
+	const float search_env_9_p1 = (-0.99369);
+	const float search_env_9_p2 = 0.55262;
+	const float search_env_9_p3 = 0.52483;
+	const float search_env_9_p4 = 0.79504;
+	const float search_env_9_p5 = (-0.38588);
 	float t3 = -NoV;
-	float t6 = (-0.38588) + a;
-	float t8 = mad(t3, t6, 0.79504);
-	float t11 = -0.52483;
-	float t14 = mad(t11, r, 0.55262);
+	float t6 = search_env_9_p5 + a;
+	float t8 = mad(t3, t6, search_env_9_p4);
+	float t11 = -search_env_9_p3;
+	float t14 = mad(t11, r, search_env_9_p2);
 	float t15 = max(NoV, t14);
-	float t16 = mad((-0.99369), NoV, t15);
+	float t16 = mad(search_env_9_p1, NoV, t15);
 	float t17 = mad(f0, t8, t16);
 	float t18 = saturate(t17);
-	float t19 = 0.976349 * t18;
+	float t19 = search_env_9_p0 * t18;
 	return t19;
 }

@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.332 in f16, as this half code computes it (either order of its mads), max |error| 0.541; in f64: rmse 0.332
+ * fitted error: rmse 0.332 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.541; in f64: rmse 0.332
  * parameters baked in:
- *   p0 = 0.45891
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = 0.45891 (0.458984375 in half, as written below)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-half seed_search_env_1()
+min16float seed_search_env_1(min16float NoV, min16float r, min16float f0)
 {
-	return 0.45891;
+	const min16float seed_search_env_1_p0 = 0.458984375;
+	return seed_search_env_1_p0;
 }

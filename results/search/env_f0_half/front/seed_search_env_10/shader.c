@@ -7,16 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0319 in f16, as this half code computes it (either order of its mads), max |error| 0.318; in f64: rmse 0.0319
+ * fitted error: rmse 0.0319 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.316; in f64: rmse 0.0319
  * parameters baked in:
  *   p0 = 0.955566406
  *   p1 = 1.02636719
- *   p2 = 0.786132812
- *   p3 = -0.422119141
- *   p4 = -1.05664062
- *   p5 = 0.821777344
- *   p6 = 0.578613281
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 0.78515625
+ *   p3 = -0.422851562
+ *   p4 = -1.0546875
+ *   p5 = 0.822753906
+ *   p6 = 0.578125
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,18 +28,26 @@
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_10(float NoV, float r, float a, float f0)
+static inline float seed_search_env_10(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_10_p0 = 0.95556640625f;
+	const float seed_search_env_10_p1 = 1.0263671875f;
+	const float seed_search_env_10_p2 = 0.78515625f;
+	const float seed_search_env_10_p3 = (-0.4228515625f);
+	const float seed_search_env_10_p4 = (-1.0546875f);
+	const float seed_search_env_10_p5 = 0.82275390625f;
+	const float seed_search_env_10_p6 = 0.578125f;
 	float t4 = -NoV;
-	float t7 = (-0.42211914f) + a;
-	float t9 = t4 * t7 + 0.7861328f;
-	float t12 = -0.5786133f;
-	float t15 = t12 * r + 0.82177734f;
+	float t7 = seed_search_env_10_p3 + a;
+	float t9 = t4 * t7 + seed_search_env_10_p2;
+	float t12 = -seed_search_env_10_p6;
+	float t15 = t12 * r + seed_search_env_10_p5;
 	float t16 = fmaxf(NoV, t15);
-	float t17 = NoV * (-1.0566406f) + t16;
+	float t17 = NoV * seed_search_env_10_p4 + t16;
 	float t18 = t17 * t17;
 	float t19 = f0 * t9 + t18;
-	float t20 = fminf(1.0263672f, t19);
-	float t21 = 0.9555664f * t20;
+	float t20 = fminf(seed_search_env_10_p1, t19);
+	float t21 = seed_search_env_10_p0 * t20;
 	return t21;
 }

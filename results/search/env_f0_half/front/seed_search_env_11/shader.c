@@ -7,16 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.028 in f16, as this half code computes it (either order of its mads), max |error| 0.182; in f64: rmse 0.028
+ * fitted error: rmse 0.028 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.181; in f64: rmse 0.028
  * parameters baked in:
- *   p0 = 0.975097656
- *   p1 = -0.0810546875
+ *   p0 = 0.974121094
+ *   p1 = -0.083984375
  *   p2 = -0.689941406
- *   p3 = 0.909667969
- *   p4 = 0.0244293213
- *   p5 = 0.860351562
+ *   p3 = 0.909179688
+ *   p4 = 0.0247650146
+ *   p5 = 0.860839844
  *   p6 = -1.78027344
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,17 +28,25 @@
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_11(float NoV, float r, float a, float f0)
+static inline float seed_search_env_11(float NoV, float r, float f0)
 {
-	float t3 = -(-0.6899414f);
-	float t6 = t3 * a + (-0.08105469f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_11_p0 = 0.97412109375f;
+	const float seed_search_env_11_p1 = (-0.083984375f);
+	const float seed_search_env_11_p2 = (-0.68994140625f);
+	const float seed_search_env_11_p3 = 0.9091796875f;
+	const float seed_search_env_11_p4 = 0.0247650146484375f;
+	const float seed_search_env_11_p5 = 0.86083984375f;
+	const float seed_search_env_11_p6 = (-1.7802734375f);
+	float t3 = -seed_search_env_11_p2;
+	float t6 = t3 * a + seed_search_env_11_p1;
 	float t7 = fminf(NoV, t6);
-	float t8 = 0.97509766f - t7;
-	float t15 = 0.86035156f - r;
-	float t16 = NoV * (-1.7802734f) + t15;
-	float t17 = fmaxf(0.024429321f, t16);
-	float t18 = f0 + (0.90966797f - f0) * t17;
+	float t8 = seed_search_env_11_p0 - t7;
+	float t15 = seed_search_env_11_p5 - r;
+	float t16 = NoV * seed_search_env_11_p6 + t15;
+	float t17 = fmaxf(seed_search_env_11_p4, t16);
+	float t18 = f0 + (seed_search_env_11_p3 - f0) * t17;
 	float t19 = t8 * t18;
-	float t20 = 0.97509766f * t19;
+	float t20 = seed_search_env_11_p0 * t19;
 	return t20;
 }

@@ -7,16 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.028 in f16, as this half code computes it (either order of its mads), max |error| 0.182; in f64: rmse 0.028
+ * fitted error: rmse 0.028 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.181; in f64: rmse 0.028
  * parameters baked in:
- *   p0 = 0.975097656
- *   p1 = -0.0810546875
+ *   p0 = 0.974121094
+ *   p1 = -0.083984375
  *   p2 = -0.689941406
- *   p3 = 0.909667969
- *   p4 = 0.0244293213
- *   p5 = 0.860351562
+ *   p3 = 0.909179688
+ *   p4 = 0.0247650146
+ *   p5 = 0.860839844
  *   p6 = -1.78027344
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -24,17 +24,25 @@
  *   minmax 2
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
-half seed_search_env_11(half NoV, half r, half a, half f0)
+min16float seed_search_env_11(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = -(-0.6899414);
-	half t6 = mad(t3, a, (-0.08105469));
-	half t7 = min(NoV, t6);
-	half t8 = 0.97509766 - t7;
-	half t15 = 0.86035156 - r;
-	half t16 = mad(NoV, (-1.7802734), t15);
-	half t17 = max(0.024429321, t16);
-	half t18 = f0 + (0.90966797 - f0) * t17;
-	half t19 = t8 * t18;
-	half t20 = 0.97509766 * t19;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_11_p0 = 0.97412109375;
+	const min16float seed_search_env_11_p1 = (-0.083984375);
+	const min16float seed_search_env_11_p2 = (-0.68994140625);
+	const min16float seed_search_env_11_p3 = 0.9091796875;
+	const min16float seed_search_env_11_p4 = 0.0247650146484375;
+	const min16float seed_search_env_11_p5 = 0.86083984375;
+	const min16float seed_search_env_11_p6 = (-1.7802734375);
+	min16float t3 = -seed_search_env_11_p2;
+	min16float t6 = mad(t3, a, seed_search_env_11_p1);
+	min16float t7 = min(NoV, t6);
+	min16float t8 = seed_search_env_11_p0 - t7;
+	min16float t15 = seed_search_env_11_p5 - r;
+	min16float t16 = mad(NoV, seed_search_env_11_p6, t15);
+	min16float t17 = max(seed_search_env_11_p4, t16);
+	min16float t18 = f0 + (seed_search_env_11_p3 - f0) * t17;
+	min16float t19 = t8 * t18;
+	min16float t20 = seed_search_env_11_p0 * t19;
 	return t20;
 }

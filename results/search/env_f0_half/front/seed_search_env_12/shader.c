@@ -7,16 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0253 in f16, as this half code computes it (either order of its mads), max |error| 0.223; in f64: rmse 0.0253
+ * fitted error: rmse 0.0253 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.223; in f64: rmse 0.0253
  * parameters baked in:
  *   p0 = 1.0546875
- *   p1 = -0.0135574341
+ *   p1 = -0.013671875
  *   p2 = 0.927734375
- *   p3 = -0.0595703125
+ *   p3 = -0.0595397949
  *   p4 = -0.629394531
- *   p5 = 0.0394592285
+ *   p5 = 0.0394287109
  *   p6 = 0.798828125
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,18 +28,26 @@
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_12(float NoV, float r, float a, float f0)
+static inline float seed_search_env_12(float NoV, float r, float f0)
 {
-	float t4 = -(-0.62939453f);
-	float t7 = t4 * a + (-0.059570312f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_12_p0 = 1.0546875f;
+	const float seed_search_env_12_p1 = (-0.013671875f);
+	const float seed_search_env_12_p2 = 0.927734375f;
+	const float seed_search_env_12_p3 = (-0.059539794921875f);
+	const float seed_search_env_12_p4 = (-0.62939453125f);
+	const float seed_search_env_12_p5 = 0.0394287109375f;
+	const float seed_search_env_12_p6 = 0.798828125f;
+	float t4 = -seed_search_env_12_p4;
+	float t7 = t4 * a + seed_search_env_12_p3;
 	float t8 = fminf(NoV, t7);
-	float t9 = 0.9277344f - t8;
-	float t13 = 0.7988281f - NoV;
+	float t9 = seed_search_env_12_p2 - t8;
+	float t13 = seed_search_env_12_p6 - NoV;
 	float t15 = fmaxf(NoV, r);
 	float t16 = t13 - t15;
-	float t17 = fmaxf(0.03945923f, t16);
-	float t18 = f0 + (0.9277344f - f0) * t17;
-	float t20 = t9 * t18 + (-0.013557434f);
-	float t21 = 1.0546875f * t20;
+	float t17 = fmaxf(seed_search_env_12_p5, t16);
+	float t18 = f0 + (seed_search_env_12_p2 - f0) * t17;
+	float t20 = t9 * t18 + seed_search_env_12_p1;
+	float t21 = seed_search_env_12_p0 * t20;
 	return t21;
 }

@@ -7,16 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0253 in f16, as this half code computes it (either order of its mads), max |error| 0.223; in f64: rmse 0.0253
+ * fitted error: rmse 0.0253 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.223; in f64: rmse 0.0253
  * parameters baked in:
  *   p0 = 1.0546875
- *   p1 = -0.0135574341
+ *   p1 = -0.013671875
  *   p2 = 0.927734375
- *   p3 = -0.0595703125
+ *   p3 = -0.0595397949
  *   p4 = -0.629394531
- *   p5 = 0.0394592285
+ *   p5 = 0.0394287109
  *   p6 = 0.798828125
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 1
@@ -24,18 +24,26 @@
  *   minmax 3
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
-mediump float seed_search_env_12(mediump float NoV, mediump float r, mediump float a, mediump float f0)
+mediump float seed_search_env_12(mediump float NoV, mediump float r, mediump float f0)
 {
-	mediump float t4 = -(-0.62939453);
-	mediump float t7 = t4 * a + (-0.059570312);
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_env_12_p0 = 1.0546875;
+	const mediump float seed_search_env_12_p1 = (-0.013671875);
+	const mediump float seed_search_env_12_p2 = 0.927734375;
+	const mediump float seed_search_env_12_p3 = (-0.059539794921875);
+	const mediump float seed_search_env_12_p4 = (-0.62939453125);
+	const mediump float seed_search_env_12_p5 = 0.0394287109375;
+	const mediump float seed_search_env_12_p6 = 0.798828125;
+	mediump float t4 = -seed_search_env_12_p4;
+	mediump float t7 = t4 * a + seed_search_env_12_p3;
 	mediump float t8 = min(NoV, t7);
-	mediump float t9 = 0.9277344 - t8;
-	mediump float t13 = 0.7988281 - NoV;
+	mediump float t9 = seed_search_env_12_p2 - t8;
+	mediump float t13 = seed_search_env_12_p6 - NoV;
 	mediump float t15 = max(NoV, r);
 	mediump float t16 = t13 - t15;
-	mediump float t17 = max(0.03945923, t16);
-	mediump float t18 = f0 + (0.9277344 - f0) * t17;
-	mediump float t20 = t9 * t18 + (-0.013557434);
-	mediump float t21 = 1.0546875 * t20;
+	mediump float t17 = max(seed_search_env_12_p5, t16);
+	mediump float t18 = f0 + (seed_search_env_12_p2 - f0) * t17;
+	mediump float t20 = t9 * t18 + seed_search_env_12_p1;
+	mediump float t21 = seed_search_env_12_p0 * t20;
 	return t21;
 }

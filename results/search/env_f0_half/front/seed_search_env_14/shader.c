@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.021 in f16, as this half code computes it (either order of its mads), max |error| 0.142; in f64: rmse 0.021
+ * fitted error: rmse 0.0211 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.142; in f64: rmse 0.021
  * parameters baked in:
  *   p0 = 0.905761719
  *   p1 = 1.02539062
- *   p2 = -0.152954102
- *   p3 = -1.79296875
+ *   p2 = -0.153808594
+ *   p3 = -1.79199219
  *   p4 = -7.88671875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,18 +26,24 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_14(float NoV, float a, float f0)
+static inline float seed_search_env_14(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_14_p0 = 0.90576171875f;
+	const float seed_search_env_14_p1 = 1.025390625f;
+	const float seed_search_env_14_p2 = (-0.15380859375f);
+	const float seed_search_env_14_p3 = (-1.7919921875f);
+	const float seed_search_env_14_p4 = (-7.88671875f);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.7929688f);
-	float t8 = t4 * t6 + (-0.1529541f);
-	float t10 = t2 * t8 + 1.0253906f;
+	float t6 = NoV + seed_search_env_14_p3;
+	float t8 = t4 * t6 + seed_search_env_14_p2;
+	float t10 = t2 * t8 + seed_search_env_14_p1;
 	float t13 = NoV + a;
-	float t14 = (-7.8867188f) * t13;
+	float t14 = seed_search_env_14_p4 * t13;
 	float t15 = exp2f(t14);
-	float t16 = f0 + (1.0253906f - f0) * t15;
+	float t16 = f0 + (seed_search_env_14_p1 - f0) * t15;
 	float t17 = t10 * t16;
-	float t18 = 0.9057617f * t17;
+	float t18 = seed_search_env_14_p0 * t17;
 	return t18;
 }

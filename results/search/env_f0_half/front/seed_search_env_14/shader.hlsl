@@ -7,14 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.021 in f16, as this half code computes it (either order of its mads), max |error| 0.142; in f64: rmse 0.021
+ * fitted error: rmse 0.0211 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.142; in f64: rmse 0.021
  * parameters baked in:
  *   p0 = 0.905761719
  *   p1 = 1.02539062
- *   p2 = -0.152954102
- *   p3 = -1.79296875
+ *   p2 = -0.153808594
+ *   p3 = -1.79199219
  *   p4 = -7.88671875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 3
@@ -22,18 +22,24 @@
  *   exp2 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-half seed_search_env_14(half NoV, half a, half f0)
+min16float seed_search_env_14(min16float NoV, min16float r, min16float f0)
 {
-	half t2 = -NoV;
-	half t4 = -a;
-	half t6 = NoV + (-1.7929688);
-	half t8 = mad(t4, t6, (-0.1529541));
-	half t10 = mad(t2, t8, 1.0253906);
-	half t13 = NoV + a;
-	half t14 = (-7.8867188) * t13;
-	half t15 = exp2(t14);
-	half t16 = f0 + (1.0253906 - f0) * t15;
-	half t17 = t10 * t16;
-	half t18 = 0.9057617 * t17;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_14_p0 = 0.90576171875;
+	const min16float seed_search_env_14_p1 = 1.025390625;
+	const min16float seed_search_env_14_p2 = (-0.15380859375);
+	const min16float seed_search_env_14_p3 = (-1.7919921875);
+	const min16float seed_search_env_14_p4 = (-7.88671875);
+	min16float t2 = -NoV;
+	min16float t4 = -a;
+	min16float t6 = NoV + seed_search_env_14_p3;
+	min16float t8 = mad(t4, t6, seed_search_env_14_p2);
+	min16float t10 = mad(t2, t8, seed_search_env_14_p1);
+	min16float t13 = NoV + a;
+	min16float t14 = seed_search_env_14_p4 * t13;
+	min16float t15 = exp2(t14);
+	min16float t16 = f0 + (seed_search_env_14_p1 - f0) * t15;
+	min16float t17 = t10 * t16;
+	min16float t18 = seed_search_env_14_p0 * t17;
 	return t18;
 }

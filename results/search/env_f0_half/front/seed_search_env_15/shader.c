@@ -7,15 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.019 in f16, as this half code computes it (either order of its mads), max |error| 0.137; in f64: rmse 0.019
+ * fitted error: rmse 0.019 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.137; in f64: rmse 0.019
  * parameters baked in:
  *   p0 = 0.991210938
  *   p1 = 0.937988281
- *   p2 = -0.180419922
- *   p3 = -1.77050781
+ *   p2 = -0.180664062
+ *   p3 = -1.76953125
  *   p4 = 1.01464844
- *   p5 = -7.8828125
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p5 = -7.87890625
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,19 +28,26 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_15(float NoV, float a, float f0)
+static inline float seed_search_env_15(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_15_p0 = 0.9912109375f;
+	const float seed_search_env_15_p1 = 0.93798828125f;
+	const float seed_search_env_15_p2 = (-0.1806640625f);
+	const float seed_search_env_15_p3 = (-1.76953125f);
+	const float seed_search_env_15_p4 = 1.0146484375f;
+	const float seed_search_env_15_p5 = (-7.87890625f);
 	float t2 = -NoV;
 	float t4 = -a;
-	float t6 = NoV + (-1.7705078f);
-	float t8 = t4 * t6 + (-0.18041992f);
-	float t10 = t2 * t8 + 0.9379883f;
+	float t6 = NoV + seed_search_env_15_p3;
+	float t8 = t4 * t6 + seed_search_env_15_p2;
+	float t10 = t2 * t8 + seed_search_env_15_p1;
 	float t11 = fminf(fmaxf(t10, 0.0f), 1.0f);
 	float t15 = NoV + a;
-	float t16 = (-7.8828125f) * t15;
+	float t16 = seed_search_env_15_p5 * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (1.0146484f - f0) * t17;
+	float t18 = f0 + (seed_search_env_15_p4 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = 0.99121094f * t19;
+	float t20 = seed_search_env_15_p0 * t19;
 	return t20;
 }

@@ -7,7 +7,7 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.019 in f16, as this half code computes it (either order of its mads), max |error| 0.138; in f64: rmse 0.019
+ * fitted error: rmse 0.019 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.138; in f64: rmse 0.019
  * parameters baked in:
  *   p0 = 0.991210938
  *   p1 = 0.938476562
@@ -15,7 +15,7 @@
  *   p3 = 1.77050781
  *   p4 = 1.01464844
  *   p5 = -7.87890625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 3
@@ -24,19 +24,26 @@
  *   exp2 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-half seed_search_env_16(half NoV, half a, half f0)
+min16float seed_search_env_16(min16float NoV, min16float r, min16float f0)
 {
-	half t2 = -NoV;
-	half t6 = 1.7705078 + (NoV - 1.7705078) * a;
-	half t7 = 1.5908203 - t6;
-	half t9 = mad(t2, t7, 0.93847656);
-	half t10 = saturate(t9);
-	half t14 = NoV + a;
-	half t15 = saturate(t14);
-	half t16 = (-7.8789062) * t15;
-	half t17 = exp2(t16);
-	half t18 = f0 + (1.0146484 - f0) * t17;
-	half t19 = t10 * t18;
-	half t20 = 0.99121094 * t19;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_16_p0 = 0.9912109375;
+	const min16float seed_search_env_16_p1 = 0.9384765625;
+	const min16float seed_search_env_16_p2 = 1.5908203125;
+	const min16float seed_search_env_16_p3 = 1.7705078125;
+	const min16float seed_search_env_16_p4 = 1.0146484375;
+	const min16float seed_search_env_16_p5 = (-7.87890625);
+	min16float t2 = -NoV;
+	min16float t6 = seed_search_env_16_p3 + (NoV - seed_search_env_16_p3) * a;
+	min16float t7 = seed_search_env_16_p2 - t6;
+	min16float t9 = mad(t2, t7, seed_search_env_16_p1);
+	min16float t10 = saturate(t9);
+	min16float t14 = NoV + a;
+	min16float t15 = saturate(t14);
+	min16float t16 = seed_search_env_16_p5 * t15;
+	min16float t17 = exp2(t16);
+	min16float t18 = f0 + (seed_search_env_16_p4 - f0) * t17;
+	min16float t19 = t10 * t18;
+	min16float t20 = seed_search_env_16_p0 * t19;
 	return t20;
 }

@@ -7,14 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178 in f16, as this half code computes it (either order of its mads), max |error| 0.128; in f64: rmse 0.0178
+ * fitted error: rmse 0.0178 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.13; in f64: rmse 0.0178
  * parameters baked in:
- *   p0 = 0.384765625
- *   p1 = 0.00723648071
- *   p2 = 2.625
- *   p3 = 0.913574219
+ *   p0 = 0.385009766
+ *   p1 = 0.0078125
+ *   p2 = 2.62304688
+ *   p3 = 0.915527344
  *   p4 = -7.625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -24,19 +24,25 @@
  *   exp2 1
  *   simple 10, complex 2, cost 18 (simple = 1, complex = 4)
  */
-half seed_search_env_18(half NoV, half r, half a, half f0)
+min16float seed_search_env_18(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = a + r;
-	half t4 = -t3;
-	half t6 = min(a, NoV);
-	half t7 = sqrt(t6);
-	half t9 = mad(t4, t7, 2.625);
-	half t10 = max(a, t9);
-	half t14 = a + NoV;
-	half t15 = (-7.625) * t14;
-	half t16 = exp2(t15);
-	half t17 = f0 + (0.9135742 - f0) * t16;
-	half t19 = mad(t10, t17, 0.0072364807);
-	half t20 = 0.38476562 * t19;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_18_p0 = 0.385009765625;
+	const min16float seed_search_env_18_p1 = 0.0078125;
+	const min16float seed_search_env_18_p2 = 2.623046875;
+	const min16float seed_search_env_18_p3 = 0.91552734375;
+	const min16float seed_search_env_18_p4 = (-7.625);
+	min16float t3 = a + r;
+	min16float t4 = -t3;
+	min16float t6 = min(a, NoV);
+	min16float t7 = sqrt(t6);
+	min16float t9 = mad(t4, t7, seed_search_env_18_p2);
+	min16float t10 = max(a, t9);
+	min16float t14 = a + NoV;
+	min16float t15 = seed_search_env_18_p4 * t14;
+	min16float t16 = exp2(t15);
+	min16float t17 = f0 + (seed_search_env_18_p3 - f0) * t16;
+	min16float t19 = mad(t10, t17, seed_search_env_18_p1);
+	min16float t20 = seed_search_env_18_p0 * t19;
 	return t20;
 }

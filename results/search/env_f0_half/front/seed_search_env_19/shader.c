@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178 in f16, as this half code computes it (either order of its mads), max |error| 0.13; in f64: rmse 0.0178
+ * fitted error: rmse 0.0178 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.13; in f64: rmse 0.0178
  * parameters baked in:
  *   p0 = 0.386962891
  *   p1 = 2.58398438
  *   p2 = 2.625
  *   p3 = 0.909179688
  *   p4 = -7.51171875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,20 +28,26 @@
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_19(float NoV, float r, float a, float f0)
+static inline float seed_search_env_19(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_19_p0 = 0.386962890625f;
+	const float seed_search_env_19_p1 = 2.583984375f;
+	const float seed_search_env_19_p2 = 2.625f;
+	const float seed_search_env_19_p3 = 0.9091796875f;
+	const float seed_search_env_19_p4 = (-7.51171875f);
 	float t4 = a + r;
 	float t5 = -t4;
 	float t7 = fminf(a, NoV);
 	float t8 = sqrtf(t7);
-	float t10 = t5 * t8 + 2.625f;
+	float t10 = t5 * t8 + seed_search_env_19_p2;
 	float t11 = fmaxf(a, t10);
 	float t15 = a + NoV;
-	float t16 = (-7.5117188f) * t15;
+	float t16 = seed_search_env_19_p4 * t15;
 	float t17 = exp2f(t16);
-	float t18 = f0 + (0.9091797f - f0) * t17;
+	float t18 = f0 + (seed_search_env_19_p3 - f0) * t17;
 	float t19 = t11 * t18;
-	float t20 = fminf(2.5839844f, t19);
-	float t21 = 0.3869629f * t20;
+	float t20 = fminf(seed_search_env_19_p1, t19);
+	float t21 = seed_search_env_19_p0 * t20;
 	return t21;
 }

@@ -7,14 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0178 in f16, as this half code computes it (either order of its mads), max |error| 0.13; in f64: rmse 0.0178
+ * fitted error: rmse 0.0178 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.13; in f64: rmse 0.0178
  * parameters baked in:
  *   p0 = 0.386962891
  *   p1 = 2.58398438
  *   p2 = 2.625
  *   p3 = 0.909179688
  *   p4 = -7.51171875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 3
@@ -24,20 +24,26 @@
  *   exp2 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-half seed_search_env_19(half NoV, half r, half a, half f0)
+min16float seed_search_env_19(min16float NoV, min16float r, min16float f0)
 {
-	half t4 = a + r;
-	half t5 = -t4;
-	half t7 = min(a, NoV);
-	half t8 = sqrt(t7);
-	half t10 = mad(t5, t8, 2.625);
-	half t11 = max(a, t10);
-	half t15 = a + NoV;
-	half t16 = (-7.5117188) * t15;
-	half t17 = exp2(t16);
-	half t18 = f0 + (0.9091797 - f0) * t17;
-	half t19 = t11 * t18;
-	half t20 = min(2.5839844, t19);
-	half t21 = 0.3869629 * t20;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_19_p0 = 0.386962890625;
+	const min16float seed_search_env_19_p1 = 2.583984375;
+	const min16float seed_search_env_19_p2 = 2.625;
+	const min16float seed_search_env_19_p3 = 0.9091796875;
+	const min16float seed_search_env_19_p4 = (-7.51171875);
+	min16float t4 = a + r;
+	min16float t5 = -t4;
+	min16float t7 = min(a, NoV);
+	min16float t8 = sqrt(t7);
+	min16float t10 = mad(t5, t8, seed_search_env_19_p2);
+	min16float t11 = max(a, t10);
+	min16float t15 = a + NoV;
+	min16float t16 = seed_search_env_19_p4 * t15;
+	min16float t17 = exp2(t16);
+	min16float t18 = f0 + (seed_search_env_19_p3 - f0) * t17;
+	min16float t19 = t11 * t18;
+	min16float t20 = min(seed_search_env_19_p1, t19);
+	min16float t21 = seed_search_env_19_p0 * t20;
 	return t21;
 }

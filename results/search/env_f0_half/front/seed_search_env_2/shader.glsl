@@ -7,16 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.15 in f16, as this half code computes it (either order of its mads), max |error| 0.929; in f64: rmse 0.15
+ * fitted error: rmse 0.15 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.929; in f64: rmse 0.15
  * parameters baked in:
  *   p0 = 0.845703125
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-mediump float seed_search_env_2(mediump float f0)
+mediump float seed_search_env_2(mediump float NoV, mediump float r, mediump float f0)
 {
-	mediump float t2 = 0.8457031 * f0;
+	const mediump float seed_search_env_2_p0 = 0.845703125;
+	mediump float t2 = seed_search_env_2_p0 * f0;
 	return t2;
 }

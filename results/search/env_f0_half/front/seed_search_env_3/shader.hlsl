@@ -7,19 +7,21 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.144 in f16, as this half code computes it (either order of its mads), max |error| 0.865; in f64: rmse 0.144
+ * fitted error: rmse 0.144 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.865; in f64: rmse 0.144
  * parameters baked in:
- *   p0 = -0.0677490234
- *   p1 = -11.2421875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = -0.06774 (-0.0677490234 in half, as written below)
+ *   p1 = -11.249 (-11.25 in half, as written below)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-half seed_search_env_3(half f0)
+min16float seed_search_env_3(min16float NoV, min16float r, min16float f0)
 {
-	half t4 = mad((-11.2421875), f0, (-1.0));
-	half t5 = (-0.06774902) * t4;
+	const min16float seed_search_env_3_p0 = (-0.0677490234375);
+	const min16float seed_search_env_3_p1 = (-11.25);
+	min16float t4 = mad(seed_search_env_3_p1, f0, (-1.0));
+	min16float t5 = seed_search_env_3_p0 * t4;
 	return t5;
 }

@@ -7,12 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0938 in f16, as this half code computes it (either order of its mads), max |error| 0.859; in f64: rmse 0.0938
+ * fitted error: rmse 0.0938 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.859; in f64: rmse 0.0938
  * parameters baked in:
  *   p0 = 0.857910156
- *   p1 = 0.0789794922
+ *   p1 = 0.078918457
  *   p2 = 1.0546875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -21,11 +22,15 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_4(float NoV, float a, float f0)
+static inline float seed_search_env_4(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_4_p0 = 0.85791015625f;
+	const float seed_search_env_4_p1 = 0.07891845703125f;
+	const float seed_search_env_4_p2 = 1.0546875f;
 	float t3 = -NoV;
-	float t6 = t3 * a + 1.0546875f;
-	float t8 = f0 * t6 + 0.07897949f;
-	float t9 = 0.85791016f * t8;
+	float t6 = t3 * a + seed_search_env_4_p2;
+	float t8 = f0 * t6 + seed_search_env_4_p1;
+	float t9 = seed_search_env_4_p0 * t8;
 	return t9;
 }

@@ -17,7 +17,11 @@
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_1(void)
+static inline float search_env_1(float NoV, float r, float f0)
 {
-	return 0.45891f;
+	(void)NoV;
+	(void)r;
+	(void)f0;
+	const float search_env_1_p0 = 0.45891f;
+	return search_env_1_p0;
 }

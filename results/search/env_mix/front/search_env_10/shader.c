@@ -26,15 +26,22 @@
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_10(float NoV, float r, float a, float f0)
+static inline float search_env_10(float NoV, float r, float f0)
 {
-	float t7 = (-1.7566f) * r + 1.47813f;
-	float t8 = (-2.9112f) * NoV + t7;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_10_p0 = 0.52746f;
+	const float search_env_10_p1 = 1.47813f;
+	const float search_env_10_p2 = (-1.7566f);
+	const float search_env_10_p3 = (-2.9112f);
+	const float search_env_10_p4 = 2.5654f;
+	const float search_env_10_p5 = 0.673f;
+	float t7 = search_env_10_p2 * r + search_env_10_p1;
+	float t8 = search_env_10_p3 * NoV + t7;
 	float t9 = fmaxf(0.03138832f, t8);
 	float t11 = -NoV;
-	float t14 = t11 * a + 0.673f;
-	float t15 = NoV + (2.5654f - NoV) * t14;
+	float t14 = t11 * a + search_env_10_p5;
+	float t15 = NoV + (search_env_10_p4 - NoV) * t14;
 	float t17 = t9 + (t15 - t9) * f0;
-	float t18 = 0.52746f * t17;
+	float t18 = search_env_10_p0 * t17;
 	return t18;
 }

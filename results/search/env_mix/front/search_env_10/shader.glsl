@@ -23,15 +23,22 @@
  *   minmax 1
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-highp float search_env_10(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_10(highp float NoV, highp float r, highp float f0)
 {
-	highp float t7 = (-1.7566) * r + 1.47813;
-	highp float t8 = (-2.9112) * NoV + t7;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_10_p0 = 0.52746;
+	const highp float search_env_10_p1 = 1.47813;
+	const highp float search_env_10_p2 = (-1.7566);
+	const highp float search_env_10_p3 = (-2.9112);
+	const highp float search_env_10_p4 = 2.5654;
+	const highp float search_env_10_p5 = 0.673;
+	highp float t7 = search_env_10_p2 * r + search_env_10_p1;
+	highp float t8 = search_env_10_p3 * NoV + t7;
 	highp float t9 = max(0.03138832, t8);
 	highp float t11 = -NoV;
-	highp float t14 = t11 * a + 0.673;
-	highp float t15 = NoV + (2.5654 - NoV) * t14;
+	highp float t14 = t11 * a + search_env_10_p5;
+	highp float t15 = NoV + (search_env_10_p4 - NoV) * t14;
 	highp float t17 = t9 + (t15 - t9) * f0;
-	highp float t18 = 0.52746 * t17;
+	highp float t18 = search_env_10_p0 * t17;
 	return t18;
 }

@@ -23,15 +23,22 @@
  *   minmax 1
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-float search_env_10(float NoV, float r, float a, float f0)
+float search_env_10(float NoV, float r, float f0)
 {
-	float t7 = mad((-1.7566), r, 1.47813);
-	float t8 = mad((-2.9112), NoV, t7);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_10_p0 = 0.52746;
+	const float search_env_10_p1 = 1.47813;
+	const float search_env_10_p2 = (-1.7566);
+	const float search_env_10_p3 = (-2.9112);
+	const float search_env_10_p4 = 2.5654;
+	const float search_env_10_p5 = 0.673;
+	float t7 = mad(search_env_10_p2, r, search_env_10_p1);
+	float t8 = mad(search_env_10_p3, NoV, t7);
 	float t9 = max(0.03138832, t8);
 	float t11 = -NoV;
-	float t14 = mad(t11, a, 0.673);
-	float t15 = NoV + (2.5654 - NoV) * t14;
+	float t14 = mad(t11, a, search_env_10_p5);
+	float t15 = NoV + (search_env_10_p4 - NoV) * t14;
 	float t17 = t9 + (t15 - t9) * f0;
-	float t18 = 0.52746 * t17;
+	float t18 = search_env_10_p0 * t17;
 	return t18;
 }

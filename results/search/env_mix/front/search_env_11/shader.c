@@ -27,17 +27,25 @@
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_11(float NoV, float r, float a, float f0)
+static inline float search_env_11(float NoV, float r, float f0)
 {
-	float t3 = -1.87713f;
-	float t8 = (-1.12284f) * r + 1.30604f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_11_p0 = 0.53431f;
+	const float search_env_11_p1 = 0.11231f;
+	const float search_env_11_p2 = 1.30604f;
+	const float search_env_11_p3 = (-1.12284f);
+	const float search_env_11_p4 = 1.87713f;
+	const float search_env_11_p5 = 2.53708f;
+	const float search_env_11_p6 = 0.67073f;
+	float t3 = -search_env_11_p4;
+	float t8 = search_env_11_p3 * r + search_env_11_p2;
 	float t9 = t3 * NoV + t8;
-	float t10 = fmaxf(0.11231f, t9);
+	float t10 = fmaxf(search_env_11_p1, t9);
 	float t11 = t10 * t10;
 	float t13 = -NoV;
-	float t16 = t13 * a + 0.67073f;
-	float t17 = NoV + (2.53708f - NoV) * t16;
+	float t16 = t13 * a + search_env_11_p6;
+	float t17 = NoV + (search_env_11_p5 - NoV) * t16;
 	float t19 = t11 + (t17 - t11) * f0;
-	float t20 = 0.53431f * t19;
+	float t20 = search_env_11_p0 * t19;
 	return t20;
 }

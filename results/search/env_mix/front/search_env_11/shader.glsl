@@ -24,17 +24,25 @@
  *   minmax 1
  *   simple 10, complex 0, cost 10 (simple = 1, complex = 4)
  */
-highp float search_env_11(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_11(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = -1.87713;
-	highp float t8 = (-1.12284) * r + 1.30604;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_11_p0 = 0.53431;
+	const highp float search_env_11_p1 = 0.11231;
+	const highp float search_env_11_p2 = 1.30604;
+	const highp float search_env_11_p3 = (-1.12284);
+	const highp float search_env_11_p4 = 1.87713;
+	const highp float search_env_11_p5 = 2.53708;
+	const highp float search_env_11_p6 = 0.67073;
+	highp float t3 = -search_env_11_p4;
+	highp float t8 = search_env_11_p3 * r + search_env_11_p2;
 	highp float t9 = t3 * NoV + t8;
-	highp float t10 = max(0.11231, t9);
+	highp float t10 = max(search_env_11_p1, t9);
 	highp float t11 = t10 * t10;
 	highp float t13 = -NoV;
-	highp float t16 = t13 * a + 0.67073;
-	highp float t17 = NoV + (2.53708 - NoV) * t16;
+	highp float t16 = t13 * a + search_env_11_p6;
+	highp float t17 = NoV + (search_env_11_p5 - NoV) * t16;
 	highp float t19 = t11 + (t17 - t11) * f0;
-	highp float t20 = 0.53431 * t19;
+	highp float t20 = search_env_11_p0 * t19;
 	return t20;
 }

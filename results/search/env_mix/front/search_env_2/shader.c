@@ -18,8 +18,11 @@
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_2(float f0)
+static inline float search_env_2(float NoV, float r, float f0)
 {
-	float t2 = 0.84536f * f0;
+	(void)NoV;
+	(void)r;
+	const float search_env_2_p0 = 0.84536f;
+	float t2 = search_env_2_p0 * f0;
 	return t2;
 }

@@ -15,8 +15,9 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-highp float search_env_2(highp float f0)
+highp float search_env_2(highp float NoV, highp float r, highp float f0)
 {
-	highp float t2 = 0.84536 * f0;
+	const highp float search_env_2_p0 = 0.84536;
+	highp float t2 = search_env_2_p0 * f0;
 	return t2;
 }

@@ -24,13 +24,19 @@
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_6(float NoV, float a, float f0)
+static inline float search_env_6(float NoV, float r, float f0)
 {
-	float t5 = (-4.213f) * a + 6.522f;
-	float t7 = -4.446f;
-	float t10 = t7 * NoV + 2.1066f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_p0 = 0.13295f;
+	const float search_env_6_p1 = 6.522f;
+	const float search_env_6_p2 = (-4.213f);
+	const float search_env_6_p3 = 2.1066f;
+	const float search_env_6_p4 = 4.446f;
+	float t5 = search_env_6_p2 * a + search_env_6_p1;
+	float t7 = -search_env_6_p4;
+	float t10 = t7 * NoV + search_env_6_p3;
 	float t11 = fmaxf(f0, t10);
 	float t12 = f0 * t5 + t11;
-	float t13 = 0.13295f * t12;
+	float t13 = search_env_6_p0 * t12;
 	return t13;
 }

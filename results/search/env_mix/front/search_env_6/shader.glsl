@@ -21,13 +21,19 @@
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-highp float search_env_6(highp float NoV, highp float a, highp float f0)
+highp float search_env_6(highp float NoV, highp float r, highp float f0)
 {
-	highp float t5 = (-4.213) * a + 6.522;
-	highp float t7 = -4.446;
-	highp float t10 = t7 * NoV + 2.1066;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_6_p0 = 0.13295;
+	const highp float search_env_6_p1 = 6.522;
+	const highp float search_env_6_p2 = (-4.213);
+	const highp float search_env_6_p3 = 2.1066;
+	const highp float search_env_6_p4 = 4.446;
+	highp float t5 = search_env_6_p2 * a + search_env_6_p1;
+	highp float t7 = -search_env_6_p4;
+	highp float t10 = t7 * NoV + search_env_6_p3;
 	highp float t11 = max(f0, t10);
 	highp float t12 = f0 * t5 + t11;
-	highp float t13 = 0.13295 * t12;
+	highp float t13 = search_env_6_p0 * t12;
 	return t13;
 }

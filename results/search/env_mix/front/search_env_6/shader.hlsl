@@ -21,13 +21,19 @@
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-float search_env_6(float NoV, float a, float f0)
+float search_env_6(float NoV, float r, float f0)
 {
-	float t5 = mad((-4.213), a, 6.522);
-	float t7 = -4.446;
-	float t10 = mad(t7, NoV, 2.1066);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_6_p0 = 0.13295;
+	const float search_env_6_p1 = 6.522;
+	const float search_env_6_p2 = (-4.213);
+	const float search_env_6_p3 = 2.1066;
+	const float search_env_6_p4 = 4.446;
+	float t5 = mad(search_env_6_p2, a, search_env_6_p1);
+	float t7 = -search_env_6_p4;
+	float t10 = mad(t7, NoV, search_env_6_p3);
 	float t11 = max(f0, t10);
 	float t12 = mad(f0, t5, t11);
-	float t13 = 0.13295 * t12;
+	float t13 = search_env_6_p0 * t12;
 	return t13;
 }

@@ -24,14 +24,20 @@
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_7(float NoV, float r, float a, float f0)
+static inline float search_env_7(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_7_p0 = 0.78169f;
+	const float search_env_7_p1 = 0.24031f;
+	const float search_env_7_p2 = 1.10295f;
+	const float search_env_7_p3 = (-1.2862f);
+	const float search_env_7_p4 = (-2.1049f);
 	float t3 = -NoV;
-	float t6 = t3 * a + 0.24031f;
-	float t11 = (-1.2862f) * r + 1.10295f;
-	float t12 = NoV * (-2.1049f) + t11;
+	float t6 = t3 * a + search_env_7_p1;
+	float t11 = search_env_7_p3 * r + search_env_7_p2;
+	float t12 = NoV * search_env_7_p4 + t11;
 	float t13 = fmaxf(f0, t12);
 	float t14 = f0 * t6 + t13;
-	float t15 = 0.78169f * t14;
+	float t15 = search_env_7_p0 * t14;
 	return t15;
 }

@@ -21,14 +21,20 @@
  *   minmax 1
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-highp float search_env_7(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_7(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_7_p0 = 0.78169;
+	const highp float search_env_7_p1 = 0.24031;
+	const highp float search_env_7_p2 = 1.10295;
+	const highp float search_env_7_p3 = (-1.2862);
+	const highp float search_env_7_p4 = (-2.1049);
 	highp float t3 = -NoV;
-	highp float t6 = t3 * a + 0.24031;
-	highp float t11 = (-1.2862) * r + 1.10295;
-	highp float t12 = NoV * (-2.1049) + t11;
+	highp float t6 = t3 * a + search_env_7_p1;
+	highp float t11 = search_env_7_p3 * r + search_env_7_p2;
+	highp float t12 = NoV * search_env_7_p4 + t11;
 	highp float t13 = max(f0, t12);
 	highp float t14 = f0 * t6 + t13;
-	highp float t15 = 0.78169 * t14;
+	highp float t15 = search_env_7_p0 * t14;
 	return t15;
 }

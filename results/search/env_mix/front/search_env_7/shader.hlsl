@@ -21,14 +21,20 @@
  *   minmax 1
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-float search_env_7(float NoV, float r, float a, float f0)
+float search_env_7(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_7_p0 = 0.78169;
+	const float search_env_7_p1 = 0.24031;
+	const float search_env_7_p2 = 1.10295;
+	const float search_env_7_p3 = (-1.2862);
+	const float search_env_7_p4 = (-2.1049);
 	float t3 = -NoV;
-	float t6 = mad(t3, a, 0.24031);
-	float t11 = mad((-1.2862), r, 1.10295);
-	float t12 = mad(NoV, (-2.1049), t11);
+	float t6 = mad(t3, a, search_env_7_p1);
+	float t11 = mad(search_env_7_p3, r, search_env_7_p2);
+	float t12 = mad(NoV, search_env_7_p4, t11);
 	float t13 = max(f0, t12);
 	float t14 = mad(f0, t6, t13);
-	float t15 = 0.78169 * t14;
+	float t15 = search_env_7_p0 * t14;
 	return t15;
 }

@@ -25,15 +25,21 @@
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_8(float NoV, float r, float a, float f0)
+static inline float search_env_8(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_p0 = 0.508919f;
+	const float search_env_8_p1 = 0.54346f;
+	const float search_env_8_p2 = 1.35162f;
+	const float search_env_8_p3 = (-1.4193f);
+	const float search_env_8_p4 = (-2.3653f);
 	float t3 = -a;
-	float t6 = 0.54346f + NoV;
+	float t6 = search_env_8_p1 + NoV;
 	float t8 = t3 * t6 + 0.991396f;
-	float t13 = (-1.4193f) * r + 1.35162f;
-	float t14 = NoV * (-2.3653f) + t13;
+	float t13 = search_env_8_p3 * r + search_env_8_p2;
+	float t14 = NoV * search_env_8_p4 + t13;
 	float t15 = fmaxf(f0, t14);
 	float t16 = f0 * t8 + t15;
-	float t17 = 0.508919f * t16;
+	float t17 = search_env_8_p0 * t16;
 	return t17;
 }

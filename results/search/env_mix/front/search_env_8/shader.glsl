@@ -22,15 +22,21 @@
  *   minmax 1
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
-highp float search_env_8(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_8(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_8_p0 = 0.508919;
+	const highp float search_env_8_p1 = 0.54346;
+	const highp float search_env_8_p2 = 1.35162;
+	const highp float search_env_8_p3 = (-1.4193);
+	const highp float search_env_8_p4 = (-2.3653);
 	highp float t3 = -a;
-	highp float t6 = 0.54346 + NoV;
+	highp float t6 = search_env_8_p1 + NoV;
 	highp float t8 = t3 * t6 + 0.991396;
-	highp float t13 = (-1.4193) * r + 1.35162;
-	highp float t14 = NoV * (-2.3653) + t13;
+	highp float t13 = search_env_8_p3 * r + search_env_8_p2;
+	highp float t14 = NoV * search_env_8_p4 + t13;
 	highp float t15 = max(f0, t14);
 	highp float t16 = f0 * t8 + t15;
-	highp float t17 = 0.508919 * t16;
+	highp float t17 = search_env_8_p0 * t16;
 	return t17;
 }

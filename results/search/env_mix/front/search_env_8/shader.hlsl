@@ -22,15 +22,21 @@
  *   minmax 1
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
-float search_env_8(float NoV, float r, float a, float f0)
+float search_env_8(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_8_p0 = 0.508919;
+	const float search_env_8_p1 = 0.54346;
+	const float search_env_8_p2 = 1.35162;
+	const float search_env_8_p3 = (-1.4193);
+	const float search_env_8_p4 = (-2.3653);
 	float t3 = -a;
-	float t6 = 0.54346 + NoV;
+	float t6 = search_env_8_p1 + NoV;
 	float t8 = mad(t3, t6, 0.991396);
-	float t13 = mad((-1.4193), r, 1.35162);
-	float t14 = mad(NoV, (-2.3653), t13);
+	float t13 = mad(search_env_8_p3, r, search_env_8_p2);
+	float t14 = mad(NoV, search_env_8_p4, t13);
 	float t15 = max(f0, t14);
 	float t16 = mad(f0, t8, t15);
-	float t17 = 0.508919 * t16;
+	float t17 = search_env_8_p0 * t16;
 	return t17;
 }

@@ -27,16 +27,24 @@
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_9(float NoV, float r, float a, float f0)
+static inline float search_env_9(float NoV, float r, float f0)
 {
-	float t3 = -2.4273f;
-	float t8 = (-1.4013f) * r + 1.20839f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_9_p0 = 0.62259f;
+	const float search_env_9_p1 = 0.028301f;
+	const float search_env_9_p2 = 1.20839f;
+	const float search_env_9_p3 = (-1.4013f);
+	const float search_env_9_p4 = 2.4273f;
+	const float search_env_9_p5 = 1.6541f;
+	const float search_env_9_p6 = 0.39279f;
+	float t3 = -search_env_9_p4;
+	float t8 = search_env_9_p3 * r + search_env_9_p2;
 	float t9 = t3 * NoV + t8;
-	float t10 = fmaxf(0.028301f, t9);
+	float t10 = fmaxf(search_env_9_p1, t9);
 	float t11 = -r;
-	float t14 = NoV * a + 0.39279f;
-	float t16 = t11 * t14 + 1.6541f;
+	float t14 = NoV * a + search_env_9_p6;
+	float t16 = t11 * t14 + search_env_9_p5;
 	float t18 = t10 + (t16 - t10) * f0;
-	float t19 = 0.62259f * t18;
+	float t19 = search_env_9_p0 * t18;
 	return t19;
 }

@@ -24,16 +24,24 @@
  *   minmax 1
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-highp float search_env_9(highp float NoV, highp float r, highp float a, highp float f0)
+highp float search_env_9(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = -2.4273;
-	highp float t8 = (-1.4013) * r + 1.20839;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_env_9_p0 = 0.62259;
+	const highp float search_env_9_p1 = 0.028301;
+	const highp float search_env_9_p2 = 1.20839;
+	const highp float search_env_9_p3 = (-1.4013);
+	const highp float search_env_9_p4 = 2.4273;
+	const highp float search_env_9_p5 = 1.6541;
+	const highp float search_env_9_p6 = 0.39279;
+	highp float t3 = -search_env_9_p4;
+	highp float t8 = search_env_9_p3 * r + search_env_9_p2;
 	highp float t9 = t3 * NoV + t8;
-	highp float t10 = max(0.028301, t9);
+	highp float t10 = max(search_env_9_p1, t9);
 	highp float t11 = -r;
-	highp float t14 = NoV * a + 0.39279;
-	highp float t16 = t11 * t14 + 1.6541;
+	highp float t14 = NoV * a + search_env_9_p6;
+	highp float t16 = t11 * t14 + search_env_9_p5;
 	highp float t18 = t10 + (t16 - t10) * f0;
-	highp float t19 = 0.62259 * t18;
+	highp float t19 = search_env_9_p0 * t18;
 	return t19;
 }

@@ -24,16 +24,24 @@
  *   minmax 1
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-float search_env_9(float NoV, float r, float a, float f0)
+float search_env_9(float NoV, float r, float f0)
 {
-	float t3 = -2.4273;
-	float t8 = mad((-1.4013), r, 1.20839);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_9_p0 = 0.62259;
+	const float search_env_9_p1 = 0.028301;
+	const float search_env_9_p2 = 1.20839;
+	const float search_env_9_p3 = (-1.4013);
+	const float search_env_9_p4 = 2.4273;
+	const float search_env_9_p5 = 1.6541;
+	const float search_env_9_p6 = 0.39279;
+	float t3 = -search_env_9_p4;
+	float t8 = mad(search_env_9_p3, r, search_env_9_p2);
 	float t9 = mad(t3, NoV, t8);
-	float t10 = max(0.028301, t9);
+	float t10 = max(search_env_9_p1, t9);
 	float t11 = -r;
-	float t14 = mad(NoV, a, 0.39279);
-	float t16 = mad(t11, t14, 1.6541);
+	float t14 = mad(NoV, a, search_env_9_p6);
+	float t16 = mad(t11, t14, search_env_9_p5);
 	float t18 = t10 + (t16 - t10) * f0;
-	float t19 = 0.62259 * t18;
+	float t19 = search_env_9_p0 * t18;
 	return t19;
 }

@@ -20,8 +20,9 @@
  *   simple 75, complex 2, cost 83 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_env_materialx(float NoV, float a, float f0)
+static inline float seed_env_materialx(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	float t4 = NoV * (-5.448f);
 	float t5 = NoV * t4;
 	float t6 = a * t5;

@@ -17,8 +17,9 @@
  *   div 2
  *   simple 75, complex 2, cost 83 (simple = 1, complex = 4)
  */
-highp float seed_env_materialx(highp float NoV, highp float a, highp float f0)
+highp float seed_env_materialx(highp float NoV, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	highp float t4 = NoV * (-5.448);
 	highp float t5 = NoV * t4;
 	highp float t6 = a * t5;

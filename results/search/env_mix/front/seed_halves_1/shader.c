@@ -20,8 +20,12 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_halves_1(float f0)
+static inline float seed_halves_1(float NoV, float r, float f0)
 {
-	float t3 = 0.06774f + (0.82975f - 0.06774f) * f0;
+	(void)NoV;
+	(void)r;
+	const float seed_halves_1_p0 = 0.82975f;
+	const float seed_halves_1_p1 = 0.06774f;
+	float t3 = seed_halves_1_p1 + (seed_halves_1_p0 - seed_halves_1_p1) * f0;
 	return t3;
 }

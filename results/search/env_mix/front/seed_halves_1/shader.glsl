@@ -17,8 +17,10 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float seed_halves_1(highp float f0)
+highp float seed_halves_1(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = 0.06774 + (0.82975 - 0.06774) * f0;
+	const highp float seed_halves_1_p0 = 0.82975;
+	const highp float seed_halves_1_p1 = 0.06774;
+	highp float t3 = seed_halves_1_p1 + (seed_halves_1_p0 - seed_halves_1_p1) * f0;
 	return t3;
 }

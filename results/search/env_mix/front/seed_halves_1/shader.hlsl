@@ -17,8 +17,10 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float seed_halves_1(float f0)
+float seed_halves_1(float NoV, float r, float f0)
 {
-	float t3 = 0.06774 + (0.82975 - 0.06774) * f0;
+	const float seed_halves_1_p0 = 0.82975;
+	const float seed_halves_1_p1 = 0.06774;
+	float t3 = seed_halves_1_p1 + (seed_halves_1_p0 - seed_halves_1_p1) * f0;
 	return t3;
 }

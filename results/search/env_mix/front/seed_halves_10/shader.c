@@ -30,19 +30,27 @@
 #include <math.h>
 static inline float seed_halves_10(float NoV, float r, float f0)
 {
-	float t3 = (-0.81196f) + NoV;
+	const float seed_halves_10_p0 = 0.56747f;
+	const float seed_halves_10_p1 = 1.7482f;
+	const float seed_halves_10_p2 = 0.21139f;
+	const float seed_halves_10_p3 = 2.082f;
+	const float seed_halves_10_p4 = (-1.6396f);
+	const float seed_halves_10_p5 = (-0.002232f);
+	const float seed_halves_10_p6 = (-0.04874f);
+	const float seed_halves_10_p7 = (-0.81196f);
+	float t3 = seed_halves_10_p7 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04874f);
+	float t9 = t3 * t7 + seed_halves_10_p6;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.002232f);
-	float t13 = (-1.6396f) * t12;
+	float t12 = t10 * t9 + seed_halves_10_p5;
+	float t13 = seed_halves_10_p4 * t12;
 	float t15 = -r;
 	float t17 = -NoV;
-	float t18 = r * 2.082f + t17;
-	float t20 = NoV * t18 + 0.21139f;
-	float t22 = t15 * t20 + 1.7482f;
-	float t23 = 0.56747f * t22;
+	float t18 = r * seed_halves_10_p3 + t17;
+	float t20 = NoV * t18 + seed_halves_10_p2;
+	float t22 = t15 * t20 + seed_halves_10_p1;
+	float t23 = seed_halves_10_p0 * t22;
 	float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

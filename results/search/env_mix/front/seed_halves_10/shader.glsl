@@ -27,19 +27,27 @@
  */
 highp float seed_halves_10(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = (-0.81196) + NoV;
+	const highp float seed_halves_10_p0 = 0.56747;
+	const highp float seed_halves_10_p1 = 1.7482;
+	const highp float seed_halves_10_p2 = 0.21139;
+	const highp float seed_halves_10_p3 = 2.082;
+	const highp float seed_halves_10_p4 = (-1.6396);
+	const highp float seed_halves_10_p5 = (-0.002232);
+	const highp float seed_halves_10_p6 = (-0.04874);
+	const highp float seed_halves_10_p7 = (-0.81196);
+	highp float t3 = seed_halves_10_p7 + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
-	highp float t9 = t3 * t7 + (-0.04874);
+	highp float t9 = t3 * t7 + seed_halves_10_p6;
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.002232);
-	highp float t13 = (-1.6396) * t12;
+	highp float t12 = t10 * t9 + seed_halves_10_p5;
+	highp float t13 = seed_halves_10_p4 * t12;
 	highp float t15 = -r;
 	highp float t17 = -NoV;
-	highp float t18 = r * 2.082 + t17;
-	highp float t20 = NoV * t18 + 0.21139;
-	highp float t22 = t15 * t20 + 1.7482;
-	highp float t23 = 0.56747 * t22;
+	highp float t18 = r * seed_halves_10_p3 + t17;
+	highp float t20 = NoV * t18 + seed_halves_10_p2;
+	highp float t22 = t15 * t20 + seed_halves_10_p1;
+	highp float t23 = seed_halves_10_p0 * t22;
 	highp float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

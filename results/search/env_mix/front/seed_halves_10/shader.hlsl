@@ -27,19 +27,27 @@
  */
 float seed_halves_10(float NoV, float r, float f0)
 {
-	float t3 = (-0.81196) + NoV;
+	const float seed_halves_10_p0 = 0.56747;
+	const float seed_halves_10_p1 = 1.7482;
+	const float seed_halves_10_p2 = 0.21139;
+	const float seed_halves_10_p3 = 2.082;
+	const float seed_halves_10_p4 = (-1.6396);
+	const float seed_halves_10_p5 = (-0.002232);
+	const float seed_halves_10_p6 = (-0.04874);
+	const float seed_halves_10_p7 = (-0.81196);
+	float t3 = seed_halves_10_p7 + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.04874));
+	float t9 = mad(t3, t7, seed_halves_10_p6);
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.002232));
-	float t13 = (-1.6396) * t12;
+	float t12 = mad(t10, t9, seed_halves_10_p5);
+	float t13 = seed_halves_10_p4 * t12;
 	float t15 = -r;
 	float t17 = -NoV;
-	float t18 = mad(r, 2.082, t17);
-	float t20 = mad(NoV, t18, 0.21139);
-	float t22 = mad(t15, t20, 1.7482);
-	float t23 = 0.56747 * t22;
+	float t18 = mad(r, seed_halves_10_p3, t17);
+	float t20 = mad(NoV, t18, seed_halves_10_p2);
+	float t22 = mad(t15, t20, seed_halves_10_p1);
+	float t23 = seed_halves_10_p0 * t22;
 	float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

@@ -31,20 +31,29 @@
 #include <math.h>
 static inline float seed_halves_11(float NoV, float r, float f0)
 {
-	float t3 = (-0.7727f) + NoV;
+	const float seed_halves_11_p0 = 0.993265f;
+	const float seed_halves_11_p1 = 2.699f;
+	const float seed_halves_11_p2 = 0.91933f;
+	const float seed_halves_11_p3 = 1.92973f;
+	const float seed_halves_11_p4 = 0.70211f;
+	const float seed_halves_11_p5 = (-1.807f);
+	const float seed_halves_11_p6 = (-0.001976f);
+	const float seed_halves_11_p7 = (-0.03971f);
+	const float seed_halves_11_p8 = (-0.7727f);
+	float t3 = seed_halves_11_p8 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.03971f);
+	float t9 = t3 * t7 + seed_halves_11_p7;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.001976f);
-	float t13 = (-1.807f) * t12;
-	float t17 = NoV * r + 0.91933f;
+	float t12 = t10 * t9 + seed_halves_11_p6;
+	float t13 = seed_halves_11_p5 * t12;
+	float t17 = NoV * r + seed_halves_11_p2;
 	float t18 = -t17;
 	float t19 = -NoV;
-	float t22 = t19 * 0.70211f + 1.92973f;
-	float t24 = t18 * t22 + 2.699f;
+	float t22 = t19 * seed_halves_11_p4 + seed_halves_11_p3;
+	float t24 = t18 * t22 + seed_halves_11_p1;
 	float t25 = fminf(1.0f, t24);
-	float t26 = 0.993265f * t25;
+	float t26 = seed_halves_11_p0 * t25;
 	float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

@@ -28,20 +28,29 @@
  */
 highp float seed_halves_11(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = (-0.7727) + NoV;
+	const highp float seed_halves_11_p0 = 0.993265;
+	const highp float seed_halves_11_p1 = 2.699;
+	const highp float seed_halves_11_p2 = 0.91933;
+	const highp float seed_halves_11_p3 = 1.92973;
+	const highp float seed_halves_11_p4 = 0.70211;
+	const highp float seed_halves_11_p5 = (-1.807);
+	const highp float seed_halves_11_p6 = (-0.001976);
+	const highp float seed_halves_11_p7 = (-0.03971);
+	const highp float seed_halves_11_p8 = (-0.7727);
+	highp float t3 = seed_halves_11_p8 + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
-	highp float t9 = t3 * t7 + (-0.03971);
+	highp float t9 = t3 * t7 + seed_halves_11_p7;
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.001976);
-	highp float t13 = (-1.807) * t12;
-	highp float t17 = NoV * r + 0.91933;
+	highp float t12 = t10 * t9 + seed_halves_11_p6;
+	highp float t13 = seed_halves_11_p5 * t12;
+	highp float t17 = NoV * r + seed_halves_11_p2;
 	highp float t18 = -t17;
 	highp float t19 = -NoV;
-	highp float t22 = t19 * 0.70211 + 1.92973;
-	highp float t24 = t18 * t22 + 2.699;
+	highp float t22 = t19 * seed_halves_11_p4 + seed_halves_11_p3;
+	highp float t24 = t18 * t22 + seed_halves_11_p1;
 	highp float t25 = min(1.0, t24);
-	highp float t26 = 0.993265 * t25;
+	highp float t26 = seed_halves_11_p0 * t25;
 	highp float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

@@ -28,20 +28,29 @@
  */
 float seed_halves_11(float NoV, float r, float f0)
 {
-	float t3 = (-0.7727) + NoV;
+	const float seed_halves_11_p0 = 0.993265;
+	const float seed_halves_11_p1 = 2.699;
+	const float seed_halves_11_p2 = 0.91933;
+	const float seed_halves_11_p3 = 1.92973;
+	const float seed_halves_11_p4 = 0.70211;
+	const float seed_halves_11_p5 = (-1.807);
+	const float seed_halves_11_p6 = (-0.001976);
+	const float seed_halves_11_p7 = (-0.03971);
+	const float seed_halves_11_p8 = (-0.7727);
+	float t3 = seed_halves_11_p8 + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.03971));
+	float t9 = mad(t3, t7, seed_halves_11_p7);
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.001976));
-	float t13 = (-1.807) * t12;
-	float t17 = mad(NoV, r, 0.91933);
+	float t12 = mad(t10, t9, seed_halves_11_p6);
+	float t13 = seed_halves_11_p5 * t12;
+	float t17 = mad(NoV, r, seed_halves_11_p2);
 	float t18 = -t17;
 	float t19 = -NoV;
-	float t22 = mad(t19, 0.70211, 1.92973);
-	float t24 = mad(t18, t22, 2.699);
+	float t22 = mad(t19, seed_halves_11_p4, seed_halves_11_p3);
+	float t24 = mad(t18, t22, seed_halves_11_p1);
 	float t25 = min(1.0, t24);
-	float t26 = 0.993265 * t25;
+	float t26 = seed_halves_11_p0 * t25;
 	float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

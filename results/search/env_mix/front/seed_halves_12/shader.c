@@ -30,22 +30,33 @@
  *   simple 14, complex 0, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_halves_12(float NoV, float r, float a, float f0)
+static inline float seed_halves_12(float NoV, float r, float f0)
 {
-	float t3 = (-0.81432f) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_halves_12_p0 = 0.65211f;
+	const float seed_halves_12_p1 = 1.52692f;
+	const float seed_halves_12_p2 = 1.47356f;
+	const float seed_halves_12_p3 = 1.56027f;
+	const float seed_halves_12_p4 = (-1.23646f);
+	const float seed_halves_12_p5 = 1.17074f;
+	const float seed_halves_12_p6 = (-1.6476f);
+	const float seed_halves_12_p7 = (-0.001862f);
+	const float seed_halves_12_p8 = (-0.04955f);
+	const float seed_halves_12_p9 = (-0.81432f);
+	float t3 = seed_halves_12_p9 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04955f);
+	float t9 = t3 * t7 + seed_halves_12_p8;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.001862f);
-	float t13 = (-1.6476f) * t12;
+	float t12 = t10 * t9 + seed_halves_12_p7;
+	float t13 = seed_halves_12_p6 * t12;
 	float t16 = -NoV;
-	float t19 = NoV * (-1.23646f) + 1.56027f;
-	float t21 = r * 1.17074f + t16;
+	float t19 = NoV * seed_halves_12_p4 + seed_halves_12_p3;
+	float t21 = r * seed_halves_12_p5 + t16;
 	float t23 = t19 * t21 + a;
-	float t25 = t16 * t23 + 1.47356f;
-	float t26 = fminf(1.52692f, t25);
-	float t27 = 0.65211f * t26;
+	float t25 = t16 * t23 + seed_halves_12_p2;
+	float t26 = fminf(seed_halves_12_p1, t25);
+	float t27 = seed_halves_12_p0 * t26;
 	float t29 = t13 + (t27 - t13) * f0;
 	return t29;
 }

@@ -27,22 +27,33 @@
  *   minmax 2
  *   simple 14, complex 0, cost 14 (simple = 1, complex = 4)
  */
-highp float seed_halves_12(highp float NoV, highp float r, highp float a, highp float f0)
+highp float seed_halves_12(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = (-0.81432) + NoV;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_halves_12_p0 = 0.65211;
+	const highp float seed_halves_12_p1 = 1.52692;
+	const highp float seed_halves_12_p2 = 1.47356;
+	const highp float seed_halves_12_p3 = 1.56027;
+	const highp float seed_halves_12_p4 = (-1.23646);
+	const highp float seed_halves_12_p5 = 1.17074;
+	const highp float seed_halves_12_p6 = (-1.6476);
+	const highp float seed_halves_12_p7 = (-0.001862);
+	const highp float seed_halves_12_p8 = (-0.04955);
+	const highp float seed_halves_12_p9 = (-0.81432);
+	highp float t3 = seed_halves_12_p9 + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
-	highp float t9 = t3 * t7 + (-0.04955);
+	highp float t9 = t3 * t7 + seed_halves_12_p8;
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.001862);
-	highp float t13 = (-1.6476) * t12;
+	highp float t12 = t10 * t9 + seed_halves_12_p7;
+	highp float t13 = seed_halves_12_p6 * t12;
 	highp float t16 = -NoV;
-	highp float t19 = NoV * (-1.23646) + 1.56027;
-	highp float t21 = r * 1.17074 + t16;
+	highp float t19 = NoV * seed_halves_12_p4 + seed_halves_12_p3;
+	highp float t21 = r * seed_halves_12_p5 + t16;
 	highp float t23 = t19 * t21 + a;
-	highp float t25 = t16 * t23 + 1.47356;
-	highp float t26 = min(1.52692, t25);
-	highp float t27 = 0.65211 * t26;
+	highp float t25 = t16 * t23 + seed_halves_12_p2;
+	highp float t26 = min(seed_halves_12_p1, t25);
+	highp float t27 = seed_halves_12_p0 * t26;
 	highp float t29 = t13 + (t27 - t13) * f0;
 	return t29;
 }

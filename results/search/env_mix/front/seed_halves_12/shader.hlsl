@@ -27,22 +27,33 @@
  *   minmax 2
  *   simple 14, complex 0, cost 14 (simple = 1, complex = 4)
  */
-float seed_halves_12(float NoV, float r, float a, float f0)
+float seed_halves_12(float NoV, float r, float f0)
 {
-	float t3 = (-0.81432) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_halves_12_p0 = 0.65211;
+	const float seed_halves_12_p1 = 1.52692;
+	const float seed_halves_12_p2 = 1.47356;
+	const float seed_halves_12_p3 = 1.56027;
+	const float seed_halves_12_p4 = (-1.23646);
+	const float seed_halves_12_p5 = 1.17074;
+	const float seed_halves_12_p6 = (-1.6476);
+	const float seed_halves_12_p7 = (-0.001862);
+	const float seed_halves_12_p8 = (-0.04955);
+	const float seed_halves_12_p9 = (-0.81432);
+	float t3 = seed_halves_12_p9 + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.04955));
+	float t9 = mad(t3, t7, seed_halves_12_p8);
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.001862));
-	float t13 = (-1.6476) * t12;
+	float t12 = mad(t10, t9, seed_halves_12_p7);
+	float t13 = seed_halves_12_p6 * t12;
 	float t16 = -NoV;
-	float t19 = mad(NoV, (-1.23646), 1.56027);
-	float t21 = mad(r, 1.17074, t16);
+	float t19 = mad(NoV, seed_halves_12_p4, seed_halves_12_p3);
+	float t21 = mad(r, seed_halves_12_p5, t16);
 	float t23 = mad(t19, t21, a);
-	float t25 = mad(t16, t23, 1.47356);
-	float t26 = min(1.52692, t25);
-	float t27 = 0.65211 * t26;
+	float t25 = mad(t16, t23, seed_halves_12_p2);
+	float t26 = min(seed_halves_12_p1, t25);
+	float t27 = seed_halves_12_p0 * t26;
 	float t29 = t13 + (t27 - t13) * f0;
 	return t29;
 }

@@ -30,23 +30,34 @@
  *   simple 15, complex 0, cost 15 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_halves_13(float NoV, float r, float a, float f0)
+static inline float seed_halves_13(float NoV, float r, float f0)
 {
-	float t3 = (-0.80982f) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_halves_13_p0 = 0.64799f;
+	const float seed_halves_13_p1 = 1.53674f;
+	const float seed_halves_13_p2 = 1.49145f;
+	const float seed_halves_13_p3 = 1.82418f;
+	const float seed_halves_13_p4 = (-2.40817f);
+	const float seed_halves_13_p5 = 1.22496f;
+	const float seed_halves_13_p6 = (-1.6556f);
+	const float seed_halves_13_p7 = (-0.001953f);
+	const float seed_halves_13_p8 = (-0.04784f);
+	const float seed_halves_13_p9 = (-0.80982f);
+	float t3 = seed_halves_13_p9 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04784f);
+	float t9 = t3 * t7 + seed_halves_13_p8;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.001953f);
-	float t13 = (-1.6556f) * t12;
+	float t12 = t10 * t9 + seed_halves_13_p7;
+	float t13 = seed_halves_13_p6 * t12;
 	float t16 = -NoV;
-	float t18 = NoV + (-2.40817f);
-	float t20 = NoV * t18 + 1.82418f;
-	float t22 = r * 1.22496f + t16;
+	float t18 = NoV + seed_halves_13_p4;
+	float t20 = NoV * t18 + seed_halves_13_p3;
+	float t22 = r * seed_halves_13_p5 + t16;
 	float t24 = t20 * t22 + a;
-	float t26 = t16 * t24 + 1.49145f;
-	float t27 = fminf(1.53674f, t26);
-	float t28 = 0.64799f * t27;
+	float t26 = t16 * t24 + seed_halves_13_p2;
+	float t27 = fminf(seed_halves_13_p1, t26);
+	float t28 = seed_halves_13_p0 * t27;
 	float t30 = t13 + (t28 - t13) * f0;
 	return t30;
 }

@@ -27,23 +27,34 @@
  *   minmax 2
  *   simple 15, complex 0, cost 15 (simple = 1, complex = 4)
  */
-highp float seed_halves_13(highp float NoV, highp float r, highp float a, highp float f0)
+highp float seed_halves_13(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = (-0.80982) + NoV;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_halves_13_p0 = 0.64799;
+	const highp float seed_halves_13_p1 = 1.53674;
+	const highp float seed_halves_13_p2 = 1.49145;
+	const highp float seed_halves_13_p3 = 1.82418;
+	const highp float seed_halves_13_p4 = (-2.40817);
+	const highp float seed_halves_13_p5 = 1.22496;
+	const highp float seed_halves_13_p6 = (-1.6556);
+	const highp float seed_halves_13_p7 = (-0.001953);
+	const highp float seed_halves_13_p8 = (-0.04784);
+	const highp float seed_halves_13_p9 = (-0.80982);
+	highp float t3 = seed_halves_13_p9 + NoV;
 	highp float t6 = max(NoV, r);
 	highp float t7 = (-1.0) + t6;
-	highp float t9 = t3 * t7 + (-0.04784);
+	highp float t9 = t3 * t7 + seed_halves_13_p8;
 	highp float t10 = -t9;
-	highp float t12 = t10 * t9 + (-0.001953);
-	highp float t13 = (-1.6556) * t12;
+	highp float t12 = t10 * t9 + seed_halves_13_p7;
+	highp float t13 = seed_halves_13_p6 * t12;
 	highp float t16 = -NoV;
-	highp float t18 = NoV + (-2.40817);
-	highp float t20 = NoV * t18 + 1.82418;
-	highp float t22 = r * 1.22496 + t16;
+	highp float t18 = NoV + seed_halves_13_p4;
+	highp float t20 = NoV * t18 + seed_halves_13_p3;
+	highp float t22 = r * seed_halves_13_p5 + t16;
 	highp float t24 = t20 * t22 + a;
-	highp float t26 = t16 * t24 + 1.49145;
-	highp float t27 = min(1.53674, t26);
-	highp float t28 = 0.64799 * t27;
+	highp float t26 = t16 * t24 + seed_halves_13_p2;
+	highp float t27 = min(seed_halves_13_p1, t26);
+	highp float t28 = seed_halves_13_p0 * t27;
 	highp float t30 = t13 + (t28 - t13) * f0;
 	return t30;
 }

@@ -27,23 +27,34 @@
  *   minmax 2
  *   simple 15, complex 0, cost 15 (simple = 1, complex = 4)
  */
-float seed_halves_13(float NoV, float r, float a, float f0)
+float seed_halves_13(float NoV, float r, float f0)
 {
-	float t3 = (-0.80982) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_halves_13_p0 = 0.64799;
+	const float seed_halves_13_p1 = 1.53674;
+	const float seed_halves_13_p2 = 1.49145;
+	const float seed_halves_13_p3 = 1.82418;
+	const float seed_halves_13_p4 = (-2.40817);
+	const float seed_halves_13_p5 = 1.22496;
+	const float seed_halves_13_p6 = (-1.6556);
+	const float seed_halves_13_p7 = (-0.001953);
+	const float seed_halves_13_p8 = (-0.04784);
+	const float seed_halves_13_p9 = (-0.80982);
+	float t3 = seed_halves_13_p9 + NoV;
 	float t6 = max(NoV, r);
 	float t7 = (-1.0) + t6;
-	float t9 = mad(t3, t7, (-0.04784));
+	float t9 = mad(t3, t7, seed_halves_13_p8);
 	float t10 = -t9;
-	float t12 = mad(t10, t9, (-0.001953));
-	float t13 = (-1.6556) * t12;
+	float t12 = mad(t10, t9, seed_halves_13_p7);
+	float t13 = seed_halves_13_p6 * t12;
 	float t16 = -NoV;
-	float t18 = NoV + (-2.40817);
-	float t20 = mad(NoV, t18, 1.82418);
-	float t22 = mad(r, 1.22496, t16);
+	float t18 = NoV + seed_halves_13_p4;
+	float t20 = mad(NoV, t18, seed_halves_13_p3);
+	float t22 = mad(r, seed_halves_13_p5, t16);
 	float t24 = mad(t20, t22, a);
-	float t26 = mad(t16, t24, 1.49145);
-	float t27 = min(1.53674, t26);
-	float t28 = 0.64799 * t27;
+	float t26 = mad(t16, t24, seed_halves_13_p2);
+	float t27 = min(seed_halves_13_p1, t26);
+	float t28 = seed_halves_13_p0 * t27;
 	float t30 = t13 + (t28 - t13) * f0;
 	return t30;
 }

@@ -30,18 +30,26 @@
 #include <math.h>
 static inline float seed_halves_9(float NoV, float r, float f0)
 {
-	float t3 = -7.0186f;
-	float t8 = (-4.3259f) * r + 4.9682f;
+	const float seed_halves_9_p0 = 0.57456f;
+	const float seed_halves_9_p1 = 1.7283f;
+	const float seed_halves_9_p2 = 0.21327f;
+	const float seed_halves_9_p3 = 2.06567f;
+	const float seed_halves_9_p4 = 0.036393f;
+	const float seed_halves_9_p5 = 4.9682f;
+	const float seed_halves_9_p6 = (-4.3259f);
+	const float seed_halves_9_p7 = 7.0186f;
+	float t3 = -seed_halves_9_p7;
+	float t8 = seed_halves_9_p6 * r + seed_halves_9_p5;
 	float t9 = t3 * NoV + t8;
 	float t10 = fmaxf(1.0f, t9);
 	float t11 = -NoV;
 	float t12 = t10 * t10 + t11;
-	float t13 = 0.036393f * t12;
+	float t13 = seed_halves_9_p4 * t12;
 	float t15 = -r;
-	float t17 = r * 2.06567f + t11;
-	float t19 = NoV * t17 + 0.21327f;
-	float t21 = t15 * t19 + 1.7283f;
-	float t22 = 0.57456f * t21;
+	float t17 = r * seed_halves_9_p3 + t11;
+	float t19 = NoV * t17 + seed_halves_9_p2;
+	float t21 = t15 * t19 + seed_halves_9_p1;
+	float t22 = seed_halves_9_p0 * t21;
 	float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

@@ -27,18 +27,26 @@
  */
 highp float seed_halves_9(highp float NoV, highp float r, highp float f0)
 {
-	highp float t3 = -7.0186;
-	highp float t8 = (-4.3259) * r + 4.9682;
+	const highp float seed_halves_9_p0 = 0.57456;
+	const highp float seed_halves_9_p1 = 1.7283;
+	const highp float seed_halves_9_p2 = 0.21327;
+	const highp float seed_halves_9_p3 = 2.06567;
+	const highp float seed_halves_9_p4 = 0.036393;
+	const highp float seed_halves_9_p5 = 4.9682;
+	const highp float seed_halves_9_p6 = (-4.3259);
+	const highp float seed_halves_9_p7 = 7.0186;
+	highp float t3 = -seed_halves_9_p7;
+	highp float t8 = seed_halves_9_p6 * r + seed_halves_9_p5;
 	highp float t9 = t3 * NoV + t8;
 	highp float t10 = max(1.0, t9);
 	highp float t11 = -NoV;
 	highp float t12 = t10 * t10 + t11;
-	highp float t13 = 0.036393 * t12;
+	highp float t13 = seed_halves_9_p4 * t12;
 	highp float t15 = -r;
-	highp float t17 = r * 2.06567 + t11;
-	highp float t19 = NoV * t17 + 0.21327;
-	highp float t21 = t15 * t19 + 1.7283;
-	highp float t22 = 0.57456 * t21;
+	highp float t17 = r * seed_halves_9_p3 + t11;
+	highp float t19 = NoV * t17 + seed_halves_9_p2;
+	highp float t21 = t15 * t19 + seed_halves_9_p1;
+	highp float t22 = seed_halves_9_p0 * t21;
 	highp float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

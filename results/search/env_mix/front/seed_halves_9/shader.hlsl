@@ -27,18 +27,26 @@
  */
 float seed_halves_9(float NoV, float r, float f0)
 {
-	float t3 = -7.0186;
-	float t8 = mad((-4.3259), r, 4.9682);
+	const float seed_halves_9_p0 = 0.57456;
+	const float seed_halves_9_p1 = 1.7283;
+	const float seed_halves_9_p2 = 0.21327;
+	const float seed_halves_9_p3 = 2.06567;
+	const float seed_halves_9_p4 = 0.036393;
+	const float seed_halves_9_p5 = 4.9682;
+	const float seed_halves_9_p6 = (-4.3259);
+	const float seed_halves_9_p7 = 7.0186;
+	float t3 = -seed_halves_9_p7;
+	float t8 = mad(seed_halves_9_p6, r, seed_halves_9_p5);
 	float t9 = mad(t3, NoV, t8);
 	float t10 = max(1.0, t9);
 	float t11 = -NoV;
 	float t12 = mad(t10, t10, t11);
-	float t13 = 0.036393 * t12;
+	float t13 = seed_halves_9_p4 * t12;
 	float t15 = -r;
-	float t17 = mad(r, 2.06567, t11);
-	float t19 = mad(NoV, t17, 0.21327);
-	float t21 = mad(t15, t19, 1.7283);
-	float t22 = 0.57456 * t21;
+	float t17 = mad(r, seed_halves_9_p3, t11);
+	float t19 = mad(NoV, t17, seed_halves_9_p2);
+	float t21 = mad(t15, t19, seed_halves_9_p1);
+	float t22 = seed_halves_9_p0 * t21;
 	float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

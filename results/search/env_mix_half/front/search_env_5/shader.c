@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0855 in f16, as this half code computes it (either order of its mads), max |error| 0.857; in f64: rmse 0.0855
+ * fitted error: rmse 0.0855 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.857; in f64: rmse 0.0855
  * parameters baked in:
  *   p0 = 0.769042969
  *   p1 = 0.0881958008
  *   p2 = 1.23242188
  *   p3 = -0.395263672
- *   p4 = -0.661132812
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p4 = -0.662109375
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,11 +24,17 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_env_5(float NoV, float a, float f0)
+static inline float search_env_5(float NoV, float r, float f0)
 {
-	float t6 = (-0.6611328f) * NoV + (-0.39526367f);
-	float t8 = a * t6 + 1.2324219f;
-	float t10 = f0 * t8 + 0.0881958f;
-	float t11 = 0.76904297f * t10;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_env_5_p0 = 0.76904296875f;
+	const float search_env_5_p1 = 0.08819580078125f;
+	const float search_env_5_p2 = 1.232421875f;
+	const float search_env_5_p3 = (-0.395263671875f);
+	const float search_env_5_p4 = (-0.662109375f);
+	float t6 = search_env_5_p4 * NoV + search_env_5_p3;
+	float t8 = a * t6 + search_env_5_p2;
+	float t10 = f0 * t8 + search_env_5_p1;
+	float t11 = search_env_5_p0 * t10;
 	return t11;
 }

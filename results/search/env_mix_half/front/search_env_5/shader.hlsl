@@ -7,24 +7,30 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0855 in f16, as this half code computes it (either order of its mads), max |error| 0.857; in f64: rmse 0.0855
+ * fitted error: rmse 0.0855 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.857; in f64: rmse 0.0855
  * parameters baked in:
  *   p0 = 0.769042969
  *   p1 = 0.0881958008
  *   p2 = 1.23242188
  *   p3 = -0.395263672
- *   p4 = -0.661132812
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p4 = -0.662109375
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-half search_env_5(half NoV, half a, half f0)
+min16float search_env_5(min16float NoV, min16float r, min16float f0)
 {
-	half t6 = mad((-0.6611328), NoV, (-0.39526367));
-	half t8 = mad(a, t6, 1.2324219);
-	half t10 = mad(f0, t8, 0.0881958);
-	half t11 = 0.76904297 * t10;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float search_env_5_p0 = 0.76904296875;
+	const min16float search_env_5_p1 = 0.08819580078125;
+	const min16float search_env_5_p2 = 1.232421875;
+	const min16float search_env_5_p3 = (-0.395263671875);
+	const min16float search_env_5_p4 = (-0.662109375);
+	min16float t6 = mad(search_env_5_p4, NoV, search_env_5_p3);
+	min16float t8 = mad(a, t6, search_env_5_p2);
+	min16float t10 = mad(f0, t8, search_env_5_p1);
+	min16float t11 = search_env_5_p0 * t10;
 	return t11;
 }

@@ -7,17 +7,22 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.332 in f16, as this half code computes it (either order of its mads), max |error| 0.541; in f64: rmse 0.332
+ * fitted error: rmse 0.332 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.541; in f64: rmse 0.332
  * parameters baked in:
- *   p0 = 0.45891
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.45891 (0.458984375 in half, as written below)
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_1(void)
+static inline float seed_search_env_1(float NoV, float r, float f0)
 {
-	return 0.45891f;
+	(void)NoV;
+	(void)r;
+	(void)f0;
+	const float seed_search_env_1_p0 = 0.458984375f;
+	return seed_search_env_1_p0;
 }

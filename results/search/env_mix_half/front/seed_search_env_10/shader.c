@@ -7,15 +7,16 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0291 in f16, as this half code computes it (either order of its mads), max |error| 0.206; in f64: rmse 0.0291
+ * fitted error: rmse 0.0291 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.206; in f64: rmse 0.0291
  * parameters baked in:
  *   p0 = 0.52734375
  *   p1 = 1.47949219
- *   p2 = -1.75878906
+ *   p2 = -1.75976562
  *   p3 = -2.90820312
  *   p4 = 2.56640625
  *   p5 = 0.672851562
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,15 +27,22 @@
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_10(float NoV, float r, float a, float f0)
+static inline float seed_search_env_10(float NoV, float r, float f0)
 {
-	float t7 = (-1.7587891f) * r + 1.4794922f;
-	float t8 = (-2.9082031f) * NoV + t7;
-	float t9 = fmaxf(0.03138832f, t8);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_10_p0 = 0.52734375f;
+	const float seed_search_env_10_p1 = 1.4794921875f;
+	const float seed_search_env_10_p2 = (-1.759765625f);
+	const float seed_search_env_10_p3 = (-2.908203125f);
+	const float seed_search_env_10_p4 = 2.56640625f;
+	const float seed_search_env_10_p5 = 0.6728515625f;
+	float t7 = seed_search_env_10_p2 * r + seed_search_env_10_p1;
+	float t8 = seed_search_env_10_p3 * NoV + t7;
+	float t9 = fmaxf(0.031402587890625f, t8);
 	float t11 = -NoV;
-	float t14 = t11 * a + 0.67285156f;
-	float t15 = NoV + (2.5664062f - NoV) * t14;
+	float t14 = t11 * a + seed_search_env_10_p5;
+	float t15 = NoV + (seed_search_env_10_p4 - NoV) * t14;
 	float t17 = t9 + (t15 - t9) * f0;
-	float t18 = 0.52734375f * t17;
+	float t18 = seed_search_env_10_p0 * t17;
 	return t18;
 }

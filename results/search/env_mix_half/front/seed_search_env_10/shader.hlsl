@@ -7,15 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0291 in f16, as this half code computes it (either order of its mads), max |error| 0.206; in f64: rmse 0.0291
+ * fitted error: rmse 0.0291 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.206; in f64: rmse 0.0291
  * parameters baked in:
  *   p0 = 0.52734375
  *   p1 = 1.47949219
- *   p2 = -1.75878906
+ *   p2 = -1.75976562
  *   p3 = -2.90820312
  *   p4 = 2.56640625
  *   p5 = 0.672851562
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 1
@@ -23,15 +23,22 @@
  *   minmax 1
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-half seed_search_env_10(half NoV, half r, half a, half f0)
+min16float seed_search_env_10(min16float NoV, min16float r, min16float f0)
 {
-	half t7 = mad((-1.7587891), r, 1.4794922);
-	half t8 = mad((-2.9082031), NoV, t7);
-	half t9 = max(0.03138832, t8);
-	half t11 = -NoV;
-	half t14 = mad(t11, a, 0.67285156);
-	half t15 = NoV + (2.5664062 - NoV) * t14;
-	half t17 = t9 + (t15 - t9) * f0;
-	half t18 = 0.52734375 * t17;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_10_p0 = 0.52734375;
+	const min16float seed_search_env_10_p1 = 1.4794921875;
+	const min16float seed_search_env_10_p2 = (-1.759765625);
+	const min16float seed_search_env_10_p3 = (-2.908203125);
+	const min16float seed_search_env_10_p4 = 2.56640625;
+	const min16float seed_search_env_10_p5 = 0.6728515625;
+	min16float t7 = mad(seed_search_env_10_p2, r, seed_search_env_10_p1);
+	min16float t8 = mad(seed_search_env_10_p3, NoV, t7);
+	min16float t9 = max(0.031402587890625, t8);
+	min16float t11 = -NoV;
+	min16float t14 = mad(t11, a, seed_search_env_10_p5);
+	min16float t15 = NoV + (seed_search_env_10_p4 - NoV) * t14;
+	min16float t17 = t9 + (t15 - t9) * f0;
+	min16float t18 = seed_search_env_10_p0 * t17;
 	return t18;
 }

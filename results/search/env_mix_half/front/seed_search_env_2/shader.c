@@ -7,10 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.15 in f16, as this half code computes it (either order of its mads), max |error| 0.929; in f64: rmse 0.15
+ * fitted error: rmse 0.15 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.929; in f64: rmse 0.15
  * parameters baked in:
  *   p0 = 0.845703125
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -18,8 +19,11 @@
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_2(float f0)
+static inline float seed_search_env_2(float NoV, float r, float f0)
 {
-	float t2 = 0.8457031f * f0;
+	(void)NoV;
+	(void)r;
+	const float seed_search_env_2_p0 = 0.845703125f;
+	float t2 = seed_search_env_2_p0 * f0;
 	return t2;
 }

@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0701 in f16, as this half code computes it (either order of its mads), max |error| 0.653; in f64: rmse 0.0701
+ * fitted error: rmse 0.0701 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.653; in f64: rmse 0.0701
  * parameters baked in:
- *   p0 = 0.1328125
+ *   p0 = 0.13293457
  *   p1 = 6.5234375
- *   p2 = -4.19921875
+ *   p2 = -4.2109375
  *   p3 = 2.10546875
- *   p4 = 4.4453125
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p4 = 4.43359375
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,13 +25,19 @@
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_6(float NoV, float a, float f0)
+static inline float seed_search_env_6(float NoV, float r, float f0)
 {
-	float t5 = (-4.1992188f) * a + 6.5234375f;
-	float t7 = -4.4453125f;
-	float t10 = t7 * NoV + 2.1054688f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_6_p0 = 0.1329345703125f;
+	const float seed_search_env_6_p1 = 6.5234375f;
+	const float seed_search_env_6_p2 = (-4.2109375f);
+	const float seed_search_env_6_p3 = 2.10546875f;
+	const float seed_search_env_6_p4 = 4.43359375f;
+	float t5 = seed_search_env_6_p2 * a + seed_search_env_6_p1;
+	float t7 = -seed_search_env_6_p4;
+	float t10 = t7 * NoV + seed_search_env_6_p3;
 	float t11 = fmaxf(f0, t10);
 	float t12 = f0 * t5 + t11;
-	float t13 = 0.1328125f * t12;
+	float t13 = seed_search_env_6_p0 * t12;
 	return t13;
 }

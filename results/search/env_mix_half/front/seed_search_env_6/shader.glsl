@@ -7,27 +7,33 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0701 in f16, as this half code computes it (either order of its mads), max |error| 0.653; in f64: rmse 0.0701
+ * fitted error: rmse 0.0701 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.653; in f64: rmse 0.0701
  * parameters baked in:
- *   p0 = 0.1328125
+ *   p0 = 0.13293457
  *   p1 = 6.5234375
- *   p2 = -4.19921875
+ *   p2 = -4.2109375
  *   p3 = 2.10546875
- *   p4 = 4.4453125
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p4 = 4.43359375
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 3
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-mediump float seed_search_env_6(mediump float NoV, mediump float a, mediump float f0)
+mediump float seed_search_env_6(mediump float NoV, mediump float r, mediump float f0)
 {
-	mediump float t5 = (-4.1992188) * a + 6.5234375;
-	mediump float t7 = -4.4453125;
-	mediump float t10 = t7 * NoV + 2.1054688;
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_env_6_p0 = 0.1329345703125;
+	const mediump float seed_search_env_6_p1 = 6.5234375;
+	const mediump float seed_search_env_6_p2 = (-4.2109375);
+	const mediump float seed_search_env_6_p3 = 2.10546875;
+	const mediump float seed_search_env_6_p4 = 4.43359375;
+	mediump float t5 = seed_search_env_6_p2 * a + seed_search_env_6_p1;
+	mediump float t7 = -seed_search_env_6_p4;
+	mediump float t10 = t7 * NoV + seed_search_env_6_p3;
 	mediump float t11 = max(f0, t10);
 	mediump float t12 = f0 * t5 + t11;
-	mediump float t13 = 0.1328125 * t12;
+	mediump float t13 = seed_search_env_6_p0 * t12;
 	return t13;
 }

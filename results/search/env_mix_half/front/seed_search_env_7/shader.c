@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0553 in f16, as this half code computes it (either order of its mads), max |error| 0.184; in f64: rmse 0.0553
+ * fitted error: rmse 0.0553 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.184; in f64: rmse 0.0553
  * parameters baked in:
  *   p0 = 0.782226562
  *   p1 = 0.239868164
- *   p2 = 1.10253906
- *   p3 = -1.28417969
- *   p4 = -2.1015625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 1.10351562
+ *   p3 = -1.28613281
+ *   p4 = -2.109375
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,14 +25,20 @@
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_7(float NoV, float r, float a, float f0)
+static inline float seed_search_env_7(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_7_p0 = 0.7822265625f;
+	const float seed_search_env_7_p1 = 0.2398681640625f;
+	const float seed_search_env_7_p2 = 1.103515625f;
+	const float seed_search_env_7_p3 = (-1.2861328125f);
+	const float seed_search_env_7_p4 = (-2.109375f);
 	float t3 = -NoV;
-	float t6 = t3 * a + 0.23986816f;
-	float t11 = (-1.2841797f) * r + 1.1025391f;
-	float t12 = NoV * (-2.1015625f) + t11;
+	float t6 = t3 * a + seed_search_env_7_p1;
+	float t11 = seed_search_env_7_p3 * r + seed_search_env_7_p2;
+	float t12 = NoV * seed_search_env_7_p4 + t11;
 	float t13 = fmaxf(f0, t12);
 	float t14 = f0 * t6 + t13;
-	float t15 = 0.78222656f * t14;
+	float t15 = seed_search_env_7_p0 * t14;
 	return t15;
 }

@@ -7,28 +7,34 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0553 in f16, as this half code computes it (either order of its mads), max |error| 0.184; in f64: rmse 0.0553
+ * fitted error: rmse 0.0553 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.184; in f64: rmse 0.0553
  * parameters baked in:
  *   p0 = 0.782226562
  *   p1 = 0.239868164
- *   p2 = 1.10253906
- *   p3 = -1.28417969
- *   p4 = -2.1015625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p2 = 1.10351562
+ *   p3 = -1.28613281
+ *   p4 = -2.109375
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 4
  *   minmax 1
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-half seed_search_env_7(half NoV, half r, half a, half f0)
+min16float seed_search_env_7(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = -NoV;
-	half t6 = mad(t3, a, 0.23986816);
-	half t11 = mad((-1.2841797), r, 1.1025391);
-	half t12 = mad(NoV, (-2.1015625), t11);
-	half t13 = max(f0, t12);
-	half t14 = mad(f0, t6, t13);
-	half t15 = 0.78222656 * t14;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_env_7_p0 = 0.7822265625;
+	const min16float seed_search_env_7_p1 = 0.2398681640625;
+	const min16float seed_search_env_7_p2 = 1.103515625;
+	const min16float seed_search_env_7_p3 = (-1.2861328125);
+	const min16float seed_search_env_7_p4 = (-2.109375);
+	min16float t3 = -NoV;
+	min16float t6 = mad(t3, a, seed_search_env_7_p1);
+	min16float t11 = mad(seed_search_env_7_p3, r, seed_search_env_7_p2);
+	min16float t12 = mad(NoV, seed_search_env_7_p4, t11);
+	min16float t13 = max(f0, t12);
+	min16float t14 = mad(f0, t6, t13);
+	min16float t15 = seed_search_env_7_p0 * t14;
 	return t15;
 }

@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0385 in f16, as this half code computes it (either order of its mads), max |error| 0.278; in f64: rmse 0.0385
+ * fitted error: rmse 0.0385 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.278; in f64: rmse 0.0385
  * parameters baked in:
  *   p0 = 0.509277344
  *   p1 = 0.545410156
- *   p2 = 1.35058594
- *   p3 = -1.41796875
- *   p4 = -2.36523438
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 1.34960938
+ *   p3 = -1.41894531
+ *   p4 = -2.35742188
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,15 +26,21 @@
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_env_8(float NoV, float r, float a, float f0)
+static inline float seed_search_env_8(float NoV, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_env_8_p0 = 0.50927734375f;
+	const float seed_search_env_8_p1 = 0.54541015625f;
+	const float seed_search_env_8_p2 = 1.349609375f;
+	const float seed_search_env_8_p3 = (-1.4189453125f);
+	const float seed_search_env_8_p4 = (-2.357421875f);
 	float t3 = -a;
-	float t6 = 0.54541016f + NoV;
-	float t8 = t3 * t6 + 0.991396f;
-	float t13 = (-1.4179688f) * r + 1.3505859f;
-	float t14 = NoV * (-2.3652344f) + t13;
+	float t6 = seed_search_env_8_p1 + NoV;
+	float t8 = t3 * t6 + 0.9912109375f;
+	float t13 = seed_search_env_8_p3 * r + seed_search_env_8_p2;
+	float t14 = NoV * seed_search_env_8_p4 + t13;
 	float t15 = fmaxf(f0, t14);
 	float t16 = f0 * t8 + t15;
-	float t17 = 0.50927734f * t16;
+	float t17 = seed_search_env_8_p0 * t16;
 	return t17;
 }

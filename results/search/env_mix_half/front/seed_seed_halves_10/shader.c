@@ -7,17 +7,18 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0168 in f16, as this half code computes it (either order of its mads), max |error| 0.0993; in f64: rmse 0.0168
+ * fitted error: rmse 0.0168 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0993; in f64: rmse 0.0168
  * parameters baked in:
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
  *   p3 = 2.078125
  *   p4 = -1.63964844
- *   p5 = -0.00210380554
- *   p6 = -0.0489807129
- *   p7 = -0.8125
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p5 = -0.00219726562
+ *   p6 = -0.048828125
+ *   p7 = -0.812011719
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -30,19 +31,27 @@
 #include <math.h>
 static inline float seed_seed_halves_10(float NoV, float r, float f0)
 {
-	float t3 = (-0.8125f) + NoV;
+	const float seed_seed_halves_10_p0 = 0.5673828125f;
+	const float seed_seed_halves_10_p1 = 1.748046875f;
+	const float seed_seed_halves_10_p2 = 0.2122802734375f;
+	const float seed_seed_halves_10_p3 = 2.078125f;
+	const float seed_seed_halves_10_p4 = (-1.6396484375f);
+	const float seed_seed_halves_10_p5 = (-0.002197265625f);
+	const float seed_seed_halves_10_p6 = (-0.048828125f);
+	const float seed_seed_halves_10_p7 = (-0.81201171875f);
+	float t3 = seed_seed_halves_10_p7 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.048980713f);
+	float t9 = t3 * t7 + seed_seed_halves_10_p6;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0021038055f);
-	float t13 = (-1.6396484f) * t12;
+	float t12 = t10 * t9 + seed_seed_halves_10_p5;
+	float t13 = seed_seed_halves_10_p4 * t12;
 	float t15 = -r;
 	float t17 = -NoV;
-	float t18 = r * 2.078125f + t17;
-	float t20 = NoV * t18 + 0.21228027f;
-	float t22 = t15 * t20 + 1.7480469f;
-	float t23 = 0.5673828f * t22;
+	float t18 = r * seed_seed_halves_10_p3 + t17;
+	float t20 = NoV * t18 + seed_seed_halves_10_p2;
+	float t22 = t15 * t20 + seed_seed_halves_10_p1;
+	float t23 = seed_seed_halves_10_p0 * t22;
 	float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0168 in f16, as this half code computes it (either order of its mads), max |error| 0.0993; in f64: rmse 0.0168
+ * fitted error: rmse 0.0168 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0993; in f64: rmse 0.0168
  * parameters baked in:
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
  *   p3 = 2.078125
  *   p4 = -1.63964844
- *   p5 = -0.00210380554
- *   p6 = -0.0489807129
- *   p7 = -0.8125
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p5 = -0.00219726562
+ *   p6 = -0.048828125
+ *   p7 = -0.812011719
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -27,19 +27,27 @@
  */
 mediump float seed_seed_halves_10(mediump float NoV, mediump float r, mediump float f0)
 {
-	mediump float t3 = (-0.8125) + NoV;
+	const mediump float seed_seed_halves_10_p0 = 0.5673828125;
+	const mediump float seed_seed_halves_10_p1 = 1.748046875;
+	const mediump float seed_seed_halves_10_p2 = 0.2122802734375;
+	const mediump float seed_seed_halves_10_p3 = 2.078125;
+	const mediump float seed_seed_halves_10_p4 = (-1.6396484375);
+	const mediump float seed_seed_halves_10_p5 = (-0.002197265625);
+	const mediump float seed_seed_halves_10_p6 = (-0.048828125);
+	const mediump float seed_seed_halves_10_p7 = (-0.81201171875);
+	mediump float t3 = seed_seed_halves_10_p7 + NoV;
 	mediump float t6 = max(NoV, r);
 	mediump float t7 = (-1.0) + t6;
-	mediump float t9 = t3 * t7 + (-0.048980713);
+	mediump float t9 = t3 * t7 + seed_seed_halves_10_p6;
 	mediump float t10 = -t9;
-	mediump float t12 = t10 * t9 + (-0.0021038055);
-	mediump float t13 = (-1.6396484) * t12;
+	mediump float t12 = t10 * t9 + seed_seed_halves_10_p5;
+	mediump float t13 = seed_seed_halves_10_p4 * t12;
 	mediump float t15 = -r;
 	mediump float t17 = -NoV;
-	mediump float t18 = r * 2.078125 + t17;
-	mediump float t20 = NoV * t18 + 0.21228027;
-	mediump float t22 = t15 * t20 + 1.7480469;
-	mediump float t23 = 0.5673828 * t22;
+	mediump float t18 = r * seed_seed_halves_10_p3 + t17;
+	mediump float t20 = NoV * t18 + seed_seed_halves_10_p2;
+	mediump float t22 = t15 * t20 + seed_seed_halves_10_p1;
+	mediump float t23 = seed_seed_halves_10_p0 * t22;
 	mediump float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

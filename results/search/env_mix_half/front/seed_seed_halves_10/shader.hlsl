@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0168 in f16, as this half code computes it (either order of its mads), max |error| 0.0993; in f64: rmse 0.0168
+ * fitted error: rmse 0.0168 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0993; in f64: rmse 0.0168
  * parameters baked in:
  *   p0 = 0.567382812
  *   p1 = 1.74804688
  *   p2 = 0.212280273
  *   p3 = 2.078125
  *   p4 = -1.63964844
- *   p5 = -0.00210380554
- *   p6 = -0.0489807129
- *   p7 = -0.8125
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p5 = -0.00219726562
+ *   p6 = -0.048828125
+ *   p7 = -0.812011719
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -25,21 +25,29 @@
  *   minmax 1
  *   simple 12, complex 0, cost 12 (simple = 1, complex = 4)
  */
-half seed_seed_halves_10(half NoV, half r, half f0)
+min16float seed_seed_halves_10(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = (-0.8125) + NoV;
-	half t6 = max(NoV, r);
-	half t7 = (-1.0) + t6;
-	half t9 = mad(t3, t7, (-0.048980713));
-	half t10 = -t9;
-	half t12 = mad(t10, t9, (-0.0021038055));
-	half t13 = (-1.6396484) * t12;
-	half t15 = -r;
-	half t17 = -NoV;
-	half t18 = mad(r, 2.078125, t17);
-	half t20 = mad(NoV, t18, 0.21228027);
-	half t22 = mad(t15, t20, 1.7480469);
-	half t23 = 0.5673828 * t22;
-	half t25 = t13 + (t23 - t13) * f0;
+	const min16float seed_seed_halves_10_p0 = 0.5673828125;
+	const min16float seed_seed_halves_10_p1 = 1.748046875;
+	const min16float seed_seed_halves_10_p2 = 0.2122802734375;
+	const min16float seed_seed_halves_10_p3 = 2.078125;
+	const min16float seed_seed_halves_10_p4 = (-1.6396484375);
+	const min16float seed_seed_halves_10_p5 = (-0.002197265625);
+	const min16float seed_seed_halves_10_p6 = (-0.048828125);
+	const min16float seed_seed_halves_10_p7 = (-0.81201171875);
+	min16float t3 = seed_seed_halves_10_p7 + NoV;
+	min16float t6 = max(NoV, r);
+	min16float t7 = (-1.0) + t6;
+	min16float t9 = mad(t3, t7, seed_seed_halves_10_p6);
+	min16float t10 = -t9;
+	min16float t12 = mad(t10, t9, seed_seed_halves_10_p5);
+	min16float t13 = seed_seed_halves_10_p4 * t12;
+	min16float t15 = -r;
+	min16float t17 = -NoV;
+	min16float t18 = mad(r, seed_seed_halves_10_p3, t17);
+	min16float t20 = mad(NoV, t18, seed_seed_halves_10_p2);
+	min16float t22 = mad(t15, t20, seed_seed_halves_10_p1);
+	min16float t23 = seed_seed_halves_10_p0 * t22;
+	min16float t25 = t13 + (t23 - t13) * f0;
 	return t25;
 }

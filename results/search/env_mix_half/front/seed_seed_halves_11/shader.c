@@ -7,18 +7,19 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0143 in f16, as this half code computes it (either order of its mads), max |error| 0.0761; in f64: rmse 0.0144
+ * fitted error: rmse 0.0144 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0757; in f64: rmse 0.0144
  * parameters baked in:
- *   p0 = 0.992675781
+ *   p0 = 0.993652344
  *   p1 = 2.69921875
  *   p2 = 0.919921875
  *   p3 = 1.92871094
- *   p4 = 0.702148438
- *   p5 = -1.80957031
- *   p6 = -0.00188922882
- *   p7 = -0.0401916504
- *   p8 = -0.7734375
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p4 = 0.700195312
+ *   p5 = -1.80761719
+ *   p6 = -0.00195884705
+ *   p7 = -0.0397033691
+ *   p8 = -0.772460938
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -31,20 +32,29 @@
 #include <math.h>
 static inline float seed_seed_halves_11(float NoV, float r, float f0)
 {
-	float t3 = (-0.7734375f) + NoV;
+	const float seed_seed_halves_11_p0 = 0.99365234375f;
+	const float seed_seed_halves_11_p1 = 2.69921875f;
+	const float seed_seed_halves_11_p2 = 0.919921875f;
+	const float seed_seed_halves_11_p3 = 1.9287109375f;
+	const float seed_seed_halves_11_p4 = 0.7001953125f;
+	const float seed_seed_halves_11_p5 = (-1.8076171875f);
+	const float seed_seed_halves_11_p6 = (-0.0019588470458984375f);
+	const float seed_seed_halves_11_p7 = (-0.039703369140625f);
+	const float seed_seed_halves_11_p8 = (-0.7724609375f);
+	float t3 = seed_seed_halves_11_p8 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04019165f);
+	float t9 = t3 * t7 + seed_seed_halves_11_p7;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0018892288f);
-	float t13 = (-1.8095703f) * t12;
-	float t17 = NoV * r + 0.9199219f;
+	float t12 = t10 * t9 + seed_seed_halves_11_p6;
+	float t13 = seed_seed_halves_11_p5 * t12;
+	float t17 = NoV * r + seed_seed_halves_11_p2;
 	float t18 = -t17;
 	float t19 = -NoV;
-	float t22 = t19 * 0.70214844f + 1.9287109f;
-	float t24 = t18 * t22 + 2.6992188f;
+	float t22 = t19 * seed_seed_halves_11_p4 + seed_seed_halves_11_p3;
+	float t24 = t18 * t22 + seed_seed_halves_11_p1;
 	float t25 = fminf(1.0f, t24);
-	float t26 = 0.9926758f * t25;
+	float t26 = seed_seed_halves_11_p0 * t25;
 	float t28 = t13 + (t26 - t13) * f0;
 	return t28;
 }

@@ -7,19 +7,20 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0116 in f16, as this half code computes it (either order of its mads), max |error| 0.0699; in f64: rmse 0.0116
+ * fitted error: rmse 0.0116 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0699; in f64: rmse 0.0116
  * parameters baked in:
  *   p0 = 0.651855469
  *   p1 = 1.52734375
  *   p2 = 1.47363281
- *   p3 = 1.55859375
- *   p4 = -1.23535156
- *   p5 = 1.17089844
- *   p6 = -1.6484375
- *   p7 = -0.00186061859
- *   p8 = -0.0494689941
- *   p9 = -0.813964844
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 1.56054688
+ *   p4 = -1.23632812
+ *   p5 = 1.16796875
+ *   p6 = -1.64648438
+ *   p7 = -0.00183200836
+ *   p8 = -0.0498046875
+ *   p9 = -0.814941406
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -30,22 +31,33 @@
  *   simple 14, complex 0, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_seed_halves_12(float NoV, float r, float a, float f0)
+static inline float seed_seed_halves_12(float NoV, float r, float f0)
 {
-	float t3 = (-0.81396484f) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_seed_halves_12_p0 = 0.65185546875f;
+	const float seed_seed_halves_12_p1 = 1.52734375f;
+	const float seed_seed_halves_12_p2 = 1.4736328125f;
+	const float seed_seed_halves_12_p3 = 1.560546875f;
+	const float seed_seed_halves_12_p4 = (-1.236328125f);
+	const float seed_seed_halves_12_p5 = 1.16796875f;
+	const float seed_seed_halves_12_p6 = (-1.646484375f);
+	const float seed_seed_halves_12_p7 = (-0.0018320083618164062f);
+	const float seed_seed_halves_12_p8 = (-0.0498046875f);
+	const float seed_seed_halves_12_p9 = (-0.81494140625f);
+	float t3 = seed_seed_halves_12_p9 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.049468994f);
+	float t9 = t3 * t7 + seed_seed_halves_12_p8;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0018606186f);
-	float t13 = (-1.6484375f) * t12;
+	float t12 = t10 * t9 + seed_seed_halves_12_p7;
+	float t13 = seed_seed_halves_12_p6 * t12;
 	float t16 = -NoV;
-	float t19 = NoV * (-1.2353516f) + 1.5585938f;
-	float t21 = r * 1.1708984f + t16;
+	float t19 = NoV * seed_seed_halves_12_p4 + seed_seed_halves_12_p3;
+	float t21 = r * seed_seed_halves_12_p5 + t16;
 	float t23 = t19 * t21 + a;
-	float t25 = t16 * t23 + 1.4736328f;
-	float t26 = fminf(1.5273438f, t25);
-	float t27 = 0.65185547f * t26;
+	float t25 = t16 * t23 + seed_seed_halves_12_p2;
+	float t26 = fminf(seed_seed_halves_12_p1, t25);
+	float t27 = seed_seed_halves_12_p0 * t26;
 	float t29 = t13 + (t27 - t13) * f0;
 	return t29;
 }

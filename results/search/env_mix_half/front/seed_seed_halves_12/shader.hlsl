@@ -7,19 +7,19 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0116 in f16, as this half code computes it (either order of its mads), max |error| 0.0699; in f64: rmse 0.0116
+ * fitted error: rmse 0.0116 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0699; in f64: rmse 0.0116
  * parameters baked in:
  *   p0 = 0.651855469
  *   p1 = 1.52734375
  *   p2 = 1.47363281
- *   p3 = 1.55859375
- *   p4 = -1.23535156
- *   p5 = 1.17089844
- *   p6 = -1.6484375
- *   p7 = -0.00186061859
- *   p8 = -0.0494689941
- *   p9 = -0.813964844
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 1.56054688
+ *   p4 = -1.23632812
+ *   p5 = 1.16796875
+ *   p6 = -1.64648438
+ *   p7 = -0.00183200836
+ *   p8 = -0.0498046875
+ *   p9 = -0.814941406
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -27,22 +27,33 @@
  *   minmax 2
  *   simple 14, complex 0, cost 14 (simple = 1, complex = 4)
  */
-half seed_seed_halves_12(half NoV, half r, half a, half f0)
+min16float seed_seed_halves_12(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = (-0.81396484) + NoV;
-	half t6 = max(NoV, r);
-	half t7 = (-1.0) + t6;
-	half t9 = mad(t3, t7, (-0.049468994));
-	half t10 = -t9;
-	half t12 = mad(t10, t9, (-0.0018606186));
-	half t13 = (-1.6484375) * t12;
-	half t16 = -NoV;
-	half t19 = mad(NoV, (-1.2353516), 1.5585938);
-	half t21 = mad(r, 1.1708984, t16);
-	half t23 = mad(t19, t21, a);
-	half t25 = mad(t16, t23, 1.4736328);
-	half t26 = min(1.5273438, t25);
-	half t27 = 0.65185547 * t26;
-	half t29 = t13 + (t27 - t13) * f0;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_seed_halves_12_p0 = 0.65185546875;
+	const min16float seed_seed_halves_12_p1 = 1.52734375;
+	const min16float seed_seed_halves_12_p2 = 1.4736328125;
+	const min16float seed_seed_halves_12_p3 = 1.560546875;
+	const min16float seed_seed_halves_12_p4 = (-1.236328125);
+	const min16float seed_seed_halves_12_p5 = 1.16796875;
+	const min16float seed_seed_halves_12_p6 = (-1.646484375);
+	const min16float seed_seed_halves_12_p7 = (-0.0018320083618164062);
+	const min16float seed_seed_halves_12_p8 = (-0.0498046875);
+	const min16float seed_seed_halves_12_p9 = (-0.81494140625);
+	min16float t3 = seed_seed_halves_12_p9 + NoV;
+	min16float t6 = max(NoV, r);
+	min16float t7 = (-1.0) + t6;
+	min16float t9 = mad(t3, t7, seed_seed_halves_12_p8);
+	min16float t10 = -t9;
+	min16float t12 = mad(t10, t9, seed_seed_halves_12_p7);
+	min16float t13 = seed_seed_halves_12_p6 * t12;
+	min16float t16 = -NoV;
+	min16float t19 = mad(NoV, seed_seed_halves_12_p4, seed_seed_halves_12_p3);
+	min16float t21 = mad(r, seed_seed_halves_12_p5, t16);
+	min16float t23 = mad(t19, t21, a);
+	min16float t25 = mad(t16, t23, seed_seed_halves_12_p2);
+	min16float t26 = min(seed_seed_halves_12_p1, t25);
+	min16float t27 = seed_seed_halves_12_p0 * t26;
+	min16float t29 = t13 + (t27 - t13) * f0;
 	return t29;
 }

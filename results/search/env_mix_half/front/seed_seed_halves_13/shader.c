@@ -7,19 +7,20 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0112 in f16, as this half code computes it (either order of its mads), max |error| 0.0743; in f64: rmse 0.0112
+ * fitted error: rmse 0.0112 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0743; in f64: rmse 0.0112
  * parameters baked in:
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.82910156
- *   p4 = -2.41796875
+ *   p3 = 1.828125
+ *   p4 = -2.40820312
  *   p5 = 1.22460938
- *   p6 = -1.65625
- *   p7 = -0.00188732147
- *   p8 = -0.0480041504
+ *   p6 = -1.65527344
+ *   p7 = -0.001953125
+ *   p8 = -0.0478515625
  *   p9 = -0.810058594
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -30,23 +31,34 @@
  *   simple 15, complex 0, cost 15 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_seed_halves_13(float NoV, float r, float a, float f0)
+static inline float seed_seed_halves_13(float NoV, float r, float f0)
 {
-	float t3 = (-0.8100586f) + NoV;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_seed_halves_13_p0 = 0.64794921875f;
+	const float seed_seed_halves_13_p1 = 1.537109375f;
+	const float seed_seed_halves_13_p2 = 1.4912109375f;
+	const float seed_seed_halves_13_p3 = 1.828125f;
+	const float seed_seed_halves_13_p4 = (-2.408203125f);
+	const float seed_seed_halves_13_p5 = 1.224609375f;
+	const float seed_seed_halves_13_p6 = (-1.6552734375f);
+	const float seed_seed_halves_13_p7 = (-0.001953125f);
+	const float seed_seed_halves_13_p8 = (-0.0478515625f);
+	const float seed_seed_halves_13_p9 = (-0.81005859375f);
+	float t3 = seed_seed_halves_13_p9 + NoV;
 	float t6 = fmaxf(NoV, r);
 	float t7 = (-1.0f) + t6;
-	float t9 = t3 * t7 + (-0.04800415f);
+	float t9 = t3 * t7 + seed_seed_halves_13_p8;
 	float t10 = -t9;
-	float t12 = t10 * t9 + (-0.0018873215f);
-	float t13 = (-1.65625f) * t12;
+	float t12 = t10 * t9 + seed_seed_halves_13_p7;
+	float t13 = seed_seed_halves_13_p6 * t12;
 	float t16 = -NoV;
-	float t18 = NoV + (-2.4179688f);
-	float t20 = NoV * t18 + 1.8291016f;
-	float t22 = r * 1.2246094f + t16;
+	float t18 = NoV + seed_seed_halves_13_p4;
+	float t20 = NoV * t18 + seed_seed_halves_13_p3;
+	float t22 = r * seed_seed_halves_13_p5 + t16;
 	float t24 = t20 * t22 + a;
-	float t26 = t16 * t24 + 1.4912109f;
-	float t27 = fminf(1.5371094f, t26);
-	float t28 = 0.6479492f * t27;
+	float t26 = t16 * t24 + seed_seed_halves_13_p2;
+	float t27 = fminf(seed_seed_halves_13_p1, t26);
+	float t28 = seed_seed_halves_13_p0 * t27;
 	float t30 = t13 + (t28 - t13) * f0;
 	return t30;
 }

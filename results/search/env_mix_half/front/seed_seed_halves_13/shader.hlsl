@@ -7,19 +7,19 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0112 in f16, as this half code computes it (either order of its mads), max |error| 0.0743; in f64: rmse 0.0112
+ * fitted error: rmse 0.0112 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0743; in f64: rmse 0.0112
  * parameters baked in:
  *   p0 = 0.647949219
  *   p1 = 1.53710938
  *   p2 = 1.49121094
- *   p3 = 1.82910156
- *   p4 = -2.41796875
+ *   p3 = 1.828125
+ *   p4 = -2.40820312
  *   p5 = 1.22460938
- *   p6 = -1.65625
- *   p7 = -0.00188732147
- *   p8 = -0.0480041504
+ *   p6 = -1.65527344
+ *   p7 = -0.001953125
+ *   p8 = -0.0478515625
  *   p9 = -0.810058594
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 2
@@ -27,23 +27,34 @@
  *   minmax 2
  *   simple 15, complex 0, cost 15 (simple = 1, complex = 4)
  */
-half seed_seed_halves_13(half NoV, half r, half a, half f0)
+min16float seed_seed_halves_13(min16float NoV, min16float r, min16float f0)
 {
-	half t3 = (-0.8100586) + NoV;
-	half t6 = max(NoV, r);
-	half t7 = (-1.0) + t6;
-	half t9 = mad(t3, t7, (-0.04800415));
-	half t10 = -t9;
-	half t12 = mad(t10, t9, (-0.0018873215));
-	half t13 = (-1.65625) * t12;
-	half t16 = -NoV;
-	half t18 = NoV + (-2.4179688);
-	half t20 = mad(NoV, t18, 1.8291016);
-	half t22 = mad(r, 1.2246094, t16);
-	half t24 = mad(t20, t22, a);
-	half t26 = mad(t16, t24, 1.4912109);
-	half t27 = min(1.5371094, t26);
-	half t28 = 0.6479492 * t27;
-	half t30 = t13 + (t28 - t13) * f0;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_seed_halves_13_p0 = 0.64794921875;
+	const min16float seed_seed_halves_13_p1 = 1.537109375;
+	const min16float seed_seed_halves_13_p2 = 1.4912109375;
+	const min16float seed_seed_halves_13_p3 = 1.828125;
+	const min16float seed_seed_halves_13_p4 = (-2.408203125);
+	const min16float seed_seed_halves_13_p5 = 1.224609375;
+	const min16float seed_seed_halves_13_p6 = (-1.6552734375);
+	const min16float seed_seed_halves_13_p7 = (-0.001953125);
+	const min16float seed_seed_halves_13_p8 = (-0.0478515625);
+	const min16float seed_seed_halves_13_p9 = (-0.81005859375);
+	min16float t3 = seed_seed_halves_13_p9 + NoV;
+	min16float t6 = max(NoV, r);
+	min16float t7 = (-1.0) + t6;
+	min16float t9 = mad(t3, t7, seed_seed_halves_13_p8);
+	min16float t10 = -t9;
+	min16float t12 = mad(t10, t9, seed_seed_halves_13_p7);
+	min16float t13 = seed_seed_halves_13_p6 * t12;
+	min16float t16 = -NoV;
+	min16float t18 = NoV + seed_seed_halves_13_p4;
+	min16float t20 = mad(NoV, t18, seed_seed_halves_13_p3);
+	min16float t22 = mad(r, seed_seed_halves_13_p5, t16);
+	min16float t24 = mad(t20, t22, a);
+	min16float t26 = mad(t16, t24, seed_seed_halves_13_p2);
+	min16float t27 = min(seed_seed_halves_13_p1, t26);
+	min16float t28 = seed_seed_halves_13_p0 * t27;
+	min16float t30 = t13 + (t28 - t13) * f0;
 	return t30;
 }

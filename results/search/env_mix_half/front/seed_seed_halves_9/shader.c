@@ -7,17 +7,18 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0208 in f16, as this half code computes it (either order of its mads), max |error| 0.116; in f64: rmse 0.0208
+ * fitted error: rmse 0.0208 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.116; in f64: rmse 0.0208
  * parameters baked in:
  *   p0 = 0.574707031
  *   p1 = 1.72851562
- *   p2 = 0.212768555
- *   p3 = 2.06640625
- *   p4 = 0.0364990234
- *   p5 = 4.96484375
- *   p6 = -4.3203125
- *   p7 = 7.02734375
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 0.212280273
+ *   p3 = 2.0703125
+ *   p4 = 0.0363769531
+ *   p5 = 4.96875
+ *   p6 = -4.30859375
+ *   p7 = 7.03125
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -30,18 +31,26 @@
 #include <math.h>
 static inline float seed_seed_halves_9(float NoV, float r, float f0)
 {
-	float t3 = -7.0273438f;
-	float t8 = (-4.3203125f) * r + 4.9648438f;
+	const float seed_seed_halves_9_p0 = 0.57470703125f;
+	const float seed_seed_halves_9_p1 = 1.728515625f;
+	const float seed_seed_halves_9_p2 = 0.2122802734375f;
+	const float seed_seed_halves_9_p3 = 2.0703125f;
+	const float seed_seed_halves_9_p4 = 0.036376953125f;
+	const float seed_seed_halves_9_p5 = 4.96875f;
+	const float seed_seed_halves_9_p6 = (-4.30859375f);
+	const float seed_seed_halves_9_p7 = 7.03125f;
+	float t3 = -seed_seed_halves_9_p7;
+	float t8 = seed_seed_halves_9_p6 * r + seed_seed_halves_9_p5;
 	float t9 = t3 * NoV + t8;
 	float t10 = fmaxf(1.0f, t9);
 	float t11 = -NoV;
 	float t12 = t10 * t10 + t11;
-	float t13 = 0.036499023f * t12;
+	float t13 = seed_seed_halves_9_p4 * t12;
 	float t15 = -r;
-	float t17 = r * 2.0664062f + t11;
-	float t19 = NoV * t17 + 0.21276855f;
-	float t21 = t15 * t19 + 1.7285156f;
-	float t22 = 0.57470703f * t21;
+	float t17 = r * seed_seed_halves_9_p3 + t11;
+	float t19 = NoV * t17 + seed_seed_halves_9_p2;
+	float t21 = t15 * t19 + seed_seed_halves_9_p1;
+	float t22 = seed_seed_halves_9_p0 * t21;
 	float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

@@ -7,17 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: env: split-sum environment BRDF, f0 A + B = integral of D V F NoL (GGX D, correlated Smith, Schlick F, f90 = 1), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres); one form in f0 fitted to f0 A + B over the f0 list
- * fitted error: rmse 0.0208 in f16, as this half code computes it (either order of its mads), max |error| 0.116; in f64: rmse 0.0208
+ * fitted error: rmse 0.0208 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.116; in f64: rmse 0.0208
  * parameters baked in:
  *   p0 = 0.574707031
  *   p1 = 1.72851562
- *   p2 = 0.212768555
- *   p3 = 2.06640625
- *   p4 = 0.0364990234
- *   p5 = 4.96484375
- *   p6 = -4.3203125
- *   p7 = 7.02734375
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p2 = 0.212280273
+ *   p3 = 2.0703125
+ *   p4 = 0.0363769531
+ *   p5 = 4.96875
+ *   p6 = -4.30859375
+ *   p7 = 7.03125
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 2
@@ -27,18 +27,26 @@
  */
 mediump float seed_seed_halves_9(mediump float NoV, mediump float r, mediump float f0)
 {
-	mediump float t3 = -7.0273438;
-	mediump float t8 = (-4.3203125) * r + 4.9648438;
+	const mediump float seed_seed_halves_9_p0 = 0.57470703125;
+	const mediump float seed_seed_halves_9_p1 = 1.728515625;
+	const mediump float seed_seed_halves_9_p2 = 0.2122802734375;
+	const mediump float seed_seed_halves_9_p3 = 2.0703125;
+	const mediump float seed_seed_halves_9_p4 = 0.036376953125;
+	const mediump float seed_seed_halves_9_p5 = 4.96875;
+	const mediump float seed_seed_halves_9_p6 = (-4.30859375);
+	const mediump float seed_seed_halves_9_p7 = 7.03125;
+	mediump float t3 = -seed_seed_halves_9_p7;
+	mediump float t8 = seed_seed_halves_9_p6 * r + seed_seed_halves_9_p5;
 	mediump float t9 = t3 * NoV + t8;
 	mediump float t10 = max(1.0, t9);
 	mediump float t11 = -NoV;
 	mediump float t12 = t10 * t10 + t11;
-	mediump float t13 = 0.036499023 * t12;
+	mediump float t13 = seed_seed_halves_9_p4 * t12;
 	mediump float t15 = -r;
-	mediump float t17 = r * 2.0664062 + t11;
-	mediump float t19 = NoV * t17 + 0.21276855;
-	mediump float t21 = t15 * t19 + 1.7285156;
-	mediump float t22 = 0.57470703 * t21;
+	mediump float t17 = r * seed_seed_halves_9_p3 + t11;
+	mediump float t19 = NoV * t17 + seed_seed_halves_9_p2;
+	mediump float t21 = t15 * t19 + seed_seed_halves_9_p1;
+	mediump float t22 = seed_seed_halves_9_p0 * t21;
 	mediump float t24 = t13 + (t22 - t13) * f0;
 	return t24;
 }

@@ -27,13 +27,17 @@
 #include <math.h>
 static inline float search_f_10(float LoH, float f0)
 {
-	float t5 = LoH * (-3.7933f) + 2.30837f;
-	float t7 = LoH * t5 + (-7.70028f);
+	const float search_f_10_p0 = 0.9613814f;
+	const float search_f_10_p1 = (-7.70028f);
+	const float search_f_10_p2 = 2.30837f;
+	const float search_f_10_p3 = (-3.7933f);
+	float t5 = LoH * search_f_10_p3 + search_f_10_p2;
+	float t7 = LoH * t5 + search_f_10_p1;
 	float t8 = -LoH;
 	float t9 = LoH * t7 + t8;
 	float t10 = exp2f(t9);
 	float t11 = f0 + t10;
-	float t12 = 0.9613814f * t11;
+	float t12 = search_f_10_p0 * t11;
 	float t13 = fmaxf(f0, t12);
 	return t13;
 }

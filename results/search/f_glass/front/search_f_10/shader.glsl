@@ -24,13 +24,17 @@
  */
 highp float search_f_10(highp float LoH, highp float f0)
 {
-	highp float t5 = LoH * (-3.7933) + 2.30837;
-	highp float t7 = LoH * t5 + (-7.70028);
+	const highp float search_f_10_p0 = 0.9613814;
+	const highp float search_f_10_p1 = (-7.70028);
+	const highp float search_f_10_p2 = 2.30837;
+	const highp float search_f_10_p3 = (-3.7933);
+	highp float t5 = LoH * search_f_10_p3 + search_f_10_p2;
+	highp float t7 = LoH * t5 + search_f_10_p1;
 	highp float t8 = -LoH;
 	highp float t9 = LoH * t7 + t8;
 	highp float t10 = exp2(t9);
 	highp float t11 = f0 + t10;
-	highp float t12 = 0.9613814 * t11;
+	highp float t12 = search_f_10_p0 * t11;
 	highp float t13 = max(f0, t12);
 	return t13;
 }

@@ -24,13 +24,17 @@
  */
 float search_f_10(float LoH, float f0)
 {
-	float t5 = mad(LoH, (-3.7933), 2.30837);
-	float t7 = mad(LoH, t5, (-7.70028));
+	const float search_f_10_p0 = 0.9613814;
+	const float search_f_10_p1 = (-7.70028);
+	const float search_f_10_p2 = 2.30837;
+	const float search_f_10_p3 = (-3.7933);
+	float t5 = mad(LoH, search_f_10_p3, search_f_10_p2);
+	float t7 = mad(LoH, t5, search_f_10_p1);
 	float t8 = -LoH;
 	float t9 = mad(LoH, t7, t8);
 	float t10 = exp2(t9);
 	float t11 = f0 + t10;
-	float t12 = 0.9613814 * t11;
+	float t12 = search_f_10_p0 * t11;
 	float t13 = max(f0, t12);
 	return t13;
 }

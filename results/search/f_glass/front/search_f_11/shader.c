@@ -27,14 +27,18 @@
 #include <math.h>
 static inline float search_f_11(float LoH, float f0)
 {
+	const float search_f_11_p0 = 0.9612789f;
+	const float search_f_11_p1 = (-8.69134f);
+	const float search_f_11_p2 = 2.21757f;
+	const float search_f_11_p3 = (-3.5126f);
 	float t3 = -LoH;
-	float t6 = t3 * 0.25f + (-3.5126f);
-	float t8 = LoH * t6 + 2.21757f;
-	float t10 = LoH * t8 + (-8.69134f);
+	float t6 = t3 * 0.25f + search_f_11_p3;
+	float t8 = LoH * t6 + search_f_11_p2;
+	float t10 = LoH * t8 + search_f_11_p1;
 	float t11 = LoH * t10;
 	float t12 = exp2f(t11);
 	float t13 = f0 + t12;
-	float t14 = 0.9612789f * t13;
+	float t14 = search_f_11_p0 * t13;
 	float t15 = fmaxf(f0, t14);
 	return t15;
 }

@@ -24,14 +24,18 @@
  */
 highp float search_f_11(highp float LoH, highp float f0)
 {
+	const highp float search_f_11_p0 = 0.9612789;
+	const highp float search_f_11_p1 = (-8.69134);
+	const highp float search_f_11_p2 = 2.21757;
+	const highp float search_f_11_p3 = (-3.5126);
 	highp float t3 = -LoH;
-	highp float t6 = t3 * 0.25 + (-3.5126);
-	highp float t8 = LoH * t6 + 2.21757;
-	highp float t10 = LoH * t8 + (-8.69134);
+	highp float t6 = t3 * 0.25 + search_f_11_p3;
+	highp float t8 = LoH * t6 + search_f_11_p2;
+	highp float t10 = LoH * t8 + search_f_11_p1;
 	highp float t11 = LoH * t10;
 	highp float t12 = exp2(t11);
 	highp float t13 = f0 + t12;
-	highp float t14 = 0.9612789 * t13;
+	highp float t14 = search_f_11_p0 * t13;
 	highp float t15 = max(f0, t14);
 	return t15;
 }

@@ -24,14 +24,18 @@
  */
 float search_f_11(float LoH, float f0)
 {
+	const float search_f_11_p0 = 0.9612789;
+	const float search_f_11_p1 = (-8.69134);
+	const float search_f_11_p2 = 2.21757;
+	const float search_f_11_p3 = (-3.5126);
 	float t3 = -LoH;
-	float t6 = mad(t3, 0.25, (-3.5126));
-	float t8 = mad(LoH, t6, 2.21757);
-	float t10 = mad(LoH, t8, (-8.69134));
+	float t6 = mad(t3, 0.25, search_f_11_p3);
+	float t8 = mad(LoH, t6, search_f_11_p2);
+	float t10 = mad(LoH, t8, search_f_11_p1);
 	float t11 = LoH * t10;
 	float t12 = exp2(t11);
 	float t13 = f0 + t12;
-	float t14 = 0.9612789 * t13;
+	float t14 = search_f_11_p0 * t13;
 	float t15 = max(f0, t14);
 	return t15;
 }

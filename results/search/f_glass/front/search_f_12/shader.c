@@ -27,15 +27,19 @@
 #include <math.h>
 static inline float search_f_12(float LoH, float f0)
 {
-	float t4 = 0.61004f - LoH;
+	const float search_f_12_p0 = 0.9613529f;
+	const float search_f_12_p1 = (-8.69978f);
+	const float search_f_12_p2 = (-3.8515f);
+	const float search_f_12_p3 = 0.61004f;
+	float t4 = search_f_12_p3 - LoH;
 	float t5 = LoH * t4;
 	float t6 = -t5;
-	float t8 = (-3.8515f) + t5;
-	float t10 = t6 * t8 + (-8.69978f);
+	float t8 = search_f_12_p2 + t5;
+	float t10 = t6 * t8 + search_f_12_p1;
 	float t11 = LoH * t10;
 	float t12 = exp2f(t11);
 	float t13 = f0 + t12;
-	float t14 = 0.9613529f * t13;
+	float t14 = search_f_12_p0 * t13;
 	float t15 = fmaxf(f0, t14);
 	return t15;
 }

@@ -24,15 +24,19 @@
  */
 highp float search_f_12(highp float LoH, highp float f0)
 {
-	highp float t4 = 0.61004 - LoH;
+	const highp float search_f_12_p0 = 0.9613529;
+	const highp float search_f_12_p1 = (-8.69978);
+	const highp float search_f_12_p2 = (-3.8515);
+	const highp float search_f_12_p3 = 0.61004;
+	highp float t4 = search_f_12_p3 - LoH;
 	highp float t5 = LoH * t4;
 	highp float t6 = -t5;
-	highp float t8 = (-3.8515) + t5;
-	highp float t10 = t6 * t8 + (-8.69978);
+	highp float t8 = search_f_12_p2 + t5;
+	highp float t10 = t6 * t8 + search_f_12_p1;
 	highp float t11 = LoH * t10;
 	highp float t12 = exp2(t11);
 	highp float t13 = f0 + t12;
-	highp float t14 = 0.9613529 * t13;
+	highp float t14 = search_f_12_p0 * t13;
 	highp float t15 = max(f0, t14);
 	return t15;
 }

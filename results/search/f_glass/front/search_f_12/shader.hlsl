@@ -24,15 +24,19 @@
  */
 float search_f_12(float LoH, float f0)
 {
-	float t4 = 0.61004 - LoH;
+	const float search_f_12_p0 = 0.9613529;
+	const float search_f_12_p1 = (-8.69978);
+	const float search_f_12_p2 = (-3.8515);
+	const float search_f_12_p3 = 0.61004;
+	float t4 = search_f_12_p3 - LoH;
 	float t5 = LoH * t4;
 	float t6 = -t5;
-	float t8 = (-3.8515) + t5;
-	float t10 = mad(t6, t8, (-8.69978));
+	float t8 = search_f_12_p2 + t5;
+	float t10 = mad(t6, t8, search_f_12_p1);
 	float t11 = LoH * t10;
 	float t12 = exp2(t11);
 	float t13 = f0 + t12;
-	float t14 = 0.9613529 * t13;
+	float t14 = search_f_12_p0 * t13;
 	float t15 = max(f0, t14);
 	return t15;
 }

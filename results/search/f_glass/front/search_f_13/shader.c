@@ -26,10 +26,14 @@
 #include <math.h>
 static inline float search_f_13(float LoH, float f0)
 {
-	float t3 = (-0.142518f) * LoH + 1.0f;
-	float t8 = LoH * 6.995529f + 0.239935f;
+	const float search_f_13_p0 = (-0.142518f);
+	const float search_f_13_p1 = (-4.52993f);
+	const float search_f_13_p2 = 0.239935f;
+	const float search_f_13_p3 = 6.995529f;
+	float t3 = search_f_13_p0 * LoH + 1.0f;
+	float t8 = LoH * search_f_13_p3 + search_f_13_p2;
 	float t9 = exp2f(t8);
-	float t10 = f0 * (-4.52993f) + t9;
+	float t10 = f0 * search_f_13_p1 + t9;
 	float t11 = 1.0f / t10;
 	float t12 = LoH * f0 + t11;
 	float t13 = t3 * t12;

@@ -23,10 +23,14 @@
  */
 highp float search_f_13(highp float LoH, highp float f0)
 {
-	highp float t3 = (-0.142518) * LoH + 1.0;
-	highp float t8 = LoH * 6.995529 + 0.239935;
+	const highp float search_f_13_p0 = (-0.142518);
+	const highp float search_f_13_p1 = (-4.52993);
+	const highp float search_f_13_p2 = 0.239935;
+	const highp float search_f_13_p3 = 6.995529;
+	highp float t3 = search_f_13_p0 * LoH + 1.0;
+	highp float t8 = LoH * search_f_13_p3 + search_f_13_p2;
 	highp float t9 = exp2(t8);
-	highp float t10 = f0 * (-4.52993) + t9;
+	highp float t10 = f0 * search_f_13_p1 + t9;
 	highp float t11 = 1.0 / t10;
 	highp float t12 = LoH * f0 + t11;
 	highp float t13 = t3 * t12;

@@ -23,10 +23,14 @@
  */
 float search_f_13(float LoH, float f0)
 {
-	float t3 = mad((-0.142518), LoH, 1.0);
-	float t8 = mad(LoH, 6.995529, 0.239935);
+	const float search_f_13_p0 = (-0.142518);
+	const float search_f_13_p1 = (-4.52993);
+	const float search_f_13_p2 = 0.239935;
+	const float search_f_13_p3 = 6.995529;
+	float t3 = mad(search_f_13_p0, LoH, 1.0);
+	float t8 = mad(LoH, search_f_13_p3, search_f_13_p2);
 	float t9 = exp2(t8);
-	float t10 = mad(f0, (-4.52993), t9);
+	float t10 = mad(f0, search_f_13_p1, t9);
 	float t11 = rcp(t10);
 	float t12 = mad(LoH, f0, t11);
 	float t13 = t3 * t12;

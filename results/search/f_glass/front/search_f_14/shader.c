@@ -26,12 +26,16 @@
 #include <math.h>
 static inline float search_f_14(float LoH, float f0)
 {
-	float t3 = (-0.1437304f) * LoH + 1.0f;
+	const float search_f_14_p0 = (-0.1437304f);
+	const float search_f_14_p1 = (-0.0900886f);
+	const float search_f_14_p2 = 0.2388846f;
+	const float search_f_14_p3 = 6.98912f;
+	float t3 = search_f_14_p0 * LoH + 1.0f;
 	float t6 = -LoH;
 	float t8 = t6 * LoH + 2.0f;
-	float t11 = LoH * 6.98912f + 0.2388846f;
+	float t11 = LoH * search_f_14_p3 + search_f_14_p2;
 	float t12 = exp2f(t11);
-	float t13 = (-0.0900886f) * t8 + t12;
+	float t13 = search_f_14_p1 * t8 + t12;
 	float t14 = 1.0f / t13;
 	float t15 = LoH * f0 + t14;
 	float t16 = t3 * t15;

@@ -23,12 +23,16 @@
  */
 highp float search_f_14(highp float LoH, highp float f0)
 {
-	highp float t3 = (-0.1437304) * LoH + 1.0;
+	const highp float search_f_14_p0 = (-0.1437304);
+	const highp float search_f_14_p1 = (-0.0900886);
+	const highp float search_f_14_p2 = 0.2388846;
+	const highp float search_f_14_p3 = 6.98912;
+	highp float t3 = search_f_14_p0 * LoH + 1.0;
 	highp float t6 = -LoH;
 	highp float t8 = t6 * LoH + 2.0;
-	highp float t11 = LoH * 6.98912 + 0.2388846;
+	highp float t11 = LoH * search_f_14_p3 + search_f_14_p2;
 	highp float t12 = exp2(t11);
-	highp float t13 = (-0.0900886) * t8 + t12;
+	highp float t13 = search_f_14_p1 * t8 + t12;
 	highp float t14 = 1.0 / t13;
 	highp float t15 = LoH * f0 + t14;
 	highp float t16 = t3 * t15;

@@ -23,12 +23,16 @@
  */
 float search_f_14(float LoH, float f0)
 {
-	float t3 = mad((-0.1437304), LoH, 1.0);
+	const float search_f_14_p0 = (-0.1437304);
+	const float search_f_14_p1 = (-0.0900886);
+	const float search_f_14_p2 = 0.2388846;
+	const float search_f_14_p3 = 6.98912;
+	float t3 = mad(search_f_14_p0, LoH, 1.0);
 	float t6 = -LoH;
 	float t8 = mad(t6, LoH, 2.0);
-	float t11 = mad(LoH, 6.98912, 0.2388846);
+	float t11 = mad(LoH, search_f_14_p3, search_f_14_p2);
 	float t12 = exp2(t11);
-	float t13 = mad((-0.0900886), t8, t12);
+	float t13 = mad(search_f_14_p1, t8, t12);
 	float t14 = rcp(t13);
 	float t15 = mad(LoH, f0, t14);
 	float t16 = t3 * t15;

@@ -26,14 +26,18 @@
 #include <math.h>
 static inline float search_f_15(float LoH, float f0)
 {
+	const float search_f_15_p0 = (-0.088778f);
+	const float search_f_15_p1 = 0.2357249f;
+	const float search_f_15_p2 = 6.970493f;
+	const float search_f_15_p3 = 0.169261f;
 	float t3 = -LoH;
 	float t5 = t3 * LoH + 2.0f;
-	float t8 = LoH * 6.970493f + 0.2357249f;
+	float t8 = LoH * search_f_15_p2 + search_f_15_p1;
 	float t9 = exp2f(t8);
-	float t10 = (-0.088778f) * t5 + t9;
+	float t10 = search_f_15_p0 * t5 + t9;
 	float t11 = 1.0f / t10;
 	float t12 = LoH * f0 + t11;
-	float t15 = LoH * 0.169261f + 1.0f;
+	float t15 = LoH * search_f_15_p3 + 1.0f;
 	float t16 = t12 / t15;
 	return t16;
 }

@@ -23,14 +23,18 @@
  */
 highp float search_f_15(highp float LoH, highp float f0)
 {
+	const highp float search_f_15_p0 = (-0.088778);
+	const highp float search_f_15_p1 = 0.2357249;
+	const highp float search_f_15_p2 = 6.970493;
+	const highp float search_f_15_p3 = 0.169261;
 	highp float t3 = -LoH;
 	highp float t5 = t3 * LoH + 2.0;
-	highp float t8 = LoH * 6.970493 + 0.2357249;
+	highp float t8 = LoH * search_f_15_p2 + search_f_15_p1;
 	highp float t9 = exp2(t8);
-	highp float t10 = (-0.088778) * t5 + t9;
+	highp float t10 = search_f_15_p0 * t5 + t9;
 	highp float t11 = 1.0 / t10;
 	highp float t12 = LoH * f0 + t11;
-	highp float t15 = LoH * 0.169261 + 1.0;
+	highp float t15 = LoH * search_f_15_p3 + 1.0;
 	highp float t16 = t12 / t15;
 	return t16;
 }

@@ -23,14 +23,18 @@
  */
 float search_f_15(float LoH, float f0)
 {
+	const float search_f_15_p0 = (-0.088778);
+	const float search_f_15_p1 = 0.2357249;
+	const float search_f_15_p2 = 6.970493;
+	const float search_f_15_p3 = 0.169261;
 	float t3 = -LoH;
 	float t5 = mad(t3, LoH, 2.0);
-	float t8 = mad(LoH, 6.970493, 0.2357249);
+	float t8 = mad(LoH, search_f_15_p2, search_f_15_p1);
 	float t9 = exp2(t8);
-	float t10 = mad((-0.088778), t5, t9);
+	float t10 = mad(search_f_15_p0, t5, t9);
 	float t11 = rcp(t10);
 	float t12 = mad(LoH, f0, t11);
-	float t15 = mad(LoH, 0.169261, 1.0);
+	float t15 = mad(LoH, search_f_15_p3, 1.0);
 	float t16 = t12 / t15;
 	return t16;
 }

@@ -21,10 +21,15 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_f_3(float LoH)
+static inline float search_f_3(float LoH, float f0)
 {
-	float t3 = (-1.1935f) * LoH + 0.955f;
-	float t5 = t3 * t3 + 0.0368f;
-	float t7 = t5 * t5 + 0.04841f;
+	(void)f0;
+	const float search_f_3_p0 = 0.04841f;
+	const float search_f_3_p1 = 0.0368f;
+	const float search_f_3_p2 = 0.955f;
+	const float search_f_3_p3 = (-1.1935f);
+	float t3 = search_f_3_p3 * LoH + search_f_3_p2;
+	float t5 = t3 * t3 + search_f_3_p1;
+	float t7 = t5 * t5 + search_f_3_p0;
 	return t7;
 }

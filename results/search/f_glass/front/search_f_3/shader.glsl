@@ -18,10 +18,14 @@
  *   mad 3
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_f_3(highp float LoH)
+highp float search_f_3(highp float LoH, highp float f0)
 {
-	highp float t3 = (-1.1935) * LoH + 0.955;
-	highp float t5 = t3 * t3 + 0.0368;
-	highp float t7 = t5 * t5 + 0.04841;
+	const highp float search_f_3_p0 = 0.04841;
+	const highp float search_f_3_p1 = 0.0368;
+	const highp float search_f_3_p2 = 0.955;
+	const highp float search_f_3_p3 = (-1.1935);
+	highp float t3 = search_f_3_p3 * LoH + search_f_3_p2;
+	highp float t5 = t3 * t3 + search_f_3_p1;
+	highp float t7 = t5 * t5 + search_f_3_p0;
 	return t7;
 }

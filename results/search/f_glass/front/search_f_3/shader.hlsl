@@ -18,10 +18,14 @@
  *   mad 3
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-float search_f_3(float LoH)
+float search_f_3(float LoH, float f0)
 {
-	float t3 = mad((-1.1935), LoH, 0.955);
-	float t5 = mad(t3, t3, 0.0368);
-	float t7 = mad(t5, t5, 0.04841);
+	const float search_f_3_p0 = 0.04841;
+	const float search_f_3_p1 = 0.0368;
+	const float search_f_3_p2 = 0.955;
+	const float search_f_3_p3 = (-1.1935);
+	float t3 = mad(search_f_3_p3, LoH, search_f_3_p2);
+	float t5 = mad(t3, t3, search_f_3_p1);
+	float t7 = mad(t5, t5, search_f_3_p0);
 	return t7;
 }

@@ -21,11 +21,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_f_4(float LoH)
+static inline float search_f_4(float LoH, float f0)
 {
-	float t3 = (-1.06332f) * LoH + 0.928992f;
-	float t5 = t3 * t3 + 0.032354f;
-	float t7 = t5 * t5 + 0.26415f;
-	float t8 = t5 * t7 + 0.032354f;
+	(void)f0;
+	const float search_f_4_p0 = 0.032354f;
+	const float search_f_4_p1 = 0.928992f;
+	const float search_f_4_p2 = (-1.06332f);
+	const float search_f_4_p3 = 0.26415f;
+	float t3 = search_f_4_p2 * LoH + search_f_4_p1;
+	float t5 = t3 * t3 + search_f_4_p0;
+	float t7 = t5 * t5 + search_f_4_p3;
+	float t8 = t5 * t7 + search_f_4_p0;
 	return t8;
 }

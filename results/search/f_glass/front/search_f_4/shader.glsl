@@ -18,11 +18,15 @@
  *   mad 4
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_f_4(highp float LoH)
+highp float search_f_4(highp float LoH, highp float f0)
 {
-	highp float t3 = (-1.06332) * LoH + 0.928992;
-	highp float t5 = t3 * t3 + 0.032354;
-	highp float t7 = t5 * t5 + 0.26415;
-	highp float t8 = t5 * t7 + 0.032354;
+	const highp float search_f_4_p0 = 0.032354;
+	const highp float search_f_4_p1 = 0.928992;
+	const highp float search_f_4_p2 = (-1.06332);
+	const highp float search_f_4_p3 = 0.26415;
+	highp float t3 = search_f_4_p2 * LoH + search_f_4_p1;
+	highp float t5 = t3 * t3 + search_f_4_p0;
+	highp float t7 = t5 * t5 + search_f_4_p3;
+	highp float t8 = t5 * t7 + search_f_4_p0;
 	return t8;
 }

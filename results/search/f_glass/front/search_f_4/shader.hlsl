@@ -18,11 +18,15 @@
  *   mad 4
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_f_4(float LoH)
+float search_f_4(float LoH, float f0)
 {
-	float t3 = mad((-1.06332), LoH, 0.928992);
-	float t5 = mad(t3, t3, 0.032354);
-	float t7 = mad(t5, t5, 0.26415);
-	float t8 = mad(t5, t7, 0.032354);
+	const float search_f_4_p0 = 0.032354;
+	const float search_f_4_p1 = 0.928992;
+	const float search_f_4_p2 = (-1.06332);
+	const float search_f_4_p3 = 0.26415;
+	float t3 = mad(search_f_4_p2, LoH, search_f_4_p1);
+	float t5 = mad(t3, t3, search_f_4_p0);
+	float t7 = mad(t5, t5, search_f_4_p3);
+	float t8 = mad(t5, t7, search_f_4_p0);
 	return t8;
 }

@@ -25,12 +25,16 @@
 #include <math.h>
 static inline float search_f_6(float LoH, float f0)
 {
-	float t3 = 0.959001f - LoH;
+	const float search_f_6_p0 = 0.1029992f;
+	const float search_f_6_p1 = 0.270027f;
+	const float search_f_6_p2 = 2.1899f;
+	const float search_f_6_p3 = 0.959001f;
+	float t3 = search_f_6_p3 - LoH;
 	float t4 = t3 * t3;
-	float t6 = t4 * t4 + 2.1899f;
-	float t8 = t4 * t6 + 0.270027f;
+	float t6 = t4 * t4 + search_f_6_p2;
+	float t8 = t4 * t6 + search_f_6_p1;
 	float t10 = t8 * t8 + 0.70710677f;
 	float t12 = -f0;
-	float t13 = 0.1029992f * t10 + t12;
+	float t13 = search_f_6_p0 * t10 + t12;
 	return t13;
 }

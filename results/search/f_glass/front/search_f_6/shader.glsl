@@ -22,12 +22,16 @@
  */
 highp float search_f_6(highp float LoH, highp float f0)
 {
-	highp float t3 = 0.959001 - LoH;
+	const highp float search_f_6_p0 = 0.1029992;
+	const highp float search_f_6_p1 = 0.270027;
+	const highp float search_f_6_p2 = 2.1899;
+	const highp float search_f_6_p3 = 0.959001;
+	highp float t3 = search_f_6_p3 - LoH;
 	highp float t4 = t3 * t3;
-	highp float t6 = t4 * t4 + 2.1899;
-	highp float t8 = t4 * t6 + 0.270027;
+	highp float t6 = t4 * t4 + search_f_6_p2;
+	highp float t8 = t4 * t6 + search_f_6_p1;
 	highp float t10 = t8 * t8 + 0.70710677;
 	highp float t12 = -f0;
-	highp float t13 = 0.1029992 * t10 + t12;
+	highp float t13 = search_f_6_p0 * t10 + t12;
 	return t13;
 }

@@ -22,12 +22,16 @@
  */
 float search_f_6(float LoH, float f0)
 {
-	float t3 = 0.959001 - LoH;
+	const float search_f_6_p0 = 0.1029992;
+	const float search_f_6_p1 = 0.270027;
+	const float search_f_6_p2 = 2.1899;
+	const float search_f_6_p3 = 0.959001;
+	float t3 = search_f_6_p3 - LoH;
 	float t4 = t3 * t3;
-	float t6 = mad(t4, t4, 2.1899);
-	float t8 = mad(t4, t6, 0.270027);
+	float t6 = mad(t4, t4, search_f_6_p2);
+	float t8 = mad(t4, t6, search_f_6_p1);
 	float t10 = mad(t8, t8, 0.70710677);
 	float t12 = -f0;
-	float t13 = mad(0.1029992, t10, t12);
+	float t13 = mad(search_f_6_p0, t10, t12);
 	return t13;
 }

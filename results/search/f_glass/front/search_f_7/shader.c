@@ -25,12 +25,16 @@
 #include <math.h>
 static inline float search_f_7(float LoH, float f0)
 {
-	float t5 = 0.96429f - LoH;
+	const float search_f_7_p0 = 0.098148f;
+	const float search_f_7_p1 = 0.267398f;
+	const float search_f_7_p2 = 2.22018f;
+	const float search_f_7_p3 = 0.96429f;
+	float t5 = search_f_7_p3 - LoH;
 	float t6 = t5 * t5;
-	float t7 = t6 * t6 + 2.22018f;
-	float t9 = t6 * t7 + 0.267398f;
+	float t7 = t6 * t6 + search_f_7_p2;
+	float t9 = t6 * t7 + search_f_7_p1;
 	float t11 = t9 * t9 + 0.25f;
-	float t12 = 2.22018f * f0 + t11;
-	float t13 = 0.098148f * t12;
+	float t12 = search_f_7_p2 * f0 + t11;
+	float t13 = search_f_7_p0 * t12;
 	return t13;
 }

@@ -22,12 +22,16 @@
  */
 highp float search_f_7(highp float LoH, highp float f0)
 {
-	highp float t5 = 0.96429 - LoH;
+	const highp float search_f_7_p0 = 0.098148;
+	const highp float search_f_7_p1 = 0.267398;
+	const highp float search_f_7_p2 = 2.22018;
+	const highp float search_f_7_p3 = 0.96429;
+	highp float t5 = search_f_7_p3 - LoH;
 	highp float t6 = t5 * t5;
-	highp float t7 = t6 * t6 + 2.22018;
-	highp float t9 = t6 * t7 + 0.267398;
+	highp float t7 = t6 * t6 + search_f_7_p2;
+	highp float t9 = t6 * t7 + search_f_7_p1;
 	highp float t11 = t9 * t9 + 0.25;
-	highp float t12 = 2.22018 * f0 + t11;
-	highp float t13 = 0.098148 * t12;
+	highp float t12 = search_f_7_p2 * f0 + t11;
+	highp float t13 = search_f_7_p0 * t12;
 	return t13;
 }

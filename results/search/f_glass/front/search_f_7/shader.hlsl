@@ -22,12 +22,16 @@
  */
 float search_f_7(float LoH, float f0)
 {
-	float t5 = 0.96429 - LoH;
+	const float search_f_7_p0 = 0.098148;
+	const float search_f_7_p1 = 0.267398;
+	const float search_f_7_p2 = 2.22018;
+	const float search_f_7_p3 = 0.96429;
+	float t5 = search_f_7_p3 - LoH;
 	float t6 = t5 * t5;
-	float t7 = mad(t6, t6, 2.22018);
-	float t9 = mad(t6, t7, 0.267398);
+	float t7 = mad(t6, t6, search_f_7_p2);
+	float t9 = mad(t6, t7, search_f_7_p1);
 	float t11 = mad(t9, t9, 0.25);
-	float t12 = mad(2.22018, f0, t11);
-	float t13 = 0.098148 * t12;
+	float t12 = mad(search_f_7_p2, f0, t11);
+	float t13 = search_f_7_p0 * t12;
 	return t13;
 }

@@ -25,13 +25,17 @@
 #include <math.h>
 static inline float search_f_8(float LoH, float f0)
 {
-	float t4 = 0.942963f - LoH;
+	const float search_f_8_p0 = 0.0800575f;
+	const float search_f_8_p1 = 1.077856f;
+	const float search_f_8_p2 = 2.05734f;
+	const float search_f_8_p3 = 0.942963f;
+	float t4 = search_f_8_p3 - LoH;
 	float t5 = t4 * t4;
-	float t7 = t5 * t5 + 2.05734f;
-	float t9 = t5 * t7 + 1.077856f;
+	float t7 = t5 * t5 + search_f_8_p2;
+	float t9 = t5 * t7 + search_f_8_p1;
 	float t11 = t9 * t9 + f0;
 	float t12 = LoH + (0.993051f - LoH) * t11;
 	float t13 = -f0;
-	float t14 = 0.0800575f * t12 + t13;
+	float t14 = search_f_8_p0 * t12 + t13;
 	return t14;
 }

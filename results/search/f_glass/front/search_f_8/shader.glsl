@@ -22,13 +22,17 @@
  */
 highp float search_f_8(highp float LoH, highp float f0)
 {
-	highp float t4 = 0.942963 - LoH;
+	const highp float search_f_8_p0 = 0.0800575;
+	const highp float search_f_8_p1 = 1.077856;
+	const highp float search_f_8_p2 = 2.05734;
+	const highp float search_f_8_p3 = 0.942963;
+	highp float t4 = search_f_8_p3 - LoH;
 	highp float t5 = t4 * t4;
-	highp float t7 = t5 * t5 + 2.05734;
-	highp float t9 = t5 * t7 + 1.077856;
+	highp float t7 = t5 * t5 + search_f_8_p2;
+	highp float t9 = t5 * t7 + search_f_8_p1;
 	highp float t11 = t9 * t9 + f0;
 	highp float t12 = LoH + (0.993051 - LoH) * t11;
 	highp float t13 = -f0;
-	highp float t14 = 0.0800575 * t12 + t13;
+	highp float t14 = search_f_8_p0 * t12 + t13;
 	return t14;
 }

@@ -22,13 +22,17 @@
  */
 float search_f_8(float LoH, float f0)
 {
-	float t4 = 0.942963 - LoH;
+	const float search_f_8_p0 = 0.0800575;
+	const float search_f_8_p1 = 1.077856;
+	const float search_f_8_p2 = 2.05734;
+	const float search_f_8_p3 = 0.942963;
+	float t4 = search_f_8_p3 - LoH;
 	float t5 = t4 * t4;
-	float t7 = mad(t5, t5, 2.05734);
-	float t9 = mad(t5, t7, 1.077856);
+	float t7 = mad(t5, t5, search_f_8_p2);
+	float t9 = mad(t5, t7, search_f_8_p1);
 	float t11 = mad(t9, t9, f0);
 	float t12 = LoH + (0.993051 - LoH) * t11;
 	float t13 = -f0;
-	float t14 = mad(0.0800575, t12, t13);
+	float t14 = mad(search_f_8_p0, t12, t13);
 	return t14;
 }

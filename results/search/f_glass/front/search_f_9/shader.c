@@ -26,12 +26,16 @@
 #include <math.h>
 static inline float search_f_9(float LoH, float f0)
 {
-	float t5 = LoH * (-3.7699f) + 2.2954f;
-	float t7 = LoH * t5 + (-7.69887f);
+	const float search_f_9_p0 = 0.9613806f;
+	const float search_f_9_p1 = (-7.69887f);
+	const float search_f_9_p2 = 2.2954f;
+	const float search_f_9_p3 = (-3.7699f);
+	float t5 = LoH * search_f_9_p3 + search_f_9_p2;
+	float t7 = LoH * t5 + search_f_9_p1;
 	float t8 = -LoH;
 	float t9 = LoH * t7 + t8;
 	float t10 = exp2f(t9);
 	float t11 = f0 + t10;
-	float t12 = 0.9613806f * t11;
+	float t12 = search_f_9_p0 * t11;
 	return t12;
 }

@@ -23,12 +23,16 @@
  */
 highp float search_f_9(highp float LoH, highp float f0)
 {
-	highp float t5 = LoH * (-3.7699) + 2.2954;
-	highp float t7 = LoH * t5 + (-7.69887);
+	const highp float search_f_9_p0 = 0.9613806;
+	const highp float search_f_9_p1 = (-7.69887);
+	const highp float search_f_9_p2 = 2.2954;
+	const highp float search_f_9_p3 = (-3.7699);
+	highp float t5 = LoH * search_f_9_p3 + search_f_9_p2;
+	highp float t7 = LoH * t5 + search_f_9_p1;
 	highp float t8 = -LoH;
 	highp float t9 = LoH * t7 + t8;
 	highp float t10 = exp2(t9);
 	highp float t11 = f0 + t10;
-	highp float t12 = 0.9613806 * t11;
+	highp float t12 = search_f_9_p0 * t11;
 	return t12;
 }

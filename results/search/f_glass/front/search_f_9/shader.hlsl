@@ -23,12 +23,16 @@
  */
 float search_f_9(float LoH, float f0)
 {
-	float t5 = mad(LoH, (-3.7699), 2.2954);
-	float t7 = mad(LoH, t5, (-7.69887));
+	const float search_f_9_p0 = 0.9613806;
+	const float search_f_9_p1 = (-7.69887);
+	const float search_f_9_p2 = 2.2954;
+	const float search_f_9_p3 = (-3.7699);
+	float t5 = mad(LoH, search_f_9_p3, search_f_9_p2);
+	float t7 = mad(LoH, t5, search_f_9_p1);
 	float t8 = -LoH;
 	float t9 = mad(LoH, t7, t8);
 	float t10 = exp2(t9);
 	float t11 = f0 + t10;
-	float t12 = 0.9613806 * t11;
+	float t12 = search_f_9_p0 * t11;
 	return t12;
 }

@@ -14,7 +14,8 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float seed_search_f_1()
+highp float seed_search_f_1(highp float LoH, highp float f0)
 {
-	return 0.2012;
+	const highp float seed_search_f_1_p0 = 0.2012;
+	return seed_search_f_1_p0;
 }

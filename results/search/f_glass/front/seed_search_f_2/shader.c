@@ -19,9 +19,11 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_2(float LoH)
+static inline float seed_search_f_2(float LoH, float f0)
 {
+	(void)f0;
+	const float seed_search_f_2_p0 = (-0.4659f);
 	float t3 = (-1.0f) + LoH;
-	float t4 = (-0.4659f) * t3;
+	float t4 = seed_search_f_2_p0 * t3;
 	return t4;
 }

@@ -16,9 +16,10 @@
  *   mul 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float seed_search_f_2(highp float LoH)
+highp float seed_search_f_2(highp float LoH, highp float f0)
 {
+	const highp float seed_search_f_2_p0 = (-0.4659);
 	highp float t3 = (-1.0) + LoH;
-	highp float t4 = (-0.4659) * t3;
+	highp float t4 = seed_search_f_2_p0 * t3;
 	return t4;
 }

@@ -23,12 +23,17 @@
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_5(float LoH)
+static inline float seed_search_f_5(float LoH, float f0)
 {
-	float t2 = 0.890329f - LoH;
+	(void)f0;
+	const float seed_search_f_5_p0 = 0.041029f;
+	const float seed_search_f_5_p1 = 0.221864f;
+	const float seed_search_f_5_p2 = 0.61511f;
+	const float seed_search_f_5_p3 = 0.890329f;
+	float t2 = seed_search_f_5_p3 - LoH;
 	float t3 = t2 * t2;
-	float t5 = t3 * t3 + 0.61511f;
-	float t7 = t3 * t5 + 0.221864f;
-	float t9 = t3 * t7 + 0.041029f;
+	float t5 = t3 * t3 + seed_search_f_5_p2;
+	float t7 = t3 * t5 + seed_search_f_5_p1;
+	float t9 = t3 * t7 + seed_search_f_5_p0;
 	return t9;
 }

@@ -20,12 +20,16 @@
  *   mad 3
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-highp float seed_search_f_5(highp float LoH)
+highp float seed_search_f_5(highp float LoH, highp float f0)
 {
-	highp float t2 = 0.890329 - LoH;
+	const highp float seed_search_f_5_p0 = 0.041029;
+	const highp float seed_search_f_5_p1 = 0.221864;
+	const highp float seed_search_f_5_p2 = 0.61511;
+	const highp float seed_search_f_5_p3 = 0.890329;
+	highp float t2 = seed_search_f_5_p3 - LoH;
 	highp float t3 = t2 * t2;
-	highp float t5 = t3 * t3 + 0.61511;
-	highp float t7 = t3 * t5 + 0.221864;
-	highp float t9 = t3 * t7 + 0.041029;
+	highp float t5 = t3 * t3 + seed_search_f_5_p2;
+	highp float t7 = t3 * t5 + seed_search_f_5_p1;
+	highp float t9 = t3 * t7 + seed_search_f_5_p0;
 	return t9;
 }

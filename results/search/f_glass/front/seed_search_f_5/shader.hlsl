@@ -20,12 +20,16 @@
  *   mad 3
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-float seed_search_f_5(float LoH)
+float seed_search_f_5(float LoH, float f0)
 {
-	float t2 = 0.890329 - LoH;
+	const float seed_search_f_5_p0 = 0.041029;
+	const float seed_search_f_5_p1 = 0.221864;
+	const float seed_search_f_5_p2 = 0.61511;
+	const float seed_search_f_5_p3 = 0.890329;
+	float t2 = seed_search_f_5_p3 - LoH;
 	float t3 = t2 * t2;
-	float t5 = mad(t3, t3, 0.61511);
-	float t7 = mad(t3, t5, 0.221864);
-	float t9 = mad(t3, t7, 0.041029);
+	float t5 = mad(t3, t3, seed_search_f_5_p2);
+	float t7 = mad(t3, t5, seed_search_f_5_p1);
+	float t9 = mad(t3, t7, seed_search_f_5_p0);
 	return t9;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000561 in f16, as this half code computes it (either order of its mads), max |error| 0.00288; in f64: rmse 0.000536
+ * fitted error: rmse 0.000606 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00288; in f64: rmse 0.000534
  * parameters baked in:
  *   p0 = 0.989257812
  *   p1 = -1.46289062
- *   p2 = 1.19042969
- *   p3 = -0.666992188
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 1.18847656
+ *   p3 = -0.661621094
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,9 +25,13 @@
 #include <math.h>
 static inline float search_f_5(float LoH, float f0)
 {
-	float t3 = LoH * (-0.6669922f) + 1.1904297f;
-	float t5 = LoH * t3 + (-1.4628906f);
-	float t7 = LoH * t5 + 0.9892578f;
+	const float search_f_5_p0 = 0.9892578125f;
+	const float search_f_5_p1 = (-1.462890625f);
+	const float search_f_5_p2 = 1.1884765625f;
+	const float search_f_5_p3 = (-0.66162109375f);
+	float t3 = LoH * search_f_5_p3 + search_f_5_p2;
+	float t5 = LoH * t3 + search_f_5_p1;
+	float t7 = LoH * t5 + search_f_5_p0;
 	float t8 = t7 * t7;
 	float t10 = t8 * t8 + f0;
 	return t10;

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000561 in f16, as this half code computes it (either order of its mads), max |error| 0.00288; in f64: rmse 0.000536
+ * fitted error: rmse 0.000606 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00288; in f64: rmse 0.000534
  * parameters baked in:
  *   p0 = 0.989257812
  *   p1 = -1.46289062
- *   p2 = 1.19042969
- *   p3 = -0.666992188
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p2 = 1.18847656
+ *   p3 = -0.661621094
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 4
@@ -21,9 +21,13 @@
  */
 mediump float search_f_5(mediump float LoH, mediump float f0)
 {
-	mediump float t3 = LoH * (-0.6669922) + 1.1904297;
-	mediump float t5 = LoH * t3 + (-1.4628906);
-	mediump float t7 = LoH * t5 + 0.9892578;
+	const mediump float search_f_5_p0 = 0.9892578125;
+	const mediump float search_f_5_p1 = (-1.462890625);
+	const mediump float search_f_5_p2 = 1.1884765625;
+	const mediump float search_f_5_p3 = (-0.66162109375);
+	mediump float t3 = LoH * search_f_5_p3 + search_f_5_p2;
+	mediump float t5 = LoH * t3 + search_f_5_p1;
+	mediump float t7 = LoH * t5 + search_f_5_p0;
 	mediump float t8 = t7 * t7;
 	mediump float t10 = t8 * t8 + f0;
 	return t10;

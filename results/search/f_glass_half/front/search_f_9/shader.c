@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000134 in f16, as this half code computes it (either order of its mads), max |error| 0.0005; in f64: rmse 9.23e-05
+ * fitted error: rmse 0.000136 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0005; in f64: rmse 9.66e-05
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -7.59765625
- *   p2 = 2.31445312
- *   p3 = -3.796875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 2.31054688
+ *   p3 = -3.79296875
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,13 +28,17 @@
 #include <math.h>
 static inline float search_f_9(float LoH, float f0)
 {
-	float t6 = LoH * (-3.796875f) + 2.3144531f;
-	float t8 = LoH * t6 + (-1.1051121f);
-	float t9 = (-7.5976562f) + t8;
+	const float search_f_9_p0 = 0.96142578125f;
+	const float search_f_9_p1 = (-7.59765625f);
+	const float search_f_9_p2 = 2.310546875f;
+	const float search_f_9_p3 = (-3.79296875f);
+	float t6 = LoH * search_f_9_p3 + search_f_9_p2;
+	float t8 = LoH * t6 + (-1.10546875f);
+	float t9 = search_f_9_p1 + t8;
 	float t10 = LoH * t9;
 	float t11 = exp2f(t10);
 	float t12 = f0 + t11;
-	float t13 = 0.9614258f * t12;
+	float t13 = search_f_9_p0 * t12;
 	float t14 = fmaxf(f0, t13);
 	return t14;
 }

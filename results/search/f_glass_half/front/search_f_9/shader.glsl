@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000134 in f16, as this half code computes it (either order of its mads), max |error| 0.0005; in f64: rmse 9.23e-05
+ * fitted error: rmse 0.000136 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0005; in f64: rmse 9.66e-05
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -7.59765625
- *   p2 = 2.31445312
- *   p3 = -3.796875
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p2 = 2.31054688
+ *   p3 = -3.79296875
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 2
@@ -24,13 +24,17 @@
  */
 mediump float search_f_9(mediump float LoH, mediump float f0)
 {
-	mediump float t6 = LoH * (-3.796875) + 2.3144531;
-	mediump float t8 = LoH * t6 + (-1.1051121);
-	mediump float t9 = (-7.5976562) + t8;
+	const mediump float search_f_9_p0 = 0.96142578125;
+	const mediump float search_f_9_p1 = (-7.59765625);
+	const mediump float search_f_9_p2 = 2.310546875;
+	const mediump float search_f_9_p3 = (-3.79296875);
+	mediump float t6 = LoH * search_f_9_p3 + search_f_9_p2;
+	mediump float t8 = LoH * t6 + (-1.10546875);
+	mediump float t9 = search_f_9_p1 + t8;
 	mediump float t10 = LoH * t9;
 	mediump float t11 = exp2(t10);
 	mediump float t12 = f0 + t11;
-	mediump float t13 = 0.9614258 * t12;
+	mediump float t13 = search_f_9_p0 * t12;
 	mediump float t14 = max(f0, t13);
 	return t14;
 }

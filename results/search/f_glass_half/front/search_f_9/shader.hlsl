@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 1.5 + 0i (f0 = 0.04, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000134 in f16, as this half code computes it (either order of its mads), max |error| 0.0005; in f64: rmse 9.23e-05
+ * fitted error: rmse 0.000136 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0005; in f64: rmse 9.66e-05
  * parameters baked in:
  *   p0 = 0.961425781
  *   p1 = -7.59765625
- *   p2 = 2.31445312
- *   p3 = -3.796875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p2 = 2.31054688
+ *   p3 = -3.79296875
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 2
@@ -22,15 +22,19 @@
  *   exp2 1
  *   simple 7, complex 1, cost 11 (simple = 1, complex = 4)
  */
-half search_f_9(half LoH, half f0)
+min16float search_f_9(min16float LoH, min16float f0)
 {
-	half t6 = mad(LoH, (-3.796875), 2.3144531);
-	half t8 = mad(LoH, t6, (-1.1051121));
-	half t9 = (-7.5976562) + t8;
-	half t10 = LoH * t9;
-	half t11 = exp2(t10);
-	half t12 = f0 + t11;
-	half t13 = 0.9614258 * t12;
-	half t14 = max(f0, t13);
+	const min16float search_f_9_p0 = 0.96142578125;
+	const min16float search_f_9_p1 = (-7.59765625);
+	const min16float search_f_9_p2 = 2.310546875;
+	const min16float search_f_9_p3 = (-3.79296875);
+	min16float t6 = mad(LoH, search_f_9_p3, search_f_9_p2);
+	min16float t8 = mad(LoH, t6, (-1.10546875));
+	min16float t9 = search_f_9_p1 + t8;
+	min16float t10 = LoH * t9;
+	min16float t11 = exp2(t10);
+	min16float t12 = f0 + t11;
+	min16float t13 = search_f_9_p0 * t12;
+	min16float t14 = max(f0, t13);
 	return t14;
 }

@@ -22,10 +22,14 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_f_3(float LoH)
+static inline float search_f_3(float LoH, float f0)
 {
-	float t5 = (-0.45564f) * LoH + 1.12025f;
+	(void)f0;
+	const float search_f_3_p0 = 0.882814f;
+	const float search_f_3_p1 = 1.12025f;
+	const float search_f_3_p2 = (-0.45564f);
+	float t5 = search_f_3_p2 * LoH + search_f_3_p1;
 	float t6 = fmaxf(1.0f, t5);
-	float t7 = 0.882814f * t6;
+	float t7 = search_f_3_p0 * t6;
 	return t7;
 }

@@ -19,10 +19,13 @@
  *   minmax 1
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_f_3(highp float LoH)
+highp float search_f_3(highp float LoH, highp float f0)
 {
-	highp float t5 = (-0.45564) * LoH + 1.12025;
+	const highp float search_f_3_p0 = 0.882814;
+	const highp float search_f_3_p1 = 1.12025;
+	const highp float search_f_3_p2 = (-0.45564);
+	highp float t5 = search_f_3_p2 * LoH + search_f_3_p1;
 	highp float t6 = max(1.0, t5);
-	highp float t7 = 0.882814 * t6;
+	highp float t7 = search_f_3_p0 * t6;
 	return t7;
 }

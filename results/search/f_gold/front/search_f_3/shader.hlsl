@@ -19,10 +19,13 @@
  *   minmax 1
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-float search_f_3(float LoH)
+float search_f_3(float LoH, float f0)
 {
-	float t5 = mad((-0.45564), LoH, 1.12025);
+	const float search_f_3_p0 = 0.882814;
+	const float search_f_3_p1 = 1.12025;
+	const float search_f_3_p2 = (-0.45564);
+	float t5 = mad(search_f_3_p2, LoH, search_f_3_p1);
 	float t6 = max(1.0, t5);
-	float t7 = 0.882814 * t6;
+	float t7 = search_f_3_p0 * t6;
 	return t7;
 }

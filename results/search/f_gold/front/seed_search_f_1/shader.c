@@ -17,7 +17,10 @@
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_1(void)
+static inline float seed_search_f_1(float LoH, float f0)
 {
-	return 0.89682f;
+	(void)LoH;
+	(void)f0;
+	const float seed_search_f_1_p0 = 0.89682f;
+	return seed_search_f_1_p0;
 }

@@ -14,7 +14,8 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float seed_search_f_1()
+float seed_search_f_1(float LoH, float f0)
 {
-	return 0.89682;
+	const float seed_search_f_1_p0 = 0.89682;
+	return seed_search_f_1_p0;
 }

@@ -26,15 +26,19 @@
 #include <math.h>
 static inline float seed_search_f_10(float LoH, float f0)
 {
+	const float seed_search_f_10_p0 = 0.9993986f;
+	const float seed_search_f_10_p1 = 0.18145f;
+	const float seed_search_f_10_p2 = 0.92501f;
+	const float seed_search_f_10_p3 = 0.9930806f;
 	float t2 = -LoH;
-	float t4 = t2 * LoH + 0.18145f;
-	float t6 = 0.92501f - LoH;
+	float t4 = t2 * LoH + seed_search_f_10_p1;
+	float t6 = seed_search_f_10_p2 - LoH;
 	float t7 = fmaxf(LoH, t6);
 	float t8 = t4 * t7;
 	float t9 = t6 * t6;
 	float t10 = t9 * t9;
-	float t13 = LoH + (f0 - LoH) * 0.9930806f;
+	float t13 = LoH + (f0 - LoH) * seed_search_f_10_p3;
 	float t14 = t8 * t10 + t13;
-	float t15 = 0.9993986f * t14;
+	float t15 = seed_search_f_10_p0 * t14;
 	return t15;
 }

@@ -23,15 +23,19 @@
  */
 highp float seed_search_f_10(highp float LoH, highp float f0)
 {
+	const highp float seed_search_f_10_p0 = 0.9993986;
+	const highp float seed_search_f_10_p1 = 0.18145;
+	const highp float seed_search_f_10_p2 = 0.92501;
+	const highp float seed_search_f_10_p3 = 0.9930806;
 	highp float t2 = -LoH;
-	highp float t4 = t2 * LoH + 0.18145;
-	highp float t6 = 0.92501 - LoH;
+	highp float t4 = t2 * LoH + seed_search_f_10_p1;
+	highp float t6 = seed_search_f_10_p2 - LoH;
 	highp float t7 = max(LoH, t6);
 	highp float t8 = t4 * t7;
 	highp float t9 = t6 * t6;
 	highp float t10 = t9 * t9;
-	highp float t13 = LoH + (f0 - LoH) * 0.9930806;
+	highp float t13 = LoH + (f0 - LoH) * seed_search_f_10_p3;
 	highp float t14 = t8 * t10 + t13;
-	highp float t15 = 0.9993986 * t14;
+	highp float t15 = seed_search_f_10_p0 * t14;
 	return t15;
 }

@@ -26,16 +26,20 @@
 #include <math.h>
 static inline float seed_search_f_11(float LoH, float f0)
 {
+	const float seed_search_f_11_p0 = 0.8778141f;
+	const float seed_search_f_11_p1 = 0.18147f;
+	const float seed_search_f_11_p2 = 0.93509f;
+	const float seed_search_f_11_p3 = 0.9931197f;
 	float t2 = -LoH;
-	float t4 = t2 * LoH + 0.18147f;
+	float t4 = t2 * LoH + seed_search_f_11_p1;
 	float t6 = f0 - LoH;
 	float t7 = fmaxf(LoH, t6);
 	float t8 = t4 * t7;
-	float t10 = 0.93509f - LoH;
+	float t10 = seed_search_f_11_p2 - LoH;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
-	float t15 = LoH + (0.0f - LoH) * 0.9931197f;
+	float t15 = LoH + (0.0f - LoH) * seed_search_f_11_p3;
 	float t16 = t8 * t12 + t15;
-	float t17 = 0.8778141f + t16;
+	float t17 = seed_search_f_11_p0 + t16;
 	return t17;
 }

@@ -23,16 +23,20 @@
  */
 highp float seed_search_f_11(highp float LoH, highp float f0)
 {
+	const highp float seed_search_f_11_p0 = 0.8778141;
+	const highp float seed_search_f_11_p1 = 0.18147;
+	const highp float seed_search_f_11_p2 = 0.93509;
+	const highp float seed_search_f_11_p3 = 0.9931197;
 	highp float t2 = -LoH;
-	highp float t4 = t2 * LoH + 0.18147;
+	highp float t4 = t2 * LoH + seed_search_f_11_p1;
 	highp float t6 = f0 - LoH;
 	highp float t7 = max(LoH, t6);
 	highp float t8 = t4 * t7;
-	highp float t10 = 0.93509 - LoH;
+	highp float t10 = seed_search_f_11_p2 - LoH;
 	highp float t11 = t10 * t10;
 	highp float t12 = t11 * t11;
-	highp float t15 = LoH + (0.0 - LoH) * 0.9931197;
+	highp float t15 = LoH + (0.0 - LoH) * seed_search_f_11_p3;
 	highp float t16 = t8 * t12 + t15;
-	highp float t17 = 0.8778141 + t16;
+	highp float t17 = seed_search_f_11_p0 + t16;
 	return t17;
 }

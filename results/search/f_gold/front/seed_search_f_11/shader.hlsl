@@ -23,16 +23,20 @@
  */
 float seed_search_f_11(float LoH, float f0)
 {
+	const float seed_search_f_11_p0 = 0.8778141;
+	const float seed_search_f_11_p1 = 0.18147;
+	const float seed_search_f_11_p2 = 0.93509;
+	const float seed_search_f_11_p3 = 0.9931197;
 	float t2 = -LoH;
-	float t4 = mad(t2, LoH, 0.18147);
+	float t4 = mad(t2, LoH, seed_search_f_11_p1);
 	float t6 = f0 - LoH;
 	float t7 = max(LoH, t6);
 	float t8 = t4 * t7;
-	float t10 = 0.93509 - LoH;
+	float t10 = seed_search_f_11_p2 - LoH;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
-	float t15 = LoH + (0.0 - LoH) * 0.9931197;
+	float t15 = LoH + (0.0 - LoH) * seed_search_f_11_p3;
 	float t16 = mad(t8, t12, t15);
-	float t17 = 0.8778141 + t16;
+	float t17 = seed_search_f_11_p0 + t16;
 	return t17;
 }

@@ -23,17 +23,21 @@
  */
 highp float seed_search_f_12(highp float LoH, highp float f0)
 {
+	const highp float seed_search_f_12_p0 = 1.0003496;
+	const highp float seed_search_f_12_p1 = 0.18138;
+	const highp float seed_search_f_12_p2 = 0.93511;
+	const highp float seed_search_f_12_p3 = 0.9922302;
 	highp float t2 = -LoH;
-	highp float t4 = t2 * LoH + 0.18138;
+	highp float t4 = t2 * LoH + seed_search_f_12_p1;
 	highp float t6 = f0 - LoH;
 	highp float t7 = max(LoH, t6);
 	highp float t8 = t4 * t7;
-	highp float t10 = 0.93511 - LoH;
+	highp float t10 = seed_search_f_12_p2 - LoH;
 	highp float t11 = t10 * t10;
 	highp float t12 = t11 * t11;
 	highp float t13 = LoH * f0;
-	highp float t15 = t13 + (f0 - t13) * 0.9922302;
+	highp float t15 = t13 + (f0 - t13) * seed_search_f_12_p3;
 	highp float t16 = t8 * t12 + t15;
-	highp float t17 = 1.0003496 * t16;
+	highp float t17 = seed_search_f_12_p0 * t16;
 	return t17;
 }

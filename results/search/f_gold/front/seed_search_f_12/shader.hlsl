@@ -23,17 +23,21 @@
  */
 float seed_search_f_12(float LoH, float f0)
 {
+	const float seed_search_f_12_p0 = 1.0003496;
+	const float seed_search_f_12_p1 = 0.18138;
+	const float seed_search_f_12_p2 = 0.93511;
+	const float seed_search_f_12_p3 = 0.9922302;
 	float t2 = -LoH;
-	float t4 = mad(t2, LoH, 0.18138);
+	float t4 = mad(t2, LoH, seed_search_f_12_p1);
 	float t6 = f0 - LoH;
 	float t7 = max(LoH, t6);
 	float t8 = t4 * t7;
-	float t10 = 0.93511 - LoH;
+	float t10 = seed_search_f_12_p2 - LoH;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
 	float t13 = LoH * f0;
-	float t15 = t13 + (f0 - t13) * 0.9922302;
+	float t15 = t13 + (f0 - t13) * seed_search_f_12_p3;
 	float t16 = mad(t8, t12, t15);
-	float t17 = 1.0003496 * t16;
+	float t17 = seed_search_f_12_p0 * t16;
 	return t17;
 }

@@ -27,18 +27,23 @@
  *   simple 5, complex 6, cost 29 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_13(float LoH)
+static inline float seed_search_f_13(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.16882f;
+	(void)f0;
+	const float seed_search_f_13_p0 = 0.7702562f;
+	const float seed_search_f_13_p1 = 0.16882f;
+	const float seed_search_f_13_p2 = 0.210937f;
+	const float seed_search_f_13_p3 = 7.03123f;
+	float t3 = LoH * LoH + seed_search_f_13_p1;
 	float t6 = exp2f(LoH);
-	float t7 = 7.03123f + t6;
+	float t7 = seed_search_f_13_p3 + t6;
 	float t8 = t7 / t6;
 	float t9 = exp2f(t8);
-	float t10 = 0.210937f * t9;
+	float t10 = seed_search_f_13_p2 * t9;
 	float t11 = t3 * t10;
 	float t12 = log2f(t11);
 	float t13 = log2f(t12);
 	float t14 = sqrtf(t13);
-	float t15 = 0.7702562f * t14;
+	float t15 = seed_search_f_13_p0 * t14;
 	return t15;
 }

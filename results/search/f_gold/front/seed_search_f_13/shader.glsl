@@ -24,18 +24,22 @@
  *   log2 2
  *   simple 5, complex 6, cost 29 (simple = 1, complex = 4)
  */
-highp float seed_search_f_13(highp float LoH)
+highp float seed_search_f_13(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.16882;
+	const highp float seed_search_f_13_p0 = 0.7702562;
+	const highp float seed_search_f_13_p1 = 0.16882;
+	const highp float seed_search_f_13_p2 = 0.210937;
+	const highp float seed_search_f_13_p3 = 7.03123;
+	highp float t3 = LoH * LoH + seed_search_f_13_p1;
 	highp float t6 = exp2(LoH);
-	highp float t7 = 7.03123 + t6;
+	highp float t7 = seed_search_f_13_p3 + t6;
 	highp float t8 = t7 / t6;
 	highp float t9 = exp2(t8);
-	highp float t10 = 0.210937 * t9;
+	highp float t10 = seed_search_f_13_p2 * t9;
 	highp float t11 = t3 * t10;
 	highp float t12 = log2(t11);
 	highp float t13 = log2(t12);
 	highp float t14 = sqrt(t13);
-	highp float t15 = 0.7702562 * t14;
+	highp float t15 = seed_search_f_13_p0 * t14;
 	return t15;
 }

@@ -24,18 +24,22 @@
  *   log2 2
  *   simple 5, complex 6, cost 29 (simple = 1, complex = 4)
  */
-float seed_search_f_13(float LoH)
+float seed_search_f_13(float LoH, float f0)
 {
-	float t3 = mad(LoH, LoH, 0.16882);
+	const float seed_search_f_13_p0 = 0.7702562;
+	const float seed_search_f_13_p1 = 0.16882;
+	const float seed_search_f_13_p2 = 0.210937;
+	const float seed_search_f_13_p3 = 7.03123;
+	float t3 = mad(LoH, LoH, seed_search_f_13_p1);
 	float t6 = exp2(LoH);
-	float t7 = 7.03123 + t6;
+	float t7 = seed_search_f_13_p3 + t6;
 	float t8 = t7 / t6;
 	float t9 = exp2(t8);
-	float t10 = 0.210937 * t9;
+	float t10 = seed_search_f_13_p2 * t9;
 	float t11 = t3 * t10;
 	float t12 = log2(t11);
 	float t13 = log2(t12);
 	float t14 = sqrt(t13);
-	float t15 = 0.7702562 * t14;
+	float t15 = seed_search_f_13_p0 * t14;
 	return t15;
 }

@@ -29,17 +29,21 @@
 #include <math.h>
 static inline float seed_search_f_14(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.1720152f;
+	const float seed_search_f_14_p0 = 0.7725716f;
+	const float seed_search_f_14_p1 = 0.1720152f;
+	const float seed_search_f_14_p2 = 0.393169f;
+	const float seed_search_f_14_p3 = 6.19828f;
+	float t3 = LoH * LoH + seed_search_f_14_p1;
 	float t8 = LoH + (1.0f - LoH) * f0;
-	float t9 = 6.19828f + t8;
+	float t9 = seed_search_f_14_p3 + t8;
 	float t10 = exp2f(LoH);
 	float t11 = t9 / t10;
 	float t12 = exp2f(t11);
-	float t13 = 0.393169f * t12;
+	float t13 = seed_search_f_14_p2 * t12;
 	float t14 = t3 * t13;
 	float t15 = log2f(t14);
 	float t16 = log2f(t15);
 	float t17 = sqrtf(t16);
-	float t18 = 0.7725716f * t17;
+	float t18 = seed_search_f_14_p0 * t17;
 	return t18;
 }

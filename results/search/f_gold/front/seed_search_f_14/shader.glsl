@@ -26,17 +26,21 @@
  */
 highp float seed_search_f_14(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.1720152;
+	const highp float seed_search_f_14_p0 = 0.7725716;
+	const highp float seed_search_f_14_p1 = 0.1720152;
+	const highp float seed_search_f_14_p2 = 0.393169;
+	const highp float seed_search_f_14_p3 = 6.19828;
+	highp float t3 = LoH * LoH + seed_search_f_14_p1;
 	highp float t8 = LoH + (1.0 - LoH) * f0;
-	highp float t9 = 6.19828 + t8;
+	highp float t9 = seed_search_f_14_p3 + t8;
 	highp float t10 = exp2(LoH);
 	highp float t11 = t9 / t10;
 	highp float t12 = exp2(t11);
-	highp float t13 = 0.393169 * t12;
+	highp float t13 = seed_search_f_14_p2 * t12;
 	highp float t14 = t3 * t13;
 	highp float t15 = log2(t14);
 	highp float t16 = log2(t15);
 	highp float t17 = sqrt(t16);
-	highp float t18 = 0.7725716 * t17;
+	highp float t18 = seed_search_f_14_p0 * t17;
 	return t18;
 }

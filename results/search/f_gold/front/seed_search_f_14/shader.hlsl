@@ -26,17 +26,21 @@
  */
 float seed_search_f_14(float LoH, float f0)
 {
-	float t3 = mad(LoH, LoH, 0.1720152);
+	const float seed_search_f_14_p0 = 0.7725716;
+	const float seed_search_f_14_p1 = 0.1720152;
+	const float seed_search_f_14_p2 = 0.393169;
+	const float seed_search_f_14_p3 = 6.19828;
+	float t3 = mad(LoH, LoH, seed_search_f_14_p1);
 	float t8 = LoH + (1.0 - LoH) * f0;
-	float t9 = 6.19828 + t8;
+	float t9 = seed_search_f_14_p3 + t8;
 	float t10 = exp2(LoH);
 	float t11 = t9 / t10;
 	float t12 = exp2(t11);
-	float t13 = 0.393169 * t12;
+	float t13 = seed_search_f_14_p2 * t12;
 	float t14 = t3 * t13;
 	float t15 = log2(t14);
 	float t16 = log2(t15);
 	float t17 = sqrt(t16);
-	float t18 = 0.7725716 * t17;
+	float t18 = seed_search_f_14_p0 * t17;
 	return t18;
 }

@@ -29,18 +29,22 @@
 #include <math.h>
 static inline float seed_search_f_15(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.1724406f;
+	const float seed_search_f_15_p0 = 0.7728803f;
+	const float seed_search_f_15_p1 = 0.1724406f;
+	const float seed_search_f_15_p2 = 0.389564f;
+	const float seed_search_f_15_p3 = 5.38531f;
+	float t3 = LoH * LoH + seed_search_f_15_p1;
 	float t8 = LoH + (1.0f - LoH) * f0;
-	float t9 = 5.38531f + t8;
+	float t9 = seed_search_f_15_p3 + t8;
 	float t10 = exp2f(LoH);
 	float t11 = f0 * t10;
 	float t12 = t9 / t11;
 	float t13 = exp2f(t12);
-	float t14 = 0.389564f * t13;
+	float t14 = seed_search_f_15_p2 * t13;
 	float t15 = t3 * t14;
 	float t16 = log2f(t15);
 	float t17 = log2f(t16);
 	float t18 = sqrtf(t17);
-	float t19 = 0.7728803f * t18;
+	float t19 = seed_search_f_15_p0 * t18;
 	return t19;
 }

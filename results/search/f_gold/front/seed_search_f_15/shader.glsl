@@ -26,18 +26,22 @@
  */
 highp float seed_search_f_15(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.1724406;
+	const highp float seed_search_f_15_p0 = 0.7728803;
+	const highp float seed_search_f_15_p1 = 0.1724406;
+	const highp float seed_search_f_15_p2 = 0.389564;
+	const highp float seed_search_f_15_p3 = 5.38531;
+	highp float t3 = LoH * LoH + seed_search_f_15_p1;
 	highp float t8 = LoH + (1.0 - LoH) * f0;
-	highp float t9 = 5.38531 + t8;
+	highp float t9 = seed_search_f_15_p3 + t8;
 	highp float t10 = exp2(LoH);
 	highp float t11 = f0 * t10;
 	highp float t12 = t9 / t11;
 	highp float t13 = exp2(t12);
-	highp float t14 = 0.389564 * t13;
+	highp float t14 = seed_search_f_15_p2 * t13;
 	highp float t15 = t3 * t14;
 	highp float t16 = log2(t15);
 	highp float t17 = log2(t16);
 	highp float t18 = sqrt(t17);
-	highp float t19 = 0.7728803 * t18;
+	highp float t19 = seed_search_f_15_p0 * t18;
 	return t19;
 }

@@ -29,18 +29,22 @@
 #include <math.h>
 static inline float seed_search_f_16(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.1716887f;
+	const float seed_search_f_16_p0 = 0.7720145f;
+	const float seed_search_f_16_p1 = 0.1716887f;
+	const float seed_search_f_16_p2 = 0.23684f;
+	const float seed_search_f_16_p3 = 6.82201f;
+	float t3 = LoH * LoH + seed_search_f_16_p1;
 	float t7 = LoH * f0;
 	float t8 = exp2f(t7);
-	float t9 = 6.82201f + t8;
+	float t9 = seed_search_f_16_p3 + t8;
 	float t10 = exp2f(LoH);
 	float t11 = t9 / t10;
 	float t12 = exp2f(t11);
-	float t13 = 0.23684f * t12;
+	float t13 = seed_search_f_16_p2 * t12;
 	float t14 = t3 * t13;
 	float t15 = log2f(t14);
 	float t16 = log2f(t15);
 	float t17 = sqrtf(t16);
-	float t18 = 0.7720145f * t17;
+	float t18 = seed_search_f_16_p0 * t17;
 	return t18;
 }

@@ -26,18 +26,22 @@
  */
 highp float seed_search_f_16(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.1716887;
+	const highp float seed_search_f_16_p0 = 0.7720145;
+	const highp float seed_search_f_16_p1 = 0.1716887;
+	const highp float seed_search_f_16_p2 = 0.23684;
+	const highp float seed_search_f_16_p3 = 6.82201;
+	highp float t3 = LoH * LoH + seed_search_f_16_p1;
 	highp float t7 = LoH * f0;
 	highp float t8 = exp2(t7);
-	highp float t9 = 6.82201 + t8;
+	highp float t9 = seed_search_f_16_p3 + t8;
 	highp float t10 = exp2(LoH);
 	highp float t11 = t9 / t10;
 	highp float t12 = exp2(t11);
-	highp float t13 = 0.23684 * t12;
+	highp float t13 = seed_search_f_16_p2 * t12;
 	highp float t14 = t3 * t13;
 	highp float t15 = log2(t14);
 	highp float t16 = log2(t15);
 	highp float t17 = sqrt(t16);
-	highp float t18 = 0.7720145 * t17;
+	highp float t18 = seed_search_f_16_p0 * t17;
 	return t18;
 }

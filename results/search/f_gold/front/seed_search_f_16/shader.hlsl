@@ -26,18 +26,22 @@
  */
 float seed_search_f_16(float LoH, float f0)
 {
-	float t3 = mad(LoH, LoH, 0.1716887);
+	const float seed_search_f_16_p0 = 0.7720145;
+	const float seed_search_f_16_p1 = 0.1716887;
+	const float seed_search_f_16_p2 = 0.23684;
+	const float seed_search_f_16_p3 = 6.82201;
+	float t3 = mad(LoH, LoH, seed_search_f_16_p1);
 	float t7 = LoH * f0;
 	float t8 = exp2(t7);
-	float t9 = 6.82201 + t8;
+	float t9 = seed_search_f_16_p3 + t8;
 	float t10 = exp2(LoH);
 	float t11 = t9 / t10;
 	float t12 = exp2(t11);
-	float t13 = 0.23684 * t12;
+	float t13 = seed_search_f_16_p2 * t12;
 	float t14 = t3 * t13;
 	float t15 = log2(t14);
 	float t16 = log2(t15);
 	float t17 = sqrt(t16);
-	float t18 = 0.7720145 * t17;
+	float t18 = seed_search_f_16_p0 * t17;
 	return t18;
 }

@@ -29,19 +29,23 @@
 #include <math.h>
 static inline float seed_search_f_17(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.1720701f;
+	const float seed_search_f_17_p0 = 0.7722484f;
+	const float seed_search_f_17_p1 = 0.1720701f;
+	const float seed_search_f_17_p2 = 0.219623f;
+	const float seed_search_f_17_p3 = 6.00905f;
+	float t3 = LoH * LoH + seed_search_f_17_p1;
 	float t7 = LoH * f0;
 	float t8 = exp2f(t7);
-	float t9 = 6.00905f + t8;
+	float t9 = seed_search_f_17_p3 + t8;
 	float t10 = exp2f(LoH);
 	float t11 = f0 * t10;
 	float t12 = t9 / t11;
 	float t13 = exp2f(t12);
-	float t14 = 0.219623f * t13;
+	float t14 = seed_search_f_17_p2 * t13;
 	float t15 = t3 * t14;
 	float t16 = log2f(t15);
 	float t17 = log2f(t16);
 	float t18 = sqrtf(t17);
-	float t19 = 0.7722484f * t18;
+	float t19 = seed_search_f_17_p0 * t18;
 	return t19;
 }

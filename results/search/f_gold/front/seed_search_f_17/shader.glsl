@@ -26,19 +26,23 @@
  */
 highp float seed_search_f_17(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.1720701;
+	const highp float seed_search_f_17_p0 = 0.7722484;
+	const highp float seed_search_f_17_p1 = 0.1720701;
+	const highp float seed_search_f_17_p2 = 0.219623;
+	const highp float seed_search_f_17_p3 = 6.00905;
+	highp float t3 = LoH * LoH + seed_search_f_17_p1;
 	highp float t7 = LoH * f0;
 	highp float t8 = exp2(t7);
-	highp float t9 = 6.00905 + t8;
+	highp float t9 = seed_search_f_17_p3 + t8;
 	highp float t10 = exp2(LoH);
 	highp float t11 = f0 * t10;
 	highp float t12 = t9 / t11;
 	highp float t13 = exp2(t12);
-	highp float t14 = 0.219623 * t13;
+	highp float t14 = seed_search_f_17_p2 * t13;
 	highp float t15 = t3 * t14;
 	highp float t16 = log2(t15);
 	highp float t17 = log2(t16);
 	highp float t18 = sqrt(t17);
-	highp float t19 = 0.7722484 * t18;
+	highp float t19 = seed_search_f_17_p0 * t18;
 	return t19;
 }

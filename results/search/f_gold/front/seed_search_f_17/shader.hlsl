@@ -26,19 +26,23 @@
  */
 float seed_search_f_17(float LoH, float f0)
 {
-	float t3 = mad(LoH, LoH, 0.1720701);
+	const float seed_search_f_17_p0 = 0.7722484;
+	const float seed_search_f_17_p1 = 0.1720701;
+	const float seed_search_f_17_p2 = 0.219623;
+	const float seed_search_f_17_p3 = 6.00905;
+	float t3 = mad(LoH, LoH, seed_search_f_17_p1);
 	float t7 = LoH * f0;
 	float t8 = exp2(t7);
-	float t9 = 6.00905 + t8;
+	float t9 = seed_search_f_17_p3 + t8;
 	float t10 = exp2(LoH);
 	float t11 = f0 * t10;
 	float t12 = t9 / t11;
 	float t13 = exp2(t12);
-	float t14 = 0.219623 * t13;
+	float t14 = seed_search_f_17_p2 * t13;
 	float t15 = t3 * t14;
 	float t16 = log2(t15);
 	float t17 = log2(t16);
 	float t18 = sqrt(t17);
-	float t19 = 0.7722484 * t18;
+	float t19 = seed_search_f_17_p0 * t18;
 	return t19;
 }

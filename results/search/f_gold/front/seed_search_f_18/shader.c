@@ -28,18 +28,22 @@
 #include <math.h>
 static inline float seed_search_f_18(float LoH, float f0)
 {
-	float t3 = LoH * LoH + 0.1749003f;
+	const float seed_search_f_18_p0 = 1.4283608f;
+	const float seed_search_f_18_p1 = 0.1749003f;
+	const float seed_search_f_18_p2 = 0.54557f;
+	const float seed_search_f_18_p3 = 6.39981f;
+	float t3 = LoH * LoH + seed_search_f_18_p1;
 	float t6 = exp2f(LoH);
 	float t7 = sqrtf(t6);
-	float t9 = f0 * t7 + 6.39981f;
+	float t9 = f0 * t7 + seed_search_f_18_p3;
 	float t10 = t9 / t6;
 	float t11 = exp2f(t10);
-	float t12 = 0.54557f * t11;
+	float t12 = seed_search_f_18_p2 * t11;
 	float t13 = t3 * t12;
 	float t14 = log2f(t13);
 	float t15 = log2f(t14);
 	float t16 = sqrtf(t15);
-	float t17 = 1.4283608f * t16;
+	float t17 = seed_search_f_18_p0 * t16;
 	float t18 = log2f(t17);
 	return t18;
 }

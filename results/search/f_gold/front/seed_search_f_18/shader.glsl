@@ -25,18 +25,22 @@
  */
 highp float seed_search_f_18(highp float LoH, highp float f0)
 {
-	highp float t3 = LoH * LoH + 0.1749003;
+	const highp float seed_search_f_18_p0 = 1.4283608;
+	const highp float seed_search_f_18_p1 = 0.1749003;
+	const highp float seed_search_f_18_p2 = 0.54557;
+	const highp float seed_search_f_18_p3 = 6.39981;
+	highp float t3 = LoH * LoH + seed_search_f_18_p1;
 	highp float t6 = exp2(LoH);
 	highp float t7 = sqrt(t6);
-	highp float t9 = f0 * t7 + 6.39981;
+	highp float t9 = f0 * t7 + seed_search_f_18_p3;
 	highp float t10 = t9 / t6;
 	highp float t11 = exp2(t10);
-	highp float t12 = 0.54557 * t11;
+	highp float t12 = seed_search_f_18_p2 * t11;
 	highp float t13 = t3 * t12;
 	highp float t14 = log2(t13);
 	highp float t15 = log2(t14);
 	highp float t16 = sqrt(t15);
-	highp float t17 = 1.4283608 * t16;
+	highp float t17 = seed_search_f_18_p0 * t16;
 	highp float t18 = log2(t17);
 	return t18;
 }

@@ -25,18 +25,22 @@
  */
 float seed_search_f_18(float LoH, float f0)
 {
-	float t3 = mad(LoH, LoH, 0.1749003);
+	const float seed_search_f_18_p0 = 1.4283608;
+	const float seed_search_f_18_p1 = 0.1749003;
+	const float seed_search_f_18_p2 = 0.54557;
+	const float seed_search_f_18_p3 = 6.39981;
+	float t3 = mad(LoH, LoH, seed_search_f_18_p1);
 	float t6 = exp2(LoH);
 	float t7 = sqrt(t6);
-	float t9 = mad(f0, t7, 6.39981);
+	float t9 = mad(f0, t7, seed_search_f_18_p3);
 	float t10 = t9 / t6;
 	float t11 = exp2(t10);
-	float t12 = 0.54557 * t11;
+	float t12 = seed_search_f_18_p2 * t11;
 	float t13 = t3 * t12;
 	float t14 = log2(t13);
 	float t15 = log2(t14);
 	float t16 = sqrt(t15);
-	float t17 = 1.4283608 * t16;
+	float t17 = seed_search_f_18_p0 * t16;
 	float t18 = log2(t17);
 	return t18;
 }

@@ -20,9 +20,12 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_2(float LoH)
+static inline float seed_search_f_2(float LoH, float f0)
 {
-	float t4 = 0.07461f * LoH + (-1.0f);
-	float t5 = (-0.93158f) * t4;
+	(void)f0;
+	const float seed_search_f_2_p0 = (-0.93158f);
+	const float seed_search_f_2_p1 = 0.07461f;
+	float t4 = seed_search_f_2_p1 * LoH + (-1.0f);
+	float t5 = seed_search_f_2_p0 * t4;
 	return t5;
 }

@@ -17,9 +17,11 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float seed_search_f_2(highp float LoH)
+highp float seed_search_f_2(highp float LoH, highp float f0)
 {
-	highp float t4 = 0.07461 * LoH + (-1.0);
-	highp float t5 = (-0.93158) * t4;
+	const highp float seed_search_f_2_p0 = (-0.93158);
+	const highp float seed_search_f_2_p1 = 0.07461;
+	highp float t4 = seed_search_f_2_p1 * LoH + (-1.0);
+	highp float t5 = seed_search_f_2_p0 * t4;
 	return t5;
 }

@@ -17,9 +17,11 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float seed_search_f_2(float LoH)
+float seed_search_f_2(float LoH, float f0)
 {
-	float t4 = mad(0.07461, LoH, (-1.0));
-	float t5 = (-0.93158) * t4;
+	const float seed_search_f_2_p0 = (-0.93158);
+	const float seed_search_f_2_p1 = 0.07461;
+	float t4 = mad(seed_search_f_2_p1, LoH, (-1.0));
+	float t5 = seed_search_f_2_p0 * t4;
 	return t5;
 }

@@ -23,11 +23,16 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_4(float LoH)
+static inline float seed_search_f_4(float LoH, float f0)
 {
-	float t2 = 0.489796f - LoH;
-	float t4 = t2 * t2 + 0.00964f;
-	float t6 = fmaxf(t2, 0.020677f);
-	float t8 = t4 * t6 + 0.8802587f;
+	(void)f0;
+	const float seed_search_f_4_p0 = 0.8802587f;
+	const float seed_search_f_4_p1 = 0.00964f;
+	const float seed_search_f_4_p2 = 0.489796f;
+	const float seed_search_f_4_p3 = 0.020677f;
+	float t2 = seed_search_f_4_p2 - LoH;
+	float t4 = t2 * t2 + seed_search_f_4_p1;
+	float t6 = fmaxf(t2, seed_search_f_4_p3);
+	float t8 = t4 * t6 + seed_search_f_4_p0;
 	return t8;
 }

@@ -20,11 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float seed_search_f_4(highp float LoH)
+highp float seed_search_f_4(highp float LoH, highp float f0)
 {
-	highp float t2 = 0.489796 - LoH;
-	highp float t4 = t2 * t2 + 0.00964;
-	highp float t6 = max(t2, 0.020677);
-	highp float t8 = t4 * t6 + 0.8802587;
+	const highp float seed_search_f_4_p0 = 0.8802587;
+	const highp float seed_search_f_4_p1 = 0.00964;
+	const highp float seed_search_f_4_p2 = 0.489796;
+	const highp float seed_search_f_4_p3 = 0.020677;
+	highp float t2 = seed_search_f_4_p2 - LoH;
+	highp float t4 = t2 * t2 + seed_search_f_4_p1;
+	highp float t6 = max(t2, seed_search_f_4_p3);
+	highp float t8 = t4 * t6 + seed_search_f_4_p0;
 	return t8;
 }

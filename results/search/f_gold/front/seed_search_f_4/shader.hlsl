@@ -20,11 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float seed_search_f_4(float LoH)
+float seed_search_f_4(float LoH, float f0)
 {
-	float t2 = 0.489796 - LoH;
-	float t4 = mad(t2, t2, 0.00964);
-	float t6 = max(t2, 0.020677);
-	float t8 = mad(t4, t6, 0.8802587);
+	const float seed_search_f_4_p0 = 0.8802587;
+	const float seed_search_f_4_p1 = 0.00964;
+	const float seed_search_f_4_p2 = 0.489796;
+	const float seed_search_f_4_p3 = 0.020677;
+	float t2 = seed_search_f_4_p2 - LoH;
+	float t4 = mad(t2, t2, seed_search_f_4_p1);
+	float t6 = max(t2, seed_search_f_4_p3);
+	float t8 = mad(t4, t6, seed_search_f_4_p0);
 	return t8;
 }

@@ -26,10 +26,14 @@
 #include <math.h>
 static inline float seed_search_f_5(float LoH, float f0)
 {
-	float t2 = 0.57326f - LoH;
-	float t5 = t2 * f0 + (-0.13893f);
-	float t7 = fmaxf(t2, 0.021341f);
+	const float seed_search_f_5_p0 = 0.8809108f;
+	const float seed_search_f_5_p1 = 0.57326f;
+	const float seed_search_f_5_p2 = (-0.13893f);
+	const float seed_search_f_5_p3 = 0.021341f;
+	float t2 = seed_search_f_5_p1 - LoH;
+	float t5 = t2 * f0 + seed_search_f_5_p2;
+	float t7 = fmaxf(t2, seed_search_f_5_p3);
 	float t8 = t5 * t7;
-	float t10 = t2 * t8 + 0.8809108f;
+	float t10 = t2 * t8 + seed_search_f_5_p0;
 	return t10;
 }

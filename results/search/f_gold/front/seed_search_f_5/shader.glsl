@@ -23,10 +23,14 @@
  */
 highp float seed_search_f_5(highp float LoH, highp float f0)
 {
-	highp float t2 = 0.57326 - LoH;
-	highp float t5 = t2 * f0 + (-0.13893);
-	highp float t7 = max(t2, 0.021341);
+	const highp float seed_search_f_5_p0 = 0.8809108;
+	const highp float seed_search_f_5_p1 = 0.57326;
+	const highp float seed_search_f_5_p2 = (-0.13893);
+	const highp float seed_search_f_5_p3 = 0.021341;
+	highp float t2 = seed_search_f_5_p1 - LoH;
+	highp float t5 = t2 * f0 + seed_search_f_5_p2;
+	highp float t7 = max(t2, seed_search_f_5_p3);
 	highp float t8 = t5 * t7;
-	highp float t10 = t2 * t8 + 0.8809108;
+	highp float t10 = t2 * t8 + seed_search_f_5_p0;
 	return t10;
 }

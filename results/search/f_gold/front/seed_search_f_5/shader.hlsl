@@ -23,10 +23,14 @@
  */
 float seed_search_f_5(float LoH, float f0)
 {
-	float t2 = 0.57326 - LoH;
-	float t5 = mad(t2, f0, (-0.13893));
-	float t7 = max(t2, 0.021341);
+	const float seed_search_f_5_p0 = 0.8809108;
+	const float seed_search_f_5_p1 = 0.57326;
+	const float seed_search_f_5_p2 = (-0.13893);
+	const float seed_search_f_5_p3 = 0.021341;
+	float t2 = seed_search_f_5_p1 - LoH;
+	float t5 = mad(t2, f0, seed_search_f_5_p2);
+	float t7 = max(t2, seed_search_f_5_p3);
 	float t8 = t5 * t7;
-	float t10 = mad(t2, t8, 0.8809108);
+	float t10 = mad(t2, t8, seed_search_f_5_p0);
 	return t10;
 }

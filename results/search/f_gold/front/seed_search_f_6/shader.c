@@ -26,11 +26,15 @@
 #include <math.h>
 static inline float seed_search_f_6(float LoH, float f0)
 {
-	float t2 = 0.51614f - LoH;
-	float t4 = fmaxf(t2, (-0.08786f));
+	const float seed_search_f_6_p0 = 0.8798386f;
+	const float seed_search_f_6_p1 = 0.51614f;
+	const float seed_search_f_6_p2 = (-0.08786f);
+	const float seed_search_f_6_p3 = 0.12425f;
+	float t2 = seed_search_f_6_p1 - LoH;
+	float t4 = fmaxf(t2, seed_search_f_6_p2);
 	float t7 = t2 * f0;
-	float t8 = fmaxf(0.12425f, t7);
+	float t8 = fmaxf(seed_search_f_6_p3, t7);
 	float t9 = t4 * t8;
-	float t11 = t2 * t9 + 0.8798386f;
+	float t11 = t2 * t9 + seed_search_f_6_p0;
 	return t11;
 }

@@ -23,11 +23,15 @@
  */
 highp float seed_search_f_6(highp float LoH, highp float f0)
 {
-	highp float t2 = 0.51614 - LoH;
-	highp float t4 = max(t2, (-0.08786));
+	const highp float seed_search_f_6_p0 = 0.8798386;
+	const highp float seed_search_f_6_p1 = 0.51614;
+	const highp float seed_search_f_6_p2 = (-0.08786);
+	const highp float seed_search_f_6_p3 = 0.12425;
+	highp float t2 = seed_search_f_6_p1 - LoH;
+	highp float t4 = max(t2, seed_search_f_6_p2);
 	highp float t7 = t2 * f0;
-	highp float t8 = max(0.12425, t7);
+	highp float t8 = max(seed_search_f_6_p3, t7);
 	highp float t9 = t4 * t8;
-	highp float t11 = t2 * t9 + 0.8798386;
+	highp float t11 = t2 * t9 + seed_search_f_6_p0;
 	return t11;
 }

@@ -23,11 +23,15 @@
  */
 float seed_search_f_6(float LoH, float f0)
 {
-	float t2 = 0.51614 - LoH;
-	float t4 = max(t2, (-0.08786));
+	const float seed_search_f_6_p0 = 0.8798386;
+	const float seed_search_f_6_p1 = 0.51614;
+	const float seed_search_f_6_p2 = (-0.08786);
+	const float seed_search_f_6_p3 = 0.12425;
+	float t2 = seed_search_f_6_p1 - LoH;
+	float t4 = max(t2, seed_search_f_6_p2);
 	float t7 = t2 * f0;
-	float t8 = max(0.12425, t7);
+	float t8 = max(seed_search_f_6_p3, t7);
 	float t9 = t4 * t8;
-	float t11 = mad(t2, t9, 0.8798386);
+	float t11 = mad(t2, t9, seed_search_f_6_p0);
 	return t11;
 }

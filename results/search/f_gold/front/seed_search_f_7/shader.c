@@ -25,13 +25,17 @@
 #include <math.h>
 static inline float seed_search_f_7(float LoH, float f0)
 {
+	const float seed_search_f_7_p0 = 0.23436f;
+	const float seed_search_f_7_p1 = 0.72131f;
+	const float seed_search_f_7_p2 = 1.015546f;
+	const float seed_search_f_7_p3 = 0.53188f;
 	float t3 = -LoH;
-	float t5 = t3 * LoH + 0.53188f;
-	float t7 = 0.72131f - LoH;
+	float t5 = t3 * LoH + seed_search_f_7_p3;
+	float t7 = seed_search_f_7_p1 - LoH;
 	float t8 = t7 * t7;
 	float t9 = t8 * t8;
 	float t10 = t5 * t9 + LoH;
-	float t11 = 1.015546f * t10 + t7;
-	float t13 = f0 * t11 + 0.23436f;
+	float t11 = seed_search_f_7_p2 * t10 + t7;
+	float t13 = f0 * t11 + seed_search_f_7_p0;
 	return t13;
 }

@@ -22,13 +22,17 @@
  */
 highp float seed_search_f_7(highp float LoH, highp float f0)
 {
+	const highp float seed_search_f_7_p0 = 0.23436;
+	const highp float seed_search_f_7_p1 = 0.72131;
+	const highp float seed_search_f_7_p2 = 1.015546;
+	const highp float seed_search_f_7_p3 = 0.53188;
 	highp float t3 = -LoH;
-	highp float t5 = t3 * LoH + 0.53188;
-	highp float t7 = 0.72131 - LoH;
+	highp float t5 = t3 * LoH + seed_search_f_7_p3;
+	highp float t7 = seed_search_f_7_p1 - LoH;
 	highp float t8 = t7 * t7;
 	highp float t9 = t8 * t8;
 	highp float t10 = t5 * t9 + LoH;
-	highp float t11 = 1.015546 * t10 + t7;
-	highp float t13 = f0 * t11 + 0.23436;
+	highp float t11 = seed_search_f_7_p2 * t10 + t7;
+	highp float t13 = f0 * t11 + seed_search_f_7_p0;
 	return t13;
 }

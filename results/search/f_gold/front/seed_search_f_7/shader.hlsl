@@ -22,13 +22,17 @@
  */
 float seed_search_f_7(float LoH, float f0)
 {
+	const float seed_search_f_7_p0 = 0.23436;
+	const float seed_search_f_7_p1 = 0.72131;
+	const float seed_search_f_7_p2 = 1.015546;
+	const float seed_search_f_7_p3 = 0.53188;
 	float t3 = -LoH;
-	float t5 = mad(t3, LoH, 0.53188);
-	float t7 = 0.72131 - LoH;
+	float t5 = mad(t3, LoH, seed_search_f_7_p3);
+	float t7 = seed_search_f_7_p1 - LoH;
 	float t8 = t7 * t7;
 	float t9 = t8 * t8;
 	float t10 = mad(t5, t9, LoH);
-	float t11 = mad(1.015546, t10, t7);
-	float t13 = mad(f0, t11, 0.23436);
+	float t11 = mad(seed_search_f_7_p2, t10, t7);
+	float t13 = mad(f0, t11, seed_search_f_7_p0);
 	return t13;
 }

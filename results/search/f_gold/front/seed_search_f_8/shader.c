@@ -23,16 +23,21 @@
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_8(float LoH)
+static inline float seed_search_f_8(float LoH, float f0)
 {
-	float t4 = 0.92358f - LoH;
+	(void)f0;
+	const float seed_search_f_8_p0 = 0.9495f;
+	const float seed_search_f_8_p1 = 0.92358f;
+	const float seed_search_f_8_p2 = 1.0080975f;
+	const float seed_search_f_8_p3 = 0.19244f;
+	float t4 = seed_search_f_8_p1 - LoH;
 	float t5 = -LoH;
-	float t7 = t5 * LoH + 0.19244f;
+	float t7 = t5 * LoH + seed_search_f_8_p3;
 	float t8 = t4 * t7;
 	float t9 = t4 * t4;
 	float t10 = t9 * t9;
 	float t11 = t8 * t10 + LoH;
-	float t12 = 1.0080975f * t11 + t4;
-	float t13 = 0.9495f * t12;
+	float t12 = seed_search_f_8_p2 * t11 + t4;
+	float t13 = seed_search_f_8_p0 * t12;
 	return t13;
 }

@@ -20,16 +20,20 @@
  *   mad 3
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-highp float seed_search_f_8(highp float LoH)
+highp float seed_search_f_8(highp float LoH, highp float f0)
 {
-	highp float t4 = 0.92358 - LoH;
+	const highp float seed_search_f_8_p0 = 0.9495;
+	const highp float seed_search_f_8_p1 = 0.92358;
+	const highp float seed_search_f_8_p2 = 1.0080975;
+	const highp float seed_search_f_8_p3 = 0.19244;
+	highp float t4 = seed_search_f_8_p1 - LoH;
 	highp float t5 = -LoH;
-	highp float t7 = t5 * LoH + 0.19244;
+	highp float t7 = t5 * LoH + seed_search_f_8_p3;
 	highp float t8 = t4 * t7;
 	highp float t9 = t4 * t4;
 	highp float t10 = t9 * t9;
 	highp float t11 = t8 * t10 + LoH;
-	highp float t12 = 1.0080975 * t11 + t4;
-	highp float t13 = 0.9495 * t12;
+	highp float t12 = seed_search_f_8_p2 * t11 + t4;
+	highp float t13 = seed_search_f_8_p0 * t12;
 	return t13;
 }

@@ -20,16 +20,20 @@
  *   mad 3
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-float seed_search_f_8(float LoH)
+float seed_search_f_8(float LoH, float f0)
 {
-	float t4 = 0.92358 - LoH;
+	const float seed_search_f_8_p0 = 0.9495;
+	const float seed_search_f_8_p1 = 0.92358;
+	const float seed_search_f_8_p2 = 1.0080975;
+	const float seed_search_f_8_p3 = 0.19244;
+	float t4 = seed_search_f_8_p1 - LoH;
 	float t5 = -LoH;
-	float t7 = mad(t5, LoH, 0.19244);
+	float t7 = mad(t5, LoH, seed_search_f_8_p3);
 	float t8 = t4 * t7;
 	float t9 = t4 * t4;
 	float t10 = t9 * t9;
 	float t11 = mad(t8, t10, LoH);
-	float t12 = mad(1.0080975, t11, t4);
-	float t13 = 0.9495 * t12;
+	float t12 = mad(seed_search_f_8_p2, t11, t4);
+	float t13 = seed_search_f_8_p0 * t12;
 	return t13;
 }

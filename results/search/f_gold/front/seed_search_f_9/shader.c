@@ -23,17 +23,22 @@
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_f_9(float LoH)
+static inline float seed_search_f_9(float LoH, float f0)
 {
-	float t4 = 0.92079f - LoH;
+	(void)f0;
+	const float seed_search_f_9_p0 = 0.8759059f;
+	const float seed_search_f_9_p1 = 1.0102046f;
+	const float seed_search_f_9_p2 = 0.92079f;
+	const float seed_search_f_9_p3 = 0.21326f;
+	float t4 = seed_search_f_9_p2 - LoH;
 	float t5 = -LoH;
-	float t7 = t5 * LoH + 0.21326f;
+	float t7 = t5 * LoH + seed_search_f_9_p3;
 	float t8 = t4 * t7;
 	float t9 = t4 * t4;
 	float t10 = t9 * t9;
 	float t11 = t8 * t10 + LoH;
 	float t13 = 1.0f - LoH;
-	float t14 = 1.0102046f * t11 + t13;
-	float t15 = 0.8759059f * t14;
+	float t14 = seed_search_f_9_p1 * t11 + t13;
+	float t15 = seed_search_f_9_p0 * t14;
 	return t15;
 }

@@ -20,17 +20,21 @@
  *   mad 3
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-highp float seed_search_f_9(highp float LoH)
+highp float seed_search_f_9(highp float LoH, highp float f0)
 {
-	highp float t4 = 0.92079 - LoH;
+	const highp float seed_search_f_9_p0 = 0.8759059;
+	const highp float seed_search_f_9_p1 = 1.0102046;
+	const highp float seed_search_f_9_p2 = 0.92079;
+	const highp float seed_search_f_9_p3 = 0.21326;
+	highp float t4 = seed_search_f_9_p2 - LoH;
 	highp float t5 = -LoH;
-	highp float t7 = t5 * LoH + 0.21326;
+	highp float t7 = t5 * LoH + seed_search_f_9_p3;
 	highp float t8 = t4 * t7;
 	highp float t9 = t4 * t4;
 	highp float t10 = t9 * t9;
 	highp float t11 = t8 * t10 + LoH;
 	highp float t13 = 1.0 - LoH;
-	highp float t14 = 1.0102046 * t11 + t13;
-	highp float t15 = 0.8759059 * t14;
+	highp float t14 = seed_search_f_9_p1 * t11 + t13;
+	highp float t15 = seed_search_f_9_p0 * t14;
 	return t15;
 }

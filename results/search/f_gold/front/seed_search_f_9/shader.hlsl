@@ -20,17 +20,21 @@
  *   mad 3
  *   simple 9, complex 0, cost 9 (simple = 1, complex = 4)
  */
-float seed_search_f_9(float LoH)
+float seed_search_f_9(float LoH, float f0)
 {
-	float t4 = 0.92079 - LoH;
+	const float seed_search_f_9_p0 = 0.8759059;
+	const float seed_search_f_9_p1 = 1.0102046;
+	const float seed_search_f_9_p2 = 0.92079;
+	const float seed_search_f_9_p3 = 0.21326;
+	float t4 = seed_search_f_9_p2 - LoH;
 	float t5 = -LoH;
-	float t7 = mad(t5, LoH, 0.21326);
+	float t7 = mad(t5, LoH, seed_search_f_9_p3);
 	float t8 = t4 * t7;
 	float t9 = t4 * t4;
 	float t10 = t9 * t9;
 	float t11 = mad(t8, t10, LoH);
 	float t13 = 1.0 - LoH;
-	float t14 = mad(1.0102046, t11, t13);
-	float t15 = 0.8759059 * t14;
+	float t14 = mad(seed_search_f_9_p1, t11, t13);
+	float t15 = seed_search_f_9_p0 * t14;
 	return t15;
 }

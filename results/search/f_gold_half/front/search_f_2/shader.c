@@ -7,11 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0201 in f16, as this half code computes it (either order of its mads), max |error| 0.0671; in f64: rmse 0.0201
+ * fitted error: rmse 0.0201 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0671; in f64: rmse 0.0201
  * parameters baked in:
  *   p0 = 1.05371094
- *   p1 = -0.0660400391
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p1 = -0.0661010742
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,7 +23,9 @@
 #include <math.h>
 static inline float search_f_2(float LoH, float f0)
 {
-	float t4 = (-0.06604004f) * LoH + f0;
-	float t5 = 1.0537109f * t4;
+	const float search_f_2_p0 = 1.0537109375f;
+	const float search_f_2_p1 = (-0.06610107421875f);
+	float t4 = search_f_2_p1 * LoH + f0;
+	float t5 = search_f_2_p0 * t4;
 	return t5;
 }

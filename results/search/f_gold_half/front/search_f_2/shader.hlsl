@@ -7,19 +7,21 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0201 in f16, as this half code computes it (either order of its mads), max |error| 0.0671; in f64: rmse 0.0201
+ * fitted error: rmse 0.0201 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0671; in f64: rmse 0.0201
  * parameters baked in:
  *   p0 = 1.05371094
- *   p1 = -0.0660400391
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p1 = -0.0661010742
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-half search_f_2(half LoH, half f0)
+min16float search_f_2(min16float LoH, min16float f0)
 {
-	half t4 = mad((-0.06604004), LoH, f0);
-	half t5 = 1.0537109 * t4;
+	const min16float search_f_2_p0 = 1.0537109375;
+	const min16float search_f_2_p1 = (-0.06610107421875);
+	min16float t4 = mad(search_f_2_p1, LoH, f0);
+	min16float t5 = search_f_2_p0 * t4;
 	return t5;
 }

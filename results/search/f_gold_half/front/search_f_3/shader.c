@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00115 in f16, as this half code computes it (either order of its mads), max |error| 0.00289; in f64: rmse 0.00116
+ * fitted error: rmse 0.00116 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00289; in f64: rmse 0.00116
  * parameters baked in:
  *   p0 = 0.880371094
  *   p1 = 0.342529297
- *   p2 = 0.8828125
- *   p3 = -0.00718307495
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 0.882324219
+ *   p3 = -0.00705337524
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,11 +23,16 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_f_3(float LoH)
+static inline float search_f_3(float LoH, float f0)
 {
-	float t1 = -0.8828125f;
-	float t4 = t1 * LoH + 0.3425293f;
-	float t6 = fmaxf(t4, (-0.007183075f));
-	float t8 = t4 * t6 + 0.8803711f;
+	(void)f0;
+	const float search_f_3_p0 = 0.88037109375f;
+	const float search_f_3_p1 = 0.342529296875f;
+	const float search_f_3_p2 = 0.88232421875f;
+	const float search_f_3_p3 = (-0.007053375244140625f);
+	float t1 = -search_f_3_p2;
+	float t4 = t1 * LoH + search_f_3_p1;
+	float t6 = fmaxf(t4, search_f_3_p3);
+	float t8 = t4 * t6 + search_f_3_p0;
 	return t8;
 }

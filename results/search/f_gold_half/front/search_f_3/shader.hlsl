@@ -7,23 +7,27 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00115 in f16, as this half code computes it (either order of its mads), max |error| 0.00289; in f64: rmse 0.00116
+ * fitted error: rmse 0.00116 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00289; in f64: rmse 0.00116
  * parameters baked in:
  *   p0 = 0.880371094
  *   p1 = 0.342529297
- *   p2 = 0.8828125
- *   p3 = -0.00718307495
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p2 = 0.882324219
+ *   p3 = -0.00705337524
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 2
  *   minmax 1
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-half search_f_3(half LoH)
+min16float search_f_3(min16float LoH, min16float f0)
 {
-	half t1 = -0.8828125;
-	half t4 = mad(t1, LoH, 0.3425293);
-	half t6 = max(t4, (-0.007183075));
-	half t8 = mad(t4, t6, 0.8803711);
+	const min16float search_f_3_p0 = 0.88037109375;
+	const min16float search_f_3_p1 = 0.342529296875;
+	const min16float search_f_3_p2 = 0.88232421875;
+	const min16float search_f_3_p3 = (-0.007053375244140625);
+	min16float t1 = -search_f_3_p2;
+	min16float t4 = mad(t1, LoH, search_f_3_p1);
+	min16float t6 = max(t4, search_f_3_p3);
+	min16float t8 = mad(t4, t6, search_f_3_p0);
 	return t8;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000553 in f16, as this half code computes it (either order of its mads), max |error| 0.00169; in f64: rmse 0.000546
+ * fitted error: rmse 0.000562 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00219; in f64: rmse 0.00055
  * parameters baked in:
  *   p0 = 0.880371094
- *   p1 = 0.495361328
- *   p2 = 0.975097656
+ *   p1 = 0.495849609
+ *   p2 = 0.978515625
  *   p3 = 0.0242919922
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,12 +24,17 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_f_4(float LoH)
+static inline float search_f_4(float LoH, float f0)
 {
-	float t1 = -0.97509766f;
-	float t4 = t1 * LoH + 0.49536133f;
-	float t6 = fmaxf(t4, 0.024291992f);
+	(void)f0;
+	const float search_f_4_p0 = 0.88037109375f;
+	const float search_f_4_p1 = 0.495849609375f;
+	const float search_f_4_p2 = 0.978515625f;
+	const float search_f_4_p3 = 0.0242919921875f;
+	float t1 = -search_f_4_p2;
+	float t4 = t1 * LoH + search_f_4_p1;
+	float t6 = fmaxf(t4, search_f_4_p3);
 	float t7 = t4 * t6;
-	float t9 = t4 * t7 + 0.8803711f;
+	float t9 = t4 * t7 + search_f_4_p0;
 	return t9;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00041 in f16, as this half code computes it (either order of its mads), max |error| 0.00122; in f64: rmse 0.000374
+ * fitted error: rmse 0.000409 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00122; in f64: rmse 0.000394
  * parameters baked in:
- *   p0 = 0.8804518
- *   p1 = -0.006576
- *   p2 = 0.520735
- *   p3 = 0.006802
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.880371094
+ *   p1 = -0.00658035278
+ *   p2 = 0.520507812
+ *   p3 = 0.0065574646
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,10 +27,14 @@
 #include <math.h>
 static inline float search_f_5(float LoH, float f0)
 {
-	float t2 = 0.520735f - LoH;
+	const float search_f_5_p0 = 0.88037109375f;
+	const float search_f_5_p1 = (-0.006580352783203125f);
+	const float search_f_5_p2 = 0.5205078125f;
+	const float search_f_5_p3 = 0.006557464599609375f;
+	float t2 = search_f_5_p2 - LoH;
 	float t5 = t2 * f0;
-	float t6 = fmaxf(0.006802f, t5);
-	float t8 = t2 * t6 + (-0.006576f);
-	float t10 = t2 * t8 + 0.8804518f;
+	float t6 = fmaxf(search_f_5_p3, t5);
+	float t8 = t2 * t6 + search_f_5_p1;
+	float t10 = t2 * t8 + search_f_5_p0;
 	return t10;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.00041 in f16, as this half code computes it (either order of its mads), max |error| 0.00122; in f64: rmse 0.000374
+ * fitted error: rmse 0.000409 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00122; in f64: rmse 0.000394
  * parameters baked in:
- *   p0 = 0.8804518
- *   p1 = -0.006576
- *   p2 = 0.520735
- *   p3 = 0.006802
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = 0.880371094
+ *   p1 = -0.00658035278
+ *   p2 = 0.520507812
+ *   p3 = 0.0065574646
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -21,12 +21,16 @@
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-half search_f_5(half LoH, half f0)
+min16float search_f_5(min16float LoH, min16float f0)
 {
-	half t2 = 0.520735 - LoH;
-	half t5 = t2 * f0;
-	half t6 = max(0.006802, t5);
-	half t8 = mad(t2, t6, (-0.006576));
-	half t10 = mad(t2, t8, 0.8804518);
+	const min16float search_f_5_p0 = 0.88037109375;
+	const min16float search_f_5_p1 = (-0.006580352783203125);
+	const min16float search_f_5_p2 = 0.5205078125;
+	const min16float search_f_5_p3 = 0.006557464599609375;
+	min16float t2 = search_f_5_p2 - LoH;
+	min16float t5 = t2 * f0;
+	min16float t6 = max(search_f_5_p3, t5);
+	min16float t8 = mad(t2, t6, search_f_5_p1);
+	min16float t10 = mad(t2, t8, search_f_5_p0);
 	return t10;
 }

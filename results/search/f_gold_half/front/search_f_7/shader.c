@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000306 in f16, as this half code computes it (either order of its mads), max |error| 0.00122; in f64: rmse 0.0003
+ * fitted error: rmse 0.000317 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00122; in f64: rmse 0.000293
  * parameters baked in:
  *   p0 = 0.880371094
- *   p1 = 0.559082031
- *   p2 = -0.0484008789
- *   p3 = 0.218261719
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p1 = 0.55859375
+ *   p2 = -0.0478515625
+ *   p3 = 0.220458984
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,13 +28,17 @@
 #include <math.h>
 static inline float search_f_7(float LoH, float f0)
 {
-	float t2 = 0.55908203f - LoH;
+	const float search_f_7_p0 = 0.88037109375f;
+	const float search_f_7_p1 = 0.55859375f;
+	const float search_f_7_p2 = (-0.0478515625f);
+	const float search_f_7_p3 = 0.220458984375f;
+	float t2 = search_f_7_p1 - LoH;
 	float t4 = -LoH;
-	float t5 = 0.55908203f * f0 + t4;
+	float t5 = search_f_7_p1 * f0 + t4;
 	float t6 = fminf(fmaxf(t5, 0.0f), 1.0f);
-	float t8 = f0 * t6 + (-0.04840088f);
-	float t10 = fmaxf(t2, 0.21826172f);
+	float t8 = f0 * t6 + search_f_7_p2;
+	float t10 = fmaxf(t2, search_f_7_p3);
 	float t11 = t8 * t10;
-	float t13 = t2 * t11 + 0.8803711f;
+	float t13 = t2 * t11 + search_f_7_p0;
 	return t13;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000306 in f16, as this half code computes it (either order of its mads), max |error| 0.00122; in f64: rmse 0.0003
+ * fitted error: rmse 0.000317 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00122; in f64: rmse 0.000293
  * parameters baked in:
  *   p0 = 0.880371094
- *   p1 = 0.559082031
- *   p2 = -0.0484008789
- *   p3 = 0.218261719
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p1 = 0.55859375
+ *   p2 = -0.0478515625
+ *   p3 = 0.220458984
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -24,13 +24,17 @@
  */
 mediump float search_f_7(mediump float LoH, mediump float f0)
 {
-	mediump float t2 = 0.55908203 - LoH;
+	const mediump float search_f_7_p0 = 0.88037109375;
+	const mediump float search_f_7_p1 = 0.55859375;
+	const mediump float search_f_7_p2 = (-0.0478515625);
+	const mediump float search_f_7_p3 = 0.220458984375;
+	mediump float t2 = search_f_7_p1 - LoH;
 	mediump float t4 = -LoH;
-	mediump float t5 = 0.55908203 * f0 + t4;
+	mediump float t5 = search_f_7_p1 * f0 + t4;
 	mediump float t6 = clamp(t5, 0.0, 1.0);
-	mediump float t8 = f0 * t6 + (-0.04840088);
-	mediump float t10 = max(t2, 0.21826172);
+	mediump float t8 = f0 * t6 + search_f_7_p2;
+	mediump float t10 = max(t2, search_f_7_p3);
 	mediump float t11 = t8 * t10;
-	mediump float t13 = t2 * t11 + 0.8803711;
+	mediump float t13 = t2 * t11 + search_f_7_p0;
 	return t13;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000273 in f16, as this half code computes it (either order of its mads), max |error| 0.00122; in f64: rmse 0.000261
+ * fitted error: rmse 0.00028 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00122; in f64: rmse 0.000256
  * parameters baked in:
  *   p0 = 0.879882812
- *   p1 = 0.541503906
- *   p2 = -0.0643310547
- *   p3 = 0.19909668
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p1 = 0.541992188
+ *   p2 = -0.0650634766
+ *   p3 = 0.197143555
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,13 +28,17 @@
 #include <math.h>
 static inline float search_f_8(float LoH, float f0)
 {
-	float t3 = fminf(0.8798828f, LoH);
-	float t4 = 0.5415039f - t3;
-	float t6 = 0.5415039f - LoH;
+	const float search_f_8_p0 = 0.8798828125f;
+	const float search_f_8_p1 = 0.5419921875f;
+	const float search_f_8_p2 = (-0.0650634765625f);
+	const float search_f_8_p3 = 0.1971435546875f;
+	float t3 = fminf(search_f_8_p0, LoH);
+	float t4 = search_f_8_p1 - t3;
+	float t6 = search_f_8_p1 - LoH;
 	float t7 = fminf(fmaxf(t6, 0.0f), 1.0f);
-	float t9 = f0 * t7 + (-0.064331055f);
-	float t11 = fmaxf(t6, 0.19909668f);
+	float t9 = f0 * t7 + search_f_8_p2;
+	float t11 = fmaxf(t6, search_f_8_p3);
 	float t12 = t9 * t11;
-	float t13 = t4 * t12 + 0.8798828f;
+	float t13 = t4 * t12 + search_f_8_p0;
 	return t13;
 }

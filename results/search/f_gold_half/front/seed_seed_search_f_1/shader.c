@@ -7,17 +7,21 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0284 in f16, as this half code computes it (either order of its mads), max |error| 0.102; in f64: rmse 0.0284
+ * fitted error: rmse 0.0284 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.102; in f64: rmse 0.0284
  * parameters baked in:
- *   p0 = 0.89682
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.89682 (0.896972656 in half, as written below)
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_seed_search_f_1(void)
+static inline float seed_seed_search_f_1(float LoH, float f0)
 {
-	return 0.89682f;
+	(void)LoH;
+	(void)f0;
+	const float seed_seed_search_f_1_p0 = 0.89697265625f;
+	return seed_seed_search_f_1_p0;
 }

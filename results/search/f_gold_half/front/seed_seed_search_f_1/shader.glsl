@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.0284 in f16, as this half code computes it (either order of its mads), max |error| 0.102; in f64: rmse 0.0284
+ * fitted error: rmse 0.0284 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.102; in f64: rmse 0.0284
  * parameters baked in:
- *   p0 = 0.89682
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.89682 (0.896972656 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-mediump float seed_seed_search_f_1()
+mediump float seed_seed_search_f_1(mediump float LoH, mediump float f0)
 {
-	return 0.89682;
+	const mediump float seed_seed_search_f_1_p0 = 0.89697265625;
+	return seed_seed_search_f_1_p0;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: f: exact unpolarised Fresnel of index 0.27 + 2.78i (f0 = 0.884384, the input f0 of forms) on LoH in [0, 1] (256 cell centres)
- * fitted error: rmse 0.000221 in f16, as this half code computes it (either order of its mads), max |error| 0.000566; in f64: rmse 0.000153
+ * fitted error: rmse 0.000231 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.000566; in f64: rmse 0.000153
  * parameters baked in:
  *   p0 = 0.877929688
  *   p1 = 0.181396484
  *   p2 = 0.935058594
  *   p3 = 0.993164062
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,16 +27,20 @@
 #include <math.h>
 static inline float seed_seed_search_f_11(float LoH, float f0)
 {
+	const float seed_seed_search_f_11_p0 = 0.8779296875f;
+	const float seed_seed_search_f_11_p1 = 0.181396484375f;
+	const float seed_seed_search_f_11_p2 = 0.93505859375f;
+	const float seed_seed_search_f_11_p3 = 0.9931640625f;
 	float t2 = -LoH;
-	float t4 = t2 * LoH + 0.18139648f;
+	float t4 = t2 * LoH + seed_seed_search_f_11_p1;
 	float t6 = f0 - LoH;
 	float t7 = fmaxf(LoH, t6);
 	float t8 = t4 * t7;
-	float t10 = 0.9350586f - LoH;
+	float t10 = seed_seed_search_f_11_p2 - LoH;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
-	float t15 = LoH + (0.0f - LoH) * 0.99316406f;
+	float t15 = LoH + (0.0f - LoH) * seed_seed_search_f_11_p3;
 	float t16 = t8 * t12 + t15;
-	float t17 = 0.8779297f + t16;
+	float t17 = seed_seed_search_f_11_p0 + t16;
 	return t17;
 }

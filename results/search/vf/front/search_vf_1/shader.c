@@ -18,8 +18,13 @@
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_1(float f0)
+static inline float search_vf_1(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t2 = f0 * 5.976684f;
+	(void)NoL;
+	(void)NoH;
+	(void)LoH;
+	(void)r;
+	const float search_vf_1_p0 = 5.976684f;
+	float t2 = f0 * search_vf_1_p0;
 	return t2;
 }

@@ -20,17 +20,21 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-highp float search_vf_14(highp float NoL, highp float NoH, highp float LoH, highp float a, highp float f0)
+highp float search_vf_14(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_vf_14_p0 = 1.373744e-06;
+	const highp float search_vf_14_p1 = 97306.19;
+	const highp float search_vf_14_p2 = 0.0246468;
 	highp float t3 = NoL * NoL;
 	highp float t9 = NoL * a;
 	highp float t10 = NoH * t9 + NoL;
-	highp float t12 = LoH * t10 + 0.0246468;
+	highp float t12 = LoH * t10 + search_vf_14_p2;
 	highp float t13 = LoH * t12;
 	highp float t14 = LoH * t13;
-	highp float t15 = 97306.19 / t14;
+	highp float t15 = search_vf_14_p1 / t14;
 	highp float t16 = t3 + (1.0 - t3) * t15;
-	highp float t17 = 1.373744e-06 * t16;
+	highp float t17 = search_vf_14_p0 * t16;
 	highp float t18 = f0 * t17;
 	return t18;
 }

@@ -20,17 +20,21 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-float search_vf_14(float NoL, float NoH, float LoH, float a, float f0)
+float search_vf_14(float NoL, float NoH, float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_vf_14_p0 = 1.373744e-06;
+	const float search_vf_14_p1 = 97306.19;
+	const float search_vf_14_p2 = 0.0246468;
 	float t3 = NoL * NoL;
 	float t9 = NoL * a;
 	float t10 = mad(NoH, t9, NoL);
-	float t12 = mad(LoH, t10, 0.0246468);
+	float t12 = mad(LoH, t10, search_vf_14_p2);
 	float t13 = LoH * t12;
 	float t14 = LoH * t13;
-	float t15 = 97306.19 / t14;
+	float t15 = search_vf_14_p1 / t14;
 	float t16 = t3 + (1.0 - t3) * t15;
-	float t17 = 1.373744e-06 * t16;
+	float t17 = search_vf_14_p0 * t16;
 	float t18 = f0 * t17;
 	return t18;
 }

@@ -19,10 +19,14 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_3(float LoH, float f0)
+static inline float search_vf_3(float NoL, float NoH, float LoH, float r, float f0)
 {
+	(void)NoL;
+	(void)NoH;
+	(void)r;
+	const float search_vf_3_p0 = (-37.87033f);
 	float t4 = (-1.0f) + LoH;
-	float t5 = (-37.87033f) * t4;
+	float t5 = search_vf_3_p0 * t4;
 	float t6 = f0 * t5;
 	return t6;
 }

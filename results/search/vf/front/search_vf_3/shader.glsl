@@ -16,10 +16,11 @@
  *   mul 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_vf_3(highp float LoH, highp float f0)
+highp float search_vf_3(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
+	const highp float search_vf_3_p0 = (-37.87033);
 	highp float t4 = (-1.0) + LoH;
-	highp float t5 = (-37.87033) * t4;
+	highp float t5 = search_vf_3_p0 * t4;
 	highp float t6 = f0 * t5;
 	return t6;
 }

@@ -16,10 +16,11 @@
  *   mul 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-float search_vf_3(float LoH, float f0)
+float search_vf_3(float NoL, float NoH, float LoH, float r, float f0)
 {
+	const float search_vf_3_p0 = (-37.87033);
 	float t4 = (-1.0) + LoH;
-	float t5 = (-37.87033) * t4;
+	float t5 = search_vf_3_p0 * t4;
 	float t6 = f0 * t5;
 	return t6;
 }

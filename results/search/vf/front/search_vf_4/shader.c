@@ -23,11 +23,17 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_4(float NoH, float LoH, float f0)
+static inline float search_vf_4(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t6 = (-52746.18f) * LoH + 1659.63f;
-	float t8 = NoH * t6 + 3974.819f;
-	float t9 = fmaxf(2.458618f, t8);
+	(void)NoL;
+	(void)r;
+	const float search_vf_4_p0 = 2.458618f;
+	const float search_vf_4_p1 = 3974.819f;
+	const float search_vf_4_p2 = 1659.63f;
+	const float search_vf_4_p3 = (-52746.18f);
+	float t6 = search_vf_4_p3 * LoH + search_vf_4_p2;
+	float t8 = NoH * t6 + search_vf_4_p1;
+	float t9 = fmaxf(search_vf_4_p0, t8);
 	float t10 = f0 * t9;
 	return t10;
 }

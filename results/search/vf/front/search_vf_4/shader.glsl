@@ -20,11 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_vf_4(highp float NoH, highp float LoH, highp float f0)
+highp float search_vf_4(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
-	highp float t6 = (-52746.18) * LoH + 1659.63;
-	highp float t8 = NoH * t6 + 3974.819;
-	highp float t9 = max(2.458618, t8);
+	const highp float search_vf_4_p0 = 2.458618;
+	const highp float search_vf_4_p1 = 3974.819;
+	const highp float search_vf_4_p2 = 1659.63;
+	const highp float search_vf_4_p3 = (-52746.18);
+	highp float t6 = search_vf_4_p3 * LoH + search_vf_4_p2;
+	highp float t8 = NoH * t6 + search_vf_4_p1;
+	highp float t9 = max(search_vf_4_p0, t8);
 	highp float t10 = f0 * t9;
 	return t10;
 }

@@ -20,11 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_vf_4(float NoH, float LoH, float f0)
+float search_vf_4(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t6 = mad((-52746.18), LoH, 1659.63);
-	float t8 = mad(NoH, t6, 3974.819);
-	float t9 = max(2.458618, t8);
+	const float search_vf_4_p0 = 2.458618;
+	const float search_vf_4_p1 = 3974.819;
+	const float search_vf_4_p2 = 1659.63;
+	const float search_vf_4_p3 = (-52746.18);
+	float t6 = mad(search_vf_4_p3, LoH, search_vf_4_p2);
+	float t8 = mad(NoH, t6, search_vf_4_p1);
+	float t9 = max(search_vf_4_p0, t8);
 	float t10 = f0 * t9;
 	return t10;
 }

@@ -23,12 +23,18 @@
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_6(float NoH, float LoH, float f0)
+static inline float search_vf_6(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t5 = (-497.7133f) * LoH + 145.4725f;
-	float t6 = fmaxf(1.131453f, t5);
-	float t9 = t5 * NoH + (-95.41271f);
-	float t10 = fmaxf(1.131453f, t9);
+	(void)NoL;
+	(void)r;
+	const float search_vf_6_p0 = 1.131453f;
+	const float search_vf_6_p1 = 145.4725f;
+	const float search_vf_6_p2 = (-497.7133f);
+	const float search_vf_6_p3 = (-95.41271f);
+	float t5 = search_vf_6_p2 * LoH + search_vf_6_p1;
+	float t6 = fmaxf(search_vf_6_p0, t5);
+	float t9 = t5 * NoH + search_vf_6_p3;
+	float t10 = fmaxf(search_vf_6_p0, t9);
 	float t11 = t6 * t10;
 	float t12 = f0 * t11;
 	return t12;

@@ -20,12 +20,16 @@
  *   minmax 2
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-highp float search_vf_6(highp float NoH, highp float LoH, highp float f0)
+highp float search_vf_6(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
-	highp float t5 = (-497.7133) * LoH + 145.4725;
-	highp float t6 = max(1.131453, t5);
-	highp float t9 = t5 * NoH + (-95.41271);
-	highp float t10 = max(1.131453, t9);
+	const highp float search_vf_6_p0 = 1.131453;
+	const highp float search_vf_6_p1 = 145.4725;
+	const highp float search_vf_6_p2 = (-497.7133);
+	const highp float search_vf_6_p3 = (-95.41271);
+	highp float t5 = search_vf_6_p2 * LoH + search_vf_6_p1;
+	highp float t6 = max(search_vf_6_p0, t5);
+	highp float t9 = t5 * NoH + search_vf_6_p3;
+	highp float t10 = max(search_vf_6_p0, t9);
 	highp float t11 = t6 * t10;
 	highp float t12 = f0 * t11;
 	return t12;

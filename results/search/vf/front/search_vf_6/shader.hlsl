@@ -20,12 +20,16 @@
  *   minmax 2
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-float search_vf_6(float NoH, float LoH, float f0)
+float search_vf_6(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t5 = mad((-497.7133), LoH, 145.4725);
-	float t6 = max(1.131453, t5);
-	float t9 = mad(t5, NoH, (-95.41271));
-	float t10 = max(1.131453, t9);
+	const float search_vf_6_p0 = 1.131453;
+	const float search_vf_6_p1 = 145.4725;
+	const float search_vf_6_p2 = (-497.7133);
+	const float search_vf_6_p3 = (-95.41271);
+	float t5 = mad(search_vf_6_p2, LoH, search_vf_6_p1);
+	float t6 = max(search_vf_6_p0, t5);
+	float t9 = mad(t5, NoH, search_vf_6_p3);
+	float t10 = max(search_vf_6_p0, t9);
 	float t11 = t6 * t10;
 	float t12 = f0 * t11;
 	return t12;

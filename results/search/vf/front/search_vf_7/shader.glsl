@@ -18,11 +18,13 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-highp float search_vf_7(highp float LoH, highp float f0)
+highp float search_vf_7(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
+	const highp float search_vf_7_p0 = 0.3324843;
+	const highp float search_vf_7_p1 = 3.906052e-05;
 	highp float t3 = LoH * LoH;
-	highp float t5 = LoH * t3 + 3.906052e-05;
-	highp float t6 = 0.3324843 / t5;
+	highp float t5 = LoH * t3 + search_vf_7_p1;
+	highp float t6 = search_vf_7_p0 / t5;
 	highp float t7 = f0 * t6;
 	return t7;
 }

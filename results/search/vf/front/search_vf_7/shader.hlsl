@@ -18,11 +18,13 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-float search_vf_7(float LoH, float f0)
+float search_vf_7(float NoL, float NoH, float LoH, float r, float f0)
 {
+	const float search_vf_7_p0 = 0.3324843;
+	const float search_vf_7_p1 = 3.906052e-05;
 	float t3 = LoH * LoH;
-	float t5 = mad(LoH, t3, 3.906052e-05);
-	float t6 = 0.3324843 / t5;
+	float t5 = mad(LoH, t3, search_vf_7_p1);
+	float t6 = search_vf_7_p0 / t5;
 	float t7 = f0 * t6;
 	return t7;
 }

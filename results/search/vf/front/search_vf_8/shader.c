@@ -22,12 +22,17 @@
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_8(float NoL, float LoH, float f0)
+static inline float search_vf_8(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t5 = LoH * NoL + 0.01978653f;
-	float t7 = LoH * t5 + 1.322993e-05f;
+	(void)NoH;
+	(void)r;
+	const float search_vf_8_p0 = 0.1073372f;
+	const float search_vf_8_p1 = 1.322993e-05f;
+	const float search_vf_8_p2 = 0.01978653f;
+	float t5 = LoH * NoL + search_vf_8_p2;
+	float t7 = LoH * t5 + search_vf_8_p1;
 	float t8 = LoH * t7;
-	float t9 = 0.1073372f / t8;
+	float t9 = search_vf_8_p0 / t8;
 	float t10 = f0 * t9;
 	return t10;
 }

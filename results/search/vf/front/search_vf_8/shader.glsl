@@ -19,12 +19,15 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-highp float search_vf_8(highp float NoL, highp float LoH, highp float f0)
+highp float search_vf_8(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
-	highp float t5 = LoH * NoL + 0.01978653;
-	highp float t7 = LoH * t5 + 1.322993e-05;
+	const highp float search_vf_8_p0 = 0.1073372;
+	const highp float search_vf_8_p1 = 1.322993e-05;
+	const highp float search_vf_8_p2 = 0.01978653;
+	highp float t5 = LoH * NoL + search_vf_8_p2;
+	highp float t7 = LoH * t5 + search_vf_8_p1;
 	highp float t8 = LoH * t7;
-	highp float t9 = 0.1073372 / t8;
+	highp float t9 = search_vf_8_p0 / t8;
 	highp float t10 = f0 * t9;
 	return t10;
 }

@@ -19,12 +19,15 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-float search_vf_8(float NoL, float LoH, float f0)
+float search_vf_8(float NoL, float NoH, float LoH, float r, float f0)
 {
-	float t5 = mad(LoH, NoL, 0.01978653);
-	float t7 = mad(LoH, t5, 1.322993e-05);
+	const float search_vf_8_p0 = 0.1073372;
+	const float search_vf_8_p1 = 1.322993e-05;
+	const float search_vf_8_p2 = 0.01978653;
+	float t5 = mad(LoH, NoL, search_vf_8_p2);
+	float t7 = mad(LoH, t5, search_vf_8_p1);
 	float t8 = LoH * t7;
-	float t9 = 0.1073372 / t8;
+	float t9 = search_vf_8_p0 / t8;
 	float t10 = f0 * t9;
 	return t10;
 }

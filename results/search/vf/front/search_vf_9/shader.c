@@ -21,13 +21,17 @@
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_9(float NoL, float LoH, float a, float f0)
+static inline float search_vf_9(float NoL, float NoH, float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	(void)NoH;
+	const float search_vf_9_p0 = 0.121018f;
+	const float search_vf_9_p1 = 0.02232984f;
 	float t5 = NoL * a + NoL;
-	float t7 = LoH * t5 + 0.02232984f;
+	float t7 = LoH * t5 + search_vf_9_p1;
 	float t8 = LoH * t7;
 	float t9 = LoH * t8;
-	float t10 = 0.121018f / t9;
+	float t10 = search_vf_9_p0 / t9;
 	float t11 = f0 * t10;
 	return t11;
 }

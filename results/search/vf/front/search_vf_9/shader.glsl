@@ -18,13 +18,16 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-highp float search_vf_9(highp float NoL, highp float LoH, highp float a, highp float f0)
+highp float search_vf_9(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_vf_9_p0 = 0.121018;
+	const highp float search_vf_9_p1 = 0.02232984;
 	highp float t5 = NoL * a + NoL;
-	highp float t7 = LoH * t5 + 0.02232984;
+	highp float t7 = LoH * t5 + search_vf_9_p1;
 	highp float t8 = LoH * t7;
 	highp float t9 = LoH * t8;
-	highp float t10 = 0.121018 / t9;
+	highp float t10 = search_vf_9_p0 / t9;
 	highp float t11 = f0 * t10;
 	return t11;
 }

@@ -18,13 +18,16 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-float search_vf_9(float NoL, float LoH, float a, float f0)
+float search_vf_9(float NoL, float NoH, float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_vf_9_p0 = 0.121018;
+	const float search_vf_9_p1 = 0.02232984;
 	float t5 = mad(NoL, a, NoL);
-	float t7 = mad(LoH, t5, 0.02232984);
+	float t7 = mad(LoH, t5, search_vf_9_p1);
 	float t8 = LoH * t7;
 	float t9 = LoH * t8;
-	float t10 = 0.121018 / t9;
+	float t10 = search_vf_9_p0 / t9;
 	float t11 = f0 * t10;
 	return t11;
 }

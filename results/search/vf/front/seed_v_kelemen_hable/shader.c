@@ -21,10 +21,14 @@
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_v_kelemen_hable(float LoH, float a, float f0)
+static inline float seed_v_kelemen_hable(float NoL, float NoH, float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	(void)NoL;
+	(void)NoH;
+	const float seed_v_kelemen_hable_p0 = 0.3190556f;
 	float t2 = LoH * LoH;
-	float t6 = 0.3190556f * a;
+	float t6 = seed_v_kelemen_hable_p0 * a;
 	float t7 = t6 * t6;
 	float t8 = 1.0f - t7;
 	float t9 = t2 * t8 + t7;

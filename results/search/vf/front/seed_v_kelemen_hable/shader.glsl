@@ -18,10 +18,12 @@
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-highp float seed_v_kelemen_hable(highp float LoH, highp float a, highp float f0)
+highp float seed_v_kelemen_hable(highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_v_kelemen_hable_p0 = 0.3190556;
 	highp float t2 = LoH * LoH;
-	highp float t6 = 0.3190556 * a;
+	highp float t6 = seed_v_kelemen_hable_p0 * a;
 	highp float t7 = t6 * t6;
 	highp float t8 = 1.0 - t7;
 	highp float t9 = t2 * t8 + t7;

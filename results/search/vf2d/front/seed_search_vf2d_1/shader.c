@@ -18,8 +18,11 @@
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_1(float f0)
+static inline float seed_search_vf2d_1(float LoH, float r, float f0)
 {
-	float t2 = f0 * 5.7137f;
+	(void)LoH;
+	(void)r;
+	const float seed_search_vf2d_1_p0 = 5.7137f;
+	float t2 = f0 * seed_search_vf2d_1_p0;
 	return t2;
 }

@@ -15,8 +15,9 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_1(highp float f0)
+highp float seed_search_vf2d_1(highp float LoH, highp float r, highp float f0)
 {
-	highp float t2 = f0 * 5.7137;
+	const highp float seed_search_vf2d_1_p0 = 5.7137;
+	highp float t2 = f0 * seed_search_vf2d_1_p0;
 	return t2;
 }

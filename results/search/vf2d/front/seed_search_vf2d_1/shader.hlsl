@@ -15,8 +15,9 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_1(float f0)
+float seed_search_vf2d_1(float LoH, float r, float f0)
 {
-	float t2 = f0 * 5.7137;
+	const float seed_search_vf2d_1_p0 = 5.7137;
+	float t2 = f0 * seed_search_vf2d_1_p0;
 	return t2;
 }

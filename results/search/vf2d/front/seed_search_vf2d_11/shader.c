@@ -25,17 +25,22 @@
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_11(float LoH, float a, float f0)
+static inline float seed_search_vf2d_11(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_11_p0 = 0.1107898f;
+	const float seed_search_vf2d_11_p1 = 0.0781097f;
+	const float seed_search_vf2d_11_p2 = (-0.532419f);
+	const float seed_search_vf2d_11_p3 = 0.886255f;
 	float t5 = -LoH;
 	float t6 = LoH * LoH;
-	float t8 = t5 * t6 + 0.886255f;
+	float t8 = t5 * t6 + seed_search_vf2d_11_p3;
 	float t9 = a * t8;
 	float t10 = fminf(fmaxf(t9, 0.0f), 1.0f);
 	float t11 = 1.0f + t10;
-	float t13 = LoH * t11 + (-0.532419f);
-	float t15 = LoH * t13 + 0.0781097f;
-	float t16 = 0.1107898f / t15;
+	float t13 = LoH * t11 + seed_search_vf2d_11_p2;
+	float t15 = LoH * t13 + seed_search_vf2d_11_p1;
+	float t16 = seed_search_vf2d_11_p0 / t15;
 	float t17 = f0 * t16;
 	return t17;
 }

@@ -22,17 +22,22 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_11(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_11(highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_11_p0 = 0.1107898;
+	const highp float seed_search_vf2d_11_p1 = 0.0781097;
+	const highp float seed_search_vf2d_11_p2 = (-0.532419);
+	const highp float seed_search_vf2d_11_p3 = 0.886255;
 	highp float t5 = -LoH;
 	highp float t6 = LoH * LoH;
-	highp float t8 = t5 * t6 + 0.886255;
+	highp float t8 = t5 * t6 + seed_search_vf2d_11_p3;
 	highp float t9 = a * t8;
 	highp float t10 = clamp(t9, 0.0, 1.0);
 	highp float t11 = 1.0 + t10;
-	highp float t13 = LoH * t11 + (-0.532419);
-	highp float t15 = LoH * t13 + 0.0781097;
-	highp float t16 = 0.1107898 / t15;
+	highp float t13 = LoH * t11 + seed_search_vf2d_11_p2;
+	highp float t15 = LoH * t13 + seed_search_vf2d_11_p1;
+	highp float t16 = seed_search_vf2d_11_p0 / t15;
 	highp float t17 = f0 * t16;
 	return t17;
 }

@@ -22,17 +22,22 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_11(float LoH, float a, float f0)
+float seed_search_vf2d_11(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_11_p0 = 0.1107898;
+	const float seed_search_vf2d_11_p1 = 0.0781097;
+	const float seed_search_vf2d_11_p2 = (-0.532419);
+	const float seed_search_vf2d_11_p3 = 0.886255;
 	float t5 = -LoH;
 	float t6 = LoH * LoH;
-	float t8 = mad(t5, t6, 0.886255);
+	float t8 = mad(t5, t6, seed_search_vf2d_11_p3);
 	float t9 = a * t8;
 	float t10 = saturate(t9);
 	float t11 = 1.0 + t10;
-	float t13 = mad(LoH, t11, (-0.532419));
-	float t15 = mad(LoH, t13, 0.0781097);
-	float t16 = 0.1107898 / t15;
+	float t13 = mad(LoH, t11, seed_search_vf2d_11_p2);
+	float t15 = mad(LoH, t13, seed_search_vf2d_11_p1);
+	float t16 = seed_search_vf2d_11_p0 / t15;
 	float t17 = f0 * t16;
 	return t17;
 }

@@ -24,16 +24,21 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_12(float LoH, float a, float f0)
+static inline float seed_search_vf2d_12(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_12_p0 = 0.2651592f;
+	const float seed_search_vf2d_12_p1 = 1.0712298f;
+	const float seed_search_vf2d_12_p2 = 5.64901f;
+	const float seed_search_vf2d_12_p3 = (-12.48515f);
 	float t4 = -LoH;
-	float t9 = (-12.48515f) * a + 1.4142135f;
-	float t11 = LoH * t9 + 5.64901f;
+	float t9 = seed_search_vf2d_12_p3 * a + 1.4142135f;
+	float t11 = LoH * t9 + seed_search_vf2d_12_p2;
 	float t12 = 1.0f + (LoH - 1.0f) * t11;
 	float t13 = LoH * t12;
-	float t14 = t4 * t13 + 1.0712298f;
-	float t15 = 1.0712298f + (LoH - 1.0712298f) * t14;
-	float t16 = 0.2651592f / t15;
+	float t14 = t4 * t13 + seed_search_vf2d_12_p1;
+	float t15 = seed_search_vf2d_12_p1 + (LoH - seed_search_vf2d_12_p1) * t14;
+	float t16 = seed_search_vf2d_12_p0 / t15;
 	float t17 = f0 * t16;
 	return t17;
 }

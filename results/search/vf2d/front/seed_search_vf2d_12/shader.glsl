@@ -21,16 +21,21 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_12(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_12(highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_12_p0 = 0.2651592;
+	const highp float seed_search_vf2d_12_p1 = 1.0712298;
+	const highp float seed_search_vf2d_12_p2 = 5.64901;
+	const highp float seed_search_vf2d_12_p3 = (-12.48515);
 	highp float t4 = -LoH;
-	highp float t9 = (-12.48515) * a + 1.4142135;
-	highp float t11 = LoH * t9 + 5.64901;
+	highp float t9 = seed_search_vf2d_12_p3 * a + 1.4142135;
+	highp float t11 = LoH * t9 + seed_search_vf2d_12_p2;
 	highp float t12 = 1.0 + (LoH - 1.0) * t11;
 	highp float t13 = LoH * t12;
-	highp float t14 = t4 * t13 + 1.0712298;
-	highp float t15 = 1.0712298 + (LoH - 1.0712298) * t14;
-	highp float t16 = 0.2651592 / t15;
+	highp float t14 = t4 * t13 + seed_search_vf2d_12_p1;
+	highp float t15 = seed_search_vf2d_12_p1 + (LoH - seed_search_vf2d_12_p1) * t14;
+	highp float t16 = seed_search_vf2d_12_p0 / t15;
 	highp float t17 = f0 * t16;
 	return t17;
 }

@@ -21,16 +21,21 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_12(float LoH, float a, float f0)
+float seed_search_vf2d_12(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_12_p0 = 0.2651592;
+	const float seed_search_vf2d_12_p1 = 1.0712298;
+	const float seed_search_vf2d_12_p2 = 5.64901;
+	const float seed_search_vf2d_12_p3 = (-12.48515);
 	float t4 = -LoH;
-	float t9 = mad((-12.48515), a, 1.4142135);
-	float t11 = mad(LoH, t9, 5.64901);
+	float t9 = mad(seed_search_vf2d_12_p3, a, 1.4142135);
+	float t11 = mad(LoH, t9, seed_search_vf2d_12_p2);
 	float t12 = 1.0 + (LoH - 1.0) * t11;
 	float t13 = LoH * t12;
-	float t14 = mad(t4, t13, 1.0712298);
-	float t15 = 1.0712298 + (LoH - 1.0712298) * t14;
-	float t16 = 0.2651592 / t15;
+	float t14 = mad(t4, t13, seed_search_vf2d_12_p1);
+	float t15 = seed_search_vf2d_12_p1 + (LoH - seed_search_vf2d_12_p1) * t14;
+	float t16 = seed_search_vf2d_12_p0 / t15;
 	float t17 = f0 * t16;
 	return t17;
 }

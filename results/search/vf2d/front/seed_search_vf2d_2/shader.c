@@ -19,10 +19,12 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_2(float LoH, float f0)
+static inline float seed_search_vf2d_2(float LoH, float r, float f0)
 {
+	(void)r;
+	const float seed_search_vf2d_2_p0 = (-9.1071f);
 	float t4 = (-1.0f) + LoH;
-	float t5 = (-9.1071f) * t4;
+	float t5 = seed_search_vf2d_2_p0 * t4;
 	float t6 = f0 * t5;
 	return t6;
 }

@@ -16,10 +16,11 @@
  *   mul 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_2(highp float LoH, highp float f0)
+highp float seed_search_vf2d_2(highp float LoH, highp float r, highp float f0)
 {
+	const highp float seed_search_vf2d_2_p0 = (-9.1071);
 	highp float t4 = (-1.0) + LoH;
-	highp float t5 = (-9.1071) * t4;
+	highp float t5 = seed_search_vf2d_2_p0 * t4;
 	highp float t6 = f0 * t5;
 	return t6;
 }

@@ -16,10 +16,11 @@
  *   mul 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_2(float LoH, float f0)
+float seed_search_vf2d_2(float LoH, float r, float f0)
 {
+	const float seed_search_vf2d_2_p0 = (-9.1071);
 	float t4 = (-1.0) + LoH;
-	float t5 = (-9.1071) * t4;
+	float t5 = seed_search_vf2d_2_p0 * t4;
 	float t6 = f0 * t5;
 	return t6;
 }

@@ -25,10 +25,14 @@
 #include <math.h>
 static inline float seed_search_vf2d_3(float LoH, float r, float f0)
 {
-	float t2 = -11.2664f;
-	float t7 = 4.9784f * LoH + r;
-	float t8 = fminf(2.40536f, t7);
-	float t10 = t2 * t8 + 28.1863f;
+	const float seed_search_vf2d_3_p0 = 28.1863f;
+	const float seed_search_vf2d_3_p1 = 11.2664f;
+	const float seed_search_vf2d_3_p2 = 2.40536f;
+	const float seed_search_vf2d_3_p3 = 4.9784f;
+	float t2 = -seed_search_vf2d_3_p1;
+	float t7 = seed_search_vf2d_3_p3 * LoH + r;
+	float t8 = fminf(seed_search_vf2d_3_p2, t7);
+	float t10 = t2 * t8 + seed_search_vf2d_3_p0;
 	float t11 = f0 * t10;
 	return t11;
 }

@@ -22,10 +22,14 @@
  */
 highp float seed_search_vf2d_3(highp float LoH, highp float r, highp float f0)
 {
-	highp float t2 = -11.2664;
-	highp float t7 = 4.9784 * LoH + r;
-	highp float t8 = min(2.40536, t7);
-	highp float t10 = t2 * t8 + 28.1863;
+	const highp float seed_search_vf2d_3_p0 = 28.1863;
+	const highp float seed_search_vf2d_3_p1 = 11.2664;
+	const highp float seed_search_vf2d_3_p2 = 2.40536;
+	const highp float seed_search_vf2d_3_p3 = 4.9784;
+	highp float t2 = -seed_search_vf2d_3_p1;
+	highp float t7 = seed_search_vf2d_3_p3 * LoH + r;
+	highp float t8 = min(seed_search_vf2d_3_p2, t7);
+	highp float t10 = t2 * t8 + seed_search_vf2d_3_p0;
 	highp float t11 = f0 * t10;
 	return t11;
 }

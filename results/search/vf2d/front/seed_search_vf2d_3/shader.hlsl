@@ -22,10 +22,14 @@
  */
 float seed_search_vf2d_3(float LoH, float r, float f0)
 {
-	float t2 = -11.2664;
-	float t7 = mad(4.9784, LoH, r);
-	float t8 = min(2.40536, t7);
-	float t10 = mad(t2, t8, 28.1863);
+	const float seed_search_vf2d_3_p0 = 28.1863;
+	const float seed_search_vf2d_3_p1 = 11.2664;
+	const float seed_search_vf2d_3_p2 = 2.40536;
+	const float seed_search_vf2d_3_p3 = 4.9784;
+	float t2 = -seed_search_vf2d_3_p1;
+	float t7 = mad(seed_search_vf2d_3_p3, LoH, r);
+	float t8 = min(seed_search_vf2d_3_p2, t7);
+	float t10 = mad(t2, t8, seed_search_vf2d_3_p0);
 	float t11 = f0 * t10;
 	return t11;
 }

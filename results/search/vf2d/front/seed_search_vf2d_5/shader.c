@@ -25,10 +25,14 @@
 #include <math.h>
 static inline float seed_search_vf2d_5(float LoH, float r, float f0)
 {
-	float t2 = -0.80361f;
-	float t7 = 5.0034f * LoH + r;
-	float t8 = fminf(2.74869f, t7);
-	float t10 = t2 * t8 + 3.11381f;
+	const float seed_search_vf2d_5_p0 = 3.11381f;
+	const float seed_search_vf2d_5_p1 = 0.80361f;
+	const float seed_search_vf2d_5_p2 = 2.74869f;
+	const float seed_search_vf2d_5_p3 = 5.0034f;
+	float t2 = -seed_search_vf2d_5_p1;
+	float t7 = seed_search_vf2d_5_p3 * LoH + r;
+	float t8 = fminf(seed_search_vf2d_5_p2, t7);
+	float t10 = t2 * t8 + seed_search_vf2d_5_p0;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
 	float t13 = f0 * t12;

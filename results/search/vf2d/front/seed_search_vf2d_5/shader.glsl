@@ -22,10 +22,14 @@
  */
 highp float seed_search_vf2d_5(highp float LoH, highp float r, highp float f0)
 {
-	highp float t2 = -0.80361;
-	highp float t7 = 5.0034 * LoH + r;
-	highp float t8 = min(2.74869, t7);
-	highp float t10 = t2 * t8 + 3.11381;
+	const highp float seed_search_vf2d_5_p0 = 3.11381;
+	const highp float seed_search_vf2d_5_p1 = 0.80361;
+	const highp float seed_search_vf2d_5_p2 = 2.74869;
+	const highp float seed_search_vf2d_5_p3 = 5.0034;
+	highp float t2 = -seed_search_vf2d_5_p1;
+	highp float t7 = seed_search_vf2d_5_p3 * LoH + r;
+	highp float t8 = min(seed_search_vf2d_5_p2, t7);
+	highp float t10 = t2 * t8 + seed_search_vf2d_5_p0;
 	highp float t11 = t10 * t10;
 	highp float t12 = t11 * t11;
 	highp float t13 = f0 * t12;

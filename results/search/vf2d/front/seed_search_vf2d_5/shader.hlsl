@@ -22,10 +22,14 @@
  */
 float seed_search_vf2d_5(float LoH, float r, float f0)
 {
-	float t2 = -0.80361;
-	float t7 = mad(5.0034, LoH, r);
-	float t8 = min(2.74869, t7);
-	float t10 = mad(t2, t8, 3.11381);
+	const float seed_search_vf2d_5_p0 = 3.11381;
+	const float seed_search_vf2d_5_p1 = 0.80361;
+	const float seed_search_vf2d_5_p2 = 2.74869;
+	const float seed_search_vf2d_5_p3 = 5.0034;
+	float t2 = -seed_search_vf2d_5_p1;
+	float t7 = mad(seed_search_vf2d_5_p3, LoH, r);
+	float t8 = min(seed_search_vf2d_5_p2, t7);
+	float t10 = mad(t2, t8, seed_search_vf2d_5_p0);
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
 	float t13 = f0 * t12;

@@ -22,12 +22,16 @@
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_6(float LoH, float a, float f0)
+static inline float seed_search_vf2d_6(float LoH, float r, float f0)
 {
-	float t4 = -(-1.08432f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_6_p0 = 0.401942f;
+	const float seed_search_vf2d_6_p1 = (-0.0667653f);
+	const float seed_search_vf2d_6_p2 = (-1.08432f);
+	float t4 = -seed_search_vf2d_6_p2;
 	float t6 = t4 * a + LoH;
-	float t8 = LoH * t6 + (-0.0667653f);
-	float t9 = 0.401942f / t8;
+	float t8 = LoH * t6 + seed_search_vf2d_6_p1;
+	float t9 = seed_search_vf2d_6_p0 / t8;
 	float t10 = f0 * t9;
 	return t10;
 }

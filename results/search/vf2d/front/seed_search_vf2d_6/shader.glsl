@@ -19,12 +19,16 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_6(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_6(highp float LoH, highp float r, highp float f0)
 {
-	highp float t4 = -(-1.08432);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_6_p0 = 0.401942;
+	const highp float seed_search_vf2d_6_p1 = (-0.0667653);
+	const highp float seed_search_vf2d_6_p2 = (-1.08432);
+	highp float t4 = -seed_search_vf2d_6_p2;
 	highp float t6 = t4 * a + LoH;
-	highp float t8 = LoH * t6 + (-0.0667653);
-	highp float t9 = 0.401942 / t8;
+	highp float t8 = LoH * t6 + seed_search_vf2d_6_p1;
+	highp float t9 = seed_search_vf2d_6_p0 / t8;
 	highp float t10 = f0 * t9;
 	return t10;
 }

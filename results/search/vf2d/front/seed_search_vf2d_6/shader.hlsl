@@ -19,12 +19,16 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_6(float LoH, float a, float f0)
+float seed_search_vf2d_6(float LoH, float r, float f0)
 {
-	float t4 = -(-1.08432);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_6_p0 = 0.401942;
+	const float seed_search_vf2d_6_p1 = (-0.0667653);
+	const float seed_search_vf2d_6_p2 = (-1.08432);
+	float t4 = -seed_search_vf2d_6_p2;
 	float t6 = mad(t4, a, LoH);
-	float t8 = mad(LoH, t6, (-0.0667653));
-	float t9 = 0.401942 / t8;
+	float t8 = mad(LoH, t6, seed_search_vf2d_6_p1);
+	float t9 = seed_search_vf2d_6_p0 / t8;
 	float t10 = f0 * t9;
 	return t10;
 }

@@ -21,13 +21,18 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_7(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_7(highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_7_p0 = 0.384631;
+	const highp float seed_search_vf2d_7_p1 = 0.292706;
+	const highp float seed_search_vf2d_7_p2 = 1.98325;
+	const highp float seed_search_vf2d_7_p3 = 3.68036;
 	highp float t4 = -LoH;
-	highp float t7 = t4 * 3.68036 + 1.98325;
+	highp float t7 = t4 * seed_search_vf2d_7_p3 + seed_search_vf2d_7_p2;
 	highp float t8 = a - t7;
-	highp float t10 = LoH * t8 + 0.292706;
-	highp float t11 = 0.384631 / t10;
+	highp float t10 = LoH * t8 + seed_search_vf2d_7_p1;
+	highp float t11 = seed_search_vf2d_7_p0 / t10;
 	highp float t12 = f0 * t11;
 	return t12;
 }

@@ -21,13 +21,18 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_7(float LoH, float a, float f0)
+float seed_search_vf2d_7(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_7_p0 = 0.384631;
+	const float seed_search_vf2d_7_p1 = 0.292706;
+	const float seed_search_vf2d_7_p2 = 1.98325;
+	const float seed_search_vf2d_7_p3 = 3.68036;
 	float t4 = -LoH;
-	float t7 = mad(t4, 3.68036, 1.98325);
+	float t7 = mad(t4, seed_search_vf2d_7_p3, seed_search_vf2d_7_p2);
 	float t8 = a - t7;
-	float t10 = mad(LoH, t8, 0.292706);
-	float t11 = 0.384631 / t10;
+	float t10 = mad(LoH, t8, seed_search_vf2d_7_p1);
+	float t11 = seed_search_vf2d_7_p0 / t10;
 	float t12 = f0 * t11;
 	return t12;
 }

@@ -23,14 +23,19 @@
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_8(float LoH, float a, float f0)
+static inline float seed_search_vf2d_8(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_8_p0 = 0.1149647f;
+	const float seed_search_vf2d_8_p1 = 0.081051f;
+	const float seed_search_vf2d_8_p2 = (-0.552471f);
+	const float seed_search_vf2d_8_p3 = 1.037671f;
 	float t4 = -LoH;
 	float t6 = t4 * LoH + 1.0f;
-	float t8 = a * t6 + 1.037671f;
-	float t10 = LoH * t8 + (-0.552471f);
-	float t12 = LoH * t10 + 0.081051f;
-	float t13 = 0.1149647f / t12;
+	float t8 = a * t6 + seed_search_vf2d_8_p3;
+	float t10 = LoH * t8 + seed_search_vf2d_8_p2;
+	float t12 = LoH * t10 + seed_search_vf2d_8_p1;
+	float t13 = seed_search_vf2d_8_p0 / t12;
 	float t14 = f0 * t13;
 	return t14;
 }

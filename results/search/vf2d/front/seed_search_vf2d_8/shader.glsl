@@ -20,14 +20,19 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_8(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_8(highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_8_p0 = 0.1149647;
+	const highp float seed_search_vf2d_8_p1 = 0.081051;
+	const highp float seed_search_vf2d_8_p2 = (-0.552471);
+	const highp float seed_search_vf2d_8_p3 = 1.037671;
 	highp float t4 = -LoH;
 	highp float t6 = t4 * LoH + 1.0;
-	highp float t8 = a * t6 + 1.037671;
-	highp float t10 = LoH * t8 + (-0.552471);
-	highp float t12 = LoH * t10 + 0.081051;
-	highp float t13 = 0.1149647 / t12;
+	highp float t8 = a * t6 + seed_search_vf2d_8_p3;
+	highp float t10 = LoH * t8 + seed_search_vf2d_8_p2;
+	highp float t12 = LoH * t10 + seed_search_vf2d_8_p1;
+	highp float t13 = seed_search_vf2d_8_p0 / t12;
 	highp float t14 = f0 * t13;
 	return t14;
 }

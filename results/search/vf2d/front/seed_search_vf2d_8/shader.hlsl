@@ -20,14 +20,19 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_8(float LoH, float a, float f0)
+float seed_search_vf2d_8(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_8_p0 = 0.1149647;
+	const float seed_search_vf2d_8_p1 = 0.081051;
+	const float seed_search_vf2d_8_p2 = (-0.552471);
+	const float seed_search_vf2d_8_p3 = 1.037671;
 	float t4 = -LoH;
 	float t6 = mad(t4, LoH, 1.0);
-	float t8 = mad(a, t6, 1.037671);
-	float t10 = mad(LoH, t8, (-0.552471));
-	float t12 = mad(LoH, t10, 0.081051);
-	float t13 = 0.1149647 / t12;
+	float t8 = mad(a, t6, seed_search_vf2d_8_p3);
+	float t10 = mad(LoH, t8, seed_search_vf2d_8_p2);
+	float t12 = mad(LoH, t10, seed_search_vf2d_8_p1);
+	float t13 = seed_search_vf2d_8_p0 / t12;
 	float t14 = f0 * t13;
 	return t14;
 }

@@ -23,15 +23,20 @@
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_vf2d_9(float LoH, float a, float f0)
+static inline float seed_search_vf2d_9(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_9_p0 = 0.0574824f;
+	const float seed_search_vf2d_9_p1 = 0.081051f;
+	const float seed_search_vf2d_9_p2 = (-0.552471f);
+	const float seed_search_vf2d_9_p3 = 1.037671f;
 	float t5 = -LoH;
 	float t7 = t5 * LoH + 1.0f;
-	float t9 = a * t7 + 1.037671f;
-	float t11 = LoH * t9 + (-0.552471f);
-	float t13 = LoH * t11 + 0.081051f;
+	float t9 = a * t7 + seed_search_vf2d_9_p3;
+	float t11 = LoH * t9 + seed_search_vf2d_9_p2;
+	float t13 = LoH * t11 + seed_search_vf2d_9_p1;
 	float t14 = 2.0f / t13;
-	float t15 = 0.0574824f * t14;
+	float t15 = seed_search_vf2d_9_p0 * t14;
 	float t16 = f0 * t15;
 	return t16;
 }

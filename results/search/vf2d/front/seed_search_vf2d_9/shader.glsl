@@ -20,15 +20,20 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-highp float seed_search_vf2d_9(highp float LoH, highp float a, highp float f0)
+highp float seed_search_vf2d_9(highp float LoH, highp float r, highp float f0)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float seed_search_vf2d_9_p0 = 0.0574824;
+	const highp float seed_search_vf2d_9_p1 = 0.081051;
+	const highp float seed_search_vf2d_9_p2 = (-0.552471);
+	const highp float seed_search_vf2d_9_p3 = 1.037671;
 	highp float t5 = -LoH;
 	highp float t7 = t5 * LoH + 1.0;
-	highp float t9 = a * t7 + 1.037671;
-	highp float t11 = LoH * t9 + (-0.552471);
-	highp float t13 = LoH * t11 + 0.081051;
+	highp float t9 = a * t7 + seed_search_vf2d_9_p3;
+	highp float t11 = LoH * t9 + seed_search_vf2d_9_p2;
+	highp float t13 = LoH * t11 + seed_search_vf2d_9_p1;
 	highp float t14 = 2.0 / t13;
-	highp float t15 = 0.0574824 * t14;
+	highp float t15 = seed_search_vf2d_9_p0 * t14;
 	highp float t16 = f0 * t15;
 	return t16;
 }

@@ -20,15 +20,20 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-float seed_search_vf2d_9(float LoH, float a, float f0)
+float seed_search_vf2d_9(float LoH, float r, float f0)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_vf2d_9_p0 = 0.0574824;
+	const float seed_search_vf2d_9_p1 = 0.081051;
+	const float seed_search_vf2d_9_p2 = (-0.552471);
+	const float seed_search_vf2d_9_p3 = 1.037671;
 	float t5 = -LoH;
 	float t7 = mad(t5, LoH, 1.0);
-	float t9 = mad(a, t7, 1.037671);
-	float t11 = mad(LoH, t9, (-0.552471));
-	float t13 = mad(LoH, t11, 0.081051);
+	float t9 = mad(a, t7, seed_search_vf2d_9_p3);
+	float t11 = mad(LoH, t9, seed_search_vf2d_9_p2);
+	float t13 = mad(LoH, t11, seed_search_vf2d_9_p1);
 	float t14 = 2.0 / t13;
-	float t15 = 0.0574824 * t14;
+	float t15 = seed_search_vf2d_9_p0 * t14;
 	float t16 = f0 * t15;
 	return t16;
 }

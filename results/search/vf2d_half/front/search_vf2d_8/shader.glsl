@@ -7,26 +7,30 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.00574 in f16, as this half code computes it (either order of its mads), max |error| 0.00574; in f64: rmse 0.00141
+ * fitted error: max_abs 0.00574 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00574; in f64: rmse 0.00141
  * parameters baked in:
  *   p0 = 0.112731934
  *   p1 = 0.0772705078
  *   p2 = -0.529296875
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 4
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-mediump float search_vf2d_8(mediump float LoH, mediump float a, mediump float f0)
+mediump float search_vf2d_8(mediump float LoH, mediump float r, mediump float f0)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float search_vf2d_8_p0 = 0.11273193359375;
+	const mediump float search_vf2d_8_p1 = 0.0772705078125;
+	const mediump float search_vf2d_8_p2 = (-0.529296875);
 	mediump float t4 = -LoH;
 	mediump float t6 = t4 * LoH + 1.0;
 	mediump float t7 = a * t6 + 1.0;
-	mediump float t9 = LoH * t7 + (-0.5292969);
-	mediump float t11 = LoH * t9 + 0.07727051;
-	mediump float t12 = 0.11273193 / t11;
+	mediump float t9 = LoH * t7 + search_vf2d_8_p2;
+	mediump float t11 = LoH * t9 + search_vf2d_8_p1;
+	mediump float t12 = search_vf2d_8_p0 / t11;
 	mediump float t13 = f0 * t12;
 	return t13;
 }

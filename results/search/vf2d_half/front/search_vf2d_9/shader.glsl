@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.00549 in f16, as this half code computes it (either order of its mads), max |error| 0.00549; in f64: rmse 0.00137
+ * fitted error: max_abs 0.00549 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00549; in f64: rmse 0.00137
  * parameters baked in:
  *   p0 = 0.11151123
  *   p1 = 0.078125
  *   p2 = -0.51953125
  *   p3 = -0.012802124
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -21,15 +21,20 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-mediump float search_vf2d_9(mediump float LoH, mediump float a, mediump float f0)
+mediump float search_vf2d_9(mediump float LoH, mediump float r, mediump float f0)
 {
-	mediump float t4 = LoH + (-0.012802124);
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float search_vf2d_9_p0 = 0.11151123046875;
+	const mediump float search_vf2d_9_p1 = 0.078125;
+	const mediump float search_vf2d_9_p2 = (-0.51953125);
+	const mediump float search_vf2d_9_p3 = (-0.0128021240234375);
+	mediump float t4 = LoH + search_vf2d_9_p3;
 	mediump float t6 = -LoH;
 	mediump float t8 = t6 * LoH + 1.0;
 	mediump float t9 = a * t8 + 1.0;
-	mediump float t11 = t4 * t9 + (-0.51953125);
-	mediump float t13 = LoH * t11 + 0.078125;
-	mediump float t14 = 0.11151123 / t13;
+	mediump float t11 = t4 * t9 + search_vf2d_9_p2;
+	mediump float t13 = LoH * t11 + search_vf2d_9_p1;
+	mediump float t14 = search_vf2d_9_p0 / t13;
 	mediump float t15 = f0 * t14;
 	return t15;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.00549 in f16, as this half code computes it (either order of its mads), max |error| 0.00549; in f64: rmse 0.00137
+ * fitted error: max_abs 0.00549 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00549; in f64: rmse 0.00137
  * parameters baked in:
  *   p0 = 0.11151123
  *   p1 = 0.078125
  *   p2 = -0.51953125
  *   p3 = -0.012802124
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -21,15 +21,20 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-half search_vf2d_9(half LoH, half a, half f0)
+min16float search_vf2d_9(min16float LoH, min16float r, min16float f0)
 {
-	half t4 = LoH + (-0.012802124);
-	half t6 = -LoH;
-	half t8 = mad(t6, LoH, 1.0);
-	half t9 = mad(a, t8, 1.0);
-	half t11 = mad(t4, t9, (-0.51953125));
-	half t13 = mad(LoH, t11, 0.078125);
-	half t14 = 0.11151123 / t13;
-	half t15 = f0 * t14;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float search_vf2d_9_p0 = 0.11151123046875;
+	const min16float search_vf2d_9_p1 = 0.078125;
+	const min16float search_vf2d_9_p2 = (-0.51953125);
+	const min16float search_vf2d_9_p3 = (-0.0128021240234375);
+	min16float t4 = LoH + search_vf2d_9_p3;
+	min16float t6 = -LoH;
+	min16float t8 = mad(t6, LoH, 1.0);
+	min16float t9 = mad(a, t8, 1.0);
+	min16float t11 = mad(t4, t9, search_vf2d_9_p2);
+	min16float t13 = mad(LoH, t11, search_vf2d_9_p1);
+	min16float t14 = search_vf2d_9_p0 / t13;
+	min16float t15 = f0 * t14;
 	return t15;
 }

@@ -7,16 +7,17 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.221 in f16, as this half code computes it (either order of its mads), max |error| 0.221; in f64: rmse 0.199
+ * fitted error: max_abs 0.221 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.221; in f64: rmse 0.199
  * parameters baked in:
  *   p0 = 5.765625
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-mediump float seed_seed_search_vf2d_1(mediump float f0)
+mediump float seed_seed_search_vf2d_1(mediump float LoH, mediump float r, mediump float f0)
 {
-	mediump float t2 = f0 * 5.765625;
+	const mediump float seed_seed_search_vf2d_1_p0 = 5.765625;
+	mediump float t2 = f0 * seed_seed_search_vf2d_1_p0;
 	return t2;
 }

@@ -7,10 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.203 in f16, as this half code computes it (either order of its mads), max |error| 0.203; in f64: rmse 0.103
+ * fitted error: max_abs 0.203 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.203; in f64: rmse 0.103
  * parameters baked in:
  *   p0 = -9.1015625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -19,10 +20,12 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_seed_search_vf2d_2(float LoH, float f0)
+static inline float seed_seed_search_vf2d_2(float LoH, float r, float f0)
 {
+	(void)r;
+	const float seed_seed_search_vf2d_2_p0 = (-9.1015625f);
 	float t4 = (-1.0f) + LoH;
-	float t5 = (-9.1015625f) * t4;
+	float t5 = seed_seed_search_vf2d_2_p0 * t4;
 	float t6 = f0 * t5;
 	return t6;
 }

@@ -7,19 +7,20 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.203 in f16, as this half code computes it (either order of its mads), max |error| 0.203; in f64: rmse 0.103
+ * fitted error: max_abs 0.203 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.203; in f64: rmse 0.103
  * parameters baked in:
  *   p0 = -9.1015625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-half seed_seed_search_vf2d_2(half LoH, half f0)
+min16float seed_seed_search_vf2d_2(min16float LoH, min16float r, min16float f0)
 {
-	half t4 = (-1.0) + LoH;
-	half t5 = (-9.1015625) * t4;
-	half t6 = f0 * t5;
+	const min16float seed_seed_search_vf2d_2_p0 = (-9.1015625);
+	min16float t4 = (-1.0) + LoH;
+	min16float t5 = seed_seed_search_vf2d_2_p0 * t4;
+	min16float t6 = f0 * t5;
 	return t6;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.053 in f16, as this half code computes it (either order of its mads), max |error| 0.053; in f64: rmse 0.0316
+ * fitted error: max_abs 0.053 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.053; in f64: rmse 0.0323
  * parameters baked in:
  *   p0 = 28.25
  *   p1 = 11.2734375
- *   p2 = 2.39257812
+ *   p2 = 2.390625
  *   p3 = 4.9921875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,10 +26,14 @@
 #include <math.h>
 static inline float seed_seed_search_vf2d_3(float LoH, float r, float f0)
 {
-	float t2 = -11.2734375f;
-	float t7 = 4.9921875f * LoH + r;
-	float t8 = fminf(2.3925781f, t7);
-	float t10 = t2 * t8 + 28.25f;
+	const float seed_seed_search_vf2d_3_p0 = 28.25f;
+	const float seed_seed_search_vf2d_3_p1 = 11.2734375f;
+	const float seed_seed_search_vf2d_3_p2 = 2.390625f;
+	const float seed_seed_search_vf2d_3_p3 = 4.9921875f;
+	float t2 = -seed_seed_search_vf2d_3_p1;
+	float t7 = seed_seed_search_vf2d_3_p3 * LoH + r;
+	float t8 = fminf(seed_seed_search_vf2d_3_p2, t7);
+	float t10 = t2 * t8 + seed_seed_search_vf2d_3_p0;
 	float t11 = f0 * t10;
 	return t11;
 }

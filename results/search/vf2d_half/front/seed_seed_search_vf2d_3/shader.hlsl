@@ -7,25 +7,29 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.053 in f16, as this half code computes it (either order of its mads), max |error| 0.053; in f64: rmse 0.0316
+ * fitted error: max_abs 0.053 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.053; in f64: rmse 0.0323
  * parameters baked in:
  *   p0 = 28.25
  *   p1 = 11.2734375
- *   p2 = 2.39257812
+ *   p2 = 2.390625
  *   p3 = 4.9921875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-half seed_seed_search_vf2d_3(half LoH, half r, half f0)
+min16float seed_seed_search_vf2d_3(min16float LoH, min16float r, min16float f0)
 {
-	half t2 = -11.2734375;
-	half t7 = mad(4.9921875, LoH, r);
-	half t8 = min(2.3925781, t7);
-	half t10 = mad(t2, t8, 28.25);
-	half t11 = f0 * t10;
+	const min16float seed_seed_search_vf2d_3_p0 = 28.25;
+	const min16float seed_seed_search_vf2d_3_p1 = 11.2734375;
+	const min16float seed_seed_search_vf2d_3_p2 = 2.390625;
+	const min16float seed_seed_search_vf2d_3_p3 = 4.9921875;
+	min16float t2 = -seed_seed_search_vf2d_3_p1;
+	min16float t7 = mad(seed_seed_search_vf2d_3_p3, LoH, r);
+	min16float t8 = min(seed_seed_search_vf2d_3_p2, t7);
+	min16float t10 = mad(t2, t8, seed_seed_search_vf2d_3_p0);
+	min16float t11 = f0 * t10;
 	return t11;
 }

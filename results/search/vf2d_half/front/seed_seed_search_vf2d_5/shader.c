@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.033 in f16, as this half code computes it (either order of its mads), max |error| 0.033; in f64: rmse 0.0141
+ * fitted error: max_abs 0.033 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.033; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 3.11523438
  *   p1 = 0.803222656
  *   p2 = 2.74804688
  *   p3 = 5.00390625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,10 +26,14 @@
 #include <math.h>
 static inline float seed_seed_search_vf2d_5(float LoH, float r, float f0)
 {
-	float t2 = -0.80322266f;
-	float t7 = 5.0039062f * LoH + r;
-	float t8 = fminf(2.7480469f, t7);
-	float t10 = t2 * t8 + 3.1152344f;
+	const float seed_seed_search_vf2d_5_p0 = 3.115234375f;
+	const float seed_seed_search_vf2d_5_p1 = 0.80322265625f;
+	const float seed_seed_search_vf2d_5_p2 = 2.748046875f;
+	const float seed_seed_search_vf2d_5_p3 = 5.00390625f;
+	float t2 = -seed_seed_search_vf2d_5_p1;
+	float t7 = seed_seed_search_vf2d_5_p3 * LoH + r;
+	float t8 = fminf(seed_seed_search_vf2d_5_p2, t7);
+	float t10 = t2 * t8 + seed_seed_search_vf2d_5_p0;
 	float t11 = t10 * t10;
 	float t12 = t11 * t11;
 	float t13 = f0 * t12;

@@ -7,27 +7,31 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.033 in f16, as this half code computes it (either order of its mads), max |error| 0.033; in f64: rmse 0.0141
+ * fitted error: max_abs 0.033 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.033; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 3.11523438
  *   p1 = 0.803222656
  *   p2 = 2.74804688
  *   p3 = 5.00390625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   mad 2
  *   minmax 1
  *   simple 6, complex 0, cost 6 (simple = 1, complex = 4)
  */
-half seed_seed_search_vf2d_5(half LoH, half r, half f0)
+min16float seed_seed_search_vf2d_5(min16float LoH, min16float r, min16float f0)
 {
-	half t2 = -0.80322266;
-	half t7 = mad(5.0039062, LoH, r);
-	half t8 = min(2.7480469, t7);
-	half t10 = mad(t2, t8, 3.1152344);
-	half t11 = t10 * t10;
-	half t12 = t11 * t11;
-	half t13 = f0 * t12;
+	const min16float seed_seed_search_vf2d_5_p0 = 3.115234375;
+	const min16float seed_seed_search_vf2d_5_p1 = 0.80322265625;
+	const min16float seed_seed_search_vf2d_5_p2 = 2.748046875;
+	const min16float seed_seed_search_vf2d_5_p3 = 5.00390625;
+	min16float t2 = -seed_seed_search_vf2d_5_p1;
+	min16float t7 = mad(seed_seed_search_vf2d_5_p3, LoH, r);
+	min16float t8 = min(seed_seed_search_vf2d_5_p2, t7);
+	min16float t10 = mad(t2, t8, seed_seed_search_vf2d_5_p0);
+	min16float t11 = t10 * t10;
+	min16float t12 = t11 * t11;
+	min16float t13 = f0 * t12;
 	return t13;
 }

@@ -7,12 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.0207 in f16, as this half code computes it (either order of its mads), max |error| 0.0207; in f64: rmse 0.00911
+ * fitted error: max_abs 0.0207 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0207; in f64: rmse 0.00911
  * parameters baked in:
  *   p0 = 0.402099609
  *   p1 = -0.0667724609
  *   p2 = -1.08398438
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,12 +23,16 @@
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_seed_search_vf2d_6(float LoH, float a, float f0)
+static inline float seed_seed_search_vf2d_6(float LoH, float r, float f0)
 {
-	float t4 = -(-1.0839844f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_seed_search_vf2d_6_p0 = 0.402099609375f;
+	const float seed_seed_search_vf2d_6_p1 = (-0.0667724609375f);
+	const float seed_seed_search_vf2d_6_p2 = (-1.083984375f);
+	float t4 = -seed_seed_search_vf2d_6_p2;
 	float t6 = t4 * a + LoH;
-	float t8 = LoH * t6 + (-0.06677246f);
-	float t9 = 0.4020996f / t8;
+	float t8 = LoH * t6 + seed_seed_search_vf2d_6_p1;
+	float t9 = seed_seed_search_vf2d_6_p0 / t8;
 	float t10 = f0 * t9;
 	return t10;
 }

@@ -7,24 +7,28 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.0207 in f16, as this half code computes it (either order of its mads), max |error| 0.0207; in f64: rmse 0.00911
+ * fitted error: max_abs 0.0207 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0207; in f64: rmse 0.00911
  * parameters baked in:
  *   p0 = 0.402099609
  *   p1 = -0.0667724609
  *   p2 = -1.08398438
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-half seed_seed_search_vf2d_6(half LoH, half a, half f0)
+min16float seed_seed_search_vf2d_6(min16float LoH, min16float r, min16float f0)
 {
-	half t4 = -(-1.0839844);
-	half t6 = mad(t4, a, LoH);
-	half t8 = mad(LoH, t6, (-0.06677246));
-	half t9 = 0.4020996 / t8;
-	half t10 = f0 * t9;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_seed_search_vf2d_6_p0 = 0.402099609375;
+	const min16float seed_seed_search_vf2d_6_p1 = (-0.0667724609375);
+	const min16float seed_seed_search_vf2d_6_p2 = (-1.083984375);
+	min16float t4 = -seed_seed_search_vf2d_6_p2;
+	min16float t6 = mad(t4, a, LoH);
+	min16float t8 = mad(LoH, t6, seed_seed_search_vf2d_6_p1);
+	min16float t9 = seed_seed_search_vf2d_6_p0 / t8;
+	min16float t10 = f0 * t9;
 	return t10;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: vf2d: the talk's modified Kelemen V = 0.25/(LoH^2 (1 - q^2) + q^2), q = r (perceptual), times Schlick F with f0 = 0.04, f90 = 1, on LoH in [0.316228, 1] x r in [0, 1] (256x256 cell centres); V includes the 1/4 the talk leaves out, so forms are written in the same units, e.g. f0/(4*LoH*LoH*(r+p0))
- * fitted error: max_abs 0.00618 in f16, as this half code computes it (either order of its mads), max |error| 0.00618; in f64: rmse 0.00258
+ * fitted error: max_abs 0.00618 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.00618; in f64: rmse 0.00258
  * parameters baked in:
  *   p0 = 0.383789062
  *   p1 = 0.292724609
  *   p2 = 1.98339844
  *   p3 = 3.68164062
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -21,13 +21,18 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-mediump float seed_seed_search_vf2d_7(mediump float LoH, mediump float a, mediump float f0)
+mediump float seed_seed_search_vf2d_7(mediump float LoH, mediump float r, mediump float f0)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_seed_search_vf2d_7_p0 = 0.3837890625;
+	const mediump float seed_seed_search_vf2d_7_p1 = 0.292724609375;
+	const mediump float seed_seed_search_vf2d_7_p2 = 1.9833984375;
+	const mediump float seed_seed_search_vf2d_7_p3 = 3.681640625;
 	mediump float t4 = -LoH;
-	mediump float t7 = t4 * 3.6816406 + 1.9833984;
+	mediump float t7 = t4 * seed_seed_search_vf2d_7_p3 + seed_seed_search_vf2d_7_p2;
 	mediump float t8 = a - t7;
-	mediump float t10 = LoH * t8 + 0.2927246;
-	mediump float t11 = 0.38378906 / t10;
+	mediump float t10 = LoH * t8 + seed_seed_search_vf2d_7_p1;
+	mediump float t11 = seed_seed_search_vf2d_7_p0 / t10;
 	mediump float t12 = f0 * t11;
 	return t12;
 }
