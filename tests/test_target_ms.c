@@ -1,0 +1,127 @@
+/*
+ * test_target_ms.c — target ms (fit/target.c): the single-scattering GGX
+ * directional albedo E(NoV, r) = ∫ D V NoL dω (F = 1).
+ *
+ * The target's samples come from brdf/dfg.c's adaptive integrator (A + B).
+ * Here E is integrated again by a different method: a tensor midpoint rule
+ * over the half vector in the GGX CDF variable u (tan²θh = a² u / (1 − u),
+ * D NoH dω_h = du dφ / 2π, dω_l = 4 VoH dω_h), so that
+ *     E = ∫∫ V · NoL · 4 VoH / NoH  du dφ / 2π   over NoL > 0,
+ * with V the exact height-correlated Smith written out here from its Λ. The
+ * integrand is smooth but for the kink at the horizon, where it goes to 0
+ * with NoL: the midpoint rule's error is O(h²); measured at these points,
+ * 2000 × 500 cells differ from 4000 × 1000 by at most 4.3e-6, so the latter
+ * are within about 1.5e-6 of E, inside the 1e-5 bound.
+ */
+#include "brdf.h"
+#include "target.h"
+
+#include <criterion/criterion.h>
+
+#include <math.h>
+
+#define PI 3.14159265358979323846
+
+/* Height-correlated Smith GGX: V = 1 / (4 NoV NoL (1 + Λv + Λl)), Λ from
+ * Heitz 2014, Λ(μ) = (−1 + sqrt(1 + a² tan²θ)) / 2. */
+static double lambda(double mu, double a)
+{
+	double t2 = (1 - mu * mu) / (mu * mu);
+	return (-1 + sqrt(1 + a * a * t2)) / 2;
+}
+
+static double v_correlated(double NoV, double NoL, double a)
+{
+	return 1 / (4 * NoV * NoL * (1 + lambda(NoV, a) + lambda(NoL, a)));
+}
+
+/* E by the midpoint rule on (u, φ), φ over [0, 2π). */
+static double albedo_midpoint(double NoV, double r, int nu, int nphi)
+{
+	double a = r * r, sv = sqrt(1 - NoV * NoV), sum = 0;
+	for (int i = 0; i < nu; i++) {
+		double u = (i + 0.5) / nu, t2 = a * a * u / (1 - u);
+		double NoH = 1 / sqrt(1 + t2), sh = sqrt(t2) * NoH;
+		for (int j = 0; j < nphi; j++) {
+			double phi = 2 * PI * (j + 0.5) / nphi;
+			double VoH = sv * sh * cos(phi) + NoV * NoH, NoL = 2 * VoH * NoH - NoV;
+			if (NoL <= 0 || VoH <= 0)
+				continue;
+			sum += v_correlated(NoV, NoL, a) * NoL * 4 * VoH / NoH;
+		}
+	}
+	return sum / ((double)nu * nphi); /* du dφ / 2π: the cell measure 1/nu · 2π/nphi / 2π */
+}
+
+/* One-cell target at (NoV, r): the cell centre is the point asked for. */
+static double target_at(bk_target_kind kind, double NoV, double r, bk_samples *s)
+{
+	bk_target_options o;
+	bk_target_defaults(kind, &o);
+	o.nx = o.nr = 1;
+	o.x_lo = NoV - 1e-3, o.x_hi = NoV + 1e-3;
+	o.r_lo = r - 1e-3, o.r_hi = r + 1e-3;
+	char err[256] = "";
+	cr_assert_eq(bk_target_build(&o, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_assert_float_eq(s->in[BK_IN_NOV][0], NoV, 1e-15);
+	cr_assert_float_eq(s->in[BK_IN_R][0], r, 1e-15);
+	return s->y[0];
+}
+
+Test(target_ms, samples_are_the_albedo_by_a_second_quadrature)
+{
+	static const double pts[][2] = {{0.5, 0.5}, {0.9, 0.3}, {0.2, 0.8}, {0.7, 1.0}};
+	for (size_t k = 0; k < sizeof pts / sizeof pts[0]; k++) {
+		bk_samples s;
+		double NoV = pts[k][0], r = pts[k][1];
+		double got = target_at(BK_TARGET_MS, NoV, r, &s);
+		double want = albedo_midpoint(NoV, r, 4000, 1000);
+		cr_expect(fabs(got - want) < 1e-5, "E(%g, %g): target %.9f, midpoint %.9f", NoV, r, got, want);
+		cr_expect(got > 0 && got <= 1, "E(%g, %g) = %g outside (0, 1]", NoV, r, got);
+		bk_samples_free(&s);
+		/* control: the check tells E at a roughness 2 % away from this one */
+		double moved = albedo_midpoint(NoV, 1.02 * r, 4000, 1000);
+		cr_expect(fabs(got - moved) > 1e-5, "control: E(%g, %g) = %.9f is within the bound of E at 1.02 r = %.9f",
+		          NoV, r, got, moved);
+	}
+}
+
+/* Physical identity: a nearly smooth mirror with F = 1 reflects all of the
+ * light (E -> 1 as r -> 0, V -> 1/(4 NoV NoL) there), and rough GGX with
+ * single scattering loses energy (E at r = 1, NoV = 1 is below 0.6, the
+ * ~40-60 % loss energy compensation exists for). */
+Test(target_ms, smooth_limit_and_rough_loss)
+{
+	bk_samples s;
+	double e = target_at(BK_TARGET_MS, 0.6, 0.02, &s);
+	bk_samples_free(&s);
+	cr_expect(fabs(e - 1) < 1e-4, "E(0.6, 0.02) = %.9f, want 1", e);
+	e = target_at(BK_TARGET_MS, 0.999, 0.999, &s);
+	bk_samples_free(&s);
+	cr_expect(e < 0.6 && e > 0.3, "E(1, 1) = %g", e);
+}
+
+/* E has no f0: the target provides NoV, r and a only, so a form reading f0
+ * is refused by the fitter (the same rule as d and f). */
+Test(target_ms, provides_nov_r_a_only)
+{
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_MS, &o);
+	o.nx = o.nr = 4;
+	bk_samples s;
+	char err[256] = "";
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(s.provides, 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A);
+	cr_expect_eq(s.n, 16u);
+	cr_expect_eq(s.ncomp, 1);
+	cr_expect(isnan(s.in[BK_IN_F0][0]));
+	double wsum = 0;
+	for (size_t i = 0; i < s.n; i++)
+		wsum += s.w[i];
+	cr_expect(fabs(wsum - 1) < 1e-12, "weights sum to %g", wsum);
+	cr_expect_str_eq(bk_target_name(BK_TARGET_MS), "ms");
+	bk_target_kind k;
+	cr_expect_eq(bk_target_parse("ms", &k), 0);
+	cr_expect_eq(k, BK_TARGET_MS);
+	bk_samples_free(&s);
+}
