@@ -14,6 +14,8 @@ static double d_ggx(const bk_sample *s) { return bk_D_ggx(s->NoH, s->a); }
 static double d_beckmann(const bk_sample *s) { return bk_D_beckmann(s->NoH, s->a); }
 static double d_bp(const bk_sample *s) { return bk_D_blinn_phong(s->NoH, s->a); }
 static double d_bp_sg(const bk_sample *s) { return bk_D_blinn_phong_sg(s->NoH, s->a); }
+static double d_charlie(const bk_sample *s) { return bk_D_charlie(s->NoH, s->a); }
+static double d_ashikhmin(const bk_sample *s) { return bk_D_ashikhmin(s->NoH, s->a); }
 
 static double v_sep(const bk_sample *s) { return bk_V_smith_ggx_separable(s->NoV, s->NoL, s->a); }
 static double v_cor(const bk_sample *s) { return bk_V_smith_ggx_correlated(s->NoV, s->NoL, s->a); }
@@ -56,6 +58,13 @@ static const bk_term terms[] = {
 	{"D_blinn_phong_sg", BK_ROLE_D, "NoH,a", "spherical-Gaussian Blinn-Phong, (n+2)/(2π) exp((n+0.775)(NoH-1))",
 	 A_ "n = 2/a^2 - 2; not exactly normalised (1 + 0.225/n for large n, 0.785 at r = 1)",
 	 "Lagarde 2012, Spherical Gaussian approximation for Blinn-Phong, Phong and Fresnel (read via a secondary copy)", d_bp_sg},
+
+	{"D_charlie", BK_ROLE_D, "NoH,a", "Charlie sheen distribution, (2 + 1/a) sin(θh)^(1/a) / (2π)",
+	 A_ "a in (0, 1] (Filament's cloth passes r^2); normalised; pairs with V_neubelt",
+	 "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", d_charlie},
+	{"D_ashikhmin", BK_ROLE_D, "NoH,a", "velvet, (1 + 4 exp(-cot^2θh/a^2)/sin^4θh) / (π(1 + 4a^2))",
+	 A_ "as Filament's D_Ashikhmin; normalised",
+	 "Ashikhmin & Premoze 2007, Distribution-based BRDFs", d_ashikhmin},
 
 	{"V_smith_ggx_separable", BK_ROLE_V, "NoV,NoL,a", "exact Smith GGX, separable G1(v) G1(l) / (4 NoL NoV)",
 	 A_ "V includes 1/(4 NoL NoV)",
