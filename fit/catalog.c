@@ -341,6 +341,23 @@ static const bk_catalog_entry entries[] = {
 	 "course, at f0 = 1",
 	 MS_AT1 "env_pesce_iwanicki2015 with f0 = 1: saturate(scale + bias), m = alpha = r^2. Parameters as "
 	 "env_pesce_iwanicki2015"},
+
+	/* ---- sheen: the Charlie sheen albedo (Filament's cloth DFG channel) ---------- */
+	{"sheen_materialx", "sheen",
+	 "saturate((p0 + p1*NoV + p2*a + p3*NoV*a + p4*NoV*NoV + p5*a*a)/(1 + p6*NoV + p7*a + p8*NoV*a + p9*NoV*NoV + "
+	 "p10*a*a))",
+	 NULL, 11,
+	 {13.67300, -68.78018, 799.08825, -905.00061, 60.28956, 1086.96473, 61.57746, 442.78211, 2597.49308, 121.81241,
+	  3045.55075},
+	 "ASWF MaterialX, mx_microfacet_sheen.glsl, mx_imageworks_sheen_dir_albedo_curve_fit (\"rational curve fit "
+	 "approximation for the directional albedo of Imageworks sheen\"), clamped by mx_imageworks_sheen_dir_albedo",
+	 "fitted to MaterialX's own sheen BRDF, mx_imageworks_sheen_NDF (Estevez & Kulla 2017's Charlie D) times "
+	 "Neubelt & Pettineo's 1/(4 (NoL + NoV - NoL NoV)), F = 1: target sheen's integrand. MaterialX passes its "
+	 "sheen roughness straight to the NDF as the Charlie exponent's a, so its 'roughness' here is a = r^2 "
+	 "(brdfkit's D_charlie(NoH, a), Filament's cloth alpha). r = vec2(c0) + vec2(c1) NoV + vec2(c2) a + "
+	 "vec2(c3) NoV a + vec2(c4) NoV^2 + vec2(c5) a^2, result clamp(r.x/r.y, 0, 1); the 1 of r.y's constant "
+	 "term is structural. Parameters: p0..p5 = r.x's (13.67300, -68.78018, 799.08825, -905.00061, 60.28956, "
+	 "1086.96473), p6..p10 = r.y's (61.57746, 442.78211, 2597.49308, 121.81241, 3045.55075)"},
 };
 
 #define NENTRIES (sizeof entries / sizeof entries[0])

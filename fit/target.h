@@ -23,6 +23,7 @@ typedef enum bk_target_kind {
 	BK_TARGET_F,    /* exact Fresnel over LoH */
 	BK_TARGET_FORM, /* a formula (form_text) on a box of the inputs it reads (domain) */
 	BK_TARGET_MS,   /* GGX directional albedo E = A + B (F = 1) over (NoV, r): multiscatter's input */
+	BK_TARGET_SHEEN, /* sheen albedo (Charlie D, Neubelt V, F = 1) over (NoV, r): Filament's cloth DFG */
 	BK_TARGET_COUNT
 } bk_target_kind;
 

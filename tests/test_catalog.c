@@ -402,6 +402,22 @@ static void h_ms_pesce_iwanicki2015(const pt *p, double *o)
 	h_env_pesce_iwanicki2015(&q, o);
 }
 
+/* MaterialX mx_imageworks_sheen_dir_albedo_curve_fit(NdotV, roughness), its
+ * vec2 constants as pairs, clamped as mx_imageworks_sheen_dir_albedo does;
+ * MaterialX's roughness is the Charlie a = r^2. */
+static void h_sheen_materialx(const pt *p, double *o)
+{
+	static const double c[6][2] = {{13.67300, 1.0},         {-68.78018, 61.57746},  {799.08825, 442.78211},
+	                               {-905.00061, 2597.49308}, {60.28956, 121.81241}, {1086.96473, 3045.55075}};
+	double NdotV = p->NoV, roughness = p->a;
+	double w[6] = {1, NdotV, roughness, NdotV * roughness, NdotV * NdotV, roughness * roughness};
+	double r[2] = {0, 0};
+	for (int k = 0; k < 6; k++)
+		for (int i = 0; i < 2; i++)
+			r[i] += c[k][i] * w[k];
+	o[0] = clampd(r[0] / r[1], 0.0, 1.0);
+}
+
 static const struct hand {
 	const char *name;
 	void (*fn)(const pt *, double *);
@@ -444,6 +460,7 @@ static const struct hand {
 	{"ms_karis2014", h_ms_karis2014},
 	{"ms_narkowicz2014_poly", h_ms_narkowicz2014_poly},
 	{"ms_pesce_iwanicki2015", h_ms_pesce_iwanicki2015},
+	{"sheen_materialx", h_sheen_materialx},
 };
 #define NHANDS (sizeof hands / sizeof hands[0])
 
@@ -498,7 +515,7 @@ Test(catalog, at_least_15_entries_unique_lowercase_names)
 
 Test(catalog, every_entry_has_source_convention_and_a_valid_target)
 {
-	static const char *const targets[] = {"D", "V", "F", "VF", "DVF", "env", "env_f0", "ms"};
+	static const char *const targets[] = {"D", "V", "F", "VF", "DVF", "env", "env_f0", "ms", "sheen"};
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		cr_assert(e->source && strlen(e->source) > 10, "%s: no source", e->name);

@@ -501,9 +501,9 @@ static int write_dir(study *S, const char *out, const char *prefix)
 enum { DIM_TARGET, DIM_TIME, DIM_REFIT, DIM_FETCH };
 static const cli_dim dims[] = {
 	{"target", /* bk_target_kind's order; form is refused before any context */
-	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms"},
+	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen"},
 	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d", " on target f",
-	  cli_unreached, " on target ms"}},
+	  cli_unreached, " on target ms", " on target sheen"}},
 	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
 	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
 	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env and spec only, not with --no-lut)"}},
@@ -526,7 +526,7 @@ static const cli_rule rules[] = {
 static const char *const setups[] = {
 	"--target vf2d --out o", "--target vf --out o", "--target spec --out o", "--target env --out o",
 	"--target d --out o", "--target f --out o", "--target vf2d --no-time --out o", "--target vf2d --no-refit --out o",
-	"--target env --no-lut --out o", "--target ms --out o", NULL};
+	"--target env --no-lut --out o", "--target ms --out o", "--target sheen --out o", NULL};
 static const cli_table table = {dims, 4, rules, sizeof rules / sizeof rules[0], setups};
 
 /* Refuses typed forms that cannot be scored as written: with parameters
@@ -563,7 +563,7 @@ int cmd_compare(int argc, char **argv)
 	long nx = 0, nr = 0, reps = 7, tier = 16;
 	int relative = 0, no_refit = 0, no_time = 0, no_lut = 0;
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or ms", .dest = &target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, ms or sheen", .dest = &target, .required = 1},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &out, .required = 1},
 		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x (default: the target's)", .dest = &nx, .lo = 1, .hi = 1024},
 		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness", .dest = &nr, .lo = 1, .hi = 1024},

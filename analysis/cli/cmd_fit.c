@@ -456,6 +456,7 @@ static const char *const setups[] = {
 	"--target f --form p0 p0=1 --out o",
 	"--target form --target-form LoH --domain LoH=0:1 --form p0 p0=1 --out o",
 	"--target ms --form p0 p0=1 --out o",
+	"--target sheen --form p0 p0=1 --out o",
 	"--target f --form 0.5 --out o",
 	"--target vf --form 0.5 --out o",
 	"--target f --form p0 p0=1 --loss huber --out o",
@@ -622,7 +623,7 @@ int cmd_fit(int argc, char **argv)
 	fit_cli a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
 	             .threads = 1, .loss_scale = 1.0};
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form or ms", .dest = &a.target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, ms or sheen", .dest = &a.target, .required = 1},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the target's expression (inputs only, no pN), evaluated in double", .dest = &a.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
 		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME|FILE.csv:MEMBER", .help = "the form, a catalog entry (its constants start the fit) or a member of a search's front.csv (its fitted values start the fit)", .dest = &a.form},

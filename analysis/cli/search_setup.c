@@ -476,6 +476,7 @@ static const char *const setups[] = {
 	"--target f --out o",
 	"--target form --target-form LoH --domain LoH=0:1 --out o",
 	"--target ms --out o",
+	"--target sheen --out o",
 	"--target env --env-form f0 --out o",
 	"--target env --env-form mix --out o",
 	"--target f --checkpoint ck --out o",

@@ -19,6 +19,7 @@ const char *bk_catmap_tag(bk_target_kind k)
 	case BK_TARGET_D: return "D";
 	case BK_TARGET_F: return "F";
 	case BK_TARGET_MS: return "ms";
+	case BK_TARGET_SHEEN: return "sheen";
 	default: return NULL;
 	}
 }
