@@ -332,6 +332,9 @@ SEARCH_EVALS_HALF_F = 100000
 # about 30 s on one core, and its half search 60,000 about 20 s (measured)
 SEARCH_EVALS_MS = 100000
 SEARCH_EVALS_HALF_MS = 60000
+# sheen (issue 41): the same budgets as ms
+SEARCH_EVALS_SHEEN = 100000
+SEARCH_EVALS_HALF_SHEEN = 60000
 # AMD chips the study compiles every closed form for (brdfkit gpucost: Mesa RADV's
 # null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
 GPU_CHIPS = polaris10,vega10,navi21,gfx1100
@@ -350,7 +353,7 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
   results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_f0_half \
   results-search-env_mix_half results-gpucost results-render-after results-search-ms results-search-ms_half \
-  results-compare-ms
+  results-compare-ms results-search-sheen results-search-sheen_half results-compare-sheen
 .PHONY: results-runs $(RESULTS_RUNS)
 
 results: deps
@@ -381,6 +384,8 @@ results: deps
 	  results/search/env_mix_half/section.html results/search/env_f0_half/section.html \
 	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
 	  results/compare/ms/section.html results/search/ms/section.html results/search/ms_half/section.html \
+	  results/compare/sheen/section.html results/search/sheen/section.html \
+	  results/search/sheen_half/section.html \
 	  results/search/moved/section.html \
 	  results/scenes/section.html results/speclut/section.html results/render/section.html
 	$(MAKE) --no-print-directory notebooks-data
@@ -400,8 +405,8 @@ results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)
 
 # the page's summary rows (report --summary), in this order; the first one's
 # pareto.png is the page's Figure 1
-SUMMARY_TARGETS = vf2d vf env env_f0 env_mix f_glass f_gold ms vf2d_half env_f0_half env_mix_half f_glass_half \
-  f_gold_half ms_half
+SUMMARY_TARGETS = vf2d vf env env_f0 env_mix f_glass f_gold ms sheen vf2d_half env_f0_half env_mix_half \
+  f_glass_half f_gold_half ms_half sheen_half
 comma := ,
 space := $(subst ,, )
 
@@ -410,12 +415,12 @@ space := $(subst ,, )
 # verbatim to NAME.meta.txt beside it (notebooks_data/README.md). Reads results/ only.
 .PHONY: notebooks-data
 notebooks-data:
-	{ for t in vf2d vf env spec f ms; do \
+	{ for t in vf2d vf env spec f ms sheen; do \
 	    echo "results/compare/$$t/compare.csv compare_$$t"; echo "results/compare/$$t/timing.csv timing_$$t"; done; \
-	  for t in vf2d vf env env_f0 env_mix f_glass f_gold ms vf2d_half env_mix_half env_f0_half f_glass_half f_gold_half \
-	    ms_half; do \
+	  for t in vf2d vf env env_f0 env_mix f_glass f_gold ms sheen vf2d_half env_mix_half env_f0_half f_glass_half \
+	    f_gold_half ms_half sheen_half; do \
 	    echo "results/search/$$t/front.csv search_front_$$t"; echo "results/search/$$t/catalog.csv search_catalog_$$t"; done; \
-	  for t in vf2d env_mix env_f0 f_glass f_gold ms; do \
+	  for t in vf2d env_mix env_f0 f_glass f_gold ms sheen; do \
 	    echo "results/search/$${t}_half/vs_double.csv search_vs_double_$${t}_half"; done; \
 	  for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
 	    echo "results/scenes/$$s/scene.csv scene_$$s"; done; \
@@ -443,7 +448,8 @@ results-fits:
 	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
 	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
 # error against cost: every catalog form, its refit and the LUTs, one page
-results-compare-vf2d results-compare-vf results-compare-env results-compare-spec results-compare-f results-compare-ms:
+results-compare-vf2d results-compare-vf results-compare-env results-compare-spec results-compare-f results-compare-ms \
+  results-compare-sheen:
 	$(TOOL) compare --target $(@:results-compare-%=%) --gpu $(GPU_CHIPS) --out results/compare/$(@:results-compare-%=%) \
 	  --link-prefix compare/$(@:results-compare-%=%)/
 results-stability:
@@ -480,6 +486,11 @@ results-search-f_gold:
 results-search-ms:
 	$(TOOL) search --target ms --evals $(SEARCH_EVALS_MS) --gpu $(GPU_CHIPS) --out results/search/ms \
 	  --link-prefix search/ms/
+# sheen (issue 41): the Charlie sheen albedo, Filament's cloth DFG channel,
+# against MaterialX's rational fit
+results-search-sheen:
+	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_SHEEN) --gpu $(GPU_CHIPS) --out results/search/sheen \
+	  --link-prefix search/sheen/
 # the same searches with error in half precision (members safe in half only),
 # seeded with the double front and set beside it (vs_double.csv); each after its
 # double search, whose front.csv it reads
@@ -508,6 +519,10 @@ results-search-ms_half: results-search-ms
 	$(TOOL) search --target ms --evals $(SEARCH_EVALS_HALF_MS) $(HALF_OPTS) \
 	  --start-front results/search/ms/front.csv --vs-front results/search/ms/front.csv \
 	  --out results/search/ms_half --link-prefix search/ms_half/
+results-search-sheen_half: results-search-sheen
+	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_HALF_SHEEN) $(HALF_OPTS) \
+	  --start-front results/search/sheen/front.csv --vs-front results/search/sheen/front.csv \
+	  --out results/search/sheen_half --link-prefix search/sheen_half/
 # scene specialisation: each example scene's feature sets, their terms chosen and
 # refitted on the scene's own domain, shaders and the saving against the generic one
 results-scenes:
