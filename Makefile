@@ -328,13 +328,16 @@ SEARCH_EVALS_ENV_MIX = 600000
 SEARCH_EVALS_HALF = 60000
 SEARCH_EVALS_HALF_MIX = 120000
 SEARCH_EVALS_HALF_F = 100000
-# ms (issue 41): E over 16x16 screening cells is cheap; 100,000 evaluations take
-# about 30 s on one core, and its half search 60,000 about 20 s (measured)
+# ms and sheen (issue 41): one tree in (NoV, r) on 16x16 screening cells. Measured
+# alone on the shared 2-core machine (make RULE; a half rule reruns its double
+# one first): results-search-ms 31 s, results-search-ms_half 43 s (25,000 evals:
+# most of it the reference, the refit and the GPU counts, not the evals; 60,000
+# took about as long), results-compare-ms 15 s; results-search-sheen 33 s,
+# results-search-sheen_half 13 s, results-compare-sheen 3 s
 SEARCH_EVALS_MS = 100000
-SEARCH_EVALS_HALF_MS = 60000
-# sheen (issue 41): the same budgets as ms
+SEARCH_EVALS_HALF_MS = 25000
 SEARCH_EVALS_SHEEN = 100000
-SEARCH_EVALS_HALF_SHEEN = 60000
+SEARCH_EVALS_HALF_SHEEN = 25000
 # AMD chips the study compiles every closed form for (brdfkit gpucost: Mesa RADV's
 # null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
 GPU_CHIPS = polaris10,vega10,navi21,gfx1100
