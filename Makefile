@@ -332,7 +332,7 @@ SEARCH_EVALS_HALF_F = 100000
 # alone on the shared 2-core machine (make RULE; a half rule reruns its double
 # one first): results-search-ms 31 s, results-search-ms_half 43 s (25,000 evals:
 # most of it the reference, the refit and the GPU counts, not the evals; 60,000
-# took about as long), results-compare-ms 15 s; results-search-sheen 33 s,
+# took about as long), results-compare-ms 30 s (100x100 integrals, as env); results-search-sheen 33 s,
 # results-search-sheen_half 13 s, results-compare-sheen 3 s
 SEARCH_EVALS_MS = 100000
 SEARCH_EVALS_HALF_MS = 25000

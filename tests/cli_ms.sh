@@ -8,7 +8,8 @@
 #     E has no f0), as is --f0 (no effect on ms);
 #   - compare --target ms scores exactly the catalog's ms entries (the names
 #     from `brdfkit catalog`, not a list here), compare --target sheen the
-#     sheen ones;
+#     sheen ones; ms's LUT rows (E in one channel) get more accurate with
+#     size, as bilinear filtering must;
 #   - a small search on ms: its front's best member at a cost no higher than
 #     ms_pesce_iwanicki2015's is more accurate than it (the issue's "beats every
 #     published form at equal or lower cost", at the search's budget); control:
@@ -38,7 +39,7 @@ refused() {
 }
 
 # ---- fit -----------------------------------------------------------------------
-"$BK" fit --target ms --form ms_pesce_iwanicki2015 --nx 16 --nr 16 --out fp >out 2>err || bad "fit ms: $(cat err)"
+"$BK" fit --target ms --form ms_pesce_iwanicki2015 --nx 20 --nr 20 --out fp >out 2>err || bad "fit ms: $(cat err)"
 fitted=$(csv_where fp/metrics.csv constants fitted rmse) published=$(csv_where fp/metrics.csv constants published rmse)
 awk -v f="$fitted" -v p="$published" 'BEGIN { exit !(f > 0 && f < p) }' && ok ||
 	bad "fit ms: fitted rmse '$fitted', published '$published'"
@@ -54,11 +55,20 @@ refused "ms --f0" "--f0" "$BK" fit --target ms --form 'p0*NoV' p0=1 --f0 0.5 --o
 # ---- compare: the catalog's entries of each target, by name ------------------------
 "$BK" catalog >cat.csv 2>err || bad "catalog: $(cat err)"
 for t in ms sheen; do
-	"$BK" compare --target $t --no-time --nx 16 --nr 16 --out c_$t >out 2>err || bad "compare $t: $(cat err)"
+	"$BK" compare --target $t --no-time --nx 20 --nr 20 --out c_$t >out 2>err || bad "compare $t: $(cat err)"
 	csv_where cat.csv target $t name | sort >want_$t
 	csv_where c_$t/compare.csv kind published name | sort >got_$t
 	[ -s want_$t ] && cmp -s want_$t got_$t && ok || bad "compare $t: rows '$(cat got_$t)', catalog '$(cat want_$t)'"
 done
+# ms's LUT rows: E in one channel (the DFG folded at f0 = 1); bilinear filtering
+# errs O(h^2), so in float each size is more accurate than the one below it
+# (control: the errors in increasing order fail it); 20x20 samples: no cell
+# centre is a texel centre of any size, where a LUT would be exact
+for z in 16 32 64 128; do csv_where c_ms/compare.csv name "LUT ${z}x$z float f0 1" rmse || echo missing; done >lut_err
+shrinks() { awk 'NR > 1 && !($1 + 0 < last + 0) { bad = 1 } { last = $1 } END { exit bad || NR != 4 }' "$1"; }
+shrinks lut_err && ok || bad "ms LUT rows: float rmse by size $(tr '\n' ' ' <lut_err)"
+sort -g lut_err >lut_rev
+expect_fail "LUT sizes reversed" shrinks lut_rev
 cmp_rmse=$(csv_where c_ms/compare.csv name ms_pesce_iwanicki2015 rmse)
 awk -v a="$cmp_rmse" -v b="$published" 'BEGIN { d = a - b; exit !(d < 1e-9 && d > -1e-9) }' && ok ||
 	bad "ms_pesce_iwanicki2015: compare rmse '$cmp_rmse', fit's published '$published'"
