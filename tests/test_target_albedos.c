@@ -15,6 +15,7 @@
  * are within about 1.5e-6 of E, inside the 1e-5 bound.
  */
 #include "brdf.h"
+#include "compare.h"
 #include "target.h"
 
 #include <criterion/criterion.h>
@@ -178,4 +179,32 @@ Test(target_sheen, exceeds_one_at_grazing_low_roughness)
 	double got = target_at(BK_TARGET_SHEEN, 0.0234, 0.0234, &s);
 	bk_samples_free(&s);
 	cr_expect(fabs(got - 3.6757) < 1e-3, "sheen(0.0234, 0.0234) = %.6f", got);
+}
+
+/* A DFG LUT scores ms (no f0) only as the albedo at f0 = 1, folded in one
+ * channel (analysis/lutscore.c): A + B = E there. Any other layout is refused
+ * rather than scored against a channel that is not E. The folded 128² float
+ * LUT's error on a grid off its texel centres is interpolation alone, below
+ * 0.02 (bilinear across the grazing column); control: a 16² LUT, with 8x
+ * the texel spacing, fails the same bound. */
+Test(target_ms, lut_scores_e_only_folded_at_f0_1)
+{
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_MS, &o);
+	o.nx = o.nr = 20;
+	bk_samples s;
+	char err[256] = "";
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_lut_layout L = {128, 128, 0, 1, BK_LUT_WARP_NONE, 1.0};
+	bk_fit_metrics m;
+	cr_assert_eq(bk_lut_score_layout(&L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, &s, &m, NULL), 0);
+	cr_expect(m.max_abs < 0.02 && m.rmse < 1e-3, "folded LUT on E: max %g, rmse %g", m.max_abs, m.rmse);
+	bk_lut_layout small = {16, 16, 0, 1, BK_LUT_WARP_NONE, 1.0};
+	cr_assert_eq(bk_lut_score_layout(&small, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, &s, &m, NULL), 0);
+	cr_expect(!(m.max_abs < 0.02 && m.rmse < 1e-3), "control: 16² LUT on E: max %g, rmse %g", m.max_abs, m.rmse);
+	L.f0 = NAN;
+	cr_expect_eq(bk_lut_score_layout(&L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, &s, &m, NULL), -1);
+	L.f0 = 0.04;
+	cr_expect_eq(bk_lut_score_layout(&L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, &s, &m, NULL), -1);
+	bk_samples_free(&s);
 }
