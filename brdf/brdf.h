@@ -267,7 +267,7 @@ double bk_ms_fresnel_scale(double F_avg, double E_avg);
 /* Turquin 2019 / Filament: 1 + f0 (1/E - 1), the factor on f_ss. E in (0, 1]. */
 double bk_ms_energy_compensation(double f0, double E);
 
-/* ---- Sheen and cloth (brdf/sheen.c) ---------------------------------------
+/* ---- Sheen and cloth (brdf/sheen.c, sheen_albedo.c) -----------------------
  * a = r^2 as everywhere (Filament's cloth passes its alpha, r^2, to D). */
 /* Estevez & Kulla 2017, "Production Friendly Microfacet Sheen BRDF": the
  * "Charlie" distribution (2 + 1/a) sin(θh)^(1/a) / (2π), a in (0, 1];
