@@ -357,6 +357,8 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_f0_half \
   results-search-env_mix_half results-gpucost results-render-after results-search-ms results-search-ms_half \
   results-compare-ms results-search-sheen results-search-sheen_half results-compare-sheen
+# the DFG LUT with the multiscatter and cloth channels as Filament lays them out (issue 41)
+RESULTS_RUNS += results-lut-filament
 .PHONY: results-runs $(RESULTS_RUNS)
 
 results: deps
@@ -434,6 +436,8 @@ notebooks-data:
 
 results-lut-correlated results-lut-separable results-lut-schlick:
 	$(TOOL) lut --size 128 --smith $(@:results-lut-%=%) --out results/dfg_$(@:results-lut-%=%)
+results-lut-filament:
+	$(TOOL) lut --size 128 --channels filament --out results/dfg_filament
 # the low tier's specular LUT (issue 23): the talk's choices (R·L, warp 4, 1/16, 8 bits,
 # 64x64) written as an engine ships them, and scored against the sweep of axis x warp
 # x scale x size on the spec target; the best one in results/speclut/best

@@ -1,6 +1,6 @@
 /*
- * sheen.c — sheen and cloth: the Charlie and velvet distributions and the
- * sheen albedo Filament bakes for cloth. brdf.h states the conventions.
+ * sheen.c — sheen and cloth: the Charlie and velvet distributions (the
+ * albedo is sheen_albedo.c's). brdf.h states the conventions.
  */
 #include "brdf.h"
 
@@ -31,25 +31,4 @@ double bk_D_ashikhmin(double NoH, double a)
 		return norm;
 	double cot2 = NoH * NoH / sin2h;
 	return norm * (1.0 + 4.0 * exp(-cot2 / a2) / (sin2h * sin2h));
-}
-
-/* The registry's D_charlie, V_neubelt and F_schlick with f0 = f90 = 1 (exactly
- * 1) through bk_albedo's half-vector integrator: the cloth channel is one more
- * D·V·F, not a second integrator. */
-int bk_sheen_albedo(double NoV, double r, double tol, double *E, bk_quad_stats *stats)
-{
-	if (!(NoV > 0.0 && NoV <= 1.0) || !(r >= 0.0 && r <= 1.0) || !(tol > 0.0))
-		return -1;
-	if (r == 0.0) {
-		*E = 0.0;
-		if (stats)
-			*stats = (bk_quad_stats){0.0, 0, 1};
-		return 0;
-	}
-	bk_sample mat = {0};
-	bk_sample_roughness(&mat, r);
-	mat.f0 = 1.0;
-	mat.f90 = 1.0;
-	return bk_albedo(bk_term_find("D_charlie"), bk_term_find("V_neubelt"), bk_term_find("F_schlick"), &mat, NoV,
-	                 tol, E, stats);
 }

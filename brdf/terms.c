@@ -59,13 +59,6 @@ static const bk_term terms[] = {
 	 A_ "n = 2/a^2 - 2; not exactly normalised (1 + 0.225/n for large n, 0.785 at r = 1)",
 	 "Lagarde 2012, Spherical Gaussian approximation for Blinn-Phong, Phong and Fresnel (read via a secondary copy)", d_bp_sg},
 
-	{"D_charlie", BK_ROLE_D, "NoH,a", "Charlie sheen distribution, (2 + 1/a) sin(θh)^(1/a) / (2π)",
-	 A_ "a in (0, 1] (Filament's cloth passes r^2); normalised; pairs with V_neubelt",
-	 "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", d_charlie},
-	{"D_ashikhmin", BK_ROLE_D, "NoH,a", "velvet, (1 + 4 exp(-cot^2θh/a^2)/sin^4θh) / (π(1 + 4a^2))",
-	 A_ "as Filament's D_Ashikhmin; normalised",
-	 "Ashikhmin & Premoze 2007, Distribution-based BRDFs", d_ashikhmin},
-
 	{"V_smith_ggx_separable", BK_ROLE_V, "NoV,NoL,a", "exact Smith GGX, separable G1(v) G1(l) / (4 NoL NoV)",
 	 A_ "V includes 1/(4 NoL NoV)",
 	 "Walter et al. 2007; Heitz 2014, Understanding the Masking-Shadowing Function", v_sep},
@@ -128,6 +121,16 @@ static const bk_term terms[] = {
 	{"Fd_oren_nayar", BK_ROLE_FD, "NoV,NoL,VoL,sigma", "Oren-Nayar qualitative model",
 	 "registry passes sigma = r (radians) and VoL = 2 LoH^2 - 1; 1/π included",
 	 "Oren & Nayar 1994, Generalization of Lambert's Reflectance Model", fd_on},
+
+	/* Appended, not grouped with the D terms above: a term's index is its
+	 * operation number in search grammars (fit/expr.c TERM0 + t), hashed
+	 * into checkpoints, so existing terms keep theirs. */
+	{"D_charlie", BK_ROLE_D, "NoH,a", "Charlie sheen distribution, (2 + 1/a) sin(θh)^(1/a) / (2π)",
+	 A_ "a in (0, 1] (Filament's cloth passes r^2); normalised; pairs with V_neubelt",
+	 "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", d_charlie},
+	{"D_ashikhmin", BK_ROLE_D, "NoH,a", "velvet, (1 + 4 exp(-cot^2θh/a^2)/sin^4θh) / (π(1 + 4a^2))",
+	 A_ "as Filament's D_Ashikhmin; normalised",
+	 "Ashikhmin & Premoze 2007, Distribution-based BRDFs", d_ashikhmin},
 };
 #undef A_
 
