@@ -402,7 +402,7 @@ results-runs: $(RESULTS_RUNS)
 # fronts (the weights of the named models aco-CHIP: brdf/ir_count.c;
 # tests/gpucost.sh checks they agree); the rendered comparisons' turn is
 # results-render-after, below RENDER_FRONTS
-DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold
+DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold ms sheen
 results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
 	  $(TOOL) gpucost --calibrate --chips $$c $(DOUBLE_SEARCHES:%=results/search/%/front.csv) \
