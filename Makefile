@@ -331,6 +331,16 @@ SEARCH_EVALS_ENV_MIX = 600000
 SEARCH_EVALS_HALF = 60000
 SEARCH_EVALS_HALF_MIX = 120000
 SEARCH_EVALS_HALF_F = 100000
+# ms and sheen (issue 41): one tree in (NoV, r) on 16x16 screening cells. Measured
+# alone on the shared 2-core machine (make RULE; a half rule reruns its double
+# one first): results-search-ms 31 s, results-search-ms_half 43 s (25,000 evals:
+# most of it the reference, the refit and the GPU counts, not the evals; 60,000
+# took about as long), results-compare-ms 30 s (100x100 integrals, as env); results-search-sheen 33 s,
+# results-search-sheen_half 13 s, results-compare-sheen 3 s
+SEARCH_EVALS_MS = 100000
+SEARCH_EVALS_HALF_MS = 25000
+SEARCH_EVALS_SHEEN = 100000
+SEARCH_EVALS_HALF_SHEEN = 25000
 # AMD chips the study compiles every closed form for (brdfkit gpucost: Mesa RADV's
 # null device, one per generation: GCN 4, GCN 5, RDNA 2, RDNA 3)
 GPU_CHIPS = polaris10,vega10,navi21,gfx1100
@@ -348,7 +358,10 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
   results-stability results-compare-vf results-albedo \
   results-compare-vf2d results-lut-separable results-lut-correlated results-lut-schlick \
   results-compare-f results-fits results-speclut results-search-vf2d_half results-search-env_f0_half \
-  results-search-env_mix_half results-gpucost results-render-after
+  results-search-env_mix_half results-gpucost results-render-after results-search-ms results-search-ms_half \
+  results-compare-ms results-search-sheen results-search-sheen_half results-compare-sheen
+# the DFG LUT with the multiscatter and cloth channels as Filament lays them out (issue 41)
+RESULTS_RUNS += results-lut-filament
 .PHONY: results-runs $(RESULTS_RUNS)
 
 results: deps
@@ -378,6 +391,9 @@ results: deps
 	  results/search/f_gold/section.html results/search/vf2d_half/section.html \
 	  results/search/env_mix_half/section.html results/search/env_f0_half/section.html \
 	  results/search/f_glass_half/section.html results/search/f_gold_half/section.html \
+	  results/compare/ms/section.html results/search/ms/section.html results/search/ms_half/section.html \
+	  results/compare/sheen/section.html results/search/sheen/section.html \
+	  results/search/sheen_half/section.html \
 	  results/search/moved/section.html \
 	  results/scenes/section.html results/speclut/section.html results/render/section.html
 	$(MAKE) --no-print-directory notebooks-data
@@ -389,7 +405,7 @@ results-runs: $(RESULTS_RUNS)
 # fronts (the weights of the named models aco-CHIP: brdf/ir_count.c;
 # tests/gpucost.sh checks they agree); the rendered comparisons' turn is
 # results-render-after, below RENDER_FRONTS
-DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold
+DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold ms sheen
 results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)
 	for c in $$(echo $(GPU_CHIPS) | tr , ' '); do \
 	  $(TOOL) gpucost --calibrate --chips $$c $(DOUBLE_SEARCHES:%=results/search/%/front.csv) \
@@ -397,7 +413,8 @@ results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)
 
 # the page's summary rows (report --summary), in this order; the first one's
 # pareto.png is the page's Figure 1
-SUMMARY_TARGETS = vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_f0_half env_mix_half f_glass_half f_gold_half
+SUMMARY_TARGETS = vf2d vf env env_f0 env_mix f_glass f_gold ms sheen vf2d_half env_f0_half env_mix_half \
+  f_glass_half f_gold_half ms_half sheen_half
 comma := ,
 space := $(subst ,, )
 
@@ -406,11 +423,12 @@ space := $(subst ,, )
 # verbatim to NAME.meta.txt beside it (notebooks_data/README.md). Reads results/ only.
 .PHONY: notebooks-data
 notebooks-data:
-	{ for t in vf2d vf env spec f; do \
+	{ for t in vf2d vf env spec f ms sheen; do \
 	    echo "results/compare/$$t/compare.csv compare_$$t"; echo "results/compare/$$t/timing.csv timing_$$t"; done; \
-	  for t in vf2d vf env env_f0 env_mix f_glass f_gold vf2d_half env_mix_half env_f0_half f_glass_half f_gold_half; do \
+	  for t in vf2d vf env env_f0 env_mix f_glass f_gold ms sheen vf2d_half env_mix_half env_f0_half f_glass_half \
+	    f_gold_half ms_half sheen_half; do \
 	    echo "results/search/$$t/front.csv search_front_$$t"; echo "results/search/$$t/catalog.csv search_catalog_$$t"; done; \
-	  for t in vf2d env_mix env_f0 f_glass f_gold; do \
+	  for t in vf2d env_mix env_f0 f_glass f_gold ms sheen; do \
 	    echo "results/search/$${t}_half/vs_double.csv search_vs_double_$${t}_half"; done; \
 	  for s in $(basename $(notdir $(wildcard analysis/scenes/*.json))); do \
 	    echo "results/scenes/$$s/scene.csv scene_$$s"; done; \
@@ -421,6 +439,8 @@ notebooks-data:
 
 results-lut-correlated results-lut-separable results-lut-schlick:
 	$(TOOL) lut --size 128 --smith $(@:results-lut-%=%) --out results/dfg_$(@:results-lut-%=%)
+results-lut-filament:
+	$(TOOL) lut --size 128 --channels filament --out results/dfg_filament
 # the low tier's specular LUT (issue 23): the talk's choices (R·L, warp 4, 1/16, 8 bits,
 # 64x64) written as an engine ships them, and scored against the sweep of axis x warp
 # x scale x size on the spec target; the best one in results/speclut/best
@@ -438,7 +458,8 @@ results-fits:
 	$(TOOL) fit --target vf --form vf_talk_r --relative --out results/fits/vf_talk_r_relative
 	$(TOOL) fit --target env --form env_karis2014_split --hold p8,p9,p10 --out results/fits/env_karis2014
 # error against cost: every catalog form, its refit and the LUTs, one page
-results-compare-vf2d results-compare-vf results-compare-env results-compare-spec results-compare-f:
+results-compare-vf2d results-compare-vf results-compare-env results-compare-spec results-compare-f results-compare-ms \
+  results-compare-sheen:
 	$(TOOL) compare --target $(@:results-compare-%=%) --gpu $(GPU_CHIPS) --out results/compare/$(@:results-compare-%=%) \
 	  --link-prefix compare/$(@:results-compare-%=%)/
 results-stability:
@@ -470,6 +491,16 @@ results-search-f_gold:
 	$(TOOL) search --target f --ior 0.27 --k 2.78 $(ENUM_F) --start-front build/evolved/f_gold/front.csv --gpu $(GPU_CHIPS) \
 	  --out results/search/f_gold \
 	  --link-prefix search/f_gold/
+# multiple scattering (issue 41): the directional albedo E = A + B that energy
+# compensation reads, against the env approximations read at f0 = 1 and MaterialX's fit
+results-search-ms:
+	$(TOOL) search --target ms --evals $(SEARCH_EVALS_MS) --gpu $(GPU_CHIPS) --out results/search/ms \
+	  --link-prefix search/ms/
+# sheen (issue 41): the Charlie sheen albedo, Filament's cloth DFG channel,
+# against MaterialX's rational fit
+results-search-sheen:
+	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_SHEEN) --gpu $(GPU_CHIPS) --out results/search/sheen \
+	  --link-prefix search/sheen/
 # the same searches with error in half precision (members safe in half only),
 # seeded with the double front and set beside it (vs_double.csv); each after its
 # double search, whose front.csv it reads
@@ -494,6 +525,14 @@ results-search-f_gold_half: results-search-f_gold
 	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_HALF_F) $(HALF_OPTS) \
 	  --start-front results/search/f_gold/front.csv --vs-front results/search/f_gold/front.csv \
 	  --out results/search/f_gold_half --link-prefix search/f_gold_half/
+results-search-ms_half: results-search-ms
+	$(TOOL) search --target ms --evals $(SEARCH_EVALS_HALF_MS) $(HALF_OPTS) \
+	  --start-front results/search/ms/front.csv --vs-front results/search/ms/front.csv \
+	  --out results/search/ms_half --link-prefix search/ms_half/
+results-search-sheen_half: results-search-sheen
+	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_HALF_SHEEN) $(HALF_OPTS) \
+	  --start-front results/search/sheen/front.csv --vs-front results/search/sheen/front.csv \
+	  --out results/search/sheen_half --link-prefix search/sheen_half/
 # scene specialisation: each example scene's feature sets, their terms chosen and
 # refitted on the scene's own domain, shaders and the saving against the generic one
 results-scenes:

@@ -18,7 +18,9 @@ typedef struct bk_catalog_entry {
 	const char *name;       /* e.g. "vf_talk_r": unique, lowercase */
 	const char *target;     /* what it approximates: "D", "V", "F", "VF" (V·F), "DVF",
 	                           "env" (split sum: form = A, form_b = B) or
-	                           "env_f0" (the whole environment BRDF, f0 inside) */
+	                           "env_f0" (the whole environment BRDF, f0 inside) or
+	                           "ms" (GGX directional albedo E = A + B, F = 1) or
+	                           "sheen" (the Charlie sheen albedo) */
 	const char *form;       /* formula-language text; A for "env" */
 	const char *form_b;     /* B for "env", else NULL; shares the parameters */
 	int nparams;

@@ -20,7 +20,7 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen"};
 
 const char *bk_target_name(bk_target_kind k) { return names[k]; }
 
@@ -279,6 +279,89 @@ static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn p
 	return 0;
 }
 
+/* ms: the single-scattering GGX directional albedo with F = 1,
+ *     E(NoV, r) = ∫ D V NoL dω_l = A + B,
+ * the split sum's two halves added (f0 = 1 in f0 A + B): one integral per
+ * cell, the DFG's. Multiple-scattering compensation (Kulla & Conty 2017,
+ * Turquin 2019, Filament) reads 1 - E(μ) and E_avg = 2 ∫ E μ dμ; a fit of E
+ * gives both (E_avg by the same quadrature an engine's 1-D table uses), so
+ * one component, not two with shared parameters (see brdfkit-fit(1)). */
+static int build_ms(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                    char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr);
+		for (int k = 0; k < o->nx; k++, i++) {
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
+			if (bk_ms_E(NoV, r, o->smith, 1e-8, &E)) {
+				snprintf(err, errlen, "ms: reference integral failed at NoV %g, r %g", NoV, r);
+				bk_samples_free(s);
+				return -1;
+			}
+			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* E has no f0 (F = 1) */
+			s->y[i] = E;
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+		if (progress)
+			progress(ctx, j + 1, o->nr);
+	}
+	s->n = n;
+	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (%s Smith, F = 1), "
+	         "the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV "
+	         "in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+	         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	return 0;
+}
+
+/* sheen: the directional albedo of the Charlie sheen lobe (Estevez & Kulla
+ * 2017's D, Neubelt & Pettineo 2013's V, F = 1), bk_sheen_albedo, the
+ * channel Filament bakes for cloth beside A and B; a = r^2 in D. It is what
+ * a layered material scales the layer below by (1 - sheen albedo). */
+static int build_sheen(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                       char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr);
+		for (int k = 0; k < o->nx; k++, i++) {
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
+			if (bk_sheen_albedo(NoV, r, 1e-8, &E, NULL)) {
+				snprintf(err, errlen, "sheen: reference integral failed at NoV %g, r %g", NoV, r);
+				bk_samples_free(s);
+				return -1;
+			}
+			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* F = 1: no f0 */
+			s->y[i] = E;
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+		if (progress)
+			progress(ctx, j + 1, o->nr);
+	}
+	s->n = n;
+	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL "
+	         "(Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference "
+	         "integrator at tol 1e-8, on NoV in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+	         x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	return 0;
+}
+
 static int build_d(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
 {
 	size_t n = (size_t)o->nx * o->nr, i = 0;
@@ -506,6 +589,8 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
 	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
 	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
+	case BK_TARGET_MS: rc = build_ms(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_SHEEN: rc = build_sheen(o, s, progress, ctx, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;
 	}
 	if (rc == 0 && s->ncomp == 1) {
@@ -544,12 +629,15 @@ static double seconds_now(void)
 double bk_target_estimate(const bk_target_options *o, double *integrals)
 {
 	*integrals = 0;
-	if (o->kind != BK_TARGET_ENV)
+	if (o->kind != BK_TARGET_ENV && o->kind != BK_TARGET_MS && o->kind != BK_TARGET_SHEEN)
 		return 0;
 	*integrals = (double)o->nx * (double)o->nr;
 	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0, t0 = seconds_now(), A, B;
 	for (int j = 0; j < 4; j++)
 		for (int k = 0; k < 4; k++)
-			bk_dfg(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), o->smith, 1e-8, &A, &B, NULL);
+			if (o->kind == BK_TARGET_SHEEN)
+				bk_sheen_albedo(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), 1e-8, &A, NULL);
+			else /* env and ms: the DFG's integral */
+				bk_dfg(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), o->smith, 1e-8, &A, &B, NULL);
 	return (seconds_now() - t0) / 16 * *integrals;
 }

@@ -22,6 +22,8 @@ typedef enum bk_target_kind {
 	BK_TARGET_D,    /* GGX D over (NoH, r) */
 	BK_TARGET_F,    /* exact Fresnel over LoH */
 	BK_TARGET_FORM, /* a formula (form_text) on a box of the inputs it reads (domain) */
+	BK_TARGET_MS,   /* GGX directional albedo E = A + B (F = 1) over (NoV, r): multiscatter's input */
+	BK_TARGET_SHEEN, /* sheen albedo (Charlie D, Neubelt V, F = 1) over (NoV, r): Filament's cloth DFG */
 	BK_TARGET_COUNT
 } bk_target_kind;
 
@@ -38,7 +40,7 @@ typedef struct bk_target_options {
 	double f0[BK_TARGET_MAX_F0];
 	int nf0;             /* vf2d, vf, spec use f0[0]; env in-f0 forms use all */
 	int talk_alpha;      /* vf2d: read the talk's "roughness" as alpha */
-	bk_smith smith;      /* env */
+	bk_smith smith;      /* env, ms */
 	double eta, k;       /* f: complex index (k = 0: dielectric) */
 	bk_weight_kind weight;
 	int env_f0_form;     /* env: one form in f0, fitted to f0 A + B */

@@ -422,7 +422,7 @@ static int search_main(int argc, char **argv)
 	                .max_params = -1, .max_size = 24, .enum_size = 5, .enum_max = 5000, .every = 5000, .generation = 256,
 	                .migrate = 2000, .migrants = 8};
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.t.target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, ms or sheen", .dest = &a.t.target, .required = 1},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the expression to approximate (inputs only)", .dest = &a.t.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads", .dest = &a.t.domain},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},

@@ -47,10 +47,10 @@ int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
  * is bk_target_kind k. */
 #define FIT_TARGET_DIM                                                                                    \
 	{"target",                                                                                        \
-	 {"vf2d", "vf", "spec", "env", "d", "f", "form"},                                                 \
+	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen"},                                  \
 	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d",        \
-	  " on target f", " on target form"}}
-_Static_assert(BK_TARGET_COUNT == 7, "FIT_TARGET_DIM names every target kind in order");
+	  " on target f", " on target form", " on target ms", " on target sheen"}}
+_Static_assert(BK_TARGET_COUNT == 9, "FIT_TARGET_DIM names every target kind in order");
 #define FIT_ON(k) (1u << BK_TARGET_##k)
 #define FIT_ALL ((1u << BK_TARGET_COUNT) - 1)
 

@@ -409,7 +409,7 @@ static const cli_dim dims[] = {
 static const cli_rule rules[] = {
 	{"--nu", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
 	{"--nphi", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
-	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV), "it sets the Smith model of target env", "schlick"},
+	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(MS), "it sets the Smith model of targets env and ms", "schlick"},
 	{"--ior", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "1.4"},
 	{"--k", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "3"},
 	{"--f0", NULL, DIM_TARGET, FIT_ON(VF2D) | FIT_ON(VF) | FIT_ON(SPEC) | FIT_ON(ENV),
@@ -475,6 +475,8 @@ static const char *const setups[] = {
 	"--target d --out o",
 	"--target f --out o",
 	"--target form --target-form LoH --domain LoH=0:1 --out o",
+	"--target ms --out o",
+	"--target sheen --out o",
 	"--target env --env-form f0 --out o",
 	"--target env --env-form mix --out o",
 	"--target f --checkpoint ck --out o",
