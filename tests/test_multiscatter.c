@@ -170,8 +170,10 @@ Test(multiscatter, E_avg_matches_second_method)
 	cr_log_info("E_avg: worst difference between the two methods %.3g\n", worst);
 }
 
-/* Kulla & Conty 2017: GGX (correlated Smith) loses about 60 % of its energy
- * at r = 1 without compensation, E_avg ≈ 0.41; separable Smith masks more. */
+/* GGX with correlated Smith loses about 60 % of its energy at r = 1 without
+ * compensation, E_avg ≈ 0.41 (the figure issue 41 and references/terms.md
+ * give for Kulla & Conty 2017; their slides were not at hand to read the
+ * digits, hence the 0.005 margin); separable Smith masks more. */
 Test(multiscatter, E_avg_published_scale)
 {
 	double c, s, z;
