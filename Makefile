@@ -194,6 +194,10 @@ VK_SRC = $(sort $(wildcard tests/vk/*.c))
 build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
+# tests/cli_table.sh fits back a MERL-format file this writes from brdf/'s exact GGX
+build/mkmerl: $(call obj,build/obj,tests/tools/mkmerl.c) $(LIB)
+	$(CC) $(OPT) $^ -lm -o $@
+
 # tests/render.sh compares brdfkit render's EXR images pixel by pixel with this
 build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c)
 	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
@@ -212,7 +216,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # What the suites run, built two at a time whatever make was started with (the
 # README's `make test`, CI's too, has no -j): the plain and the sanitized
 # objects, and the shared libraries tests/install.sh installs.
-TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp $(SO_LIB) $(SO_FIT)
+TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
@@ -224,7 +228,7 @@ test: deps
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own) and mostly one process at a time, so make test
 # runs the two side by side on the two cores; --output-sync prints each whole.
-test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
+test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp build/mkmerl
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)

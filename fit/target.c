@@ -20,7 +20,8 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form", "table",
+                                                           "merl"};
 
 const char *bk_target_name(bk_target_kind k) { return names[k]; }
 
@@ -492,6 +493,44 @@ static int build_form(const bk_target_options *o, bk_samples *s, char *err, size
 	return 0;
 }
 
+/* ---- table, merl: samples a reader made --------------------------------- */
+
+static int copy_array(double **dst, const double *src, size_t n)
+{
+	if (!src)
+		return 0;
+	*dst = malloc(n ? n * sizeof **dst : 1);
+	if (*dst && n)
+		memcpy(*dst, src, n * sizeof **dst);
+	return *dst ? 0 : -1;
+}
+
+static int build_table(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	const bk_samples *t = o->table;
+	if (!t || !t->n) {
+		snprintf(err, errlen, "target %s: no samples were read", names[o->kind]);
+		return -1;
+	}
+	*s = *t; /* the plane, the description, provides, n; arrays copied below */
+	memset(s->in, 0, sizeof s->in);
+	s->y = s->w = s->measure = NULL;
+	s->cell = NULL;
+	size_t n = t->n;
+	int bad = 0;
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		bad |= copy_array(&s->in[k], t->in[k], n);
+	bad |= copy_array(&s->y, t->y, n) | copy_array(&s->w, t->w, n) | copy_array(&s->measure, t->measure, n);
+	s->cell = malloc(n * sizeof *s->cell);
+	if (bad || !s->cell || !s->y || !s->w || !s->measure) {
+		bk_samples_free(s);
+		snprintf(err, errlen, "out of memory for %zu samples", n);
+		return -1;
+	}
+	memcpy(s->cell, t->cell, n * sizeof *s->cell);
+	return 0;
+}
+
 int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                     char *err, size_t errlen)
 {
@@ -506,6 +545,8 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
 	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
 	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: rc = build_table(o, s, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;
 	}
 	if (rc == 0 && s->ncomp == 1) {
@@ -527,6 +568,8 @@ size_t bk_target_samples(const bk_target_options *o)
 		for (int d = 0; d < o->ndomain; d++)
 			n *= (size_t)bk_target_form_cells(o);
 		return n;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: return o->table ? o->table->n : 0;
 	default: return cells; /* vf2d, d */
 	}
 }
