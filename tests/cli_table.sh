@@ -139,6 +139,18 @@ same_params fwz fwc 1e-9 && ok || bad "rows of weight 0 changed the fit"
 "$BK" fit --target table --target-file wn.csv --form "$ENV" $START --digits 17 --out fwn --quiet >/dev/null 2>&1
 expect_fail "the same rows weighed 1 move the fit" same_params fwn fwc 1e-9
 
+# ---- search on a table: an exact closed form is found ----------------------
+# value = 0.25/(0.3 + NoV), written by awk: a front member of that shape fits
+# it to rounding; the control adds a wiggle no short form fits
+awk 'BEGIN { print "NoV,value"; for (i = 0; i < 200; i++) { x = (i + 0.5) / 200; printf "%.17g,%.17g\n", x, 0.25 / (0.3 + x) } }' >exact.csv
+awk 'BEGIN { print "NoV,value"; for (i = 0; i < 200; i++) { x = (i + 0.5) / 200; printf "%.17g,%.17g\n", x, 0.25 / (0.3 + x) + 0.01 * sin(20 * x) } }' >wiggle.csv
+"$BK" search --target table --target-file exact.csv --evals 300 --threads 1 --out se --quiet >/dev/null 2>&1 || bad "search table"
+"$BK" search --target table --target-file wiggle.csv --evals 300 --threads 1 --out sw --quiet >/dev/null 2>&1 || bad "search wiggle"
+csv_any_le se/front.csv rmse 1e-9 && ok || bad "search on a table missed 0.25/(0.3 + NoV)"
+expect_fail "a wiggle no short form fits" csv_any_le sw/front.csv rmse 1e-9
+grep -q "^# target: table: exact.csv, 200 samples of column 'value' at NoV; weight uniform" se/front.csv && ok \
+	|| bad "search: the front's target line: $(grep '^# target' se/front.csv)"
+
 # ---- damaged tables: line and column, texel, attribute ---------------------
 F1='p0 + p1*NoV'
 printf '# c\nNoV,r,value\n0.5,0.5,1\n0.6,0.5,abc\n' >bad1.csv
@@ -173,6 +185,9 @@ rc=$?
 # an EXR brdfkit wrote without the table layout: a fit's heatmap
 cp ft5/heatmap.exr heat.exr
 refused "exr attribute" "heat.exr: attribute brdfkit:axes 'x = NoV: 32 cells" fit --target table --target-file heat.exr --form "$F1" p0=0 p1=0
+
+# compare scores the catalog on brdfkit's own targets
+refused "compare table" "--target table: compare scores the catalog on brdfkit's own targets" compare --target table
 
 echo "cli_table: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
