@@ -288,7 +288,7 @@ build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC))
 build/bench_enum: $(call obj,build/obj,analysis/bench/bench_enum.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery build/bench_enum $(TOOL) $(MPI_TOOL)
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery build/bench_enum $(TOOL) $(MPI_TOOL) build/mkmerl
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
@@ -299,6 +299,7 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 	nice build/bench_recovery --beyond 100000
 	build/bench_enum
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
+	sh analysis/bench/bench_merl.sh $(TOOL) build/mkmerl
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;
 # each search writes candidates.csv, every fit, which git ignores: 10 MB for the five)

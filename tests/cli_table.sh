@@ -67,7 +67,11 @@ t0=$(date +%s.%N)
 t1=$(date +%s.%N)
 secs=$(awk -v a="$t0" -v b="$t1" 'BEGIN { printf "%.2f", b - a }')
 echo "cli_table: MERL file (90x90x180 x 3 channels) loaded and fitted in $secs s (goal: < 10 s on 2 cores)"
-awk -v s="$secs" 'BEGIN { exit !(s < 10) }' && ok || bad "MERL load and fit took $secs s, not < 10 s"
+# the goal is the plain build's; a sanitized one (build/san) runs several times slower
+case $BK in
+*/san/*) ;;
+*) awk -v s="$secs" 'BEGIN { exit !(s < 10) }' && ok || bad "MERL load and fit took $secs s, not < 10 s" ;;
+esac
 param_is mr p0 0.4 1e-6 && ok || bad "merl r: roughness not 0.4"
 param_is mr p1 0.9 1e-6 && ok || bad "merl r: f0 not 0.9"
 expect_fail "red's f0 is not green's" param_is mr p1 0.6 1e-6
