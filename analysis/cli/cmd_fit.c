@@ -703,6 +703,8 @@ int cmd_fit(int argc, char **argv)
 	               "--target T (--form FORM|NAME | --form-a A --form-b B) --out DIR [p0=START ...] [options]",
 	               "Target form: --target-form EXPR --domain IN=LO:HI[,...] samples EXPR at cell centres of a\n"
 	               "grid over the domain (uniform weight); no heatmap with more than two inputs.\n"
+	               "Targets table and merl: --target-file FILE, a CSV of samples, an EXR table as lut\n"
+	               "writes it, or a MERL binary BRDF (--channel); see brdfkit-fit(1), Targets.\n"
 	               "A form without parameters is evaluated, not fitted. Options that would have no effect (on\n"
 	               "this target, without parameters, --loss-scale without --loss, --seed with --starts 1,\n"
 	               "--threads on the default solver) are refused, and so is --hold of every parameter.\n"
