@@ -249,7 +249,9 @@ static int read_exr(const char *path, const char *channel, bk_samples *s, char *
 	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
 	s->plane_nx = img.width, s->plane_ny = img.height;
 	s->plane_x0 = 0, s->plane_x1 = 1, s->plane_y0 = L.r_lo, s->plane_y1 = L.r_hi;
-	s->plane_xname = "NoV", s->plane_yname = "r";
+	/* the cells are uniform in u: a warped table's heatmap says so (its edges,
+	 * u = 0 and 1, are NoV = 0 and 1 all the same) */
+	s->plane_xname = L.warp == BK_LUT_WARP_SQRT ? "u = sqrt(NoV)" : "NoV", s->plane_yname = "r";
 	s->plane_x_input = BK_IN_NOV, s->plane_y_input = BK_IN_R;
 	snprintf(s->description, sizeof s->description,
 	         "table: %.200s, channel %s (%s), %dx%d texels: x = NoV%s, y = perceptual roughness r in [%g, %g] at "

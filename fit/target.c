@@ -528,6 +528,13 @@ static int build_table(const bk_target_options *o, bk_samples *s, char *err, siz
 		return -1;
 	}
 	memcpy(s->cell, t->cell, n * sizeof *s->cell);
+	if (o->weight == BK_WEIGHT_NONE) { /* --weight none: every sample the same, not the file's weights */
+		for (size_t i = 0; i < n; i++)
+			s->w[i] = 1.0 / (double)n;
+		size_t len = strlen(s->description);
+		snprintf(s->description + len, sizeof s->description - len, "%s",
+		         len + 40 < sizeof s->description ? "; weights replaced: uniform (--weight none)" : "");
+	}
 	return 0;
 }
 

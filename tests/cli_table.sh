@@ -142,6 +142,12 @@ same_params fwz fwc 1e-9 && ok || bad "rows of weight 0 changed the fit"
 # shellcheck disable=SC2086
 "$BK" fit --target table --target-file wn.csv --form "$ENV" $START --digits 17 --out fwn --quiet >/dev/null 2>&1
 expect_fail "the same rows weighed 1 move the fit" same_params fwn fwc 1e-9
+# --weight none: the file's weights replaced by uniform ones, so wz.csv fits as wn.csv
+# shellcheck disable=SC2086
+"$BK" fit --target table --target-file wz.csv --weight none --form "$ENV" $START --digits 17 --out fwu --quiet >/dev/null 2>&1 \
+	|| bad "fit --weight none"
+same_params fwu fwn 1e-9 && ok || bad "--weight none kept the file's weights"
+grep -q "weights replaced: uniform (--weight none)" fwu/coefficients.csv && ok || bad "--weight none: not said on the target line"
 
 # ---- search on a table: an exact closed form is found ----------------------
 # value = 0.25/(0.3 + NoV), written by awk: a front member of that shape fits
