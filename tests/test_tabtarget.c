@@ -5,7 +5,8 @@
  * identity (the mean of NoL NoV over pairs of directions uniform in solid
  * angle over the hemisphere is 1/2 x 1/2), with the uniform weight as the
  * control the identity must catch; a CSV's derived inputs, its weights and
- * the text of its errors.
+ * the text of its errors; EXR tables written here with lut's attributes,
+ * read back on both origins (a flipped read is the control), and damaged.
  */
 #include <criterion/criterion.h>
 #include <math.h>
@@ -15,6 +16,7 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "exr.h"
 #include "tabtarget.h"
 
 /* ω_l = R_y(θh) d(θd, φd), h = R_y(θh) z, ω_v = 2 (ω_l·h) h - ω_l */
@@ -132,4 +134,68 @@ Test(tabtarget, csv_errors_say_where)
 	cr_expect(strstr(err, ".csv:2: column 'weight' (field 3): -1 is outside [0, inf)") != NULL, "%s", err);
 	cr_expect_eq(read_csv_text("NoV,value\n", &s, err, sizeof err), -1);
 	cr_expect(strstr(err, "no data rows") != NULL, "%s", err);
+}
+
+/* ---- EXR tables: written here with the attributes lut writes -------------- */
+
+static const char classic_axes[] =
+	"x: NoV = (i + 0.5)/width at texel centres; y: perceptual roughness r = (j + 0.5)/height";
+
+/* A 6x4 table of v = NoV + 10 r, laid out as lut lays it out (origin top:
+ * scanline y holds r row y; bottom: row h - 1 - y), or with attrs given. */
+static void write_table(const char *path, const char *axes, const char *origin, int top, float poison)
+{
+	enum { W = 6, H = 4 };
+	float v[W * H];
+	for (int y = 0; y < H; y++)
+		for (int i = 0; i < W; i++) {
+			int j = top ? y : H - 1 - y;
+			v[y * W + i] = (float)((i + 0.5) / W + 10 * (j + 0.5) / H);
+		}
+	v[2 * W + 3] += poison;
+	const char *names[1] = {"R"};
+	const float *data[1] = {v};
+	bk_exr_attr attrs[2] = {{"brdfkit:axes", BK_EXR_ATTR_STRING, axes, 0},
+	                        {"brdfkit:origin", BK_EXR_ATTR_STRING, origin, 0}};
+	char err[300];
+	cr_assert_eq(bk_exr_write(path, W, H, 1, names, data, 0, attrs, axes ? 2 : 0, err, sizeof err), 0, "%s", err);
+}
+
+Test(tabtarget, exr_axes_and_origin)
+{
+	char dir[] = "/tmp/bk_test_exr_XXXXXX", path[64], err[600];
+	cr_assert(mkdtemp(dir) != NULL);
+	snprintf(path, sizeof path, "%s/t.exr", dir);
+	for (int top = 0; top < 2; top++) {
+		write_table(path, classic_axes, top ? "top: scanline 0 ..." : "bottom: the last scanline ...", top, 0);
+		bk_samples s;
+		cr_assert_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), 0, "%s", err);
+		cr_expect_eq(s.n, 24);
+		for (size_t q = 0; q < s.n; q++) /* float storage: 1e-6 */
+			cr_expect(fabs(s.y[q] - (s.in[BK_IN_NOV][q] + 10 * s.in[BK_IN_R][q])) < 1e-5, "origin %s, sample %zu",
+			          top ? "top" : "bottom", q);
+		bk_samples_free(&s);
+	}
+	/* control: a bottom-origin file read as top puts every row at the wrong r */
+	write_table(path, classic_axes, "top: scanline 0 ...", 0, 0);
+	bk_samples s;
+	cr_assert_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), 0, "%s", err);
+	cr_expect(fabs(s.y[0] - (s.in[BK_IN_NOV][0] + 10 * s.in[BK_IN_R][0])) > 1, "a flipped table is caught");
+	bk_samples_free(&s);
+
+	write_table(path, classic_axes, "top: scanline 0 ...", 1, NAN);
+	cr_expect_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), -1);
+	cr_expect(strstr(err, "t.exr: channel R, texel (3, 2): value nan is not finite") != NULL, "%s", err);
+	write_table(path, NULL, NULL, 1, 0);
+	cr_expect_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), -1);
+	cr_expect(strstr(err, "t.exr: no string attribute brdfkit:axes") != NULL, "%s", err);
+	write_table(path, classic_axes, "left: ...", 1, 0);
+	cr_expect_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), -1);
+	cr_expect(strstr(err, "t.exr: attribute brdfkit:origin is absent or neither") != NULL, "%s", err);
+	write_table(path, "x: u = cbrt(NoV) at texel centres u = (i + 0.5)/width; y: v = (r - 0)/1 at texel centres "
+	            "v = (j + 0.5)/height, r perceptual roughness", "top: ...", 1, 0);
+	cr_expect_eq(bk_tabtarget_table(path, NULL, &s, err, sizeof err), -1);
+	cr_expect(strstr(err, "is not a layout brdfkit lut writes") != NULL, "%s", err);
+	unlink(path);
+	rmdir(dir);
 }
