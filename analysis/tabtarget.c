@@ -72,8 +72,8 @@ static int csv_cell(const bk_csvtab *t, const char *const *cols, int i, int k, d
 	if (k == COL_WEIGHT)
 		hi = HUGE_VAL;
 	if (!(*x >= lo && *x <= hi))
-		return bk_csvtab_err(err, errlen, t->path, t->line[i], "column '%s' (field %d): %s is outside [0, %s]",
-		                     cols[k], t->col[k] + 1, text, k == COL_WEIGHT ? "inf)" : "1");
+		return bk_csvtab_err(err, errlen, t->path, t->line[i], "column '%s' (field %d): %s is outside [0, %s",
+		                     cols[k], t->col[k] + 1, text, k == COL_WEIGHT ? "inf)" : "1]");
 	return 0;
 }
 
@@ -197,17 +197,26 @@ static int read_exr(const char *path, const char *channel, bk_samples *s, char *
 {
 	bk_lut_layout L;
 	char origin[512];
-	if (exr_layout(path, &L, err, errlen))
+	FILE *f = fopen(path, "rb"); /* an absent file is said as such, not as an absent attribute */
+	if (!f) {
+		snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+		return -2;
+	}
+	fclose(f);
+	bk_exr_image img; /* first: a damaged header is said as such, not as an absent attribute */
+	if (bk_exr_read(path, &img, err, errlen))
 		return -1;
+	if (exr_layout(path, &L, err, errlen)) {
+		bk_exr_image_free(&img);
+		return -1;
+	}
 	if (bk_exr_read_attr(path, "brdfkit:origin", origin, sizeof origin) ||
 	    (strncmp(origin, "top:", 4) && strncmp(origin, "bottom:", 7))) {
 		snprintf(err, errlen, "%s: attribute brdfkit:origin is absent or neither 'top: ...' nor 'bottom: ...'", path);
+		bk_exr_image_free(&img);
 		return -1;
 	}
 	int top = !strncmp(origin, "top:", 4);
-	bk_exr_image img;
-	if (bk_exr_read(path, &img, err, errlen))
-		return -1;
 	int c = -1;
 	if (channel && (c = bk_exr_channel_index(&img, channel)) < 0)
 		snprintf(err, errlen, "%s: no channel '%s' (the file has %d: %s%s%s%s%s)", path, channel, img.nchan,
@@ -305,7 +314,7 @@ int bk_tabtarget_merl(const char *path, bk_merl_channel ch, bk_samples *s, char 
 		snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
 		return -2;
 	}
-	int32_t dims[3];
+	int32_t dims[3]; /* MERL's files are little-endian, as this machine (x86-64, arm64) */
 	const size_t N = BK_MERL_N, plane_bytes = N * sizeof(double), want = 12 + 3 * plane_bytes;
 	size_t got = fread(dims, 1, sizeof dims, f);
 	double *v = NULL;
