@@ -157,6 +157,10 @@ awk 'BEGIN { print "NoV,value"; for (i = 0; i < 200; i++) { x = (i + 0.5) / 200;
 "$BK" search --target table --target-file exact.csv --evals 300 --threads 1 --out se --quiet >/dev/null 2>&1 || bad "search table"
 "$BK" search --target table --target-file wiggle.csv --evals 300 --threads 1 --out sw --quiet >/dev/null 2>&1 || bad "search wiggle"
 csv_any_le se/front.csv rmse 1e-9 && ok || bad "search on a table missed 0.25/(0.3 + NoV)"
+# the same bytes for any thread count
+"$BK" search --target table --target-file exact.csv --evals 300 --threads 2 --out se2 --quiet >/dev/null 2>&1 || bad "search table, 2 threads"
+sed 1,2d se/front.csv >se.body && sed 1,2d se2/front.csv >se2.body && cmp -s se.body se2.body && ok \
+	|| bad "search on a table: front.csv differs between 1 and 2 threads"
 expect_fail "a wiggle no short form fits" csv_any_le sw/front.csv rmse 1e-9
 grep -q "^# target: table: exact.csv, 200 samples of column 'value' at NoV; weight uniform" se/front.csv && ok \
 	|| bad "search: the front's target line: $(grep '^# target' se/front.csv)"
