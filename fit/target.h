@@ -54,7 +54,8 @@ typedef struct bk_target_options {
 	double dom_lo[BK_IN_COUNT], dom_hi[BK_IN_COUNT];
 	/* table, merl: the samples as a reader made them (analysis/tabtarget.h:
 	 * fit/ reads no file formats); bk_target_build copies them, so one
-	 * reading serves several builds (search's screen and full samples) */
+	 * reading serves several builds (search's screen and full samples);
+	 * nx > 0 keeps about nx of them, every k-th (0, the default: all) */
 	const struct bk_samples *table;
 } bk_target_options;
 

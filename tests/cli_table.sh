@@ -19,7 +19,7 @@ REPO=$(pwd)
 MKMERL=$REPO/build/mkmerl
 CSVGET=$REPO/build/csvget
 T=$(mktemp -d /tmp/bk_cli_table_XXXXXX)
-trap 'rm -rf "$T"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$T"' EXIT
 . "$REPO/tests/lib.sh"
 pass=0 fail=0
 ok() { pass=$((pass + 1)); }
@@ -85,6 +85,12 @@ for ch in g:0.6 b:0.3 luminance:0.64212; do
 	param_is "m$c" p0 0.4 1e-6 && param_is "m$c" p1 "$f" 1e-6 && ok || bad "merl $c: not r 0.4, f0 $f"
 done
 
+# search on a MERL file: screening on every k-th of its samples (about 4,096),
+# the front refitted on all; the exact model as a seed comes back exact
+"$BK" search --target merl --target-file m.binary --channel r --evals 100 --threads 2 --start "$GGX" --out sm \
+	--quiet >/dev/null 2>&1 || bad "search merl"
+csv_any_le sm/front.csv rmse 1e-9 && ok || bad "search merl: the exact model seeded is not on the front at rmse <= 1e-9"
+
 # ---- damaged MERL files: what and where ------------------------------------
 head -c 1000000 m.binary >trunc.binary
 refused "truncated merl" "trunc.binary: truncated at byte 1000000" fit --target merl --target-file trunc.binary --form "$GGX" p0=0.5 p1=0.5
@@ -133,20 +139,21 @@ same_params ftb fenv 1e-5 && ok || bad "origin bottom: not the env target's cons
 }
 same_params fwe fwc 1e-5 && ok || bad "a warped LUT: EXR and CSV fits differ"
 expect_fail "the warped LUT is not the classic one" same_params fwe ft5 1e-5
-# a weight column: rows of weight 0 (with values far off) change nothing
+# a weight column: rows of weight 0 (with values far off) change nothing (to
+# the solver's tolerance, 1e-6: weights of other bits stop it elsewhere)
 { echo "NoV,r,value,weight"; csv_cols Lw/dfg.csv nov roughness env | awk -F'\t' -v OFS=, '{ print $1, $2, $3, 1; print $1, $2, $3 + 5, 0 }'; } >wz.csv
 # shellcheck disable=SC2086
 "$BK" fit --target table --target-file wz.csv --form "$ENV" $START --digits 17 --out fwz --quiet >/dev/null 2>&1 || bad "fit weighted csv"
-same_params fwz fwc 1e-9 && ok || bad "rows of weight 0 changed the fit"
+same_params fwz fwc 1e-6 && ok || bad "rows of weight 0 changed the fit"
 { echo "NoV,r,value"; csv_cols Lw/dfg.csv nov roughness env | awk -F'\t' -v OFS=, '{ print $1, $2, $3; print $1, $2, $3 + 5 }'; } >wn.csv
 # shellcheck disable=SC2086
 "$BK" fit --target table --target-file wn.csv --form "$ENV" $START --digits 17 --out fwn --quiet >/dev/null 2>&1
-expect_fail "the same rows weighed 1 move the fit" same_params fwn fwc 1e-9
+expect_fail "the same rows weighed 1 move the fit" same_params fwn fwc 1e-6
 # --weight none: the file's weights replaced by uniform ones, so wz.csv fits as wn.csv
 # shellcheck disable=SC2086
 "$BK" fit --target table --target-file wz.csv --weight none --form "$ENV" $START --digits 17 --out fwu --quiet >/dev/null 2>&1 \
 	|| bad "fit --weight none"
-same_params fwu fwn 1e-9 && ok || bad "--weight none kept the file's weights"
+same_params fwu fwn 1e-6 && ok || bad "--weight none kept the file's weights"
 grep -q "weights replaced: uniform (--weight none)" fwu/coefficients.csv && ok || bad "--weight none: not said on the target line"
 
 # ---- search on a table: an exact closed form is found ----------------------

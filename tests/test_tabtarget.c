@@ -199,3 +199,37 @@ Test(tabtarget, exr_axes_and_origin)
 	unlink(path);
 	rmdir(dir);
 }
+
+/* bk_target_build's copy: all samples, or every k-th (search's screening),
+ * the weights rescaled to sum to 1, and --weight none's uniform weights */
+Test(tabtarget, build_copies_and_strides)
+{
+	bk_samples t, s;
+	char err[600];
+	cr_assert_eq(read_csv_text("NoV,value,weight\n0,0,1\n0.1,1,1\n0.2,2,1\n0.3,3,2\n0.4,4,1\n0.5,5,1\n0.6,6,3\n"
+	                           "0.7,7,1\n0.8,8,1\n0.9,9,4\n", &t, err, sizeof err), 0, "%s", err);
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_TABLE, &o);
+	o.table = &t;
+	cr_expect_eq(bk_target_samples(&o), 10);
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(s.n, 10);
+	cr_expect(fabs(s.w[9] - 4.0 / 16) < 1e-15);
+	bk_samples_free(&s);
+	o.nx = 4; /* stride ceil(10/4) = 3: samples 0, 3, 6, 9 of weights 1, 2, 3, 4 */
+	cr_expect_eq(bk_target_samples(&o), 4);
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect_eq(s.n, 4);
+	for (int i = 0; i < 4; i++) {
+		cr_expect(s.y[i] == 3 * i, "sample %d is the file's %d-th", i, 3 * i);
+		cr_expect(fabs(s.w[i] - (i + 1) / 10.0) < 1e-15, "weight %d: %g", i, s.w[i]);
+	}
+	cr_expect(strstr(s.description, "; one sample in 3 (4)") != NULL, "%s", s.description);
+	bk_samples_free(&s);
+	o.nx = 0;
+	o.weight = BK_WEIGHT_NONE;
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_expect(s.w[0] == 0.1 && s.w[9] == 0.1);
+	bk_samples_free(&s);
+	bk_samples_free(&t);
+}

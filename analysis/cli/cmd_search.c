@@ -409,7 +409,7 @@ static int search_main(int argc, char **argv)
 	                .migrate = 2000, .migrants = 8};
 	cli_opt opts[] = {
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, table or merl", .dest = &a.t.target, .required = 1},
-		{.name = "--target-file", .kind = CLI_STR, .metavar = "FILE", .help = "table: a CSV of samples (input columns, value, optional weight) or an EXR table as lut writes it; merl: a MERL binary BRDF (the screening fits use every sample)", .dest = &a.t.target_file},
+		{.name = "--target-file", .kind = CLI_STR, .metavar = "FILE", .help = "table: a CSV of samples (input columns, value, optional weight) or an EXR table as lut writes it; merl: a MERL binary BRDF (screening on about 4,096 of its samples, every k-th; the front refitted on all)", .dest = &a.t.target_file},
 		{.name = "--channel", .kind = CLI_STR, .metavar = "NAME", .help = "table: the EXR channel (default: its only one); merl: r, g, b or luminance (default)", .dest = &a.t.channel},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the expression to approximate (inputs only)", .dest = &a.t.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads", .dest = &a.t.domain},
