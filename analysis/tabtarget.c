@@ -5,6 +5,7 @@
 #include "tabtarget.h"
 #include "csvtab.h"
 #include "exr.h"
+#include "lut.h"
 
 #include <errno.h>
 #include <math.h>
@@ -159,36 +160,34 @@ static int read_csv(const char *path, bk_samples *s, char *err, size_t errlen)
 
 /* ---- EXR: a 2-D table as brdfkit lut writes it ----------------------------- */
 
-/* The x and y axes from brdfkit:axes (lut.c's two wordings). */
-static int exr_layout(const char *path, bk_lut_layout *L, char *err, size_t errlen)
+/* The x and y axes from brdfkit:axes: the layout whose text (lut.c's one
+ * wording, bk_lut_axes_text) the attribute is, the plain one or the warped or
+ * cut one its numbers say. */
+static int exr_layout(const char *path, int w, int h, bk_lut_layout *L, char *err, size_t errlen)
 {
-	static const char classic[] =
-		"x: NoV = (i + 0.5)/width at texel centres; y: perceptual roughness r = (j + 0.5)/height";
-	char axes[512];
+	char axes[512], want[512];
 	if (bk_exr_read_attr(path, "brdfkit:axes", axes, sizeof axes)) {
 		snprintf(err, errlen, "%s: no string attribute brdfkit:axes (a table target is laid out as brdfkit lut "
 		         "writes it)", path);
 		return -1;
 	}
-	L->r_lo = 0, L->r_hi = 1, L->warp = BK_LUT_WARP_NONE, L->f0 = NAN;
-	if (!strcmp(axes, classic))
+	*L = (bk_lut_layout){w, h, 0, 1, BK_LUT_WARP_NONE, NAN};
+	bk_lut_axes_text(L, want, sizeof want);
+	if (!strcmp(axes, want))
 		return 0;
+	const char *y = strstr(axes, "; y: ");
 	char warp[64];
 	double lo, span;
-	int used = 0;
-	const char *y = strstr(axes, "; y: ");
-	if (y && sscanf(axes, "x: u = %63[^ ] at texel centres u = (i + 0.5)/width", warp) == 1 &&
-	    sscanf(y, "; y: v = (r - %lf)/%lf at texel centres v = (j + 0.5)/height, r perceptual roughness%n", &lo,
-	           &span, &used) == 2 && y[used] == '\0') {
-		for (int w = 0; w < BK_LUT_WARPS; w++)
-			if (!strcmp(warp, bk_lut_warp_form((bk_lut_warp)w))) {
-				L->warp = (bk_lut_warp)w;
-				L->r_lo = lo;
-				L->r_hi = lo + span;
-				if (lo >= 0 && span > 0 && L->r_hi <= 1 + 1e-9)
-					return 0;
-			}
-	}
+	if (y && sscanf(axes, "x: u = %63[^ ]", warp) == 1 && sscanf(y, "; y: v = (r - %lf)/%lf", &lo, &span) == 2)
+		for (int k = 0; k < BK_LUT_WARPS; k++) {
+			/* 9 digits each (lut.c): lo + span may pass 1 by a rounding */
+			double hi = lo + span > 1 && lo + span < 1 + 1e-9 ? 1 : lo + span;
+			/* f0 0: any folded f0 words the plain layout this way too (lut.c classic()) */
+			*L = (bk_lut_layout){w, h, lo, hi, (bk_lut_warp)k, 0};
+			bk_lut_axes_text(L, want, sizeof want);
+			if (!strcmp(warp, bk_lut_warp_form((bk_lut_warp)k)) && !strcmp(axes, want) && !bk_lut_layout_check(L))
+				return 0;
+		}
 	snprintf(err, errlen, "%s: attribute brdfkit:axes '%.200s' is not a layout brdfkit lut writes", path, axes);
 	return -1;
 }
@@ -206,7 +205,7 @@ static int read_exr(const char *path, const char *channel, bk_samples *s, char *
 	bk_exr_image img; /* first: a damaged header is said as such, not as an absent attribute */
 	if (bk_exr_read(path, &img, err, errlen))
 		return -1;
-	if (exr_layout(path, &L, err, errlen)) {
+	if (exr_layout(path, img.width, img.height, &L, err, errlen)) {
 		bk_exr_image_free(&img);
 		return -1;
 	}
@@ -227,7 +226,6 @@ static int read_exr(const char *path, const char *channel, bk_samples *s, char *
 		         img.names[0], img.names[1], img.nchan > 2 ? ", ..." : "");
 	else if (!channel)
 		c = 0;
-	L.nu = img.width, L.nr = img.height;
 	size_t n = (size_t)img.width * (size_t)img.height;
 	if (c < 0 || samples_alloc(s, n, path, err, errlen)) {
 		bk_exr_image_free(&img);
