@@ -650,13 +650,10 @@ static void report(const run *R, int rc)
 	if (rc == 1)
 		printf("warning: did not converge (%s)\n", res->summary.message);
 	fit_run v = view(R);
-	if (!fit_has_plane(&v))
-	{
-		if (R->to.kind == BK_TARGET_FORM)
-			printf("no heatmap: target form has %d inputs; a heatmap needs 1 or 2\n", R->to.ndomain);
-		else
-			printf("no heatmap: the samples of target %s lie on no 2-D grid\n", bk_target_name(R->to.kind));
-	}
+	if (!fit_has_plane(&v) && R->to.kind == BK_TARGET_FORM)
+		printf("no heatmap: target form has %d inputs; a heatmap needs 1 or 2\n", R->to.ndomain);
+	else if (!fit_has_plane(&v))
+		printf("no heatmap: the samples of target %s lie on no 2-D grid\n", bk_target_name(R->to.kind));
 }
 
 int cmd_fit(int argc, char **argv)
