@@ -197,6 +197,10 @@ VK_SRC = $(sort $(wildcard tests/vk/*.c))
 build/vkrun: $(call obj,build/obj,$(VK_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
+# tests/cli_table.sh fits back a MERL-format file this writes from brdf/'s exact GGX
+build/mkmerl: $(call obj,build/obj,tests/tools/mkmerl.c) $(LIB)
+	$(CC) $(OPT) $^ -lm -o $@
+
 # tests/render.sh compares brdfkit render's EXR images pixel by pixel with this
 build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c)
 	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
@@ -215,7 +219,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # What the suites run, built two at a time whatever make was started with (the
 # README's `make test`, CI's too, has no -j): the plain and the sanitized
 # objects, and the shared libraries tests/install.sh installs.
-TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp $(SO_LIB) $(SO_FIT)
+TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
@@ -227,7 +231,7 @@ test: deps
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own) and mostly one process at a time, so make test
 # runs the two side by side on the two cores; --output-sync prints each whole.
-test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp
+test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp build/mkmerl
 	sh tests/layers.sh build/obj
 	$(TESTS) --jobs 2
 	sh tests/cli.sh $(TOOL)
@@ -287,7 +291,7 @@ build/bench_speed: $(call obj,build/obj,analysis/bench/bench_speed.c $(FIT_SRC))
 build/bench_enum: $(call obj,build/obj,analysis/bench/bench_enum.c $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
-bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery build/bench_enum $(TOOL) $(MPI_TOOL)
+bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_speed build/bench_recovery build/bench_enum $(TOOL) $(MPI_TOOL) build/mkmerl
 	$(call need,$(BENCH_DEBS))
 	$(BENCH)
 	build/bench_ir
@@ -298,6 +302,7 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 	nice build/bench_recovery --beyond 100000
 	build/bench_enum
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)
+	sh analysis/bench/bench_merl.sh $(TOOL) build/mkmerl
 
 # candidate fits per search of make results (a budget, so the fronts are reproducible;
 # each search writes candidates.csv, every fit, which git ignores: 10 MB for the five)

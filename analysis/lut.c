@@ -243,3 +243,11 @@ int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
 		free(ch[c]);
 	return rc;
 }
+
+/* The brdfkit:axes text of a layout, for readers that check a file against
+ * it (tabtarget.c): one writer of the wording. */
+void bk_lut_axes_text(const bk_lut_layout *L, char *buf, size_t len)
+{
+	bk_lut_desc d = {.L = *L};
+	axes_text(&d, buf, len);
+}

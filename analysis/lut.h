@@ -58,4 +58,8 @@ int bk_lut_extra(const bk_lut_desc *d, double *cloth, double *e_avg, bk_progress
 int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
                  const double *B, char *err, size_t errlen);
 
+/* The brdfkit:axes attribute bk_lut_write gives layout L (where the texel
+ * centres are, in words), so a reader can check a file's against it. */
+void bk_lut_axes_text(const bk_lut_layout *L, char *buf, size_t len);
+
 #endif

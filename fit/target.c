@@ -20,7 +20,8 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen"};
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf",   "spec",  "env",   "d",   "f",
+                                                            "form", "ms", "sheen", "table", "merl"};
 
 const char *bk_target_name(bk_target_kind k) { return names[k]; }
 
@@ -70,6 +71,11 @@ void bk_target_defaults(bk_target_kind kind, bk_target_options *o)
 		break;
 	case BK_TARGET_FORM:
 		o->nx = 0; /* bk_target_form_cells */
+		o->nr = 1;
+		break;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL:
+		o->nx = 0; /* every sample of the file (build_table) */
 		o->nr = 1;
 		break;
 	default:
@@ -575,6 +581,65 @@ static int build_form(const bk_target_options *o, bk_samples *s, char *err, size
 	return 0;
 }
 
+/* ---- table, merl: samples a reader made --------------------------------- */
+
+/* Every stride-th of n values (stride 1: all of them). */
+static int copy_array(double **dst, const double *src, size_t n, size_t stride)
+{
+	if (!src)
+		return 0;
+	size_t m = (n + stride - 1) / stride;
+	*dst = malloc(m ? m * sizeof **dst : 1);
+	for (size_t i = 0; *dst && i < m; i++)
+		(*dst)[i] = src[i * stride];
+	return *dst ? 0 : -1;
+}
+
+/* table, merl: the reader's samples; nx > 0 keeps at most about nx of them,
+ * every stride-th in the file's order (search's screening: a MERL file's
+ * million samples would make each of its many small fits slow), the weights
+ * rescaled to sum to 1 again. */
+static int build_table(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	const bk_samples *t = o->table;
+	if (!t || !t->n) {
+		snprintf(err, errlen, "target %s: no samples were read", names[o->kind]);
+		return -1;
+	}
+	*s = *t; /* the plane, the description, provides; arrays copied below */
+	memset(s->in, 0, sizeof s->in);
+	s->y = s->w = s->measure = NULL;
+	s->cell = NULL;
+	size_t stride = o->nx > 0 && t->n > (size_t)o->nx ? (t->n + (size_t)o->nx - 1) / (size_t)o->nx : 1;
+	size_t n = (t->n + stride - 1) / stride;
+	int bad = 0;
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		bad |= copy_array(&s->in[k], t->in[k], t->n, stride);
+	bad |= copy_array(&s->y, t->y, t->n, stride) | copy_array(&s->w, t->w, t->n, stride) |
+	       copy_array(&s->measure, t->measure, t->n, stride);
+	s->cell = malloc(n * sizeof *s->cell);
+	if (bad || !s->cell || !s->y || !s->w || !s->measure) {
+		bk_samples_free(s);
+		snprintf(err, errlen, "out of memory for %zu samples", n);
+		return -1;
+	}
+	s->n = n;
+	double wsum = 0;
+	for (size_t i = 0; i < n; i++) {
+		s->cell[i] = t->cell[i * stride];
+		wsum += s->w[i];
+	}
+	for (size_t i = 0; i < n; i++) /* uniform (--weight none), or the file's rescaled to sum to 1 */
+		s->w[i] = o->weight == BK_WEIGHT_NONE || !(wsum > 0) ? 1.0 / (double)n : s->w[i] / wsum;
+	size_t len = strlen(s->description);
+	if (stride > 1 && len + 60 < sizeof s->description)
+		len += (size_t)snprintf(s->description + len, sizeof s->description - len,
+		                        "; one sample in %zu (%zu)", stride, n);
+	if (o->weight == BK_WEIGHT_NONE && len + 45 < sizeof s->description)
+		snprintf(s->description + len, sizeof s->description - len, "; weights replaced: uniform (--weight none)");
+	return 0;
+}
+
 int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                     char *err, size_t errlen)
 {
@@ -591,6 +656,8 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
 	case BK_TARGET_MS: rc = build_ms(o, s, progress, ctx, err, errlen); break;
 	case BK_TARGET_SHEEN: rc = build_sheen(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: rc = build_table(o, s, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;
 	}
 	if (rc == 0 && s->ncomp == 1) {
@@ -612,6 +679,11 @@ size_t bk_target_samples(const bk_target_options *o)
 		for (int d = 0; d < o->ndomain; d++)
 			n *= (size_t)bk_target_form_cells(o);
 		return n;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL:
+		n = o->table ? o->table->n : 0;
+		return o->nx > 0 && n > (size_t)o->nx ? (n + (n + (size_t)o->nx - 1) / (size_t)o->nx - 1) /
+		                                            ((n + (size_t)o->nx - 1) / (size_t)o->nx) : n;
 	default: return cells; /* vf2d, d */
 	}
 }

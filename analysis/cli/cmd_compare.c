@@ -528,7 +528,7 @@ static const cli_dim dims[] = {
 static const cli_rule rules[] = {
 	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(SPEC) | FIT_ON(MS),
 	 "LUT rows are scored for targets env, spec and ms only", NULL},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM), "target f has no roughness axis", "8"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM) & ~FIT_FILE, "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
 	{"--fetch-cost", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},
@@ -619,6 +619,9 @@ int cmd_compare(int argc, char **argv)
 	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
 		return cli_bad("--target form: compare scores the catalog; fit a form target with brdfkit fit");
 	}
+	if (kind == BK_TARGET_TABLE || kind == BK_TARGET_MERL) /* the catalog's forms answer brdfkit's own targets */
+		return cli_bad("--target %s: compare scores the catalog on brdfkit's own targets; fit or search a file's "
+		               "samples with brdfkit fit or brdfkit search", bk_target_name(kind));
 	int t = -1;
 	for (int k = 0; k < BK_TIERS; k++)
 		if (bk_tier_alu_per_tex[k] == tier)

@@ -86,6 +86,8 @@ void bk_seeds_screening_grid(bk_target_options *o)
 		o->nx = per[o->ndomain];
 		break;
 	}
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: o->nx = 4096; break; /* about 4,096 of the file's samples, every k-th */
 	default: break;
 	}
 }
