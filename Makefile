@@ -31,7 +31,8 @@ CXXSTD  = -std=c++17
 EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3))
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
-# Ceres ships no pkg-config file (toolchain.md); its headers inline glog, so glog is named
+# Ceres ships no pkg-config file (shared/references/toolchain.md); its headers
+# inline glog, so glog is named
 # glslang (static, C++ inside, C interface used) and the SPIR-V optimizer it
 # calls, grouped: the archives reference each other; the Vulkan loader for gpucost
 GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
@@ -229,7 +230,7 @@ test: deps
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
-PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install) \
+PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
 SAN_RUNS   = $(addprefix test-san-,unit gpucost fault) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
@@ -253,6 +254,9 @@ test-plain-gpucost test-plain-render test-plain-readme test-plain-fault: test-pl
 	sh tests/$*.sh $(TOOL)
 test-plain-man: $(TOOL) $(LIB) build/csvget
 	sh tests/man.sh $(TOOL)
+# every file a comment or document cites exists (no build needed)
+test-plain-cites:
+	sh tests/cites.sh
 test-plain-lavapipe: build/vkrun build/csvget
 	sh tests/lavapipe.sh build/vkrun
 test-plain-notebook: $(TOOL)

@@ -1,7 +1,7 @@
 # lib_cli.sh — the common start of the command-line contract's scripts
 # (tests/cli_basics.sh, cli_outdirs.sh, cli_fitstab.sh, cli_numbers.sh,
 # cli_numerics.sh, cli_longfits.sh, cli_formtarget.sh, cli_planted.sh,
-# cli_envsearch.sh, cli_scenes.sh: once one serial tests/cli.sh, split so
+# cli_envsearch.sh, cli_scenes.sh: once one serial cli.sh, split so
 # that make -j runs them side by side, issue 42). The contract: help, exact values where a
 # closed form exists, one-line errors naming the bad input with a non-zero
 # exit, nothing left on disk after a failure, and the same bytes for the same
