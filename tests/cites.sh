@@ -4,10 +4,10 @@
 # Makefile) and the whole of the documents (Markdown, the manual pages'
 # scdoc). A citation is a path under one of the tree's folders ending in a file
 # extension (brdf/ir_eval.c, tests/lib.sh, results/albedo.csv), or a bare
-# document name (DESIGN.md). Placeholders are not citations: a name with a
+# document name (README.md). Placeholders are not citations: a name with a
 # word in capitals (tests/test_NAME.c, results/search/DIR/front.csv), a glob,
-# a scratch name (zz). The project's shared documents (DESIGN.md, STYLE.md,
-# references/*.md) live outside the repository, in the shared/ folder beside
+# a scratch name (zz). The project's shared documents (shared/DESIGN.md,
+# shared/STYLE.md, shared/references/*.md) live outside the repository, in the shared/ folder beside
 # it (BRDFKIT_SHARED to name another): cite them as shared/DESIGN.md,
 # shared/references/toolchain.md; where that folder is absent (a clone alone)
 # those citations are counted and said to be unchecked.
@@ -30,7 +30,7 @@ comments() {
 	case $1 in
 	*.md | *.scd) cat "$1" ;;
 	*.c | *.h | *.cc) grep -E '/\*|^[[:space:]]*\*|//' "$1" ;;
-	*) grep '#' "$1" | sed 's/^[^#]*#//' ;;
+	*) sed -n 's/^[[:space:]]*#//p; t; s/^.*[[:space:]]#[[:space:]]//p' "$1" ;;
 	esac
 }
 
@@ -44,7 +44,7 @@ cites() {
 }
 
 # missing FILE...: the citations in FILE's comments of a file that does not
-# exist (a bare NAME.md: no tracked file of that name); shared/ ones are
+# exist (a bare *.md: no tracked file of that name); shared/ ones are
 # checked where the shared folder is, else written to $T/unchecked
 missing() {
 	cites "$@" >"$T/cites" || return 0
