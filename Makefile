@@ -31,7 +31,8 @@ CXXSTD  = -std=c++17
 EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3))
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 EXR_LIB = -lOpenEXRCore-3_1
-# Ceres ships no pkg-config file (toolchain.md); its headers inline glog, so glog is named
+# Ceres ships no pkg-config file (shared/references/toolchain.md); its headers
+# inline glog, so glog is named
 # glslang (static, C++ inside, C interface used) and the SPIR-V optimizer it
 # calls, grouped: the archives reference each other; the Vulkan loader for gpucost
 GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
@@ -219,40 +220,75 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # What the suites run, built two at a time whatever make was started with (the
 # README's `make test`, CI's too, has no -j): the plain and the sanitized
 # objects, and the shared libraries tests/install.sh installs.
-TEST_BUILD = $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl $(SO_LIB) $(SO_FIT)
+# The TinySolver bridge, fit/tiny.cc, is the one slow compile (Eigen's fixed
+# sizes for 1-4 parameters: ~48 CPU s plain, ~72 sanitized, against well under
+# 2 s for any C file), three times (obj, san, pic): named first, so make -j2
+# starts them at once beside the C files instead of last, one core compiling
+# it alone at the end of each tree. (Only the order of the work changes.)
+SLOW_OBJ = $(foreach d,build/san/obj build/obj build/pic,$(call obj,$(d),fit/tiny.cc))
+TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
 	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS) $(FORMULA_DEBS))
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-plain test-san
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-runs
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
 
 # The plain and the sanitized suites are independent (each script works in a
-# mktemp directory of its own) and mostly one process at a time, so make test
-# runs the two side by side on the two cores; --output-sync prints each whole.
-test-plain: $(TESTS) $(TOOL) $(MPI_TOOL) build/csvget build/vkrun build/exrcmp build/mkmerl
-	sh tests/layers.sh build/obj
+# mktemp directory of its own), and each script is a make target of its own,
+# test-plain-NAME and test-san-NAME (every tests/cli_*.sh is one, picked up by
+# the wildcard), so that make test's -j2 keeps both cores busy until the last
+# script ends rather than waiting on one serial pole per suite; --output-sync
+# prints each script's output whole, and a failing script fails make test.
+# test-plain and test-san run one suite alone (make -j2 test-san).
+CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
+PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites) \
+             $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
+SAN_RUNS   = $(addprefix test-san-,unit gpucost fault) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
+# make starts the goals in this order, two at a time: the longest first (CPU
+# seconds measured per script, tests/README.md), so that no long one starts
+# last while the other core idles; the rest follow in PLAIN_RUNS, SAN_RUNS order
+TEST_FIRST = test-san-unit test-plain-unit test-san-cli_numerics test-san-cli_scenes test-san-cli_envsearch test-san-cli_planted
+TEST_RUNS  = $(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) $(filter-out $(TEST_FIRST),$(PLAIN_RUNS) $(SAN_RUNS))
+SAN_ENV    = UBSAN_OPTIONS=print_stacktrace=1
+.PHONY: test-runs $(PLAIN_RUNS) $(SAN_RUNS)
+test-runs: $(TEST_RUNS)
+test-plain: $(PLAIN_RUNS)
+test-san: $(SAN_RUNS)
+
+test-plain-unit: $(TESTS)
 	$(TESTS) --jobs 2
-	sh tests/cli.sh $(TOOL)
-	for s in $(sort $(wildcard tests/cli_*.sh)); do sh $$s $(TOOL) || exit 1; done
-	sh tests/gpucost.sh $(TOOL)
-	sh tests/lavapipe.sh build/vkrun
-	sh tests/render.sh $(TOOL)
-	sh tests/readme.sh $(TOOL)
+test-plain-layers: $(TESTS) $(TOOL) $(MPI_TOOL) build/vkrun build/exrcmp build/csvget
+	sh tests/layers.sh build/obj
+$(filter test-plain-cli_%,$(PLAIN_RUNS)): test-plain-%: $(TOOL) build/csvget build/exrcmp build/mkmerl
+	sh tests/$*.sh $(TOOL)
+test-plain-gpucost test-plain-render test-plain-readme test-plain-fault: test-plain-%: $(TOOL) build/csvget build/exrcmp
+	sh tests/$*.sh $(TOOL)
+test-plain-man: $(TOOL) $(LIB) build/csvget
 	sh tests/man.sh $(TOOL)
+# every file a comment or document cites exists (no build needed)
+test-plain-cites:
+	sh tests/cites.sh
+test-plain-lavapipe: build/vkrun build/csvget
+	sh tests/lavapipe.sh build/vkrun
+test-plain-notebook: $(TOOL)
 	sh tests/notebook.sh notebooks_data
+test-plain-python: $(TOOL) build/csvget
 	MAKE="$(MAKE)" sh tests/python.sh $(TOOL)
+test-plain-mpi: $(MPI_TOOL) $(TOOL) build/csvget
 	sh tests/mpi.sh $(MPI_TOOL) $(TOOL)
-	sh tests/fault.sh $(TOOL)
+test-plain-install: $(TOOL) build/csvget
 	MAKE="$(MAKE)" sh tests/install.sh
 
-test-san: $(STEST) $(STOOL) build/csvget
-	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
-	UBSAN_OPTIONS=print_stacktrace=1 sh tests/cli.sh $(STOOL)
-	for s in $(sort $(wildcard tests/cli_*.sh)); do UBSAN_OPTIONS=print_stacktrace=1 sh $$s $(STOOL) || exit 1; done
-	UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
-	UBSAN_OPTIONS=print_stacktrace=1 sh tests/fault.sh $(STOOL)
+test-san-unit: $(STEST)
+	$(SAN_ENV) LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
+$(filter test-san-cli_%,$(SAN_RUNS)): test-san-%: $(STOOL) build/csvget build/exrcmp build/mkmerl
+	$(SAN_ENV) sh tests/$*.sh $(STOOL)
+test-san-gpucost: $(STOOL) build/csvget
+	$(SAN_ENV) LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
+test-san-fault: $(STOOL) build/csvget
+	$(SAN_ENV) sh tests/fault.sh $(STOOL)
 
 # bench_ir times the IR against bk_form_emit's C for the same forms, compiled
 # with the flags above: one source built twice, first as the generator of that
@@ -628,8 +664,12 @@ SO_FIT  = build/libbrdfkit-fit.so.$(VERSION)
 # (here, below SO_LIB and SO_FIT: a rule's prerequisites are expanded as it is
 # read, so TEST_BUILD's mention of them above comes out empty) the suites'
 # shared libraries: install.sh and python.sh install them, and figures.ipynb's
-# figure 5 (tests/notebook.sh) loads them from build/
-test-build test-plain: $(SO_LIB) $(SO_FIT)
+# figure 5 (tests/notebook.sh) loads them from build/. Everything `make install`
+# copies is built here, before those two scripts start: they run side by side
+# under make -j2, and two inner makes building the same files would race.
+INSTALL_FILES = all $(FIT_LIB) $(SO_LIB) $(SO_FIT) $(SO_LIB:build/%=build/strip/%) $(SO_FIT:build/%=build/strip/%)
+test-build test-plain-notebook: $(SO_LIB) $(SO_FIT)
+test-build test-plain-python test-plain-install: $(INSTALL_FILES)
 build/pic/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) $(OPT) -fPIC $(INC) -MMD -MP -c $< -o $@

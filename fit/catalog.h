@@ -36,7 +36,7 @@ const bk_catalog_entry *bk_catalog_find(const char *name);
  * is bk_form_parse(entry->form_b)), and its published constants copied into
  * params (BK_MAX_PARAMS doubles; those past nparams 0; params may be NULL).
  * Here, not in bk_form_parse: libbrdf knows the formula language, not the
- * catalog, which lives a layer above it (DESIGN.md's data flow). Returns the
+ * catalog, which lives a layer above it (shared/DESIGN.md's data flow). Returns the
  * form (bk_form_free it), or NULL with err set: "unknown catalog form 'NAME'"
  * (column 0), or the parser's error. */
 bk_form *bk_catalog_form(const char *name, double *params, bk_form_error *err);
