@@ -36,7 +36,7 @@
 
 #include <stddef.h>
 
-#define BK_CSVTAB_MAX_COLS 8          /* columns one reader asks for */
+#define BK_CSVTAB_MAX_COLS 10         /* columns one reader asks for (a table target: 7 inputs, value, weight) */
 #define BK_CSVTAB_MAX_FIELDS 256      /* compare.csv has about 50: more is no file brdfkit writes */
 #define BK_CSVTAB_MAX_ROWS 4096       /* default: more is no front or catalog brdfkit writes */
 #define BK_CSVTAB_MAX_BYTES (16L << 20) /* default: a 4096-row front is about 2 MB */

@@ -24,6 +24,40 @@ static int classic(const bk_lut_layout *L)
 	return L->r_lo == 0 && L->r_hi == 1 && L->warp == BK_LUT_WARP_NONE && isnan(L->f0);
 }
 
+static const char *const chan_names[BK_LUT_CHANS] = {"split", "filament", "full"};
+
+const char *bk_lut_chan_name(bk_lut_chan c)
+{
+	return (unsigned)c < BK_LUT_CHANS ? chan_names[c] : "?";
+}
+
+/* What each channel of the EXR holds (brdfkit:layout). */
+static const char *const chan_text[BK_LUT_CHANS] = {
+	"split: R = A, G = B (Karis 2013); specular = f0*R + G",
+	"filament: R = B, G = E = A + B, B = cloth, as Filament's cmgen bakes its DFG with multiscatter and cloth; "
+	"specular = mix(R, G, f0) = (1 - f0)*R + f0*G, energy compensation 1 + f0*(1/G - 1), sheen albedo B",
+	"full: R = A, G = B, B = cloth, A = E_avg(r) (the same along a row); E = R + G; Kulla & Conty 2017's "
+	"lobe (1 - E(NoV))(1 - E(NoL))/(pi (1 - A))",
+};
+
+int bk_lut_extra(const bk_lut_desc *d, double *cloth, double *e_avg, bk_progress_fn progress, void *ctx)
+{
+	const bk_lut_layout *L = &d->L;
+	if (bk_lut_layout_check(L))
+		return -1;
+	for (int j = 0; j < L->nr; j++) {
+		double r = bk_lut_texel_r(L, j);
+		if (bk_ms_E_avg(r, d->smith, d->tol, &e_avg[j], NULL))
+			return -1;
+		for (int i = 0; i < L->nu; i++)
+			if (bk_sheen_albedo(bk_lut_texel_nov(L, i), r, d->tol, &cloth[(size_t)j * (size_t)L->nu + (size_t)i], NULL))
+				return -1;
+		if (progress)
+			progress(ctx, j + 1, L->nr);
+	}
+	return 0;
+}
+
 static void describe(const bk_lut_desc *d, char *method, size_t mlen, char *origin, size_t olen)
 {
 	if (d->samples)
@@ -69,72 +103,114 @@ static void write_csv(FILE *f, const bk_lut_desc *d, const char *method, const c
 		        method);
 	else
 		fprintf(f, "# %s; alpha = r^2; method: %s\n", axes, method);
+	if (d->chan != BK_LUT_SPLIT)
+		fprintf(f, "# E = A + B (F = 1); cloth = integral of D_charlie*V_neubelt*NoL (F = 1); E_avg = 2 integral of "
+		        "E(mu) mu dmu at the row's r; the EXR's channels: %s\n", chan_text[d->chan]);
 	fprintf(f, "# command: %s\n", d->command ? d->command : "");
-	fputs(folded ? "nov,roughness,env\n" : "nov,roughness,A,B\n", f);
+	fputs(folded ? "nov,roughness,env\n" : d->chan != BK_LUT_SPLIT ? "nov,roughness,A,B,E,cloth,E_avg\n" : "nov,roughness,A,B\n", f);
 	for (int j = 0; j < L->nr; j++)
 		for (int i = 0; i < L->nu; i++) {
 			size_t k = (size_t)j * (size_t)L->nu + (size_t)i;
 			fprintf(f, "%.9g,%.9g,", bk_lut_texel_nov(L, i), bk_lut_texel_r(L, j));
 			if (folded)
 				fprintf(f, "%.9g\n", L->f0 * A[k] + B[k]);
+			else if (d->chan != BK_LUT_SPLIT)
+				fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g\n", A[k], B[k], A[k] + B[k], d->cloth[k], d->e_avg[j]);
 			else
 				fprintf(f, "%.9g,%.9g\n", A[k], B[k]);
 		}
 }
 
+/* The value of EXR channel c (0..3: R, G, B, A) at texel k of row j, by the
+ * channel layout (lut.h). */
+static double chan_value(const bk_lut_desc *d, int c, const double *A, const double *B, size_t k, int j)
+{
+	if (!isnan(d->L.f0))
+		return d->L.f0 * A[k] + B[k];
+	switch (d->chan) {
+	case BK_LUT_FILAMENT:
+		return c == 0 ? B[k] : c == 1 ? A[k] + B[k] : d->cloth[k];
+	case BK_LUT_FULL:
+		return c == 0 ? A[k] : c == 1 ? B[k] : c == 2 ? d->cloth[k] : d->e_avg[j];
+	default:
+		return c == 0 ? A[k] : B[k];
+	}
+}
+
+static int chan_count(const bk_lut_desc *d)
+{
+	if (!isnan(d->L.f0))
+		return 1;
+	return d->chan == BK_LUT_FILAMENT ? 3 : d->chan == BK_LUT_FULL ? 4 : 2;
+}
+
 /* File row y holds roughness row j: y = j with the origin at the top. */
-static void to_rows(const bk_lut_desc *d, const double *A, const double *B, float *R, float *G)
+static void to_rows(const bk_lut_desc *d, const double *A, const double *B, float *const *ch)
 {
 	const bk_lut_layout *L = &d->L;
 	size_t nu = (size_t)L->nu;
+	int nc = chan_count(d);
 	for (int y = 0; y < L->nr; y++) {
 		int j = d->origin_top ? y : L->nr - 1 - y;
-		for (size_t i = 0; i < nu; i++) {
-			size_t k = (size_t)j * nu + i;
-			if (isnan(L->f0)) {
-				R[(size_t)y * nu + i] = (float)A[k];
-				G[(size_t)y * nu + i] = (float)B[k];
-			} else {
-				R[(size_t)y * nu + i] = (float)(L->f0 * A[k] + B[k]);
-			}
-		}
+		for (size_t i = 0; i < nu; i++)
+			for (int c = 0; c < nc; c++)
+				ch[c][(size_t)y * nu + i] = (float)chan_value(d, c, A, B, (size_t)j * nu + i, j);
 	}
 }
 
 int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
                  const double *B, char *err, size_t errlen)
 {
-	char csv[4200], exr_path[4200], method[160], origin[200], axes[400], channels[240];
+	char csv[4200], exr_path[4200], method[160], origin[200], axes[400], channels[400];
 	snprintf(csv, sizeof csv, "%.4000s/" BK_LUT_CSV, dir);
 	snprintf(exr_path, sizeof exr_path, "%.4000s/" BK_LUT_EXR, dir);
 	if (bk_lut_layout_check(&d->L)) {
 		snprintf(err, errlen, "%s: not a valid LUT layout", exr_path);
 		return -1;
 	}
+	int folded = !isnan(d->L.f0);
+	if ((unsigned)d->chan >= BK_LUT_CHANS || (d->chan != BK_LUT_SPLIT && (folded || !d->cloth || !d->e_avg))) {
+		snprintf(err, errlen, "%s: channels '%s' %s", exr_path, bk_lut_chan_name(d->chan),
+		         folded ? "keep A and B apart: not with a folded f0" : "without its cloth and E_avg values");
+		return -1;
+	}
 	size_t n = (size_t)d->L.nu * (size_t)d->L.nr;
-	float *R = malloc(n * sizeof *R), *G = malloc(n * sizeof *G);
-	if (!R || !G) {
-		free(R);
-		free(G);
+	int nc = chan_count(d);
+	float *ch[4] = {NULL, NULL, NULL, NULL};
+	int oom = 0;
+	for (int c = 0; c < nc; c++)
+		oom |= !(ch[c] = malloc(n * sizeof *ch[c]));
+	if (oom) {
+		for (int c = 0; c < 4; c++)
+			free(ch[c]);
 		snprintf(err, errlen, "%s: out of memory for a %dx%d table", exr_path, d->L.nu, d->L.nr);
 		return -1;
 	}
 	describe(d, method, sizeof method, origin, sizeof origin);
 	axes_text(d, axes, sizeof axes);
-	int folded = !isnan(d->L.f0);
 	if (folded)
 		snprintf(channels, sizeof channels, "R = %.9g*A + B = integral of D*V*F*NoL at f0 = %.9g (folded in), GGX D, "
 		         "Schlick F with f90 = 1; linear data, never load as sRGB", d->L.f0, d->L.f0);
+	else if (d->chan == BK_LUT_FILAMENT)
+		snprintf(channels, sizeof channels, "R = B (bias), G = A + B = E (F = 1), B = cloth (D_charlie*V_neubelt*NoL, "
+		         "F = 1): f0*A + B = (1 - f0)*R + f0*G = integral of D*V*F*NoL, GGX D, Schlick F with f90 = 1; "
+		         "linear data, never load as sRGB");
+	else if (d->chan == BK_LUT_FULL)
+		snprintf(channels, sizeof channels, "R = A (scale of f0), G = B (bias), B = cloth (D_charlie*V_neubelt*NoL, "
+		         "F = 1), A = E_avg of the row's r: f0*A + B = integral of D*V*F*NoL, GGX D, Schlick F with f90 = 1; "
+		         "linear data, never load as sRGB");
 	else
 		snprintf(channels, sizeof channels, "R = A (scale of f0), G = B (bias): f0*A + B = integral of D*V*F*NoL, GGX D, "
 		         "Schlick F with f90 = 1; linear data, never load as sRGB");
-	to_rows(d, A, B, R, G);
-	size_t bad = bk_exr_nonfinite(R, n, d->half) + (folded ? 0 : bk_exr_nonfinite(G, n, d->half));
+	to_rows(d, A, B, ch);
+	size_t bad = 0;
+	for (int c = 0; c < nc; c++)
+		bad += bk_exr_nonfinite(ch[c], n, d->half);
 	if (bad) { /* never a file whose texels are not numbers (H3) */
 		snprintf(err, errlen, "%s: %zu texels are NaN or infinite in %s: nothing written", exr_path, bad,
 		         d->half ? "half" : "float32");
-		free(R);
-		free(G);
+		for (int c = 0; c < 4; c++)
+			free(ch[c]);
 		return -1;
 	}
 
@@ -148,21 +224,30 @@ int bk_lut_write(const bk_lut_desc *d, const char *dir, const double *A,
 			{"brdfkit:origin", BK_EXR_ATTR_STRING, origin, 0},
 			{"brdfkit:roughness", BK_EXR_ATTR_STRING, "perceptual roughness r, linear in y; GGX alpha = r^2", 0},
 			{"brdfkit:channels", BK_EXR_ATTR_STRING, channels, 0},
+			{"brdfkit:layout", BK_EXR_ATTR_STRING, folded ? "folded: R = f0*A + B" : chan_text[d->chan], 0},
 			{"brdfkit:smith", BK_EXR_ATTR_STRING, smith_text[d->smith], 0},
 			{"brdfkit:method", BK_EXR_ATTR_STRING, method, 0},
 			{"brdfkit:samples", BK_EXR_ATTR_INT, NULL, (int)d->samples},
 			{"brdfkit:command", BK_EXR_ATTR_STRING, d->command ? d->command : "", 0},
 		};
-		const char *names[2] = {"R", "G"};
-		const float *data[2] = {R, G};
-		rc = bk_exr_write(exr_path, d->L.nu, d->L.nr, folded ? 1 : 2, names, data, d->half, attrs,
+		const char *names[4] = {"R", "G", "B", "A"};
+		const float *data[4] = {ch[0], ch[1], ch[2], ch[3]};
+		rc = bk_exr_write(exr_path, d->L.nu, d->L.nr, nc, names, data, d->half, attrs,
 		                  (int)(sizeof attrs / sizeof attrs[0]), err, errlen);
 		if (rc)
 			bk_out_abort(&co);
 		else
 			rc = bk_out_commit(&co, err, errlen);
 	}
-	free(R);
-	free(G);
+	for (int c = 0; c < 4; c++)
+		free(ch[c]);
 	return rc;
+}
+
+/* The brdfkit:axes text of a layout, for readers that check a file against
+ * it (tabtarget.c): one writer of the wording. */
+void bk_lut_axes_text(const bk_lut_layout *L, char *buf, size_t len)
+{
+	bk_lut_desc d = {.L = *L};
+	axes_text(&d, buf, len);
 }

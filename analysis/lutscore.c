@@ -245,15 +245,20 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 	if (bk_lut_layout_check(L) || (unsigned)fmt >= BK_LUT_FORMATS || (unsigned)smith >= BK_SMITH_COUNT || !s || !m ||
 	    !s->n || (prec != BK_F64 && prec != BK_F32 && prec != BK_F16))
 		return -1;
-	/* an env target: (NoV, r), and f0 for the one-form variant */
-	unsigned need = 1u << BK_IN_NOV | 1u << BK_IN_R | (s->ncomp == 1 ? 1u << BK_IN_F0 : 0u);
+	/* an env target: (NoV, r), and f0 for the one-form variant; or ms, one
+	 * form without f0: E = A + B, the albedo at f0 = 1, which only a layout
+	 * folded at f0 = 1 stores */
+	int albedo = s->ncomp == 1 && !(s->provides >> BK_IN_F0 & 1);
+	if (albedo && L->f0 != 1.0)
+		return -1;
+	unsigned need = 1u << BK_IN_NOV | 1u << BK_IN_R | (s->ncomp == 1 && !albedo ? 1u << BK_IN_F0 : 0u);
 	if ((s->provides & need) != need || (s->ncomp == 2 ? s->start[2] != s->n || 2 * s->start[1] != s->n
 	                                                   : s->ncomp != 1))
 		return -1;
 	int folded = !isnan(L->f0);
 	if (folded && s->ncomp != 1) /* one channel holds f0 A + B: no split A, B to compare with */
 		return -1;
-	for (size_t i = 0; folded && i < s->n; i++)
+	for (size_t i = 0; folded && !albedo && i < s->n; i++)
 		if (s->in[BK_IN_F0][i] != L->f0) /* it is right at its own f0 only */
 			return -1;
 	double *own;

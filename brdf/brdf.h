@@ -180,7 +180,9 @@ int bk_dfg_hammersley(double NoV, double r, bk_smith m, unsigned n, double *A,
                       double *B);
 
 /* Directional albedo ∫ D·V·F·NoL dω_l of any registered D, V and F at the
- * material in s (r, f0, f90, eta, k; the geometry of s is ignored). Registry
+ * material in s (r, f0, f90, eta, k; the geometry of s is ignored). Lobes
+ * below what doubles resolve take the smooth limit H = N, except the sheen
+ * D terms, whose mass goes to the horizon instead (integrate.c). Registry
  * D terms see only NoH, whose rounding limits them near the peak to a relative
  * error of about 1e-16/a2 (1e-6 at r = 0.003); bk_dfg does not have this limit. */
 int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
@@ -231,6 +233,58 @@ int bk_lut_layout_check(const bk_lut_layout *L);
  * them; a one-channel layout is folded by the caller (f0 A + B). */
 int bk_dfg_lut_layout(const bk_lut_layout *L, bk_smith m, unsigned samples, double tol, double *A, double *B,
                       bk_progress_fn progress, void *ctx);
+
+/* ---- Multiple scattering: energy compensation (brdf/multiscatter.c) -------
+ * Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks"
+ * (SIGGRAPH course Physically Based Shading in Theory and Practice). GGX D with
+ * an exact Smith model m, F = 1:
+ *   E(NoV, r)  = ∫ D·V·NoL dω_l, the single-scattering directional albedo; with
+ *                F = 1 it is the split sum's A + B (bk_dfg), and Filament's DFG
+ *                LUT keeps it in its second channel (dfg.y).
+ *   E_avg(r)   = 2 ∫_0^1 E(μ) μ dμ, its cosine-weighted average.
+ *   f_ms       = (1 - E(NoV)) (1 - E(NoL)) / (π (1 - E_avg)), the compensation
+ *                lobe: ∫ (f_ss + f_ms) NoL dω_l = 1 for every NoV (white furnace).
+ *   F_avg      = 2 ∫_0^1 F(μ) μ dμ; for Schlick f0 + (f90 - f0)/21.
+ *   With Fresnel, f_ms is scaled by F_avg² E_avg / (1 - F_avg (1 - E_avg)).
+ * The single-lobe alternative (Turquin 2019, "Practical multiple scattering
+ * compensation for microfacet models"; Filament's energyCompensation) scales
+ * f_ss by 1 + f0 (1/E(NoV) - 1).
+ */
+/* E = A + B of bk_dfg for Smith model m (correlated or separable; Schlick's
+ * approximate V is accepted too). NoV in (0, 1], r in [0, 1]. 0, or -1 on an
+ * argument out of range. */
+int bk_ms_E(double NoV, double r, bk_smith m, double tol, double *E);
+/* E_avg(r) by adaptive Gauss-Kronrod over μ of bk_ms_E's values; tol is the
+ * absolute tolerance of the result (each E is integrated to tol/4). stats may
+ * be NULL. 0, or -1 on an argument out of range. */
+int bk_ms_E_avg(double r, bk_smith m, double tol, double *E_avg, bk_quad_stats *stats);
+/* The compensation lobe f_ms from E at the two directions and E_avg; 0 when
+ * E_avg = 1 (nothing to compensate: r = 0). */
+double bk_ms_lobe(double E_o, double E_i, double E_avg);
+/* F_avg of Schlick's F with f0, f90: f0 + (f90 - f0)/21 (2 ∫ (1-μ)^5 μ dμ = 1/21). */
+double bk_ms_F_avg_schlick(double f0, double f90);
+/* The factor Kulla & Conty scale f_ms by for a Fresnel of average F_avg:
+ * F_avg² E_avg / (1 - F_avg (1 - E_avg)); 1 at F_avg = 1. */
+double bk_ms_fresnel_scale(double F_avg, double E_avg);
+/* Turquin 2019 / Filament: 1 + f0 (1/E - 1), the factor on f_ss. E in (0, 1]. */
+double bk_ms_energy_compensation(double f0, double E);
+
+/* ---- Sheen and cloth (brdf/sheen.c, sheen_albedo.c) -----------------------
+ * a = r^2 as everywhere (Filament's cloth passes its alpha, r^2, to D). */
+/* Estevez & Kulla 2017, "Production Friendly Microfacet Sheen BRDF": the
+ * "Charlie" distribution (2 + 1/a) sin(θh)^(1/a) / (2π), a in (0, 1];
+ * normalised; 0 at a = 0 (its limit for NoH > 0). */
+double bk_D_charlie(double NoH, double a);
+/* Ashikhmin & Premože 2007, "Distribution-based BRDFs" (velvet), as Filament's
+ * D_Ashikhmin: (1 + 4 exp(-cot²θh/a²)/sin⁴θh) / (π (1 + 4 a²)); normalised. */
+double bk_D_ashikhmin(double NoH, double a);
+/* The sheen directional albedo ∫ D_charlie(a)·V_neubelt·NoL dω_l, F = 1: the
+ * cloth channel Filament bakes into its DFG LUT's third channel (cmgen,
+ * DFV_Charlie). NoV in (0, 1], r in [0, 1] (r = 0: 0, the limit). stats may be
+ * NULL. 0, or -1 on an argument out of range. Tested to 1e-6 (relative above
+ * 1: Neubelt's V is not energy conserving, the albedo is 21.6 at NoV =
+ * 0.001, r = 1/64) for NoV in [0.01, 1], r in [0.02, 1]. */
+int bk_sheen_albedo(double NoV, double r, double tol, double *E, bk_quad_stats *stats);
 
 /* ---- Formula IR -------------------------------------------------------------
  * A candidate form typed as text, e.g. "1/(LoH*LoH*(r+p0))", compiled once to a

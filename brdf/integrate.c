@@ -25,6 +25,7 @@
 #include "smith.h"
 
 #include <math.h>
+#include <string.h>
 
 /* What the inner integrand multiplies: either the registry's V and F, or the
  * split-sum pair for one Smith model. */
@@ -235,6 +236,14 @@ int bk_dfg(double NoV, double r, bk_smith m, double tol, double *A, double *B,
 	return 0;
 }
 
+/* Whether D's lobe gathers at H = N as a -> 0, so that smooth_enough's limit
+ * holds: not for the sheen distributions, whose mass goes to the horizon
+ * (Charlie) or stays spread with a rim (velvet); they are integrated at every a. */
+static int normal_peaked(const bk_term *D)
+{
+	return strcmp(D->name, "D_charlie") != 0 && strcmp(D->name, "D_ashikhmin") != 0;
+}
+
 int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
               const bk_sample *material, double NoV, double tol, double *out,
               bk_quad_stats *stats)
@@ -249,7 +258,7 @@ int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
 	h.F = F;
 	h.s = *material;
 	bk_sample_roughness(&h.s, material->r);
-	if (material->r == 0.0 || smooth_enough(h.s.a, NoV)) {
+	if (normal_peaked(D) && (material->r == 0.0 || smooth_enough(h.s.a, NoV))) {
 		/* Smooth limit: H = N, L = mirror(V); ∫ = V F NoL · 4 VoH / NoH there
 		 * (V and F at this a: see smooth_enough). */
 		h.s.NoV = h.s.NoL = h.s.LoH = NoV;

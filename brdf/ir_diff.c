@@ -147,7 +147,7 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
  * instructions that depend on a parameter and the leaves they read, over the
  * same kernel: the same operations on the same values, so the results are
  * bk_form_eval_diff's (and bk_form_eval's in f64) bit for bit
- * (tests/test_bound.c). Inputs are read in place where a block is full. */
+ * (tests/test_simd.c, suite bound). Inputs are read in place where a block is full. */
 
 /* What is kept (blocks x registers x BLOCK doubles) at most: beyond it a fit
  * of millions of samples would keep more than it saves. */

@@ -36,7 +36,7 @@ static long double roundld(long double x) { return x; }
  * Those two facts are what gcc -O2's cheap vectoriser needs to vectorise the
  * arithmetic loops without runtime alias checks or a scalar epilogue; with a
  * variable count and plain pointers every loop stayed scalar and the IR ran
- * about 4-5x slower than the same form compiled (analysis/bench_ir.c). The
+ * about 4-5x slower than the same form compiled (analysis/bench/bench_ir.c). The
  * lanes past the last sample of a partial block hold copies of that sample's
  * inputs; they are computed and never copied out.
  *

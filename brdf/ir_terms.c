@@ -20,6 +20,10 @@ static const bk_ir_term terms[] = {
 	{"D_blinn_phong", "NoH,a", "n = 2/(a*a) - 2; (n + 2)/(2*" PI ") * pow(NoH, n)"},
 	{"D_blinn_phong_sg", "NoH,a", "n = 2/(a*a) - 2; (n + 2)/(2*" PI ") * exp((n + 0.775)*(NoH - 1))"},
 
+	{"D_charlie", "NoH,a", "(2 + 1/a) * pow((1 - NoH)*(1 + NoH), 0.5/a) / (2*" PI ")"},
+	{"D_ashikhmin", "NoH,a",
+	 "s2 = (1 - NoH)*(1 + NoH); (1 + 4*exp(-(NoH*NoH/s2)/(a*a))/(s2*s2)) / (" PI " * (1 + 4*a*a))"},
+
 	{"V_smith_ggx_separable", "NoV,NoL,a",
 	 "a2 = a*a; 1/((NoV + sqrt(a2 + (1 - a2)*NoV*NoV)) * (NoL + sqrt(a2 + (1 - a2)*NoL*NoL)))"},
 	{"V_smith_ggx_correlated", "NoV,NoL,a",

@@ -2,7 +2,7 @@
  * quad.c — globally adaptive Gauss-Kronrod quadrature, the 7/15-point pair of
  * QUADPACK's QK15 (Piessens et al. 1983), for vector integrands.
  *
- * Why our own: libbrdf is pure C11 + libm (DESIGN.md), the reference integrals
+ * Why our own: libbrdf is pure C11 + libm (shared/DESIGN.md), the reference integrals
  * need a vector integrand (A and B share every evaluation) and a deterministic
  * evaluation order. The error estimate is the plain |K15 - G7| per interval, more
  * conservative than QUADPACK's scaled one; the tests check the rule is exact for

@@ -14,6 +14,8 @@ static double d_ggx(const bk_sample *s) { return bk_D_ggx(s->NoH, s->a); }
 static double d_beckmann(const bk_sample *s) { return bk_D_beckmann(s->NoH, s->a); }
 static double d_bp(const bk_sample *s) { return bk_D_blinn_phong(s->NoH, s->a); }
 static double d_bp_sg(const bk_sample *s) { return bk_D_blinn_phong_sg(s->NoH, s->a); }
+static double d_charlie(const bk_sample *s) { return bk_D_charlie(s->NoH, s->a); }
+static double d_ashikhmin(const bk_sample *s) { return bk_D_ashikhmin(s->NoH, s->a); }
 
 static double v_sep(const bk_sample *s) { return bk_V_smith_ggx_separable(s->NoV, s->NoL, s->a); }
 static double v_cor(const bk_sample *s) { return bk_V_smith_ggx_correlated(s->NoV, s->NoL, s->a); }
@@ -119,6 +121,16 @@ static const bk_term terms[] = {
 	{"Fd_oren_nayar", BK_ROLE_FD, "NoV,NoL,VoL,sigma", "Oren-Nayar qualitative model",
 	 "registry passes sigma = r (radians) and VoL = 2 LoH^2 - 1; 1/π included",
 	 "Oren & Nayar 1994, Generalization of Lambert's Reflectance Model", fd_on},
+
+	/* Appended, not grouped with the D terms above: a term's index is its
+	 * operation number in search grammars (fit/expr.c TERM0 + t), hashed
+	 * into checkpoints, so existing terms keep theirs. */
+	{"D_charlie", BK_ROLE_D, "NoH,a", "Charlie sheen distribution, (2 + 1/a) sin(θh)^(1/a) / (2π)",
+	 A_ "a in (0, 1] (Filament's cloth passes r^2); normalised; pairs with V_neubelt",
+	 "Estevez & Kulla 2017, Production Friendly Microfacet Sheen BRDF", d_charlie},
+	{"D_ashikhmin", BK_ROLE_D, "NoH,a", "velvet, (1 + 4 exp(-cot^2θh/a^2)/sin^4θh) / (π(1 + 4a^2))",
+	 A_ "as Filament's D_Ashikhmin; normalised",
+	 "Ashikhmin & Premoze 2007, Distribution-based BRDFs", d_ashikhmin},
 };
 #undef A_
 

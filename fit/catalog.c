@@ -67,7 +67,9 @@
 /* ---- Narkowicz 2014, polynomial: x = g, y = NoV; b1..b6 = p0..p5, d0..d6 = p6..p12 */
 #define NP_BIAS(X) "saturate(min(p0*" X " + p1*" X "*" X ", p2 + p3*NoV + p4*NoV*NoV + p5*NoV*NoV*NoV))"
 #define NP_DELTA(X) "saturate(p6 + p7*" X " + p8*NoV + p9*" X "*" X " + p10*" X "*NoV + p11*NoV*NoV + p12*" X "*" X "*" X ")"
-#define NP(X) "(f0*(" NP_DELTA(X) " - " NP_BIAS(X) ") + " NP_BIAS(X) "*saturate(p13*f0))"
+/* at reflectance F ("f0", or "1" for the ms entries' directional albedo) */
+#define NP_F(X, F) "(" F "*(" NP_DELTA(X) " - " NP_BIAS(X) ") + " NP_BIAS(X) "*saturate(p13*" F "))"
+#define NP(X) NP_F(X, "f0")
 
 /* ---- Pesce & Iwanicki 2015 (m = a) --------------------------------------------- */
 #define PI_BIAS "exp2(-(p0*NoV + p1*a))"
@@ -100,6 +102,8 @@
 #define URP "Unity Technologies, Universal Render Pipeline ShaderLibrary/BRDF.hlsl"
 #define KARIS14 "B. Karis 2014, \"Physically Based Shading on Mobile\" (Unreal Engine blog); " \
                 "Unreal Engine BRDF.ush"
+#define MS_AT1 "the directional albedo E(NoV, r) = A + B of single-scattering GGX with F = 1 (target ms), " \
+               "read as the source's environment BRDF at f0 = 1 (f0 A + B = E there); "
 #define NARKO "K. Narkowicz 2014, \"Analytical DFG Term for IBL\" (blog, 2014-12-27)"
 #define LAZ "D. Lazarov 2013, \"Getting More Physical in Call of Duty: Black Ops II\", SIGGRAPH " \
             "2013 Physically Based Shading course (notes unverified; consistent code copies)"
@@ -310,6 +314,50 @@ static const bk_catalog_entry entries[] = {
 	 "1 - a r (0.6 - 0.08 r), times FresnelLerpFast(specColor, grazingTerm, NoV) = lerp(f0, "
 	 "saturate(1 - r + reflectivity), (1 - NoV)^4), reflectivity read as f0 (see env_unity_urp): env_f0. "
 	 "Parameters: p0 = 0.6, p1 = 0.08"},
+
+	/* ---- multiple scattering: the directional albedo E = A + B (F = 1) ----------- */
+	{"ms_materialx", "ms", "saturate(" MX_X "/" MX_Z ") + saturate(" MX_Y "/" MX_W ")", NULL, 0, {0},
+	 "ASWF MaterialX, mx_microfacet_specular.glsl: mx_ggx_dir_albedo_analytic(NdotV, alpha, 1, 1), the Ess "
+	 "that mx_ggx_energy_compensation divides by (1 + Fss (1 - Ess)/Ess; the compensation's call quoted from "
+	 "memory, unverified; the fit as env_materialx)",
+	 MS_AT1 "x = NoV, y = alpha = r^2, height-correlated Smith; clamp(r.x/r.z, 0, 1) + clamp(r.y/r.w, 0, 1). "
+	 "Its 34 fitted constants stay literal (more than BK_MAX_PARAMS, as env_materialx): no free parameters"},
+	{"ms_karis2014", "ms", KA " + " KB, NULL, 11,
+	 {-1.0, -0.0275, -0.572, 0.022, 1.0, 0.0425, 1.04, -0.04, -9.28, -1.04, 1.04},
+	 KARIS14 " EnvBRDFApprox at SpecularColor = 1",
+	 MS_AT1 "A + B of env_karis2014_split (the 50 f0 gate is 1 at f0 = 1), written as shipped: q cancels "
+	 "(-1.04 q + 1.04 q), so E = 1 - 0.55 r with no NoV dependence; Unreal's printed check 0.4524 - 0.0024 "
+	 "= 0.45 at r = 1, NoV = 1. Parameters as env_karis2014_split"},
+	{"ms_narkowicz2014_poly", "ms", NP_F(G_1MSQRTR, "1"), NULL, 14,
+	 {-0.1688, 1.895, 0.9903, -4.853, 8.404, -5.069, 0.6045, 1.699, -0.5228, -3.603, 1.404, 0.1939, 2.661,
+	  50.0},
+	 NARKO ", EnvDFGPolynomial at f0 = 1",
+	 MS_AT1 "env_narkowicz2014_poly with f0 = 1 written in (1 (delta - bias) + bias saturate(50): E = delta "
+	 "= saturate(d0 + d1 x + d2 y + d3 x^2 + d4 x y + d5 y^2 + d6 x^3), x = 1 - sqrt(r), y = NoV; fitted "
+	 "to uncorrelated Smith). Parameters as env_narkowicz2014_poly"},
+	{"ms_pesce_iwanicki2015", "ms", "saturate(1*" PI_SCALE " + " PI_BIAS ")", NULL, 5,
+	 {7.0, 4.0, 0.739, 0.323, 0.434},
+	 "M. Iwanicki, A. Pesce 2015, \"Approximate Models for Physically Based Rendering\", SIGGRAPH "
+	 "course, at f0 = 1",
+	 MS_AT1 "env_pesce_iwanicki2015 with f0 = 1: saturate(scale + bias), m = alpha = r^2. Parameters as "
+	 "env_pesce_iwanicki2015"},
+
+	/* ---- sheen: the Charlie sheen albedo (Filament's cloth DFG channel) ---------- */
+	{"sheen_materialx", "sheen",
+	 "saturate((p0 + p1*NoV + p2*a + p3*NoV*a + p4*NoV*NoV + p5*a*a)/(1 + p6*NoV + p7*a + p8*NoV*a + p9*NoV*NoV + "
+	 "p10*a*a))",
+	 NULL, 11,
+	 {13.67300, -68.78018, 799.08825, -905.00061, 60.28956, 1086.96473, 61.57746, 442.78211, 2597.49308, 121.81241,
+	  3045.55075},
+	 "ASWF MaterialX, mx_microfacet_sheen.glsl, mx_imageworks_sheen_dir_albedo_curve_fit (\"rational curve fit "
+	 "approximation for the directional albedo of Imageworks sheen\"), clamped by mx_imageworks_sheen_dir_albedo",
+	 "fitted to MaterialX's own sheen BRDF, mx_imageworks_sheen_NDF (Estevez & Kulla 2017's Charlie D) times "
+	 "Neubelt & Pettineo's 1/(4 (NoL + NoV - NoL NoV)), F = 1: target sheen's integrand. MaterialX passes its "
+	 "sheen roughness straight to the NDF as the Charlie exponent's a, so its 'roughness' here is a = r^2 "
+	 "(brdfkit's D_charlie(NoH, a), Filament's cloth alpha). r = vec2(c0) + vec2(c1) NoV + vec2(c2) a + "
+	 "vec2(c3) NoV a + vec2(c4) NoV^2 + vec2(c5) a^2, result clamp(r.x/r.y, 0, 1); the 1 of r.y's constant "
+	 "term is structural. Parameters: p0..p5 = r.x's (13.67300, -68.78018, 799.08825, -905.00061, 60.28956, "
+	 "1086.96473), p6..p10 = r.y's (61.57746, 442.78211, 2597.49308, 121.81241, 3045.55075)"},
 };
 
 #define NENTRIES (sizeof entries / sizeof entries[0])

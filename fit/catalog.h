@@ -18,7 +18,9 @@ typedef struct bk_catalog_entry {
 	const char *name;       /* e.g. "vf_talk_r": unique, lowercase */
 	const char *target;     /* what it approximates: "D", "V", "F", "VF" (V·F), "DVF",
 	                           "env" (split sum: form = A, form_b = B) or
-	                           "env_f0" (the whole environment BRDF, f0 inside) */
+	                           "env_f0" (the whole environment BRDF, f0 inside) or
+	                           "ms" (GGX directional albedo E = A + B, F = 1) or
+	                           "sheen" (the Charlie sheen albedo) */
 	const char *form;       /* formula-language text; A for "env" */
 	const char *form_b;     /* B for "env", else NULL; shares the parameters */
 	int nparams;
@@ -34,7 +36,7 @@ const bk_catalog_entry *bk_catalog_find(const char *name);
  * is bk_form_parse(entry->form_b)), and its published constants copied into
  * params (BK_MAX_PARAMS doubles; those past nparams 0; params may be NULL).
  * Here, not in bk_form_parse: libbrdf knows the formula language, not the
- * catalog, which lives a layer above it (DESIGN.md's data flow). Returns the
+ * catalog, which lives a layer above it (shared/DESIGN.md's data flow). Returns the
  * form (bk_form_free it), or NULL with err set: "unknown catalog form 'NAME'"
  * (column 0), or the parser's error. */
 bk_form *bk_catalog_form(const char *name, double *params, bk_form_error *err);

@@ -15,8 +15,9 @@
 #include <string.h>
 
 /* Residuals per Ceres block: ~1000 is where the bridge's overhead stops
- * mattering (toolchain.md: blocks of 100-1000 are ~5x faster than one per
- * residual) while there are still blocks enough to spread over threads. */
+ * mattering (shared/references/toolchain.md: blocks of 100-1000 are ~5x
+ * faster than one per residual) while there are still blocks enough to spread
+ * over threads. */
 #define BLOCK 1024
 
 /* Relative residuals divide by |y|, floored at 1e-6 of the largest |y|:

@@ -20,7 +20,8 @@
 #include <string.h>
 #include <time.h>
 
-static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+static const char *const names[BK_TARGET_COUNT] = {"vf2d", "vf",   "spec",  "env",   "d",   "f",
+                                                            "form", "ms", "sheen", "table", "merl"};
 
 const char *bk_target_name(bk_target_kind k) { return names[k]; }
 
@@ -70,6 +71,11 @@ void bk_target_defaults(bk_target_kind kind, bk_target_options *o)
 		break;
 	case BK_TARGET_FORM:
 		o->nx = 0; /* bk_target_form_cells */
+		o->nr = 1;
+		break;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL:
+		o->nx = 0; /* every sample of the file (build_table) */
 		o->nr = 1;
 		break;
 	default:
@@ -276,6 +282,89 @@ static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn p
 	         "centres); %s",
 	         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr,
 	         o->env_f0_form ? "one form in f0 fitted to f0 A + B over the f0 list" : "forms A and B share parameters");
+	return 0;
+}
+
+/* ms: the single-scattering GGX directional albedo with F = 1,
+ *     E(NoV, r) = ∫ D V NoL dω_l = A + B,
+ * the split sum's two halves added (f0 = 1 in f0 A + B): one integral per
+ * cell, the DFG's. Multiple-scattering compensation (Kulla & Conty 2017,
+ * Turquin 2019, Filament) reads 1 - E(μ) and E_avg = 2 ∫ E μ dμ; a fit of E
+ * gives both (E_avg by the same quadrature an engine's 1-D table uses), so
+ * one component, not two with shared parameters (see brdfkit-fit(1)). */
+static int build_ms(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                    char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr);
+		for (int k = 0; k < o->nx; k++, i++) {
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
+			if (bk_ms_E(NoV, r, o->smith, 1e-8, &E)) {
+				snprintf(err, errlen, "ms: reference integral failed at NoV %g, r %g", NoV, r);
+				bk_samples_free(s);
+				return -1;
+			}
+			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* E has no f0 (F = 1) */
+			s->y[i] = E;
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+		if (progress)
+			progress(ctx, j + 1, o->nr);
+	}
+	s->n = n;
+	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (%s Smith, F = 1), "
+	         "the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV "
+	         "in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+	         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	return 0;
+}
+
+/* sheen: the directional albedo of the Charlie sheen lobe (Estevez & Kulla
+ * 2017's D, Neubelt & Pettineo 2013's V, F = 1), bk_sheen_albedo, the
+ * channel Filament bakes for cloth beside A and B; a = r^2 in D. It is what
+ * a layered material scales the layer below by (1 - sheen albedo). */
+static int build_sheen(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                       char *err, size_t errlen)
+{
+	size_t n = (size_t)o->nx * o->nr, i = 0;
+	if (alloc(s, n, err, errlen))
+		return -1;
+	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
+	for (int j = 0; j < o->nr; j++) {
+		double r = centre(o->r_lo, o->r_hi, j, o->nr);
+		for (int k = 0; k < o->nx; k++, i++) {
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
+			if (bk_sheen_albedo(NoV, r, 1e-8, &E, NULL)) {
+				snprintf(err, errlen, "sheen: reference integral failed at NoV %g, r %g", NoV, r);
+				bk_samples_free(s);
+				return -1;
+			}
+			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* F = 1: no f0 */
+			s->y[i] = E;
+			s->w[i] = 1.0;
+			s->cell[i] = j * o->nx + k;
+		}
+		if (progress)
+			progress(ctx, j + 1, o->nr);
+	}
+	s->n = n;
+	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
+	normalise_rows(s, 0, n, o->nr, o->nx);
+	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
+	snprintf(s->description, sizeof s->description,
+	         "sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL "
+	         "(Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference "
+	         "integrator at tol 1e-8, on NoV in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+	         x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
 	return 0;
 }
 
@@ -492,6 +581,65 @@ static int build_form(const bk_target_options *o, bk_samples *s, char *err, size
 	return 0;
 }
 
+/* ---- table, merl: samples a reader made --------------------------------- */
+
+/* Every stride-th of n values (stride 1: all of them). */
+static int copy_array(double **dst, const double *src, size_t n, size_t stride)
+{
+	if (!src)
+		return 0;
+	size_t m = (n + stride - 1) / stride;
+	*dst = malloc(m ? m * sizeof **dst : 1);
+	for (size_t i = 0; *dst && i < m; i++)
+		(*dst)[i] = src[i * stride];
+	return *dst ? 0 : -1;
+}
+
+/* table, merl: the reader's samples; nx > 0 keeps at most about nx of them,
+ * every stride-th in the file's order (search's screening: a MERL file's
+ * million samples would make each of its many small fits slow), the weights
+ * rescaled to sum to 1 again. */
+static int build_table(const bk_target_options *o, bk_samples *s, char *err, size_t errlen)
+{
+	const bk_samples *t = o->table;
+	if (!t || !t->n) {
+		snprintf(err, errlen, "target %s: no samples were read", names[o->kind]);
+		return -1;
+	}
+	*s = *t; /* the plane, the description, provides; arrays copied below */
+	memset(s->in, 0, sizeof s->in);
+	s->y = s->w = s->measure = NULL;
+	s->cell = NULL;
+	size_t stride = o->nx > 0 && t->n > (size_t)o->nx ? (t->n + (size_t)o->nx - 1) / (size_t)o->nx : 1;
+	size_t n = (t->n + stride - 1) / stride;
+	int bad = 0;
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		bad |= copy_array(&s->in[k], t->in[k], t->n, stride);
+	bad |= copy_array(&s->y, t->y, t->n, stride) | copy_array(&s->w, t->w, t->n, stride) |
+	       copy_array(&s->measure, t->measure, t->n, stride);
+	s->cell = malloc(n * sizeof *s->cell);
+	if (bad || !s->cell || !s->y || !s->w || !s->measure) {
+		bk_samples_free(s);
+		snprintf(err, errlen, "out of memory for %zu samples", n);
+		return -1;
+	}
+	s->n = n;
+	double wsum = 0;
+	for (size_t i = 0; i < n; i++) {
+		s->cell[i] = t->cell[i * stride];
+		wsum += s->w[i];
+	}
+	for (size_t i = 0; i < n; i++) /* uniform (--weight none), or the file's rescaled to sum to 1 */
+		s->w[i] = o->weight == BK_WEIGHT_NONE || !(wsum > 0) ? 1.0 / (double)n : s->w[i] / wsum;
+	size_t len = strlen(s->description);
+	if (stride > 1 && len + 60 < sizeof s->description)
+		len += (size_t)snprintf(s->description + len, sizeof s->description - len,
+		                        "; one sample in %zu (%zu)", stride, n);
+	if (o->weight == BK_WEIGHT_NONE && len + 45 < sizeof s->description)
+		snprintf(s->description + len, sizeof s->description - len, "; weights replaced: uniform (--weight none)");
+	return 0;
+}
+
 int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                     char *err, size_t errlen)
 {
@@ -506,6 +654,10 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
 	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
 	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
+	case BK_TARGET_MS: rc = build_ms(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_SHEEN: rc = build_sheen(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: rc = build_table(o, s, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;
 	}
 	if (rc == 0 && s->ncomp == 1) {
@@ -527,6 +679,11 @@ size_t bk_target_samples(const bk_target_options *o)
 		for (int d = 0; d < o->ndomain; d++)
 			n *= (size_t)bk_target_form_cells(o);
 		return n;
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL:
+		n = o->table ? o->table->n : 0;
+		return o->nx > 0 && n > (size_t)o->nx ? (n + (n + (size_t)o->nx - 1) / (size_t)o->nx - 1) /
+		                                            ((n + (size_t)o->nx - 1) / (size_t)o->nx) : n;
 	default: return cells; /* vf2d, d */
 	}
 }
@@ -544,12 +701,15 @@ static double seconds_now(void)
 double bk_target_estimate(const bk_target_options *o, double *integrals)
 {
 	*integrals = 0;
-	if (o->kind != BK_TARGET_ENV)
+	if (o->kind != BK_TARGET_ENV && o->kind != BK_TARGET_MS && o->kind != BK_TARGET_SHEEN)
 		return 0;
 	*integrals = (double)o->nx * (double)o->nr;
 	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0, t0 = seconds_now(), A, B;
 	for (int j = 0; j < 4; j++)
 		for (int k = 0; k < 4; k++)
-			bk_dfg(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), o->smith, 1e-8, &A, &B, NULL);
+			if (o->kind == BK_TARGET_SHEEN)
+				bk_sheen_albedo(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), 1e-8, &A, NULL);
+			else /* env and ms: the DFG's integral */
+				bk_dfg(centre(x_lo, o->x_hi, k, 4), centre(o->r_lo, o->r_hi, j, 4), o->smith, 1e-8, &A, &B, NULL);
 	return (seconds_now() - t0) / 16 * *integrals;
 }

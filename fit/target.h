@@ -22,6 +22,10 @@ typedef enum bk_target_kind {
 	BK_TARGET_D,    /* GGX D over (NoH, r) */
 	BK_TARGET_F,    /* exact Fresnel over LoH */
 	BK_TARGET_FORM, /* a formula (form_text) on a box of the inputs it reads (domain) */
+	BK_TARGET_MS,   /* GGX directional albedo E = A + B (F = 1) over (NoV, r): multiscatter's input */
+	BK_TARGET_SHEEN, /* sheen albedo (Charlie D, Neubelt V, F = 1) over (NoV, r): Filament's cloth DFG */
+	BK_TARGET_TABLE, /* samples read from a user's file (CSV or EXR 2-D table): table */
+	BK_TARGET_MERL,  /* samples of a MERL measured BRDF (one channel): table */
 	BK_TARGET_COUNT
 } bk_target_kind;
 
@@ -38,7 +42,7 @@ typedef struct bk_target_options {
 	double f0[BK_TARGET_MAX_F0];
 	int nf0;             /* vf2d, vf, spec use f0[0]; env in-f0 forms use all */
 	int talk_alpha;      /* vf2d: read the talk's "roughness" as alpha */
-	bk_smith smith;      /* env */
+	bk_smith smith;      /* env, ms */
 	double eta, k;       /* f: complex index (k = 0: dielectric) */
 	bk_weight_kind weight;
 	int env_f0_form;     /* env: one form in f0, fitted to f0 A + B */
@@ -50,6 +54,11 @@ typedef struct bk_target_options {
 	int ndomain;
 	int dom_in[BK_IN_COUNT];
 	double dom_lo[BK_IN_COUNT], dom_hi[BK_IN_COUNT];
+	/* table, merl: the samples as a reader made them (analysis/tabtarget.h:
+	 * fit/ reads no file formats); bk_target_build copies them, so one
+	 * reading serves several builds (search's screen and full samples);
+	 * nx > 0 keeps about nx of them, every k-th (0, the default: all) */
+	const struct bk_samples *table;
 } bk_target_options;
 
 /* Defaults for a kind (domain, sizes): the and the talk's. */

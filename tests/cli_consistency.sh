@@ -48,7 +48,7 @@ usage "option --evls=30" "brdfkit search: unknown option '--evls'; did you mean 
 usage "option --qiuet" "brdfkit lut: unknown option '--qiuet'; did you mean '--quiet'? (see brdfkit lut --help)" \
 	$BK lut --size 4 --qiuet --out l
 nohint "option far off" "unknown option '--zzzzzz'" $BK search --target f --zzzzzz --out s
-usage "value vf2" "brdfkit fit: --target: unknown value 'vf2'; did you mean 'vf2d'? (known: vf2d, vf, spec, env, d, f, form) (see brdfkit fit --help)" \
+usage "value vf2" "brdfkit fit: --target: unknown value 'vf2'; did you mean 'vf2d'? (known: vf2d, vf, spec, env, d, f, form, ms, sheen, table, merl) (see brdfkit fit --help)" \
 	$BK fit --target vf2 --form vf_talk_r --out f
 usage "value mx" "brdfkit search: --objective: unknown value 'mx'; did you mean 'max'? (known: rmse, max, albedo) (see brdfkit search --help)" \
 	$BK search --target f --objective mx --out s

@@ -18,7 +18,7 @@ ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 command -v strace >/dev/null || { echo "fault.sh: strace not found (Debian package strace)"; exit 1; }
 # st ARGS...: strace with faults injected; LeakSanitizer cannot run under ptrace
-# (the sanitized tool would exit 1 for that alone), cli.sh checks leaks
+# (the sanitized tool would exit 1 for that alone), the cli_*.sh scripts check leaks
 st() { ASAN_OPTIONS=detect_leaks=0 strace -f -o /dev/null "$@"; }
 
 # tree DIR: every file under DIR with its checksum, sorted: two trees are the

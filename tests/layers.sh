@@ -1,5 +1,5 @@
 #!/bin/sh
-# layers.sh — the data flow of DESIGN.md, checked on the compiled objects
+# layers.sh — the data flow of shared/DESIGN.md, checked on the compiled objects
 # (and, at the end, the include walls, checked on the sources):
 # brdf/ -> fit/ -> analysis/ -> analysis/cli/ (and analysis/bench/), never
 # backwards, and inside each folder no two files that call each other, directly

@@ -28,8 +28,8 @@ if mpirun --version 2>/dev/null | grep -q "Open MPI"; then
 	export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 fi
 
-# the planted form of tests/cli.sh: 0.3/(LoH^2 + 0.7 r^2), one mutation from the
-# seed. One process reaches it in 3000 fits since issue 22 (tests/cli.sh); 2 and
+# the planted form of tests/cli_planted.sh: 0.3/(LoH^2 + 0.7 r^2), one mutation from the
+# seed. One process reaches it in 3000 fits since issue 22 (tests/cli_planted.sh); 2 and
 # 3 islands do too (measured: p0/(p1 a + sq(LoH)), rmse 1.1e-15, on 2 islands;
 # on 3 the same with a factor sq(r)/a), and the member is re-evaluated
 # outside the search (tests/lib.sh front_answers: brdfkit eval against the

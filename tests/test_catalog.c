@@ -376,6 +376,48 @@ static void h_env_unity_builtin_brdf2(const pt *p, double *o)
 	o[0] = surfaceReduction * lerp(p->f0, grazingTerm, t);
 }
 
+/* ms: each source's environment BRDF evaluated at f0 = 1 (E = A + B there),
+ * through the hand functions above with f0 set, not from the entries' text. */
+static pt at_f0_1(const pt *p)
+{
+	pt q = *p;
+	q.f0 = 1.0;
+	return q;
+}
+static void h_ms_materialx(const pt *p, double *o)
+{
+	double ab[2];
+	h_env_materialx(p, ab);
+	o[0] = ab[0] + ab[1]; /* mx_ggx_dir_albedo(NdotV, alpha, F0 = 1, F90 = 1) */
+}
+static void h_ms_karis2014(const pt *p, double *o) { o[0] = karis_env(p->NoV, p->r, 1.0); }
+static void h_ms_narkowicz2014_poly(const pt *p, double *o)
+{
+	pt q = at_f0_1(p);
+	h_env_narkowicz2014_poly(&q, o);
+}
+static void h_ms_pesce_iwanicki2015(const pt *p, double *o)
+{
+	pt q = at_f0_1(p);
+	h_env_pesce_iwanicki2015(&q, o);
+}
+
+/* MaterialX mx_imageworks_sheen_dir_albedo_curve_fit(NdotV, roughness), its
+ * vec2 constants as pairs, clamped as mx_imageworks_sheen_dir_albedo does;
+ * MaterialX's roughness is the Charlie a = r^2. */
+static void h_sheen_materialx(const pt *p, double *o)
+{
+	static const double c[6][2] = {{13.67300, 1.0},         {-68.78018, 61.57746},  {799.08825, 442.78211},
+	                               {-905.00061, 2597.49308}, {60.28956, 121.81241}, {1086.96473, 3045.55075}};
+	double NdotV = p->NoV, roughness = p->a;
+	double w[6] = {1, NdotV, roughness, NdotV * roughness, NdotV * NdotV, roughness * roughness};
+	double r[2] = {0, 0};
+	for (int k = 0; k < 6; k++)
+		for (int i = 0; i < 2; i++)
+			r[i] += c[k][i] * w[k];
+	o[0] = clampd(r[0] / r[1], 0.0, 1.0);
+}
+
 static const struct hand {
 	const char *name;
 	void (*fn)(const pt *, double *);
@@ -414,6 +456,11 @@ static const struct hand {
 	{"env_materialx", h_env_materialx},
 	{"env_unity_urp", h_env_unity_urp},
 	{"env_unity_builtin_brdf2", h_env_unity_builtin_brdf2},
+	{"ms_materialx", h_ms_materialx},
+	{"ms_karis2014", h_ms_karis2014},
+	{"ms_narkowicz2014_poly", h_ms_narkowicz2014_poly},
+	{"ms_pesce_iwanicki2015", h_ms_pesce_iwanicki2015},
+	{"sheen_materialx", h_sheen_materialx},
 };
 #define NHANDS (sizeof hands / sizeof hands[0])
 
@@ -468,7 +515,7 @@ Test(catalog, at_least_15_entries_unique_lowercase_names)
 
 Test(catalog, every_entry_has_source_convention_and_a_valid_target)
 {
-	static const char *const targets[] = {"D", "V", "F", "VF", "DVF", "env", "env_f0"};
+	static const char *const targets[] = {"D", "V", "F", "VF", "DVF", "env", "env_f0", "ms", "sheen"};
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		cr_assert(e->source && strlen(e->source) > 10, "%s: no source", e->name);
@@ -604,6 +651,21 @@ Test(catalog, karis_env_published_check_value)
 	eval_entry(e, 0, p, 3, v);
 	for (int k = 0; k < 3; k++) /* f0 >= 0.02: the gate is 1 */
 		check_close(v[k], 0.4524 * p[k].f0 - 0.0024, 1e-12, "EnvBRDFApprox(f0=%g, NoV=1, r=1)", p[k].f0);
+}
+
+/* The same printed check at f0 = 1 is the directional albedo ms_karis2014
+ * claims: 0.4524 - 0.0024 = 0.45 at r = 1, NoV = 1; control: at r = 0.5 the
+ * entry is 1 - 0.55 r = 0.725, not 0.45. */
+Test(catalog, ms_karis_published_check_value)
+{
+	pt p[2] = {make_pt(0, 0.5, 0, 1.0, 0.04), make_pt(0, 0.5, 0, 0.5, 0.04)};
+	const bk_catalog_entry *e = bk_catalog_find("ms_karis2014");
+	cr_assert_not_null(e);
+	double v[2];
+	eval_entry(e, 0, p, 2, v);
+	check_close(v[0], 0.4524 - 0.0024, 1e-12, "EnvBRDFApprox(1, r=1, NoV=1)");
+	cr_assert_gt(fabs(v[1] - 0.45), 0.2, "control: r = 0.5 gives %g", v[1]);
+	check_close(v[1], 0.725, 1e-12, "1 - 0.55 r at r = 0.5");
 }
 
 /* The talk's printed final BRDF = D_ggx(NoH, a) * (the V*F entry): its 4π is

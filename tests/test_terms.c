@@ -1102,6 +1102,17 @@ static double ref_term(const char *name, double tv, double tl, double phi, doubl
 		return (n + 2.0) / (2.0 * PI) * pow(NoH, n);
 	if (!strcmp(name, "D_blinn_phong_sg"))
 		return (n + 2.0) / (2.0 * PI) * exp((n + 0.775) * (NoH - 1.0));
+	if (!strcmp(name, "D_charlie") || !strcmp(name, "D_ashikhmin")) {
+		/* Estevez & Kulla 2017 eq. 2; Ashikhmin & Premoze 2007 as Filament's
+		 * D_Ashikhmin: from sin θh of the half vector built here */
+		double s2 = g.h[0] * g.h[0] + g.h[1] * g.h[1];
+		if (!strcmp(name, "D_charlie")) /* at a cosine that rounds to 1 the term sees
+		                                 * sin θh = 0 (it takes NoH only): D = 0 there */
+			return (1.0 - NoH) * (1.0 + NoH) == 0.0 ? 0.0 : (2.0 + 1.0 / a) * pow(sqrt(s2), 1.0 / a) / (2.0 * PI);
+		if (s2 == 0.0)
+			return 1.0 / (PI * (1.0 + 4.0 * a2));
+		return (1.0 + 4.0 * exp(-(NoH * NoH / s2) / a2) / (s2 * s2)) / (PI * (1.0 + 4.0 * a2));
+	}
 	if (!strcmp(name, "V_smith_ggx_separable"))
 		return 1.0 / ((NoV + sqrt(a2 + (1.0 - a2) * NoV * NoV)) * (NoL + sqrt(a2 + (1.0 - a2) * NoL * NoL)));
 	if (!strcmp(name, "V_smith_ggx_correlated"))

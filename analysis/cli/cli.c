@@ -841,7 +841,8 @@ int cli_unknown_value(const char *opt, const char *text, const char *const *name
 	return 2;
 }
 
-const char *const cli_targets[CLI_NTARGETS] = {"vf2d", "vf", "spec", "env", "d", "f", "form"};
+const char *const cli_targets[CLI_NTARGETS] = {"vf2d", "vf", "spec",  "env",   "d",   "f",
+                                               "form", "ms", "sheen", "table", "merl"};
 
 int cli_range_width(const char *opt, const char *text, double lo, double hi)
 {

@@ -259,7 +259,7 @@ const char *cli_suggest(const char *typed, const char *const *names, int n);
 int cli_unknown_value(const char *opt, const char *text, const char *const *names, int n);
 /* The names --target takes (fit/target.h bk_target_parse), for the message. */
 extern const char *const cli_targets[];
-#define CLI_NTARGETS 7
+#define CLI_NTARGETS 11
 /* text among names[0..n): its index; else -1 after cli_unknown_value. */
 int cli_choice(const char *opt, const char *text, const char *const *names, int n);
 

@@ -167,6 +167,8 @@ static void add_luts(study *S)
 	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
 	bk_lutrow rows[BK_LUTROWS_MAX];
 	int nl = bk_lutrows_layouts(0, 0, 1, NAN, L);
+	if (S->to.kind == BK_TARGET_MS) /* E = A + B in one channel: the DFG folded at f0 = 1 */
+		L[0].f0 = 1.0;
 	int n = bk_lutrows_build(L, nl, S->to.smith, BK_F64, &S->s, NULL, NULL, rows);
 	for (int k = 0; k < n && S->n < MAX_ROWS; k++) {
 		if (!rows[k].scored)
@@ -515,16 +517,18 @@ static int write_dir(study *S, const char *out, const char *prefix)
  * there are LUT rows, the only rows with a texture fetch (env, not --no-lut). */
 enum { DIM_TARGET, DIM_TIME, DIM_REFIT, DIM_FETCH };
 static const cli_dim dims[] = {
-	{"target", /* bk_target_kind's order, without form */
-	 {"vf2d", "vf", "spec", "env", "d", "f"},
-	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d", " on target f"}},
+	{"target", /* bk_target_kind's order; form is refused before any context */
+	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen"},
+	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d", " on target f",
+	  cli_unreached, " on target ms", " on target sheen"}},
 	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
 	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
-	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env and spec only, not with --no-lut)"}},
+	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env, spec and ms only, not with --no-lut)"}},
 };
 static const cli_rule rules[] = {
-	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(SPEC), "LUT rows are scored for targets env and spec only", NULL},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM), "target f has no roughness axis", "8"},
+	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(SPEC) | FIT_ON(MS),
+	 "LUT rows are scored for targets env, spec and ms only", NULL},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM) & ~FIT_FILE, "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
 	{"--fetch-cost", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},
@@ -540,7 +544,7 @@ static const cli_rule rules[] = {
 static const char *const setups[] = {
 	"--target vf2d --out o", "--target vf --out o", "--target spec --out o", "--target env --out o",
 	"--target d --out o", "--target f --out o", "--target vf2d --no-time --out o", "--target vf2d --no-refit --out o",
-	"--target env --no-lut --out o", NULL};
+	"--target env --no-lut --out o", "--target ms --out o", "--target sheen --out o", NULL};
 static const cli_table table = {dims, 4, rules, sizeof rules / sizeof rules[0], setups};
 
 /* Refuses typed forms that cannot be scored as written: with parameters
@@ -577,14 +581,14 @@ int cmd_compare(int argc, char **argv)
 	long nx = 0, nr = 0, reps = 7, tier = 16;
 	int relative = 0, no_refit = 0, no_time = 0, no_lut = 0;
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d or f", .dest = &target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, ms or sheen", .dest = &target, .required = 1},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &out, .required = 1},
 		{.name = "--nx", .kind = CLI_INT, .metavar = "N", .help = "cells along x (default: the target's)", .dest = &nx, .lo = 1, .hi = 1024},
 		{.name = "--nr", .kind = CLI_INT, .metavar = "N", .help = "cells along roughness", .dest = &nr, .lo = 1, .hi = 1024},
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals for the refits", .dest = &relative},
 		{.name = "--no-refit", .kind = CLI_FLAG, .help = "published constants only", .dest = &no_refit},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip CPU timing", .dest = &no_time},
-		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec: leave out the LUT rows", .dest = &no_lut},
+		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec, ms: leave out the LUT rows", .dest = &no_lut},
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
 		{.name = "--fetch-cost", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "a texture fetch priced as K simple ops, the talk's ALU:TEX tiers, for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
 		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page): a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
@@ -615,6 +619,9 @@ int cmd_compare(int argc, char **argv)
 	if (kind == BK_TARGET_FORM) { /* no catalog entry answers a user's formula */
 		return cli_bad("--target form: compare scores the catalog; fit a form target with brdfkit fit");
 	}
+	if (kind == BK_TARGET_TABLE || kind == BK_TARGET_MERL) /* the catalog's forms answer brdfkit's own targets */
+		return cli_bad("--target %s: compare scores the catalog on brdfkit's own targets; fit or search a file's "
+		               "samples with brdfkit fit or brdfkit search", bk_target_name(kind));
 	int t = -1;
 	for (int k = 0; k < BK_TIERS; k++)
 		if (bk_tier_alu_per_tex[k] == tier)
@@ -622,14 +629,15 @@ int cmd_compare(int argc, char **argv)
 	if (t < 0) {
 		return cli_usage(&cmd, "--fetch-cost: expected 16, 32, 48 or 64 (the talk's ALU:TEX tiers), got %ld", tier);
 	}
-	int ctx[] = {(int)kind, no_time, no_refit, (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC) || no_lut};
+	int ctx[] = {(int)kind, no_time, no_refit,
+	             (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC && kind != BK_TARGET_MS) || no_lut};
 	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))
 		return rc;
 	bk_target_defaults(kind, &S.to);
 	S.to.env_f0_form = kind == BK_TARGET_ENV;
 	if (kind == BK_TARGET_VF2D)
 		S.to.nx = S.to.nr = 128; /* the study's grid: 128² keeps every heatmap CSV under 1 MB */
-	if (kind == BK_TARGET_ENV)
+	if (kind == BK_TARGET_ENV || kind == BK_TARGET_MS)
 		S.to.nx = S.to.nr = 100; /* cell centres that are no LUT's texel centres (16..128): a
 		                          * LUT scored at its own texels would show no interpolation error */
 	if (nx) S.to.nx = (int)nx;
@@ -699,9 +707,9 @@ int cmd_compare(int argc, char **argv)
 		bk_form_free(f);
 		S.n++;
 	}
-	if (kind == BK_TARGET_ENV && !no_lut)
+	if ((kind == BK_TARGET_ENV || kind == BK_TARGET_MS) && !no_lut)
 		add_luts(&S);
-	for (int i = 0; i < S.n; i++)
+	for (int i = 0; kind == BK_TARGET_ENV && i < S.n; i++) /* ms: the fetch is E, no ALU */
 		if (!strcmp(S.rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
 			S.rows[i].ops.n[BK_K_MAD] = 1;
 			S.rows[i].ops.simple = 1;

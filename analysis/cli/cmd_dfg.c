@@ -52,6 +52,7 @@ static const cli_rule lut_rules[] = {
 	{"--precision", NULL, CLI_EVERYWHERE, 0, NULL, "half"},
 	{"--origin", NULL, CLI_EVERYWHERE, 0, NULL, "bottom"},
 	{"--out", NULL, CLI_EVERYWHERE, 0, NULL, NULL},
+	{"--channels", NULL, 0, 1u << BY_QUADRATURE, "the cloth and E_avg channels are integrated, not baked", "filament"},
 };
 static const char *const lut_setups[] = {"--size 2 --out o", "--size 2 --samples 16 --out o", NULL};
 static const cli_table lut_table = {dims, 1, lut_rules, sizeof lut_rules / sizeof lut_rules[0], lut_setups};
@@ -107,7 +108,7 @@ int cmd_lut(int argc, char **argv)
 	const char *smith = "correlated", *origin = "top", *out = NULL;
 	const char *precision = "single";
 	double tol = 1e-6, f0 = NAN;
-	const char *r_range = NULL, *warp = "none";
+	const char *r_range = NULL, *warp = "none", *channels = "split";
 	cli_opt opts[] = {
 		{.name = "--size", .kind = CLI_INT, .metavar = "N", .help = "texels per side", .dest = &size, .lo = 1, .hi = 4096, .required = 1},
 		{.name = "--f0", .kind = CLI_NUM, .metavar = "F", .help = "one channel f0*A + B at this f0 (a scene's one dielectric)", .dest = &f0, .lo = 0, .hi = 1},
@@ -119,13 +120,15 @@ int cmd_lut(int argc, char **argv)
 		{.name = "--precision", .kind = CLI_STR, .metavar = "single|half", .help = "texels stored as float32 (default) or half floats", .dest = &precision},
 		{.name = "--origin", .kind = CLI_STR, .metavar = "top|bottom", .help = "which image row holds the smallest roughness (default top)", .dest = &origin},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "directory for " BK_LUT_EXR " and " BK_LUT_CSV " (replaced whole)", .dest = &out, .required = 1},
+		{.name = "--channels", .kind = CLI_STR, .metavar = "split|filament|full", .help = "R = A, G = B (default); Filament's B, A + B, cloth; or A, B, cloth, E_avg", .dest = &channels},
 	};
 	cli_cmd cmd = {"lut", "Writes the DFG look-up table the way engines sample it: x = NoV, y = perceptual\n"
 	               "roughness, both at texel centres; R = A, G = B; ZIP-compressed OpenEXR with the\n"
 	               "conventions as header attributes, and the same table as CSV (full precision):\n"
 	               "DIR/" BK_LUT_EXR " and DIR/" BK_LUT_CSV ", one directory so the pair is always from one run.",
 	               "--size N --out DIR [--f0 F] [--r-range LO:HI] [--warp none|sqrt] [--smith MODEL]\n"
-	               "       [--samples N | --tol T] [--precision single|half] [--origin top|bottom]",
+	               "       [--samples N | --tol T] [--precision single|half] [--origin top|bottom]\n"
+	               "       [--channels split|filament|full]",
 	               "origin top: the first scanline of the file (top of the image as displayed) is\n"
 	               "r = 0.5/N, so texture(lut, vec2(NoV, r)) is right wherever uv (0,0) is the first\n"
 	               "texel in memory (D3D, Vulkan, Metal, and GL when rows are uploaded in file order).\n"
@@ -134,8 +137,11 @@ int cmd_lut(int argc, char **argv)
 	               "into a single channel R = f0*A + B; --r-range LO:HI puts the rows over LO..HI,\n"
 	               "sampled at v = (r - LO)/(HI - LO); --warp sqrt samples x at u = sqrt(NoV). The\n"
 	               "EXR header and the CSV's comments state the layout.\n"
+	               "--channels filament: R = B, G = E = A + B (multiscatter: 1 + f0*(1/G - 1)), B = cloth\n"
+	               "(the sheen albedo, Charlie D and Neubelt V), as Filament's cmgen bakes its DFG;\n"
+	               "--channels full: R = A, G = B, B = cloth, A = E_avg(r) (Kulla & Conty 2017).\n"
 	               "lut --specular writes the low tier's specular LUT instead (brdfkit lut --specular --help).",
-	               opts, 10, 0, 0, {0}};
+	               opts, 11, 0, 0, {0}};
 	int rc = cli_parse_table(&cmd, &lut_table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, (int[]){samples ? BY_BAKE : BY_QUADRATURE})))
 		return rc == 1 ? 0 : rc;
@@ -153,6 +159,13 @@ int cmd_lut(int argc, char **argv)
 	if (w < 0 || cli_choice("--origin", origin, origins, 2) < 0)
 		return 2;
 	d.L.warp = w ? BK_LUT_WARP_SQRT : BK_LUT_WARP_NONE;
+	static const char *const chans[] = {"split", "filament", "full"};
+	int ch = cli_choice("--channels", channels, chans, 3);
+	if (ch < 0)
+		return 2;
+	d.chan = (bk_lut_chan)ch;
+	if (d.chan != BK_LUT_SPLIT && !isnan(f0))
+		return cli_bad("--f0 folds A and B into one channel; --channels %s keeps them apart", channels);
 	d.origin_top = strcmp(origin, "top") == 0;
 
 	/* begun before minutes of integration, so a bad --out fails first */
@@ -178,6 +191,17 @@ int cmd_lut(int argc, char **argv)
 		for (size_t k = 0; k < n && rc == 0; k++)
 			if (!isfinite(A[k]) || !isfinite(B[k]))
 				rc = -1;
+	double *cloth = NULL, *e_avg = NULL;
+	if (rc == 0 && d.chan != BK_LUT_SPLIT) {
+		cloth = malloc(n * sizeof *cloth);
+		e_avg = malloc((size_t)size * sizeof *e_avg);
+		rc = !cloth || !e_avg ? -1 : bk_lut_extra(&d, cloth, e_avg, cli_progress, "lut cloth and E_avg rows");
+		for (size_t k = 0; k < n && rc == 0; k++)
+			if (!isfinite(cloth[k]) || (k < (size_t)size && !isfinite(e_avg[k])))
+				rc = -1;
+		d.cloth = cloth;
+		d.e_avg = e_avg;
+	}
 	if (rc) {
 		bk_out_dir_abort(&od);
 		rc = cli_fail("lut", "integration failed (non-finite value)");
@@ -189,5 +213,7 @@ int cmd_lut(int argc, char **argv)
 	}
 	free(A);
 	free(B);
+	free(cloth);
+	free(e_avg);
 	return rc;
 }

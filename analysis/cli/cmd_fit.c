@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "fit.h"
 #include "fit_out.h"
+#include "tabtarget.h"
 #include "form_check.h"
 #include "member.h"
 #include "heatmap.h"
@@ -194,6 +195,7 @@ typedef struct run {
 	forms fs;
 	bk_target_options to;
 	bk_samples s;
+	bk_samples table; /* table, merl: as read from the file, until the build copies it */
 	bk_fit_spec spec;
 	bk_fit_result res;
 	int has_published;
@@ -255,6 +257,32 @@ static int write_outputs(const run *R, const char *out)
 }
 
 /* ---- the command ---------------------------------------------------------- */
+
+/* table, merl: --target-file read into *t (nothing for the other targets).
+ * A bad file is bad input (2), one that cannot be read a failure (1). */
+int fit_read_file(const cli_cmd *cmd, const fit_cli *a, bk_target_kind kind, bk_samples *t)
+{
+	char err[600] = "";
+	int rc = 0;
+	memset(t, 0, sizeof *t);
+	if (kind != BK_TARGET_TABLE && kind != BK_TARGET_MERL)
+		return 0;
+	if (!a->target_file)
+		return cli_usage(cmd, "target %s needs --target-file FILE", bk_target_name(kind));
+	if (kind == BK_TARGET_TABLE)
+		rc = bk_tabtarget_table(a->target_file, a->channel, t, err, sizeof err);
+	else {
+		int ch = BK_MERL_LUMINANCE;
+		if (a->channel && parse_enum("--channel", a->channel, bk_merl_channel_names, BK_MERL_CHANNELS, &ch))
+			return 2;
+		rc = bk_tabtarget_merl(a->target_file, (bk_merl_channel)ch, t, err, sizeof err);
+	}
+	if (rc == -2)
+		return cli_fail(cmd->name, "--target-file %s", err);
+	if (rc)
+		return cli_bad("--target-file %s", err);
+	return 0;
+}
 
 int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
 {
@@ -405,7 +433,7 @@ static const cli_rule rules[] = {
 	{"--nu", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
 	{"--nphi", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
 	{"--talk-roughness", NULL, DIM_TARGET, FIT_ON(VF2D), "it sets how target vf2d reads the talk's roughness", "a"},
-	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV), "it sets the Smith model of target env", "schlick"},
+	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(MS), "it sets the Smith model of targets env and ms", "schlick"},
 	{"--ior", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "1.4"},
 	{"--k", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "3"},
 	{"--f0", NULL, DIM_TARGET, FIT_ON(VF2D) | FIT_ON(VF) | FIT_ON(SPEC) | FIT_ON(ENV),
@@ -415,6 +443,14 @@ static const cli_rule rules[] = {
 	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
 	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "0:0.5"},
 	{"--target-form", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the expression of target form", "LoH"},
+	{"--target-file", NULL, DIM_TARGET, FIT_FILE, "it gives the file of targets table and merl", "t.csv"},
+	{"--channel", NULL, DIM_TARGET, FIT_FILE, "it chooses the channel of targets table (EXR) and merl", "R"},
+	{"--nx", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl", "8"},
+	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl", "8"},
+	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl",
+	 "0:0.5"},
+	{"--x-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl",
+	 "0:0.5"},
 	{"--domain", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the domain of target form", "LoH=0:1"},
 	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM),
 	 "--domain sets the inputs of target form; --nx the cells per axis", "8"},
@@ -455,6 +491,10 @@ static const char *const setups[] = {
 	"--target d --form p0 p0=1 --out o",
 	"--target f --form p0 p0=1 --out o",
 	"--target form --target-form LoH --domain LoH=0:1 --form p0 p0=1 --out o",
+	"--target ms --form p0 p0=1 --out o",
+	"--target sheen --form p0 p0=1 --out o",
+	"--target table --target-file t.csv --form p0 p0=1 --out o",
+	"--target merl --target-file t.binary --form p0 p0=1 --out o",
 	"--target f --form 0.5 --out o",
 	"--target vf --form 0.5 --out o",
 	"--target f --form p0 p0=1 --loss huber --out o",
@@ -612,8 +652,10 @@ static void report(const run *R, int rc)
 	if (rc == 1)
 		printf("warning: did not converge (%s)\n", res->summary.message);
 	fit_run v = view(R);
-	if (!fit_has_plane(&v))
+	if (!fit_has_plane(&v) && R->to.kind == BK_TARGET_FORM)
 		printf("no heatmap: target form has %d inputs; a heatmap needs 1 or 2\n", R->to.ndomain);
+	else if (!fit_has_plane(&v))
+		printf("no heatmap: the samples of target %s lie on no 2-D grid\n", bk_target_name(R->to.kind));
 }
 
 int cmd_fit(int argc, char **argv)
@@ -621,7 +663,9 @@ int cmd_fit(int argc, char **argv)
 	fit_cli a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
 	             .threads = 1, .loss_scale = 1.0};
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, ms, sheen, table or merl", .dest = &a.target, .required = 1},
+		{.name = "--target-file", .kind = CLI_STR, .metavar = "FILE", .help = "table: a CSV of samples (input columns, value, optional weight) or an EXR table as lut writes it; merl: a MERL binary BRDF", .dest = &a.target_file},
+		{.name = "--channel", .kind = CLI_STR, .metavar = "NAME", .help = "table: the EXR channel (default: its only one); merl: r, g, b or luminance (default)", .dest = &a.channel},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the target's expression (inputs only, no pN), evaluated in double", .dest = &a.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads (r gives a = r^2 too); the first varies fastest and, with two, is the heatmap's x", .dest = &a.domain},
 		{.name = "--form", .kind = CLI_FORM, .metavar = "FORM|NAME|FILE.csv:MEMBER", .help = "the form, a catalog entry (its constants start the fit) or a member of a search's front.csv (its fitted values start the fit)", .dest = &a.form},
@@ -636,7 +680,7 @@ int cmd_fit(int argc, char **argv)
 		{.name = "--nphi", .kind = CLI_INT, .metavar = "N", .help = "vf/spec: azimuth cells", .dest = &a.nphi, .lo = 1, .hi = 1024},
 		{.name = "--f0", .kind = CLI_LIST, .metavar = "F[,F...]", .help = "f0 (first used; env forms in f0 use all)", .dest = &a.f0, .lo = 0, .hi = 1},
 		{.name = "--talk-roughness", .kind = CLI_STR, .metavar = "r|a", .help = "vf2d: read the talk's roughness as r (default) or alpha", .dest = &a.talk},
-		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.smith},
+		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env, ms: correlated (default), separable, schlick", .dest = &a.smith},
 		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index of the exact Fresnel (default 1.5)", .dest = &a.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.k, .lo = 0, .hi = 1e6},
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals (f - y)/|y|", .dest = &a.relative},
@@ -658,6 +702,8 @@ int cmd_fit(int argc, char **argv)
 	               "--target T (--form FORM|NAME | --form-a A --form-b B) --out DIR [p0=START ...] [options]",
 	               "Target form: --target-form EXPR --domain IN=LO:HI[,...] samples EXPR at cell centres of a\n"
 	               "grid over the domain (uniform weight); no heatmap with more than two inputs.\n"
+	               "Targets table and merl: --target-file FILE, a CSV of samples, an EXR table as lut\n"
+	               "writes it, or a MERL binary BRDF (--channel); see brdfkit-fit(1), Targets.\n"
 	               "A form without parameters is evaluated, not fitted. Options that would have no effect (on\n"
 	               "this target, without parameters, --loss-scale without --loss, --seed with --starts 1,\n"
 	               "--threads on the default solver) are refused, and so is --hold of every parameter.\n"
@@ -693,6 +739,9 @@ int cmd_fit(int argc, char **argv)
 	char err[512];
 	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)) || (rc = check_effect(&R, kind, cmd.pos, cmd.npos)))
 		goto done;
+	if ((rc = fit_read_file(&cmd, &a, kind, &R.table)))
+		goto done;
+	R.to.table = &R.table;
 	if (kind == BK_TARGET_FORM) {
 		if (!a.target_form || !a.domain) {
 			rc = cli_usage(&cmd, "target form needs --target-form EXPR and --domain IN=LO:HI[,...]");
@@ -719,7 +768,9 @@ int cmd_fit(int argc, char **argv)
 	}
 	say_estimate(&R.to);
 	fit_say_size(&R.to);
-	if (bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err)) {
+	rc = bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err);
+	bk_samples_free(&R.table); /* copied: a MERL file's samples are 120 MB */
+	if (rc) {
 		rc = cli_fail("fit", "%s", err);
 		goto done;
 	}
@@ -747,5 +798,6 @@ done:
 	bk_form_free(R.fs.f[1]);
 	cli_member_free(&R.fs.m);
 	bk_form_free(wform);
+	bk_samples_free(&R.table);
 	return rc;
 }

@@ -422,7 +422,9 @@ static int search_main(int argc, char **argv)
 	                .max_params = -1, .max_size = 24, .enum_size = 5, .enum_max = 5000, .every = 5000, .generation = 256,
 	                .migrate = 2000, .migrants = 8};
 	cli_opt opts[] = {
-		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f or form", .dest = &a.t.target, .required = 1},
+		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, ms, sheen, table or merl", .dest = &a.t.target, .required = 1},
+		{.name = "--target-file", .kind = CLI_STR, .metavar = "FILE", .help = "table: a CSV of samples (input columns, value, optional weight) or an EXR table as lut writes it; merl: a MERL binary BRDF (screening on about 4,096 of its samples, every k-th; the front refitted on all)", .dest = &a.t.target_file},
+		{.name = "--channel", .kind = CLI_STR, .metavar = "NAME", .help = "table: the EXR channel (default: its only one); merl: r, g, b or luminance (default)", .dest = &a.t.channel},
 		{.name = "--target-form", .kind = CLI_FORM, .metavar = "EXPR", .help = "form: the expression to approximate (inputs only)", .dest = &a.t.target_form},
 		{.name = "--domain", .kind = CLI_STR, .metavar = "IN=LO:HI,...", .help = "form: an interval for each input EXPR reads", .dest = &a.t.domain},
 		{.name = "--out", .kind = CLI_STR, .metavar = "DIR", .help = "results directory (replaced whole)", .dest = &a.out, .required = 1},
@@ -522,6 +524,10 @@ static int search_main(int argc, char **argv)
 		return cli_usage(&cmd, "--f0: one value, got %d (a list only for env with --env-form f0)", a.t.f0.n);
 	if ((rc = fit_setup_target(&a.t, J.kind, &J.to)))
 		return rc;
+	static bk_samples table; /* table, merl: the file's samples, copied by both builds */
+	if ((rc = fit_read_file(&cmd, &a.t, J.kind, &table)))
+		return rc;
+	J.to.table = &table;
 	char err[512];
 	if (J.kind == BK_TARGET_FORM) {
 		if (!a.t.target_form || !a.t.domain)
@@ -609,6 +615,7 @@ static int search_main(int argc, char **argv)
 	if (rc == 0 && J.interrupted)
 		rc = 130;
 done:
+	bk_samples_free(&table);
 	bk_halves_free(&hv);
 	bk_seeds_free(&sd);
 	bk_frontcsv_free(&J.start_fc);

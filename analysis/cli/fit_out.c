@@ -138,7 +138,12 @@ static int write_heatmap(const fit_run *R, const char *dir, const char *stem, co
 
 /* Whether the target has a plane to draw: a form target over three or more
  * inputs has none (report says so). */
-int fit_has_plane(const fit_run *R) { return R->to->kind != BK_TARGET_FORM || R->to->ndomain <= 2; }
+int fit_has_plane(const fit_run *R)
+{
+	if (R->to->kind == BK_TARGET_TABLE || R->to->kind == BK_TARGET_MERL)
+		return R->s->plane_x_input >= 0; /* an EXR table's grid; not a CSV's scattered samples, nor MERL's 3-D */
+	return R->to->kind != BK_TARGET_FORM || R->to->ndomain <= 2;
+}
 
 static int write_heatmaps(const fit_run *R, const char *dir, char *err, size_t errlen)
 {

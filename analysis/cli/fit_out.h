@@ -47,16 +47,19 @@ int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
  * is bk_target_kind k. */
 #define FIT_TARGET_DIM                                                                                    \
 	{"target",                                                                                        \
-	 {"vf2d", "vf", "spec", "env", "d", "f", "form"},                                                 \
+	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen", "table", "merl"},                  \
 	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d",        \
-	  " on target f", " on target form"}}
-_Static_assert(BK_TARGET_COUNT == 7, "FIT_TARGET_DIM names every target kind in order");
+	  " on target f", " on target form", " on target ms", " on target sheen", " on target table",    \
+	  " on target merl"}}
+_Static_assert(BK_TARGET_COUNT == 11, "FIT_TARGET_DIM names every target kind in order");
 #define FIT_ON(k) (1u << BK_TARGET_##k)
 #define FIT_ALL ((1u << BK_TARGET_COUNT) - 1)
+#define FIT_FILE (FIT_ON(TABLE) | FIT_ON(MERL)) /* the targets whose samples a file gives */
 
 typedef struct fit_cli {
 	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
 	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;
+	const char *target_file, *channel; /* table, merl */
 	cli_list f0;
 	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
 	double loss_scale, ior, k;
@@ -72,5 +75,7 @@ void fit_say_size(const bk_target_options *to);
 int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to);
 /* Defaults of kind, then the target options of a; 2 after an error. */
 int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to);
+/* table, merl: reads --target-file into *t (zeroed for other targets); 0 or an exit status. */
+int fit_read_file(const cli_cmd *cmd, const fit_cli *a, bk_target_kind kind, bk_samples *t);
 
 #endif

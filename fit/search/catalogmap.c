@@ -18,6 +18,8 @@ const char *bk_catmap_tag(bk_target_kind k)
 	case BK_TARGET_ENV: return "env";
 	case BK_TARGET_D: return "D";
 	case BK_TARGET_F: return "F";
+	case BK_TARGET_MS: return "ms";
+	case BK_TARGET_SHEEN: return "sheen";
 	default: return NULL;
 	}
 }

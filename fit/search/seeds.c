@@ -76,7 +76,9 @@ void bk_seeds_screening_grid(bk_target_options *o)
 	case BK_TARGET_D: o->nx = o->nr = 32; break;
 	case BK_TARGET_VF:
 	case BK_TARGET_SPEC: o->nx = o->nr = 8, o->nu = 8, o->nphi = 4; break; /* 2,048 samples */
-	case BK_TARGET_ENV: o->nx = o->nr = 16; break;
+	case BK_TARGET_ENV:
+	case BK_TARGET_MS:
+	case BK_TARGET_SHEEN: o->nx = o->nr = 16; break;
 	case BK_TARGET_F: o->nx = 64; break;
 	case BK_TARGET_FORM: {
 		/* samples per axis for 1 to 4 inputs: 256, 1,024, 1,000, 1,296 in all */
@@ -84,6 +86,8 @@ void bk_seeds_screening_grid(bk_target_options *o)
 		o->nx = per[o->ndomain];
 		break;
 	}
+	case BK_TARGET_TABLE:
+	case BK_TARGET_MERL: o->nx = 4096; break; /* about 4,096 of the file's samples, every k-th */
 	default: break;
 	}
 }

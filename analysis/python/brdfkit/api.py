@@ -125,8 +125,9 @@ class FitResult:
 class _Target:
     """A target's samples (bk_target_build), kept alive with the strings they
     were made from: a built-in target by name with its defaults (domain None:
-    "vf2d", "vf", "spec", "d", "f"), or an expression of the inputs on domain
-    ({input: (lo, hi)}, the first varying fastest: kind form)."""
+    "vf2d", "vf", "spec", "d", "f", "ms", "sheen"), or an expression of the
+    inputs on domain ({input: (lo, hi)}, the first varying fastest: kind
+    form)."""
 
     def __init__(self, target, domain, nx=0):
         o = ffi.new("bk_target_options *")
