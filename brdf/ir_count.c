@@ -60,7 +60,7 @@ static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
 	{"aco-polaris10", 1.054, 1.834},         /* GCN 4, gfx8 */
 	{"aco-vega10", 1.054, 1.834},            /* GCN 5, gfx9 */
-	{"aco-navi21", 1.001, 1.444},            /* RDNA 2, gfx10.3 */
+	{"aco-navi21", 1.001, 1.445},            /* RDNA 2, gfx10.3 */
 	{"aco-gfx1100", 1.006, 2.113},           /* RDNA 3, gfx11 */
 };
 

@@ -17,7 +17,10 @@
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_1(void)
+static inline float search_ms_1(float NoV, float r)
 {
-	return 0.82975f;
+	(void)NoV;
+	(void)r;
+	const float search_ms_1_p0 = 0.82975f;
+	return search_ms_1_p0;
 }

@@ -14,7 +14,8 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-highp float search_ms_1()
+highp float search_ms_1(highp float NoV, highp float r)
 {
-	return 0.82975;
+	const highp float search_ms_1_p0 = 0.82975;
+	return search_ms_1_p0;
 }

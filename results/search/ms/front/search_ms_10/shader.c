@@ -27,14 +27,18 @@
 #include <math.h>
 static inline float search_ms_10(float NoV, float r)
 {
+	const float search_ms_10_p0 = 0.996208f;
+	const float search_ms_10_p1 = 0.945287f;
+	const float search_ms_10_p2 = 1.14522f;
+	const float search_ms_10_p3 = 0.340603f;
 	float t4 = -r;
-	float t6 = 1.14522f - r;
+	float t6 = search_ms_10_p2 - r;
 	float t7 = NoV + (t6 - NoV) * NoV;
 	float t8 = fminf(r, t7);
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = t4 * t9 + 0.945287f;
-	float t12 = NoV * 0.340603f + t11;
+	float t11 = t4 * t9 + search_ms_10_p1;
+	float t12 = NoV * search_ms_10_p3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
-	float t14 = 0.996208f * t13;
+	float t14 = search_ms_10_p0 * t13;
 	return t14;
 }

@@ -24,14 +24,18 @@
  */
 highp float search_ms_10(highp float NoV, highp float r)
 {
+	const highp float search_ms_10_p0 = 0.996208;
+	const highp float search_ms_10_p1 = 0.945287;
+	const highp float search_ms_10_p2 = 1.14522;
+	const highp float search_ms_10_p3 = 0.340603;
 	highp float t4 = -r;
-	highp float t6 = 1.14522 - r;
+	highp float t6 = search_ms_10_p2 - r;
 	highp float t7 = NoV + (t6 - NoV) * NoV;
 	highp float t8 = min(r, t7);
 	highp float t9 = NoV + (r - NoV) * t8;
-	highp float t11 = t4 * t9 + 0.945287;
-	highp float t12 = NoV * 0.340603 + t11;
+	highp float t11 = t4 * t9 + search_ms_10_p1;
+	highp float t12 = NoV * search_ms_10_p3 + t11;
 	highp float t13 = clamp(t12, 0.0, 1.0);
-	highp float t14 = 0.996208 * t13;
+	highp float t14 = search_ms_10_p0 * t13;
 	return t14;
 }

@@ -24,14 +24,18 @@
  */
 float search_ms_10(float NoV, float r)
 {
+	const float search_ms_10_p0 = 0.996208;
+	const float search_ms_10_p1 = 0.945287;
+	const float search_ms_10_p2 = 1.14522;
+	const float search_ms_10_p3 = 0.340603;
 	float t4 = -r;
-	float t6 = 1.14522 - r;
+	float t6 = search_ms_10_p2 - r;
 	float t7 = NoV + (t6 - NoV) * NoV;
 	float t8 = min(r, t7);
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = mad(t4, t9, 0.945287);
-	float t12 = mad(NoV, 0.340603, t11);
+	float t11 = mad(t4, t9, search_ms_10_p1);
+	float t12 = mad(NoV, search_ms_10_p3, t11);
 	float t13 = saturate(t12);
-	float t14 = 0.996208 * t13;
+	float t14 = search_ms_10_p0 * t13;
 	return t14;
 }

@@ -27,15 +27,19 @@
 #include <math.h>
 static inline float search_ms_11(float NoV, float r)
 {
+	const float search_ms_11_p0 = 0.996459f;
+	const float search_ms_11_p1 = 0.945942f;
+	const float search_ms_11_p2 = 1.37852f;
+	const float search_ms_11_p3 = 0.338635f;
 	float t4 = -r;
-	float t6 = 1.37852f - r;
+	float t6 = search_ms_11_p2 - r;
 	float t7 = t6 * t6;
 	float t8 = NoV + (t7 - NoV) * NoV;
 	float t9 = fminf(r, t8);
 	float t10 = NoV + (r - NoV) * t9;
-	float t12 = t4 * t10 + 0.945942f;
-	float t13 = NoV * 0.338635f + t12;
+	float t12 = t4 * t10 + search_ms_11_p1;
+	float t13 = NoV * search_ms_11_p3 + t12;
 	float t14 = fminf(fmaxf(t13, 0.0f), 1.0f);
-	float t15 = 0.996459f * t14;
+	float t15 = search_ms_11_p0 * t14;
 	return t15;
 }

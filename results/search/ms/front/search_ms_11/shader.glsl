@@ -24,15 +24,19 @@
  */
 highp float search_ms_11(highp float NoV, highp float r)
 {
+	const highp float search_ms_11_p0 = 0.996459;
+	const highp float search_ms_11_p1 = 0.945942;
+	const highp float search_ms_11_p2 = 1.37852;
+	const highp float search_ms_11_p3 = 0.338635;
 	highp float t4 = -r;
-	highp float t6 = 1.37852 - r;
+	highp float t6 = search_ms_11_p2 - r;
 	highp float t7 = t6 * t6;
 	highp float t8 = NoV + (t7 - NoV) * NoV;
 	highp float t9 = min(r, t8);
 	highp float t10 = NoV + (r - NoV) * t9;
-	highp float t12 = t4 * t10 + 0.945942;
-	highp float t13 = NoV * 0.338635 + t12;
+	highp float t12 = t4 * t10 + search_ms_11_p1;
+	highp float t13 = NoV * search_ms_11_p3 + t12;
 	highp float t14 = clamp(t13, 0.0, 1.0);
-	highp float t15 = 0.996459 * t14;
+	highp float t15 = search_ms_11_p0 * t14;
 	return t15;
 }

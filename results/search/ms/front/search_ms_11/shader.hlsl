@@ -24,15 +24,19 @@
  */
 float search_ms_11(float NoV, float r)
 {
+	const float search_ms_11_p0 = 0.996459;
+	const float search_ms_11_p1 = 0.945942;
+	const float search_ms_11_p2 = 1.37852;
+	const float search_ms_11_p3 = 0.338635;
 	float t4 = -r;
-	float t6 = 1.37852 - r;
+	float t6 = search_ms_11_p2 - r;
 	float t7 = t6 * t6;
 	float t8 = NoV + (t7 - NoV) * NoV;
 	float t9 = min(r, t8);
 	float t10 = NoV + (r - NoV) * t9;
-	float t12 = mad(t4, t10, 0.945942);
-	float t13 = mad(NoV, 0.338635, t12);
+	float t12 = mad(t4, t10, search_ms_11_p1);
+	float t13 = mad(NoV, search_ms_11_p3, t12);
 	float t14 = saturate(t13);
-	float t15 = 0.996459 * t14;
+	float t15 = search_ms_11_p0 * t14;
 	return t15;
 }

@@ -26,14 +26,18 @@
 #include <math.h>
 static inline float search_ms_12(float NoV, float r)
 {
-	float t3 = 1.0f + (1.164217f - 1.0f) * NoV;
+	const float search_ms_12_p0 = (-0.063537f);
+	const float search_ms_12_p1 = 0.11263f;
+	const float search_ms_12_p2 = (-1.04702f);
+	const float search_ms_12_p3 = 1.164217f;
+	float t3 = 1.0f + (search_ms_12_p3 - 1.0f) * NoV;
 	float t5 = -r;
 	float t8 = r + NoV;
-	float t9 = (-1.04702f) + t8;
-	float t10 = NoV + (0.11263f - NoV) * t9;
+	float t9 = search_ms_12_p2 + t8;
+	float t10 = NoV + (search_ms_12_p1 - NoV) * t9;
 	float t11 = fminf(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = t5 * t12 + (-0.063537f);
+	float t14 = t5 * t12 + search_ms_12_p0;
 	float t15 = t3 * t3 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;

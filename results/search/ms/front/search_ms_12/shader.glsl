@@ -23,14 +23,18 @@
  */
 highp float search_ms_12(highp float NoV, highp float r)
 {
-	highp float t3 = 1.0 + (1.164217 - 1.0) * NoV;
+	const highp float search_ms_12_p0 = (-0.063537);
+	const highp float search_ms_12_p1 = 0.11263;
+	const highp float search_ms_12_p2 = (-1.04702);
+	const highp float search_ms_12_p3 = 1.164217;
+	highp float t3 = 1.0 + (search_ms_12_p3 - 1.0) * NoV;
 	highp float t5 = -r;
 	highp float t8 = r + NoV;
-	highp float t9 = (-1.04702) + t8;
-	highp float t10 = NoV + (0.11263 - NoV) * t9;
+	highp float t9 = search_ms_12_p2 + t8;
+	highp float t10 = NoV + (search_ms_12_p1 - NoV) * t9;
 	highp float t11 = min(r, t10);
 	highp float t12 = NoV + (r - NoV) * t11;
-	highp float t14 = t5 * t12 + (-0.063537);
+	highp float t14 = t5 * t12 + search_ms_12_p0;
 	highp float t15 = t3 * t3 + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	return t16;

@@ -23,14 +23,18 @@
  */
 float search_ms_12(float NoV, float r)
 {
-	float t3 = 1.0 + (1.164217 - 1.0) * NoV;
+	const float search_ms_12_p0 = (-0.063537);
+	const float search_ms_12_p1 = 0.11263;
+	const float search_ms_12_p2 = (-1.04702);
+	const float search_ms_12_p3 = 1.164217;
+	float t3 = 1.0 + (search_ms_12_p3 - 1.0) * NoV;
 	float t5 = -r;
 	float t8 = r + NoV;
-	float t9 = (-1.04702) + t8;
-	float t10 = NoV + (0.11263 - NoV) * t9;
+	float t9 = search_ms_12_p2 + t8;
+	float t10 = NoV + (search_ms_12_p1 - NoV) * t9;
 	float t11 = min(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = mad(t5, t12, (-0.063537));
+	float t14 = mad(t5, t12, search_ms_12_p0);
 	float t15 = mad(t3, t3, t14);
 	float t16 = saturate(t15);
 	return t16;

@@ -25,17 +25,22 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_13(float NoV, float r, float a)
+static inline float search_ms_13(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_13_p0 = 0.941074f;
+	const float search_ms_13_p1 = 1.83995f;
+	const float search_ms_13_p2 = 0.24187f;
+	const float search_ms_13_p3 = 0.340803f;
 	float t3 = -r;
 	float t5 = -NoV;
-	float t6 = NoV * 1.83995f + t5;
-	float t9 = 0.24187f / a;
+	float t6 = NoV * search_ms_13_p1 + t5;
+	float t9 = search_ms_13_p2 / a;
 	float t10 = t6 + (t9 - t6) * NoV;
 	float t11 = fminf(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = t3 * t12 + 0.941074f;
-	float t15 = NoV * 0.340803f + t14;
+	float t14 = t3 * t12 + search_ms_13_p0;
+	float t15 = NoV * search_ms_13_p3 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

@@ -22,17 +22,22 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-highp float search_ms_13(highp float NoV, highp float r, highp float a)
+highp float search_ms_13(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_13_p0 = 0.941074;
+	const highp float search_ms_13_p1 = 1.83995;
+	const highp float search_ms_13_p2 = 0.24187;
+	const highp float search_ms_13_p3 = 0.340803;
 	highp float t3 = -r;
 	highp float t5 = -NoV;
-	highp float t6 = NoV * 1.83995 + t5;
-	highp float t9 = 0.24187 / a;
+	highp float t6 = NoV * search_ms_13_p1 + t5;
+	highp float t9 = search_ms_13_p2 / a;
 	highp float t10 = t6 + (t9 - t6) * NoV;
 	highp float t11 = min(r, t10);
 	highp float t12 = NoV + (r - NoV) * t11;
-	highp float t14 = t3 * t12 + 0.941074;
-	highp float t15 = NoV * 0.340803 + t14;
+	highp float t14 = t3 * t12 + search_ms_13_p0;
+	highp float t15 = NoV * search_ms_13_p3 + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	return t16;
 }

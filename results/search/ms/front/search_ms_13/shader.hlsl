@@ -22,17 +22,22 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-float search_ms_13(float NoV, float r, float a)
+float search_ms_13(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_13_p0 = 0.941074;
+	const float search_ms_13_p1 = 1.83995;
+	const float search_ms_13_p2 = 0.24187;
+	const float search_ms_13_p3 = 0.340803;
 	float t3 = -r;
 	float t5 = -NoV;
-	float t6 = mad(NoV, 1.83995, t5);
-	float t9 = 0.24187 / a;
+	float t6 = mad(NoV, search_ms_13_p1, t5);
+	float t9 = search_ms_13_p2 / a;
 	float t10 = t6 + (t9 - t6) * NoV;
 	float t11 = min(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = mad(t3, t12, 0.941074);
-	float t15 = mad(NoV, 0.340803, t14);
+	float t14 = mad(t3, t12, search_ms_13_p0);
+	float t15 = mad(NoV, search_ms_13_p3, t14);
 	float t16 = saturate(t15);
 	return t16;
 }

@@ -26,17 +26,22 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_14(float NoV, float r, float a)
+static inline float search_ms_14(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_14_p0 = 0.938163f;
+	const float search_ms_14_p1 = 0.84929f;
+	const float search_ms_14_p2 = 0.27263f;
+	const float search_ms_14_p3 = 0.343591f;
 	float t3 = -r;
 	float t5 = r * NoV;
-	float t6 = 0.84929f * t5;
-	float t9 = 0.27263f / a;
+	float t6 = search_ms_14_p1 * t5;
+	float t9 = search_ms_14_p2 / a;
 	float t10 = t6 + (t9 - t6) * NoV;
 	float t11 = fminf(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = t3 * t12 + 0.938163f;
-	float t15 = NoV * 0.343591f + t14;
+	float t14 = t3 * t12 + search_ms_14_p0;
+	float t15 = NoV * search_ms_14_p3 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

@@ -23,17 +23,22 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-float search_ms_14(float NoV, float r, float a)
+float search_ms_14(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_14_p0 = 0.938163;
+	const float search_ms_14_p1 = 0.84929;
+	const float search_ms_14_p2 = 0.27263;
+	const float search_ms_14_p3 = 0.343591;
 	float t3 = -r;
 	float t5 = r * NoV;
-	float t6 = 0.84929 * t5;
-	float t9 = 0.27263 / a;
+	float t6 = search_ms_14_p1 * t5;
+	float t9 = search_ms_14_p2 / a;
 	float t10 = t6 + (t9 - t6) * NoV;
 	float t11 = min(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = mad(t3, t12, 0.938163);
-	float t15 = mad(NoV, 0.343591, t14);
+	float t14 = mad(t3, t12, search_ms_14_p0);
+	float t15 = mad(NoV, search_ms_14_p3, t14);
 	float t16 = saturate(t15);
 	return t16;
 }

@@ -26,16 +26,21 @@
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_15(float NoV, float r, float a)
+static inline float search_ms_15(float NoV, float r)
 {
-	float t5 = 0.29188f / a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_15_p0 = (-0.9079f);
+	const float search_ms_15_p1 = 0.29188f;
+	const float search_ms_15_p2 = 0.953158f;
+	const float search_ms_15_p3 = 1.20627f;
+	float t5 = search_ms_15_p1 / a;
 	float t6 = NoV + (t5 - NoV) * NoV;
 	float t8 = r + (1.0f - r) * r;
 	float t9 = fminf(t6, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t14 = 0.953158f + (1.20627f - 0.953158f) * NoV;
-	float t15 = (-0.9079f) * t11 + t14;
+	float t14 = search_ms_15_p2 + (search_ms_15_p3 - search_ms_15_p2) * NoV;
+	float t15 = search_ms_15_p0 * t11 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

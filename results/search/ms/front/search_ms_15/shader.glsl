@@ -23,16 +23,21 @@
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-highp float search_ms_15(highp float NoV, highp float r, highp float a)
+highp float search_ms_15(highp float NoV, highp float r)
 {
-	highp float t5 = 0.29188 / a;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_15_p0 = (-0.9079);
+	const highp float search_ms_15_p1 = 0.29188;
+	const highp float search_ms_15_p2 = 0.953158;
+	const highp float search_ms_15_p3 = 1.20627;
+	highp float t5 = search_ms_15_p1 / a;
 	highp float t6 = NoV + (t5 - NoV) * NoV;
 	highp float t8 = r + (1.0 - r) * r;
 	highp float t9 = min(t6, t8);
 	highp float t10 = NoV + (r - NoV) * t9;
 	highp float t11 = r * t10;
-	highp float t14 = 0.953158 + (1.20627 - 0.953158) * NoV;
-	highp float t15 = (-0.9079) * t11 + t14;
+	highp float t14 = search_ms_15_p2 + (search_ms_15_p3 - search_ms_15_p2) * NoV;
+	highp float t15 = search_ms_15_p0 * t11 + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	return t16;
 }

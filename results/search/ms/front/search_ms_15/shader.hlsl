@@ -23,16 +23,21 @@
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-float search_ms_15(float NoV, float r, float a)
+float search_ms_15(float NoV, float r)
 {
-	float t5 = 0.29188 / a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_15_p0 = (-0.9079);
+	const float search_ms_15_p1 = 0.29188;
+	const float search_ms_15_p2 = 0.953158;
+	const float search_ms_15_p3 = 1.20627;
+	float t5 = search_ms_15_p1 / a;
 	float t6 = NoV + (t5 - NoV) * NoV;
 	float t8 = r + (1.0 - r) * r;
 	float t9 = min(t6, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t14 = 0.953158 + (1.20627 - 0.953158) * NoV;
-	float t15 = mad((-0.9079), t11, t14);
+	float t14 = search_ms_15_p2 + (search_ms_15_p3 - search_ms_15_p2) * NoV;
+	float t15 = mad(search_ms_15_p0, t11, t14);
 	float t16 = saturate(t15);
 	return t16;
 }

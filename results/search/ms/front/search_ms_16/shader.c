@@ -27,17 +27,22 @@
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_16(float NoV, float r, float a)
+static inline float search_ms_16(float NoV, float r)
 {
-	float t2 = -3.5208f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_16_p0 = 0.952372f;
+	const float search_ms_16_p1 = 0.25944f;
+	const float search_ms_16_p2 = 3.5208f;
+	const float search_ms_16_p3 = 0.2881f;
+	float t2 = -search_ms_16_p2;
 	float t5 = sqrtf(r);
-	float t8 = 0.2881f / a;
+	float t8 = search_ms_16_p3 / a;
 	float t9 = NoV + (t8 - NoV) * NoV;
 	float t10 = fminf(t5, t9);
 	float t11 = NoV + (r - NoV) * t10;
 	float t12 = r * t11;
 	float t13 = t2 * t12 + NoV;
-	float t15 = 0.25944f * t13 + 0.952372f;
+	float t15 = search_ms_16_p1 * t13 + search_ms_16_p0;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

@@ -24,17 +24,22 @@
  *   sqrt 1
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
-highp float search_ms_16(highp float NoV, highp float r, highp float a)
+highp float search_ms_16(highp float NoV, highp float r)
 {
-	highp float t2 = -3.5208;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_16_p0 = 0.952372;
+	const highp float search_ms_16_p1 = 0.25944;
+	const highp float search_ms_16_p2 = 3.5208;
+	const highp float search_ms_16_p3 = 0.2881;
+	highp float t2 = -search_ms_16_p2;
 	highp float t5 = sqrt(r);
-	highp float t8 = 0.2881 / a;
+	highp float t8 = search_ms_16_p3 / a;
 	highp float t9 = NoV + (t8 - NoV) * NoV;
 	highp float t10 = min(t5, t9);
 	highp float t11 = NoV + (r - NoV) * t10;
 	highp float t12 = r * t11;
 	highp float t13 = t2 * t12 + NoV;
-	highp float t15 = 0.25944 * t13 + 0.952372;
+	highp float t15 = search_ms_16_p1 * t13 + search_ms_16_p0;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	return t16;
 }

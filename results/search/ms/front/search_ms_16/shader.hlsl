@@ -24,17 +24,22 @@
  *   sqrt 1
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
-float search_ms_16(float NoV, float r, float a)
+float search_ms_16(float NoV, float r)
 {
-	float t2 = -3.5208;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_16_p0 = 0.952372;
+	const float search_ms_16_p1 = 0.25944;
+	const float search_ms_16_p2 = 3.5208;
+	const float search_ms_16_p3 = 0.2881;
+	float t2 = -search_ms_16_p2;
 	float t5 = sqrt(r);
-	float t8 = 0.2881 / a;
+	float t8 = search_ms_16_p3 / a;
 	float t9 = NoV + (t8 - NoV) * NoV;
 	float t10 = min(t5, t9);
 	float t11 = NoV + (r - NoV) * t10;
 	float t12 = r * t11;
 	float t13 = mad(t2, t12, NoV);
-	float t15 = mad(0.25944, t13, 0.952372);
+	float t15 = mad(search_ms_16_p1, t13, search_ms_16_p0);
 	float t16 = saturate(t15);
 	return t16;
 }

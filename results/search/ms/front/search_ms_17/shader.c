@@ -27,17 +27,22 @@
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_17(float NoV, float r, float a)
+static inline float search_ms_17(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_17_p0 = (-0.91454f);
+	const float search_ms_17_p1 = 0.32448f;
+	const float search_ms_17_p2 = 0.948886f;
+	const float search_ms_17_p3 = 1.21218f;
 	float t3 = sqrtf(r);
 	float t4 = r * NoV;
-	float t7 = 0.32448f / a;
+	float t7 = search_ms_17_p1 / a;
 	float t8 = t4 + (t7 - t4) * NoV;
 	float t9 = fminf(t3, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t14 = 0.948886f + (1.21218f - 0.948886f) * NoV;
-	float t15 = (-0.91454f) * t11 + t14;
+	float t14 = search_ms_17_p2 + (search_ms_17_p3 - search_ms_17_p2) * NoV;
+	float t15 = search_ms_17_p0 * t11 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

@@ -24,17 +24,22 @@
  *   sqrt 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-highp float search_ms_17(highp float NoV, highp float r, highp float a)
+highp float search_ms_17(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_17_p0 = (-0.91454);
+	const highp float search_ms_17_p1 = 0.32448;
+	const highp float search_ms_17_p2 = 0.948886;
+	const highp float search_ms_17_p3 = 1.21218;
 	highp float t3 = sqrt(r);
 	highp float t4 = r * NoV;
-	highp float t7 = 0.32448 / a;
+	highp float t7 = search_ms_17_p1 / a;
 	highp float t8 = t4 + (t7 - t4) * NoV;
 	highp float t9 = min(t3, t8);
 	highp float t10 = NoV + (r - NoV) * t9;
 	highp float t11 = r * t10;
-	highp float t14 = 0.948886 + (1.21218 - 0.948886) * NoV;
-	highp float t15 = (-0.91454) * t11 + t14;
+	highp float t14 = search_ms_17_p2 + (search_ms_17_p3 - search_ms_17_p2) * NoV;
+	highp float t15 = search_ms_17_p0 * t11 + t14;
 	highp float t16 = clamp(t15, 0.0, 1.0);
 	return t16;
 }

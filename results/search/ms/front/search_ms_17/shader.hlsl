@@ -24,17 +24,22 @@
  *   sqrt 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-float search_ms_17(float NoV, float r, float a)
+float search_ms_17(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_17_p0 = (-0.91454);
+	const float search_ms_17_p1 = 0.32448;
+	const float search_ms_17_p2 = 0.948886;
+	const float search_ms_17_p3 = 1.21218;
 	float t3 = sqrt(r);
 	float t4 = r * NoV;
-	float t7 = 0.32448 / a;
+	float t7 = search_ms_17_p1 / a;
 	float t8 = t4 + (t7 - t4) * NoV;
 	float t9 = min(t3, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t14 = 0.948886 + (1.21218 - 0.948886) * NoV;
-	float t15 = mad((-0.91454), t11, t14);
+	float t14 = search_ms_17_p2 + (search_ms_17_p3 - search_ms_17_p2) * NoV;
+	float t15 = mad(search_ms_17_p0, t11, t14);
 	float t16 = saturate(t15);
 	return t16;
 }

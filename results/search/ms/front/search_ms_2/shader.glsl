@@ -17,10 +17,13 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float search_ms_2(highp float NoV, highp float a)
+highp float search_ms_2(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_2_p0 = 0.8008;
+	const highp float search_ms_2_p1 = 1.20281;
 	highp float t2 = -NoV;
-	highp float t5 = t2 * a + 1.20281;
-	highp float t6 = 0.8008 * t5;
+	highp float t5 = t2 * a + search_ms_2_p1;
+	highp float t6 = search_ms_2_p0 * t5;
 	return t6;
 }

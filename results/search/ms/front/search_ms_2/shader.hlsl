@@ -17,10 +17,13 @@
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-float search_ms_2(float NoV, float a)
+float search_ms_2(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_2_p0 = 0.8008;
+	const float search_ms_2_p1 = 1.20281;
 	float t2 = -NoV;
-	float t5 = mad(t2, a, 1.20281);
-	float t6 = 0.8008 * t5;
+	float t5 = mad(t2, a, search_ms_2_p1);
+	float t6 = search_ms_2_p0 * t5;
 	return t6;
 }

@@ -21,12 +21,16 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_3(float NoV, float a)
+static inline float search_ms_3(float NoV, float r)
 {
-	float t2 = -1.6534f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_3_p0 = (-0.28637f);
+	const float search_ms_3_p1 = 1.6534f;
+	const float search_ms_3_p2 = 2.1206f;
+	float t2 = -search_ms_3_p1;
 	float t4 = -a;
-	float t7 = t4 * NoV + 2.1206f;
+	float t7 = t4 * NoV + search_ms_3_p2;
 	float t8 = t2 * t7 + a;
-	float t9 = (-0.28637f) * t8;
+	float t9 = search_ms_3_p0 * t8;
 	return t9;
 }

@@ -18,12 +18,16 @@
  *   mad 2
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-highp float search_ms_3(highp float NoV, highp float a)
+highp float search_ms_3(highp float NoV, highp float r)
 {
-	highp float t2 = -1.6534;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_3_p0 = (-0.28637);
+	const highp float search_ms_3_p1 = 1.6534;
+	const highp float search_ms_3_p2 = 2.1206;
+	highp float t2 = -search_ms_3_p1;
 	highp float t4 = -a;
-	highp float t7 = t4 * NoV + 2.1206;
+	highp float t7 = t4 * NoV + search_ms_3_p2;
 	highp float t8 = t2 * t7 + a;
-	highp float t9 = (-0.28637) * t8;
+	highp float t9 = search_ms_3_p0 * t8;
 	return t9;
 }

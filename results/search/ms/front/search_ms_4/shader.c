@@ -22,12 +22,17 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_4(float NoV, float a)
+static inline float search_ms_4(float NoV, float r)
 {
-	float t3 = (-1.7722f) + NoV;
-	float t6 = NoV * a + 1.1441f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_4_p0 = 2.82271f;
+	const float search_ms_4_p1 = 0.93137f;
+	const float search_ms_4_p2 = (-1.7722f);
+	const float search_ms_4_p3 = 1.1441f;
+	float t3 = search_ms_4_p2 + NoV;
+	float t6 = NoV * a + search_ms_4_p3;
 	float t7 = -NoV;
 	float t8 = t3 * t6 + t7;
-	float t10 = 0.93137f * t8 + 2.82271f;
+	float t10 = search_ms_4_p1 * t8 + search_ms_4_p0;
 	return t10;
 }

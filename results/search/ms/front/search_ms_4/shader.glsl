@@ -19,12 +19,17 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_ms_4(highp float NoV, highp float a)
+highp float search_ms_4(highp float NoV, highp float r)
 {
-	highp float t3 = (-1.7722) + NoV;
-	highp float t6 = NoV * a + 1.1441;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_ms_4_p0 = 2.82271;
+	const highp float search_ms_4_p1 = 0.93137;
+	const highp float search_ms_4_p2 = (-1.7722);
+	const highp float search_ms_4_p3 = 1.1441;
+	highp float t3 = search_ms_4_p2 + NoV;
+	highp float t6 = NoV * a + search_ms_4_p3;
 	highp float t7 = -NoV;
 	highp float t8 = t3 * t6 + t7;
-	highp float t10 = 0.93137 * t8 + 2.82271;
+	highp float t10 = search_ms_4_p1 * t8 + search_ms_4_p0;
 	return t10;
 }

@@ -19,12 +19,17 @@
  *   mad 3
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_ms_4(float NoV, float a)
+float search_ms_4(float NoV, float r)
 {
-	float t3 = (-1.7722) + NoV;
-	float t6 = mad(NoV, a, 1.1441);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_4_p0 = 2.82271;
+	const float search_ms_4_p1 = 0.93137;
+	const float search_ms_4_p2 = (-1.7722);
+	const float search_ms_4_p3 = 1.1441;
+	float t3 = search_ms_4_p2 + NoV;
+	float t6 = mad(NoV, a, search_ms_4_p3);
 	float t7 = -NoV;
 	float t8 = mad(t3, t6, t7);
-	float t10 = mad(0.93137, t8, 2.82271);
+	float t10 = mad(search_ms_4_p1, t8, search_ms_4_p0);
 	return t10;
 }

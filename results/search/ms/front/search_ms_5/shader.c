@@ -25,10 +25,14 @@
 #include <math.h>
 static inline float search_ms_5(float NoV, float r)
 {
+	const float search_ms_5_p0 = 0.992464f;
+	const float search_ms_5_p1 = 0.913575f;
+	const float search_ms_5_p2 = 0.66248f;
+	const float search_ms_5_p3 = 1.87932f;
 	float t3 = -r;
-	float t6 = NoV + (1.87932f - NoV) * NoV;
+	float t6 = NoV + (search_ms_5_p3 - NoV) * NoV;
 	float t7 = t3 * t6 + NoV;
-	float t9 = 0.66248f * t7 + 0.913575f;
-	float t10 = fminf(0.992464f, t9);
+	float t9 = search_ms_5_p2 * t7 + search_ms_5_p1;
+	float t10 = fminf(search_ms_5_p0, t9);
 	return t10;
 }

@@ -22,10 +22,14 @@
  */
 highp float search_ms_5(highp float NoV, highp float r)
 {
+	const highp float search_ms_5_p0 = 0.992464;
+	const highp float search_ms_5_p1 = 0.913575;
+	const highp float search_ms_5_p2 = 0.66248;
+	const highp float search_ms_5_p3 = 1.87932;
 	highp float t3 = -r;
-	highp float t6 = NoV + (1.87932 - NoV) * NoV;
+	highp float t6 = NoV + (search_ms_5_p3 - NoV) * NoV;
 	highp float t7 = t3 * t6 + NoV;
-	highp float t9 = 0.66248 * t7 + 0.913575;
-	highp float t10 = min(0.992464, t9);
+	highp float t9 = search_ms_5_p2 * t7 + search_ms_5_p1;
+	highp float t10 = min(search_ms_5_p0, t9);
 	return t10;
 }

@@ -22,10 +22,14 @@
  */
 float search_ms_5(float NoV, float r)
 {
+	const float search_ms_5_p0 = 0.992464;
+	const float search_ms_5_p1 = 0.913575;
+	const float search_ms_5_p2 = 0.66248;
+	const float search_ms_5_p3 = 1.87932;
 	float t3 = -r;
-	float t6 = NoV + (1.87932 - NoV) * NoV;
+	float t6 = NoV + (search_ms_5_p3 - NoV) * NoV;
 	float t7 = mad(t3, t6, NoV);
-	float t9 = mad(0.66248, t7, 0.913575);
-	float t10 = min(0.992464, t9);
+	float t9 = mad(search_ms_5_p2, t7, search_ms_5_p1);
+	float t10 = min(search_ms_5_p0, t9);
 	return t10;
 }

@@ -25,11 +25,15 @@
 #include <math.h>
 static inline float search_ms_6(float NoV, float r)
 {
+	const float search_ms_6_p0 = 0.992178f;
+	const float search_ms_6_p1 = 0.911379f;
+	const float search_ms_6_p2 = 0.68004f;
+	const float search_ms_6_p3 = 1.83763f;
 	float t3 = -r;
-	float t6 = NoV + (1.83763f - NoV) * NoV;
-	float t8 = fminf(0.911379f, NoV);
+	float t6 = NoV + (search_ms_6_p3 - NoV) * NoV;
+	float t8 = fminf(search_ms_6_p1, NoV);
 	float t9 = t3 * t6 + t8;
-	float t10 = 0.68004f * t9 + 0.911379f;
-	float t11 = fminf(0.992178f, t10);
+	float t10 = search_ms_6_p2 * t9 + search_ms_6_p1;
+	float t11 = fminf(search_ms_6_p0, t10);
 	return t11;
 }

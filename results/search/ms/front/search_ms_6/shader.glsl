@@ -22,11 +22,15 @@
  */
 highp float search_ms_6(highp float NoV, highp float r)
 {
+	const highp float search_ms_6_p0 = 0.992178;
+	const highp float search_ms_6_p1 = 0.911379;
+	const highp float search_ms_6_p2 = 0.68004;
+	const highp float search_ms_6_p3 = 1.83763;
 	highp float t3 = -r;
-	highp float t6 = NoV + (1.83763 - NoV) * NoV;
-	highp float t8 = min(0.911379, NoV);
+	highp float t6 = NoV + (search_ms_6_p3 - NoV) * NoV;
+	highp float t8 = min(search_ms_6_p1, NoV);
 	highp float t9 = t3 * t6 + t8;
-	highp float t10 = 0.68004 * t9 + 0.911379;
-	highp float t11 = min(0.992178, t10);
+	highp float t10 = search_ms_6_p2 * t9 + search_ms_6_p1;
+	highp float t11 = min(search_ms_6_p0, t10);
 	return t11;
 }

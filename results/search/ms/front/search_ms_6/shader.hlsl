@@ -22,11 +22,15 @@
  */
 float search_ms_6(float NoV, float r)
 {
+	const float search_ms_6_p0 = 0.992178;
+	const float search_ms_6_p1 = 0.911379;
+	const float search_ms_6_p2 = 0.68004;
+	const float search_ms_6_p3 = 1.83763;
 	float t3 = -r;
-	float t6 = NoV + (1.83763 - NoV) * NoV;
-	float t8 = min(0.911379, NoV);
+	float t6 = NoV + (search_ms_6_p3 - NoV) * NoV;
+	float t8 = min(search_ms_6_p1, NoV);
 	float t9 = mad(t3, t6, t8);
-	float t10 = mad(0.68004, t9, 0.911379);
-	float t11 = min(0.992178, t10);
+	float t10 = mad(search_ms_6_p2, t9, search_ms_6_p1);
+	float t11 = min(search_ms_6_p0, t10);
 	return t11;
 }

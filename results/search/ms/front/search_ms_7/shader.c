@@ -25,11 +25,15 @@
 #include <math.h>
 static inline float search_ms_7(float NoV, float r)
 {
+	const float search_ms_7_p0 = 0.99316f;
+	const float search_ms_7_p1 = 0.934013f;
+	const float search_ms_7_p2 = 0.61214f;
+	const float search_ms_7_p3 = 2.00951f;
 	float t3 = -r;
-	float t5 = NoV + (0.61214f - NoV) * NoV;
-	float t7 = t5 + (2.00951f - t5) * NoV;
+	float t5 = NoV + (search_ms_7_p2 - NoV) * NoV;
+	float t7 = t5 + (search_ms_7_p3 - t5) * NoV;
 	float t8 = t3 * t7 + NoV;
-	float t10 = 0.61214f * t8 + 0.934013f;
-	float t11 = fminf(0.99316f, t10);
+	float t10 = search_ms_7_p2 * t8 + search_ms_7_p1;
+	float t11 = fminf(search_ms_7_p0, t10);
 	return t11;
 }

@@ -22,11 +22,15 @@
  */
 highp float search_ms_7(highp float NoV, highp float r)
 {
+	const highp float search_ms_7_p0 = 0.99316;
+	const highp float search_ms_7_p1 = 0.934013;
+	const highp float search_ms_7_p2 = 0.61214;
+	const highp float search_ms_7_p3 = 2.00951;
 	highp float t3 = -r;
-	highp float t5 = NoV + (0.61214 - NoV) * NoV;
-	highp float t7 = t5 + (2.00951 - t5) * NoV;
+	highp float t5 = NoV + (search_ms_7_p2 - NoV) * NoV;
+	highp float t7 = t5 + (search_ms_7_p3 - t5) * NoV;
 	highp float t8 = t3 * t7 + NoV;
-	highp float t10 = 0.61214 * t8 + 0.934013;
-	highp float t11 = min(0.99316, t10);
+	highp float t10 = search_ms_7_p2 * t8 + search_ms_7_p1;
+	highp float t11 = min(search_ms_7_p0, t10);
 	return t11;
 }

@@ -22,11 +22,15 @@
  */
 float search_ms_7(float NoV, float r)
 {
+	const float search_ms_7_p0 = 0.99316;
+	const float search_ms_7_p1 = 0.934013;
+	const float search_ms_7_p2 = 0.61214;
+	const float search_ms_7_p3 = 2.00951;
 	float t3 = -r;
-	float t5 = NoV + (0.61214 - NoV) * NoV;
-	float t7 = t5 + (2.00951 - t5) * NoV;
+	float t5 = NoV + (search_ms_7_p2 - NoV) * NoV;
+	float t7 = t5 + (search_ms_7_p3 - t5) * NoV;
 	float t8 = mad(t3, t7, NoV);
-	float t10 = mad(0.61214, t8, 0.934013);
-	float t11 = min(0.99316, t10);
+	float t10 = mad(search_ms_7_p2, t8, search_ms_7_p1);
+	float t11 = min(search_ms_7_p0, t10);
 	return t11;
 }

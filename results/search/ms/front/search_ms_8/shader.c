@@ -25,11 +25,15 @@
 #include <math.h>
 static inline float search_ms_8(float NoV, float r)
 {
-	float t3 = 1.0f + (1.159007f - 1.0f) * NoV;
+	const float search_ms_8_p0 = (-0.058601f);
+	const float search_ms_8_p1 = 1.95664f;
+	const float search_ms_8_p2 = (-0.6963f);
+	const float search_ms_8_p3 = 1.159007f;
+	float t3 = 1.0f + (search_ms_8_p3 - 1.0f) * NoV;
 	float t4 = -NoV;
-	float t8 = NoV * (-0.6963f) + 1.95664f;
+	float t8 = NoV * search_ms_8_p2 + search_ms_8_p1;
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = t4 * t9 + (-0.058601f);
+	float t11 = t4 * t9 + search_ms_8_p0;
 	float t12 = t3 * t3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
 	return t13;

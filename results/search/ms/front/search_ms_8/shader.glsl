@@ -22,11 +22,15 @@
  */
 highp float search_ms_8(highp float NoV, highp float r)
 {
-	highp float t3 = 1.0 + (1.159007 - 1.0) * NoV;
+	const highp float search_ms_8_p0 = (-0.058601);
+	const highp float search_ms_8_p1 = 1.95664;
+	const highp float search_ms_8_p2 = (-0.6963);
+	const highp float search_ms_8_p3 = 1.159007;
+	highp float t3 = 1.0 + (search_ms_8_p3 - 1.0) * NoV;
 	highp float t4 = -NoV;
-	highp float t8 = NoV * (-0.6963) + 1.95664;
+	highp float t8 = NoV * search_ms_8_p2 + search_ms_8_p1;
 	highp float t9 = NoV + (r - NoV) * t8;
-	highp float t11 = t4 * t9 + (-0.058601);
+	highp float t11 = t4 * t9 + search_ms_8_p0;
 	highp float t12 = t3 * t3 + t11;
 	highp float t13 = clamp(t12, 0.0, 1.0);
 	return t13;

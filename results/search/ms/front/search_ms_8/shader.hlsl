@@ -22,11 +22,15 @@
  */
 float search_ms_8(float NoV, float r)
 {
-	float t3 = 1.0 + (1.159007 - 1.0) * NoV;
+	const float search_ms_8_p0 = (-0.058601);
+	const float search_ms_8_p1 = 1.95664;
+	const float search_ms_8_p2 = (-0.6963);
+	const float search_ms_8_p3 = 1.159007;
+	float t3 = 1.0 + (search_ms_8_p3 - 1.0) * NoV;
 	float t4 = -NoV;
-	float t8 = mad(NoV, (-0.6963), 1.95664);
+	float t8 = mad(NoV, search_ms_8_p2, search_ms_8_p1);
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = mad(t4, t9, (-0.058601));
+	float t11 = mad(t4, t9, search_ms_8_p0);
 	float t12 = mad(t3, t3, t11);
 	float t13 = saturate(t12);
 	return t13;

@@ -26,12 +26,16 @@
 #include <math.h>
 static inline float search_ms_9(float NoV, float r)
 {
-	float t3 = 0.17722f + (0.53629f - 0.17722f) * NoV;
+	const float search_ms_9_p0 = 0.75089f;
+	const float search_ms_9_p1 = (-0.01976f);
+	const float search_ms_9_p2 = 0.17722f;
+	const float search_ms_9_p3 = 0.53629f;
+	float t3 = search_ms_9_p2 + (search_ms_9_p3 - search_ms_9_p2) * NoV;
 	float t5 = -r;
 	float t7 = fminf(NoV, t3);
-	float t8 = r * (-0.01976f) + t7;
+	float t8 = r * search_ms_9_p1 + t7;
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = t5 * t9 + 0.75089f;
+	float t11 = t5 * t9 + search_ms_9_p0;
 	float t12 = t3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
 	return t13;

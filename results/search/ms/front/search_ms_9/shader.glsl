@@ -23,12 +23,16 @@
  */
 highp float search_ms_9(highp float NoV, highp float r)
 {
-	highp float t3 = 0.17722 + (0.53629 - 0.17722) * NoV;
+	const highp float search_ms_9_p0 = 0.75089;
+	const highp float search_ms_9_p1 = (-0.01976);
+	const highp float search_ms_9_p2 = 0.17722;
+	const highp float search_ms_9_p3 = 0.53629;
+	highp float t3 = search_ms_9_p2 + (search_ms_9_p3 - search_ms_9_p2) * NoV;
 	highp float t5 = -r;
 	highp float t7 = min(NoV, t3);
-	highp float t8 = r * (-0.01976) + t7;
+	highp float t8 = r * search_ms_9_p1 + t7;
 	highp float t9 = NoV + (r - NoV) * t8;
-	highp float t11 = t5 * t9 + 0.75089;
+	highp float t11 = t5 * t9 + search_ms_9_p0;
 	highp float t12 = t3 + t11;
 	highp float t13 = clamp(t12, 0.0, 1.0);
 	return t13;

@@ -23,12 +23,16 @@
  */
 float search_ms_9(float NoV, float r)
 {
-	float t3 = 0.17722 + (0.53629 - 0.17722) * NoV;
+	const float search_ms_9_p0 = 0.75089;
+	const float search_ms_9_p1 = (-0.01976);
+	const float search_ms_9_p2 = 0.17722;
+	const float search_ms_9_p3 = 0.53629;
+	float t3 = search_ms_9_p2 + (search_ms_9_p3 - search_ms_9_p2) * NoV;
 	float t5 = -r;
 	float t7 = min(NoV, t3);
-	float t8 = mad(r, (-0.01976), t7);
+	float t8 = mad(r, search_ms_9_p1, t7);
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = mad(t5, t9, 0.75089);
+	float t11 = mad(t5, t9, search_ms_9_p0);
 	float t12 = t3 + t11;
 	float t13 = saturate(t12);
 	return t13;

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0114 in f16, as this half code computes it (either order of its mads), max |error| 0.0621; in f64: rmse 0.0114
+ * fitted error: rmse 0.0114 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0616; in f64: rmse 0.0114
  * parameters baked in:
- *   p0 = -0.912109375
- *   p1 = 0.291015625
- *   p2 = 0.953125
- *   p3 = 1.20996094
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = -0.913085938
+ *   p1 = 0.286132812
+ *   p2 = 0.952636719
+ *   p3 = 1.2109375
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,16 +27,21 @@
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_15(float NoV, float r, float a)
+static inline float search_ms_15(float NoV, float r)
 {
-	float t5 = 0.29101562f / a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_15_p0 = (-0.9130859375f);
+	const float search_ms_15_p1 = 0.2861328125f;
+	const float search_ms_15_p2 = 0.95263671875f;
+	const float search_ms_15_p3 = 1.2109375f;
+	float t5 = search_ms_15_p1 / a;
 	float t6 = NoV + (t5 - NoV) * NoV;
-	float t8 = r + (0.953125f - r) * r;
+	float t8 = r + (search_ms_15_p2 - r) * r;
 	float t9 = fminf(t6, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t13 = 0.953125f + (1.2099609f - 0.953125f) * NoV;
-	float t14 = (-0.9121094f) * t11 + t13;
+	float t13 = search_ms_15_p2 + (search_ms_15_p3 - search_ms_15_p2) * NoV;
+	float t14 = search_ms_15_p0 * t11 + t13;
 	float t15 = fminf(fmaxf(t14, 0.0f), 1.0f);
 	return t15;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0113 in f16, as this half code computes it (either order of its mads), max |error| 0.0606; in f64: rmse 0.0113
+ * fitted error: rmse 0.0113 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0606; in f64: rmse 0.0113
  * parameters baked in:
  *   p0 = 0.952636719
  *   p1 = 0.259765625
  *   p2 = -3.52148438
- *   p3 = 0.287597656
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.288330078
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,16 +28,21 @@
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_16(float NoV, float r, float a)
+static inline float search_ms_16(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_16_p0 = 0.95263671875f;
+	const float search_ms_16_p1 = 0.259765625f;
+	const float search_ms_16_p2 = (-3.521484375f);
+	const float search_ms_16_p3 = 0.288330078125f;
 	float t4 = sqrtf(r);
-	float t7 = 0.28759766f / a;
+	float t7 = search_ms_16_p3 / a;
 	float t8 = NoV + (t7 - NoV) * NoV;
 	float t9 = fminf(t4, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t12 = (-3.5214844f) * t11 + NoV;
-	float t14 = 0.25976562f * t12 + 0.9526367f;
+	float t12 = search_ms_16_p2 * t11 + NoV;
+	float t14 = search_ms_16_p1 * t12 + search_ms_16_p0;
 	float t15 = fminf(fmaxf(t14, 0.0f), 1.0f);
 	return t15;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0113 in f16, as this half code computes it (either order of its mads), max |error| 0.0606; in f64: rmse 0.0113
+ * fitted error: rmse 0.0113 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0606; in f64: rmse 0.0113
  * parameters baked in:
  *   p0 = 0.952636719
  *   p1 = 0.259765625
  *   p2 = -3.52148438
- *   p3 = 0.287597656
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 0.288330078
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 1
@@ -24,16 +24,21 @@
  *   sqrt 1
  *   simple 9, complex 2, cost 17 (simple = 1, complex = 4)
  */
-half search_ms_16(half NoV, half r, half a)
+min16float search_ms_16(min16float NoV, min16float r)
 {
-	half t4 = sqrt(r);
-	half t7 = 0.28759766 / a;
-	half t8 = NoV + (t7 - NoV) * NoV;
-	half t9 = min(t4, t8);
-	half t10 = NoV + (r - NoV) * t9;
-	half t11 = r * t10;
-	half t12 = mad((-3.5214844), t11, NoV);
-	half t14 = mad(0.25976562, t12, 0.9526367);
-	half t15 = saturate(t14);
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float search_ms_16_p0 = 0.95263671875;
+	const min16float search_ms_16_p1 = 0.259765625;
+	const min16float search_ms_16_p2 = (-3.521484375);
+	const min16float search_ms_16_p3 = 0.288330078125;
+	min16float t4 = sqrt(r);
+	min16float t7 = search_ms_16_p3 / a;
+	min16float t8 = NoV + (t7 - NoV) * NoV;
+	min16float t9 = min(t4, t8);
+	min16float t10 = NoV + (r - NoV) * t9;
+	min16float t11 = r * t10;
+	min16float t12 = mad(search_ms_16_p2, t11, NoV);
+	min16float t14 = mad(search_ms_16_p1, t12, search_ms_16_p0);
+	min16float t15 = saturate(t14);
 	return t15;
 }

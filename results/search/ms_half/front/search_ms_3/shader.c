@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0404 in f16, as this half code computes it (either order of its mads), max |error| 0.185; in f64: rmse 0.0404
+ * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
  *   p0 = 0.65625
- *   p1 = 0.607421875
+ *   p1 = 0.605957031
  *   p2 = 0.616210938
- *   p3 = 0.411132812
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.410888672
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -21,11 +22,16 @@
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_ms_3(float NoV, float r, float a)
+static inline float search_ms_3(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_ms_3_p0 = 0.65625f;
+	const float search_ms_3_p1 = 0.60595703125f;
+	const float search_ms_3_p2 = 0.6162109375f;
+	const float search_ms_3_p3 = 0.410888671875f;
 	float t2 = -r;
-	float t6 = NoV * a + 0.4111328f;
-	float t8 = t2 * t6 + 0.61621094f;
-	float t10 = 0.6074219f * t8 + 0.65625f;
+	float t6 = NoV * a + search_ms_3_p3;
+	float t8 = t2 * t6 + search_ms_3_p2;
+	float t10 = search_ms_3_p1 * t8 + search_ms_3_p0;
 	return t10;
 }

@@ -7,22 +7,27 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0404 in f16, as this half code computes it (either order of its mads), max |error| 0.185; in f64: rmse 0.0404
+ * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
  *   p0 = 0.65625
- *   p1 = 0.607421875
+ *   p1 = 0.605957031
  *   p2 = 0.616210938
- *   p3 = 0.411132812
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p3 = 0.410888672
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 3
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-mediump float search_ms_3(mediump float NoV, mediump float r, mediump float a)
+mediump float search_ms_3(mediump float NoV, mediump float r)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float search_ms_3_p0 = 0.65625;
+	const mediump float search_ms_3_p1 = 0.60595703125;
+	const mediump float search_ms_3_p2 = 0.6162109375;
+	const mediump float search_ms_3_p3 = 0.410888671875;
 	mediump float t2 = -r;
-	mediump float t6 = NoV * a + 0.4111328;
-	mediump float t8 = t2 * t6 + 0.61621094;
-	mediump float t10 = 0.6074219 * t8 + 0.65625;
+	mediump float t6 = NoV * a + search_ms_3_p3;
+	mediump float t8 = t2 * t6 + search_ms_3_p2;
+	mediump float t10 = search_ms_3_p1 * t8 + search_ms_3_p0;
 	return t10;
 }

@@ -7,22 +7,27 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0404 in f16, as this half code computes it (either order of its mads), max |error| 0.185; in f64: rmse 0.0404
+ * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
  *   p0 = 0.65625
- *   p1 = 0.607421875
+ *   p1 = 0.605957031
  *   p2 = 0.616210938
- *   p3 = 0.411132812
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 0.410888672
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 3
  *   simple 3, complex 0, cost 3 (simple = 1, complex = 4)
  */
-half search_ms_3(half NoV, half r, half a)
+min16float search_ms_3(min16float NoV, min16float r)
 {
-	half t2 = -r;
-	half t6 = mad(NoV, a, 0.4111328);
-	half t8 = mad(t2, t6, 0.61621094);
-	half t10 = mad(0.6074219, t8, 0.65625);
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float search_ms_3_p0 = 0.65625;
+	const min16float search_ms_3_p1 = 0.60595703125;
+	const min16float search_ms_3_p2 = 0.6162109375;
+	const min16float search_ms_3_p3 = 0.410888671875;
+	min16float t2 = -r;
+	min16float t6 = mad(NoV, a, search_ms_3_p3);
+	min16float t8 = mad(t2, t6, search_ms_3_p2);
+	min16float t10 = mad(search_ms_3_p1, t8, search_ms_3_p0);
 	return t10;
 }

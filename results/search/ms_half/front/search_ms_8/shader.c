@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0148 in f16, as this half code computes it (either order of its mads), max |error| 0.0538; in f64: rmse 0.0148
+ * fitted error: rmse 0.0149 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0538; in f64: rmse 0.0148
  * parameters baked in:
  *   p0 = 0.944335938
- *   p1 = 2.06054688
- *   p2 = -0.740234375
+ *   p1 = 2.06445312
+ *   p2 = -0.745117188
  *   p3 = 0.291748047
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,12 +27,16 @@
 #include <math.h>
 static inline float search_ms_8(float NoV, float r)
 {
-	float t7 = NoV * (-0.7402344f) + 2.0605469f;
+	const float search_ms_8_p0 = 0.9443359375f;
+	const float search_ms_8_p1 = 2.064453125f;
+	const float search_ms_8_p2 = (-0.7451171875f);
+	const float search_ms_8_p3 = 0.291748046875f;
+	float t7 = NoV * search_ms_8_p2 + search_ms_8_p1;
 	float t8 = NoV + (r - NoV) * t7;
-	float t9 = 0.94433594f * t8;
+	float t9 = search_ms_8_p0 * t8;
 	float t10 = NoV * t9;
-	float t11 = (-1.0f) * t10 + 0.94433594f;
-	float t12 = NoV * 0.29174805f + t11;
+	float t11 = (-1.0f) * t10 + search_ms_8_p0;
+	float t12 = NoV * search_ms_8_p3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
 	return t13;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0148 in f16, as this half code computes it (either order of its mads), max |error| 0.0538; in f64: rmse 0.0148
+ * fitted error: rmse 0.0149 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0538; in f64: rmse 0.0148
  * parameters baked in:
  *   p0 = 0.944335938
- *   p1 = 2.06054688
- *   p2 = -0.740234375
+ *   p1 = 2.06445312
+ *   p2 = -0.745117188
  *   p3 = 0.291748047
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 2
@@ -21,14 +21,18 @@
  *   saturate 1
  *   simple 8, complex 0, cost 8 (simple = 1, complex = 4)
  */
-half search_ms_8(half NoV, half r)
+min16float search_ms_8(min16float NoV, min16float r)
 {
-	half t7 = mad(NoV, (-0.7402344), 2.0605469);
-	half t8 = NoV + (r - NoV) * t7;
-	half t9 = 0.94433594 * t8;
-	half t10 = NoV * t9;
-	half t11 = mad((-1.0), t10, 0.94433594);
-	half t12 = mad(NoV, 0.29174805, t11);
-	half t13 = saturate(t12);
+	const min16float search_ms_8_p0 = 0.9443359375;
+	const min16float search_ms_8_p1 = 2.064453125;
+	const min16float search_ms_8_p2 = (-0.7451171875);
+	const min16float search_ms_8_p3 = 0.291748046875;
+	min16float t7 = mad(NoV, search_ms_8_p2, search_ms_8_p1);
+	min16float t8 = NoV + (r - NoV) * t7;
+	min16float t9 = search_ms_8_p0 * t8;
+	min16float t10 = NoV * t9;
+	min16float t11 = mad((-1.0), t10, search_ms_8_p0);
+	min16float t12 = mad(NoV, search_ms_8_p3, t11);
+	min16float t13 = saturate(t12);
 	return t13;
 }

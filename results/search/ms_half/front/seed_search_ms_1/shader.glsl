@@ -7,14 +7,15 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.173 in f16, as this half code computes it (either order of its mads), max |error| 0.513; in f64: rmse 0.173
+ * fitted error: rmse 0.173 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.513; in f64: rmse 0.173
  * parameters baked in:
- *   p0 = 0.82975
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.82975 (0.829589844 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-mediump float seed_search_ms_1()
+mediump float seed_search_ms_1(mediump float NoV, mediump float r)
 {
-	return 0.82975;
+	const mediump float seed_search_ms_1_p0 = 0.82958984375;
+	return seed_search_ms_1_p0;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0132 in f16, as this half code computes it (either order of its mads), max |error| 0.0561; in f64: rmse 0.0132
+ * fitted error: rmse 0.0132 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0561; in f64: rmse 0.0132
  * parameters baked in:
- *   p0 = 0.99609375
- *   p1 = 0.9453125
- *   p2 = 1.14453125
- *   p3 = 0.340576172
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.996208 (0.99609375 in half, as written below)
+ *   p1 = 0.945287 (0.9453125 in half, as written below)
+ *   p2 = 1.14522 (1.14550781 in half, as written below)
+ *   p3 = 0.340603 (0.340576172 in half, as written below)
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,14 +28,18 @@
 #include <math.h>
 static inline float seed_search_ms_10(float NoV, float r)
 {
+	const float seed_search_ms_10_p0 = 0.99609375f;
+	const float seed_search_ms_10_p1 = 0.9453125f;
+	const float seed_search_ms_10_p2 = 1.1455078125f;
+	const float seed_search_ms_10_p3 = 0.340576171875f;
 	float t4 = -r;
-	float t6 = 1.1445312f - r;
+	float t6 = seed_search_ms_10_p2 - r;
 	float t7 = NoV + (t6 - NoV) * NoV;
 	float t8 = fminf(r, t7);
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = t4 * t9 + 0.9453125f;
-	float t12 = NoV * 0.34057617f + t11;
+	float t11 = t4 * t9 + seed_search_ms_10_p1;
+	float t12 = NoV * seed_search_ms_10_p3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
-	float t14 = 0.99609375f * t13;
+	float t14 = seed_search_ms_10_p0 * t13;
 	return t14;
 }

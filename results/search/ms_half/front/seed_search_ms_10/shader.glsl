@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0132 in f16, as this half code computes it (either order of its mads), max |error| 0.0561; in f64: rmse 0.0132
+ * fitted error: rmse 0.0132 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0561; in f64: rmse 0.0132
  * parameters baked in:
- *   p0 = 0.99609375
- *   p1 = 0.9453125
- *   p2 = 1.14453125
- *   p3 = 0.340576172
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.996208 (0.99609375 in half, as written below)
+ *   p1 = 0.945287 (0.9453125 in half, as written below)
+ *   p2 = 1.14522 (1.14550781 in half, as written below)
+ *   p3 = 0.340603 (0.340576172 in half, as written below)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 1
@@ -24,14 +24,18 @@
  */
 mediump float seed_search_ms_10(mediump float NoV, mediump float r)
 {
+	const mediump float seed_search_ms_10_p0 = 0.99609375;
+	const mediump float seed_search_ms_10_p1 = 0.9453125;
+	const mediump float seed_search_ms_10_p2 = 1.1455078125;
+	const mediump float seed_search_ms_10_p3 = 0.340576171875;
 	mediump float t4 = -r;
-	mediump float t6 = 1.1445312 - r;
+	mediump float t6 = seed_search_ms_10_p2 - r;
 	mediump float t7 = NoV + (t6 - NoV) * NoV;
 	mediump float t8 = min(r, t7);
 	mediump float t9 = NoV + (r - NoV) * t8;
-	mediump float t11 = t4 * t9 + 0.9453125;
-	mediump float t12 = NoV * 0.34057617 + t11;
+	mediump float t11 = t4 * t9 + seed_search_ms_10_p1;
+	mediump float t12 = NoV * seed_search_ms_10_p3 + t11;
 	mediump float t13 = clamp(t12, 0.0, 1.0);
-	mediump float t14 = 0.99609375 * t13;
+	mediump float t14 = seed_search_ms_10_p0 * t13;
 	return t14;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0129 in f16, as this half code computes it (either order of its mads), max |error| 0.0553; in f64: rmse 0.0129
+ * fitted error: rmse 0.0129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0553; in f64: rmse 0.0129
  * parameters baked in:
  *   p0 = 0.996582031
  *   p1 = 0.945800781
  *   p2 = 1.37792969
- *   p3 = 0.338378906
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.338623047
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,15 +28,19 @@
 #include <math.h>
 static inline float seed_search_ms_11(float NoV, float r)
 {
+	const float seed_search_ms_11_p0 = 0.99658203125f;
+	const float seed_search_ms_11_p1 = 0.94580078125f;
+	const float seed_search_ms_11_p2 = 1.3779296875f;
+	const float seed_search_ms_11_p3 = 0.338623046875f;
 	float t4 = -r;
-	float t6 = 1.3779297f - r;
+	float t6 = seed_search_ms_11_p2 - r;
 	float t7 = t6 * t6;
 	float t8 = NoV + (t7 - NoV) * NoV;
 	float t9 = fminf(r, t8);
 	float t10 = NoV + (r - NoV) * t9;
-	float t12 = t4 * t10 + 0.9458008f;
-	float t13 = NoV * 0.3383789f + t12;
+	float t12 = t4 * t10 + seed_search_ms_11_p1;
+	float t13 = NoV * seed_search_ms_11_p3 + t12;
 	float t14 = fminf(fmaxf(t13, 0.0f), 1.0f);
-	float t15 = 0.99658203f * t14;
+	float t15 = seed_search_ms_11_p0 * t14;
 	return t15;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0129 in f16, as this half code computes it (either order of its mads), max |error| 0.0553; in f64: rmse 0.0129
+ * fitted error: rmse 0.0129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0553; in f64: rmse 0.0129
  * parameters baked in:
  *   p0 = 0.996582031
  *   p1 = 0.945800781
  *   p2 = 1.37792969
- *   p3 = 0.338378906
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p3 = 0.338623047
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -24,15 +24,19 @@
  */
 mediump float seed_search_ms_11(mediump float NoV, mediump float r)
 {
+	const mediump float seed_search_ms_11_p0 = 0.99658203125;
+	const mediump float seed_search_ms_11_p1 = 0.94580078125;
+	const mediump float seed_search_ms_11_p2 = 1.3779296875;
+	const mediump float seed_search_ms_11_p3 = 0.338623046875;
 	mediump float t4 = -r;
-	mediump float t6 = 1.3779297 - r;
+	mediump float t6 = seed_search_ms_11_p2 - r;
 	mediump float t7 = t6 * t6;
 	mediump float t8 = NoV + (t7 - NoV) * NoV;
 	mediump float t9 = min(r, t8);
 	mediump float t10 = NoV + (r - NoV) * t9;
-	mediump float t12 = t4 * t10 + 0.9458008;
-	mediump float t13 = NoV * 0.3383789 + t12;
+	mediump float t12 = t4 * t10 + seed_search_ms_11_p1;
+	mediump float t13 = NoV * seed_search_ms_11_p3 + t12;
 	mediump float t14 = clamp(t13, 0.0, 1.0);
-	mediump float t15 = 0.99658203 * t14;
+	mediump float t15 = seed_search_ms_11_p0 * t14;
 	return t15;
 }

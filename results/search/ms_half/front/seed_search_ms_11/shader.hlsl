@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0129 in f16, as this half code computes it (either order of its mads), max |error| 0.0553; in f64: rmse 0.0129
+ * fitted error: rmse 0.0129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0553; in f64: rmse 0.0129
  * parameters baked in:
  *   p0 = 0.996582031
  *   p1 = 0.945800781
  *   p2 = 1.37792969
- *   p3 = 0.338378906
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 0.338623047
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -22,17 +22,21 @@
  *   saturate 1
  *   simple 11, complex 0, cost 11 (simple = 1, complex = 4)
  */
-half seed_search_ms_11(half NoV, half r)
+min16float seed_search_ms_11(min16float NoV, min16float r)
 {
-	half t4 = -r;
-	half t6 = 1.3779297 - r;
-	half t7 = t6 * t6;
-	half t8 = NoV + (t7 - NoV) * NoV;
-	half t9 = min(r, t8);
-	half t10 = NoV + (r - NoV) * t9;
-	half t12 = mad(t4, t10, 0.9458008);
-	half t13 = mad(NoV, 0.3383789, t12);
-	half t14 = saturate(t13);
-	half t15 = 0.99658203 * t14;
+	const min16float seed_search_ms_11_p0 = 0.99658203125;
+	const min16float seed_search_ms_11_p1 = 0.94580078125;
+	const min16float seed_search_ms_11_p2 = 1.3779296875;
+	const min16float seed_search_ms_11_p3 = 0.338623046875;
+	min16float t4 = -r;
+	min16float t6 = seed_search_ms_11_p2 - r;
+	min16float t7 = t6 * t6;
+	min16float t8 = NoV + (t7 - NoV) * NoV;
+	min16float t9 = min(r, t8);
+	min16float t10 = NoV + (r - NoV) * t9;
+	min16float t12 = mad(t4, t10, seed_search_ms_11_p1);
+	min16float t13 = mad(NoV, seed_search_ms_11_p3, t12);
+	min16float t14 = saturate(t13);
+	min16float t15 = seed_search_ms_11_p0 * t14;
 	return t15;
 }

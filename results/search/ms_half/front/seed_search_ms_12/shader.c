@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0125 in f16, as this half code computes it (either order of its mads), max |error| 0.0615; in f64: rmse 0.0125
+ * fitted error: rmse 0.0126 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0615; in f64: rmse 0.0125
  * parameters baked in:
- *   p0 = -0.0634155273
- *   p1 = 0.113586426
- *   p2 = -1.04296875
+ *   p0 = -0.0635986328
+ *   p1 = 0.112121582
+ *   p2 = -1.04785156
  *   p3 = 1.1640625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,14 +27,18 @@
 #include <math.h>
 static inline float seed_search_ms_12(float NoV, float r)
 {
-	float t3 = 1.0f + (1.1640625f - 1.0f) * NoV;
+	const float seed_search_ms_12_p0 = (-0.0635986328125f);
+	const float seed_search_ms_12_p1 = 0.11212158203125f;
+	const float seed_search_ms_12_p2 = (-1.0478515625f);
+	const float seed_search_ms_12_p3 = 1.1640625f;
+	float t3 = 1.0f + (seed_search_ms_12_p3 - 1.0f) * NoV;
 	float t5 = -r;
 	float t8 = r + NoV;
-	float t9 = (-1.0429688f) + t8;
-	float t10 = NoV + (0.113586426f - NoV) * t9;
+	float t9 = seed_search_ms_12_p2 + t8;
+	float t10 = NoV + (seed_search_ms_12_p1 - NoV) * t9;
 	float t11 = fminf(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = t5 * t12 + (-0.06341553f);
+	float t14 = t5 * t12 + seed_search_ms_12_p0;
 	float t15 = t3 * t3 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;

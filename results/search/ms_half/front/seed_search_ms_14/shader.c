@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0121 in f16, as this half code computes it (either order of its mads), max |error| 0.0591; in f64: rmse 0.0121
+ * fitted error: rmse 0.0121 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0591; in f64: rmse 0.0121
  * parameters baked in:
  *   p0 = 0.938476562
  *   p1 = 0.845214844
  *   p2 = 0.272949219
  *   p3 = 0.343505859
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,17 +27,22 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_ms_14(float NoV, float r, float a)
+static inline float seed_search_ms_14(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_ms_14_p0 = 0.9384765625f;
+	const float seed_search_ms_14_p1 = 0.84521484375f;
+	const float seed_search_ms_14_p2 = 0.27294921875f;
+	const float seed_search_ms_14_p3 = 0.343505859375f;
 	float t3 = -r;
 	float t5 = r * NoV;
-	float t6 = 0.84521484f * t5;
-	float t9 = 0.27294922f / a;
+	float t6 = seed_search_ms_14_p1 * t5;
+	float t9 = seed_search_ms_14_p2 / a;
 	float t10 = t6 + (t9 - t6) * NoV;
 	float t11 = fminf(r, t10);
 	float t12 = NoV + (r - NoV) * t11;
-	float t14 = t3 * t12 + 0.93847656f;
-	float t15 = NoV * 0.34350586f + t14;
+	float t14 = t3 * t12 + seed_search_ms_14_p0;
+	float t15 = NoV * seed_search_ms_14_p3 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0112 in f16, as this half code computes it (either order of its mads), max |error| 0.0567; in f64: rmse 0.0112
+ * fitted error: rmse 0.0112 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0567; in f64: rmse 0.0112
  * parameters baked in:
- *   p0 = -0.914550781
- *   p1 = 0.323486328
+ *   p0 = -0.9140625
+ *   p1 = 0.324707031
  *   p2 = 0.948730469
  *   p3 = 1.21191406
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,17 +28,22 @@
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_ms_17(float NoV, float r, float a)
+static inline float seed_search_ms_17(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_ms_17_p0 = (-0.9140625f);
+	const float seed_search_ms_17_p1 = 0.32470703125f;
+	const float seed_search_ms_17_p2 = 0.94873046875f;
+	const float seed_search_ms_17_p3 = 1.2119140625f;
 	float t3 = sqrtf(r);
 	float t4 = r * NoV;
-	float t7 = 0.32348633f / a;
+	float t7 = seed_search_ms_17_p1 / a;
 	float t8 = t4 + (t7 - t4) * NoV;
 	float t9 = fminf(t3, t8);
 	float t10 = NoV + (r - NoV) * t9;
 	float t11 = r * t10;
-	float t14 = 0.94873047f + (1.2119141f - 0.94873047f) * NoV;
-	float t15 = (-0.9145508f) * t11 + t14;
+	float t14 = seed_search_ms_17_p2 + (seed_search_ms_17_p3 - seed_search_ms_17_p2) * NoV;
+	float t15 = seed_search_ms_17_p0 * t11 + t14;
 	float t16 = fminf(fmaxf(t15, 0.0f), 1.0f);
 	return t16;
 }

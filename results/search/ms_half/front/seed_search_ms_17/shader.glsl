@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0112 in f16, as this half code computes it (either order of its mads), max |error| 0.0567; in f64: rmse 0.0112
+ * fitted error: rmse 0.0112 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0567; in f64: rmse 0.0112
  * parameters baked in:
- *   p0 = -0.914550781
- *   p1 = 0.323486328
+ *   p0 = -0.9140625
+ *   p1 = 0.324707031
  *   p2 = 0.948730469
  *   p3 = 1.21191406
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -24,17 +24,22 @@
  *   sqrt 1
  *   simple 11, complex 2, cost 19 (simple = 1, complex = 4)
  */
-mediump float seed_search_ms_17(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_ms_17(mediump float NoV, mediump float r)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_ms_17_p0 = (-0.9140625);
+	const mediump float seed_search_ms_17_p1 = 0.32470703125;
+	const mediump float seed_search_ms_17_p2 = 0.94873046875;
+	const mediump float seed_search_ms_17_p3 = 1.2119140625;
 	mediump float t3 = sqrt(r);
 	mediump float t4 = r * NoV;
-	mediump float t7 = 0.32348633 / a;
+	mediump float t7 = seed_search_ms_17_p1 / a;
 	mediump float t8 = t4 + (t7 - t4) * NoV;
 	mediump float t9 = min(t3, t8);
 	mediump float t10 = NoV + (r - NoV) * t9;
 	mediump float t11 = r * t10;
-	mediump float t14 = 0.94873047 + (1.2119141 - 0.94873047) * NoV;
-	mediump float t15 = (-0.9145508) * t11 + t14;
+	mediump float t14 = seed_search_ms_17_p2 + (seed_search_ms_17_p3 - seed_search_ms_17_p2) * NoV;
+	mediump float t15 = seed_search_ms_17_p0 * t11 + t14;
 	mediump float t16 = clamp(t15, 0.0, 1.0);
 	return t16;
 }

@@ -7,11 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0708 in f16, as this half code computes it (either order of its mads), max |error| 0.164; in f64: rmse 0.0708
+ * fitted error: rmse 0.0708 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.164; in f64: rmse 0.0708
  * parameters baked in:
  *   p0 = 0.800292969
  *   p1 = 1.20410156
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -20,10 +21,13 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_ms_2(float NoV, float a)
+static inline float seed_search_ms_2(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_ms_2_p0 = 0.80029296875f;
+	const float seed_search_ms_2_p1 = 1.2041015625f;
 	float t2 = -NoV;
-	float t5 = t2 * a + 1.2041016f;
-	float t6 = 0.80029297f * t5;
+	float t5 = t2 * a + seed_search_ms_2_p1;
+	float t6 = seed_search_ms_2_p0 * t5;
 	return t6;
 }

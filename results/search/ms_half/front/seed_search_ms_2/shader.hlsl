@@ -7,20 +7,23 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0708 in f16, as this half code computes it (either order of its mads), max |error| 0.164; in f64: rmse 0.0708
+ * fitted error: rmse 0.0708 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.164; in f64: rmse 0.0708
  * parameters baked in:
  *   p0 = 0.800292969
  *   p1 = 1.20410156
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-half seed_search_ms_2(half NoV, half a)
+min16float seed_search_ms_2(min16float NoV, min16float r)
 {
-	half t2 = -NoV;
-	half t5 = mad(t2, a, 1.2041016);
-	half t6 = 0.80029297 * t5;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_ms_2_p0 = 0.80029296875;
+	const min16float seed_search_ms_2_p1 = 1.2041015625;
+	min16float t2 = -NoV;
+	min16float t5 = mad(t2, a, seed_search_ms_2_p1);
+	min16float t6 = seed_search_ms_2_p0 * t5;
 	return t6;
 }

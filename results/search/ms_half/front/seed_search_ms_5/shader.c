@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0186 in f16, as this half code computes it (either order of its mads), max |error| 0.0815; in f64: rmse 0.0186
+ * fitted error: rmse 0.0186 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0815; in f64: rmse 0.0186
  * parameters baked in:
  *   p0 = 0.992675781
  *   p1 = 0.913574219
- *   p2 = 0.663085938
+ *   p2 = 0.662109375
  *   p3 = 1.87890625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,10 +26,14 @@
 #include <math.h>
 static inline float seed_search_ms_5(float NoV, float r)
 {
+	const float seed_search_ms_5_p0 = 0.99267578125f;
+	const float seed_search_ms_5_p1 = 0.91357421875f;
+	const float seed_search_ms_5_p2 = 0.662109375f;
+	const float seed_search_ms_5_p3 = 1.87890625f;
 	float t3 = -r;
-	float t6 = NoV + (1.8789062f - NoV) * NoV;
+	float t6 = NoV + (seed_search_ms_5_p3 - NoV) * NoV;
 	float t7 = t3 * t6 + NoV;
-	float t9 = 0.66308594f * t7 + 0.9135742f;
-	float t10 = fminf(0.9926758f, t9);
+	float t9 = seed_search_ms_5_p2 * t7 + seed_search_ms_5_p1;
+	float t10 = fminf(seed_search_ms_5_p0, t9);
 	return t10;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0186 in f16, as this half code computes it (either order of its mads), max |error| 0.0815; in f64: rmse 0.0186
+ * fitted error: rmse 0.0186 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0815; in f64: rmse 0.0186
  * parameters baked in:
  *   p0 = 0.992675781
  *   p1 = 0.913574219
- *   p2 = 0.663085938
+ *   p2 = 0.662109375
  *   p3 = 1.87890625
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mad 3
@@ -22,10 +22,14 @@
  */
 mediump float seed_search_ms_5(mediump float NoV, mediump float r)
 {
+	const mediump float seed_search_ms_5_p0 = 0.99267578125;
+	const mediump float seed_search_ms_5_p1 = 0.91357421875;
+	const mediump float seed_search_ms_5_p2 = 0.662109375;
+	const mediump float seed_search_ms_5_p3 = 1.87890625;
 	mediump float t3 = -r;
-	mediump float t6 = NoV + (1.8789062 - NoV) * NoV;
+	mediump float t6 = NoV + (seed_search_ms_5_p3 - NoV) * NoV;
 	mediump float t7 = t3 * t6 + NoV;
-	mediump float t9 = 0.66308594 * t7 + 0.9135742;
-	mediump float t10 = min(0.9926758, t9);
+	mediump float t9 = seed_search_ms_5_p2 * t7 + seed_search_ms_5_p1;
+	mediump float t10 = min(seed_search_ms_5_p0, t9);
 	return t10;
 }

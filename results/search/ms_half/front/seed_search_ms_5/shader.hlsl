@@ -7,25 +7,29 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0186 in f16, as this half code computes it (either order of its mads), max |error| 0.0815; in f64: rmse 0.0186
+ * fitted error: rmse 0.0186 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0815; in f64: rmse 0.0186
  * parameters baked in:
  *   p0 = 0.992675781
  *   p1 = 0.913574219
- *   p2 = 0.663085938
+ *   p2 = 0.662109375
  *   p3 = 1.87890625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mad 3
  *   minmax 1
  *   simple 5, complex 0, cost 5 (simple = 1, complex = 4)
  */
-half seed_search_ms_5(half NoV, half r)
+min16float seed_search_ms_5(min16float NoV, min16float r)
 {
-	half t3 = -r;
-	half t6 = NoV + (1.8789062 - NoV) * NoV;
-	half t7 = mad(t3, t6, NoV);
-	half t9 = mad(0.66308594, t7, 0.9135742);
-	half t10 = min(0.9926758, t9);
+	const min16float seed_search_ms_5_p0 = 0.99267578125;
+	const min16float seed_search_ms_5_p1 = 0.91357421875;
+	const min16float seed_search_ms_5_p2 = 0.662109375;
+	const min16float seed_search_ms_5_p3 = 1.87890625;
+	min16float t3 = -r;
+	min16float t6 = NoV + (seed_search_ms_5_p3 - NoV) * NoV;
+	min16float t7 = mad(t3, t6, NoV);
+	min16float t9 = mad(seed_search_ms_5_p2, t7, seed_search_ms_5_p1);
+	min16float t10 = min(seed_search_ms_5_p0, t9);
 	return t10;
 }

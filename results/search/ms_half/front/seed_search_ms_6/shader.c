@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0185 in f16, as this half code computes it (either order of its mads), max |error| 0.083; in f64: rmse 0.0185
+ * fitted error: rmse 0.0185 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0835; in f64: rmse 0.0185
  * parameters baked in:
  *   p0 = 0.9921875
- *   p1 = 0.911621094
+ *   p1 = 0.911132812
  *   p2 = 0.678222656
  *   p3 = 1.83886719
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,11 +26,15 @@
 #include <math.h>
 static inline float seed_search_ms_6(float NoV, float r)
 {
+	const float seed_search_ms_6_p0 = 0.9921875f;
+	const float seed_search_ms_6_p1 = 0.9111328125f;
+	const float seed_search_ms_6_p2 = 0.67822265625f;
+	const float seed_search_ms_6_p3 = 1.8388671875f;
 	float t3 = -r;
-	float t6 = NoV + (1.8388672f - NoV) * NoV;
-	float t8 = fminf(0.9116211f, NoV);
+	float t6 = NoV + (seed_search_ms_6_p3 - NoV) * NoV;
+	float t8 = fminf(seed_search_ms_6_p1, NoV);
 	float t9 = t3 * t6 + t8;
-	float t10 = 0.67822266f * t9 + 0.9116211f;
-	float t11 = fminf(0.9921875f, t10);
+	float t10 = seed_search_ms_6_p2 * t9 + seed_search_ms_6_p1;
+	float t11 = fminf(seed_search_ms_6_p0, t10);
 	return t11;
 }

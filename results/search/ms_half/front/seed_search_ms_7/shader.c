@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0155 in f16, as this half code computes it (either order of its mads), max |error| 0.061; in f64: rmse 0.0155
+ * fitted error: rmse 0.0155 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.061; in f64: rmse 0.0155
  * parameters baked in:
  *   p0 = 0.993164062
  *   p1 = 0.934082031
  *   p2 = 0.611328125
  *   p3 = 2.00976562
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,11 +26,15 @@
 #include <math.h>
 static inline float seed_search_ms_7(float NoV, float r)
 {
+	const float seed_search_ms_7_p0 = 0.9931640625f;
+	const float seed_search_ms_7_p1 = 0.93408203125f;
+	const float seed_search_ms_7_p2 = 0.611328125f;
+	const float seed_search_ms_7_p3 = 2.009765625f;
 	float t3 = -r;
-	float t5 = NoV + (0.6113281f - NoV) * NoV;
-	float t7 = t5 + (2.0097656f - t5) * NoV;
+	float t5 = NoV + (seed_search_ms_7_p2 - NoV) * NoV;
+	float t7 = t5 + (seed_search_ms_7_p3 - t5) * NoV;
 	float t8 = t3 * t7 + NoV;
-	float t10 = 0.6113281f * t8 + 0.93408203f;
-	float t11 = fminf(0.99316406f, t10);
+	float t10 = seed_search_ms_7_p2 * t8 + seed_search_ms_7_p1;
+	float t11 = fminf(seed_search_ms_7_p0, t10);
 	return t11;
 }

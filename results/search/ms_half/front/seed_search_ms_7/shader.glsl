@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0155 in f16, as this half code computes it (either order of its mads), max |error| 0.061; in f64: rmse 0.0155
+ * fitted error: rmse 0.0155 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.061; in f64: rmse 0.0155
  * parameters baked in:
  *   p0 = 0.993164062
  *   p1 = 0.934082031
  *   p2 = 0.611328125
  *   p3 = 2.00976562
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mad 4
@@ -22,11 +22,15 @@
  */
 mediump float seed_search_ms_7(mediump float NoV, mediump float r)
 {
+	const mediump float seed_search_ms_7_p0 = 0.9931640625;
+	const mediump float seed_search_ms_7_p1 = 0.93408203125;
+	const mediump float seed_search_ms_7_p2 = 0.611328125;
+	const mediump float seed_search_ms_7_p3 = 2.009765625;
 	mediump float t3 = -r;
-	mediump float t5 = NoV + (0.6113281 - NoV) * NoV;
-	mediump float t7 = t5 + (2.0097656 - t5) * NoV;
+	mediump float t5 = NoV + (seed_search_ms_7_p2 - NoV) * NoV;
+	mediump float t7 = t5 + (seed_search_ms_7_p3 - t5) * NoV;
 	mediump float t8 = t3 * t7 + NoV;
-	mediump float t10 = 0.6113281 * t8 + 0.93408203;
-	mediump float t11 = min(0.99316406, t10);
+	mediump float t10 = seed_search_ms_7_p2 * t8 + seed_search_ms_7_p1;
+	mediump float t11 = min(seed_search_ms_7_p0, t10);
 	return t11;
 }

@@ -7,26 +7,30 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0155 in f16, as this half code computes it (either order of its mads), max |error| 0.061; in f64: rmse 0.0155
+ * fitted error: rmse 0.0155 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.061; in f64: rmse 0.0155
  * parameters baked in:
  *   p0 = 0.993164062
  *   p1 = 0.934082031
  *   p2 = 0.611328125
  *   p3 = 2.00976562
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mad 4
  *   minmax 1
  *   simple 7, complex 0, cost 7 (simple = 1, complex = 4)
  */
-half seed_search_ms_7(half NoV, half r)
+min16float seed_search_ms_7(min16float NoV, min16float r)
 {
-	half t3 = -r;
-	half t5 = NoV + (0.6113281 - NoV) * NoV;
-	half t7 = t5 + (2.0097656 - t5) * NoV;
-	half t8 = mad(t3, t7, NoV);
-	half t10 = mad(0.6113281, t8, 0.93408203);
-	half t11 = min(0.99316406, t10);
+	const min16float seed_search_ms_7_p0 = 0.9931640625;
+	const min16float seed_search_ms_7_p1 = 0.93408203125;
+	const min16float seed_search_ms_7_p2 = 0.611328125;
+	const min16float seed_search_ms_7_p3 = 2.009765625;
+	min16float t3 = -r;
+	min16float t5 = NoV + (seed_search_ms_7_p2 - NoV) * NoV;
+	min16float t7 = t5 + (seed_search_ms_7_p3 - t5) * NoV;
+	min16float t8 = mad(t3, t7, NoV);
+	min16float t10 = mad(seed_search_ms_7_p2, t8, seed_search_ms_7_p1);
+	min16float t11 = min(seed_search_ms_7_p0, t10);
 	return t11;
 }

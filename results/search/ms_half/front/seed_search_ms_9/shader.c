@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0145 in f16, as this half code computes it (either order of its mads), max |error| 0.0693; in f64: rmse 0.0145
+ * fitted error: rmse 0.0145 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0688; in f64: rmse 0.0145
  * parameters baked in:
- *   p0 = 0.750488281
- *   p1 = -0.0197143555
+ *   p0 = 0.750976562
+ *   p1 = -0.0191192627
  *   p2 = 0.177246094
- *   p3 = 0.536132812
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.536621094
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -26,12 +27,16 @@
 #include <math.h>
 static inline float seed_search_ms_9(float NoV, float r)
 {
-	float t3 = 0.1772461f + (0.5361328f - 0.1772461f) * NoV;
+	const float seed_search_ms_9_p0 = 0.7509765625f;
+	const float seed_search_ms_9_p1 = (-0.0191192626953125f);
+	const float seed_search_ms_9_p2 = 0.17724609375f;
+	const float seed_search_ms_9_p3 = 0.53662109375f;
+	float t3 = seed_search_ms_9_p2 + (seed_search_ms_9_p3 - seed_search_ms_9_p2) * NoV;
 	float t5 = -r;
 	float t7 = fminf(NoV, t3);
-	float t8 = r * (-0.019714355f) + t7;
+	float t8 = r * seed_search_ms_9_p1 + t7;
 	float t9 = NoV + (r - NoV) * t8;
-	float t11 = t5 * t9 + 0.7504883f;
+	float t11 = t5 * t9 + seed_search_ms_9_p0;
 	float t12 = t3 + t11;
 	float t13 = fminf(fmaxf(t12, 0.0f), 1.0f);
 	return t13;

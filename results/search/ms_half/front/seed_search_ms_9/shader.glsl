@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0145 in f16, as this half code computes it (either order of its mads), max |error| 0.0693; in f64: rmse 0.0145
+ * fitted error: rmse 0.0145 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0688; in f64: rmse 0.0145
  * parameters baked in:
- *   p0 = 0.750488281
- *   p1 = -0.0197143555
+ *   p0 = 0.750976562
+ *   p1 = -0.0191192627
  *   p2 = 0.177246094
- *   p3 = 0.536132812
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p3 = 0.536621094
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mad 4
@@ -23,12 +23,16 @@
  */
 mediump float seed_search_ms_9(mediump float NoV, mediump float r)
 {
-	mediump float t3 = 0.1772461 + (0.5361328 - 0.1772461) * NoV;
+	const mediump float seed_search_ms_9_p0 = 0.7509765625;
+	const mediump float seed_search_ms_9_p1 = (-0.0191192626953125);
+	const mediump float seed_search_ms_9_p2 = 0.17724609375;
+	const mediump float seed_search_ms_9_p3 = 0.53662109375;
+	mediump float t3 = seed_search_ms_9_p2 + (seed_search_ms_9_p3 - seed_search_ms_9_p2) * NoV;
 	mediump float t5 = -r;
 	mediump float t7 = min(NoV, t3);
-	mediump float t8 = r * (-0.019714355) + t7;
+	mediump float t8 = r * seed_search_ms_9_p1 + t7;
 	mediump float t9 = NoV + (r - NoV) * t8;
-	mediump float t11 = t5 * t9 + 0.7504883;
+	mediump float t11 = t5 * t9 + seed_search_ms_9_p0;
 	mediump float t12 = t3 + t11;
 	mediump float t13 = clamp(t12, 0.0, 1.0);
 	return t13;

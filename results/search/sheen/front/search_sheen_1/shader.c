@@ -17,7 +17,10 @@
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_1(void)
+static inline float search_sheen_1(float NoV, float r)
 {
-	return 0.28636f;
+	(void)NoV;
+	(void)r;
+	const float search_sheen_1_p0 = 0.28636f;
+	return search_sheen_1_p0;
 }

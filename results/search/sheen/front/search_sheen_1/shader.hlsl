@@ -14,7 +14,8 @@
  * op counts (after folding, sharing and multiply-add fusion):
  *   simple 0, complex 0, cost 0 (simple = 1, complex = 4)
  */
-float search_sheen_1()
+float search_sheen_1(float NoV, float r)
 {
-	return 0.28636;
+	const float search_sheen_1_p0 = 0.28636;
+	return search_sheen_1_p0;
 }

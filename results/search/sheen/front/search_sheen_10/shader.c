@@ -25,13 +25,18 @@
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_10(float NoV, float r, float a)
+static inline float search_sheen_10(float NoV, float r)
 {
-	float t3 = 0.23189f * a + 0.405882f;
-	float t6 = (-0.0047415f) + r;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_10_p0 = 0.405882f;
+	const float search_sheen_10_p1 = 0.23189f;
+	const float search_sheen_10_p2 = (-0.0047415f);
+	const float search_sheen_10_p3 = (-0.0001302f);
+	float t3 = search_sheen_10_p1 * a + search_sheen_10_p0;
+	float t6 = search_sheen_10_p2 + r;
 	float t8 = fmaxf(r, NoV);
 	float t9 = NoV + t8;
-	float t11 = t9 * t9 + (-0.0001302f);
+	float t11 = t9 * t9 + search_sheen_10_p3;
 	float t12 = t6 / t11;
 	float t13 = t3 * t12;
 	return t13;

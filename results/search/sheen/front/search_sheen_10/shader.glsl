@@ -22,13 +22,18 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-highp float search_sheen_10(highp float NoV, highp float r, highp float a)
+highp float search_sheen_10(highp float NoV, highp float r)
 {
-	highp float t3 = 0.23189 * a + 0.405882;
-	highp float t6 = (-0.0047415) + r;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_10_p0 = 0.405882;
+	const highp float search_sheen_10_p1 = 0.23189;
+	const highp float search_sheen_10_p2 = (-0.0047415);
+	const highp float search_sheen_10_p3 = (-0.0001302);
+	highp float t3 = search_sheen_10_p1 * a + search_sheen_10_p0;
+	highp float t6 = search_sheen_10_p2 + r;
 	highp float t8 = max(r, NoV);
 	highp float t9 = NoV + t8;
-	highp float t11 = t9 * t9 + (-0.0001302);
+	highp float t11 = t9 * t9 + search_sheen_10_p3;
 	highp float t12 = t6 / t11;
 	highp float t13 = t3 * t12;
 	return t13;

@@ -22,13 +22,18 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-float search_sheen_10(float NoV, float r, float a)
+float search_sheen_10(float NoV, float r)
 {
-	float t3 = mad(0.23189, a, 0.405882);
-	float t6 = (-0.0047415) + r;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_10_p0 = 0.405882;
+	const float search_sheen_10_p1 = 0.23189;
+	const float search_sheen_10_p2 = (-0.0047415);
+	const float search_sheen_10_p3 = (-0.0001302);
+	float t3 = mad(search_sheen_10_p1, a, search_sheen_10_p0);
+	float t6 = search_sheen_10_p2 + r;
 	float t8 = max(r, NoV);
 	float t9 = NoV + t8;
-	float t11 = mad(t9, t9, (-0.0001302));
+	float t11 = mad(t9, t9, search_sheen_10_p3);
 	float t12 = t6 / t11;
 	float t13 = t3 * t12;
 	return t13;

@@ -25,14 +25,19 @@
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_12(float NoV, float r, float a)
+static inline float search_sheen_12(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_12_p0 = 0.403147f;
+	const float search_sheen_12_p1 = 0.22175f;
+	const float search_sheen_12_p2 = (-0.0045345f);
+	const float search_sheen_12_p3 = (-0.00012341f);
 	float t4 = a + (r - a) * NoV;
-	float t6 = 0.22175f * t4 + 0.403147f;
-	float t8 = r + (-0.0045345f);
+	float t6 = search_sheen_12_p1 * t4 + search_sheen_12_p0;
+	float t8 = r + search_sheen_12_p2;
 	float t9 = fmaxf(r, NoV);
 	float t10 = NoV + t9;
-	float t12 = t10 * t10 + (-0.00012341f);
+	float t12 = t10 * t10 + search_sheen_12_p3;
 	float t13 = t8 / t12;
 	float t14 = t6 * t13;
 	return t14;

@@ -22,14 +22,19 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-highp float search_sheen_12(highp float NoV, highp float r, highp float a)
+highp float search_sheen_12(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_12_p0 = 0.403147;
+	const highp float search_sheen_12_p1 = 0.22175;
+	const highp float search_sheen_12_p2 = (-0.0045345);
+	const highp float search_sheen_12_p3 = (-0.00012341);
 	highp float t4 = a + (r - a) * NoV;
-	highp float t6 = 0.22175 * t4 + 0.403147;
-	highp float t8 = r + (-0.0045345);
+	highp float t6 = search_sheen_12_p1 * t4 + search_sheen_12_p0;
+	highp float t8 = r + search_sheen_12_p2;
 	highp float t9 = max(r, NoV);
 	highp float t10 = NoV + t9;
-	highp float t12 = t10 * t10 + (-0.00012341);
+	highp float t12 = t10 * t10 + search_sheen_12_p3;
 	highp float t13 = t8 / t12;
 	highp float t14 = t6 * t13;
 	return t14;

@@ -22,14 +22,19 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-float search_sheen_12(float NoV, float r, float a)
+float search_sheen_12(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_12_p0 = 0.403147;
+	const float search_sheen_12_p1 = 0.22175;
+	const float search_sheen_12_p2 = (-0.0045345);
+	const float search_sheen_12_p3 = (-0.00012341);
 	float t4 = a + (r - a) * NoV;
-	float t6 = mad(0.22175, t4, 0.403147);
-	float t8 = r + (-0.0045345);
+	float t6 = mad(search_sheen_12_p1, t4, search_sheen_12_p0);
+	float t8 = r + search_sheen_12_p2;
 	float t9 = max(r, NoV);
 	float t10 = NoV + t9;
-	float t12 = mad(t10, t10, (-0.00012341));
+	float t12 = mad(t10, t10, search_sheen_12_p3);
 	float t13 = t8 / t12;
 	float t14 = t6 * t13;
 	return t14;

@@ -25,15 +25,20 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_13(float NoV, float r, float a)
+static inline float search_sheen_13(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_13_p0 = 0.399577f;
+	const float search_sheen_13_p1 = 0.21101f;
+	const float search_sheen_13_p2 = (-0.0042469f);
+	const float search_sheen_13_p3 = (-0.00011408f);
 	float t4 = fminf(a, NoV);
 	float t5 = a + (1.0f - a) * t4;
-	float t7 = 0.21101f * t5 + 0.399577f;
-	float t10 = (-0.0042469f) + r;
+	float t7 = search_sheen_13_p1 * t5 + search_sheen_13_p0;
+	float t10 = search_sheen_13_p2 + r;
 	float t11 = fmaxf(NoV, r);
 	float t12 = NoV + t11;
-	float t14 = t12 * t12 + (-0.00011408f);
+	float t14 = t12 * t12 + search_sheen_13_p3;
 	float t15 = t10 / t14;
 	float t16 = t7 * t15;
 	return t16;

@@ -22,15 +22,20 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-highp float search_sheen_13(highp float NoV, highp float r, highp float a)
+highp float search_sheen_13(highp float NoV, highp float r)
 {
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_13_p0 = 0.399577;
+	const highp float search_sheen_13_p1 = 0.21101;
+	const highp float search_sheen_13_p2 = (-0.0042469);
+	const highp float search_sheen_13_p3 = (-0.00011408);
 	highp float t4 = min(a, NoV);
 	highp float t5 = a + (1.0 - a) * t4;
-	highp float t7 = 0.21101 * t5 + 0.399577;
-	highp float t10 = (-0.0042469) + r;
+	highp float t7 = search_sheen_13_p1 * t5 + search_sheen_13_p0;
+	highp float t10 = search_sheen_13_p2 + r;
 	highp float t11 = max(NoV, r);
 	highp float t12 = NoV + t11;
-	highp float t14 = t12 * t12 + (-0.00011408);
+	highp float t14 = t12 * t12 + search_sheen_13_p3;
 	highp float t15 = t10 / t14;
 	highp float t16 = t7 * t15;
 	return t16;

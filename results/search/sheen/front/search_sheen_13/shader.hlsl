@@ -22,15 +22,20 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-float search_sheen_13(float NoV, float r, float a)
+float search_sheen_13(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_13_p0 = 0.399577;
+	const float search_sheen_13_p1 = 0.21101;
+	const float search_sheen_13_p2 = (-0.0042469);
+	const float search_sheen_13_p3 = (-0.00011408);
 	float t4 = min(a, NoV);
 	float t5 = a + (1.0 - a) * t4;
-	float t7 = mad(0.21101, t5, 0.399577);
-	float t10 = (-0.0042469) + r;
+	float t7 = mad(search_sheen_13_p1, t5, search_sheen_13_p0);
+	float t10 = search_sheen_13_p2 + r;
 	float t11 = max(NoV, r);
 	float t12 = NoV + t11;
-	float t14 = mad(t12, t12, (-0.00011408));
+	float t14 = mad(t12, t12, search_sheen_13_p3);
 	float t15 = t10 / t14;
 	float t16 = t7 * t15;
 	return t16;

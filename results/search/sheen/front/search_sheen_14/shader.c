@@ -25,17 +25,22 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_14(float NoV, float r, float a)
+static inline float search_sheen_14(float NoV, float r)
 {
-	float t1 = -(-0.152294f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_14_p0 = 0.633182f;
+	const float search_sheen_14_p1 = (-0.152294f);
+	const float search_sheen_14_p2 = (-0.0043551f);
+	const float search_sheen_14_p3 = (-0.00011757f);
+	float t1 = -search_sheen_14_p1;
 	float t5 = fminf(a, NoV);
 	float t6 = a + (1.0f - a) * t5;
-	float t8 = t1 * t6 + 0.633182f;
+	float t8 = t1 * t6 + search_sheen_14_p0;
 	float t9 = t8 * t8;
-	float t12 = (-0.0043551f) + r;
+	float t12 = search_sheen_14_p2 + r;
 	float t13 = fmaxf(NoV, r);
 	float t14 = NoV + t13;
-	float t16 = t14 * t14 + (-0.00011757f);
+	float t16 = t14 * t14 + search_sheen_14_p3;
 	float t17 = t12 / t16;
 	float t18 = t9 * t17;
 	return t18;

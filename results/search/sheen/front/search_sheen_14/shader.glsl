@@ -22,17 +22,22 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-highp float search_sheen_14(highp float NoV, highp float r, highp float a)
+highp float search_sheen_14(highp float NoV, highp float r)
 {
-	highp float t1 = -(-0.152294);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_14_p0 = 0.633182;
+	const highp float search_sheen_14_p1 = (-0.152294);
+	const highp float search_sheen_14_p2 = (-0.0043551);
+	const highp float search_sheen_14_p3 = (-0.00011757);
+	highp float t1 = -search_sheen_14_p1;
 	highp float t5 = min(a, NoV);
 	highp float t6 = a + (1.0 - a) * t5;
-	highp float t8 = t1 * t6 + 0.633182;
+	highp float t8 = t1 * t6 + search_sheen_14_p0;
 	highp float t9 = t8 * t8;
-	highp float t12 = (-0.0043551) + r;
+	highp float t12 = search_sheen_14_p2 + r;
 	highp float t13 = max(NoV, r);
 	highp float t14 = NoV + t13;
-	highp float t16 = t14 * t14 + (-0.00011757);
+	highp float t16 = t14 * t14 + search_sheen_14_p3;
 	highp float t17 = t12 / t16;
 	highp float t18 = t9 * t17;
 	return t18;

@@ -22,17 +22,22 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-float search_sheen_14(float NoV, float r, float a)
+float search_sheen_14(float NoV, float r)
 {
-	float t1 = -(-0.152294);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_14_p0 = 0.633182;
+	const float search_sheen_14_p1 = (-0.152294);
+	const float search_sheen_14_p2 = (-0.0043551);
+	const float search_sheen_14_p3 = (-0.00011757);
+	float t1 = -search_sheen_14_p1;
 	float t5 = min(a, NoV);
 	float t6 = a + (1.0 - a) * t5;
-	float t8 = mad(t1, t6, 0.633182);
+	float t8 = mad(t1, t6, search_sheen_14_p0);
 	float t9 = t8 * t8;
-	float t12 = (-0.0043551) + r;
+	float t12 = search_sheen_14_p2 + r;
 	float t13 = max(NoV, r);
 	float t14 = NoV + t13;
-	float t16 = mad(t14, t14, (-0.00011757));
+	float t16 = mad(t14, t14, search_sheen_14_p3);
 	float t17 = t12 / t16;
 	float t18 = t9 * t17;
 	return t18;

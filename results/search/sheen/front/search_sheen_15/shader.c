@@ -27,12 +27,16 @@
 #include <math.h>
 static inline float search_sheen_15(float NoV, float r)
 {
-	float t3 = 1.49043f + r;
-	float t6 = r * 0.501034f;
+	const float search_sheen_15_p0 = 0.221303f;
+	const float search_sheen_15_p1 = 1.49043f;
+	const float search_sheen_15_p2 = (-0.0009439f);
+	const float search_sheen_15_p3 = 0.501034f;
+	float t3 = search_sheen_15_p1 + r;
+	float t6 = r * search_sheen_15_p3;
 	float t7 = NoV / t6;
 	float t8 = exp2f(t7);
-	float t10 = r * t8 + (-0.0009439f);
+	float t10 = r * t8 + search_sheen_15_p2;
 	float t11 = t3 / t10;
-	float t12 = 0.221303f * t11;
+	float t12 = search_sheen_15_p0 * t11;
 	return t12;
 }

@@ -24,12 +24,16 @@
  */
 highp float search_sheen_15(highp float NoV, highp float r)
 {
-	highp float t3 = 1.49043 + r;
-	highp float t6 = r * 0.501034;
+	const highp float search_sheen_15_p0 = 0.221303;
+	const highp float search_sheen_15_p1 = 1.49043;
+	const highp float search_sheen_15_p2 = (-0.0009439);
+	const highp float search_sheen_15_p3 = 0.501034;
+	highp float t3 = search_sheen_15_p1 + r;
+	highp float t6 = r * search_sheen_15_p3;
 	highp float t7 = NoV / t6;
 	highp float t8 = exp2(t7);
-	highp float t10 = r * t8 + (-0.0009439);
+	highp float t10 = r * t8 + search_sheen_15_p2;
 	highp float t11 = t3 / t10;
-	highp float t12 = 0.221303 * t11;
+	highp float t12 = search_sheen_15_p0 * t11;
 	return t12;
 }

@@ -24,12 +24,16 @@
  */
 float search_sheen_15(float NoV, float r)
 {
-	float t3 = 1.49043 + r;
-	float t6 = r * 0.501034;
+	const float search_sheen_15_p0 = 0.221303;
+	const float search_sheen_15_p1 = 1.49043;
+	const float search_sheen_15_p2 = (-0.0009439);
+	const float search_sheen_15_p3 = 0.501034;
+	float t3 = search_sheen_15_p1 + r;
+	float t6 = r * search_sheen_15_p3;
 	float t7 = NoV / t6;
 	float t8 = exp2(t7);
-	float t10 = mad(r, t8, (-0.0009439));
+	float t10 = mad(r, t8, search_sheen_15_p2);
 	float t11 = t3 / t10;
-	float t12 = 0.221303 * t11;
+	float t12 = search_sheen_15_p0 * t11;
 	return t12;
 }

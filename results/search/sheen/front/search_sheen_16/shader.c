@@ -24,15 +24,20 @@
  *   simple 5, complex 3, cost 17 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_16(float NoV, float r, float a)
+static inline float search_sheen_16(float NoV, float r)
 {
-	float t4 = 0.19417f * a + 1.5501f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_16_p0 = 0.14221f;
+	const float search_sheen_16_p1 = 1.5501f;
+	const float search_sheen_16_p2 = 0.19417f;
+	const float search_sheen_16_p3 = 0.499495f;
+	float t4 = search_sheen_16_p2 * a + search_sheen_16_p1;
 	float t6 = t4 * t4 + r;
-	float t9 = r * 0.499495f;
+	float t9 = r * search_sheen_16_p3;
 	float t10 = NoV / t9;
 	float t11 = exp2f(t10);
 	float t12 = r * t11;
 	float t13 = t6 / t12;
-	float t14 = 0.14221f * t13;
+	float t14 = search_sheen_16_p0 * t13;
 	return t14;
 }

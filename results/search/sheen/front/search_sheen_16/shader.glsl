@@ -21,15 +21,20 @@
  *   exp2 1
  *   simple 5, complex 3, cost 17 (simple = 1, complex = 4)
  */
-highp float search_sheen_16(highp float NoV, highp float r, highp float a)
+highp float search_sheen_16(highp float NoV, highp float r)
 {
-	highp float t4 = 0.19417 * a + 1.5501;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_16_p0 = 0.14221;
+	const highp float search_sheen_16_p1 = 1.5501;
+	const highp float search_sheen_16_p2 = 0.19417;
+	const highp float search_sheen_16_p3 = 0.499495;
+	highp float t4 = search_sheen_16_p2 * a + search_sheen_16_p1;
 	highp float t6 = t4 * t4 + r;
-	highp float t9 = r * 0.499495;
+	highp float t9 = r * search_sheen_16_p3;
 	highp float t10 = NoV / t9;
 	highp float t11 = exp2(t10);
 	highp float t12 = r * t11;
 	highp float t13 = t6 / t12;
-	highp float t14 = 0.14221 * t13;
+	highp float t14 = search_sheen_16_p0 * t13;
 	return t14;
 }

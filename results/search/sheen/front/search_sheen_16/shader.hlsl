@@ -21,15 +21,20 @@
  *   exp2 1
  *   simple 5, complex 3, cost 17 (simple = 1, complex = 4)
  */
-float search_sheen_16(float NoV, float r, float a)
+float search_sheen_16(float NoV, float r)
 {
-	float t4 = mad(0.19417, a, 1.5501);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_16_p0 = 0.14221;
+	const float search_sheen_16_p1 = 1.5501;
+	const float search_sheen_16_p2 = 0.19417;
+	const float search_sheen_16_p3 = 0.499495;
+	float t4 = mad(search_sheen_16_p2, a, search_sheen_16_p1);
 	float t6 = mad(t4, t4, r);
-	float t9 = r * 0.499495;
+	float t9 = r * search_sheen_16_p3;
 	float t10 = NoV / t9;
 	float t11 = exp2(t10);
 	float t12 = r * t11;
 	float t13 = t6 / t12;
-	float t14 = 0.14221 * t13;
+	float t14 = search_sheen_16_p0 * t13;
 	return t14;
 }

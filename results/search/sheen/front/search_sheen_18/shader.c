@@ -25,16 +25,21 @@
  *   simple 7, complex 3, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_18(float NoV, float r, float a)
+static inline float search_sheen_18(float NoV, float r)
 {
-	float t4 = 2.93159f + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_18_p0 = 0.157871f;
+	const float search_sheen_18_p1 = 2.93159f;
+	const float search_sheen_18_p2 = 0.469772f;
+	const float search_sheen_18_p3 = 0.29705f;
+	float t4 = search_sheen_18_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.469772f;
+	float t8 = r * search_sheen_18_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2f(t9);
-	float t12 = NoV + (r - NoV) * 0.29705f;
+	float t12 = NoV + (r - NoV) * search_sheen_18_p3;
 	float t13 = r * t10 + t12;
 	float t14 = t5 / t13;
-	float t15 = 0.157871f * t14;
+	float t15 = search_sheen_18_p0 * t14;
 	return t15;
 }

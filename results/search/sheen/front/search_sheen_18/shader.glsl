@@ -22,16 +22,21 @@
  *   exp2 1
  *   simple 7, complex 3, cost 19 (simple = 1, complex = 4)
  */
-highp float search_sheen_18(highp float NoV, highp float r, highp float a)
+highp float search_sheen_18(highp float NoV, highp float r)
 {
-	highp float t4 = 2.93159 + a;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_18_p0 = 0.157871;
+	const highp float search_sheen_18_p1 = 2.93159;
+	const highp float search_sheen_18_p2 = 0.469772;
+	const highp float search_sheen_18_p3 = 0.29705;
+	highp float t4 = search_sheen_18_p1 + a;
 	highp float t5 = r + t4;
-	highp float t8 = r * 0.469772;
+	highp float t8 = r * search_sheen_18_p2;
 	highp float t9 = NoV / t8;
 	highp float t10 = exp2(t9);
-	highp float t12 = NoV + (r - NoV) * 0.29705;
+	highp float t12 = NoV + (r - NoV) * search_sheen_18_p3;
 	highp float t13 = r * t10 + t12;
 	highp float t14 = t5 / t13;
-	highp float t15 = 0.157871 * t14;
+	highp float t15 = search_sheen_18_p0 * t14;
 	return t15;
 }

@@ -22,16 +22,21 @@
  *   exp2 1
  *   simple 7, complex 3, cost 19 (simple = 1, complex = 4)
  */
-float search_sheen_18(float NoV, float r, float a)
+float search_sheen_18(float NoV, float r)
 {
-	float t4 = 2.93159 + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_18_p0 = 0.157871;
+	const float search_sheen_18_p1 = 2.93159;
+	const float search_sheen_18_p2 = 0.469772;
+	const float search_sheen_18_p3 = 0.29705;
+	float t4 = search_sheen_18_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.469772;
+	float t8 = r * search_sheen_18_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2(t9);
-	float t12 = NoV + (r - NoV) * 0.29705;
+	float t12 = NoV + (r - NoV) * search_sheen_18_p3;
 	float t13 = mad(r, t10, t12);
 	float t14 = t5 / t13;
-	float t15 = 0.157871 * t14;
+	float t15 = search_sheen_18_p0 * t14;
 	return t15;
 }

@@ -25,17 +25,22 @@
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_19(float NoV, float r, float a)
+static inline float search_sheen_19(float NoV, float r)
 {
-	float t4 = 3.17027f + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_19_p0 = 0.1673f;
+	const float search_sheen_19_p1 = 3.17027f;
+	const float search_sheen_19_p2 = 0.450889f;
+	const float search_sheen_19_p3 = 0.45486f;
+	float t4 = search_sheen_19_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.450889f;
+	float t8 = r * search_sheen_19_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2f(t9);
 	float t12 = NoV + (1.0f - NoV) * NoV;
-	float t14 = t12 + (r - t12) * 0.45486f;
+	float t14 = t12 + (r - t12) * search_sheen_19_p3;
 	float t15 = r * t10 + t14;
 	float t16 = t5 / t15;
-	float t17 = 0.1673f * t16;
+	float t17 = search_sheen_19_p0 * t16;
 	return t17;
 }

@@ -22,17 +22,22 @@
  *   exp2 1
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
-highp float search_sheen_19(highp float NoV, highp float r, highp float a)
+highp float search_sheen_19(highp float NoV, highp float r)
 {
-	highp float t4 = 3.17027 + a;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_19_p0 = 0.1673;
+	const highp float search_sheen_19_p1 = 3.17027;
+	const highp float search_sheen_19_p2 = 0.450889;
+	const highp float search_sheen_19_p3 = 0.45486;
+	highp float t4 = search_sheen_19_p1 + a;
 	highp float t5 = r + t4;
-	highp float t8 = r * 0.450889;
+	highp float t8 = r * search_sheen_19_p2;
 	highp float t9 = NoV / t8;
 	highp float t10 = exp2(t9);
 	highp float t12 = NoV + (1.0 - NoV) * NoV;
-	highp float t14 = t12 + (r - t12) * 0.45486;
+	highp float t14 = t12 + (r - t12) * search_sheen_19_p3;
 	highp float t15 = r * t10 + t14;
 	highp float t16 = t5 / t15;
-	highp float t17 = 0.1673 * t16;
+	highp float t17 = search_sheen_19_p0 * t16;
 	return t17;
 }

@@ -22,17 +22,22 @@
  *   exp2 1
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
-float search_sheen_19(float NoV, float r, float a)
+float search_sheen_19(float NoV, float r)
 {
-	float t4 = 3.17027 + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_19_p0 = 0.1673;
+	const float search_sheen_19_p1 = 3.17027;
+	const float search_sheen_19_p2 = 0.450889;
+	const float search_sheen_19_p3 = 0.45486;
+	float t4 = search_sheen_19_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.450889;
+	float t8 = r * search_sheen_19_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2(t9);
 	float t12 = NoV + (1.0 - NoV) * NoV;
-	float t14 = t12 + (r - t12) * 0.45486;
+	float t14 = t12 + (r - t12) * search_sheen_19_p3;
 	float t15 = mad(r, t10, t14);
 	float t16 = t5 / t15;
-	float t17 = 0.1673 * t16;
+	float t17 = search_sheen_19_p0 * t16;
 	return t17;
 }

@@ -19,9 +19,11 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_2(float NoV)
+static inline float search_sheen_2(float NoV, float r)
 {
+	(void)r;
+	const float search_sheen_2_p0 = (-0.63137f);
 	float t3 = (-1.0f) + NoV;
-	float t4 = (-0.63137f) * t3;
+	float t4 = search_sheen_2_p0 * t3;
 	return t4;
 }

@@ -16,9 +16,10 @@
  *   mul 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-highp float search_sheen_2(highp float NoV)
+highp float search_sheen_2(highp float NoV, highp float r)
 {
+	const highp float search_sheen_2_p0 = (-0.63137);
 	highp float t3 = (-1.0) + NoV;
-	highp float t4 = (-0.63137) * t3;
+	highp float t4 = search_sheen_2_p0 * t3;
 	return t4;
 }

@@ -24,10 +24,14 @@
 #include <math.h>
 static inline float search_sheen_3(float NoV, float r)
 {
-	float t2 = -6.269f;
-	float t5 = -38.37f;
-	float t8 = t5 * NoV + 4.2785f;
+	const float search_sheen_3_p0 = 0.24103f;
+	const float search_sheen_3_p1 = 4.2785f;
+	const float search_sheen_3_p2 = 38.37f;
+	const float search_sheen_3_p3 = 6.269f;
+	float t2 = -search_sheen_3_p3;
+	float t5 = -search_sheen_3_p2;
+	float t8 = t5 * NoV + search_sheen_3_p1;
 	float t9 = t2 * r + t8;
-	float t10 = fmaxf(0.24103f, t9);
+	float t10 = fmaxf(search_sheen_3_p0, t9);
 	return t10;
 }

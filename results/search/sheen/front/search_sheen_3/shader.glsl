@@ -21,10 +21,14 @@
  */
 highp float search_sheen_3(highp float NoV, highp float r)
 {
-	highp float t2 = -6.269;
-	highp float t5 = -38.37;
-	highp float t8 = t5 * NoV + 4.2785;
+	const highp float search_sheen_3_p0 = 0.24103;
+	const highp float search_sheen_3_p1 = 4.2785;
+	const highp float search_sheen_3_p2 = 38.37;
+	const highp float search_sheen_3_p3 = 6.269;
+	highp float t2 = -search_sheen_3_p3;
+	highp float t5 = -search_sheen_3_p2;
+	highp float t8 = t5 * NoV + search_sheen_3_p1;
 	highp float t9 = t2 * r + t8;
-	highp float t10 = max(0.24103, t9);
+	highp float t10 = max(search_sheen_3_p0, t9);
 	return t10;
 }

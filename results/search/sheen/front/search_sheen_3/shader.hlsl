@@ -21,10 +21,14 @@
  */
 float search_sheen_3(float NoV, float r)
 {
-	float t2 = -6.269;
-	float t5 = -38.37;
-	float t8 = mad(t5, NoV, 4.2785);
+	const float search_sheen_3_p0 = 0.24103;
+	const float search_sheen_3_p1 = 4.2785;
+	const float search_sheen_3_p2 = 38.37;
+	const float search_sheen_3_p3 = 6.269;
+	float t2 = -search_sheen_3_p3;
+	float t5 = -search_sheen_3_p2;
+	float t8 = mad(t5, NoV, search_sheen_3_p1);
 	float t9 = mad(t2, r, t8);
-	float t10 = max(0.24103, t9);
+	float t10 = max(search_sheen_3_p0, t9);
 	return t10;
 }

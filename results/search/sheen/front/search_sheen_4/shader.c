@@ -23,10 +23,15 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_4(float NoV, float r, float a)
+static inline float search_sheen_4(float NoV, float r)
 {
-	float t3 = (-1.373f) * r + 1.564f;
-	float t8 = (-9.166f) * NoV + 1.6209f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_4_p0 = 1.564f;
+	const float search_sheen_4_p1 = (-1.373f);
+	const float search_sheen_4_p2 = 1.6209f;
+	const float search_sheen_4_p3 = (-9.166f);
+	float t3 = search_sheen_4_p1 * r + search_sheen_4_p0;
+	float t8 = search_sheen_4_p3 * NoV + search_sheen_4_p2;
 	float t9 = fmaxf(a, t8);
 	float t10 = t3 * t9;
 	return t10;

@@ -20,10 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-highp float search_sheen_4(highp float NoV, highp float r, highp float a)
+highp float search_sheen_4(highp float NoV, highp float r)
 {
-	highp float t3 = (-1.373) * r + 1.564;
-	highp float t8 = (-9.166) * NoV + 1.6209;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_4_p0 = 1.564;
+	const highp float search_sheen_4_p1 = (-1.373);
+	const highp float search_sheen_4_p2 = 1.6209;
+	const highp float search_sheen_4_p3 = (-9.166);
+	highp float t3 = search_sheen_4_p1 * r + search_sheen_4_p0;
+	highp float t8 = search_sheen_4_p3 * NoV + search_sheen_4_p2;
 	highp float t9 = max(a, t8);
 	highp float t10 = t3 * t9;
 	return t10;

@@ -20,10 +20,15 @@
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-float search_sheen_4(float NoV, float r, float a)
+float search_sheen_4(float NoV, float r)
 {
-	float t3 = mad((-1.373), r, 1.564);
-	float t8 = mad((-9.166), NoV, 1.6209);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_4_p0 = 1.564;
+	const float search_sheen_4_p1 = (-1.373);
+	const float search_sheen_4_p2 = 1.6209;
+	const float search_sheen_4_p3 = (-9.166);
+	float t3 = mad(search_sheen_4_p1, r, search_sheen_4_p0);
+	float t8 = mad(search_sheen_4_p3, NoV, search_sheen_4_p2);
 	float t9 = max(a, t8);
 	float t10 = t3 * t9;
 	return t10;

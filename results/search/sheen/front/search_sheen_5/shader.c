@@ -22,7 +22,9 @@
 #include <math.h>
 static inline float search_sheen_5(float NoV, float r)
 {
-	float t4 = 0.15507f * r + NoV;
-	float t5 = 0.092224f / t4;
+	const float search_sheen_5_p0 = 0.092224f;
+	const float search_sheen_5_p1 = 0.15507f;
+	float t4 = search_sheen_5_p1 * r + NoV;
+	float t5 = search_sheen_5_p0 / t4;
 	return t5;
 }

@@ -19,7 +19,9 @@
  */
 highp float search_sheen_5(highp float NoV, highp float r)
 {
-	highp float t4 = 0.15507 * r + NoV;
-	highp float t5 = 0.092224 / t4;
+	const highp float search_sheen_5_p0 = 0.092224;
+	const highp float search_sheen_5_p1 = 0.15507;
+	highp float t4 = search_sheen_5_p1 * r + NoV;
+	highp float t5 = search_sheen_5_p0 / t4;
 	return t5;
 }

@@ -19,7 +19,9 @@
  */
 float search_sheen_5(float NoV, float r)
 {
-	float t4 = mad(0.15507, r, NoV);
-	float t5 = 0.092224 / t4;
+	const float search_sheen_5_p0 = 0.092224;
+	const float search_sheen_5_p1 = 0.15507;
+	float t4 = mad(search_sheen_5_p1, r, NoV);
+	float t5 = search_sheen_5_p0 / t4;
 	return t5;
 }

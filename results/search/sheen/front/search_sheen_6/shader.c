@@ -23,8 +23,11 @@
 #include <math.h>
 static inline float search_sheen_6(float NoV, float r)
 {
-	float t5 = NoV * (-0.7635f) + 0.14527f;
+	const float search_sheen_6_p0 = 0.080941f;
+	const float search_sheen_6_p1 = 0.14527f;
+	const float search_sheen_6_p2 = (-0.7635f);
+	float t5 = NoV * search_sheen_6_p2 + search_sheen_6_p1;
 	float t6 = r * t5 + NoV;
-	float t7 = 0.080941f / t6;
+	float t7 = search_sheen_6_p0 / t6;
 	return t7;
 }

@@ -20,8 +20,11 @@
  */
 highp float search_sheen_6(highp float NoV, highp float r)
 {
-	highp float t5 = NoV * (-0.7635) + 0.14527;
+	const highp float search_sheen_6_p0 = 0.080941;
+	const highp float search_sheen_6_p1 = 0.14527;
+	const highp float search_sheen_6_p2 = (-0.7635);
+	highp float t5 = NoV * search_sheen_6_p2 + search_sheen_6_p1;
 	highp float t6 = r * t5 + NoV;
-	highp float t7 = 0.080941 / t6;
+	highp float t7 = search_sheen_6_p0 / t6;
 	return t7;
 }

@@ -20,8 +20,11 @@
  */
 float search_sheen_6(float NoV, float r)
 {
-	float t5 = mad(NoV, (-0.7635), 0.14527);
+	const float search_sheen_6_p0 = 0.080941;
+	const float search_sheen_6_p1 = 0.14527;
+	const float search_sheen_6_p2 = (-0.7635);
+	float t5 = mad(NoV, search_sheen_6_p2, search_sheen_6_p1);
 	float t6 = mad(r, t5, NoV);
-	float t7 = 0.080941 / t6;
+	float t7 = search_sheen_6_p0 / t6;
 	return t7;
 }

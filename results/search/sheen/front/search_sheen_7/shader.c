@@ -22,11 +22,16 @@
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_7(float NoV, float r, float a)
+static inline float search_sheen_7(float NoV, float r)
 {
-	float t5 = NoV * 3.3249f + (-0.00159f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_7_p0 = 0.051f;
+	const float search_sheen_7_p1 = 0.32919f;
+	const float search_sheen_7_p2 = (-0.00159f);
+	const float search_sheen_7_p3 = 3.3249f;
+	float t5 = NoV * search_sheen_7_p3 + search_sheen_7_p2;
 	float t7 = NoV * t5 + a;
 	float t8 = r / t7;
-	float t10 = 0.32919f * t8 + 0.051f;
+	float t10 = search_sheen_7_p1 * t8 + search_sheen_7_p0;
 	return t10;
 }

@@ -19,11 +19,16 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-highp float search_sheen_7(highp float NoV, highp float r, highp float a)
+highp float search_sheen_7(highp float NoV, highp float r)
 {
-	highp float t5 = NoV * 3.3249 + (-0.00159);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_7_p0 = 0.051;
+	const highp float search_sheen_7_p1 = 0.32919;
+	const highp float search_sheen_7_p2 = (-0.00159);
+	const highp float search_sheen_7_p3 = 3.3249;
+	highp float t5 = NoV * search_sheen_7_p3 + search_sheen_7_p2;
 	highp float t7 = NoV * t5 + a;
 	highp float t8 = r / t7;
-	highp float t10 = 0.32919 * t8 + 0.051;
+	highp float t10 = search_sheen_7_p1 * t8 + search_sheen_7_p0;
 	return t10;
 }

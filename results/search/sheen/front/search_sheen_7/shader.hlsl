@@ -19,11 +19,16 @@
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-float search_sheen_7(float NoV, float r, float a)
+float search_sheen_7(float NoV, float r)
 {
-	float t5 = mad(NoV, 3.3249, (-0.00159));
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_7_p0 = 0.051;
+	const float search_sheen_7_p1 = 0.32919;
+	const float search_sheen_7_p2 = (-0.00159);
+	const float search_sheen_7_p3 = 3.3249;
+	float t5 = mad(NoV, search_sheen_7_p3, search_sheen_7_p2);
 	float t7 = mad(NoV, t5, a);
 	float t8 = r / t7;
-	float t10 = mad(0.32919, t8, 0.051);
+	float t10 = mad(search_sheen_7_p1, t8, search_sheen_7_p0);
 	return t10;
 }

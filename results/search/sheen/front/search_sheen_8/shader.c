@@ -23,12 +23,17 @@
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_8(float NoV, float r, float a)
+static inline float search_sheen_8(float NoV, float r)
 {
-	float t4 = 0.7366f * a + r;
-	float t8 = NoV * 2.8457f + (-0.003639f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_8_p0 = 0.282679f;
+	const float search_sheen_8_p1 = 0.7366f;
+	const float search_sheen_8_p2 = (-0.003639f);
+	const float search_sheen_8_p3 = 2.8457f;
+	float t4 = search_sheen_8_p1 * a + r;
+	float t8 = NoV * search_sheen_8_p3 + search_sheen_8_p2;
 	float t9 = NoV * t8 + a;
 	float t10 = t4 / t9;
-	float t11 = 0.282679f * t10;
+	float t11 = search_sheen_8_p0 * t10;
 	return t11;
 }

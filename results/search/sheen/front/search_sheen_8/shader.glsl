@@ -20,12 +20,17 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-highp float search_sheen_8(highp float NoV, highp float r, highp float a)
+highp float search_sheen_8(highp float NoV, highp float r)
 {
-	highp float t4 = 0.7366 * a + r;
-	highp float t8 = NoV * 2.8457 + (-0.003639);
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_8_p0 = 0.282679;
+	const highp float search_sheen_8_p1 = 0.7366;
+	const highp float search_sheen_8_p2 = (-0.003639);
+	const highp float search_sheen_8_p3 = 2.8457;
+	highp float t4 = search_sheen_8_p1 * a + r;
+	highp float t8 = NoV * search_sheen_8_p3 + search_sheen_8_p2;
 	highp float t9 = NoV * t8 + a;
 	highp float t10 = t4 / t9;
-	highp float t11 = 0.282679 * t10;
+	highp float t11 = search_sheen_8_p0 * t10;
 	return t11;
 }

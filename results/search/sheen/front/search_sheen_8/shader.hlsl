@@ -20,12 +20,17 @@
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-float search_sheen_8(float NoV, float r, float a)
+float search_sheen_8(float NoV, float r)
 {
-	float t4 = mad(0.7366, a, r);
-	float t8 = mad(NoV, 2.8457, (-0.003639));
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_8_p0 = 0.282679;
+	const float search_sheen_8_p1 = 0.7366;
+	const float search_sheen_8_p2 = (-0.003639);
+	const float search_sheen_8_p3 = 2.8457;
+	float t4 = mad(search_sheen_8_p1, a, r);
+	float t8 = mad(NoV, search_sheen_8_p3, search_sheen_8_p2);
 	float t9 = mad(NoV, t8, a);
 	float t10 = t4 / t9;
-	float t11 = 0.282679 * t10;
+	float t11 = search_sheen_8_p0 * t10;
 	return t11;
 }

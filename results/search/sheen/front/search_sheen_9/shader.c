@@ -24,13 +24,17 @@
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_9(float NoV, float r, float a)
+static inline float search_sheen_9(float NoV, float r)
 {
-	float t4 = 0.62472f * a + r;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_9_p0 = 0.362561f;
+	const float search_sheen_9_p1 = 0.62472f;
+	const float search_sheen_9_p2 = 1.4186e-05f;
+	float t4 = search_sheen_9_p1 * a + r;
 	float t6 = fmaxf(r, NoV);
 	float t7 = NoV + t6;
-	float t9 = t7 * t7 + 1.4186e-05f;
+	float t9 = t7 * t7 + search_sheen_9_p2;
 	float t10 = t4 / t9;
-	float t11 = 0.362561f * t10;
+	float t11 = search_sheen_9_p0 * t10;
 	return t11;
 }

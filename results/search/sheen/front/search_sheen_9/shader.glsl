@@ -21,13 +21,17 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-highp float search_sheen_9(highp float NoV, highp float r, highp float a)
+highp float search_sheen_9(highp float NoV, highp float r)
 {
-	highp float t4 = 0.62472 * a + r;
+	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const highp float search_sheen_9_p0 = 0.362561;
+	const highp float search_sheen_9_p1 = 0.62472;
+	const highp float search_sheen_9_p2 = 1.4186e-05;
+	highp float t4 = search_sheen_9_p1 * a + r;
 	highp float t6 = max(r, NoV);
 	highp float t7 = NoV + t6;
-	highp float t9 = t7 * t7 + 1.4186e-05;
+	highp float t9 = t7 * t7 + search_sheen_9_p2;
 	highp float t10 = t4 / t9;
-	highp float t11 = 0.362561 * t10;
+	highp float t11 = search_sheen_9_p0 * t10;
 	return t11;
 }

@@ -21,13 +21,17 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-float search_sheen_9(float NoV, float r, float a)
+float search_sheen_9(float NoV, float r)
 {
-	float t4 = mad(0.62472, a, r);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_9_p0 = 0.362561;
+	const float search_sheen_9_p1 = 0.62472;
+	const float search_sheen_9_p2 = 1.4186e-05;
+	float t4 = mad(search_sheen_9_p1, a, r);
 	float t6 = max(r, NoV);
 	float t7 = NoV + t6;
-	float t9 = mad(t7, t7, 1.4186e-05);
+	float t9 = mad(t7, t7, search_sheen_9_p2);
 	float t10 = t4 / t9;
-	float t11 = 0.362561 * t10;
+	float t11 = search_sheen_9_p0 * t10;
 	return t11;
 }

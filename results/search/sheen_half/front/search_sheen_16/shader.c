@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0125 in f16, as this half code computes it (either order of its mads), max |error| 0.129; in f64: rmse 0.0125
+ * fitted error: rmse 0.0125 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.129; in f64: rmse 0.0125
  * parameters baked in:
  *   p0 = 0.139404297
  *   p1 = 1.56640625
  *   p2 = 0.423339844
  *   p3 = 0.498779297
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,15 +25,20 @@
  *   simple 5, complex 3, cost 17 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_16(float NoV, float r, float a)
+static inline float search_sheen_16(float NoV, float r)
 {
-	float t4 = 0.42333984f * a + 1.5664062f;
-	float t6 = 1.5664062f * t4 + r;
-	float t9 = r * 0.4987793f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_16_p0 = 0.139404296875f;
+	const float search_sheen_16_p1 = 1.56640625f;
+	const float search_sheen_16_p2 = 0.42333984375f;
+	const float search_sheen_16_p3 = 0.498779296875f;
+	float t4 = search_sheen_16_p2 * a + search_sheen_16_p1;
+	float t6 = search_sheen_16_p1 * t4 + r;
+	float t9 = r * search_sheen_16_p3;
 	float t10 = NoV / t9;
 	float t11 = exp2f(t10);
 	float t12 = r * t11;
 	float t13 = t6 / t12;
-	float t14 = 0.1394043f * t13;
+	float t14 = search_sheen_16_p0 * t13;
 	return t14;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0125 in f16, as this half code computes it (either order of its mads), max |error| 0.129; in f64: rmse 0.0125
+ * fitted error: rmse 0.0125 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.129; in f64: rmse 0.0125
  * parameters baked in:
  *   p0 = 0.139404297
  *   p1 = 1.56640625
  *   p2 = 0.423339844
  *   p3 = 0.498779297
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 3
  *   mad 2
@@ -21,15 +21,20 @@
  *   exp2 1
  *   simple 5, complex 3, cost 17 (simple = 1, complex = 4)
  */
-mediump float search_sheen_16(mediump float NoV, mediump float r, mediump float a)
+mediump float search_sheen_16(mediump float NoV, mediump float r)
 {
-	mediump float t4 = 0.42333984 * a + 1.5664062;
-	mediump float t6 = 1.5664062 * t4 + r;
-	mediump float t9 = r * 0.4987793;
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float search_sheen_16_p0 = 0.139404296875;
+	const mediump float search_sheen_16_p1 = 1.56640625;
+	const mediump float search_sheen_16_p2 = 0.42333984375;
+	const mediump float search_sheen_16_p3 = 0.498779296875;
+	mediump float t4 = search_sheen_16_p2 * a + search_sheen_16_p1;
+	mediump float t6 = search_sheen_16_p1 * t4 + r;
+	mediump float t9 = r * search_sheen_16_p3;
 	mediump float t10 = NoV / t9;
 	mediump float t11 = exp2(t10);
 	mediump float t12 = r * t11;
 	mediump float t13 = t6 / t12;
-	mediump float t14 = 0.1394043 * t13;
+	mediump float t14 = search_sheen_16_p0 * t13;
 	return t14;
 }

@@ -7,11 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0659 in f16, as this half code computes it (either order of its mads), max |error| 1.3; in f64: rmse 0.066
+ * fitted error: rmse 0.0659 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 1.31; in f64: rmse 0.0659
  * parameters baked in:
- *   p0 = 0.324707031
- *   p1 = 2.97265625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.325195312
+ *   p1 = 2.97460938
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -21,12 +22,15 @@
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_sheen_7(float NoV, float r, float a)
+static inline float search_sheen_7(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float search_sheen_7_p0 = 0.3251953125f;
+	const float search_sheen_7_p1 = 2.974609375f;
 	float t5 = -a;
-	float t6 = NoV * 2.9726562f + t5;
+	float t6 = NoV * search_sheen_7_p1 + t5;
 	float t7 = NoV * t6 + a;
 	float t8 = r / t7;
-	float t9 = 0.32470703f * t8;
+	float t9 = search_sheen_7_p0 * t8;
 	return t9;
 }

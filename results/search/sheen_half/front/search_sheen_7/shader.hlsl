@@ -7,23 +7,26 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0659 in f16, as this half code computes it (either order of its mads), max |error| 1.3; in f64: rmse 0.066
+ * fitted error: rmse 0.0659 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 1.31; in f64: rmse 0.0659
  * parameters baked in:
- *   p0 = 0.324707031
- *   p1 = 2.97265625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = 0.325195312
+ *   p1 = 2.97460938
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   div 1
  *   simple 3, complex 1, cost 7 (simple = 1, complex = 4)
  */
-half search_sheen_7(half NoV, half r, half a)
+min16float search_sheen_7(min16float NoV, min16float r)
 {
-	half t5 = -a;
-	half t6 = mad(NoV, 2.9726562, t5);
-	half t7 = mad(NoV, t6, a);
-	half t8 = r / t7;
-	half t9 = 0.32470703 * t8;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float search_sheen_7_p0 = 0.3251953125;
+	const min16float search_sheen_7_p1 = 2.974609375;
+	min16float t5 = -a;
+	min16float t6 = mad(NoV, search_sheen_7_p1, t5);
+	min16float t7 = mad(NoV, t6, a);
+	min16float t8 = r / t7;
+	min16float t9 = search_sheen_7_p0 * t8;
 	return t9;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0209 in f16, as this half code computes it (either order of its mads), max |error| 0.247; in f64: rmse 0.0209
+ * fitted error: rmse 0.0209 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.247; in f64: rmse 0.0209
  * parameters baked in:
  *   p0 = 0.406005859
- *   p1 = 0.232666016
+ *   p1 = 0.231933594
  *   p2 = -0.004737854
  *   p3 = -0.000130057335
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,13 +26,18 @@
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_10(float NoV, float r, float a)
+static inline float seed_search_sheen_10(float NoV, float r)
 {
-	float t3 = 0.23266602f * a + 0.40600586f;
-	float t6 = (-0.004737854f) + r;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_10_p0 = 0.406005859375f;
+	const float seed_search_sheen_10_p1 = 0.23193359375f;
+	const float seed_search_sheen_10_p2 = (-0.00473785400390625f);
+	const float seed_search_sheen_10_p3 = (-0.00013005733489990234f);
+	float t3 = seed_search_sheen_10_p1 * a + seed_search_sheen_10_p0;
+	float t6 = seed_search_sheen_10_p2 + r;
 	float t8 = fmaxf(r, NoV);
 	float t9 = NoV + t8;
-	float t11 = t9 * t9 + (-0.00013005733f);
+	float t11 = t9 * t9 + seed_search_sheen_10_p3;
 	float t12 = t6 / t11;
 	float t13 = t3 * t12;
 	return t13;

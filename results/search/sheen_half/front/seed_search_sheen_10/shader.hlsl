@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0209 in f16, as this half code computes it (either order of its mads), max |error| 0.247; in f64: rmse 0.0209
+ * fitted error: rmse 0.0209 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.247; in f64: rmse 0.0209
  * parameters baked in:
  *   p0 = 0.406005859
- *   p1 = 0.232666016
+ *   p1 = 0.231933594
  *   p2 = -0.004737854
  *   p3 = -0.000130057335
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 2
  *   mul 1
@@ -22,14 +22,19 @@
  *   div 1
  *   simple 6, complex 1, cost 10 (simple = 1, complex = 4)
  */
-half seed_search_sheen_10(half NoV, half r, half a)
+min16float seed_search_sheen_10(min16float NoV, min16float r)
 {
-	half t3 = mad(0.23266602, a, 0.40600586);
-	half t6 = (-0.004737854) + r;
-	half t8 = max(r, NoV);
-	half t9 = NoV + t8;
-	half t11 = mad(t9, t9, (-0.00013005733));
-	half t12 = t6 / t11;
-	half t13 = t3 * t12;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_10_p0 = 0.406005859375;
+	const min16float seed_search_sheen_10_p1 = 0.23193359375;
+	const min16float seed_search_sheen_10_p2 = (-0.00473785400390625);
+	const min16float seed_search_sheen_10_p3 = (-0.00013005733489990234);
+	min16float t3 = mad(seed_search_sheen_10_p1, a, seed_search_sheen_10_p0);
+	min16float t6 = seed_search_sheen_10_p2 + r;
+	min16float t8 = max(r, NoV);
+	min16float t9 = NoV + t8;
+	min16float t11 = mad(t9, t9, seed_search_sheen_10_p3);
+	min16float t12 = t6 / t11;
+	min16float t13 = t3 * t12;
 	return t13;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0205 in f16, as this half code computes it (either order of its mads), max |error| 0.243; in f64: rmse 0.0205
+ * fitted error: rmse 0.0205 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.243; in f64: rmse 0.0205
  * parameters baked in:
  *   p0 = 0.403320312
- *   p1 = 0.221679688
+ *   p1 = 0.221557617
  *   p2 = -0.00453186035
  *   p3 = -0.000123143196
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,14 +26,19 @@
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_12(float NoV, float r, float a)
+static inline float seed_search_sheen_12(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_12_p0 = 0.4033203125f;
+	const float seed_search_sheen_12_p1 = 0.2215576171875f;
+	const float seed_search_sheen_12_p2 = (-0.0045318603515625f);
+	const float seed_search_sheen_12_p3 = (-0.00012314319610595703f);
 	float t4 = a + (r - a) * NoV;
-	float t6 = 0.22167969f * t4 + 0.4033203f;
-	float t8 = r + (-0.0045318604f);
+	float t6 = seed_search_sheen_12_p1 * t4 + seed_search_sheen_12_p0;
+	float t8 = r + seed_search_sheen_12_p2;
 	float t9 = fmaxf(r, NoV);
 	float t10 = NoV + t9;
-	float t12 = t10 * t10 + (-0.0001231432f);
+	float t12 = t10 * t10 + seed_search_sheen_12_p3;
 	float t13 = t8 / t12;
 	float t14 = t6 * t13;
 	return t14;

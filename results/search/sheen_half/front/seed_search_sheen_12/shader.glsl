@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0205 in f16, as this half code computes it (either order of its mads), max |error| 0.243; in f64: rmse 0.0205
+ * fitted error: rmse 0.0205 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.243; in f64: rmse 0.0205
  * parameters baked in:
  *   p0 = 0.403320312
- *   p1 = 0.221679688
+ *   p1 = 0.221557617
  *   p2 = -0.00453186035
  *   p3 = -0.000123143196
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 1
@@ -22,14 +22,19 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_12(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_12(mediump float NoV, mediump float r)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_12_p0 = 0.4033203125;
+	const mediump float seed_search_sheen_12_p1 = 0.2215576171875;
+	const mediump float seed_search_sheen_12_p2 = (-0.0045318603515625);
+	const mediump float seed_search_sheen_12_p3 = (-0.00012314319610595703);
 	mediump float t4 = a + (r - a) * NoV;
-	mediump float t6 = 0.22167969 * t4 + 0.4033203;
-	mediump float t8 = r + (-0.0045318604);
+	mediump float t6 = seed_search_sheen_12_p1 * t4 + seed_search_sheen_12_p0;
+	mediump float t8 = r + seed_search_sheen_12_p2;
 	mediump float t9 = max(r, NoV);
 	mediump float t10 = NoV + t9;
-	mediump float t12 = t10 * t10 + (-0.0001231432);
+	mediump float t12 = t10 * t10 + seed_search_sheen_12_p3;
 	mediump float t13 = t8 / t12;
 	mediump float t14 = t6 * t13;
 	return t14;

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0205 in f16, as this half code computes it (either order of its mads), max |error| 0.243; in f64: rmse 0.0205
+ * fitted error: rmse 0.0205 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.243; in f64: rmse 0.0205
  * parameters baked in:
  *   p0 = 0.403320312
- *   p1 = 0.221679688
+ *   p1 = 0.221557617
  *   p2 = -0.00453186035
  *   p3 = -0.000123143196
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 1
@@ -22,15 +22,20 @@
  *   div 1
  *   simple 8, complex 1, cost 12 (simple = 1, complex = 4)
  */
-half seed_search_sheen_12(half NoV, half r, half a)
+min16float seed_search_sheen_12(min16float NoV, min16float r)
 {
-	half t4 = a + (r - a) * NoV;
-	half t6 = mad(0.22167969, t4, 0.4033203);
-	half t8 = r + (-0.0045318604);
-	half t9 = max(r, NoV);
-	half t10 = NoV + t9;
-	half t12 = mad(t10, t10, (-0.0001231432));
-	half t13 = t8 / t12;
-	half t14 = t6 * t13;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_12_p0 = 0.4033203125;
+	const min16float seed_search_sheen_12_p1 = 0.2215576171875;
+	const min16float seed_search_sheen_12_p2 = (-0.0045318603515625);
+	const min16float seed_search_sheen_12_p3 = (-0.00012314319610595703);
+	min16float t4 = a + (r - a) * NoV;
+	min16float t6 = mad(seed_search_sheen_12_p1, t4, seed_search_sheen_12_p0);
+	min16float t8 = r + seed_search_sheen_12_p2;
+	min16float t9 = max(r, NoV);
+	min16float t10 = NoV + t9;
+	min16float t12 = mad(t10, t10, seed_search_sheen_12_p3);
+	min16float t13 = t8 / t12;
+	min16float t14 = t6 * t13;
 	return t14;
 }

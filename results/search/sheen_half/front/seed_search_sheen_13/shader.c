@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0199 in f16, as this half code computes it (either order of its mads), max |error| 0.282; in f64: rmse 0.02
+ * fitted error: rmse 0.0199 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.282; in f64: rmse 0.02
  * parameters baked in:
  *   p0 = 0.399169922
  *   p1 = 0.212402344
  *   p2 = -0.00424957275
  *   p3 = -0.000113844872
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,15 +26,20 @@
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_13(float NoV, float r, float a)
+static inline float seed_search_sheen_13(float NoV, float r)
 {
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_13_p0 = 0.399169921875f;
+	const float seed_search_sheen_13_p1 = 0.21240234375f;
+	const float seed_search_sheen_13_p2 = (-0.00424957275390625f);
+	const float seed_search_sheen_13_p3 = (-0.0001138448715209961f);
 	float t4 = fminf(a, NoV);
 	float t5 = a + (1.0f - a) * t4;
-	float t7 = 0.21240234f * t5 + 0.39916992f;
-	float t10 = (-0.0042495728f) + r;
+	float t7 = seed_search_sheen_13_p1 * t5 + seed_search_sheen_13_p0;
+	float t10 = seed_search_sheen_13_p2 + r;
 	float t11 = fmaxf(NoV, r);
 	float t12 = NoV + t11;
-	float t14 = t12 * t12 + (-0.00011384487f);
+	float t14 = t12 * t12 + seed_search_sheen_13_p3;
 	float t15 = t10 / t14;
 	float t16 = t7 * t15;
 	return t16;

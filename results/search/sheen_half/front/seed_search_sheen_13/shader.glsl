@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0199 in f16, as this half code computes it (either order of its mads), max |error| 0.282; in f64: rmse 0.02
+ * fitted error: rmse 0.0199 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.282; in f64: rmse 0.02
  * parameters baked in:
  *   p0 = 0.399169922
  *   p1 = 0.212402344
  *   p2 = -0.00424957275
  *   p3 = -0.000113844872
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 1
@@ -22,15 +22,20 @@
  *   div 1
  *   simple 9, complex 1, cost 13 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_13(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_13(mediump float NoV, mediump float r)
 {
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_13_p0 = 0.399169921875;
+	const mediump float seed_search_sheen_13_p1 = 0.21240234375;
+	const mediump float seed_search_sheen_13_p2 = (-0.00424957275390625);
+	const mediump float seed_search_sheen_13_p3 = (-0.0001138448715209961);
 	mediump float t4 = min(a, NoV);
 	mediump float t5 = a + (1.0 - a) * t4;
-	mediump float t7 = 0.21240234 * t5 + 0.39916992;
-	mediump float t10 = (-0.0042495728) + r;
+	mediump float t7 = seed_search_sheen_13_p1 * t5 + seed_search_sheen_13_p0;
+	mediump float t10 = seed_search_sheen_13_p2 + r;
 	mediump float t11 = max(NoV, r);
 	mediump float t12 = NoV + t11;
-	mediump float t14 = t12 * t12 + (-0.00011384487);
+	mediump float t14 = t12 * t12 + seed_search_sheen_13_p3;
 	mediump float t15 = t10 / t14;
 	mediump float t16 = t7 * t15;
 	return t16;

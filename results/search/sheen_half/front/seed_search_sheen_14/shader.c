@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0198 in f16, as this half code computes it (either order of its mads), max |error| 0.251; in f64: rmse 0.0198
+ * fitted error: rmse 0.0198 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.251; in f64: rmse 0.0198
  * parameters baked in:
  *   p0 = 0.633300781
  *   p1 = -0.151611328
  *   p2 = -0.00434112549
  *   p3 = -0.000117063522
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,17 +26,22 @@
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_14(float NoV, float r, float a)
+static inline float seed_search_sheen_14(float NoV, float r)
 {
-	float t1 = -(-0.15161133f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_14_p0 = 0.63330078125f;
+	const float seed_search_sheen_14_p1 = (-0.151611328125f);
+	const float seed_search_sheen_14_p2 = (-0.00434112548828125f);
+	const float seed_search_sheen_14_p3 = (-0.00011706352233886719f);
+	float t1 = -seed_search_sheen_14_p1;
 	float t5 = fminf(a, NoV);
 	float t6 = a + (1.0f - a) * t5;
-	float t8 = t1 * t6 + 0.6333008f;
+	float t8 = t1 * t6 + seed_search_sheen_14_p0;
 	float t9 = t8 * t8;
-	float t12 = (-0.0043411255f) + r;
+	float t12 = seed_search_sheen_14_p2 + r;
 	float t13 = fmaxf(NoV, r);
 	float t14 = NoV + t13;
-	float t16 = t14 * t14 + (-0.00011706352f);
+	float t16 = t14 * t14 + seed_search_sheen_14_p3;
 	float t17 = t12 / t16;
 	float t18 = t9 * t17;
 	return t18;

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0198 in f16, as this half code computes it (either order of its mads), max |error| 0.251; in f64: rmse 0.0198
+ * fitted error: rmse 0.0198 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.251; in f64: rmse 0.0198
  * parameters baked in:
  *   p0 = 0.633300781
  *   p1 = -0.151611328
  *   p2 = -0.00434112549
  *   p3 = -0.000117063522
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -22,17 +22,22 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_14(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_14(mediump float NoV, mediump float r)
 {
-	mediump float t1 = -(-0.15161133);
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_14_p0 = 0.63330078125;
+	const mediump float seed_search_sheen_14_p1 = (-0.151611328125);
+	const mediump float seed_search_sheen_14_p2 = (-0.00434112548828125);
+	const mediump float seed_search_sheen_14_p3 = (-0.00011706352233886719);
+	mediump float t1 = -seed_search_sheen_14_p1;
 	mediump float t5 = min(a, NoV);
 	mediump float t6 = a + (1.0 - a) * t5;
-	mediump float t8 = t1 * t6 + 0.6333008;
+	mediump float t8 = t1 * t6 + seed_search_sheen_14_p0;
 	mediump float t9 = t8 * t8;
-	mediump float t12 = (-0.0043411255) + r;
+	mediump float t12 = seed_search_sheen_14_p2 + r;
 	mediump float t13 = max(NoV, r);
 	mediump float t14 = NoV + t13;
-	mediump float t16 = t14 * t14 + (-0.00011706352);
+	mediump float t16 = t14 * t14 + seed_search_sheen_14_p3;
 	mediump float t17 = t12 / t16;
 	mediump float t18 = t9 * t17;
 	return t18;

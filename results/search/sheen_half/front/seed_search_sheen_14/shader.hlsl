@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0198 in f16, as this half code computes it (either order of its mads), max |error| 0.251; in f64: rmse 0.0198
+ * fitted error: rmse 0.0198 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.251; in f64: rmse 0.0198
  * parameters baked in:
  *   p0 = 0.633300781
  *   p1 = -0.151611328
  *   p2 = -0.00434112549
  *   p3 = -0.000117063522
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -22,18 +22,23 @@
  *   div 1
  *   simple 10, complex 1, cost 14 (simple = 1, complex = 4)
  */
-half seed_search_sheen_14(half NoV, half r, half a)
+min16float seed_search_sheen_14(min16float NoV, min16float r)
 {
-	half t1 = -(-0.15161133);
-	half t5 = min(a, NoV);
-	half t6 = a + (1.0 - a) * t5;
-	half t8 = mad(t1, t6, 0.6333008);
-	half t9 = t8 * t8;
-	half t12 = (-0.0043411255) + r;
-	half t13 = max(NoV, r);
-	half t14 = NoV + t13;
-	half t16 = mad(t14, t14, (-0.00011706352));
-	half t17 = t12 / t16;
-	half t18 = t9 * t17;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_14_p0 = 0.63330078125;
+	const min16float seed_search_sheen_14_p1 = (-0.151611328125);
+	const min16float seed_search_sheen_14_p2 = (-0.00434112548828125);
+	const min16float seed_search_sheen_14_p3 = (-0.00011706352233886719);
+	min16float t1 = -seed_search_sheen_14_p1;
+	min16float t5 = min(a, NoV);
+	min16float t6 = a + (1.0 - a) * t5;
+	min16float t8 = mad(t1, t6, seed_search_sheen_14_p0);
+	min16float t9 = t8 * t8;
+	min16float t12 = seed_search_sheen_14_p2 + r;
+	min16float t13 = max(NoV, r);
+	min16float t14 = NoV + t13;
+	min16float t16 = mad(t14, t14, seed_search_sheen_14_p3);
+	min16float t17 = t12 / t16;
+	min16float t18 = t9 * t17;
 	return t18;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.014 in f16, as this half code computes it (either order of its mads), max |error| 0.152; in f64: rmse 0.0141
+ * fitted error: rmse 0.0141 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.152; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 0.221435547
  *   p1 = 1.49121094
- *   p2 = -0.000951766968
+ *   p2 = -0.00100898743
  *   p3 = 0.500488281
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -27,12 +28,16 @@
 #include <math.h>
 static inline float seed_search_sheen_15(float NoV, float r)
 {
-	float t3 = 1.4912109f + r;
-	float t6 = r * 0.5004883f;
+	const float seed_search_sheen_15_p0 = 0.221435546875f;
+	const float seed_search_sheen_15_p1 = 1.4912109375f;
+	const float seed_search_sheen_15_p2 = (-0.0010089874267578125f);
+	const float seed_search_sheen_15_p3 = 0.50048828125f;
+	float t3 = seed_search_sheen_15_p1 + r;
+	float t6 = r * seed_search_sheen_15_p3;
 	float t7 = NoV / t6;
 	float t8 = exp2f(t7);
-	float t10 = r * t8 + (-0.00095176697f);
+	float t10 = r * t8 + seed_search_sheen_15_p2;
 	float t11 = t3 / t10;
-	float t12 = 0.22143555f * t11;
+	float t12 = seed_search_sheen_15_p0 * t11;
 	return t12;
 }

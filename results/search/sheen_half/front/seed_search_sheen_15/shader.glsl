@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.014 in f16, as this half code computes it (either order of its mads), max |error| 0.152; in f64: rmse 0.0141
+ * fitted error: rmse 0.0141 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.152; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 0.221435547
  *   p1 = 1.49121094
- *   p2 = -0.000951766968
+ *   p2 = -0.00100898743
  *   p3 = 0.500488281
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 2
@@ -24,12 +24,16 @@
  */
 mediump float seed_search_sheen_15(mediump float NoV, mediump float r)
 {
-	mediump float t3 = 1.4912109 + r;
-	mediump float t6 = r * 0.5004883;
+	const mediump float seed_search_sheen_15_p0 = 0.221435546875;
+	const mediump float seed_search_sheen_15_p1 = 1.4912109375;
+	const mediump float seed_search_sheen_15_p2 = (-0.0010089874267578125);
+	const mediump float seed_search_sheen_15_p3 = 0.50048828125;
+	mediump float t3 = seed_search_sheen_15_p1 + r;
+	mediump float t6 = r * seed_search_sheen_15_p3;
 	mediump float t7 = NoV / t6;
 	mediump float t8 = exp2(t7);
-	mediump float t10 = r * t8 + (-0.00095176697);
+	mediump float t10 = r * t8 + seed_search_sheen_15_p2;
 	mediump float t11 = t3 / t10;
-	mediump float t12 = 0.22143555 * t11;
+	mediump float t12 = seed_search_sheen_15_p0 * t11;
 	return t12;
 }

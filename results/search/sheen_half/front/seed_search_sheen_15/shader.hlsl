@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.014 in f16, as this half code computes it (either order of its mads), max |error| 0.152; in f64: rmse 0.0141
+ * fitted error: rmse 0.0141 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.152; in f64: rmse 0.0141
  * parameters baked in:
  *   p0 = 0.221435547
  *   p1 = 1.49121094
- *   p2 = -0.000951766968
+ *   p2 = -0.00100898743
  *   p3 = 0.500488281
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 2
@@ -22,14 +22,18 @@
  *   exp2 1
  *   simple 4, complex 3, cost 16 (simple = 1, complex = 4)
  */
-half seed_search_sheen_15(half NoV, half r)
+min16float seed_search_sheen_15(min16float NoV, min16float r)
 {
-	half t3 = 1.4912109 + r;
-	half t6 = r * 0.5004883;
-	half t7 = NoV / t6;
-	half t8 = exp2(t7);
-	half t10 = mad(r, t8, (-0.00095176697));
-	half t11 = t3 / t10;
-	half t12 = 0.22143555 * t11;
+	const min16float seed_search_sheen_15_p0 = 0.221435546875;
+	const min16float seed_search_sheen_15_p1 = 1.4912109375;
+	const min16float seed_search_sheen_15_p2 = (-0.0010089874267578125);
+	const min16float seed_search_sheen_15_p3 = 0.50048828125;
+	min16float t3 = seed_search_sheen_15_p1 + r;
+	min16float t6 = r * seed_search_sheen_15_p3;
+	min16float t7 = NoV / t6;
+	min16float t8 = exp2(t7);
+	min16float t10 = mad(r, t8, seed_search_sheen_15_p2);
+	min16float t11 = t3 / t10;
+	min16float t12 = seed_search_sheen_15_p0 * t11;
 	return t12;
 }

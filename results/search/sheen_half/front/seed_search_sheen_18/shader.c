@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.00992 in f16, as this half code computes it (either order of its mads), max |error| 0.131; in f64: rmse 0.00996
+ * fitted error: rmse 0.00994 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.131; in f64: rmse 0.00996
  * parameters baked in:
- *   p0 = 0.157958984
- *   p1 = 2.93164062
+ *   p0 = 0.158081055
+ *   p1 = 2.9296875
  *   p2 = 0.469482422
- *   p3 = 0.297363281
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.296875
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,16 +26,21 @@
  *   simple 7, complex 3, cost 19 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_18(float NoV, float r, float a)
+static inline float seed_search_sheen_18(float NoV, float r)
 {
-	float t4 = 2.9316406f + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_18_p0 = 0.1580810546875f;
+	const float seed_search_sheen_18_p1 = 2.9296875f;
+	const float seed_search_sheen_18_p2 = 0.469482421875f;
+	const float seed_search_sheen_18_p3 = 0.296875f;
+	float t4 = seed_search_sheen_18_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.46948242f;
+	float t8 = r * seed_search_sheen_18_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2f(t9);
-	float t12 = NoV + (r - NoV) * 0.29736328f;
+	float t12 = NoV + (r - NoV) * seed_search_sheen_18_p3;
 	float t13 = r * t10 + t12;
 	float t14 = t5 / t13;
-	float t15 = 0.15795898f * t14;
+	float t15 = seed_search_sheen_18_p0 * t14;
 	return t15;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.00992 in f16, as this half code computes it (either order of its mads), max |error| 0.131; in f64: rmse 0.00996
+ * fitted error: rmse 0.00994 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.131; in f64: rmse 0.00996
  * parameters baked in:
- *   p0 = 0.157958984
- *   p1 = 2.93164062
+ *   p0 = 0.158081055
+ *   p1 = 2.9296875
  *   p2 = 0.469482422
- *   p3 = 0.297363281
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 0.296875
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 3
  *   mul 2
@@ -22,16 +22,21 @@
  *   exp2 1
  *   simple 7, complex 3, cost 19 (simple = 1, complex = 4)
  */
-half seed_search_sheen_18(half NoV, half r, half a)
+min16float seed_search_sheen_18(min16float NoV, min16float r)
 {
-	half t4 = 2.9316406 + a;
-	half t5 = r + t4;
-	half t8 = r * 0.46948242;
-	half t9 = NoV / t8;
-	half t10 = exp2(t9);
-	half t12 = NoV + (r - NoV) * 0.29736328;
-	half t13 = mad(r, t10, t12);
-	half t14 = t5 / t13;
-	half t15 = 0.15795898 * t14;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_18_p0 = 0.1580810546875;
+	const min16float seed_search_sheen_18_p1 = 2.9296875;
+	const min16float seed_search_sheen_18_p2 = 0.469482421875;
+	const min16float seed_search_sheen_18_p3 = 0.296875;
+	min16float t4 = seed_search_sheen_18_p1 + a;
+	min16float t5 = r + t4;
+	min16float t8 = r * seed_search_sheen_18_p2;
+	min16float t9 = NoV / t8;
+	min16float t10 = exp2(t9);
+	min16float t12 = NoV + (r - NoV) * seed_search_sheen_18_p3;
+	min16float t13 = mad(r, t10, t12);
+	min16float t14 = t5 / t13;
+	min16float t15 = seed_search_sheen_18_p0 * t14;
 	return t15;
 }

@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.00801 in f16, as this half code computes it (either order of its mads), max |error| 0.0762; in f64: rmse 0.00805
+ * fitted error: rmse 0.00803 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0762; in f64: rmse 0.00805
  * parameters baked in:
  *   p0 = 0.167236328
  *   p1 = 3.171875
  *   p2 = 0.451171875
- *   p3 = 0.456298828
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p3 = 0.456054688
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -25,17 +26,22 @@
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_19(float NoV, float r, float a)
+static inline float seed_search_sheen_19(float NoV, float r)
 {
-	float t4 = 3.171875f + a;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_19_p0 = 0.167236328125f;
+	const float seed_search_sheen_19_p1 = 3.171875f;
+	const float seed_search_sheen_19_p2 = 0.451171875f;
+	const float seed_search_sheen_19_p3 = 0.4560546875f;
+	float t4 = seed_search_sheen_19_p1 + a;
 	float t5 = r + t4;
-	float t8 = r * 0.45117188f;
+	float t8 = r * seed_search_sheen_19_p2;
 	float t9 = NoV / t8;
 	float t10 = exp2f(t9);
 	float t12 = NoV + (1.0f - NoV) * NoV;
-	float t14 = t12 + (r - t12) * 0.45629883f;
+	float t14 = t12 + (r - t12) * seed_search_sheen_19_p3;
 	float t15 = r * t10 + t14;
 	float t16 = t5 / t15;
-	float t17 = 0.16723633f * t16;
+	float t17 = seed_search_sheen_19_p0 * t16;
 	return t17;
 }

@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.00801 in f16, as this half code computes it (either order of its mads), max |error| 0.0762; in f64: rmse 0.00805
+ * fitted error: rmse 0.00803 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0762; in f64: rmse 0.00805
  * parameters baked in:
  *   p0 = 0.167236328
  *   p1 = 3.171875
  *   p2 = 0.451171875
- *   p3 = 0.456298828
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p3 = 0.456054688
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 2
@@ -22,17 +22,22 @@
  *   exp2 1
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_19(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_19(mediump float NoV, mediump float r)
 {
-	mediump float t4 = 3.171875 + a;
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_19_p0 = 0.167236328125;
+	const mediump float seed_search_sheen_19_p1 = 3.171875;
+	const mediump float seed_search_sheen_19_p2 = 0.451171875;
+	const mediump float seed_search_sheen_19_p3 = 0.4560546875;
+	mediump float t4 = seed_search_sheen_19_p1 + a;
 	mediump float t5 = r + t4;
-	mediump float t8 = r * 0.45117188;
+	mediump float t8 = r * seed_search_sheen_19_p2;
 	mediump float t9 = NoV / t8;
 	mediump float t10 = exp2(t9);
 	mediump float t12 = NoV + (1.0 - NoV) * NoV;
-	mediump float t14 = t12 + (r - t12) * 0.45629883;
+	mediump float t14 = t12 + (r - t12) * seed_search_sheen_19_p3;
 	mediump float t15 = r * t10 + t14;
 	mediump float t16 = t5 / t15;
-	mediump float t17 = 0.16723633 * t16;
+	mediump float t17 = seed_search_sheen_19_p0 * t16;
 	return t17;
 }

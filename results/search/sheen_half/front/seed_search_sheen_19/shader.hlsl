@@ -7,13 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.00801 in f16, as this half code computes it (either order of its mads), max |error| 0.0762; in f64: rmse 0.00805
+ * fitted error: rmse 0.00803 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.0762; in f64: rmse 0.00805
  * parameters baked in:
  *   p0 = 0.167236328
  *   p1 = 3.171875
  *   p2 = 0.451171875
- *   p3 = 0.456298828
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p3 = 0.456054688
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 4
  *   mul 2
@@ -22,17 +22,22 @@
  *   exp2 1
  *   simple 9, complex 3, cost 21 (simple = 1, complex = 4)
  */
-half seed_search_sheen_19(half NoV, half r, half a)
+min16float seed_search_sheen_19(min16float NoV, min16float r)
 {
-	half t4 = 3.171875 + a;
-	half t5 = r + t4;
-	half t8 = r * 0.45117188;
-	half t9 = NoV / t8;
-	half t10 = exp2(t9);
-	half t12 = NoV + (1.0 - NoV) * NoV;
-	half t14 = t12 + (r - t12) * 0.45629883;
-	half t15 = mad(r, t10, t14);
-	half t16 = t5 / t15;
-	half t17 = 0.16723633 * t16;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_19_p0 = 0.167236328125;
+	const min16float seed_search_sheen_19_p1 = 3.171875;
+	const min16float seed_search_sheen_19_p2 = 0.451171875;
+	const min16float seed_search_sheen_19_p3 = 0.4560546875;
+	min16float t4 = seed_search_sheen_19_p1 + a;
+	min16float t5 = r + t4;
+	min16float t8 = r * seed_search_sheen_19_p2;
+	min16float t9 = NoV / t8;
+	min16float t10 = exp2(t9);
+	min16float t12 = NoV + (1.0 - NoV) * NoV;
+	min16float t14 = t12 + (r - t12) * seed_search_sheen_19_p3;
+	min16float t15 = mad(r, t10, t14);
+	min16float t16 = t5 / t15;
+	min16float t17 = seed_search_sheen_19_p0 * t16;
 	return t17;
 }

@@ -7,10 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.34 in f16, as this half code computes it (either order of its mads), max |error| 10.3; in f64: rmse 0.34
+ * fitted error: rmse 0.34 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 10.3; in f64: rmse 0.34
  * parameters baked in:
  *   p0 = -0.630859375
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -19,9 +20,11 @@
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_2(float NoV)
+static inline float seed_search_sheen_2(float NoV, float r)
 {
+	(void)r;
+	const float seed_search_sheen_2_p0 = (-0.630859375f);
 	float t3 = (-1.0f) + NoV;
-	float t4 = (-0.6308594f) * t3;
+	float t4 = seed_search_sheen_2_p0 * t3;
 	return t4;
 }

@@ -7,18 +7,19 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.34 in f16, as this half code computes it (either order of its mads), max |error| 10.3; in f64: rmse 0.34
+ * fitted error: rmse 0.34 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 10.3; in f64: rmse 0.34
  * parameters baked in:
  *   p0 = -0.630859375
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
  *   simple 2, complex 0, cost 2 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_2(mediump float NoV)
+mediump float seed_search_sheen_2(mediump float NoV, mediump float r)
 {
+	const mediump float seed_search_sheen_2_p0 = (-0.630859375);
 	mediump float t3 = (-1.0) + NoV;
-	mediump float t4 = (-0.6308594) * t3;
+	mediump float t4 = seed_search_sheen_2_p0 * t3;
 	return t4;
 }

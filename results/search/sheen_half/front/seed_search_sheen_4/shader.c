@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.262 in f16, as this half code computes it (either order of its mads), max |error| 8.51; in f64: rmse 0.262
+ * fitted error: rmse 0.262 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 8.51; in f64: rmse 0.262
  * parameters baked in:
  *   p0 = 1.56542969
  *   p1 = -1.37402344
- *   p2 = 1.6171875
- *   p3 = -9.171875
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p2 = 1.62011719
+ *   p3 = -9.1640625
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,10 +24,15 @@
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_4(float NoV, float r, float a)
+static inline float seed_search_sheen_4(float NoV, float r)
 {
-	float t3 = (-1.3740234f) * r + 1.5654297f;
-	float t8 = (-9.171875f) * NoV + 1.6171875f;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_4_p0 = 1.5654296875f;
+	const float seed_search_sheen_4_p1 = (-1.3740234375f);
+	const float seed_search_sheen_4_p2 = 1.6201171875f;
+	const float seed_search_sheen_4_p3 = (-9.1640625f);
+	float t3 = seed_search_sheen_4_p1 * r + seed_search_sheen_4_p0;
+	float t8 = seed_search_sheen_4_p3 * NoV + seed_search_sheen_4_p2;
 	float t9 = fmaxf(a, t8);
 	float t10 = t3 * t9;
 	return t10;

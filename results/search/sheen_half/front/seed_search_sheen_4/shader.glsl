@@ -7,23 +7,28 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.262 in f16, as this half code computes it (either order of its mads), max |error| 8.51; in f64: rmse 0.262
+ * fitted error: rmse 0.262 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 8.51; in f64: rmse 0.262
  * parameters baked in:
  *   p0 = 1.56542969
  *   p1 = -1.37402344
- *   p2 = 1.6171875
- *   p3 = -9.171875
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p2 = 1.62011719
+ *   p3 = -9.1640625
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_4(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_4(mediump float NoV, mediump float r)
 {
-	mediump float t3 = (-1.3740234) * r + 1.5654297;
-	mediump float t8 = (-9.171875) * NoV + 1.6171875;
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_4_p0 = 1.5654296875;
+	const mediump float seed_search_sheen_4_p1 = (-1.3740234375);
+	const mediump float seed_search_sheen_4_p2 = 1.6201171875;
+	const mediump float seed_search_sheen_4_p3 = (-9.1640625);
+	mediump float t3 = seed_search_sheen_4_p1 * r + seed_search_sheen_4_p0;
+	mediump float t8 = seed_search_sheen_4_p3 * NoV + seed_search_sheen_4_p2;
 	mediump float t9 = max(a, t8);
 	mediump float t10 = t3 * t9;
 	return t10;

@@ -7,24 +7,29 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.262 in f16, as this half code computes it (either order of its mads), max |error| 8.51; in f64: rmse 0.262
+ * fitted error: rmse 0.262 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 8.51; in f64: rmse 0.262
  * parameters baked in:
  *   p0 = 1.56542969
  *   p1 = -1.37402344
- *   p2 = 1.6171875
- *   p3 = -9.171875
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p2 = 1.62011719
+ *   p3 = -9.1640625
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 2
  *   minmax 1
  *   simple 4, complex 0, cost 4 (simple = 1, complex = 4)
  */
-half seed_search_sheen_4(half NoV, half r, half a)
+min16float seed_search_sheen_4(min16float NoV, min16float r)
 {
-	half t3 = mad((-1.3740234), r, 1.5654297);
-	half t8 = mad((-9.171875), NoV, 1.6171875);
-	half t9 = max(a, t8);
-	half t10 = t3 * t9;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_4_p0 = 1.5654296875;
+	const min16float seed_search_sheen_4_p1 = (-1.3740234375);
+	const min16float seed_search_sheen_4_p2 = 1.6201171875;
+	const min16float seed_search_sheen_4_p3 = (-9.1640625);
+	min16float t3 = mad(seed_search_sheen_4_p1, r, seed_search_sheen_4_p0);
+	min16float t8 = mad(seed_search_sheen_4_p3, NoV, seed_search_sheen_4_p2);
+	min16float t9 = max(a, t8);
+	min16float t10 = t3 * t9;
 	return t10;
 }

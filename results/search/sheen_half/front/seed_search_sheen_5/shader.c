@@ -7,11 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.155 in f16, as this half code computes it (either order of its mads), max |error| 3.05; in f64: rmse 0.155
+ * fitted error: rmse 0.155 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 3.05; in f64: rmse 0.155
  * parameters baked in:
  *   p0 = 0.0922851562
- *   p1 = 0.154418945
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p1 = 0.155273438
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,7 +23,9 @@
 #include <math.h>
 static inline float seed_search_sheen_5(float NoV, float r)
 {
-	float t4 = 0.15441895f * r + NoV;
-	float t5 = 0.092285156f / t4;
+	const float seed_search_sheen_5_p0 = 0.09228515625f;
+	const float seed_search_sheen_5_p1 = 0.1552734375f;
+	float t4 = seed_search_sheen_5_p1 * r + NoV;
+	float t5 = seed_search_sheen_5_p0 / t4;
 	return t5;
 }

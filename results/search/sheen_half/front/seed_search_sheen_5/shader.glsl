@@ -7,11 +7,11 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.155 in f16, as this half code computes it (either order of its mads), max |error| 3.05; in f64: rmse 0.155
+ * fitted error: rmse 0.155 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 3.05; in f64: rmse 0.155
  * parameters baked in:
  *   p0 = 0.0922851562
- *   p1 = 0.154418945
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p1 = 0.155273438
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 1
  *   div 1
@@ -19,7 +19,9 @@
  */
 mediump float seed_search_sheen_5(mediump float NoV, mediump float r)
 {
-	mediump float t4 = 0.15441895 * r + NoV;
-	mediump float t5 = 0.092285156 / t4;
+	const mediump float seed_search_sheen_5_p0 = 0.09228515625;
+	const mediump float seed_search_sheen_5_p1 = 0.1552734375;
+	mediump float t4 = seed_search_sheen_5_p1 * r + NoV;
+	mediump float t5 = seed_search_sheen_5_p0 / t4;
 	return t5;
 }

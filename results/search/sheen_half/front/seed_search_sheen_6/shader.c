@@ -7,12 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.129 in f16, as this half code computes it (either order of its mads), max |error| 2.61; in f64: rmse 0.129
+ * fitted error: rmse 0.129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 2.61; in f64: rmse 0.13
  * parameters baked in:
  *   p0 = 0.0806884766
- *   p1 = 0.145141602
- *   p2 = -0.765625
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p1 = 0.145019531
+ *   p2 = -0.7578125
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,8 +24,11 @@
 #include <math.h>
 static inline float seed_search_sheen_6(float NoV, float r)
 {
-	float t5 = NoV * (-0.765625f) + 0.1451416f;
+	const float seed_search_sheen_6_p0 = 0.0806884765625f;
+	const float seed_search_sheen_6_p1 = 0.14501953125f;
+	const float seed_search_sheen_6_p2 = (-0.7578125f);
+	float t5 = NoV * seed_search_sheen_6_p2 + seed_search_sheen_6_p1;
 	float t6 = r * t5 + NoV;
-	float t7 = 0.08068848f / t6;
+	float t7 = seed_search_sheen_6_p0 / t6;
 	return t7;
 }

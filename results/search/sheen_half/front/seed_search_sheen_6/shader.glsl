@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.129 in f16, as this half code computes it (either order of its mads), max |error| 2.61; in f64: rmse 0.129
+ * fitted error: rmse 0.129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 2.61; in f64: rmse 0.13
  * parameters baked in:
  *   p0 = 0.0806884766
- *   p1 = 0.145141602
- *   p2 = -0.765625
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p1 = 0.145019531
+ *   p2 = -0.7578125
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 2
  *   div 1
@@ -20,8 +20,11 @@
  */
 mediump float seed_search_sheen_6(mediump float NoV, mediump float r)
 {
-	mediump float t5 = NoV * (-0.765625) + 0.1451416;
+	const mediump float seed_search_sheen_6_p0 = 0.0806884765625;
+	const mediump float seed_search_sheen_6_p1 = 0.14501953125;
+	const mediump float seed_search_sheen_6_p2 = (-0.7578125);
+	mediump float t5 = NoV * seed_search_sheen_6_p2 + seed_search_sheen_6_p1;
 	mediump float t6 = r * t5 + NoV;
-	mediump float t7 = 0.08068848 / t6;
+	mediump float t7 = seed_search_sheen_6_p0 / t6;
 	return t7;
 }

@@ -7,21 +7,24 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.129 in f16, as this half code computes it (either order of its mads), max |error| 2.61; in f64: rmse 0.129
+ * fitted error: rmse 0.129 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 2.61; in f64: rmse 0.13
  * parameters baked in:
  *   p0 = 0.0806884766
- *   p1 = 0.145141602
- *   p2 = -0.765625
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p1 = 0.145019531
+ *   p2 = -0.7578125
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 2
  *   div 1
  *   simple 2, complex 1, cost 6 (simple = 1, complex = 4)
  */
-half seed_search_sheen_6(half NoV, half r)
+min16float seed_search_sheen_6(min16float NoV, min16float r)
 {
-	half t5 = mad(NoV, (-0.765625), 0.1451416);
-	half t6 = mad(r, t5, NoV);
-	half t7 = 0.08068848 / t6;
+	const min16float seed_search_sheen_6_p0 = 0.0806884765625;
+	const min16float seed_search_sheen_6_p1 = 0.14501953125;
+	const min16float seed_search_sheen_6_p2 = (-0.7578125);
+	min16float t5 = mad(NoV, seed_search_sheen_6_p2, seed_search_sheen_6_p1);
+	min16float t6 = mad(r, t5, NoV);
+	min16float t7 = seed_search_sheen_6_p0 / t6;
 	return t7;
 }

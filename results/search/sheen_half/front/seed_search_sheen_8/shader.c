@@ -7,13 +7,14 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0421 in f16, as this half code computes it (either order of its mads), max |error| 0.748; in f64: rmse 0.0422
+ * fitted error: rmse 0.0422 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.749; in f64: rmse 0.0422
  * parameters baked in:
- *   p0 = 0.282958984
- *   p1 = 0.736328125
- *   p2 = -0.00363540649
- *   p3 = 2.86132812
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ *   p0 = 0.281982422
+ *   p1 = 0.744140625
+ *   p2 = -0.00363731384
+ *   p3 = 2.84570312
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -23,12 +24,17 @@
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_8(float NoV, float r, float a)
+static inline float seed_search_sheen_8(float NoV, float r)
 {
-	float t4 = 0.7363281f * a + r;
-	float t8 = NoV * 2.8613281f + (-0.0036354065f);
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_8_p0 = 0.281982421875f;
+	const float seed_search_sheen_8_p1 = 0.744140625f;
+	const float seed_search_sheen_8_p2 = (-0.0036373138427734375f);
+	const float seed_search_sheen_8_p3 = 2.845703125f;
+	float t4 = seed_search_sheen_8_p1 * a + r;
+	float t8 = NoV * seed_search_sheen_8_p3 + seed_search_sheen_8_p2;
 	float t9 = NoV * t8 + a;
 	float t10 = t4 / t9;
-	float t11 = 0.28295898f * t10;
+	float t11 = seed_search_sheen_8_p0 * t10;
 	return t11;
 }

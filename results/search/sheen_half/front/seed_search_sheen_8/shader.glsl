@@ -7,25 +7,30 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0421 in f16, as this half code computes it (either order of its mads), max |error| 0.748; in f64: rmse 0.0422
+ * fitted error: rmse 0.0422 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.749; in f64: rmse 0.0422
  * parameters baked in:
- *   p0 = 0.282958984
- *   p1 = 0.736328125
- *   p2 = -0.00363540649
- *   p3 = 2.86132812
- * precision: GLSL ES 3.00 mediump (fp16 on mobile GPUs; bk_form_eval BK_F16)
+ *   p0 = 0.281982422
+ *   p1 = 0.744140625
+ *   p2 = -0.00363731384
+ *   p3 = 2.84570312
+ * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 3
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-mediump float seed_search_sheen_8(mediump float NoV, mediump float r, mediump float a)
+mediump float seed_search_sheen_8(mediump float NoV, mediump float r)
 {
-	mediump float t4 = 0.7363281 * a + r;
-	mediump float t8 = NoV * 2.8613281 + (-0.0036354065);
+	mediump float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const mediump float seed_search_sheen_8_p0 = 0.281982421875;
+	const mediump float seed_search_sheen_8_p1 = 0.744140625;
+	const mediump float seed_search_sheen_8_p2 = (-0.0036373138427734375);
+	const mediump float seed_search_sheen_8_p3 = 2.845703125;
+	mediump float t4 = seed_search_sheen_8_p1 * a + r;
+	mediump float t8 = NoV * seed_search_sheen_8_p3 + seed_search_sheen_8_p2;
 	mediump float t9 = NoV * t8 + a;
 	mediump float t10 = t4 / t9;
-	mediump float t11 = 0.28295898 * t10;
+	mediump float t11 = seed_search_sheen_8_p0 * t10;
 	return t11;
 }

@@ -7,25 +7,30 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0421 in f16, as this half code computes it (either order of its mads), max |error| 0.748; in f64: rmse 0.0422
+ * fitted error: rmse 0.0422 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.749; in f64: rmse 0.0422
  * parameters baked in:
- *   p0 = 0.282958984
- *   p1 = 0.736328125
- *   p2 = -0.00363540649
- *   p3 = 2.86132812
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ *   p0 = 0.281982422
+ *   p1 = 0.744140625
+ *   p2 = -0.00363731384
+ *   p3 = 2.84570312
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 1
  *   mad 3
  *   div 1
  *   simple 4, complex 1, cost 8 (simple = 1, complex = 4)
  */
-half seed_search_sheen_8(half NoV, half r, half a)
+min16float seed_search_sheen_8(min16float NoV, min16float r)
 {
-	half t4 = mad(0.7363281, a, r);
-	half t8 = mad(NoV, 2.8613281, (-0.0036354065));
-	half t9 = mad(NoV, t8, a);
-	half t10 = t4 / t9;
-	half t11 = 0.28295898 * t10;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_8_p0 = 0.281982421875;
+	const min16float seed_search_sheen_8_p1 = 0.744140625;
+	const min16float seed_search_sheen_8_p2 = (-0.0036373138427734375);
+	const min16float seed_search_sheen_8_p3 = 2.845703125;
+	min16float t4 = mad(seed_search_sheen_8_p1, a, r);
+	min16float t8 = mad(NoV, seed_search_sheen_8_p3, seed_search_sheen_8_p2);
+	min16float t9 = mad(NoV, t8, a);
+	min16float t10 = t4 / t9;
+	min16float t11 = seed_search_sheen_8_p0 * t10;
 	return t11;
 }

@@ -7,12 +7,13 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0265 in f16, as this half code computes it (either order of its mads), max |error| 0.597; in f64: rmse 0.0265
+ * fitted error: rmse 0.0265 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.597; in f64: rmse 0.0265
  * parameters baked in:
  *   p0 = 0.362548828
- *   p1 = 0.623535156
+ *   p1 = 0.621582031
  *   p2 = 1.46627426e-05
- * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
+ * precision: C11 float with the half code's constants (binary16 values); rounds like
+ *   bk_form_eval BK_F32 of those constants when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
  * op counts (after folding, sharing and multiply-add fusion):
@@ -24,13 +25,17 @@
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_search_sheen_9(float NoV, float r, float a)
+static inline float seed_search_sheen_9(float NoV, float r)
 {
-	float t4 = 0.62353516f * a + r;
+	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const float seed_search_sheen_9_p0 = 0.362548828125f;
+	const float seed_search_sheen_9_p1 = 0.62158203125f;
+	const float seed_search_sheen_9_p2 = 1.4662742614746094e-05f;
+	float t4 = seed_search_sheen_9_p1 * a + r;
 	float t6 = fmaxf(r, NoV);
 	float t7 = NoV + t6;
-	float t9 = t7 * t7 + 1.4662743e-05f;
+	float t9 = t7 * t7 + seed_search_sheen_9_p2;
 	float t10 = t4 / t9;
-	float t11 = 0.36254883f * t10;
+	float t11 = seed_search_sheen_9_p0 * t10;
 	return t11;
 }

@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.0265 in f16, as this half code computes it (either order of its mads), max |error| 0.597; in f64: rmse 0.0265
+ * fitted error: rmse 0.0265 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.597; in f64: rmse 0.0265
  * parameters baked in:
  *   p0 = 0.362548828
- *   p1 = 0.623535156
+ *   p1 = 0.621582031
  *   p2 = 1.46627426e-05
- * precision: HLSL half (fp16 where supported; bk_form_eval BK_F16)
+ * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   add 1
  *   mul 1
@@ -21,13 +21,17 @@
  *   div 1
  *   simple 5, complex 1, cost 9 (simple = 1, complex = 4)
  */
-half seed_search_sheen_9(half NoV, half r, half a)
+min16float seed_search_sheen_9(min16float NoV, min16float r)
 {
-	half t4 = mad(0.62353516, a, r);
-	half t6 = max(r, NoV);
-	half t7 = NoV + t6;
-	half t9 = mad(t7, t7, 1.4662743e-05);
-	half t10 = t4 / t9;
-	half t11 = 0.36254883 * t10;
+	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
+	const min16float seed_search_sheen_9_p0 = 0.362548828125;
+	const min16float seed_search_sheen_9_p1 = 0.62158203125;
+	const min16float seed_search_sheen_9_p2 = 1.4662742614746094e-05;
+	min16float t4 = mad(seed_search_sheen_9_p1, a, r);
+	min16float t6 = max(r, NoV);
+	min16float t7 = NoV + t6;
+	min16float t9 = mad(t7, t7, seed_search_sheen_9_p2);
+	min16float t10 = t4 / t9;
+	min16float t11 = seed_search_sheen_9_p0 * t10;
 	return t11;
 }
