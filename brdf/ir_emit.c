@@ -572,9 +572,9 @@ static void pair_type(char *ret, char *ctor, size_t len, const char *type, bk_la
 	} else if (lang == BK_LANG_GLSL && strstr(type, "float16_t")) {
 		snprintf(ret, len, "f16vec2");
 	} else if (lang == BK_LANG_GLSL && fl) {
-		snprintf(ret, len, "%.*svec2", (int)(fl - type), type); /* "highp float" -> "highp vec2" */
+		snprintf(ret, len, "%.*svec2", (int)(fl - type) & 31, type); /* "highp float" -> "highp vec2" */
 	} else {
-		snprintf(ret, len, "%s2", type);
+		snprintf(ret, len, "%.20s2", type); /* the longest, "min16float" */
 	}
 	snprintf(ctor, len, "%s", lang == BK_LANG_GLSL && strchr(ret, ' ') ? strchr(ret, ' ') + 1 : ret);
 }
