@@ -631,13 +631,15 @@ static int leader_meets(const marks *m, double px, double py, box b)
 }
 
 /* The first free place for a w x h box around (px, py) at gap g: right, upper right,
- * above, upper left, left, lower left, below, lower right; then the same twice and
- * three times as far out, where a leader line will tie the label to its marker (and
- * must itself cross no mark). Returns 0 (none), or the ring (1..3) with the box in *out. */
-static int free_place(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
+ * above, upper left, left, lower left, below, lower right; then the same twice, three
+ * times ... rings times as far out, where a leader line will tie the label to its
+ * marker (and must itself cross no mark). Returns 0 (none), or the ring (1..rings)
+ * with the box in *out. */
+static int free_place(const marks *m, const layout *lo, double px, double py, double w, double h, int rings,
+                      box *out)
 {
 	static const double dir[8][2] = {{1, 0}, {1, -1}, {0, -1}, {-1, -1}, {-1, 0}, {-1, 1}, {0, 1}, {1, 1}};
-	for (int ring = 1; ring <= 3; ring++)
+	for (int ring = 1; ring <= rings; ring++)
 		for (int d = 0; d < 8; d++) {
 			double g = ring * (MARK_R + 1.0);
 			double cx = px + dir[d][0] * (g + w / 2), cy = py + dir[d][1] * (g + h / 2);
@@ -678,10 +680,12 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 			box b;
 			char num[16];
 			snprintf(num, sizeof num, "%d", nkey + 1);
-			int ring = free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, &b);
+			int ring = free_place(&m, lo, px, py, text_w(cr, S->label[i]), FS_LABEL, 3, &b);
 			if (ring)
 				L->placed = 1;
-			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b)))
+			/* a key number is small: it may go further out on its leader
+			 * (a crowd of timing bars once left one no place in 3 rings) */
+			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, 12, &b)))
 				L->placed = 1, L->key = ++nkey;
 			if (L->placed) {
 				m.b[m.n++] = b;
