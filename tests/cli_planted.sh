@@ -152,6 +152,14 @@ for name in $(cat "$T/names"); do
 	form=$(csv_where "$T/plant/front.csv" name "$name" form)
 	pars=$(csv_where "$T/plant/front.csv" name "$name" parameters | tr ';' ' ')
 	{ cat "$d/shader.c"; printf '#include <stdio.h>\nint main(void) { printf("%%.9g\\n", (double)%s(%s)); return 0; }\n' "$name" "$c_call"; } >"$T/m.c"
+	# eval takes the inputs the form reads (the front's one signature may take
+	# more, and r where the form reads a = r*r): a 0.25, the others 0.5
+	points=""
+	for v in NoV NoL NoH LoH r a f0; do
+		echo "$form" | grep -q "\(^\|[^A-Za-z0-9_]\)$v\([^A-Za-z0-9_(]\|$\)" || continue
+		case $v in a) x=0.25 ;; *) x=0.5 ;; esac
+		points="$points $v=$x"
+	done
 	want=$($BK eval "$form" $pars $points | sed -n 's/^f32 //p')
 	got=""
 	if cc -std=c11 -O2 "$T/m.c" -lm -o "$T/m" 2>"$T/cc.log" && got=$("$T/m") && c_matches_ir "$got" "$want"; then ok
