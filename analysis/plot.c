@@ -653,6 +653,26 @@ static int free_place(const marks *m, const layout *lo, double px, double py, do
 	return 0;
 }
 
+/* The free place for a w x h box nearest to (px, py) anywhere in the plot, on a
+ * 2-pt grid, its leader crossing no marker (free_place's last resort for a key
+ * number, so that no label is ever dropped while the plot has room). 0 (none),
+ * or 1 with the box in *out. */
+static int nearest_free(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
+{
+	double best = HUGE_VAL;
+	for (double cy = lo->T + h / 2; cy + h / 2 <= lo->B; cy += 2)
+		for (double cx = lo->L + w / 2; cx + w / 2 <= lo->R; cx += 2) {
+			double d = hypot(cx - px, cy - py);
+			if (d >= best)
+				continue;
+			box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
+			if (marks_meet(m, b) || leader_meets(m, px, py, b))
+				continue;
+			best = d, *out = b;
+		}
+	return best < HUGE_VAL;
+}
+
 /* Places every label (plot.h); out holds count_labels(p) entries. A label with no free
  * place tries its key number ("3", named in the footnote's key) in the same places. */
 static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot_label *out)
@@ -685,7 +705,8 @@ static int place_labels(cairo_t *cr, const bk_plot *p, const layout *lo, bk_plot
 				L->placed = 1;
 			/* a key number is small: it may go further out on its leader
 			 * (a crowd of timing bars once left one no place in 3 rings) */
-			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, 12, &b)))
+			else if ((ring = free_place(&m, lo, px, py, text_w(cr, num), FS_LABEL, 12, &b)) ||
+			         (nearest_free(&m, lo, px, py, text_w(cr, num), FS_LABEL, &b) && (ring = 13)))
 				L->placed = 1, L->key = ++nkey;
 			if (L->placed) {
 				m.b[m.n++] = b;

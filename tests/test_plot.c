@@ -557,9 +557,14 @@ Test(plot, labels_keep_off_the_committed_compare_error_bars)
 			}
 	Q.n = n;
 	cr_assert_geq(n, 10, "the committed compare has its timed rows");
+	/* the axes take the measured times and errors whatever they are (a fixed
+	 * 0..4 ns once left a slower row outside the plot) */
+	double xhi = 0, ylo = 1;
+	for (int i = 0; i < n; i++)
+		xhi = fmax(xhi, Q.hi[i]), ylo = fmin(ylo, Q.y[i]);
 	bk_plot_series s[1] = {{"rows", BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f77b4, n, Q.x, Q.y, Q.lab, Q.lo, Q.hi}};
-	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "vf2d", NULL, NULL, {"ns", 0, 0, 4, 0, 0, NULL}, {"error", 1, 0.01, 1, 0, 0, NULL},
-	             s, 1, NULL};
+	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "vf2d", NULL, NULL, {"ns", 0, 0, ceil(xhi * 1.05), 0, 0, NULL},
+	             {"error", 1, pow(10, floor(log10(ylo))), 1, 0, 0, NULL}, s, 1, NULL};
 	cr_expect_eq(label_faults(&p, n), 0);
 	/* the bars are marks: one box per bar beside each marker's */
 	static double m[4 * MAXPTS][4];
