@@ -507,73 +507,88 @@ results-stability:
 	$(TOOL) stability --all --out results/stability --link-prefix stability/
 # the search for closed forms: fixed budgets and seeds, so the fronts are
 # reproducible; each front is refitted in full and compared with the catalog
-results-search-vf2d:
-	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS) --quiet --out build/evolved/vf2d >/dev/null
-	$(TOOL) search --target vf2d --objective max $(ENUM_VF2D) --start-front build/evolved/vf2d/front.csv \
-	  --gpu $(GPU_CHIPS) --out results/search/vf2d --link-prefix search/vf2d/
+# vf and env have no half search: one run each (env's as vf2d's below)
 results-search-vf:
 	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
 results-search-env:
 	$(TOOL) search --target env --evals $(SEARCH_EVALS) --quiet --out build/evolved/env >/dev/null
 	$(TOOL) search --target env $(ENUM_ENV) --start-front build/evolved/env/front.csv --gpu $(GPU_CHIPS) \
 	  --out results/search/env --link-prefix search/env/
-results-search-env_f0:
-	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_ENV_F0) --gpu $(GPU_CHIPS) --out results/search/env_f0 \
-	  --link-prefix search/env_f0/
-results-search-env_mix:
-	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_ENV_MIX) --gpu $(GPU_CHIPS) \
-	  --out results/search/env_mix --link-prefix search/env_mix/
-results-search-f_glass:
-	$(TOOL) search --target f --evals $(SEARCH_EVALS_F) --quiet --out build/evolved/f_glass >/dev/null
-	$(TOOL) search --target f $(ENUM_F) --start-front build/evolved/f_glass/front.csv --gpu $(GPU_CHIPS) \
-	  --out results/search/f_glass --link-prefix search/f_glass/
-results-search-f_gold:
-	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_F) --quiet --out build/evolved/f_gold >/dev/null
-	$(TOOL) search --target f --ior 0.27 --k 2.78 $(ENUM_F) --start-front build/evolved/f_gold/front.csv --gpu $(GPU_CHIPS) \
-	  --out results/search/f_gold \
-	  --link-prefix search/f_gold/
-# multiple scattering (issue 41): the directional albedo E = A + B that energy
-# compensation reads, against the env approximations read at f0 = 1 and MaterialX's fit
-results-search-ms:
-	$(TOOL) search --target ms --evals $(SEARCH_EVALS_MS) --gpu $(GPU_CHIPS) --out results/search/ms \
-	  --link-prefix search/ms/
-# sheen (issue 41): the Charlie sheen albedo, Filament's cloth DFG channel,
-# against MaterialX's rational fit
-results-search-sheen:
-	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_SHEEN) --gpu $(GPU_CHIPS) --out results/search/sheen \
-	  --link-prefix search/sheen/
-# the same searches with error in half precision (members safe in half only),
-# seeded with the double front and set beside it (vs_double.csv); each after its
-# double search, whose front.csv it reads
-HALF_OPTS = --precision half --gpu $(GPU_CHIPS)
-results-search-vf2d_half: results-search-vf2d
-	$(TOOL) search --target vf2d --objective max --evals $(SEARCH_EVALS_HALF) $(HALF_OPTS) \
-	  --start-front results/search/vf2d/front.csv --vs-front results/search/vf2d/front.csv \
-	  --out results/search/vf2d_half --link-prefix search/vf2d_half/
-results-search-env_mix_half: results-search-env_mix
-	$(TOOL) search --target env --env-form mix --max-cost 15 --evals $(SEARCH_EVALS_HALF_MIX) $(HALF_OPTS) \
-	  --start-front results/search/env_mix/front.csv --vs-front results/search/env_mix/front.csv \
-	  --out results/search/env_mix_half --link-prefix search/env_mix_half/
-results-search-env_f0_half: results-search-env_f0
-	$(TOOL) search --target env --env-form f0 --evals $(SEARCH_EVALS_HALF) $(HALF_OPTS) \
-	  --start-front results/search/env_f0/front.csv --vs-front results/search/env_f0/front.csv \
-	  --out results/search/env_f0_half --link-prefix search/env_f0_half/
-results-search-f_glass_half: results-search-f_glass
-	$(TOOL) search --target f --evals $(SEARCH_EVALS_HALF_F) $(HALF_OPTS) \
-	  --start-front results/search/f_glass/front.csv --vs-front results/search/f_glass/front.csv \
-	  --out results/search/f_glass_half --link-prefix search/f_glass_half/
-results-search-f_gold_half: results-search-f_gold
-	$(TOOL) search --target f --ior 0.27 --k 2.78 --evals $(SEARCH_EVALS_HALF_F) $(HALF_OPTS) \
-	  --start-front results/search/f_gold/front.csv --vs-front results/search/f_gold/front.csv \
-	  --out results/search/f_gold_half --link-prefix search/f_gold_half/
-results-search-ms_half: results-search-ms
-	$(TOOL) search --target ms --evals $(SEARCH_EVALS_HALF_MS) $(HALF_OPTS) \
-	  --start-front results/search/ms/front.csv --vs-front results/search/ms/front.csv \
-	  --out results/search/ms_half --link-prefix search/ms_half/
-results-search-sheen_half: results-search-sheen
-	$(TOOL) search --target sheen --evals $(SEARCH_EVALS_HALF_SHEEN) $(HALF_OPTS) \
-	  --start-front results/search/sheen/front.csv --vs-front results/search/sheen/front.csv \
-	  --out results/search/sheen_half --link-prefix search/sheen_half/
+# Fronts that hold (issue 38): a target's double and half searches seed each
+# other, and its committed fronts take every member any of its runs found, so
+# that no front is beaten by a form another run of the same target and
+# objective found (the half search once found an env_mix form better in
+# double than the double front). Each target T with a half search, in four steps:
+#   1. results-first-T: the double search, as before the certificate (build/evolved/T);
+#   2. results-first-T_half: the half search (--precision half, members safe
+#      in half only), seeded with 1's front (build/half/T);
+#   3. results-search-T: the double front, seeded with 1's and 2's fronts:
+#      vf2d and f the certified search (every unique form to N nodes, beside
+#      the seeds); the others a merge, MERGE_EVALS (the seeds alone: each
+#      member of the fronts refitted in double) (results/search/T);
+#   4. results-search-T_half: the half front, a merge of 2's front and 3's in
+#      half, set beside 3's (vs_double.csv) (results/search/T_half).
+# A member of a --start-front is named as the run's own (search_T_K).
+# env_f0 and env_mix are one target and objective (env as one form in f0,
+# rmse; env_mix up to cost 15, seeded with mix(B, S, f0) compositions): each
+# merge takes the other's fronts as well. 3 and 4 add a few seconds of fits
+# each; most of their time is the GPU counts of the rows.
+MERGE_EVALS = --enum-size 0 --evals 1
+# --env-form mix runs its two halves' searches first: at least 2048 fits
+MERGE_EVALS_MIX = --enum-size 0 --evals 2048
+HALF_OPTS = --precision half
+T_vf2d = --target vf2d --objective max
+T_f_glass = --target f
+T_f_gold = --target f --ior 0.27 --k 2.78
+T_env_f0 = --target env --env-form f0
+T_env_mix = --target env --env-form mix --max-cost 15
+T_ms = --target ms
+T_sheen = --target sheen
+FIRST_vf2d = --evals $(SEARCH_EVALS)
+FIRST_f_glass = --evals $(SEARCH_EVALS_F)
+FIRST_f_gold = --evals $(SEARCH_EVALS_F)
+FIRST_env_f0 = --evals $(SEARCH_EVALS_ENV_F0)
+FIRST_env_mix = --evals $(SEARCH_EVALS_ENV_MIX)
+FIRST_ms = --evals $(SEARCH_EVALS_MS)
+FIRST_sheen = --evals $(SEARCH_EVALS_SHEEN)
+HALF_vf2d = --evals $(SEARCH_EVALS_HALF)
+HALF_f_glass = --evals $(SEARCH_EVALS_HALF_F)
+HALF_f_gold = --evals $(SEARCH_EVALS_HALF_F)
+HALF_env_f0 = --evals $(SEARCH_EVALS_HALF)
+HALF_env_mix = --evals $(SEARCH_EVALS_HALF_MIX)
+HALF_ms = --evals $(SEARCH_EVALS_HALF_MS)
+HALF_sheen = --evals $(SEARCH_EVALS_HALF_SHEEN)
+DOUBLE_vf2d = $(ENUM_VF2D)
+DOUBLE_f_glass = $(ENUM_F)
+DOUBLE_f_gold = $(ENUM_F)
+DOUBLE_env_f0 = $(MERGE_EVALS)
+DOUBLE_env_mix = $(MERGE_EVALS_MIX)
+DOUBLE_ms = $(MERGE_EVALS)
+DOUBLE_sheen = $(MERGE_EVALS)
+MERGE_HALF_env_mix = $(MERGE_EVALS_MIX)
+# the other target of the same question, whose fronts a merge also takes
+SIBLING_env_f0 = env_mix
+SIBLING_env_mix = env_f0
+HALF_TARGETS = vf2d f_glass f_gold env_f0 env_mix ms sheen
+define front_steps
+.PHONY: results-first-$(1) results-first-$(1)_half
+results-first-$(1):
+	$$(TOOL) search $$(T_$(1)) $$(FIRST_$(1)) --quiet --out build/evolved/$(1) >/dev/null
+results-first-$(1)_half: results-first-$(1)
+	$$(TOOL) search $$(T_$(1)) $$(HALF_$(1)) $$(HALF_OPTS) --start-front build/evolved/$(1)/front.csv --quiet \
+	  --out build/half/$(1) >/dev/null
+results-search-$(1): results-first-$(1)_half $(if $(SIBLING_$(1)),results-first-$(SIBLING_$(1))_half)
+	$$(TOOL) search $$(T_$(1)) $$(DOUBLE_$(1)) --start-front build/evolved/$(1)/front.csv \
+	  --start-front build/half/$(1)/front.csv \
+	  $(if $(SIBLING_$(1)),--start-front build/evolved/$(SIBLING_$(1))/front.csv --start-front build/half/$(SIBLING_$(1))/front.csv) \
+	  --gpu $$(GPU_CHIPS) --out results/search/$(1) --link-prefix search/$(1)/
+results-search-$(1)_half: results-search-$(1)
+	$$(TOOL) search $$(T_$(1)) $$(or $$(MERGE_HALF_$(1)),$$(MERGE_EVALS)) $$(HALF_OPTS) \
+	  --start-front build/half/$(1)/front.csv $(if $(SIBLING_$(1)),--start-front build/half/$(SIBLING_$(1))/front.csv) \
+	  --start-front results/search/$(1)/front.csv --vs-front results/search/$(1)/front.csv \
+	  --gpu $$(GPU_CHIPS) --out results/search/$(1)_half --link-prefix search/$(1)_half/
+endef
+$(foreach t,$(HALF_TARGETS),$(eval $(call front_steps,$(t))))
 # scene specialisation: each example scene's feature sets, their terms chosen and
 # refitted on the scene's own domain, shaders and the saving against the generic one
 results-scenes:

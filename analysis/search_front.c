@@ -466,7 +466,12 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 		const bk_cand *c = bk_search_at(F->S, idx[i]);
 		member *m = &F->m[F->nm++];
 		m->c = c;
-		if (c->seed_name) { /* a seed on the front: named after it */
+		int k = bk_search_seed_index(F->S, c);
+		/* a published seed on the front is named after it; a member of a
+		 * --start-front is a start like any generated one, and named as the
+		 * run's own (its name was its old front's: two fronts merged may
+		 * both have a search_T_3, and seed_ would pile up at each merge) */
+		if (c->seed_name && !(k >= 0 && k < sd->n && sd->from_front[k])) {
 			char slug[80];
 			bk_slug(c->seed_name, slug, sizeof slug);
 			snprintf(m->name, sizeof m->name, "seed_%s", slug);

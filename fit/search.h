@@ -296,6 +296,9 @@ int bk_search_brief(const bk_search *s, char *buf, size_t len);
 /* The distinct candidates fitted so far, in the order they were found. */
 size_t bk_search_count(const bk_search *s);
 const bk_cand *bk_search_at(const bk_search *s, size_t i);
+/* Which of the options' seeds (bk_search_options.seeds) c was made from:
+ * its index, or -1 for a generated candidate. */
+int bk_search_seed_index(const bk_search *s, const bk_cand *c);
 /* The Pareto front of (cost, err) over the candidates with status OK, by
  * increasing cost: indices into bk_search_at. Returns how many (<= max). */
 size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);

@@ -102,6 +102,25 @@ reached() { csv_cols "$1/front.csv" cost error | awk -F'\t' '$1 <= 6 && $2 <= 2e
 reached "$T/s" && ok || bad "--start-front: no member of cost <= 6 within 2e-3"
 expect_fail "reached without --start-front" reached "$T/s0"
 
+# --start-front twice (issue 38's merged fronts): the members of both files
+# are seeds, a form on both is seeded once, and a front's member is written
+# under the run's own name (search_f_K: two fronts may both hold a
+# search_f_3); a merge of the seeds alone (--enum-size 0 --evals 1) keeps
+# each file's best at its cost: planted_f6's 2.3e-4 at cost 6, which is on
+# the second file only. Control: the first file alone does not reach it.
+{ echo "$HEAD"; printf 'name,cost,error,form,form_b,parameters\nplanted_one,0,0.3,p0,,p0=0.3\n'; } >"$T/fa.csv"
+{ echo "$HEAD"; printf 'name,cost,error,form,form_b,parameters\nplanted_one,0,0.3,p0,,p0=0.2\n'
+  grep '^planted_f6,' "$T/planted.csv"; } >"$T/fb.csv"
+run --enum-size 0 --evals 1 --start-front "$T/fa.csv" --start-front "$T/fb.csv" --out "$T/m2"
+run --enum-size 0 --evals 1 --start-front "$T/fa.csv" --out "$T/m1"
+merged() { csv_cols "$1/front.csv" cost error | awk -F'\t' '$1 <= 6 && $2 <= 2.35e-4 { f = 1 } END { exit !f }'; }
+merged "$T/m2" && ok || bad "--start-front twice: the second file's cost-6 member is not on the merged front"
+expect_fail "merged from the first file alone" merged "$T/m1"
+[ "$(csv_col "$T/m2/candidates.csv" seed | grep -c '^planted')" -eq 2 ] && ok ||
+	bad "--start-front twice: 'p0' on both files not seeded once: $(csv_col "$T/m2/candidates.csv" seed | grep planted | tr '\n' ' ')"
+csv_col "$T/m2/front.csv" name | grep -q '^search_f_[0-9]*$' && ! csv_col "$T/m2/front.csv" name | grep -q planted && ok ||
+	bad "--start-front twice: a front's member kept its old name: $(csv_col "$T/m2/front.csv" name | tr '\n' ' ')"
+
 # vs_double.csv recomputed: at each cost <= 16 of either front, the least
 # error of each front at that cost or below, the ratio and the pass
 check_vs() { # DOUBLE_FRONT HALF_DIR
@@ -179,7 +198,7 @@ printf 'name,cost,error\nx,1,oops\n' >"$T/vsbad.csv"
 expect_error "missing column" "$T/nocol.csv:2: no column 'parameters'" --start-front "$T/nocol.csv"
 expect_error "bad form" "$T/badform.csv:3: form: column" --start-front "$T/badform.csv"
 expect_error "input not provided" "$T/input.csv:5: x: the form reads an input" --start-front "$T/input.csv"
-expect_error "a name twice" "$T/twice.csv:6: the name 'x' is a seed's already" --start-front "$T/twice.csv"
+expect_error "a name twice" "$T/twice.csv:6: the name 'x' is on line 5 already" --start-front "$T/twice.csv"
 expect_error "missing file" "$T/none.csv: cannot be read" --start-front "$T/none.csv"
 expect_error "bad --vs-front" "$T/vsbad.csv:2: error:" --vs-front "$T/vsbad.csv"
 "$BK" search --target f --evals 10 --vs-front "$T/planted.csv" --out "$T/bad" >/dev/null 2>&1

@@ -289,22 +289,28 @@ static const char *front_row_unfit(const job *J, const bk_frontcsv_row *w, char 
 	return msg;
 }
 
-/* --start-front FILE: every member of a front.csv (columns by name,
- * frontcsv.h) as a seed at its constants, after the published seeds; one
- * whose texts are a seed's already is that seed. 0, or 1 after the message. */
-static int add_front_seeds(job *J, bk_seeds *sd)
+/* --start-front FILE (each time given): every member of a front.csv
+ * (columns by name, frontcsv.h) as a seed at its constants, after the
+ * published seeds; one whose texts are a seed's already is that seed (a form
+ * on two fronts, or on a front and in the catalog, is fitted once). A
+ * front's member is written under the run's own names (search_front.c), so
+ * its name only has to differ from the published seeds' (which keep theirs:
+ * the constraints exempt them by name). 0, or 1 after the message. */
+static int add_front_seeds(job *J, bk_seeds *sd, int i)
 {
 	char err[700];
-	const char *path = J->a->start_front;
+	const char *path = J->a->start_front[i];
+	bk_frontcsv *fc = &J->start_fc[i];
+	int before = sd->n;
 	/* a seed is a start: the objective and precision it was searched with
 	 * may differ (a double front seeds a half search and back), the target
 	 * and its domain may not (its forms would answer another question) */
-	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &J->start_fc, err, sizeof err) ||
-	    bk_frontcsv_head_check(&J->start_fc.head, path, BK_FRONTCSV_FRONT, "this search's", J->screen.description, 0,
-	                           NULL, NULL, err, sizeof err))
+	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, fc, err, sizeof err) ||
+	    bk_frontcsv_head_check(&fc->head, path, BK_FRONTCSV_FRONT, "this search's", J->screen.description, 0, NULL,
+	                           NULL, err, sizeof err))
 		return cli_fail("search", "--start-front %s", err);
-	for (int i = 0; i < J->start_fc.n; i++) {
-		const bk_frontcsv_row *w = &J->start_fc.row[i];
+	for (int r = 0; r < fc->n; r++) {
+		const bk_frontcsv_row *w = &fc->row[r];
 		char why[300];
 		const char *msg = front_row_unfit(J, w, why, sizeof why);
 		if (msg)
@@ -312,15 +318,22 @@ static int add_front_seeds(job *J, bk_seeds *sd)
 		int dup = 0;
 		char slug[80], other[80];
 		bk_slug(w->name, slug, sizeof slug);
-		for (int k = 0; k < sd->n && !dup; k++) {
+		for (int k = 0; k < sd->n && !dup; k++)
 			dup = !strcmp(sd->text[k], w->form) && !sd->text_b[k] == !w->form_b &&
 			      (!w->form_b || !strcmp(sd->text_b[k], w->form_b));
-			if (!dup && sd->name[k]) { /* a seed's name names its member's folder: one each */
-				bk_slug(sd->name[k], other, sizeof other);
-				if (!strcmp(slug, other))
-					return cli_fail("search", "--start-front %s:%d: the name '%.60s' is a seed's already", path,
-					                w->line, w->name);
-			}
+		for (int q = 0; q < r; q++) { /* a file's names are its members' (FILE.csv:NAME): one each */
+			bk_slug(fc->row[q].name, other, sizeof other);
+			if (!strcmp(slug, other))
+				return cli_fail("search", "--start-front %s:%d: the name '%.60s' is on line %d already", path,
+				                w->line, w->name, fc->row[q].line);
+		}
+		for (int k = 0; k < J->ncatalog && !dup; k++) {
+			if (!sd->name[k])
+				continue;
+			bk_slug(sd->name[k], other, sizeof other);
+			if (!strcmp(slug, other))
+				return cli_fail("search", "--start-front %s:%d: the name '%.60s' is a published seed's", path,
+				                w->line, w->name);
 		}
 		if (dup)
 			continue;
@@ -329,8 +342,8 @@ static int add_front_seeds(job *J, bk_seeds *sd)
 			                MAX_SEEDS, J->ncatalog);
 		sd->from_front[sd->n - 1] = 1;
 	}
-	fprintf(stderr, "search: --start-front %s: %d members, %d seeds beside the %d published\n", path,
-	        J->start_fc.n, sd->n - J->ncatalog, J->ncatalog);
+	fprintf(stderr, "search: --start-front %s: %d members, %d new seeds beside the %d before\n", path, fc->n,
+	        sd->n - before, before);
 	return 0;
 }
 
@@ -378,8 +391,8 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 	}
 	int rc = search_check_starts(J, sd, &J->screen);
 	J->ncatalog = sd->n;
-	if (!rc && J->a->start_front)
-		rc = add_front_seeds(J, sd);
+	for (int i = 0; !rc && i < J->a->nstart_front; i++)
+		rc = add_front_seeds(J, sd, i);
 	bk_seeds_apply(sd, &J->so);
 	/* the published seeds alone are kept whatever the constraints say (a
 	 * front's members are starts like any other) */

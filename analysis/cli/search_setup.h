@@ -21,13 +21,16 @@
 
 #define MAX_SEEDS BK_SEEDS_MAX
 #define MAX_FRONT BK_SFRONT_MAX
+#define MAX_START_FRONTS 8 /* --start-front given this many times at most */
 
 typedef struct search_cli {
 	fit_cli t; /* the target options, as fit reads them */
 	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *env_form, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
-	const char *start_front, *vs_front; /* --start-front FILE, --vs-front FILE */
+	const char *start_front[MAX_START_FRONTS]; /* --start-front FILE, each time given */
+	int nstart_front;
+	const char *vs_front; /* --vs-front FILE */
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
 	int relative, no_constraints, merge_fronts, inherit;
@@ -51,7 +54,7 @@ typedef struct job {
 	const char *chip[BK_GPUCOST_MAX_CHIPS]; /* --gpu */
 	int nchips;
 	char chipbuf[512], driver[256];
-	bk_frontcsv start_fc; /* --start-front's rows: the seeds point at their texts */
+	bk_frontcsv start_fc[MAX_START_FRONTS]; /* --start-front's rows: the seeds point at their texts */
 	bk_frontcsv vs_fc;    /* --vs-front's rows */
 	int ncatalog;         /* seeds before those: published (or --start), exempt from the constraints */
 	bk_search_cert cert;  /* how far the run is complete, all islands together */

@@ -369,3 +369,11 @@ void bk_search_certificate(const bk_search *s, bk_search_cert *c)
 }
 size_t bk_search_count(const bk_search *s) { return s->n; }
 const bk_cand *bk_search_at(const bk_search *s, size_t i) { return i < s->n ? &s->cand[i] : NULL; }
+
+int bk_search_seed_index(const bk_search *s, const bk_cand *c)
+{
+	for (int k = 0; c && c->seed_name && k < s->o.nseeds; k++)
+		if (c->seed_name == s->seed_name[k]) /* the search's own copy: one pointer a seed */
+			return k;
+	return -1;
+}
