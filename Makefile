@@ -530,9 +530,11 @@ results-search-env:
 #      half, set beside 3's (vs_double.csv) (results/search/T_half).
 # A member of a --start-front is named as the run's own (search_T_K).
 # env_f0 and env_mix are one target and objective (env as one form in f0,
-# rmse; env_mix up to cost 15, seeded with mix(B, S, f0) compositions): each
-# merge takes the other's fronts as well. 3 and 4 add a few seconds of fits
-# each; most of their time is the GPU counts of the rows.
+# rmse; env_mix up to cost 15, seeded with mix(B, S, f0) compositions): the
+# env_mix merges take env_f0's runs too, and the env_f0 merges the env_mix
+# fronts, so that at every cost <= 15 the two fronts are one (tests/cli_half.sh
+# checks the committed ones). 3 and 4 add a few seconds of fits each; most of
+# their time is the GPU counts of the rows.
 MERGE_EVALS = --enum-size 0 --evals 1
 # --env-form mix runs its two halves' searches first: at least 2048 fits
 MERGE_EVALS_MIX = --enum-size 0 --evals 2048
@@ -566,25 +568,32 @@ DOUBLE_env_mix = $(MERGE_EVALS_MIX)
 DOUBLE_ms = $(MERGE_EVALS)
 DOUBLE_sheen = $(MERGE_EVALS)
 MERGE_HALF_env_mix = $(MERGE_EVALS_MIX)
-# the other target of the same question, whose fronts a merge also takes
-SIBLING_env_f0 = env_mix
-SIBLING_env_mix = env_f0
+# what a target's merges also take (EXTRA_*: the double front, step 3;
+# EXTRA_HALF_*: the half front, step 4), and the rules that write those files
+EXTRA_DEPS_env_mix = results-first-env_f0_half
+EXTRA_STARTS_env_mix = build/evolved/env_f0/front.csv build/half/env_f0/front.csv
+EXTRA_HALF_STARTS_env_mix = build/half/env_f0/front.csv
+EXTRA_DEPS_env_f0 = results-search-env_mix
+EXTRA_STARTS_env_f0 = results/search/env_mix/front.csv
+EXTRA_HALF_DEPS_env_f0 = results-search-env_mix_half
+EXTRA_HALF_STARTS_env_f0 = results/search/env_mix_half/front.csv
 HALF_TARGETS = vf2d f_glass f_gold env_f0 env_mix ms sheen
 define front_steps
 .PHONY: results-first-$(1) results-first-$(1)_half
 results-first-$(1):
+	@mkdir -p build/evolved
 	$$(TOOL) search $$(T_$(1)) $$(FIRST_$(1)) --quiet --out build/evolved/$(1) >/dev/null
 results-first-$(1)_half: results-first-$(1)
+	@mkdir -p build/half
 	$$(TOOL) search $$(T_$(1)) $$(HALF_$(1)) $$(HALF_OPTS) --start-front build/evolved/$(1)/front.csv --quiet \
 	  --out build/half/$(1) >/dev/null
-results-search-$(1): results-first-$(1)_half $(if $(SIBLING_$(1)),results-first-$(SIBLING_$(1))_half)
+results-search-$(1): results-first-$(1)_half $$(EXTRA_DEPS_$(1))
 	$$(TOOL) search $$(T_$(1)) $$(DOUBLE_$(1)) --start-front build/evolved/$(1)/front.csv \
-	  --start-front build/half/$(1)/front.csv \
-	  $(if $(SIBLING_$(1)),--start-front build/evolved/$(SIBLING_$(1))/front.csv --start-front build/half/$(SIBLING_$(1))/front.csv) \
+	  --start-front build/half/$(1)/front.csv $$(addprefix --start-front ,$$(EXTRA_STARTS_$(1))) \
 	  --gpu $$(GPU_CHIPS) --out results/search/$(1) --link-prefix search/$(1)/
-results-search-$(1)_half: results-search-$(1)
+results-search-$(1)_half: results-search-$(1) $$(EXTRA_HALF_DEPS_$(1))
 	$$(TOOL) search $$(T_$(1)) $$(or $$(MERGE_HALF_$(1)),$$(MERGE_EVALS)) $$(HALF_OPTS) \
-	  --start-front build/half/$(1)/front.csv $(if $(SIBLING_$(1)),--start-front build/half/$(SIBLING_$(1))/front.csv) \
+	  --start-front build/half/$(1)/front.csv $$(addprefix --start-front ,$$(EXTRA_HALF_STARTS_$(1))) \
 	  --start-front results/search/$(1)/front.csv --vs-front results/search/$(1)/front.csv \
 	  --gpu $$(GPU_CHIPS) --out results/search/$(1)_half --link-prefix search/$(1)_half/
 endef

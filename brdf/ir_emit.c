@@ -607,16 +607,7 @@ char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int 
 		free(code[1]);
 		return NULL;
 	}
-	/* the scalar type bk_form_emit_styled wrote: NAME_A's signature line
-	 * opens with it (C: float) */
-	char type[32] = "float";
-	const char *sig = strstr(code[0], " */\n");
-	if (sig && lang != BK_LANG_C) {
-		sig += 4;
-		const char *at = strstr(sig, part[0]);
-		if (at && at > sig && (size_t)(at - sig) <= sizeof type)
-			snprintf(type, sizeof type, "%.*s", (int)(at - sig - 1), sig);
-	}
+	const char *type = type_name[lang][half]; /* the scalar type NAME_A and NAME_B take (half checked there) */
 	text t = {malloc(1024), 0, 1024, 0};
 	t.failed = !t.s;
 	char ret[32], ctor[32];

@@ -447,7 +447,7 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int li, bk_math
 		rc = cli_fail("codegen", "out of memory"); /* the reader parsed both */
 	for (int k = 0; k < 2 && !rc; k++)
 		rc = form_check_finite("codegen", cmd->pos[0], f[k], m.p);
-	for (int k = 0; k < 2 && !rc; k++)
+	for (int k = 0; k < 2 && !rc && !math; k++) /* as one form: a formula has no precision */
 		form_warn_precision("codegen", cmd->pos[0], f[k], m.p, half ? BK_F16 : BK_F32);
 	if (!fname && m.fname[0] && identifier(m.fname) && !bk_lang_reserved(L, m.fname))
 		fname = m.fname;
