@@ -5,6 +5,7 @@
 #include "frontcsv.h"
 
 #include "csvtab.h"
+#include "params.h"
 
 #include <ctype.h>
 #include <math.h>
@@ -15,35 +16,13 @@
 enum { C_NAME, C_FORM, C_FORM_B, C_PARAMS, C_COST, C_ERROR, C_N };
 static const char *const col_name[C_N + 1] = {"name", "form", "form_b", "parameters", "cost", "error", NULL};
 
-/* A whole field as a finite decimal number (csvtab.h); -1 when it is not one. */
-static int number(const char *t, double *v) { return bk_csvtab_number(t, v); }
-
-/* "p0=0.1;p1=2" into row->p; a message, or NULL. */
-static const char *params(const char *text, bk_frontcsv_row *w, int *given)
+int bk_frontcsv_score(const bk_csvtab *t, int i, int k, const char *name, double *v, char *err, size_t errlen)
 {
-	for (const char *t = text; *t;) {
-		char *end;
-		long i;
-		if (*t == ';')
-			return "parameters: an empty item";
-		if (*t != 'p' || t[1] < '0' || t[1] > '9' || (i = strtol(t + 1, &end, 10)) < 0 || i >= BK_MAX_PARAMS ||
-		    *end != '=')
-			return "parameters: expected p0=X;p1=Y;... (p0 to p15)";
-		if (given[i])
-			return "parameters: one given twice";
-		const char *v = end + 1;
-		size_t n = strcspn(v, ";");
-		char num[64];
-		double x;
-		if (n >= sizeof num || (memcpy(num, v, n), num[n] = '\0', bk_csvtab_number(num, &x)))
-			return "parameters: a value is not a finite decimal number";
-		w->p[i] = x;
-		given[i] = 1;
-		if (v[n] == ';' && !v[n + 1])
-			return "parameters: an empty item";
-		t = v[n] ? v + n + 1 : v + n;
-	}
-	return NULL;
+	const char *s = bk_csvtab_get(t, i, k);
+	if (!bk_csvtab_number(s, v) && *v >= 0) /* decimal only: no hex, no space (csvtab.h) */
+		return 0;
+	return bk_csvtab_err(err, errlen, t->path, t->line[i], "%s: expected a finite number >= 0, got '%.40s'",
+	                     name, s);
 }
 
 /* One form text through the parser: its parameter count (*used: or-ed
@@ -90,22 +69,31 @@ static int data_row(const bk_csvtab *t, int i, unsigned need, bk_frontcsv_row *w
 				return bk_csvtab_err(err, errlen, t->path, line, "the form uses p%d but not p%d: number the "
 				                     "parameters from p0, without a gap", w->np - 1, j);
 		int given[BK_MAX_PARAMS] = {0};
-		const char *msg = params(pt, w, given);
-		if (msg)
-			return bk_csvtab_err(err, errlen, t->path, line, "%s, got '%.60s'", msg, pt);
+		char msg[600];
+		if (bk_params_list(pt, w->p, given, msg, sizeof msg)) /* the one reader (params.h) */
+			return bk_csvtab_err(err, errlen, t->path, line, "%s", msg);
 		for (int j = 0; j < w->np; j++)
 			if (!given[j])
 				return bk_csvtab_err(err, errlen, t->path, line,
 				                     "parameters: the form uses p%d and gives no value for it", j);
 	}
 	if (need & BK_FRONTCSV_SCORES) {
-		const char *c = bk_csvtab_get(t, i, C_COST), *e = bk_csvtab_get(t, i, C_ERROR);
-		if (number(c, &w->cost) || w->cost < 0)
-			return bk_csvtab_err(err, errlen, t->path, line, "cost: expected a finite number >= 0, got '%.40s'", c);
-		if (number(e, &w->error) || w->error < 0)
-			return bk_csvtab_err(err, errlen, t->path, line, "error: expected a finite number >= 0, got '%.40s'", e);
+		if (bk_frontcsv_score(t, i, C_COST, col_name[C_COST], &w->cost, err, errlen) ||
+		    bk_frontcsv_score(t, i, C_ERROR, col_name[C_ERROR], &w->error, err, errlen))
+			return -1;
 	}
 	return 0;
+}
+
+void bk_frontcsv_dir(const char *path, int dir_only, char *out, size_t len)
+{
+	const char *slash = strrchr(path, '/'), *start = slash;
+	while (start && start > path && start[-1] != '/')
+		start--;
+	if (slash && start && slash > start)
+		snprintf(out, len, "%.*s", (int)(slash - start), start);
+	else
+		snprintf(out, len, "%s", dir_only ? "" : path);
 }
 
 void bk_frontcsv_free(bk_frontcsv *fc)
@@ -122,7 +110,8 @@ void bk_frontcsv_free(bk_frontcsv *fc)
 
 /* ---- the '#' lines: what the file states it is ----------------------------- */
 
-void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line)
+/* One '#' line (without its line break) into h. */
+static void head_line(bk_frontcsv_head *h, const char *line)
 {
 	static const char by[] = "# brdfkit ", target[] = "# target: ", cost[] = "# cost: ";
 	const char *s;
@@ -143,10 +132,30 @@ void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line)
 	}
 }
 
+typedef struct head_ctx {
+	bk_frontcsv_head *head;
+	void (*more)(void *ctx, const char *line);
+	void *ctx;
+} head_ctx;
+
 static void head_comment(void *ctx, int line, const char *text)
 {
+	head_ctx *h = ctx;
 	(void)line;
-	bk_frontcsv_head_line(ctx, text);
+	head_line(h->head, text);
+	if (h->more)
+		h->more(h->ctx, text);
+}
+
+int bk_frontcsv_table(const char *path, const char *const *cols, unsigned optional, const char *hint,
+                      void (*more)(void *ctx, const char *line), void *ctx, bk_frontcsv_head *head, bk_csvtab *t,
+                      char *err, size_t errlen)
+{
+	memset(head, 0, sizeof *head);
+	head_ctx h = {head, more, ctx};
+	bk_csvtab_spec spec = {.cols = cols, .optional = optional, .hint = hint, .max_rows = BK_FRONTCSV_MAX_ROWS,
+	                       .comment = head_comment, .ctx = &h};
+	return bk_csvtab_read(path, &spec, t, err, errlen);
 }
 
 /* The target's name: its description up to the first ':'. */
@@ -229,11 +238,9 @@ int bk_frontcsv_read(const char *path, unsigned need, bk_frontcsv *fc, char *err
 	*err = '\0';
 	unsigned forms = need & BK_FRONTCSV_FORMS ? 0 : 1u << C_FORM | 1u << C_FORM_B | 1u << C_PARAMS;
 	unsigned scores = need & BK_FRONTCSV_SCORES ? 0 : 1u << C_COST | 1u << C_ERROR;
-	bk_csvtab_spec spec = {.cols = col_name, .optional = 1u << C_NAME | forms | scores,
-	                       .hint = "not a front.csv of brdfkit search", .max_rows = BK_FRONTCSV_MAX_ROWS,
-	                       .comment = head_comment, .ctx = &fc->head};
 	bk_csvtab t;
-	if (bk_csvtab_read(path, &spec, &t, err, errlen))
+	if (bk_frontcsv_table(path, col_name, 1u << C_NAME | forms | scores, "not a front.csv of brdfkit search", NULL,
+	                      NULL, &fc->head, &t, err, errlen))
 		return -1;
 	int rc = 0;
 	if (t.n && !(fc->row = calloc((size_t)t.n, sizeof *fc->row)))

@@ -8,13 +8,14 @@
  *
  * Columns read: name (optional; "row LINE" when absent), and what `need`
  * asks for: BK_FRONTCSV_FORMS form, form_b (empty: one form), parameters
- * ("p0=X;p1=Y", every p the forms use given, each once, finite);
+ * ("p0=X;p1=Y", params.h: every p the forms use given, each once, finite);
  * BK_FRONTCSV_SCORES cost and error (finite, >= 0).
  */
 #ifndef ANALYSIS_FRONTCSV_H
 #define ANALYSIS_FRONTCSV_H
 
 #include "brdf.h"
+#include "csvtab.h"
 
 #include <stddef.h>
 
@@ -54,9 +55,26 @@ typedef struct bk_frontcsv {
 int bk_frontcsv_read(const char *path, unsigned need, bk_frontcsv *fc, char *err, size_t errlen);
 void bk_frontcsv_free(bk_frontcsv *fc);
 
-/* One '#' line (without its line break) into h; a csvtab comment
- * callback's work, for readers with their own (summary.c). */
-void bk_frontcsv_head_line(bk_frontcsv_head *h, const char *line);
+/* The folder that holds path, which names its members where several fronts
+ * meet (two searches both have a search_env_10): "results/search/env/
+ * front.csv" gives "env"; a path without a folder gives "" (dir_only) or
+ * path itself. Cut to fit len. */
+void bk_frontcsv_dir(const char *path, int dir_only, char *out, size_t len);
+
+/* The one reader of brdfkit's result CSVs, for bk_frontcsv_read and the
+ * page's summary (summary.c: front.csv, catalog.csv, compare.csv): path
+ * read by column name (csvtab.h: cols, optional, hint as in
+ * bk_csvtab_spec; at most BK_FRONTCSV_MAX_ROWS rows), its '#' lines before
+ * the header into head and, each, to more(ctx, LINE) when more is not
+ * NULL. 0; or -1 / -2 with err as bk_csvtab_read (t then empty). */
+int bk_frontcsv_table(const char *path, const char *const *cols, unsigned optional, const char *hint,
+                      void (*more)(void *ctx, const char *line), void *ctx, bk_frontcsv_head *head, bk_csvtab *t,
+                      char *err, size_t errlen);
+
+/* Row i's column k of t (named name, for the message) as a cost or an
+ * error: a finite decimal number >= 0 (bk_csvtab_number). 0, or -1 with
+ * err "PATH:LINE: NAME: expected a finite number >= 0, got 'X'". */
+int bk_frontcsv_score(const bk_csvtab *t, int i, int k, const char *name, double *v, char *err, size_t errlen);
 
 /* The file at path is refused unless h states a file of brdfkit search of
  * kind (BK_FRONTCSV_FRONT or _CATALOG) of the target described by target

@@ -18,11 +18,11 @@
  * NoV warped; the texels are then baked at that layout's centres.
  */
 #include "compare.h"
+#include "pool.h"
 
 #include <math.h>
 #include <pthread.h>
 #include <stdlib.h>
-#include <unistd.h>
 
 /* Sub-texel precision of the bilinear weights. GPUs do not filter with the
  * float coordinate: they convert it to fixed point first. Direct3D 11 requires
@@ -67,53 +67,32 @@ static int same_layout(const bk_lut_layout *a, const bk_lut_layout *b)
 	return a->nu == b->nu && a->nr == b->nr && a->r_lo == b->r_lo && a->r_hi == b->r_hi && a->warp == b->warp;
 }
 
-/* The bake on up to BAKE_THREADS threads, rows interleaved: each texel is
- * one bk_dfg call whatever thread makes it, so the table is the same bytes
- * for any thread count. */
+/* The bake on up to BAKE_THREADS threads (pool.h), a row a job: each texel
+ * is one bk_dfg call whatever thread makes it, so the table is the same
+ * bytes for any thread count. */
 #define BAKE_THREADS 8
 typedef struct bake {
 	const bk_lut_layout *L;
 	bk_smith smith;
 	double *A, *B;
-	int first, step, rc;
 } bake;
 
-static void *bake_rows(void *arg)
+static int bake_row(void *ctx, int j)
 {
-	bake *b = arg;
-	for (int j = b->first; j < b->L->nr && !b->rc; j += b->step) {
-		double r = bk_lut_texel_r(b->L, j);
-		for (int i = 0; i < b->L->nu && !b->rc; i++) {
-			size_t k = (size_t)j * (size_t)b->L->nu + (size_t)i;
-			b->rc = bk_dfg(bk_lut_texel_nov(b->L, i), r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL);
-		}
+	const bake *b = ctx;
+	double r = bk_lut_texel_r(b->L, j);
+	for (int i = 0; i < b->L->nu; i++) {
+		size_t k = (size_t)j * (size_t)b->L->nu + (size_t)i;
+		if (bk_dfg(bk_lut_texel_nov(b->L, i), r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL))
+			return -1;
 	}
-	return NULL;
+	return 0;
 }
 
 static int bake_table(const bk_lut_layout *L, bk_smith smith, double *A, double *B)
 {
-	long cores = sysconf(_SC_NPROCESSORS_ONLN);
-	int nt = cores < 1 ? 1 : cores > BAKE_THREADS ? BAKE_THREADS : (int)cores;
-	if (nt > L->nr)
-		nt = L->nr;
-	bake b[BAKE_THREADS];
-	pthread_t th[BAKE_THREADS];
-	int started[BAKE_THREADS] = {0}, rc = 0;
-	for (int t = 0; t < nt; t++) {
-		b[t] = (bake){L, smith, A, B, t, nt, 0};
-		started[t] = t > 0 && pthread_create(&th[t], NULL, bake_rows, &b[t]) == 0;
-	}
-	bake_rows(&b[0]);
-	for (int t = 1; t < nt; t++) {
-		if (started[t])
-			pthread_join(th[t], NULL);
-		else /* no thread: its rows here */
-			bake_rows(&b[t]);
-	}
-	for (int t = 0; t < nt; t++)
-		rc |= b[t].rc;
-	return rc ? -1 : 0;
+	bake b = {L, smith, A, B};
+	return bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b);
 }
 
 /* The table of (L, smith), NULL if it could not be baked; *own: the table

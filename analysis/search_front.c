@@ -8,6 +8,7 @@
 #include "catalog.h"
 #include "lutrows.h"
 #include "out.h"
+#include "pool.h"
 #include "search/constraint.h"
 #include "search/pair.h"
 #include "search/pareto.h"
@@ -16,7 +17,6 @@
 #include "stability.h"
 
 #include <math.h>
-#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -336,12 +336,10 @@ static int add_luts(bk_sfront *F)
 	return 0;
 }
 
-/* The members are scored by the search's threads (each member whole by one
- * thread: score_member reads the samples and writes its member alone, so
- * the rows are the same bits for any count), taken in order; progress per
- * phase as members end. */
-#define SCORE_THREADS_MAX 64
-
+/* The members are scored by the search's threads (pool.h: each member
+ * whole by one thread; score_member reads the samples and writes its member
+ * alone, so the rows are the same bits for any count), taken in order;
+ * progress per phase as members end. */
 typedef struct score_job {
 	int m;           /* member index */
 	int fit;         /* refit (0: a catalog row at its published constants) */
@@ -349,53 +347,36 @@ typedef struct score_job {
 	int front;       /* counted in "refit of the front", else in "catalog" */
 } score_job;
 
-typedef struct score_pool {
+typedef struct score_run {
 	const bk_sfront *F;
 	score_job *job;
-	int njobs, next, failed;
-	int done[2], total[2];
-	pthread_mutex_t mu;
-} score_pool;
+	int done[2], total[2]; /* under the pool's lock (score_after) */
+} score_run;
 
-static void *score_worker(void *arg)
+static int score_one(void *ctx, int k)
 {
-	score_pool *P = arg;
+	score_run *R = ctx;
+	score_job *j = &R->job[k];
+	int rc = score_member(R->F, &R->F->m[j->m], j->start, j->fit);
+	if (!rc && j->front)
+		rc = prune_member(R->F, &R->F->m[j->m]);
+	return rc;
+}
+
+static void score_after(void *ctx, int k, int rc)
+{
 	static const char *const label[2] = {"catalog", "refit of the front"};
-	for (;;) {
-		pthread_mutex_lock(&P->mu);
-		int k = P->failed ? P->njobs : P->next++;
-		pthread_mutex_unlock(&P->mu);
-		if (k >= P->njobs)
-			return NULL;
-		score_job *j = &P->job[k];
-		int rc = score_member(P->F, &P->F->m[j->m], j->start, j->fit);
-		if (!rc && j->front)
-			rc = prune_member(P->F, &P->F->m[j->m]);
-		pthread_mutex_lock(&P->mu);
-		P->failed |= rc != 0;
-		int d = ++P->done[j->front];
-		if (P->F->progress)
-			P->F->progress((void *)label[j->front], d, P->total[j->front]);
-		pthread_mutex_unlock(&P->mu);
-	}
+	score_run *R = ctx;
+	int front = R->job[k].front, d = ++R->done[front];
+	(void)rc;
+	if (R->F->progress)
+		R->F->progress((void *)label[front], d, R->total[front]);
 }
 
 static int score_all(const bk_sfront *F, score_job *job, int njobs, int nfront)
 {
-	score_pool P = {F, job, njobs, 0, 0, {0, 0}, {njobs - nfront, nfront}, PTHREAD_MUTEX_INITIALIZER};
-	int nt = F->so->threads < 1 ? 1 : F->so->threads > SCORE_THREADS_MAX ? SCORE_THREADS_MAX : F->so->threads;
-	if (nt > njobs)
-		nt = njobs;
-	pthread_t th[SCORE_THREADS_MAX];
-	int started = 0;
-	for (; nt > 1 && started < nt; started++)
-		if (pthread_create(&th[started], NULL, score_worker, &P))
-			break;
-	if (!started) /* one thread, or none could start: this one scores them */
-		score_worker(&P);
-	for (int t = 0; t < started; t++)
-		pthread_join(th[t], NULL);
-	return P.failed ? -1 : 0;
+	score_run R = {F, job, {0, 0}, {njobs - nfront, nfront}};
+	return bk_pool_run(njobs, F->so->threads, score_one, score_after, &R);
 }
 
 /* qsort's order of search members: cost, then error, then name (unique),

@@ -15,7 +15,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
-/* ---- a CSV read by column name (csvtab.h), with what its '#' lines state ----------- */
+/* ---- a CSV read by column name (frontcsv.h's reader), with what its '#' lines state ---- */
 
 typedef struct table {
 	bk_csvtab t;
@@ -38,11 +38,10 @@ static int plain_words(const char *s, size_t n, const char *extra)
 	return 1;
 }
 
-static void objective_line(void *ctx, int lineno, const char *line)
+/* the '#' lines frontcsv.h's head does not keep */
+static void objective_line(void *ctx, const char *line)
 {
-	(void)lineno;
 	table *t = ctx;
-	bk_frontcsv_head_line(&t->head, line);
 	static const char cost[] = "# cost: ", cert[] = "# certificate: ", upto[] = "every unique form of the grammar up to ";
 	if (!strncmp(line, cert, sizeof cert - 1) && t->complete < 0) {
 		const char *c = line + sizeof cert - 1;
@@ -78,7 +77,7 @@ static void table_free(table *t)
 	free(t);
 }
 
-/* path read whole (at most BK_CSVTAB_MAX_ROWS rows); NULL with err set
+/* path read whole (at most BK_FRONTCSV_MAX_ROWS rows); NULL with err set
  * (and nothing to free) on failure. */
 static table *table_read(const char *path, const char *const *want, char *err, size_t errlen)
 {
@@ -88,8 +87,7 @@ static table *table_read(const char *path, const char *const *want, char *err, s
 		return NULL;
 	}
 	*t = (table){.want = want, .complete = -1, .err = err, .errlen = errlen};
-	bk_csvtab_spec spec = {.cols = want, .comment = objective_line, .ctx = t};
-	if (bk_csvtab_read(path, &spec, &t->t, err, errlen)) {
+	if (bk_frontcsv_table(path, want, 0, NULL, objective_line, t, &t->head, &t->t, err, errlen)) {
 		free(t);
 		return NULL;
 	}
@@ -99,11 +97,7 @@ static table *table_read(const char *path, const char *const *want, char *err, s
 /* Cell (i, k) as a finite number >= 0; -1 with err set. */
 static int number(table *t, int i, int k, double *v)
 {
-	const char *s = bk_csvtab_get(&t->t, i, k);
-	if (!bk_csvtab_number(s, v) && *v >= 0) /* decimal only: no hex, no space (csvtab.h) */
-		return 0;
-	return bk_csvtab_err(t->err, t->errlen, t->t.path, t->t.line[i], "%s: expected a finite number >= 0, got '%.40s'",
-	                     t->want[k], s);
+	return bk_frontcsv_score(&t->t, i, k, t->want[k], v, t->err, t->errlen);
 }
 
 /* ---- the rules ------------------------------------------------------------------------ */

@@ -103,7 +103,7 @@ for v in 0x1p-30 ' 5' '5 ' 0x10 inf; do
 	refused 1 "summary error '$v'" "n$v/front.csv:$line: error: expected a finite number >= 0, got '$v'" $BK report --out pn.html --summary "n$v" fA/section.html
 	refused 1 "--vs-front error '$v'" "n$v/front.csv:$line: error: expected a finite number >= 0, got '$v'" $H --vs-front "n$v/front.csv" --out hn
 	csv_set fA/front.csv parameters name search_f_1 "p0=$v" >"nseed.csv" || bad "csv_set p0"
-	refused 1 "--start-front p0 '$v'" "nseed.csv:$line: parameters: a value is not a finite decimal number, got 'p0=$v'" $H --start-front nseed.csv --out hn
+	refused 1 "--start-front p0 '$v'" "nseed.csv:$line: parameters: p0: expected a finite number, got '$v' (item 1)" $H --start-front nseed.csv --out hn
 done
 cp -r fA n_ok && csv_set fA/front.csv error name search_f_1 0.5e-1 >n_ok/front.csv
 runs "summary error 0.5e-1" $BK report --out pn.html --summary n_ok fA/section.html

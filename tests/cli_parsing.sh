@@ -183,7 +183,7 @@ printf 'name,form,form_b,parameters,cost,error\nx,p3*LoH,,p3=1,1,0.1\n' >front_g
 expect_rc "search --start-front p3 alone" 1 "front_gap.csv:2: the form uses p3 but not p0" \
 	"$BK" search --target f --start-front front_gap.csv --evals 300 --threads 1 --out so
 printf 'name,form,form_b,parameters,cost,error\nx,p0*LoH,,p0=1;,1,0.1\n' >front_empty.csv
-expect_rc "search --start-front empty item" 1 "front_empty.csv:2: parameters: an empty item" \
+expect_rc "search --start-front empty item" 1 "front_empty.csv:2: parameters: empty item in the list 'p0=1;' (item 2)" \
 	"$BK" search --target f --start-front front_empty.csv --evals 300 --threads 1 --out so
 expect_usage "search --start p15 alone" "--start 'p15*LoH' uses p15 but not p0: number the parameters from p0" \
 	"$BK" search --target f --start 'p15*LoH' --evals 300 --threads 1 --out so

@@ -99,7 +99,7 @@ expect_error "calibrate: a missing front" 1 "NoV: cannot be read (No such file" 
 printf '# a comment\nname,formula\nx,LoH\n' >"$T/notfront.csv"
 expect_error "calibrate: not a front" 1 "no column 'form'" $BK gpucost --calibrate "$T/notfront.csv"
 printf 'name,form,form_b,parameters\nx,LoH*p0,,p0=oops\n' >"$T/badparam.csv"
-expect_error "calibrate: bad parameters" 1 "badparam.csv:2: parameters: a value is not a finite decimal number, got 'p0=oops'" $BK gpucost --calibrate "$T/badparam.csv"
+expect_error "calibrate: bad parameters" 1 "badparam.csv:2: parameters: p0: expected a finite number, got 'oops' (item 1)" $BK gpucost --calibrate "$T/badparam.csv"
 
 # the named cost models are what the calibration over the catalog and make
 # results' fronts gives today: rerun it per chip and read the weights back

@@ -177,7 +177,7 @@ static void expect_bad(const char *text, unsigned need, const char *where, const
 {
 	const char *p = planted(text);
 	bk_frontcsv fc;
-	char err[700], want[128];
+	char err[700], want[256];
 	cr_expect_eq(bk_frontcsv_read(p, need, &fc, err, sizeof err), -1, "%s: accepted", what);
 	snprintf(want, sizeof want, "%s%s", p, where);
 	cr_expect(!strncmp(err, want, strlen(want)), "%s: '%s' does not start with '%s'", what, err, want);
@@ -192,8 +192,8 @@ Test(frontcsv, bad_files_name_file_and_line)
 	expect_bad("name,form,form_b,parameters\nx,LoH,,\ny,LoH * (p0,,p0=1\n", F, ":3: form: column", "bad form");
 	expect_bad("name,form,form_b,parameters\nx,LoH,,\ny,LoH,r +,\n", F, ":3: form_b: column", "bad form_b");
 	expect_bad("name,form,form_b,parameters\nx,p0 * p1,,p0=1\n", F, ":2: parameters: the form uses p1", "missing p1");
-	expect_bad("name,form,form_b,parameters\nx,p0,,p0=1;p0=2\n", F, ":2: parameters: one given twice", "p0 twice");
-	expect_bad("name,form,form_b,parameters\nx,p0,,p0=nan\n", F, ":2: parameters: a value", "nan");
+	expect_bad("name,form,form_b,parameters\nx,p0,,p0=1;p0=2\n", F, ":2: parameters: p0 given twice in the list 'p0=1;p0=2' (item 2)", "p0 twice");
+	expect_bad("name,form,form_b,parameters\nx,p0,,p0=nan\n", F, ":2: parameters: p0: expected a finite number, got 'nan' (item 1)", "nan");
 	expect_bad("name,cost,error\nx,3,\n", S, ":2: error:", "empty error");
 	expect_bad("name,cost,error\nx,-1,0.1\n", S, ":2: cost:", "negative cost");
 	expect_bad("name,form,form_b,parameters\nx,LoH\n", F, ":2: 2 fields", "short row");
@@ -202,4 +202,22 @@ Test(frontcsv, bad_files_name_file_and_line)
 	char err[700];
 	cr_expect_eq(bk_frontcsv_read("/nonexistent/front.csv", F, &fc, err, sizeof err), -1);
 	cr_expect(!strncmp(err, "/nonexistent/front.csv: cannot be read", 38), "%s", err);
+}
+
+Test(frontcsv, dir_is_the_folder_that_holds_the_file)
+{
+	char d[64];
+	bk_frontcsv_dir("results/search/env/front.csv", 0, d, sizeof d);
+	cr_assert_str_eq(d, "env");
+	bk_frontcsv_dir("/tmp/x/front.csv", 1, d, sizeof d);
+	cr_assert_str_eq(d, "x");
+	bk_frontcsv_dir("front.csv", 1, d, sizeof d); /* no folder: "" or the path */
+	cr_assert_str_eq(d, "");
+	bk_frontcsv_dir("front.csv", 0, d, sizeof d);
+	cr_assert_str_eq(d, "front.csv");
+	bk_frontcsv_dir("/front.csv", 1, d, sizeof d); /* the root has no name */
+	cr_assert_str_eq(d, "");
+	char d4[4]; /* cut to fit */
+	bk_frontcsv_dir("a/search_env/front.csv", 1, d4, sizeof d4);
+	cr_assert_str_eq(d4, "sea");
 }

@@ -13,6 +13,7 @@
 #include "tabtarget.h"
 #include "form_check.h"
 #include "member.h"
+#include "params.h"
 #include "heatmap.h"
 
 #include <ctype.h>
@@ -45,12 +46,11 @@ void fit_say_size(const bk_target_options *to)
 	cli_estimate(what, n * 15e-6, n * 168, "168 bytes and 15 us a sample, measured");
 }
 
-/* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1. */
+/* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1 (the one
+ * spelling, params.h). */
 static int param_index(const char *t)
 {
-	char *end;
-	long j = t[0] == 'p' && t[1] >= '0' && t[1] <= '9' ? strtol(t + 1, &end, 10) : -1;
-	return j >= 0 && j < BK_MAX_PARAMS && !*end ? (int)j : -1;
+	return bk_params_index(t, strlen(t));
 }
 
 /* --bound p0=lo:hi[,p1=lo:hi...]; a parameter bounded twice is refused, as
@@ -339,16 +339,11 @@ static int setup_spec(run *R, char **pos, int npos)
 	}
 	int given[BK_MAX_PARAMS] = {0};
 	for (int i = 0; i < npos; i++) { /* p0=VALUE starts */
-		int j;
-		double v;
-		int rc = form_param(pos[i], &j, &v);
+		int rc = form_param_set(NULL, pos[i], sp->start, given, NULL);
 		if (rc == 0)
 			return cli_bad("expected pN=VALUE (a starting value), got '%s'", pos[i]);
 		if (rc != 1)
 			return 2;
-		if (given[j]++)
-			return cli_bad("p%d given twice ('%s')", j, pos[i]);
-		sp->start[j] = v;
 	}
 	unsigned used = bk_form_params(R->fs.f[0]) | (R->fs.split ? bk_form_params(R->fs.f[1]) : 0);
 	for (int j = 0; j < sp->np; j++) /* numbered from p0, as every command takes them (form_check.h) */

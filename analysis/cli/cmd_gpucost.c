@@ -41,12 +41,9 @@ static int param_arg(const char *arg, gc_row *last)
 	if (!last || !last->typed) {
 		return cli_bad("'%.100s' must follow a typed form (catalog entries use their published constants)", arg);
 	}
-	if (last->given[i]) {
-		return cli_bad("p%d given twice for %s", i, last->name);
-	}
-	last->params[i] = v;
-	last->have[i] = last->given[i] = 1;
-	return 1;
+	if ((rc = form_param_set(last->name, arg, last->params, last->given, &i)) == 1)
+		last->have[i] = 1;
+	return rc;
 }
 
 /* NAME, NAME:A or NAME:B from the catalog, else the argument as formula
@@ -274,12 +271,8 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
  * forms, counted already); 0, or 1 after one line on stderr. */
 static int read_front(const char *path, gc_row **rows, int *n, int *cap)
 {
-	char dir[64] = "", err[700]; /* the front's folder names its rows: two searches both have a search_env_10 */
-	const char *slash = strrchr(path, '/'), *start = slash;
-	while (start && start > path && start[-1] != '/')
-		start--;
-	if (slash && start && slash > start)
-		snprintf(dir, sizeof dir, "%.*s", (int)(slash - start < 63 ? slash - start : 63), start);
+	char dir[64], err[700]; /* the front's folder names its rows: two searches both have a search_env_10 */
+	bk_frontcsv_dir(path, 1, dir, sizeof dir);
 	bk_frontcsv fc;
 	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, sizeof err))
 		return cli_fail("gpucost", "%s", err);

@@ -146,14 +146,11 @@ static int bind(const char *cmd, char **pos, int npos, form_arg *fa, double *inp
 	for (int i = 0; i < npos; i++) {
 		char name[32];
 		double v;
-		int k, rc = form_param(pos[i], &k, &v); /* pN=VALUE: every command's one reader */
+		int k, rc = form_param_set(NULL, pos[i], fa->params, given_p, &k); /* pN=VALUE: every command's one reader */
 		if (rc == 2)
 			return 2;
 		if (rc == 1) {
-			if (given_p[k]) /* a second value would silently replace the first */
-				return cli_bad("p%d given twice", k);
-			fa->params[k] = v;
-			fa->have[k] = given_p[k] = 1;
+			fa->have[k] = 1;
 			continue;
 		}
 		if (assignment(pos[i], name, sizeof name, &v))

@@ -14,6 +14,7 @@
 #include "gpucost.h"
 #include "out.h"
 #include "page.h"
+#include "pool.h"
 #include "scene.h"
 #include "scene_fit.h"
 #include "scene_write.h"
@@ -308,11 +309,11 @@ static void estimate(const scene_run *S, int n)
 		        WARN_S / 60);
 }
 
-/* The sets of every scene are chosen by a few threads, each set whole by
- * one (bk_scene_choose is thread-safe and a set's choices do not depend on
- * the others', so the results are the same bits for any count); the
- * SPIR-V counts after, in order (glslang). Progress per set, as each ends;
- * the error told is the first set's in order that failed. */
+/* The sets of every scene are chosen by a few threads (pool.h), each set
+ * whole by one (bk_scene_choose is thread-safe and a set's choices do not
+ * depend on the others', so the results are the same bits for any count);
+ * the SPIR-V counts after, in order (glslang). Progress per set, as each
+ * ends; the error told is the first set's in order that failed. */
 #define SCENE_THREADS_MAX 8
 
 typedef struct spec_job {
@@ -321,12 +322,11 @@ typedef struct spec_job {
 	char err[512]; /* empty: chosen */
 } spec_job;
 
-typedef struct spec_pool {
+typedef struct spec_run {
 	spec_job *job;
-	int njobs, next, done, total, failed;
+	int done, total; /* under the pool's lock (spec_after) */
 	double t0;
-	pthread_mutex_t mu; /* next, done, failed, the progress lines */
-} spec_pool;
+} spec_run;
 
 static pthread_mutex_t progress_mu = PTHREAD_MUTEX_INITIALIZER;
 
@@ -338,8 +338,9 @@ static void locked_progress(void *label, int done, int total)
 	pthread_mutex_unlock(&progress_mu);
 }
 
-static void choose_set(spec_pool *P, spec_job *j)
+static int choose_set(void *ctx, int k)
 {
+	spec_job *j = &((spec_run *)ctx)->job[k];
 	scene_run *S = j->S;
 	bk_scene_result *r = &S->R[j->i];
 	r->set = S->sets[j->i];
@@ -356,12 +357,21 @@ static void choose_set(spec_pool *P, spec_job *j)
 		snprintf(label, sizeof label, "scene: %s: %s: %s", S->stem, r->set.name, bk_scene_term_name(t));
 		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, label, err, sizeof err)) {
 			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
-			return;
+			return 1;
 		}
 		r->cost += r->ch[t].cost;
 		r->gen_cost += r->gen[t].cost;
 	}
-	pthread_mutex_lock(&P->mu);
+	return 0;
+}
+
+static void spec_after(void *ctx, int k, int rc)
+{
+	spec_run *P = ctx;
+	const scene_run *S = P->job[k].S;
+	const bk_scene_result *r = &S->R[P->job[k].i];
+	if (rc)
+		return;
 	P->done += r->set.needs.vf + r->set.needs.env;
 	double spent = bk_clock_now() - P->t0;
 	char left[48] = "";
@@ -370,25 +380,6 @@ static void choose_set(spec_pool *P, spec_job *j)
 	pthread_mutex_lock(&progress_mu);
 	cli_note("%s: %s done (%d of %d terms fitted, %.0f s%s)", S->stem, r->set.name, P->done, P->total, spent, left);
 	pthread_mutex_unlock(&progress_mu);
-	pthread_mutex_unlock(&P->mu);
-}
-
-static void *spec_worker(void *arg)
-{
-	spec_pool *P = arg;
-	for (;;) {
-		pthread_mutex_lock(&P->mu);
-		int k = P->failed ? P->njobs : P->next++;
-		pthread_mutex_unlock(&P->mu);
-		if (k >= P->njobs)
-			return NULL;
-		choose_set(P, &P->job[k]);
-		if (P->job[k].err[0]) {
-			pthread_mutex_lock(&P->mu);
-			P->failed = 1;
-			pthread_mutex_unlock(&P->mu);
-		}
-	}
 }
 
 /* Chooses every term of every set of the n scenes of S, with threads (the
@@ -396,33 +387,22 @@ static void *spec_worker(void *arg)
  * or 1. */
 static int specialise(scene_run *S, int n, int total, double t0)
 {
-	spec_pool P = {NULL, 0, 0, 0, total, 0, t0, PTHREAD_MUTEX_INITIALIZER};
+	spec_run P = {NULL, 0, total, t0};
+	int njobs = 0;
 	for (int k = 0; k < n; k++)
-		P.njobs += S[k].nset;
-	P.job = calloc((size_t)P.njobs + 1, sizeof *P.job);
+		njobs += S[k].nset;
+	P.job = calloc((size_t)njobs + 1, sizeof *P.job);
 	if (!P.job)
 		return cli_fail("scene", "out of memory");
 	for (int k = 0, q = 0; k < n; k++)
 		for (int i = 0; i < S[k].nset; i++, q++)
 			P.job[q] = (spec_job){&S[k], i, ""};
-	long cores = sysconf(_SC_NPROCESSORS_ONLN);
-	int nt = cores < 1 ? 1 : cores > SCENE_THREADS_MAX ? SCENE_THREADS_MAX : (int)cores;
-	if (nt > P.njobs)
-		nt = P.njobs;
-	pthread_t th[SCENE_THREADS_MAX];
-	int started = 0;
-	for (; nt > 1 && started < nt; started++)
-		if (pthread_create(&th[started], NULL, spec_worker, &P))
-			break;
-	if (!started) /* one thread, or none could start: this one does the work */
-		spec_worker(&P);
-	for (int t = 0; t < started; t++)
-		pthread_join(th[t], NULL);
+	bk_pool_run(njobs, bk_pool_cores(SCENE_THREADS_MAX), choose_set, spec_after, &P);
 	int rc = 0;
-	for (int q = 0; q < P.njobs && !rc; q++)
+	for (int q = 0; q < njobs && !rc; q++)
 		if (P.job[q].err[0])
 			rc = cli_fail("scene", "%s", P.job[q].err);
-	for (int q = 0; q < P.njobs && !rc; q++) {
+	for (int q = 0; q < njobs && !rc; q++) {
 		bk_scene_result *r = &P.job[q].S->R[P.job[q].i];
 		for (int t = 0; t < BK_SCENE_TERMS; t++)
 			if (r->has[t]) {

@@ -113,11 +113,12 @@ static int resolve(const char *arg, item *it)
 	return it->text ? 0 : -1;
 }
 
-/* pN=VALUE: a parameter value for every form given (a catalog entry's
- * published value is overridden). Returns 0 or 2 (usage error). */
-static int assignment(const cli_cmd *cmd, const char *arg, int *j, double *v)
+/* pN=VALUE into values[] and given[]: a parameter value for every form
+ * given (a catalog entry's published value is overridden). Returns 0 or 2
+ * (usage error). */
+static int assignment(const cli_cmd *cmd, const char *arg, double *values, int *given)
 {
-	int rc = form_param(arg, j, v);
+	int rc = form_param_set(NULL, arg, values, given, NULL);
 	if (rc == 0)
 		return cli_usage(cmd, "expected pN=VALUE with N in 0..%d, got '%s'", BK_MAX_PARAMS - 1, arg);
 	return rc == 1 ? 0 : 2;
@@ -359,8 +360,6 @@ int cmd_stability(int argc, char **argv)
 	int given[BK_MAX_PARAMS] = {0}, nforms = 0;
 	char *forms[32];
 	for (int i = 0; i < cmd.npos; i++) { /* the IR has no '=': an argument with one is pN=VALUE */
-		int j = 0;
-		double v = 0;
 		if (!strchr(cmd.pos[i], '=')) { /* a form, a name, @FILE or - */
 			const char *text;
 			if (cli_form_arg(cmd.pos[i], &text))
@@ -368,12 +367,8 @@ int cmd_stability(int argc, char **argv)
 			forms[nforms++] = (char *)text;
 			continue;
 		}
-		if ((rc = assignment(&cmd, cmd.pos[i], &j, &v)))
+		if ((rc = assignment(&cmd, cmd.pos[i], values, given)))
 			return rc;
-		if (given[j])
-			return cli_usage(&cmd, "p%d given twice", j);
-		values[j] = v;
-		given[j] = 1;
 	}
 	if (!all && nforms == 0)
 		return cli_usage(&cmd, "give FORM|NAME|TERM or --all");

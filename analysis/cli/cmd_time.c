@@ -117,11 +117,9 @@ static int read_rows(char **pos, int npos, time_table *T)
 				return cli_bad("'%s' must follow a typed form (catalog entries use their published constants)",
 				               pos[i]);
 			}
-			if (T->given[last][k]) {
-				return cli_bad("p%d given twice for %s", k, T->rows[last].name);
-			}
-			T->rows[last].params[k] = v;
-			T->have[last][k] = T->given[last][k] = 1;
+			if (form_param_set(T->rows[last].name, pos[i], T->rows[last].params, T->given[last], &k) != 1)
+				return 2;
+			T->have[last][k] = 1;
 			continue;
 		}
 		int j = T->n++;

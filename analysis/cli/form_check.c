@@ -4,65 +4,40 @@
 #include "form_check.h"
 
 #include "cli.h"
+#include "params.h"
 
-#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 int form_param(const char *text, int *k, double *v)
 {
-	return form_param_in(NULL, text, k, v);
+	char err[300];
+	int rc = bk_params_word(text, k, v, err, sizeof err); /* the one reader (params.h) */
+	if (rc < 0)
+		return cli_bad("%s", err);
+	return rc;
 }
 
-int form_param_in(const char *where, const char *text, int *k, double *v)
+int form_param_set(const char *name, const char *text, double *params, int *given, int *k)
 {
-	const char *eq = strchr(text, '=');
-	if (text[0] != 'p' || !isdigit((unsigned char)text[1]) || !eq)
-		return 0;
-	size_t nd = strspn(text + 1, "0123456789");
-	if (text + 1 + nd != eq) /* "p1x=2": not a parameter's name */
-		return 0;
-	/* one spelling per parameter: "p01" would be a second name for p1 */
-	if ((text[1] == '0' && nd > 1) || nd > 2 || atoi(text + 1) >= BK_MAX_PARAMS)
-		return cli_bad("%s%sunknown parameter '%.*s' (p0..p%d)", where ? where : "", where ? ": " : "",
-		               (int)(nd < 20 ? nd + 1 : 20), text, BK_MAX_PARAMS - 1);
-	*k = atoi(text + 1);
-	if (cli_number(eq + 1, v)) /* the one number syntax of every command */
-		return cli_bad("%s%sp%d: expected a finite number, got '%.100s'", where ? where : "", where ? ": " : "", *k,
-		               eq + 1);
-	return 1;
+	char err[300];
+	int j = -1, rc = bk_params_set(text, params, given, &j, err, sizeof err);
+	if (rc < 0 && j >= 0 && given[j] && name) /* given twice: say for which form */
+		return cli_bad("p%d given twice for %s ('%.100s')", j, name, text);
+	if (rc < 0)
+		return cli_bad("%s", err);
+	if (rc == 1 && k)
+		*k = j;
+	return rc;
 }
 
 int form_param_list(const char *who, const char *text, double *params, int *given)
 {
-	for (const char *t = text;;) {
-		size_t n = strcspn(t, ";,");
-		char item[128];
-		if (n >= sizeof item) /* cut, it would be another number */
-			return cli_bad("%s: parameters: an item longer than %zu characters in '%.60s...'", who, sizeof item - 1, t);
-		snprintf(item, sizeof item, "%.*s", (int)n, t);
-		char *s = item + strspn(item, " ");
-		int k;
-		double v;
-		if (!*s)
-			return cli_bad("%s: parameters: empty item in the list '%.200s'", who, text);
-		char where[160];
-		snprintf(where, sizeof where, "%.100s: parameters", who);
-		int rc = form_param_in(where, s, &k, &v);
-		if (rc == 0)
-			return cli_bad("%s: parameters: expected pN=VALUE with N in 0..%d, got '%.60s'", who, BK_MAX_PARAMS - 1,
-			               s);
-		if (rc != 1)
-			return 2;
-		if (given[k])
-			return cli_bad("%s: parameters: p%d given twice in the list '%.200s'", who, k, text);
-		given[k] = 1;
-		params[k] = v;
-		if (!t[n])
-			return 0;
-		t += n + 1;
-	}
+	char err[600];
+	if (bk_params_list(text, params, given, err, sizeof err))
+		return cli_bad("%s: %s", who, err);
+	return 0;
 }
 
 void form_params_text(unsigned used, char *buf, size_t len)

@@ -27,20 +27,22 @@ void form_params_text(unsigned used, char *buf, size_t len);
  * absent one), or -1 when it is p0..pN whole (or empty). */
 int form_gap(unsigned used, int *missing);
 
-/* Every command's reader of one parameter value, "pN=VALUE": N a plain
- * decimal (p0..p15; not p01, a second name for p1), VALUE a cli_number.
- * 1 with *k and *v set; 0 when text does not have that shape ("p" digits
- * "="), so the caller can read it as something else or refuse it; 2 after
- * a usage line (an unknown parameter, not a number). */
+/* Every command's reader of one parameter value, "pN=VALUE" (the rules:
+ * analysis/params.h, bk_params_word). 1 with *k and *v set; 0 when text
+ * does not have that shape ("p" digits "="), so the caller can read it as
+ * something else or refuse it; 2 after a usage line (an unknown parameter,
+ * not a number). */
 int form_param(const char *text, int *k, double *v);
-/* form_param whose refusals start "WHERE: " (NULL: none). */
-int form_param_in(const char *where, const char *text, int *k, double *v);
+/* form_param, the value stored in params[k] and given[k] set (*k: k, may
+ * be NULL); a parameter given before is refused, "p0 given twice for NAME
+ * ('p0=2')" (name NULL: without "for NAME"). 1, 0 or 2 as form_param. */
+int form_param_set(const char *name, const char *text, double *params, int *given, int *k);
 
-/* A list of them, "p0=X;p1=Y" (';' or ','; front.csv's parameters column,
- * render --params and a batch's parameters), into params[k] and given[k]:
- * an empty item and a parameter given twice are refused, as the other lists
- * of the tool refuse them (cli_words). 0, or 2 after a usage line naming
- * who. */
+/* A list of them, "p0=X;p1=Y" (bk_params_list: ';' or ','; render --params
+ * and a batch's parameters; front.csv's column through frontcsv.h), into
+ * params[k] and given[k]: an empty item and a parameter given twice are
+ * refused, as the other lists of the tool refuse them (cli_words). 0, or 2
+ * after a usage line "WHO: parameters: ... (item K)". */
 int form_param_list(const char *who, const char *text, double *params, int *given);
 
 /* The form at params can be computed: no operation on constants that is NaN

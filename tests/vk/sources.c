@@ -92,18 +92,6 @@ int vk_add_catalog(vk_fns *fns, char *err, size_t errlen)
 
 /* ---- front.csv ------------------------------------------------------------ */
 
-/* The folder that holds path ("results/search/env/front.csv": "env"). */
-static void parent_name(const char *path, char *out, size_t len)
-{
-	const char *slash = strrchr(path, '/'), *start = slash;
-	while (start && start > path && start[-1] != '/')
-		start--;
-	if (slash && start && slash > start)
-		snprintf(out, len, "%.*s", (int)(slash - start), start);
-	else
-		snprintf(out, len, "%s", path);
-}
-
 /* A front.csv's members, read by analysis/frontcsv.h (columns by name, the
  * parameters checked, a bad row named by the line it starts on). */
 int vk_add_front(vk_fns *fns, const char *path, char *err, size_t errlen)
@@ -112,7 +100,7 @@ int vk_add_front(vk_fns *fns, const char *path, char *err, size_t errlen)
 	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, &fc, err, errlen))
 		return -1;
 	char dir[64], label[200];
-	parent_name(path, dir, sizeof dir);
+	bk_frontcsv_dir(path, 0, dir, sizeof dir);
 	int rc = 0;
 	for (int i = 0; i < fc.n && !rc; i++) {
 		const bk_frontcsv_row *w = &fc.row[i];

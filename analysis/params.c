@@ -1,0 +1,98 @@
+/*
+ * params.c — pN=VALUE words, pN names and p0=X;p1=Y lists (params.h).
+ */
+#include "params.h"
+
+#include "csvtab.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define ITEM_MAX 128 /* a list item: 'p', two digits, '=' and a number of 17 digits fit many times */
+
+int bk_params_index(const char *text, size_t len)
+{
+	if (len < 2 || len > 3 || text[0] != 'p' || strspn(text + 1, "0123456789") < len - 1)
+		return -1;
+	if (text[1] == '0' && len > 2) /* "p01": a second name for p1 */
+		return -1;
+	int k = 0;
+	for (size_t i = 1; i < len; i++)
+		k = 10 * k + (text[i] - '0');
+	return k < BK_MAX_PARAMS ? k : -1;
+}
+
+int bk_params_word(const char *text, int *k, double *v, char *err, size_t errlen)
+{
+	const char *eq = strchr(text, '=');
+	size_t nd = strspn(text + (text[0] == 'p'), "0123456789");
+	if (text[0] != 'p' || nd == 0 || !eq || text + 1 + nd != eq) /* "p1x=2": not a parameter's name */
+		return 0;
+	int j = bk_params_index(text, nd + 1);
+	if (j < 0) {
+		snprintf(err, errlen, "unknown parameter '%.*s' (p0..p%d)", (int)(nd < 20 ? nd + 1 : 20), text,
+		         BK_MAX_PARAMS - 1);
+		return -1;
+	}
+	if (bk_csvtab_number(eq + 1, v)) {
+		snprintf(err, errlen, "p%d: expected a finite number, got '%.100s'", j, eq + 1);
+		return -1;
+	}
+	*k = j;
+	return 1;
+}
+
+int bk_params_set(const char *text, double *p, int *given, int *k, char *err, size_t errlen)
+{
+	int j;
+	double v;
+	int rc = bk_params_word(text, &j, &v, err, errlen);
+	if (rc != 1)
+		return rc;
+	if (k)
+		*k = j;
+	if (given[j]) { /* a second value would silently replace the first */
+		snprintf(err, errlen, "p%d given twice ('%.100s')", j, text);
+		return -1;
+	}
+	p[j] = v;
+	given[j] = 1;
+	return 1;
+}
+
+int bk_params_list(const char *text, double *p, int *given, char *err, size_t errlen)
+{
+	if (!*text)
+		return 0;
+	int item = 1;
+	for (const char *t = text;; item++) {
+		size_t n = strcspn(t, ";,");
+		char s[ITEM_MAX], what[300];
+		if (n >= sizeof s) { /* cut, it would be another number */
+			snprintf(err, errlen, "parameters: an item longer than %d characters in '%.60s...' (item %d)",
+			         ITEM_MAX - 1, t, item);
+			return -1;
+		}
+		snprintf(s, sizeof s, "%.*s", (int)n, t);
+		const char *w = s + strspn(s, " ");
+		int k;
+		double v;
+		int rc = *w ? bk_params_word(w, &k, &v, what, sizeof what) : 0;
+		if (!*w)
+			snprintf(err, errlen, "parameters: empty item in the list '%.200s' (item %d)", text, item);
+		else if (rc < 0)
+			snprintf(err, errlen, "parameters: %s (item %d)", what, item);
+		else if (rc == 0)
+			snprintf(err, errlen, "parameters: expected pN=VALUE with N in 0..%d, got '%.60s' (item %d)",
+			         BK_MAX_PARAMS - 1, w, item);
+		else if (given[k])
+			snprintf(err, errlen, "parameters: p%d given twice in the list '%.200s' (item %d)", k, text, item);
+		if (!*w || rc != 1 || given[k])
+			return -1;
+		given[k] = 1;
+		p[k] = v;
+		if (!t[n])
+			return 0;
+		t += n + 1;
+	}
+}
