@@ -2,6 +2,7 @@
  * halfvs.c — the half front against the double front (halfvs.h).
  */
 #include "halfvs.h"
+#include "prov.h"
 
 #include "brdf.h"
 #include "out.h"
@@ -95,8 +96,9 @@ static void num(FILE *f, const char *fmt, double x)
 
 void bk_halfvs_csv(FILE *f, const bk_halfvs *v, const char *command, const char *dpath, const char *objective)
 {
-	fprintf(f, "# brdfkit %s search vs_double: the half-precision front against the double front of the same "
-	        "target\n# command: %s\n# double front: ", BK_VERSION, command);
+	bk_prov_header(f, command, NULL, "search vs_double: the half-precision front against the double front of the same "
+	               "target");
+	fputs("# double front: ", f);
 	for (const char *p = dpath; *p; p++) /* a comment line stays one line */
 		fputc(*p == '\n' || *p == '\r' ? '?' : *p, f);
 	fprintf(f, " (its error column: %s in double precision); half front: this search's front.csv (%s evaluated "

@@ -8,6 +8,7 @@
  * and here no rename may happen before all five files are complete.
  */
 #include "heatmap.h"
+#include "prov.h"
 #include "brdf.h" /* BK_VERSION */
 #include "exr.h"
 #include "out.h" /* bk_csv_field */
@@ -381,7 +382,7 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 	}
 	FILE *f = s->f;
 	char lead[COL_LEN + 40];
-	comment(f, "brdfkit " BK_VERSION " heatmap: ", p->title);
+	bk_prov_title(f, "heatmap: %s", p->title);
 	snprintf(lead, sizeof lead, "column %s: ", col[0]);
 	comment(f, lead, ax);
 	snprintf(lead, sizeof lead, "column %s: ", col[1]);

@@ -4,6 +4,7 @@
  * EXR header says which is which, and the CSV carries the same in comments.
  */
 #include "lut.h"
+#include "prov.h"
 #include "out.h"
 #include "exr.h"
 
@@ -94,7 +95,7 @@ static void write_csv(FILE *f, const bk_lut_desc *d, const char *method, const c
 {
 	const bk_lut_layout *L = &d->L;
 	int folded = !isnan(L->f0);
-	fprintf(f, "# brdfkit %s DFG LUT, %dx%d, Smith %s\n", BK_VERSION, L->nu, L->nr, smith_text[d->smith]);
+	bk_prov_title(f, "DFG LUT, %dx%d, Smith %s", L->nu, L->nr, smith_text[d->smith]);
 	fputs("# f0*A + B = integral of D*V*F*NoL over the light hemisphere; GGX D, Schlick F with f90 = 1\n", f);
 	if (folded)
 		fprintf(f, "# one channel: env = %.9g*A + B (f0 folded in)\n", L->f0);
@@ -106,7 +107,7 @@ static void write_csv(FILE *f, const bk_lut_desc *d, const char *method, const c
 	if (d->chan != BK_LUT_SPLIT)
 		fprintf(f, "# E = A + B (F = 1); cloth = integral of D_charlie*V_neubelt*NoL (F = 1); E_avg = 2 integral of "
 		        "E(mu) mu dmu at the row's r; the EXR's channels: %s\n", chan_text[d->chan]);
-	fprintf(f, "# command: %s\n", d->command ? d->command : "");
+	bk_prov_command(f, d->command);
 	fputs(folded ? "nov,roughness,env\n" : d->chan != BK_LUT_SPLIT ? "nov,roughness,A,B,E,cloth,E_avg\n" : "nov,roughness,A,B\n", f);
 	for (int j = 0; j < L->nr; j++)
 		for (int i = 0; i < L->nu; i++) {

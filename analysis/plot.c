@@ -92,7 +92,7 @@ static void bar_range(const bk_plot_heat *h, double *a, double *b)
 enum { BAR_TICKS = 4 }; /* intervals asked of the colour bar's ticks */
 
 /* The rounded range of v alone (see bk_plot_axis_fit); 0 when v has no value to show. */
-static int fit_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
+static int axis_range(const bk_plot_axis *a, const double *v, int n, double *rlo, double *rhi)
 {
 	double lo = INFINITY, hi = -INFINITY;
 	for (int i = 0; i < n; i++) {
@@ -127,7 +127,7 @@ void bk_plot_axis_grow(bk_plot_axis *a, const double *v, int n)
 {
 	double lo, hi;
 	int had = a->hi > a->lo;
-	if (!fit_range(a, v, n, &lo, &hi))
+	if (!axis_range(a, v, n, &lo, &hi))
 		return; /* nothing to show: the range stays as it was */
 	a->lo = had ? fmin(a->lo, lo) : lo;
 	a->hi = had ? fmax(a->hi, hi) : hi;

@@ -5,6 +5,7 @@
  * typed by a user or not, can end the comment.
  */
 #include "scene_write.h"
+#include "prov.h"
 #include "msl.h"
 
 #include "out.h"
@@ -281,9 +282,7 @@ static void scene_row(FILE *f, const bk_scene_doc *d, const bk_scene_result *r, 
 void bk_scene_csv(FILE *f, const bk_scene_doc *d)
 {
 	const bk_scene *sc = d->sc;
-	comment_line(f, "# ", "", "brdfkit %s scene specialisation: scene '%s' (file hash %s)", BK_VERSION, sc->name,
-	             d->hash);
-	comment_line(f, "# ", "", "command: %s", d->command);
+	bk_prov_header(f, d->command, NULL, "scene specialisation: scene '%s' (file hash %s)", sc->name, d->hash);
 	fprintf(f, "# error: vf = directional-albedo max abs error of D*V*F, env = max abs error of f0*A + B, both at the "
 	           "ends of the set's f0 range on its (NoV, r) domain, in %s; D is exact GGX, its error the largest relative error its fp16 guard adds where it acts. cost: simple*%g + "
 	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
@@ -321,11 +320,11 @@ static void set_errors(const bk_scene_result *r, double *err, double *gen_err)
 
 void bk_scene_sets_csv(FILE *f, const bk_scene_doc *d)
 {
-	comment_line(f, "# ", "",
-	             "brdfkit %s scene '%s': each feature set's shader against the generic one (GGX D, "
-	             "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
-	             "instructions of the forms' GLSL after spirv-opt -O (fetches not included)",
-	             BK_VERSION, d->sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
+	bk_prov_title(f,
+	              "scene '%s': each feature set's shader against the generic one (GGX D, "
+	              "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
+	              "instructions of the forms' GLSL after spirv-opt -O (fetches not included)",
+	              d->sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
 	if (d->nchips)
 		comment_line(f, "# ", "",
 		             "aco_CHIP_instructions: AMD instructions of the set's forms, summed (brdfkit gpucost: Mesa RADV's "
@@ -365,6 +364,8 @@ void bk_scene_sets_csv(FILE *f, const bk_scene_doc *d)
 
 void bk_scene_timing_csv(FILE *f, const bk_scene_doc *d, int reps)
 {
+	bk_prov_header(f, d->command, NULL, "scene specialisation timing: scene '%s' (file hash %s)", d->sc->name,
+	               d->hash);
 	fprintf(f, "# CPU ns per evaluation of each feature set's forms (generated C, -O2, median of %d interleaved "
 	           "runs, summed over the set's terms; LUT fetches not included; empty: not measured): not "
 	           "reproducible\n", reps);

@@ -2,6 +2,7 @@
  * search_write.c — brdfkit search's files and report (search_write.h).
  */
 #include "search_write.h"
+#include "prov.h"
 
 #include "out.h"
 #include "plot.h"
@@ -18,7 +19,7 @@ static void cert_text(const bk_swrite *W, char *buf, size_t len)
 
 static void header(FILE *f, const bk_swrite *W, const char *what)
 {
-	fprintf(f, "# brdfkit %s search %s\n# command: %s\n# target: %s\n", BK_VERSION, what, W->command, W->F->s->description);
+	bk_prov_header(f, W->command, W->F->s->description, "search %s", what);
 	if (W->F->so->islands > 1)
 		fprintf(f, "# islands: %d MPI ranks (%s), --evals shared out, --migrate %ld fits per island between "
 		        "migrations of %ld front members round a ring; found_at counts the fits of the member's island%s\n",

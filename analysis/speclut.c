@@ -4,6 +4,7 @@
  * (speclut.h has the contract and the conventions).
  */
 #include "speclut.h"
+#include "prov.h"
 #include "exr.h"
 #include "out.h"
 #include "pngio.h"
@@ -382,13 +383,13 @@ void bk_speclut_describe(const bk_speclut *L, char *axes, size_t alen, char *tex
 static void write_csv(FILE *f, const bk_speclut *L, const double *raw, const char *axes, const char *texel,
                       const char *shader, const char *command)
 {
-	fprintf(f, "# brdfkit %s specular LUT, %dx%d, scale %g, warp %d, axis %s\n", BK_VERSION, L->nu, L->nr, L->scale,
-	        L->warp, bk_speclut_axis_name(L->axis));
+	bk_prov_title(f, "specular LUT, %dx%d, scale %g, warp %d, axis %s", L->nu, L->nr, L->scale, L->warp,
+	              bk_speclut_axis_name(L->axis));
 	fprintf(f, "# axes: %s\n# texel: %s\n# shader: %s\n", axes, texel, shader);
 	fputs("# columns: i, j texel indices (j = scanline); x the axis value and noh = NoH(x) at the centre; r; "
 	      "intensity = D*V with V = 1/4 (before the scale); float = intensity/scale (spec.exr); "
 	      "unorm8 = round(saturate(float)*255) (spec.png)\n", f);
-	fprintf(f, "# command: %s\n", command ? command : "");
+	bk_prov_command(f, command);
 	fputs("i,j,x,noh,r,intensity,float,unorm8\n", f);
 	for (int j = 0; j < L->nr; j++)
 		for (int i = 0; i < L->nu; i++) {

@@ -37,7 +37,30 @@ for f in compare.csv pareto_cost.svg section.html heatmaps/vf_talk_r.png shaders
 done
 # --no-time measured nothing: no timing table, no plot against ns
 for f in timing.csv pareto_ns.svg; do [ ! -e "$T/cmp/$f" ] && ok || bad "compare --no-time wrote $f"; done
-head -1 "$T/cmp/compare.csv" | grep -q '^name,kind,source,form,form_b,parameters,rmse,' && ok || bad "compare.csv header"
+grep -v '^#' "$T/cmp/compare.csv" | head -1 | grep -q '^name,kind,source,form,form_b,parameters,rmse,' && ok ||
+	bad "compare.csv header"
+# provenance FILE WHAT COMMAND [TARGET]: FILE opens with brdfkit's provenance
+# lines (analysis/prov.h): "# brdfkit VERSION WHAT...", "# command: COMMAND",
+# then "# target: TARGET..." where given; the version is --version's
+provenance() {
+	_v=$($BK --version | awk '{ print $2 }')
+	case "$(sed -n 1p "$1")" in "# brdfkit $_v $2"*) ;; *) return 1 ;; esac
+	[ "$(sed -n 2p "$1")" = "# command: $3" ] || return 1
+	[ -z "${4:-}" ] && return 0
+	case "$(sed -n 3p "$1")" in "# target: $4"*) return 0 ;; esac
+	return 1
+}
+provenance "$T/cmp/compare.csv" "compare: " "brdfkit compare --target vf2d --nx 8 --nr 8 --no-time --out $T/cmp" "vf2d: " &&
+	ok || bad "compare.csv provenance: $(head -3 "$T/cmp/compare.csv")"
+# negative control: the table without its '#' lines fails the same check
+grep -v '^#' "$T/cmp/compare.csv" >"$T/bare.csv"
+expect_fail "provenance of a headerless compare.csv" \
+	provenance "$T/bare.csv" "compare: " "brdfkit compare --target vf2d --nx 8 --nr 8 --no-time --out $T/cmp" "vf2d: "
+# timed, the same header on timing.csv, and the columns read by name under it
+$BK compare --target f --nx 16 --no-refit --out "$T/cmpt" >/dev/null 2>"$T/err" || bad "compare f: $(cat "$T/err")"
+provenance "$T/cmpt/timing.csv" "compare timing: " "brdfkit compare --target f --nx 16 --no-refit --out $T/cmpt" "f: " &&
+	is_num "$(csv_where "$T/cmpt/timing.csv" name f_schlick_sg ns_per_eval)" && ok ||
+	bad "timing.csv provenance: $(head -4 "$T/cmpt/timing.csv")"
 # the talk's form and its refit are rows with an rmse
 is_num "$(csv_where "$T/cmp/compare.csv" name vf_talk_r rmse)" &&
 	is_num "$(csv_where "$T/cmp/compare.csv" name 'vf_talk_r (refit)' rmse)" && ok || bad "compare.csv: no vf_talk_r rows"
@@ -55,6 +78,14 @@ $BK report --out "$T/page.html" "$T/cmp/section.html" && grep -q '<h2>Target <co
 rm -rf "$T/cmp" "$T/page.html"
 expect_error "compare target" "'nope'" $BK compare --target nope --out "$T/x"
 expect_error "time parse" "form:1:" $BK time 'NoV +'
+
+# stability.csv: the provenance lines (no target: the stress grid is its own)
+$BK stability NoV --out "$T/stab" >/dev/null 2>"$T/err" || bad "stability --out: $(cat "$T/err")"
+provenance "$T/stab/stability.csv" "stability: " "brdfkit stability NoV --out $T/stab" &&
+	[ "$(csv_col "$T/stab/stability.csv" form)" = NoV ] && ok || bad "stability.csv provenance: $(head -3 "$T/stab/stability.csv")"
+provenance "$T/stab/details.csv" "stability details: " "brdfkit stability NoV --out $T/stab" &&
+	[ "$(csv_where "$T/stab/details.csv" precision f16 form)" = NoV ] && ok ||
+	bad "details.csv provenance: $(head -3 "$T/stab/details.csv")"
 
 # ---- issue 9 (fit and stability: no silent wrong answers) ----
 # stab_f16 ARGS...: "samples wrong" of the f16 line of brdfkit stability.

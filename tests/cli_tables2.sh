@@ -79,6 +79,10 @@ grep -qF 'href="x/scene.csv"' one/section.html && ! grep -qF 'href="x/d/' one/se
 	[ "$(head -1 one/section.html)" = '<section id="s3">' ] && ok || bad "one-file section.html"
 # --no-time acts: timing.csv only without it
 [ -s one/timing.csv ] && [ ! -e two/d/timing.csv ] && [ ! -e o/timing.csv ] && ok || bad "timing.csv and --no-time"
+# scene's timing.csv opens with the provenance lines of every brdfkit CSV (analysis/prov.h)
+sed -n 1p one/timing.csv | grep -q "^# brdfkit [0-9][0-9.]* scene specialisation timing: scene '" &&
+	[ "$(sed -n 2p one/timing.csv)" = "# command: brdfkit scene d.json --id s3 --link-prefix x/ --out one" ] && ok ||
+	bad "scene timing.csv provenance: $(head -2 one/timing.csv)"
 
 # ---- report: its one option --------------------------------------------------
 "$BK" report --out page.html one/section.html two/section.html >out 2>err && grep -q 'href="#s2"' page.html &&

@@ -108,7 +108,7 @@ static int read_suite(const char *path, planted *p, int max)
 	return n;
 }
 
-/* --domain's syntax, as brdfkit's fit_domain reads it */
+/* --domain's syntax, as brdfkit's fitargs_domain reads it */
 static int parse_domain(const char *text, bk_target_options *to)
 {
 	char buf[256];

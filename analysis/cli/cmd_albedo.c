@@ -3,6 +3,7 @@
  * registered D, V and F, at one point or over a grid ("all", comma lists).
  */
 #include "brdf.h"
+#include "prov.h"
 #include "cli.h"
 #include "out.h"
 #include "cmd.h"
@@ -168,7 +169,7 @@ int cmd_albedo(int argc, char **argv)
 	char err[512];
 	if (bk_out_open_file(&co, out, err, sizeof err))
 		return cli_fail("albedo", "%s", err);
-	fprintf(co.f, "# brdfkit %s directional albedo: integral of D*V*F*NoL over the light hemisphere\n", BK_VERSION);
+	bk_prov_title(co.f, "directional albedo: integral of D*V*F*NoL over the light hemisphere");
 	fprintf(co.f, "# roughness perceptual (alpha = r^2); V includes 1/(4 NoL NoV); exact Fresnel uses eta + ik; tol %g\n", g.tol);
 	if ((rc = run_grid(&g, co.f))) {
 		bk_out_abort(&co);

@@ -9,10 +9,11 @@
 #include "cli.h"
 #include "out.h"
 #include "page.h"
+#include "prov.h"
 #include "cmd.h"
 #include "compare.h"
 #include "fit.h"
-#include "fit_out.h"
+#include "fitargs.h"
 #include "form_check.h"
 #include "gpucost.h"
 #include "heatmap.h"
@@ -81,8 +82,8 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 	if (sp.np == 0 || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
 		return -1;
 	bk_fit_result res;
-	int fit_rc = bk_fit_run(&sp, &res);
-	if (fit_rc < 0)
+	int rc_fit = bk_fit_run(&sp, &res);
+	if (rc_fit < 0)
 		return -1;
 	*r = *pub;
 	memcpy(r->params, res.p, sizeof r->params);
@@ -97,7 +98,7 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 			snprintf(source + strlen(source), sizeof source - strlen(source), " (not identifiable)");
 			break;
 		}
-	if (fit_rc == 1) /* never a silent "refit": its constants are where the solver stopped */
+	if (rc_fit == 1) /* never a silent "refit": its constants are where the solver stopped */
 		snprintf(source + strlen(source), sizeof source - strlen(source), "; did not converge");
 	row_text(r, name, "refit", source);
 	score(S, r, f);
@@ -473,9 +474,15 @@ static int write_dir(study *S, const char *out, const char *prefix)
 	}
 	if (rc == 0) {
 		char title[160];
+		bk_prov_header(f[0], bk_out_command(), S->s.description,
+		               "compare: published forms, their refits and LUTs on the same samples: error, op counts, cost");
 		bk_compare_csv(f[0], S->rows, S->n, &S->info);
-		if (f[1])
+		if (f[1]) {
+			bk_prov_header(f[1], bk_out_command(), S->s.description,
+			               "compare timing: CPU ns per evaluation of compare.csv's forms (median, min, max of the "
+			               "runs): not reproducible");
 			bk_timing_csv(f[1], S->rows, S->n);
+		}
 		snprintf(title, sizeof title, "%s: max |error| against cost", bk_target_name(S->to.kind));
 		rc = bk_compare_plot(S->rows, S->n, 0, title, &S->info, tmp, "pareto_cost", err, sizeof err);
 		snprintf(title, sizeof title, "%s: max |error| against CPU ns per evaluation", bk_target_name(S->to.kind));
@@ -526,9 +533,9 @@ static const cli_dim dims[] = {
 	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env, spec and ms only, not with --no-lut)"}},
 };
 static const cli_rule rules[] = {
-	{"--no-lut", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(SPEC) | FIT_ON(MS),
+	{"--no-lut", NULL, DIM_TARGET, FITARGS_ON(ENV) | FITARGS_ON(SPEC) | FITARGS_ON(MS),
 	 "LUT rows are scored for targets env, spec and ms only", NULL},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F) & ~FIT_ON(FORM) & ~FIT_FILE, "target f has no roughness axis", "8"},
+	{"--nr", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(F) & ~FITARGS_ON(FORM) & ~FITARGS_FILE, "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
 	{"--fetch-cost", NULL, DIM_FETCH, 1u << 0, "it prices a texture fetch, and only LUT rows fetch", "32"},

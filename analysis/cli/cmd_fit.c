@@ -10,6 +10,7 @@
 #include "cmd.h"
 #include "fit.h"
 #include "fit_out.h"
+#include "fitargs.h"
 #include "tabtarget.h"
 #include "form_check.h"
 #include "member.h"
@@ -36,14 +37,6 @@ static int bound_range(const char *text, double *lo, double *hi)
 	if (!colon || cli_number(lo_text, lo) || cli_number(colon + 1, hi) || !(*lo < *hi))
 		return cli_bad("--bound: expected LO:HI with LO < HI, got '%s'", text);
 	return 0;
-}
-
-void fit_say_size(const bk_target_options *to)
-{
-	double n = (double)bk_target_samples(to);
-	char what[64];
-	snprintf(what, sizeof what, "%.3gM samples of target %s", n / 1e6, bk_target_name(to->kind));
-	cli_estimate(what, n * 15e-6, n * 168, "168 bytes and 15 us a sample, measured");
 }
 
 /* "pN" with N a plain decimal in [0, BK_MAX_PARAMS): N, else -1 (the one
@@ -76,46 +69,6 @@ static int bounds(const cli_cmd *cmd, const char *text, double *lower, double *u
 	return n < 0 ? 2 : 0;
 }
 
-/* --domain NAME=LO:HI[,NAME=LO:HI...]: the inputs of target form, in order. */
-int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
-{
-	char buf[1024];
-	if (strlen(text) >= sizeof buf)
-		return cli_usage(cmd, "--domain: longer than %zu characters", sizeof buf - 1);
-	snprintf(buf, sizeof buf, "%s", text);
-	to->ndomain = 0;
-	for (char *t = buf, *next; t; t = next) {
-		if ((next = strchr(t, ',')))
-			*next++ = '\0';
-		char *eq = strchr(t, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
-		if (!colon)
-			return cli_usage(cmd, "--domain: expected NAME=LO:HI, got '%s'", t);
-		*eq = *colon = '\0';
-		int in = -1;
-		for (int k = 0; k < BK_IN_COUNT; k++)
-			if (!strcmp(t, bk_input_name((bk_input)k)))
-				in = k;
-		double lo, hi;
-		if (in < 0)
-			return cli_usage(cmd, "--domain: '%s' is not an input (NoV, NoL, NoH, LoH, r, a, f0)", t);
-		if (cli_number(eq + 1, &lo) || cli_number(colon + 1, &hi))
-			return cli_usage(cmd, "--domain: %s: expected LO:HI (two numbers), got '%s:%s'", t, eq + 1, colon + 1);
-		if (!(lo < hi))
-			return cli_usage(cmd, "--domain: %s: expected LO < HI, got '%s:%s'", t, eq + 1, colon + 1);
-		char opt[64], text_lh[160];
-		snprintf(opt, sizeof opt, "--domain: %.40s", t);
-		snprintf(text_lh, sizeof text_lh, "%.70s:%.70s", eq + 1, colon + 1);
-		if (cli_range_width(opt, text_lh, lo, hi))
-			return 2;
-		if (to->ndomain == BK_IN_COUNT)
-			return cli_usage(cmd, "--domain: more than %d inputs", BK_IN_COUNT);
-		to->dom_in[to->ndomain] = in;
-		to->dom_lo[to->ndomain] = lo;
-		to->dom_hi[to->ndomain++] = hi;
-	}
-	return 0;
-}
-
 static int parse_form(const char *what, const char *text, bk_form **f)
 {
 	bk_form_error e;
@@ -143,7 +96,7 @@ static const char *form_label(const forms *fs)
 	return fs->entry ? fs->entry->name : fs->member ? fs->m.name : "form";
 }
 
-static int load_forms(const fit_cli *a, bk_target_kind kind, forms *fs)
+static int load_forms(const fitargs *a, bk_target_kind kind, forms *fs)
 {
 	memset(fs, 0, sizeof *fs);
 	if (!!a->form == !!(a->form_a || a->form_b) || (!a->form && !(a->form_a && a->form_b))) {
@@ -191,7 +144,7 @@ static int parse_enum(const char *opt, const char *text, const char *const *name
 /* ---- outputs ------------------------------------------------------------ */
 
 typedef struct run {
-	const fit_cli *a;
+	const fitargs *a;
 	forms fs;
 	bk_target_options to;
 	bk_samples s;
@@ -204,11 +157,11 @@ typedef struct run {
 } run;
 
 /* The view of a run that fit_out.c writes. */
-static fit_run view(const run *R)
+static fitout_run view(const run *R)
 {
 	const bk_catalog_entry *e = R->fs.entry;
 	const cli_member *m = R->fs.member ? &R->fs.m : NULL;
-	fit_run v = {R->command, &R->to, R->a->domain, &R->s, &R->spec, &R->res,
+	fitout_run v = {R->command, &R->to, R->a->domain, &R->s, &R->spec, &R->res,
 	             e ? e->name : m ? m->name : R->fs.split ? "form-a/form-b" : R->fs.text[0],
 	             e ? e->name : m && m->fname[0] ? m->fname : "brdfkit_fit", e ? e->source : m ? m->source : "user form",
 	             e ? e->convention : "as the target's units (see domain)", R->has_published ? e->defaults : NULL,
@@ -248,8 +201,8 @@ static int write_outputs(const run *R, const char *out)
 	if (bk_out_dir_begin(&od, out, NULL, err, sizeof err))
 		return cli_fail("fit", "--out %s", err);
 	err[0] = '\0';
-	fit_run v = view(R);
-	if (fit_write_into(&v, od.tmp, err, sizeof err)) {
+	fitout_run v = view(R);
+	if (fitout_write_into(&v, od.tmp, err, sizeof err)) {
 		bk_out_dir_abort(&od);
 		return cli_fail("fit", "%s: writing the results failed%s%s", out, *err ? ": " : "", err);
 	}
@@ -258,70 +211,9 @@ static int write_outputs(const run *R, const char *out)
 
 /* ---- the command ---------------------------------------------------------- */
 
-/* table, merl: --target-file read into *t (nothing for the other targets).
- * A bad file is bad input (2), one that cannot be read a failure (1). */
-int fit_read_file(const cli_cmd *cmd, const fit_cli *a, bk_target_kind kind, bk_samples *t)
-{
-	char err[600] = "";
-	int rc = 0;
-	memset(t, 0, sizeof *t);
-	if (kind != BK_TARGET_TABLE && kind != BK_TARGET_MERL)
-		return 0;
-	if (!a->target_file)
-		return cli_usage(cmd, "target %s needs --target-file FILE", bk_target_name(kind));
-	if (kind == BK_TARGET_TABLE)
-		rc = bk_tabtarget_table(a->target_file, a->channel, t, err, sizeof err);
-	else {
-		int ch = BK_MERL_LUMINANCE;
-		if (a->channel && parse_enum("--channel", a->channel, bk_merl_channel_names, BK_MERL_CHANNELS, &ch))
-			return 2;
-		rc = bk_tabtarget_merl(a->target_file, (bk_merl_channel)ch, t, err, sizeof err);
-	}
-	if (rc == -2)
-		return cli_fail(cmd->name, "--target-file %s", err);
-	if (rc)
-		return cli_bad("--target-file %s", err);
-	return 0;
-}
-
-int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to)
-{
-	bk_target_defaults(kind, to);
-	/* cosines and perceptual roughness: [0, 1], -0 refused as an option's would be */
-	if (a->r_range && cli_range("--r-range", a->r_range, 0, 1, &to->r_lo, &to->r_hi))
-		return 2;
-	if (a->x_range && cli_range("--x-range", a->x_range, 0, 1, &to->x_lo, &to->x_hi))
-		return 2;
-	if (a->nx) to->nx = (int)a->nx;
-	if (a->nr) to->nr = (int)a->nr;
-	if (a->nu) to->nu = (int)a->nu;
-	if (a->nphi) to->nphi = (int)a->nphi;
-	if (a->f0.n) {
-		if (a->f0.n > BK_TARGET_MAX_F0) {
-			cli_bad("--f0: at most %d values", BK_TARGET_MAX_F0);
-			return 2;
-		}
-		to->nf0 = a->f0.n;
-		memcpy(to->f0, a->f0.v, sizeof(double) * (size_t)a->f0.n);
-	}
-	int v;
-	static const char *const talk[] = {"r", "a"};
-	if (a->talk && parse_enum("--talk-roughness", a->talk, talk, 2, &v))
-		return 2;
-	to->talk_alpha = a->talk && v == 1;
-	if (a->smith && bk_smith_parse(a->smith, &to->smith)) {
-		cli_bad("--smith: unknown model '%s'", a->smith);
-		return 2;
-	}
-	if (a->ior > 0)
-		to->eta = a->ior;
-	to->k = a->k; /* with or without --ior (then glass's 1.5) */
-	return 0;
-}
-
 static int setup_spec(run *R, char **pos, int npos)
 {
-	const fit_cli *a = R->a;
+	const fitargs *a = R->a;
 	bk_fit_spec *sp = &R->spec;
 	bk_fit_options defaults = BK_FIT_OPTIONS_INIT;
 	sp->opt = defaults;
@@ -413,7 +305,7 @@ static int setup_spec(run *R, char **pos, int npos)
  * full solver (bk_fit_solve, tiny.cc). */
 enum { DIM_TARGET, DIM_PARAMS, DIM_LOSS, DIM_FORMS, DIM_STARTS, DIM_SOLVER };
 static const cli_dim dims[] = {
-	FIT_TARGET_DIM,
+	FITARGS_TARGET_DIM,
 	{"params", {"none", "some"}, {": the form has no parameters (it is evaluated, not fitted)", NULL}},
 	{"loss", {"none", "robust"}, {" without --loss huber|cauchy|softl1", NULL}},
 	{"forms", {"one", "split"}, {NULL, " on a split-sum env fit"}},
@@ -425,33 +317,33 @@ static const cli_dim dims[] = {
 #define FITTING(opt, example) {opt, NULL, DIM_PARAMS, 1u << 1, NULL, example}
 #define EVERYWHERE(opt, example) {opt, NULL, CLI_EVERYWHERE, 0, NULL, example}
 static const cli_rule rules[] = {
-	{"--nu", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
-	{"--nphi", NULL, DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
-	{"--talk-roughness", NULL, DIM_TARGET, FIT_ON(VF2D), "it sets how target vf2d reads the talk's roughness", "a"},
-	{"--smith", NULL, DIM_TARGET, FIT_ON(ENV) | FIT_ON(MS), "it sets the Smith model of targets env and ms", "schlick"},
-	{"--ior", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "1.4"},
-	{"--k", NULL, DIM_TARGET, FIT_ON(F), "it sets the exact Fresnel of target f", "3"},
-	{"--f0", NULL, DIM_TARGET, FIT_ON(VF2D) | FIT_ON(VF) | FIT_ON(SPEC) | FIT_ON(ENV),
+	{"--nu", NULL, DIM_TARGET, FITARGS_ON(VF) | FITARGS_ON(SPEC), "it sets the half-vector cells of targets vf and spec", "4"},
+	{"--nphi", NULL, DIM_TARGET, FITARGS_ON(VF) | FITARGS_ON(SPEC), "it sets the azimuth cells of targets vf and spec", "4"},
+	{"--talk-roughness", NULL, DIM_TARGET, FITARGS_ON(VF2D), "it sets how target vf2d reads the talk's roughness", "a"},
+	{"--smith", NULL, DIM_TARGET, FITARGS_ON(ENV) | FITARGS_ON(MS), "it sets the Smith model of targets env and ms", "schlick"},
+	{"--ior", NULL, DIM_TARGET, FITARGS_ON(F), "it sets the exact Fresnel of target f", "1.4"},
+	{"--k", NULL, DIM_TARGET, FITARGS_ON(F), "it sets the exact Fresnel of target f", "3"},
+	{"--f0", NULL, DIM_TARGET, FITARGS_ON(VF2D) | FITARGS_ON(VF) | FITARGS_ON(SPEC) | FITARGS_ON(ENV),
 	 "it sets f0 of targets vf2d, vf, spec and env", "0.5"},
 	{"--f0", NULL, DIM_FORMS, 1u << 0,
 	 "A and B do not depend on f0; a single form in f0 is fitted to f0 A + B over the --f0 list", "0.5"},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "8"},
-	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(F), "target f has no roughness axis", "0:0.5"},
-	{"--target-form", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the expression of target form", "LoH"},
-	{"--target-file", NULL, DIM_TARGET, FIT_FILE, "it gives the file of targets table and merl", "t.csv"},
-	{"--channel", NULL, DIM_TARGET, FIT_FILE, "it chooses the channel of targets table (EXR) and merl", "R"},
-	{"--nx", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl", "8"},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl", "8"},
-	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl",
+	{"--nr", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(F), "target f has no roughness axis", "8"},
+	{"--r-range", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(F), "target f has no roughness axis", "0:0.5"},
+	{"--target-form", NULL, DIM_TARGET, FITARGS_ON(FORM), "it gives the expression of target form", "LoH"},
+	{"--target-file", NULL, DIM_TARGET, FITARGS_FILE, "it gives the file of targets table and merl", "t.csv"},
+	{"--channel", NULL, DIM_TARGET, FITARGS_FILE, "it chooses the channel of targets table (EXR) and merl", "R"},
+	{"--nx", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", "8"},
+	{"--nr", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", "8"},
+	{"--r-range", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl",
 	 "0:0.5"},
-	{"--x-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_FILE, "the file gives the samples of targets table and merl",
+	{"--x-range", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl",
 	 "0:0.5"},
-	{"--domain", NULL, DIM_TARGET, FIT_ON(FORM), "it gives the domain of target form", "LoH=0:1"},
-	{"--nr", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM),
+	{"--domain", NULL, DIM_TARGET, FITARGS_ON(FORM), "it gives the domain of target form", "LoH=0:1"},
+	{"--nr", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(FORM),
 	 "--domain sets the inputs of target form; --nx the cells per axis", "8"},
-	{"--r-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
-	{"--x-range", NULL, DIM_TARGET, FIT_ALL & ~FIT_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
-	{"--weight", "dnol", DIM_TARGET, FIT_ON(VF) | FIT_ON(SPEC), "D*NoL weighs the samples of targets vf and spec",
+	{"--r-range", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
+	{"--x-range", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(FORM), "--domain sets the inputs of target form", "0:0.5"},
+	{"--weight", "dnol", DIM_TARGET, FITARGS_ON(VF) | FITARGS_ON(SPEC), "D*NoL weighs the samples of targets vf and spec",
 	 NULL},
 	/* the fitter's options: a form without parameters never runs it */
 	FITTING("--loss", "huber"),
@@ -501,7 +393,7 @@ static const cli_table table = {dims, 6, rules, sizeof rules / sizeof rules[0], 
 /* The run's context (the table's dimensions), then cli_applicable. */
 static int check_applicable(const run *R, bk_target_kind kind)
 {
-	const fit_cli *a = R->a;
+	const fitargs *a = R->a;
 	int np = bk_form_nparams(R->fs.f[0]);
 	if (R->fs.split && bk_form_nparams(R->fs.f[1]) > np)
 		np = bk_form_nparams(R->fs.f[1]);
@@ -517,7 +409,7 @@ static int check_applicable(const run *R, bk_target_kind kind)
 static int check_effect(const run *R, bk_target_kind kind, char **pos, int npos)
 {
 	const cli_cmd *cmd = R->cmd;
-	const fit_cli *a = R->a;
+	const fitargs *a = R->a;
 	if (a->f0.n > 1 && kind != BK_TARGET_ENV)
 		return cli_usage(cmd, "--f0: target %s uses one value, got %d", bk_target_name(kind), a->f0.n);
 	const bk_fit_spec *sp = &R->spec;
@@ -646,16 +538,16 @@ static void report(const run *R, int rc)
 		printf("note: %s\n", res->message);
 	if (rc == 1)
 		printf("warning: did not converge (%s)\n", res->summary.message);
-	fit_run v = view(R);
-	if (!fit_has_plane(&v) && R->to.kind == BK_TARGET_FORM)
+	fitout_run v = view(R);
+	if (!fitout_has_plane(&v) && R->to.kind == BK_TARGET_FORM)
 		printf("no heatmap: target form has %d inputs; a heatmap needs 1 or 2\n", R->to.ndomain);
-	else if (!fit_has_plane(&v))
+	else if (!fitout_has_plane(&v))
 		printf("no heatmap: the samples of target %s lie on no 2-D grid\n", bk_target_name(R->to.kind));
 }
 
 int cmd_fit(int argc, char **argv)
 {
-	fit_cli a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
+	fitargs a = {.loss = "none", .tr = "lm", .objective = "lsq", .starts = 4, .seed = 1, .max_iter = 200,
 	             .threads = 1, .loss_scale = 1.0};
 	cli_opt opts[] = {
 		{.name = "--target", .kind = CLI_STR, .metavar = "T", .help = "vf2d, vf, spec, env, d, f, form, ms, sheen, table or merl", .dest = &a.target, .required = 1},
@@ -717,7 +609,7 @@ int cmd_fit(int argc, char **argv)
 	if (bk_target_parse(a.target, &kind)) {
 		return cli_unknown_value("--target", a.target, cli_targets, CLI_NTARGETS);
 	}
-	if ((rc = fit_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs))) {
+	if ((rc = fitargs_setup_target(&a, kind, &R.to)) || (rc = load_forms(&a, kind, &R.fs))) {
 		cli_member_free(&R.fs.m);
 		return rc;
 	}
@@ -734,7 +626,7 @@ int cmd_fit(int argc, char **argv)
 	char err[512];
 	if ((rc = setup_spec(&R, cmd.pos, cmd.npos)) || (rc = check_effect(&R, kind, cmd.pos, cmd.npos)))
 		goto done;
-	if ((rc = fit_read_file(&cmd, &a, kind, &R.table)))
+	if ((rc = fitargs_read_file(&cmd, &a, kind, &R.table)))
 		goto done;
 	R.to.table = &R.table;
 	if (kind == BK_TARGET_FORM) {
@@ -743,7 +635,7 @@ int cmd_fit(int argc, char **argv)
 			goto done;
 		}
 		R.to.form_text = a.target_form;
-		if ((rc = fit_domain(&cmd, a.domain, &R.to)))
+		if ((rc = fitargs_domain(&cmd, a.domain, &R.to)))
 			goto done;
 		if (bk_target_form_check(&R.to, err, sizeof err)) {
 			rc = cli_usage(&cmd, "--target-form: %s", err);
@@ -762,7 +654,7 @@ int cmd_fit(int argc, char **argv)
 		goto done;
 	}
 	say_estimate(&R.to);
-	fit_say_size(&R.to);
+	fitargs_say_size(&R.to);
 	rc = bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err);
 	bk_samples_free(&R.table); /* copied: a MERL file's samples are 120 MB */
 	if (rc) {

@@ -5,6 +5,7 @@
  * turns arguments into jobs and jobs into CSV.
  */
 #include "catalog.h"
+#include "prov.h"
 #include "cli.h"
 #include "cmd.h"
 #include "form_check.h"
@@ -128,9 +129,8 @@ static int read_chips(const cli_cmd *cmd, char *buf, const char **chip, int *n)
 static void write_csv(FILE *f, const gc_row *rows, const bk_gpucost_job *jobs, int n, const char *const *chip,
                       int nchips, int fp16, const char *driver)
 {
-	fprintf(f, "# brdfkit %s gpucost: AMD machine code from Mesa RADV's null device and its ACO compiler "
-	           "(driver: %s), %s\n",
-	        BK_VERSION, driver, fp16 ? "fp16 (float16_t arithmetic)" : "fp32");
+	bk_prov_title(f, "gpucost: AMD machine code from Mesa RADV's null device and its ACO compiler (driver: %s), %s",
+	              driver, fp16 ? "fp16 (float16_t arithmetic)" : "fp32");
 	fputs("# every figure is the form's compute shader minus a load/store baseline with the same inputs: "
 	      "instructions, vgprs, sgprs, latency and inv_throughput from ACO's statistics (latency and "
 	      "throughput are ACO's cycle estimates, dominated by the buffer load in both shaders: use "
@@ -226,14 +226,14 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	}
 	const char *gfx = "";
 	bk_gpucost_chip(chip, &gfx);
-	fprintf(f, "# brdfkit %s gpucost --calibrate: the IR cost model (brdfkit ops: simple, complex) against ACO's "
-	           "net instruction counts on %s (%s) %s, driver %s; %d forms: the catalog's %d (a split-sum entry: "
-	           "A and B in one shader)",
-	        BK_VERSION, chip, gfx, fp16 ? "fp16" : "fp32", driver, n, ci->ncat);
+	char fronts[160] = "";
 	if (ci->nfiles)
-		fprintf(f, " and %d members of %d search fronts (their seed_ rows, catalog forms, left out)", ci->nfront,
-		        ci->nfiles);
-	fputc('\n', f);
+		snprintf(fronts, sizeof fronts, " and %d members of %d search fronts (their seed_ rows, catalog forms, left out)",
+		         ci->nfront, ci->nfiles);
+	bk_prov_title(f, "gpucost --calibrate: the IR cost model (brdfkit ops: simple, complex) against ACO's "
+	                 "net instruction counts on %s (%s) %s, driver %s; %d forms: the catalog's %d (a split-sum entry: "
+	                 "A and B in one shader)%s",
+	              chip, gfx, fp16 ? "fp16" : "fp32", driver, n, ci->ncat, fronts);
 	fprintf(f, "# least squares, no intercept: instructions ~ %.4g simple + %.4g complex (rms residual %.3g; "
 	           "the ir model's weights are %g and %g)\n",
 	        ws, wc, sqrt(ss / n), BK_COST_SIMPLE, BK_COST_COMPLEX);

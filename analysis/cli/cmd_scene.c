@@ -274,7 +274,7 @@ static int load(scene_run *S, const char *file)
 		free(text);
 		return cli_fail("scene", "%s: %s", file, err);
 	}
-	snprintf(S->hash, sizeof S->hash, "%016llx", (unsigned long long)bk_hash_bytes(14695981039346656037ull, text, len));
+	snprintf(S->hash, sizeof S->hash, "%016llx", (unsigned long long)bk_hash_bytes(BK_HASH_INIT, text, len));
 	free(text);
 	S->nset = bk_scene_plan(&S->sc, S->sets);
 	return 0;

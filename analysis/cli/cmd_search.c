@@ -10,6 +10,7 @@
 #include "out.h"
 #include "search/halves.h"
 #include "search/islands.h"
+#include "fit_out.h"
 #include "search_setup.h"
 #include "search_write.h"
 
@@ -361,13 +362,13 @@ static int write_outputs(const job *J, const bk_swrite *W)
 		snprintf(error, sizeof error, "%s %.3g in f16, as this half code computes it in either order of its mads "
 		         "(each sample in the order farther from the target), max |error| %.3g; in f64: rmse %.3g",
 		         bk_sfront_objective_name(&J->so), m->err, m->f16_max, m->res.fitted.rmse);
-		fit_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
+		fitout_run v = {J->command, &J->to, J->a->t.domain, &J->s, &m->spec, &m->res, m->name, m->name, source,
 		             "as the target's (see domain)", NULL, m->text_b != NULL, {m->f[0], m->f[1]}, 0,
 		             half, half ? error : NULL, sig[m->text_b != NULL]};
 		if (mkdir(dir, 0777))
 			rc = -1, snprintf(err, sizeof err, "%s/front/%s: cannot create: %s", J->a->out, m->name, strerror(errno));
 		else
-			rc = fit_write_into(&v, dir, err, sizeof err);
+			rc = fitout_write_into(&v, dir, err, sizeof err);
 	}
 	if (rc) {
 		bk_out_dir_abort(&od);
@@ -523,10 +524,10 @@ static int search_main(int argc, char **argv)
 		return rc;
 	if (a.t.f0.n > 1 && !search_env_in_f0(&J))
 		return cli_usage(&cmd, "--f0: one value, got %d (a list only for env with --env-form f0)", a.t.f0.n);
-	if ((rc = fit_setup_target(&a.t, J.kind, &J.to)))
+	if ((rc = fitargs_setup_target(&a.t, J.kind, &J.to)))
 		return rc;
 	static bk_samples table; /* table, merl: the file's samples, copied by both builds */
-	if ((rc = fit_read_file(&cmd, &a.t, J.kind, &table)))
+	if ((rc = fitargs_read_file(&cmd, &a.t, J.kind, &table)))
 		return rc;
 	J.to.table = &table;
 	char err[512];
@@ -534,7 +535,7 @@ static int search_main(int argc, char **argv)
 		if (!a.t.target_form || !a.t.domain)
 			return cli_usage(&cmd, "target form needs --target-form EXPR and --domain IN=LO:HI[,...]");
 		J.to.form_text = a.t.target_form;
-		if ((rc = fit_domain(&cmd, a.t.domain, &J.to)))
+		if ((rc = fitargs_domain(&cmd, a.t.domain, &J.to)))
 			return rc;
 		if (bk_target_form_check(&J.to, err, sizeof err))
 			return cli_usage(&cmd, "--target-form: %s", err);
@@ -575,7 +576,7 @@ static int search_main(int argc, char **argv)
 	if ((rc = search_setup_inputs(&J)) || (rc = search_setup_seeds(&J, &sd)))
 		goto done;
 	if (R == 0)
-		fit_say_size(&J.to); /* before the reference: --nx 4096 --nr 4096 is GBs */
+		fitargs_say_size(&J.to); /* before the reference: --nx 4096 --nr 4096 is GBs */
 	/* --vs-front: the double front of the same target and objective, said
 	 * now, not after the search; its samples are checked with the full ones */
 	if (R == 0 && a.vs_front &&

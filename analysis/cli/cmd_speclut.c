@@ -6,6 +6,7 @@
  * one written beside it, and a section for the report page.
  */
 #include "brdf.h"
+#include "prov.h"
 #include "cli.h"
 #include "cmd.h"
 #include "out.h"
@@ -88,8 +89,7 @@ static void csv_row(FILE *f, const scored *o, const char *role)
 static void write_sweep_csv(FILE *f, const scored *rows, int n, const scored *given, int best,
                             const char *description, const char *command)
 {
-	fprintf(f, "# brdfkit %s specular LUT sweep: axis x warp power x scale x size, 8-bit UNORM, bilinear\n",
-	        BK_VERSION);
+	bk_prov_title(f, "specular LUT sweep: axis x warp power x scale x size, 8-bit UNORM, bilinear");
 	fputs("# error of fetch*scale*NoL*F against the exact D*V*F*NoL on the spec target's samples (below), the LUT "
 	      "as sampled (texel centres, clamp to edge, 8-bit weights and texels)\n", f);
 	fprintf(f, "# samples: %s\n", description);
@@ -101,7 +101,7 @@ static void write_sweep_csv(FILE *f, const scored *rows, int n, const scored *gi
 	      "scale, size, 8 bits)\n", f);
 	fprintf(f, "# cost: ALU ops (ir weights: simple 1, complex 4) + one fetch at ALU:TEX %d; role: given (the "
 	        "options' LUT), best, or sweep\n", bk_tier_alu_per_tex[0]);
-	fprintf(f, "# command: %s\n", command ? command : "");
+	bk_prov_command(f, command);
 	fputs("name,role,axis,warp,width,height,scale,fresnel,format,albedo_rel_rms,albedo_rms,albedo_max_abs,rmse,weighted_rmse,max_abs,"
 	      "max_rel,storage_albedo_rms,storage_albedo_max_abs,storage_rmse,cost\n", f);
 	csv_row(f, given, "given");

@@ -13,6 +13,7 @@
 #include "heatmap.h"
 #include "member.h"
 #include "page.h"
+#include "prov.h"
 #include "search/pair.h"
 #include "stability.h"
 
@@ -442,7 +443,13 @@ int cmd_stability(int argc, char **argv)
 			if (!f || !d || !h || !pre)
 				rc = -1;
 			if (rc == 0) {
+				bk_prov_header(f, bk_out_command(), NULL,
+				               "stability: each term or form in half, single and double against long double on a "
+				               "stress grid (details.csv: each precision)");
 				summary_header(f);
+				bk_prov_header(d, bk_out_command(), NULL,
+				               "stability details: each term or form in each precision (half, single, double) "
+				               "against long double on the stress grid");
 				csv_header(d);
 				fputs("<section id=\"stability\">\n<h2>Numerical stability in half precision</h2>\n<p>Every term and "
 				      "catalog form on a stress grid with the extremes included, in half (IEEE binary16, rounded "

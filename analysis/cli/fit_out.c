@@ -2,6 +2,7 @@
  * fit_out.c — the files of a fit's result directory (fit_out.h).
  */
 #include "fit_out.h"
+#include "prov.h"
 #include "form_check.h"
 #include "heatmap.h"
 #include "msl.h"
@@ -41,9 +42,9 @@ static int close_in(FILE *f, const char *path, int bad, char *err, size_t errlen
 	return 1;
 }
 
-static void header(FILE *f, const fit_run *R, const char *what)
+static void header(FILE *f, const fitout_run *R, const char *what)
 {
-	fprintf(f, "# brdfkit %s %s\n# command: %s\n# target: %s\n", BK_VERSION, what, R->command, R->s->description);
+	bk_prov_header(f, R->command, R->s->description, "%s", what);
 	if (R->to->kind == BK_TARGET_FORM) { /* the whole expression (the description may cut it), on one line */
 		fputs("# target form: ", f);
 		for (const char *c = R->to->form_text; *c; c++)
@@ -67,7 +68,7 @@ static void held_line(FILE *f, const int *held, int np, const char *what)
 		}
 }
 
-static int write_tables(const fit_run *R, const char *dir, char *err, size_t errlen)
+static int write_tables(const fitout_run *R, const char *dir, char *err, size_t errlen)
 {
 	char path[4200];
 	FILE *f = open_in(dir, "coefficients.csv", path, err, errlen);
@@ -114,7 +115,7 @@ static int write_tables(const fit_run *R, const char *dir, char *err, size_t err
 }
 
 /* The error over the target's plane with constants p, as DIR/<stem>.{exr,png,csv}. */
-static int write_heatmap(const fit_run *R, const char *dir, const char *stem, const double *p, const char *which,
+static int write_heatmap(const fitout_run *R, const char *dir, const char *stem, const double *p, const char *which,
                          char *err, size_t errlen)
 {
 	const bk_samples *s = R->s;
@@ -138,16 +139,16 @@ static int write_heatmap(const fit_run *R, const char *dir, const char *stem, co
 
 /* Whether the target has a plane to draw: a form target over three or more
  * inputs has none (report says so). */
-int fit_has_plane(const fit_run *R)
+int fitout_has_plane(const fitout_run *R)
 {
 	if (R->to->kind == BK_TARGET_TABLE || R->to->kind == BK_TARGET_MERL)
 		return R->s->plane_x_input >= 0; /* an EXR table's grid; not a CSV's scattered samples, nor MERL's 3-D */
 	return R->to->kind != BK_TARGET_FORM || R->to->ndomain <= 2;
 }
 
-static int write_heatmaps(const fit_run *R, const char *dir, char *err, size_t errlen)
+static int write_heatmaps(const fitout_run *R, const char *dir, char *err, size_t errlen)
 {
-	if (!fit_has_plane(R))
+	if (!fitout_has_plane(R))
 		return 0;
 	int rc = write_heatmap(R, dir, "heatmap", R->res->p, "fitted", err, errlen);
 	if (rc == 0 && (R->published != NULL)) /* the published constants on the same samples, same colour rule */
@@ -172,7 +173,7 @@ static const struct shader_file {
 	{"shader.metal", -1, {BK_EMIT_SINGLE, BK_EMIT_F16}},
 };
 
-static int write_shader(const fit_run *R, const char *dir, const struct shader_file *sf, const char *domain,
+static int write_shader(const fitout_run *R, const char *dir, const struct shader_file *sf, const char *domain,
                         const char *error, char *err, size_t errlen)
 {
 	char path[4200];
@@ -213,7 +214,7 @@ static int write_shader(const fit_run *R, const char *dir, const struct shader_f
 	return close_in(f, path, 0, err, errlen) ? -1 : 0;
 }
 
-static int write_shaders(const fit_run *R, const char *dir, char *err, size_t errlen)
+static int write_shaders(const fitout_run *R, const char *dir, char *err, size_t errlen)
 {
 	char domain[600], error[400];
 	snprintf(domain, sizeof domain, "%s", R->s->description);
@@ -232,7 +233,7 @@ static int write_shaders(const fit_run *R, const char *dir, char *err, size_t er
 }
 
 
-int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen)
+int fitout_write_into(const fitout_run *R, const char *dir, char *err, size_t errlen)
 {
 	int rc = write_tables(R, dir, err, errlen);
 	if (rc == 0 && (rc = write_heatmaps(R, dir, err, errlen)) == 0)

@@ -12,7 +12,7 @@
 
 #include <stddef.h>
 
-typedef struct fit_run {
+typedef struct fitout_run {
 	const char *command;          /* the command line, for headers and shaders */
 	const bk_target_options *to;
 	const char *domain;           /* target form: the --domain text */
@@ -31,51 +31,14 @@ typedef struct fit_run {
 	const char *error;            /* the shaders' "fitted error" line, or NULL: the fit's f64 metrics */
 	unsigned signature;           /* a front member: its front's one signature (member.h; bk_emit_style's
 	                               * inputs, constants named; a pair also wrapped); 0: the form's own inputs */
-} fit_run;
+} fitout_run;
 
 /* Whether the target has a plane to draw: a form target over three or more
  * inputs has none. */
-int fit_has_plane(const fit_run *R);
+int fitout_has_plane(const fitout_run *R);
 
 /* Writes everything into the existing directory dir. Returns 0, or -1 (err
  * may then say why). */
-int fit_write_into(const fit_run *R, const char *dir, char *err, size_t errlen);
-
-/* ---- the target options of fit, shared with search (cmd_fit.c) ---------- */
-
-/* The target kind as a dimension of an applicability table (cli.h): value k
- * is bk_target_kind k. */
-#define FIT_TARGET_DIM                                                                                    \
-	{"target",                                                                                        \
-	 {"vf2d", "vf", "spec", "env", "d", "f", "form", "ms", "sheen", "table", "merl"},                  \
-	 {" on target vf2d", " on target vf", " on target spec", " on target env", " on target d",        \
-	  " on target f", " on target form", " on target ms", " on target sheen", " on target table",    \
-	  " on target merl"}}
-_Static_assert(BK_TARGET_COUNT == 11, "FIT_TARGET_DIM names every target kind in order");
-#define FIT_ON(k) (1u << BK_TARGET_##k)
-#define FIT_ALL ((1u << BK_TARGET_COUNT) - 1)
-#define FIT_FILE (FIT_ON(TABLE) | FIT_ON(MERL)) /* the targets whose samples a file gives */
-
-typedef struct fit_cli {
-	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
-	const char *r_range, *x_range, *bounds, *talk, *smith, *hold, *target_form, *domain;
-	const char *target_file, *channel; /* table, merl */
-	cli_list f0;
-	long nx, nr, nu, nphi, starts, seed, max_iter, threads;
-	double loss_scale, ior, k;
-	int relative;
-} fit_cli;
-
-/* fit and search: the memory and time of the target's samples, said before
- * they are built when that is much (cli_estimate): about 168 bytes and 15 us
- * a sample for the reference, the fits and the refit (measured: search on
- * vf2d at --nx 512 --nr 512, and 2.8 GB at 4096 x 4096). */
-void fit_say_size(const bk_target_options *to);
-/* --domain NAME=LO:HI[,...] into to's domain; 2 after a usage error. */
-int fit_domain(const cli_cmd *cmd, const char *text, bk_target_options *to);
-/* Defaults of kind, then the target options of a; 2 after an error. */
-int fit_setup_target(const fit_cli *a, bk_target_kind kind, bk_target_options *to);
-/* table, merl: reads --target-file into *t (zeroed for other targets); 0 or an exit status. */
-int fit_read_file(const cli_cmd *cmd, const fit_cli *a, bk_target_kind kind, bk_samples *t);
+int fitout_write_into(const fitout_run *R, const char *dir, char *err, size_t errlen);
 
 #endif

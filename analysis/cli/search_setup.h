@@ -11,7 +11,7 @@
 #define CLI_SEARCH_SETUP_H
 
 #include "cli.h"
-#include "fit_out.h"
+#include "fitargs.h"
 #include "frontcsv.h"
 #include "gpucost.h"
 #include "search.h"
@@ -24,7 +24,7 @@
 #define MAX_START_FRONTS 8 /* --start-front given this many times at most */
 
 typedef struct search_cli {
-	fit_cli t; /* the target options, as fit reads them */
+	fitargs t; /* the target options, as fit reads them */
 	const char *out, *prefix, *inputs, *ops, *objective, *precision, *weights, *cost_model, *gpu, *env_form, *checkpoint, *resume;
 	const char *start[MAX_SEEDS];
 	int nstart;
