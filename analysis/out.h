@@ -1,13 +1,29 @@
 /*
- * out.h — atomic output files and directories, the cleanup of temporaries on
- * a signal, CSV/HTML escaping and slugs: shared by the analysis modules that
- * write results and by the command-line tool.
+ * out.h — the one safe-write module: atomic output files and directories,
+ * the cleanup of temporaries on a signal, the error text of an errno, and
+ * CSV/HTML escaping and slugs: shared by the analysis modules that write
+ * results and by the command-line tool. Its files, one concern each:
+ * out_base.c (error text, paths, whole writes), out_registry.c (live
+ * temporaries, the signal handler, the command line), out_file.c (single
+ * files, inputs), out_manifest.c, out_dir.c and out_swap.c (directories),
+ * out_text.c (escaping); out_int.h holds what they share.
  */
 #ifndef ANALYSIS_OUT_H
 #define ANALYSIS_OUT_H
 
 #include <stddef.h>
 #include <stdio.h>
+
+/* strerror(e) with its first letter lowercased, so that every message reads
+ * "what: detail" ("no space left on device"); a capital before a second
+ * capital (an acronym) stays. The one copy for every writer and reader of
+ * files; the text lives in a thread-local buffer until the next call. */
+const char *bk_out_errtext(int e);
+/* "a/b/c" -> dir "a/b", returns "c"; "c" -> ".", "c"; "/c" -> "/", "c". */
+const char *bk_out_split(const char *path, char *dir, size_t len);
+/* All n bytes to fd, a short write continued and EINTR retried: 0, or -1
+ * with errno. */
+int bk_out_write_all(int fd, const void *buf, size_t n);
 
 /* Atomic output: text goes to a temporary file beside path, "path.tmpXXXXXX",
  * whose six letters come from its inode number and which its writer keeps
