@@ -43,10 +43,19 @@ typedef struct bk_out {
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen);
 int bk_out_commit(bk_out *o, char *err, size_t errlen);
 void bk_out_abort(bk_out *o);
+/* bk_out_commit, the file's lock kept: *held is its descriptor, still
+ * holding flock(LOCK_EX), for a writer whose file says "a live run holds
+ * me" after the rename too (a checkpoint: search_ck.c); -1 on a failure
+ * (when only the directory's fsync failed the file is in place and *held
+ * is set). The caller closes it. */
+int bk_out_commit_held(bk_out *o, int *held, char *err, size_t errlen);
+/* Removes the temporaries of path that dead runs left (as bk_out_open does
+ * first): returns how many. */
+int bk_out_clean(const char *path);
 
 /* A single file the user names (--out FILE): as safe as a directory. What
  * stands at path is replaced only when brdfkit wrote it, as its first lines
- * say (each format's provenance line: out.c's table), or when it is empty; a
+ * say (each format's provenance line: out_file.c's table), or when it is empty; a
  * symlink (never followed), anything not a regular file, a file of other
  * content, and any path inside a directory brdfkit writes whole (one holding
  * BK_OUT_MARKER, here or above: that run would delete or refuse it) are
@@ -68,7 +77,7 @@ int bk_in_open(const char *path, char *why, size_t len);
  * the caller to fill, commit swaps it in with one rename, abort removes it.
  * Only a directory brdfkit wrote is ever replaced: its marker file
  * BK_OUT_MARKER holds the command line and lists every file and directory the
- * run wrote (the format: out.c), and the directory holds nothing else. Only
+ * run wrote (the format: out_int.h), and the directory holds nothing else. Only
  * what the list names is deleted. A marker of other content (the format
  * before included), or an entry it does not list (a note, a checkpoint, a
  * symlink), is refused with one line naming it, before the work (check,

@@ -42,11 +42,11 @@ static void inode_tag(ino_t ino, char tag[7])
 /* Removes from dir the temporaries of base that dead runs left: a regular
  * file named base.tmpXXXXXX with its inode's letters and a free lock. Anything
  * else so named (a user's file, a live run's temporary) stays. */
-static void clean_file_leftovers(const char *dir, const char *base)
+static int clean_file_leftovers(const char *dir, const char *base)
 {
-	int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+	int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC), removed = 0;
 	if (dfd < 0)
-		return;
+		return 0;
 	size_t n = 0;
 	char *names = out_dir_names(dfd, &n);
 	for (char *s = names; s && n--; s += strlen(s) + 1) {
@@ -59,12 +59,20 @@ static void clean_file_leftovers(const char *dir, const char *base)
 		if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode))
 			inode_tag(st.st_ino, tag);
 		if (!strcmp(tag, x) && flock(fd, LOCK_EX | LOCK_NB) == 0 &&
-		    fstatat(dfd, s, &now, AT_SYMLINK_NOFOLLOW) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev)
-			unlinkat(dfd, s, 0);
+		    fstatat(dfd, s, &now, AT_SYMLINK_NOFOLLOW) == 0 && now.st_ino == st.st_ino && now.st_dev == st.st_dev &&
+		    unlinkat(dfd, s, 0) == 0)
+			removed++;
 		close(fd);
 	}
 	free(names);
 	close(dfd);
+	return removed;
+}
+
+int bk_out_clean(const char *path)
+{
+	char dir[4096];
+	return clean_file_leftovers(dir, bk_out_split(path, dir, sizeof dir));
 }
 
 /* The temporary for o->path in dir, locked and named with its inode's letters
@@ -160,7 +168,9 @@ static int sync_parent(const char *path)
 	return rc;
 }
 
-int bk_out_commit(bk_out *o, char *err, size_t errlen)
+/* The commit of bk_out_commit and bk_out_commit_held: with held, the locked
+ * descriptor of the file now at path goes to *held (-1 on a failure). */
+static int commit(bk_out *o, int *held, char *err, size_t errlen)
 {
 	/* fsync before rename: otherwise a crash can leave path naming an empty
 	 * file. The lock stays (on a duplicate) until the rename: a run that
@@ -168,6 +178,8 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	char sp[1024];
 	int bad = fflush(o->f) != 0 || ferror(o->f) || fsync(fileno(o->f)) != 0;
 	int e = errno, keep = fcntl(fileno(o->f), F_DUPFD_CLOEXEC, 0);
+	if (held)
+		*held = -1;
 	if (fclose(o->f) != 0 || bad) {
 		e = bad ? e : errno;
 		snprintf(err, errlen, "%s: write failed: %s", bk_out_shown(o->path, sp, sizeof sp), bk_out_errtext(e));
@@ -192,7 +204,9 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 	if (!moved)
 		unlink(o->tmp);
 	bk_out_untrack(o->slot);
-	if (keep >= 0)
+	if (moved && held)
+		*held = keep;
+	else if (keep >= 0)
 		close(keep);
 	if (!moved) {
 		snprintf(err, errlen, "%s: cannot rename into place: %s", bk_out_shown(o->path, sp, sizeof sp), bk_out_errtext(e));
@@ -204,6 +218,16 @@ int bk_out_commit(bk_out *o, char *err, size_t errlen)
 		return -1;
 	}
 	return 0;
+}
+
+int bk_out_commit(bk_out *o, char *err, size_t errlen)
+{
+	return commit(o, NULL, err, errlen);
+}
+
+int bk_out_commit_held(bk_out *o, int *held, char *err, size_t errlen)
+{
+	return commit(o, held, err, errlen);
 }
 
 void bk_out_abort(bk_out *o)

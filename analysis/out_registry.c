@@ -180,7 +180,7 @@ const char *bk_out_command(void)
 /* ---- lines while a run goes on, and names in messages --------------------------- */
 
 /* One line on stderr that does not end the run (a wait, a result kept aside),
- * in the form of cli_fail's errors, "brdfkit CMD: what: detail": out.c sits
+ * in the form of cli_fail's errors, "brdfkit CMD: what: detail": the out module sits
  * below the command-line tool and cannot call it. */
 void out_notice(const char *fmt, ...)
 {

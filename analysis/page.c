@@ -27,11 +27,7 @@
 
 static void reason(char *err, size_t errlen, int e)
 {
-	char why[128];
-	snprintf(why, sizeof why, "%s", strerror(e));
-	if (why[0] >= 'A' && why[0] <= 'Z' && why[1] >= 'a' && why[1] <= 'z') /* lowercase, as brdfkit's errors are */
-		why[0] = (char)(why[0] - 'A' + 'a');
-	snprintf(err, errlen, "cannot be read: %s", why);
+	snprintf(err, errlen, "cannot be read: %s", bk_out_errtext(e));
 }
 
 /* Reads fd to its end or to cap + 1 bytes into a buffer of its own. */
