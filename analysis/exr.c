@@ -147,7 +147,7 @@ static int64_t write_fd(exr_const_context_t ctx, void *user, const void *buf, ui
 			continue;
 		if (got <= 0) {
 			error_cb(ctx, EXR_ERR_WRITE_IO, "cannot write: %s",
-			         got < 0 ? strerror(errno) : "no space written");
+			         got < 0 ? bk_out_errtext(errno) : "no space written");
 			return -1;
 		}
 		done += (uint64_t)got;

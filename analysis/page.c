@@ -487,12 +487,7 @@ static int components(char *path, char **comp, int max)
 int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t outlen, char *err, size_t errlen)
 {
 	char page_dir[PATH_MAX], a[PATH_MAX], b[PATH_MAX];
-	snprintf(page_dir, sizeof page_dir, "%s", page_path);
-	char *slash = strrchr(page_dir, '/');
-	if (!slash)
-		snprintf(page_dir, sizeof page_dir, ".");
-	else
-		slash[slash == page_dir] = '\0'; /* "/x.html": the root itself */
+	bk_out_split(page_path, page_dir, sizeof page_dir); /* "/x.html": the root itself */
 	const char *bad = !realpath(page_dir, a) ? page_dir : !realpath(dir, b) ? dir : NULL;
 	if (bad) {
 		snprintf(err, errlen, "%.300s: cannot be resolved: %s", bad, strerror(errno));
