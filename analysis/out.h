@@ -32,7 +32,13 @@ int bk_out_write_all(int fd, const void *buf, size_t n);
  * error), bk_out_abort removes it. Nothing is ever left half-written at path,
  * and bk_out_open first removes the temporaries of path that dead runs left
  * (letters of their inode, lock free): a checkpoint's included. A user's file
- * so named (a copy is another inode) stays. */
+ * so named (a copy is another inode) stays.
+ * This is brdfkit's one temporary scheme (search checkpoints, heatmaps and
+ * EXRs write through it too), chosen over naming a finished temporary by a
+ * hash of its content: the name needs no text in memory first (writers
+ * stream through stdio), a leftover proves itself by fstat without being
+ * read, and a crash at any point leaves nothing (before the link) or a
+ * temporary that the next write of the same path removes. */
 typedef struct bk_out {
 	FILE *f;
 	char path[4096], tmp[4112];
