@@ -203,7 +203,8 @@ build/mkmerl: $(call obj,build/obj,tests/tools/mkmerl.c) $(LIB)
 	$(CC) $(OPT) $^ -lm -o $@
 
 # tests/render.sh compares brdfkit render's EXR images pixel by pixel with this
-build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c)
+# (exr.c writes through the safe-write module, analysis/out_*.c)
+build/exrcmp: $(call obj,build/obj,tests/tools/exrcmp.c analysis/exr.c $(wildcard analysis/out_*.c))
 	$(CC) $(OPT) $^ $(EXR_LIB) -lm -o $@
 
 $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)

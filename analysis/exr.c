@@ -1,14 +1,16 @@
 /*
  * exr.c — scanline EXR write and read over the OpenEXR C API (OpenEXRCore).
  * A write defines one scanline part (ZIP, 16 lines a chunk), streams the caller's
- * planar float arrays chunk by chunk through one encode pipeline into a mkstemp
- * file, and renames that file over the target only when every step succeeded; a
+ * planar float arrays chunk by chunk through one encode pipeline into a temporary
+ * beside the target (bk_out, out.h: the one safe-write module), and renames that
+ * file over the target only when every step succeeded; a
  * read mirrors it with a decode pipeline into freshly allocated float planes. The
  * library reports errors through a callback; here the first report of a call is kept
  * and joined to the step that failed, so callers get one line "path: step: detail"
  * and nothing is printed to stderr.
  */
 #include "exr.h"
+#include "out.h"
 
 #include <openexr.h>
 
@@ -130,7 +132,7 @@ typedef struct wjob {
 } wjob;
 
 /* The library would open path itself; the temporary file is already open from
- * mkstemp (which is what makes its name safe), so hand the library a pwrite. */
+ * bk_out_open (which is what makes its name safe), so hand the library a pwrite. */
 static int64_t write_fd(exr_const_context_t ctx, void *user, const void *buf, uint64_t size,
                         uint64_t offset, exr_stream_error_func_ptr_t error_cb)
 {
@@ -145,7 +147,7 @@ static int64_t write_fd(exr_const_context_t ctx, void *user, const void *buf, ui
 			continue;
 		if (got <= 0) {
 			error_cb(ctx, EXR_ERR_WRITE_IO, "cannot write: %s",
-			         got < 0 ? strerror(errno) : "no space written");
+			         got < 0 ? bk_out_errtext(errno) : "no space written");
 			return -1;
 		}
 		done += (uint64_t)got;
@@ -192,32 +194,13 @@ static int check_args(const wjob *j)
 	return check_attrs(j);
 }
 
-/* mkstemp beside the target, so the final rename stays on one file system (atomic). */
-static char *open_temp(sink *k, const char *path, int *fd)
+/* A failure of the safe-write module: its message, which names the file already. */
+static int fail_out(sink *k, const char *msg)
 {
-	size_t n = strlen(path) + sizeof ".tmpXXXXXX";
-	char *tmp = malloc(n);
-	if (!tmp) {
-		fail_msg(k, "out of memory");
-		return NULL;
-	}
-	snprintf(tmp, n, "%s.tmpXXXXXX", path);
-	*fd = mkstemp(tmp);
-	if (*fd < 0) {
-		fail_msg(k, "cannot create temporary file: %s", strerror(errno));
-		free(tmp);
-		return NULL;
-	}
-	/* mkstemp makes the file 0600; results are shared, so give it what fopen gives
-	 * under the usual umask 022 */
-	if (fchmod(*fd, 0644) != 0) {
-		fail_msg(k, "cannot set file mode: %s", strerror(errno));
-		close(*fd);
-		unlink(tmp);
-		free(tmp);
-		return NULL;
-	}
-	return tmp;
+	if (!k->failed && k->err && k->errlen)
+		snprintf(k->err, k->errlen, "%s", msg);
+	k->failed = 1;
+	return -1;
 }
 
 static int add_attrs(exr_context_t ctx, int part, const wjob *j)
@@ -342,21 +325,6 @@ static int write_exr(const char *path, wjob *j)
 	return bad ? -1 : 0;
 }
 
-/* fsync before rename: otherwise a crash can leave path naming an empty file. */
-static int commit(sink *k, int fd, const char *tmp, const char *path)
-{
-	if (fsync(fd) != 0) {
-		fail_msg(k, "cannot sync: %s", strerror(errno));
-		close(fd);
-		return -1;
-	}
-	if (close(fd) != 0)
-		return fail_msg(k, "cannot close: %s", strerror(errno));
-	if (rename(tmp, path) != 0)
-		return fail_msg(k, "cannot rename temporary file into place: %s", strerror(errno));
-	return 0;
-}
-
 int bk_exr_write(const char *path, int width, int height, int nchan,
                  const char *const *names, const float *const *data, int half,
                  const bk_exr_attr *attrs, int nattrs, char *err, size_t errlen)
@@ -368,15 +336,16 @@ int bk_exr_write(const char *path, int width, int height, int nchan,
 	if (!path || !path[0])
 		fail_msg(&k, "invalid argument: empty path");
 	else if (check_args(&j) == 0) {
-		char *tmp = open_temp(&k, path, &j.fd);
-		if (tmp) {
-			if (write_exr(path, &j) == 0)
-				rc = commit(&k, j.fd, tmp, path);
-			else
-				close(j.fd);
-			if (rc != 0)
-				unlink(tmp);
-			free(tmp);
+		bk_out o;
+		char oerr[1024];
+		if (bk_out_open(&o, path, oerr, sizeof oerr) != 0) {
+			fail_out(&k, oerr);
+		} else {
+			j.fd = fileno(o.f);
+			if (write_exr(path, &j) != 0)
+				bk_out_abort(&o);
+			else if ((rc = bk_out_commit(&o, oerr, sizeof oerr)) != 0) /* synced, renamed, its directory synced */
+				fail_out(&k, oerr);
 		}
 	}
 	cur_sink = NULL;

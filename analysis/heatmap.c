@@ -2,10 +2,10 @@
  * heatmap.c — one error map, five files. The picture (PNG, SVG, PDF) is a figure of
  * plot.h: the cells as an image under axes in the plane's units, a diverging colour
  * bar (signed error); the EXR goes through bk_exr_write; the CSV is plain stdio.
- * Each file is first written whole to a mkstemp temporary beside its final name and
- * only then are all renamed into place, so a write error never touches the files
- * already at those names. bk_out (out.h) is not used: its commit renames at once,
- * and here no rename may happen before all five files are complete.
+ * Each file is first written whole to its bk_out temporary beside its final name
+ * (out.h: the one safe-write module) and synced, and only then are all committed
+ * (renamed into place), so a write error never touches the files already at those
+ * names.
  */
 #include "heatmap.h"
 #include "prov.h"
@@ -255,59 +255,35 @@ static void comment(FILE *f, const char *lead, const char *text)
 
 /* ---- the five files --------------------------------------------------------------- */
 
-/* A file written whole under a temporary name before it is renamed to final. */
+/* A file written whole under its bk_out temporary (o.tmp) before it is committed to final. */
 typedef struct staged {
-	char final[4096], tmp[4112];
-	int live; /* tmp exists and is ours to remove */
-	FILE *f;
+	char final[4096];
+	bk_out o;
+	int live; /* o is open: its temporary is ours to commit or remove */
 } staged;
-
-static const char *errtext(int e, char *buf, size_t len)
-{
-	snprintf(buf, len, "%s", strerror(e));
-	if (buf[0] >= 'A' && buf[0] <= 'Z' && buf[1] >= 'a' && buf[1] <= 'z')
-		buf[0] = (char)(buf[0] - 'A' + 'a');
-	return buf;
-}
 
 static int fail_errno(char *err, size_t errlen, const char *path, const char *what, int e)
 {
-	char buf[128], shown[1024]; /* the path where the file goes, not its build tree's (out.h) */
-	snprintf(err, errlen, "%s: %s: %s", bk_out_shown(path, shown, sizeof shown), what, errtext(e, buf, sizeof buf));
+	char shown[1024]; /* the path where the file goes, not its build tree's (out.h) */
+	snprintf(err, errlen, "%s: %s: %s", bk_out_shown(path, shown, sizeof shown), what, bk_out_errtext(e));
 	return -1;
 }
 
-/* Creates the temporary; as_file keeps it open for stdio, otherwise it only reserves
- * a unique name for bk_exr_write to rename its own temporary onto. */
-static int stage_open(staged *s, int as_file, char *err, size_t errlen)
+/* Creates the temporary (bk_out_open); the EXR's is only a name for bk_exr_write
+ * to rename its own file onto, which the commit then renames into place. */
+static int stage_open(staged *s, char *err, size_t errlen)
 {
-	snprintf(s->tmp, sizeof s->tmp, "%s.tmpXXXXXX", s->final);
-	int fd = mkstemp(s->tmp);
-	if (fd < 0)
-		return fail_errno(err, errlen, s->final, "cannot create", errno);
+	if (bk_out_open(&s->o, s->final, err, errlen))
+		return -1;
 	s->live = 1;
-	/* mkstemp creates 0600; give the file the mode a plain fopen would. */
-	mode_t um = umask(0);
-	umask(um);
-	fchmod(fd, 0666 & ~um);
-	if (!as_file)
-		return close(fd) == 0 ? 0 : fail_errno(err, errlen, s->final, "cannot create", errno);
-	s->f = fdopen(fd, "wb");
-	if (!s->f) {
-		int e = errno;
-		close(fd);
-		return fail_errno(err, errlen, s->final, "cannot create", e);
-	}
 	return 0;
 }
 
+/* The file's text flushed and synced, so that a write error comes before any rename. */
 static int stage_close(staged *s, char *err, size_t errlen)
 {
-	/* fsync before the rename: otherwise a crash can leave a name on an empty file */
-	int bad = fflush(s->f) != 0 || ferror(s->f) || fsync(fileno(s->f)) != 0;
-	int rc = fclose(s->f);
-	s->f = NULL;
-	return bad || rc ? fail_errno(err, errlen, s->final, "write failed", errno) : 0;
+	int bad = fflush(s->o.f) != 0 || ferror(s->o.f) || fsync(fileno(s->o.f)) != 0;
+	return bad ? fail_errno(err, errlen, s->final, "write failed", errno) : 0;
 }
 
 enum { NFILES = 5 }; /* EXR, PNG, CSV, SVG, PDF */
@@ -315,21 +291,27 @@ enum { NFILES = 5 }; /* EXR, PNG, CSV, SVG, PDF */
 static void discard(staged s[NFILES])
 {
 	for (int k = 0; k < NFILES; k++) {
-		if (s[k].f)
-			fclose(s[k].f);
-		s[k].f = NULL;
 		if (s[k].live)
-			unlink(s[k].tmp);
+			bk_out_abort(&s[k].o);
 		s[k].live = 0;
 	}
 }
 
-/* Messages from bk_exr_write name the temporary; the caller asked for final. */
+/* Messages from bk_exr_write name the temporary (as given, or as out.h shows a
+ * path inside a build tree); the caller asked for final. */
 static void restate(char *err, size_t errlen, const char *tmp, const char *final)
 {
-	size_t n = strlen(tmp);
-	if (!err || errlen == 0 || strncmp(err, tmp, n) != 0)
+	char tmp_shown[1024], final_shown[1024];
+	if (!err || errlen == 0)
 		return;
+	size_t n = strlen(tmp);
+	if (strncmp(err, tmp, n) != 0) { /* bk_out's own messages show the path */
+		tmp = bk_out_shown(tmp, tmp_shown, sizeof tmp_shown);
+		final = bk_out_shown(final, final_shown, sizeof final_shown);
+		n = strlen(tmp);
+		if (strncmp(err, tmp, n) != 0)
+			return;
+	}
 	char *rest = xprintf("%s%s", final, err + n);
 	if (rest)
 		snprintf(err, errlen, "%s", rest);
@@ -354,13 +336,13 @@ static int write_figure(plan *p, staged *s, bk_plot_format fmt, char *err, size_
 	if (!desc)
 		return out_of_memory(err, errlen, s->final);
 	p->plot.provenance = desc;
-	int e = 0, rc = bk_plot_write(&p->plot, fmt, s->f);
+	int e = 0, rc = bk_plot_write(&p->plot, fmt, s->o.f);
 	if (rc)
 		e = errno;
 	p->plot.provenance = NULL;
 	free(desc);
 	if (rc)
-		return ferror(s->f) ? fail_errno(err, errlen, s->final, "write failed", e ? e : EIO)
+		return ferror(s->o.f) ? fail_errno(err, errlen, s->final, "write failed", e ? e : EIO)
 		                    : (snprintf(err, errlen, "%s: drawing the figure failed (cairo)", s->final), -1);
 	return stage_close(s, err, errlen);
 }
@@ -380,7 +362,7 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 		free(ay);
 		return out_of_memory(err, errlen, s->final);
 	}
-	FILE *f = s->f;
+	FILE *f = s->o.f;
 	char lead[COL_LEN + 40];
 	bk_prov_title(f, "heatmap: %s", p->title);
 	snprintf(lead, sizeof lead, "column %s: ", col[0]);
@@ -439,10 +421,10 @@ static int write_exr(const plan *p, staged *s, char *err, size_t errlen)
 		};
 		const char *names[1] = {"Y"};
 		const float *data[1] = {rows};
-		rc = bk_exr_write(s->tmp, h->nx, h->ny, 1, names, data, 0, attrs,
+		rc = bk_exr_write(s->o.tmp, h->nx, h->ny, 1, names, data, 0, attrs,
 		                  (int)(sizeof attrs / sizeof attrs[0]), err, errlen);
 		if (rc)
-			restate(err, errlen, s->tmp, s->final);
+			restate(err, errlen, s->o.tmp, s->final);
 	}
 	free(rows);
 	free(ax);
@@ -459,13 +441,12 @@ static int place_all(staged s[NFILES], char *err, size_t errlen)
 {
 	int k = 0;
 	for (; k < NFILES; k++) {
-		if (rename(s[k].tmp, s[k].final) != 0)
+		s[k].live = 0; /* a commit puts its temporary in place or removes it */
+		if (bk_out_commit(&s[k].o, err, errlen) != 0)
 			break;
-		s[k].live = 0;
 	}
 	if (k == NFILES)
 		return 0;
-	fail_errno(err, errlen, s[k].final, "cannot rename into place", errno);
 	for (int m = 0; k > 0 && m < NFILES; m++)
 		unlink(s[m].final);
 	discard(s);
@@ -503,9 +484,9 @@ int bk_heatmap_write_styled(const bk_heatmap *h, const bk_heatmap_style *st, con
 	for (int k = 0; k < NFILES; k++)
 		if (snprintf(s[k].final, sizeof s[k].final, "%s%s", who, ext[k]) < 0)
 			return -1; /* cannot happen: who is at most 4089 bytes */
-	int rc = stage_open(&s[0], 0, err, errlen) || stage_open(&s[1], 1, err, errlen) ||
-	         stage_open(&s[2], 1, err, errlen) || stage_open(&s[3], 1, err, errlen) ||
-	         stage_open(&s[4], 1, err, errlen) || write_figure(&p, &s[1], BK_PLOT_PNG, err, errlen) ||
+	int rc = stage_open(&s[0], err, errlen) || stage_open(&s[1], err, errlen) ||
+	         stage_open(&s[2], err, errlen) || stage_open(&s[3], err, errlen) ||
+	         stage_open(&s[4], err, errlen) || write_figure(&p, &s[1], BK_PLOT_PNG, err, errlen) ||
 	         write_csv(&p, &s[2], err, errlen) || write_figure(&p, &s[3], BK_PLOT_SVG, err, errlen) ||
 	         write_figure(&p, &s[4], BK_PLOT_PDF, err, errlen) || write_exr(&p, &s[0], err, errlen)
 	             ? -1 : place_all(s, err, errlen);

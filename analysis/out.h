@@ -1,13 +1,29 @@
 /*
- * out.h — atomic output files and directories, the cleanup of temporaries on
- * a signal, CSV/HTML escaping and slugs: shared by the analysis modules that
- * write results and by the command-line tool.
+ * out.h — the one safe-write module: atomic output files and directories,
+ * the cleanup of temporaries on a signal, the error text of an errno, and
+ * CSV/HTML escaping and slugs: shared by the analysis modules that write
+ * results and by the command-line tool. Its files, one concern each:
+ * out_base.c (error text, paths, whole writes), out_registry.c (live
+ * temporaries, the signal handler, the command line), out_file.c (single
+ * files, inputs), out_manifest.c, out_dir.c and out_swap.c (directories),
+ * out_text.c (escaping); out_int.h holds what they share.
  */
 #ifndef ANALYSIS_OUT_H
 #define ANALYSIS_OUT_H
 
 #include <stddef.h>
 #include <stdio.h>
+
+/* strerror(e) with its first letter lowercased, so that every message reads
+ * "what: detail" ("no space left on device"); a capital before a second
+ * capital (an acronym) stays. The one copy for every writer and reader of
+ * files; the text lives in a thread-local buffer until the next call. */
+const char *bk_out_errtext(int e);
+/* "a/b/c" -> dir "a/b", returns "c"; "c" -> ".", "c"; "/c" -> "/", "c". */
+const char *bk_out_split(const char *path, char *dir, size_t len);
+/* All n bytes to fd, a short write continued and EINTR retried: 0, or -1
+ * with errno. */
+int bk_out_write_all(int fd, const void *buf, size_t n);
 
 /* Atomic output: text goes to a temporary file beside path, "path.tmpXXXXXX",
  * whose six letters come from its inode number and which its writer keeps
@@ -16,7 +32,13 @@
  * error), bk_out_abort removes it. Nothing is ever left half-written at path,
  * and bk_out_open first removes the temporaries of path that dead runs left
  * (letters of their inode, lock free): a checkpoint's included. A user's file
- * so named (a copy is another inode) stays. */
+ * so named (a copy is another inode) stays.
+ * This is brdfkit's one temporary scheme (search checkpoints, heatmaps and
+ * EXRs write through it too), chosen over naming a finished temporary by a
+ * hash of its content: the name needs no text in memory first (writers
+ * stream through stdio), a leftover proves itself by fstat without being
+ * read, and a crash at any point leaves nothing (before the link) or a
+ * temporary that the next write of the same path removes. */
 typedef struct bk_out {
 	FILE *f;
 	char path[4096], tmp[4112];
@@ -27,10 +49,19 @@ typedef struct bk_out {
 int bk_out_open(bk_out *o, const char *path, char *err, size_t errlen);
 int bk_out_commit(bk_out *o, char *err, size_t errlen);
 void bk_out_abort(bk_out *o);
+/* bk_out_commit, the file's lock kept: *held is its descriptor, still
+ * holding flock(LOCK_EX), for a writer whose file says "a live run holds
+ * me" after the rename too (a checkpoint: search_ck.c); -1 on a failure
+ * (when only the directory's fsync failed the file is in place and *held
+ * is set). The caller closes it. */
+int bk_out_commit_held(bk_out *o, int *held, char *err, size_t errlen);
+/* Removes the temporaries of path that dead runs left (as bk_out_open does
+ * first): returns how many. */
+int bk_out_clean(const char *path);
 
 /* A single file the user names (--out FILE): as safe as a directory. What
  * stands at path is replaced only when brdfkit wrote it, as its first lines
- * say (each format's provenance line: out.c's table), or when it is empty; a
+ * say (each format's provenance line: out_file.c's table), or when it is empty; a
  * symlink (never followed), anything not a regular file, a file of other
  * content, and any path inside a directory brdfkit writes whole (one holding
  * BK_OUT_MARKER, here or above: that run would delete or refuse it) are
@@ -52,7 +83,7 @@ int bk_in_open(const char *path, char *why, size_t len);
  * the caller to fill, commit swaps it in with one rename, abort removes it.
  * Only a directory brdfkit wrote is ever replaced: its marker file
  * BK_OUT_MARKER holds the command line and lists every file and directory the
- * run wrote (the format: out.c), and the directory holds nothing else. Only
+ * run wrote (the format: out_int.h), and the directory holds nothing else. Only
  * what the list names is deleted. A marker of other content (the format
  * before included), or an entry it does not list (a note, a checkpoint, a
  * symlink), is refused with one line naming it, before the work (check,

@@ -27,11 +27,7 @@
 
 static void reason(char *err, size_t errlen, int e)
 {
-	char why[128];
-	snprintf(why, sizeof why, "%s", strerror(e));
-	if (why[0] >= 'A' && why[0] <= 'Z' && why[1] >= 'a' && why[1] <= 'z') /* lowercase, as brdfkit's errors are */
-		why[0] = (char)(why[0] - 'A' + 'a');
-	snprintf(err, errlen, "cannot be read: %s", why);
+	snprintf(err, errlen, "cannot be read: %s", bk_out_errtext(e));
 }
 
 /* Reads fd to its end or to cap + 1 bytes into a buffer of its own. */
@@ -491,12 +487,7 @@ static int components(char *path, char **comp, int max)
 int bk_page_rel_dir(const char *page_path, const char *dir, char *out, size_t outlen, char *err, size_t errlen)
 {
 	char page_dir[PATH_MAX], a[PATH_MAX], b[PATH_MAX];
-	snprintf(page_dir, sizeof page_dir, "%s", page_path);
-	char *slash = strrchr(page_dir, '/');
-	if (!slash)
-		snprintf(page_dir, sizeof page_dir, ".");
-	else
-		slash[slash == page_dir] = '\0'; /* "/x.html": the root itself */
+	bk_out_split(page_path, page_dir, sizeof page_dir); /* "/x.html": the root itself */
 	const char *bad = !realpath(page_dir, a) ? page_dir : !realpath(dir, b) ? dir : NULL;
 	if (bad) {
 		snprintf(err, errlen, "%.300s: cannot be resolved: %s", bad, strerror(errno));

@@ -41,7 +41,7 @@
  *
  * Temporary files live in a mkdtemp directory under $TMPDIR (or /tmp) and are
  * removed on every path out, a SIGINT or SIGTERM included: the directory and
- * the compiler running are in out.c's registry of live temporaries.
+ * the compiler running are in out_registry.c's registry of live temporaries.
  */
 #include "compare.h"
 #include "out.h"

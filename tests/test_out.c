@@ -1,5 +1,5 @@
 /*
- * test_out.c — output directories and files (analysis/out.c): only a
+ * test_out.c — output directories and files (analysis/out_*.c): only a
  * directory whose marker lists everything in it is replaced, and only what it
  * lists is deleted; a marker brdfkit did not write, the format before, an
  * unlisted entry (a note, a subdirectory, a symlink) are refused, before the
@@ -134,7 +134,7 @@ Test(out_dir, refuses_a_users_directory_untouched, .init = setup, .fini = teardo
 	cr_assert_str_eq(names, "thesis.tex");
 }
 
-/* The marker lists what the run wrote, in the documented format (out.c):
+/* The marker lists what the run wrote, in the documented format (out_int.h):
  * the format line, the command, one line per file (f) and directory (d) in
  * byte order, "end"; the text below is written from that description. */
 Test(out_dir, replaces_its_own_directory_whole, .init = setup, .fini = teardown)
@@ -621,4 +621,55 @@ Test(out_file, removes_a_dead_runs_temporary_only, .init = setup, .fini = teardo
 	cr_assert_str_eq(names, "second");
 	slurp(path, names, sizeof names);
 	cr_assert_str_eq(names, "mine");
+}
+
+/* issue 42: a checkpoint is written through bk_out (search_ck.c). A save
+ * killed between its write and its rename leaves its temporary; bk_out_clean
+ * (the check before a search) removes it once its writer is dead, and not
+ * while the writer lives (the negative control). */
+Test(out_file, clean_removes_a_killed_saves_temporary, .init = setup, .fini = teardown, .timeout = 30)
+{
+	char ck[300], names[512];
+	snprintf(ck, sizeof ck, "%s/ck", dir);
+	int wake;
+	pid_t pid = start_writer(ck, &wake);
+	listing(dir, names, sizeof names);
+	cr_assert_eq(strncmp(names, "ck.tmp", 6), 0, "%s", names);
+	cr_assert_eq(bk_out_clean(ck), 0, "a live save's temporary was removed");
+	listing(dir, names, sizeof names);
+	cr_assert_eq(strncmp(names, "ck.tmp", 6), 0, "%s", names);
+	end_child(pid, wake);
+	cr_assert_eq(bk_out_clean(ck), 1);
+	listing(dir, names, sizeof names);
+	cr_assert_str_eq(names, "");
+}
+
+/* A checkpoint's commit keeps its lock after the rename (bk_out_commit_held):
+ * a second run probing the file finds it locked while the descriptor is
+ * held, and free once it is closed (the negative control). */
+Test(out_file, a_held_commit_keeps_the_lock, .init = setup, .fini = teardown)
+{
+	char ck[300], err[512], text[64];
+	snprintf(ck, sizeof ck, "%s/ck", dir);
+	bk_out o;
+	int held = -2;
+	cr_assert_eq(bk_out_open(&o, ck, err, sizeof err), 0, "%s", err);
+	fputs("brdfkit-search-checkpoint", o.f);
+	cr_assert_eq(bk_out_commit_held(&o, &held, err, sizeof err), 0, "%s", err);
+	cr_assert(held >= 0);
+	slurp(ck, text, sizeof text);
+	cr_assert_str_eq(text, "brdfkit-search-checkpoint");
+	int probe = open(ck, O_RDONLY);
+	cr_assert(probe >= 0);
+	cr_assert_eq(flock(probe, LOCK_EX | LOCK_NB), -1, "the committed file is not locked");
+	close(held);
+	cr_assert_eq(flock(probe, LOCK_EX | LOCK_NB), 0, "still locked after the descriptor was closed");
+	close(probe);
+	/* and the plain commit keeps nothing: the file is free at once */
+	cr_assert_eq(bk_out_open(&o, ck, err, sizeof err), 0, "%s", err);
+	fputs("again", o.f);
+	cr_assert_eq(bk_out_commit(&o, err, sizeof err), 0, "%s", err);
+	probe = open(ck, O_RDONLY);
+	cr_assert_eq(flock(probe, LOCK_EX | LOCK_NB), 0);
+	close(probe);
 }

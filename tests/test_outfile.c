@@ -1,6 +1,6 @@
 /*
  * test_outfile.c — single files the user names and inputs read back
- * (analysis/out.c): bk_out_file_check replaces only a file one of brdfkit's
+ * (analysis/out_file.c): bk_out_file_check replaces only a file one of brdfkit's
  * provenance lines opens (or an empty one), never a symlink, a directory, a
  * file of other content or one inside a directory holding .brdfkit-output;
  * bk_out_open_file checks again at the commit; bk_in_open refuses a FIFO

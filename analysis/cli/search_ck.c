@@ -1,18 +1,15 @@
 /*
  * search_ck.c — checkpoint files of brdfkit search (search_ck.h).
  */
-#define _GNU_SOURCE /* O_TMPFILE, linkat's AT_EMPTY_PATH, flock: Linux; each has a fallback */
+#define _GNU_SOURCE /* O_TMPFILE (a check that has a fallback), flock: Linux */
 #include "search_ck.h"
 #include "cli.h"
-#include "expr.h"
 #include "islands.h"
 #include "out.h"
 
-#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -20,122 +17,27 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define HEX 16 /* digits of the hash in a temporary's name */
+/* A save goes through the one safe-write module (out.h): bk_out_open makes
+ * the temporary beside PATH, named by its inode and locked from its
+ * creation, after removing the temporaries of saves to PATH that dead runs
+ * left; the text is written and synced before any rename; the signal
+ * handler removes a live temporary. What a checkpoint adds: the check for a
+ * live run's checkpoint at PATH, the previous file kept (islands' .prev),
+ * and the lock kept after the rename (held_fd). */
 
-/* strerror, lowercased: messages read "what: detail". */
-static const char *why(int e)
+/* Writes text into a temporary beside path and syncs it to disk. 0, or -1
+ * with "PATH: cannot write: REASON" in err. */
+static int ck_write(bk_out *o, const char *path, const char *text, size_t len, char *err, size_t errlen)
 {
-	static char buf[128];
-	snprintf(buf, sizeof buf, "%s", strerror(e));
-	if (buf[0] >= 'A' && buf[0] <= 'Z')
-		buf[0] = (char)(buf[0] - 'A' + 'a');
-	return buf;
-}
-
-/* The directory of path ("." for a bare name) into dir, its last part into *base. */
-static void split(const char *path, char *dir, size_t len, const char **base)
-{
-	const char *slash = strrchr(path, '/');
-	*base = slash ? slash + 1 : path;
-	if (!slash)
-		snprintf(dir, len, ".");
-	else
-		snprintf(dir, len, "%.*s", slash == path ? 1 : (int)(slash - path), path);
-}
-
-static int write_all(int fd, const char *p, size_t n)
-{
-	while (n > 0) {
-		ssize_t w = write(fd, p, n);
-		if (w < 0 && errno == EINTR)
-			continue;
-		if (w <= 0)
-			return -1;
-		p += w;
-		n -= (size_t)w;
-	}
-	return 0;
-}
-
-/* A leftover the size of text whose first bytes are text's: a save of this
- * very text killed mid-write (it has text's name). */
-static int part_of(const char *path, const char *text, size_t len)
-{
-	int fd = open(path, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-	struct stat st;
-	int ok = fd >= 0 && fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && (size_t)st.st_size <= len;
-	char buf[65536];
-	for (size_t at = 0; ok && at < (size_t)st.st_size;) {
-		ssize_t n = read(fd, buf, sizeof buf);
-		ok = n > 0 && at + (size_t)n <= len && memcmp(buf, text + at, (size_t)n) == 0;
-		at += n > 0 ? (size_t)n : 0;
-	}
-	if (fd >= 0)
-		close(fd);
-	return ok;
-}
-
-int ck_write(ck_file *c, const char *path, const char *text, size_t len, char *err, size_t errlen)
-{
-	char dir[4096];
-	const char *base;
-	c->fd = -1;
-	c->named = 0;
-	c->slot = -1;
-	if (strlen(path) >= sizeof c->path) {
-		snprintf(err, errlen, "%.64s...: path too long", path);
+	if (bk_out_open(o, path, err, errlen))
 		return -1;
-	}
-	snprintf(c->path, sizeof c->path, "%s", path);
-	snprintf(c->tmp, sizeof c->tmp, "%s.tmp%0*llx", path, HEX,
-	         (unsigned long long)bk_hash_bytes(BK_HASH_INIT, text, len));
-	split(path, dir, sizeof dir, &base);
-	mode_t um = umask(0);
-	umask(um);
-	c->fd = open(dir, O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666 & ~um);
-	if (c->fd < 0 && (errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL)) { /* no O_TMPFILE here */
-		c->slot = bk_out_track(c->tmp, 0);
-		c->fd = open(c->tmp, O_CREAT | O_EXCL | O_WRONLY | O_NOFOLLOW | O_CLOEXEC, 0666 & ~um);
-		if (c->fd < 0 && errno == EEXIST && part_of(c->tmp, text, len) && unlink(c->tmp) == 0)
-			c->fd = open(c->tmp, O_CREAT | O_EXCL | O_WRONLY | O_NOFOLLOW | O_CLOEXEC, 0666 & ~um);
-		c->named = c->fd >= 0;
-	}
-	/* held until the rename: a run that finds this file named knows it alive */
-	int bad = c->fd < 0 || flock(c->fd, LOCK_EX) != 0 || write_all(c->fd, text, len) != 0 || fsync(c->fd) != 0;
-	if (bad) {
-		snprintf(err, errlen, "%s: cannot write: %s", path, why(errno));
-		ck_abort(c);
-		return -1;
-	}
-	return 0;
-}
-
-static int proves_itself(int dfd, const char *name, const char *hex);
-
-/* Names an unnamed temporary tmp: through /proc (any user), or by the
- * descriptor itself (needs CAP_DAC_READ_SEARCH) where /proc is absent. A
- * leftover of a killed save of this very text in the way (its name is the
- * text's hash) goes first. */
-static int link_tmp(ck_file *c)
-{
-	char proc[64];
-	snprintf(proc, sizeof proc, "/proc/self/fd/%d", c->fd);
-	c->slot = bk_out_track(c->tmp, 0);
-	for (int again = 0; again < 2; again++) {
-		if (linkat(AT_FDCWD, proc, AT_FDCWD, c->tmp, AT_SYMLINK_FOLLOW) == 0 ||
-		    (errno != EEXIST && linkat(c->fd, "", AT_FDCWD, c->tmp, AT_EMPTY_PATH) == 0)) {
-			c->named = 1;
-			return 0;
-		}
+	if (bk_out_write_all(fileno(o->f), text, len) != 0 || fsync(fileno(o->f)) != 0) {
 		int e = errno;
-		if (e != EEXIST || !proves_itself(AT_FDCWD, c->tmp, c->tmp + strlen(c->path) + 4) || unlink(c->tmp) != 0) {
-			errno = e;
-			break;
-		}
+		snprintf(err, errlen, "%s: cannot write: %s", path, bk_out_errtext(e));
+		bk_out_abort(o);
+		return -1;
 	}
-	bk_out_untrack(c->slot);
-	c->slot = -1;
-	return -1;
+	return 0;
 }
 
 /* The checkpoint this process wrote last, kept open with its flock(LOCK_EX)
@@ -163,67 +65,33 @@ static int locked_by_another(const char *path)
 
 #define LOCKED_TEXT "another brdfkit search is writing it (it is locked); give each run its own --checkpoint"
 
-int ck_commit(ck_file *c, const char *keep, char *err, size_t errlen)
+/* Puts the written temporary at its path (after renaming an existing file at
+ * path to keep, unless keep is NULL) and syncs the directory; the new file's
+ * lock is held from then on. 0, or -1 (err). */
+static int ck_commit(bk_out *o, const char *keep, char *err, size_t errlen)
 {
-	if (locked_by_another(c->path)) { /* two runs started together: the first to save keeps the path */
-		snprintf(err, errlen, "%s: " LOCKED_TEXT, c->path);
-		ck_abort(c);
+	if (locked_by_another(o->path)) { /* two runs started together: the first to save keeps the path */
+		snprintf(err, errlen, "%s: " LOCKED_TEXT, o->path);
+		bk_out_abort(o);
 		return -1;
 	}
-	if (!c->named && link_tmp(c)) {
-		snprintf(err, errlen, "%s: cannot name the written file: %s", c->path, why(errno));
-		ck_abort(c);
+	if (keep && rename(o->path, keep) != 0 && errno != ENOENT) {
+		snprintf(err, errlen, "%.200s: cannot keep it as %.200s: %s", o->path, keep, bk_out_errtext(errno));
+		bk_out_abort(o);
 		return -1;
 	}
-	if (keep && rename(c->path, keep) != 0 && errno != ENOENT) {
-		snprintf(err, errlen, "%.200s: cannot keep it as %.200s: %s", c->path, keep, why(errno));
-		ck_abort(c);
-		return -1;
-	}
-	if (rename(c->tmp, c->path) != 0) {
-		snprintf(err, errlen, "%s: cannot rename into place: %s", c->path, why(errno));
-		ck_abort(c);
-		return -1;
-	}
-	bk_out_untrack(c->slot);
-	c->slot = -1;
-	c->named = 0;
+	int fd, rc = bk_out_commit_held(o, &fd, err, errlen);
 	struct stat st;
-	if (fstat(c->fd, &st) == 0) { /* the new file's lock held, the previous one's dropped */
+	if (fd >= 0 && fstat(fd, &st) == 0) { /* the new file's lock held, the previous one's dropped */
 		if (held_fd >= 0)
 			close(held_fd);
-		held_fd = c->fd;
+		held_fd = fd;
 		held_dev = st.st_dev;
 		held_ino = st.st_ino;
-	} else {
-		close(c->fd);
+	} else if (fd >= 0) {
+		close(fd);
 	}
-	c->fd = -1;
-	char dir[4096];
-	const char *base;
-	split(c->path, dir, sizeof dir, &base);
-	int dfd = open(dir, O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-	int bad = dfd < 0 || fsync(dfd) != 0; /* the rename made durable */
-	int e = errno;
-	if (dfd >= 0)
-		close(dfd);
-	if (bad) {
-		snprintf(err, errlen, "%s: cannot sync its directory: %s", c->path, why(e));
-		return -1;
-	}
-	return 0;
-}
-
-void ck_abort(ck_file *c)
-{
-	if (c->named)
-		unlink(c->tmp);
-	if (c->fd >= 0)
-		close(c->fd);
-	bk_out_untrack(c->slot);
-	c->fd = -1;
-	c->named = 0;
-	c->slot = -1;
+	return rc;
 }
 
 /* ---- checks before the work ------------------------------------------------- */
@@ -241,7 +109,7 @@ static int resolved(const char *path, int whole, char *buf)
 		p[n - 1] = '\0';
 	if (whole && realpath(p, buf))
 		return 0;
-	split(p, dir, sizeof dir, &base);
+	base = bk_out_split(p, dir, sizeof dir);
 	char real[PATH_MAX];
 	if (!realpath(dir, real))
 		return -1;
@@ -269,7 +137,7 @@ static int replaceable(const char *path, char *err, size_t errlen)
 {
 	struct stat st;
 	if (lstat(path, &st) != 0) /* nothing there (or no directory: said next) */
-		return errno == ENOENT || errno == ENOTDIR ? 0 : (snprintf(err, errlen, "%s: %s", path, why(errno)), -1);
+		return errno == ENOENT || errno == ENOTDIR ? 0 : (snprintf(err, errlen, "%s: %s", path, bk_out_errtext(errno)), -1);
 	if (!S_ISREG(st.st_mode)) {
 		snprintf(err, errlen, "%s: exists and is not a regular file", path);
 		return -1;
@@ -290,7 +158,7 @@ int ck_check_write(const char *path, const char *out, char *err, size_t errlen)
 {
 	char dir[4096];
 	const char *base;
-	split(path, dir, sizeof dir, &base);
+	base = bk_out_split(path, dir, sizeof dir);
 	if (!*base || !strcmp(base, ".") || !strcmp(base, "..")) {
 		snprintf(err, errlen, "%s: not a file name", path);
 		return -1;
@@ -309,7 +177,7 @@ int ck_check_write(const char *path, const char *out, char *err, size_t errlen)
 	struct stat st;
 	int found = stat(dir, &st) == 0;
 	if (!found || !S_ISDIR(st.st_mode)) {
-		snprintf(err, errlen, "%s: cannot create: %s", path, why(found ? ENOTDIR : errno));
+		snprintf(err, errlen, "%s: cannot create: %s", path, bk_out_errtext(found ? ENOTDIR : errno));
 		return -1;
 	}
 	/* a file made and dropped (unnamed: nothing is left), else the permission alone */
@@ -320,7 +188,7 @@ int ck_check_write(const char *path, const char *out, char *err, size_t errlen)
 	}
 	if ((errno == EOPNOTSUPP || errno == EISDIR || errno == EINVAL) && access(dir, W_OK | X_OK) == 0)
 		return 0;
-	snprintf(err, errlen, "%s: cannot create: %s", path, why(errno));
+	snprintf(err, errlen, "%s: cannot create: %s", path, bk_out_errtext(errno));
 	return -1;
 }
 
@@ -338,56 +206,11 @@ int ck_check_read(const char *path, const char *out, int must_exist, char *err, 
 	char reason[96];
 	int fd = bk_in_open(path, reason, sizeof reason);
 	if (fd < 0) {
-		snprintf(err, errlen, "%s: cannot be read: %s", path, fd == -1 ? why(errno) : reason);
+		snprintf(err, errlen, "%s: cannot be read: %s", path, fd == -1 ? bk_out_errtext(errno) : reason);
 		return -1;
 	}
 	close(fd);
 	return 0;
-}
-
-/* ---- leftovers --------------------------------------------------------------- */
-
-/* Whether the file name in dfd is a leftover of ours: a regular file no live
- * run holds whose content hashes to the HEX digits its name ends with. */
-static int proves_itself(int dfd, const char *name, const char *hex)
-{
-	int fd = openat(dfd, name, O_RDONLY | O_NOFOLLOW | O_CLOEXEC);
-	struct stat st;
-	if (fd < 0)
-		return 0;
-	int ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && flock(fd, LOCK_EX | LOCK_NB) == 0;
-	uint64_t h = BK_HASH_INIT;
-	char buf[65536];
-	ssize_t n;
-	while (ok && (n = read(fd, buf, sizeof buf)) > 0)
-		h = bk_hash_bytes(h, buf, (size_t)n);
-	close(fd);
-	char want[HEX + 1];
-	snprintf(want, sizeof want, "%0*llx", HEX, (unsigned long long)h);
-	return ok && n == 0 && strcmp(want, hex) == 0;
-}
-
-int ck_clean(const char *path)
-{
-	char dir[4096];
-	const char *base;
-	split(path, dir, sizeof dir, &base);
-	size_t bl = strlen(base);
-	DIR *d = opendir(dir);
-	if (!d)
-		return 0;
-	int removed = 0;
-	struct dirent *e;
-	while ((e = readdir(d)) != NULL) {
-		const char *s = e->d_name;
-		if (strncmp(s, base, bl) || strncmp(s + bl, ".tmp", 4) || strlen(s + bl + 4) != HEX ||
-		    strspn(s + bl + 4, "0123456789abcdef") != HEX)
-			continue;
-		if (proves_itself(dirfd(d), s, s + bl + 4) && unlinkat(dirfd(d), s, 0) == 0)
-			removed++;
-	}
-	closedir(d);
-	return removed;
 }
 
 /* ---- the checkpoint of a search -------------------------------------------------- */
@@ -418,7 +241,7 @@ int ck_search_save(const bk_search *S, const char *path, char *err, size_t errle
 {
 	char *text;
 	size_t len;
-	ck_file c;
+	bk_out c;
 	if (ck_search_text(S, NULL, &text, &len)) {
 		snprintf(err, errlen, "%s: out of memory", path);
 		return -1;
@@ -483,7 +306,7 @@ int ck_islands_save(const ck_islands *J, const bk_search *S, long round)
 	         round, J->migrate, J->migrants);
 	char *text;
 	size_t len;
-	ck_file c;
+	bk_out c;
 	int ok = ck_search_text(S, head, &text, &len) == 0;
 	if (!ok)
 		snprintf(err, sizeof err, "%.200s: out of memory", path);
@@ -491,7 +314,7 @@ int ck_islands_save(const ck_islands *J, const bk_search *S, long round)
 	free(text);
 	if (isl_any(!ok)) {
 		if (ok)
-			ck_abort(&c);
+			bk_out_abort(&c);
 		return ck_islands_fail("--checkpoint", ok ? "" : err);
 	}
 	ok = ck_commit(&c, prev, err, sizeof err) == 0;
@@ -563,8 +386,8 @@ int ck_islands_check(const ck_islands *J)
 			return ck_islands_fail(what, bad ? err : "");
 		if (bad)
 			return cli_fail("search", "%s %s", what, err);
-		if (base) /* the rank's own */
-			ck_clean(K > 1 ? path : base);
+		if (base) /* the rank's own (bk_out_open cleans its path at each save too) */
+			bk_out_clean(K > 1 ? path : base);
 	}
 	return 0;
 }

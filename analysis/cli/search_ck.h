@@ -4,17 +4,16 @@
  * of a save that was killed removed by a later run, only where the file
  * proves itself brdfkit's.
  *
- * A save writes the checkpoint's text into an unnamed file in the
- * checkpoint's directory (O_TMPFILE), syncs it, and only then gives it a
- * name, PATH.tmpH with H the 16 hex digits of the FNV-1a hash of its whole
- * text (expr.h, bk_hash_bytes), which is renamed onto PATH at once. A run
- * killed before the link leaves nothing (the kernel frees the unnamed file);
- * one killed in the microseconds between link and rename leaves PATH.tmpH,
- * whole. A later run removes PATH.tmpH only when its content hashes to H:
- * no file of a user's has that name by chance, and a copy of one is the
- * leftover itself. Where the file system has no O_TMPFILE the named
- * temporary is written directly; a save killed in the middle of that write
- * leaves a part that cannot prove itself and is left alone.
+ * A save writes through the one safe-write module (out.h, bk_out_open): the
+ * checkpoint's text goes into a temporary beside it, PATH.tmpXXXXXX, named
+ * by its inode number and locked (flock) from its creation to the rename;
+ * it is synced before the rename, so PATH is never half-written. A run
+ * killed before the rename leaves that temporary; the next save to PATH
+ * (and the check before a run, ck_islands_check) removes it, since its name
+ * proves it brdfkit's (a user's file or a copy is another inode) and its
+ * lock is free. That one scheme serves checkpoints and every other output:
+ * it needs no text in memory before the name (a content hash would), and
+ * proves a leftover without reading it.
  */
 #ifndef CLI_SEARCH_CK_H
 #define CLI_SEARCH_CK_H
@@ -22,22 +21,6 @@
 #include "search.h"
 
 #include <stddef.h>
-
-typedef struct ck_file {
-	int fd;          /* the temporary, written and synced; -1: none */
-	int named;       /* 1 once it has its name tmp (no O_TMPFILE, or linked) */
-	char path[4096]; /* where it goes */
-	char tmp[4200];  /* PATH.tmpH */
-	int slot;        /* in out.h's registry of live temporaries (removed on a signal) */
-} ck_file;
-
-/* Writes text[0..len) into a temporary beside path and syncs it to disk.
- * 0, or -1 with "PATH: cannot write: REASON" (errno's text) in err. */
-int ck_write(ck_file *c, const char *path, const char *text, size_t len, char *err, size_t errlen);
-/* Puts the temporary at its path (after renaming an existing file at path to
- * keep, unless keep is NULL) and syncs the directory. 0, or -1 (err). */
-int ck_commit(ck_file *c, const char *keep, char *err, size_t errlen);
-void ck_abort(ck_file *c);
 
 /* Whether a checkpoint can be written at path, before any work: its
  * directory exists and takes a new file, path is nothing or a brdfkit
@@ -50,9 +33,6 @@ int ck_check_write(const char *path, const char *out, char *err, size_t errlen);
 /* Whether path is a file to resume from (with must_exist; else only where
  * one would be), outside out: 0, or -1 (err). */
 int ck_check_read(const char *path, const char *out, int must_exist, char *err, size_t errlen);
-/* Removes the leftovers PATH.tmpH of killed saves to path that prove
- * themselves (see above) and no live run holds. Returns how many. */
-int ck_clean(const char *path);
 
 /* ---- a search's checkpoints ---------------------------------------------------- */
 
@@ -75,7 +55,7 @@ typedef struct ck_islands {
 int ck_islands_fail(const char *what, const char *mine);
 /* The checkpoint files checked before any work, each rank its own (FILE.RANK
  * and FILE.RANK.prev on islands, FILE on one process), then the leftovers of
- * killed saves removed (ck_clean). Collective. 0, or 1 after the message. */
+ * killed saves removed (bk_out_clean). Collective. 0, or 1 after the message. */
 int ck_islands_check(const ck_islands *J);
 /* Round `round` saved by every rank in two phases (.prev kept). Collective.
  * 0, or 1 after the message. */
