@@ -506,6 +506,7 @@ static char *build_guarded(const char *text, unsigned reads, double R, double C)
 static void propose_guards(const bk_form *f, const char *text, const double *params, const grid *g, const ref *R,
                            double tol, bk_stability *st)
 {
+	bk_form *best = NULL; /* st->guarded's form once a guard passes */
 	unsigned reads = bk_form_inputs(f);
 	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
 	double best_err = INFINITY;
@@ -533,8 +534,8 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
 		if (!h)
 			snprintf(unwritable, sizeof unwritable, "%s", e.message);
-		bk_form_free(h);
 		if (ok != 1) {
+			bk_form_free(h);
 			free(cur);
 			continue;
 		}
@@ -542,6 +543,8 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		st->guarded_ok = 1;
 		free(st->guarded);
 		st->guarded = cur;
+		bk_form_free(best); /* the winner's form is kept for its constants below: parsed once */
+		best = h;
 		st->guard_error[0] = Rr > 0 ? er : NAN;
 		st->guard_error[1] = C > 0 ? ec : NAN;
 		size_t k = 0;
@@ -554,24 +557,39 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 	if (!st->guarded_ok && unwritable[0]) /* not "nothing fixes it": it could not be tried */
 		snprintf(st->guards, sizeof st->guards, "none of the floors that could be written fixes it (a guarded "
 		         "form was refused: %.150s)", unwritable);
-	bk_form_error e;
-	bk_form *h = st->guarded ? bk_form_parse(st->guarded, &e) : NULL;
-	if (h)
-		check_constants(h, params, st->constants, sizeof st->constants);
-	bk_form_free(h);
+	/* no guard passed: st->guarded is text itself, f */
+	if (st->guarded)
+		check_constants(best ? best : f, params, st->constants, sizeof st->constants);
+	st->guarded_form = best ? best : bk_form_dup(f);
 }
 
 int bk_stability_run(const char *name, const char *text, const double *params, double tol, bk_stability *st,
                      char *err, size_t errlen)
 {
-	memset(st, 0, sizeof *st);
-	snprintf(st->name, sizeof st->name, "%s", name);
 	bk_form_error e;
 	bk_form *f = bk_form_parse(text, &e);
 	if (!f) {
-		snprintf(err, errlen, "%s:1:%d: %s", name, e.column, e.message);
+		memset(st, 0, sizeof *st);
+		snprintf(st->name, sizeof st->name, "%s", name);
+		bk_stability_parse_error(name, &e, err, errlen);
 		return -1;
 	}
+	int rc = bk_stability_run_form(name, f, params, tol, st, err, errlen);
+	bk_form_free(f);
+	return rc;
+}
+
+void bk_stability_parse_error(const char *name, const bk_form_error *e, char *err, size_t errlen)
+{
+	snprintf(err, errlen, "%s:1:%d: %s", name, e->column, e->message);
+}
+
+int bk_stability_run_form(const char *name, const bk_form *f, const double *params, double tol, bk_stability *st,
+                          char *err, size_t errlen)
+{
+	memset(st, 0, sizeof *st);
+	snprintf(st->name, sizeof st->name, "%s", name);
+	const char *text = bk_form_text(f); /* the guards are rewrites of the text (substitute) */
 	double none[BK_MAX_PARAMS] = {0};
 	if (!params && bk_form_nparams(f) > 0) { /* zeros would be a silent guess */
 		int np = bk_form_nparams(f);
@@ -579,7 +597,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 			snprintf(err, errlen, "%s: the form uses p0 but no value was given", name);
 		else
 			snprintf(err, errlen, "%s: the form uses p0..p%d but no values were given", name, np - 1);
-		bk_form_free(f);
 		return -1;
 	}
 	if (!params)
@@ -590,7 +607,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 	    reference(f, params, &g, &R)) {
 		grid_free(&g);
 		ref_free(&R);
-		bk_form_free(f);
 		snprintf(err, errlen, "%s: out of memory", name);
 		return -1;
 	}
@@ -605,7 +621,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		         "no precision can be judged against it", name, g.n, st->pole);
 		grid_free(&g);
 		ref_free(&R);
-		bk_form_free(f);
 		return -1;
 	}
 	static const bk_precision order[3] = {BK_F64, BK_F32, BK_F16};
@@ -638,12 +653,12 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 	else {
 		st->guarded_ok = 1;
 		st->guarded = str_printf("%s", text);
+		st->guarded_form = bk_form_dup(f);
 		check_constants(f, params, st->constants, sizeof st->constants);
 	}
 	grid_free(&g);
 	ref_free(&R);
-	bk_form_free(f);
-	if (!st->guarded) {
+	if (!st->guarded || !st->guarded_form) {
 		bk_stability_free(st);
 		snprintf(err, errlen, "%s: out of memory", name);
 		return -1;
@@ -655,4 +670,6 @@ void bk_stability_free(bk_stability *st)
 {
 	free(st->guarded);
 	st->guarded = NULL;
+	bk_form_free(st->guarded_form);
+	st->guarded_form = NULL;
 }
