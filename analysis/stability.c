@@ -386,14 +386,11 @@ static double min_safe_r(const bk_form *f, const double *params, double cfloor, 
 	return safe_from(rs, ok, FINE + 1);
 }
 
-/* Largest relative change a guarded form makes to the unguarded one in long
- * double, where the unguarded reference is meaningful: the guard's own error.
- * Takes guarded (a new string, freed here; NULL: out of memory, NaN). */
-static double guard_cost(char *guarded, const double *params, const grid *g, const ref *R)
+/* Largest relative change a guarded form h makes to the unguarded one in long
+ * double, where the unguarded reference is meaningful: the guard's own error
+ * (h NULL: not written, NaN). */
+static double guard_cost(const bk_form *h, const double *params, const grid *g, const ref *R)
 {
-	bk_form_error e;
-	bk_form *h = guarded ? bk_form_parse(guarded, &e) : NULL;
-	free(guarded);
 	double *v = h ? malloc(sizeof(double) * g->n) : NULL, worst = NAN;
 	if (v && bk_form_eval(h, BK_FLD, g->n, (const double *const *)g->in, params, v) == 0) {
 		worst = 0; /* where the value is one half can hold: beyond 65504 nothing can be kept */
@@ -402,7 +399,6 @@ static double guard_cost(char *guarded, const double *params, const grid *g, con
 				worst = fmax(worst, fabs(v[k] - R->v[k]) / fabs(R->v[k]));
 	}
 	free(v);
-	bk_form_free(h);
 	return worst;
 }
 
@@ -499,6 +495,19 @@ static char *build_guarded(const char *text, unsigned reads, double R, double C)
 	return a;
 }
 
+/* build_guarded's text parsed, each guarded text once (its error cost and its
+ * check in half read the same form). NULL when the parser refuses it (e says
+ * why: a form too long once guarded) or out of memory (e's message empty). */
+static bk_form *parse_guarded(const char *text, unsigned reads, double R, double C, bk_form_error *e)
+{
+	char *t = build_guarded(text, reads, R, C);
+	bk_form *h = t ? bk_form_parse(t, e) : NULL;
+	if (!t)
+		*e = (bk_form_error){0, ""};
+	free(t);
+	return h;
+}
+
 /* The guards that can be written into the form: for each cosine floor of the
  * minimum-safe-inputs table, that floor with its roughness floor. Each
  * guard's error is measured alone against the unguarded form; the passing
@@ -520,23 +529,35 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		if (isnan(Rf))
 			continue;
 		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
-		double er = 0, ec = 0;
-		if (Rr > 0)
-			er = guard_cost(build_guarded(text, reads, Rr, 0), params, g, R);
-		if (C > 0)
-			ec = guard_cost(build_guarded(text, reads, 0, C), params, g, R);
+		bk_form_error er_e, ec_e, e;
+		bk_form *hr = Rr > 0 ? parse_guarded(text, reads, Rr, 0, &er_e) : NULL;
+		bk_form *hc = C > 0 ? parse_guarded(text, reads, 0, C, &ec_e) : NULL;
+		double er = Rr > 0 ? guard_cost(hr, params, g, R) : 0, ec = C > 0 ? guard_cost(hc, params, g, R) : 0;
 		double err = fmax(er, ec);
-		char *cur = err < best_err ? build_guarded(text, reads, Rr, C) : NULL;
-		if (!cur)
+		bk_form *h = NULL;
+		if (!(err < best_err)) {
+			bk_form_free(hr);
+			bk_form_free(hc);
 			continue;
-		bk_form_error e;
-		bk_form *h = bk_form_parse(cur, &e);
+		}
+		/* both floors: a text of its own; one: that floor's form, already parsed */
+		if (Rr > 0 && C > 0) {
+			bk_form_free(hr);
+			bk_form_free(hc);
+			h = parse_guarded(text, reads, Rr, C, &e);
+		} else if (Rr > 0 || C > 0) {
+			h = Rr > 0 ? hr : hc;
+			e = Rr > 0 ? er_e : ec_e;
+		} else { /* no floor: the text itself */
+			h = bk_form_dup(f);
+			e = (bk_form_error){0, ""};
+		}
 		int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
-		if (!h)
+		if (!h && e.message[0])
 			snprintf(unwritable, sizeof unwritable, "%s", e.message);
-		if (ok != 1) {
+		char *cur = ok == 1 ? str_printf("%s", bk_form_text(h)) : NULL;
+		if (!cur) {
 			bk_form_free(h);
-			free(cur);
 			continue;
 		}
 		best_err = err;
