@@ -382,6 +382,7 @@ static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, cons
 typedef struct cand {
 	char name[128], source[256];
 	char *text;
+	bk_form *f;           /* text parsed (owned), NULL for a LUT: guards and choices take it from here */
 	double p[BK_MAX_PARAMS];
 	double cost, err;
 	bk_ops ops;
@@ -413,8 +414,10 @@ static cand *pool_add(pool *P)
 
 static void pool_free(pool *P)
 {
-	for (int i = 0; i < P->n; i++)
+	for (int i = 0; i < P->n; i++) {
 		free(P->c[i].text);
+		bk_form_free(P->c[i].f);
+	}
 	free(P->c);
 }
 
@@ -447,7 +450,7 @@ static int add_form(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 		if (!isfinite(e))
 			continue;
 		cand *c = pool_add(P);
-		if (!c || !(c->text = strdup(t))) {
+		if (!c || !(c->text = strdup(t)) || !(c->f = bk_form_dup(f))) {
 			bk_form_free(f);
 			free(t);
 			return -1;
@@ -637,6 +640,8 @@ static int consider_speclut(const bk_scene *sc, const bk_scene_set *set, bk_scen
 	const bk_speclut *L = &cand[b];
 	free(ch->text);
 	ch->text = NULL;
+	bk_form_free(ch->form);
+	ch->form = NULL;
 	bk_speclut_name(L, ch->name, sizeof ch->name);
 	snprintf(ch->source, sizeof ch->source, "brdfkit lut --specular --axis %s --warp %d --scale %g --size %d "
 	         "--r-range %.9g:%.9g --fresnel %s (one texture for D*V*F*NoL, bilinear, texel centres)",
@@ -730,20 +735,26 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
  * roughness is above what the stability analysis finds safe without a
  * floor; a cosine floor when that suffices; else the analysis's guarded
  * form. generic: the guards a shader that knows nothing of the scene needs,
- * as for r from 0. *out: the text to emit (allocated); *added: the largest
- * relative error the guard adds on its own (stability.h), 0 for none. */
-static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, const char *text, const double *p,
-                 int generic, char **out, double *added, char *why, size_t whylen, char *err, size_t errlen)
+ * as for r from 0. *out: the text to emit (allocated); *form: its IR where
+ * one is at hand (f's copy, or the analysis's guarded form), else NULL (a new
+ * text, a cosine floor: the caller parses it); *added: the largest relative
+ * error the guard adds on its own (stability.h), 0 for none. */
+static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, const bk_form *f, const double *p,
+                 int generic, char **out, bk_form **form, double *added, char *why, size_t whylen, char *err,
+                 size_t errlen)
 {
+	const char *text = bk_form_text(f);
 	*out = NULL;
+	*form = NULL;
 	*added = 0;
 	if (!sc->half) {
 		snprintf(why, whylen, "none: highp, no half-precision guard");
 		*out = strdup(text);
+		*form = bk_form_dup(f); /* NULL (out of memory): the caller parses out */
 		return *out ? 0 : -1;
 	}
 	bk_stability st;
-	if (bk_stability_run(name, text, p, BK_STAB_TOL, &st, err, errlen))
+	if (bk_stability_run_form(name, f, p, BK_STAB_TOL, &st, err, errlen))
 		return -1;
 	const bk_stab_prec *h = &st.p[2];
 	double r_lo = generic ? 0 : set->r_lo;
@@ -753,9 +764,11 @@ static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, 
 	if (st.safe_as_is && h->nan == 0 && h->inf == 0) { /* stability.h: no pole, nothing hidden */
 		snprintf(why, whylen, "none: right in half on the whole stress grid");
 		*out = strdup(text);
+		*form = bk_form_dup(f);
 	} else if (i == 0) {
 		snprintf(why, whylen, "none: r >= %g on this set, and half is right from r >= %.3g", r_lo, st.floor_r[0]);
 		*out = strdup(text);
+		*form = bk_form_dup(f);
 	} else if (i < 5) {
 		snprintf(why, whylen, "cosines floored at %g (half is right from r >= %.3g with it; r >= %g here)",
 		         st.floor_cos[i], st.floor_r[i], r_lo);
@@ -765,14 +778,22 @@ static int guard(const bk_scene *sc, const bk_scene_set *set, const char *name, 
 		snprintf(why, whylen, "%.120s (adds up to %.3g relative error where it acts)", st.guards[0] ? st.guards : "guarded",
 		         st.guard_error[0]);
 		*out = strdup(st.guarded);
+		*form = st.guarded_form;
+		st.guarded_form = NULL;
 		*added = st.guard_error[0];
 	} else {
 		snprintf(why, whylen, "not safe in half even with the guards brdfkit knows (%.150s)",
 		         st.guards[0] ? st.guards : "none apply");
-		*out = strdup(st.guarded ? st.guarded : text);
+		*out = strdup(st.guarded); /* bk_stability_run_form: never NULL on success */
+		*form = st.guarded_form;
+		st.guarded_form = NULL;
 	}
 	bk_stability_free(&st);
-	return *out ? 0 : -1;
+	if (*out)
+		return 0;
+	bk_form_free(*form);
+	*form = NULL;
+	return -1;
 }
 
 /* Fills ch from candidate c: guards, then the final text's cost and error. */
@@ -797,21 +818,29 @@ static int finish(const bk_scene *sc, const bk_scene_set *set, const domain *d, 
 		return 0;
 	}
 	double added;
-	if (guard(sc, set, c->name, c->text, c->p, generic, &ch->text, &added, ch->guards, sizeof ch->guards, err,
-	          errlen))
+	if (!c->f) { /* a constant of this file that does not parse (bk_stability_run's message) */
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(c->text, &fe);
+		if (!f)
+			bk_stability_parse_error(c->name, &fe, err, errlen);
+		else
+			snprintf(err, errlen, "%s: out of memory", c->name);
+		bk_form_free(f);
+		return -1;
+	}
+	if (guard(sc, set, c->name, c->f, c->p, generic, &ch->text, &ch->form, &added, ch->guards, sizeof ch->guards,
+	          err, errlen))
 		return -1;
 	if (!d) /* D is exact: its error is what the guard adds */
 		ch->err = added;
 	bk_form_error fe;
-	bk_form *f = bk_form_parse(ch->text, &fe);
-	if (!f) {
+	if (!ch->form && !(ch->form = bk_form_parse(ch->text, &fe))) { /* a new text: its cosines floored */
 		snprintf(err, errlen, "%s: the guarded form does not parse: %s", c->name, fe.message);
 		return -1;
 	}
-	ch->cost = form_cost(sc, f, &ch->ops);
+	ch->cost = form_cost(sc, ch->form, &ch->ops);
 	if (d)
-		ch->err = score(d, term, f, ch->p);
-	bk_form_free(f);
+		ch->err = score(d, term, ch->form, ch->p);
 	return 0;
 }
 
@@ -890,9 +919,12 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(c.name, sizeof c.name, "D_ggx");
 		snprintf(c.source, sizeof c.source, "Walter et al. 2007 (exact GGX)");
 		c.text = BK_SCENE_GENERIC_D;
+		c.f = bk_form_parse(c.text, NULL); /* a constant: parsed where it enters */
 		c.err = 0;
-		if (finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
-		    (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen)))
+		int bad = finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
+		          (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen));
+		bk_form_free(c.f);
+		if (bad)
 			return -1;
 		ch->budget = NAN; /* nothing to choose: no budget applies */
 		ch->meets = 1;
@@ -927,8 +959,8 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(gen.name, sizeof gen.name, "generic");
 		snprintf(gen.source, sizeof gen.source, "exact height-correlated Smith GGX V x Schlick F");
 		gen.text = BK_SCENE_GENERIC_VF;
+		gen.f = f; /* freed at done */
 		gen.cost = f ? form_cost(sc, f, &gen.ops) : HUGE_VAL;
-		bk_form_free(f);
 		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
 			goto done;
 	} else {
@@ -1093,6 +1125,7 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	rc = 0;
 done:
 	bk_scene_choice_free(&g);
+	bk_form_free(gen.f);
 	pool_free(&P);
 	domain_free(&d);
 	return rc;
@@ -1102,6 +1135,8 @@ void bk_scene_choice_free(bk_scene_choice *ch)
 {
 	free(ch->text);
 	ch->text = NULL;
+	bk_form_free(ch->form);
+	ch->form = NULL;
 }
 
 int bk_scene_form_error(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, const char *text, double *p,

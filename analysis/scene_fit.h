@@ -50,6 +50,8 @@ typedef struct bk_scene_choice {
 	double lut_bytes;
 	char *text;           /* the form as emitted: f0 folded where the set has one, guards
 	                         applied; NULL for a LUT (allocated) */
+	bk_form *form;        /* text parsed, once (owned, as text; NULL for a LUT): what the
+	                         writers emit, count and time, so none parses text again */
 	double p[BK_MAX_PARAMS];
 	bk_ops ops;
 	int fetches;

@@ -77,24 +77,17 @@ static const char *err_unit(bk_scene_term t)
 	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
 }
 
-/* One generated function of text (constants p) into f in language li.
+/* One generated function of form (constants p) into f in language li.
  * Returns 0 or -1. */
-static int emit(FILE *f, const char *text, const double *p, int li, int half, const bk_emit_info *info, char *err,
+static int emit(FILE *f, const bk_form *form, const double *p, int li, int half, const bk_emit_info *info, char *err,
                 size_t errlen)
 {
 	bk_lang lang = lang_of[li];
-	bk_form_error fe;
-	bk_form *form = bk_form_parse(text, &fe);
-	if (!form) {
-		snprintf(err, errlen, "%s: %s", info->name, fe.message);
-		return -1;
-	}
 	/* the scene's C is float with the fitted constants, as its tests compare
 	 * it with the IR's single precision (half: the GLSL's and HLSL's types) */
 	char why[600] = "code generation failed";
 	char *code = li == LI_MSL ? bk_msl_emit(form, half, p, info, NULL, why, sizeof why)
 	                          : bk_form_emit(form, lang, lang == BK_LANG_C ? BK_EMIT_SINGLE : half, p, info);
-	bk_form_free(form);
 	if (!code) {
 		snprintf(err, errlen, "%s: %s", info->name, why);
 		return -1;
@@ -202,14 +195,26 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
 		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
 		                     errtext, d->command};
-		if (emit(f, c->text, c->p, li, sc->half, &info, err, errlen))
+		if (!c->form) { /* a choice is made with its form (scene_fit.h) */
+			snprintf(err, errlen, "%s: no form", info.name);
+			return -1;
+		}
+		if (emit(f, c->form, c->p, li, sc->half, &info, err, errlen))
 			return -1;
 	}
 	if (R->set.needs.diffuse) {
 		char fname[96];
 		snprintf(fname, sizeof fname, "%s_diffuse", R->set.name);
 		bk_emit_info info = {fname, "Lambert", "times the diffuse colour (1/pi included)", NULL, "exact", d->command};
-		if (emit(f, "Fd_lambert()", NULL, li, sc->half, &info, err, errlen))
+		bk_form_error fe;
+		bk_form *lambert = bk_form_parse("Fd_lambert()", &fe); /* a constant: parsed where it enters */
+		if (!lambert) {
+			snprintf(err, errlen, "%s: %s", info.name, fe.message);
+			return -1;
+		}
+		int rc = emit(f, lambert, NULL, li, sc->half, &info, err, errlen);
+		bk_form_free(lambert);
+		if (rc)
 			return -1;
 	}
 	return 0;
@@ -241,13 +246,7 @@ static void count_field(FILE *f, int n)
 
 static void params_text(FILE *f, const bk_scene_choice *c)
 {
-	int np = 0;
-	if (c->text) {
-		bk_form_error fe;
-		bk_form *form = bk_form_parse(c->text, &fe);
-		np = form ? bk_form_nparams(form) : 0;
-		bk_form_free(form);
-	}
+	int np = c->form ? bk_form_nparams(c->form) : 0;
 	for (int j = 0; j < np; j++)
 		fprintf(f, "%sp%d=%.9g", j ? ";" : "", j, c->p[j]);
 }

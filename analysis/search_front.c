@@ -94,8 +94,8 @@ static void stability(member *m, int finite)
 	for (int q = 0; finite && q < (m->text_b ? 2 : 1); q++) {
 		bk_stability st;
 		char e2[256];
-		if (bk_stability_run(m->name, q ? m->text_b : m->text, m->spec.np ? m->res.p : NULL, BK_STAB_TOL, &st, e2,
-		                     sizeof e2)) {
+		if (bk_stability_run_form(m->name, m->f[q], m->spec.np ? m->res.p : NULL, BK_STAB_TOL, &st, e2,
+		                          sizeof e2)) {
 			analysed = 0;
 			continue;
 		}
@@ -253,12 +253,14 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 		m->prec.rmse = m->prec.max_abs = m->prec.max_rel = HUGE_VAL;
 		m->err = m->f16_max = HUGE_VAL;
 	}
-	char *whole = m->text_b ? bk_pair_dup(m->text, m->text_b) : NULL; /* the pair as the shader computes it */
-	bk_form *w = (!m->text_b || whole) ? bk_form_parse(whole ? whole : m->text, &fe) : NULL;
+	/* the pair as the shader computes it, f0*(A) + (B): a form of its own
+	 * (its sharing counted once); one tree: the member's form */
+	char *whole = m->text_b ? bk_pair_dup(m->text, m->text_b) : NULL;
+	bk_form *w = whole ? bk_form_parse(whole, &fe) : NULL;
 	free(whole);
-	if (!w)
+	if (m->text_b && !w)
 		return -1;
-	bk_form_count(w, &m->ops);
+	bk_form_count(w ? w : m->f[0], &m->ops);
 	m->cost = bk_ops_cost(&m->ops, so->simple_cost, so->complex_cost);
 	bk_form_free(w);
 	stability(m, finite);

@@ -386,14 +386,11 @@ static double min_safe_r(const bk_form *f, const double *params, double cfloor, 
 	return safe_from(rs, ok, FINE + 1);
 }
 
-/* Largest relative change a guarded form makes to the unguarded one in long
- * double, where the unguarded reference is meaningful: the guard's own error.
- * Takes guarded (a new string, freed here; NULL: out of memory, NaN). */
-static double guard_cost(char *guarded, const double *params, const grid *g, const ref *R)
+/* Largest relative change a guarded form h makes to the unguarded one in long
+ * double, where the unguarded reference is meaningful: the guard's own error
+ * (h NULL: not written, NaN). */
+static double guard_cost(const bk_form *h, const double *params, const grid *g, const ref *R)
 {
-	bk_form_error e;
-	bk_form *h = guarded ? bk_form_parse(guarded, &e) : NULL;
-	free(guarded);
 	double *v = h ? malloc(sizeof(double) * g->n) : NULL, worst = NAN;
 	if (v && bk_form_eval(h, BK_FLD, g->n, (const double *const *)g->in, params, v) == 0) {
 		worst = 0; /* where the value is one half can hold: beyond 65504 nothing can be kept */
@@ -402,7 +399,6 @@ static double guard_cost(char *guarded, const double *params, const grid *g, con
 				worst = fmax(worst, fabs(v[k] - R->v[k]) / fabs(R->v[k]));
 	}
 	free(v);
-	bk_form_free(h);
 	return worst;
 }
 
@@ -499,6 +495,19 @@ static char *build_guarded(const char *text, unsigned reads, double R, double C)
 	return a;
 }
 
+/* build_guarded's text parsed, each guarded text once (its error cost and its
+ * check in half read the same form). NULL when the parser refuses it (e says
+ * why: a form too long once guarded) or out of memory (e's message empty). */
+static bk_form *parse_guarded(const char *text, unsigned reads, double R, double C, bk_form_error *e)
+{
+	char *t = build_guarded(text, reads, R, C);
+	bk_form *h = t ? bk_form_parse(t, e) : NULL;
+	if (!t)
+		*e = (bk_form_error){0, ""};
+	free(t);
+	return h;
+}
+
 /* The guards that can be written into the form: for each cosine floor of the
  * minimum-safe-inputs table, that floor with its roughness floor. Each
  * guard's error is measured alone against the unguarded form; the passing
@@ -506,6 +515,7 @@ static char *build_guarded(const char *text, unsigned reads, double R, double C)
 static void propose_guards(const bk_form *f, const char *text, const double *params, const grid *g, const ref *R,
                            double tol, bk_stability *st)
 {
+	bk_form *best = NULL; /* st->guarded's form once a guard passes */
 	unsigned reads = bk_form_inputs(f);
 	int reads_r = (reads >> BK_IN_R & 1) || (reads >> BK_IN_A & 1);
 	double best_err = INFINITY;
@@ -519,29 +529,43 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 		if (isnan(Rf))
 			continue;
 		double C = Cf > 0 ? half_at_least(Cf) : 0, Rr = reads_r && Rf > 0 ? half_at_least(Rf) : 0;
-		double er = 0, ec = 0;
-		if (Rr > 0)
-			er = guard_cost(build_guarded(text, reads, Rr, 0), params, g, R);
-		if (C > 0)
-			ec = guard_cost(build_guarded(text, reads, 0, C), params, g, R);
+		bk_form_error er_e, ec_e, e;
+		bk_form *hr = Rr > 0 ? parse_guarded(text, reads, Rr, 0, &er_e) : NULL;
+		bk_form *hc = C > 0 ? parse_guarded(text, reads, 0, C, &ec_e) : NULL;
+		double er = Rr > 0 ? guard_cost(hr, params, g, R) : 0, ec = C > 0 ? guard_cost(hc, params, g, R) : 0;
 		double err = fmax(er, ec);
-		char *cur = err < best_err ? build_guarded(text, reads, Rr, C) : NULL;
-		if (!cur)
+		bk_form *h = NULL;
+		if (!(err < best_err)) {
+			bk_form_free(hr);
+			bk_form_free(hc);
 			continue;
-		bk_form_error e;
-		bk_form *h = bk_form_parse(cur, &e);
+		}
+		/* both floors: a text of its own; one: that floor's form, already parsed */
+		if (Rr > 0 && C > 0) {
+			bk_form_free(hr);
+			bk_form_free(hc);
+			h = parse_guarded(text, reads, Rr, C, &e);
+		} else if (Rr > 0 || C > 0) {
+			h = Rr > 0 ? hr : hc;
+			e = Rr > 0 ? er_e : ec_e;
+		} else { /* no floor: the text itself */
+			h = bk_form_dup(f);
+			e = (bk_form_error){0, ""};
+		}
 		int ok = h ? half_ok(h, params, bk_stab_r, bk_stab_nr, bk_stab_cos, bk_stab_ncos, tol) : 0;
-		if (!h)
+		if (!h && e.message[0])
 			snprintf(unwritable, sizeof unwritable, "%s", e.message);
-		bk_form_free(h);
-		if (ok != 1) {
-			free(cur);
+		char *cur = ok == 1 ? str_printf("%s", bk_form_text(h)) : NULL;
+		if (!cur) {
+			bk_form_free(h);
 			continue;
 		}
 		best_err = err;
 		st->guarded_ok = 1;
 		free(st->guarded);
 		st->guarded = cur;
+		bk_form_free(best); /* the winner's form is kept for its constants below: parsed once */
+		best = h;
 		st->guard_error[0] = Rr > 0 ? er : NAN;
 		st->guard_error[1] = C > 0 ? ec : NAN;
 		size_t k = 0;
@@ -554,24 +578,39 @@ static void propose_guards(const bk_form *f, const char *text, const double *par
 	if (!st->guarded_ok && unwritable[0]) /* not "nothing fixes it": it could not be tried */
 		snprintf(st->guards, sizeof st->guards, "none of the floors that could be written fixes it (a guarded "
 		         "form was refused: %.150s)", unwritable);
-	bk_form_error e;
-	bk_form *h = st->guarded ? bk_form_parse(st->guarded, &e) : NULL;
-	if (h)
-		check_constants(h, params, st->constants, sizeof st->constants);
-	bk_form_free(h);
+	/* no guard passed: st->guarded is text itself, f */
+	if (st->guarded)
+		check_constants(best ? best : f, params, st->constants, sizeof st->constants);
+	st->guarded_form = best ? best : bk_form_dup(f);
 }
 
 int bk_stability_run(const char *name, const char *text, const double *params, double tol, bk_stability *st,
                      char *err, size_t errlen)
 {
-	memset(st, 0, sizeof *st);
-	snprintf(st->name, sizeof st->name, "%s", name);
 	bk_form_error e;
 	bk_form *f = bk_form_parse(text, &e);
 	if (!f) {
-		snprintf(err, errlen, "%s:1:%d: %s", name, e.column, e.message);
+		memset(st, 0, sizeof *st);
+		snprintf(st->name, sizeof st->name, "%s", name);
+		bk_stability_parse_error(name, &e, err, errlen);
 		return -1;
 	}
+	int rc = bk_stability_run_form(name, f, params, tol, st, err, errlen);
+	bk_form_free(f);
+	return rc;
+}
+
+void bk_stability_parse_error(const char *name, const bk_form_error *e, char *err, size_t errlen)
+{
+	snprintf(err, errlen, "%s:1:%d: %s", name, e->column, e->message);
+}
+
+int bk_stability_run_form(const char *name, const bk_form *f, const double *params, double tol, bk_stability *st,
+                          char *err, size_t errlen)
+{
+	memset(st, 0, sizeof *st);
+	snprintf(st->name, sizeof st->name, "%s", name);
+	const char *text = bk_form_text(f); /* the guards are rewrites of the text (substitute) */
 	double none[BK_MAX_PARAMS] = {0};
 	if (!params && bk_form_nparams(f) > 0) { /* zeros would be a silent guess */
 		int np = bk_form_nparams(f);
@@ -579,7 +618,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 			snprintf(err, errlen, "%s: the form uses p0 but no value was given", name);
 		else
 			snprintf(err, errlen, "%s: the form uses p0..p%d but no values were given", name, np - 1);
-		bk_form_free(f);
 		return -1;
 	}
 	if (!params)
@@ -590,7 +628,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 	    reference(f, params, &g, &R)) {
 		grid_free(&g);
 		ref_free(&R);
-		bk_form_free(f);
 		snprintf(err, errlen, "%s: out of memory", name);
 		return -1;
 	}
@@ -605,7 +642,6 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 		         "no precision can be judged against it", name, g.n, st->pole);
 		grid_free(&g);
 		ref_free(&R);
-		bk_form_free(f);
 		return -1;
 	}
 	static const bk_precision order[3] = {BK_F64, BK_F32, BK_F16};
@@ -638,12 +674,12 @@ int bk_stability_run(const char *name, const char *text, const double *params, d
 	else {
 		st->guarded_ok = 1;
 		st->guarded = str_printf("%s", text);
+		st->guarded_form = bk_form_dup(f);
 		check_constants(f, params, st->constants, sizeof st->constants);
 	}
 	grid_free(&g);
 	ref_free(&R);
-	bk_form_free(f);
-	if (!st->guarded) {
+	if (!st->guarded || !st->guarded_form) {
 		bk_stability_free(st);
 		snprintf(err, errlen, "%s: out of memory", name);
 		return -1;
@@ -655,4 +691,6 @@ void bk_stability_free(bk_stability *st)
 {
 	free(st->guarded);
 	st->guarded = NULL;
+	bk_form_free(st->guarded_form);
+	st->guarded_form = NULL;
 }

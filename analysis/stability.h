@@ -59,6 +59,8 @@ typedef struct bk_stability {
 	double cos_min;
 	char *guarded;            /* the form with the guards it needs (allocated: forms have no
 	                             length limit; bk_stability_free releases it) */
+	bk_form *guarded_form;    /* guarded parsed (owned as guarded is): its users take it
+	                             from here rather than parse the text again */
 	char guards[256];         /* which guards, in words */
 	double guard_error[2];    /* error each guard adds alone (max relative, long double, where the
 	                             reference is within half's range): r floor, cos floor */
@@ -76,11 +78,20 @@ extern const int bk_stab_nr;
 extern const double bk_stab_cos[];
 extern const int bk_stab_ncos;
 
-/* Runs the analysis of form text with params (NULL if it has none: then the
+/* Runs the analysis of form f with params (NULL if it has none: then the
  * form must use none). Returns 0 (release st with bk_stability_free), or -1
- * with a message. */
+ * with a message. The caller's form: a member is parsed once, where it
+ * enters (its guards are new forms, rewritten from its text). */
+int bk_stability_run_form(const char *name, const bk_form *f, const double *params, double tol,
+                          bk_stability *st, char *err, size_t errlen);
+
+/* The same of a form's text, parsed here (an edge: a form as typed): a parse
+ * error is bk_stability_parse_error's message. */
 int bk_stability_run(const char *name, const char *text, const double *params, double tol,
                      bk_stability *st, char *err, size_t errlen);
+
+/* The message of a form name that does not parse: "NAME:1:COLUMN: what". */
+void bk_stability_parse_error(const char *name, const bk_form_error *e, char *err, size_t errlen);
 void bk_stability_free(bk_stability *st);
 
 #endif

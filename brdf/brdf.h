@@ -322,6 +322,9 @@ typedef struct bk_form_error {
 
 bk_form *bk_form_parse(const char *text, bk_form_error *err);
 void bk_form_free(bk_form *f);
+/* A copy of a parsed form (NULL when out of memory): a second owner of the
+ * same IR without parsing its text again. */
+bk_form *bk_form_dup(const bk_form *f);
 const char *bk_form_text(const bk_form *f);
 int bk_form_nparams(const bk_form *f);     /* highest p index used + 1 */
 unsigned bk_form_inputs(const bk_form *f); /* bit i set: input i is read */

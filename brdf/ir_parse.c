@@ -431,6 +431,24 @@ void bk_form_free(bk_form *f)
 	free(f);
 }
 
+bk_form *bk_form_dup(const bk_form *f)
+{
+	bk_form *d = calloc(1, sizeof *d);
+	size_t lt = strlen(f->text) + 1, lc = sizeof *f->code * (size_t)(f->n ? f->n : 1);
+	if (!d || !(d->text = malloc(lt)) || !(d->code = malloc(lc))) {
+		bk_form_free(d);
+		return NULL;
+	}
+	memcpy(d->text, f->text, lt);
+	memcpy(d->code, f->code, sizeof *f->code * (size_t)f->n);
+	d->n = d->cap = f->n;
+	d->out = f->out;
+	d->nparams = f->nparams;
+	d->inputs = f->inputs;
+	d->params = f->params;
+	return d; /* built: no hash (bk_ir_finish dropped it) */
+}
+
 const char *bk_form_text(const bk_form *f) { return f->text; }
 int bk_form_nparams(const bk_form *f) { return f->nparams; }
 unsigned bk_form_inputs(const bk_form *f) { return f->inputs; }

@@ -137,6 +137,9 @@ typedef enum bk_cand_status {
 typedef struct bk_cand {
 	char *text;               /* the whole form as fitted (shape applied); A for a pair */
 	char *text_b;             /* B for a pair, else NULL */
+	bk_form *form;            /* text parsed where the candidate is made (owned), taken by its
+	                             screening fit: parsed once; NULL after it and in the archive
+	                             (and where none was made: screening parses text) */
 	const char *seed_name;    /* a seed's name, else NULL */
 	bk_expr tree[2];          /* the search trees (before the shape) */
 	int np;                   /* its parameters p0..p(np-1) */

@@ -139,6 +139,8 @@ static void choice(bk_scene_choice *c, bk_scene_term t, const char *name, const 
 	static const char *const text[] = {"D_ggx(NoH, a)", "V_smith_ggx_correlated(NoV, NoL, a)*F_schlick(f0, 1, LoH)",
 	                                   "f0*p0 + p1*(1 - NoV)"};
 	c->text = lut ? NULL : (char *)text[t];
+	c->form = lut ? NULL : bk_form_parse(text[t], NULL); /* as bk_scene_choose leaves it (freed in teardown) */
+	cr_assert(lut || c->form, "%s", text[t]);
 	c->p[0] = 0.5;
 	c->p[1] = 0.25;
 	c->lut = lut;
@@ -297,6 +299,12 @@ static void setup(void)
 
 static void teardown(void)
 {
+	for (int k = 0; k < 2; k++)
+		for (int i = 0; i < NDOC; i++)
+			for (int t = 0; t < BK_SCENE_TERMS; t++) {
+				bk_form_free(docs[k][i].R.ch[t].form);
+				bk_form_free(docs[k][i].R.gen[t].form);
+			}
 	char cmd[128];
 	snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
 	if (system(cmd))

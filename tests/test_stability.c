@@ -50,6 +50,34 @@ Test(stability, ggx_d_overflows_below_a_computed_roughness)
 	cr_assert_eq(st.constants[0], '\0', "guard constants must be half values: %s", st.constants);
 }
 
+/* st.guarded_form is st.guarded parsed (its users take the IR instead of
+ * parsing the text again: issue 42): the same text and the same bits in half
+ * at the extremes, for a form that needs a guard, one safe as is and one no
+ * guard fixes. The control: D's guarded form is not the unguarded one (finite
+ * in half at r = 0.04 where D_ggx overflows). */
+Test(stability, the_guarded_form_is_the_guarded_text_parsed)
+{
+	static const char *const forms[] = {"D_ggx(NoH, a)", "F_schlick(f0, 1, LoH)", "0*(100000*NoV)"};
+	double NoV = 0.5, NoL = 0.5, NoH = 1, LoH = 0.5, r = 0.04, a = r * r, f0 = 0.04;
+	const double *in[BK_IN_COUNT] = {&NoV, &NoL, &NoH, &LoH, &r, &a, &f0};
+	for (int i = 0; i < 3; i++) {
+		run(forms[i]);
+		cr_assert_not_null(st.guarded_form, "%s", forms[i]);
+		cr_expect_str_eq(bk_form_text(st.guarded_form), st.guarded);
+		bk_form *g = bk_form_parse(st.guarded, NULL);
+		cr_assert_not_null(g, "%s", st.guarded);
+		double v[2];
+		bk_form_eval(st.guarded_form, BK_F16, 1, in, NULL, &v[0]);
+		bk_form_eval(g, BK_F16, 1, in, NULL, &v[1]);
+		cr_expect_eq(memcmp(&v[0], &v[1], sizeof v[0]), 0, "%s: %g against %g", st.guarded, v[0], v[1]);
+		if (i == 0) {
+			cr_expect(isfinite(v[0]), "D guarded: %g", v[0]);
+			cr_expect(isinf(half_eval(forms[0], NoV, NoL, NoH, LoH, r)), "the control: D_ggx overflows");
+		}
+		bk_form_free(g);
+	}
+}
+
 /* Smith V at NoV = NoL = 0 is 1/0 in every precision; the analysis counts the
  * reference's own poles apart from the precision's failures. */
 Test(stability, v_terms_divide_by_zero_at_grazing)

@@ -71,11 +71,8 @@ static int spirv_of(const bk_scene_choice *c)
 	static int told;
 	if (c->lut || !c->text)
 		return 0;
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(c->text, &fe);
 	char err[256] = "the form does not parse";
-	int n = f ? bk_spirv_count(f, c->p, err, sizeof err) : -1;
-	bk_form_free(f);
+	int n = c->form ? bk_spirv_count(c->form, c->p, err, sizeof err) : -1;
 	if (n < 0 && !told++)
 		fprintf(stderr, "brdfkit scene: warning: SPIR-V counts not measured: %s\n", err);
 	return n;
@@ -109,10 +106,7 @@ static void time_sets(bk_scene_result *R, int nset)
 				snprintf(r->name, sizeof r->name, "%s %s %d", R[i].set.name, bk_scene_term_name(t), g);
 				snprintf(r->form, sizeof r->form, "%s", c->text);
 				memcpy(r->params, c->p, sizeof r->params);
-				bk_form_error fe;
-				bk_form *f = bk_form_parse(c->text, &fe);
-				r->nparams = f ? bk_form_nparams(f) : 0;
-				bk_form_free(f);
+				r->nparams = c->form ? bk_form_nparams(c->form) : 0;
 				owner[n++] = i * 2 + g;
 			}
 	char err[256] = "out of memory";
@@ -440,13 +434,10 @@ static void tell_lost(const scene_run *S)
 			if (!S->R[i].has[t] || c->lut || !c->text ||
 			    (t == BK_SCENE_TERM_D && S->R[i].ch[BK_SCENE_TERM_VF].speclut))
 				continue;
-			bk_form_error fe;
-			bk_form *f = bk_form_parse(c->text, &fe);
 			char name[160];
 			snprintf(name, sizeof name, "%s: %s_%s", S->stem, S->R[i].set.name, bk_scene_term_name(t));
-			if (f)
-				form_warn_precision("scene", name, f, c->p, S->sc.half ? BK_F16 : BK_F32);
-			bk_form_free(f);
+			if (c->form)
+				form_warn_precision("scene", name, c->form, c->p, S->sc.half ? BK_F16 : BK_F32);
 		}
 }
 

@@ -67,6 +67,8 @@ static char *term_call(const bk_term *t)
 typedef struct item {
 	char name[96];
 	char *text;
+	bk_form *f;       /* text parsed, once (check_params), NULL where it does not parse: */
+	bk_form_error fe; /* why, reported when its turn to run comes */
 	double params[BK_MAX_PARAMS];
 	int have[BK_MAX_PARAMS];
 } item;
@@ -128,15 +130,13 @@ static int assignment(const cli_cmd *cmd, const char *arg, double *values, int *
 /* Every parameter a form uses has a value, and every value given is used by
  * some form: zeros in place of a missing value, or a value that changes
  * nothing, would be a silent wrong answer. Returns 0 or 2. */
-static int check_params(const cli_cmd *cmd, const item *items, int n, const int *given)
+static int check_params(const cli_cmd *cmd, item *items, int n, const int *given)
 {
 	int used = 0;
 	for (int i = 0; i < n; i++) {
-		bk_form_error e;
-		bk_form *f = bk_form_parse(items[i].text, &e);
+		bk_form *f = items[i].f = bk_form_parse(items[i].text, &items[i].fe);
 		int np = f ? bk_form_nparams(f) : 0; /* a parse error is reported by the run */
 		unsigned mask = f ? bk_form_params(f) : 0;
-		bk_form_free(f);
 		used = np > used ? np : used;
 		int rc = form_check_params("stability", items[i].name, mask, items[i].have, NULL);
 		if (rc)
@@ -307,6 +307,7 @@ static void free_items(item *items, bk_stability *st, int n)
 {
 	for (int i = 0; i < n; i++) {
 		free(items[i].text);
+		bk_form_free(items[i].f);
 		bk_stability_free(&st[i]);
 	}
 	free(items);
@@ -404,7 +405,10 @@ int cmd_stability(int argc, char **argv)
 	else if (rc == 0)
 		rc = check_params(&cmd, items, n, given);
 	for (int i = 0; i < n && rc == 0; i++) {
-		if (bk_stability_run(items[i].name, items[i].text, items[i].params, tol, &st[i], err, sizeof err)) {
+		if (!items[i].f)
+			bk_stability_parse_error(items[i].name, &items[i].fe, err, sizeof err);
+		if (!items[i].f ||
+		    bk_stability_run_form(items[i].name, items[i].f, items[i].params, tol, &st[i], err, sizeof err)) {
 			fprintf(stderr, "brdfkit stability: %s\n", err);
 			rc = 2;
 			break; /* the error is the one line on stderr: no progress after it */

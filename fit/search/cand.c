@@ -71,4 +71,6 @@ void bk_cand_free(bk_cand *c)
 {
 	free(c->text);
 	free(c->text_b);
+	bk_form_free(c->form);
+	c->form = NULL;
 }

@@ -25,7 +25,7 @@ void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *
 /* The cache's key of a candidate of texts a and b (NULL: none). */
 uint64_t bk_cand_key(const char *a, const char *b);
 
-/* Frees the texts c owns (not c). */
+/* Frees the texts and the form c owns (not c). */
 void bk_cand_free(bk_cand *c);
 
 #endif

@@ -216,10 +216,11 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 	int fresh = bk_hashset_add(&s->seen, bk_cand_key(a, b));
 	if (fresh <= 0)
 		return fresh;
-	/* an enumerated candidate of one tree: parsed once, for its cost and
-	 * its fingerprint */
+	/* a candidate of one tree: parsed once, for its cost, its fingerprint
+	 * and its fit (the form travels on c to screening); a pair's cost is of
+	 * the whole f0*(A) + (B), its fit of A and B apart (screen.c) */
 	bk_form_error fe;
-	bk_form *one = size >= 0 && s->o.shape != BK_SHAPE_PAIR ? bk_form_parse(a, &fe) : NULL;
+	bk_form *one = s->o.shape != BK_SHAPE_PAIR ? bk_form_parse(a, &fe) : NULL;
 	if (one)
 		bk_cand_cost_of(s, one, &c->ops, &c->cost, &c->np);
 	if ((!one && bk_cand_cost(s, a, b, &c->ops, &c->cost, &c->np)) || c->cost > s->o.max_cost ||
@@ -235,17 +236,19 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		if (timed)
 			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
 		uint64_t fp = one ? bk_unique_fingerprint_of(s, one) : bk_unique_fingerprint(s, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL);
-		bk_form_free(one);
 		if (timed) {
 			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
 			s->dedup_seconds +=
 			        DEDUP_SAMPLE * ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
 		}
 		int twin = bk_unique_twin(s, fp, c->cost);
-		if (twin)
+		if (twin) {
+			bk_form_free(one);
 			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);
+		}
 		s->enum_fitted[size]++;
 	}
+	c->form = one;
 	c->text = strdup(a);
 	c->text_b = s->o.shape == BK_SHAPE_PAIR ? strdup(b) : NULL;
 	if (!c->text || (s->o.shape == BK_SHAPE_PAIR && !c->text_b)) {

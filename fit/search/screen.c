@@ -94,7 +94,10 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	c->err = c->rmse = c->max_abs = c->albedo_max_abs = HUGE_VAL;
 	c->starts_run = c->start_won = 0;
 	bk_form_error fe;
-	bk_form *f[2] = {bk_form_parse(c->text, &fe), c->text_b ? bk_form_parse(c->text_b, &fe) : NULL};
+	/* the form made with the candidate (cand.h), taken: freed below; a pair's
+	 * A and B, and a candidate read back, are parsed here */
+	bk_form *f[2] = {c->form ? c->form : bk_form_parse(c->text, &fe), c->text_b ? bk_form_parse(c->text_b, &fe) : NULL};
+	c->form = NULL;
 	double *v = malloc(sizeof(double) * sm->n);
 	if (!f[0] || (c->text_b && !f[1]) || !v)
 		goto done;
