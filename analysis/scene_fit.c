@@ -964,9 +964,18 @@ static int choose_exact(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 }
 
 int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_scene_choice *env, bk_scene_choice *ms,
-                         int *taken, char *err, size_t errlen)
+                         bk_scene_choice *gen, int *taken, char *err, size_t errlen)
 {
 	*taken = 0;
+	if (gen) { /* the generic's env LUT is BK_SCENE_GENERIC_LUT's A and B: E from that fetch */
+		snprintf(gen->name, sizeof gen->name, "generic (E = A + B of its env LUT %dx%d half)", BK_SCENE_GENERIC_LUT,
+		         BK_SCENE_GENERIC_LUT);
+		memset(&gen->ops, 0, sizeof gen->ops);
+		gen->ops.simple = 1;
+		gen->cost = sc->simple_cost;
+		gen->fetches = 0;
+		gen->lut_bytes = 0;
+	}
 	/* a folded layout stores f0 A + B at one f0, the specular LUT D V F NoL:
 	 * neither gives A + B */
 	if (!env->lut || env->speclut || !isnan(env->lut_layout.f0))

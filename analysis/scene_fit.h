@@ -109,15 +109,19 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen);
 void bk_scene_choice_free(bk_scene_choice *ch);
 
-/* ms where the set's env term is a DFG LUT of two channels (A, B): the
- * same fetch gives E = A + B for one add and no fetch. Scored on ms's
+/* ms where the set has an env term. The generic's E (gen, may be NULL) is
+ * then the A + B of its own env LUT, as Filament reads it: one add, no fetch
+ * of its own (its error stays; the choice was made against a fetch of its
+ * own, which "at-generic-cost" then allowed). Where the set's env term is a
+ * DFG LUT of two channels (A, B), the same holds for the choice: E = A + B
+ * for one add and no fetch. Scored on ms's
  * domain as every ms candidate; it replaces *ms when it meets ms's budget
  * for less (or, "at-generic-cost" or nothing meeting the budget, when it is
  * more accurate). A LUT with f0 folded into one channel (f0 A + B) or the
  * specular LUT carries no E: *ms stays. Returns 0 (1 in *taken when it
  * replaced *ms), or -1 with a message. */
 int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_scene_choice *env, bk_scene_choice *ms,
-                         int *taken, char *err, size_t errlen);
+                         bk_scene_choice *gen, int *taken, char *err, size_t errlen);
 
 /* The env term's reference samples are built once per distinct domain (the
  * same roughness, NoV and f0 ranges) and kept for the sets that follow,

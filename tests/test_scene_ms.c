@@ -124,9 +124,17 @@ Test(scene_ms, ms_from_the_env_lut, .timeout = 300)
 	ms.err = 0.005;
 	ms.budget = 0.01;
 	ms.meets = 1;
+	/* the generic's E as a fetch of its own (bk_scene_choose cannot know the set's env) */
+	bk_scene_choice gen;
+	memset(&gen, 0, sizeof gen);
+	gen.cost = 33;
+	gen.fetches = 1;
+	gen.err = 7e-4;
 	int taken;
-	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms, &taken, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms, &gen, &taken, err, sizeof err), 0, "%s", err);
 	cr_assert(taken);
+	/* the generic shader's env LUT holds A and B too: its E costs one add and no fetch, its error as it was */
+	cr_expect(gen.cost == sc.simple_cost && gen.fetches == 0 && gen.err == 7e-4);
 	cr_expect_eq(ms.fetches, 0);
 	cr_expect_eq(ms.cost, sc.simple_cost);
 	cr_expect(ms.err > 0 && ms.err < 1e-3, "E from a 128^2 float LUT: %g", ms.err);
@@ -139,11 +147,11 @@ Test(scene_ms, ms_from_the_env_lut, .timeout = 300)
 	ms2.budget = 0.01;
 	ms2.meets = 1;
 	env.lut_layout.f0 = 0.04;
-	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms2, &taken, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms2, NULL, &taken, err, sizeof err), 0, "%s", err);
 	cr_expect(!taken && ms2.cost == 20);
 	/* control: a budget below what the LUT reaches keeps the form */
 	env.lut_layout.f0 = NAN;
 	ms2.budget = 1e-6;
-	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms2, &taken, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(bk_scene_ms_from_env(&sc, &sets[0], &env, &ms2, NULL, &taken, err, sizeof err), 0, "%s", err);
 	cr_expect(!taken && ms2.cost == 20);
 }

@@ -363,7 +363,8 @@ static void choose_set(spec_pool *P, spec_job *j)
 		}
 		int taken; /* ms: E from env's LUT fetch where it has A and B (env is chosen first) */
 		if (t == BK_SCENE_TERM_MS && r->has[BK_SCENE_TERM_ENV] &&
-		    bk_scene_ms_from_env(&S->sc, &r->set, &r->ch[BK_SCENE_TERM_ENV], &r->ch[t], &taken, err, sizeof err)) {
+		    bk_scene_ms_from_env(&S->sc, &r->set, &r->ch[BK_SCENE_TERM_ENV], &r->ch[t], &r->gen[t], &taken, err,
+		                         sizeof err)) {
 			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
 			return;
 		}
