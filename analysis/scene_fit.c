@@ -975,6 +975,9 @@ int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_s
 		gen->cost = sc->simple_cost;
 		gen->fetches = 0;
 		gen->lut_bytes = 0;
+		/* ms's candidate "at the generic's cost" was found against a fetch of
+		 * its own: at one add, only the env LUT's A + B is (below), or none */
+		ms->eq_name[0] = '\0';
 	}
 	/* a folded layout stores f0 A + B at one f0, the specular LUT D V F NoL:
 	 * neither gives A + B */
@@ -991,6 +994,11 @@ int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_s
 		return -1;
 	}
 	double e = m.nonfinite || !isfinite(m.max_abs) ? HUGE_VAL : m.max_abs, cost = sc->simple_cost; /* A + B */
+	if (gen && isfinite(e)) { /* the most accurate at the generic's cost of one add */
+		snprintf(ms->eq_name, sizeof ms->eq_name, "env %.100s, A + B", env->name);
+		ms->eq_cost = cost;
+		ms->eq_err = e;
+	}
 	int better_pick = ms->at_cost || !ms->meets ? e < ms->err
 	                : e <= ms->budget && (cost < ms->cost || (cost == ms->cost && e < ms->err));
 	if (!better_pick)

@@ -135,6 +135,8 @@ Test(scene_ms, ms_from_the_env_lut, .timeout = 300)
 	cr_assert(taken);
 	/* the generic shader's env LUT holds A and B too: its E costs one add and no fetch, its error as it was */
 	cr_expect(gen.cost == sc.simple_cost && gen.fetches == 0 && gen.err == 7e-4);
+	/* and at that cost (one add) the only candidate is the env LUT's A + B */
+	cr_expect(strstr(ms.eq_name, "A + B") && ms.eq_cost == sc.simple_cost && ms.eq_err == ms.err, "%s", ms.eq_name);
 	cr_expect_eq(ms.fetches, 0);
 	cr_expect_eq(ms.cost, sc.simple_cost);
 	cr_expect(ms.err > 0 && ms.err < 1e-3, "E from a 128^2 float LUT: %g", ms.err);
