@@ -189,7 +189,7 @@ static int control_char(const char *s)
 
 static int material(reader *R, const json_t *v, const char *path, bk_scene_material *m)
 {
-	static const char *const keys[] = {"name", "roughness", "f0", "specular", NULL};
+	static const char *const keys[] = {"name", "roughness", "f0", "specular", "multiscatter", "cloth", NULL};
 	static const char *const rnames[] = {"texture", NULL};
 	static const double rlo[] = {0}, rhi[] = {1};
 	static const char *const fnames[] = {"dielectric", "metal", "texture", NULL};
@@ -225,7 +225,8 @@ static int material(reader *R, const json_t *v, const char *path, bk_scene_mater
 		if (range(R, e, p, 0, 1, fnames, flo, fhi, &m->f0_lo, &m->f0_hi))
 			return -1;
 	}
-	return boolean(R, v, "specular", path, &m->specular);
+	return boolean(R, v, "specular", path, &m->specular) || boolean(R, v, "multiscatter", path, &m->multiscatter) ||
+	       boolean(R, v, "cloth", path, &m->cloth) ? -1 : 0;
 }
 
 static int materials(reader *R, const json_t *v, bk_scene *sc)
@@ -254,13 +255,13 @@ static int materials(reader *R, const json_t *v, bk_scene *sc)
 
 static int lighting(reader *R, const json_t *v, bk_scene *sc)
 {
-	static const char *const keys[] = {"punctual", "ibl", "diffuse", NULL};
+	static const char *const keys[] = {"punctual", "ibl", "diffuse", "multiscatter", NULL};
 	if (!v)
 		return 0;
 	if (object(R, v, "lighting") || only_keys(R, v, "lighting", keys))
 		return -1;
 	if (boolean(R, v, "punctual", "lighting", &sc->punctual) || boolean(R, v, "ibl", "lighting", &sc->ibl) ||
-	    boolean(R, v, "diffuse", "lighting", &sc->diffuse))
+	    boolean(R, v, "diffuse", "lighting", &sc->diffuse) || boolean(R, v, "multiscatter", "lighting", &sc->multiscatter))
 		return -1;
 	if (!sc->punctual && !sc->ibl)
 		return fail(R, "lighting", "neither punctual lights nor image-based lighting: nothing lights the scene");
@@ -286,19 +287,20 @@ static int geometry(reader *R, const json_t *v, bk_scene *sc)
 
 static int budget(reader *R, const json_t *v, bk_scene *sc)
 {
-	static const char *const keys[] = {"vf", "env", NULL};
+	static const char *const keys[] = {"vf", "env", "ms", "sheen", NULL};
 	if (json_is_string(v)) {
 		const char *s = json_string_value(v);
 		if (strcmp(s, "generic") && strcmp(s, "at-generic-cost"))
 			return fail(R, "target.error",
 			            "unknown value '%s' (known: a number, {\"vf\", \"env\"}, 'generic', 'at-generic-cost')", s);
 		sc->budget_vf = sc->budget_env = strcmp(s, "generic") ? BK_SCENE_BUDGET_AT_COST : BK_SCENE_BUDGET_GENERIC;
+		sc->budget_ms = sc->budget_sheen = sc->budget_vf;
 		return 0;
 	}
 	if (json_is_number(v)) {
 		if (number(R, v, "target.error", 1e-6, 1, &sc->budget_vf))
 			return -1;
-		sc->budget_env = sc->budget_vf;
+		sc->budget_env = sc->budget_ms = sc->budget_sheen = sc->budget_vf;
 		return 0;
 	}
 	if (!json_is_object(v))
@@ -310,6 +312,10 @@ static int budget(reader *R, const json_t *v, bk_scene *sc)
 	if ((e = json_object_get(v, "vf")) && number(R, e, "target.error.vf", 1e-6, 1, &sc->budget_vf))
 		return -1;
 	if ((e = json_object_get(v, "env")) && number(R, e, "target.error.env", 1e-6, 1, &sc->budget_env))
+		return -1;
+	if ((e = json_object_get(v, "ms")) && number(R, e, "target.error.ms", 1e-6, 1, &sc->budget_ms))
+		return -1;
+	if ((e = json_object_get(v, "sheen")) && number(R, e, "target.error.sheen", 1e-6, 1, &sc->budget_sheen))
 		return -1;
 	return 0;
 }
@@ -464,14 +470,21 @@ static int numbers_exact(const char *text, size_t len, char *err, size_t errlen)
  * is absent. (A single number is every term's budget: nothing to check.) */
 static int term_budgets(reader *R, const json_t *v, const bk_scene *sc)
 {
-	int vf = 0, env = 0, spec = 0;
+	int vf = 0, env = 0, spec = 0, ms = 0, sheen = 0;
 	for (int m = 0; m < sc->nmat; m++) {
 		bk_scene_needs n;
 		bk_scene_material_needs(sc, m, &n);
 		vf |= n.vf;
 		env |= n.env;
+		ms |= n.ms;
+		sheen |= n.sheen;
 		spec |= sc->mat[m].specular;
 	}
+	if (json_is_object(v) && json_object_get(v, "ms") && !ms)
+		return fail(R, "target.error.ms", "has no effect %s", !spec ? "when no material is specular"
+		                                                             : "when no specular material asks for \"multiscatter\"");
+	if (json_is_object(v) && json_object_get(v, "sheen") && !sheen)
+		return fail(R, "target.error.sheen", "has no effect when no material asks for \"cloth\"");
 	if (json_is_object(v) && json_object_get(v, "vf") && !vf)
 		return fail(R, "target.error.vf", "has no effect %s", !spec ? "when no material is specular"
 		                                                             : "without punctual lights (lighting.punctual is false)");
@@ -496,6 +509,7 @@ int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t
 	sc->lut = 1;
 	sc->languages = BK_SCENE_GLSL | BK_SCENE_HLSL | BK_SCENE_C;
 	sc->budget_vf = sc->budget_env = BK_SCENE_BUDGET_GENERIC;
+	sc->budget_ms = sc->budget_sheen = BK_SCENE_BUDGET_GENERIC;
 
 	if (len >= 3 && !memcmp(text, "\xef\xbb\xbf", 3)) {
 		snprintf(err, errlen, "line 1, column 1: the file starts with a UTF-8 byte-order mark (JSON has none: save it "
@@ -534,7 +548,13 @@ int bk_scene_parse(const char *text, size_t len, bk_scene *sc, char *err, size_t
 	if (term_budgets(&R, json_object_get(json_object_get(root, "target"), "error"), sc))
 		goto done;
 	for (int m = 0; m < sc->nmat && !R.failed; m++)
-		if (!sc->mat[m].specular && !sc->diffuse) {
+		if (sc->mat[m].multiscatter && !sc->mat[m].specular) { /* it would change nothing, silently */
+			char p[64];
+			snprintf(p, sizeof p, "materials[%d].multiscatter", m);
+			fail(&R, p, "true has no effect: material '%s' is not specular (\"specular\": false)", sc->mat[m].name);
+		}
+	for (int m = 0; m < sc->nmat && !R.failed; m++)
+		if (!sc->mat[m].specular && !sc->mat[m].cloth && !sc->diffuse) {
 			char p[64];
 			snprintf(p, sizeof p, "materials[%d].specular", m);
 			fail(&R, p, "false, and lighting.diffuse is false: material '%s' would not be shaded at all",
@@ -556,12 +576,19 @@ void bk_scene_material_needs(const bk_scene *sc, int m, bk_scene_needs *n)
 	n->diffuse = sc->diffuse;
 	n->fixed_f0 = (n->vf || n->env) && M->f0_lo == M->f0_hi; /* f0 means nothing to a diffuse-only set */
 	n->f0 = n->fixed_f0 ? M->f0_lo : NAN;
+	/* E is read wherever the GGX lobe is shaded, punctual or IBL alike
+	 * (Filament scales both by its energy compensation) */
+	n->ms = (n->vf || n->env) && (M->multiscatter || sc->multiscatter);
+	n->cloth = M->cloth && sc->punctual;
+	/* the sheen albedo: the IBL's cloth channel, and what scales the layer
+	 * below (specular or diffuse) under any light */
+	n->sheen = M->cloth && (sc->ibl || M->specular || sc->diffuse);
 }
 
 static int same_needs(const bk_scene_needs *a, const bk_scene_needs *b)
 {
 	return a->vf == b->vf && a->env == b->env && a->diffuse == b->diffuse && a->fixed_f0 == b->fixed_f0 &&
-	       (!a->fixed_f0 || a->f0 == b->f0);
+	       (!a->fixed_f0 || a->f0 == b->f0) && a->ms == b->ms && a->cloth == b->cloth && a->sheen == b->sheen;
 }
 
 /* sets[k].name made unlike every earlier set's: "_2", "_3", ... added. A
@@ -600,9 +627,11 @@ int bk_scene_plan(const bk_scene *sc, bk_scene_set *sets)
 			S->f0_lo = M->f0_lo;
 			S->f0_hi = M->f0_hi;
 			/* a name from the needs, parts joined by '_': a C/GLSL/HLSL identifier prefix */
-			const char *part[4] = {n.vf ? "spec" : NULL, n.env ? "ibl" : NULL, n.diffuse ? "diffuse" : NULL,
+			/* ms and cloth only where asked: the other sets keep their names */
+			const char *part[6] = {n.vf ? "spec" : NULL, n.env ? "ibl" : NULL, n.ms ? "ms" : NULL,
+			                       n.cloth || n.sheen ? "cloth" : NULL, n.diffuse ? "diffuse" : NULL,
 			                       n.vf || n.env ? (n.fixed_f0 ? "f0" : "anyf0") : NULL};
-			for (int p = 0; p < 4; p++)
+			for (int p = 0; p < 6; p++)
 				if (part[p])
 					snprintf(S->name + strlen(S->name), sizeof S->name - strlen(S->name), "%s%s",
 					         S->name[0] ? "_" : "", part[p]);

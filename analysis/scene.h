@@ -10,15 +10,17 @@
  *     "materials": [ { "name": "paint",
  *                      "roughness": 0.5 | [0.1, 0.4, 0.7] | {"min": 0.05, "max": 0.3} | "texture",
  *                      "f0": 0.04 | {"min": .., "max": ..} | "dielectric" | "metal" | "texture",
- *                      "specular": true } ],
- *     "lighting": { "punctual": true, "ibl": true, "diffuse": true },
+ *                      "specular": true,
+ *                      "multiscatter": false, "cloth": false } ],
+ *     "lighting": { "punctual": true, "ibl": true, "diffuse": true, "multiscatter": false },
  *     "geometry": { "nov": {"min": 0.1, "max": 1} },
  *     "target": { "precision": "mediump" | "highp",
  *                 "alu_tex": 16 | 32 | 48 | 64,            (or)
  *                 "costs": {"simple": 1, "complex": 4, "fetch": 16},
  *                 "lut": true,
  *                 "languages": ["glsl", "hlsl", "c"],
- *                 "error": 0.01 | "generic" | "at-generic-cost" | {"vf": 0.01, "env": 0.02} } }
+ *                 "error": 0.01 | "generic" | "at-generic-cost" |
+ *                          {"vf": 0.01, "env": 0.02, "ms": 0.01, "sheen": 0.01} } }
  *
  * Meanings: a roughness list is fitted on its hull (the values between are
  * cheap to cover and a texture may blend them); "texture" is the full range
@@ -33,6 +35,18 @@
  * term the most accurate form at no more than the generic term's cost (a
  * LUT: and no more texture memory), the issue's "more accurate at equal
  * cost" instead of "cheaper at equal error".
+ *
+ * "multiscatter": true (on a material, or on "lighting" for every specular
+ * material) asks for multiple-scattering energy compensation: the set needs
+ * the term ms, the single-scattering directional albedo E(NoV, r) = A + B
+ * that Filament's 1 + f0 (1/E - 1) (Turquin 2019) reads. "cloth": true adds
+ * a sheen layer on the material's roughness (Estevez & Kulla 2017's Charlie
+ * D, Neubelt & Pettineo's V: Filament's cloth): the set needs the lobe
+ * (term cloth, with punctual lights) and its albedo (term sheen: the IBL's
+ * cloth DFG channel, and 1 - sheen albedo scaling the layer below); with
+ * "specular": false the cloth is the whole lobe (Filament's cloth model).
+ * A scene that asks for neither gets neither, and its files are what they
+ * were before the keys existed.
  */
 #ifndef ANALYSIS_SCENE_H
 #define ANALYSIS_SCENE_H
@@ -56,6 +70,8 @@ typedef struct bk_scene_material {
 	double r_lo, r_hi;   /* perceptual roughness, hull of what was given */
 	double f0_lo, f0_hi; /* equal: one f0, folded into the constants */
 	int specular;
+	int multiscatter;    /* energy compensation: the term ms */
+	int cloth;           /* a sheen layer: the terms cloth and sheen */
 } bk_scene_material;
 
 /* MSL (Metal, SPIRV-Cross's translation of the GLSL, analysis/msl.h) only
@@ -81,6 +97,8 @@ typedef struct bk_scene {
 	int lut;             /* a DFG texture may replace the environment BRDF's math */
 	unsigned languages;  /* BK_SCENE_GLSL | ... */
 	double budget_vf, budget_env; /* or BK_SCENE_BUDGET_GENERIC, BK_SCENE_BUDGET_AT_COST */
+	int multiscatter;    /* lighting.multiscatter: every specular material's */
+	double budget_ms, budget_sheen; /* as budget_vf */
 } bk_scene;
 
 /* Reads and checks a scene from JSON text. A syntax error names its line and
@@ -103,6 +121,9 @@ typedef struct bk_scene_needs {
 	int diffuse;  /* Lambert */
 	int fixed_f0; /* one f0: folded into the constants, no f0 input (specular only) */
 	double f0;    /* that f0 */
+	int ms;       /* specular with energy compensation: E(NoV, r) */
+	int cloth;    /* a sheen layer under punctual lights: D_charlie V_neubelt */
+	int sheen;    /* a sheen layer: its directional albedo */
 } bk_scene_needs;
 
 void bk_scene_material_needs(const bk_scene *sc, int m, bk_scene_needs *n);

@@ -26,7 +26,7 @@
 
 const char *bk_scene_term_name(bk_scene_term t)
 {
-	static const char *const n[] = {"D", "vf", "env"};
+	static const char *const n[] = {"D", "vf", "env", "ms", "sheen", "cloth"};
 	return (unsigned)t < BK_SCENE_TERMS ? n[t] : "?";
 }
 
@@ -200,6 +200,21 @@ static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 	widen(&o.r_lo, &o.r_hi);
 	o.x_lo = sc->nov_lo;
 	o.x_hi = sc->nov_hi;
+	if (term == BK_SCENE_TERM_MS || term == BK_SCENE_TERM_SHEEN) {
+		/* E and the sheen albedo have no f0 (F = 1): one set of reference
+		 * integrals on env's 40x40 cells, kept as env's are; the key's f0
+		 * places hold a negative marker no f0 can be */
+		bk_target_defaults(term == BK_SCENE_TERM_MS ? BK_TARGET_MS : BK_TARGET_SHEEN, &o);
+		o.r_lo = set->r_lo;
+		o.r_hi = set->r_hi;
+		widen(&o.r_lo, &o.r_hi);
+		o.x_lo = sc->nov_lo;
+		o.x_hi = sc->nov_hi;
+		o.nx = o.nr = 40;
+		double key[MEMO_KEY] = {o.x_lo, o.x_hi, o.r_lo, o.r_hi, term == BK_SCENE_TERM_MS ? -1.0 : -2.0, NAN};
+		memcpy(d->key, key, sizeof d->key);
+		return env_samples(&o, key, d, progress, ctx, err, errlen);
+	}
 	if (term == BK_SCENE_TERM_ENV) {
 		/* 40x40 cells: centres that are no LUT's texel centres on [0, 1] */
 		o.nx = o.nr = 40;
@@ -358,7 +373,7 @@ static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, cons
 	bk_fit_spec sp;
 	bk_refit_spec(&sp, &d->s[d->ns - 1], f, NULL, start); /* its iteration cap: search/refit.h */
 	/* env is scored on its max error: minimise that (Lawson's reweighting) */
-	sp.minimax = term == BK_SCENE_TERM_ENV;
+	sp.minimax = term == BK_SCENE_TERM_ENV || term == BK_SCENE_TERM_MS || term == BK_SCENE_TERM_SHEEN;
 	char where[128];
 	if (!sp.np || bk_fit_nonfinite(&sp, sp.start, where, sizeof where))
 		return -1;
@@ -489,12 +504,17 @@ static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 	double r_lo = set->r_lo, r_hi = set->r_hi;
 	widen(&r_lo, &r_hi);
 	const bk_samples *s = &d->s[0];
-	double f0 = set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
+	/* ms's samples have no f0: E = A + B is the DFG folded at f0 = 1, the
+	 * generic layout included (a texture of E alone, as compare's ms rows) */
+	int ms = !(s->provides >> BK_IN_F0 & 1);
+	double f0 = ms ? 1.0 : set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
 	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
 	bk_lutrow *rows = malloc(BK_LUTROWS_MAX * sizeof *rows);
 	if (!rows)
 		return -1;
 	int nl = bk_lutrows_layouts(1, r_lo, r_hi, f0, L), rc = 0;
+	if (ms)
+		L[0].f0 = 1.0;
 	int n = bk_lutrows_build(L, nl, smith, d->prec, s, progress, label, rows);
 	for (int k = 0; k < n && !rc; k++) {
 		const bk_lutrow *r = &rows[k];
@@ -505,7 +525,10 @@ static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 			break;
 		}
 		snprintf(c->name, sizeof c->name, "%s", r->name);
-		if (r->variant == 0)
+		if (ms)
+			snprintf(c->source, sizeof c->source, "a texture of E = A + B alone (brdfkit lut --f0 1), bilinear, "
+			         "texel centres");
+		else if (r->variant == 0)
 			snprintf(c->source, sizeof c->source, "brdfkit lut --size %d (DFG texture, bilinear, texel centres)",
 			         r->size);
 		else
@@ -904,6 +927,135 @@ static int most_accurate_at(const bk_scene *sc, const bk_scene_set *set, const d
 	return rc;
 }
 
+/* ---- the terms a scene asks for (ms, sheen, cloth) -------------------------------- */
+
+/* The budget and the catalog's target of a fitted term. */
+static double term_budget(const bk_scene *sc, bk_scene_term term)
+{
+	switch (term) {
+	case BK_SCENE_TERM_VF: return sc->budget_vf;
+	case BK_SCENE_TERM_MS: return sc->budget_ms;
+	case BK_SCENE_TERM_SHEEN: return sc->budget_sheen;
+	default: return sc->budget_env;
+	}
+}
+
+static bk_target_kind term_kind(bk_scene_term term)
+{
+	return term == BK_SCENE_TERM_VF ? BK_TARGET_VF : term == BK_SCENE_TERM_MS ? BK_TARGET_MS
+	     : term == BK_SCENE_TERM_SHEEN ? BK_TARGET_SHEEN : BK_TARGET_ENV;
+}
+
+/* A DFG LUT's metrics on the domain: env's f0 A + B; for ms, E = A + B,
+ * the same fetch at f0 = 1 (the samples' f0, NaN for E, read as 1 on a
+ * shallow copy). Returns 0 or -1. */
+static int lut_metrics(const bk_lut_layout *L, bk_lut_format fmt, bk_scene_term term, const domain *d,
+                       bk_fit_metrics *m)
+{
+	const bk_samples *s = &d->s[0];
+	if (term != BK_SCENE_TERM_MS)
+		return bk_lut_score_layout(L, fmt, BK_SMITH_CORRELATED, d->prec, s, m, NULL);
+	double *one = malloc((s->n ? s->n : 1) * sizeof *one);
+	if (!one)
+		return -1;
+	for (size_t i = 0; i < s->n; i++)
+		one[i] = 1;
+	bk_samples at1 = *s;
+	at1.in[BK_IN_F0] = one;
+	at1.provides |= 1u << BK_IN_F0;
+	int rc = bk_lut_score_layout(L, fmt, BK_SMITH_CORRELATED, d->prec, &at1, m, NULL);
+	free(one);
+	return rc;
+}
+
+/* cloth: the exact sheen lobe, as D: only the guards are decided. */
+static int choose_exact(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, const char *name,
+                        const char *source, const char *text, bk_scene_choice *ch, bk_scene_choice *generic,
+                        char *err, size_t errlen)
+{
+	cand c;
+	memset(&c, 0, sizeof c);
+	snprintf(c.name, sizeof c.name, "%s", name);
+	snprintf(c.source, sizeof c.source, "%s", source);
+	c.text = (char *)text;
+	if (finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
+	    (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen)))
+		return -1;
+	ch->budget = NAN; /* nothing to choose: no budget applies */
+	ch->meets = 1;
+	ch->scored = 1;
+	if (generic) {
+		snprintf(generic->name, sizeof generic->name, "generic");
+		generic->budget = NAN;
+		generic->meets = 1;
+	}
+	return 0;
+}
+
+int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_scene_choice *env, bk_scene_choice *ms,
+                         bk_scene_choice *gen, int *taken, char *err, size_t errlen)
+{
+	*taken = 0;
+	if (gen) { /* the generic's env LUT is BK_SCENE_GENERIC_LUT's A and B: E from that fetch */
+		snprintf(gen->name, sizeof gen->name, "generic (E = A + B of its env LUT %dx%d half)", BK_SCENE_GENERIC_LUT,
+		         BK_SCENE_GENERIC_LUT);
+		memset(&gen->ops, 0, sizeof gen->ops);
+		gen->ops.simple = 1;
+		gen->cost = sc->simple_cost;
+		gen->fetches = 0;
+		gen->lut_bytes = 0;
+		/* ms's candidate "at the generic's cost" was found against a fetch of
+		 * its own: at one add, only the env LUT's A + B is (below), or none */
+		ms->eq_name[0] = '\0';
+	}
+	/* a folded layout stores f0 A + B at one f0, the specular LUT D V F NoL:
+	 * neither gives A + B */
+	if (!env->lut || env->speclut || !isnan(env->lut_layout.f0))
+		return 0;
+	domain d;
+	if (domain_build(sc, set, BK_SCENE_TERM_MS, &d, NULL, NULL, err, errlen))
+		return -1;
+	bk_fit_metrics m;
+	int rc = lut_metrics(&env->lut_layout, env->lut_fmt, BK_SCENE_TERM_MS, &d, &m);
+	domain_free(&d);
+	if (rc) {
+		snprintf(err, errlen, "ms: the env LUT could not be scored for E");
+		return -1;
+	}
+	double e = m.nonfinite || !isfinite(m.max_abs) ? HUGE_VAL : m.max_abs, cost = sc->simple_cost; /* A + B */
+	if (gen && isfinite(e)) { /* the most accurate at the generic's cost of one add */
+		snprintf(ms->eq_name, sizeof ms->eq_name, "env %.100s, A + B", env->name);
+		ms->eq_cost = cost;
+		ms->eq_err = e;
+	}
+	int better_pick = ms->at_cost || !ms->meets ? e < ms->err
+	                : e <= ms->budget && (cost < ms->cost || (cost == ms->cost && e < ms->err));
+	if (!better_pick)
+		return 0;
+	free(ms->text);
+	ms->text = NULL;
+	bk_form_free(ms->form); /* a LUT: no form (scene_fit.h) */
+	ms->form = NULL;
+	snprintf(ms->name, sizeof ms->name, "env %.100s, A + B", env->name);
+	snprintf(ms->source, sizeof ms->source, "E = A + B of the set's env texture fetch (no fetch of its own)");
+	memset(ms->p, 0, sizeof ms->p);
+	memset(&ms->ops, 0, sizeof ms->ops);
+	ms->ops.simple = 1;
+	ms->lut = 1;
+	ms->lut_size = env->lut_size;
+	ms->lut_layout = env->lut_layout;
+	ms->lut_fmt = env->lut_fmt;
+	ms->lut_bytes = 0; /* env's texture */
+	ms->fetches = 0;
+	ms->cost = cost;
+	ms->err = e;
+	ms->meets = e <= ms->budget;
+	ms->scored++;
+	snprintf(ms->guards, sizeof ms->guards, "none: the sum of two fetched values in [0, 1]");
+	*taken = 1;
+	return 0;
+}
+
 int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen)
 {
@@ -913,6 +1065,10 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		memset(generic, 0, sizeof *generic);
 		generic->term = term;
 	}
+	if (term == BK_SCENE_TERM_CLOTH)
+		return choose_exact(sc, set, term, "D_charlie*V_neubelt",
+		                    "Estevez & Kulla 2017 (Charlie D), Neubelt & Pettineo 2013 (V); exact, as Filament's cloth",
+		                    BK_SCENE_CLOTH, ch, generic, err, errlen);
 	if (term == BK_SCENE_TERM_D) { /* exact GGX: only the guards are decided */
 		cand c;
 		memset(&c, 0, sizeof c);
@@ -963,11 +1119,28 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		gen.cost = f ? form_cost(sc, f, &gen.ops) : HUGE_VAL;
 		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
 			goto done;
-	} else {
+	} else if (term == BK_SCENE_TERM_SHEEN) { /* MaterialX's fit at its published constants */
+		const bk_catalog_entry *e = bk_catalog_find(BK_SCENE_GENERIC_SHEEN);
+		bk_form_error fe;
+		bk_form *f = e ? bk_form_parse(e->form, &fe) : NULL;
+		if (!f) {
+			snprintf(err, errlen, "sheen: the generic form %s is missing", BK_SCENE_GENERIC_SHEEN);
+			goto done;
+		}
+		snprintf(gen.name, sizeof gen.name, "generic (%s)", e->name);
+		snprintf(gen.source, sizeof gen.source, "%.250s", e->source);
+		gen.text = (char *)e->form;
+		memcpy(gen.p, e->defaults, sizeof gen.p);
+		gen.cost = form_cost(sc, f, &gen.ops);
+		gen.err = score(&d, term, f, gen.p);
+		bk_form_free(f);
+		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
+			goto done;
+	} else { /* env: f0 A + B; ms: E = A + B, Filament's G channel (lut_metrics) */
 		bk_fit_metrics m;
 		bk_lut_layout gl = {BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT, 0, 1, BK_LUT_WARP_NONE, NAN};
-		if (bk_lut_score_layout(&gl, BK_LUT_HALF, BK_SMITH_CORRELATED, d.prec, &d.s[0], &m, NULL)) {
-			snprintf(err, errlen, "env: the generic LUT could not be scored");
+		if (lut_metrics(&gl, BK_LUT_HALF, term, &d, &m)) {
+			snprintf(err, errlen, "%s: the generic LUT could not be scored", bk_scene_term_name(term));
 			goto done;
 		}
 		snprintf(gen.name, sizeof gen.name, "generic (LUT %dx%d half)", BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
@@ -984,19 +1157,19 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
 			goto done;
 	}
-	double budget = term == BK_SCENE_TERM_VF ? sc->budget_vf : sc->budget_env;
+	double budget = term_budget(sc, term);
 	int at_cost = budget == BK_SCENE_BUDGET_AT_COST;
 	if (budget == BK_SCENE_BUDGET_GENERIC || at_cost)
 		budget = g.err;
 	/* the candidates */
-	bk_target_kind k = term == BK_SCENE_TERM_VF ? BK_TARGET_VF : BK_TARGET_ENV;
+	bk_target_kind k = term_kind(term);
 	int ncat = 0, done_cat = 0;
 	for (size_t i = 0; i < bk_catalog_count(); i++)
-		ncat += (term == BK_SCENE_TERM_VF || term == BK_SCENE_TERM_ENV) && bk_catmap_answers(k, 1, bk_catalog_at(i));
+		ncat += bk_catmap_answers(k, 1, bk_catalog_at(i)); /* D and cloth returned above */
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		/* the catalog's forms of the term, each as one form (f0 A + B for env) */
-		if ((term != BK_SCENE_TERM_VF && term != BK_SCENE_TERM_ENV) || !bk_catmap_answers(k, 1, e))
+		if (!bk_catmap_answers(k, 1, e))
 			continue;
 		char *text = bk_catmap_form(k, 1, e);
 		int bad = !text || add_form(&P, sc, set, &d, term, e->name, e->source, text, e->defaults);
@@ -1012,6 +1185,14 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		goto done;
 	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, progress, lab_lut)) {
 		snprintf(err, errlen, "env: a LUT could not be scored");
+		goto done;
+	}
+	/* ms: a texture of E alone (where the set has an env LUT of A and B,
+	 * cmd_scene reads E from it instead: bk_scene_ms_from_env). sheen has no
+	 * LUT candidates: no scorer of a cloth-channel texture yet (lutscore.c
+	 * bakes the DFG's A and B only) */
+	if (term == BK_SCENE_TERM_MS && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, progress, lab_lut)) {
+		snprintf(err, errlen, "ms: a LUT could not be scored");
 		goto done;
 	}
 	/* the cheapest that meets the budget; else the most accurate */
@@ -1047,7 +1228,7 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	 * candidates are scored before their guards, the generic after: no
 	 * fair comparison there) */
 	int eq = -1;
-	for (int i = 0; term == BK_SCENE_TERM_ENV && i < P.n; i++)
+	for (int i = 0; term != BK_SCENE_TERM_VF && i < P.n; i++)
 		if (P.c[i].cost <= g.cost && (!P.c[i].lut || P.c[i].lut_bytes <= gen.lut_bytes) &&
 		    (eq < 0 || P.c[i].err < P.c[eq].err || (P.c[i].err == P.c[eq].err && better(&P.c[i], &P.c[eq]))))
 			eq = i;
@@ -1142,8 +1323,8 @@ void bk_scene_choice_free(bk_scene_choice *ch)
 int bk_scene_form_error(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, const char *text, double *p,
                         int refit_first, double *err_out, char *err, size_t errlen)
 {
-	if (term == BK_SCENE_TERM_D) {
-		snprintf(err, errlen, "D: exact, nothing to score");
+	if (term == BK_SCENE_TERM_D || term == BK_SCENE_TERM_CLOTH) {
+		snprintf(err, errlen, "%s: exact, nothing to score", bk_scene_term_name(term));
 		return -1;
 	}
 	bk_form_error fe;

@@ -16,7 +16,15 @@
  *        its fetched values and f0 A + B in the scene's precision too);
  *   D    exact GGX (brdfkit has no cheaper D): the guards alone are decided,
  *        and its error is the largest relative error they add where they act
- *        (a roughness floor changes D below it: stability.h's guard_error).
+ *        (a roughness floor changes D below it: stability.h's guard_error);
+ *   ms   the max abs error of E(NoV, r) = A + B (height-correlated Smith,
+ *        F = 1: fit/target.c's ms) on the set's (NoV, r) cells; the generic
+ *        is Filament's: E from its 128x128 half DFG LUT (A + B);
+ *   sheen the max abs error of the Charlie sheen albedo (target sheen) on
+ *        the same cells; the generic is MaterialX's published fit
+ *        (sheen_materialx), what shaders ship where no cloth LUT is bound;
+ *   cloth exact D_charlie(NoH, a) V_neubelt(NoV, NoL): as D, the guards alone
+ *        are decided.
  */
 #ifndef ANALYSIS_SCENE_FIT_H
 #define ANALYSIS_SCENE_FIT_H
@@ -26,14 +34,22 @@
 #include "scene.h"
 #include "speclut.h"
 
-typedef enum bk_scene_term { BK_SCENE_TERM_D, BK_SCENE_TERM_VF, BK_SCENE_TERM_ENV, BK_SCENE_TERMS } bk_scene_term;
-const char *bk_scene_term_name(bk_scene_term t); /* "D", "vf", "env" */
+typedef enum bk_scene_term {
+	BK_SCENE_TERM_D, BK_SCENE_TERM_VF, BK_SCENE_TERM_ENV,
+	BK_SCENE_TERM_MS, BK_SCENE_TERM_SHEEN, BK_SCENE_TERM_CLOTH, /* only where a scene asks (scene.h) */
+	BK_SCENE_TERMS
+} bk_scene_term;
+const char *bk_scene_term_name(bk_scene_term t); /* "D", "vf", "env", "ms", "sheen", "cloth" */
 
 /* The generic shader's terms: GGX D, height-correlated Smith V x Schlick F,
  * a 128x128 half DFG LUT, with the fp16 guards in mediump. */
 #define BK_SCENE_GENERIC_D "D_ggx(NoH, a)"
 #define BK_SCENE_GENERIC_VF "V_smith_ggx_correlated(NoV, NoL, a)*F_schlick(f0, 1, LoH)"
 #define BK_SCENE_GENERIC_LUT 128
+/* ms: Filament's E, the G channel of the same 128x128 half LUT; sheen:
+ * MaterialX's fit; cloth: the exact lobe (Filament's D_Charlie, V_Neubelt) */
+#define BK_SCENE_GENERIC_SHEEN "sheen_materialx"
+#define BK_SCENE_CLOTH "D_charlie(NoH, a)*V_neubelt(NoV, NoL)"
 
 /* The fits of the short search for vf when only the exact form meets the
  * budget (brdfkit search's albedo objective on the set's domain). */
@@ -94,6 +110,20 @@ typedef struct bk_scene_choice {
 int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term term, bk_scene_choice *ch,
                     bk_scene_choice *generic, bk_progress_fn progress, void *ctx, char *err, size_t errlen);
 void bk_scene_choice_free(bk_scene_choice *ch);
+
+/* ms where the set has an env term. The generic's E (gen, may be NULL) is
+ * then the A + B of its own env LUT, as Filament reads it: one add, no fetch
+ * of its own (its error stays; the choice was made against a fetch of its
+ * own, which "at-generic-cost" then allowed). Where the set's env term is a
+ * DFG LUT of two channels (A, B), the same holds for the choice: E = A + B
+ * for one add and no fetch. Scored on ms's
+ * domain as every ms candidate; it replaces *ms when it meets ms's budget
+ * for less (or, "at-generic-cost" or nothing meeting the budget, when it is
+ * more accurate). A LUT with f0 folded into one channel (f0 A + B) or the
+ * specular LUT carries no E: *ms stays. Returns 0 (1 in *taken when it
+ * replaced *ms), or -1 with a message. */
+int bk_scene_ms_from_env(const bk_scene *sc, const bk_scene_set *set, const bk_scene_choice *env, bk_scene_choice *ms,
+                         bk_scene_choice *gen, int *taken, char *err, size_t errlen);
 
 /* The env term's reference samples are built once per distinct domain (the
  * same roughness, NoV and f0 ranges) and kept for the sets that follow,

@@ -74,7 +74,26 @@ static void domain_text(const bk_scene *sc, const bk_scene_set *S, char *buf, si
 
 static const char *err_unit(bk_scene_term t)
 {
-	return t == BK_SCENE_TERM_VF ? "albedo_max_abs" : t == BK_SCENE_TERM_ENV ? "max_abs" : "guard_max_rel";
+	return t == BK_SCENE_TERM_VF ? "albedo_max_abs"
+	     : t == BK_SCENE_TERM_ENV || t == BK_SCENE_TERM_MS || t == BK_SCENE_TERM_SHEEN ? "max_abs" : "guard_max_rel";
+}
+
+/* The conventions line of a term's function: the terms a scene asks for
+ * (ms, sheen, cloth) say how a shader uses them. */
+static const char *conventions(bk_scene_term t)
+{
+	switch (t) {
+	case BK_SCENE_TERM_MS:
+		return "E(NoV, r) = A + B: GGX single-scattering directional albedo, height-correlated Smith, F = 1; r perceptual "
+		       "roughness; energy compensation: specular *= 1 + f0*(1/E - 1) (Turquin 2019, as Filament)";
+	case BK_SCENE_TERM_SHEEN:
+		return "directional albedo of D_charlie(a = r^2)*V_neubelt, F = 1 (Estevez & Kulla 2017); r perceptual "
+		       "roughness; IBL sheen = sheenColor*E*prefiltered radiance, the layer below scaled by 1 - max(sheenColor)*E";
+	case BK_SCENE_TERM_CLOTH:
+		return "a = r^2; V_neubelt includes 1/(4 NoL NoV); BRDF without NoL, times the sheen colour (no Fresnel)";
+	default:
+		return "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)";
+	}
 }
 
 /* One generated function of form (constants p) into f in language li.
@@ -148,6 +167,44 @@ static int speclut_comment(FILE *f, const bk_scene_choice *c, const char *fname,
 	return rc;
 }
 
+/* ms read from the set's env texture: how (no fetch of its own). Returns 0 or -1. */
+static int ms_lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *env_fname, const char *c0,
+                          const char *c1)
+{
+	int rc = comment_line(f, c0, c1, "%s: E = A + B, the two channels %s already fetches (no fetch of its own):",
+	                      fname, env_fname);
+	rc |= comment_line(f, c0, c1, "  E = A + B; energy compensation: specular *= 1 + f0*(1/E - 1) (Turquin 2019, as "
+	                   "Filament); max abs error %.3g on the domain", c->err);
+	fputc('\n', f);
+	return rc;
+}
+
+/* ms as a texture of E alone (folded at f0 = 1). Returns 0 or -1. */
+static int ms_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+{
+	const bk_lut_layout *L = &c->lut_layout;
+	int remap = L->r_lo > 0 || L->r_hi < 1;
+	char opts[160] = "", v[96] = "r";
+	int k = 0;
+	if (remap)
+		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
+	if (L->warp != BK_LUT_WARP_NONE)
+		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
+	if (remap) /* as lut_comment */
+		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
+	int rc = comment_line(f, c0, c1, "%s: E(NoV, r) is a texture here (%s):", fname,
+	                      c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio");
+	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d --f0 1%s%s --out DIR%s", c->name, c->lut_size,
+	                   opts, c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
+	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
+	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
+	                   bk_lut_warp_form(L->warp), v);
+	rc |= comment_line(f, c0, c1, "  E = its one channel (A + B); energy compensation: specular *= 1 + f0*(1/E - 1) "
+	                   "(Turquin 2019, as Filament); max abs error %.3g on the domain", c->err);
+	fputc('\n', f);
+	return rc;
+}
+
 /* The provenance lines at the top of a shader. Returns 0 or -1. */
 static int shader_head(FILE *f, const bk_scene_doc *d, const bk_scene_result *R, const char *dom, const char *c0,
                        const char *c1)
@@ -184,6 +241,15 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 		snprintf(fname, sizeof fname, "%s_%s", R->set.name, bk_scene_term_name(t));
 		if (t == BK_SCENE_TERM_D && R->ch[BK_SCENE_TERM_VF].speclut)
 			continue; /* in the specular LUT */
+		if (c->lut && t == BK_SCENE_TERM_MS) { /* read from env's fetch (bk_scene_ms_from_env) */
+			char env_fname[96];
+			snprintf(env_fname, sizeof env_fname, "%s_env", R->set.name);
+			if (c->fetches ? ms_tex_comment(f, c, fname, c0, c1) : ms_lut_comment(f, c, fname, env_fname, c0, c1)) {
+				snprintf(err, errlen, "out of memory");
+				return -1;
+			}
+			continue;
+		}
 		if (c->lut) {
 			if (c->speclut ? speclut_comment(f, c, fname, c0, c1) : lut_comment(f, c, fname, c0, c1)) {
 				snprintf(err, errlen, "out of memory");
@@ -193,8 +259,7 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 		}
 		snprintf(errtext, sizeof errtext, "%s %.3g in %s on the domain (budget %.3g); fp16 guards: %.60s",
 		         err_unit(t), c->err, sc->half ? "half" : "single", c->budget, c->guards);
-		bk_emit_info info = {fname, c->source, "r perceptual roughness, a = r^2; V includes 1/(4 NoL NoV)", dom,
-		                     errtext, d->command};
+		bk_emit_info info = {fname, c->source, conventions(t), dom, errtext, d->command};
 		if (!c->form) { /* a choice is made with its form (scene_fit.h) */
 			snprintf(err, errlen, "%s: no form", info.name);
 			return -1;
@@ -287,6 +352,13 @@ void bk_scene_csv(FILE *f, const bk_scene_doc *d)
 	           "complex*%g + fetches*%g. conventions: r perceptual roughness, a = r^2, V includes 1/(4 NoL NoV)\n",
 	        sc->half ? "half precision (mediump)" : "single precision (highp)", sc->simple_cost, sc->complex_cost,
 	        sc->fetch_cost);
+	int asked = 0; /* the terms a scene asks for: their line only where there are some */
+	for (int i = 0; i < d->nset; i++)
+		asked |= d->R[i].has[BK_SCENE_TERM_MS] || d->R[i].has[BK_SCENE_TERM_SHEEN] || d->R[i].has[BK_SCENE_TERM_CLOTH];
+	if (asked)
+		fprintf(f, "# error: ms = max abs error of E = A + B (GGX, height-correlated Smith, F = 1), sheen = max abs "
+		           "error of the Charlie sheen albedo, both on the set's (NoV, r) domain in the same precision; cloth "
+		           "is exact D_charlie*V_neubelt, its error the largest relative error its fp16 guard adds\n");
 	if (d->nchips)
 		comment_line(f, "# ", "",
 		             "aco_CHIP_instructions: AMD instructions of the term's form (brdfkit gpucost: Mesa RADV's null "
@@ -412,6 +484,12 @@ static void report_head(FILE *f, const bk_scene_doc *d)
 static void report_term(FILE *f, const bk_scene_result *r, int t)
 {
 	const bk_scene_choice *c = &r->ch[t], *g = &r->gen[t];
+	if (t == BK_SCENE_TERM_CLOTH) {
+		fprintf(f, "  cloth exact Charlie D x Neubelt V: cost %g (generic %g)\n      fp16 guards: ", c->cost, g->cost);
+		plain(f, c->guards);
+		fputc('\n', f);
+		return;
+	}
 	if (t == BK_SCENE_TERM_D) {
 		fprintf(f, "  D   exact GGX: cost %g (generic %g)\n      fp16 guards: ", c->cost, g->cost);
 		plain(f, c->guards);
@@ -485,8 +563,10 @@ void bk_scene_report(FILE *f, const bk_scene_doc *d, int with_time)
 			plain(f, sc->mat[r->set.mat[m]].name);
 		}
 		fprintf(f, "): %s\n", dom);
-		if (!r->set.needs.vf && !r->set.needs.env)
+		if (!r->set.needs.vf && !r->set.needs.env && !r->set.needs.cloth && !r->set.needs.sheen)
 			fputs("  no specular (the materials have none): diffuse only\n", f);
+		else if (!r->set.needs.vf && !r->set.needs.env)
+			fputs("  no GGX specular (the materials have none): the cloth's sheen alone\n", f);
 		if (r->set.needs.fixed_f0)
 			fprintf(f, "  one f0 (%g): folded into the constants, no f0 input\n", r->set.needs.f0);
 		for (int t = 0; t < BK_SCENE_TERMS; t++)

@@ -95,7 +95,7 @@ Test(scene, explicit_costs)
 Test(scene, bad_files_name_the_key)
 {
 	expect_error("{\"materials\": [{\"name\": \"m\", \"rougness\": 0.3}]}",
-	             "materials[0]: unknown key 'rougness' (known: name, roughness, f0, specular)");
+	             "materials[0]: unknown key 'rougness' (known: name, roughness, f0, specular, multiscatter, cloth)");
 	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.2, \"max\": 1.3}}]}",
 	             "materials[0].roughness.max: 1.3 is outside [0, 1]");
 	expect_error("{\"materials\": [{\"name\": \"m\", \"roughness\": {\"min\": 0.6, \"max\": 0.2}}]}",

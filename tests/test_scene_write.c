@@ -188,12 +188,12 @@ static void make_doc(doc *d, int i, int plain)
 	bk_scene_result *R = &d->R;
 	bk_scene_set *S = &R->set;
 	snprintf(S->name, sizeof S->name, "s%d", i); /* identifiers: unique across the batch */
-	S->needs = (bk_scene_needs){1, 1, 1, 0, NAN};
+	S->needs = (bk_scene_needs){1, 1, 1, 0, NAN, 0, 0, 0};
 	S->r_hi = 1;
 	S->f0_lo = 0.04;
 	S->f0_hi = 1;
 	S->nmat = 1;
-	for (int t = 0; t < BK_SCENE_TERMS; t++) {
+	for (int t = 0; t <= BK_SCENE_TERM_ENV; t++) { /* the terms of every scene (ms, sheen, cloth: asked for) */
 		R->has[t] = 1;
 		int lut = t == BK_SCENE_TERM_ENV && i % 2 ? 1 + (i % 4 == 1) : 0;
 		choice(&R->ch[t], (bk_scene_term)t, d->names[2 + t], d->names[5], d->names[2], lut);

@@ -280,7 +280,7 @@ static int terms_to_fit(const scene_run *S)
 {
 	int n = 0;
 	for (int i = 0; i < S->nset; i++)
-		n += S->sets[i].needs.vf + S->sets[i].needs.env;
+		n += S->sets[i].needs.vf + S->sets[i].needs.env + S->sets[i].needs.ms + S->sets[i].needs.sheen;
 	return n;
 }
 
@@ -341,6 +341,9 @@ static int choose_set(void *ctx, int k)
 	r->ns = r->gen_ns = NAN;
 	r->has[BK_SCENE_TERM_D] = r->has[BK_SCENE_TERM_VF] = r->set.needs.vf;
 	r->has[BK_SCENE_TERM_ENV] = r->set.needs.env;
+	r->has[BK_SCENE_TERM_MS] = r->set.needs.ms;
+	r->has[BK_SCENE_TERM_SHEEN] = r->set.needs.sheen;
+	r->has[BK_SCENE_TERM_CLOTH] = r->set.needs.cloth;
 	for (int t = 0; t < BK_SCENE_TERMS; t++) {
 		if (!r->has[t])
 			continue;
@@ -350,6 +353,13 @@ static int choose_set(void *ctx, int k)
 		char err[400], label[200]; /* the phases' lines start with it (scene_fit.h) */
 		snprintf(label, sizeof label, "scene: %s: %s: %s", S->stem, r->set.name, bk_scene_term_name(t));
 		if (bk_scene_choose(&S->sc, &r->set, t, &r->ch[t], &r->gen[t], locked_progress, label, err, sizeof err)) {
+			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
+			return 1;
+		}
+		int taken; /* ms: E from env's LUT fetch where it has A and B (env is chosen first) */
+		if (t == BK_SCENE_TERM_MS && r->has[BK_SCENE_TERM_ENV] &&
+		    bk_scene_ms_from_env(&S->sc, &r->set, &r->ch[BK_SCENE_TERM_ENV], &r->ch[t], &r->gen[t], &taken, err,
+		                         sizeof err)) {
 			snprintf(j->err, sizeof j->err, "%s: %s: %s", S->file, r->set.name, err);
 			return 1;
 		}
@@ -366,7 +376,7 @@ static void spec_after(void *ctx, int k, int rc)
 	const bk_scene_result *r = &S->R[P->job[k].i];
 	if (rc)
 		return;
-	P->done += r->set.needs.vf + r->set.needs.env;
+	P->done += r->set.needs.vf + r->set.needs.env + r->set.needs.ms + r->set.needs.sheen;
 	double spent = bk_clock_now() - P->t0;
 	char left[48] = "";
 	if (P->done > 0 && P->done < P->total)
@@ -415,6 +425,14 @@ static void tell_unmet(const scene_run *S)
 {
 	for (int i = 0; i < S->nset; i++)
 		for (int t = BK_SCENE_TERM_VF; t <= BK_SCENE_TERM_ENV; t++) {
+			const bk_scene_choice *c = &S->R[i].ch[t];
+			if (S->R[i].has[t] && !c->meets)
+				fprintf(stderr, "brdfkit scene: warning: %s: %s: %s budget %.3g not met: the most accurate candidate, "
+				                "%s, is off by %.3g (exit status 0: the shaders are written, marked NOT MET)\n",
+				        S->stem, S->R[i].set.name, bk_scene_term_name(t), c->budget, c->name, c->err);
+		}
+	for (int i = 0; i < S->nset; i++) /* the terms a scene asks for, the same words */
+		for (int t = BK_SCENE_TERM_MS; t <= BK_SCENE_TERM_SHEEN; t++) {
 			const bk_scene_choice *c = &S->R[i].ch[t];
 			if (S->R[i].has[t] && !c->meets)
 				fprintf(stderr, "brdfkit scene: warning: %s: %s: %s budget %.3g not met: the most accurate candidate, "
@@ -506,13 +524,14 @@ int cmd_scene(int argc, char **argv)
 	               "one section.html for all.",
 	               "SCENE.json ... --out DIR",
 	               "The scene file (all but materials optional; unknown keys are errors):\n"
-	               "  {\"scene\": NAME, \"materials\": [{\"name\": N, \"roughness\": R, \"f0\": F, \"specular\": true}],\n"
-	               "   \"lighting\": {\"punctual\": true, \"ibl\": true, \"diffuse\": true},\n"
+	               "  {\"scene\": NAME, \"materials\": [{\"name\": N, \"roughness\": R, \"f0\": F, \"specular\": true,\n"
+	               "                                 \"multiscatter\": false, \"cloth\": false}],\n"
+	               "   \"lighting\": {\"punctual\": true, \"ibl\": true, \"diffuse\": true, \"multiscatter\": false},\n"
 	               "   \"geometry\": {\"nov\": {\"min\": 0, \"max\": 1}},\n"
 	               "   \"target\": {\"precision\": \"mediump\"|\"highp\", \"alu_tex\": 16|32|48|64 or\n"
 	               "              \"costs\": {\"simple\": 1, \"complex\": 4, \"fetch\": 16},\n"
 	               "              \"lut\": true, \"languages\": [\"glsl\", \"hlsl\", \"c\"],\n"
-	               "              \"error\": E|\"generic\"|\"at-generic-cost\"|{\"vf\": E, \"env\": E}}}\n"
+	               "              \"error\": E|\"generic\"|\"at-generic-cost\"|{\"vf\": E, \"env\": E, \"ms\": E, \"sheen\": E}}}\n"
 	               "R: a number, a list (its hull), {\"min\": x, \"max\": y} or \"texture\" (= [0, 1]).\n"
 	               "F: a number, a list, a range, \"dielectric\" (0.04), \"metal\" ([0.5, 1]) or \"texture\" ([0.02, 1]).\n"
 	               "\"lut\": false: no DFG texture for the environment BRDF (no sampler to spare). LUTs are\n"
@@ -525,9 +544,13 @@ int cmd_scene(int argc, char **argv)
 	               "\"at-generic-cost\": each term the most accurate form at no more than the generic's cost\n"
 	               "(a LUT: and no more texture memory) instead of the cheapest at a budget.\n"
 	               "Errors: vf, the directional-albedo max abs error of D*V*F; env, the max abs error of\n"
-	               "f0*A + B; at both ends of the f0 range. The report also gives, for env, the most\n"
-	               "accurate candidate at no more than the generic's cost and LUT memory. A budget nothing\n"
-	               "meets keeps the most accurate, marked NOT MET, with a warning (exit status 0).\n"
+	               "f0*A + B; at both ends of the f0 range; ms and sheen, the max abs error of E and of the\n"
+	               "sheen albedo. \"multiscatter\": true adds ms, E = A + B for energy compensation\n"
+	               "1 + f0*(1/E - 1) (from the env LUT's fetch where it holds A and B); \"cloth\": true adds the\n"
+	               "exact Charlie D x Neubelt V lobe (cloth) and its albedo (sheen). The report also gives,\n"
+	               "for env, the most accurate candidate at no more than the generic's cost and LUT memory.\n"
+	               "A budget nothing meets keeps the most accurate, marked NOT MET, with a warning (exit\n"
+	               "status 0).\n"
 	               "The file keeps GLSL's words, what the shader declares: precision \"mediump\" is the\n"
 	               "command line's half, \"highp\" its single; alu_tex N (or costs.fetch N) is the command\n"
 	               "line's --fetch-cost N (compare, search): a texture fetch priced as N simple ops.\n"
