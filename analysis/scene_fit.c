@@ -978,8 +978,11 @@ static int choose_exact(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 	snprintf(c.name, sizeof c.name, "%s", name);
 	snprintf(c.source, sizeof c.source, "%s", source);
 	c.text = (char *)text;
-	if (finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
-	    (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen)))
+	c.f = bk_form_parse(c.text, NULL); /* a constant: parsed where it enters (NULL: finish says why) */
+	int bad = finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
+	          (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen));
+	bk_form_free(c.f);
+	if (bad)
 		return -1;
 	ch->budget = NAN; /* nothing to choose: no budget applies */
 	ch->meets = 1;
@@ -1069,29 +1072,9 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		return choose_exact(sc, set, term, "D_charlie*V_neubelt",
 		                    "Estevez & Kulla 2017 (Charlie D), Neubelt & Pettineo 2013 (V); exact, as Filament's cloth",
 		                    BK_SCENE_CLOTH, ch, generic, err, errlen);
-	if (term == BK_SCENE_TERM_D) { /* exact GGX: only the guards are decided */
-		cand c;
-		memset(&c, 0, sizeof c);
-		snprintf(c.name, sizeof c.name, "D_ggx");
-		snprintf(c.source, sizeof c.source, "Walter et al. 2007 (exact GGX)");
-		c.text = BK_SCENE_GENERIC_D;
-		c.f = bk_form_parse(c.text, NULL); /* a constant: parsed where it enters */
-		c.err = 0;
-		int bad = finish(sc, set, NULL, term, &c, 0, ch, err, errlen) ||
-		          (generic && finish(sc, set, NULL, term, &c, 1, generic, err, errlen));
-		bk_form_free(c.f);
-		if (bad)
-			return -1;
-		ch->budget = NAN; /* nothing to choose: no budget applies */
-		ch->meets = 1;
-		ch->scored = 1;
-		if (generic) {
-			snprintf(generic->name, sizeof generic->name, "generic");
-			generic->budget = NAN;
-			generic->meets = 1;
-		}
-		return 0;
-	}
+	if (term == BK_SCENE_TERM_D) /* exact GGX: only the guards are decided */
+		return choose_exact(sc, set, term, "D_ggx", "Walter et al. 2007 (exact GGX)", BK_SCENE_GENERIC_D, ch,
+		                    generic, err, errlen);
 	/* the phases' labels (bk_scene_choose's contract in scene_fit.h) */
 	char lab_ref[200] = "", lab_cat[200] = "", lab_lut[200] = "";
 	if (progress) {
@@ -1131,9 +1114,9 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		snprintf(gen.source, sizeof gen.source, "%.250s", e->source);
 		gen.text = (char *)e->form;
 		memcpy(gen.p, e->defaults, sizeof gen.p);
+		gen.f = f; /* freed at done; finish guards it */
 		gen.cost = form_cost(sc, f, &gen.ops);
 		gen.err = score(&d, term, f, gen.p);
-		bk_form_free(f);
 		if (finish(sc, set, &d, term, &gen, 1, &g, err, errlen))
 			goto done;
 	} else { /* env: f0 A + B; ms: E = A + B, Filament's G channel (lut_metrics) */
