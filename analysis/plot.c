@@ -657,20 +657,223 @@ static int free_place(const marks *m, const layout *lo, double px, double py, do
  * 2-pt grid, its leader crossing no marker (free_place's last resort for a key
  * number, so that no label is ever dropped while the plot has room). 0 (none),
  * or 1 with the box in *out. */
+/* A grid place of nearest_free: its distance and its index in row-major
+ * scan order (the tie-break: the first of equal distance in that order). */
+typedef struct grid_place {
+	double d, cx, cy; /* cx, cy: the scan's running sums, the same places to the bit */
+	int i;
+} grid_place;
+
+static int by_distance(const void *a, const void *b)
+{
+	const grid_place *p = a, *q = b;
+	return p->d != q->d ? (p->d < q->d ? -1 : 1) : (p->i > q->i) - (p->i < q->i);
+}
+
+/* The marks bucketed by the CELL-pt cells their bounding boxes touch (a
+ * pt of slack each side), so that a box is tested against the marks near it
+ * only: marks_meet's answer, at the cost of a few marks instead of all. */
+#define CELL 16.0
+typedef struct mark_grid {
+	double L, T;
+	int nx, ny;
+	int *start, *item; /* CSR: cell c's items are item[start[c] .. start[c + 1]) */
+} mark_grid;
+
+static void cell_span(const mark_grid *g, double x0, double y0, double x1, double y1, int *c)
+{
+	double v[4] = {(x0 - 1 - g->L) / CELL, (y0 - 1 - g->T) / CELL, (x1 + 1 - g->L) / CELL, (y1 + 1 - g->T) / CELL};
+	int hi[4] = {g->nx - 1, g->ny - 1, g->nx - 1, g->ny - 1};
+	for (int k = 0; k < 4; k++)
+		c[k] = !(v[k] > 0) ? 0 : v[k] >= hi[k] ? hi[k] : (int)v[k]; /* NaN: the first cell */
+}
+
+static void mark_bounds(const marks *m, int j, double *x0, double *y0, double *x1, double *y1)
+{
+	if (j < m->n) {
+		*x0 = m->b[j].x0, *y0 = m->b[j].y0, *x1 = m->b[j].x1, *y1 = m->b[j].y1;
+	} else {
+		const double *q = m->seg[j - m->n];
+		*x0 = fmin(q[0], q[2]), *y0 = fmin(q[1], q[3]), *x1 = fmax(q[0], q[2]), *y1 = fmax(q[1], q[3]);
+	}
+}
+
+static int mark_grid_build(mark_grid *g, const marks *m, const layout *lo)
+{
+	g->L = lo->L, g->T = lo->T;
+	g->nx = (int)((lo->R - lo->L) / CELL) + 1;
+	g->ny = (int)((lo->B - lo->T) / CELL) + 1;
+	int nc = g->nx * g->ny, nm = m->n + m->nseg;
+	g->start = calloc((size_t)nc + 1, sizeof *g->start);
+	g->item = NULL;
+	if (!g->start)
+		return -1;
+	for (int pass = 0; pass < 2; pass++) { /* count, then fill */
+		for (int j = 0; j < nm; j++) {
+			double x0, y0, x1, y1;
+			int c[4];
+			mark_bounds(m, j, &x0, &y0, &x1, &y1);
+			cell_span(g, x0, y0, x1, y1, c);
+			for (int y = c[1]; y <= c[3]; y++)
+				for (int x = c[0]; x <= c[2]; x++) {
+					if (pass == 0)
+						g->start[y * g->nx + x + 1]++;
+					else
+						g->item[g->start[y * g->nx + x]++] = j;
+				}
+		}
+		if (pass == 0) {
+			for (int k = 0; k < nc; k++)
+				g->start[k + 1] += g->start[k];
+			if (!(g->item = malloc((size_t)(g->start[nc] + 1) * sizeof *g->item)))
+				return -1;
+		} else { /* the fill moved each start to the next cell's: back by one cell */
+			for (int k = nc; k > 0; k--)
+				g->start[k] = g->start[k - 1];
+			g->start[0] = 0;
+		}
+	}
+	return 0;
+}
+
+static int grid_meets(const mark_grid *g, const marks *m, box b)
+{
+	int c[4];
+	cell_span(g, b.x0, b.y0, b.x1, b.y1, c);
+	for (int y = c[1]; y <= c[3]; y++)
+		for (int x = c[0]; x <= c[2]; x++)
+			for (int k = g->start[y * g->nx + x]; k < g->start[y * g->nx + x + 1]; k++) {
+				int j = g->item[k];
+				if (j < m->n ? meets(b, m->b[j])
+				             : segment_meets(m->seg[j - m->n][0], m->seg[j - m->n][1], m->seg[j - m->n][2],
+				                             m->seg[j - m->n][3], b))
+					return 1;
+			}
+	return 0;
+}
+
+/* leader_meets through the grid: the cells the leader crosses in order from
+ * the marker outward (Amanatides & Woo's walk), each cell's thick boxes
+ * tested as leader_meets tests them: its answer, and a leader out of a crowd
+ * is found blocked in the first cells instead of after every box. */
+static int grid_leader_meets(const mark_grid *g, const marks *m, double px, double py, box b)
+{
+	double qx, qy;
+	nearest_on(b, px, py, &qx, &qy);
+	double dx = qx - px, dy = qy - py, d = hypot(dx, dy);
+	if (d <= MARK_R + 0.5)
+		return 0;
+	double sx = px + dx * (MARK_R + 0.5) / d, sy = py + dy * (MARK_R + 0.5) / d;
+	double u[4] = {(sx - g->L) / CELL, (sy - g->T) / CELL, (qx - g->L) / CELL, (qy - g->T) / CELL};
+	if (!(u[0] >= 0 && u[0] < g->nx && u[2] >= 0 && u[2] < g->nx && u[1] >= 0 && u[1] < g->ny && u[3] >= 0 &&
+	      u[3] < g->ny))
+		return leader_meets(m, px, py, b); /* an end off the grid: every box */
+	int c[4];
+	cell_span(g, sx + 1, sy + 1, sx - 1, sy - 1, c); /* the start's own cell (no slack) */
+	int x = c[0], y = c[1], ex, ey;
+	cell_span(g, qx + 1, qy + 1, qx - 1, qy - 1, c);
+	ex = c[0], ey = c[1];
+	int stepx = qx > sx ? 1 : -1, stepy = qy > sy ? 1 : -1;
+	double tdx = qx != sx ? CELL / fabs(qx - sx) : HUGE_VAL, tdy = qy != sy ? CELL / fabs(qy - sy) : HUGE_VAL;
+	double fx = (sx - g->L) / CELL - x, fy = (sy - g->T) / CELL - y; /* where in its cell the start is */
+	double tx = qx != sx ? (stepx > 0 ? 1 - fx : fx) * tdx : HUGE_VAL;
+	double ty = qy != sy ? (stepy > 0 ? 1 - fy : fy) * tdy : HUGE_VAL;
+	for (int guard = 0; guard < g->nx + g->ny + 2; guard++) {
+		/* this cell and its neighbours across a boundary the walk runs along */
+		for (int k = g->start[y * g->nx + x]; k < g->start[y * g->nx + x + 1]; k++) {
+			int j = g->item[k];
+			if (j >= m->n)
+				continue;
+			const box *B = &m->b[j];
+			if (fmin(B->x1 - B->x0, B->y1 - B->y0) > 1.3 && segment_meets(sx, sy, qx, qy, *B) &&
+			    !(B->x0 <= px && px <= B->x1 && B->y0 <= py && py <= B->y1))
+				return 1;
+		}
+		if (x == ex && y == ey)
+			return 0;
+		if (tx < ty) {
+			tx += tdx;
+			x += stepx;
+		} else {
+			ty += tdy;
+			y += stepy;
+		}
+		if (x < 0 || y < 0 || x >= g->nx || y >= g->ny)
+			return leader_meets(m, px, py, b); /* off the grid (a clamped end): every box */
+	}
+	return leader_meets(m, px, py, b);
+}
+
 static int nearest_free(const marks *m, const layout *lo, double px, double py, double w, double h, box *out)
 {
-	double best = HUGE_VAL;
+	/* every place on a 2-pt grid over the plot, tried nearest first: the
+	 * first free one is the nearest; each against the marks near it only
+	 * (all of them against every mark made a crowded plot's last labels
+	 * cost seconds each) */
+	int nx = 0, ny = 0;
+	for (double cx = lo->L + w / 2; cx + w / 2 <= lo->R; cx += 2)
+		nx++;
 	for (double cy = lo->T + h / 2; cy + h / 2 <= lo->B; cy += 2)
-		for (double cx = lo->L + w / 2; cx + w / 2 <= lo->R; cx += 2) {
-			double d = hypot(cx - px, cy - py);
-			if (d >= best)
-				continue;
-			box b = {cx - w / 2, cy - h / 2, cx + w / 2, cy + h / 2};
-			if (marks_meet(m, b) || leader_meets(m, px, py, b))
-				continue;
-			best = d, *out = b;
+		ny++;
+	if (nx == 0 || ny == 0)
+		return 0;
+	grid_place *g = malloc((size_t)nx * (size_t)ny * sizeof *g);
+	mark_grid mg = {0};
+	if (!g || mark_grid_build(&mg, m, lo)) {
+		free(g);
+		free(mg.start);
+		free(mg.item);
+		return 0;
+	}
+	int n = 0;
+	double cy = lo->T + h / 2;
+	for (int y = 0; y < ny; y++, cy += 2) {
+		double cx = lo->L + w / 2;
+		for (int x = 0; x < nx; x++, cx += 2, n++)
+			g[n] = (grid_place){hypot(cx - px, cy - py), cx, cy, n};
+	}
+	/* nearest first: bucketed by whole points of distance (a counting sort),
+	 * each bucket sorted (by_distance), instead of one sort of every place */
+	int nb = 2;
+	for (int k = 0; k < n; k++)
+		if (g[k].d + 2 > nb)
+			nb = (int)g[k].d + 2;
+	int *at = calloc((size_t)nb + 1, sizeof *at);
+	grid_place *o = malloc((size_t)n * sizeof *o);
+	if (!at || !o) {
+		free(at);
+		free(o);
+		free(g);
+		free(mg.start);
+		free(mg.item);
+		return 0;
+	}
+	for (int k = 0; k < n; k++)
+		at[(int)g[k].d + 1]++;
+	for (int k = 0; k < nb; k++)
+		at[k + 1] += at[k];
+	for (int k = 0; k < n; k++)
+		o[at[(int)g[k].d]++] = g[k];
+	free(g);
+	g = o;
+	int found = 0, sorted = 0;
+	for (int k = 0; k < n && !found; k++) {
+		if (k == sorted) { /* the next bucket, in order before its first is tried */
+			int e = k + 1;
+			while (e < n && (int)g[e].d == (int)g[k].d)
+				e++;
+			qsort(g + k, (size_t)(e - k), sizeof *g, by_distance);
+			sorted = e;
 		}
-	return best < HUGE_VAL;
+		box b = {g[k].cx - w / 2, g[k].cy - h / 2, g[k].cx + w / 2, g[k].cy + h / 2};
+		if (!grid_meets(&mg, m, b) && !grid_leader_meets(&mg, m, px, py, b))
+			found = 1, *out = b;
+	}
+	free(g);
+	free(at);
+	free(mg.start);
+	free(mg.item);
+	return found;
 }
 
 /* Places every label (plot.h); out holds count_labels(p) entries. A label with no free
