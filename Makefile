@@ -241,7 +241,7 @@ build/pic/fit/tiny.o: build/obj/fit/tiny.o
 # The sanitized object with line tables only (-g1, the last -g wins): what the
 # sanitizers' reports print, file and line of every frame, without the full
 # debug info of Eigen's types that nothing in the suites reads (62 CPU s
-# instead of 85, measured side by side; the object 15 MB instead of 59).
+# instead of 85, measured side by side; the object 15 MB instead of 75).
 build/san/obj/fit/tiny.o: SAN += -g1
 TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
