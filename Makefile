@@ -221,7 +221,7 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # README's `make test`, CI's too, has no -j): the plain and the sanitized
 # objects, and the shared libraries tests/install.sh installs.
 # The TinySolver bridge, fit/tiny.cc, is the one slow compile (Eigen's fixed
-# sizes for 1-4 parameters: ~48 CPU s plain, ~72 sanitized, against well under
+# sizes for 1-4 parameters: ~46 CPU s plain, ~62 sanitized, against well under
 # 2 s for any C file), for obj and san (pic copies obj's, below): named
 # first, so make -j2 starts them at once beside the C files instead of last,
 # one core compiling it alone at the end of each tree.
