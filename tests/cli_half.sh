@@ -204,5 +204,27 @@ expect_error "bad --vs-front" "$T/vsbad.csv:2: error:" --vs-front "$T/vsbad.csv"
 "$BK" search --target f --evals 10 --vs-front "$T/planted.csv" --out "$T/bad" >/dev/null 2>&1
 [ $? -eq 2 ] && ok || bad "--vs-front without --precision half accepted"
 
+# the committed fronts hold (issue 38, make results' merges): env_f0 and
+# env_mix answer one question (env as one form in f0, rmse in f64), and each
+# merged the other's runs, so at every cost <= 15 their staircases (the least
+# error at that cost or below) are one, to the refit's last digits; the same
+# of their half fronts (rmse in f16). Control: env (split pairs A, B: another
+# question, searched alone) differs from env_f0 there.
+R="$(dirname "$0")/../results/search"
+same_below_15() { # FRONT_A FRONT_B
+	csv_cols "$1" cost error >"$T/sa" && csv_cols "$2" cost error >"$T/sb" || return 1
+	awk -F'\t' 'FILENAME == ARGV[1] { ac[++na] = $1; ae[na] = $2; next }
+	     { bc[++nb] = $1; be[nb] = $2 }
+	     function best(n, c, e, x,   i, b) { b = -1; for (i = 1; i <= n; i++) if (c[i] <= x && (b < 0 || e[i] < b)) b = e[i]; return b }
+	     END { for (x = 0; x <= 15; x++) { a = best(na, ac, ae, x); b = best(nb, bc, be, x)
+	             if ((a < 0) != (b < 0)) exit 1
+	             if (a >= 0 && (a - b > 1e-4 * b || b - a > 1e-4 * a)) exit 1; n++ }
+	           exit !(n == 16) }' "$T/sa" "$T/sb"
+}
+same_below_15 "$R/env_f0/front.csv" "$R/env_mix/front.csv" && ok || bad "committed env_f0 and env_mix differ at a cost <= 15"
+same_below_15 "$R/env_f0_half/front.csv" "$R/env_mix_half/front.csv" && ok ||
+	bad "committed env_f0_half and env_mix_half differ at a cost <= 15"
+expect_fail "same_below_15 of env and env_f0" same_below_15 "$R/env/front.csv" "$R/env_f0/front.csv"
+
 echo "cli_half: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]
