@@ -80,7 +80,7 @@ USER='rsqrt(NoV + p0) - rcp(LoH)*sqrt(r) + log(1 + abs(-NoV*p1)) - -LoH + clamp(
 n=0
 for form in vf_talk_r v_hammon f_schlick_sg f_schlick_unreal_gated env_ross env_karis2014 env_lazarov2013 \
             env_materialx:A env_materialx:B dvf_unity_urp_half \
-            results/search/vf2d/front.csv:seed_search_vf2d_7 results/search/env/front.csv:search_env_3:A \
+            results/search/vf2d/front.csv:search_vf2d_6 results/search/env/front.csv:search_env_3:A \
             "$USER"; do
 	n=$((n + 1))
 	extra=""

@@ -51,7 +51,7 @@ export PYTHONPATH="$U/lib/python3/dist-packages"
 # the CLI's numbers
 X="0.3 0.55 0.8 1"
 for x in $X; do "$BK" eval --quiet vf_talk_r LoH=$x r=0.3 f0=0.04 >"$T/eval.$x" || bad "brdfkit eval at LoH=$x"; done
-"$BK" eval --quiet "$ROOT/results/search/vf2d/front.csv:seed_search_vf2d_7" LoH=0.6 r=0.3 f0=0.04 >"$T/member" ||
+"$BK" eval --quiet "$ROOT/results/search/vf2d/front.csv:search_vf2d_6" LoH=0.6 r=0.3 f0=0.04 >"$T/member" ||
 	bad "brdfkit eval of a front member"
 "$BK" fit --quiet --target form --target-form 'exp(-2*LoH)' --domain LoH=0:1 --form 'p0 + p1*LoH + p2*LoH*LoH' \
 	p0=1 p1=1 p2=1 --out "$T/fit" >/dev/null || bad "brdfkit fit"
@@ -141,7 +141,7 @@ check("eval f64 by hand", np.all(np.abs(f.eval(LoH=x, r=0.3, f0=0.04) - hand) <=
 check("f16 rounds every operation", np.any(f.eval(LoH=x, r=0.3, f0=0.04, precision="f16") != hand.astype(np.float16)))
 
 front = brdfkit.read_front(os.path.join(ROOT, "results/search/vf2d/front.csv"))
-m = brdfkit.member(front, "seed_search_vf2d_7")
+m = brdfkit.member(front, "search_vf2d_6")
 c = cli(os.path.join(T, "member"))["f64"]
 check("front member", same("f64", m.eval(LoH=0.6, r=0.3, f0=0.04), c), "%r vs %s" % (m.eval(LoH=0.6, r=0.3, f0=0.04), c))
 check("front columns by name", {"name", "form", "cost", "max_abs"} <= set(front.columns) and front.attrs["comments"])

@@ -433,7 +433,7 @@ Test(plot, ticks_three_distinct_labels_in_every_range)
 
 Test(plot, colour_bar_of_the_committed_heatmap_has_three_ticks)
 {
-	/* results/search/vf2d/front/seed_search_vf2d_7/heatmap.png: max |error| 0.00495586
+	/* results/search/vf2d/front/search_vf2d_6/heatmap.png: max |error| 0.00495586
 	 * (front.csv's max_abs) gave the step 0.005 and "0" alone */
 	double m = 0.00495586, val[2] = {-m, 0.9 * m}, v[32];
 	char text[32][BK_PLOT_TICK_LEN];
