@@ -614,18 +614,33 @@ static void nearest_on(box b, double px, double py, double *qx, double *qy)
  * other than the marker's own (the segment starts at the marker's edge). Bars and
  * staircase steps (boxes 1.2 pt thin) it may cross: a thin grey line over a thin
  * coloured one stays readable, and a crowd of bars would leave no leader at all. */
-static int leader_meets(const marks *m, double px, double py, box b)
+/* The leader from the marker at (px, py) to box b: from the marker's edge
+ * (sx, sy) to the box's nearest point (qx, qy); 0 when the box is at the
+ * marker (no leader). */
+static int leader_ends(double px, double py, box b, double *sx, double *sy, double *qx, double *qy)
 {
-	double qx, qy;
-	nearest_on(b, px, py, &qx, &qy);
-	double dx = qx - px, dy = qy - py, d = hypot(dx, dy);
+	nearest_on(b, px, py, qx, qy);
+	double dx = *qx - px, dy = *qy - py, d = hypot(dx, dy);
 	if (d <= MARK_R + 0.5)
 		return 0;
-	double sx = px + dx * (MARK_R + 0.5) / d, sy = py + dy * (MARK_R + 0.5) / d;
+	*sx = px + dx * (MARK_R + 0.5) / d, *sy = py + dy * (MARK_R + 0.5) / d;
+	return 1;
+}
+
+/* Whether box B stops the leader (sx, sy)-(qx, qy) of the marker at (px, py). */
+static int blocks_leader(const box *B, double px, double py, double sx, double sy, double qx, double qy)
+{
+	return fmin(B->x1 - B->x0, B->y1 - B->y0) > 1.3 && segment_meets(sx, sy, qx, qy, *B) &&
+	       !(B->x0 <= px && px <= B->x1 && B->y0 <= py && py <= B->y1);
+}
+
+static int leader_meets(const marks *m, double px, double py, box b)
+{
+	double sx, sy, qx, qy;
+	if (!leader_ends(px, py, b, &sx, &sy, &qx, &qy))
+		return 0;
 	for (int j = 0; j < m->n; j++)
-		if (fmin(m->b[j].x1 - m->b[j].x0, m->b[j].y1 - m->b[j].y0) > 1.3 &&
-		    segment_meets(sx, sy, qx, qy, m->b[j]) && !(m->b[j].x0 <= px && px <= m->b[j].x1 && m->b[j].y0 <= py &&
-		                                               py <= m->b[j].y1))
+		if (blocks_leader(&m->b[j], px, py, sx, sy, qx, qy))
 			return 1;
 	return 0;
 }
@@ -758,12 +773,9 @@ static int grid_meets(const mark_grid *g, const marks *m, box b)
  * is found blocked in the first cells instead of after every box. */
 static int grid_leader_meets(const mark_grid *g, const marks *m, double px, double py, box b)
 {
-	double qx, qy;
-	nearest_on(b, px, py, &qx, &qy);
-	double dx = qx - px, dy = qy - py, d = hypot(dx, dy);
-	if (d <= MARK_R + 0.5)
+	double sx, sy, qx, qy;
+	if (!leader_ends(px, py, b, &sx, &sy, &qx, &qy))
 		return 0;
-	double sx = px + dx * (MARK_R + 0.5) / d, sy = py + dy * (MARK_R + 0.5) / d;
 	double u[4] = {(sx - g->L) / CELL, (sy - g->T) / CELL, (qx - g->L) / CELL, (qy - g->T) / CELL};
 	if (!(u[0] >= 0 && u[0] < g->nx && u[2] >= 0 && u[2] < g->nx && u[1] >= 0 && u[1] < g->ny && u[3] >= 0 &&
 	      u[3] < g->ny))
@@ -779,14 +791,9 @@ static int grid_leader_meets(const mark_grid *g, const marks *m, double px, doub
 	double tx = qx != sx ? (stepx > 0 ? 1 - fx : fx) * tdx : HUGE_VAL;
 	double ty = qy != sy ? (stepy > 0 ? 1 - fy : fy) * tdy : HUGE_VAL;
 	for (int guard = 0; guard < g->nx + g->ny + 2; guard++) {
-		/* this cell and its neighbours across a boundary the walk runs along */
 		for (int k = g->start[y * g->nx + x]; k < g->start[y * g->nx + x + 1]; k++) {
 			int j = g->item[k];
-			if (j >= m->n)
-				continue;
-			const box *B = &m->b[j];
-			if (fmin(B->x1 - B->x0, B->y1 - B->y0) > 1.3 && segment_meets(sx, sy, qx, qy, *B) &&
-			    !(B->x0 <= px && px <= B->x1 && B->y0 <= py && py <= B->y1))
+			if (j < m->n && blocks_leader(&m->b[j], px, py, sx, sy, qx, qy))
 				return 1;
 		}
 		if (x == ex && y == ey)

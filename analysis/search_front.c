@@ -338,6 +338,38 @@ static int add_luts(bk_sfront *F)
 	return 0;
 }
 
+/* A member of a --start-front is refitted like any start; it is also scored
+ * at the constants its file gave, and kept so where that is better: a merge
+ * of fronts (make results') is never worse than a front it merged at that
+ * member, whatever the refit finds (a half polish, a minimax or a local
+ * optimum from another start may land a little off). */
+static int keep_as_is(const bk_sfront *F, member *m, const double *p)
+{
+	/* a half front holds binary16 constants (the half code's): a double
+	 * front's member is kept only as refitted there */
+	for (int i = 0; F->so->precision == BK_F16 && i < m->c->np; i++)
+		if (bk_half_round((float)p[i]) != p[i])
+			return 0;
+	member t = *m;
+	t.f[0] = t.f[1] = NULL;
+	t.pruned = NULL;
+	t.npruned = 0;
+	t.text = m->c->text;
+	t.text_b = m->c->text_b;
+	t.status = 0;
+	int rc = score_member(F, &t, p, 0);
+	if (rc || t.status || !(t.err < m->err) || (m->status == 0 && t.cost > m->cost)) {
+		bk_form_free(t.f[0]);
+		bk_form_free(t.f[1]);
+		return rc;
+	}
+	bk_form_free(m->f[0]);
+	bk_form_free(m->f[1]);
+	free(m->pruned);
+	*m = t;
+	return 0;
+}
+
 /* The members are scored by the search's threads (pool.h: each member
  * whole by one thread; score_member reads the samples and writes its member
  * alone, so the rows are the same bits for any count), taken in order;
@@ -347,6 +379,7 @@ typedef struct score_job {
 	int fit;         /* refit (0: a catalog row at its published constants) */
 	const double *start;
 	int front;       /* counted in "refit of the front", else in "catalog" */
+	const double *as_is; /* a --start-front member's own constants, or NULL */
 } score_job;
 
 typedef struct score_run {
@@ -362,6 +395,8 @@ static int score_one(void *ctx, int k)
 	int rc = score_member(R->F, &R->F->m[j->m], j->start, j->fit);
 	if (!rc && j->front)
 		rc = prune_member(R->F, &R->F->m[j->m]);
+	if (!rc && j->as_is)
+		rc = keep_as_is(R->F, &R->F->m[j->m], j->as_is);
 	return rc;
 }
 
@@ -438,7 +473,7 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 				snprintf(m->name, sizeof m->name, "start %d%s", k + 1, r ? " (refit)" : "");
 			m->text = sd->text[k];
 			m->text_b = sd->text_b[k];
-			job[njobs++] = (score_job){F->nm - 1, r, sd->p[k], 0};
+			job[njobs++] = (score_job){F->nm - 1, r, sd->p[k], 0, NULL};
 		}
 	}
 	if (F->luts && add_luts(F)) { /* the textures the formulas compete with, on compare's axis */
@@ -463,7 +498,8 @@ int bk_sfront_build(bk_sfront *F, const bk_seeds *sd)
 		}
 		m->text = c->text;
 		m->text_b = c->text_b;
-		job[njobs++] = (score_job){F->nm - 1, 1, c->p, 1};
+		job[njobs++] = (score_job){F->nm - 1, 1, c->p, 1,
+		                           k >= 0 && k < sd->n && sd->from_front[k] ? sd->p[k] : NULL};
 	}
 	int rc = score_all(F, job, njobs, (int)nf);
 	free(job);

@@ -24,6 +24,17 @@ _Static_assert(BK_TARGET_COUNT == 11, "FITARGS_TARGET_DIM names every target kin
 #define FITARGS_ON(k) (1u << BK_TARGET_##k)
 #define FITARGS_ALL ((1u << BK_TARGET_COUNT) - 1)
 #define FITARGS_FILE (FITARGS_ON(TABLE) | FITARGS_ON(MERL)) /* the targets whose samples a file gives */
+/* The rules of the options a file target takes or makes pointless, as fit
+ * and search both state them (cli_rule rows of dimension dim). */
+#define FITARGS_FILE_RULES(dim)                                                                              \
+	{"--target-file", NULL, dim, FITARGS_FILE, "it gives the file of targets table and merl", "t.csv"},         \
+	{"--channel", NULL, dim, FITARGS_FILE, "it chooses the channel of targets table (EXR) and merl", "R"},       \
+	{"--nx", NULL, dim, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", "8"}, \
+	{"--nr", NULL, dim, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", "8"}, \
+	{"--r-range", NULL, dim, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", \
+	 "0:0.5"},                                                                                               \
+	{"--x-range", NULL, dim, FITARGS_ALL & ~FITARGS_FILE, "the file gives the samples of targets table and merl", \
+	 "0:0.5"}
 
 typedef struct fitargs {
 	const char *target, *form, *form_a, *form_b, *out, *weight, *loss, *tr, *objective, *digits;
