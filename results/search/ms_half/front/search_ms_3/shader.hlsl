@@ -9,10 +9,10 @@
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
  * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
- *   p0 = 0.657226562
- *   p1 = 0.606445312
- *   p2 = 0.614257812
- *   p3 = 0.411376953
+ *   p0 = 0.65625
+ *   p1 = 0.605957031
+ *   p2 = 0.616210938
+ *   p3 = 0.410888672
  * precision: HLSL min16float with binary16 constants (fp16 where the GPU has it; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 3
@@ -21,10 +21,10 @@
 min16float search_ms_3(min16float NoV, min16float r)
 {
 	min16float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
-	const min16float search_ms_3_p0 = 0.6572265625;
-	const min16float search_ms_3_p1 = 0.6064453125;
-	const min16float search_ms_3_p2 = 0.6142578125;
-	const min16float search_ms_3_p3 = 0.411376953125;
+	const min16float search_ms_3_p0 = 0.65625;
+	const min16float search_ms_3_p1 = 0.60595703125;
+	const min16float search_ms_3_p2 = 0.6162109375;
+	const min16float search_ms_3_p3 = 0.410888671875;
 	min16float t2 = -r;
 	min16float t6 = mad(NoV, a, search_ms_3_p3);
 	min16float t8 = mad(t2, t6, search_ms_3_p2);

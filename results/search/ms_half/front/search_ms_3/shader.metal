@@ -9,10 +9,10 @@
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
  * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
- *   p0 = 0.657226562
- *   p1 = 0.606445312
- *   p2 = 0.614257812
- *   p3 = 0.411376953
+ *   p0 = 0.65625
+ *   p1 = 0.605957031
+ *   p2 = 0.616210938
+ *   p3 = 0.410888672
  * precision: MSL half with binary16 constants (fp16; bk_form_eval BK_F16); SPIRV-Cross's translation of the SPIR-V of
  *   brdfkit codegen --lang glsl --precision float16. Metal compiles with fast math unless
  *   told -fno-fast-math: it may reorder and fuse, as GPU drivers do
@@ -27,8 +27,8 @@ half search_ms_3(half NoV, half r)
 {
     half a = r * r;
     half t2 = -r;
-    half t6 = (NoV * a) + half(0.411376953125);
-    half t8 = (t2 * t6) + half(0.6142578125);
-    half t10 = (half(0.6064453125) * t8) + half(0.6572265625);
+    half t6 = (NoV * a) + half(0.410888671875);
+    half t8 = (t2 * t6) + half(0.6162109375);
+    half t10 = (half(0.60595703125) * t8) + half(0.65625);
     return t10;
 }

@@ -9,10 +9,10 @@
  * fitted domain: ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (correlated Smith, F = 1), the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
  * fitted error: rmse 0.0404 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 0.185; in f64: rmse 0.0404
  * parameters baked in:
- *   p0 = 0.657226562
- *   p1 = 0.606445312
- *   p2 = 0.614257812
- *   p3 = 0.411376953
+ *   p0 = 0.65625
+ *   p1 = 0.605957031
+ *   p2 = 0.616210938
+ *   p3 = 0.410888672
  * precision: GLSL float16_t with binary16 constants (fp16; bk_form_eval BK_F16); needs
  *   #extension GL_EXT_shader_explicit_arithmetic_types_float16 : require
  * op counts (after folding, sharing and multiply-add fusion):
@@ -22,10 +22,10 @@
 float16_t search_ms_3(float16_t NoV, float16_t r)
 {
 	float16_t a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
-	const float16_t search_ms_3_p0 = 0.6572265625hf;
-	const float16_t search_ms_3_p1 = 0.6064453125hf;
-	const float16_t search_ms_3_p2 = 0.6142578125hf;
-	const float16_t search_ms_3_p3 = 0.411376953125hf;
+	const float16_t search_ms_3_p0 = 0.65625hf;
+	const float16_t search_ms_3_p1 = 0.60595703125hf;
+	const float16_t search_ms_3_p2 = 0.6162109375hf;
+	const float16_t search_ms_3_p3 = 0.410888671875hf;
 	float16_t t2 = -r;
 	float16_t t6 = NoV * a + search_ms_3_p3;
 	float16_t t8 = t2 * t6 + search_ms_3_p2;

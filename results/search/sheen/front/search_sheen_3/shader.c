@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: in f64: rmse 0.279, max |error| 6.24, max relative 112 (absolute residuals)
+ * fitted error: in f64: rmse 0.279, max |error| 6.99, max relative 105 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.24958
- *   p1 = 5.2015
- *   p2 = -57.26
- *   p3 = -9.528
+ *   p0 = 0.241699219
+ *   p1 = 4.28515625
+ *   p2 = -39.125
+ *   p3 = -6.2578125
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -24,10 +24,10 @@
 #include <math.h>
 static inline float search_sheen_3(float NoV, float r)
 {
-	const float search_sheen_3_p0 = 0.24958f;
-	const float search_sheen_3_p1 = 5.2015f;
-	const float search_sheen_3_p2 = (-57.26f);
-	const float search_sheen_3_p3 = (-9.528f);
+	const float search_sheen_3_p0 = 0.24169922f;
+	const float search_sheen_3_p1 = 4.2851562f;
+	const float search_sheen_3_p2 = (-39.125f);
+	const float search_sheen_3_p3 = (-6.2578125f);
 	float t6 = search_sheen_3_p2 * NoV + search_sheen_3_p1;
 	float t7 = search_sheen_3_p3 * r + t6;
 	float t8 = fmaxf(search_sheen_3_p0, t7);

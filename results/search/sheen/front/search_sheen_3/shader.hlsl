@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: in f64: rmse 0.279, max |error| 6.24, max relative 112 (absolute residuals)
+ * fitted error: in f64: rmse 0.279, max |error| 6.99, max relative 105 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.24958
- *   p1 = 5.2015
- *   p2 = -57.26
- *   p3 = -9.528
+ *   p0 = 0.241699219
+ *   p1 = 4.28515625
+ *   p2 = -39.125
+ *   p3 = -6.2578125
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 2
@@ -21,10 +21,10 @@
  */
 float search_sheen_3(float NoV, float r)
 {
-	const float search_sheen_3_p0 = 0.24958;
-	const float search_sheen_3_p1 = 5.2015;
-	const float search_sheen_3_p2 = (-57.26);
-	const float search_sheen_3_p3 = (-9.528);
+	const float search_sheen_3_p0 = 0.24169922;
+	const float search_sheen_3_p1 = 4.2851562;
+	const float search_sheen_3_p2 = (-39.125);
+	const float search_sheen_3_p3 = (-6.2578125);
 	float t6 = mad(search_sheen_3_p2, NoV, search_sheen_3_p1);
 	float t7 = mad(search_sheen_3_p3, r, t6);
 	float t8 = max(search_sheen_3_p0, t7);

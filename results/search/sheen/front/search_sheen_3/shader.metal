@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: in f64: rmse 0.279, max |error| 6.24, max relative 112 (absolute residuals)
+ * fitted error: in f64: rmse 0.279, max |error| 6.99, max relative 105 (absolute residuals)
  * parameters baked in:
- *   p0 = 0.24958
- *   p1 = 5.2015
- *   p2 = -57.26
- *   p3 = -9.528
+ *   p0 = 0.241699219
+ *   p1 = 4.28515625
+ *   p2 = -39.125
+ *   p3 = -6.2578125
  * precision: MSL float (fp32); SPIRV-Cross's translation of the SPIR-V of
  *   brdfkit codegen --lang glsl --precision single. Metal compiles with fast math unless
  *   told -fno-fast-math: it may reorder and fuse, as GPU drivers do
@@ -26,8 +26,8 @@ using namespace metal;
 
 float search_sheen_3(float NoV, float r)
 {
-    float t6 = ((-57.259998321533203125) * NoV) + 5.20149993896484375;
-    float t7 = ((-9.5279998779296875) * r) + t6;
-    float t8 = fast::max(0.2495799958705902099609375, t7);
+    float t6 = ((-39.125) * NoV) + 4.28515625;
+    float t7 = ((-6.2578125) * r) + t6;
+    float t8 = fast::max(0.24169921875, t7);
     return t8;
 }

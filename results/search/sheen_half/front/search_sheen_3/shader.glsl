@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.279 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 6.24; in f64: rmse 0.279
+ * fitted error: rmse 0.279 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 6.98; in f64: rmse 0.279
  * parameters baked in:
- *   p0 = 0.249633789
- *   p1 = 5.19921875
- *   p2 = -57.15625
- *   p3 = -9.5234375
+ *   p0 = 0.241699219
+ *   p1 = 4.28515625
+ *   p2 = -39.125
+ *   p3 = -6.2578125
  * precision: GLSL ES 3.00 mediump with binary16 constants (fp16 on mobile GPUs; bk_form_eval BK_F16)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mad 2
@@ -21,10 +21,10 @@
  */
 mediump float search_sheen_3(mediump float NoV, mediump float r)
 {
-	const mediump float search_sheen_3_p0 = 0.2496337890625;
-	const mediump float search_sheen_3_p1 = 5.19921875;
-	const mediump float search_sheen_3_p2 = (-57.15625);
-	const mediump float search_sheen_3_p3 = (-9.5234375);
+	const mediump float search_sheen_3_p0 = 0.24169921875;
+	const mediump float search_sheen_3_p1 = 4.28515625;
+	const mediump float search_sheen_3_p2 = (-39.125);
+	const mediump float search_sheen_3_p3 = (-6.2578125);
 	mediump float t6 = search_sheen_3_p2 * NoV + search_sheen_3_p1;
 	mediump float t7 = search_sheen_3_p3 * r + t6;
 	mediump float t8 = max(search_sheen_3_p0, t7);

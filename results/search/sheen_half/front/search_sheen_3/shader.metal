@@ -7,12 +7,12 @@
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
  * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: rmse 0.279 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 6.24; in f64: rmse 0.279
+ * fitted error: rmse 0.279 in f16, as this half code computes it in either order of its mads (each sample in the order farther from the target), max |error| 6.98; in f64: rmse 0.279
  * parameters baked in:
- *   p0 = 0.249633789
- *   p1 = 5.19921875
- *   p2 = -57.15625
- *   p3 = -9.5234375
+ *   p0 = 0.241699219
+ *   p1 = 4.28515625
+ *   p2 = -39.125
+ *   p3 = -6.2578125
  * precision: MSL half with binary16 constants (fp16; bk_form_eval BK_F16); SPIRV-Cross's translation of the SPIR-V of
  *   brdfkit codegen --lang glsl --precision float16. Metal compiles with fast math unless
  *   told -fno-fast-math: it may reorder and fuse, as GPU drivers do
@@ -26,8 +26,8 @@ using namespace metal;
 
 half search_sheen_3(half NoV, half r)
 {
-    half t6 = (half(-57.15625) * NoV) + half(5.19921875);
-    half t7 = (half(-9.5234375) * r) + t6;
-    half t8 = max(half(0.2496337890625), t7);
+    half t6 = (half(-39.125) * NoV) + half(4.28515625);
+    half t7 = (half(-6.2578125) * r) + t6;
+    half t8 = max(half(0.24169921875), t7);
     return t8;
 }
