@@ -208,7 +208,7 @@ expect_usage "albedo f0 twice" "--f0: '0.04' given twice" \
 	"$BK" albedo --d ggx --v implicit --f schlick --nov 0.5 --roughness 0.5 --f0 0.04,0.04
 expect_usage "fit --hold twice" "--hold: 'p0' given twice in the list 'p0,p0'" \
 	"$BK" fit --target f --form 'p0*LoH + p1' p0=1 p1=0 --hold p0,p0 --out fl
-expect_usage "fit --hold same parameter" "--hold: p1 given twice in the list 'p1,p01'" \
+expect_usage "fit --hold p01 (one spelling of a parameter, params.h)" "--hold: expected parameters of the form (p0..p1), got 'p01'" \
 	"$BK" fit --target f --form 'p0*LoH + p1' p0=1 p1=0 --hold p1,p01 --out fl
 expect_usage "fit --hold trailing comma" "--hold: empty item in the list 'p0,'" \
 	"$BK" fit --target f --form 'p0*LoH + p1' p0=1 p1=0 --hold p0, --out fl
