@@ -389,8 +389,8 @@ SEARCH_EVALS_ENV_F0 = 300000
 # (3 minutes) reach issue 10's env target at cost 14 and 15; 1,200,000 give the same front
 SEARCH_EVALS_ENV_MIX = 600000
 # the half-precision searches (--precision half, issue 23), each seeded with its
-# double front (--start-front) and set beside it (--vs-front): a small budget
-# each, the four about 3 CPU-minutes together
+# double evolution's front (--start-front; step 2 of the four below): a small
+# budget each
 SEARCH_EVALS_HALF = 60000
 SEARCH_EVALS_HALF_MIX = 120000
 SEARCH_EVALS_HALF_F = 100000
