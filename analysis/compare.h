@@ -82,6 +82,12 @@ int bk_lut_score(int size, bk_lut_format fmt, bk_smith smith, const bk_samples *
  * bk_lut_score is the layout {size, size, 0, 1, none, NaN} in BK_F64. */
 int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, bk_precision prec,
                         const bk_samples *s, bk_fit_metrics *m, double *plane);
+/* The cloth channel alone (brdfkit lut --channels filament's B: the sheen
+ * albedo, bk_sheen_albedo) in layout L (f0 NaN: never folded), scored on
+ * the sheen target's samples (one form of NoV and r, no f0; else -1) as
+ * bk_lut_score_layout scores the DFG: one fetch is the term. */
+int bk_lut_score_cloth(const bk_lut_layout *L, bk_lut_format fmt, bk_precision prec, const bk_samples *s,
+                       bk_fit_metrics *m, double *plane);
 
 /* ---- report.c ------------------------------------------------------------------- */
 

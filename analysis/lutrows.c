@@ -1,5 +1,5 @@
 /*
- * lutrows.c — the DFG LUT rows of compare, search and scene (lutrows.h).
+ * lutrows.c — the DFG and cloth LUT rows of compare, search and scene (lutrows.h).
  */
 #include "lutrows.h"
 
@@ -25,8 +25,8 @@ int bk_lutrows_layouts(int for_set, double r_lo, double r_hi, double f0, bk_lut_
 	return n;
 }
 
-int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, bk_precision prec, const bk_samples *s,
-                     bk_progress_fn progress, void *ctx, bk_lutrow *rows)
+int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, int cloth, bk_precision prec,
+                     const bk_samples *s, bk_progress_fn progress, void *ctx, bk_lutrow *rows)
 {
 	int n = 0, total = nl * BK_LUTROWS_SIZES * BK_LUT_FORMATS;
 	for (int l = 0; l < nl; l++) {
@@ -40,7 +40,9 @@ int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, bk_precisio
 				r->size = sizes[q];
 				r->variant = variant ? l : 0;
 				r->fmt = (bk_lut_format)fm;
-				r->bytes = (double)sizes[q] * sizes[q] * channel_bytes[fm] * (isnan(L[l].f0) ? 2 : 1);
+				/* cloth: the file brdfkit lut --channels filament writes, B
+				 * beside the DFG's B and A + B (Filament's layout) */
+				r->bytes = (double)sizes[q] * sizes[q] * channel_bytes[fm] * (cloth ? 3 : isnan(L[l].f0) ? 2 : 1);
 				const bk_lut_layout *y = &r->layout;
 				char f0t[32] = "", rt[48] = "";
 				if (!isnan(y->f0))
@@ -50,7 +52,8 @@ int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, bk_precisio
 				snprintf(r->name, sizeof r->name, "LUT %dx%d %s%s%s%s%s", sizes[q], sizes[q],
 				         bk_lut_format_name(r->fmt), f0t, rt, y->warp ? " " : "",
 				         y->warp ? bk_lut_warp_name(y->warp) : "");
-				r->scored = bk_lut_score_layout(y, r->fmt, smith, prec, s, &r->m, NULL) == 0;
+				r->scored = (cloth ? bk_lut_score_cloth(y, r->fmt, prec, s, &r->m, NULL)
+				                   : bk_lut_score_layout(y, r->fmt, smith, prec, s, &r->m, NULL)) == 0;
 				if (progress)
 					progress(ctx, n, total);
 			}

@@ -1,6 +1,6 @@
 /*
- * lutrows.h — the one builder of DFG LUT rows, the textures the formulas of
- * the environment BRDF compete with: brdfkit compare's rows, search's
+ * lutrows.h — the one builder of LUT rows, the textures the formulas of the
+ * environment BRDF (and of E and the sheen albedo) compete with: brdfkit compare's rows, search's
  * --fetch-cost rows and scene's env candidates. Sizes 16² to 128² in the
  * three formats (unorm8, half, float), bilinear, texel centres, each scored
  * on the caller's samples (compare.h, bk_lut_score_layout).
@@ -38,9 +38,12 @@ typedef struct bk_lutrow {
 int bk_lutrows_layouts(int for_set, double r_lo, double r_hi, double f0, bk_lut_layout *L);
 
 /* The rows of layouts L[0..nl): names, sizes, bytes, and their scores on s
- * in precision prec with Smith model smith; progress (may be NULL) after
- * each row. Returns the row count (nl x BK_LUTROWS_SIZES x BK_LUT_FORMATS). */
-int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, bk_precision prec, const bk_samples *s,
-                     bk_progress_fn progress, void *ctx, bk_lutrow *rows);
+ * in precision prec with Smith model smith, or (cloth 1) of the cloth
+ * channel, the sheen albedo, on the sheen target's samples (layouts not
+ * folded; bytes those of the three-channel texture lut --channels filament
+ * writes); progress (may be NULL) after each row. Returns the row count
+ * (nl x BK_LUTROWS_SIZES x BK_LUT_FORMATS). */
+int bk_lutrows_build(const bk_lut_layout *L, int nl, bk_smith smith, int cloth, bk_precision prec,
+                     const bk_samples *s, bk_progress_fn progress, void *ctx, bk_lutrow *rows);
 
 #endif

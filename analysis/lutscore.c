@@ -16,6 +16,10 @@
  * Besides the engines' layout, a LUT may be laid out for a scene (brdf.h,
  * bk_lut_layout): f0 folded into one channel, rows over a roughness range,
  * NoV warped; the texels are then baked at that layout's centres.
+ *
+ * The cloth channel (the sheen albedo, bk_sheen_albedo: Filament's third DFG
+ * channel, brdfkit lut --channels filament) is scored the same way, baked by
+ * its own integrator at the same tolerance.
  */
 #include "compare.h"
 #include "pool.h"
@@ -41,7 +45,8 @@ const char *bk_lut_format_name(bk_lut_format f)
 	return (unsigned)f < BK_LUT_FORMATS ? names[f] : "?";
 }
 
-/* The reference texels of the (layout, smith) pairs asked for, A then B: a
+/* The reference texels of the (layout, smith, channel) triples asked for, A
+ * then B (the cloth channel: its one channel, then zeros): a
  * 128² bake takes seconds, a table scores three formats of it, and brdfkit
  * scene asks every size for each feature set, the same layouts again for
  * the sets that share a roughness range, from several threads. One table
@@ -57,10 +62,11 @@ static struct {
 	struct {
 		bk_lut_layout L;
 		bk_smith smith;
+		int cloth;
 		double *AB;
 		int state; /* 0 being baked, 1 ready, -1 failed */
 	} e[LUT_CACHE];
-} cache = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, {{{0}, 0, NULL, 0}}};
+} cache = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, 0, {{{0}, 0, 0, NULL, 0}}};
 
 static int same_layout(const bk_lut_layout *a, const bk_lut_layout *b)
 {
@@ -74,6 +80,7 @@ static int same_layout(const bk_lut_layout *a, const bk_lut_layout *b)
 typedef struct bake {
 	const bk_lut_layout *L;
 	bk_smith smith;
+	int cloth; /* 1: A is the sheen albedo, B zeros */
 	double *A, *B;
 } bake;
 
@@ -83,27 +90,30 @@ static int bake_row(void *ctx, int j)
 	double r = bk_lut_texel_r(b->L, j);
 	for (int i = 0; i < b->L->nu; i++) {
 		size_t k = (size_t)j * (size_t)b->L->nu + (size_t)i;
-		if (bk_dfg(bk_lut_texel_nov(b->L, i), r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL))
+		double NoV = bk_lut_texel_nov(b->L, i);
+		if (b->cloth ? (b->B[k] = 0, bk_sheen_albedo(NoV, r, BK_DFG_TOL, &b->A[k], NULL))
+		             : bk_dfg(NoV, r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL))
 			return -1;
 	}
 	return 0;
 }
 
-static int bake_table(const bk_lut_layout *L, bk_smith smith, double *A, double *B)
+static int bake_table(const bk_lut_layout *L, bk_smith smith, int cloth, double *A, double *B)
 {
-	bake b = {L, smith, A, B};
+	bake b = {L, smith, cloth, A, B};
 	return bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b);
 }
 
-/* The table of (L, smith), NULL if it could not be baked; *own: the table
- * when it is this call's alone (the caller frees it), else NULL. */
-static const double *reference(const bk_lut_layout *L, bk_smith smith, double **own)
+/* The table of (L, smith, cloth), NULL if it could not be baked; *own: the
+ * table when it is this call's alone (the caller frees it), else NULL. */
+static const double *reference(const bk_lut_layout *L, bk_smith smith, int cloth, double **own)
 {
 	*own = NULL;
 	pthread_mutex_lock(&cache.mu);
 	int k;
 	for (;;) {
-		for (k = 0; k < cache.n && !(same_layout(&cache.e[k].L, L) && cache.e[k].smith == smith); k++)
+		for (k = 0; k < cache.n && !(same_layout(&cache.e[k].L, L) && cache.e[k].smith == smith && cache.e[k].cloth == cloth);
+		     k++)
 			;
 		if (k == cache.n || cache.e[k].state != 0)
 			break;
@@ -118,13 +128,14 @@ static const double *reference(const bk_lut_layout *L, bk_smith smith, double **
 	if (slot >= 0) {
 		cache.e[slot].L = *L;
 		cache.e[slot].smith = smith;
+		cache.e[slot].cloth = cloth;
 		cache.e[slot].AB = NULL;
 		cache.e[slot].state = 0;
 	}
 	pthread_mutex_unlock(&cache.mu);
 	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *AB = malloc(sizeof(double) * 2 * n);
-	if (AB && bake_table(L, smith, AB, AB + n)) {
+	if (AB && bake_table(L, smith, cloth, AB, AB + n)) {
 		free(AB);
 		AB = NULL;
 	}
@@ -143,7 +154,9 @@ static const double *reference(const bk_lut_layout *L, bk_smith smith, double **
 /* The stored value. unorm8 saturates to [0, 1] as a GPU's conversion does: A
  * and B of the reference are in [0, 1] (each is an integral of a non-negative
  * integrand, and A + B is the albedo at f0 = 1, at most 1), so the clamp never
- * acts on them. */
+ * acts on them; the sheen albedo exceeds 1 near grazing (Neubelt's V does not
+ * conserve energy: bk_sheen_albedo), and there the clamp is what a unorm8
+ * cloth channel stores. */
 static double quantise(double x, bk_lut_format fmt)
 {
 	switch (fmt) {
@@ -218,17 +231,20 @@ static void coords(const bk_lut_layout *L, bk_precision prec, double NoV, double
 	*v = y;
 }
 
-int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, bk_precision prec,
-                        const bk_samples *s, bk_fit_metrics *m, double *plane)
+/* bk_lut_score_layout and bk_lut_score_cloth: cloth 1 scores the sheen
+ * albedo's texture (one channel, never folded) on one-form samples without f0. */
+static int score(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, int cloth, bk_precision prec,
+                 const bk_samples *s, bk_fit_metrics *m, double *plane)
 {
 	if (bk_lut_layout_check(L) || (unsigned)fmt >= BK_LUT_FORMATS || (unsigned)smith >= BK_SMITH_COUNT || !s || !m ||
 	    !s->n || (prec != BK_F64 && prec != BK_F32 && prec != BK_F16))
 		return -1;
 	/* an env target: (NoV, r), and f0 for the one-form variant; or ms, one
 	 * form without f0: E = A + B, the albedo at f0 = 1, which only a layout
-	 * folded at f0 = 1 stores */
+	 * folded at f0 = 1 stores; or the sheen albedo, one form without f0, in
+	 * a channel of its own (A, unfolded) */
 	int albedo = s->ncomp == 1 && !(s->provides >> BK_IN_F0 & 1);
-	if (albedo && L->f0 != 1.0)
+	if (cloth ? !albedo || !isnan(L->f0) : albedo && L->f0 != 1.0)
 		return -1;
 	unsigned need = 1u << BK_IN_NOV | 1u << BK_IN_R | (s->ncomp == 1 && !albedo ? 1u << BK_IN_F0 : 0u);
 	if ((s->provides & need) != need || (s->ncomp == 2 ? s->start[2] != s->n || 2 * s->start[1] != s->n
@@ -241,7 +257,7 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 		if (s->in[BK_IN_F0][i] != L->f0) /* it is right at its own f0 only */
 			return -1;
 	double *own;
-	const double *ref = reference(L, smith, &own);
+	const double *ref = reference(L, smith, cloth, &own);
 	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *tex = malloc(sizeof(double) * 2 * n), *v = malloc(sizeof(double) * s->n);
 	if (!ref || !tex || !v) {
@@ -263,7 +279,7 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 		 * rounding: a fused multiply-add) */
 		if (s->ncomp == 2)
 			v[i] = in_precision(sample(i < s->start[1] ? A : B, L->nu, L->nr, u, w), prec);
-		else if (folded) /* one fetch is the term */
+		else if (folded || cloth) /* one fetch is the term */
 			v[i] = in_precision(sample(A, L->nu, L->nr, u, w), prec);
 		else /* the shader's f0 A + B from one fetch of both channels */
 			v[i] = in_precision(in_precision(s->in[BK_IN_F0][i], prec) * in_precision(sample(A, L->nu, L->nr, u, w), prec) +
@@ -276,4 +292,16 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
 	free(tex);
 	free(v);
 	return 0;
+}
+
+int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smith, bk_precision prec,
+                        const bk_samples *s, bk_fit_metrics *m, double *plane)
+{
+	return score(L, fmt, smith, 0, prec, s, m, plane);
+}
+
+int bk_lut_score_cloth(const bk_lut_layout *L, bk_lut_format fmt, bk_precision prec, const bk_samples *s,
+                       bk_fit_metrics *m, double *plane)
+{
+	return score(L, fmt, BK_SMITH_CORRELATED, 1, prec, s, m, plane);
 }

@@ -482,12 +482,13 @@ static int add_form(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 }
 
 /* The ALU ops of a LUT's coordinates and combine: the warp of NoV, the remap
- * of r onto the rows, and f0 A + B unless f0 is folded into the texel. */
-static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
+ * of r onto the rows, and f0 A + B unless one channel is the term (f0
+ * folded into the texel, or the cloth channel). */
+static int lut_ops(const bk_lut_layout *L, int one_channel, bk_ops *ops)
 {
 	memset(ops, 0, sizeof *ops);
 	const char *parts[3] = {bk_lut_warp_form(L->warp), L->r_lo > 0 || L->r_hi < 1 ? "r*p0 + p1" : "r",
-	                        isnan(L->f0) ? "f0*p0 + p1" : "p0"};
+	                        isnan(L->f0) && !one_channel ? "f0*p0 + p1" : "p0"};
 	for (int k = 0; k < 3; k++)
 		if (bk_form_count_add(parts[k], ops))
 			return -1;
@@ -497,17 +498,18 @@ static int lut_ops(const bk_lut_layout *L, bk_ops *ops)
 /* LUTs of 16² to 128² in three formats: the generic layout (brdfkit lut
  * --size N: A and B over [0, 1]²), and laid out for the set (brdf.h,
  * bk_lut_layout): rows over its roughness range only, f0 folded into one
- * channel where it has one f0, NoV warped towards grazing angles. */
+ * channel where it has one f0, NoV warped towards grazing angles. sheen:
+ * the cloth channel in the same layouts, never folded (no f0). */
 static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const domain *d, bk_smith smith,
-                    bk_progress_fn progress, void *label)
+                    bk_scene_term term, bk_progress_fn progress, void *label)
 {
 	double r_lo = set->r_lo, r_hi = set->r_hi;
 	widen(&r_lo, &r_hi);
 	const bk_samples *s = &d->s[0];
 	/* ms's samples have no f0: E = A + B is the DFG folded at f0 = 1, the
 	 * generic layout included (a texture of E alone, as compare's ms rows) */
-	int ms = !(s->provides >> BK_IN_F0 & 1);
-	double f0 = ms ? 1.0 : set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
+	int cloth = term == BK_SCENE_TERM_SHEEN, ms = !cloth && !(s->provides >> BK_IN_F0 & 1);
+	double f0 = ms ? 1.0 : !cloth && set->needs.fixed_f0 && s->n ? s->in[BK_IN_F0][0] : NAN;
 	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
 	bk_lutrow *rows = malloc(BK_LUTROWS_MAX * sizeof *rows);
 	if (!rows)
@@ -515,17 +517,20 @@ static int add_luts(pool *P, const bk_scene *sc, const bk_scene_set *set, const 
 	int nl = bk_lutrows_layouts(1, r_lo, r_hi, f0, L), rc = 0;
 	if (ms)
 		L[0].f0 = 1.0;
-	int n = bk_lutrows_build(L, nl, smith, d->prec, s, progress, label, rows);
+	int n = bk_lutrows_build(L, nl, smith, cloth, d->prec, s, progress, label, rows);
 	for (int k = 0; k < n && !rc; k++) {
 		const bk_lutrow *r = &rows[k];
 		bk_ops ops;
-		cand *c = r->scored && !lut_ops(&r->layout, &ops) ? pool_add(P) : NULL;
+		cand *c = r->scored && !lut_ops(&r->layout, cloth, &ops) ? pool_add(P) : NULL;
 		if (!c) {
 			rc = -1;
 			break;
 		}
 		snprintf(c->name, sizeof c->name, "%s", r->name);
-		if (ms)
+		if (cloth)
+			snprintf(c->source, sizeof c->source, "the cloth channel (B) of brdfkit lut --channels filament, the "
+			         "sheen albedo, bilinear, texel centres");
+		else if (ms)
 			snprintf(c->source, sizeof c->source, "a texture of E = A + B alone (brdfkit lut --f0 1), bilinear, "
 			         "texel centres");
 		else if (r->variant == 0)
@@ -1166,16 +1171,16 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 	}
 	if (term == BK_SCENE_TERM_VF && add_form(&P, sc, set, &d, term, "exact", gen.source, BK_SCENE_GENERIC_VF, NULL))
 		goto done;
-	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, progress, lab_lut)) {
+	if (term == BK_SCENE_TERM_ENV && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, term, progress, lab_lut)) {
 		snprintf(err, errlen, "env: a LUT could not be scored");
 		goto done;
 	}
 	/* ms: a texture of E alone (where the set has an env LUT of A and B,
-	 * cmd_scene reads E from it instead: bk_scene_ms_from_env). sheen has no
-	 * LUT candidates: no scorer of a cloth-channel texture yet (lutscore.c
-	 * bakes the DFG's A and B only) */
-	if (term == BK_SCENE_TERM_MS && sc->lut && add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, progress, lab_lut)) {
-		snprintf(err, errlen, "ms: a LUT could not be scored");
+	 * cmd_scene reads E from it instead: bk_scene_ms_from_env); sheen: the
+	 * cloth channel's texture */
+	if ((term == BK_SCENE_TERM_MS || term == BK_SCENE_TERM_SHEEN) && sc->lut &&
+	    add_luts(&P, sc, set, &d, BK_SMITH_CORRELATED, term, progress, lab_lut)) {
+		snprintf(err, errlen, "%s: a LUT could not be scored", term == BK_SCENE_TERM_MS ? "ms" : "sheen");
 		goto done;
 	}
 	/* the cheapest that meets the budget; else the most accurate */

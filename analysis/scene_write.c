@@ -205,6 +205,33 @@ static int ms_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, 
 	return rc;
 }
 
+/* sheen as the cloth channel's texture (brdfkit lut --channels filament's
+ * B). Returns 0 or -1. */
+static int sheen_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+{
+	const bk_lut_layout *L = &c->lut_layout;
+	int remap = L->r_lo > 0 || L->r_hi < 1;
+	char opts[160] = "", v[96] = "r";
+	int k = 0;
+	if (remap)
+		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
+	if (L->warp != BK_LUT_WARP_NONE)
+		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
+	if (remap) /* as lut_comment */
+		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
+	int rc = comment_line(f, c0, c1, "%s: the sheen albedo is a texture here (%s):", fname,
+	                      c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio");
+	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d --channels filament%s%s --out DIR%s", c->name,
+	                   c->lut_size, opts, c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
+	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
+	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
+	                   bk_lut_warp_form(L->warp), v);
+	rc |= comment_line(f, c0, c1, "  sheen albedo = its B channel (cloth: Charlie D, Neubelt V, F = 1); max abs error "
+	                   "%.3g on the domain", c->err);
+	fputc('\n', f);
+	return rc;
+}
+
 /* The provenance lines at the top of a shader. Returns 0 or -1. */
 static int shader_head(FILE *f, const bk_scene_doc *d, const bk_scene_result *R, const char *dom, const char *c0,
                        const char *c1)
@@ -251,7 +278,9 @@ int bk_scene_shader(FILE *f, const bk_scene_doc *d, int i, int li, char *err, si
 			continue;
 		}
 		if (c->lut) {
-			if (c->speclut ? speclut_comment(f, c, fname, c0, c1) : lut_comment(f, c, fname, c0, c1)) {
+			if (c->speclut                    ? speclut_comment(f, c, fname, c0, c1)
+			    : t == BK_SCENE_TERM_SHEEN ? sheen_tex_comment(f, c, fname, c0, c1)
+			                               : lut_comment(f, c, fname, c0, c1)) {
 				snprintf(err, errlen, "out of memory");
 				return -1;
 			}

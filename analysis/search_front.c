@@ -317,7 +317,7 @@ static int add_luts(bk_sfront *F)
 	if (!rows)
 		return -1;
 	int nl = bk_lutrows_layouts(0, 0, 1, NAN, L);
-	int n = bk_lutrows_build(L, nl, F->smith, BK_F64, F->s, F->progress, "LUT rows", rows);
+	int n = bk_lutrows_build(L, nl, F->smith, 0, BK_F64, F->s, F->progress, "LUT rows", rows);
 	for (int k = 0; k < n; k++) {
 		if (!rows[k].scored)
 			continue;

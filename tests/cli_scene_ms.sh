@@ -114,6 +114,36 @@ grep -q '^  ms  .*budget 1e-05: NOT MET' "$T/o/ms_tight/report.txt" && grep -q '
 # control: the met one is not told so
 lacks "$T/o/ms_cloth/report.txt" 'NOT MET' && ok || bad "ms_cloth: a NOT MET"
 
+# sheen as a texture: with LUTs allowed and a budget no form meets (1e-3; the
+# refitted MaterialX form errs about 0.011 there), the cloth channel's LUT is
+# chosen, and the shader says how to make it. Checked from outside: the LUT
+# made by the command it names (brdfkit lut --channels filament), sampled
+# bilinearly midway between four texel centres (weights 1/2: exact in 8-bit
+# sub-texel steps), against brdfkit albedo's integral there, within the
+# stated error (control: the integral moved by twice that error)
+printf '{"scene": "sheen lut", "materials": [{"name": "velvet", "roughness": {"min": 0.4, "max": 1}, "specular": false, "cloth": true}],
+ "lighting": {"ibl": false}, "target": {"alu_tex": 16, "error": {"sheen": 0.001}}}\n' >"$T/sheen_lut.json"
+if $BK scene "$T/sheen_lut.json" --no-time --out "$T/sl" --quiet >"$T/out" 2>"$T/err"; then ok; else bad "sheen lut scene: $(tail -3 "$T/err")"; fi
+sl=$T/sl/scene.csv
+choice=$(csv_where "$sl" term sheen choice) e_sl=$(csv_where "$sl" term sheen error)
+[ "$(csv_where "$sl" term sheen fetches)" = 1 ] && [ "$(csv_where "$sl" term sheen meets_budget)" = 1 ] && ok ||
+	bad "sheen lut: choice '$choice', not a texture that meets 1e-3"
+made=$(sed -n 's|^//   LUT .*, made by: brdfkit \(lut .*\) --out DIR.*|\1|p' "$T/sl/cloth_diffuse/shader.glsl")
+case $made in "lut --size "*"--channels filament"*) ok ;; *) bad "sheen lut: no 'made by' lut command: '$made'" ;; esac
+# shellcheck disable=SC2086 # made is words
+if $BK $made --out "$T/Lf" --quiet 2>"$T/err"; then
+	n=$(printf '%s' "$made" | sed 's/.*--size \([0-9]*\).*/\1/')
+	# texels i 50, 51 and j 90, 91 of n: their mean is the bilinear value at their corner
+	lutv=$(csv_cols "$T/Lf/dfg.csv" nov roughness cloth | awk -F'\t' -v n="$n" '
+	    function near(x, k) { d = x - (k + 0.5) / n; return d < 1e-9 && d > -1e-9 }
+	    (near($1, 50) || near($1, 51)) && (near($2, 90) || near($2, 91)) { s += $3; c++ }
+	    END { if (c == 4) printf "%.9g", s / 4 }')
+	u=$(awk -v n="$n" 'BEGIN { printf "%.9g", 51 / n }') v=$(awk -v n="$n" 'BEGIN { printf "%.9g", 91 / n }')
+	want=$(exact charlie neubelt "$u" "$v")
+	within "$lutv" "$want" "$e_sl" && ok || bad "sheen LUT at NoV $u, r $v: $lutv, exact $want, stated $e_sl"
+	expect_fail "sheen LUT against albedo + 2 err" within "$lutv" "$(awk -v w="$want" -v e="$e_sl" 'BEGIN { printf "%.9g", w + 2 * e }')" "$e_sl"
+else bad "$made: $(cat "$T/err")"; fi
+
 # bad keys and values: one line naming the key's path, nothing written
 printf '{"materials": [{"name": "m", "multiscatter": 1}]}' >"$T/b1.json"
 expect_error "multiscatter not a boolean" "materials[0].multiscatter: expected true or false, got a number" $BK scene "$T/b1.json" --out "$T/x"

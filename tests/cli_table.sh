@@ -172,6 +172,24 @@ expect_fail "a wiggle no short form fits" csv_any_le sw/front.csv rmse 1e-9
 grep -q "^# target: table: exact.csv, 200 samples of column 'value' at NoV; weight uniform" se/front.csv && ok \
 	|| bad "search: the front's target line: $(grep '^# target' se/front.csv)"
 
+# ---- the file after the target's name: --target table FILE ----------------
+# the spelling is --target-file's: the same bytes; a file given both
+# ways is refused, and after another target the word stays a positional
+# shellcheck disable=SC2086
+{
+"$BK" fit --target table L5/dfg.exr --form "$ENV" $START --digits 17 --out fp5 --quiet >/dev/null 2>&1 || bad "fit --target table FILE"
+"$BK" fit --target merl m.binary --channel r --form "$GGX" p0=0.6 p1=0.5 --starts 1 --out mp --quiet >/dev/null 2>&1 \
+	|| bad "fit --target merl FILE"
+}
+grep -v '^# command:' fp5/coefficients.csv >fp5.body && grep -v '^# command:' ft5/coefficients.csv >ft5.body \
+	&& [ -s fp5.body ] && cmp -s fp5.body ft5.body && ok || bad "--target table FILE does not fit as --target table --target-file FILE"
+param_is mp p0 0.4 1e-6 && param_is mp p1 0.9 1e-6 && ok || bad "--target merl FILE: not r 0.4, f0 0.9"
+expect_fail "another file, another fit" param_is mp p1 0.6 1e-6
+refused "file given twice" "--target-file given twice" fit --target table L5/dfg.exr --target-file L6/dfg.exr --form "$ENV" p0=0
+refused "a file after vf2d" "L5/dfg.exr" fit --target vf2d L5/dfg.exr --form "$ENV" p0=0
+"$BK" search --target table exact.csv --evals 300 --threads 1 --out sep --quiet >/dev/null 2>&1 || bad "search --target table FILE"
+sed 1,2d sep/front.csv | cmp -s - se.body && ok || bad "search: --target table FILE is not --target-file FILE's front"
+
 # ---- damaged tables: line and column, texel, attribute ---------------------
 F1='p0 + p1*NoV'
 printf '# c\nNoV,r,value\n0.5,0.5,1\n0.6,0.5,abc\n' >bad1.csv

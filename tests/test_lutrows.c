@@ -36,7 +36,7 @@ Test(lutrows, rows_per_layout_names_and_bytes)
 	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
 	bk_lutrow rows[BK_LUTROWS_MAX];
 	int nl = bk_lutrows_layouts(1, 0.3, 1, 0.04, L);
-	int n = bk_lutrows_build(L, nl, BK_SMITH_CORRELATED, BK_F64, &s, NULL, NULL, rows);
+	int n = bk_lutrows_build(L, nl, BK_SMITH_CORRELATED, 0, BK_F64, &s, NULL, NULL, rows);
 	cr_assert_eq(n, 3 * 12);
 	cr_expect_str_eq(rows[0].name, "LUT 16x16 unorm8");
 	cr_expect_str_eq(rows[11].name, "LUT 128x128 float");
@@ -64,7 +64,7 @@ Test(lutrows, scored_on_env_samples)
 	cr_assert_eq(bk_target_build(&to, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
 	bk_lut_layout L[BK_LUTROWS_MAX_LAYOUTS];
 	bk_lutrow rows[BK_LUTROWS_MAX];
-	int n = bk_lutrows_build(L, bk_lutrows_layouts(0, 0, 1, NAN, L), to.smith, BK_F64, &s, NULL, NULL, rows);
+	int n = bk_lutrows_build(L, bk_lutrows_layouts(0, 0, 1, NAN, L), to.smith, 0, BK_F64, &s, NULL, NULL, rows);
 	cr_assert_eq(n, 12);
 	for (int k = 0; k < n; k++)
 		cr_expect(rows[k].scored, "%s", rows[k].name);

@@ -330,3 +330,50 @@ Test(lutscore, sqrt_warp_resolves_the_grazing_edge)
 	cr_assert(b.max_abs < a.max_abs / 3, "sqrt %g, uniform %g", b.max_abs, a.max_abs);
 	bk_samples_free(&s);
 }
+
+/* ---- the cloth channel (the sheen albedo) --------------------------------------- */
+
+static void sheen(bk_samples *s, int n)
+{
+	bk_target_options o;
+	char err[256];
+	bk_target_defaults(BK_TARGET_SHEEN, &o);
+	o.nx = o.nr = n;
+	o.x_lo = 0, o.x_hi = 1, o.r_lo = 0, o.r_hi = 1;
+	cr_assert_eq(bk_target_build(&o, s, NULL, NULL, err, sizeof err), 0, "%s", err);
+}
+
+/* A 16² cloth LUT scored on the 16² grid's cell centres, which are its own
+ * texel centres: float storage is off by float rounding only (relative
+ * 2^-24); unorm8 saturates at 1, so where the albedo exceeds 1 (Neubelt's V
+ * near grazing: bk_sheen_albedo) the error is the excess, E - 1, and
+ * elsewhere at most half a step. The DFG's E = A + B (folded at f0 = 1) on
+ * the same samples is another function: the control that the scorer reads
+ * the cloth channel, not the DFG. */
+Test(lutscore, cloth_channel_at_its_texel_centres)
+{
+	bk_samples s;
+	sheen(&s, 16);
+	bk_lut_layout L = {16, 16, 0, 1, BK_LUT_WARP_NONE, NAN};
+	bk_fit_metrics f, u, e;
+	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_FLOAT, BK_F64, &s, &f, NULL), 0);
+	cr_assert(f.max_rel < 0x1p-24 * 1.0001 && f.max_abs > 0, "float: max_rel %g", f.max_rel);
+	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_UNORM8, BK_F64, &s, &u, NULL), 0);
+	double excess = 0;
+	for (size_t i = 0; i < s.n; i++)
+		excess = fmax(excess, s.y[i] - 1);
+	cr_assert(excess > 0.5, "the 16² grid reaches the albedo above 1 (%g)", excess);
+	cr_assert(fabs(u.max_abs - excess) < 1e-12, "unorm8: %.12g, the excess above 1 %.12g", u.max_abs, excess);
+	bk_lut_layout ms = L;
+	ms.f0 = 1;
+	cr_assert_eq(bk_lut_score_layout(&ms, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, &s, &e, NULL), 0);
+	cr_assert(e.max_abs > 0.1, "the DFG's E is not the sheen albedo: %g", e.max_abs);
+	/* refused: a folded layout (no f0 in the cloth channel), samples with f0 */
+	cr_assert_eq(bk_lut_score_cloth(&ms, BK_LUT_FLOAT, BK_F64, &s, &f, NULL), -1);
+	bk_samples envs;
+	const double f0 = 0.04;
+	env(&envs, 4, 4, 0, 1, 0, 1, 1, &f0);
+	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_FLOAT, BK_F64, &envs, &f, NULL), -1);
+	bk_samples_free(&envs);
+	bk_samples_free(&s);
+}

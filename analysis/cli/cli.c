@@ -259,6 +259,19 @@ static int unknown_option(const cli_cmd *cmd, const char *arg, size_t nlen)
 	return cli_usage(cmd, "unknown option '%s'", typed);
 }
 
+/* 1 if w is one of the space-separated words of list. */
+static int word_in(const char *w, const char *list)
+{
+	size_t n = strlen(w);
+	for (const char *p = list; p && *p;) {
+		size_t k = strcspn(p, " ");
+		if (k == n && !strncmp(p, w, n))
+			return 1;
+		p += k + (p[k] == ' ');
+	}
+	return 0;
+}
+
 static int parse(cli_cmd *cmd, int argc, char **argv)
 {
 	cli_set_name(cmd->name);
@@ -329,6 +342,17 @@ static int parse(cli_cmd *cmd, int argc, char **argv)
 			one.dest = (const char **)o->dest + (o->seen - 1);
 		if (set_value(cmd, &one, val))
 			return 2;
+		if (o->then && i + 1 < argc && strncmp(argv[i + 1], "--", 2) != 0 && word_in(val, o->then_values)) {
+			cli_opt *t = NULL;
+			for (int k = 0; k < cmd->nopts; k++)
+				if (!strcmp(cmd->opts[k].name, o->then))
+					t = &cmd->opts[k];
+			if (t && !t->seen) {
+				t->seen++;
+				if (set_value(cmd, t, argv[++i]))
+					return 2;
+			}
+		}
 	}
 	for (int k = 0; k < cmd->nopts; k++)
 		if (cmd->opts[k].required && !cmd->opts[k].seen)

@@ -36,6 +36,11 @@ typedef struct cli_opt {
 	int repeat;       /* CLI_STR, CLI_FORM: may be given this many times, into
 	                     dest[0..repeat) (const char *[repeat]); 0 or 1: once */
 	int seen;         /* set by the parser: how many times given */
+	/* CLI_STR: where the value is one of the space-separated words of
+	 * then_values, the next argument (when it is no option) is the value of
+	 * option then, as if given by name: "--target table FILE" is "--target
+	 * table --target-file FILE". Not taken when then was given already. */
+	const char *then, *then_values;
 } cli_opt;
 
 typedef struct cli_cmd {

@@ -45,6 +45,9 @@ typedef struct study {
 	char self[300];               /* the catalog entries left out as the target itself, or "" */
 	int speclut[MAX_ROWS];        /* 1: the row is a specular LUT (spec), laid out as spec_layout[i] */
 	bk_speclut spec_layout[MAX_ROWS];
+	int lut[MAX_ROWS];            /* 1: a DFG LUT (env, ms) or a cloth one (sheen), laid out as lut_layout[i] */
+	bk_lut_layout lut_layout[MAX_ROWS];
+	bk_lut_format lut_fmt[MAX_ROWS];
 } study;
 
 static void row_text(bk_compare_row *r, const char *name, const char *kind, const char *source)
@@ -170,19 +173,25 @@ static void add_luts(study *S)
 	int nl = bk_lutrows_layouts(0, 0, 1, NAN, L);
 	if (S->to.kind == BK_TARGET_MS) /* E = A + B in one channel: the DFG folded at f0 = 1 */
 		L[0].f0 = 1.0;
-	int n = bk_lutrows_build(L, nl, S->to.smith, BK_F64, &S->s, NULL, NULL, rows);
+	int n = bk_lutrows_build(L, nl, S->to.smith, S->to.kind == BK_TARGET_SHEEN, BK_F64, &S->s, NULL, NULL, rows);
 	for (int k = 0; k < n && S->n < MAX_ROWS; k++) {
 		if (!rows[k].scored)
 			continue;
 		bk_compare_row *r = &S->rows[S->n];
 		memset(r, 0, sizeof *r);
-		row_text(r, "", "lut", "DFG texture from the reference integrator, bilinear, clamp to edge");
+		row_text(r, "", "lut", S->to.kind == BK_TARGET_SHEEN
+		                       ? "cloth channel (the sheen albedo; brdfkit lut --channels filament's B) from the reference "
+		                         "integrator, bilinear, clamp to edge"
+		                       : "DFG texture from the reference integrator, bilinear, clamp to edge");
 		snprintf(r->name, sizeof r->name, "%.*s", (int)sizeof r->name - 1, rows[k].name);
 		r->m = rows[k].m;
 		r->tex_fetches = 1;
 		r->sampler_slots = 1;
 		r->spirv = -1;
 		r->ns = r->ns_min = r->ns_max = NAN;
+		S->lut[S->n] = 1;
+		S->lut_layout[S->n] = rows[k].layout;
+		S->lut_fmt[S->n] = rows[k].fmt;
 		S->n++;
 	}
 }
@@ -395,19 +404,22 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 		sp.form[0] = f;
 		sp.np = bk_form_nparams(f);
 		bk_fit_plane_error(&sp, r->params, v);
-	} else if (S->speclut[r - S->rows]) {
-		bk_fit_metrics m;
-		bk_speclut_score(&S->spec_layout[r - S->rows], BK_F64, &S->s, &m, v);
 	} else {
+		/* the row's own layout, as scored (a LUT re-read from its name once
+		 * scored ms's rows, folded at f0 = 1, as the generic layout: refused,
+		 * and the heatmap showed what the buffer held) */
+		size_t i = (size_t)(r - S->rows);
 		bk_fit_metrics m;
-		int size = 0;
-		char fmt[16] = "";
-		sscanf(r->name, "LUT %dx%*d %15s", &size, fmt);
-		bk_lut_format lf = BK_LUT_FLOAT;
-		for (int k = 0; k < BK_LUT_FORMATS; k++)
-			if (!strcmp(fmt, bk_lut_format_name((bk_lut_format)k)))
-				lf = (bk_lut_format)k;
-		bk_lut_score(size, lf, S->to.smith, &S->s, &m, v);
+		int bad = S->speclut[i] ? bk_speclut_score(&S->spec_layout[i], BK_F64, &S->s, &m, v)
+		        : !S->lut[i]    ? -1
+		        : S->to.kind == BK_TARGET_SHEEN
+		            ? bk_lut_score_cloth(&S->lut_layout[i], S->lut_fmt[i], BK_F64, &S->s, &m, v)
+		            : bk_lut_score_layout(&S->lut_layout[i], S->lut_fmt[i], S->to.smith, BK_F64, &S->s, &m, v);
+		if (bad) {
+			snprintf(err, errlen, "%s: its heatmap could not be scored", r->name);
+			free(v);
+			return -1;
+		}
 	}
 	int albedo = isfinite(r->m.albedo_max_abs);
 	char title[200];
@@ -530,11 +542,11 @@ static const cli_dim dims[] = {
 	  cli_unreached, " on target ms", " on target sheen"}},
 	{"time", {"measured", "skipped"}, {NULL, " with --no-time"}},
 	{"refit", {"refits", "none"}, {NULL, " with --no-refit"}},
-	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env, spec and ms only, not with --no-lut)"}},
+	{"fetches", {"lut", "none"}, {NULL, " without LUT rows (targets env, spec, ms and sheen only, not with --no-lut)"}},
 };
 static const cli_rule rules[] = {
-	{"--no-lut", NULL, DIM_TARGET, FITARGS_ON(ENV) | FITARGS_ON(SPEC) | FITARGS_ON(MS),
-	 "LUT rows are scored for targets env, spec and ms only", NULL},
+	{"--no-lut", NULL, DIM_TARGET, FITARGS_ON(ENV) | FITARGS_ON(SPEC) | FITARGS_ON(MS) | FITARGS_ON(SHEEN),
+	 "LUT rows are scored for targets env, spec, ms and sheen only", NULL},
 	{"--nr", NULL, DIM_TARGET, FITARGS_ALL & ~FITARGS_ON(F) & ~FITARGS_ON(FORM) & ~FITARGS_FILE, "target f has no roughness axis", "8"},
 	{"--reps", NULL, DIM_TIME, 1u << 0, NULL, "3"},
 	{"--relative", NULL, DIM_REFIT, 1u << 0, "it sets the residuals of the refits", NULL},
@@ -595,14 +607,14 @@ int cmd_compare(int argc, char **argv)
 		{.name = "--relative", .kind = CLI_FLAG, .help = "relative residuals for the refits", .dest = &relative},
 		{.name = "--no-refit", .kind = CLI_FLAG, .help = "published constants only", .dest = &no_refit},
 		{.name = "--no-time", .kind = CLI_FLAG, .help = "skip CPU timing", .dest = &no_time},
-		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec, ms: leave out the LUT rows", .dest = &no_lut},
+		{.name = "--no-lut", .kind = CLI_FLAG, .help = "env, spec, ms, sheen: leave out the LUT rows", .dest = &no_lut},
 		{.name = "--reps", .kind = CLI_INT, .metavar = "N", .help = "timing runs per form (default 7)", .dest = &reps, .lo = 1, .hi = 1000},
 		{.name = "--fetch-cost", .kind = CLI_INT, .metavar = "16|32|48|64", .help = "a texture fetch priced as K simple ops, the talk's ALU:TEX tiers, for the front (env's and spec's LUT rows; default 16)", .dest = &tier, .lo = 16, .hi = 64},
 		{.name = "--link-prefix", .kind = CLI_LINK, .metavar = "PATH/", .help = "prefix of links in section.html (where DIR is seen from the page): a path relative to the page (no scheme, no //host), percent-encoded where written", .dest = &prefix},
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "weights of the ALU cost: ir (default; simple 1, complex 4) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100", .dest = &model},
 		{.name = "--gpu", .kind = CLI_STR, .metavar = "CHIPS", .help = "AMD instruction counts per chip (brdfkit gpucost), e.g. " BK_GPUCOST_DEFAULT_CHIPS, .dest = &gpu},
 	};
-	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env, spec) the LUT alternative on\n"
+	cli_cmd cmd = {"compare", "Scores every catalog form for a target, its refit and (env, spec, ms, sheen) the LUT alternative on\n"
 	               "the same samples: error, ALU cost, texture fetches, CPU ns, SPIR-V size, the Pareto front.",
 	               "--target T --out DIR [FORM ...] [options]",
 	               "Writes DIR/compare.csv, timing.csv, pareto_cost.svg, pareto_ns.svg, section.html (for the\n"
@@ -637,14 +649,15 @@ int cmd_compare(int argc, char **argv)
 		return cli_usage(&cmd, "--fetch-cost: expected 16, 32, 48 or 64 (the talk's ALU:TEX tiers), got %ld", tier);
 	}
 	int ctx[] = {(int)kind, no_time, no_refit,
-	             (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC && kind != BK_TARGET_MS) || no_lut};
+	             (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC && kind != BK_TARGET_MS && kind != BK_TARGET_SHEEN) ||
+	                 no_lut};
 	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))
 		return rc;
 	bk_target_defaults(kind, &S.to);
 	S.to.env_f0_form = kind == BK_TARGET_ENV;
 	if (kind == BK_TARGET_VF2D)
 		S.to.nx = S.to.nr = 128; /* the study's grid: 128² keeps every heatmap CSV under 1 MB */
-	if (kind == BK_TARGET_ENV || kind == BK_TARGET_MS)
+	if (kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN)
 		S.to.nx = S.to.nr = 100; /* cell centres that are no LUT's texel centres (16..128): a
 		                          * LUT scored at its own texels would show no interpolation error */
 	if (nx) S.to.nx = (int)nx;
@@ -714,7 +727,7 @@ int cmd_compare(int argc, char **argv)
 		bk_form_free(f);
 		S.n++;
 	}
-	if ((kind == BK_TARGET_ENV || kind == BK_TARGET_MS) && !no_lut)
+	if ((kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN) && !no_lut)
 		add_luts(&S);
 	for (int i = 0; kind == BK_TARGET_ENV && i < S.n; i++) /* ms: the fetch is E, no ALU */
 		if (!strcmp(S.rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
