@@ -365,6 +365,7 @@ static int write_csv(const plan *p, staged *s, char *err, size_t errlen)
 	FILE *f = s->o.f;
 	char lead[COL_LEN + 40];
 	bk_prov_title(f, "heatmap: %s", p->title);
+	bk_prov_command(f, bk_out_command());
 	snprintf(lead, sizeof lead, "column %s: ", col[0]);
 	comment(f, lead, ax);
 	snprintf(lead, sizeof lead, "column %s: ", col[1]);

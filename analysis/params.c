@@ -10,25 +10,13 @@
 
 #define ITEM_MAX 128 /* a list item: 'p', two digits, '=' and a number of 17 digits fit many times */
 
-int bk_params_index(const char *text, size_t len)
-{
-	if (len < 2 || len > 3 || text[0] != 'p' || strspn(text + 1, "0123456789") < len - 1)
-		return -1;
-	if (text[1] == '0' && len > 2) /* "p01": a second name for p1 */
-		return -1;
-	int k = 0;
-	for (size_t i = 1; i < len; i++)
-		k = 10 * k + (text[i] - '0');
-	return k < BK_MAX_PARAMS ? k : -1;
-}
-
 int bk_params_word(const char *text, int *k, double *v, char *err, size_t errlen)
 {
 	const char *eq = strchr(text, '=');
 	size_t nd = strspn(text + (text[0] == 'p'), "0123456789");
 	if (text[0] != 'p' || nd == 0 || !eq || text + 1 + nd != eq) /* "p1x=2": not a parameter's name */
 		return 0;
-	int j = bk_params_index(text, nd + 1);
+	int j = bk_param_index(text, nd + 1);
 	if (j < 0) {
 		snprintf(err, errlen, "unknown parameter '%.*s' (p0..p%d)", (int)(nd < 20 ? nd + 1 : 20), text,
 		         BK_MAX_PARAMS - 1);

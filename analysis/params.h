@@ -23,10 +23,6 @@
 
 #include <stddef.h>
 
-/* The index of the name text[0..len) ("p3": 3), or -1 when it is no
- * parameter's name of the one spelling. */
-int bk_params_index(const char *text, size_t len);
-
 /* One word "pN=VALUE": 1 with *k and *v; 0 when text is not of that shape
  * ('p', digits, '='), so the caller may read it as something else; -1 with
  * err ("unknown parameter 'p16' (p0..p15)", "p3: expected a finite number,

@@ -182,11 +182,11 @@ static int write_spheres(const char *path, const bk_render_out *o, char *err, si
 			}
 		}
 	}
-	fprintf(f, "# brdfkit render: per sphere, its cell (pixels, x0 y0 inclusive, x1 y1 exclusive, y down), "
-	           "material and roughness; per image the pixels that are not finite (NaN or Inf in any channel; "
-	           "empty: not rendered); the largest and mean display difference against the exact f32 image over "
-	           "the sphere's pixels where that image is finite, a candidate pixel that is not finite counting as 1, "
-	           "the whole display range (display = sRGB of Reinhard x/(1+x), 0..1; the PNGs show it x8)\n");
+	bk_prov_title(f, "render: per sphere, its cell (pixels, x0 y0 inclusive, x1 y1 exclusive, y down), "
+	              "material and roughness; per image the pixels that are not finite (NaN or Inf in any channel; "
+	              "empty: not rendered); the largest and mean display difference against the exact f32 image over "
+	              "the sphere's pixels where that image is finite, a candidate pixel that is not finite counting as 1, "
+	              "the whole display range (display = sRGB of Reinhard x/(1+x), 0..1; the PNGs show it x8)");
 	bk_prov_command(f, bk_out_command());
 	fprintf(f, "row,col,material,r,x0,y0,x1,y1,pixels,nonfinite_exact_f32,nonfinite_candidate_f32,"
 	           "nonfinite_exact_f16,nonfinite_candidate_f16,max_diff_f32,max_diff_f16,mean_diff_f32,mean_diff_f16\n");

@@ -425,6 +425,7 @@ void bk_scene_sets_csv(FILE *f, const bk_scene_doc *d)
 	              "height-correlated Smith V x Schlick F, %dx%d half DFG LUT, fp16 guards in mediump); spirv: SPIR-V "
 	              "instructions of the forms' GLSL after spirv-opt -O (fetches not included)",
 	              d->sc->name, BK_SCENE_GENERIC_LUT, BK_SCENE_GENERIC_LUT);
+	bk_prov_command(f, d->command);
 	if (d->nchips)
 		comment_line(f, "# ", "",
 		             "aco_CHIP_instructions: AMD instructions of the set's forms, summed (brdfkit gpucost: Mesa RADV's "

@@ -327,6 +327,10 @@ void bk_form_free(bk_form *f);
 bk_form *bk_form_dup(const bk_form *f);
 const char *bk_form_text(const bk_form *f);
 int bk_form_nparams(const bk_form *f);     /* highest p index used + 1 */
+/* The index of the parameter named by text[0..len) ("p0".."p15"), or -1: the
+ * language's one rule for the names, which the parser and every reader of
+ * pN=VALUE words and p0=X;p1=Y lists apply ("p01" is no second name for p1). */
+int bk_param_index(const char *text, size_t len);
 unsigned bk_form_inputs(const bk_form *f); /* bit i set: input i is read */
 unsigned bk_form_params(const bk_form *f); /* bit k set: p_k is read */
 const char *bk_input_name(bk_input i);

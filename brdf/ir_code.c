@@ -76,7 +76,10 @@ static int same(const bk_instr *x, const bk_instr *y)
 
 static uint32_t hash(const bk_instr *in)
 {
-	uint64_t k, h = 1469598103934665603u; /* FNV-1a over the fields */
+	/* FNV-1a's offset basis and prime, word by word over the six fields: a
+	 * table slot, not an identity (the floor above hashes text for that,
+	 * fit/expr.h's bk_hash_bytes); any slot finds the same instruction */
+	uint64_t k, h = 14695981039346656037u;
 	memcpy(&k, &in->k, sizeof k);
 	const uint64_t v[6] = {(uint64_t)in->op, (uint64_t)in->a, (uint64_t)in->b, (uint64_t)in->c,
 	                       (uint64_t)in->slot, k};

@@ -268,18 +268,11 @@ static int name(parser *P, bk_token t)
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if (bk_tok_is(&t, P->lx.src, input_names[i]))
 			return check(P, bk_ir_input(P->f, (bk_input)i));
-	if (s[0] == 'p' && t.len >= 2 && t.len <= 3) {
-		int k = 0, digits = 1;
-		for (size_t i = 1; i < t.len; i++) {
-			digits &= s[i] >= '0' && s[i] <= '9';
-			k = 10 * k + (s[i] - '0');
-		}
-		if (digits && (t.len == 2 || s[1] != '0')) {
-			if (k >= BK_MAX_PARAMS)
-				return error_at(P, &t, "parameter out of range (p0..p%d)", BK_MAX_PARAMS - 1);
-			return check(P, bk_ir_param(P->f, k));
-		}
-	}
+	int k = bk_param_index(s, t.len);
+	if (k >= 0)
+		return check(P, bk_ir_param(P->f, k));
+	if (t.len == 3 && s[0] == 'p' && s[1] > '0' && s[1] <= '9' && s[2] >= '0' && s[2] <= '9') /* p16..p99 */
+		return error_at(P, &t, "parameter out of range (p0..p%d)", BK_MAX_PARAMS - 1);
 	return error_at(P, &t, "unknown name (inputs: NoV NoL NoH LoH VoH r a f0; parameters p0..p%d)",
 	                BK_MAX_PARAMS - 1);
 }
@@ -453,3 +446,18 @@ const char *bk_form_text(const bk_form *f) { return f->text; }
 int bk_form_nparams(const bk_form *f) { return f->nparams; }
 unsigned bk_form_inputs(const bk_form *f) { return f->inputs; }
 unsigned bk_form_params(const bk_form *f) { return f->params; }
+
+int bk_param_index(const char *text, size_t len)
+{
+	if (len < 2 || len > 3 || text[0] != 'p')
+		return -1;
+	int k = 0;
+	for (size_t i = 1; i < len; i++) {
+		if (text[i] < '0' || text[i] > '9')
+			return -1;
+		k = 10 * k + (text[i] - '0');
+	}
+	if (text[1] == '0' && len > 2) /* "p01": no second name for p1 */
+		return -1;
+	return k < BK_MAX_PARAMS ? k : -1;
+}

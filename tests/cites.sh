@@ -43,27 +43,33 @@ cites() {
 	done | sort -u
 }
 
-# missing FILE...: the citations in FILE's comments of a file that does not
-# exist (a bare *.md: no tracked file of that name); shared/ ones are
-# checked where the shared folder is, else written to $T/unchecked
-missing() {
-	cites "$@" >"$T/cites" || return 0
+# missing_in LIST: of the citations in LIST (cites' lines), those of a file
+# that does not exist (a bare *.md: no tracked file of that name); shared/
+# ones are checked where the shared folder is, else written to $T/unchecked
+missing_in() {
 	while IFS= read -r line; do
 		f=${line%%: *} p=${line#*: }
 		case $p in
 		shared/*) if [ -d "$SHARED" ]; then [ -e "$SHARED/${p#shared/}" ] || echo "$f: $p"; else echo "$line" >>"$T/unchecked"; fi ;;
 		*/*) [ -e "$p" ] || echo "$f: $p" ;;
-		*) tracked | grep -q "\(^\|/\)$p\$" || echo "$f: $p (no file of that name in the tree; the shared documents are cited as shared/$p or shared/references/$p)" ;;
+		*) grep -q "\(^\|/\)$p\$" "$T/tracked" || echo "$f: $p (no file of that name in the tree; the shared documents are cited as shared/$p or shared/references/$p)" ;;
 		esac
-	done <"$T/cites"
+	done <"$1"
+}
+# missing FILE...: missing_in of FILE's own citations
+missing() {
+	cites "$@" >"$T/cites" || return 0
+	missing_in "$T/cites"
 }
 
-tracked | grep -E '\.(c|h|cc|sh|py|md|scd|supp)$|(^|/)Makefile$' >"$T/files"
+tracked >"$T/tracked"
+grep -E '\.(c|h|cc|sh|py|md|scd|supp)$|(^|/)Makefile$' "$T/tracked" >"$T/files"
 [ -s "$T/files" ] && ok || bad "no files found in $ROOT"
 # shellcheck disable=SC2046 # tracked paths hold no blanks
-missing $(cat "$T/files") >"$T/missing"
+cites $(cat "$T/files") >"$T/all"
+missing_in "$T/all" >"$T/missing"
 [ ! -s "$T/missing" ] && ok || { bad "citations of files that do not exist:"; cat "$T/missing"; }
-n=$(cites $(cat "$T/files") | wc -l)
+n=$(wc -l <"$T/all")
 [ "$n" -ge 100 ] && ok || bad "only $n citations found: the reader is broken"
 [ -s "$T/unchecked" ] && echo "cites: no shared folder at $SHARED: $(wc -l <"$T/unchecked") citations of shared/ not checked"
 

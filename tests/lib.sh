@@ -60,6 +60,12 @@ csv_cols() {
 # Both fail (exit 1) when the column or the row is not there.
 csv_set() { "$CSVGET" --set "$@"; }
 csv_drop() { "$CSVGET" --drop "$@"; }
+# same_but_command A B: the two files are the same bytes but for their
+# "# command:" lines (two runs of one computation typed differently)
+same_but_command() {
+	[ -s "$1" ] && [ -s "$2" ] && grep -v '^# command: ' "$1" >"$1.nc" && grep -v '^# command: ' "$2" >"$2.nc" &&
+		cmp -s "$1.nc" "$2.nc"
+}
 
 # expect_fail NAME CHECK ARGS...: the negative control of a check: CHECK (a
 # shell function, the very one the test runs) must fail on ARGS. Counts with

@@ -17,18 +17,18 @@ static char err[700];
 
 Test(params, names_have_one_spelling)
 {
-	cr_assert_eq(bk_params_index("p0", 2), 0);
-	cr_assert_eq(bk_params_index("p9", 2), 9);
-	cr_assert_eq(bk_params_index("p15", 3), 15);
-	cr_assert_eq(bk_params_index("p10=", 3), 10); /* the length bounds the name */
-	cr_assert_eq(bk_params_index("p16", 3), -1);  /* control of p15: one past the last */
-	cr_assert_eq(bk_params_index("p01", 3), -1);  /* a second name for p1 */
-	cr_assert_eq(bk_params_index("p00", 3), -1);
-	cr_assert_eq(bk_params_index("p", 1), -1);
-	cr_assert_eq(bk_params_index("q1", 2), -1);
-	cr_assert_eq(bk_params_index("p-1", 3), -1);
-	cr_assert_eq(bk_params_index("p1x", 3), -1);
-	cr_assert_eq(bk_params_index("p100", 4), -1);
+	cr_assert_eq(bk_param_index("p0", 2), 0);
+	cr_assert_eq(bk_param_index("p9", 2), 9);
+	cr_assert_eq(bk_param_index("p15", 3), 15);
+	cr_assert_eq(bk_param_index("p10=", 3), 10); /* the length bounds the name */
+	cr_assert_eq(bk_param_index("p16", 3), -1);  /* control of p15: one past the last */
+	cr_assert_eq(bk_param_index("p01", 3), -1);  /* a second name for p1 */
+	cr_assert_eq(bk_param_index("p00", 3), -1);
+	cr_assert_eq(bk_param_index("p", 1), -1);
+	cr_assert_eq(bk_param_index("q1", 2), -1);
+	cr_assert_eq(bk_param_index("p-1", 3), -1);
+	cr_assert_eq(bk_param_index("p1x", 3), -1);
+	cr_assert_eq(bk_param_index("p100", 4), -1);
 }
 
 Test(params, a_word_is_read_or_named_wrong)

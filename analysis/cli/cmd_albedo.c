@@ -170,6 +170,7 @@ int cmd_albedo(int argc, char **argv)
 	if (bk_out_open_file(&co, out, err, sizeof err))
 		return cli_fail("albedo", "%s", err);
 	bk_prov_title(co.f, "directional albedo: integral of D*V*F*NoL over the light hemisphere");
+	bk_prov_command(co.f, bk_out_command());
 	fprintf(co.f, "# roughness perceptual (alpha = r^2); V includes 1/(4 NoL NoV); exact Fresnel uses eta + ik; tol %g\n", g.tol);
 	if ((rc = run_grid(&g, co.f))) {
 		bk_out_abort(&co);

@@ -43,7 +43,7 @@ static int bound_range(const char *text, double *lo, double *hi)
  * spelling, params.h). */
 static int param_index(const char *t)
 {
-	return bk_params_index(t, strlen(t));
+	return bk_param_index(t, strlen(t));
 }
 
 /* --bound p0=lo:hi[,p1=lo:hi...]; a parameter bounded twice is refused, as

@@ -131,6 +131,7 @@ static void write_csv(FILE *f, const gc_row *rows, const bk_gpucost_job *jobs, i
 {
 	bk_prov_title(f, "gpucost: AMD machine code from Mesa RADV's null device and its ACO compiler (driver: %s), %s",
 	              driver, fp16 ? "fp16 (float16_t arithmetic)" : "fp32");
+	bk_prov_command(f, bk_out_command());
 	fputs("# every figure is the form's compute shader minus a load/store baseline with the same inputs: "
 	      "instructions, vgprs, sgprs, latency and inv_throughput from ACO's statistics (latency and "
 	      "throughput are ACO's cycle estimates, dominated by the buffer load in both shaders: use "
@@ -234,6 +235,7 @@ static void write_calibration(FILE *f, const cal_row *c, const int *order, int n
 	                 "net instruction counts on %s (%s) %s, driver %s; %d forms: the catalog's %d (a split-sum entry: "
 	                 "A and B in one shader)%s",
 	              chip, gfx, fp16 ? "fp16" : "fp32", driver, n, ci->ncat, fronts);
+	bk_prov_command(f, bk_out_command());
 	fprintf(f, "# least squares, no intercept: instructions ~ %.4g simple + %.4g complex (rms residual %.3g; "
 	           "the ir model's weights are %g and %g)\n",
 	        ws, wc, sqrt(ss / n), BK_COST_SIMPLE, BK_COST_COMPLEX);

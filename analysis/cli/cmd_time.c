@@ -205,8 +205,8 @@ static void write_csv(FILE *f, const bk_compare_row *rows, int n)
 {
 	/* the provenance line every brdfkit CSV opens with: it also lets a later
 	 * --out replace this file (out.h, bk_out_file_check) */
-	bk_prov_title(f, "time: CPU ns per evaluation (median, min, max of the runs), op counts, SPIR-V size; command: %s",
-	              bk_out_command());
+	bk_prov_title(f, "time: CPU ns per evaluation (median, min, max of the runs), op counts, SPIR-V size");
+	bk_prov_command(f, bk_out_command());
 	fputs("name,form,ns_per_eval,ns_min,ns_max", f);
 	for (int k = 1; k < BK_K_COUNT; k++)
 		fprintf(f, ",%s", bk_opclass_name((bk_opclass)k));
