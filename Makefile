@@ -270,7 +270,7 @@ test: deps
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
-PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites) \
+PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
 SAN_RUNS   = $(addprefix test-san-,unit gpucost fault) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
@@ -297,6 +297,9 @@ test-plain-man: $(TOOL) $(LIB) build/csvget
 # every file a comment or document cites exists (no build needed)
 test-plain-cites:
 	sh tests/cites.sh
+# every CSV under results/ opens with its provenance (the committed results)
+test-plain-provenance:
+	sh tests/provenance.sh
 test-plain-lavapipe: build/vkrun build/csvget
 	sh tests/lavapipe.sh build/vkrun
 test-plain-notebook: $(TOOL)

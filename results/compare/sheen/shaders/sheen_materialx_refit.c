@@ -6,20 +6,20 @@
  * conventions: brdfkit conventions: r perceptual, a = r^2, V includes 1/4
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
- * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: max |error| 9.92, rmse 0.274
+ * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres)
+ * fitted error: max |error| 16, rmse 0.307
  * parameters baked in:
- *   p0 = 0.961
- *   p1 = -20.5
- *   p2 = 752
- *   p3 = -899
- *   p4 = 12.4
- *   p5 = 1119
- *   p6 = -24
- *   p7 = 387
- *   p8 = 2580
- *   p9 = 158
- *   p10 = 3080
+ *   p0 = 0.988
+ *   p1 = -18.72
+ *   p2 = 750
+ *   p3 = -900
+ *   p4 = 7
+ *   p5 = 1112
+ *   p6 = -20.03
+ *   p7 = 378
+ *   p8 = 2570
+ *   p9 = 142.8
+ *   p10 = 3090
  * precision: C11 float; rounds like bk_form_eval BK_F32 when built without FMA
  *   contraction (-ffp-contract=off, implied by -std=c11), but for exp2f and
  *   log2f: libm's here, brdfkit's (0.5 ulp from exact) there; they may differ by an ulp
@@ -33,19 +33,19 @@
 #include <math.h>
 static inline float sheen_materialx_refit(float NoV, float a)
 {
-	float t2 = a * 1119.0f;
-	float t5 = NoV * 12.4f;
-	float t7 = NoV * (-899.0f);
-	float t11 = (-20.5f) * NoV + 0.961f;
-	float t12 = 752.0f * a + t11;
+	float t2 = a * 1112.0f;
+	float t5 = NoV * 7.0f;
+	float t7 = NoV * (-9e+02f);
+	float t11 = (-18.72f) * NoV + 0.988f;
+	float t12 = 7.5e+02f * a + t11;
 	float t13 = a * t7 + t12;
 	float t14 = NoV * t5 + t13;
 	float t15 = a * t2 + t14;
-	float t17 = a * 3.08e+03f;
-	float t19 = NoV * 158.0f;
-	float t21 = NoV * 2.58e+03f;
-	float t25 = NoV * (-24.0f) + 1.0f;
-	float t26 = a * 387.0f + t25;
+	float t17 = a * 3.09e+03f;
+	float t19 = NoV * 142.8f;
+	float t21 = NoV * 2.57e+03f;
+	float t25 = NoV * (-20.03f) + 1.0f;
+	float t26 = a * 378.0f + t25;
 	float t27 = a * t21 + t26;
 	float t28 = NoV * t19 + t27;
 	float t29 = a * t17 + t28;

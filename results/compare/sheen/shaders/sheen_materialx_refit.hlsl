@@ -6,20 +6,20 @@
  * conventions: brdfkit conventions: r perceptual, a = r^2, V includes 1/4
  * inputs: NoV NoL NoH LoH cosines on the +Z hemisphere, r perceptual roughness,
  *   a = r*r, f0 normal-incidence reflectance (brdf.h)
- * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (64x64 cell centres)
- * fitted error: max |error| 9.92, rmse 0.274
+ * fitted domain: sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL (Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference integrator at tol 1e-8, on NoV in [0, 1] x r in [0, 1] (100x100 cell centres)
+ * fitted error: max |error| 16, rmse 0.307
  * parameters baked in:
- *   p0 = 0.961
- *   p1 = -20.5
- *   p2 = 752
- *   p3 = -899
- *   p4 = 12.4
- *   p5 = 1119
- *   p6 = -24
- *   p7 = 387
- *   p8 = 2580
- *   p9 = 158
- *   p10 = 3080
+ *   p0 = 0.988
+ *   p1 = -18.72
+ *   p2 = 750
+ *   p3 = -900
+ *   p4 = 7
+ *   p5 = 1112
+ *   p6 = -20.03
+ *   p7 = 378
+ *   p8 = 2570
+ *   p9 = 142.8
+ *   p10 = 3090
  * precision: HLSL float (fp32)
  * op counts (after folding, sharing and multiply-add fusion):
  *   mul 6
@@ -30,19 +30,19 @@
  */
 float sheen_materialx_refit(float NoV, float a)
 {
-	float t2 = a * 1119.0;
-	float t5 = NoV * 12.4;
-	float t7 = NoV * (-899.0);
-	float t11 = mad((-20.5), NoV, 0.961);
-	float t12 = mad(752.0, a, t11);
+	float t2 = a * 1112.0;
+	float t5 = NoV * 7.0;
+	float t7 = NoV * (-9e+02);
+	float t11 = mad((-18.72), NoV, 0.988);
+	float t12 = mad(7.5e+02, a, t11);
 	float t13 = mad(a, t7, t12);
 	float t14 = mad(NoV, t5, t13);
 	float t15 = mad(a, t2, t14);
-	float t17 = a * 3.08e+03;
-	float t19 = NoV * 158.0;
-	float t21 = NoV * 2.58e+03;
-	float t25 = mad(NoV, (-24.0), 1.0);
-	float t26 = mad(a, 387.0, t25);
+	float t17 = a * 3.09e+03;
+	float t19 = NoV * 142.8;
+	float t21 = NoV * 2.57e+03;
+	float t25 = mad(NoV, (-20.03), 1.0);
+	float t26 = mad(a, 378.0, t25);
 	float t27 = mad(a, t21, t26);
 	float t28 = mad(NoV, t19, t27);
 	float t29 = mad(a, t17, t28);
