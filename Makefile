@@ -143,10 +143,10 @@ build/obj/%.o: %.c | deps
 
 # The sanitized tree at -O2: the suites' sanitized half is CPU-bound in the
 # IR's kernels, Eigen and the integrators, which -O2 vectorises (one shadow
-# check per vector, not per element): measured side by side, the sanitized
-# unit runner 243 CPU s against 287 at -O1, cli_numerics.sh 61 against 68,
-# cli_scene.sh 95 against 102; the tree builds in the same 160 CPU s, and the
-# reports still name file and line (-g; tiny.o -g1 below)
+# check per vector, not per element): measured one after the other on a
+# quiet machine, the sanitized unit runner 284 CPU s (user + sys) against 326
+# at -O1, cli_numerics.sh 70 against 81; the tree builds in about the same
+# 160 CPU s, and the reports still name file and line (-g; tiny.o -g1 below)
 SAN_OPT = -O2 -g
 build/san/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
@@ -256,7 +256,7 @@ test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
 	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS) $(FORMULA_DEBS))
-	$(MAKE) --no-print-directory -j3 --output-sync=target test-runs
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-runs
 	$(call need,$(PAGE_DEBS))
 	sh tests/page.sh results/index.html
 
@@ -264,9 +264,11 @@ test: deps
 # mktemp directory of its own), and each script is a make target of its own,
 # test-plain-NAME and test-san-NAME (every tests/cli_*.sh is one, picked up by
 # the wildcard), so that make test keeps both cores busy until the last
-# script ends rather than waiting on one serial pole per suite (-j3 on two
-# cores: a third script runs while one waits on a lock, a timeout or its
-# children, as cli_out.sh, cli_longfits.sh and mpi.sh do); --output-sync
+# script ends rather than waiting on one serial pole per suite (-j3, to run a
+# third script while one waits on a lock or a timeout, was tried once: a
+# fresh clone's make test took 17 min 7 s against 15 min 27 s at -j2 a stop
+# before, most scripts' CPU time up about 10 % with five processes on two
+# cores); --output-sync
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
