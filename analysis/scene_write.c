@@ -116,15 +116,16 @@ static int emit(FILE *f, const bk_form *form, const double *p, int li, int half,
 	return 0;
 }
 
-/* How to make and sample a LUT choice, as comment lines (c0 opens, c1
- * closes each). Returns 0 or -1. */
-static int lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+/* The two lines every texture choice shares: the lut command that makes it
+ * (channels: its --channels option or ""; the layout's --f0, --r-range and
+ * --warp follow) and where to sample it. Returns 0 or -1. */
+static int texture_lines(FILE *f, const bk_scene_choice *c, const char *channels, const char *c0, const char *c1)
 {
 	const bk_lut_layout *L = &c->lut_layout;
-	int remap = L->r_lo > 0 || L->r_hi < 1, folded = !isnan(L->f0);
+	int remap = L->r_lo > 0 || L->r_hi < 1;
 	char opts[160] = "", v[96] = "r";
 	int k = 0;
-	if (folded)
+	if (!isnan(L->f0))
 		k += snprintf(opts + k, sizeof opts - (size_t)k, " --f0 %.9g", L->f0);
 	if (remap)
 		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
@@ -132,14 +133,28 @@ static int lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, con
 		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
 	if (remap) /* v = (r - r_lo)/(r_hi - r_lo) as one multiply-add */
 		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
-	int rc = comment_line(f, c0, c1, "%s: the environment BRDF is a texture here (%s):", fname,
-	                      c->at_cost ? "the most accurate at the generic's cost and memory"
-	                                 : "cheaper at this ALU:TEX ratio");
-	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d%s%s --out DIR%s", c->name, c->lut_size, opts,
-	                   c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
-	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
+	int rc = comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d%s%s%s --out DIR%s", c->name, c->lut_size,
+	                      channels, opts, c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
+	                      c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
 	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
 	                   bk_lut_warp_form(L->warp), v);
+	return rc;
+}
+
+/* Why a texture was chosen, in the first line of its comment. */
+static const char *texture_why(const bk_scene_choice *c)
+{
+	return c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio";
+}
+
+/* How to make and sample a LUT choice, as comment lines (c0 opens, c1
+ * closes each). Returns 0 or -1. */
+static int lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
+{
+	const bk_lut_layout *L = &c->lut_layout;
+	int folded = !isnan(L->f0);
+	int rc = comment_line(f, c0, c1, "%s: the environment BRDF is a texture here (%s):", fname, texture_why(c));
+	rc |= texture_lines(f, c, "", c0, c1);
 	if (folded)
 		rc |= comment_line(f, c0, c1, "  env = its one channel (f0 = %g folded in); max abs error %.3g on the domain",
 		                   L->f0, c->err);
@@ -182,23 +197,8 @@ static int ms_lut_comment(FILE *f, const bk_scene_choice *c, const char *fname, 
 /* ms as a texture of E alone (folded at f0 = 1). Returns 0 or -1. */
 static int ms_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
 {
-	const bk_lut_layout *L = &c->lut_layout;
-	int remap = L->r_lo > 0 || L->r_hi < 1;
-	char opts[160] = "", v[96] = "r";
-	int k = 0;
-	if (remap)
-		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
-	if (L->warp != BK_LUT_WARP_NONE)
-		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
-	if (remap) /* as lut_comment */
-		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
-	int rc = comment_line(f, c0, c1, "%s: E(NoV, r) is a texture here (%s):", fname,
-	                      c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio");
-	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d --f0 1%s%s --out DIR%s", c->name, c->lut_size,
-	                   opts, c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
-	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
-	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
-	                   bk_lut_warp_form(L->warp), v);
+	int rc = comment_line(f, c0, c1, "%s: E(NoV, r) is a texture here (%s):", fname, texture_why(c));
+	rc |= texture_lines(f, c, "", c0, c1); /* its layout's f0 is 1: --f0 1 */
 	rc |= comment_line(f, c0, c1, "  E = its one channel (A + B); energy compensation: specular *= 1 + f0*(1/E - 1) "
 	                   "(Turquin 2019, as Filament); max abs error %.3g on the domain", c->err);
 	fputc('\n', f);
@@ -209,23 +209,8 @@ static int ms_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, 
  * B). Returns 0 or -1. */
 static int sheen_tex_comment(FILE *f, const bk_scene_choice *c, const char *fname, const char *c0, const char *c1)
 {
-	const bk_lut_layout *L = &c->lut_layout;
-	int remap = L->r_lo > 0 || L->r_hi < 1;
-	char opts[160] = "", v[96] = "r";
-	int k = 0;
-	if (remap)
-		k += snprintf(opts + k, sizeof opts - (size_t)k, " --r-range %.9g:%.9g", L->r_lo, L->r_hi);
-	if (L->warp != BK_LUT_WARP_NONE)
-		snprintf(opts + k, sizeof opts - (size_t)k, " --warp %s", bk_lut_warp_name(L->warp));
-	if (remap) /* as lut_comment */
-		snprintf(v, sizeof v, "r*%.9g + %.9g", 1 / (L->r_hi - L->r_lo), -L->r_lo / (L->r_hi - L->r_lo));
-	int rc = comment_line(f, c0, c1, "%s: the sheen albedo is a texture here (%s):", fname,
-	                      c->at_cost ? "the most accurate at the generic's cost and memory" : "cheaper at this ALU:TEX ratio");
-	rc |= comment_line(f, c0, c1, "  %s, made by: brdfkit lut --size %d --channels filament%s%s --out DIR%s", c->name,
-	                   c->lut_size, opts, c->lut_fmt == BK_LUT_HALF ? " --precision half" : "",
-	                   c->lut_fmt == BK_LUT_UNORM8 ? ", stored as 8-bit unorm" : "");
-	rc |= comment_line(f, c0, c1, "  sample it with bilinear filtering and clamp to edge at u = %s, v = %s;",
-	                   bk_lut_warp_form(L->warp), v);
+	int rc = comment_line(f, c0, c1, "%s: the sheen albedo is a texture here (%s):", fname, texture_why(c));
+	rc |= texture_lines(f, c, " --channels filament", c0, c1);
 	rc |= comment_line(f, c0, c1, "  sheen albedo = its B channel (cloth: Charlie D, Neubelt V, F = 1); max abs error "
 	                   "%.3g on the domain", c->err);
 	fputc('\n', f);
