@@ -265,10 +265,9 @@ test: deps
 # test-plain-NAME and test-san-NAME (every tests/cli_*.sh is one, picked up by
 # the wildcard), so that make test keeps both cores busy until the last
 # script ends rather than waiting on one serial pole per suite (-j3, to run a
-# third script while one waits on a lock or a timeout, was tried once: a
-# fresh clone's make test took 17 min 7 s against 15 min 27 s at -j2 a stop
-# before, most scripts' CPU time up about 10 % with five processes on two
-# cores); --output-sync
+# third script while one waits on a lock or a timeout, gained nothing: a
+# fresh clone's make test took 17 min 7 s at -j3 and 17 min 20 s at -j2, the
+# same tree on the same quiet machine); --output-sync
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
