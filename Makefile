@@ -343,7 +343,7 @@ build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC
 # --quick for a minute's subset); make bench runs each search on to 100,000 fits
 # (--beyond: only the runs not yet recovered go on), which reports the same budget's
 # figures and where the recovery stands at issue 38's budget
-build/bench_recovery: $(call obj,build/obj,analysis/bench/bench_recovery.c $(FIT_SRC)) $(LIB)
+build/bench_recovery: $(call obj,build/obj,analysis/bench/bench_recovery.c $(ANA_SRC) $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
 # bench_speed: issue 22's throughput, old and new side by side (CPU time too);

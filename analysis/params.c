@@ -5,6 +5,7 @@
 
 #include "csvtab.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -83,4 +84,56 @@ int bk_params_list(const char *text, double *p, int *given, char *err, size_t er
 			return 0;
 		t += n + 1;
 	}
+}
+
+int bk_params_domain(const char *text, double min_rel, bk_target_options *to, char *err, size_t errlen)
+{
+	char buf[1024];
+	if (strlen(text) >= sizeof buf) {
+		snprintf(err, errlen, "longer than %zu characters", sizeof buf - 1);
+		return -1;
+	}
+	snprintf(buf, sizeof buf, "%s", text);
+	to->ndomain = 0;
+	for (char *t = buf, *next; t; t = next) {
+		if ((next = strchr(t, ',')))
+			*next++ = '\0';
+		char *eq = strchr(t, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
+		if (!colon) {
+			snprintf(err, errlen, "expected NAME=LO:HI, got '%.100s'", t);
+			return -1;
+		}
+		*eq = *colon = '\0';
+		int in = -1;
+		for (int k = 0; k < BK_IN_COUNT; k++)
+			if (!strcmp(t, bk_input_name((bk_input)k)))
+				in = k;
+		double lo, hi;
+		if (in < 0) {
+			snprintf(err, errlen, "'%.100s' is not an input (NoV, NoL, NoH, LoH, r, a, f0)", t);
+			return -1;
+		}
+		if (bk_csvtab_number(eq + 1, &lo) || bk_csvtab_number(colon + 1, &hi)) {
+			snprintf(err, errlen, "%s: expected LO:HI (two numbers), got '%.100s:%.100s'", t, eq + 1, colon + 1);
+			return -1;
+		}
+		if (!(lo < hi)) {
+			snprintf(err, errlen, "%s: expected LO < HI, got '%.100s:%.100s'", t, eq + 1, colon + 1);
+			return -1;
+		}
+		double need = min_rel * fmax(fabs(lo), fabs(hi));
+		if (hi - lo < need) {
+			snprintf(err, errlen, "%s: '%.70s:%.70s' is too narrow to sample: HI - LO must be at least %g (%g of the "
+			         "larger end)", t, eq + 1, colon + 1, need, min_rel);
+			return -1;
+		}
+		if (to->ndomain == BK_IN_COUNT) {
+			snprintf(err, errlen, "more than %d inputs", BK_IN_COUNT);
+			return -1;
+		}
+		to->dom_in[to->ndomain] = in;
+		to->dom_lo[to->ndomain] = lo;
+		to->dom_hi[to->ndomain++] = hi;
+	}
+	return 0;
 }

@@ -20,6 +20,7 @@
 #define ANALYSIS_PARAMS_H
 
 #include "brdf.h"
+#include "target.h"
 
 #include <stddef.h>
 
@@ -37,5 +38,14 @@ int bk_params_set(const char *text, double *p, int *given, int *k, char *err, si
 /* A list into p[] and given[] (given[] as it was: a parameter it marks is
  * a second value); 0, or -1 with err "parameters: ... (item K)". */
 int bk_params_list(const char *text, double *p, int *given, char *err, size_t errlen);
+
+/* A --domain list "IN=LO:HI,IN=LO:HI" (inputs by their names in the formula
+ * language, numbers as bk_csvtab_number reads them, LO < HI) into
+ * to->dom_in, dom_lo, dom_hi and ndomain: the one reader of the syntax, for
+ * brdfkit's fit and search and for bench_recovery's planted forms. 0, or -1
+ * with err naming the item at fault ("NoV: expected LO < HI, got '1:0'"),
+ * an interval narrower than min_rel of its larger end among them (too
+ * narrow to sample). */
+int bk_params_domain(const char *text, double min_rel, bk_target_options *to, char *err, size_t errlen);
 
 #endif

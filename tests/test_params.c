@@ -151,3 +151,32 @@ Test(params, a_bad_list_names_the_item)
 	cr_assert_eq(strlen(item), 127);
 	taken(item);
 }
+
+/* --domain lists: the one reader of fit's and search's --domain and of
+ * bench_recovery's planted forms. Each item at fault is named; an interval
+ * narrower than min_rel of its larger end (one ulp at 0.5) is refused, and
+ * the same interval passes with min_rel 0 (the control). */
+Test(params, domain_lists)
+{
+	bk_target_options to;
+	char err[400];
+	memset(&to, 0, sizeof to);
+	cr_assert_eq(bk_params_domain("NoV=0:1,r=0.3:1", 1e-6, &to, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(to.ndomain, 2);
+	cr_assert(to.dom_in[0] == BK_IN_NOV && to.dom_lo[0] == 0 && to.dom_hi[0] == 1);
+	cr_assert(to.dom_in[1] == BK_IN_R && to.dom_lo[1] == 0.3 && to.dom_hi[1] == 1);
+	static const struct {
+		const char *text, *err;
+	} bad[] = {
+		{"NoV", "expected NAME=LO:HI, got 'NoV'"},
+		{"x=0:1", "'x' is not an input"},
+		{"NoV=0:y", "NoV: expected LO:HI (two numbers), got '0:y'"},
+		{"NoV=1:0", "NoV: expected LO < HI, got '1:0'"},
+		{"NoV=0:1,LoH=0.5:0.5000000000000001", "LoH: '0.5:0.5000000000000001' is too narrow to sample"},
+	};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		cr_assert_eq(bk_params_domain(bad[i].text, 1e-6, &to, err, sizeof err), -1, "%s", bad[i].text);
+		cr_assert(strstr(err, bad[i].err), "%s: %s", bad[i].text, err);
+	}
+	cr_assert_eq(bk_params_domain("LoH=0.5:0.5000000000000001", 0, &to, err, sizeof err), 0, "%s", err);
+}

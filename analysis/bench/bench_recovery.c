@@ -36,6 +36,7 @@
 #include "brdf.h"
 #include "catalog.h"
 #include "clock.h"
+#include "params.h"
 #include "search.h"
 #include "target.h"
 
@@ -108,32 +109,6 @@ static int read_suite(const char *path, planted *p, int max)
 	return n;
 }
 
-/* --domain's syntax, as brdfkit's fitargs_domain reads it */
-static int parse_domain(const char *text, bk_target_options *to)
-{
-	char buf[256];
-	snprintf(buf, sizeof buf, "%s", text);
-	to->ndomain = 0;
-	for (char *t = buf, *next; t; t = next) {
-		if ((next = strchr(t, ',')))
-			*next++ = '\0';
-		char *eq = strchr(t, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
-		if (!colon)
-			return -1;
-		*eq = *colon = '\0';
-		int in = -1;
-		for (int k = 0; k < BK_IN_COUNT; k++)
-			if (!strcmp(trim(t), bk_input_name((bk_input)k)))
-				in = k;
-		if (in < 0 || to->ndomain == BK_IN_COUNT)
-			return -1;
-		to->dom_in[to->ndomain] = in;
-		to->dom_lo[to->ndomain] = atof(eq + 1);
-		to->dom_hi[to->ndomain++] = atof(colon + 1);
-	}
-	return 0;
-}
-
 typedef struct result {
 	int recovered; /* within the budget (the fits a run at --evals makes) */
 	int later;     /* past it, within --beyond */
@@ -188,7 +163,7 @@ static int run_one(const char *form, const char *domain, const char *ops, unsign
 	bk_target_defaults(BK_TARGET_FORM, &to);
 	to.form_text = form;
 	char err[512];
-	if (parse_domain(domain, &to) || bk_target_form_check(&to, err, sizeof err)) {
+	if (bk_params_domain(domain, 0, &to, err, sizeof err) || bk_target_form_check(&to, err, sizeof err)) {
 		fprintf(stderr, "bench_recovery: %s on %s: bad form or domain\n", form, domain);
 		return -1;
 	}

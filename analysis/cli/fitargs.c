@@ -4,6 +4,7 @@
  */
 #include "fitargs.h"
 #include "brdf.h"
+#include "params.h"
 #include "tabtarget.h"
 
 #include <stdio.h>
@@ -20,41 +21,8 @@ void fitargs_say_size(const bk_target_options *to)
 /* --domain NAME=LO:HI[,NAME=LO:HI...]: the inputs of target form, in order. */
 int fitargs_domain(const cli_cmd *cmd, const char *text, bk_target_options *to)
 {
-	char buf[1024];
-	if (strlen(text) >= sizeof buf)
-		return cli_usage(cmd, "--domain: longer than %zu characters", sizeof buf - 1);
-	snprintf(buf, sizeof buf, "%s", text);
-	to->ndomain = 0;
-	for (char *t = buf, *next; t; t = next) {
-		if ((next = strchr(t, ',')))
-			*next++ = '\0';
-		char *eq = strchr(t, '='), *colon = eq ? strchr(eq + 1, ':') : NULL;
-		if (!colon)
-			return cli_usage(cmd, "--domain: expected NAME=LO:HI, got '%s'", t);
-		*eq = *colon = '\0';
-		int in = -1;
-		for (int k = 0; k < BK_IN_COUNT; k++)
-			if (!strcmp(t, bk_input_name((bk_input)k)))
-				in = k;
-		double lo, hi;
-		if (in < 0)
-			return cli_usage(cmd, "--domain: '%s' is not an input (NoV, NoL, NoH, LoH, r, a, f0)", t);
-		if (cli_number(eq + 1, &lo) || cli_number(colon + 1, &hi))
-			return cli_usage(cmd, "--domain: %s: expected LO:HI (two numbers), got '%s:%s'", t, eq + 1, colon + 1);
-		if (!(lo < hi))
-			return cli_usage(cmd, "--domain: %s: expected LO < HI, got '%s:%s'", t, eq + 1, colon + 1);
-		char opt[64], text_lh[160];
-		snprintf(opt, sizeof opt, "--domain: %.40s", t);
-		snprintf(text_lh, sizeof text_lh, "%.70s:%.70s", eq + 1, colon + 1);
-		if (cli_range_width(opt, text_lh, lo, hi))
-			return 2;
-		if (to->ndomain == BK_IN_COUNT)
-			return cli_usage(cmd, "--domain: more than %d inputs", BK_IN_COUNT);
-		to->dom_in[to->ndomain] = in;
-		to->dom_lo[to->ndomain] = lo;
-		to->dom_hi[to->ndomain++] = hi;
-	}
-	return 0;
+	char err[400];
+	return bk_params_domain(text, CLI_RANGE_MIN_REL, to, err, sizeof err) ? cli_usage(cmd, "--domain: %s", err) : 0;
 }
 
 /* table, merl: --target-file read into *t (nothing for the other targets).
