@@ -183,6 +183,10 @@ grep -q "^# target: table: exact.csv, 200 samples of column 'value' at NoV; weig
 }
 grep -v '^# command:' fp5/coefficients.csv >fp5.body && grep -v '^# command:' ft5/coefficients.csv >ft5.body \
 	&& [ -s fp5.body ] && cmp -s fp5.body ft5.body && ok || bad "--target table FILE does not fit as --target table --target-file FILE"
+# control of that comparison: another file's fit differs
+grep -v '^# command:' ft6/coefficients.csv >ft6.body
+same_body() { cmp -s "$1" "$2"; }
+expect_fail "the fit of another LUT file" same_body fp5.body ft6.body
 param_is mp p0 0.4 1e-6 && param_is mp p1 0.9 1e-6 && ok || bad "--target merl FILE: not r 0.4, f0 0.9"
 expect_fail "another file, another fit" param_is mp p1 0.6 1e-6
 refused "file given twice" "--target-file given twice" fit --target table L5/dfg.exr --target-file L6/dfg.exr --form "$ENV" p0=0

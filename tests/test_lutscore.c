@@ -358,6 +358,9 @@ Test(lutscore, cloth_channel_at_its_texel_centres)
 	bk_fit_metrics f, u, e;
 	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_FLOAT, BK_F64, &s, &f, NULL), 0);
 	cr_assert(f.max_rel < 0x1p-24 * 1.0001 && f.max_abs > 0, "float: max_rel %g", f.max_rel);
+	bk_fit_metrics h; /* control of that bound: half storage rounds far coarser */
+	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_HALF, BK_F64, &s, &h, NULL), 0);
+	cr_assert(h.max_rel > 0x1p-24 * 1.0001, "half: max_rel %g", h.max_rel);
 	cr_assert_eq(bk_lut_score_cloth(&L, BK_LUT_UNORM8, BK_F64, &s, &u, NULL), 0);
 	double excess = 0;
 	for (size_t i = 0; i < s.n; i++)
