@@ -1,0 +1,35 @@
+#!/bin/sh
+# irbounds.sh — the sanitized brdfkit's IR kernels check their callers'
+# buffers at the door (brdf/ir_bounds.h): each entry point given a buffer one
+# element short, or freed, aborts naming it; with every buffer whole the same
+# calls return the closed form's values (the control: the checks do not fire
+# on a correct call, and the kernels linked are the ones that compute).
+# usage: sh tests/irbounds.sh path/to/irbounds
+set -u
+IB=${1:?usage: irbounds.sh path/to/irbounds}
+pass=0 fail=0
+T=$(mktemp -d /tmp/bk_irbounds_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+if "$IB" whole >"$T/out" 2>&1 && grep -q 'irbounds whole: returned' "$T/out"; then
+	pass=$((pass + 1))
+else
+	fail=$((fail + 1)); echo "FAIL: whole buffers: $(cat "$T/out")"
+fi
+# case, then the buffer and function the abort must name
+for c in "out:out eval" "input:an input eval" "params:params eval" \
+         "jac:jac bk_form_eval_diff" "cols:a Jacobian column bound_eval" "bind:an input bk_form_bind" \
+         "freed:an input eval" "half:y bk_form_eval_half_vs"; do
+	case_=${c%%:*} rest=${c#*:}
+	what=${rest% *} fn=${rest##* }
+	# the kernels' own check, not ASan's report from elsewhere: it names the
+	# function and the buffer, and the call never returned
+	if ASAN_OPTIONS=detect_leaks=0 "$IB" "$case_" >"$T/out" 2>&1; then
+		fail=$((fail + 1)); echo "FAIL: $case_: the short buffer was not caught"
+	elif grep -q "brdfkit: $fn: $what (" "$T/out" && ! grep -q 'returned' "$T/out"; then
+		pass=$((pass + 1))
+	else
+		fail=$((fail + 1)); echo "FAIL: $case_: expected 'brdfkit: $fn: $what (': $(head -3 "$T/out")"
+	fi
+done
+echo "irbounds: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
