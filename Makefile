@@ -145,9 +145,11 @@ build/obj/%.o: %.c | deps
 # IR's kernels, Eigen and the integrators, which -O2 vectorises (one shadow
 # check per vector, not per element): measured one after the other on a
 # quiet machine, the sanitized unit runner 284 CPU s (user + sys) against 326
-# at -O1, cli_numerics.sh 70 against 81; the tree builds in about the same
-# 160 CPU s, and the reports still name file and line (-g; tiny.o -g1 below)
-SAN_OPT = -O2 -g
+# at -O1, cli_numerics.sh 70 against 81. Line tables only (-g1): the
+# sanitizers' reports name file and line of every frame, which is all they
+# read; the full debug info of -g cost a sixth more compile time (analysis/
+# scene_fit.c: 1.70 CPU s against 1.42), and the plain tree keeps it.
+SAN_OPT = -O2 -g1
 build/san/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN) $(INC) -MMD -MP -c $< -o $@
@@ -257,19 +259,13 @@ build/obj/fit/tiny.o: override OPT += -fPIC
 build/pic/fit/tiny.o: build/obj/fit/tiny.o
 	@mkdir -p $(dir $@)
 	cp $< $@
-# The sanitized object with line tables only (-g1, the last -g wins): what the
-# sanitizers' reports print, file and line of every frame, without the full
-# debug info of Eigen's types that nothing in the suites reads (62 CPU s
-# instead of 85, measured side by side; the object 15 MB instead of 75).
-build/san/obj/fit/tiny.o: SAN += -g1
 TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl build/san/irbounds $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
 	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS) $(FORMULA_DEBS))
+	rm -rf $(TABLE_CACHE)
 	$(MAKE) --no-print-directory -j2 --output-sync=target test-runs
-	$(call need,$(PAGE_DEBS))
-	sh tests/page.sh results/index.html
 
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own), and each script is a make target of its own,
@@ -282,7 +278,7 @@ test: deps
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
-PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance) \
+PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
 SAN_RUNS   = $(addprefix test-san-,unit gpucost fault irbounds) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
@@ -292,6 +288,15 @@ TEST_FIRST = test-san-unit test-plain-unit test-san-cli_numerics test-san-cli_sc
 TEST_RUNS  = $(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) $(filter-out $(TEST_FIRST),$(PLAIN_RUNS) $(SAN_RUNS))
 SAN_ENV    = UBSAN_OPTIONS=print_stacktrace=1
 .PHONY: test-runs $(PLAIN_RUNS) $(SAN_RUNS)
+# The suites share one directory of reference tables (BRDFKIT_TABLE_CACHE,
+# analysis/lutcache.h): each LUT table scored is baked once per make test,
+# not once in every test process and command that scores it (the same bits;
+# make test empties it first, so no table outlives the build that baked it)
+TABLE_CACHE = $(CURDIR)/build/test-tables
+$(PLAIN_RUNS) $(SAN_RUNS): export BRDFKIT_TABLE_CACHE = $(TABLE_CACHE)
+$(PLAIN_RUNS) $(SAN_RUNS): | $(TABLE_CACHE)
+$(TABLE_CACHE):
+	mkdir -p $@
 test-runs: $(TEST_RUNS)
 test-plain: $(PLAIN_RUNS)
 test-san: $(SAN_RUNS)
@@ -312,6 +317,11 @@ test-plain-cites:
 # every CSV under results/ opens with its provenance (the committed results)
 test-plain-provenance:
 	sh tests/provenance.sh
+# the committed results page renders in headless Chromium (no build needed;
+# Chromium is the one package the suites need only here)
+test-plain-page:
+	$(call need,$(PAGE_DEBS))
+	sh tests/page.sh results/index.html
 test-plain-lavapipe: build/vkrun build/csvget
 	sh tests/lavapipe.sh build/vkrun
 test-plain-notebook: $(TOOL)

@@ -88,6 +88,14 @@ int bk_lut_score_layout(const bk_lut_layout *L, bk_lut_format fmt, bk_smith smit
  * bk_lut_score_layout scores the DFG: one fetch is the term. */
 int bk_lut_score_cloth(const bk_lut_layout *L, bk_lut_format fmt, bk_precision prec, const bk_samples *s,
                        bk_fit_metrics *m, double *plane);
+/* The reference tables these score, kept on disk when BRDFKIT_TABLE_CACHE
+ * names a directory (lutcache.h): the key the table of (L, smith, cloth)
+ * is stored under (what its bake depends on), and that table read from dir
+ * into AB (A then B, nu nr each; cloth: the albedo then zeros): 0 when dir
+ * holds it whole, under its own key, and three of its texels baked again
+ * (two corners, the middle) agree bit for bit; else -1. */
+void bk_lut_table_key(const bk_lut_layout *L, bk_smith smith, int cloth, char *key, size_t len);
+int bk_lut_table_cached(const char *dir, const bk_lut_layout *L, bk_smith smith, int cloth, double *AB);
 
 /* ---- report.c ------------------------------------------------------------------- */
 

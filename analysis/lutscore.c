@@ -22,11 +22,14 @@
  * its own integrator at the same tolerance.
  */
 #include "compare.h"
+#include "lutcache.h"
 #include "pool.h"
 
 #include <math.h>
 #include <pthread.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Sub-texel precision of the bilinear weights. GPUs do not filter with the
  * float coordinate: they convert it to fixed point first. Direct3D 11 requires
@@ -84,24 +87,67 @@ typedef struct bake {
 	double *A, *B;
 } bake;
 
+/* Texel (i, j) of the table: A and B, or the sheen albedo and 0. */
+static int texel(const bk_lut_layout *L, bk_smith smith, int cloth, int i, int j, double *A, double *B)
+{
+	double NoV = bk_lut_texel_nov(L, i), r = bk_lut_texel_r(L, j);
+	return cloth ? (*B = 0, bk_sheen_albedo(NoV, r, BK_DFG_TOL, A, NULL)) : bk_dfg(NoV, r, smith, BK_DFG_TOL, A, B, NULL);
+}
+
 static int bake_row(void *ctx, int j)
 {
 	const bake *b = ctx;
-	double r = bk_lut_texel_r(b->L, j);
 	for (int i = 0; i < b->L->nu; i++) {
 		size_t k = (size_t)j * (size_t)b->L->nu + (size_t)i;
-		double NoV = bk_lut_texel_nov(b->L, i);
-		if (b->cloth ? (b->B[k] = 0, bk_sheen_albedo(NoV, r, BK_DFG_TOL, &b->A[k], NULL))
-		             : bk_dfg(NoV, r, b->smith, BK_DFG_TOL, &b->A[k], &b->B[k], NULL))
+		if (texel(b->L, b->smith, b->cloth, i, j, &b->A[k], &b->B[k]))
 			return -1;
 	}
 	return 0;
 }
 
-static int bake_table(const bk_lut_layout *L, bk_smith smith, int cloth, double *A, double *B)
+/* The table from the disk cache (lutcache.h) when it holds this one: its key
+ * is what the bake depends on, and three texels baked again here (the
+ * corners and the middle) must equal the file's bit for bit, or a file
+ * another integrator wrote would be read as this one's. */
+void bk_lut_table_key(const bk_lut_layout *L, bk_smith smith, int cloth, char *key, size_t len)
 {
-	bake b = {L, smith, cloth, A, B};
-	return bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b);
+	snprintf(key, len, "smith %d cloth %d nu %d nr %d r %a %a warp %d tol %a", (int)smith, cloth, L->nu, L->nr,
+	         L->r_lo, L->r_hi, (int)L->warp, (double)BK_DFG_TOL);
+}
+
+int bk_lut_table_cached(const char *dir, const bk_lut_layout *L, bk_smith smith, int cloth, double *AB)
+{
+	size_t n = (size_t)L->nu * (size_t)L->nr;
+	char key[256];
+	bk_lut_table_key(L, smith, cloth, key, sizeof key);
+	if (bk_lut_layout_check(L) || bk_lutcache_read(dir, key, AB, 2 * n))
+		return -1;
+	const int probe[3][2] = {{0, 0}, {L->nu / 2, L->nr / 2}, {L->nu - 1, L->nr - 1}};
+	for (int p = 0; p < 3; p++) {
+		int i = probe[p][0], j = probe[p][1];
+		size_t k = (size_t)j * (size_t)L->nu + (size_t)i;
+		double A, B;
+		if (texel(L, smith, cloth, i, j, &A, &B) || memcmp(&A, &AB[k], sizeof A) || memcmp(&B, &AB[n + k], sizeof B))
+			return -1;
+	}
+	return 0;
+}
+
+/* The table into AB: A, then B (nu nr each). */
+static int bake_table(const bk_lut_layout *L, bk_smith smith, int cloth, double *AB)
+{
+	const char *dir = bk_lutcache_dir();
+	if (dir && !bk_lut_table_cached(dir, L, smith, cloth, AB))
+		return 0;
+	bake b = {L, smith, cloth, AB, AB + (size_t)L->nu * (size_t)L->nr};
+	if (bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b))
+		return -1;
+	if (dir) {
+		char key[256];
+		bk_lut_table_key(L, smith, cloth, key, sizeof key);
+		bk_lutcache_write(dir, key, AB, 2 * (size_t)L->nu * (size_t)L->nr);
+	}
+	return 0;
 }
 
 /* The table of (L, smith, cloth), NULL if it could not be baked; *own: the
@@ -135,7 +181,7 @@ static const double *reference(const bk_lut_layout *L, bk_smith smith, int cloth
 	pthread_mutex_unlock(&cache.mu);
 	size_t n = (size_t)L->nu * (size_t)L->nr;
 	double *AB = malloc(sizeof(double) * 2 * n);
-	if (AB && bake_table(L, smith, cloth, AB, AB + n)) {
+	if (AB && bake_table(L, smith, cloth, AB)) {
 		free(AB);
 		AB = NULL;
 	}

@@ -1,0 +1,32 @@
+/*
+ * lutcache.h — reference tables kept on disk between runs (BRDFKIT_TABLE_CACHE).
+ *
+ * A LUT row's texels are baked by the reference integrator at tol 1e-8
+ * (lutscore.c): a 128² table is about two CPU seconds, and every brdfkit
+ * compare, search --fetch-cost and scene bakes the tables it scores anew,
+ * the same tables run after run. With BRDFKIT_TABLE_CACHE naming a directory,
+ * a table baked once is written there (one file per table, through the one
+ * safe writer, analysis/out.h) and a later run reads it instead of baking it:
+ * the same bits, so every output is the same bytes with or without it. A
+ * file is taken only when its key (what the bake depends on: layout, Smith
+ * form, channel, tolerance), its length and its checksum all match, and the
+ * caller re-bakes a few texels and compares them bit for bit, so a file left
+ * by another build whose integrator differs is baked over, not read.
+ * make test points every suite at one fresh directory (Makefile).
+ * Unset, or any failure to read or write there: the table is baked, as
+ * without the cache; nothing is reported (a cache is never the answer).
+ */
+#ifndef BK_LUTCACHE_H
+#define BK_LUTCACHE_H
+
+#include <stddef.h>
+
+/* The directory of BRDFKIT_TABLE_CACHE, NULL when unset or empty. */
+const char *bk_lutcache_dir(void);
+/* Reads the n doubles stored under key into t: 0, or -1 (absent, damaged,
+ * another key). */
+int bk_lutcache_read(const char *dir, const char *key, double *t, size_t n);
+/* Stores t under key (atomically; a failure leaves no file and is ignored). */
+void bk_lutcache_write(const char *dir, const char *key, const double *t, size_t n);
+
+#endif

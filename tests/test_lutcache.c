@@ -1,0 +1,208 @@
+/*
+ * test_lutcache.c — the reference tables kept on disk (analysis/lutcache.c,
+ * BRDFKIT_TABLE_CACHE): a table written there is read back bit for bit and
+ * equals the reference integrator's texels (bk_dfg at the layout's texel
+ * centres, called here); a damaged file, a truncated one, one with a byte
+ * more, another key's file under this name, and a table whose probed texel
+ * differs by one ulp (another integrator's) are all refused; and a LUT scored
+ * with the cache set writes the table there and scores the same bits as
+ * without it.
+ */
+#include "brdf.h"
+#include "compare.h"
+#include "fixture_tmpdir.h"
+#include "lutcache.h"
+#include "target.h"
+
+#include <criterion/criterion.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#define NU 6
+#define NR 5
+
+/* The table of L by the reference integrator, called texel by texel here. */
+static void baked(const bk_lut_layout *L, double *AB)
+{
+	size_t n = (size_t)L->nu * (size_t)L->nr;
+	for (int j = 0; j < L->nr; j++)
+		for (int i = 0; i < L->nu; i++) {
+			size_t k = (size_t)j * (size_t)L->nu + (size_t)i;
+			cr_assert_eq(bk_dfg(bk_lut_texel_nov(L, i), bk_lut_texel_r(L, j), BK_SMITH_CORRELATED, BK_DFG_TOL, &AB[k],
+			                    &AB[n + k], NULL),
+			             0);
+		}
+}
+
+/* The file the table of L is stored in (the only file in dir). */
+static void only_file(const char *dir, char *path, size_t len)
+{
+	char cmd[256];
+	snprintf(cmd, sizeof cmd, "ls %s", dir);
+	FILE *p = popen(cmd, "r");
+	cr_assert_not_null(p);
+	char name[128];
+	cr_assert_not_null(fgets(name, sizeof name, p));
+	cr_assert_null(fgets((char[128]){0}, 128, p), "one file in %s", dir);
+	pclose(p);
+	name[strcspn(name, "\n")] = 0;
+	snprintf(path, len, "%s/%s", dir, name);
+}
+
+static long file_size(const char *path)
+{
+	FILE *f = fopen(path, "rb");
+	cr_assert_not_null(f);
+	fseek(f, 0, SEEK_END);
+	long n = ftell(f);
+	fclose(f);
+	return n;
+}
+
+/* Byte at from the end of path flipped (from = 1: the last byte). */
+static void flip(const char *path, long from)
+{
+	FILE *f = fopen(path, "r+b");
+	cr_assert_not_null(f);
+	fseek(f, -from, SEEK_END);
+	int c = fgetc(f);
+	fseek(f, -from, SEEK_END);
+	fputc(c ^ 0x01, f);
+	fclose(f);
+}
+
+Test(lutcache, read_back_bit_for_bit_and_every_damage_refused)
+{
+	char dir[64], path[256], key[256];
+	fx_tmpdir_make(dir, sizeof dir, "lutcache");
+	bk_lut_layout L = {NU, NR, 0.25, 1, BK_LUT_WARP_SQRT, NAN};
+	size_t n = NU * NR;
+	double ref[2 * NU * NR], got[2 * NU * NR];
+	baked(&L, ref);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "an empty directory holds nothing");
+	bk_lut_table_key(&L, BK_SMITH_CORRELATED, 0, key, sizeof key);
+	bk_lutcache_write(dir, key, ref, 2 * n);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), 0);
+	cr_assert_eq(memcmp(got, ref, sizeof ref), 0, "read back bit for bit");
+	/* another table's key (the separable Smith, the cloth channel, another
+	 * range) does not find it */
+	bk_lut_layout L2 = L;
+	L2.r_lo = 0.3;
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_SEPARABLE, 0, got), -1);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 1, got), -1);
+	cr_assert_eq(bk_lut_table_cached(dir, &L2, BK_SMITH_CORRELATED, 0, got), -1);
+
+	only_file(dir, path, sizeof path);
+	long size = file_size(path);
+	cr_assert_eq(size, (long)(strlen("brdfkit reference table 1\n") + strlen(key) + 1 + sizeof ref + 8));
+	/* a texel's byte flipped (the checksum no longer agrees), and back */
+	flip(path, 8 + 3);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "damaged data read");
+	flip(path, 8 + 3);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), 0, "the control: the file restored");
+	/* the checksum's byte flipped */
+	flip(path, 1);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "damaged checksum read");
+	flip(path, 1);
+	/* a byte more, a byte less */
+	FILE *f = fopen(path, "ab");
+	fputc(0, f);
+	fclose(f);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "a longer file read");
+	cr_assert_eq(truncate(path, size - 1), 0);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "a truncated file read");
+	/* another key's table under this name: its key line differs */
+	char key2[256], path2[300];
+	bk_lut_table_key(&L2, BK_SMITH_CORRELATED, 0, key2, sizeof key2);
+	bk_lutcache_write(dir, key2, ref, 2 * n);
+	cr_assert_eq(remove(path), 0);
+	char cmd[700];
+	snprintf(cmd, sizeof cmd, "mv %s/table-* %s", dir, path);
+	cr_assert_eq(system(cmd), 0);
+	snprintf(path2, sizeof path2, "%s", path);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "another key's file read");
+	cr_assert_eq(remove(path2), 0);
+
+	/* a table another integrator baked: whole, under this key, its checksum
+	 * right, the middle texel's A one ulp off, caught by the probe; one ulp
+	 * off in a texel no probe bakes again is the limit of the check (read) */
+	double other[2 * NU * NR];
+	memcpy(other, ref, sizeof ref);
+	size_t mid = (size_t)(NR / 2) * NU + NU / 2;
+	other[mid] = nextafter(other[mid], 2.0);
+	bk_lutcache_write(dir, key, other, 2 * n);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "another integrator's table read");
+	memcpy(other, ref, sizeof ref);
+	other[n + mid] = nextafter(other[n + mid], 2.0); /* B of the same texel */
+	bk_lutcache_write(dir, key, other, 2 * n);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "another integrator's B read");
+	memcpy(other, ref, sizeof ref);
+	other[1] = nextafter(other[1], 2.0);
+	bk_lutcache_write(dir, key, other, 2 * n);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), 0, "texel (1, 0) is not probed");
+	fx_tmpdir_remove(dir);
+}
+
+/* L's float LUT scored on s in a process of its own (a fresh per-process
+ * table cache), with BRDFKIT_TABLE_CACHE = dir, or unset (dir NULL). */
+static bk_fit_metrics score_in_child(const bk_lut_layout *L, const bk_samples *s, const char *dir)
+{
+	int fd[2];
+	cr_assert_eq(pipe(fd), 0);
+	pid_t pid = fork();
+	cr_assert_geq(pid, 0);
+	if (pid == 0) {
+		bk_fit_metrics m;
+		int bad = (dir ? setenv("BRDFKIT_TABLE_CACHE", dir, 1) : unsetenv("BRDFKIT_TABLE_CACHE")) ||
+		          bk_lut_score_layout(L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, s, &m, NULL) ||
+		          write(fd[1], &m, sizeof m) != (ssize_t)sizeof m;
+		_exit(bad);
+	}
+	close(fd[1]);
+	bk_fit_metrics m;
+	cr_assert_eq(read(fd[0], &m, sizeof m), (ssize_t)sizeof m);
+	close(fd[0]);
+	int st;
+	cr_assert_eq(waitpid(pid, &st, 0), pid);
+	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+	return m;
+}
+
+/* A score with the cache set writes the table (the reference integrator's
+ * texels, bit for bit) and the next one reads it; both score the same bits
+ * as a process without the cache; a wrong table planted in a texel no probe
+ * bakes again changes the score, which proves the file is what was read. */
+Test(lutcache, a_score_writes_the_table_and_the_next_reads_it)
+{
+	char dir[64], path[256], key[256];
+	fx_tmpdir_make(dir, sizeof dir, "lutcache");
+	bk_target_options o;
+	bk_samples s;
+	char err[256];
+	bk_target_defaults(BK_TARGET_ENV, &o);
+	o.nx = 7, o.nr = 5;
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_lut_layout L = {NU, NR, 0, 1, BK_LUT_WARP_NONE, NAN};
+	bk_fit_metrics plain = score_in_child(&L, &s, NULL);
+	bk_fit_metrics first = score_in_child(&L, &s, dir);
+	only_file(dir, path, sizeof path);
+	double ref[2 * NU * NR], got[2 * NU * NR];
+	baked(&L, ref);
+	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), 0);
+	cr_assert_eq(memcmp(got, ref, sizeof ref), 0, "the file holds the bake");
+	bk_fit_metrics second = score_in_child(&L, &s, dir);
+	cr_assert(!memcmp(&first.rmse, &plain.rmse, sizeof plain.rmse) && !memcmp(&first.max_abs, &plain.max_abs, 8));
+	cr_assert(!memcmp(&second.rmse, &plain.rmse, sizeof plain.rmse) && !memcmp(&second.max_abs, &plain.max_abs, 8));
+	/* A of texel (1, 0) doubled, the checksum right */
+	ref[1] *= 2;
+	bk_lut_table_key(&L, BK_SMITH_CORRELATED, 0, key, sizeof key);
+	bk_lutcache_write(dir, key, ref, 2 * NU * NR);
+	bk_fit_metrics planted = score_in_child(&L, &s, dir);
+	cr_assert_neq(planted.rmse, plain.rmse, "the planted table was not read");
+	bk_samples_free(&s);
+	fx_tmpdir_remove(dir);
+}
