@@ -170,15 +170,18 @@ build/san/obj/%.o: %.cc | deps
 IR_KERNELS = build/obj/brdf/ir_eval.o build/obj/brdf/ir_diff.o build/san/obj/brdf/ir_eval.o build/san/obj/brdf/ir_diff.o
 $(IR_KERNELS): CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
 # The sanitized brdfkit (not the sanitized unit runner, which links them
-# instrumented) takes the two kernel files built without the sanitizers'
-# per-access checks, and with AddressSanitizer asked at each entry point
-# whether the caller's buffers are whole (brdf/ir_bounds.h says why: the
-# kernels were four fifths of the sanitized scripts' CPU time); listed before
-# $(SLIB), they are the definitions the link takes.
-SAN_KERNELS = build/san/kobj/brdf/ir_eval.o build/san/kobj/brdf/ir_diff.o
-build/san/kobj/%.o: %.c | deps
+# instrumented) takes the hot numeric files built without the sanitizers'
+# per-access checks, with AddressSanitizer asked at each entry point whether
+# the caller's buffers are whole (brdf/doors.h says which files and why);
+# listed before $(SLIB), they are the definitions the link takes. The
+# Ceres bridge is the plain tree's object (-fPIC, see SLOW_OBJ): no second
+# compile of it.
+SAN_DOOR_C = brdf/ir_eval.c brdf/ir_diff.c brdf/quad.c brdf/integrate.c brdf/dmath.c
+SAN_DOORS  = $(call obj,build/san/doors,$(SAN_DOOR_C)) build/obj/fit/tiny.o
+build/san/doors/%.o: %.c | deps
 	@mkdir -p $(dir $@)
-	$(CC) $(CSTD) -fno-math-errno -fno-tree-loop-distribute-patterns $(WARN) $(SAN_OPT) -DBK_IR_BOUNDS $(INC) -MMD -MP -c $< -o $@
+	$(CC) $(CSTD) $(WARN) $(SAN_OPT) -DBK_DOORS $(INC) -MMD -MP -c $< -o $@
+build/san/doors/brdf/ir_eval.o build/san/doors/brdf/ir_diff.o: CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
 
 # the fit's residual loops (fit/fit_ctx.c): vectorised though their count varies,
 # and its square roots (no errno: the same bits, sqrt is correctly rounded)
@@ -192,7 +195,7 @@ $(SLIB): $(call obj,build/san/obj,$(LIB_SRC))
 
 $(TOOL): $(call obj,build/obj,$(TOOL_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
-$(STOOL): $(call obj,build/san/obj,$(TOOL_SRC)) $(SAN_KERNELS) $(SLIB)
+$(STOOL): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(TOOL_SRC))) $(SAN_DOORS) $(SLIB)
 	$(CXX) $(SAN) $^ $(LIBS) -o $@
 
 # the MPI side of the islands alone sees mpi.h (islands.h keeps it out of the rest)
@@ -259,7 +262,7 @@ build/obj/fit/tiny.o: override OPT += -fPIC
 build/pic/fit/tiny.o: build/obj/fit/tiny.o
 	@mkdir -p $(dir $@)
 	cp $< $@
-TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl build/san/irbounds $(SO_LIB) $(SO_FIT)
+TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl build/san/doors_check $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
@@ -280,7 +283,7 @@ test: deps
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
 PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
-SAN_RUNS   = $(addprefix test-san-,unit gpucost fault irbounds) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
+SAN_RUNS   = $(addprefix test-san-,unit gpucost fault doors) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
 # seconds measured per script, tests/README.md), so that no long one starts
 # last while the other core idles; the rest follow in PLAIN_RUNS, SAN_RUNS order
@@ -341,11 +344,11 @@ test-san-gpucost: $(STOOL) build/csvget
 	$(SAN_ENV) LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp sh tests/gpucost.sh $(STOOL)
 test-san-fault: $(STOOL) build/csvget
 	$(SAN_ENV) sh tests/fault.sh $(STOOL)
-# the checks at the sanitized brdfkit's kernels' doors (brdf/ir_bounds.h) and their controls
-build/san/irbounds: tests/tools/irbounds.c $(SAN_KERNELS) $(SLIB)
+# the checks at the sanitized brdfkit's doors (brdf/doors.h) and their controls
+build/san/doors_check: tests/tools/doors.c $(filter build/san/doors/%,$(SAN_DOORS)) $(SLIB)
 	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN) $(INC) $^ -lm -o $@
-test-san-irbounds: build/san/irbounds
-	$(SAN_ENV) sh tests/irbounds.sh build/san/irbounds
+test-san-doors: build/san/doors_check
+	$(SAN_ENV) sh tests/doors.sh build/san/doors_check
 
 # bench_ir times the IR against bk_form_emit's C for the same forms, compiled
 # with the flags above: one source built twice, first as the generator of that

@@ -30,8 +30,12 @@ typedef struct bk_compare_row {
 	char name[96];          /* catalog name, "name (refit)", or "LUT 64x64 half" */
 	char kind[16];          /* "published", "refit", "lut", "form" */
 	char source[256];       /* citation, or how the row was made */
-	char form[1024];        /* formula text (A; B for split sums in form_b), "" for LUTs */
-	char form_b[1024];
+	/* formula text (A; B for split sums in form_b), "" for LUTs: as long as
+	 * the formula language allows (BK_FORM_MAX_LEN), so that no form the
+	 * parser takes is ever cut (compare's rows were 1,024 bytes, and a
+	 * longer typed form was scored whole but written and timed cut) */
+	char form[BK_FORM_MAX_LEN + 1];
+	char form_b[BK_FORM_MAX_LEN + 1];
 	double params[BK_MAX_PARAMS];
 	int nparams;
 	bk_fit_metrics m;       /* on the target's samples; NaN where not applicable */

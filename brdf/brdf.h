@@ -508,7 +508,8 @@ char *bk_form_emit_styled(const bk_form *f, bk_lang lang, int half, const double
 char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int half, const double *params,
                         const bk_emit_info *info, const bk_emit_style *style);
 
-/* 1 if name cannot be the generated function's name in lang: a keyword or
+/* 1 if name cannot be the generated function's name in lang: not an
+ * identifier (a letter or _, then letters, digits and _), a keyword or
  * reserved word, a type, a name the language's standard library (C's
  * <math.h>, every GLSL built-in function, every HLSL intrinsic) or entry
  * point (main) has, a reserved identifier (C's _name, GLSL's gl_ and __),
@@ -516,6 +517,10 @@ char *bk_form_emit_pair(const bk_form *fa, const bk_form *fb, bk_lang lang, int 
  * can (brdf/ir_names.c lists them). */
 #define BK_NAME_MAX 63 /* C11 5.2.4.1: significant initial characters of an internal identifier */
 int bk_lang_reserved(bk_lang lang, const char *name);
+/* 1 if name is an identifier of all three languages: a letter or _, then
+ * letters, digits and _ (ASCII; C11 6.4.2.1, GLSL ES 3.00 3.7, HLSL's C
+ * rules); 0 if not, or empty. */
+int bk_identifier(const char *name);
 /* The i-th entry of lang's table of reserved names, NULL past the end. */
 const char *bk_lang_word(bk_lang lang, size_t i);
 

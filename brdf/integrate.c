@@ -21,6 +21,7 @@
  */
 #include "brdf.h"
 #include "dmath.h"
+#include "doors.h"
 #include "quad.h"
 #include "smith.h"
 
@@ -210,6 +211,9 @@ int bk_dfg(double NoV, double r, bk_smith m, double tol, double *A, double *B,
 {
 	if (bad_nov(NoV) || bad_r(r) || (unsigned)m >= BK_SMITH_COUNT || !(tol > 0.0))
 		return -1;
+	BK_DOOR(A, sizeof *A, "A");
+	BK_DOOR(B, sizeof *B, "B");
+	BK_DOOR(stats, sizeof *stats, "stats");
 	double a = r * r;
 	if (r == 0.0 || smooth_enough(a, NoV)) {
 		/* Smooth limit: D is a delta at H = N, L = mirror(V), so the integrand
@@ -248,6 +252,12 @@ int bk_albedo(const bk_term *D, const bk_term *V, const bk_term *F,
               const bk_sample *material, double NoV, double tol, double *out,
               bk_quad_stats *stats)
 {
+	BK_DOOR(D, sizeof *D, "D");
+	BK_DOOR(V, sizeof *V, "V");
+	BK_DOOR(F, sizeof *F, "F");
+	BK_DOOR(material, sizeof *material, "material");
+	BK_DOOR(out, sizeof *out, "out");
+	BK_DOOR(stats, sizeof *stats, "stats");
 	if (!D || !V || !F || D->role != BK_ROLE_D || V->role != BK_ROLE_V ||
 	    F->role != BK_ROLE_F || bad_nov(NoV) || bad_r(material->r) || !(tol > 0.0))
 		return -1;

@@ -18,7 +18,7 @@
  * branch taken is used (the subgradient a fitter expects).
  */
 #include "ir.h"
-#include "ir_bounds.h"
+#include "doors.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -98,9 +98,9 @@ int bk_form_eval_diff(const bk_form *f, size_t n, const double *const in[BK_IN_C
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return -1;
-	BK_IR_BOUNDS_FORM(f, n, in, params);
-	BK_IR_BOUNDS_CHECK(out, sizeof(double) * n, "out");
-	BK_IR_BOUNDS_CHECK(jac, sizeof(double) * n * (size_t)f->nparams, "jac");
+	BK_DOOR_FORM(f, n, in, params);
+	BK_DOOR(out, sizeof(double) * n, "out");
+	BK_DOOR(jac, sizeof(double) * n * (size_t)f->nparams, "jac");
 	double *v = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	double *adj = malloc(sizeof(double) * (size_t)f->n * BLOCK);
 	const double **val = malloc(sizeof *val * (size_t)f->n);
@@ -197,7 +197,7 @@ bk_form_bound *bk_form_bind(const bk_form *f, size_t n, const double *const in[B
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return NULL;
-	BK_IR_BOUNDS_FORM(f, n, in, (const double *)NULL);
+	BK_DOOR_FORM(f, n, in, (const double *)NULL);
 	bk_form_bound *b = calloc(1, sizeof *b);
 	if (!b)
 		return NULL;
@@ -333,11 +333,11 @@ static void bound_eval(bk_form_bound *b, const double *params, double *out, doub
 {
 	const bk_form *f = b->f;
 	int np = f->nparams;
-	BK_IR_BOUNDS_FORM(f, b->n, b->in, params);
-	BK_IR_BOUNDS_CHECK(out, sizeof(double) * b->n, "out");
-	BK_IR_BOUNDS_CHECK(jac, sizeof(double) * b->n * (size_t)np, "jac");
+	BK_DOOR_FORM(f, b->n, b->in, params);
+	BK_DOOR(out, sizeof(double) * b->n, "out");
+	BK_DOOR(jac, sizeof(double) * b->n * (size_t)np, "jac");
 	for (int j = 0; cols && j < np; j++)
-		BK_IR_BOUNDS_CHECK(cols[j], sizeof(double) * b->n, "a Jacobian column");
+		BK_DOOR(cols[j], sizeof(double) * b->n, "a Jacobian column");
 	for (size_t blk = 0, s = 0; s < b->n; blk++, s += BLOCK) {
 		size_t m = b->n - s < BLOCK ? b->n - s : BLOCK;
 		if (b->filled)

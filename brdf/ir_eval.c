@@ -12,7 +12,7 @@
  */
 #include "half.h"
 #include "ir.h"
-#include "ir_bounds.h"
+#include "doors.h"
 #include "vmath.h"
 
 #include <math.h>
@@ -470,9 +470,9 @@ static int eval(const bk_form *f, bk_precision prec, size_t n, const double *con
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return -1;
-	BK_IR_BOUNDS_FORM(f, n, in, params);
-	BK_IR_BOUNDS_CHECK(out, sizeof(double) * n, "out");
-	BK_IR_BOUNDS_CHECK(flags, n, "flags");
+	BK_DOOR_FORM(f, n, in, params);
+	BK_DOOR(out, sizeof(double) * n, "out");
+	BK_DOOR(flags, n, "flags");
 	int both = prec == BK_F16 && fusable(f);
 	size_t regs = (size_t)f->n * BLOCK;
 	/* the registers; with both orders also the fused run's, the f64 run's
@@ -516,9 +516,9 @@ int bk_ir_eval_half_orders(const bk_form *f, size_t n, const double *const in[BK
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if ((f->inputs >> i & 1) && !in[i])
 			return -1;
-	BK_IR_BOUNDS_FORM(f, n, in, params);
-	BK_IR_BOUNDS_CHECK(unfused, sizeof(double) * n, "unfused");
-	BK_IR_BOUNDS_CHECK(fused, sizeof(double) * n, "fused");
+	BK_DOOR_FORM(f, n, in, params);
+	BK_DOOR(unfused, sizeof(double) * n, "unfused");
+	BK_DOOR(fused, sizeof(double) * n, "fused");
 	float *reg = malloc((size_t)f->n * BLOCK * sizeof *reg * 2);
 	if (!reg)
 		return -1;
@@ -539,7 +539,7 @@ int bk_ir_eval_half_orders(const bk_form *f, size_t n, const double *const in[BK
 int bk_form_eval_half_vs(const bk_form *f, size_t n, const double *const in[BK_IN_COUNT], const double *params,
                          const double *y, double *out)
 {
-	BK_IR_BOUNDS_CHECK(y, sizeof(double) * n, "y");
+	BK_DOOR(y, sizeof(double) * n, "y");
 	if (!fusable(f))
 		return eval(f, BK_F16, n, in, params, out, NULL, NULL);
 	double *fused = malloc((n ? n : 1) * sizeof *fused);

@@ -495,9 +495,16 @@ const char *bk_lang_word(bk_lang lang, size_t i)
 	return lang_words[lang][i];
 }
 
+int bk_identifier(const char *s)
+{
+	if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || *s == '_'))
+		return 0;
+	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
+}
+
 int bk_lang_reserved(bk_lang lang, const char *name)
 {
-	if ((unsigned)lang > BK_LANG_HLSL || strlen(name) > BK_NAME_MAX)
+	if ((unsigned)lang > BK_LANG_HLSL || strlen(name) > BK_NAME_MAX || !bk_identifier(name))
 		return 1;
 	for (const char *const *w = lang_words[lang]; *w; w++)
 		if (strcmp(*w, name) == 0)

@@ -9,6 +9,7 @@
  * polynomials up to degree 22 and the integrals against independent quadratures.
  */
 #include "quad.h"
+#include "doors.h"
 
 #include <math.h>
 
@@ -69,6 +70,9 @@ int bk_quad(bk_quad_fn f, void *ctx, const double *pts, int npts, int ncomp,
 	interval iv[BK_QUAD_MAXINT];
 	int n = 0;
 	long evals = 0;
+	BK_DOOR(pts, sizeof(double) * (size_t)(npts > 0 ? npts : 0), "pts");
+	BK_DOOR(out, sizeof(double) * (size_t)(ncomp > 0 ? ncomp : 0), "out");
+	BK_DOOR(stats, sizeof *stats, "stats");
 
 	/* bounded by npts */
 	for (int i = 0; i + 1 < npts && n < BK_QUAD_MAXINT; i++) {

@@ -56,6 +56,26 @@ provenance "$T/cmp/compare.csv" "compare: " "brdfkit compare --target vf2d --nx 
 grep -v '^#' "$T/cmp/compare.csv" >"$T/bare.csv"
 expect_fail "provenance of a headerless compare.csv" \
 	provenance "$T/bare.csv" "compare: " "brdfkit compare --target vf2d --nx 8 --nr 8 --no-time --out $T/cmp" "vf2d: "
+# a typed form longer than compare's rows once held (1,023 characters) is
+# written whole; the control: the same text cut at 1,023 characters is not
+# what the table holds
+long="0.25"
+i=0
+while [ $i -lt 160 ]; do long="$long + 0*r*r"; i=$((i + 1)); done
+if $BK compare --target vf2d --nx 8 --nr 8 --no-refit --no-time --out "$T/cmpl" "$long" >/dev/null 2>"$T/err"; then
+	[ ${#long} -gt 1100 ] && [ "$(csv_where "$T/cmpl/compare.csv" kind form form)" = "$long" ] && ok ||
+		bad "compare: a long typed form is not written whole (${#long} characters)"
+	expect_fail "a long form cut at 1,023 characters" test "$(csv_where "$T/cmpl/compare.csv" kind form form)" = \
+		"$(printf '%.1023s' "$long")"
+	# its shaders are named form_N (its text slugged is no identifier: it
+	# starts with a digit), and they compile as C
+	n=$(ls "$T/cmpl/shaders" | grep -c '^form_[0-9]*\.\(c\|glsl\|hlsl\)$')
+	[ "$n" = 3 ] && ok || bad "compare: the typed form's shaders: $(ls "$T/cmpl/shaders" | grep -v '^[a-z]')"
+	cc -std=c11 -Wall -Werror -c -o "$T/form.o" "$T/cmpl/shaders/"form_*.c 2>"$T/err" && ok ||
+		bad "compare: the typed form's C does not compile: $(head -3 "$T/err")"
+else
+	bad "compare with a long typed form: $(cat "$T/err")"
+fi
 # timed, the same header on timing.csv, and the columns read by name under it
 $BK compare --target f --nx 16 --no-refit --out "$T/cmpt" >/dev/null 2>"$T/err" || bad "compare f: $(cat "$T/err")"
 provenance "$T/cmpt/timing.csv" "compare timing: " "brdfkit compare --target f --nx 16 --no-refit --out $T/cmpt" "f: " &&

@@ -196,6 +196,32 @@ Test(names, glsl_and_hlsl_types_and_reserved_words_refused)
 	cr_assert_eq(bk_lang_reserved(BK_LANG_C, "sqrtf"), 1);
 }
 
+/* What is no identifier is refused by the emitter too: a name from a
+ * user's text (compare's typed form, slugged) once reached a shader as
+ * "float 0_25_r(...)"; the control is the same name with a letter before. */
+Test(names, what_is_no_identifier_refused)
+{
+	static const char *const bad[] = {"0_25_r", "9", "", "a-b", "a b", "a.b", "caf\xc3\xa9", "a$", "x\n"};
+	bk_form_error fe;
+	bk_form *f = bk_form_parse("NoV * 0.5", &fe);
+	cr_assert_not_null(f);
+	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++)
+		for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+			cr_assert_eq(bk_identifier(bad[i]), 0, "%s", bad[i]);
+			cr_assert_eq(bk_lang_reserved((bk_lang)lang, bad[i]), 1, "lang %d: '%s'", lang, bad[i]);
+			bk_emit_info info = {bad[i], NULL, NULL, NULL, NULL, NULL};
+			cr_assert_null(bk_form_emit(f, (bk_lang)lang, 0, NULL, &info), "lang %d emitted '%s'", lang, bad[i]);
+		}
+	bk_emit_info ok = {"f_0_25_r", NULL, NULL, NULL, NULL, NULL};
+	for (int lang = BK_LANG_C; lang <= BK_LANG_HLSL; lang++) {
+		char *text = bk_form_emit(f, (bk_lang)lang, 0, NULL, &ok);
+		cr_assert(text && strstr(text, "f_0_25_r("), "lang %d", lang);
+		free(text);
+	}
+	cr_assert_eq(bk_identifier("_x9"), 1);
+	bk_form_free(f);
+}
+
 Test(names, ordinary_names_accepted)
 {
 	static const char *const fine[] = {"int_", "my_term", "brdfkit_form", "vec3_", "float5", "t", "tx",

@@ -275,6 +275,18 @@ static const bk_compare_row *published_of(const study *S, int i)
 	return i > 0 && !strcmp(S->rows[i].kind, "refit") ? &S->rows[i - 1] : NULL;
 }
 
+/* Row i's file stem and its shaders' function name: the slug of its name
+ * when that is an identifier the emitters take (a catalog name, "name
+ * (refit)", "LUT 64x64 half"), else "form_N" (N = i + 1: a typed form's
+ * name is its text, whose slug may start with a digit or run past
+ * BK_NAME_MAX). */
+static void row_stem(const study *S, const bk_compare_row *r, char *sl, size_t len)
+{
+	bk_slug(r->name, sl, len);
+	if (!bk_identifier(sl) || strlen(sl) > BK_NAME_MAX)
+		snprintf(sl, len, "form_%d", (int)(r - S->rows) + 1);
+}
+
 static void write_section(const study *S, FILE *f, const char *dir, const char *prefix)
 {
 	fprintf(f, "<section id=\"%s\">\n<h2>Target <code>%s</code></h2>\n<p>", bk_target_name(S->to.kind),
@@ -328,7 +340,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 	for (int i = 0; i < S->n; i++) {
 		const bk_compare_row *r = &S->rows[i], *p = published_of(S, i);
 		char sl[128];
-		bk_slug(r->name, sl, sizeof sl);
+		row_stem(S, r, sl, sizeof sl);
 		fputs("<tr><td>", f);
 		bk_html_text(f, r->name);
 		fprintf(f, "</td><td>%s</td><td>%.3g</td><td>%.3g</td><td>", r->kind, r->m.max_abs, r->m.rmse);
@@ -386,7 +398,7 @@ static void write_section(const study *S, FILE *f, const char *dir, const char *
 static int write_row_files(const study *S, const bk_compare_row *r, const char *dir, char *err, size_t errlen)
 {
 	char sl[128], path[4400];
-	bk_slug(r->name, sl, sizeof sl);
+	row_stem(S, r, sl, sizeof sl);
 	size_t cells = (size_t)S->s.plane_nx * S->s.plane_ny;
 	double *v = malloc(sizeof(double) * cells);
 	if (!v)
@@ -451,6 +463,8 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 		                     domain, error, "brdfkit compare (see results/index.html)"};
 		char *text = bk_form_emit(f, langs[k].lang, 0, r->params, &info);
 		snprintf(path, sizeof path, "%.4000s/shaders/%.120s.%s", dir, sl, langs[k].ext);
+		if (!text)
+			snprintf(err, errlen, "%.100s: its %s shader could not be generated", r->name, langs[k].ext);
 		FILE *o = text ? bk_out_fopen(path, err, errlen) : NULL;
 		if (o)
 			fputs(text, o);

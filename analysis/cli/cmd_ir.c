@@ -383,13 +383,6 @@ static void shell_words(char *buf, size_t len, const char *head, int argc, char 
 }
 
 /* C, GLSL and HLSL identifiers: [A-Za-z_][A-Za-z0-9_]*. */
-static int identifier(const char *s)
-{
-	if (!((*s >= 'A' && *s <= 'Z') || (*s >= 'a' && *s <= 'z') || *s == '_'))
-		return 0;
-	return strspn(s, "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_") == strlen(s);
-}
-
 /* codegen: --precision picks GLSL's qualifier or HLSL's and MSL's type; the
  * C output is float whatever it says. Index CODEGEN_MSL of the language
  * dimension is Metal, which is no bk_lang: SPIRV-Cross writes it
@@ -446,7 +439,7 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int li, bk_math
 		rc = form_check_finite("codegen", cmd->pos[0], f[k], m.p);
 	for (int k = 0; k < 2 && !rc && !math; k++) /* as one form: a formula has no precision */
 		form_warn_precision("codegen", cmd->pos[0], f[k], m.p, half ? BK_F16 : BK_F32);
-	if (!fname && m.fname[0] && identifier(m.fname) && !bk_lang_reserved(L, m.fname))
+	if (!fname && m.fname[0] && bk_identifier(m.fname) && !bk_lang_reserved(L, m.fname))
 		fname = m.fname;
 	bk_emit_info info = {
 		.name = fname,
@@ -538,7 +531,7 @@ int cmd_codegen(int argc, char **argv)
 		fprintf(stderr, "brdfkit codegen: missing FORM (see brdfkit codegen --help)\n");
 		return 2;
 	}
-	if (fname && !identifier(fname)) {
+	if (fname && !bk_identifier(fname)) {
 		return cli_bad("--name: not an identifier: '%s'", fname);
 	}
 	if (fname && strlen(fname) > BK_NAME_MAX) {
@@ -562,7 +555,7 @@ int cmd_codegen(int argc, char **argv)
 		bk_form_free(fa.f);
 		return rc;
 	}
-	if (!fname && fa.fname[0] && identifier(fa.fname) && !bk_lang_reserved(L, fa.fname) &&
+	if (!fname && fa.fname[0] && bk_identifier(fa.fname) && !bk_lang_reserved(L, fa.fname) &&
 	    !(li == CODEGEN_MSL && bk_msl_reserved(fa.fname)))
 		fname = fa.fname;
 	bk_emit_info info = {
