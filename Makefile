@@ -468,6 +468,12 @@ RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 resul
 # the DFG LUT with the multiscatter and cloth channels as Filament lays them out (issue 41)
 RESULTS_RUNS += results-lut-filament
 .PHONY: results-runs $(RESULTS_RUNS)
+# make results' runs share one directory of reference tables, as make test's
+# suites do (TABLE_CACHE, analysis/lutcache.h): a LUT table the compares,
+# searches and scenes score is baked once per make results, not once per
+# command; the same bits, so the same results; emptied first
+RESULTS_TABLES = $(CURDIR)/build/results-tables
+$(RESULTS_RUNS): export BRDFKIT_TABLE_CACHE = $(RESULTS_TABLES)
 
 results: deps
 	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) $(TOOL) build/csvget
@@ -479,6 +485,7 @@ results: deps
 	rm -f results/dfg_correlated.exr results/dfg_correlated.csv results/dfg_separable.exr \
 	  results/dfg_separable.csv results/dfg_schlick.exr results/dfg_schlick.csv
 	@mkdir -p results/fits results/compare results/search results/gpucost build/evolved
+	rm -rf $(RESULTS_TABLES) && mkdir -p $(RESULTS_TABLES)
 	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -Oline results-runs
 	# (results/search/moved: what issue 22's search changes moved, written once by
 	# analysis/bench/fronts_moved.py against the fronts before them, with seeds.csv,
