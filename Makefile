@@ -207,7 +207,22 @@ $(MPI_TOOL): $(call obj,build/obj,$(MPI_SRC)) $(LIB)
 
 $(TESTS): $(call obj,build/obj,$(TEST_SRC) $(SUPPORT)) $(LIB)
 	$(CXX) $(OPT) $^ -lcriterion $(LIBS) -o $@
-$(STEST): $(call obj,build/san/obj,$(TEST_SRC) $(SUPPORT)) $(SLIB)
+# Two sanitized unit runners, so that each file is checked element by element
+# where it is the subject: build/san/test_kernels holds the test files of the
+# door files (brdf/doors.h: the IR's kernels, the integrators, dmath, the
+# Ceres bridge) and links everything instrumented; build/san/test_brdfkit
+# holds every other test file and links the door files as the sanitized tool
+# does, so that their refits and bakes run at speed (the two scene tests were
+# 45 s each, most of it the kernels and Eigen instrumented). Every unit test
+# runs sanitized once, as before.
+SAN_KERNEL_TESTS = $(addprefix tests/test_,$(addsuffix .c,ir simd vmath cols resid terms dfg lut render \
+                     multiscatter sheen dmath math tiny solver fit stiff fitapi))
+SAN_TEST_AUX     = $(filter-out tests/test_%,$(TEST_SRC))
+STEST_KERNELS    = build/san/test_kernels
+$(STEST): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(filter-out $(SAN_KERNEL_TESTS),$(TEST_SRC)) $(SUPPORT))) \
+          $(SAN_DOORS) $(SLIB)
+	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
+$(STEST_KERNELS): $(call obj,build/san/obj,$(SAN_KERNEL_TESTS) $(SAN_TEST_AUX) $(SUPPORT)) $(SLIB)
 	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
 
 # the shell tests read CSV columns by name through this (tests/lib.sh)
@@ -262,7 +277,7 @@ build/obj/fit/tiny.o: override OPT += -fPIC
 build/pic/fit/tiny.o: build/obj/fit/tiny.o
 	@mkdir -p $(dir $@)
 	cp $< $@
-TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl build/san/doors_check $(SO_LIB) $(SO_FIT)
+TEST_BUILD = $(SLOW_OBJ) $(TESTS) $(TOOL) $(MPI_TOOL) $(STEST) $(STEST_KERNELS) $(STOOL) build/csvget build/vkrun build/exrcmp build/mkmerl build/san/doors_check $(SO_LIB) $(SO_FIT)
 test-build: $(TEST_BUILD)
 test: deps
 	$(MAKE) --no-print-directory -j2 test-build
@@ -283,11 +298,11 @@ test: deps
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
 PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
-SAN_RUNS   = $(addprefix test-san-,unit gpucost fault doors) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
+SAN_RUNS   = $(addprefix test-san-,unit kernels gpucost fault doors) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
 # seconds measured per script, tests/README.md), so that no long one starts
 # last while the other core idles; the rest follow in PLAIN_RUNS, SAN_RUNS order
-TEST_FIRST = test-san-unit test-plain-unit test-san-cli_numerics test-san-cli_scenes test-san-cli_envsearch test-san-cli_planted
+TEST_FIRST = test-san-unit test-san-kernels test-plain-unit test-san-cli_numerics test-san-cli_scenes test-san-cli_envsearch test-san-cli_planted
 TEST_RUNS  = $(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) $(filter-out $(TEST_FIRST),$(PLAIN_RUNS) $(SAN_RUNS))
 SAN_ENV    = UBSAN_OPTIONS=print_stacktrace=1
 .PHONY: test-runs $(PLAIN_RUNS) $(SAN_RUNS)
@@ -338,6 +353,8 @@ test-plain-install: $(TOOL) build/csvget
 
 test-san-unit: $(STEST)
 	$(SAN_ENV) LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST) --jobs 2
+test-san-kernels: $(STEST_KERNELS)
+	$(SAN_ENV) LSAN_OPTIONS=suppressions=tests/lsan.supp $(STEST_KERNELS) --jobs 2
 $(filter test-san-cli_%,$(SAN_RUNS)): test-san-%: $(STOOL) build/csvget build/exrcmp build/mkmerl
 	$(SAN_ENV) sh tests/$*.sh $(STOOL)
 test-san-gpucost: $(STOOL) build/csvget

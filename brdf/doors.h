@@ -17,10 +17,11 @@
  * caller's buffers is addressable, and aborts naming the buffer and the
  * function if not (tiny.cc needs no door of its own: it reads its caller's
  * buffers first through bk_problem_valid, fit/solver.cc, instrumented). The
- * files' own loops are checked element by element by the sanitized unit
- * runner (build/san/test_brdfkit), which links them instrumented; the plain
- * build compiles these checks to nothing. tests/doors.sh: each door's
- * negative control.
+ * second sanitized unit runner (build/san/test_brdfkit) links them so too.
+ * The files' own loops are checked element by element by the sanitized
+ * runner of their own tests (build/san/test_kernels), which links them
+ * instrumented; the plain build compiles these checks to nothing.
+ * tests/doors.sh: each door's negative control.
  */
 #ifndef BK_DOORS_H
 #define BK_DOORS_H
