@@ -169,8 +169,9 @@ build/san/obj/%.o: %.cc | deps
 # and their loops that zero or copy stay loops of vector stores (ir_adjoint.h).
 IR_KERNELS = build/obj/brdf/ir_eval.o build/obj/brdf/ir_diff.o build/san/obj/brdf/ir_eval.o build/san/obj/brdf/ir_diff.o
 $(IR_KERNELS): CSTD += -fno-math-errno -fno-tree-loop-distribute-patterns
-# The sanitized brdfkit (not the sanitized unit runner, which links them
-# instrumented) takes the hot numeric files built without the sanitizers'
+# The sanitized brdfkit, and the sanitized runner of the other files' unit
+# tests (below; the runner of their own tests links them instrumented), take
+# the hot numeric files built without the sanitizers'
 # per-access checks, with AddressSanitizer asked at each entry point whether
 # the caller's buffers are whole (brdf/doors.h says which files and why);
 # listed before $(SLIB), they are the definitions the link takes. The
@@ -292,7 +293,9 @@ test: deps
 # script ends rather than waiting on one serial pole per suite (-j3, to run a
 # third script while one waits on a lock or a timeout, gained nothing: a
 # fresh clone's make test took 17 min 7 s at -j3 and 17 min 20 s at -j2, the
-# same tree on the same quiet machine); --output-sync
+# same tree on the same quiet machine; later, at commit 081b7f39, 13 min 5 s
+# against 13 min 30 s, 11 s of it in the build, which -j3 does not touch:
+# within the machine's spread); --output-sync
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))

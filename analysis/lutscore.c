@@ -105,16 +105,16 @@ static int bake_row(void *ctx, int j)
 	return 0;
 }
 
-/* The table from the disk cache (lutcache.h) when it holds this one: its key
- * is what the bake depends on, and three texels baked again here (the
- * corners and the middle) must equal the file's bit for bit, or a file
- * another integrator wrote would be read as this one's. */
+/* The key of a table in the disk cache (lutcache.h): what its bake depends on. */
 void bk_lut_table_key(const bk_lut_layout *L, bk_smith smith, int cloth, char *key, size_t len)
 {
 	snprintf(key, len, "smith %d cloth %d nu %d nr %d r %a %a warp %d tol %a", (int)smith, cloth, L->nu, L->nr,
 	         L->r_lo, L->r_hi, (int)L->warp, (double)BK_DFG_TOL);
 }
 
+/* The table from the disk cache when it holds this one: three texels baked
+ * again here (two corners and the middle) must equal the file's bit for bit,
+ * or a file another integrator wrote would be read as this one's. */
 int bk_lut_table_cached(const char *dir, const bk_lut_layout *L, bk_smith smith, int cloth, double *AB)
 {
 	size_t n = (size_t)L->nu * (size_t)L->nr;
