@@ -154,6 +154,16 @@ build/san/obj/%.o: %.c | deps
 	@mkdir -p $(dir $@)
 	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN) $(INC) -MMD -MP -c $< -o $@
 
+# The unit tests' own files at -O0, in both trees: they set up inputs and
+# check answers, and the library they call keeps its -O2 (at -O0 the 72 test
+# files compile in 9 CPU s plain and 20 sanitized, against 28 and 70 at -O2;
+# the runners took as long either way, measured side by side). -O0 keeps
+# every check the sanitizers make (each access instrumented, none optimised
+# away).
+TEST_OWN_OPT = -O0
+build/obj/tests/test_%.o build/obj/tests/fixture_%.o: OPT = $(TEST_OWN_OPT) -g
+build/san/obj/tests/test_%.o build/san/obj/tests/fixture_%.o: SAN_OPT = $(TEST_OWN_OPT) -g1
+
 # C++: the Ceres bridge only (fit/*.cc); Ceres' headers pull in Eigen
 build/obj/%.o: %.cc | deps
 	@mkdir -p $(dir $@)

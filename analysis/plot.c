@@ -468,16 +468,23 @@ static int visible(const layout *lo, const bk_plot *p, double x, double y, doubl
 
 static void settled_layout(cairo_t *cr, const bk_plot *p, layout *lo);
 
-void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py)
+void bk_plot_to_page_n(const bk_plot *p, int n, const double *x, const double *y, double *px, double *py)
 {
 	cairo_surface_t *s;
 	cairo_t *cr = measure_ctx(&s);
 	layout lo;
-	settled_layout(cr, p, &lo);
+	settled_layout(cr, p, &lo); /* the whole layout, labels placed: once for all n */
 	cairo_destroy(cr);
 	cairo_surface_destroy(s);
-	*px = page_x(&lo, p, x);
-	*py = page_y(&lo, p, y);
+	for (int i = 0; i < n; i++) {
+		px[i] = page_x(&lo, p, x[i]);
+		py[i] = page_y(&lo, p, y[i]);
+	}
+}
+
+void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py)
+{
+	bk_plot_to_page_n(p, 1, &x, &y, px, py);
 }
 
 void bk_plot_areas(const bk_plot *p, double plot[4], double bar[4])

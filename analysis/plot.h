@@ -124,6 +124,9 @@ int bk_plot_write_files(const bk_plot *p, const char *dir, const char *stem, cha
 /* Where a data point lands, in points from the figure's top-left corner (times
  * BK_PLOT_DPI/72 for PNG pixels). */
 void bk_plot_to_page(const bk_plot *p, double x, double y, double *px, double *py);
+/* The same for n points (x[i], y[i]) into px[i], py[i]: the figure is laid
+ * out once (its labels placed), not once per point. */
+void bk_plot_to_page_n(const bk_plot *p, int n, const double *x, const double *y, double *px, double *py);
 
 /* The plot area and the colour bar (zero width without a heatmap) as left, top,
  * right, bottom in points from the top-left corner; the frames are drawn on these

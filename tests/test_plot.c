@@ -267,10 +267,13 @@ Test(plot, crowded_labels_never_overlap)
 	cr_expect_lt(placed, NCROWD, "a cluster this tight cannot hold them all: some are dropped");
 	cr_expect_eq(overlaps(l, NCROWD), 0, "placed labels overlap");
 	/* no label covers a marker (2.4 pt radius); each marker's place on the
-	 * page found once (bk_plot_to_page settles the whole layout each call) */
+	 * page, all found in one layout (bk_plot_to_page_n); the first also one
+	 * at a time, which must agree (the single-point call is the n = 1 case) */
 	static double mx[NCROWD], my[NCROWD];
-	for (int j = 0; j < NCROWD; j++)
-		bk_plot_to_page(&p, x[j], y[j], &mx[j], &my[j]);
+	bk_plot_to_page_n(&p, NCROWD, x, y, mx, my);
+	double one_x, one_y;
+	bk_plot_to_page(&p, x[0], y[0], &one_x, &one_y);
+	cr_expect(one_x == mx[0] && one_y == my[0], "one point: (%g, %g), of n: (%g, %g)", one_x, one_y, mx[0], my[0]);
 	for (int i = 0; i < NCROWD; i++)
 		for (int j = 0; j < NCROWD && l[i].placed; j++) {
 			bk_plot_label m = {0, j, 1, mx[j] - 2.4, my[j] - 2.4, mx[j] + 2.4, my[j] + 2.4, 0};
@@ -596,9 +599,10 @@ Test(plot, planted_crowd_with_bars_and_a_line_labels_keep_off)
 	/* the line: no placed label box holds a point of the diagonal */
 	static bk_plot_label l[24];
 	cr_assert_eq(bk_plot_labels(&p, l, 24), 24);
-	double qx[201], qy[201];
+	double dx[201], qx[201], qy[201];
 	for (int k = 0; k <= 200; k++)
-		bk_plot_to_page(&p, k / 20.0, k / 20.0, &qx[k], &qy[k]);
+		dx[k] = k / 20.0;
+	bk_plot_to_page_n(&p, 201, dx, dx, qx, qy);
 	for (int i = 0; i < 24; i++)
 		for (int k = 0; k <= 200 && l[i].placed; k++)
 			cr_expect_not(qx[k] > l[i].x0 && qx[k] < l[i].x1 && qy[k] > l[i].y0 && qy[k] < l[i].y1,
