@@ -36,6 +36,11 @@ typedef struct bk_compare_row {
 	 * longer typed form was scored whole but written and timed cut) */
 	char form[BK_FORM_MAX_LEN + 1];
 	char form_b[BK_FORM_MAX_LEN + 1];
+	/* the same forms as IR, made once where the row is made (a command's
+	 * edge: bk_compare_row_parse, or a copy of IR it holds), and what the
+	 * scores, the timing, the GPU counts and the shaders read: text is for
+	 * the files. Owned by the row (bk_compare_rows_free); NULL for LUTs. */
+	bk_form *f[2];
 	double params[BK_MAX_PARAMS];
 	int nparams;
 	bk_fit_metrics m;       /* on the target's samples; NaN where not applicable */
@@ -54,12 +59,20 @@ typedef struct bk_compare_row {
 
 /* ---- timing.c ---------------------------------------------------------------- */
 
-/* Generates C for each row's form(s) (params baked in), compiles them into
+/* Generates C for each row's form(s) (its IR, rows[i].f: a row with text and
+ * none is refused; params baked in), compiles them into
  * one shared object with the system compiler (cc -O2 -fPIC -shared), loads it
  * and measures ns per evaluation over the same stream of varied inputs
  * (warm-up, reps runs, rows interleaved; median, min, max) into rows[i].ns*.
  * Rows without a form (LUTs) are skipped. Returns 0, or -1 with a message. */
 int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen);
+
+/* Makes r->form (and r->form_b when set) the row's IR, r->f, replacing any it
+ * held: the one parse of a row's text. 0, or -1 with "NAME: form:1:COL:
+ * message" in err (r->f then NULL). */
+int bk_compare_row_parse(bk_compare_row *r, char *err, size_t errlen);
+/* Frees the IR of rows[0..n) (the rows themselves are the caller's). */
+void bk_compare_rows_free(bk_compare_row *rows, int n);
 
 /* SPIR-V instruction count of the form's generated GLSL (highp) after
  * glslangValidator -V and spirv-opt -O, counted by spirv-dis; -1 and a message

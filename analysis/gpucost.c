@@ -762,7 +762,7 @@ int bk_gpucost_fit2(const double *a, const double *b, const double *y, int n, do
 	return 0;
 }
 
-int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
+int bk_gpucost_forms(const bk_form *const *a, const bk_form *const *b, const double *const *params, int n,
                      const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
                      char *driver, size_t driverlen, char *err, size_t errlen)
 {
@@ -773,14 +773,8 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
 	for (int i = 0; !rc && i < n; i++) {
 		if (!a[i])
 			continue;
-		for (int p = 0; !rc && p < 1 + (b && b[i] != NULL); p++) {
-			bk_form_error fe;
-			const char *text = p ? b[i] : a[i];
-			if (!(jobs[m].form[p] = bk_form_parse(text, &fe))) {
-				snprintf(err, errlen, "'%.200s':1:%d: %s", text, fe.column, fe.message);
-				rc = -1;
-			}
-		}
+		jobs[m].form[0] = a[i];
+		jobs[m].form[1] = b ? b[i] : NULL;
 		jobs[m].params = params[i];
 		at[m++] = i;
 	}
@@ -798,12 +792,34 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
 				if (col[q] && jobs[j].ok[c])
 					col[q][at[j] * nchips + c] = v[q];
 		}
-	for (int j = 0; jobs && j <= m && j < n + 1; j++) {
-		bk_form_free((bk_form *)jobs[j].form[0]);
-		bk_form_free((bk_form *)jobs[j].form[1]);
-	}
 	free(jobs);
 	free(at);
+	return rc;
+}
+
+int bk_gpucost_texts(const char *const *a, const char *const *b, const double *const *params, int n,
+                     const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
+                     char *driver, size_t driverlen, char *err, size_t errlen)
+{
+	bk_form **f = calloc(2 * (size_t)n + 1, sizeof *f), **fb = f ? f + n : NULL;
+	int rc = f ? 0 : -1;
+	if (rc)
+		snprintf(err, errlen, "out of memory");
+	for (int i = 0; !rc && i < n; i++)
+		for (int p = 0; !rc && a[i] && p < 1 + (b && b[i] != NULL); p++) {
+			bk_form_error fe;
+			const char *text = p ? b[i] : a[i];
+			if (!((p ? fb : f)[i] = bk_form_parse(text, &fe))) {
+				snprintf(err, errlen, "'%.200s':1:%d: %s", text, fe.column, fe.message);
+				rc = -1;
+			}
+		}
+	if (!rc)
+		rc = bk_gpucost_forms((const bk_form *const *)f, b ? (const bk_form *const *)fb : NULL, params, n, chips,
+		                      nchips, insn, transc, vgprs, driver, driverlen, err, errlen);
+	for (int i = 0; f && i < 2 * n; i++)
+		bk_form_free(f[i]);
+	free(f);
 	return rc;
 }
 

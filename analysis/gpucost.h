@@ -94,6 +94,12 @@ int bk_gpucost_texts(const char *const *a, const char *const *b, const double *c
                      const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
                      char *driver, size_t driverlen, char *err, size_t errlen);
 
+/* The same for forms held as IR (a[i] NULL: no form; b NULL, or b[i] NULL:
+ * no second part): bk_gpucost_texts is this after parsing its text. */
+int bk_gpucost_forms(const bk_form *const *a, const bk_form *const *b, const double *const *params, int n,
+                     const char *const *chips, int nchips, double *insn, double *transc, double *vgprs,
+                     char *driver, size_t driverlen, char *err, size_t errlen);
+
 /* Compiles one trivial form on every chip: a missing driver or a chip it
  * refuses is said before a long run that would need it, not after. Returns as
  * bk_gpucost_texts. */

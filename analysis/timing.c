@@ -183,10 +183,11 @@ static int write_text(const char *path, const char *text, char *err, size_t errl
 
 /* ---- run time: the generated unit --------------------------------------------------- */
 
-/* A row's forms, parsed, and the inputs its batch loop takes (union of A and B). */
+/* A row's forms (the row's own IR, borrowed) and the inputs its batch loop
+ * takes (union of A and B). */
 typedef struct timed {
 	int row;
-	bk_form *f[2]; /* A, and B or NULL */
+	const bk_form *f[2]; /* A, and B or NULL */
 	unsigned inputs;
 	void (*fn)(void);
 } timed;
@@ -232,33 +233,53 @@ static int put_row(bk_strbuf *b, const timed *t, const bk_compare_row *r, char *
 	return 0;
 }
 
-static int parse_part(const bk_compare_row *r, const char *text, bk_form **out, char *err, size_t errlen)
+int bk_compare_row_parse(bk_compare_row *r, char *err, size_t errlen)
 {
-	bk_form_error fe;
-	if (!(*out = bk_form_parse(text, &fe))) {
-		snprintf(err, errlen, "%s: form:1:%d: %s", r->name, fe.column, fe.message);
-		return -1;
-	}
-	if (bk_form_nparams(*out) > r->nparams) {
-		snprintf(err, errlen, "%s: the form uses p0..p%d but the row has %d parameters", r->name,
-		         bk_form_nparams(*out) - 1, r->nparams);
-		return -1;
+	const char *text[2] = {r->form, r->form_b};
+	bk_compare_rows_free(r, 1);
+	for (int p = 0; p < 2 && text[p][0]; p++) {
+		bk_form_error fe;
+		if (!(r->f[p] = bk_form_parse(text[p], &fe))) {
+			snprintf(err, errlen, "%s: form:1:%d: %s", r->name, fe.column, fe.message);
+			bk_compare_rows_free(r, 1);
+			return -1;
+		}
 	}
 	return 0;
 }
 
-/* Parses the rows that have a form into t (m of them). */
-static int parse_rows(const bk_compare_row *rows, int n, timed *t, int *m, char *err, size_t errlen)
+void bk_compare_rows_free(bk_compare_row *rows, int n)
+{
+	for (int i = 0; rows && i < n; i++)
+		for (int p = 0; p < 2; p++) {
+			bk_form_free(rows[i].f[p]);
+			rows[i].f[p] = NULL;
+		}
+}
+
+/* The rows that have a form into t (m of them), each with its own IR: a row
+ * whose text was never made IR (bk_compare_row_parse) is a caller's error. */
+static int take_rows(const bk_compare_row *rows, int n, timed *t, int *m, char *err, size_t errlen)
 {
 	*m = 0;
 	for (int i = 0; i < n; i++) {
-		if (!rows[i].form[0])
+		const bk_compare_row *r = &rows[i];
+		if (!r->form[0] && !r->f[0])
 			continue;
+		if (!r->f[0] || (r->form_b[0] && !r->f[1])) {
+			snprintf(err, errlen, "%s: its form was not parsed (bk_compare_row_parse)", r->name);
+			return -1;
+		}
 		timed *x = &t[(*m)++];
 		x->row = i;
-		if (parse_part(&rows[i], rows[i].form, &x->f[0], err, errlen) ||
-		    (rows[i].form_b[0] && parse_part(&rows[i], rows[i].form_b, &x->f[1], err, errlen)))
-			return -1;
+		for (int p = 0; p < 2; p++) {
+			x->f[p] = r->f[p];
+			if (x->f[p] && bk_form_nparams(x->f[p]) > r->nparams) {
+				snprintf(err, errlen, "%s: the form uses p0..p%d but the row has %d parameters", r->name,
+				         bk_form_nparams(x->f[p]) - 1, r->nparams);
+				return -1;
+			}
+		}
 		x->inputs = bk_form_inputs(x->f[0]) | (x->f[1] ? bk_form_inputs(x->f[1]) : 0);
 	}
 	return 0;
@@ -418,7 +439,7 @@ int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen
 		snprintf(err, errlen, "out of memory");
 		return -1;
 	}
-	int m = 0, rc = parse_rows(rows, n, t, &m, err, errlen);
+	int m = 0, rc = take_rows(rows, n, t, &m, err, errlen);
 	void *so = NULL;
 	workdir w = {{0}, -1};
 	if (rc == 0 && m > 0 && (rc = workdir_open(&w, "bk_time", err, errlen)) == 0) {
@@ -429,10 +450,6 @@ int bk_time_rows(bk_compare_row *rows, int n, int reps, char *err, size_t errlen
 	}
 	if (so)
 		dlclose(so);
-	for (int i = 0; i < n; i++) {
-		bk_form_free(t[i].f[0]);
-		bk_form_free(t[i].f[1]);
-	}
 	free(t);
 	return rc;
 }

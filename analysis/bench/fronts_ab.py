@@ -2,32 +2,37 @@
 """fronts_ab.py: is a change to the search better on make results' fronts, over seeds?
 
   python3 analysis/bench/fronts_ab.py OLD_BRDFKIT NEW_BRDFKIT [--seeds 1,2,3] [--jobs 2]
-                                      [--max-cost 16] [--out DIR] [--csv FILE]
+                                      [--max-cost 16] [--out DIR] [--csv FILE] [--dry-run]
 
 A search at a fixed budget is one draw: a change to generation, starts or
 screening reorders what it tries, and one seed's front moves both ways
-(results/search/moved). So a change is judged here on the seven double searches
+(results/search/moved). So a change is judged here on the seven double fronts
 of make results at several seeds, old and new binaries side by side.
 
-Each search's command is read from the "# command:" line of its committed
-results/search/NAME/front.csv (one source of truth: the Makefile's budgets as
-last run), less --gpu, --out and --link-prefix, plus --seed S --threads 1 and
-an --out under DIR (default /tmp/fronts_ab); --jobs commands run at a time.
-A run already in DIR (its front.csv there) is not rerun when its stamp (DIR's
-NAME.stamp: the SHA-256 of the binary that made it and its arguments) matches,
-so a second call with more seeds or another NEW binary reuses the old side; a
-run whose stamp does not match (another binary at the same path: a rebuilt
-build/brdfkit, or a DIR left by an earlier session) is made again, and a run
-with no stamp at all stops the script (remove it or give another --out).
+A front of make results is the last step of a pipeline (the Makefile's "Fronts
+that hold"): a first double search, the half search seeded with its front, the
+double front seeded with both (and, for env_mix and env_f0, with each other's
+runs). The commands are the Makefile's own, one source of truth: `make -n` of
+the seven fronts' targets with TOOL set to the binary prints every step once,
+in order; here each step's paths (build/evolved/, build/half/,
+results/search/) move under the run's directory, --gpu and --link-prefix are
+dropped, and every search gets --seed S --threads 1 (the same bytes as any
+thread count). One pipeline per binary and seed, its steps one after the
+other; --jobs pipelines at a time. A pipeline already in DIR (default
+/tmp/fronts_ab) is not rerun when its stamp (the SHA-256 of the binary and its
+commands) matches, so a second call with more seeds or another NEW binary
+reuses the old side; one whose stamp does not match is made again, and one
+with no stamp stops the script (remove it or give another --out). --dry-run
+prints the commands and runs nothing.
 
-Printed, per search and seed: of the costs <= --max-cost at which either front
+Printed, per front and seed: of the costs <= --max-cost at which either front
 has a member, those where the new front's best error at cost <= c is better
 (< 0.999x the old), worse (> 1.001x) or the same, and the geometric mean of
-new/old over them; then the totals per search and overall. Read by column name
+new/old over them; then the totals per front and overall. Read by column name
 (name, cost, error) as fronts_moved.py reads them; the catalog's rows are left out.
-Timings of each run (wall and CPU seconds) are printed with it. --csv writes the
-same tallies (search, seed, better, worse, same, gmean_new_over_old; seed "all"
-for a search's seeds together) for fronts_moved.py --seeds.
+Timings of each pipeline (wall and CPU seconds) are printed with it. --csv writes
+the same tallies (search, seed, better, worse, same, gmean_new_over_old; seed "all"
+for a front's seeds together) for fronts_moved.py --seeds.
 """
 import argparse
 import csv
@@ -45,24 +50,38 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from fronts_moved import SEARCHES, front, rows, upto, verdict  # noqa: E402
 
 
-def command(name):
-    with open("results/search/%s/front.csv" % name) as f:
-        for line in f:
-            if line.startswith("# command: "):
-                argv = shlex.split(line[len("# command: "):])
-                break
-        else:
-            sys.exit("fronts_ab: results/search/%s/front.csv: no '# command:' line" % name)
-    out, skip = [], 0
-    for a in argv[1:]:  # argv[0] is the binary's name
-        if skip:
-            skip = 0
-            continue
-        if a in ("--gpu", "--out", "--link-prefix", "--seed", "--threads"):
-            skip = 1
-            continue
-        out.append(a)
-    return out
+MOVED = (("build/evolved/", "evolved/"), ("build/half/", "half/"), ("results/search/", "results/"))
+
+
+def pipeline(binary, d, seed):
+    """The steps of the seven fronts' pipelines, as make -n prints them for
+    this binary, their paths under d; each an argv list."""
+    targets = ["results-search-%s" % n for n in SEARCHES]
+    text = subprocess.run(["make", "--no-print-directory", "-n", "TOOL=" + binary] + targets,
+                          capture_output=True, text=True, check=True).stdout
+    steps = []
+    for line in text.replace("\\\n", " ").splitlines():
+        argv = shlex.split(line)
+        if not argv or argv[0] != binary:
+            continue  # mkdir -p and make's own lines: the directories are made below
+        out, skip = [binary], 0
+        for a in argv[1:]:
+            if skip:
+                skip = 0
+                continue
+            if a in ("--gpu", "--link-prefix", "--seed", "--threads"):
+                skip = 1
+                continue
+            if a == ">/dev/null":
+                continue
+            for old, new in MOVED:
+                if a.startswith(old):
+                    a = os.path.join(d, new + a[len(old):])
+            out.append(a)
+        steps.append(out + ["--seed", str(seed), "--threads", "1"])
+    if not steps:
+        sys.exit("fronts_ab: make -n printed no search for %s" % binary)
+    return steps
 
 
 def digest(binary):
@@ -73,12 +92,14 @@ def digest(binary):
     return h.hexdigest()
 
 
-def run(binary, key, name, seed, d):
-    """key: the binary's digest; the stamp is it with the arguments."""
-    path = os.path.join(d, "front.csv")
-    argv = [binary] + command(name) + ["--seed", str(seed), "--threads", "1", "--out", d]
-    stamp = key + " " + " ".join(shlex.quote(x) for x in argv[1:]) + "\n"
+def run(binary, key, seed, d, dry):
+    """key: the binary's digest; the stamp is it with the pipeline's steps."""
+    steps = pipeline(binary, d, seed)
+    if dry:
+        return seed, d, steps, None
+    stamp = key + "\n" + "".join(" ".join(shlex.quote(x) for x in s[1:]) + "\n" for s in steps)
     stamp_path = d + ".stamp"
+    done = all(os.path.exists(os.path.join(d, "results", n, "front.csv")) for n in SEARCHES)
     have = None
     if os.path.exists(stamp_path):
         with open(stamp_path) as f:
@@ -87,20 +108,25 @@ def run(binary, key, name, seed, d):
         if have is None:
             sys.exit("fronts_ab: %s holds a run with no stamp (%s): which binary made it is unknown; "
                      "remove it or give another --out" % (d, stamp_path))
-        if have == stamp and os.path.exists(path):
-            return name, seed, None
-        shutil.rmtree(d)  # a run this script made, by another binary or with other arguments
+        if have == stamp and done:
+            return seed, d, steps, None
+        shutil.rmtree(d)  # a run this script made, by another binary or with other steps
     if have is not None:
         os.remove(stamp_path)
+    for sub in ("evolved", "half", "results"):
+        os.makedirs(os.path.join(d, sub), exist_ok=True)
     t0, r0 = time.time(), os.times()
     with open(d + ".log", "w") as log:
-        rc = subprocess.call(argv, stdout=log, stderr=log)
+        for argv in steps:
+            log.write("$ %s\n" % " ".join(shlex.quote(x) for x in argv))
+            log.flush()
+            rc = subprocess.call(argv, stdout=log, stderr=log)
+            if rc != 0:
+                sys.exit("fronts_ab: %s failed (exit %d), see %s.log" % (" ".join(argv), rc, d))
     r1 = os.times()
-    if rc != 0:
-        sys.exit("fronts_ab: %s failed (exit %d), see %s.log" % (" ".join(argv), rc, d))
     with open(stamp_path, "w") as f:
         f.write(stamp)
-    return name, seed, (time.time() - t0, r1.children_user - r0.children_user)
+    return seed, d, steps, (time.time() - t0, r1.children_user - r0.children_user)
 
 
 def compare(old, new, max_cost):
@@ -128,27 +154,35 @@ def main():
     ap.add_argument("--max-cost", type=float, default=16)
     ap.add_argument("--out", default="/tmp/fronts_ab")
     ap.add_argument("--csv")
+    ap.add_argument("--dry-run", action="store_true")
     a = ap.parse_args()
     seeds = [int(x) for x in a.seeds.split(",")]
     jobs = []
     for side, binary in (("old", a.old), ("new", a.new)):
+        binary = os.path.abspath(binary)
         key = digest(binary)
         for sd in seeds:
-            for n in SEARCHES:
-                d = os.path.join(a.out, side, "seed%d" % sd, n)
-                os.makedirs(os.path.dirname(d), exist_ok=True)
-                jobs.append((binary, key, n, sd, d))
+            d = os.path.join(os.path.abspath(a.out), side, "seed%d" % sd)
+            os.makedirs(os.path.dirname(d), exist_ok=True)
+            jobs.append((binary, key, sd, d, a.dry_run))
     with ThreadPoolExecutor(max_workers=a.jobs) as ex:
-        for n, sd, t in ex.map(lambda j: run(*j), jobs):
-            if t:
-                print("ran %-8s seed %d: %.0f s wall, %.0f CPU-s" % (n, sd, t[0], t[1]), flush=True)
+        for sd, d, steps, t in ex.map(lambda j: run(*j), jobs):
+            if a.dry_run:
+                print("# %s (seed %d): %d steps" % (d, sd, len(steps)))
+                for s in steps:
+                    print(" ".join(shlex.quote(x) for x in s))
+            elif t:
+                print("ran %s (seed %d, %d steps): %.0f s wall, %.0f CPU-s" % (d, sd, len(steps), t[0], t[1]),
+                      flush=True)
+    if a.dry_run:
+        return
     tb = tw = ts = 0
     alllogs = []
     table = []
     for n in SEARCHES:
         line, nb, nw, ns, nl = "%-8s" % n, 0, 0, 0, []
         for sd in seeds:
-            p = [os.path.join(a.out, side, "seed%d" % sd, n, "front.csv") for side in ("old", "new")]
+            p = [os.path.join(a.out, side, "seed%d" % sd, "results", n, "front.csv") for side in ("old", "new")]
             b, w, s, logs = compare(p[0], p[1], a.max_cost)
             gm = math.exp(sum(logs) / len(logs)) if logs else float("nan")
             line += "  seed %d: +%d -%d =%d x%.3f" % (sd, b, w, s, gm)
@@ -164,7 +198,7 @@ def main():
     table.append(("all", "all", tb, tw, ts, gm))
     if a.csv:
         with open(a.csv, "w", newline="") as f:
-            f.write("# fronts_ab.py: make results' seven double searches, old %s against new %s, seeds %s, "
+            f.write("# fronts_ab.py: make results' seven double fronts (each its whole pipeline), old %s against new %s, seeds %s, "
                     "cost levels <= %g; better/worse: the new front's best error at cost <= c below 0.999x / "
                     "above 1.001x the old's; gmean: of new/old over those levels\n"
                     % (os.path.basename(a.old), os.path.basename(a.new), a.seeds, a.max_cost))

@@ -89,6 +89,10 @@ static int refit(study *S, const bk_compare_row *pub, const bk_form *f, bk_compa
 	if (rc_fit < 0)
 		return -1;
 	*r = *pub;
+	r->f[0] = bk_form_dup(f); /* its own copy of the IR: rows free theirs */
+	r->f[1] = NULL;
+	if (!r->f[0])
+		return -1;
 	memcpy(r->params, res.p, sizeof r->params);
 	char name[96];
 	snprintf(name, sizeof name, "%.80s (refit)", pub->name);
@@ -134,12 +138,11 @@ static int add_entry(study *S, const bk_catalog_entry *e)
 		return -1;
 	snprintf(r->form, sizeof r->form, "%s", text);
 	free(text);
-	bk_form_error err;
-	bk_form *f = bk_form_parse(r->form, &err);
-	if (!f || (bk_form_inputs(f) & ~S->s.provides)) {
-		bk_form_free(f); /* reads what this target does not provide (e.g. NoV on vf2d) */
+	if (bk_compare_row_parse(r, NULL, 0) || (bk_form_inputs(r->f[0]) & ~S->s.provides)) {
+		bk_compare_rows_free(r, 1); /* reads what this target does not provide (e.g. NoV on vf2d) */
 		return 0;
 	}
+	const bk_form *f = r->f[0]; /* the entry's one parse: both rows read it */
 	row_text(r, !strcmp(e->target, "V") ? e->name : e->name, "published", e->source);
 	if (!strcmp(e->target, "V")) {
 		char name[96];
@@ -156,13 +159,12 @@ static int add_entry(study *S, const bk_catalog_entry *e)
 		 * drawn at error 0 it would stand on every front; named in section.html */
 		size_t at = strlen(S->self);
 		snprintf(S->self + at, sizeof S->self - at, "%s%.120s", at ? ", " : "", r->name);
-		bk_form_free(f);
+		bk_compare_rows_free(r, 1);
 		return 0;
 	}
 	S->n++;
 	if (S->refit && refit(S, r, f, &S->rows[S->n]) == 0)
 		S->n++;
-	bk_form_free(f);
 	return 0;
 }
 
@@ -244,17 +246,17 @@ static void add_speclut_rows(study *S)
 static int gpu_columns(study *S)
 {
 	int n = S->n, nc = S->info.nchips, rc = 0;
-	const char **a = calloc((size_t)n, sizeof *a);
+	const bk_form **a = calloc((size_t)n, sizeof *a);
 	const double **p = calloc((size_t)n, sizeof *p);
 	double *v = calloc(3 * (size_t)n * (size_t)nc + 1, sizeof *v), *insn = v, *transc = v + n * nc, *vgprs = transc + n * nc;
 	char err[700];
 	if (!a || !p || !v)
 		rc = cli_fail("compare", "out of memory");
 	for (int i = 0; !rc && i < n; i++) {
-		a[i] = S->rows[i].form[0] ? S->rows[i].form : NULL;
+		a[i] = S->rows[i].f[0]; /* NULL for a LUT row */
 		p[i] = S->rows[i].params;
 	}
-	if (!rc && bk_gpucost_texts(a, NULL, p, n, S->info.chip, nc, insn, transc, vgprs, S->driver, sizeof S->driver,
+	if (!rc && bk_gpucost_forms(a, NULL, p, n, S->info.chip, nc, insn, transc, vgprs, S->driver, sizeof S->driver,
 	                            err, sizeof err))
 		rc = cli_fail("compare", "--gpu: %s", err);
 	for (int i = 0; !rc && i < n; i++)
@@ -403,13 +405,8 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 	double *v = malloc(sizeof(double) * cells);
 	if (!v)
 		return -1;
-	bk_form *f = NULL;
-	if (r->form[0]) {
-		bk_form_error fe;
-		if (!(f = bk_form_parse(r->form, &fe))) {
-			free(v);
-			return -1;
-		}
+	const bk_form *f = r->f[0]; /* the row's IR; NULL for a LUT */
+	if (f) {
 		bk_fit_spec sp;
 		memset(&sp, 0, sizeof sp);
 		sp.s = &S->s;
@@ -472,7 +469,6 @@ static int write_row_files(const study *S, const bk_compare_row *r, const char *
 			rc = -1;
 		free(text);
 	}
-	bk_form_free(f);
 	return rc;
 }
 
@@ -580,21 +576,29 @@ static const char *const setups[] = {
 	"--target env --no-lut --out o", "--target ms --out o", "--target sheen --out o", NULL};
 static const cli_table table = {dims, 4, rules, sizeof rules / sizeof rules[0], setups};
 
+/* The typed forms, parsed once here, the command line's edge: each row,
+ * check and score after reads this IR. 0, or 2 after the column of a syntax
+ * error (typed[0..npos) then hold what parsed; the caller frees them). */
+static int parse_typed(const cli_cmd *cmd, bk_form **typed)
+{
+	for (int i = 0; i < cmd->npos; i++) {
+		bk_form_error fe;
+		if (!(typed[i] = bk_form_parse(cmd->pos[i], &fe))) {
+			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
+			return 2;
+		}
+	}
+	return 0;
+}
+
 /* Refuses typed forms that cannot be scored as written: with parameters
  * (there are no values to give them) or reading an input the target does not
  * provide (NaN at every sample, which the metrics skip: rmse 0). provides:
  * the target's inputs, or 0 before the samples exist. Returns 0 or 2. */
-static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides)
+static int check_args(const cli_cmd *cmd, bk_form *const *typed, bk_target_kind kind, unsigned provides)
 {
 	for (int i = 0; i < cmd->npos; i++) {
-		bk_form_error fe;
-		bk_form *f = bk_form_parse(cmd->pos[i], &fe);
-		if (!f) {
-			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
-			return 2;
-		}
-		unsigned used = bk_form_params(f), extra = bk_form_inputs(f) & ~provides;
-		bk_form_free(f);
+		unsigned used = bk_form_params(typed[i]), extra = bk_form_inputs(typed[i]) & ~provides;
 		char uses[80];
 		form_params_text(used, uses, sizeof uses);
 		if (used)
@@ -606,6 +610,107 @@ static int check_args(const cli_cmd *cmd, bk_target_kind kind, unsigned provides
 				                 bk_input_name((bk_input)k), bk_target_name(kind));
 	}
 	return 0;
+}
+
+/* The study itself, after the options: the reference samples, the
+ * catalog's rows and their refits, the typed forms (typed: their IR, which
+ * the rows take), the LUTs, the timings and the files. Returns the exit code;
+ * the rows' IR is freed here, typed[] (what no row took) by the caller. */
+static int study_run(study *S, const cli_cmd *cmd, bk_form **typed, bk_target_kind kind, int t, long nx, long nr,
+                     int relative, int no_refit, int no_time, int no_lut, long reps, const char *model,
+                     const char *gpu, const char *out, const char *prefix)
+{
+	int rc = check_args(cmd, typed, kind, 0);
+	if (rc)
+		return rc;
+	bk_target_defaults(kind, &S->to);
+	S->to.env_f0_form = kind == BK_TARGET_ENV;
+	if (kind == BK_TARGET_VF2D)
+		S->to.nx = S->to.nr = 128; /* the study's grid: 128² keeps every heatmap CSV under 1 MB */
+	if (kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN)
+		S->to.nx = S->to.nr = 100; /* cell centres that are no LUT's texel centres (16..128): a
+		                          * LUT scored at its own texels would show no interpolation error */
+	if (nx) S->to.nx = (int)nx;
+	if (nr) S->to.nr = (int)nr;
+	S->relative = relative;
+	S->refit = !no_refit;
+	S->tier = t;
+	S->info = (bk_compare_info)BK_COMPARE_INFO_INIT;
+	if (model && cli_cost_model(cmd, model, &S->info.simple, &S->info.complex))
+		return 2;
+	if (model)
+		S->info.cost_model = model;
+	static char chipbuf[512];
+	if (gpu) {
+		char gerr[700];
+		snprintf(chipbuf, sizeof chipbuf, "%s", gpu);
+		if (bk_gpucost_chips(chipbuf, S->info.chip, BK_COMPARE_CHIPS, &S->info.nchips, gerr, sizeof gerr))
+			return cli_usage(cmd, "--gpu: %s", gerr);
+	}
+	char err[700];
+	if (bk_out_dir_check(out, err, sizeof err)) /* before minutes of work, not after */
+		return cli_fail("compare", "--out %s", err);
+	if (S->info.nchips && bk_gpucost_check(S->info.chip, S->info.nchips, S->driver, sizeof S->driver, err, sizeof err))
+		return cli_fail("compare", "--gpu: %s", err);
+	if (bk_target_build(&S->to, &S->s, cli_progress, "compare: reference", err, sizeof err))
+		return cli_fail("compare", "%s", err);
+	if ((rc = check_args(cmd, typed, kind, S->s.provides))) {
+		bk_samples_free(&S->s);
+		return rc;
+	}
+	for (int i = 0; i < cmd->npos; i++) { /* typed forms, before the minutes of refits */
+		const double zero[BK_MAX_PARAMS] = {0};
+		if (nowhere_finite(&S->s, typed[i], zero)) { /* a row of blank metrics is no score */
+			fprintf(stderr, "brdfkit compare: form '%s': not finite at any of the %zu samples of the "
+			                "target\n", cmd->pos[i], S->s.n);
+			bk_samples_free(&S->s);
+			return 2;
+		}
+	}
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		if (bk_catmap_answers(kind, 1, e))
+			add_entry(S, e);
+		cli_progress("compare: catalog forms and refits", (int)i + 1, (int)bk_catalog_count());
+	}
+	for (int i = 0; i < cmd->npos && S->n < MAX_ROWS; i++) {
+		bk_compare_row *r = &S->rows[S->n];
+		memset(r, 0, sizeof *r);
+		r->f[0] = typed[i]; /* the row takes the form's IR */
+		typed[i] = NULL;
+		snprintf(r->form, sizeof r->form, "%s", cmd->pos[i]);
+		row_text(r, cmd->pos[i], "form", "typed on the command line");
+		score(S, r, r->f[0]);
+		S->n++;
+	}
+	if ((kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN) && !no_lut)
+		add_luts(S);
+	for (int i = 0; kind == BK_TARGET_ENV && i < S->n; i++) /* ms: the fetch is E, no ALU */
+		if (!strcmp(S->rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
+			S->rows[i].ops.n[BK_K_MAD] = 1;
+			S->rows[i].ops.simple = 1;
+			S->rows[i].cost = S->info.simple;
+		}
+	if (kind == BK_TARGET_SPEC && !no_lut) /* after the loop above: their ops are their own */
+		add_speclut_rows(S);
+	if (no_time)
+		snprintf(S->untimed, sizeof S->untimed, "--no-time");
+	else if (bk_time_rows(S->rows, S->n, (int)reps, err, sizeof err)) {
+		fprintf(stderr, "brdfkit compare: warning: timing skipped: %s\n", err);
+		snprintf(S->untimed, sizeof S->untimed, "timing failed: %.270s", err);
+	}
+	if (S->info.nchips && (rc = gpu_columns(S))) {
+		bk_compare_rows_free(S->rows, S->n);
+		bk_samples_free(&S->s);
+		return rc;
+	}
+	bk_pareto(S->rows, S->n, t);
+	char *pre = bk_html_link_text(prefix, NULL); /* the one link writer (out.h): encoded, escaped */
+	rc = pre ? write_dir(S, out, pre) : cli_fail("compare", "out of memory");
+	free(pre);
+	bk_compare_rows_free(S->rows, S->n);
+	bk_samples_free(&S->s);
+	return rc;
 }
 
 int cmd_compare(int argc, char **argv)
@@ -665,106 +770,13 @@ int cmd_compare(int argc, char **argv)
 	int ctx[] = {(int)kind, no_time, no_refit,
 	             (kind != BK_TARGET_ENV && kind != BK_TARGET_SPEC && kind != BK_TARGET_MS && kind != BK_TARGET_SHEEN) ||
 	                 no_lut};
-	if ((rc = cli_applicable(&cmd, ctx)) || (rc = check_args(&cmd, kind, 0)))
+	if ((rc = cli_applicable(&cmd, ctx)))
 		return rc;
-	bk_target_defaults(kind, &S.to);
-	S.to.env_f0_form = kind == BK_TARGET_ENV;
-	if (kind == BK_TARGET_VF2D)
-		S.to.nx = S.to.nr = 128; /* the study's grid: 128² keeps every heatmap CSV under 1 MB */
-	if (kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN)
-		S.to.nx = S.to.nr = 100; /* cell centres that are no LUT's texel centres (16..128): a
-		                          * LUT scored at its own texels would show no interpolation error */
-	if (nx) S.to.nx = (int)nx;
-	if (nr) S.to.nr = (int)nr;
-	S.relative = relative;
-	S.refit = !no_refit;
-	S.tier = t;
-	S.info = (bk_compare_info)BK_COMPARE_INFO_INIT;
-	if (model && cli_cost_model(&cmd, model, &S.info.simple, &S.info.complex))
-		return 2;
-	if (model)
-		S.info.cost_model = model;
-	static char chipbuf[512];
-	if (gpu) {
-		char gerr[700];
-		snprintf(chipbuf, sizeof chipbuf, "%s", gpu);
-		if (bk_gpucost_chips(chipbuf, S.info.chip, BK_COMPARE_CHIPS, &S.info.nchips, gerr, sizeof gerr))
-			return cli_usage(&cmd, "--gpu: %s", gerr);
-	}
-	char err[700];
-	if (bk_out_dir_check(out, err, sizeof err)) /* before minutes of work, not after */
-		return cli_fail("compare", "--out %s", err);
-	if (S.info.nchips && bk_gpucost_check(S.info.chip, S.info.nchips, S.driver, sizeof S.driver, err, sizeof err))
-		return cli_fail("compare", "--gpu: %s", err);
-	if (bk_target_build(&S.to, &S.s, cli_progress, "compare: reference", err, sizeof err))
-		return cli_fail("compare", "%s", err);
-	if ((rc = check_args(&cmd, kind, S.s.provides))) {
-		bk_samples_free(&S.s);
-		return rc;
-	}
-	for (int i = 0; i < cmd.npos; i++) { /* typed forms, before the minutes of refits */
-		bk_form_error fe;
-		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
-		const double zero[BK_MAX_PARAMS] = {0};
-		if (!f)
-			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
-		else if (nowhere_finite(&S.s, f, zero)) /* a row of blank metrics is no score */
-			fprintf(stderr, "brdfkit compare: form '%s': not finite at any of the %zu samples of the "
-			                "target\n", cmd.pos[i], S.s.n);
-		else {
-			bk_form_free(f);
-			continue;
-		}
-		bk_form_free(f);
-		bk_samples_free(&S.s);
-		return 2;
-	}
-	for (size_t i = 0; i < bk_catalog_count(); i++) {
-		const bk_catalog_entry *e = bk_catalog_at(i);
-		if (bk_catmap_answers(kind, 1, e))
-			add_entry(&S, e);
-		cli_progress("compare: catalog forms and refits", (int)i + 1, (int)bk_catalog_count());
-	}
-	for (int i = 0; i < cmd.npos && S.n < MAX_ROWS; i++) {
-		bk_compare_row *r = &S.rows[S.n];
-		memset(r, 0, sizeof *r);
-		bk_form_error fe;
-		bk_form *f = bk_form_parse(cmd.pos[i], &fe);
-		if (!f) {
-			fprintf(stderr, "brdfkit compare: form:1:%d: %s\n", fe.column, fe.message);
-			bk_samples_free(&S.s);
-			return 2;
-		}
-		snprintf(r->form, sizeof r->form, "%s", cmd.pos[i]);
-		row_text(r, cmd.pos[i], "form", "typed on the command line");
-		score(&S, r, f);
-		bk_form_free(f);
-		S.n++;
-	}
-	if ((kind == BK_TARGET_ENV || kind == BK_TARGET_MS || kind == BK_TARGET_SHEEN) && !no_lut)
-		add_luts(&S);
-	for (int i = 0; kind == BK_TARGET_ENV && i < S.n; i++) /* ms: the fetch is E, no ALU */
-		if (!strcmp(S.rows[i].kind, "lut")) { /* f0·A + B after the fetch: one mad */
-			S.rows[i].ops.n[BK_K_MAD] = 1;
-			S.rows[i].ops.simple = 1;
-			S.rows[i].cost = S.info.simple;
-		}
-	if (kind == BK_TARGET_SPEC && !no_lut) /* after the loop above: their ops are their own */
-		add_speclut_rows(&S);
-	if (no_time)
-		snprintf(S.untimed, sizeof S.untimed, "--no-time");
-	else if (bk_time_rows(S.rows, S.n, (int)reps, err, sizeof err)) {
-		fprintf(stderr, "brdfkit compare: warning: timing skipped: %s\n", err);
-		snprintf(S.untimed, sizeof S.untimed, "timing failed: %.270s", err);
-	}
-	if (S.info.nchips && (rc = gpu_columns(&S))) {
-		bk_samples_free(&S.s);
-		return rc;
-	}
-	bk_pareto(S.rows, S.n, t);
-	char *pre = bk_html_link_text(prefix, NULL); /* the one link writer (out.h): encoded, escaped */
-	rc = pre ? write_dir(&S, out, pre) : cli_fail("compare", "out of memory");
-	free(pre);
-	bk_samples_free(&S.s);
+	bk_form *typed[sizeof cmd.pos / sizeof cmd.pos[0]] = {NULL};
+	if ((rc = parse_typed(&cmd, typed)) == 0)
+		rc = study_run(&S, &cmd, typed, kind, t, nx, nr, relative, no_refit, no_time, no_lut, reps, model, gpu, out,
+		               prefix);
+	for (int i = 0; i < cmd.npos; i++)
+		bk_form_free(typed[i]);
 	return rc;
 }

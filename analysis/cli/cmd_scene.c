@@ -91,14 +91,15 @@ static void time_sets(bk_scene_result *R, int nset)
 {
 	static int told;
 	size_t cap = (size_t)(nset > 0 ? nset : 1) * BK_SCENE_TERMS * 2;
-	int n = 0;
+	int n = 0, bad = 0;
 	bk_compare_row *rows = calloc(cap, sizeof *rows);
 	int *owner = calloc(cap, sizeof *owner);
+	char err[256] = "out of memory";
 	for (int i = 0; i < nset; i++)
 		R[i].ns = R[i].gen_ns = 0;
-	for (int i = 0; rows && owner && i < nset; i++)
-		for (int t = 0; t < BK_SCENE_TERMS; t++)
-			for (int g = 0; g < 2 && R[i].has[t]; g++) {
+	for (int i = 0; rows && owner && !bad && i < nset; i++)
+		for (int t = 0; t < BK_SCENE_TERMS && !bad; t++)
+			for (int g = 0; g < 2 && R[i].has[t] && !bad; g++) {
 				const bk_scene_choice *c = g ? &R[i].gen[t] : &R[i].ch[t];
 				if (c->lut || !c->text)
 					continue;
@@ -106,11 +107,16 @@ static void time_sets(bk_scene_result *R, int nset)
 				snprintf(r->name, sizeof r->name, "%s %s %d", R[i].set.name, bk_scene_term_name(t), g);
 				snprintf(r->form, sizeof r->form, "%s", c->text);
 				memcpy(r->params, c->p, sizeof r->params);
-				r->nparams = c->form ? bk_form_nparams(c->form) : 0;
+				/* the choice's own IR, copied (the row frees its own); a
+				 * choice that holds only text is parsed here, once */
+				if (c->form ? !(r->f[0] = bk_form_dup(c->form)) : bk_compare_row_parse(r, err, sizeof err) != 0) {
+					bad = 1;
+					break;
+				}
+				r->nparams = bk_form_nparams(r->f[0]);
 				owner[n++] = i * 2 + g;
 			}
-	char err[256] = "out of memory";
-	if (!rows || !owner || bk_time_rows(rows, n, TIME_REPS, err, sizeof err)) {
+	if (bad || !rows || !owner || bk_time_rows(rows, n, TIME_REPS, err, sizeof err)) {
 		if (!told++)
 			fprintf(stderr, "brdfkit scene: warning: CPU timings not measured: %s\n", err);
 		for (int i = 0; i < nset; i++)
@@ -121,6 +127,7 @@ static void time_sets(bk_scene_result *R, int nset)
 			*(owner[k] % 2 ? &r->gen_ns : &r->ns) += rows[k].ns;
 		}
 	}
+	bk_compare_rows_free(rows, n);
 	free(rows);
 	free(owner);
 }

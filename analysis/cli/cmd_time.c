@@ -134,14 +134,15 @@ static int read_rows(char **pos, int npos, time_table *T)
 	return 0;
 }
 
-/* Parses a row's form(s): the column of a syntax error; the shared checks
- * (form_check.h: parameters given and used, a value somewhere); op counts
- * and cost of A and B together. */
+/* Parses a row's form(s) into the row's IR, r->f, the one parse of its
+ * text (what SPIR-V, the timing and the op counts read): the column of a
+ * syntax error; the shared checks (form_check.h: parameters given and used,
+ * a value somewhere); op counts and cost of A and B together. */
 static int check_row(time_table *T, int i)
 {
 	bk_compare_row *r = &T->rows[i];
 	const char *text[2] = {r->form, r->form_b};
-	bk_form *f[2] = {NULL, NULL};
+	bk_form **f = r->f;
 	unsigned used = 0;
 	int rc = 0, np = 0;
 	for (int p = 0; p < 2 && text[p][0] && !rc; p++) {
@@ -160,11 +161,8 @@ static int check_row(time_table *T, int i)
 		rc = form_check_finite("time", r->name, f[p], r->params);
 	for (int p = 0; p < 2 && f[p] && !rc; p++) /* the C it times is float: codegen's warning (M3) */
 		form_warn_precision("time", r->name, f[p], r->params, BK_F32);
-	if (rc) {
-		bk_form_free(f[0]);
-		bk_form_free(f[1]);
-		return rc;
-	}
+	if (rc)
+		return rc; /* the row's IR is freed with the others' */
 	memset(&r->ops, 0, sizeof r->ops);
 	r->nparams = r->nparams > np ? r->nparams : np;
 	for (int p = 0; p < 2 && f[p]; p++) {
@@ -174,7 +172,6 @@ static int check_row(time_table *T, int i)
 			r->ops.n[k] += o.n[k];
 		r->ops.simple += o.simple;
 		r->ops.complex += o.complex;
-		bk_form_free(f[p]);
 	}
 	r->cost = bk_ops_cost(&r->ops, BK_COST_SIMPLE, BK_COST_COMPLEX);
 	for (int k = 0; T->typed[i] && k < r->nparams; k++) /* "form2 (p0=0.5;p1=2)" */
@@ -186,15 +183,12 @@ static int check_row(time_table *T, int i)
 /* SPIR-V instructions of A (+ B); -1 with one warning when the tools are missing. */
 static void spirv_row(bk_compare_row *r, int *warned)
 {
-	const char *text[2] = {r->form, r->form_b};
 	r->spirv = 0;
-	for (int p = 0; p < 2 && text[p][0] && r->spirv >= 0; p++) {
+	for (int p = 0; p < 2 && r->f[p] && r->spirv >= 0; p++) {
 		char err[512];
-		bk_form *f = bk_form_parse(text[p], NULL);
-		int k = f ? bk_spirv_count(f, r->params, err, sizeof err) : -1;
-		bk_form_free(f);
+		int k = bk_spirv_count(r->f[p], r->params, err, sizeof err);
 		if (k < 0 && !*warned) {
-			fprintf(stderr, "brdfkit time: warning: spirv column is -1: %s\n", f ? err : "parse failed");
+			fprintf(stderr, "brdfkit time: warning: spirv column is -1: %s\n", err);
 			*warned = 1;
 		}
 		r->spirv = k < 0 ? -1 : r->spirv + k;
@@ -307,6 +301,7 @@ int cmd_time(int argc, char **argv)
 	}
 	if (!rc)
 		rc = output(out, T->rows, T->n);
+	bk_compare_rows_free(T->rows, T->n);
 	free(T);
 	return rc;
 }
