@@ -309,7 +309,7 @@ test: deps
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
-PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page) \
+PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page fronts_ab) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
 SAN_RUNS   = $(addprefix test-san-,unit kernels gpucost fault doors) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
 # make starts the goals in this order, two at a time: the longest first (CPU
@@ -348,6 +348,10 @@ test-plain-cites:
 # every CSV under results/ opens with its provenance (the committed results)
 test-plain-provenance:
 	sh tests/provenance.sh
+# analysis/bench/fronts_ab.py runs each front's whole pipeline, as make results
+# does (its --dry-run against the Makefile and the committed fronts)
+test-plain-fronts_ab: $(TOOL)
+	sh tests/fronts_ab.sh $(TOOL)
 # the committed results page renders in headless Chromium (no build needed;
 # Chromium is the one package the suites need only here)
 test-plain-page:

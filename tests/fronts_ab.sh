@@ -1,0 +1,116 @@
+#!/bin/sh
+# fronts_ab.sh — analysis/bench/fronts_ab.py runs each of make results' seven
+# double fronts as make results makes it (issue 38: the four-step pipeline,
+# first search, half search, merged front), not the last step alone. From
+# its --dry-run: every front has a step that writes it; every --start-front
+# a step reads is a front an earlier step wrote (no step reads what the
+# pipeline did not make, none runs before what it reads); every step has the
+# seed and one thread, and no --gpu or --link-prefix; and each front's last
+# step is, its paths aside, the command the committed
+# results/search/NAME/front.csv says made it (the Makefile and the results
+# agree). Controls: the same checks catch a pipeline with its half search
+# left out, and one with a step's argument changed.
+# usage: sh tests/fronts_ab.sh path/to/brdfkit   (from the repository root)
+set -u
+BK=${1:?usage: fronts_ab.sh path/to/brdfkit}
+ROOT=$(cd "$(dirname "$0")/.." && pwd)
+cd "$ROOT" || exit 1
+T=$(mktemp -d /tmp/bk_fronts_ab_XXXXXX)
+trap 'rm -rf "$T"' EXIT
+python3 analysis/bench/fronts_ab.py "$BK" "$BK" --seeds 3 --dry-run --out "$T/ab" >"$T/steps.txt" 2>"$T/err.txt" || {
+	echo "FAIL: fronts_ab.py --dry-run: $(head -3 "$T/err.txt")"
+	exit 1
+}
+python3 - "$T/steps.txt" "$T/ab" <<'EOF'
+import os, shlex, sys
+sys.path.insert(0, "analysis/bench")
+from fronts_moved import SEARCHES
+
+def pipelines(path):
+    """{directory: [argv, ...]} from the dry run's listing."""
+    out, cur = {}, None
+    for line in open(path):
+        if line.startswith("# "):
+            cur = line.split()[1]
+            out[cur] = []
+        elif line.strip():
+            out[cur].append(shlex.split(line))
+    return out
+
+def opt(argv, name):
+    return [argv[i + 1] for i, a in enumerate(argv) if a == name and i + 1 < len(argv)]
+
+def committed(name):
+    for line in open("results/search/%s/front.csv" % name):
+        if line.startswith("# command: "):
+            return shlex.split(line[len("# command: "):])
+    return None
+
+def bare(argv):
+    """The arguments less paths, seed, threads, --gpu and --link-prefix."""
+    out, skip = [], 0
+    for a in argv[1:]:
+        if skip:
+            skip = 0
+            continue
+        if a in ("--out", "--start-front", "--gpu", "--link-prefix", "--seed", "--threads"):
+            skip = 1
+            continue
+        out.append(a)
+    return out
+
+def faults(d, steps):
+    f = []
+    made = set()
+    for argv in steps:
+        for sf in opt(argv, "--start-front"):
+            if os.path.dirname(sf) not in made:
+                f.append("a step reads %s before any step made it" % sf)
+            if not sf.startswith(d + "/"):
+                f.append("a step reads %s, outside its pipeline" % sf)
+        if opt(argv, "--seed") != ["3"] or opt(argv, "--threads") != ["1"]:
+            f.append("a step without --seed 3 --threads 1")
+        if "--gpu" in argv or "--link-prefix" in argv:
+            f.append("a step kept --gpu or --link-prefix")
+        made.update(opt(argv, "--out"))
+    for n in SEARCHES:
+        mine = [a for a in steps if opt(a, "--out") == [os.path.join(d, "results", n)]]
+        if len(mine) != 1:
+            f.append("%s: %d steps write its front" % (n, len(mine)))
+            continue
+        want = committed(n)
+        if want is None or bare(mine[0]) != bare(want):
+            f.append("%s: the last step is not the committed front's command" % n)
+        if len(opt(mine[0], "--start-front")) != len(opt(want or [], "--start-front")):
+            f.append("%s: it reads %d fronts, the committed run %d" % (n, len(opt(mine[0], "--start-front")),
+                                                                          len(opt(want or [], "--start-front"))))
+    return f
+
+p = pipelines(sys.argv[1])
+ok = bad = 0
+for side in ("old", "new"):
+    d = os.path.join(sys.argv[2], side, "seed3")
+    if d not in p:
+        print("FAIL: no pipeline for %s" % d); bad += 1; continue
+    f = faults(d, p[d])
+    if f:
+        print("FAIL: %s: %s" % (d, "; ".join(f[:4]))); bad += 1
+    else:
+        ok += 1
+    # controls: the half searches left out; one step's budget changed
+    steps = p[d]
+    no_half = [a for a in steps if "--precision" not in a or opt(a, "--out")[0].find("/results/") >= 0]
+    if len(no_half) < len(steps) and faults(d, no_half):
+        ok += 1
+    else:
+        print("FAIL: control: a pipeline without its half searches passes"); bad += 1
+    changed = [list(a) for a in steps]
+    last = [a for a in changed if opt(a, "--out") == [os.path.join(d, "results", "f_gold")]][0]
+    last[last.index("--evals") + 1] = "7"
+    if faults(d, changed):
+        ok += 1
+    else:
+        print("FAIL: control: a changed budget passes"); bad += 1
+print("fronts_ab: %d passed, %d failed" % (ok, bad))
+sys.exit(1 if bad else 0)
+EOF
