@@ -107,9 +107,10 @@ static void time_sets(bk_scene_result *R, int nset)
 				snprintf(r->name, sizeof r->name, "%s %s %d", R[i].set.name, bk_scene_term_name(t), g);
 				snprintf(r->form, sizeof r->form, "%s", c->text);
 				memcpy(r->params, c->p, sizeof r->params);
-				/* the choice's own IR, copied (the row frees its own); a
-				 * choice that holds only text is parsed here, once */
-				if (c->form ? !(r->f[0] = bk_form_dup(c->form)) : bk_compare_row_parse(r, err, sizeof err) != 0) {
+				/* the choice's own IR (scene_fit.h: a closed form's text is
+				 * parsed once, where it is chosen), copied: the row frees its own */
+				if (!c->form || !(r->f[0] = bk_form_dup(c->form))) {
+					snprintf(err, sizeof err, "%s: %s", r->name, c->form ? "out of memory" : "no IR for its form");
 					bad = 1;
 					break;
 				}
@@ -137,7 +138,7 @@ static void time_sets(bk_scene_result *R, int nset)
 static int gpu_sets(bk_scene_result *R, int nset)
 {
 	int n = 2 * nset * BK_SCENE_TERMS, nc = gpu.n, rc = 0;
-	const char **a = calloc((size_t)n, sizeof *a);
+	const bk_form **a = calloc((size_t)n, sizeof *a);
 	const double **p = calloc((size_t)n, sizeof *p);
 	double *insn = calloc((size_t)n * (size_t)nc + 1, sizeof *insn);
 	char err[700];
@@ -148,10 +149,10 @@ static int gpu_sets(bk_scene_result *R, int nset)
 			for (int g = 0; g < 2; g++) {
 				const bk_scene_choice *c = g ? &R[i].gen[t] : &R[i].ch[t];
 				int k = (i * BK_SCENE_TERMS + t) * 2 + g;
-				a[k] = R[i].has[t] && !c->lut ? c->text : NULL;
+				a[k] = R[i].has[t] && !c->lut ? c->form : NULL; /* the choice's IR, parsed once */
 				p[k] = c->p;
 			}
-	if (!rc && bk_gpucost_texts(a, NULL, p, n, gpu.chip, nc, insn, NULL, NULL, gpu.driver, sizeof gpu.driver, err,
+	if (!rc && bk_gpucost_forms(a, NULL, p, n, gpu.chip, nc, insn, NULL, NULL, gpu.driver, sizeof gpu.driver, err,
 	                            sizeof err))
 		rc = cli_fail("scene", "--gpu: %s", err);
 	for (int i = 0; !rc && i < nset; i++)
