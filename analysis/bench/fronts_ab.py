@@ -3,6 +3,7 @@
 
   python3 analysis/bench/fronts_ab.py OLD_BRDFKIT NEW_BRDFKIT [--seeds 1,2,3] [--jobs 2]
                                       [--max-cost 16] [--out DIR] [--csv FILE] [--dry-run]
+                                      [--fronts vf2d,env_mix,...]
 
 A search at a fixed budget is one draw: a change to generation, starts or
 screening reorders what it tries, and one seed's front moves both ways
@@ -23,7 +24,9 @@ other; --jobs pipelines at a time. A pipeline already in DIR (default
 commands) matches, so a second call with more seeds or another NEW binary
 reuses the old side; one whose stamp does not match is made again, and one
 with no stamp stops the script (remove it or give another --out). --dry-run
-prints the commands and runs nothing.
+prints the commands and runs nothing; --fronts judges some of the seven
+(their pipelines only, and what those read: env_mix's takes env_f0's first
+searches) in a shorter run.
 
 Printed, per front and seed: of the costs <= --max-cost at which either front
 has a member, those where the new front's best error at cost <= c is better
@@ -53,10 +56,10 @@ from fronts_moved import SEARCHES, front, rows, upto, verdict  # noqa: E402
 MOVED = (("build/evolved/", "evolved/"), ("build/half/", "half/"), ("results/search/", "results/"))
 
 
-def pipeline(binary, d, seed):
-    """The steps of the seven fronts' pipelines, as make -n prints them for
-    this binary, their paths under d; each an argv list."""
-    targets = ["results-search-%s" % n for n in SEARCHES]
+def pipeline(binary, d, seed, fronts):
+    """The steps of the fronts' pipelines, as make -n prints them for this
+    binary, their paths under d; each an argv list."""
+    targets = ["results-search-%s" % n for n in fronts]
     text = subprocess.run(["make", "--no-print-directory", "-n", "TOOL=" + binary] + targets,
                           capture_output=True, text=True, check=True).stdout
     steps = []
@@ -92,14 +95,14 @@ def digest(binary):
     return h.hexdigest()
 
 
-def run(binary, key, seed, d, dry):
+def run(binary, key, seed, d, dry, fronts):
     """key: the binary's digest; the stamp is it with the pipeline's steps."""
-    steps = pipeline(binary, d, seed)
+    steps = pipeline(binary, d, seed, fronts)
     if dry:
         return seed, d, steps, None
     stamp = key + "\n" + "".join(" ".join(shlex.quote(x) for x in s[1:]) + "\n" for s in steps)
     stamp_path = d + ".stamp"
-    done = all(os.path.exists(os.path.join(d, "results", n, "front.csv")) for n in SEARCHES)
+    done = all(os.path.exists(os.path.join(d, "results", n, "front.csv")) for n in fronts)
     have = None
     if os.path.exists(stamp_path):
         with open(stamp_path) as f:
@@ -155,7 +158,12 @@ def main():
     ap.add_argument("--out", default="/tmp/fronts_ab")
     ap.add_argument("--csv")
     ap.add_argument("--dry-run", action="store_true")
+    ap.add_argument("--fronts", default=",".join(SEARCHES))
     a = ap.parse_args()
+    fronts = a.fronts.split(",")
+    for n in fronts:
+        if n not in SEARCHES:
+            sys.exit("fronts_ab: --fronts: unknown front '%s' (known: %s)" % (n, ", ".join(SEARCHES)))
     seeds = [int(x) for x in a.seeds.split(",")]
     jobs = []
     for side, binary in (("old", a.old), ("new", a.new)):
@@ -164,7 +172,7 @@ def main():
         for sd in seeds:
             d = os.path.join(os.path.abspath(a.out), side, "seed%d" % sd)
             os.makedirs(os.path.dirname(d), exist_ok=True)
-            jobs.append((binary, key, sd, d, a.dry_run))
+            jobs.append((binary, key, sd, d, a.dry_run, fronts))
     with ThreadPoolExecutor(max_workers=a.jobs) as ex:
         for sd, d, steps, t in ex.map(lambda j: run(*j), jobs):
             if a.dry_run:
@@ -179,7 +187,7 @@ def main():
     tb = tw = ts = 0
     alllogs = []
     table = []
-    for n in SEARCHES:
+    for n in fronts:
         line, nb, nw, ns, nl = "%-8s" % n, 0, 0, 0, []
         for sd in seeds:
             p = [os.path.join(a.out, side, "seed%d" % sd, "results", n, "front.csv") for side in ("old", "new")]
@@ -198,10 +206,10 @@ def main():
     table.append(("all", "all", tb, tw, ts, gm))
     if a.csv:
         with open(a.csv, "w", newline="") as f:
-            f.write("# fronts_ab.py: make results' seven double fronts (each its whole pipeline), old %s against new %s, seeds %s, "
-                    "cost levels <= %g; better/worse: the new front's best error at cost <= c below 0.999x / "
+            f.write("# fronts_ab.py: make results' double fronts %s (each its whole pipeline), old %s against new %s, "
+                    "seeds %s, cost levels <= %g; better/worse: the new front's best error at cost <= c below 0.999x / "
                     "above 1.001x the old's; gmean: of new/old over those levels\n"
-                    % (os.path.basename(a.old), os.path.basename(a.new), a.seeds, a.max_cost))
+                    % (" ".join(fronts), os.path.basename(a.old), os.path.basename(a.new), a.seeds, a.max_cost))
             w = csv.writer(f)
             w.writerow(["search", "seed", "better", "worse", "same", "gmean_new_over_old"])
             for r in table:
