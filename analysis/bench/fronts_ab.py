@@ -118,18 +118,20 @@ def run(binary, key, seed, d, dry, fronts):
         os.remove(stamp_path)
     for sub in ("evolved", "half", "results"):
         os.makedirs(os.path.join(d, sub), exist_ok=True)
-    t0, r0 = time.time(), os.times()
+    t0, cpu = time.time(), 0.0
     with open(d + ".log", "w") as log:
         for argv in steps:
             log.write("$ %s\n" % " ".join(shlex.quote(x) for x in argv))
             log.flush()
-            rc = subprocess.call(argv, stdout=log, stderr=log)
-            if rc != 0:
-                sys.exit("fronts_ab: %s failed (exit %d), see %s.log" % (" ".join(argv), rc, d))
-    r1 = os.times()
+            p = subprocess.Popen(argv, stdout=log, stderr=log)
+            _, status, ru = os.wait4(p.pid, 0)  # this step's own CPU (os.times would add the other jobs')
+            p.returncode = os.waitstatus_to_exitcode(status)
+            cpu += ru.ru_utime + ru.ru_stime
+            if p.returncode != 0:
+                sys.exit("fronts_ab: %s failed (exit %d), see %s.log" % (" ".join(argv), p.returncode, d))
     with open(stamp_path, "w") as f:
         f.write(stamp)
-    return seed, d, steps, (time.time() - t0, r1.children_user - r0.children_user)
+    return seed, d, steps, (time.time() - t0, cpu)
 
 
 def compare(old, new, max_cost):
