@@ -50,7 +50,10 @@ int bk_png_write(FILE *f, int w, int h, int channels, int srgb, double dpi, cons
 		return -1;
 	}
 	png_init_io(png, f);
-	png_set_compression_level(png, 9);
+	/* zlib's own default, 6, not 9: on the 20 largest PNGs of results/
+	 * level 9 took 6.5x the CPU of level 6 for files 2.5 % smaller (1.76
+	 * against 0.27 s, 2.00 against 2.05 MB), and the tests write hundreds */
+	png_set_compression_level(png, 6);
 	png_set_IHDR(png, info, (png_uint_32)w, (png_uint_32)h, 8, channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY,
 	             PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
 	if (srgb && channels == 3)
