@@ -321,8 +321,9 @@ TEST_RUNS  = $(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) $(filter-out $(TE
 SAN_ENV    = UBSAN_OPTIONS=print_stacktrace=1
 .PHONY: test-runs $(PLAIN_RUNS) $(SAN_RUNS)
 # The suites share one directory of reference tables (BRDFKIT_TABLE_CACHE,
-# analysis/lutcache.h): each LUT table scored is baked once per make test,
-# not once in every test process and command that scores it (the same bits;
+# analysis/lutcache.h): each LUT table scored, and each env, ms or sheen
+# target's reference integrals, are made once per make test, not once in
+# every test process and command that needs them (the same bits;
 # make test empties it first, so no table outlives the build that baked it)
 TABLE_CACHE = $(CURDIR)/build/test-tables
 $(PLAIN_RUNS) $(SAN_RUNS): export BRDFKIT_TABLE_CACHE = $(TABLE_CACHE)
@@ -505,8 +506,9 @@ RESULTS_RUNS += results-lut-filament
 .PHONY: results-runs $(RESULTS_RUNS)
 # make results' runs share one directory of reference tables, as make test's
 # suites do (TABLE_CACHE, analysis/lutcache.h): a LUT table the compares,
-# searches and scenes score is baked once per make results, not once per
-# command; the same bits, so the same results; emptied first
+# searches and scenes score, and an env, ms or sheen target's reference
+# integrals, are made once per make results, not once per command; the same
+# bits, so the same results; emptied first
 RESULTS_TABLES = $(CURDIR)/build/results-tables
 $(RESULTS_RUNS): export BRDFKIT_TABLE_CACHE = $(RESULTS_TABLES)
 

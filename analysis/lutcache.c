@@ -69,3 +69,55 @@ void bk_lutcache_write(const char *dir, const char *key, const double *t, size_t
 	else
 		(void)bk_out_commit(&o, err, sizeof err); /* a failed commit leaves nothing (out.h) */
 }
+
+/* Targets of up to 256² cells are kept (a 1 MB file; the default 64x64 env
+ * is 64 KB): a larger grid is a one-off study, and a 4096² one would write
+ * 268 MB. */
+#define TARGET_MAX_CELLS 65536
+
+/* env and ms share the DFG's integrals; sheen reads no Smith form. */
+void bk_lutcache_target_key(const bk_target_options *o, char *key, size_t len)
+{
+	int sheen = o->kind == BK_TARGET_SHEEN;
+	snprintf(key, len, "target %s smith %d nx %d nr %d x %a %a r %a %a tol %a", sheen ? "sheen" : "dfg",
+	         sheen ? 0 : (int)o->smith, o->nx, o->nr, o->x_lo > 0 ? o->x_lo : 0.0, o->x_hi, o->r_lo, o->r_hi, 1e-8);
+}
+
+/* Three cells of a file's integrals made again here (the first, the middle,
+ * the last) must equal it bit for bit, as bk_lut_table_cached's texels: a
+ * file another integrator wrote is made over, not read. */
+static int target_probe(const bk_target_options *o, const double *AB, size_t n)
+{
+	const size_t cell[3] = {0, n / 2, n - 1};
+	for (int q = 0; q < 3; q++) {
+		double A, B;
+		if (bk_target_reference_cell(o, cell[q], &A, &B) || memcmp(&A, &AB[cell[q]], sizeof A) ||
+		    memcmp(&B, &AB[n + cell[q]], sizeof B))
+			return -1;
+	}
+	return 0;
+}
+
+int bk_lutcache_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                             char *err, size_t errlen)
+{
+	const char *dir = bk_lutcache_dir();
+	size_t n = bk_target_reference_cells(o);
+	double *AB = dir && n && n <= TARGET_MAX_CELLS && !o->reference ? malloc(sizeof *AB * 2 * n) : NULL;
+	if (!AB) /* no cache, nothing to keep in it (or too much), or no memory: the build as it is */
+		return bk_target_build(o, s, progress, ctx, err, errlen);
+	char key[320];
+	bk_lutcache_target_key(o, key, sizeof key);
+	if (bk_lutcache_read(dir, key, AB, 2 * n) || target_probe(o, AB, n)) {
+		if (bk_target_reference(o, AB, progress, ctx, err, errlen)) {
+			free(AB); /* the build fails on the same cell with the same message */
+			return bk_target_build(o, s, NULL, NULL, err, errlen);
+		}
+		bk_lutcache_write(dir, key, AB, 2 * n);
+	}
+	bk_target_options t = *o;
+	t.reference = AB;
+	int rc = bk_target_build(&t, s, NULL, NULL, err, errlen); /* progress: the integrals' (above) */
+	free(AB);
+	return rc;
+}

@@ -4,7 +4,8 @@
  * A LUT row's texels are baked by the reference integrator at tol 1e-8
  * (lutscore.c): a 128² table is about two CPU seconds, and every brdfkit
  * compare, search --fetch-cost and scene bakes the tables it scores anew,
- * the same tables run after run. With BRDFKIT_TABLE_CACHE naming a directory,
+ * the same tables run after run; so is every env, ms and sheen target's
+ * grid of reference integrals (bk_lutcache_target_build). With BRDFKIT_TABLE_CACHE naming a directory,
  * a table baked once is written there (one file per table, through the one
  * safe writer, analysis/out.h) and a later run reads it instead of baking it:
  * the same bits, so every output is the same bytes with or without it. A
@@ -19,6 +20,8 @@
 #ifndef BK_LUTCACHE_H
 #define BK_LUTCACHE_H
 
+#include "target.h"
+
 #include <stddef.h>
 
 /* The directory of BRDFKIT_TABLE_CACHE, NULL when unset or empty. */
@@ -28,5 +31,16 @@ const char *bk_lutcache_dir(void);
 int bk_lutcache_read(const char *dir, const char *key, double *t, size_t n);
 /* Stores t under key (atomically; a failure leaves no file and is ignored). */
 void bk_lutcache_write(const char *dir, const char *key, const double *t, size_t n);
+
+/* bk_target_build, the reference integrals of an env, ms or sheen target
+ * (target.h, bk_target_reference: 4,096 integrals for a default 64x64 env,
+ * about half a CPU second) taken from the cache when it holds them, made and
+ * stored there when it does not; any other target, a grid over 256² cells,
+ * or no cache: the build itself. The same bits either way, and the same
+ * errors; progress only while integrals are made. */
+int bk_lutcache_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
+                             char *err, size_t errlen);
+/* The key those integrals are kept under: what they depend on. */
+void bk_lutcache_target_key(const bk_target_options *o, char *key, size_t len);
 
 #endif

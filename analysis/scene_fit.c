@@ -10,6 +10,7 @@
 #include "catalog.h"
 #include "albfit.h"
 #include "fit.h"
+#include "lutcache.h"
 #include "lutrows.h"
 #include "search.h"
 #include "search/catalogmap.h"
@@ -153,7 +154,7 @@ static int env_samples(const bk_target_options *o, const double key[MEMO_KEY], d
 	if (k == memo.n && memo.n == MEMO_MAX) { /* full: built for this set alone */
 		pthread_mutex_unlock(&memo.mu);
 		d->ns = 1;
-		return bk_target_build(o, &d->s[0], progress, ctx, err, errlen);
+		return bk_lutcache_target_build(o, &d->s[0], progress, ctx, err, errlen);
 	}
 	if (k == memo.n) /* a failed build is tried again, in the same slot */
 		memo.n++;
@@ -161,7 +162,7 @@ static int env_samples(const bk_target_options *o, const double key[MEMO_KEY], d
 	memo.e[k].state = 0;
 	pthread_mutex_unlock(&memo.mu);
 	bk_samples s;
-	int rc = bk_target_build(o, &s, progress, ctx, err, errlen);
+	int rc = bk_lutcache_target_build(o, &s, progress, ctx, err, errlen);
 	pthread_mutex_lock(&memo.mu);
 	memo.e[k].state = rc ? -1 : 1;
 	if (!rc)
@@ -230,7 +231,7 @@ static int domain_build(const bk_scene *sc, const bk_scene_set *set, bk_scene_te
 	memcpy(d->key, key, sizeof d->key);
 	for (int k = 0; k < nends; k++) {
 		o.f0[0] = ends[k];
-		if (bk_target_build(&o, &d->s[k], NULL, NULL, err, errlen)) {
+		if (bk_lutcache_target_build(&o, &d->s[k], NULL, NULL, err, errlen)) {
 			domain_free(d);
 			return -1;
 		}
@@ -633,7 +634,7 @@ static int consider_speclut(const bk_scene *sc, const bk_scene_set *set, bk_scen
 	memset(s, 0, sizeof s);
 	for (int k = 0; k < nends && !rc; k++) {
 		o.f0[0] = ends[k];
-		rc = bk_target_build(&o, &s[k], NULL, NULL, err, errlen);
+		rc = bk_lutcache_target_build(&o, &s[k], NULL, NULL, err, errlen);
 	}
 	int b = -1, bm = -1; /* the cheapest within the budget; the most accurate */
 	double e[N];
@@ -710,7 +711,7 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 	bk_seeds_screening_grid(&o);
 	bk_samples screen;
 	char err[256];
-	if (bk_target_build(&o, &screen, NULL, NULL, err, sizeof err))
+	if (bk_lutcache_target_build(&o, &screen, NULL, NULL, err, sizeof err))
 		return -1;
 	bk_seeds sd;
 	memset(&sd, 0, sizeof sd);

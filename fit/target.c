@@ -236,6 +236,65 @@ static int build_lobe(const bk_target_options *o, bk_samples *s, char *err, size
 	return 0;
 }
 
+/* ---- the reference integrals of env, ms and sheen (target.h) ---------------- */
+
+size_t bk_target_reference_cells(const bk_target_options *o)
+{
+	int has = o->kind == BK_TARGET_ENV || o->kind == BK_TARGET_MS || o->kind == BK_TARGET_SHEEN;
+	return has && o->nx > 0 && o->nr > 0 ? (size_t)o->nx * (size_t)o->nr : 0;
+}
+
+/* Cell c's centre: NoV (x below 0 reads as 0) and r. */
+static void ref_centre(const bk_target_options *o, size_t c, double *NoV, double *r)
+{
+	int j = (int)(c / (size_t)o->nx), k = (int)(c % (size_t)o->nx);
+	*NoV = centre(o->x_lo > 0 ? o->x_lo : 0.0, o->x_hi, k, o->nx);
+	*r = centre(o->r_lo, o->r_hi, j, o->nr);
+}
+
+int bk_target_reference_cell(const bk_target_options *o, size_t c, double *A, double *B)
+{
+	double NoV, r;
+	ref_centre(o, c, &NoV, &r);
+	if (o->kind == BK_TARGET_SHEEN)
+		return *B = 0, bk_sheen_albedo(NoV, r, 1e-8, A, NULL);
+	return bk_dfg(NoV, r, o->smith, 1e-8, A, B, NULL);
+}
+
+static int ref_failed(const bk_target_options *o, size_t c, char *err, size_t errlen)
+{
+	double NoV, r;
+	ref_centre(o, c, &NoV, &r);
+	snprintf(err, errlen, "%s: reference integral failed at NoV %g, r %g", names[o->kind], NoV, r);
+	return -1;
+}
+
+int bk_target_reference(const bk_target_options *o, double *AB, bk_progress_fn progress, void *ctx, char *err,
+                        size_t errlen)
+{
+	size_t n = bk_target_reference_cells(o);
+	for (size_t c = 0; c < n; c++) {
+		if (bk_target_reference_cell(o, c, &AB[c], &AB[n + c]))
+			return ref_failed(o, c, err, errlen);
+		if (progress && (c + 1) % (size_t)o->nx == 0)
+			progress(ctx, (int)((c + 1) / (size_t)o->nx), o->nr);
+	}
+	return 0;
+}
+
+/* Cell c's values: the options' own (o->reference) or integrated here; the
+ * same bits either way. 0, or -1 with the message. */
+static int ref_at(const bk_target_options *o, size_t c, double *A, double *B, char *err, size_t errlen)
+{
+	if (o->reference) {
+		size_t n = (size_t)o->nx * (size_t)o->nr;
+		*A = o->reference[c];
+		*B = o->reference[n + c];
+		return 0;
+	}
+	return bk_target_reference_cell(o, c, A, B) ? ref_failed(o, c, err, errlen) : 0;
+}
+
 static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                      char *err, size_t errlen)
 {
@@ -248,12 +307,11 @@ static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn p
 		double r = centre(o->r_lo, o->r_hi, j, o->nr);
 		for (int k = 0; k < o->nx; k++) {
 			double NoV = centre(x_lo, o->x_hi, k, o->nx), A, B;
-			if (bk_dfg(NoV, r, o->smith, 1e-8, &A, &B, NULL)) {
-				snprintf(err, errlen, "env: reference integral failed at NoV %g, r %g", NoV, r);
+			size_t c = (size_t)j * o->nx + k;
+			if (ref_at(o, c, &A, &B, err, errlen)) {
 				bk_samples_free(s);
 				return -1;
 			}
-			size_t c = (size_t)j * o->nx + k;
 			for (int q = 0; q < nf; q++) {
 				size_t i = (size_t)q * cells + c;
 				double f0 = o->env_f0_form ? o->f0[q] : 0.0;
@@ -302,12 +360,12 @@ static int build_ms(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	for (int j = 0; j < o->nr; j++) {
 		double r = centre(o->r_lo, o->r_hi, j, o->nr);
 		for (int k = 0; k < o->nx; k++, i++) {
-			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
-			if (bk_ms_E(NoV, r, o->smith, 1e-8, &E)) {
-				snprintf(err, errlen, "ms: reference integral failed at NoV %g, r %g", NoV, r);
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), A, B;
+			if (ref_at(o, i, &A, &B, err, errlen)) {
 				bk_samples_free(s);
 				return -1;
 			}
+			double E = A + B; /* bk_ms_E's sum */
 			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* E has no f0 (F = 1) */
 			s->y[i] = E;
 			s->w[i] = 1.0;
@@ -342,9 +400,8 @@ static int build_sheen(const bk_target_options *o, bk_samples *s, bk_progress_fn
 	for (int j = 0; j < o->nr; j++) {
 		double r = centre(o->r_lo, o->r_hi, j, o->nr);
 		for (int k = 0; k < o->nx; k++, i++) {
-			double NoV = centre(x_lo, o->x_hi, k, o->nx), E;
-			if (bk_sheen_albedo(NoV, r, 1e-8, &E, NULL)) {
-				snprintf(err, errlen, "sheen: reference integral failed at NoV %g, r %g", NoV, r);
+			double NoV = centre(x_lo, o->x_hi, k, o->nx), E, zero;
+			if (ref_at(o, i, &E, &zero, err, errlen)) {
 				bk_samples_free(s);
 				return -1;
 			}

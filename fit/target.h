@@ -59,6 +59,11 @@ typedef struct bk_target_options {
 	 * reading serves several builds (search's screen and full samples);
 	 * nx > 0 keeps about nx of them, every k-th (0, the default: all) */
 	const struct bk_samples *table;
+	/* env, ms, sheen: the reference integrals of the cells, already made
+	 * (bk_target_reference; analysis/lutcache.h keeps them on disk between
+	 * runs), 2 nx nr doubles; NULL: the build integrates them itself. The
+	 * samples are the same bits either way. */
+	const double *reference;
 } bk_target_options;
 
 /* Defaults for a kind (domain, sizes): the and the talk's. */
@@ -108,6 +113,20 @@ size_t bk_target_samples(const bk_target_options *o);
  * machine, timed on a 4x4 sample of the cells (about 1/250 of a default
  * 64x64 build). */
 double bk_target_estimate(const bk_target_options *o, double *integrals);
+
+/* The reference integrals of env, ms and sheen, one per cell (j nx + k: r's
+ * row j, x's column k, the cell centres bk_target_build samples), each by
+ * the reference integrator at tol 1e-8: the DFG's A (first nx nr doubles)
+ * and B (the next) for env and ms (ms samples A + B), the sheen albedo and
+ * 0 for sheen. bk_target_reference_cells: how many cells (0: a target whose
+ * samples are closed forms or a file's, which has none). */
+size_t bk_target_reference_cells(const bk_target_options *o);
+/* Cell c's two values. 0, or -1 when the integral failed. */
+int bk_target_reference_cell(const bk_target_options *o, size_t c, double *A, double *B);
+/* Every cell's into AB (2 bk_target_reference_cells doubles), progress by
+ * rows of r. 0, or -1 with a message naming the cell. */
+int bk_target_reference(const bk_target_options *o, double *AB, bk_progress_fn progress, void *ctx, char *err,
+                        size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -24,7 +24,9 @@ t0=$(date +%s); sleep 6; expect_fail "refused at once" within_5s "$t0"
 timeout 3 $BK fit --target env --form env_karis2014_split --nx 4096 --nr 4096 --out "$T/big" >/dev/null 2>"$T/err"
 grep -q '^fit: env target 4096x4096 = 16.8M integrals, about [0-9.]* \(s\|min\|h\) on this machine$' "$T/err" && ok \
 	|| bad "no work estimate: $(cat "$T/err")"
-timeout 20 $BK fit --target env --form env_karis2014_split --nx 256 --nr 64 --out "$T/mid" >/dev/null 2>"$T/err"
+# (without the suites' table cache: integrals read from it need no progress)
+env -u BRDFKIT_TABLE_CACHE timeout 20 $BK fit --target env --form env_karis2014_split --nx 256 --nr 64 --out "$T/mid" \
+	>/dev/null 2>"$T/err"
 grep -q '^reference: [1-5]\?[0-9]/64 ([0-9]* %, [0-9]* s)$' "$T/err" && ok || bad "no progress lines in a log: $(cat "$T/err")"
 rm -rf "$T/file" "$T/big" "$T/mid"
 

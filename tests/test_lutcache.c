@@ -4,9 +4,11 @@
  * equals the reference integrator's texels (bk_dfg at the layout's texel
  * centres, called here); a damaged file, a truncated one, one with a byte
  * more, another key's file under this name, and a table whose probed texel
- * differs by one ulp (another integrator's) are all refused; and a LUT scored
+ * differs by one ulp (another integrator's) are all refused; a LUT scored
  * with the cache set writes the table there and scores the same bits as
- * without it.
+ * without it; and so do the env, ms and sheen targets' reference integrals
+ * (bk_lutcache_target_build), each sample the integrator's value at its
+ * cell's centre, called here.
  */
 #include "brdf.h"
 #include "compare.h"
@@ -203,6 +205,133 @@ Test(lutcache, a_score_writes_the_table_and_the_next_reads_it)
 	bk_lutcache_write(dir, key, ref, 2 * NU * NR);
 	bk_fit_metrics planted = score_in_child(&L, &s, dir);
 	cr_assert_neq(planted.rmse, plain.rmse, "the planted table was not read");
+	bk_samples_free(&s);
+	fx_tmpdir_remove(dir);
+}
+
+/* Sample i's exact value by the integrators, called here at the sample's own
+ * NoV and r: env's A or B (split) or f0 A + B, ms's A + B, sheen's albedo. */
+static double exact(const bk_target_options *o, const bk_samples *s, size_t i)
+{
+	double NoV = s->in[BK_IN_NOV][i], r = s->in[BK_IN_R][i], A, B;
+	if (o->kind == BK_TARGET_SHEEN) {
+		cr_assert_eq(bk_sheen_albedo(NoV, r, 1e-8, &A, NULL), 0);
+		return A;
+	}
+	cr_assert_eq(bk_dfg(NoV, r, o->smith, 1e-8, &A, &B, NULL), 0);
+	if (o->kind == BK_TARGET_MS)
+		return A + B;
+	if (o->env_f0_form)
+		return s->in[BK_IN_F0][i] * A + B;
+	return i < s->start[1] ? A : B;
+}
+
+static void same_samples(const bk_samples *a, const bk_samples *b, const char *what)
+{
+	cr_assert_eq(a->n, b->n, "%s", what);
+	cr_assert(!memcmp(a->y, b->y, sizeof *a->y * a->n) && !memcmp(a->w, b->w, sizeof *a->w * a->n), "%s", what);
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		cr_assert(!memcmp(a->in[k], b->in[k], sizeof *a->in[k] * a->n), "%s: input %d", what, k);
+	cr_assert_str_eq(a->description, b->description, "%s", what);
+}
+
+/* The samples of o built in a process of its own with BRDFKIT_TABLE_CACHE =
+ * dir (bk_lutcache_target_build reads the variable), their y sent back. */
+static void build_in_child(const bk_target_options *o, const char *dir, double *y, size_t n)
+{
+	int fd[2];
+	cr_assert_eq(pipe(fd), 0);
+	pid_t pid = fork();
+	cr_assert_geq(pid, 0);
+	if (pid == 0) {
+		bk_samples s;
+		char err[256];
+		int bad = setenv("BRDFKIT_TABLE_CACHE", dir, 1) || bk_lutcache_target_build(o, &s, NULL, NULL, err, sizeof err) ||
+		          s.n != n || write(fd[1], s.y, sizeof *y * n) != (ssize_t)(sizeof *y * n);
+		_exit(bad);
+	}
+	close(fd[1]);
+	size_t got = 0;
+	for (ssize_t k; got < sizeof *y * n && (k = read(fd[0], (char *)y + got, sizeof *y * n - got)) > 0;)
+		got += (size_t)k;
+	close(fd[0]);
+	int st;
+	cr_assert_eq(waitpid(pid, &st, 0), pid);
+	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0 && got == sizeof *y * n);
+}
+
+/* env (split and in f0), ms and sheen built through the cache: the first
+ * build writes the integrals, the second reads them, and both are the bits
+ * of a build without it, each sample the integrator's value at its centre.
+ * A file whose unprobed cell is doubled changes the samples (so the second
+ * build did read the file), and one whose probed middle cell is one ulp off
+ * is integrated over, not read. */
+Test(lutcache, targets_built_through_the_cache_are_the_same_bits, .timeout = 120)
+{
+	bk_target_kind kinds[4] = {BK_TARGET_ENV, BK_TARGET_ENV, BK_TARGET_MS, BK_TARGET_SHEEN};
+	for (int t = 0; t < 4; t++) {
+		char dir[64], path[256], key[320], err[256];
+		fx_tmpdir_make(dir, sizeof dir, "lutcache");
+		bk_target_options o;
+		bk_target_defaults(kinds[t], &o);
+		o.nx = 7, o.nr = 5, o.x_lo = 0.05, o.r_lo = 0.2, o.r_hi = 0.9;
+		o.env_f0_form = t == 1;
+		bk_samples plain, first, second;
+		cr_assert_eq(bk_target_build(&o, &plain, NULL, NULL, err, sizeof err), 0, "%s", err);
+		for (size_t i = 0; i < plain.n; i++) {
+			double e = exact(&o, &plain, i);
+			cr_assert(!memcmp(&plain.y[i], &e, sizeof e), "%s sample %zu: %.17g, the integrator %.17g",
+			          bk_target_name(o.kind), i, plain.y[i], e);
+		}
+		cr_assert_eq(setenv("BRDFKIT_TABLE_CACHE", dir, 1), 0);
+		cr_assert_eq(bk_lutcache_target_build(&o, &first, NULL, NULL, err, sizeof err), 0, "%s", err);
+		only_file(dir, path, sizeof path);
+		cr_assert_eq(bk_lutcache_target_build(&o, &second, NULL, NULL, err, sizeof err), 0, "%s", err);
+		cr_assert_eq(unsetenv("BRDFKIT_TABLE_CACHE"), 0);
+		same_samples(&plain, &first, "the build that wrote the file");
+		same_samples(&plain, &second, "the build that read it");
+
+		/* a planted file: cell 1 (not probed) doubled, the checksum right */
+		size_t n = bk_target_reference_cells(&o);
+		double *AB = malloc(sizeof *AB * 2 * n), *y = malloc(sizeof *y * plain.n);
+		cr_assert(AB && y && n == 35);
+		cr_assert_eq(bk_target_reference(&o, AB, NULL, NULL, err, sizeof err), 0, "%s", err);
+		bk_lutcache_target_key(&o, key, sizeof key);
+		AB[1] *= 2;
+		bk_lutcache_write(dir, key, AB, 2 * n);
+		build_in_child(&o, dir, y, plain.n);
+		cr_assert(memcmp(y, plain.y, sizeof *y * plain.n), "%s: the planted file was not read", bk_target_name(o.kind));
+		/* the control: the middle cell's A one ulp off is caught by the probe */
+		AB[1] /= 2;
+		AB[n / 2] = nextafter(AB[n / 2], 2.0);
+		bk_lutcache_write(dir, key, AB, 2 * n);
+		build_in_child(&o, dir, y, plain.n);
+		cr_assert(!memcmp(y, plain.y, sizeof *y * plain.n), "%s: another integrator's file read", bk_target_name(o.kind));
+		free(AB);
+		free(y);
+		bk_samples_free(&plain);
+		bk_samples_free(&first);
+		bk_samples_free(&second);
+		fx_tmpdir_remove(dir);
+	}
+}
+
+/* Targets without reference integrals (closed forms) leave nothing there. */
+Test(lutcache, a_closed_form_target_writes_nothing)
+{
+	char dir[64], err[256];
+	fx_tmpdir_make(dir, sizeof dir, "lutcache");
+	bk_target_options o;
+	bk_target_defaults(BK_TARGET_VF2D, &o);
+	o.nx = o.nr = 8;
+	cr_assert_eq(bk_target_reference_cells(&o), 0);
+	bk_samples s;
+	cr_assert_eq(setenv("BRDFKIT_TABLE_CACHE", dir, 1), 0);
+	cr_assert_eq(bk_lutcache_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	cr_assert_eq(unsetenv("BRDFKIT_TABLE_CACHE"), 0);
+	char cmd[128];
+	snprintf(cmd, sizeof cmd, "test -z \"$(ls %s)\"", dir);
+	cr_assert_eq(system(cmd), 0, "a file written for vf2d");
 	bk_samples_free(&s);
 	fx_tmpdir_remove(dir);
 }

@@ -17,6 +17,7 @@
 #include "form_check.h"
 #include "gpucost.h"
 #include "heatmap.h"
+#include "lutcache.h"
 #include "lutrows.h"
 #include "speclut.h"
 #include "search/catalogmap.h"
@@ -652,7 +653,7 @@ static int study_run(study *S, const cli_cmd *cmd, bk_form **typed, bk_target_ki
 		return cli_fail("compare", "--out %s", err);
 	if (S->info.nchips && bk_gpucost_check(S->info.chip, S->info.nchips, S->driver, sizeof S->driver, err, sizeof err))
 		return cli_fail("compare", "--gpu: %s", err);
-	if (bk_target_build(&S->to, &S->s, cli_progress, "compare: reference", err, sizeof err))
+	if (bk_lutcache_target_build(&S->to, &S->s, cli_progress, "compare: reference", err, sizeof err))
 		return cli_fail("compare", "%s", err);
 	if ((rc = check_args(cmd, typed, kind, S->s.provides))) {
 		bk_samples_free(&S->s);

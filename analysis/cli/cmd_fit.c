@@ -16,6 +16,7 @@
 #include "member.h"
 #include "params.h"
 #include "heatmap.h"
+#include "lutcache.h"
 
 #include <ctype.h>
 #include <errno.h>
@@ -648,7 +649,7 @@ int cmd_fit(int argc, char **argv)
 	}
 	say_estimate(&R.to);
 	fitargs_say_size(&R.to);
-	rc = bk_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err);
+	rc = bk_lutcache_target_build(&R.to, &R.s, cli_progress, "reference", err, sizeof err);
 	bk_samples_free(&R.table); /* copied: a MERL file's samples are 120 MB */
 	if (rc) {
 		rc = cli_fail("fit", "%s", err);

@@ -7,6 +7,7 @@
 #include "clock.h"
 #include "cmd.h"
 #include "islands.h"
+#include "lutcache.h"
 #include "out.h"
 #include "search/halves.h"
 #include "search/islands.h"
@@ -569,7 +570,7 @@ static int search_main(int argc, char **argv)
 	bk_seeds_screening_grid(&J.to_screen);
 	/* the screening samples first: they are cheap, and the checks of --inputs
 	 * and --start need what the target provides before the long reference */
-	if (bk_target_build(&J.to_screen, &J.screen, NULL, NULL, err, sizeof err)) {
+	if (bk_lutcache_target_build(&J.to_screen, &J.screen, NULL, NULL, err, sizeof err)) {
 		rc = cli_fail("search", "%s", err);
 		goto done;
 	}
@@ -584,7 +585,7 @@ static int search_main(int argc, char **argv)
 	     bk_frontcsv_head_check(&J.vs_fc.head, a.vs_front, BK_FRONTCSV_FRONT, "this search's", J.screen.description, 0,
 	                            bk_sfront_objective_name(&J.so), bk_precision_name(BK_F64), err, sizeof err)))
 		rc = cli_fail("search", "--vs-front %s", err);
-	else if (R == 0 && bk_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
+	else if (R == 0 && bk_lutcache_target_build(&J.to, &J.s, cli_progress, "reference", err, sizeof err))
 		rc = cli_fail("search", "%s", err);
 	else if (R == 0 && a.vs_front &&
 	         bk_frontcsv_head_check(&J.vs_fc.head, a.vs_front, BK_FRONTCSV_FRONT, "this search's", J.s.description, 1,
