@@ -193,8 +193,13 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 {
 	const bk_search_options *so = F->so;
 	bk_form_error fe;
-	m->f[0] = bk_form_parse(m->text, &fe);
-	m->f[1] = m->text_b ? bk_form_parse(m->text_b, &fe) : NULL;
+	/* the search's own forms where it kept them (a candidate of this run on
+	 * the front, as it was made: fit/search.h, parsed once); else the text
+	 * is parsed here, where it comes in (a start, a merged front's member, a
+	 * pruned form, a candidate read back from a checkpoint) */
+	const bk_cand *c = m->c && m->c->form && m->text == m->c->text && m->text_b == m->c->text_b ? m->c : NULL;
+	m->f[0] = c ? bk_form_dup(c->form) : bk_form_parse(m->text, &fe);
+	m->f[1] = !m->text_b ? NULL : c ? bk_form_dup(c->form_b) : bk_form_parse(m->text_b, &fe);
 	if (!m->f[0] || (m->text_b && !m->f[1]))
 		return -1;
 	bk_fit_spec *sp = &m->spec;
@@ -255,9 +260,14 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 	}
 	/* the pair as the shader computes it, f0*(A) + (B): a form of its own
 	 * (its sharing counted once); one tree: the member's form */
-	char *whole = m->text_b ? bk_pair_dup(m->text, m->text_b) : NULL;
-	bk_form *w = whole ? bk_form_parse(whole, &fe) : NULL;
-	free(whole);
+	bk_form *w = NULL;
+	if (m->text_b && c) {
+		w = bk_form_dup(c->form_pair);
+	} else if (m->text_b) {
+		char *whole = bk_pair_dup(m->text, m->text_b);
+		w = whole ? bk_form_parse(whole, &fe) : NULL;
+		free(whole);
+	}
 	if (m->text_b && !w)
 		return -1;
 	bk_form_count(w ? w : m->f[0], &m->ops);

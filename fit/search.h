@@ -137,9 +137,14 @@ typedef enum bk_cand_status {
 typedef struct bk_cand {
 	char *text;               /* the whole form as fitted (shape applied); A for a pair */
 	char *text_b;             /* B for a pair, else NULL */
-	bk_form *form;            /* text parsed where the candidate is made (owned), taken by its
-	                             screening fit: parsed once; NULL after it and in the archive
-	                             (and where none was made: screening parses text) */
+	bk_form *form;            /* its IR (owned), parsed once where the candidate is made (cand.h,
+	                             bk_cand_parse): the one tree's, or a pair's A; */
+	bk_form *form_b;          /* a pair's B; */
+	bk_form *form_pair;       /* and a pair's f0*(A) + (B), its cost's. The screening fit reads
+	                             them; the archive keeps them while no other candidate has both
+	                             less error and no more cost, or no more error and less cost,
+	                             so that a front member's reach the front's refit (NULL: freed,
+	                             or a candidate read back, whose text is parsed where read) */
 	const char *seed_name;    /* a seed's name, else NULL */
 	bk_expr tree[2];          /* the search trees (before the shape) */
 	int np;                   /* its parameters p0..p(np-1) */

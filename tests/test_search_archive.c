@@ -4,7 +4,10 @@
  * then cost, then text), leaves out candidates that did not fit, and the
  * front (bk_search_front) is the Pareto scan of the candidates that fitted,
  * ties broken on the text (a pair's: A's, then B's) whatever the order of
- * arrival. Every expected level and front is worked out by hand below.
+ * arrival; a candidate keeps its forms (its IR, for the front's refit) while
+ * no other dominates it, so a real search's front members all hold theirs
+ * and no dominated candidate does. Every expected level and front is worked
+ * out by hand below.
  */
 #include "fixture_search.h"
 #include "search/archive.h"
@@ -140,4 +143,83 @@ Test(search_archive, pair_ties_broken_on_b_whatever_the_order)
 		bk_search_free(s);
 		bk_samples_free(&sm);
 	}
+}
+
+/* seven's candidates, each made with a form (any form: the archive only
+ * keeps or frees it). By hand, in order of arrival: a held; b held (neither
+ * dominates the other); c (3.2, 0.2) dominates b (3.5, 0.2): b drops its;
+ * d did not fit: drops; e (5, 0.9) is dominated by a: drops; g (1, 0.3)
+ * dominates a: a drops; f ties g: held. So c, f and g hold theirs. */
+Test(search_archive, forms_kept_while_nothing_dominates)
+{
+	bk_samples sm;
+	bk_search *s = empty_search(2, &sm);
+	const char *name[7] = {"a", "b", "c", "d", "e", "g", "f"};
+	const double cost[7] = {3.0, 3.5, 3.2, 5.0, 4.9999999999, 1.0, 1.0}, err[7] = {0.5, 0.2, 0.2, 0.1, 0.9, 0.3, 0.3};
+	for (int i = 0; i < 7; i++) {
+		bk_cand c;
+		memset(&c, 0, sizeof c);
+		c.text = strdup(name[i]);
+		c.form = bk_form_parse("LoH", NULL);
+		c.cost = cost[i];
+		c.err = err[i];
+		c.status = i == 3 ? BK_CAND_CONSTRAINT : BK_CAND_OK;
+		cr_assert(c.text && c.form);
+		cr_assert_eq(bk_archive_push(s, &c), 0);
+	}
+	const char *held = "cgf";
+	for (int i = 0; i < 7; i++)
+		cr_expect_eq(bk_search_at(s, (size_t)i)->form != NULL, strchr(held, name[i][0]) != NULL, "%s %s its form",
+		             name[i], bk_search_at(s, (size_t)i)->form ? "holds" : "dropped");
+	size_t idx[8], k = bk_search_front(s, idx, 8);
+	for (size_t i = 0; i < k; i++)
+		cr_expect_not_null(bk_search_at(s, idx[i])->form, "front member %s without its form", bk_search_at(s, idx[i])->text);
+	/* negative control: a candidate that dominates them all (cost 0.5, error
+	 * 0.1) leaves it alone holding one */
+	bk_cand z;
+	memset(&z, 0, sizeof z);
+	z.text = strdup("z");
+	z.form = bk_form_parse("LoH", NULL);
+	z.cost = 0.5, z.err = 0.1, z.status = BK_CAND_OK;
+	cr_assert_eq(bk_archive_push(s, &z), 0);
+	for (int i = 0; i < 7; i++)
+		cr_expect_null(bk_search_at(s, (size_t)i)->form, "%s still holds its form", name[i]);
+	cr_expect_not_null(bk_search_at(s, 7)->form);
+	bk_search_free(s);
+	bk_samples_free(&sm);
+}
+
+/* A real search: every front member holds its forms, and a candidate that
+ * holds them is dominated by no candidate that fitted (checked pairwise). */
+Test(search_archive, a_search_keeps_the_forms_of_its_front)
+{
+	bk_samples sm;
+	fx_planted("1/(LoH*LoH + 0.7*r*r)", 0.3, 1, 16, &sm);
+	bk_search_options o;
+	fx_plain_options(&o, &sm, 1u << BK_IN_LOH | 1u << BK_IN_R, 2, 7);
+	o.evals = 400;
+	char err[256];
+	bk_search *s = bk_search_new(&o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	cr_assert_eq(bk_search_run(s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	size_t idx[64], k = bk_search_front(s, idx, 64), n = bk_search_count(s), holding = 0;
+	cr_assert_gt(k, 2);
+	for (size_t i = 0; i < k; i++)
+		cr_expect_not_null(bk_search_at(s, idx[i])->form, "front member %s without its form", bk_search_at(s, idx[i])->text);
+	for (size_t i = 0; i < n; i++) {
+		const bk_cand *c = bk_search_at(s, i);
+		if (!c->form)
+			continue;
+		holding++;
+		for (size_t j = 0; j < n; j++) {
+			const bk_cand *d = bk_search_at(s, j);
+			cr_expect(!(d->status == BK_CAND_OK && d->cost <= c->cost && d->err <= c->err &&
+			            (d->cost < c->cost || d->err < c->err)),
+			          "%s (%g, %g) holds its form, dominated by %s (%g, %g)", c->text, c->cost, c->err, d->text, d->cost,
+			          d->err);
+		}
+	}
+	cr_expect_lt(holding, n / 4, "%zu of %zu candidates hold their forms", holding, n);
+	bk_search_free(s);
+	bk_samples_free(&sm);
 }

@@ -60,10 +60,11 @@ Test(search_screen, planted_constant_is_found)
 }
 
 /* The form a candidate is made with (bk_cand.form, parsed once) is what the
- * screening fits, and is taken: the same bits as the candidate's text parsed
- * there, and NULL after. The control: a form of another text on the same
- * candidate is fitted instead (the planted 0.7 is not found), so the check
- * would see screening parse text again. */
+ * screening fits, and is left on it (the archive keeps a front member's for
+ * the front's refit): the same bits as the candidate's text parsed there.
+ * The control: a form of another text on the same candidate is fitted
+ * instead (the planted 0.7 is not found), so the check would see screening
+ * parse text again. */
 Test(search_screen, the_form_made_with_a_candidate_is_the_one_fitted)
 {
 	bk_samples sm;
@@ -72,17 +73,20 @@ Test(search_screen, the_form_made_with_a_candidate_is_the_one_fitted)
 	f.form = bk_form_parse(f.text, NULL);
 	o.form = bk_form_parse("1/(LoH + p0*r*r)", NULL);
 	cr_assert(f.form && o.form);
+	bk_form *made = f.form;
 	bk_screen_one(s, &t, NULL);
 	bk_screen_one(s, &f, NULL);
 	bk_screen_one(s, &o, NULL);
-	cr_expect_null(f.form, "the screening takes the form");
-	cr_expect_null(o.form);
+	cr_expect(f.form == made, "the screening leaves the form on the candidate");
+	cr_expect_null(t.form, "a candidate made by hand keeps none");
 	cr_assert_eq(f.status, BK_CAND_OK);
 	cr_expect_eq(memcmp(f.p, t.p, sizeof f.p), 0, "p0 %.17g, from the text %.17g", f.p[0], t.p[0]);
 	cr_expect_eq(memcmp(&f.rmse, &t.rmse, sizeof f.rmse), 0);
 	cr_expect_float_eq(f.p[0], 0.7, 1e-6);
 	cr_expect_gt(o.rmse, 1e-3, "the control's form is fitted: rmse %g", o.rmse);
 	cr_expect_neq(memcmp(o.p, t.p, sizeof o.p), 0);
+	bk_form_free(f.form);
+	bk_form_free(o.form);
 	bk_search_free(s);
 	bk_samples_free(&sm);
 }

@@ -69,6 +69,47 @@ static int level_add(bk_search *s, size_t i)
 	return 0;
 }
 
+/* a has no more cost and no more error than b, and less of one of them:
+ * b is then on no front (pareto.h) while a is in the archive */
+static int dominates(const bk_cand *a, const bk_cand *b)
+{
+	return a->cost <= b->cost && a->err <= b->err && (a->cost < b->cost || a->err < b->err);
+}
+
+/* Candidate i keeps its forms (cand.h) while no other dominates it: the
+ * front's refit reads a member's forms from the search instead of parsing
+ * its text again, and the forms held are the front's and its ties', not
+ * the archive's. A candidate another dominates drops them for good (the
+ * archive only grows, so it stays dominated); so does every candidate i
+ * dominates. Out of memory for the list: i drops its forms (its text is
+ * then parsed where the front is refitted, as a checkpoint's). */
+static void keep_forms(bk_search *s, size_t i)
+{
+	bk_cand *c = &s->cand[i];
+	int keep = c->status == BK_CAND_OK;
+	for (size_t k = 0; keep && k < s->nheld; k++)
+		keep = !dominates(&s->cand[s->held[k]], c);
+	if (keep && s->nheld == s->held_cap) {
+		size_t cap = s->held_cap ? 2 * s->held_cap : 16;
+		size_t *t = realloc(s->held, sizeof *t * cap);
+		keep = t != NULL;
+		if (t)
+			s->held = t, s->held_cap = cap;
+	}
+	if (!keep) {
+		bk_cand_free_forms(c);
+		return;
+	}
+	size_t w = 0;
+	for (size_t k = 0; k < s->nheld; k++)
+		if (dominates(c, &s->cand[s->held[k]]))
+			bk_cand_free_forms(&s->cand[s->held[k]]);
+		else
+			s->held[w++] = s->held[k];
+	s->nheld = w;
+	s->held[s->nheld++] = i;
+}
+
 int bk_archive_push(bk_search *s, const bk_cand *c)
 {
 	if (s->n == s->cap) {
@@ -86,9 +127,10 @@ int bk_archive_push(bk_search *s, const bk_cand *c)
 	}
 	s->cand[s->n++] = *c;
 	if (level_add(s, s->n - 1)) {
-		s->n--; /* not taken: the caller still owns c's texts */
+		s->n--; /* not taken: the caller still owns c's texts and forms */
 		return -1;
 	}
+	keep_forms(s, s->n - 1);
 	return 0;
 }
 
@@ -97,6 +139,7 @@ void bk_archive_free(bk_search *s)
 	for (size_t i = 0; i < s->n; i++)
 		bk_cand_free(&s->cand[i]);
 	free(s->cand);
+	free(s->held);
 	for (int k = 0; k < s->nlv; k++)
 		free(s->lv[k].idx);
 	free(s->lv);

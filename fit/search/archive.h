@@ -14,9 +14,10 @@
 /* a before b: lower error, then lower cost, then text (then B's text). */
 int bk_archive_better(const bk_cand *a, const bk_cand *b);
 
-/* Appends *c to the candidates (s then owns its texts) and enters it in its
- * cost level if it is OK and among the level's best. 0, or -1 when out of
- * memory (s has then not taken c: its texts are still the caller's). */
+/* Appends *c to the candidates (s then owns its texts and forms: the forms
+ * kept while no candidate dominates it, search.h) and enters it in its cost
+ * level if it is OK and among the level's best. 0, or -1 when out of memory
+ * (s has then not taken c: its texts and forms are still the caller's). */
 int bk_archive_push(bk_search *s, const bk_cand *c);
 
 /* Frees the levels and the candidates. */

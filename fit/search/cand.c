@@ -36,27 +36,37 @@ int bk_cand_text(const bk_search *s, const bk_expr *t, char *a, char *b, size_t 
 	}
 }
 
-int bk_cand_cost(const bk_search *s, const char *a, const char *b, bk_ops *ops, double *cost, int *np)
-{
-	/* a seed may be as long as a form may: the pair's text is allocated */
-	char *buf = b && *b ? bk_pair_dup(a, b) : strdup(a);
-	if (!buf)
-		return -1;
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(buf, &fe);
-	free(buf);
-	if (!f)
-		return -1;
-	bk_cand_cost_of(s, f, ops, cost, np);
-	bk_form_free(f);
-	return 0;
-}
-
 void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *cost, int *np)
 {
 	bk_form_count(f, ops);
 	*cost = bk_ops_cost(ops, s->o.simple_cost, s->o.complex_cost);
 	*np = bk_form_nparams(f);
+}
+
+int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b)
+{
+	bk_form_error fe;
+	c->form = bk_form_parse(a, &fe);
+	if (b && *b) {
+		char *buf = bk_pair_dup(a, b);
+		c->form_b = bk_form_parse(b, &fe);
+		c->form_pair = buf ? bk_form_parse(buf, &fe) : NULL;
+		free(buf);
+	}
+	if (!c->form || (b && *b && (!c->form_b || !c->form_pair))) {
+		bk_cand_free_forms(c);
+		return -1;
+	}
+	bk_cand_cost_of(s, c->form_pair ? c->form_pair : c->form, &c->ops, &c->cost, &c->np);
+	return 0;
+}
+
+void bk_cand_free_forms(bk_cand *c)
+{
+	bk_form_free(c->form);
+	bk_form_free(c->form_b);
+	bk_form_free(c->form_pair);
+	c->form = c->form_b = c->form_pair = NULL;
 }
 
 /* The hash of "a;b", in pieces (no buffer to outgrow). */
@@ -71,6 +81,5 @@ void bk_cand_free(bk_cand *c)
 {
 	free(c->text);
 	free(c->text_b);
-	bk_form_free(c->form);
-	c->form = NULL;
+	bk_cand_free_forms(c);
 }

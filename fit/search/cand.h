@@ -1,9 +1,9 @@
 /*
  * cand.h — a candidate's identity (internal to the search): the text that is
- * fitted (the shape applied to its trees), its cost, the cache's key, and
- * freeing what it owns. The generation, the checkpoint reader and the
- * migrants' import all go through these, so a candidate read back is judged
- * exactly as one made here.
+ * fitted (the shape applied to its trees), its forms (that text parsed once),
+ * its cost, the cache's key, and freeing what it owns. The generation, the
+ * checkpoint reader and the migrants' import all go through these, so a
+ * candidate read back is judged exactly as one made here.
  */
 #ifndef FIT_SEARCH_CAND_H
 #define FIT_SEARCH_CAND_H
@@ -16,16 +16,22 @@ int bk_cand_text(const bk_search *s, const bk_expr *t, char *a, char *b, size_t 
 
 /* The cost the front is drawn against: op counts of the whole shader
  * expression after sharing (a pair: f0*(A) + (B), paid once where shared),
- * and the parameters it reads. 0, or -1 when the text is not a form. */
-int bk_cand_cost(const bk_search *s, const char *a, const char *b, bk_ops *ops, double *cost, int *np);
-
-/* The same of a form already parsed (one tree's text: not a pair's). */
+ * and the parameters it reads, of a form already parsed (bk_cand_parse
+ * passes a pair's whole). */
 void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *cost, int *np);
+
+/* c's forms from texts a and b (NULL or empty: one tree): form, and for a
+ * pair form_b and form_pair; its ops, cost and parameters from the whole.
+ * 0, or -1 when a text is not a form or out of memory (c's forms NULL). */
+int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b);
+
+/* Frees c's forms (not its texts). */
+void bk_cand_free_forms(bk_cand *c);
 
 /* The cache's key of a candidate of texts a and b (NULL: none). */
 uint64_t bk_cand_key(const char *a, const char *b);
 
-/* Frees the texts and the form c owns (not c). */
+/* Frees the texts and the forms c owns (not c). */
 void bk_cand_free(bk_cand *c);
 
 #endif

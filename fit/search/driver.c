@@ -68,7 +68,8 @@ static void merge_one(void *ctx, size_t i)
 		m->rc = -1;
 		return;
 	}
-	c->text = c->text_b = NULL; /* the archive's now */
+	c->text = c->text_b = NULL; /* the archive's now, and its forms */
+	c->form = c->form_b = c->form_pair = NULL;
 }
 
 static void made(void *crew, size_t n)

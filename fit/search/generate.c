@@ -58,7 +58,7 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 			return -1;
 		if (fresh == 0)
 			continue;
-		if (bk_cand_cost(s, s->seed_text[k], s->seed_text_b[k], &q->ops, &q->cost, &q->np))
+		if (bk_cand_parse(s, q, s->seed_text[k], s->seed_text_b[k])) /* the seed's forms, made once */
 			continue;
 		q->text = strdup(s->seed_text[k]);
 		q->text_b = s->seed_text_b[k] ? strdup(s->seed_text_b[k]) : NULL;
@@ -216,16 +216,13 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 	int fresh = bk_hashset_add(&s->seen, bk_cand_key(a, b));
 	if (fresh <= 0)
 		return fresh;
-	/* a candidate of one tree: parsed once, for its cost, its fingerprint
-	 * and its fit (the form travels on c to screening); a pair's cost is of
-	 * the whole f0*(A) + (B), its fit of A and B apart (screen.c) */
-	bk_form_error fe;
-	bk_form *one = s->o.shape != BK_SHAPE_PAIR ? bk_form_parse(a, &fe) : NULL;
-	if (one)
-		bk_cand_cost_of(s, one, &c->ops, &c->cost, &c->np);
-	if ((!one && bk_cand_cost(s, a, b, &c->ops, &c->cost, &c->np)) || c->cost > s->o.max_cost ||
-	    c->np > s->o.grammar.max_params) {
-		bk_form_free(one);
+	/* parsed once, for its cost, its fingerprint, its fit and the front's
+	 * refit (the forms travel on c: cand.h): one tree's form, or a pair's A,
+	 * B and whole f0*(A) + (B), whose cost it is (its fit is of A and B) */
+	if (bk_cand_parse(s, c, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL))
+		return 0;
+	if (c->cost > s->o.max_cost || c->np > s->o.grammar.max_params) {
+		bk_cand_free_forms(c);
 		return 0;
 	}
 	if (size >= 0) {
@@ -235,7 +232,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		int timed = s->dedup_calls++ % DEDUP_SAMPLE == 0;
 		if (timed)
 			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
-		uint64_t fp = one ? bk_unique_fingerprint_of(s, one) : bk_unique_fingerprint(s, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL);
+		uint64_t fp = bk_unique_fingerprint_of(s, c->form, c->form_b);
 		if (timed) {
 			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
 			s->dedup_seconds +=
@@ -243,12 +240,11 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		}
 		int twin = bk_unique_twin(s, fp, c->cost);
 		if (twin) {
-			bk_form_free(one);
+			bk_cand_free_forms(c);
 			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);
 		}
 		s->enum_fitted[size]++;
 	}
-	c->form = one;
 	c->text = strdup(a);
 	c->text_b = s->o.shape == BK_SHAPE_PAIR ? strdup(b) : NULL;
 	if (!c->text || (s->o.shape == BK_SHAPE_PAIR && !c->text_b)) {

@@ -93,11 +93,13 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 	c->status = BK_CAND_FAILED;
 	c->err = c->rmse = c->max_abs = c->albedo_max_abs = HUGE_VAL;
 	c->starts_run = c->start_won = 0;
+	/* the forms made with the candidate (cand.h: parsed once), read and left
+	 * on it; one made by hand without them has its texts parsed here, for
+	 * this fit alone */
 	bk_form_error fe;
-	/* the form made with the candidate (cand.h), taken: freed below; a pair's
-	 * A and B, and a candidate read back, are parsed here */
-	bk_form *f[2] = {c->form ? c->form : bk_form_parse(c->text, &fe), c->text_b ? bk_form_parse(c->text_b, &fe) : NULL};
-	c->form = NULL;
+	bk_form *own[2] = {c->form ? NULL : bk_form_parse(c->text, &fe),
+	                   c->text_b && !c->form_b ? bk_form_parse(c->text_b, &fe) : NULL};
+	bk_form *f[2] = {c->form ? c->form : own[0], c->form_b ? c->form_b : own[1]};
 	double *v = malloc(sizeof(double) * sm->n);
 	if (!f[0] || (c->text_b && !f[1]) || !v)
 		goto done;
@@ -246,8 +248,8 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		c->status = BK_CAND_NONFINITE;
 done:
 	free(v);
-	bk_form_free(f[0]);
-	bk_form_free(f[1]);
+	bk_form_free(own[0]);
+	bk_form_free(own[1]);
 }
 
 /* ---- a batch on threads ----------------------------------------------------- */

@@ -63,6 +63,9 @@ struct bk_search {
 	bk_hashset nb_done; /* candidate index * 3 + pass + 1 of each neighbour list tried whole (generate.c) */
 	bk_level *lv;
 	int nlv;
+	/* the candidates that hold their forms (archive.c, keep_forms): the OK
+	 * ones no other dominates, as many as the front is long */
+	size_t *held, nheld, held_cap;
 	bk_rng rng;
 	long evals;
 	bk_sched_gen *sched; /* the schedule (schedule.h): generators stage by stage, in order */

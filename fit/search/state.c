@@ -165,7 +165,8 @@ static int nonneg_or_nan(double x) { return isnan(x) || x >= 0; }
  * seed, or the shape's text of its trees; its cost, operations and
  * parameters those of its texts; its error a rounded number >= 0 when it is
  * OK, +inf when not; its island one of the run's. 0, or -1 (why). */
-static int check_cand(const bk_search *s, const bk_cand *c, int seed, reader *r, const char *what)
+/* (c's forms: its texts parsed here, where they are read, and kept on it) */
+static int check_cand(const bk_search *s, bk_cand *c, int seed, reader *r, const char *what)
 {
 	int pair = s->o.shape == BK_SHAPE_PAIR;
 	if (c->found_at < 1 || c->island < 0 || c->island >= s->o.islands)
@@ -183,14 +184,14 @@ static int check_cand(const bk_search *s, const bk_cand *c, int seed, reader *r,
 		if (bk_cand_text(s, c->tree, a, b, sizeof a) || strcmp(a, c->text) || (pair && strcmp(b, c->text_b)))
 			return fail(r, "%s: its text is not that of its trees", what);
 	}
-	bk_ops ops;
-	double cost;
-	int np;
-	if (bk_cand_cost(s, c->text, c->text_b, &ops, &cost, &np))
+	bk_cand t;
+	memset(&t, 0, sizeof t);
+	if (bk_cand_parse(s, &t, c->text, c->text_b))
 		return fail(r, "%s: its text is not a form", what);
-	if (memcmp(&ops, &c->ops, sizeof ops) || cost != c->cost || np != c->np)
-		return fail(r, "%s: cost %g or %d parameters, and its text has cost %g and %d", what, c->cost, c->np, cost,
-		            np);
+	c->form = t.form, c->form_b = t.form_b, c->form_pair = t.form_pair; /* freed with c */
+	if (memcmp(&t.ops, &c->ops, sizeof t.ops) || t.cost != c->cost || t.np != c->np)
+		return fail(r, "%s: cost %g or %d parameters, and its text has cost %g and %d", what, c->cost, c->np, t.cost,
+		            t.np);
 	if (seed < 0 && (c->cost > s->o.max_cost || c->np > s->o.grammar.max_params))
 		return fail(r, "%s: over --max-cost or --max-params", what);
 	if (c->status == BK_CAND_OK ? !(isfinite(c->err) && c->err >= 0 && c->err == bk_search_round_err(c->err) &&

@@ -105,10 +105,17 @@ static int hash_form(const bk_search *s, const char *text, uint64_t *h)
 /* A fingerprint is never 0: that value says "no fingerprint". */
 static uint64_t nonzero(uint64_t h) { return h ? h : 1; }
 
-uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *f)
+uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *a, const bk_form *b)
 {
 	uint64_t h = BK_HASH_INIT;
-	return hash_parsed(s, f, &h) ? 0 : nonzero(h);
+	if (hash_parsed(s, a, &h))
+		return 0;
+	if (b) {
+		h = mix(h, ';');
+		if (hash_parsed(s, b, &h))
+			return 0;
+	}
+	return nonzero(h);
 }
 
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b)

@@ -54,9 +54,10 @@ void bk_unique_free(bk_search *s);
  * made non-zero). */
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b);
 
-/* The same of one form already parsed (not a pair): the generation parses
- * an enumerated candidate once for its cost and its fingerprint. */
-uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *f);
+/* The same of forms already parsed (b: a pair's B, else NULL): the
+ * generation parses a candidate once, for its cost, its fingerprint, its
+ * fit and the front's refit (cand.h). */
+uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *a, const bk_form *b);
 
 /* Whether a candidate of fingerprint fp and cost is a twin of one fitted
  * before at no greater cost: 1 (it is: not to be fitted), 0 (it is not; it is
