@@ -60,6 +60,29 @@ csv_cols() {
 # Both fail (exit 1) when the column or the row is not there.
 csv_set() { "$CSVGET" --set "$@"; }
 csv_drop() { "$CSVGET" --drop "$@"; }
+# until_lines N SECS ERR CMD...: runs CMD (stdout to /dev/null, stderr to ERR)
+# until ERR holds N whole lines or SECS seconds pass, then stops it (SIGTERM)
+# if it still runs; returns 124 when it had to be stopped (as timeout(1)
+# does), else CMD's own status. For work that would run for minutes and is
+# checked by what it says first (its estimate, its warning): waiting out a
+# fixed timeout burnt its CPU seconds for nothing once the lines were there.
+until_lines() {
+	_lib_n=$1 _lib_k=$(($2 * 20)) _lib_err=$3; shift 3
+	"$@" >/dev/null 2>"$_lib_err" &
+	_lib_pid=$!
+	while [ "$_lib_k" -gt 0 ] && kill -0 "$_lib_pid" 2>/dev/null &&
+		[ "$(wc -l <"$_lib_err")" -lt "$_lib_n" ]; do
+		sleep 0.05
+		_lib_k=$((_lib_k - 1))
+	done
+	if kill -0 "$_lib_pid" 2>/dev/null; then
+		kill "$_lib_pid" 2>/dev/null
+		wait "$_lib_pid"
+		return 124
+	fi
+	wait "$_lib_pid"
+}
+
 # same_but_command A B: the two files are the same bytes but for their
 # "# command:" lines (two runs of one computation typed differently)
 same_but_command() {
