@@ -311,7 +311,11 @@ test: deps
 # fresh clone's make test took 17 min 7 s at -j3 and 17 min 20 s at -j2, the
 # same tree on the same quiet machine; later, at commit 081b7f39, 13 min 5 s
 # against 13 min 30 s, 11 s of it in the build, which -j3 does not touch:
-# within the machine's spread); --output-sync
+# within the machine's spread; 691 s at -j3 on 43d0fcec against 674 s at
+# -j2 on 0d68a25d half an hour before, 43d0fcec being 17 CPU s lighter: the
+# suites spent 1,085 CPU s at -j3 where they spent 979 at -j2, the unit
+# runners most, so the idle a third script fills is paid back in
+# contention); --output-sync
 # prints each script's output whole, and a failing script fails make test.
 # test-plain and test-san run one suite alone (make -j2 test-san).
 CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
