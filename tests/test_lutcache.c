@@ -149,28 +149,47 @@ Test(lutcache, read_back_bit_for_bit_and_every_damage_refused)
 	fx_tmpdir_remove(dir);
 }
 
-/* L's float LUT scored on s in a process of its own (a fresh per-process
- * table cache), with BRDFKIT_TABLE_CACHE = dir, or unset (dir NULL). */
-static bk_fit_metrics score_in_child(const bk_lut_layout *L, const bk_samples *s, const char *dir)
+/* run(ctx) in a process of its own (a fresh per-process table cache), its
+ * len bytes of answer read back into out; the child's exit status 0 and
+ * the answer whole are asserted. */
+static void in_child(int (*run)(void *ctx, void *out), void *ctx, void *out, size_t len)
 {
 	int fd[2];
 	cr_assert_eq(pipe(fd), 0);
 	pid_t pid = fork();
 	cr_assert_geq(pid, 0);
-	if (pid == 0) {
-		bk_fit_metrics m;
-		int bad = (dir ? setenv("BRDFKIT_TABLE_CACHE", dir, 1) : unsetenv("BRDFKIT_TABLE_CACHE")) ||
-		          bk_lut_score_layout(L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, s, &m, NULL) ||
-		          write(fd[1], &m, sizeof m) != (ssize_t)sizeof m;
-		_exit(bad);
-	}
+	if (pid == 0)
+		_exit(run(ctx, out) || write(fd[1], out, len) != (ssize_t)len);
 	close(fd[1]);
-	bk_fit_metrics m;
-	cr_assert_eq(read(fd[0], &m, sizeof m), (ssize_t)sizeof m);
+	size_t got = 0;
+	for (ssize_t k; got < len && (k = read(fd[0], (char *)out + got, len - got)) > 0;)
+		got += (size_t)k;
 	close(fd[0]);
 	int st;
 	cr_assert_eq(waitpid(pid, &st, 0), pid);
-	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0);
+	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0 && got == len);
+}
+
+typedef struct score_job {
+	const bk_lut_layout *L;
+	const bk_samples *s;
+	const char *dir;
+} score_job;
+
+static int score_run(void *ctx, void *out)
+{
+	const score_job *j = ctx;
+	return (j->dir ? setenv("BRDFKIT_TABLE_CACHE", j->dir, 1) : unsetenv("BRDFKIT_TABLE_CACHE")) ||
+	       bk_lut_score_layout(j->L, BK_LUT_FLOAT, BK_SMITH_CORRELATED, BK_F64, j->s, out, NULL);
+}
+
+/* L's float LUT scored on s in a process of its own, with
+ * BRDFKIT_TABLE_CACHE = dir, or unset (dir NULL). */
+static bk_fit_metrics score_in_child(const bk_lut_layout *L, const bk_samples *s, const char *dir)
+{
+	score_job j = {L, s, dir};
+	bk_fit_metrics m;
+	in_child(score_run, &j, &m, sizeof m);
 	return m;
 }
 
@@ -235,29 +254,32 @@ static void same_samples(const bk_samples *a, const bk_samples *b, const char *w
 	cr_assert_str_eq(a->description, b->description, "%s", what);
 }
 
+typedef struct build_job {
+	const bk_target_options *o;
+	const char *dir;
+	size_t n;
+} build_job;
+
+static int build_run(void *ctx, void *out)
+{
+	const build_job *j = ctx;
+	bk_samples s;
+	char err[256];
+	if (setenv("BRDFKIT_TABLE_CACHE", j->dir, 1) || bk_lutcache_target_build(j->o, &s, NULL, NULL, err, sizeof err))
+		return 1;
+	int bad = s.n != j->n;
+	if (!bad)
+		memcpy(out, s.y, sizeof *s.y * j->n);
+	bk_samples_free(&s);
+	return bad;
+}
+
 /* The samples of o built in a process of its own with BRDFKIT_TABLE_CACHE =
- * dir (bk_lutcache_target_build reads the variable), their y sent back. */
+ * dir (bk_lutcache_target_build reads the variable): their n values y. */
 static void build_in_child(const bk_target_options *o, const char *dir, double *y, size_t n)
 {
-	int fd[2];
-	cr_assert_eq(pipe(fd), 0);
-	pid_t pid = fork();
-	cr_assert_geq(pid, 0);
-	if (pid == 0) {
-		bk_samples s;
-		char err[256];
-		int bad = setenv("BRDFKIT_TABLE_CACHE", dir, 1) || bk_lutcache_target_build(o, &s, NULL, NULL, err, sizeof err) ||
-		          s.n != n || write(fd[1], s.y, sizeof *y * n) != (ssize_t)(sizeof *y * n);
-		_exit(bad);
-	}
-	close(fd[1]);
-	size_t got = 0;
-	for (ssize_t k; got < sizeof *y * n && (k = read(fd[0], (char *)y + got, sizeof *y * n - got)) > 0;)
-		got += (size_t)k;
-	close(fd[0]);
-	int st;
-	cr_assert_eq(waitpid(pid, &st, 0), pid);
-	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0 && got == sizeof *y * n);
+	build_job j = {o, dir, n};
+	in_child(build_run, &j, y, sizeof *y * n);
 }
 
 /* env (split and in f0), ms and sheen built through the cache: the first
