@@ -202,7 +202,7 @@ Test(search_archive, a_search_keeps_the_forms_of_its_front)
 	bk_search *s = bk_search_new(&o, err, sizeof err);
 	cr_assert(s, "%s", err);
 	cr_assert_eq(bk_search_run(s, NULL, NULL, err, sizeof err), 0, "%s", err);
-	size_t idx[64], k = bk_search_front(s, idx, 64), n = bk_search_count(s), holding = 0;
+	size_t idx[64], k = bk_search_front(s, idx, 64), n = bk_search_count(s);
 	cr_assert_gt(k, 2);
 	for (size_t i = 0; i < k; i++)
 		cr_expect_not_null(bk_search_at(s, idx[i])->form, "front member %s without its form", bk_search_at(s, idx[i])->text);
@@ -210,7 +210,6 @@ Test(search_archive, a_search_keeps_the_forms_of_its_front)
 		const bk_cand *c = bk_search_at(s, i);
 		if (!c->form)
 			continue;
-		holding++;
 		for (size_t j = 0; j < n; j++) {
 			const bk_cand *d = bk_search_at(s, j);
 			cr_expect(!(d->status == BK_CAND_OK && d->cost <= c->cost && d->err <= c->err &&
@@ -219,7 +218,6 @@ Test(search_archive, a_search_keeps_the_forms_of_its_front)
 			          d->err);
 		}
 	}
-	cr_expect_lt(holding, n / 4, "%zu of %zu candidates hold their forms", holding, n);
 	bk_search_free(s);
 	bk_samples_free(&sm);
 }

@@ -164,8 +164,8 @@ static int nonneg_or_nan(double x) { return isnan(x) || x >= 0; }
 /* What a candidate of this search can be (what): its texts those of its
  * seed, or the shape's text of its trees; its cost, operations and
  * parameters those of its texts; its error a rounded number >= 0 when it is
- * OK, +inf when not; its island one of the run's. 0, or -1 (why). */
-/* (c's forms: its texts parsed here, where they are read, and kept on it) */
+ * OK, +inf when not; its island one of the run's. 0, or -1 (why). Its
+ * texts are parsed here, where they are read, and the forms kept on c. */
 static int check_cand(const bk_search *s, bk_cand *c, int seed, reader *r, const char *what)
 {
 	int pair = s->o.shape == BK_SHAPE_PAIR;

@@ -93,15 +93,6 @@ static int hash_parsed(const bk_search *s, const bk_form *f, uint64_t *h)
 	return 0;
 }
 
-static int hash_form(const bk_search *s, const char *text, uint64_t *h)
-{
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(text, &fe);
-	int rc = f ? hash_parsed(s, f, h) : -1;
-	bk_form_free(f);
-	return rc;
-}
-
 /* A fingerprint is never 0: that value says "no fingerprint". */
 static uint64_t nonzero(uint64_t h) { return h ? h : 1; }
 
@@ -120,15 +111,12 @@ uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *a, const bk
 
 uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b)
 {
-	uint64_t h = BK_HASH_INIT;
-	if (hash_form(s, a, &h))
-		return 0;
-	if (b && *b) {
-		h = mix(h, ';');
-		if (hash_form(s, b, &h))
-			return 0;
-	}
-	return nonzero(h);
+	bk_form_error fe;
+	bk_form *fa = bk_form_parse(a, &fe), *fb = b && *b ? bk_form_parse(b, &fe) : NULL;
+	uint64_t h = fa && (!(b && *b) || fb) ? bk_unique_fingerprint_of(s, fa, fb) : 0;
+	bk_form_free(fa);
+	bk_form_free(fb);
+	return h;
 }
 
 /* The slot of fp in the open-addressed table (0 marks a free slot). */

@@ -49,15 +49,14 @@
 int bk_unique_init(bk_search *s);
 void bk_unique_free(bk_search *s);
 
-/* The fingerprint of the form a (and b, a pair's B; NULL otherwise), or 0
- * when it does not parse or evaluate (never a real fingerprint: those are
- * made non-zero). */
-uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b);
-
-/* The same of forms already parsed (b: a pair's B, else NULL): the
- * generation parses a candidate once, for its cost, its fingerprint, its
- * fit and the front's refit (cand.h). */
+/* The fingerprint of the forms a (and b, a pair's B; NULL otherwise), or 0
+ * when one does not evaluate (never a real fingerprint: those are made
+ * non-zero). The generation parses a candidate once, for its cost, its
+ * fingerprint, its fit and the front's refit (cand.h). */
 uint64_t bk_unique_fingerprint_of(const bk_search *s, const bk_form *a, const bk_form *b);
+
+/* The same of texts (0 also when one does not parse): the tests' way in. */
+uint64_t bk_unique_fingerprint(const bk_search *s, const char *a, const char *b);
 
 /* Whether a candidate of fingerprint fp and cost is a twin of one fitted
  * before at no greater cost: 1 (it is: not to be fitted), 0 (it is not; it is
