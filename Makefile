@@ -30,6 +30,15 @@ CXXSTD  = -std=c++17
 # Eigen as a system header: gcc 12 warns inside it (maybe-uninitialized)
 EIGEN   = $(patsubst -I%,-isystem %,$(shell pkg-config --cflags eigen3 2>/dev/null || echo -I/usr/include/eigen3))
 SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+# The sanitized executables are test tools, started ~5,000 times by make test
+# (every sanitized CLI run, and Criterion executing its runner again for each
+# test), so they link at fixed addresses: ASan's metadata for every global
+# is a table of pointers, 123,563 dynamic relocations in a position-
+# independent build/san/brdfkit against 1,375 without, and the loader's
+# relocating them was a quarter of a sanitized start (a median 30-32 ms per
+# `build/san/brdfkit --version` against 23-24 without PIE, back to back). The
+# instrumented code is the same; the tool users run (build/brdfkit) stays PIE.
+SAN_LD  = $(SAN) -no-pie
 EXR_LIB = -lOpenEXRCore-3_1
 # Ceres ships no pkg-config file (shared/references/toolchain.md); its headers
 # inline glog, so glog is named
@@ -208,7 +217,7 @@ $(SLIB): $(call obj,build/san/obj,$(LIB_SRC))
 $(TOOL): $(call obj,build/obj,$(TOOL_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 $(STOOL): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(TOOL_SRC))) $(SAN_DOORS) $(SLIB)
-	$(CXX) $(SAN) $^ $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $^ $(LIBS) -o $@
 
 # the MPI side of the islands alone sees mpi.h (islands.h keeps it out of the rest)
 build/obj/analysis/cli/mpi/islands_mpi.o: analysis/cli/mpi/islands_mpi.c | deps
@@ -233,9 +242,9 @@ SAN_TEST_AUX     = $(filter-out tests/test_%,$(TEST_SRC))
 STEST_KERNELS    = build/san/test_kernels
 $(STEST): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(filter-out $(SAN_KERNEL_TESTS),$(TEST_SRC)) $(SUPPORT))) \
           $(SAN_DOORS) $(SLIB)
-	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $^ -lcriterion $(LIBS) -o $@
 $(STEST_KERNELS): $(call obj,build/san/obj,$(SAN_KERNEL_TESTS) $(SAN_TEST_AUX) $(SUPPORT)) $(SLIB)
-	$(CXX) $(SAN) $^ -lcriterion $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $^ -lcriterion $(LIBS) -o $@
 
 # the shell tests read CSV columns by name through this (tests/lib.sh)
 build/csvget: tests/tools/csvget.c | deps
@@ -300,7 +309,9 @@ test: deps
 	$(MAKE) --no-print-directory -j2 test-build
 	$(call need,$(NOTEBOOK_DEBS) $(LIB_DEBS) $(FORMULA_DEBS))
 	rm -rf $(TABLE_CACHE)
-	$(MAKE) --no-print-directory -j2 --output-sync=target test-runs
+	$(MAKE) --no-print-directory -j2 --output-sync=target test-runs & cpu=$$!; \
+	$(MAKE) --no-print-directory --output-sync=target test-waits; w=$$?; \
+	wait $$cpu && exit $$w
 
 # The plain and the sanitized suites are independent (each script works in a
 # mktemp directory of its own), and each script is a make target of its own,
@@ -326,9 +337,18 @@ SAN_RUNS   = $(addprefix test-san-,unit kernels gpucost fault doors) $(patsubst 
 # seconds measured per script, tests/README.md), so that no long one starts
 # last while the other core idles; the rest follow in PLAIN_RUNS, SAN_RUNS order
 TEST_FIRST = test-san-unit test-san-kernels test-plain-unit test-san-cli_numerics test-san-cli_scenes test-san-cli_envsearch test-san-cli_planted
-TEST_RUNS  = $(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) $(filter-out $(TEST_FIRST),$(PLAIN_RUNS) $(SAN_RUNS))
+# The scripts that mostly wait run in a lane of their own, one at a time,
+# beside the two that compute: a held lock's seconds and a killed run's
+# (cli_out.sh), a progress line's interval (cli_longfits.sh), Chromium's
+# renderer loading the page (page.sh: 4.5 s a run, 1.9 of it CPU). In the
+# two lanes they held a core idle ~70 of their ~110 s (a fresh clone's
+# make test, per script user + sys against wall); here they cost the other
+# two lanes only their ~40 CPU s.
+TEST_WAITS = test-plain-page test-plain-cli_out test-san-cli_out test-plain-cli_longfits test-san-cli_longfits
+TEST_RUNS  = $(filter-out $(TEST_WAITS),$(filter $(PLAIN_RUNS) $(SAN_RUNS),$(TEST_FIRST)) \
+                                        $(filter-out $(TEST_FIRST),$(PLAIN_RUNS) $(SAN_RUNS)))
 SAN_ENV    = UBSAN_OPTIONS=print_stacktrace=1
-.PHONY: test-runs $(PLAIN_RUNS) $(SAN_RUNS)
+.PHONY: test-runs test-waits $(PLAIN_RUNS) $(SAN_RUNS)
 # The suites share one directory of reference tables (BRDFKIT_TABLE_CACHE,
 # analysis/lutcache.h): each LUT table scored, and each env, ms or sheen
 # target's reference integrals, are made once per make test, not once in
@@ -340,6 +360,7 @@ $(PLAIN_RUNS) $(SAN_RUNS): | $(TABLE_CACHE)
 $(TABLE_CACHE):
 	mkdir -p $@
 test-runs: $(TEST_RUNS)
+test-waits: $(TEST_WAITS)
 test-plain: $(PLAIN_RUNS)
 test-san: $(SAN_RUNS)
 
@@ -391,7 +412,7 @@ test-san-fault: $(STOOL) build/csvget
 	$(SAN_ENV) sh tests/fault.sh $(STOOL)
 # the checks at the sanitized brdfkit's doors (brdf/doors.h) and their controls
 build/san/doors_check: tests/tools/doors.c $(filter build/san/doors/%,$(SAN_DOORS)) $(SLIB)
-	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN) $(INC) $^ -lm -o $@
+	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN_LD) $(INC) $^ -lm -o $@
 test-san-doors: build/san/doors_check
 	$(SAN_ENV) sh tests/doors.sh build/san/doors_check
 
