@@ -47,7 +47,7 @@ EXR_LIB = -lOpenEXRCore-3_1
 GLSLANG_LIB = -Wl,--start-group -lglslang -lMachineIndependent -lOSDependent -lGenericCodeGen \
               -lOGLCompiler -lSPIRV -lglslang-default-resource-limits -lSPIRV-Tools-opt -lSPIRV-Tools \
               -Wl,--end-group
-LIBS    = -lceres -lglog -lcairo -lpng -ljansson -lcsv $(EXR_LIB) $(GLSLANG_LIB) -lspirv-cross-c-shared -lvulkan -lpthread -lm
+LIBS    = -lceres -lglog -lcairo -lfontconfig -lpng -ljansson -lcsv $(EXR_LIB) $(GLSLANG_LIB) -lspirv-cross-c-shared -lvulkan -lpthread -lm
 VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 
 # Debian packages this tree needs (glslang-tools proves generated GLSL/HLSL
@@ -57,13 +57,14 @@ VERSION = $(shell sed -n 's/^\#define BK_VERSION "\(.*\)"/\1/p' brdf/brdf.h)
 # brdfkit gpucost: glslang-dev compiles GLSL in-process, libvulkan-dev links the
 # loader, mesa-vulkan-drivers is RADV, whose null device runs AMD's compiler;
 # libcsv reads search fronts back for gpucost --calibrate; libcairo draws every
-# figure, PNG/SVG/PDF, in DejaVu Sans from fonts-dejavu-core, analysis/plot.c;
+# figure, PNG/SVG/PDF, in DejaVu Sans from fonts-dejavu-core, analysis/plot.c
+# (which empties fontconfig's caches at exit: libfontconfig-dev);
 # scdoc turns the manual pages' sources analysis/man/*.scd into roff;
 # SPIRV-Cross's C API turns the validated SPIR-V into Metal (analysis/msl.c),
 # as engines make MSL, and its spirv-cross tool is the same translator).
 DEBS = libopenexr-dev libcriterion-dev pkg-config glslang-tools spirv-tools libceres-dev libpng-dev \
        libxml2-utils strace libjansson-dev libopenmpi-dev openmpi-bin glslang-dev libvulkan-dev \
-       mesa-vulkan-drivers libcsv-dev libcairo2-dev fonts-dejavu-core scdoc python3 \
+       mesa-vulkan-drivers libcsv-dev libcairo2-dev libfontconfig-dev fonts-dejavu-core scdoc python3 \
        spirv-cross libspirv-cross-c-shared-dev
 # (python3: tests/cli_render_scene.sh rebuilds render pixels from brdfkit-render(1)
 # in an evaluator independent of brdfkit's C, tests/tools/render_pixel.py)
