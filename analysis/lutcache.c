@@ -11,10 +11,13 @@
 #include "expr.h"
 #include "out.h"
 
+#include <errno.h>
+#include <fcntl.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <unistd.h>
 
 #define MAGIC "brdfkit reference table 1\n"
@@ -25,11 +28,37 @@ const char *bk_lutcache_dir(void)
 	return d && *d ? d : NULL;
 }
 
-static int path_of(const char *dir, const char *key, char *path, size_t len)
+static int path_ext(const char *dir, const char *key, const char *ext, char *path, size_t len)
 {
 	unsigned long long h = (unsigned long long)bk_hash_bytes(BK_HASH_INIT, key, strlen(key));
-	int w = snprintf(path, len, "%s/table-%016llx.bin", dir, h);
+	int w = snprintf(path, len, "%s/table-%016llx.%s", dir, h, ext);
 	return w > 0 && (size_t)w < len ? 0 : -1;
+}
+static int path_of(const char *dir, const char *key, char *path, size_t len)
+{
+	return path_ext(dir, key, "bin", path, len);
+}
+
+int bk_lutcache_lock(const char *dir, const char *key)
+{
+	char path[4096];
+	if (!dir || path_ext(dir, key, "lock", path, sizeof path))
+		return -1;
+	int fd = open(path, O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+	if (fd < 0)
+		return -1;
+	while (flock(fd, LOCK_EX)) /* EINTR: a signal the tool handles; anything else: no lock */
+		if (errno != EINTR) {
+			close(fd);
+			return -1;
+		}
+	return fd;
+}
+
+void bk_lutcache_unlock(int fd)
+{
+	if (fd >= 0)
+		close(fd); /* closing the one descriptor releases its lock */
 }
 
 int bk_lutcache_read(const char *dir, const char *key, double *t, size_t n)
@@ -109,11 +138,16 @@ int bk_lutcache_target_build(const bk_target_options *o, bk_samples *s, bk_progr
 	char key[320];
 	bk_lutcache_target_key(o, key, sizeof key);
 	if (bk_lutcache_read(dir, key, AB, 2 * n) || target_probe(o, AB, n)) {
-		if (bk_target_reference(o, AB, progress, ctx, err, errlen)) {
-			free(AB); /* the build fails on the same cell with the same message */
-			return bk_target_build(o, s, NULL, NULL, err, errlen);
+		int lock = bk_lutcache_lock(dir, key); /* another process may be making them: its file, once written */
+		if (lock < 0 || bk_lutcache_read(dir, key, AB, 2 * n) || target_probe(o, AB, n)) {
+			if (bk_target_reference(o, AB, progress, ctx, err, errlen)) {
+				bk_lutcache_unlock(lock);
+				free(AB); /* the build fails on the same cell with the same message */
+				return bk_target_build(o, s, NULL, NULL, err, errlen);
+			}
+			bk_lutcache_write(dir, key, AB, 2 * n);
 		}
-		bk_lutcache_write(dir, key, AB, 2 * n);
+		bk_lutcache_unlock(lock);
 	}
 	bk_target_options t = *o;
 	t.reference = AB;

@@ -31,6 +31,13 @@ const char *bk_lutcache_dir(void);
 int bk_lutcache_read(const char *dir, const char *key, double *t, size_t n);
 /* Stores t under key (atomically; a failure leaves no file and is ignored). */
 void bk_lutcache_write(const char *dir, const char *key, const double *t, size_t n);
+/* The key's lock (an flock on its .lock file beside the table), held while
+ * one process makes what it would store, so that others that need the same
+ * table at once wait for the file instead of making it too (make test's
+ * suites start together, on an empty cache): a descriptor, or -1 where it
+ * cannot be had (the caller then makes it without). No caller holds two. */
+int bk_lutcache_lock(const char *dir, const char *key);
+void bk_lutcache_unlock(int fd);
 
 /* bk_target_build, the reference integrals of an env, ms or sheen target
  * (target.h, bk_target_reference: 4,096 integrals for a default 64x64 env,

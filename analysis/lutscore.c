@@ -139,15 +139,19 @@ static int bake_table(const bk_lut_layout *L, bk_smith smith, int cloth, double 
 	const char *dir = bk_lutcache_dir();
 	if (dir && !bk_lut_table_cached(dir, L, smith, cloth, AB))
 		return 0;
-	bake b = {L, smith, cloth, AB, AB + (size_t)L->nu * (size_t)L->nr};
-	if (bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b))
-		return -1;
-	if (dir) {
-		char key[256];
-		bk_lut_table_key(L, smith, cloth, key, sizeof key);
-		bk_lutcache_write(dir, key, AB, 2 * (size_t)L->nu * (size_t)L->nr);
+	char key[256];
+	bk_lut_table_key(L, smith, cloth, key, sizeof key);
+	int lock = bk_lutcache_lock(dir, key); /* another process may be baking it: its file, once written */
+	if (lock >= 0 && !bk_lut_table_cached(dir, L, smith, cloth, AB)) {
+		bk_lutcache_unlock(lock);
+		return 0;
 	}
-	return 0;
+	bake b = {L, smith, cloth, AB, AB + (size_t)L->nu * (size_t)L->nr};
+	int rc = bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b);
+	if (!rc && dir)
+		bk_lutcache_write(dir, key, AB, 2 * (size_t)L->nu * (size_t)L->nr);
+	bk_lutcache_unlock(lock);
+	return rc ? -1 : 0;
 }
 
 /* The table of (L, smith, cloth), NULL if it could not be baked; *own: the

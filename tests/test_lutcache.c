@@ -22,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <time.h>
 #include <unistd.h>
 
 #define NU 6
@@ -44,7 +45,7 @@ static void baked(const bk_lut_layout *L, double *AB)
 static void only_file(const char *dir, char *path, size_t len)
 {
 	char cmd[256];
-	snprintf(cmd, sizeof cmd, "ls %s", dir);
+	snprintf(cmd, sizeof cmd, "ls %s | grep '[.]bin$'", dir); /* beside it, its lock (lutcache.h) */
 	FILE *p = popen(cmd, "r");
 	cr_assert_not_null(p);
 	char name[128];
@@ -123,7 +124,7 @@ Test(lutcache, read_back_bit_for_bit_and_every_damage_refused)
 	bk_lutcache_write(dir, key2, ref, 2 * n);
 	cr_assert_eq(remove(path), 0);
 	char cmd[700];
-	snprintf(cmd, sizeof cmd, "mv %s/table-* %s", dir, path);
+	snprintf(cmd, sizeof cmd, "mv %s/table-*.bin %s", dir, path);
 	cr_assert_eq(system(cmd), 0);
 	snprintf(path2, sizeof path2, "%s", path);
 	cr_assert_eq(bk_lut_table_cached(dir, &L, BK_SMITH_CORRELATED, 0, got), -1, "another key's file read");
@@ -226,6 +227,68 @@ Test(lutcache, a_score_writes_the_table_and_the_next_reads_it)
 	cr_assert_neq(planted.rmse, plain.rmse, "the planted table was not read");
 	bk_samples_free(&s);
 	fx_tmpdir_remove(dir);
+}
+
+/* A table another process is baking is waited for, not baked again: with its
+ * key's lock held here, a score started in a child finds no file, waits, and
+ * then reads the table written here (planted: texel (1, 0)'s A doubled, which
+ * no probe bakes again), so it scores what a child reading that file scores,
+ * not the integrator's table. The control: a score that does not wait (a
+ * cache of its own, the same layout) bakes the true table and scores apart
+ * from the planted one. */
+Test(lutcache, a_table_being_baked_is_waited_for)
+{
+	char dir[64], other[64], key[256], err[256];
+	fx_tmpdir_make(dir, sizeof dir, "lutcache");
+	fx_tmpdir_make(other, sizeof other, "lutcache");
+	bk_target_options o;
+	bk_samples s;
+	bk_target_defaults(BK_TARGET_ENV, &o);
+	o.nx = 7, o.nr = 5;
+	cr_assert_eq(bk_target_build(&o, &s, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_lut_layout L = {NU, NR, 0, 1, BK_LUT_WARP_NONE, NAN};
+	bk_lut_table_key(&L, BK_SMITH_CORRELATED, 0, key, sizeof key);
+	int lock = bk_lutcache_lock(dir, key);
+	cr_assert_geq(lock, 0);
+	int go[2], fd[2];
+	cr_assert_eq(pipe(go), 0);
+	cr_assert_eq(pipe(fd), 0);
+	pid_t pid = fork();
+	cr_assert_geq(pid, 0);
+	if (pid == 0) {
+		bk_fit_metrics m;
+		score_job j = {&L, &s, dir};
+		close(go[0]);
+		bk_lutcache_unlock(lock); /* the parent's lock is on the description fork shared: this copy goes */
+		_exit(write(go[1], "s", 1) != 1 || score_run(&j, &m) || write(fd[1], &m, sizeof m) != (ssize_t)sizeof m);
+	}
+	close(go[1]);
+	close(fd[1]);
+	char c;
+	cr_assert_eq(read(go[0], &c, 1), 1);
+	close(go[0]);
+	/* the child on its way into the lock: its first look finds no file */
+	struct timespec pause = {0, 300000000};
+	nanosleep(&pause, NULL);
+	double ref[2 * NU * NR];
+	baked(&L, ref);
+	ref[1] *= 2;
+	bk_lutcache_write(dir, key, ref, 2 * NU * NR);
+	bk_lutcache_unlock(lock);
+	bk_fit_metrics waited;
+	size_t got = 0;
+	for (ssize_t k; got < sizeof waited && (k = read(fd[0], (char *)&waited + got, sizeof waited - got)) > 0;)
+		got += (size_t)k;
+	close(fd[0]);
+	int st;
+	cr_assert_eq(waitpid(pid, &st, 0), pid);
+	cr_assert(WIFEXITED(st) && WEXITSTATUS(st) == 0 && got == sizeof waited);
+	bk_fit_metrics planted = score_in_child(&L, &s, dir), baked_here = score_in_child(&L, &s, other);
+	cr_assert(!memcmp(&waited.rmse, &planted.rmse, sizeof planted.rmse), "the waiting score did not read the file");
+	cr_assert_neq(baked_here.rmse, planted.rmse, "control: a score of its own reads the planted table too");
+	bk_samples_free(&s);
+	fx_tmpdir_remove(dir);
+	fx_tmpdir_remove(other);
 }
 
 /* Sample i's exact value by the integrators, called here at the sample's own
