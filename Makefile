@@ -334,10 +334,17 @@ CLI_TESTS = $(sort $(wildcard tests/cli_*.sh))
 PLAIN_RUNS = $(addprefix test-plain-,unit layers gpucost lavapipe render readme man notebook python mpi fault install cites provenance page fronts_ab) \
              $(patsubst tests/%.sh,test-plain-%,$(CLI_TESTS))
 SAN_RUNS   = $(addprefix test-san-,unit kernels gpucost fault doors) $(patsubst tests/%.sh,test-san-%,$(CLI_TESTS))
-# make starts the goals in this order, two at a time: the longest first (CPU
-# seconds measured per script, tests/README.md), so that no long one starts
-# last while the other core idles; the rest follow in PLAIN_RUNS, SAN_RUNS order
-TEST_FIRST = test-san-unit test-san-kernels test-plain-unit test-san-cli_numerics test-san-cli_scenes test-san-cli_envsearch test-san-cli_planted
+# make starts the goals in this order, two at a time: the longest first (wall
+# seconds of each on a fresh clone's make test, 2026-11-29, 14 s and over), so
+# that no long one starts last while the other core idles (cli_table's
+# sanitized run, 25 s, had come last by the alphabet, alone for its last 30 s);
+# the rest follow in PLAIN_RUNS, SAN_RUNS order
+TEST_FIRST = test-san-unit test-plain-unit test-san-cli_numerics test-san-kernels test-san-cli_scene \
+             test-san-cli_opts test-plain-mpi test-san-cli_envsearch test-plain-lavapipe test-san-cli_search \
+             test-san-cli_table test-san-gpucost test-plain-cli_numerics test-plain-cli_scene \
+             test-plain-cli_search test-plain-cli_envsearch test-san-cli_formula test-plain-cli_table \
+             test-plain-cli_formula test-san-cli_precision test-san-cli_planted test-plain-cli_scene_ms \
+             test-san-cli_paste test-san-cli_scene_ms test-san-cli_speclut
 # The scripts that mostly wait run in a lane of their own, one at a time,
 # beside the two that compute: a held lock's seconds and a killed run's
 # (cli_out.sh), a progress line's interval (cli_longfits.sh), Chromium's
