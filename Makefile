@@ -282,11 +282,20 @@ $(BENCH): $(call obj,build/obj,analysis/bench/bench_dfg.c) $(LIB)
 # README's `make test`, CI's too, has no -j): the plain and the sanitized
 # objects, and the shared libraries tests/install.sh installs.
 # The TinySolver bridge, fit/tiny.cc, is the one slow compile (Eigen's fixed
-# sizes for 1-4 parameters: ~32 CPU s plain, ~62 sanitized, against well under
-# 2 s for any C file), for obj and san (pic copies obj's, below): named
+# sizes for 1-4 parameters: ~32 CPU s plain, ~20 sanitized (below), against
+# well under 2 s for any C file), for obj and san (pic copies obj's, below): named
 # first, so make -j2 starts them at once beside the C files instead of last,
 # one core compiling it alone at the end of each tree.
 SLOW_OBJ = $(foreach d,build/san/obj build/obj,$(call obj,$(d),fit/tiny.cc))
+# The sanitized object serves build/san/test_kernels alone (the sanitized
+# tool and the other runner take the plain one, brdf/doors.h), where it
+# checks the bridge's own lines element by element: built with every solve
+# through TinySolver's one instantiation of run-time sizes, those lines
+# once, not nine times at compile-time sizes (the eight fixed-size ones were
+# 50 of its ~70 CPU s: 20 against 65-77, the same hour). The fixed-size
+# instantiations are the same source at constant sizes, Eigen's fixed-size
+# storage on the stack; the plain runner and every suite run them.
+build/san/obj/fit/tiny.o: CXXSTD += -DBK_TINY_DYNAMIC_ONLY
 # ... and compiled twice, not three times: the tool's object is built with
 # -fPIC, so that the shared library (build/pic/) takes the same file instead
 # of compiling it again (~45 CPU s saved). The command is build/pic's own,
