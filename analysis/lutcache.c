@@ -61,6 +61,23 @@ void bk_lutcache_unlock(int fd)
 		close(fd); /* closing the one descriptor releases its lock */
 }
 
+int bk_lutcache_fetch(const char *dir, const char *key, double *t, size_t n, int (*cached)(void *ctx, double *t),
+                      int (*make)(void *ctx, double *t), void *ctx)
+{
+	if (dir && !cached(ctx, t))
+		return 0;
+	int lock = bk_lutcache_lock(dir, key); /* another process may be making it: its file, once written */
+	if (lock >= 0 && !cached(ctx, t)) {
+		bk_lutcache_unlock(lock);
+		return 0;
+	}
+	int rc = make(ctx, t);
+	if (!rc)
+		bk_lutcache_write(dir, key, t, n);
+	bk_lutcache_unlock(lock);
+	return rc ? -1 : 0;
+}
+
 int bk_lutcache_read(const char *dir, const char *key, double *t, size_t n)
 {
 	char path[4096], why[256];
@@ -127,6 +144,30 @@ static int target_probe(const bk_target_options *o, const double *AB, size_t n)
 	return 0;
 }
 
+/* bk_lutcache_fetch's two steps for a target's integrals */
+typedef struct target_job {
+	const bk_target_options *o;
+	const char *dir;
+	size_t n;
+	bk_progress_fn progress;
+	void *ctx;
+	char *err;
+	size_t errlen;
+	char key[320];
+} target_job;
+
+static int target_cached(void *ctx, double *AB)
+{
+	const target_job *j = ctx;
+	return bk_lutcache_read(j->dir, j->key, AB, 2 * j->n) || target_probe(j->o, AB, j->n) ? -1 : 0;
+}
+
+static int target_make(void *ctx, double *AB)
+{
+	const target_job *j = ctx;
+	return bk_target_reference(j->o, AB, j->progress, j->ctx, j->err, j->errlen);
+}
+
 int bk_lutcache_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
                              char *err, size_t errlen)
 {
@@ -135,19 +176,11 @@ int bk_lutcache_target_build(const bk_target_options *o, bk_samples *s, bk_progr
 	double *AB = dir && n && n <= TARGET_MAX_CELLS && !o->reference ? malloc(sizeof *AB * 2 * n) : NULL;
 	if (!AB) /* no cache, nothing to keep in it (or too much), or no memory: the build as it is */
 		return bk_target_build(o, s, progress, ctx, err, errlen);
-	char key[320];
-	bk_lutcache_target_key(o, key, sizeof key);
-	if (bk_lutcache_read(dir, key, AB, 2 * n) || target_probe(o, AB, n)) {
-		int lock = bk_lutcache_lock(dir, key); /* another process may be making them: its file, once written */
-		if (lock < 0 || bk_lutcache_read(dir, key, AB, 2 * n) || target_probe(o, AB, n)) {
-			if (bk_target_reference(o, AB, progress, ctx, err, errlen)) {
-				bk_lutcache_unlock(lock);
-				free(AB); /* the build fails on the same cell with the same message */
-				return bk_target_build(o, s, NULL, NULL, err, errlen);
-			}
-			bk_lutcache_write(dir, key, AB, 2 * n);
-		}
-		bk_lutcache_unlock(lock);
+	target_job j = {o, dir, n, progress, ctx, err, errlen, {0}};
+	bk_lutcache_target_key(o, j.key, sizeof j.key);
+	if (bk_lutcache_fetch(dir, j.key, AB, 2 * n, target_cached, target_make, &j)) {
+		free(AB); /* the build fails on the same cell with the same message */
+		return bk_target_build(o, s, NULL, NULL, err, errlen);
 	}
 	bk_target_options t = *o;
 	t.reference = AB;

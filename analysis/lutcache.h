@@ -38,6 +38,13 @@ void bk_lutcache_write(const char *dir, const char *key, const double *t, size_t
  * cannot be had (the caller then makes it without). No caller holds two. */
 int bk_lutcache_lock(const char *dir, const char *key);
 void bk_lutcache_unlock(int fd);
+/* The n doubles kept under key into t, the one way every table is had:
+ * cached(ctx, t) reads and checks the file (0: taken); failing that, under
+ * the key's lock it looks again, then make(ctx, t) makes them (0, or -1:
+ * nothing stored) and they are stored. dir NULL: make alone. 0, or -1 when
+ * make failed. */
+int bk_lutcache_fetch(const char *dir, const char *key, double *t, size_t n, int (*cached)(void *ctx, double *t),
+                      int (*make)(void *ctx, double *t), void *ctx);
 
 /* bk_target_build, the reference integrals of an env, ms or sheen target
  * (target.h, bk_target_reference: 4,096 integrals for a default 64x64 env,

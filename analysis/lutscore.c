@@ -133,25 +133,34 @@ int bk_lut_table_cached(const char *dir, const bk_lut_layout *L, bk_smith smith,
 	return 0;
 }
 
+/* bk_lutcache_fetch's two steps for a table */
+typedef struct table_job {
+	const bk_lut_layout *L;
+	bk_smith smith;
+	int cloth;
+	const char *dir;
+} table_job;
+
+static int table_cached(void *ctx, double *AB)
+{
+	const table_job *j = ctx;
+	return bk_lut_table_cached(j->dir, j->L, j->smith, j->cloth, AB);
+}
+
+static int table_make(void *ctx, double *AB)
+{
+	const table_job *j = ctx;
+	bake b = {j->L, j->smith, j->cloth, AB, AB + (size_t)j->L->nu * (size_t)j->L->nr};
+	return bk_pool_run(j->L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b) ? -1 : 0;
+}
+
 /* The table into AB: A, then B (nu nr each). */
 static int bake_table(const bk_lut_layout *L, bk_smith smith, int cloth, double *AB)
 {
-	const char *dir = bk_lutcache_dir();
-	if (dir && !bk_lut_table_cached(dir, L, smith, cloth, AB))
-		return 0;
+	table_job j = {L, smith, cloth, bk_lutcache_dir()};
 	char key[256];
 	bk_lut_table_key(L, smith, cloth, key, sizeof key);
-	int lock = bk_lutcache_lock(dir, key); /* another process may be baking it: its file, once written */
-	if (lock >= 0 && !bk_lut_table_cached(dir, L, smith, cloth, AB)) {
-		bk_lutcache_unlock(lock);
-		return 0;
-	}
-	bake b = {L, smith, cloth, AB, AB + (size_t)L->nu * (size_t)L->nr};
-	int rc = bk_pool_run(L->nr, bk_pool_cores(BAKE_THREADS), bake_row, NULL, &b);
-	if (!rc && dir)
-		bk_lutcache_write(dir, key, AB, 2 * (size_t)L->nu * (size_t)L->nr);
-	bk_lutcache_unlock(lock);
-	return rc ? -1 : 0;
+	return bk_lutcache_fetch(j.dir, key, AB, 2 * (size_t)L->nu * (size_t)L->nr, table_cached, table_make, &j);
 }
 
 /* The table of (L, smith, cloth), NULL if it could not be baked; *own: the
