@@ -28,6 +28,10 @@ static const char *const style =
 	"figure{margin:1em 0}figcaption{font-size:13px;color:#444;margin-top:.3em}"
 	"details.fold>summary{cursor:pointer;font-size:13px;color:#444;margin:.5em 0}"
 	"table.summary{font-size:11px;line-height:1.25;margin:.4em 0}table.summary td,table.summary th{padding:0 5px}table.summary td{white-space:nowrap}"
+	/* its headers break between words only: a target's name or "cost" split
+	 * mid-word doubles a row (DejaVu Sans, the wide default, pushed Figure 1
+	 * off the first screen so; tests/page.sh) */
+	"table.summary th{overflow-wrap:normal}"
 	"figure.main{display:flex;gap:1em;align-items:flex-start;margin:.5em 0}"
 	"figure.main>a{flex:0 0 64%}figure.main img{width:100%;height:auto}figure.main figcaption{flex:1}"
 	/* wide tables fit the window: the render table's three pictures shrink with it (their
