@@ -25,19 +25,16 @@ int bk_frontcsv_score(const bk_csvtab *t, int i, int k, const char *name, double
 	                     name, s);
 }
 
-/* One form text through the parser: its parameter count (*used: or-ed
- * with the parameters it reads), or -1 with err. */
-static int parse(const bk_csvtab *t, int line, const char *what, const char *text, unsigned *used, char *err,
-                 size_t errlen)
+/* One form text through the parser, into *f: its parameter count (*used:
+ * or-ed with the parameters it reads), or -1 with err. */
+static int parse(const bk_csvtab *t, int line, const char *what, const char *text, bk_form **f, unsigned *used,
+                 char *err, size_t errlen)
 {
 	bk_form_error fe;
-	bk_form *f = bk_form_parse(text, &fe);
-	if (!f)
+	if (!(*f = bk_form_parse(text, &fe)))
 		return bk_csvtab_err(err, errlen, t->path, line, "%s: column %d: %s", what, fe.column, fe.message);
-	int np = bk_form_nparams(f);
-	*used |= bk_form_params(f);
-	bk_form_free(f);
-	return np;
+	*used |= bk_form_params(*f);
+	return bk_form_nparams(*f);
 }
 
 /* Row i of t into w (w->name etc. its own); 0, or -1 with err. */
@@ -59,8 +56,8 @@ static int data_row(const bk_csvtab *t, int i, unsigned need, bk_frontcsv_row *w
 		if (!(w->form = strdup(bk_csvtab_get(t, i, C_FORM))) || (*fb && !(w->form_b = strdup(fb))))
 			return bk_csvtab_err(err, errlen, t->path, 0, "out of memory");
 		unsigned used = 0;
-		int np = parse(t, line, "form", w->form, &used, err, errlen);
-		int nb = np < 0 ? 0 : w->form_b ? parse(t, line, "form_b", w->form_b, &used, err, errlen) : 0;
+		int np = parse(t, line, "form", w->form, &w->f, &used, err, errlen);
+		int nb = np < 0 ? 0 : w->form_b ? parse(t, line, "form_b", w->form_b, &w->f_b, &used, err, errlen) : 0;
 		if (np < 0 || nb < 0)
 			return -1;
 		w->np = np > nb ? np : nb;
@@ -102,6 +99,8 @@ void bk_frontcsv_free(bk_frontcsv *fc)
 		free(fc->row[i].name);
 		free(fc->row[i].form);
 		free(fc->row[i].form_b);
+		bk_form_free(fc->row[i].f);
+		bk_form_free(fc->row[i].f_b);
 	}
 	free(fc->row);
 	fc->row = NULL;

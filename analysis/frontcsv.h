@@ -27,6 +27,8 @@ typedef struct bk_frontcsv_row {
 	int line;             /* of the file, from 1: where the row starts */
 	char *name;           /* the name column, or "row LINE" */
 	char *form, *form_b;  /* FORMS: the texts (form_b NULL for one form) */
+	bk_form *f, *f_b;     /* FORMS: the texts parsed, here and only here (owned; a reader
+	                       * uses or copies them rather than parse the texts again) */
 	double p[BK_MAX_PARAMS];
 	int np;               /* FORMS: the forms' highest p index + 1 */
 	double cost, error;   /* SCORES; NaN otherwise */

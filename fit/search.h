@@ -113,6 +113,11 @@ typedef struct bk_search_options {
 	                             starts; 0: from the default starts alone */
 	const char *const *seeds; /* forms fitted first (pair: "A" then "B" in seeds_b) */
 	const char *const *seeds_b;
+	/* their forms when the caller has parsed them (bk_seeds_apply): [k]
+	 * bk_form_parse(seeds[k]) (of seeds_b[k]), copied and not parsed again;
+	 * NULL, or a form whose text is not seeds[k]'s: the text is parsed here */
+	const bk_form *const *seed_forms;
+	const bk_form *const *seed_forms_b;
 	const char *const *seed_names; /* their names in outputs (catalog names, "start 1", ...) */
 	const double (*seed_p)[BK_MAX_PARAMS]; /* their starting constants (published), or NULL */
 	int nseeds;

@@ -101,5 +101,8 @@ Test(halves, seeds_after_the_callers)
 	cr_expect_str_eq(o.seeds[2], "mix(p1, p0, f0)");
 	cr_expect_eq(o.seed_p[2][1], 0.25);
 	cr_expect_eq(o.evals, 700);
+	/* the caller's seeds go in with their forms, a composition to be parsed */
+	cr_expect(o.seed_forms && o.seed_forms[1] == sd.form[1] && !o.seed_forms[2]);
 	bk_halves_free(&hv);
+	bk_seeds_free(&sd);
 }

@@ -886,3 +886,49 @@ Test(search, enumeration_of_size_9_is_drawn_as_needed, .timeout = 120)
 	bk_search_free(five);
 	bk_samples_free(&s);
 }
+
+/* A seed given parsed (bk_search_options.seed_forms, as bk_seeds hands it on)
+ * is the form fitted, not its text parsed again. Told apart by a form that
+ * carries the seed's text on another program (its text field swapped, which
+ * only a test can do): the planted seed p0/(LoH*LoH + p1) against the
+ * program p0*LoH, which fits the planted target far worse. Its controls: with
+ * no forms given the text is parsed, and with the text's own form given the
+ * seed scores the same. */
+static double seed_error(const bk_search_options *o)
+{
+	char err[256];
+	bk_search *s = bk_search_new(o, err, sizeof err);
+	cr_assert(s, "%s", err);
+	cr_assert_geq(bk_search_step(s, err, sizeof err), 0, "%s", err); /* the seeds */
+	double e = NAN;
+	for (size_t i = 0; i < bk_search_count(s); i++)
+		if (bk_search_at(s, i)->seed_name)
+			e = bk_search_at(s, i)->err;
+	bk_search_free(s);
+	return e;
+}
+
+Test(search, a_seed_given_parsed_is_not_parsed_again)
+{
+	bk_samples s;
+	planted(&s, 16);
+	bk_search_options o;
+	plant_options(&o, &s, 1, 1000);
+	bk_form_error fe;
+	bk_form *other = bk_form_parse("p0*LoH", &fe), *same = bk_form_parse(plant_seed[0], &fe);
+	cr_assert(other && same);
+	free(other->text); /* the seed's text on another program */
+	other->text = strdup(plant_seed[0]);
+	const bk_form *given[1] = {other};
+	double as_text = seed_error(&o);
+	o.seed_forms = given;
+	double as_given = seed_error(&o);
+	given[0] = same;
+	double as_same = seed_error(&o);
+	cr_expect(as_given > 1.5 * as_text, "the given form scored %g, its text %g: the text was parsed again", as_given,
+	          as_text);
+	cr_expect_eq(as_same, as_text, "the seed's own form, given: %g, parsed: %g", as_same, as_text);
+	bk_form_free(other);
+	bk_form_free(same);
+	bk_samples_free(&s);
+}

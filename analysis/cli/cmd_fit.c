@@ -123,6 +123,11 @@ static int load_forms(const fitargs *a, bk_target_kind kind, forms *fs)
 	if (fs->split && kind != BK_TARGET_ENV) {
 		return cli_bad("two forms (A and B) fit only the env target");
 	}
+	if (fs->member) { /* parsed as the file was read */
+		fs->f[0] = fs->m.f, fs->f[1] = fs->m.f_b;
+		fs->m.f = fs->m.f_b = NULL;
+		return 0;
+	}
 	if (parse_form(fs->split ? "form-a" : "form", fs->text[0], &fs->f[0]))
 		return 2;
 	if (fs->split && parse_form("form-b", fs->text[1], &fs->f[1])) {

@@ -58,8 +58,9 @@ static int read_row(const char *arg, int index, gc_row *r)
 		if (rc)
 			return rc;
 		snprintf(r->name, sizeof r->name, "%.150s", m.fname[0] ? m.fname : m.name);
-		r->text[0] = r->own[0] = m.form; /* the member's texts move to r */
+		r->text[0] = r->own[0] = m.form; /* the member's texts move to r, and their forms */
 		r->text[1] = r->own[1] = m.form_b;
+		r->f[0] = m.f, r->f[1] = m.f_b;
 		memcpy(r->params, m.p, sizeof r->params);
 		for (int j = 0; j < m.np; j++)
 			r->have[j] = 1;
@@ -95,7 +96,7 @@ static int read_row(const char *arg, int index, gc_row *r)
 	return 0;
 }
 
-/* Parses a row's form(s): the column of a syntax error; then the shared
+/* Parses a row's form(s) (a member's came parsed): the column of a syntax error; then the shared
  * checks: a value for every parameter used, none given that is unused, and
  * a form with a value somewhere (form_check.h). */
 static int parse_row(gc_row *r)
@@ -104,7 +105,7 @@ static int parse_row(gc_row *r)
 	int rc;
 	for (int p = 0; p < 2 && r->text[p]; p++) {
 		bk_form_error fe;
-		if (!(r->f[p] = bk_form_parse(r->text[p], &fe))) {
+		if (!r->f[p] && !(r->f[p] = bk_form_parse(r->text[p], &fe))) {
 			fprintf(stderr, "brdfkit gpucost: %s:1:%d: %s\n", r->typed ? "form" : r->name, fe.column, fe.message);
 			return 2;
 		}

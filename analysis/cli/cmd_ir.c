@@ -37,8 +37,8 @@ typedef struct form_arg {
 
 /* FILE.csv:NAME: the member's form (or form_b for :B), its parameters
  * baked in like a catalog entry's constants, and its provenance
- * (member.h). text is malloc'd. */
-static int load_member(const char *arg, form_arg *fa, char **text)
+ * (member.h), its form into fa->f (parsed as the file was read). */
+static int load_member(const char *arg, form_arg *fa)
 {
 	cli_member m;
 	int rc = cli_member_load(arg, 0, &m);
@@ -55,8 +55,8 @@ static int load_member(const char *arg, form_arg *fa, char **text)
 	snprintf(fa->domain, sizeof fa->domain, "%s", m.domain);
 	snprintf(fa->error, sizeof fa->error, "%s", m.errtext);
 	fa->signature = m.signature;
-	*text = m.form;
-	m.form = NULL;
+	fa->f = m.f;
+	m.f = NULL;
 	cli_member_free(&m);
 	return 0;
 }
@@ -66,20 +66,8 @@ static int load_form(const char *cmd, const char *arg, form_arg *fa)
 	memset(fa, 0, sizeof *fa);
 	char name[128];
 	const char *colon = cli_member_split(arg);
-	if (colon) {
-		char *mtext = NULL;
-		int rc = load_member(arg, fa, &mtext);
-		if (rc)
-			return rc;
-		bk_form_error err;
-		fa->f = bk_form_parse(mtext, &err);
-		free(mtext);
-		if (!fa->f) {
-			fprintf(stderr, "brdfkit %s: %s:1:%d: %s\n", cmd, fa->label, err.column, err.message);
-			return 2;
-		}
-		return 0;
-	}
+	if (colon)
+		return load_member(arg, fa);
 	colon = strchr(arg, ':');
 	size_t len = colon ? (size_t)(colon - arg) : strlen(arg);
 	const char *text = arg;
@@ -424,7 +412,8 @@ static int codegen_pair(const cli_cmd *cmd, bk_lang L, int half, int li, bk_math
 		cli_member_free(&m);
 		return -1;
 	}
-	bk_form *f[2] = {bk_form_parse(m.form, NULL), bk_form_parse(m.form_b, NULL)};
+	bk_form *f[2] = {m.f, m.f_b}; /* parsed as the file was read */
+	m.f = m.f_b = NULL;
 	if (cmd->npos > 1)
 		rc = cli_bad("'%s': a member's parameters are baked in ('%s'): give MEMBER:A or MEMBER:B to change one",
 		             cmd->pos[0], cmd->pos[1]);

@@ -99,6 +99,7 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 		it->member = m.np;
 		it->form = m.form;
 		it->form_b = m.form_b;
+		it->f = m.f, it->fb = m.f_b; /* parsed as the file was read */
 		memcpy(it->params, m.p, sizeof it->params);
 		for (int j = 0; j < m.np; j++)
 			it->have[j] = 1;
@@ -157,7 +158,7 @@ static int resolve(item *it, const char *name, const char *form, const char *for
 	for (int k = 0; k < 2; k++) {
 		if (!texts[k])
 			continue;
-		if (!(*fs[k] = bk_form_parse(texts[k], &fe))) {
+		if (!*fs[k] && !(*fs[k] = bk_form_parse(texts[k], &fe))) {
 			fprintf(stderr, "brdfkit render: %s: %s: column %d: %s\n", it->name, k ? "form B" : "form", fe.column,
 			        fe.message);
 			return 2;

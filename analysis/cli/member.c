@@ -52,8 +52,8 @@ static void provenance(cli_member *m, const bk_frontcsv *fc, const bk_frontcsv_r
 }
 
 /* The inputs every row of r's kind reads (member.h's signature) into *sig;
- * -1 if a form does not parse (frontcsv.h has parsed them all: out of
- * memory), else 0. */
+ * -1 if a row has no form (frontcsv.h parsed them all as it read the file),
+ * else 0. */
 static int signature(const bk_frontcsv *fc, const bk_frontcsv_row *r, unsigned *sig)
 {
 	unsigned in = 0;
@@ -62,11 +62,10 @@ static int signature(const bk_frontcsv *fc, const bk_frontcsv_row *r, unsigned *
 		if (!w->form_b != !r->form_b)
 			continue;
 		for (int k = 0; k < 2; k++) {
-			bk_form *f = k == 0 || w->form_b ? bk_form_parse(k ? w->form_b : w->form, NULL) : NULL;
+			const bk_form *f = k ? w->f_b : w->f; /* parsed as the file was read */
 			if (!f && (k == 0 || w->form_b))
 				return -1;
 			in |= f ? bk_form_inputs(f) : 0;
-			bk_form_free(f);
 		}
 	}
 	if (in >> BK_IN_A & 1)
@@ -115,7 +114,9 @@ int cli_member_load(const char *arg, int pair, cli_member *m)
 	m->form = strdup(want_b ? r->form_b : r->form);
 	if (r->form_b && !part)
 		m->form_b = strdup(r->form_b);
-	if (!m->form || (r->form_b && !part && !m->form_b)) {
+	m->f = bk_form_dup(want_b ? r->f_b : r->f);
+	m->f_b = m->form_b ? bk_form_dup(r->f_b) : NULL;
+	if (!m->form || (r->form_b && !part && !m->form_b) || !m->f || (m->form_b && !m->f_b)) {
 		bk_frontcsv_free(&fc);
 		cli_member_free(m);
 		return cli_fail(NULL, "out of memory");
@@ -143,5 +144,8 @@ void cli_member_free(cli_member *m)
 {
 	free(m->form);
 	free(m->form_b);
+	bk_form_free(m->f);
+	bk_form_free(m->f_b);
 	m->form = m->form_b = NULL;
+	m->f = m->f_b = NULL;
 }

@@ -16,6 +16,8 @@
 typedef struct cli_member {
 	char name[96];             /* the name column */
 	char *form, *form_b;       /* malloc'd; form_b: B of a pair read whole (else NULL) */
+	bk_form *f, *f_b;          /* their forms, as the file's reading parsed them (owned): a
+	                            * command takes these (and sets them NULL), not the texts again */
 	int part;                  /* 'A' or 'B' when one part was named, else 0 */
 	double p[BK_MAX_PARAMS];   /* p0..p(np-1), every one the file gives */
 	int np;

@@ -219,21 +219,17 @@ int search_setup_inputs(job *J)
  * evaluate. */
 static size_t seed_nonfinite(const bk_seeds *sd, int k, const bk_samples *s, char *where, size_t len)
 {
-	bk_form_error fe;
-	bk_form *f[2] = {bk_form_parse(sd->text[k], &fe), sd->text_b[k] ? bk_form_parse(sd->text_b[k], &fe) : NULL};
-	size_t bad = s->n;
-	snprintf(where, len, "no sample: the form does not compile");
-	if (f[0] && (!sd->text_b[k] || f[1])) {
-		bk_fit_spec sp;
-		memset(&sp, 0, sizeof sp);
-		sp.s = s;
-		sp.form[0] = f[0];
-		sp.form[1] = f[1] ? f[1] : f[0];
-		bad = bk_fit_nonfinite(&sp, sd->p[k], where, len);
+	const bk_form *f[2] = {sd->form[k], sd->form_b[k]}; /* parsed once, as the seed was added */
+	if (!f[0] || (sd->text_b[k] && !f[1])) {
+		snprintf(where, len, "no sample: the form does not compile");
+		return s->n;
 	}
-	bk_form_free(f[0]);
-	bk_form_free(f[1]);
-	return bad;
+	bk_fit_spec sp;
+	memset(&sp, 0, sizeof sp);
+	sp.s = s;
+	sp.form[0] = f[0];
+	sp.form[1] = f[1] ? f[1] : f[0];
+	return bk_fit_nonfinite(&sp, sd->p[k], where, len);
 }
 
 /* A --start form that is NaN or infinite on the samples s at its start is
@@ -263,8 +259,7 @@ static const char *front_row_unfit(const job *J, const bk_frontcsv_row *w, char 
 	if (pair != (w->form_b != NULL))
 		return pair ? "target env searches split pairs: form_b is empty" :
 		              "form_b is given but this search takes one form";
-	bk_form_error fe;
-	bk_form *f[2] = {bk_form_parse(w->form, &fe), w->form_b ? bk_form_parse(w->form_b, &fe) : NULL};
+	const bk_form *f[2] = {w->f, w->f_b}; /* parsed as the file was read */
 	const char *msg = NULL;
 	if (!f[0] || (w->form_b && !f[1]))
 		msg = "the form does not compile";
@@ -284,8 +279,6 @@ static const char *front_row_unfit(const job *J, const bk_frontcsv_row *w, char 
 			msg = why;
 		}
 	}
-	bk_form_free(f[0]);
-	bk_form_free(f[1]);
 	return msg;
 }
 
@@ -337,7 +330,7 @@ static int add_front_seeds(job *J, bk_seeds *sd, int i)
 		}
 		if (dup)
 			continue;
-		if (bk_seeds_add(sd, w->form, w->form_b, w->name, w->p))
+		if (bk_seeds_add_forms(sd, w->form, w->form_b, w->name, w->p, w->f, w->f_b))
 			return cli_fail("search", "--start-front %s: more than %d seeds with the %d published ones", path,
 			                MAX_SEEDS, J->ncatalog);
 		sd->from_front[sd->n - 1] = 1;
@@ -385,9 +378,12 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 			return cli_usage(J->cmd, "--start '%s' reads an input target %s does not provide", J->a->start[k],
 			                 bk_target_name(J->kind));
 		}
+		/* at most MAX_SEEDS: --start's repeat; a typed form goes in as parsed here */
+		if (e)
+			bk_seeds_add(sd, e->form, e->form_b, e->name, e->defaults);
+		else
+			bk_seeds_add_forms(sd, J->a->start[k], NULL, NULL, NULL, f, NULL);
 		bk_form_free(f);
-		bk_seeds_add(sd, e ? e->form : J->a->start[k], e ? e->form_b : NULL, e ? e->name : NULL,
-		             e ? e->defaults : NULL); /* at most MAX_SEEDS: --start's repeat */
 	}
 	int rc = search_check_starts(J, sd, &J->screen);
 	J->ncatalog = sd->n;

@@ -43,13 +43,12 @@ void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *
 	*np = bk_form_nparams(f);
 }
 
-int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b)
+/* c's forms made (form, and form_b of a pair): the pair as one form, the cost */
+static int finish(const bk_search *s, bk_cand *c, const char *a, const char *b)
 {
-	bk_form_error fe;
-	c->form = bk_form_parse(a, &fe);
-	if (b && *b) {
+	if (b && *b) { /* A and B as the one program a shader runs: shared work counted once */
+		bk_form_error fe;
 		char *buf = bk_pair_dup(a, b);
-		c->form_b = bk_form_parse(b, &fe);
 		c->form_pair = buf ? bk_form_parse(buf, &fe) : NULL;
 		free(buf);
 	}
@@ -59,6 +58,23 @@ int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b)
 	}
 	bk_cand_cost_of(s, c->form_pair ? c->form_pair : c->form, &c->ops, &c->cost, &c->np);
 	return 0;
+}
+
+int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b)
+{
+	bk_form_error fe;
+	c->form = bk_form_parse(a, &fe);
+	if (b && *b)
+		c->form_b = bk_form_parse(b, &fe);
+	return finish(s, c, a, b);
+}
+
+int bk_cand_adopt(const bk_search *s, bk_cand *c, const bk_form *fa, const bk_form *fb, const char *a, const char *b)
+{
+	c->form = bk_form_dup(fa);
+	if (b && *b)
+		c->form_b = fb ? bk_form_dup(fb) : NULL;
+	return finish(s, c, a, b);
 }
 
 void bk_cand_free_forms(bk_cand *c)

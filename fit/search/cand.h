@@ -24,6 +24,10 @@ void bk_cand_cost_of(const bk_search *s, const bk_form *f, bk_ops *ops, double *
  * pair form_b and form_pair; its ops, cost and parameters from the whole.
  * 0, or -1 when a text is not a form or out of memory (c's forms NULL). */
 int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b);
+/* As bk_cand_parse, from the forms fa (fb: B of a pair) of the texts a and b,
+ * already parsed (a seed given parsed: bk_search_options.seed_forms): copied,
+ * not parsed again (a pair's one form is still made from the two texts). */
+int bk_cand_adopt(const bk_search *s, bk_cand *c, const bk_form *fa, const bk_form *fb, const char *a, const char *b);
 
 /* Frees c's forms (not its texts). */
 void bk_cand_free_forms(bk_cand *c);

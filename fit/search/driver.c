@@ -38,6 +38,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->starts = 2;
 	o->inherit = 0;
 	o->seeds = o->seeds_b = o->seed_names = NULL;
+	o->seed_forms = o->seed_forms_b = NULL;
 	o->seed_p = NULL;
 	o->nseeds = 0;
 	o->exempt_seeds = INT_MAX;
@@ -162,6 +163,17 @@ static char *one_line(const char *t)
 	return c;
 }
 
+/* The caller's form of a seed whose text (one line) is text, copied into
+ * *out; NULL there when none is given or its text is another (the seed is
+ * then parsed where it is made, generate.c). 0, or -1 out of memory. */
+static int seed_form_of(const bk_form *const *forms, int k, const char *text, bk_form **out)
+{
+	*out = NULL;
+	if (!forms || !forms[k] || strcmp(bk_form_text(forms[k]), text))
+		return 0;
+	return (*out = bk_form_dup(forms[k])) ? 0 : -1;
+}
+
 /* "name: must be ..., got ..." into why, and 0 */
 #define BAD(...) (snprintf(why, len, __VA_ARGS__), 0)
 
@@ -236,7 +248,9 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 	s->seed_text_b = calloc((size_t)ns + 1, sizeof(char *));
 	s->seed_name = calloc((size_t)ns + 1, sizeof(char *));
 	s->seed_p = calloc((size_t)ns + 1, sizeof *s->seed_p);
-	if (!s->seed_text || !s->seed_text_b || !s->seed_name || !s->seed_p)
+	s->seed_form = calloc((size_t)ns + 1, sizeof *s->seed_form);
+	s->seed_form_b = calloc((size_t)ns + 1, sizeof *s->seed_form_b);
+	if (!s->seed_text || !s->seed_text_b || !s->seed_name || !s->seed_p || !s->seed_form || !s->seed_form_b)
 		goto oom;
 	for (int k = 0; k < ns; k++) {
 		s->seed_text[k] = one_line(o->seeds[k]);
@@ -248,9 +262,14 @@ bk_search *bk_search_new(const bk_search_options *o, char *err, size_t errlen)
 			s->seed_p[k][j] = o->seed_p ? o->seed_p[k][j] : 1.0;
 		if (!s->seed_text[k] || !s->seed_name[k])
 			goto oom;
+		if (seed_form_of(o->seed_forms, k, s->seed_text[k], &s->seed_form[k]) ||
+		    (s->seed_text_b[k] && seed_form_of(o->seed_forms_b, k, s->seed_text_b[k], &s->seed_form_b[k])))
+			goto oom;
 	}
 	s->o.seeds = (const char *const *)s->seed_text;
 	s->o.seeds_b = (const char *const *)s->seed_text_b;
+	s->o.seed_forms = (const bk_form *const *)s->seed_form; /* the caller's need not outlive s */
+	s->o.seed_forms_b = (const bk_form *const *)s->seed_form_b;
 	s->o.seed_names = (const char *const *)s->seed_name;
 	bk_rng_seed(&s->rng, o->seed);
 	bk_grammar g = o->grammar;
@@ -286,6 +305,12 @@ void bk_search_free(bk_search *s)
 		free(s->seed_text_b[k]);
 		free(s->seed_name[k]);
 	}
+	for (int k = 0; s->seed_form && s->seed_form_b && k < s->o.nseeds; k++) {
+		bk_form_free(s->seed_form[k]);
+		bk_form_free(s->seed_form_b[k]);
+	}
+	free(s->seed_form);
+	free(s->seed_form_b);
 	free(s->seed_text);
 	free(s->seed_text_b);
 	free(s->seed_name);

@@ -58,7 +58,10 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 			return -1;
 		if (fresh == 0)
 			continue;
-		if (bk_cand_parse(s, q, s->seed_text[k], s->seed_text_b[k])) /* the seed's forms, made once */
+		/* the seed's forms: the caller's when it gave them, else parsed, once */
+		const char *ta = s->seed_text[k], *tb = s->seed_text_b[k];
+		const bk_form *fa = s->seed_form[k], *fb = s->seed_form_b[k];
+		if (fa && (!tb || fb) ? bk_cand_adopt(s, q, fa, fb, ta, tb) : bk_cand_parse(s, q, ta, tb))
 			continue;
 		q->text = strdup(s->seed_text[k]);
 		q->text_b = s->seed_text_b[k] ? strdup(s->seed_text_b[k]) : NULL;
@@ -68,17 +71,19 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 			return -1;
 		bk_form_error fe;
 		for (int h = 0; h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
-			/* the search tree of a seed: its form read back (for F0, without the f0*) */
-			const char *txt = h ? s->seed_text_b[k] : s->seed_text[k];
-			char g[8192];
+			/* the search tree of a seed: its form read back; for F0, the part
+			 * f0 multiplies, a form of its own (f0 made 1, a text's tokens
+			 * replaced: the only seed text parsed twice) */
+			const bk_form *f = h ? q->form_b : q->form;
+			bk_form *own = NULL;
 			if (s->o.shape == BK_SHAPE_F0) {
-				without_f0(txt, g, sizeof g);
-				txt = g;
+				char g[8192];
+				without_f0(h ? tb : ta, g, sizeof g);
+				f = own = bk_form_parse(g, &fe);
 			}
-			bk_form *f = bk_form_parse(txt, &fe);
 			if (!f || bk_expr_from_form(f, &q->tree[h]) || bk_expr_canon_in(&q->tree[h], s->tree_g.inputs))
 				q->tree[h] = lone_param();
-			bk_form_free(f);
+			bk_form_free(own);
 		}
 		b->start[b->n - 1] = s->seed_p ? s->seed_p[k] : NULL;
 	}

@@ -38,6 +38,7 @@ static int half_search(const bk_search_options *so, const bk_target_options *scr
 	bk_search_options o = *so;
 	o.screen = &sm;
 	o.seeds = o.seeds_b = o.seed_names = NULL;
+	o.seed_forms = o.seed_forms_b = NULL;
 	o.seed_p = NULL;
 	o.nseeds = 0;
 	o.exempt_seeds = INT_MAX;
@@ -164,17 +165,22 @@ void bk_halves_seed(bk_halves *hv, const bk_seeds *sd, bk_search_options *o)
 	for (int k = 0; k < sd->n; k++, n++) {
 		hv->seed_text[n] = sd->text[k];
 		hv->seed_text_b[n] = sd->text_b[k];
+		hv->seed_form[n] = sd->form[k];
+		hv->seed_form_b[n] = sd->form_b[k];
 		hv->seed_name[n] = sd->name[k];
 		memcpy(hv->seed_p[n], sd->p[k], sizeof hv->seed_p[0]);
 	}
 	for (int k = 0; k < hv->n; k++, n++) {
 		hv->seed_text[n] = hv->text[k];
 		hv->seed_text_b[n] = NULL;
+		hv->seed_form[n] = hv->seed_form_b[n] = NULL;
 		hv->seed_name[n] = hv->name[k];
 		memcpy(hv->seed_p[n], hv->p[k], sizeof hv->seed_p[0]);
 	}
 	o->seeds = hv->seed_text;
 	o->seeds_b = hv->seed_text_b;
+	o->seed_forms = hv->seed_form;
+	o->seed_forms_b = hv->seed_form_b;
 	o->seed_names = hv->seed_name;
 	o->seed_p = (const double(*)[BK_MAX_PARAMS])hv->seed_p;
 	o->nseeds = n;

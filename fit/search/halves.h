@@ -40,6 +40,8 @@ typedef struct bk_halves {
 	long evals; /* the two searches' fits */
 	/* the seeds of the search in f0 (bk_halves_seed): the caller's, then the compositions */
 	const char *seed_text[BK_SEEDS_MAX + BK_HALVES_MAX], *seed_text_b[BK_SEEDS_MAX + BK_HALVES_MAX];
+	const bk_form *seed_form[BK_SEEDS_MAX + BK_HALVES_MAX], *seed_form_b[BK_SEEDS_MAX + BK_HALVES_MAX]; /* the
+	                  caller's seeds' forms (bk_seeds), NULL for a composition (parsed by the search) */
 	const char *seed_name[BK_SEEDS_MAX + BK_HALVES_MAX];
 	double seed_p[BK_SEEDS_MAX + BK_HALVES_MAX][BK_MAX_PARAMS];
 } bk_halves;

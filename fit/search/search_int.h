@@ -54,6 +54,7 @@ typedef struct bk_sched_gen {
 struct bk_search {
 	bk_search_options o;
 	char **seed_text, **seed_text_b, **seed_name; /* copies */
+	bk_form **seed_form, **seed_form_b; /* copies of the options' seed_forms; NULL: parse the text */
 	double (*seed_p)[BK_MAX_PARAMS];
 	uint64_t fingerprint;     /* this island's options (checkpoints) */
 	uint64_t fingerprint_all; /* what all islands share: not the seed or the island (migrants) */

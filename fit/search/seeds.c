@@ -10,7 +10,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int bk_seeds_add(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p)
+/* Seed k's fields but its forms */
+static int add(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p)
 {
 	if (sd->n >= BK_SEEDS_MAX)
 		return -1;
@@ -19,9 +20,31 @@ int bk_seeds_add(bk_seeds *sd, const char *text, const char *text_b, const char 
 	sd->text_b[k] = text_b;
 	sd->name[k] = name;
 	sd->owned[k] = NULL;
+	sd->form[k] = sd->form_b[k] = NULL;
 	sd->from_front[k] = 0;
 	for (int j = 0; j < BK_MAX_PARAMS; j++)
 		sd->p[k][j] = p ? p[j] : 1.0;
+	return 0;
+}
+
+int bk_seeds_add(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p)
+{
+	if (add(sd, text, text_b, name, p))
+		return -1;
+	bk_form_error fe; /* a text that does not parse: no form (the search skips the seed) */
+	sd->form[sd->n - 1] = bk_form_parse(text, &fe);
+	sd->form_b[sd->n - 1] = text_b ? bk_form_parse(text_b, &fe) : NULL;
+	return 0;
+}
+
+int bk_seeds_add_forms(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p,
+                       const bk_form *form, const bk_form *form_b)
+{
+	if (add(sd, text, text_b, name, p))
+		return -1;
+	int k = sd->n - 1; /* a copy out of memory: no form (the search parses the text) */
+	sd->form[k] = form ? bk_form_dup(form) : NULL;
+	sd->form_b[k] = text_b && form_b ? bk_form_dup(form_b) : NULL;
 	return 0;
 }
 
@@ -55,6 +78,8 @@ void bk_seeds_apply(const bk_seeds *sd, bk_search_options *o)
 {
 	o->seeds = sd->text;
 	o->seeds_b = sd->text_b;
+	o->seed_forms = (const bk_form *const *)sd->form;
+	o->seed_forms_b = (const bk_form *const *)sd->form_b;
 	o->seed_names = sd->name;
 	o->seed_p = (const double(*)[BK_MAX_PARAMS])sd->p;
 	o->nseeds = sd->n;
@@ -64,7 +89,10 @@ void bk_seeds_free(bk_seeds *sd)
 {
 	for (int k = 0; k < sd->n; k++) {
 		free(sd->owned[k]);
+		bk_form_free(sd->form[k]);
+		bk_form_free(sd->form_b[k]);
 		sd->owned[k] = NULL;
+		sd->form[k] = sd->form_b[k] = NULL;
 	}
 	sd->n = 0;
 }

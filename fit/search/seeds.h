@@ -7,7 +7,9 @@
  *
  * A bk_seeds holds the seeds' texts, names and starting constants; it owns
  * the texts it made (V x Schlick, a pair as one form) and points at the
- * catalog's or the caller's otherwise, which must outlive it.
+ * catalog's or the caller's otherwise, which must outlive it. It holds each
+ * seed's forms too, parsed once as the seed is added: the search copies
+ * them (bk_search_options.seed_forms) rather than parse the texts again.
  */
 #ifndef FIT_SEARCH_SEEDS_H
 #define FIT_SEARCH_SEEDS_H
@@ -19,6 +21,9 @@
 typedef struct bk_seeds {
 	const char *text[BK_SEEDS_MAX], *text_b[BK_SEEDS_MAX], *name[BK_SEEDS_MAX];
 	char *owned[BK_SEEDS_MAX]; /* the texts made here, freed by bk_seeds_free */
+	/* text's and text_b's forms (owned); NULL where a text does not parse
+	 * (the search then skips the seed, as it skips every such text) */
+	bk_form *form[BK_SEEDS_MAX], *form_b[BK_SEEDS_MAX];
 	double p[BK_SEEDS_MAX][BK_MAX_PARAMS];
 	/* 1: a member of a front read back (search --start-front), added after
 	 * the published seeds: a start of the search, held to its constraints,
@@ -40,6 +45,12 @@ int bk_seeds_catalog(bk_seeds *sd, bk_target_kind k, int one_form, unsigned prov
  * BK_MAX_PARAMS constants, NULL for 1.0 each), texts not copied. 0, or -1
  * when full. */
 int bk_seeds_add(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p);
+
+/* As bk_seeds_add, with the texts' forms already parsed by the caller
+ * (form: bk_form_parse(text); form_b: of text_b, or NULL): copied, not
+ * parsed again. 0, or -1 when full. */
+int bk_seeds_add_forms(bk_seeds *sd, const char *text, const char *text_b, const char *name, const double *p,
+                       const bk_form *form, const bk_form *form_b);
 
 /* Points o's seeds at sd's (sd must outlive the search made from o). */
 void bk_seeds_apply(const bk_seeds *sd, bk_search_options *o);
