@@ -290,7 +290,10 @@ static int prune_member(const bk_sfront *F, member *m)
 		return 0;
 	char text[2][4096];
 	double p[BK_MAX_PARAMS];
-	int n = bk_prune_dead_pair(m->text, m->text_b, m->res.p, F->s, text[0], text[1], sizeof text[0], p);
+	int n = m->f[0] && (!m->text_b || m->f[1]) ? /* the member's forms, as it was scored */
+	            bk_prune_dead_forms(m->f[0], m->text_b ? m->f[1] : NULL, m->res.p, F->s, text[0], text[1],
+	                                sizeof text[0], p) :
+	            -1;
 	if (n <= 0)
 		return 0; /* nothing dead, or a tree bk_expr cannot hold: the member as it is */
 	member t = *m;

@@ -121,16 +121,11 @@ static void renumber(bk_expr *e, int n, const double *p, double *pout)
 		pout[k] = 0;
 }
 
-/* text's tree into e, its dead nodes replaced on the samples r; the count
+/* f's tree into e, its dead nodes replaced on the samples r; the count
  * replaced, or -1. */
-static int prune_tree(const char *text, const double *p, const range *r, bk_expr *e)
+static int prune_tree(const bk_form *f, const double *p, const range *r, bk_expr *e)
 {
-	bk_form_error fe;
-	bk_form *f = bk_form_parse(text, &fe);
-	if (!f)
-		return -1;
 	int rc = bk_expr_from_form(f, e);
-	bk_form_free(f);
 	if (!rc && r->n == 0)
 		return 0; /* no sample: nothing shows a side dead */
 	double *buf = rc ? NULL : malloc(sizeof(double) * 3 * r->n);
@@ -151,14 +146,14 @@ static int prune_tree(const char *text, const double *p, const range *r, bk_expr
 	return err ? -1 : pruned;
 }
 
-int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, const bk_samples *s, char *out_a,
-                       char *out_b, size_t len, double *pout)
+int bk_prune_dead_forms(const bk_form *fa, const bk_form *fb, const double *p, const bk_samples *s, char *out_a,
+                        char *out_b, size_t len, double *pout)
 {
-	int two = text_b != NULL;
+	int two = fb != NULL;
 	size_t split = two && s->ncomp > 1 ? s->start[1] : s->n;
 	range r[2] = {range_of(s, 0, split), range_of(s, split, s->n)};
 	bk_expr e[2];
-	int na = prune_tree(text_a, p, &r[0], &e[0]), nb = two ? prune_tree(text_b, p, &r[1], &e[1]) : 0;
+	int na = prune_tree(fa, p, &r[0], &e[0]), nb = two ? prune_tree(fb, p, &r[1], &e[1]) : 0;
 	if (na < 0 || nb < 0)
 		return -1;
 	if (na + nb == 0)
@@ -167,6 +162,17 @@ int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, 
 	if (bk_expr_print(&e[0], out_a, len) < 0 || (two && bk_expr_print(&e[1], out_b, len) < 0))
 		return -1;
 	return na + nb;
+}
+
+int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, const bk_samples *s, char *out_a,
+                       char *out_b, size_t len, double *pout)
+{
+	bk_form_error fe;
+	bk_form *f[2] = {bk_form_parse(text_a, &fe), text_b ? bk_form_parse(text_b, &fe) : NULL};
+	int n = !f[0] || (text_b && !f[1]) ? -1 : bk_prune_dead_forms(f[0], f[1], p, s, out_a, out_b, len, pout);
+	bk_form_free(f[0]);
+	bk_form_free(f[1]);
+	return n;
 }
 
 int bk_prune_dead(const char *text, const double *p, const bk_samples *s, char *out, size_t len, double *pout)

@@ -37,4 +37,9 @@ int bk_prune_dead(const char *text, const double *p, const bk_samples *s, char *
 int bk_prune_dead_pair(const char *text_a, const char *text_b, const double *p, const bk_samples *s, char *out_a,
                        char *out_b, size_t len, double *pout);
 
+/* The same for forms already parsed (a front member's: not parsed again);
+ * fb NULL for one form. */
+int bk_prune_dead_forms(const bk_form *fa, const bk_form *fb, const double *p, const bk_samples *s, char *out_a,
+                        char *out_b, size_t len, double *pout);
+
 #endif
