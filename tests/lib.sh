@@ -7,6 +7,17 @@
 
 : "${CSVGET:=build/csvget}"
 
+# one_line FILE TEXT: FILE holds one line (one line break, as wc -l counts)
+# and it holds TEXT (a string, not a pattern). The shell's read and case, no
+# process: the scripts check thousands of refusals so.
+one_line() {
+	_n=0 _l=
+	while IFS= read -r _x; do _n=$((_n + 1)) _l=$_x; done <"$1"
+	[ $_n -eq 1 ] || return 1
+	case $_l in *"$2"*) return 0 ;; esac
+	return 1
+}
+
 # csv_col FILE NAME: column NAME of every data row, one a line.
 csv_col() { "$CSVGET" "$1" "$2"; }
 

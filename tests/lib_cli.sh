@@ -55,14 +55,13 @@ expect_out() {
 expect_error() {
 	name=$1 token=$2; shift 2
 	if "$@" >"$T/out" 2>"$T/err"; then bad "$name: exit 0"; return; fi
-	lines=$(wc -l <"$T/err")
-	if [ "$lines" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok; else bad "$name: stderr '$(cat "$T/err")'"; fi
+	if one_line "$T/err" "$token"; then ok; else bad "$name: stderr '$(cat "$T/err")'"; fi
 }
 
 # expect_usage_error NAME TOKEN CMD...: exit 2 (bad usage), one line on stderr naming TOKEN.
 expect_usage_error() {
 	name=$1 token=$2; shift 2
 	"$@" >"$T/out" 2>"$T/err"; rc=$?
-	if [ "$rc" -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && grep -qF -- "$token" "$T/err"; then ok
+	if [ "$rc" -eq 2 ] && one_line "$T/err" "$token"; then ok
 	else bad "$name: exit $rc, stderr '$(cat "$T/err")'"; fi
 }
