@@ -75,8 +75,8 @@ int bk_compare_row_parse(bk_compare_row *r, char *err, size_t errlen);
 void bk_compare_rows_free(bk_compare_row *rows, int n);
 
 /* SPIR-V instruction count of the form's generated GLSL (highp) after
- * glslangValidator -V and spirv-opt -O, counted by spirv-dis; -1 and a message
- * when the tools are missing. */
+ * glslang (in-process, bk_gpucost_spirv) and spirv-opt -O, counted by
+ * spirv-dis; -1 and a message when the tools are missing. */
 int bk_spirv_count(const bk_form *f, const double *params, char *err, size_t errlen);
 
 /* ---- lutscore.c ---------------------------------------------------------------- */

@@ -6,7 +6,7 @@
  * the link prefix, the section's id) is escaped for where it lands: comment
  * text through bk_comment_text (ir.h), CSV fields through bk_csv_field, HTML
  * through bk_html_text; feature-set names are identifiers brdfkit makes
- * (scene.h). Numbers that were not measured (no glslangValidator, no C
+ * (scene.h). Numbers that were not measured (no spirv-opt, no C
  * compiler) and ratios of nothing (a set without a specular term) are empty
  * fields and the words "not measured", never -1, -2 or NaN.
  */

@@ -31,8 +31,10 @@
  * SPIR-V size. The GLSL (highp) becomes a compute shader that loads its inputs
  * from a storage buffer (constants would fold), stores each input back and the
  * result beside them; an identical shader whose "result" is its first input
- * (or 0.0) is the baseline. Both go through glslangValidator -V, spirv-opt -O
- * and spirv-dis; the count is the instructions inside function bodies
+ * (or 0.0) is the baseline. Both go through glslang in-process
+ * (bk_gpucost_spirv: the library glslangValidator is, one process fewer a
+ * shader; a glslangValidator start was ~190 ms where a page fault costs
+ * 16 µs), spirv-opt -O and spirv-dis; the count is the instructions inside function bodies
  * (OpFunction ... OpFunctionEnd, after spirv-opt has inlined the form into
  * main) of the form's shader minus the baseline's: the form's own instructions,
  * without loads, stores, address arithmetic or module-level declarations
@@ -44,6 +46,7 @@
  * the compiler running are in out_registry.c's registry of live temporaries.
  */
 #include "compare.h"
+#include "gpucost.h"
 #include "out.h"
 
 #include "clock.h"
@@ -170,15 +173,20 @@ static int run_tool(char *const argv[], const char *package, const char *log, ch
 	return -1;
 }
 
-static int write_text(const char *path, const char *text, char *err, size_t errlen)
+static int write_bytes(const char *path, const void *p, size_t n, char *err, size_t errlen)
 {
-	FILE *f = fopen(path, "w");
-	int ok = f && fputs(text, f) >= 0;
+	FILE *f = fopen(path, "wb");
+	int ok = f && fwrite(p, 1, n, f) == n;
 	if (f && fclose(f) != 0)
 		ok = 0;
 	if (!ok)
 		snprintf(err, errlen, "%s: cannot write: %s", path, strerror(errno));
 	return ok ? 0 : -1;
+}
+
+static int write_text(const char *path, const char *text, char *err, size_t errlen)
+{
+	return write_bytes(path, text, strlen(text), err, errlen);
 }
 
 /* ---- run time: the generated unit --------------------------------------------------- */
@@ -531,17 +539,18 @@ static int count_function_instructions(const char *path)
 /* GLSL text -> instruction count of its optimised SPIR-V; name tells files apart. */
 static int spirv_of(const workdir *w, const char *name, const char *glsl, char *err, size_t errlen)
 {
-	char src[600], spv[600], opt[600], dis[600], log[600];
-	snprintf(src, sizeof src, "%s/%s.comp", w->path, name);
+	char spv[600], opt[600], dis[600], log[600];
 	snprintf(spv, sizeof spv, "%s/%s.spv", w->path, name);
 	snprintf(opt, sizeof opt, "%s/%s.opt.spv", w->path, name);
 	snprintf(dis, sizeof dis, "%s/%s.spvasm", w->path, name);
 	snprintf(log, sizeof log, "%s/%s.log", w->path, name);
-	char *glslang[] = {"glslangValidator", "-V", "-o", spv, src, NULL};
 	char *sopt[] = {"spirv-opt", "-O", spv, "-o", opt, NULL};
 	char *sdis[] = {"spirv-dis", "--no-header", "--no-color", "-o", dis, opt, NULL};
-	if (write_text(src, glsl, err, errlen) || run_tool(glslang, "glslang-tools", log, err, errlen) ||
-	    run_tool(sopt, "spirv-tools", log, err, errlen) || run_tool(sdis, "spirv-tools", log, err, errlen))
+	size_t n = 0;
+	unsigned *words = bk_gpucost_spirv(glsl, &n, err, errlen);
+	int bad = !words || write_bytes(spv, words, n * sizeof *words, err, errlen);
+	free(words);
+	if (bad || run_tool(sopt, "spirv-tools", log, err, errlen) || run_tool(sdis, "spirv-tools", log, err, errlen))
 		return -1;
 	int k = count_function_instructions(dis);
 	if (k < 0)

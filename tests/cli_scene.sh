@@ -84,11 +84,11 @@ for s in stl cmp; do
 	case $href in "x'%22%3Cb%3E/"*) ok ;; *) bad "$s: the first link reads '$href'" ;; esac
 done
 
-# ---- M8 and L8: no compiler, no glslangValidator; a budget nothing meets ----
+# ---- M8 and L8: no compiler, no spirv-opt; a budget nothing meets ----
 
 printf '{"materials": [{"name": "m", "roughness": {"min": 0.3, "max": 1}}], "lighting": {"ibl": false},\n "target": {"precision": "mediump", "error": {"vf": 1e-6}}}\n' >vf6.json
 if env PATH=/nonexistent "$BK" scene vf6.json --out nt >out 2>err; then ok; else bad "scene without tools: $(cat err)"; fi
-grep -qx 'brdfkit scene: warning: SPIR-V counts not measured: glslangValidator not found on PATH (Debian package glslang-tools)' err \
+grep -qx 'brdfkit scene: warning: SPIR-V counts not measured: spirv-opt not found on PATH (Debian package spirv-tools)' err \
 	&& ok || bad "no word of the SPIR-V counts: $(cat err)"
 grep -q '^brdfkit scene: warning: CPU timings not measured: cc not found on PATH' err && ok || bad "no word of the timings: $(cat err)"
 [ "$(grep -c 'not measured' err)" -eq 2 ] && ok || bad "one line each: $(grep 'not measured' err)"

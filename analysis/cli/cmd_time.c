@@ -265,9 +265,9 @@ int cmd_time(int argc, char **argv)
 	               "r in (0.02, 1], a = r^2, f0 in [0.02, 1]); after a warm-up, N runs with the forms\n"
 	               "interleaved; ns_per_eval is their median, ns_min and ns_max the extremes. Compare\n"
 	               "rows of one run on one machine only. spirv: instructions in the optimised\n"
-	               "shader's functions net of a load/store-only baseline (-1 without glslang-tools and\n"
-	               "spirv-tools). Columns: name,form,ns_per_eval,ns_min,ns_max, the op classes of\n"
-	               "brdfkit ops, simple,complex,cost,spirv.",
+	               "shader's functions net of a load/store-only baseline (-1 without spirv-tools).\n"
+	               "Columns: name,form,ns_per_eval,ns_min,ns_max, the op classes of brdfkit ops,\n"
+	               "simple,complex,cost,spirv.",
 	               opts, 2, TIME_MAX_ROWS, 0, {0}};
 	int rc = cli_parse_table(&cmd, &table, argc, argv);
 	if (rc || (rc = cli_applicable(&cmd, NULL)))
