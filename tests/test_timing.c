@@ -8,6 +8,7 @@
  */
 #include "catalog.h"
 #include "compare.h"
+#include "gpucost.h"
 
 #include <criterion/criterion.h>
 
@@ -89,6 +90,48 @@ Test(timing, spirv_orders_forms)
 	cr_expect_gt(powy, trivial + 3, "pow form %d vs NoV %d", powy, trivial);
 	cr_expect_eq(spirv(GGX, NULL), ggx, "not deterministic");
 	cr_expect_eq(spirv("1", NULL), 0, "a constant costs nothing");
+}
+
+/* The SPIR-V counted is the reference front end's: glslang in-process
+ * (bk_gpucost_spirv, which timing.c calls) gives the words glslangValidator
+ * writes for the same compute shader and target, byte for byte; a shader one
+ * constant apart gives other words (the comparison's negative control). */
+static const char *const spv_shader =
+	"#version 450\nlayout(local_size_x = 64) in;\n"
+	"layout(std430, binding = 0) buffer B { float v[]; };\n"
+	"float f(float NoV, float r) { return 1.0 / (NoV * (1.0 - r) + r) + exp2(%s * NoV); }\n"
+	"void main() { uint i = gl_GlobalInvocationID.x; v[i] = f(v[i], v[i + 1u]); }\n";
+
+Test(timing, in_process_spirv_is_glslangValidators)
+{
+	char dir[] = "/tmp/bk_spv_XXXXXX", src[64], spv[64], cmd[256], glsl[512], other[512], err[256] = "";
+	cr_assert_not_null(mkdtemp(dir));
+	snprintf(src, sizeof src, "%s/s.comp", dir);
+	snprintf(spv, sizeof spv, "%s/s.spv", dir);
+	snprintf(glsl, sizeof glsl, spv_shader, "-9.28");
+	snprintf(other, sizeof other, spv_shader, "-9.0");
+	FILE *f = fopen(src, "w");
+	cr_assert(f && fputs(glsl, f) >= 0 && fclose(f) == 0);
+	snprintf(cmd, sizeof cmd, "glslangValidator -V --target-env vulkan1.1 -o '%s' '%s' >/dev/null 2>&1", spv, src);
+	int rc = system(cmd);
+	static unsigned char ref[1 << 16];
+	size_t len = 0;
+	if ((f = fopen(spv, "rb"))) {
+		len = fread(ref, 1, sizeof ref, f);
+		fclose(f);
+	}
+	unlink(src);
+	unlink(spv);
+	rmdir(dir);
+	cr_assert_eq(rc, 0, "glslangValidator failed or missing (Debian package glslang-tools)");
+	size_t n = 0, m = 0;
+	unsigned *w = bk_gpucost_spirv(glsl, &n, err, sizeof err), *x = bk_gpucost_spirv(other, &m, err, sizeof err);
+	cr_assert(w && x, "%s", err);
+	cr_expect(len > 20 && n * sizeof *w == len && memcmp(w, ref, len) == 0,
+	          "in-process %zu bytes, glslangValidator %zu: not the same words", n * sizeof *w, len);
+	cr_expect(!(m * sizeof *x == len && memcmp(x, ref, len) == 0), "control: another shader gave the same words");
+	free(w);
+	free(x);
 }
 
 Test(timing, errors_are_one_line_messages)
