@@ -39,8 +39,8 @@ SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame
 # `build/san/brdfkit --version` against 23-24 without PIE, back to back). The
 # instrumented code is the same; the tool users run (build/brdfkit) stays PIE.
 # The two runtimes are linked in, not loaded: GCC's shared libasan and
-# libubsan each carry their own copy of the sanitizers' common tables (6.1 and
-# 5.6 MB of .bss), and LeakSanitizer reads every writable page of every module
+# libubsan each carry their own copy of the sanitizers' common tables (5.6 and
+# 6.1 MB of .bss), and LeakSanitizer reads every writable page of every module
 # at each exit, a page fault per untouched 4 KB; linked statically the tables
 # are one set. On a machine where a fault costs ~16 µs (nested virtualisation)
 # a sanitized `brdfkit --version` took 4,789 faults and ~100 ms, now 3,362 and

@@ -32,11 +32,12 @@
  * from a storage buffer (constants would fold), stores each input back and the
  * result beside them; an identical shader whose "result" is its first input
  * (or 0.0) is the baseline. Both go through glslang in-process
- * (bk_gpucost_spirv: the library glslangValidator is, one process fewer a
- * shader; a glslangValidator start was ~190 ms where a page fault costs
- * 16 µs), spirv-opt -O and spirv-dis; the count is the instructions inside function bodies
- * (OpFunction ... OpFunctionEnd, after spirv-opt has inlined the form into
- * main) of the form's shader minus the baseline's: the form's own instructions,
+ * (bk_gpucost_spirv, gpucost's: Vulkan 1.1, SPIR-V 1.3; glslangValidator's
+ * own words, test_timing.c, and the same counts as its SPIR-V 1.0 for every
+ * catalog form), spirv-opt -O and spirv-dis; the count is the instructions
+ * inside function bodies (OpFunction ... OpFunctionEnd, after spirv-opt has
+ * inlined the form into main) of the form's shader minus the baseline's: the
+ * form's own instructions,
  * without loads, stores, address arithmetic or module-level declarations
  * (constants, types). The baseline depends only on which inputs are read and is
  * cached per input set for the life of the process.

@@ -104,8 +104,8 @@ echo "layers: $n calls between objects"
 # is exempt: its tests are white-box on purpose (they include the parts'
 # headers and ir.h to check internals); every other folder is checked.
 # (The shell finds each include's file; one realpath then writes every path
-# found as from the root, "x/../y.h" as "y.h": a cd, pwd, sed and basename
-# for each of ~1,000 includes were most of this script's time.)
+# found as from the root, "x/../y.h" as "y.h": a cd, pwd, sed, dirname and
+# basename for each of the ~500 includes were most of this script's time.)
 SRC=$(cd "$(dirname "$0")/.." && pwd)
 ( cd "$SRC" && find brdf fit analysis -name '*.[ch]' -o -name '*.cc' | sort | while read -r f; do
 	sed -n 's/^[[:space:]]*#[[:space:]]*include[[:space:]]*"\([^"]*\)".*/\1/p' "$f" | while read -r h; do
