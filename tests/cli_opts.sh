@@ -132,26 +132,49 @@ while IFS="$us" read -r what a; do
 done <"$T/fails"
 [ -s "$T/fails" ] || ok
 
-# (each case is one process, the tool's: about 1,450 of them, so its output is
-# read with the shell's own read and case, not a wc and a grep each: one_line)
-ncase=0
+# The cases run through `brdfkit help --check-each` (analysis/cli/main.c):
+# each as `brdfkit WORDS --check-options` in a process of its own, forked from
+# one start of the tool rather than started ~1,450 times (most of the walk's
+# time, sanitized); each case's words are the shell's split of its command,
+# setup and added option, its outputs in $T/each/N.out and N.err, and
+# "N<tab>STATUS" a line in $T/status. (Their output is read with the shell's
+# own read and case, not a wc and a grep each: one_line.)
+awk -F"$us" -v OFS="$us" '$1 == "CASE" { n = split($5 " " $6, w, " "); s = $2
+	for (i = 1; i <= n; i++) s = s OFS w[i]
+	print s }' "$T/cases" >"$T/list"
+mkdir "$T/each"
 cd "$T/run" || exit 1
+"$BK" help --check-each "$T/list" "$T/each" >"$T/status" 2>"$T/err" || bad "help --check-each: $(cat "$T/err")"
+ncase=0
 while IFS="$us" read -r what cmd expect show sargs add; do
 	[ "$what" = CASE ] || continue
 	ncase=$((ncase + 1))
-	"$BK" $cmd $sargs $add --check-options >"$T/out" 2>"$T/err"
-	rc=$?
+	k= rc=
+	IFS="$tab" read -r k rc <&3
+	[ "$k" = $ncase ] || { bad "help --check-each: no status for case $ncase ($cmd $sargs $add)"; break; }
+	out=$T/each/$ncase.out err=$T/each/$ncase.err
 	if [ "$expect" = accept ]; then
 		line=
-		IFS= read -r line <"$T/out"
+		IFS= read -r line <"$out"
 		case $line in "context$tab$cmd"*) context=1 ;; *) context=0 ;; esac
-		if [ $rc -eq 0 ] && [ $context = 1 ] && [ ! -s "$T/err" ]; then ok; else
-			bad "$cmd $add in '$sargs': should act there, got rc $rc: $(cat "$T/err")"; fi
+		if [ "$rc" -eq 0 ] && [ $context = 1 ] && [ ! -s "$err" ]; then ok; else
+			bad "$cmd $add in '$sargs': should act there, got rc $rc: $(cat "$err")"; fi
 	else
-		if [ $rc -eq 2 ] && [ ! -s "$T/out" ] && one_line "$T/err" "brdfkit $cmd: $show has no effect"; then ok; else
-			bad "$cmd $add in '$sargs': should be refused, got rc $rc: stdout '$(cat "$T/out")' stderr '$(cat "$T/err")'"; fi
+		if [ "$rc" -eq 2 ] && [ ! -s "$out" ] && one_line "$err" "brdfkit $cmd: $show has no effect"; then ok; else
+			bad "$cmd $add in '$sargs': should be refused, got rc $rc: stdout '$(cat "$out")' stderr '$(cat "$err")'"; fi
 	fi
-done <"$T/cases"
+done <"$T/cases" 3<"$T/status"
+# the control of --check-each: the first case accepted and the first refused,
+# started as the tool alone, print the same bytes and exit the same
+for expect in accept refuse; do
+	k=$(awk -F"$us" -v e=$expect '$1 == "CASE" { n++ } $1 == "CASE" && $3 == e { print n; exit }' "$T/cases")
+	[ -n "$k" ] || { bad "the walk has no case to $expect"; continue; }
+	# shellcheck disable=SC2046 # the case's words, split as the walk splits them
+	"$BK" $(sed -n "${k}p" "$T/list" | tr "$us" ' ') --check-options >"$T/one.out" 2>"$T/one.err"
+	rc=$?
+	[ "$rc" = "$(sed -n "${k}p" "$T/status" | cut -f2)" ] && cmp -s "$T/one.out" "$T/each/$k.out" &&
+		cmp -s "$T/one.err" "$T/each/$k.err" && ok || bad "case $k ($expect): --check-each and a start of its own differ"
+done
 cd "$ROOT" || exit 1
 [ $ncase -gt 0 ] && ok || bad "the walk made no case"
 

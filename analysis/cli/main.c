@@ -6,8 +6,12 @@
 #include "cmd.h"
 #include "out.h"
 
+#include <fcntl.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 static const struct {
 	const char *name;
@@ -45,29 +49,9 @@ static void usage(FILE *out)
 		fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
 }
 
-int main(int argc, char **argv)
+/* One command line, argv[0] "brdfkit", argv[1] the command. */
+static int run_command(int argc, char **argv)
 {
-	if (argc < 2) {
-		usage(stderr);
-		return 2;
-	}
-	if (strcmp(argv[1], "help") == 0 && argc == 3 && strcmp(argv[2], "--applicability") == 0) {
-		/* hidden: every command's option-applicability table (cli.h), for
-		 * tests/cli_opts.sh; a command without one prints "none" */
-		char flag[] = "--help-applicability", *args[] = {flag, NULL};
-		for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
-			commands[i].run(1, args);
-		return 0;
-	}
-	if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
-	    strcmp(argv[1], "help") == 0) {
-		usage(stdout);
-		return 0;
-	}
-	if (strcmp(argv[1], "--version") == 0) {
-		printf("brdfkit %s\n", BK_VERSION);
-		return 0;
-	}
 	/* the command line for output markers; temporaries removed on SIGINT/SIGTERM */
 	bk_out_init(argc, argv);
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
@@ -82,4 +66,106 @@ int main(int argc, char **argv)
 	else
 		fprintf(stderr, "brdfkit: unknown command '%.60s' (see brdfkit --help)\n", argv[1]);
 	return 2;
+}
+
+/* Hidden, for tests/cli_opts.sh's walk: each line of LIST is one case, the
+ * words after "brdfkit" separated by \037, and runs as `brdfkit WORDS
+ * --check-options` would, in a process of its own, its standard output and
+ * error to DIR/N.out and DIR/N.err (N its line, from 1; standard input
+ * /dev/null); "N<tab>STATUS" is printed for each. The process is a fork of
+ * this one, not a new start: the walk's ~1,450 cases were as many starts of
+ * the tool, most of its time sanitized (LeakSanitizer still checks each case
+ * at its exit). */
+static int check_each(const char *list, const char *dir)
+{
+	/* the whole list read first: a case's exit flushes the inherited stream,
+	 * which moves the offset of the descriptor it shares with this process */
+	FILE *in = fopen(list, "r");
+	if (!in) {
+		fprintf(stderr, "brdfkit help --check-each: %s: cannot open\n", list);
+		return 2;
+	}
+	char *text = NULL;
+	size_t len = 0;
+	FILE *mem = open_memstream(&text, &len);
+	if (!mem) {
+		fclose(in);
+		fprintf(stderr, "brdfkit help --check-each: out of memory\n");
+		return 2;
+	}
+	int c;
+	while ((c = getc(in)) != EOF)
+		putc(c, mem);
+	fclose(in);
+	fclose(mem);
+	int rc = 0;
+	long n = 0;
+	for (char *line = text, *next; rc == 0 && line && *line; line = next) {
+		next = strchr(line, '\n');
+		if (next)
+			*next++ = 0;
+		n++;
+		char *argv[256];
+		int argc = 0;
+		argv[argc++] = "brdfkit";
+		for (char *w = strtok(line, "\037"); w && argc < 254; w = strtok(NULL, "\037"))
+			argv[argc++] = w;
+		if (argc < 2 || argc == 254) {
+			fprintf(stderr, "brdfkit help --check-each: %s:%ld: no command, or over 252 words\n", list, n);
+			rc = 2;
+			break;
+		}
+		argv[argc++] = "--check-options";
+		argv[argc] = NULL;
+		char out[4096], err[4096];
+		snprintf(out, sizeof out, "%s/%ld.out", dir, n);
+		snprintf(err, sizeof err, "%s/%ld.err", dir, n);
+		fflush(NULL); /* nothing buffered twice */
+		pid_t pid = fork();
+		if (pid == 0) {
+			int fi = open("/dev/null", O_RDONLY), fo = open(out, O_WRONLY | O_CREAT | O_TRUNC, 0644),
+			    fe = open(err, O_WRONLY | O_CREAT | O_TRUNC, 0644);
+			if (fi < 0 || fo < 0 || fe < 0 || dup2(fi, 0) < 0 || dup2(fo, 1) < 0 || dup2(fe, 2) < 0)
+				_exit(125);
+			close(fi), close(fo), close(fe);
+			exit(run_command(argc, argv));
+		}
+		int st;
+		if (pid < 0 || waitpid(pid, &st, 0) != pid) {
+			fprintf(stderr, "brdfkit help --check-each: %s:%ld: the case's process failed\n", list, n);
+			rc = 2;
+			break;
+		}
+		printf("%ld\t%d\n", n, WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st));
+	}
+	free(text);
+	return rc;
+}
+
+int main(int argc, char **argv)
+{
+	if (argc < 2) {
+		usage(stderr);
+		return 2;
+	}
+	if (strcmp(argv[1], "help") == 0 && argc == 3 && strcmp(argv[2], "--applicability") == 0) {
+		/* hidden: every command's option-applicability table (cli.h), for
+		 * tests/cli_opts.sh; a command without one prints "none" */
+		char flag[] = "--help-applicability", *args[] = {flag, NULL};
+		for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+			commands[i].run(1, args);
+		return 0;
+	}
+	if (strcmp(argv[1], "help") == 0 && argc == 5 && strcmp(argv[2], "--check-each") == 0)
+		return check_each(argv[3], argv[4]);
+	if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 ||
+	    strcmp(argv[1], "help") == 0) {
+		usage(stdout);
+		return 0;
+	}
+	if (strcmp(argv[1], "--version") == 0) {
+		printf("brdfkit %s\n", BK_VERSION);
+		return 0;
+	}
+	return run_command(argc, argv);
 }
