@@ -304,75 +304,103 @@ Test(emit, c_matches_f32_eval_leaves_and_specials) { check_c_range(10, 100); }
 
 /* ---- GLSL and HLSL: compile with the reference front end ---------------------- */
 
-/* GLSL ES 3.00 fragment shader: the function, a uniform per input, one call. */
-static char *glsl_shader(const char *code, const bk_form *f)
+/* The shaders: every case's function (gen0, gen1, ...) in one fragment
+ * shader whose main calls each and sums them, so that one glslangValidator
+ * proves the lot (a start of it is ~190 ms, most of it its built-in symbol
+ * tables: 90 starts a run before, 6 now); a case that does not compile fails
+ * the run, its log naming the line. */
+typedef struct shader_set {
+	const form_case *cases;
+	size_t n;
+	char **code;   /* each case's function, as bk_form_emit wrote it */
+	unsigned *ins; /* the inputs each reads (bk_form_inputs) */
+	unsigned all;  /* their union */
+} shader_set;
+
+/* appends printf-style text to *s (grown as needed) */
+static void cat(char **s, size_t *len, const char *fmt, ...)
 {
-	char decl[512] = "", call[256] = "";
-	for (int i = 0, n = 0; i < BK_IN_COUNT; i++) {
-		if (!(bk_form_inputs(f) >> i & 1))
-			continue;
-		size_t k = strlen(decl), c = strlen(call);
-		snprintf(decl + k, sizeof decl - k, "uniform highp float u_%s;\n", bk_input_name(i));
-		snprintf(call + c, sizeof call - c, "%su_%s", n++ ? ", " : "", bk_input_name(i));
-	}
-	size_t len = strlen(code) + 1024;
-	char *s = malloc(len);
-	snprintf(s, len,
-	         "#version 300 es\nprecision highp float;\n%s%sout vec4 o;\n"
-	         "void main() { o = vec4(gen(%s)); }\n",
-	         code, decl, call);
-	return s;
+	va_list ap;
+	va_start(ap, fmt);
+	int k = vsnprintf(NULL, 0, fmt, ap);
+	va_end(ap);
+	*s = realloc(*s, *len + k + 1);
+	cr_assert_not_null(*s);
+	va_start(ap, fmt);
+	vsnprintf(*s + *len, k + 1, fmt, ap);
+	va_end(ap);
+	*len += k;
 }
 
-/* The float16_t variant: a Vulkan GLSL 4.50 fragment shader with the
- * extension, its inputs converted from one interpolant each. */
-static char *glsl16_shader(const char *code, const bk_form *f)
-{
-	char decl[512] = "", call[256] = "";
-	for (int i = 0, n = 0; i < BK_IN_COUNT; i++) {
-		if (!(bk_form_inputs(f) >> i & 1))
-			continue;
-		size_t k = strlen(decl), c = strlen(call);
-		snprintf(decl + k, sizeof decl - k, "layout(location = %d) in float u_%s;\n", i, bk_input_name(i));
-		snprintf(call + c, sizeof call - c, "%sfloat16_t(u_%s)", n++ ? ", " : "", bk_input_name(i));
-	}
-	size_t len = strlen(code) + 1024;
-	char *s = malloc(len);
-	snprintf(s, len,
-	         "#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n"
-	         "%s%slayout(location = 0) out vec4 o;\nvoid main() { o = vec4(gen(%s)); }\n",
-	         code, decl, call);
-	return s;
-}
-
-/* HLSL pixel shader: the inputs from two interpolants, one call. */
-static char *hlsl_shader(const char *code, const bk_form *f)
+/* the sum of every case's call, each input as `pre NAME post` (GLSL) or its
+ * HLSL lane */
+static void cat_calls(char **s, size_t *len, const shader_set *set, const char *pre, const char *post, int hlsl)
 {
 	static const char *const lane[BK_IN_COUNT] = {"u.x", "u.y", "u.z", "u.w", "v.x", "v.y", "v.z"};
-	char call[256] = "";
-	for (int i = 0, n = 0; i < BK_IN_COUNT; i++) {
-		if (!(bk_form_inputs(f) >> i & 1))
-			continue;
-		size_t c = strlen(call);
-		snprintf(call + c, sizeof call - c, "%s%s", n++ ? ", " : "", lane[i]);
+	for (size_t c = 0; c < set->n; c++) {
+		cat(s, len, "%sgen%zu(", c ? " + " : "", c);
+		for (int i = 0, k = 0; i < BK_IN_COUNT; i++)
+			if (set->ins[c] >> i & 1) {
+				if (hlsl)
+					cat(s, len, "%s%s", k++ ? ", " : "", lane[i]);
+				else
+					cat(s, len, "%s%s%s%s", k++ ? ", " : "", pre, bk_input_name(i), post);
+			}
+		cat(s, len, ")");
 	}
-	size_t len = strlen(code) + 1024;
-	char *s = malloc(len);
-	snprintf(s, len,
-	         "%sfloat4 main(float4 u : TEXCOORD0, float4 v : TEXCOORD1) : SV_Target\n"
-	         "{\n\treturn float4(gen(%s), 0, 0, 1);\n}\n",
-	         code, call);
+}
+
+/* GLSL ES 3.00 (highp, mediump): a uniform per input. The float16_t variant:
+ * Vulkan GLSL 4.50 with the extension, each input from an interpolant of its
+ * own. HLSL: the inputs from two interpolants. */
+static char *set_shader(const shader_set *set, bk_lang lang, int half)
+{
+	char *s = NULL;
+	size_t len = 0;
+	if (lang == BK_LANG_GLSL && half == BK_EMIT_F16)
+		cat(&s, &len, "#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n");
+	else if (lang == BK_LANG_GLSL)
+		cat(&s, &len, "#version 300 es\nprecision highp float;\n");
+	for (size_t c = 0; c < set->n; c++)
+		cat(&s, &len, "%s", set->code[c]);
+	if (lang == BK_LANG_HLSL) {
+		cat(&s, &len, "float4 main(float4 u : TEXCOORD0, float4 v : TEXCOORD1) : SV_Target\n{\n\treturn float4(");
+		cat_calls(&s, &len, set, "", "", 1);
+		cat(&s, &len, ", 0, 0, 1);\n}\n");
+		return s;
+	}
+	for (int i = 0; i < BK_IN_COUNT; i++)
+		if (set->all >> i & 1) {
+			if (half == BK_EMIT_F16)
+				cat(&s, &len, "layout(location = %d) in float u_%s;\n", i, bk_input_name(i));
+			else
+				cat(&s, &len, "uniform highp float u_%s;\n", bk_input_name(i));
+		}
+	cat(&s, &len, "%sout vec4 o;\nvoid main() { o = vec4(", half == BK_EMIT_F16 ? "layout(location = 0) " : "");
+	if (half == BK_EMIT_F16)
+		cat_calls(&s, &len, set, "float16_t(u_", ")", 0);
+	else
+		cat_calls(&s, &len, set, "u_", "", 0);
+	cat(&s, &len, "); }\n");
 	return s;
 }
 
-static void check_shader(const form_case *fc, bk_lang lang, int half, const workdir *w)
+static void check_shader_set(const form_case *cases, size_t n, bk_lang lang, int half, const workdir *w)
 {
-	bk_form *f = parse_or_fail(fc->text);
-	bk_emit_info info = {.name = "gen", .source = "test_emit.c */ /* not a comment end"};
-	char *code = bk_form_emit(f, lang, half, fc->params, &info);
-	cr_assert_not_null(code, "emit '%s'", fc->text);
-	char *shader = lang == BK_LANG_HLSL ? hlsl_shader(code, f) : half == BK_EMIT_F16 ? glsl16_shader(code, f)
-	                                                                                 : glsl_shader(code, f);
+	shader_set set = {cases, n, calloc(n, sizeof(char *)), calloc(n, sizeof(unsigned)), 0};
+	cr_assert(set.code && set.ins);
+	for (size_t c = 0; c < n; c++) {
+		bk_form *f = parse_or_fail(cases[c].text);
+		char name[32];
+		snprintf(name, sizeof name, "gen%zu", c);
+		bk_emit_info info = {.name = name, .source = "test_emit.c */ /* not a comment end"};
+		set.code[c] = bk_form_emit(f, lang, half, cases[c].params, &info);
+		cr_assert_not_null(set.code[c], "emit '%s'", cases[c].text);
+		set.ins[c] = bk_form_inputs(f);
+		set.all |= set.ins[c];
+		bk_form_free(f);
+	}
+	char *shader = set_shader(&set, lang, half);
 	char src[128], spv[128], log[128];
 	snprintf(src, sizeof src, "%s/gen.%s", w->path, lang == BK_LANG_GLSL ? "frag" : "hlsl");
 	snprintf(spv, sizeof spv, "%s/gen.spv", w->path);
@@ -385,17 +413,18 @@ static void check_shader(const form_case *fc, bk_lang lang, int half, const work
 	else /* glslang checks HLSL only on the way to SPIR-V */
 		run_or_fail(log, src, "glslangValidator -V -D -S frag -e main -o '%s' '%s'", spv, src);
 	free(shader);
-	free(code);
-	bk_form_free(f);
+	for (size_t c = 0; c < n; c++)
+		free(set.code[c]);
+	free(set.code);
+	free(set.ins);
 }
 
 static void check_shaders(bk_lang lang)
 {
 	need_glslang();
 	workdir w = workdir_new();
-	for (size_t i = 0; i < sizeof c_cases / sizeof c_cases[0]; i++)
-		for (int half = BK_EMIT_SINGLE; half <= BK_EMIT_F16; half++)
-			check_shader(&c_cases[i], lang, half, &w);
+	for (int half = BK_EMIT_SINGLE; half <= BK_EMIT_F16; half++)
+		check_shader_set(c_cases, sizeof c_cases / sizeof c_cases[0], lang, half, &w);
 	workdir_free(&w);
 }
 
@@ -409,8 +438,8 @@ Test(emit, nan_parameter_compiles)
 	need_glslang();
 	workdir w = workdir_new();
 	for (int half = BK_EMIT_SINGLE; half <= BK_EMIT_F16; half++) {
-		check_shader(&fc, BK_LANG_GLSL, half, &w);
-		check_shader(&fc, BK_LANG_HLSL, half, &w);
+		check_shader_set(&fc, 1, BK_LANG_GLSL, half, &w);
+		check_shader_set(&fc, 1, BK_LANG_HLSL, half, &w);
 	}
 	workdir_free(&w);
 	static grid g;
