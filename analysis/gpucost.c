@@ -643,7 +643,7 @@ static int run_chip(bk_gpucost_job *jobs, int n, int c, int nchips, int fp16, co
 		bk_gpucost_stats s;
 		if (!have[k] && (rc = measure(&ctx, sb[k].w, sb[k].n, &base[k], NULL, err, errlen)) == 0)
 			have[k] = 1;
-		if (rc == 0 && (rc = measure(&ctx, sj[i].w, sj[i].n, &s, i == 0 ? isa : NULL, err, errlen)) == 0)
+		if (rc == 0 && (rc = measure(&ctx, sj[i].w, sj[i].n, &s, isa ? &isa[i * nchips + c] : NULL, err, errlen)) == 0)
 			subtract(&jobs[i].net[c], &s, &base[k]);
 		if (rc == 0 && progress_fn)
 			progress_fn(progress_ctx, c * n + i + 1, nchips * n);
@@ -673,6 +673,8 @@ static void pin_driver(void)
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chip, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen)
 {
+	for (int k = 0; isa && k < n * nchips; k++)
+		isa[k] = NULL;
 	if (nchips > BK_GPUCOST_MAX_CHIPS) {
 		snprintf(err, errlen, "at most %d chips", BK_GPUCOST_MAX_CHIPS);
 		return -1;

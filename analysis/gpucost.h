@@ -75,7 +75,9 @@ void bk_gpucost_isa_count(const char *isa, bk_gpucost_stats *s);
  * MESA_SHADER_CACHE_DISABLE for this process. driver gets the driver's name
  * and version ("radv Mesa 22.3.6"). Returns 0; BK_GPUCOST_NO_DRIVER with one
  * line in err naming the package to install; -1 with a message. isa, if not
- * NULL, gets a malloc'd copy of the first job's disassembly on the first chip. */
+ * NULL, is n * nchips pointers: [i * nchips + c] gets a malloc'd copy of job
+ * i's disassembly on chip c, NULL where it was not compiled (the caller frees
+ * each, whatever the return). */
 int bk_gpucost_run(bk_gpucost_job *jobs, int n, const char *const *chips, int nchips, int fp16, char *driver,
                    size_t driverlen, char **isa, char *err, size_t errlen);
 /* Progress of the bk_gpucost_run calls that follow: fn(ctx, done, n * nchips)

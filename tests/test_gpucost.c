@@ -57,6 +57,44 @@ static bk_gpucost_stats run_one(const char *text, const char *text_b, const doub
 	return job.net[0];
 }
 
+/* n forms (split-sum pairs where text_b[i]) on every chip in one run (one
+ * Vulkan instance a chip, not one a form and chip): s, isa and ok at
+ * [i * NCHIPS + c], form i on all_chips[c] (ok 0 and isa NULL where the chip
+ * cannot run it: fp16 without shaderFloat16); ok may be NULL. */
+static void run_all(const char *const *text, const char *const *text_b, const double *const *params, int n,
+                    int fp16, bk_gpucost_stats *s, char **isa, int *ok)
+{
+	bk_form *fa[8], *fb[8];
+	bk_gpucost_job job[8];
+	cr_assert(n <= 8);
+	for (int i = 0; i < n; i++) {
+		fa[i] = bk_form_parse(text[i], NULL);
+		fb[i] = text_b && text_b[i] ? bk_form_parse(text_b[i], NULL) : NULL;
+		cr_assert(fa[i] && (!text_b || !text_b[i] || fb[i]), "%s does not parse", text[i]);
+		job[i] = (bk_gpucost_job){.form = {fa[i], fb[i]}, .params = params ? params[i] : NULL};
+	}
+	char driver[256], err[600];
+	int rc = bk_gpucost_run(job, n, all_chips, NCHIPS, fp16, driver, sizeof driver, isa, err, sizeof err);
+	cr_assert_eq(rc, 0, "%s: %s", text[0], err);
+	cr_assert(strstr(driver, "radv"), "driver '%s'", driver);
+	for (int i = 0; i < n; i++) {
+		bk_form_free(fa[i]);
+		bk_form_free(fb[i]);
+		for (int c = 0; c < NCHIPS; c++) {
+			s[i * NCHIPS + c] = job[i].net[c];
+			if (ok)
+				ok[i * NCHIPS + c] = job[i].ok[c];
+			cr_assert(!job[i].ok[c] || isa[i * NCHIPS + c], "%s on %s: no disassembly", text[i], all_chips[c]);
+		}
+	}
+}
+
+static void free_all(char **isa, int n)
+{
+	for (int k = 0; k < n; k++)
+		free(isa[k]);
+}
+
 static const bk_catalog_entry *entry(const char *name)
 {
 	const bk_catalog_entry *e = bk_catalog_find(name);
@@ -118,84 +156,98 @@ Test(gpucost, a_driver_path_elsewhere_is_named_not_the_package)
 
 Test(gpucost, an_input_alone_costs_nothing)
 {
-	for (int c = 0; c < NCHIPS; c++)
-		for (int fp16 = 0; fp16 < 2; fp16++) {
-			char *isa;
-			int ok;
-			bk_gpucost_stats s = run_one("NoV", NULL, NULL, all_chips[c], fp16, &isa, &ok);
-			free(isa);
-			cr_expect(!memcmp(&s, &(bk_gpucost_stats){0}, sizeof s), "NoV on %s%s: %ld instructions",
-			          all_chips[c], fp16 ? " fp16" : "", s.instructions);
-		}
+	const char *nov[] = {"NoV"};
+	for (int fp16 = 0; fp16 < 2; fp16++) {
+		bk_gpucost_stats s[NCHIPS];
+		char *isa[NCHIPS];
+		run_all(nov, NULL, NULL, 1, fp16, s, isa, NULL);
+		free_all(isa, NCHIPS);
+		for (int c = 0; c < NCHIPS; c++)
+			cr_expect(!memcmp(&s[c], &(bk_gpucost_stats){0}, sizeof s[c]), "NoV on %s%s: %ld instructions",
+			          all_chips[c], fp16 ? " fp16" : "", s[c].instructions);
+	}
 }
 
 Test(gpucost, one_multiply_add)
 {
+	const char *mad[] = {"NoV*NoL + f0"};
+	bk_gpucost_stats s[NCHIPS];
+	char *isa[NCHIPS];
+	run_all(mad, NULL, NULL, 1, 0, s, isa, NULL);
 	for (int c = 0; c < NCHIPS; c++) {
-		char *isa;
-		bk_gpucost_stats s = run_one("NoV*NoL + f0", NULL, NULL, all_chips[c], 0, &isa, NULL);
-		cr_expect_eq(s.fma, 1, "%s: fma %ld", all_chips[c], s.fma);
-		cr_expect_eq(s.transcendental, 0, "%s", all_chips[c]);
+		cr_expect_eq(s[c].fma, 1, "%s: fma %ld", all_chips[c], s[c].fma);
+		cr_expect_eq(s[c].transcendental, 0, "%s", all_chips[c]);
 		/* GCN (gfx8, gfx9) has no fused 3-address fp32 fma that ACO picks here: v_mad or v_mac */
-		cr_expect(s.instructions >= 1 && s.instructions <= 2, "%s: %ld", all_chips[c], s.instructions);
-		free(isa);
+		cr_expect(s[c].instructions >= 1 && s[c].instructions <= 2, "%s: %ld", all_chips[c], s[c].instructions);
 	}
+	free_all(isa, NCHIPS);
 }
 
 Test(gpucost, division_is_one_reciprocal)
 {
+	const char *div[] = {"NoV/NoL"};
+	bk_gpucost_stats s[NCHIPS];
+	char *isa[NCHIPS];
+	run_all(div, NULL, NULL, 1, 0, s, isa, NULL);
 	for (int c = 0; c < NCHIPS; c++) {
-		char *isa;
-		bk_gpucost_stats s = run_one("NoV/NoL", NULL, NULL, all_chips[c], 0, &isa, NULL);
-		cr_expect_eq(count_insn(isa, "v_rcp_f32"), 1, "%s:\n%s", all_chips[c], isa);
-		cr_expect_eq(s.transcendental, 1, "%s", all_chips[c]);
-		free(isa);
+		cr_expect_eq(count_insn(isa[c], "v_rcp_f32"), 1, "%s:\n%s", all_chips[c], isa[c]);
+		cr_expect_eq(s[c].transcendental, 1, "%s", all_chips[c]);
 	}
+	free_all(isa, NCHIPS);
 }
 
 Test(gpucost, exp2_is_one_v_exp)
 {
+	const char *e2[] = {"exp2(NoV)"};
+	bk_gpucost_stats s[NCHIPS];
+	char *isa[NCHIPS];
+	run_all(e2, NULL, NULL, 1, 0, s, isa, NULL);
 	for (int c = 0; c < NCHIPS; c++) {
-		char *isa;
-		bk_gpucost_stats s = run_one("exp2(NoV)", NULL, NULL, all_chips[c], 0, &isa, NULL);
-		cr_expect_eq(count_insn(isa, "v_exp_f32"), 1, "%s:\n%s", all_chips[c], isa);
-		cr_expect_eq(s.transcendental, 1, "%s", all_chips[c]);
-		cr_expect_eq(s.instructions, 1, "%s: %ld", all_chips[c], s.instructions);
-		free(isa);
+		cr_expect_eq(count_insn(isa[c], "v_exp_f32"), 1, "%s:\n%s", all_chips[c], isa[c]);
+		cr_expect_eq(s[c].transcendental, 1, "%s", all_chips[c]);
+		cr_expect_eq(s[c].instructions, 1, "%s: %ld", all_chips[c], s[c].instructions);
 	}
+	free_all(isa, NCHIPS);
 }
 
 /* The talk's claim: its specular term (V·F, and D·V·F) needs one division,
  * so one v_rcp_f32 and no other transcendental op. */
 Test(gpucost, talk_specular_has_one_rcp)
 {
-	const char *names[] = {"vf_talk_r", "vf_talk_a", "dvf_talk_r"};
+	const char *names[] = {"vf_talk_r", "vf_talk_a", "dvf_talk_r"}, *forms[3];
+	const double *params[3];
+	for (int i = 0; i < 3; i++) {
+		forms[i] = entry(names[i])->form;
+		params[i] = entry(names[i])->defaults;
+	}
+	bk_gpucost_stats s[3 * NCHIPS];
+	char *isa[3 * NCHIPS];
+	run_all(forms, NULL, params, 3, 0, s, isa, NULL);
 	for (int i = 0; i < 3; i++)
 		for (int c = 0; c < NCHIPS; c++) {
-			const bk_catalog_entry *e = entry(names[i]);
-			char *isa;
-			bk_gpucost_stats s = run_one(e->form, NULL, e->defaults, all_chips[c], 0, &isa, NULL);
-			cr_expect_eq(count_insn(isa, "v_rcp_f32"), 1, "%s on %s", names[i], all_chips[c]);
-			cr_expect_eq(s.transcendental, 1, "%s on %s: %ld", names[i], all_chips[c], s.transcendental);
-			free(isa);
+			int k = i * NCHIPS + c;
+			cr_expect_eq(count_insn(isa[k], "v_rcp_f32"), 1, "%s on %s", names[i], all_chips[c]);
+			cr_expect_eq(s[k].transcendental, 1, "%s on %s: %ld", names[i], all_chips[c], s[k].transcendental);
 		}
+	free_all(isa, 3 * NCHIPS);
 }
 
 /* The talk's environment BRDF avoids complex ops by design; Karis's
  * EnvBRDFApprox has one exp2. */
 Test(gpucost, talk_env_has_no_transcendental_karis_one_exp)
 {
+	const bk_catalog_entry *t = entry("env_talk_r"), *k = entry("env_karis2014");
+	const char *forms[] = {t->form, k->form}, *forms_b[] = {t->form_b, NULL};
+	const double *params[] = {t->defaults, k->defaults};
+	bk_gpucost_stats s[2 * NCHIPS];
+	char *isa[2 * NCHIPS];
+	run_all(forms, forms_b, params, 2, 0, s, isa, NULL);
 	for (int c = 0; c < NCHIPS; c++) {
-		const bk_catalog_entry *t = entry("env_talk_r"), *k = entry("env_karis2014");
-		char *isa;
-		bk_gpucost_stats s = run_one(t->form, t->form_b, t->defaults, all_chips[c], 0, &isa, NULL);
-		cr_expect_eq(s.transcendental, 0, "env_talk_r on %s", all_chips[c]);
-		free(isa);
-		s = run_one(k->form, NULL, k->defaults, all_chips[c], 0, &isa, NULL);
-		cr_expect_eq(count_insn(isa, "v_exp_f32"), 1, "env_karis2014 on %s", all_chips[c]);
-		cr_expect_eq(s.transcendental, 1, "env_karis2014 on %s", all_chips[c]);
-		free(isa);
+		cr_expect_eq(s[c].transcendental, 0, "env_talk_r on %s", all_chips[c]);
+		cr_expect_eq(count_insn(isa[NCHIPS + c], "v_exp_f32"), 1, "env_karis2014 on %s", all_chips[c]);
+		cr_expect_eq(s[NCHIPS + c].transcendental, 1, "env_karis2014 on %s", all_chips[c]);
 	}
+	free_all(isa, 2 * NCHIPS);
 }
 
 /* fp16: the rewritten GLSL compiles, and where the chip has shaderFloat16
