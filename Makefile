@@ -52,6 +52,8 @@ SAN     = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame
 # sanitized `--version` before, 2,126 and 49.2 after (perf stat -r 20, back
 # to back). The zeros are the same zeros, scanned as before.
 SAN_TABLES = tests/tools/san_tables.ld
+# a sanitized link's inputs: its prerequisites but the script SAN_LD names
+SAN_IN  = $(filter-out $(SAN_TABLES),$^)
 SAN_LD  = $(SAN) -no-pie -static-libasan -static-libubsan -Wl,-T,$(SAN_TABLES)
 EXR_LIB = -lOpenEXRCore-3_1
 # Ceres ships no pkg-config file (shared/references/toolchain.md); its headers
@@ -232,7 +234,7 @@ $(SLIB): $(call obj,build/san/obj,$(LIB_SRC))
 $(TOOL): $(call obj,build/obj,$(TOOL_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 $(STOOL): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(TOOL_SRC))) $(SAN_DOORS) $(SLIB) $(SAN_TABLES)
-	$(CXX) $(SAN_LD) $(filter-out $(SAN_TABLES),$^) $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $(SAN_IN) $(LIBS) -o $@
 
 # the MPI side of the islands alone sees mpi.h (islands.h keeps it out of the rest)
 build/obj/analysis/cli/mpi/islands_mpi.o: analysis/cli/mpi/islands_mpi.c | deps
@@ -257,9 +259,9 @@ SAN_TEST_AUX     = $(filter-out tests/test_%,$(TEST_SRC))
 STEST_KERNELS    = build/san/test_kernels
 $(STEST): $(filter-out build/san/obj/fit/tiny.o,$(call obj,build/san/obj,$(filter-out $(SAN_KERNEL_TESTS),$(TEST_SRC)) $(SUPPORT))) \
           $(SAN_DOORS) $(SLIB) $(SAN_TABLES)
-	$(CXX) $(SAN_LD) $(filter-out $(SAN_TABLES),$^) -lcriterion $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $(SAN_IN) -lcriterion $(LIBS) -o $@
 $(STEST_KERNELS): $(call obj,build/san/obj,$(SAN_KERNEL_TESTS) $(SAN_TEST_AUX) $(SUPPORT)) $(SLIB) $(SAN_TABLES)
-	$(CXX) $(SAN_LD) $(filter-out $(SAN_TABLES),$^) -lcriterion $(LIBS) -o $@
+	$(CXX) $(SAN_LD) $(SAN_IN) -lcriterion $(LIBS) -o $@
 
 # the shell tests read CSV columns by name through this (tests/lib.sh)
 build/csvget: tests/tools/csvget.c | deps
@@ -451,7 +453,7 @@ test-san-fault: $(STOOL) build/csvget
 	$(SAN_ENV) sh tests/fault.sh $(STOOL)
 # the checks at the sanitized brdfkit's doors (brdf/doors.h) and their controls
 build/san/doors_check: tests/tools/doors.c $(filter build/san/doors/%,$(SAN_DOORS)) $(SLIB) $(SAN_TABLES)
-	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN_LD) $(INC) $(filter-out $(SAN_TABLES),$^) -lm -o $@
+	$(CC) $(CSTD) $(WARN) $(SAN_OPT) $(SAN_LD) $(INC) $(SAN_IN) -lm -o $@
 test-san-doors: build/san/doors_check
 	$(SAN_ENV) sh tests/doors.sh build/san/doors_check
 

@@ -12,6 +12,7 @@
  *     brdf.h promises, the op counts taken from bk_form_count.
  */
 #include "brdf.h"
+#include "out.h"
 
 #include <criterion/criterion.h>
 
@@ -317,36 +318,21 @@ typedef struct shader_set {
 	unsigned all;  /* their union */
 } shader_set;
 
-/* appends printf-style text to *s (grown as needed) */
-static void cat(char **s, size_t *len, const char *fmt, ...)
-{
-	va_list ap;
-	va_start(ap, fmt);
-	int k = vsnprintf(NULL, 0, fmt, ap);
-	va_end(ap);
-	*s = realloc(*s, *len + k + 1);
-	cr_assert_not_null(*s);
-	va_start(ap, fmt);
-	vsnprintf(*s + *len, k + 1, fmt, ap);
-	va_end(ap);
-	*len += k;
-}
-
 /* the sum of every case's call, each input as `pre NAME post` (GLSL) or its
  * HLSL lane */
-static void cat_calls(char **s, size_t *len, const shader_set *set, const char *pre, const char *post, int hlsl)
+static void put_calls(bk_strbuf *b, const shader_set *set, const char *pre, const char *post, int hlsl)
 {
 	static const char *const lane[BK_IN_COUNT] = {"u.x", "u.y", "u.z", "u.w", "v.x", "v.y", "v.z"};
 	for (size_t c = 0; c < set->n; c++) {
-		cat(s, len, "%sgen%zu(", c ? " + " : "", c);
+		bk_sb_put(b, "%sgen%zu(", c ? " + " : "", c);
 		for (int i = 0, k = 0; i < BK_IN_COUNT; i++)
 			if (set->ins[c] >> i & 1) {
 				if (hlsl)
-					cat(s, len, "%s%s", k++ ? ", " : "", lane[i]);
+					bk_sb_put(b, "%s%s", k++ ? ", " : "", lane[i]);
 				else
-					cat(s, len, "%s%s%s%s", k++ ? ", " : "", pre, bk_input_name(i), post);
+					bk_sb_put(b, "%s%s%s%s", k++ ? ", " : "", pre, bk_input_name(i), post);
 			}
-		cat(s, len, ")");
+		bk_sb_put(b, ")");
 	}
 }
 
@@ -355,34 +341,35 @@ static void cat_calls(char **s, size_t *len, const shader_set *set, const char *
  * own. HLSL: the inputs from two interpolants. */
 static char *set_shader(const shader_set *set, bk_lang lang, int half)
 {
-	char *s = NULL;
-	size_t len = 0;
+	bk_strbuf b = {0};
 	if (lang == BK_LANG_GLSL && half == BK_EMIT_F16)
-		cat(&s, &len, "#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n");
+		bk_sb_put(&b, "#version 450\n#extension GL_EXT_shader_explicit_arithmetic_types_float16 : require\n");
 	else if (lang == BK_LANG_GLSL)
-		cat(&s, &len, "#version 300 es\nprecision highp float;\n");
+		bk_sb_put(&b, "#version 300 es\nprecision highp float;\n");
 	for (size_t c = 0; c < set->n; c++)
-		cat(&s, &len, "%s", set->code[c]);
+		bk_sb_put(&b, "%s", set->code[c]);
 	if (lang == BK_LANG_HLSL) {
-		cat(&s, &len, "float4 main(float4 u : TEXCOORD0, float4 v : TEXCOORD1) : SV_Target\n{\n\treturn float4(");
-		cat_calls(&s, &len, set, "", "", 1);
-		cat(&s, &len, ", 0, 0, 1);\n}\n");
-		return s;
+		bk_sb_put(&b, "float4 main(float4 u : TEXCOORD0, float4 v : TEXCOORD1) : SV_Target\n{\n\treturn float4(");
+		put_calls(&b, set, "", "", 1);
+		bk_sb_put(&b, ", 0, 0, 1);\n}\n");
+		cr_assert(!b.oom);
+		return b.s;
 	}
 	for (int i = 0; i < BK_IN_COUNT; i++)
 		if (set->all >> i & 1) {
 			if (half == BK_EMIT_F16)
-				cat(&s, &len, "layout(location = %d) in float u_%s;\n", i, bk_input_name(i));
+				bk_sb_put(&b, "layout(location = %d) in float u_%s;\n", i, bk_input_name(i));
 			else
-				cat(&s, &len, "uniform highp float u_%s;\n", bk_input_name(i));
+				bk_sb_put(&b, "uniform highp float u_%s;\n", bk_input_name(i));
 		}
-	cat(&s, &len, "%sout vec4 o;\nvoid main() { o = vec4(", half == BK_EMIT_F16 ? "layout(location = 0) " : "");
+	bk_sb_put(&b, "%sout vec4 o;\nvoid main() { o = vec4(", half == BK_EMIT_F16 ? "layout(location = 0) " : "");
 	if (half == BK_EMIT_F16)
-		cat_calls(&s, &len, set, "float16_t(u_", ")", 0);
+		put_calls(&b, set, "float16_t(u_", ")", 0);
 	else
-		cat_calls(&s, &len, set, "u_", "", 0);
-	cat(&s, &len, "); }\n");
-	return s;
+		put_calls(&b, set, "u_", "", 0);
+	bk_sb_put(&b, "); }\n");
+	cr_assert(!b.oom);
+	return b.s;
 }
 
 static void check_shader_set(const form_case *cases, size_t n, bk_lang lang, int half, const workdir *w)

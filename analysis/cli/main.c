@@ -6,6 +6,7 @@
 #include "cmd.h"
 #include "out.h"
 
+#include <errno.h>
 #include <fcntl.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -78,26 +79,15 @@ static int run_command(int argc, char **argv)
  * at its exit). */
 static int check_each(const char *list, const char *dir)
 {
-	/* the whole list read first: a case's exit flushes the inherited stream,
-	 * which moves the offset of the descriptor it shares with this process */
-	FILE *in = fopen(list, "r");
-	if (!in) {
-		fprintf(stderr, "brdfkit help --check-each: %s: cannot open\n", list);
+	/* the whole list read first (cli_read_file, cli.h): a case's exit flushes
+	 * an inherited stream, which moves the offset of the descriptor it
+	 * shares with this process */
+	size_t len;
+	char *text = cli_read_file(list, &len);
+	if (!text) {
+		fprintf(stderr, "brdfkit help --check-each: %s: %s\n", list, strerror(errno));
 		return 2;
 	}
-	char *text = NULL;
-	size_t len = 0;
-	FILE *mem = open_memstream(&text, &len);
-	if (!mem) {
-		fclose(in);
-		fprintf(stderr, "brdfkit help --check-each: out of memory\n");
-		return 2;
-	}
-	int c;
-	while ((c = getc(in)) != EOF)
-		putc(c, mem);
-	fclose(in);
-	fclose(mem);
 	int rc = 0;
 	long n = 0;
 	for (char *line = text, *next; rc == 0 && line && *line; line = next) {
