@@ -32,10 +32,10 @@ tracked() { git ls-files 2>/dev/null || find . -path ./build -prune -o -type f -
 cites() {
 	[ $# -gt 0 ] || return 0
 	awk '
-function cite(s, at_start,   pre, r) {
+function cite(s,   pre, r, m) {
 	# the citation pattern, its leading and trailing separators included
 	r = "(^|[^A-Za-z0-9_./-])((shared|brdf|fit|analysis|tests|results|notebooks_data|\\.ci)/[A-Za-z0-9_./-]*\\.(c|h|cc|sh|py|md|scd|supp|ipynb|csv|exr|json|html)|[A-Za-z][A-Za-z0-9_-]*\\.md)([^A-Za-z0-9_*]|$)"
-	pre = at_start ? "" : "/" # past a match, ^ is not the line start: "/" neither starts a path nor separates
+	pre = "" # past a match, ^ is not the line start: "/" neither starts a path nor separates
 	while (match(pre s, r)) {
 		m = substr(pre s, RSTART, RLENGTH)
 		s = substr(pre s, RSTART + RLENGTH); pre = "/"
@@ -43,14 +43,13 @@ function cite(s, at_start,   pre, r) {
 		if (m ~ /zz|\*/ || m ~ /\/[A-Z]+\//) continue
 		if (m ~ /\// && m !~ /\.md$/ && m ~ /[A-Z][A-Z][A-Z]/) continue
 		print FILENAME ": " m
-		if (s == "") break
 	}
 }
-FILENAME ~ /\.(md|scd)$/ { cite($0, 1); next }
-FILENAME ~ /\.(c|h|cc)$/ { if ($0 ~ /\/\*|^[[:space:]]*\*|\/\//) cite($0, 1); next }
+FILENAME ~ /\.(md|scd)$/ { cite($0); next }
+FILENAME ~ /\.(c|h|cc)$/ { if ($0 ~ /\/\*|^[[:space:]]*\*|\/\//) cite($0); next }
 { # the rest: shell, Python, the Makefile: after a # that opens the line, else after the last " # "
-	if (match($0, /^[[:space:]]*#/)) cite(substr($0, RLENGTH + 1), 1)
-	else if (match($0, /^.*[[:space:]]#[[:space:]]/)) cite(substr($0, RLENGTH + 1), 1)
+	if (match($0, /^[[:space:]]*#/)) cite(substr($0, RLENGTH + 1))
+	else if (match($0, /^.*[[:space:]]#[[:space:]]/)) cite(substr($0, RLENGTH + 1))
 }' "$@" | LC_ALL=C sort -u
 }
 
