@@ -338,7 +338,7 @@ Test(search, islands_share_the_enumeration)
 	plant_options(&o, &s, 2, 100000);
 	o.enum_size = 3;
 	o.enum_max = 100000;
-	o.generation = 100000; /* one batch holds the whole enumeration: no evolution after it */
+	o.generation = 1024; /* one batch holds the whole enumeration (31 fits): no evolution after it */
 	bk_search *one = bk_search_new(&o, (char[256]){0}, 256);
 	char err[256];
 	cr_assert_eq(bk_search_step(one, err, sizeof err), 1, "%s", err); /* the seed */
