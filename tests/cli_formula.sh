@@ -23,36 +23,53 @@ if ! /usr/bin/python3 -c 'import sympy' 2>/dev/null; then
 	exit 1
 fi
 
-# The checker: the snippet FILE executed, `fitted` evaluated at each point
-# (NAME=VALUE words of the inputs it reads), the value compared with the
-# expected one on the same line. PERTURB=1 scales fitted by 1 + 1e-6 first.
+# The checker, one python3 for every form (sympy's import is most of a
+# start): each line of LIST is "N SNIPPET POINTS"; the snippet is executed in
+# a scope of its own, `fitted` evaluated at each point (NAME=VALUE words of
+# the inputs it reads) and compared with the expected value on the same line,
+# then again scaled by 1 + 1e-6 (the control). Printed for each N: "N plain
+# ok" or "N plain bad", then "N perturb ok" or "N perturb bad"; a failure's
+# points and errors on lines "N plain:   ...".
 cat >"$T/check.py" <<'EOF'
 import sys
+import traceback
 import sympy as sp
-snippet, points = sys.argv[1], sys.argv[2]
-scope = {}
-exec(open(snippet).read(), scope)
-fitted = scope["fitted"]
-if len(sys.argv) > 3 and sys.argv[3] == "perturb":
-    fitted = fitted * (1 + sp.Rational(1, 10**6))
-names = {str(s): s for s in scope["inputs"]}
-bad = 0
-n = 0
-for line in open(points):
-    words = line.split()
-    if not words:
-        continue
-    want = float(words[0])
-    subs = {names[k]: sp.Float(v, 30) for k, v in (w.split("=") for w in words[1:])}
-    got = sp.N(fitted.subs(subs), 30)
-    n += 1
-    if not got.is_real or abs(float(got) - want) > 1e-9 * max(abs(want), 1e-12):
-        print("  at %s: sympy %s, brdfkit eval %r" % (" ".join(words[1:]), got, want))
-        bad += 1
-if n == 0:
-    print("  no point read")
-    sys.exit(1)
-sys.exit(1 if bad else 0)
+
+def compare(n, mode, snippet, points):
+    scope = {}
+    exec(open(snippet).read(), scope)
+    fitted = scope["fitted"]
+    if mode == "perturb":
+        fitted = fitted * (1 + sp.Rational(1, 10**6))
+    names = {str(s): s for s in scope["inputs"]}
+    bad = 0
+    m = 0
+    for line in open(points):
+        words = line.split()
+        if not words:
+            continue
+        want = float(words[0])
+        subs = {names[k]: sp.Float(v, 30) for k, v in (w.split("=") for w in words[1:])}
+        got = sp.N(fitted.subs(subs), 30)
+        m += 1
+        if not got.is_real or abs(float(got) - want) > 1e-9 * max(abs(want), 1e-12):
+            print("%s %s:   at %s: sympy %s, brdfkit eval %r" % (n, mode, " ".join(words[1:]), got, want))
+            bad += 1
+    if m == 0:
+        print("%s %s:   no point read" % (n, mode))
+        return False
+    return bad == 0
+
+for line in open(sys.argv[1]):
+    n, snippet, points = line.split()
+    for mode in ("plain", "perturb"):
+        try:
+            good = compare(n, mode, snippet, points)
+        except Exception:
+            for t in traceback.format_exc().splitlines():
+                print("%s %s:   %s" % (n, mode, t))
+            good = False
+        print("%s %s %s" % (n, mode, "ok" if good else "bad"))
 EOF
 
 # points FORM SNIPPET: "f64 NAME=VALUE..." lines of brdfkit eval at three
@@ -78,11 +95,13 @@ points() {
 # the operations left (rsqrt rcp sqrt log abs neg, clamp on parameters).
 USER='rsqrt(NoV + p0) - rcp(LoH)*sqrt(r) + log(1 + abs(-NoV*p1)) - -LoH + clamp(NoV, p0, 0.8) + exp(-r)*pow(f0, 0.5)'
 n=0
+: >"$T/list"
 for form in vf_talk_r v_hammon f_schlick_sg f_schlick_unreal_gated env_ross env_karis2014 env_lazarov2013 \
             env_materialx:A env_materialx:B dvf_unity_urp_half \
             results/search/vf2d/front.csv:search_vf2d_6 results/search/env/front.csv:search_env_3:A \
             "$USER"; do
 	n=$((n + 1))
+	printf '%s\n' "$form" >"$T/form$n"
 	extra=""
 	[ "$form" = "$USER" ] && extra="p0=0.1 p1=2"
 	# shellcheck disable=SC2086 # parameter words, no blanks
@@ -96,12 +115,15 @@ for form in vf_talk_r v_hammon f_schlick_sg f_schlick_unreal_gated env_ross env_
 	else
 		points "$form" "$T/f$n.py" >"$T/p$n" || { bad "brdfkit eval '$form'"; continue; }
 	fi
-	if /usr/bin/python3 "$T/check.py" "$T/f$n.py" "$T/p$n" >"$T/out" 2>&1; then ok; else bad "sympy != eval for '$form':"; cat "$T/out"; fi
-	# negative control: the same snippet off by one part in a million is caught
-	if /usr/bin/python3 "$T/check.py" "$T/f$n.py" "$T/p$n" perturb >"$T/out" 2>&1; then
-		bad "control: a perturbed '$form' passed the comparison"
-	else ok; fi
+	echo "$n $T/f$n.py $T/p$n" >>"$T/list"
 done
+/usr/bin/python3 "$T/check.py" "$T/list" >"$T/verdicts" 2>&1 || { bad "the sympy checker stopped:"; cat "$T/verdicts"; }
+while read -r n _; do
+	form=$(cat "$T/form$n")
+	if grep -qx "$n plain ok" "$T/verdicts"; then ok; else bad "sympy != eval for '$form':"; grep "^$n plain:" "$T/verdicts"; fi
+	# negative control: the same snippet off by one part in a million is caught
+	if grep -qx "$n perturb bad" "$T/verdicts"; then ok; else bad "control: a perturbed '$form' passed the comparison"; fi
+done <"$T/list"
 
 # The snippet keeps the parameters symbolic and binds them in params: the
 # expression of vf_talk_r is f0/(4 LoH^2 (r + p0)) with p0 = 0.5 (the catalog's).
