@@ -182,13 +182,18 @@ compile_c() {
 	gcc -c -std=c11 -pedantic -Wall -Wextra -Werror -o "$T/o.o" "$2" >"$T/cc" 2>&1 &&
 		gcc -c -std=gnu11 -Wall -Wextra -Werror -o "$T/o.o" "$2" >>"$T/cc" 2>&1
 }
-# compile_glsl FILE: GLSL ES 3.00 and GLSL 4.50 fragment shaders calling it
-compile_glsl() {
+# glsl_shaders FILE NAME OUT: GLSL ES 3.00 and GLSL 4.50 fragment shaders
+# calling it, OUT.es.frag and OUT.450.frag; compile_glsl FILE NAME compiles
+# the two ($T/es.*, messages in $T/cc)
+glsl_shaders() {
 	{ printf '#version 300 es\nprecision highp float;\n'; cat "$1"
-	  printf 'uniform highp float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$T/es.frag"
+	  printf 'uniform highp float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$3.es.frag"
 	{ printf '#version 450\n'; cat "$1"
-	  printf 'uniform float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$T/d.frag"
-	glslangValidator "$T/es.frag" >"$T/cc" 2>&1 && glslangValidator "$T/d.frag" >>"$T/cc" 2>&1
+	  printf 'uniform float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$3.450.frag"
+}
+compile_glsl() {
+	glsl_shaders "$1" "$2" "$T/es"
+	glslangValidator "$T/es.es.frag" >"$T/cc" 2>&1 && glslangValidator "$T/es.450.frag" >>"$T/cc" 2>&1
 }
 # compile_hlsl FILE NAME: a pixel shader calling it, through glslang's HLSL front end
 compile_hlsl() {
@@ -200,12 +205,28 @@ for n in Float sq mix lerp texture saturate frac inversesqrt float4 vec3 Main x_
 	$BK codegen --lang c --name "$n" 'NoV*NoL' >"$T/f.c" 2>"$T/err" || bad "c --name $n refused: $(cat "$T/err")"
 	compile_c "$n" "$T/f.c" && ok || bad "c --name $n does not compile: $(head -3 "$T/cc")"
 done
+# The GLSL shaders are compiled by one glslangValidator (each file its own
+# shader, none linked: 60 starts were 8 CPU s of this script); when it
+# refuses, each pair is compiled again alone to name the one at fault.
+k=0
+: >"$T/glsl.list"
 for n in Float sq lerp saturate frac rsqrt mad mul float4 Main _x pow_ texture_ gl "$long63"; do
 	for p in single half; do
-		$BK codegen --lang glsl --precision $p --name "$n" 'NoV*NoL' >"$T/f.glsl" 2>"$T/err" || bad "glsl --name $n refused"
-		compile_glsl "$T/f.glsl" "$n" && ok || bad "glsl $p --name $n does not compile: $(grep ERROR "$T/cc" | head -2)"
+		k=$((k + 1))
+		$BK codegen --lang glsl --precision $p --name "$n" 'NoV*NoL' >"$T/f$k.glsl" 2>"$T/err" || bad "glsl --name $n refused"
+		glsl_shaders "$T/f$k.glsl" "$n" "$T/g$k"
+		printf '%s %s %s\n' "$k" "$p" "$n" >>"$T/glsl.list"
 	done
 done
+if glslangValidator "$T"/g*.frag >"$T/batch" 2>&1; then
+	while read -r k p n; do ok; done <"$T/glsl.list"
+else
+	f0=$fail
+	while read -r k p n; do
+		compile_glsl "$T/f$k.glsl" "$n" && ok || bad "glsl $p --name $n does not compile: $(grep ERROR "$T/cc" | head -2)"
+	done <"$T/glsl.list"
+	[ "$fail" -gt "$f0" ] || bad "glslangValidator refused the shaders together, none alone: $(grep ERROR "$T/batch" | head -2)"
+fi
 for n in Float sq mix texture_ inversesqrt fract vec3 _x gl_x Main "$long63"; do
 	for p in single half; do
 		$BK codegen --lang hlsl --precision $p --name "$n" 'NoV*NoL' >"$T/f.hlsl" 2>"$T/err" || bad "hlsl --name $n refused"
