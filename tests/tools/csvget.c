@@ -3,6 +3,9 @@
  *
  *   csvget FILE NAME                 every data row's NAME field, one a line
  *   csvget FILE NAME KEY VALUE       NAME of the rows whose KEY field is VALUE
+ *   csvget --each NAME FILE...       each FILE's rows' NAME fields, then a line
+ *                                    "@@" (one process for many files: a
+ *                                    unit test reads 300 of them)
  *   csvget --set FILE NAME KEY VALUE NEW   FILE with NAME set to NEW in those rows
  *   csvget --drop FILE KEY VALUE     FILE without the rows whose KEY field is VALUE
  *
@@ -120,26 +123,18 @@ static void on_record(int c, void *vr)
 
 static int usage(void)
 {
-	fprintf(stderr, "usage: csvget FILE NAME [KEY VALUE] | --set FILE NAME KEY VALUE NEW | --drop FILE KEY VALUE\n");
+	fprintf(stderr, "usage: csvget FILE NAME [KEY VALUE] | --each NAME FILE... | --set FILE NAME KEY VALUE NEW | "
+	                "--drop FILE KEY VALUE\n");
 	return 2;
 }
 
-int main(int argc, char **argv)
+/* r's file read and written out as its mode says: 0, or 1 with a line on
+ * stderr. */
+static int run(reader *r)
 {
-	reader r = {.header_nf = -1};
-	if (argc == 7 && !strcmp(argv[1], "--set")) {
-		r.mode = SET, r.path = argv[2], r.name = argv[3], r.key = argv[4], r.value = argv[5], r.set_to = argv[6];
-	} else if (argc == 5 && !strcmp(argv[1], "--drop")) {
-		r.mode = DROP, r.path = argv[2], r.key = argv[3], r.value = argv[4];
-	} else if ((argc == 3 || argc == 5) && argv[1][0] != '-') {
-		r.mode = GET, r.path = argv[1], r.name = argv[2];
-		r.key = argc == 5 ? argv[3] : NULL, r.value = argc == 5 ? argv[4] : NULL;
-	} else {
-		return usage();
-	}
-	FILE *f = fopen(r.path, "r");
+	FILE *f = fopen(r->path, "r");
 	if (!f) {
-		fprintf(stderr, "csvget: %s: cannot be read\n", r.path);
+		fprintf(stderr, "csvget: %s: cannot be read\n", r->path);
 		return 1;
 	}
 	struct csv_parser p;
@@ -153,32 +148,57 @@ int main(int argc, char **argv)
 	int quoted = 0; /* inside a quoted field that spans lines: not a comment */
 	while ((len = getline(&line, &cap, f)) > 0) {
 		if (!quoted && line[0] == '#') {
-			if (r.mode != GET)
+			if (r->mode != GET)
 				fputs(line, stdout);
 			continue;
 		}
 		for (ssize_t i = 0; i < len; i++)
 			if (line[i] == '"')
 				quoted = !quoted;
-		if (csv_parse(&p, line, (size_t)len, on_field, on_record, &r) != (size_t)len) {
-			fprintf(stderr, "csvget: %s: %s\n", r.path, csv_strerror(csv_error(&p)));
-			r.bad = 1;
+		if (csv_parse(&p, line, (size_t)len, on_field, on_record, r) != (size_t)len) {
+			fprintf(stderr, "csvget: %s: %s\n", r->path, csv_strerror(csv_error(&p)));
+			r->bad = 1;
 			break;
 		}
 	}
-	csv_fini(&p, on_field, on_record, &r);
+	csv_fini(&p, on_field, on_record, r);
 	csv_free(&p);
 	free(line);
 	fclose(f);
-	if (r.bad)
+	if (r->bad)
 		return 1;
-	if (r.header_nf < 0 || r.rows == 0) {
-		fprintf(stderr, "csvget: %s: no data row\n", r.path);
+	if (r->header_nf < 0 || r->rows == 0) {
+		fprintf(stderr, "csvget: %s: no data row\n", r->path);
 		return 1;
 	}
-	if (r.key && !r.matched) {
-		fprintf(stderr, "csvget: %s: no row with %s = %s\n", r.path, r.key, r.value);
+	if (r->key && !r->matched) {
+		fprintf(stderr, "csvget: %s: no row with %s = %s\n", r->path, r->key, r->value);
 		return 1;
 	}
 	return 0;
+}
+
+int main(int argc, char **argv)
+{
+	reader r = {.header_nf = -1};
+	if (argc >= 4 && !strcmp(argv[1], "--each")) {
+		int rc = 0;
+		for (int i = 3; i < argc; i++) {
+			reader each = {.header_nf = -1, .mode = GET, .path = argv[i], .name = argv[2]};
+			rc |= run(&each);
+			puts("@@");
+		}
+		return rc;
+	}
+	if (argc == 7 && !strcmp(argv[1], "--set")) {
+		r.mode = SET, r.path = argv[2], r.name = argv[3], r.key = argv[4], r.value = argv[5], r.set_to = argv[6];
+	} else if (argc == 5 && !strcmp(argv[1], "--drop")) {
+		r.mode = DROP, r.path = argv[2], r.key = argv[3], r.value = argv[4];
+	} else if ((argc == 3 || argc == 5) && argv[1][0] != '-') {
+		r.mode = GET, r.path = argv[1], r.name = argv[2];
+		r.key = argc == 5 ? argv[3] : NULL, r.value = argc == 5 ? argv[4] : NULL;
+	} else {
+		return usage();
+	}
+	return run(&r);
 }
