@@ -32,7 +32,7 @@ static bk_search *planted_search(const bk_samples *s, unsigned long seed)
 	o.enum_size = PLANTED_SIZE;
 	o.enum_max = 1000000;
 	o.generation = 8192; /* one batch holds the whole enumeration (5,801 fits) */
-	o.evals = 1;            /* and the run ends with it: no evolution */
+	o.evals = 1;         /* and the run ends with it: no evolution */
 	o.seed = seed;
 	o.threads = 2;
 	char err[256];
