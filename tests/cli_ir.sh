@@ -184,7 +184,7 @@ compile_c() {
 }
 # glsl_shaders FILE NAME OUT: GLSL ES 3.00 and GLSL 4.50 fragment shaders
 # calling it, OUT.es.frag and OUT.450.frag; compile_glsl FILE NAME compiles
-# the two ($T/es.*, messages in $T/cc)
+# the two alone ($T/alone.*, messages in $T/cc)
 glsl_shaders() {
 	{ printf '#version 300 es\nprecision highp float;\n'; cat "$1"
 	  printf 'uniform highp float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$3.es.frag"
@@ -192,8 +192,8 @@ glsl_shaders() {
 	  printf 'uniform float u0, u1;\nout vec4 o;\nvoid main() { o = vec4(%s(u0, u1)); }\n' "$2"; } >"$3.450.frag"
 }
 compile_glsl() {
-	glsl_shaders "$1" "$2" "$T/es"
-	glslangValidator "$T/es.es.frag" >"$T/cc" 2>&1 && glslangValidator "$T/es.450.frag" >>"$T/cc" 2>&1
+	glsl_shaders "$1" "$2" "$T/alone"
+	glslangValidator "$T/alone.es.frag" >"$T/cc" 2>&1 && glslangValidator "$T/alone.450.frag" >>"$T/cc" 2>&1
 }
 # compile_hlsl FILE NAME: a pixel shader calling it, through glslang's HLSL front end
 compile_hlsl() {
