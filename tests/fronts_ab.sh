@@ -114,3 +114,28 @@ for side in ("old", "new"):
 print("fronts_ab: %d passed, %d failed" % (ok, bad))
 sys.exit(1 if bad else 0)
 EOF
+rc=$?
+# --old-tree: the old side's commands are its own checkout's make results (a
+# binary from before a change of options runs the pipeline it was made
+# with), the new side's this tree's. A stand-in checkout whose one recipe
+# asks for 17 fits; the control is the same run without --old-tree.
+mkdir -p "$T/tree"
+printf 'results-search-vf2d:\n\t$(TOOL) search --target vf2d --evals 17 --out results/search/vf2d\n' >"$T/tree/Makefile"
+tree_steps() { # $1: the side; the rest: fronts_ab.py's options
+	side=$1
+	shift
+	python3 analysis/bench/fronts_ab.py "$BK" "$BK" --seeds 3 --fronts vf2d --dry-run --out "$T/ab2" "$@" |
+		awk -v d="# $T/ab2/$side/seed3 " 'index($0, "# ") == 1 { on = index($0, d) == 1; next } on'
+}
+old=$(tree_steps old --old-tree "$T/tree")
+new=$(tree_steps new --old-tree "$T/tree")
+ctl=$(tree_steps old)
+BKA=$(cd "$(dirname "$BK")" && pwd)/$(basename "$BK")
+want="$BKA search --target vf2d --evals 17 --out $T/ab2/old/seed3/results/vf2d --seed 3 --threads 1"
+if [ "$old" = "$want" ] && [ -n "$new" ] && [ "$new" = "${new#*--evals 17 }" ] && [ "$ctl" != "$want" ]; then
+	echo "fronts_ab: --old-tree: the old side ran its own checkout's recipe (1 passed)"
+else
+	echo "FAIL: --old-tree: old side [$old], new side [$(echo "$new" | head -1)], without it [$(echo "$ctl" | head -1)]"
+	rc=1
+fi
+exit $rc

@@ -3,7 +3,7 @@
 
   python3 analysis/bench/fronts_ab.py OLD_BRDFKIT NEW_BRDFKIT [--seeds 1,2,3] [--jobs 2]
                                       [--max-cost 16] [--out DIR] [--csv FILE] [--dry-run]
-                                      [--fronts vf2d,env_mix,...]
+                                      [--fronts vf2d,env_mix,...] [--old-tree DIR] [--new-tree DIR]
 
 A search at a fixed budget is one draw: a change to generation, starts or
 screening reorders what it tries, and one seed's front moves both ways
@@ -24,7 +24,11 @@ other; --jobs pipelines at a time. A pipeline already in DIR (default
 commands) matches, so a second call with more seeds or another NEW binary
 reuses the old side; one whose stamp does not match is made again, and one
 with no stamp stops the script (remove it or give another --out). --dry-run
-prints the commands and runs nothing; --fronts judges some of the seven
+prints the commands and runs nothing; --old-tree and --new-tree name the
+checkout whose Makefile gives that side's commands, and in which its steps
+run (default: the current directory for both), so that a binary from before
+a change of options is judged on its own make results (a worktree of its
+commit) rather than refusing the new commands; --fronts judges some of the seven
 (their pipelines only, and what those read: env_mix's takes env_f0's first
 searches) in a shorter run.
 
@@ -56,11 +60,11 @@ from fronts_moved import SEARCHES, front, rows, upto, verdict  # noqa: E402
 MOVED = (("build/evolved/", "evolved/"), ("build/half/", "half/"), ("results/search/", "results/"))
 
 
-def pipeline(binary, d, seed, fronts):
-    """The steps of the fronts' pipelines, as make -n prints them for this
-    binary, their paths under d; each an argv list."""
+def pipeline(binary, tree, d, seed, fronts):
+    """The steps of the fronts' pipelines, as make -n in tree prints them for
+    this binary, their paths under d; each an argv list."""
     targets = ["results-search-%s" % n for n in fronts]
-    text = subprocess.run(["make", "--no-print-directory", "-n", "TOOL=" + binary] + targets,
+    text = subprocess.run(["make", "--no-print-directory", "-C", tree, "-n", "TOOL=" + binary] + targets,
                           capture_output=True, text=True, check=True).stdout
     steps = []
     for line in text.replace("\\\n", " ").splitlines():
@@ -95,9 +99,9 @@ def digest(binary):
     return h.hexdigest()
 
 
-def run(binary, key, seed, d, dry, fronts):
+def run(binary, tree, key, seed, d, dry, fronts):
     """key: the binary's digest; the stamp is it with the pipeline's steps."""
-    steps = pipeline(binary, d, seed, fronts)
+    steps = pipeline(binary, tree, d, seed, fronts)
     if dry:
         return seed, d, steps, None
     stamp = key + "\n" + "".join(" ".join(shlex.quote(x) for x in s[1:]) + "\n" for s in steps)
@@ -123,7 +127,7 @@ def run(binary, key, seed, d, dry, fronts):
         for argv in steps:
             log.write("$ %s\n" % " ".join(shlex.quote(x) for x in argv))
             log.flush()
-            p = subprocess.Popen(argv, stdout=log, stderr=log)
+            p = subprocess.Popen(argv, stdout=log, stderr=log, cwd=tree)
             _, status, ru = os.wait4(p.pid, 0)  # this step's own CPU (os.times would add the other jobs')
             p.returncode = os.waitstatus_to_exitcode(status)
             cpu += ru.ru_utime + ru.ru_stime
@@ -161,6 +165,8 @@ def main():
     ap.add_argument("--csv")
     ap.add_argument("--dry-run", action="store_true")
     ap.add_argument("--fronts", default=",".join(SEARCHES))
+    ap.add_argument("--old-tree", default=".")
+    ap.add_argument("--new-tree", default=".")
     a = ap.parse_args()
     fronts = a.fronts.split(",")
     for n in fronts:
@@ -168,13 +174,13 @@ def main():
             sys.exit("fronts_ab: --fronts: unknown front '%s' (known: %s)" % (n, ", ".join(SEARCHES)))
     seeds = [int(x) for x in a.seeds.split(",")]
     jobs = []
-    for side, binary in (("old", a.old), ("new", a.new)):
-        binary = os.path.abspath(binary)
+    for side, binary, tree in (("old", a.old, a.old_tree), ("new", a.new, a.new_tree)):
+        binary, tree = os.path.abspath(binary), os.path.abspath(tree)
         key = digest(binary)
         for sd in seeds:
             d = os.path.join(os.path.abspath(a.out), side, "seed%d" % sd)
             os.makedirs(os.path.dirname(d), exist_ok=True)
-            jobs.append((binary, key, sd, d, a.dry_run, fronts))
+            jobs.append((binary, tree, key, sd, d, a.dry_run, fronts))
     with ThreadPoolExecutor(max_workers=a.jobs) as ex:
         for sd, d, steps, t in ex.map(lambda j: run(*j), jobs):
             if a.dry_run:
