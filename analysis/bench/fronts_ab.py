@@ -214,10 +214,12 @@ def main():
     table.append(("all", "all", tb, tw, ts, gm))
     if a.csv:
         with open(a.csv, "w", newline="") as f:
-            f.write("# fronts_ab.py: make results' double fronts %s (each its whole pipeline), old %s against new %s, "
+            own = os.path.abspath(a.old_tree) != os.path.abspath(a.new_tree)
+            f.write("# fronts_ab.py: make results' double fronts %s (each its whole pipeline%s), old %s against new %s, "
                     "seeds %s, cost levels <= %g; better/worse: the new front's best error at cost <= c below 0.999x / "
                     "above 1.001x the old's; gmean: of new/old over those levels\n"
-                    % (" ".join(fronts), os.path.basename(a.old), os.path.basename(a.new), a.seeds, a.max_cost))
+                    % (" ".join(fronts), ", each side's as its own checkout's Makefile gives it" if own else "",
+                       os.path.basename(a.old), os.path.basename(a.new), a.seeds, a.max_cost))
             w = csv.writer(f)
             w.writerow(["search", "seed", "better", "worse", "same", "gmean_new_over_old"])
             for r in table:
