@@ -24,7 +24,16 @@
  * rounding boundary: they are then fitted both, which costs a fit and loses
  * nothing. A false twin needs two different functions of the parameters to
  * agree to 32 bits at 3 x 64 points: the fingerprint is of the family's
- * function of its parameters, not of one fit.
+ * function of its parameters, not of one fit. Those points are fewer
+ * distinct inputs than 64 where the screening grid's size is a multiple of
+ * 64 (sample i n / 64 steps over the fastest axis): env's 512 samples give
+ * NoV at 2 of its 16 values (r at all 16), vf2d's 1,024 LoH at 2 of 32, vf's
+ * 1,617 cover 8 NoV x 8 r. Two forms that differ only between those two
+ * values (a min or max whose break falls there at all three vectors) would
+ * be taken for one. None is known; a stride coprime to n, or a fixed
+ * low-discrepancy draw, would close it, and would move every committed
+ * front (the twins decide which fits a budget buys), so it waits for a
+ * make results of its own.
  *
  * What it does not see: reparametrisations (p0*(x + p1) against p0*x + p1
  * are one model with other constants: different values at the same vector).
