@@ -30,12 +30,21 @@
  * NoV at 2 of its 16 values (r at all 16), vf2d's 1,024 LoH at 2 of 32, vf's
  * 1,617 cover 8 NoV x 8 r. Two forms that differ only between those two
  * values (a min or max whose break falls there at all three vectors) would
- * be taken for one. None is known. Probes at a golden-ratio stride
- * coprime to n (tried, not kept) change 1,294 of env's 197,859 twins to 6
- * nodes (0.65 %) and 226 of vf2d's 65,845 (0.34 %) into fits: an upper
- * bound on the false twins, since forms apart only by rounding also split
- * there. Such probes would move every committed front (the twins decide
- * which fits a budget buys), so they wait for a make results of their own.
+ * be taken for one, and such pairs exist: with probes at a golden-ratio
+ * stride coprime to n beside these (tried, not kept), and each pair that
+ * the second probes split evaluated at 4,000 random points of the domain
+ * and four random parameter vectors, env to 5 nodes has at least 135
+ * false twins (of 20,210 twins; 87 more splits were rounding) and vf2d to
+ * 6 nodes at least 887 (of 73,110; 9 rounding). They are gates that are
+ * open at both probed values and shut between or beyond them:
+ * p0*saturate(rcp(NoV) - NoV) taken for p0 (it is 1 for NoV <= 0.618 only),
+ * p0*max(rcp(NoV), exp2(NoV)) for p0/NoV, p0*saturate(rcp(LoH) - sq(LoH))
+ * for p0. So the certificate's "every unique form up to N nodes fitted"
+ * misses these on env and vf2d (not on f, whose 64 samples are all
+ * probes). Well-spread probes would fit them, and would move every
+ * committed front and the enumeration's fit counts that make results'
+ * budgets are set from (Makefile ENUM_*), so they wait for a make results
+ * of their own.
  *
  * What it does not see: reparametrisations (p0*(x + p1) against p0*x + p1
  * are one model with other constants: different values at the same vector).
