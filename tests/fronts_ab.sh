@@ -121,15 +121,13 @@ rc=$?
 # asks for 17 fits; the control is the same run without --old-tree.
 mkdir -p "$T/tree"
 printf 'results-search-vf2d:\n\t$(TOOL) search --target vf2d --evals 17 --out results/search/vf2d\n' >"$T/tree/Makefile"
-tree_steps() { # $1: the side; the rest: fronts_ab.py's options
-	side=$1
-	shift
-	python3 analysis/bench/fronts_ab.py "$BK" "$BK" --seeds 3 --fronts vf2d --dry-run --out "$T/ab2" "$@" |
-		awk -v d="# $T/ab2/$side/seed3 " 'index($0, "# ") == 1 { on = index($0, d) == 1; next } on'
-}
-old=$(tree_steps old --old-tree "$T/tree")
-new=$(tree_steps new --old-tree "$T/tree")
-ctl=$(tree_steps old)
+dry() { python3 analysis/bench/fronts_ab.py "$BK" "$BK" --seeds 3 --fronts vf2d --dry-run --out "$T/ab2" "$@"; }
+side() { awk -v d="# $T/ab2/$1/seed3 " 'index($0, "# ") == 1 { on = index($0, d) == 1; next } on' "$2"; }
+dry --old-tree "$T/tree" >"$T/both.txt"
+dry >"$T/ctl.txt"
+old=$(side old "$T/both.txt")
+new=$(side new "$T/both.txt")
+ctl=$(side old "$T/ctl.txt")
 BKA=$(cd "$(dirname "$BK")" && pwd)/$(basename "$BK")
 want="$BKA search --target vf2d --evals 17 --out $T/ab2/old/seed3/results/vf2d --seed 3 --threads 1"
 if [ "$old" = "$want" ] && [ -n "$new" ] && [ "$new" = "${new#*--evals 17 }" ] && [ "$ctl" != "$want" ]; then

@@ -174,8 +174,9 @@ def main():
             sys.exit("fronts_ab: --fronts: unknown front '%s' (known: %s)" % (n, ", ".join(SEARCHES)))
     seeds = [int(x) for x in a.seeds.split(",")]
     jobs = []
-    for side, binary, tree in (("old", a.old, a.old_tree), ("new", a.new, a.new_tree)):
-        binary, tree = os.path.abspath(binary), os.path.abspath(tree)
+    trees = {"old": os.path.abspath(a.old_tree), "new": os.path.abspath(a.new_tree)}
+    for side, binary in (("old", a.old), ("new", a.new)):
+        binary, tree = os.path.abspath(binary), trees[side]
         key = digest(binary)
         for sd in seeds:
             d = os.path.join(os.path.abspath(a.out), side, "seed%d" % sd)
@@ -214,7 +215,7 @@ def main():
     table.append(("all", "all", tb, tw, ts, gm))
     if a.csv:
         with open(a.csv, "w", newline="") as f:
-            own = os.path.abspath(a.old_tree) != os.path.abspath(a.new_tree)
+            own = trees["old"] != trees["new"]
             f.write("# fronts_ab.py: make results' double fronts %s (each its whole pipeline%s), old %s against new %s, "
                     "seeds %s, cost levels <= %g; better/worse: the new front's best error at cost <= c below 0.999x / "
                     "above 1.001x the old's; gmean: of new/old over those levels\n"
