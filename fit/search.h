@@ -274,7 +274,7 @@ long bk_search_evals(const bk_search *s);
  * the trees of up to complete_size nodes (bk_expr_size; a tree as the
  * enumeration builds it, before its scale, search/generate.c) was fitted
  * with up to `starts` screening starts, or is a twin of one fitted at no
- * greater cost (the same values at three parameter vectors:
+ * greater cost (the same values at 64 probes at four parameter vectors:
  * search/unique.h), or was fitted before (a seed), or is outside the
  * limits: costlier than max_cost, more parameters than the grammar allows.
  * The grammar is the options' (operations, inputs, literals, parameters),

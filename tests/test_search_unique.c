@@ -8,6 +8,7 @@
  */
 #include "fixture_search.h"
 #include "search/search_int.h"
+#include "search/seeds.h"
 #include "search/unique.h"
 
 #include <criterion/criterion.h>
@@ -85,6 +86,79 @@ Test(search_unique, twins_are_one_model_and_branches_are_not)
 	cr_assert_eq(bk_unique_twin(S, 0, 1), 0, "an unparsed form is nobody's twin");
 	bk_search_free(S);
 	bk_samples_free(&s);
+}
+
+/* A search on kind's screening samples as brdfkit search makes them
+ * (fit/search/seeds.h), for its fingerprints. */
+static bk_search *grid_search(bk_target_kind kind, bk_samples *sm)
+{
+	bk_target_options to;
+	bk_target_defaults(kind, &to);
+	bk_seeds_screening_grid(&to);
+	char err[256];
+	cr_assert_eq(bk_target_build(&to, sm, NULL, NULL, err, sizeof err), 0, "%s", err);
+	bk_search_options o;
+	fx_plain_options(&o, sm, sm->provides & ~(1u << BK_IN_F0), 4, 9);
+	bk_search *S = bk_search_new(&o, err, sizeof err);
+	cr_assert(S, "%s", err);
+	return S;
+}
+
+/* How many distinct values of input k the m values v hold. */
+static size_t distinct(const double *v, size_t m)
+{
+	size_t d = 0;
+	for (size_t i = 0; i < m; i++) {
+		size_t j = 0;
+		while (j < i && v[j] != v[i])
+			j++;
+		d += j == i;
+	}
+	return d;
+}
+
+/* Gates that are open at some inputs or parameters and shut at others are
+ * not their cheaper twins: p0*saturate(rcp(NoV) - NoV) is p0 for NoV <=
+ * 0.618 only, p0*saturate(p1 / r) is not p0*saturate(p1 / LoH) where p1 is
+ * in (0, 1). Env's 512 and vf2d's 1,024 samples are grids whose sizes are
+ * multiples of 64: probes at sample i n / 64 saw NoV (LoH) at 2 values and
+ * took these for twins (the controls below put those probes, and vectors
+ * whose p1 is never in (0, 1), back: the assertions then fail). */
+Test(search_unique, gates_that_shut_between_probes_are_not_twins)
+{
+	bk_samples env, vf2d;
+	bk_search *E = grid_search(BK_TARGET_ENV, &env), *V = grid_search(BK_TARGET_VF2D, &vf2d);
+	/* the probes see every NoV of env's grid and every LoH of vf2d's */
+	cr_assert_eq(distinct(E->uq.in[BK_IN_NOV], E->uq.m), distinct(env.in[BK_IN_NOV], env.n));
+	cr_assert_eq(distinct(V->uq.in[BK_IN_LOH], V->uq.m), distinct(vf2d.in[BK_IN_LOH], vf2d.n));
+	cr_assert_geq(distinct(env.in[BK_IN_NOV], env.n), 16);
+	uint64_t p0 = bk_unique_fingerprint(E, "p0", NULL);
+	cr_assert_neq(bk_unique_fingerprint(E, "p0*saturate(rcp(NoV) - NoV)", NULL), p0);
+	cr_assert_neq(bk_unique_fingerprint(E, "p0*max(rcp(NoV), exp2(NoV))", NULL), bk_unique_fingerprint(E, "p0/NoV", NULL));
+	cr_assert_neq(bk_unique_fingerprint(V, "p0*saturate(rcp(LoH) - sq(LoH))", NULL), bk_unique_fingerprint(V, "p0", NULL));
+	cr_assert_neq(bk_unique_fingerprint(V, "p0*saturate(p1/r)", NULL), bk_unique_fingerprint(V, "p0*saturate(p1/LoH)", NULL));
+	cr_assert_neq(bk_unique_fingerprint(V, "p0*saturate(p1 + exp2(LoH))", NULL),
+	              bk_unique_fingerprint(V, "p0*saturate(p1 + rsqrt(LoH))", NULL));
+	/* an identity over the domain is still one model on these grids */
+	cr_assert_eq(bk_unique_fingerprint(E, "p0*saturate(r)", NULL), bk_unique_fingerprint(E, "p0*r", NULL));
+	cr_assert_eq(bk_unique_fingerprint(V, "p0*sqrt(a)", NULL), bk_unique_fingerprint(V, "p0*r", NULL));
+
+	/* the controls: the probes of before (sample i n / 64) */
+	for (int k = 0; k < BK_IN_COUNT; k++)
+		for (size_t i = 0; E->uq.in[k] && env.in[k] && i < E->uq.m; i++)
+			E->uq.in[k][i] = env.in[k][i * env.n / E->uq.m];
+	cr_assert_eq(distinct(E->uq.in[BK_IN_NOV], E->uq.m), 2);
+	cr_assert_eq(bk_unique_fingerprint(E, "p0*saturate(rcp(NoV) - NoV)", NULL), bk_unique_fingerprint(E, "p0", NULL),
+	             "with NoV probed at two values the gate is not seen (the assertion above can fail)");
+	/* and p1 never in (0, 1): 1.61, 2.9, -0.37 as before, the fourth vector
+	 * a copy of the first */
+	static const double before[UNIQUE_VECTORS] = {1.61, 2.9, -0.37, 1.61};
+	for (int t = 0; t < UNIQUE_VECTORS; t++)
+		V->uq.theta[t][1] = before[t];
+	cr_assert_eq(bk_unique_fingerprint(V, "p0*saturate(p1/r)", NULL), bk_unique_fingerprint(V, "p0*saturate(p1/LoH)", NULL),
+	             "with p1 never in (0, 1) the gate is not seen (the assertion above can fail)");
+	bk_search_free(E), bk_search_free(V);
+	bk_samples_free(&env), bk_samples_free(&vf2d);
 }
 
 Test(search_unique, a_planted_form_within_the_certificate_is_on_the_front_at_every_seed)

@@ -10,13 +10,23 @@
  * and, from the growth of the last two sizes, the size a 64-core MPI run
  * would certify in 10 minutes.
  *
- * usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T]
+ * With --audit, each twin is checked against the form it was taken for, at
+ * every screening sample (not the fingerprint's 64) and at the fingerprint's
+ * parameter vectors and eight more drawn uniformly in (-3, 3): a twin whose values
+ * differ anywhere by more than rounding is a false twin, a unique form the
+ * certificate says was fitted and was not. The audit is the bound on the
+ * fingerprint's misses on the samples the fits see.
+ *
+ * usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T] [--audit]
  *   --max N       the last size enumerated (default: 7 for vf2d and env, 8 for f)
+ *   --audit       check every twin as above (slower: each twin evaluated at
+ *                 every screening sample)
  * The screening grid and the grammar are brdfkit search's (fit/search/seeds.h).
  * Times vary with the machine; the counts do not.
  */
 #include "clock.h"
 #include "search.h"
+#include "search/search_int.h"
 #include "search/seeds.h"
 
 #include <math.h>
@@ -49,7 +59,134 @@ static int whole(void *ctx, const bk_search *S)
 	return ((const watch *)ctx)->done >= ((const watch *)ctx)->want;
 }
 
-static int run(bk_target_kind kind, const char *name, int max, int threads)
+/* The vectors the audit evaluates at beside the fingerprint's. */
+#define AUDIT_EXTRA 8
+
+/* The audit (--audit): the fitted spelling of each fingerprint, and the
+ * twins whose values differ from it. */
+typedef struct audit {
+	const bk_samples *sm;
+	const bk_search *S;
+	uint64_t *fp; /* open-addressed by fingerprint, 0 free */
+	char **a, **b;
+	size_t cap, n;
+	long twins, false_twins, shown;
+	double *va, *vb; /* the vectors x the samples, of the twin and of its spelling */
+	int oom;
+} audit;
+
+static size_t audit_slot(const audit *au, uint64_t fp)
+{
+	size_t j = fp & (au->cap - 1);
+	while (au->fp[j] && au->fp[j] != fp)
+		j = (j + 1) & (au->cap - 1);
+	return j;
+}
+
+static int audit_grow(audit *au)
+{
+	audit old = *au;
+	au->cap = au->cap ? 2 * au->cap : 4096;
+	au->fp = calloc(au->cap, sizeof *au->fp);
+	au->a = calloc(au->cap, sizeof *au->a);
+	au->b = calloc(au->cap, sizeof *au->b);
+	if (!au->fp || !au->a || !au->b)
+		return -1;
+	for (size_t i = 0; i < old.cap; i++)
+		if (old.fp[i]) {
+			size_t j = audit_slot(au, old.fp[i]);
+			au->fp[j] = old.fp[i], au->a[j] = old.a[i], au->b[j] = old.b[i];
+		}
+	free(old.fp), free(old.a), free(old.b);
+	return 0;
+}
+
+/* The values of the forms of texts a and b (b NULL but for a pair) at every
+ * screening sample at the vectors, one after the other into v (a
+ * pair's A then B): the number of values, or -1 when one does not parse or
+ * evaluate. */
+static long audit_values(const audit *au, const char *a, const char *b, double *v)
+{
+	const char *text[2] = {a, b};
+	long n = 0;
+	for (int h = 0; h < 2 && text[h]; h++) {
+		bk_form_error fe;
+		bk_form *f = bk_form_parse(text[h], &fe);
+		if (!f)
+			return -1;
+		uint64_t rng = 0x2545f4914f6cdd1dull; /* the extra vectors: uniform in (-3, 3), the same for every form */
+		for (int t = 0; t < UNIQUE_VECTORS + AUDIT_EXTRA; t++) {
+			double theta[BK_MAX_PARAMS];
+			for (int j = 0; j < BK_MAX_PARAMS; j++) {
+				if (t < UNIQUE_VECTORS) {
+					theta[j] = au->S->uq.theta[t][j];
+					continue;
+				}
+				rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+				theta[j] = 6.0 * ((double)(rng >> 11) * 0x1p-53) - 3.0;
+			}
+			if (bk_form_eval(f, BK_F64, au->sm->n, (const double *const *)au->sm->in, theta, v + n)) {
+				bk_form_free(f);
+				return -1;
+			}
+			n += (long)au->sm->n;
+		}
+		bk_form_free(f);
+	}
+	return n;
+}
+
+/* Whether x and y are one value up to rounding (the fingerprint's classes:
+ * NaN, each infinity, zero of either sign). */
+static int same_value(double x, double y)
+{
+	if (isnan(x) || isnan(y))
+		return isnan(x) && isnan(y);
+	if (isinf(x) || isinf(y))
+		return x == y;
+	return fabs(x - y) <= 1e-9 * fmax(1.0, fmax(fabs(x), fabs(y)));
+}
+
+static void audit_one(void *ctx, const char *a, const char *b, uint64_t fp, int twin)
+{
+	audit *au = ctx;
+	if (au->oom || !fp)
+		return;
+	if (2 * (au->n + 1) > au->cap && audit_grow(au)) {
+		au->oom = 1;
+		return;
+	}
+	size_t j = audit_slot(au, fp);
+	if (!twin) {
+		if (!au->fp[j]) { /* the model's first spelling (a cheaper one of a model is not met later) */
+			au->fp[j] = fp, au->n++;
+			au->a[j] = strdup(a), au->b[j] = b ? strdup(b) : NULL;
+			au->oom = !au->a[j] || (b && !au->b[j]);
+		}
+		return;
+	}
+	au->twins++;
+	if (!au->fp[j])
+		return; /* its spelling came from a checkpoint: not here */
+	long n = audit_values(au, a, b, au->va), m = audit_values(au, au->a[j], au->b[j], au->vb);
+	int differ = n != m;
+	for (long i = 0; !differ && i < n; i++)
+		differ = !same_value(au->va[i], au->vb[i]);
+	if (differ && au->shown++ < 3)
+		fprintf(stderr, "bench_enum: audit: false twin %s%s%s taken for %s%s%s\n", a, b ? " ; " : "", b ? b : "",
+		        au->a[j], au->b[j] ? " ; " : "", au->b[j] ? au->b[j] : "");
+	au->false_twins += differ;
+}
+
+static void audit_free(audit *au)
+{
+	for (size_t i = 0; i < au->cap; i++)
+		if (au->fp && au->fp[i])
+			free(au->a[i]), free(au->b[i]);
+	free(au->fp), free(au->a), free(au->b), free(au->va), free(au->vb);
+}
+
+static int run(bk_target_kind kind, const char *name, int max, int threads, int check)
 {
 	bk_target_options to;
 	bk_target_defaults(kind, &to);
@@ -81,10 +218,25 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 		bk_samples_free(&sm);
 		return 1;
 	}
+	audit au = {.sm = &sm, .S = S};
+	if (check) {
+		au.va = malloc(2 * (UNIQUE_VECTORS + AUDIT_EXTRA) * sm.n * sizeof *au.va);
+		au.vb = malloc(2 * (UNIQUE_VECTORS + AUDIT_EXTRA) * sm.n * sizeof *au.vb);
+		if (!au.va || !au.vb) {
+			fprintf(stderr, "bench_enum: %s: out of memory\n", name);
+			audit_free(&au);
+			bk_search_free(S);
+			bk_samples_free(&sm);
+			return 1;
+		}
+		S->twin_audit = audit_one;
+		S->twin_audit_ctx = &au;
+	}
 	watch w = {0, max, bk_clock_cpu(), bk_clock_now(), {0}, {0}};
 	bk_search_callbacks cb = {progress, whole, &w, 0};
-	if (bk_search_drive(S, &cb, err, sizeof err) < 0) {
-		fprintf(stderr, "bench_enum: %s: %s\n", name, err);
+	if (bk_search_drive(S, &cb, err, sizeof err) < 0 || au.oom) {
+		fprintf(stderr, "bench_enum: %s: %s\n", name, au.oom ? "out of memory" : err);
+		audit_free(&au);
 		bk_search_free(S);
 		bk_samples_free(&sm);
 		return 1;
@@ -111,6 +263,11 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 	       "fingerprinted candidate, %.1f %% of the CPU time)\n",
 	       cpu > 0 ? (double)cum / cpu : 0.0, wall > 0 ? (double)cum / wall : 0.0, c.dedup_seconds,
 	       all_drawn > 0 ? 1e6 * c.dedup_seconds / (double)all_drawn : 0.0, cpu > 0 ? 100 * c.dedup_seconds / cpu : 0.0);
+	printf("  probes: screening sample i %zu mod %zu for i < %zu\n", S->uq.stride, sm.n, S->uq.m);
+	if (check)
+		printf("  audit: %ld of %ld twins differ from the form they were taken for (at every screening sample, "
+		       "%d parameter vectors)\n", au.false_twins, au.twins, UNIQUE_VECTORS + AUDIT_EXTRA);
+	audit_free(&au);
 	/* how often a start after the first changed the answer (screen.c: the
 	 * next start runs only where the one before did not converge, or
 	 * converged no better than a constant) */
@@ -173,7 +330,7 @@ static int run(bk_target_kind kind, const char *name, int max, int threads)
 int main(int argc, char **argv)
 {
 	const char *targets = "vf2d,f,env";
-	int max = 0, threads = 2;
+	int max = 0, threads = 2, check = 0;
 	for (int i = 1; i < argc; i++) {
 		if (!strcmp(argv[i], "--targets") && i + 1 < argc)
 			targets = argv[++i];
@@ -181,8 +338,10 @@ int main(int argc, char **argv)
 			max = atoi(argv[++i]);
 		else if (!strcmp(argv[i], "--threads") && i + 1 < argc)
 			threads = atoi(argv[++i]);
+		else if (!strcmp(argv[i], "--audit"))
+			check = 1;
 		else {
-			fprintf(stderr, "usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T]\n");
+			fprintf(stderr, "usage: bench_enum [--targets vf2d,f,env] [--max N] [--threads T] [--audit]\n");
 			return 2;
 		}
 	}
@@ -200,7 +359,7 @@ int main(int argc, char **argv)
 		size_t n = strlen(all[i].name);
 		for (const char *p = targets; p; p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL)
 			if (!strncmp(p, all[i].name, n) && (p[n] == ',' || p[n] == '\0')) {
-				rc |= run(all[i].kind, all[i].name, max ? max : all[i].max, threads);
+				rc |= run(all[i].kind, all[i].name, max ? max : all[i].max, threads, check);
 				break;
 			}
 	}

@@ -339,9 +339,9 @@ int bk_search_cert_text(const bk_search_cert *c, const bk_grammar *gr, char *buf
 		n = snprintf(buf, len, "none: the enumeration completed no size (grammar: %s)", g);
 	else
 		n = snprintf(buf, len, "every unique form of the grammar up to %d nodes%s was fitted, with up to %d screening "
-		             "start%s each (%ld enumerated, %ld fitted, %ld left out as twins: the same values at three "
+		             "start%s each (%ld enumerated, %ld fitted, %ld left out as twins: the same values at %d "
 		             "parameter vectors); grammar: %s", c->complete_size, cost, c->starts, c->starts == 1 ? "" : "s",
-		             drawn, fitted, twins, g);
+		             drawn, fitted, twins, UNIQUE_VECTORS, g);
 	return n >= 0 && (size_t)n < len ? n : -1;
 }
 

@@ -244,6 +244,8 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 			        DEDUP_SAMPLE * ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
 		}
 		int twin = bk_unique_twin(s, fp, c->cost);
+		if (s->twin_audit && twin >= 0)
+			s->twin_audit(s->twin_audit_ctx, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL, fp, twin);
 		if (twin) {
 			bk_cand_free_forms(c);
 			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);

@@ -30,13 +30,16 @@ typedef struct bk_level {
 	int n;
 } bk_level;
 
+/* The parameter vectors a fingerprint evaluates at (unique.c). */
+#define UNIQUE_VECTORS 4
+
 /* The enumeration's unique forms (unique.h): the probes a fingerprint reads
  * and the fingerprints fitted, each with the least cost it was fitted at
  * (open addressing, 0 marks a free slot). */
 typedef struct bk_unique_probes {
-	size_t m;
+	size_t m, stride; /* m probes, screening sample i stride mod n (unique.c) */
 	double *in[BK_IN_COUNT];
-	double theta[3][BK_MAX_PARAMS];
+	double theta[UNIQUE_VECTORS][BK_MAX_PARAMS];
 	uint64_t *fp;
 	double *cost;
 	size_t cap, n;
@@ -96,6 +99,12 @@ struct bk_search {
 	 * every search the tool makes */
 	int (*enum_leave_out)(void *ctx, const bk_expr *tree);
 	void *enum_leave_ctx;
+	/* a white-box bench's hook: each enumerated candidate that parsed, its
+	 * texts (b NULL but for a pair), fingerprint and whether it was left out
+	 * as a twin (bench_enum's audit of the twins); NULL in every search the
+	 * tool makes */
+	void (*twin_audit)(void *ctx, const char *a, const char *b, uint64_t fp, int twin);
+	void *twin_audit_ctx;
 };
 
 #endif

@@ -14,7 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 4"
+/* 5: the twins' fingerprints are of other probes and vectors (unique.c), so
+ * a checkpoint of 4 would mix two kinds in one table */
+#define CHECKPOINT_MAGIC "brdfkit-search-checkpoint 5"
 #define MIGRANTS_MAGIC "brdfkit-search-migrants 1"
 
 /* What must agree between a checkpoint and the run resuming it: everything

@@ -7,16 +7,114 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Parameter vector t's value of parameter j: magnitudes 0.37, 1.61 and 2.9
- * in turn over the three vectors (each parameter once below 1, twice
- * above, at different values), one of the three negative, and a small
- * drift with j so that no two parameters are equal at a vector (p0 - p1
- * must not vanish). */
+/* Parameter vector t's value of parameter j: 0.37, 1.61, -1.27 and 2.9 in
+ * turn over the four vectors, so that every parameter is once in (0, 1),
+ * once in (1, 2), once negative and once above 2 (a gate p1 / r, min(p1,
+ * LoH), saturate(p1 + exp2(r)) is probed open, shut and with its break
+ * among the inputs), with a small drift with j so that no two parameters
+ * are equal at a vector (p0 - p4 must not vanish). Before, three vectors
+ * put p1, p4, p7 in (0, 1) only with a minus sign: saturate(p1 / r) and
+ * saturate(p1 / LoH) were one model (bench_enum --audit found it). */
 static double probe_param(int t, int j)
 {
-	static const double mag[3] = {0.37, 1.61, 2.9};
-	double v = mag[(t + j) % 3] * (1 + 0.013 * j);
-	return (t + 2 * j) % 3 == 1 ? -v : v;
+	static const double v[UNIQUE_VECTORS] = {0.37, 1.61, -1.27, 2.9};
+	return v[(t + j) % UNIQUE_VECTORS] * (1 + 0.013 * j);
+}
+
+/* How many strides bk_unique_init weighs (the nearest coprime ones to
+ * n / phi): 256 x (64 probes sorted for each input, and their 2,016 pairs),
+ * about 10 ms once a search. */
+#define STRIDES 256
+
+static int cmp_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+static size_t gcd(size_t a, size_t b)
+{
+	while (b) {
+		size_t t = a % b;
+		a = b, b = t;
+	}
+	return a;
+}
+
+/* How well the m probes i k mod n spread over sm's inputs: the distinct
+ * values summed over the inputs (*distinct), and the least squared distance
+ * between two probes with each input scaled by its range over the samples
+ * (*gap). */
+static void spread(const bk_samples *sm, const double *range, size_t m, size_t k, long *distinct, double *gap)
+{
+	size_t idx[UNIQUE_PROBES];
+	double v[UNIQUE_PROBES];
+	for (size_t i = 0; i < m; i++)
+		idx[i] = (size_t)(((unsigned long long)i * k) % sm->n);
+	*distinct = 0;
+	*gap = HUGE_VAL;
+	for (int c = 0; c < BK_IN_COUNT; c++) {
+		if (!sm->in[c])
+			continue;
+		for (size_t i = 0; i < m; i++)
+			v[i] = sm->in[c][idx[i]];
+		qsort(v, m, sizeof v[0], cmp_double);
+		for (size_t i = 0; i < m; i++)
+			*distinct += i == 0 || v[i] != v[i - 1];
+	}
+	for (size_t i = 0; i < m; i++)
+		for (size_t j = i + 1; j < m; j++) {
+			double d = 0;
+			for (int c = 0; c < BK_IN_COUNT; c++)
+				if (sm->in[c] && range[c] > 0) {
+					double x = (sm->in[c][idx[i]] - sm->in[c][idx[j]]) / range[c];
+					d += x * x;
+				}
+			*gap = fmin(*gap, d);
+		}
+}
+
+/* The probes: screening sample i k mod n for i < 64 (all the samples when
+ * there are no more), a rank-1 lattice over the sample index. Why not
+ * sample i n / 64: on a grid whose size is a multiple of 64 that stride
+ * lands on two values of its fastest axis (env's 512 samples gave NoV at 2
+ * of its 16 values, vf2d's 1,024 LoH at 2 of 32), and gates that are open
+ * at both and shut between were taken for their cheaper twins (unique.h).
+ * k is coprime to n (no sample twice) and, of the STRIDES such strides
+ * nearest n / phi (the golden ratio spreads a lattice best), the one whose
+ * probes see the most distinct values of the inputs, then the widest least
+ * distance between two probes; the nearest to n / phi at a tie. So the
+ * choice depends on the samples alone, and a user's table gets it too. */
+static size_t stride(const bk_samples *sm, size_t m)
+{
+	if (sm->n <= m)
+		return 1;
+	double range[BK_IN_COUNT] = {0};
+	for (int c = 0; c < BK_IN_COUNT; c++)
+		if (sm->in[c]) {
+			double lo = HUGE_VAL, hi = -HUGE_VAL;
+			for (size_t i = 0; i < sm->n; i++)
+				if (isfinite(sm->in[c][i]))
+					lo = fmin(lo, sm->in[c][i]), hi = fmax(hi, sm->in[c][i]);
+			range[c] = hi > lo ? hi - lo : 0;
+		}
+	size_t g = (size_t)nearbyint((double)sm->n * 0.6180339887498949), best = 0;
+	long best_d = -1;
+	double best_gap = 0;
+	/* g, g + 1, g - 1, g + 2, ...: the nearest first, so a tie keeps it */
+	for (size_t j = 0, seen = 0; seen < STRIDES && j < 2 * sm->n; j++) {
+		long off = j % 2 ? (long)(j + 1) / 2 : -(long)(j / 2);
+		long k = (long)g + off;
+		if (k < 1 || k >= (long)sm->n || gcd((size_t)k, sm->n) != 1)
+			continue;
+		seen++;
+		long d;
+		double gap;
+		spread(sm, range, m, (size_t)k, &d, &gap);
+		if (d > best_d || (d == best_d && gap > best_gap))
+			best = (size_t)k, best_d = d, best_gap = gap;
+	}
+	return best ? best : 1;
 }
 
 int bk_unique_init(bk_search *s)
@@ -24,15 +122,17 @@ int bk_unique_init(bk_search *s)
 	const bk_samples *sm = s->o.screen;
 	bk_unique_probes *u = &s->uq;
 	size_t m = sm->n < UNIQUE_PROBES ? sm->n : UNIQUE_PROBES;
+	size_t k = stride(sm, m);
 	u->m = m;
-	for (int k = 0; k < BK_IN_COUNT; k++) {
-		u->in[k] = malloc(sizeof(double) * (m ? m : 1));
-		if (!u->in[k])
+	u->stride = k;
+	for (int c = 0; c < BK_IN_COUNT; c++) {
+		u->in[c] = malloc(sizeof(double) * (m ? m : 1));
+		if (!u->in[c])
 			return -1;
-		for (size_t i = 0; i < m; i++) /* evenly spread: sample i n / m */
-			u->in[k][i] = sm->in[k] ? sm->in[k][i * sm->n / m] : NAN;
+		for (size_t i = 0; i < m; i++)
+			u->in[c][i] = sm->in[c] ? sm->in[c][((unsigned long long)i * k) % sm->n] : NAN;
 	}
-	for (int t = 0; t < 3; t++)
+	for (int t = 0; t < UNIQUE_VECTORS; t++)
 		for (int j = 0; j < BK_MAX_PARAMS; j++)
 			u->theta[t][j] = probe_param(t, j);
 	return 0;
@@ -84,7 +184,7 @@ static int hash_parsed(const bk_search *s, const bk_form *f, uint64_t *h)
 	for (int k = 0; k < BK_IN_COUNT; k++)
 		in[k] = u->in[k];
 	double v[UNIQUE_PROBES];
-	for (int t = 0; t < 3; t++) {
+	for (int t = 0; t < UNIQUE_VECTORS; t++) {
 		if (bk_form_eval(f, BK_F64, u->m, in, u->theta[t], v))
 			return -1;
 		for (size_t i = 0; i < u->m; i++)

@@ -2,7 +2,7 @@
  * unique.h — semantically unique candidates (internal to the search): the
  * enumeration fits one model once, however many spellings of it the grammar
  * has. Two candidates are one model when their forms give the same values
- * at UNIQUE_PROBES of the screening samples at each of three fixed
+ * at UNIQUE_PROBES of the screening samples at each of UNIQUE_VECTORS fixed
  * parameter vectors (the fingerprint below); the cheaper is fitted (the
  * earlier at equal cost), the others are counted as twins and never fitted.
  *
@@ -15,44 +15,49 @@
  *
  * What "same values" means, and why it is safe for the certificate (a form
  * left out as a twin must not be a better model than its twin): the
- * fingerprint hashes, for each of three parameter vectors, each probe's
- * value rounded to 32 significant bits, its class (NaN, +inf, -inf), and the
- * number of parameters. The three vectors give every parameter one value in
- * (0, 1), one above 1 and one negative, so that a branch (max(p0, r),
- * sqrt(p0 - r)) taken at one is left at another. Two forms that differ only
- * by rounding (a + (b + c) against (a + b) + c) may land either side of a
- * rounding boundary: they are then fitted both, which costs a fit and loses
- * nothing. A false twin needs two different functions of the parameters to
- * agree to 32 bits at 3 x 64 points: the fingerprint is of the family's
- * function of its parameters, not of one fit. Those points are fewer
- * distinct inputs than 64 where the screening grid's size is a multiple of
- * 64 (sample i n / 64 steps over the fastest axis): env's 512 samples give
- * NoV at 2 of its 16 values (r at all 16), vf2d's 1,024 LoH at 2 of 32, vf's
- * 1,617 cover 8 NoV x 8 r. Two forms that differ only between those two
- * values (a min or max whose break falls there at all three vectors) would
- * be taken for one, and such pairs exist: with probes at a golden-ratio
- * stride coprime to n beside these (tried, not kept), and each pair that
- * the second probes split evaluated at 4,000 random points of the domain
- * and four random parameter vectors, env to 5 nodes has at least 135
- * false twins (of 20,210 twins; 87 more splits were rounding) and vf2d to
- * 6 nodes at least 887 (of 73,110; 9 rounding). They are gates that are
- * open at both probed values and shut between or beyond them:
- * p0*saturate(rcp(NoV) - NoV) taken for p0 (it is 1 for NoV <= 0.618 only),
- * p0*max(rcp(NoV), exp2(NoV)) for p0/NoV, p0*saturate(rcp(LoH) - sq(LoH))
- * for p0. So the certificate's "every unique form up to N nodes fitted"
- * misses these on env and vf2d (not on f, whose 64 samples are all
- * probes). Well-spread probes would fit them, and would move every
- * committed front and the enumeration's fit counts that make results'
- * budgets are set from (Makefile ENUM_*), so they wait for a make results
- * of their own.
+ * fingerprint hashes, for each of UNIQUE_VECTORS parameter vectors, each
+ * probe's value rounded to 32 significant bits, its class (NaN, +inf,
+ * -inf), and the number of parameters. The vectors give every parameter a
+ * value in (0, 1), one in (1, 2), one negative and one above 2, so that a
+ * gate (max(p0, r), saturate(p1 / r), sqrt(p0 - r)) is probed open, shut
+ * and with its break inside the inputs' range. The probes are 64 screening
+ * samples spread over every input (unique.c: a lattice over the sample
+ * index whose stride is chosen for the most distinct input values). Two
+ * forms that differ only by rounding (a + (b + c) against (a + b) + c) may
+ * land either side of a rounding boundary: they are then fitted both, which
+ * costs a fit and loses nothing. A false twin needs two different functions
+ * of the parameters to agree to 32 bits at 4 x 64 points: the fingerprint
+ * is of the family's function of its parameters, not of one fit.
+ *
+ * How often that happens is measured, not argued: build/bench_enum --audit
+ * checks every twin against the form it was taken for at every screening
+ * sample and at eight more vectors drawn in (-3, 3), and make bench prints
+ * the count. Two mechanisms it found are gone: probes at sample i n / 64
+ * saw 2 of env's 16 NoV values and 2 of vf2d's 32 LoH values, so
+ * p0*saturate(rcp(NoV) - NoV) was taken for p0 (it is 1 for NoV <= 0.618
+ * only); and three vectors whose rotation never put p1 in (0, 1), so
+ * saturate(p1 / r) was taken for saturate(p1 / LoH). To 6 nodes the audit
+ * finds 171 of vf2d's 71,719 twins false, 314 of f's 32,807 and 361 of
+ * env's 215,692; with the probes and vectors before, 1,768 of 72,512, 848
+ * of 33,181 and 4,290 of 217,893 (the same audit: its eight random vectors
+ * the same). What is left: gates of two parameters whose combination never
+ * falls among the inputs at one vector (saturate(p1 - (p2 + r)) taken for
+ * saturate(p1 - (p2 + LoH)); many, as max(p1, max(p2, r)), spell a cheaper
+ * model that is fitted, max(p, r)), and gates of the inputs alone that
+ * shut on a few samples no probe is at (max(LoH, sq(LoH - a)) taken for
+ * LoH). Tried and not taken: 128 probes instead of 64 (vf2d's 177 to
+ * 157, under an audit with other vectors), and a fifth vector with every
+ * parameter in (0, 1) (vf2d's 171 to 119, f's 314 to 282), each for a
+ * quarter to twice the fingerprint's time.
  *
  * What it does not see: reparametrisations (p0*(x + p1) against p0*x + p1
  * are one model with other constants: different values at the same vector).
  * Both are fitted; the counts in bk_search_unique_counts call them unique.
  *
- * Cost: 3.6 to 7.5 us a candidate (the form evaluated 3 x 64 times; an
+ * Cost: 6.4 to 9.5 us a candidate (the form evaluated 4 x 64 times; an
  * enumerated one is parsed once for its cost and this), against 40 to 100 us
- * of CPU for a screening fit (build/bench_enum).
+ * of CPU for a screening fit (build/bench_enum), 17 to 38 % of an
+ * enumeration's CPU time (most on f, whose fits of 64 samples are cheapest).
  */
 #ifndef FIT_SEARCH_UNIQUE_H
 #define FIT_SEARCH_UNIQUE_H
@@ -61,7 +66,7 @@
 
 #include <stdio.h>
 
-/* The screening samples a fingerprint reads (spread evenly over them). */
+/* The screening samples a fingerprint reads (spread over them: unique.c). */
 #define UNIQUE_PROBES 64
 
 /* The probes of s's screening samples, made once (s->uq). 0, or -1 when out
