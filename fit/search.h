@@ -294,6 +294,21 @@ typedef struct bk_search_cert {
 } bk_search_cert;
 void bk_search_certificate(const bk_search *s, bk_search_cert *c);
 
+/* The twin test under audit (build/bench_enum --audit): fn, when not NULL,
+ * is called for each candidate the enumeration makes that parses, with its
+ * texts (b NULL but for a pair), its fingerprint and whether it was left
+ * out as a twin of a model fitted before (non-zero) or fitted; ctx is
+ * passed on. The calls come from the thread that steps the search, in
+ * candidate order. Set before the first step. */
+typedef void (*bk_search_twin_fn)(void *ctx, const char *a, const char *b, uint64_t fp, int twin);
+void bk_search_on_twin(bk_search *s, bk_search_twin_fn fn, void *ctx);
+
+/* The fingerprint's probes: how many parameter vectors it evaluates at
+ * (the first max copied into theta), and in *probes and *stride (either
+ * may be NULL) its screening samples, sample i stride mod n for i < probes. */
+int bk_search_twin_probes(const bk_search *s, double (*theta)[BK_MAX_PARAMS], int max, size_t *probes,
+                          size_t *stride);
+
 /* The certificate in words, one line (front.csv's '# certificate:' line,
  * section.html, the report): "every unique form of the grammar up to N
  * nodes [and cost <= K] was fitted, with up to S screening starts each (...);

@@ -26,7 +26,6 @@
  */
 #include "clock.h"
 #include "search.h"
-#include "search/search_int.h"
 #include "search/seeds.h"
 
 #include <math.h>
@@ -59,14 +58,17 @@ static int whole(void *ctx, const bk_search *S)
 	return ((const watch *)ctx)->done >= ((const watch *)ctx)->want;
 }
 
-/* The vectors the audit evaluates at beside the fingerprint's. */
+/* The vectors the audit evaluates at beside the fingerprint's, and at most
+ * how many of the fingerprint's it takes. */
 #define AUDIT_EXTRA 8
+#define AUDIT_VECTORS (16 + AUDIT_EXTRA)
 
 /* The audit (--audit): the fitted spelling of each fingerprint, and the
  * twins whose values differ from it. */
 typedef struct audit {
 	const bk_samples *sm;
-	const bk_search *S;
+	double theta[AUDIT_VECTORS][BK_MAX_PARAMS]; /* the fingerprint's, then the audit's own */
+	int nv;
 	uint64_t *fp; /* open-addressed by fingerprint, 0 free */
 	char **a, **b;
 	size_t cap, n;
@@ -114,18 +116,8 @@ static long audit_values(const audit *au, const char *a, const char *b, double *
 		bk_form *f = bk_form_parse(text[h], &fe);
 		if (!f)
 			return -1;
-		uint64_t rng = 0x2545f4914f6cdd1dull; /* the extra vectors: uniform in (-3, 3), the same for every form */
-		for (int t = 0; t < UNIQUE_VECTORS + AUDIT_EXTRA; t++) {
-			double theta[BK_MAX_PARAMS];
-			for (int j = 0; j < BK_MAX_PARAMS; j++) {
-				if (t < UNIQUE_VECTORS) {
-					theta[j] = au->S->uq.theta[t][j];
-					continue;
-				}
-				rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-				theta[j] = 6.0 * ((double)(rng >> 11) * 0x1p-53) - 3.0;
-			}
-			if (bk_form_eval(f, BK_F64, au->sm->n, (const double *const *)au->sm->in, theta, v + n)) {
+		for (int t = 0; t < au->nv; t++) {
+			if (bk_form_eval(f, BK_F64, au->sm->n, (const double *const *)au->sm->in, au->theta[t], v + n)) {
 				bk_form_free(f);
 				return -1;
 			}
@@ -218,10 +210,19 @@ static int run(bk_target_kind kind, const char *name, int max, int threads, int 
 		bk_samples_free(&sm);
 		return 1;
 	}
-	audit au = {.sm = &sm, .S = S};
+	audit au = {.sm = &sm};
+	size_t probes, stride;
+	int nfp = bk_search_twin_probes(S, au.theta, AUDIT_VECTORS - AUDIT_EXTRA, &probes, &stride);
+	au.nv = (nfp < AUDIT_VECTORS - AUDIT_EXTRA ? nfp : AUDIT_VECTORS - AUDIT_EXTRA) + AUDIT_EXTRA;
+	uint64_t rng = 0x2545f4914f6cdd1dull; /* the audit's own vectors: uniform in (-3, 3) */
+	for (int t = au.nv - AUDIT_EXTRA; t < au.nv; t++)
+		for (int j = 0; j < BK_MAX_PARAMS; j++) {
+			rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+			au.theta[t][j] = 6.0 * ((double)(rng >> 11) * 0x1p-53) - 3.0;
+		}
 	if (check) {
-		au.va = malloc(2 * (UNIQUE_VECTORS + AUDIT_EXTRA) * sm.n * sizeof *au.va);
-		au.vb = malloc(2 * (UNIQUE_VECTORS + AUDIT_EXTRA) * sm.n * sizeof *au.vb);
+		au.va = malloc(2 * (size_t)au.nv * sm.n * sizeof *au.va);
+		au.vb = malloc(2 * (size_t)au.nv * sm.n * sizeof *au.vb);
 		if (!au.va || !au.vb) {
 			fprintf(stderr, "bench_enum: %s: out of memory\n", name);
 			audit_free(&au);
@@ -229,8 +230,7 @@ static int run(bk_target_kind kind, const char *name, int max, int threads, int 
 			bk_samples_free(&sm);
 			return 1;
 		}
-		S->twin_audit = audit_one;
-		S->twin_audit_ctx = &au;
+		bk_search_on_twin(S, audit_one, &au);
 	}
 	watch w = {0, max, bk_clock_cpu(), bk_clock_now(), {0}, {0}};
 	bk_search_callbacks cb = {progress, whole, &w, 0};
@@ -263,10 +263,10 @@ static int run(bk_target_kind kind, const char *name, int max, int threads, int 
 	       "fingerprinted candidate, %.1f %% of the CPU time)\n",
 	       cpu > 0 ? (double)cum / cpu : 0.0, wall > 0 ? (double)cum / wall : 0.0, c.dedup_seconds,
 	       all_drawn > 0 ? 1e6 * c.dedup_seconds / (double)all_drawn : 0.0, cpu > 0 ? 100 * c.dedup_seconds / cpu : 0.0);
-	printf("  probes: screening sample i %zu mod %zu for i < %zu\n", S->uq.stride, sm.n, S->uq.m);
+	printf("  probes: screening sample i %zu mod %zu for i < %zu, at %d parameter vectors\n", stride, sm.n, probes, nfp);
 	if (check)
 		printf("  audit: %ld of %ld twins differ from the form they were taken for (at every screening sample, "
-		       "%d parameter vectors)\n", au.false_twins, au.twins, UNIQUE_VECTORS + AUDIT_EXTRA);
+		       "%d parameter vectors)\n", au.false_twins, au.twins, au.nv);
 	audit_free(&au);
 	/* how often a start after the first changed the answer (screen.c: the
 	 * next start runs only where the one before did not converge, or

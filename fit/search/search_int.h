@@ -99,11 +99,9 @@ struct bk_search {
 	 * every search the tool makes */
 	int (*enum_leave_out)(void *ctx, const bk_expr *tree);
 	void *enum_leave_ctx;
-	/* a white-box bench's hook: each enumerated candidate that parsed, its
-	 * texts (b NULL but for a pair), fingerprint and whether it was left out
-	 * as a twin (bench_enum's audit of the twins); NULL in every search the
+	/* the twin test's audit (bk_search_on_twin); NULL in every search the
 	 * tool makes */
-	void (*twin_audit)(void *ctx, const char *a, const char *b, uint64_t fp, int twin);
+	bk_search_twin_fn twin_audit;
 	void *twin_audit_ctx;
 };
 

@@ -268,6 +268,25 @@ int bk_unique_twin(bk_search *s, uint64_t fp, double cost)
 	return 0;
 }
 
+/* ---- the audit's way in (search.h) ------------------------------------------ */
+
+void bk_search_on_twin(bk_search *s, bk_search_twin_fn fn, void *ctx)
+{
+	s->twin_audit = fn;
+	s->twin_audit_ctx = ctx;
+}
+
+int bk_search_twin_probes(const bk_search *s, double (*theta)[BK_MAX_PARAMS], int max, size_t *probes, size_t *stride)
+{
+	for (int t = 0; theta && t < max && t < UNIQUE_VECTORS; t++)
+		memcpy(theta[t], s->uq.theta[t], sizeof theta[t]);
+	if (probes)
+		*probes = s->uq.m;
+	if (stride)
+		*stride = s->uq.stride;
+	return UNIQUE_VECTORS;
+}
+
 /* ---- checkpoints ------------------------------------------------------------ */
 
 void bk_unique_save(const bk_search *s, FILE *f)
