@@ -604,7 +604,8 @@ results: deps
 	# (results/search/moved: what the last change to the search, issue 38's certified
 	# fronts, moved, written once by analysis/bench/fronts_moved.py against the fronts
 	# before it (7ccfb46d), with seeds.csv, fronts_ab.py's tallies of the same change at
-	# seeds 1-3, each side its own make results; kept, not rebuilt)
+	# seeds 1-3, each side its own make results; kept, not rebuilt; last written with
+	# db10c009's binary, the twin test's four vectors)
 	# the first screen: per target the best published form against the search's front
 	# (report --summary reads catalog.csv and front.csv by column name), double then half
 	$(TOOL) report --out results/index.html \
