@@ -87,13 +87,15 @@ static size_t audit_slot(const audit *au, uint64_t fp)
 
 static int audit_grow(audit *au)
 {
-	audit old = *au;
-	au->cap = au->cap ? 2 * au->cap : 4096;
-	au->fp = calloc(au->cap, sizeof *au->fp);
-	au->a = calloc(au->cap, sizeof *au->a);
-	au->b = calloc(au->cap, sizeof *au->b);
-	if (!au->fp || !au->a || !au->b)
+	size_t cap = au->cap ? 2 * au->cap : 4096;
+	uint64_t *fp = calloc(cap, sizeof *fp);
+	char **a = calloc(cap, sizeof *a), **b = calloc(cap, sizeof *b);
+	if (!fp || !a || !b) { /* au as it was */
+		free(fp), free(a), free(b);
 		return -1;
+	}
+	audit old = *au;
+	au->cap = cap, au->fp = fp, au->a = a, au->b = b;
 	for (size_t i = 0; i < old.cap; i++)
 		if (old.fp[i]) {
 			size_t j = audit_slot(au, old.fp[i]);
