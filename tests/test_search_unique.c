@@ -104,7 +104,7 @@ static bk_search *grid_search(bk_target_kind kind, bk_samples *sm)
 	return S;
 }
 
-/* How many distinct values of input k the m values v hold. */
+/* How many distinct values the m values v hold (one input's column). */
 static size_t distinct(const double *v, size_t m)
 {
 	size_t d = 0;
