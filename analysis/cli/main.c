@@ -139,9 +139,10 @@ static int check_each(const char *list, const char *dir)
  * 128 KB and over back to the kernel as it is freed (mmap, trim of the heap's
  * top, madvise of a thread's arena), and the next such block faults its
  * pages in again: a search's batches, fits and refits allocate and free the
- * same sizes again and again. Kept: a 3,000-fit vf2d search took 13,170 page
- * faults, not 32,263 (perf stat, the same bits out); a page fault costs 1 to
- * 16 us, by machine. The sanitized tool's allocator ignores mallopt. */
+ * same sizes again and again. Kept: a 3,000-fit vf2d search took 13,163 page
+ * faults, not 32,263 (perf stat, the same bits out); a fault costs about a
+ * microsecond on bare metal, 16 in the nested virtual machine this was
+ * measured on. The sanitized tool's allocator ignores mallopt. */
 static void keep_freed_memory(void)
 {
 #ifdef __GLIBC__
