@@ -140,9 +140,9 @@ static int check_each(const char *list, const char *dir)
  * top, madvise of a thread's arena), and the next such block faults its
  * pages in again: a search's batches, fits and refits allocate and free the
  * same sizes again and again. Kept: a 3,000-fit vf2d search took 13,163 page
- * faults, not 32,263 (perf stat, the same bits out); a fault costs about a
- * microsecond on bare metal, 16 in the nested virtual machine this was
- * measured on. The sanitized tool's allocator ignores mallopt. */
+ * faults, not 32,263 (perf stat, the same bits out), on a machine where a
+ * fault cost about 16 us (tests/README.md). The sanitized tool's allocator
+ * ignores mallopt. */
 static void keep_freed_memory(void)
 {
 #ifdef __GLIBC__
