@@ -151,7 +151,11 @@ typedef struct bk_cand {
 	                             so that a front member's reach the front's refit (NULL: freed,
 	                             or a candidate read back, whose text is parsed where read) */
 	const char *seed_name;    /* a seed's name, else NULL */
-	bk_expr tree[2];          /* the search trees (before the shape) */
+	bk_enode *tree;           /* the search trees (before the shape), packed: tree 0's ntree[0]
+	                             nodes, then tree 1's ntree[1] (a pair's B, else none); owned.
+	                             Two bk_expr are 2 kB, a candidate's trees ~100 bytes, and the
+	                             archive keeps every candidate; bk_cand_trees copies them out) */
+	int ntree[2];
 	int np;                   /* its parameters p0..p(np-1) */
 	double p[BK_MAX_PARAMS];  /* their fitted values */
 	bk_ops ops;               /* its operation counts (brdf.h) */
@@ -327,6 +331,9 @@ const bk_cand *bk_search_at(const bk_search *s, size_t i);
 /* Which of the options' seeds (bk_search_options.seeds) c was made from:
  * its index, or -1 for a generated candidate. */
 int bk_search_seed_index(const bk_search *s, const bk_cand *c);
+/* c's search trees copied out of its packed nodes (bk_cand.tree), t[1].n = 0
+ * where it has one tree (every shape but a pair). */
+void bk_cand_trees(const bk_cand *c, bk_expr t[2]);
 /* The Pareto front of (cost, err) over the candidates with status OK, by
  * increasing cost: indices into bk_search_at. Returns how many (<= max). */
 size_t bk_search_front(const bk_search *s, size_t *idx, size_t max);

@@ -705,7 +705,9 @@ static void usable(bk_search *L, const bk_search_options *o)
 	char err[512], t[4096];
 	for (size_t i = 0; i < bk_search_count(L); i++) {
 		const bk_cand *c = bk_search_at(L, i);
-		cr_assert_geq(bk_expr_print(&c->tree[0], t, sizeof t), 0);
+		bk_expr e[2];
+		bk_cand_trees(c, e);
+		cr_assert_geq(bk_expr_print(&e[0], t, sizeof t), 0);
 		bk_form_error fe;
 		bk_form *f = bk_form_parse(c->text, &fe);
 		cr_assert(f, "candidate %zu: '%s' does not compile", i, c->text);

@@ -121,7 +121,8 @@ Test(search_generate, a_candidate_in_the_cache_is_not_made_again)
 	bk_search *s = grown(&sm, "+,*,/,sq", 9, 2);
 	bk_expr t[2];
 	memset(t, 0, sizeof t);
-	t[0] = s->cand[s->n - 1].tree[0]; /* fitted already */
+	bk_cand_trees(&s->cand[s->n - 1], t); /* fitted already */
+	t[1].n = 0;
 	bk_cand c;
 	cr_assert_eq(bk_gen_prepare(s, t, &c), 0);
 	/* negative control: a tree the search cannot have made (larger than its

@@ -283,3 +283,52 @@ Test(search_unique, a_resume_in_the_enumeration_leaves_out_the_same_twins)
 	bk_search_free(part), bk_search_free(whole), bk_search_free(resumed), bk_search_free(lost);
 	bk_samples_free(&s);
 }
+
+/* The fingerprint's rounding (unique.h, bk_unique_quantum): 32 significant
+ * bits, half to even, as frexp, ldexp and nearbyint define it (ref, below),
+ * which the bit path it takes for normal doubles must equal. Closed forms
+ * first: 1 + 2^-32 is m 2^32 = 2^31 + 1/2, so it rounds to the even 2^31,
+ * the value of 1 itself (half up would make it 1 + 2^-31's); 1 + 3 2^-32 is
+ * 2^31 + 3/2, up to 2^31 + 2, 1 + 2^-30's; 2 - 2^-52 carries to 2^32. */
+static uint64_t ref(double v)
+{
+	if (isnan(v))
+		return 1;
+	if (isinf(v))
+		return v > 0 ? 2 : 3;
+	if (v == 0)
+		return 4;
+	int e;
+	double m = frexp(v, &e);
+	int64_t q = (int64_t)nearbyint(ldexp(m, 32));
+	return ((uint64_t)q << 12) ^ (uint64_t)(e + 2048) ^ 0x5bd1e995u;
+}
+
+Test(search_unique, values_are_kept_to_32_significant_bits_half_to_even)
+{
+	cr_assert_eq(bk_unique_quantum(1 + 0x1p-32), bk_unique_quantum(1.0));
+	cr_assert_neq(bk_unique_quantum(1 + 0x1p-31), bk_unique_quantum(1.0));
+	cr_assert_eq(bk_unique_quantum(1 + 3 * 0x1p-32), bk_unique_quantum(1 + 0x1p-30));
+	cr_assert_eq(bk_unique_quantum(-1 - 3 * 0x1p-32), bk_unique_quantum(-1 - 0x1p-30));
+	cr_assert_neq(bk_unique_quantum(-1.0), bk_unique_quantum(1.0));
+	cr_assert_eq(bk_unique_quantum(1 + 0x1p-33), bk_unique_quantum(1.0));
+	cr_assert_eq(bk_unique_quantum(2 - 0x1p-52), ref(2 - 0x1p-52));
+	cr_assert_eq(bk_unique_quantum(0.0), bk_unique_quantum(-0.0));
+	cr_assert_eq(bk_unique_quantum(NAN), 1);
+	cr_assert_eq(bk_unique_quantum(INFINITY), 2);
+	cr_assert_eq(bk_unique_quantum(-INFINITY), 3);
+	const double edge[] = {0x1p-1074, -0x1p-1074, 0x1.8p-1070, 0x1.fffffffffffffp-1023, 0x1p-1022, -0x1p-1022,
+	                       0x1.fffffffffffffp+1023, -0x1.fffffffffffffp+1023, 0.5, 1e-300, 6.1e-5, 65504};
+	for (size_t i = 0; i < sizeof edge / sizeof *edge; i++)
+		cr_assert_eq(bk_unique_quantum(edge[i]), ref(edge[i]), "%a", edge[i]);
+	/* random bit patterns, and the same with their 21 low bits exactly half
+	 * (ties) and all ones (a carry into the next power of two) */
+	uint64_t x = 0x9e3779b97f4a7c15ull;
+	for (int i = 0; i < 300000; i++) {
+		x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+		uint64_t b = i % 3 == 0 ? x : i % 3 == 1 ? (x & ~0x1fffffull) | 0x100000u : x | 0x1fffffu;
+		double v;
+		memcpy(&v, &b, sizeof v);
+		cr_assert_eq(bk_unique_quantum(v), ref(v), "%a", v);
+	}
+}

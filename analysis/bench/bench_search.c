@@ -119,7 +119,7 @@ int main(void)
 			memcpy(p, c->p, sizeof p);
 			for (int k = 0; k < 8; k++)
 				bk_form_eval(f, BK_F32, sm.n, (const double *const *)sm.in, p, v);
-			n += 8.0 * (double)sm.n * (double)(c->tree[0].n + (c->text_b ? c->tree[1].n : 0) + 2);
+			n += 8.0 * (double)sm.n * (double)(c->ntree[0] + (c->text_b ? c->ntree[1] : 0) + 2);
 			bk_form_free(f);
 		}
 		double dt = bk_clock_now() - t0;

@@ -207,7 +207,7 @@ int main(int argc, char **argv)
 		for (int j = 0; j < BK_MAX_PARAMS; j++)
 			if (!isfinite(cs[k].p[j]))
 				cs[k].p[j] = 1;
-		cs[k].nodes = (double)(c->tree[0].n + 2);
+		cs[k].nodes = (double)(c->ntree[0] + 2);
 		k++;
 	}
 	nc = k;

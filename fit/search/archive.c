@@ -113,11 +113,12 @@ static void keep_forms(bk_search *s, size_t i)
 int bk_archive_push(bk_search *s, const bk_cand *c)
 {
 	if (s->n == s->cap) {
-		/* from 32, not 1,024: a candidate is 2.4 kB (its trees), and a
-		 * first block of 2.4 MB for a search that keeps a dozen made every
-		 * small search, a checkpoint's load included, map and poison it
-		 * whole under AddressSanitizer (the sanitized unit runner's
-		 * mutated-checkpoint test spent four fifths of its time there) */
+		/* from 32, not 1,024: a first block of 1,024 candidates (2.4 MB
+		 * while a candidate held its two trees whole) for a search that
+		 * keeps a dozen made every small search, a checkpoint's load
+		 * included, map and poison it whole under AddressSanitizer (the
+		 * sanitized unit runner's mutated-checkpoint test spent four
+		 * fifths of its time there) */
 		size_t cap = s->cap ? 2 * s->cap : 32;
 		bk_cand *t = realloc(s->cand, sizeof *t * cap);
 		if (!t)

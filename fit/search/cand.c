@@ -93,9 +93,38 @@ uint64_t bk_cand_key(const char *a, const char *b)
 	return b ? bk_hash_bytes(h, b, strlen(b)) : h;
 }
 
+void bk_cand_trees(const bk_cand *c, bk_expr t[2])
+{
+	t[0].n = t[1].n = 0;
+	if (!c->tree) /* a candidate made by hand (the tests') */
+		return;
+	t[0].n = c->ntree[0];
+	t[1].n = c->ntree[1];
+	memcpy(t[0].node, c->tree, sizeof *c->tree * (size_t)t[0].n);
+	memcpy(t[1].node, c->tree + t[0].n, sizeof *c->tree * (size_t)t[1].n);
+}
+
+int bk_cand_set_trees(bk_cand *c, const bk_expr *t, int two)
+{
+	int n0 = t[0].n, n1 = two ? t[1].n : 0;
+	free(c->tree);
+	c->ntree[0] = c->ntree[1] = 0;
+	c->tree = malloc(sizeof *c->tree * (size_t)(n0 + n1 > 0 ? n0 + n1 : 1));
+	if (!c->tree)
+		return -1;
+	memcpy(c->tree, t[0].node, sizeof *c->tree * (size_t)n0);
+	if (n1)
+		memcpy(c->tree + n0, t[1].node, sizeof *c->tree * (size_t)n1);
+	c->ntree[0] = n0;
+	c->ntree[1] = n1;
+	return 0;
+}
+
 void bk_cand_free(bk_cand *c)
 {
 	free(c->text);
 	free(c->text_b);
+	free(c->tree);
+	c->tree = NULL;
 	bk_cand_free_forms(c);
 }

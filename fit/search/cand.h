@@ -29,6 +29,10 @@ int bk_cand_parse(const bk_search *s, bk_cand *c, const char *a, const char *b);
  * not parsed again (a pair's one form is still made from the two texts). */
 int bk_cand_adopt(const bk_search *s, bk_cand *c, const bk_form *fa, const bk_form *fb, const char *a, const char *b);
 
+/* c's trees made t[0] and, when two, t[1] (those it had freed). 0, or -1
+ * when out of memory (c's trees then none). */
+int bk_cand_set_trees(bk_cand *c, const bk_expr *t, int two);
+
 /* Frees c's forms (not its texts). */
 void bk_cand_free_forms(bk_cand *c);
 

@@ -69,7 +69,8 @@ static void merge_one(void *ctx, size_t i)
 		m->rc = -1;
 		return;
 	}
-	c->text = c->text_b = NULL; /* the archive's now, and its forms */
+	c->text = c->text_b = NULL; /* the archive's now, and its trees and forms */
+	c->tree = NULL;
 	c->form = c->form_b = c->form_pair = NULL;
 }
 

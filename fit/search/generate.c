@@ -70,6 +70,7 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 		if (!q->text || (s->seed_text_b[k] && !q->text_b))
 			return -1;
 		bk_form_error fe;
+		bk_expr qt[2] = {{0}, {0}};
 		for (int h = 0; h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
 			/* the search tree of a seed: its form read back; for F0, the part
 			 * f0 multiplies, a form of its own (f0 made 1, a text's tokens
@@ -81,10 +82,12 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 				without_f0(h ? tb : ta, g, sizeof g);
 				f = own = bk_form_parse(g, &fe);
 			}
-			if (!f || bk_expr_from_form(f, &q->tree[h]) || bk_expr_canon_in(&q->tree[h], s->tree_g.inputs))
-				q->tree[h] = lone_param();
+			if (!f || bk_expr_from_form(f, &qt[h]) || bk_expr_canon_in(&qt[h], s->tree_g.inputs))
+				qt[h] = lone_param();
 			bk_form_free(own);
 		}
+		if (bk_cand_set_trees(q, qt, s->o.shape == BK_SHAPE_PAIR))
+			return -1;
 		b->start[b->n - 1] = s->seed_p ? s->seed_p[k] : NULL;
 	}
 	return 0;
@@ -258,9 +261,10 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		bk_cand_free(c);
 		return -1;
 	}
-	c->tree[0] = t[0];
-	if (s->o.shape == BK_SHAPE_PAIR)
-		c->tree[1] = t[1];
+	if (bk_cand_set_trees(c, t, s->o.shape == BK_SHAPE_PAIR)) {
+		bk_cand_free(c);
+		return -1;
+	}
 	return 1;
 }
 
@@ -327,12 +331,11 @@ static int text_param(const bk_expr *t, int h, int slot)
  * did not fit passes on no values. */
 static void parent_trees(const bk_search *s, const bk_cand *c, bk_expr *t)
 {
-	t[0] = c->tree[0];
-	t[1] = c->tree[1];
+	bk_cand_trees(c, t);
 	for (int h = 0; s->o.inherit && h < 2; h++)
 		for (int i = 0; i < t[h].n; i++) {
 			bk_enode *n = &t[h].node[i];
-			int j = text_param(c->tree, h, n->slot);
+			int j = text_param(t, h, n->slot);
 			if (n->op == BK_OP_PARAM)
 				n->k = c->status == BK_CAND_OK && j < c->np && isfinite(c->p[j]) ? c->p[j] + 0.0 : 0;
 		}
@@ -347,10 +350,12 @@ static int inherited(const bk_cand *c, double *p)
 	int known = 0;
 	for (int j = 0; j < BK_MAX_PARAMS; j++)
 		p[j] = 1.0;
+	bk_expr t[2];
+	bk_cand_trees(c, t);
 	for (int h = 0; h < 2; h++)
-		for (int i = 0; i < c->tree[h].n; i++) {
-			const bk_enode *n = &c->tree[h].node[i];
-			int j = text_param(c->tree, h, n->slot);
+		for (int i = 0; i < t[h].n; i++) {
+			const bk_enode *n = &t[h].node[i];
+			int j = text_param(t, h, n->slot);
 			if (n->op == BK_OP_PARAM && n->k != 0 && j < BK_MAX_PARAMS)
 				p[j] = n->k, known = 1;
 		}
@@ -373,14 +378,14 @@ int bk_gen_child(bk_search *s, bk_expr *t)
 	parent_trees(s, a, pa);
 	t[0] = pa[0];
 	t[1] = pa[1];
-	if (s->o.shape == BK_SHAPE_PAIR && a->tree[1].n == 0) { /* a shared feature: its one tree */
+	if (s->o.shape == BK_SHAPE_PAIR && a->ntree[1] == 0) { /* a shared feature: its one tree */
 		g = &s->feat_g;
 		which = 0;
 		if (bk_rng_unit(&s->rng) < MUTATION_RATE)
 			return bk_expr_mutate(g, &s->rng, &pa[0], &t[0]);
 		const bk_cand *b = pick(s);
 		parent_trees(s, b, pb);
-		return bk_expr_crossover(g, &s->rng, &pa[0], &pb[bk_rng_below(&s->rng, b->tree[1].n ? 2 : 1)], &t[0]);
+		return bk_expr_crossover(g, &s->rng, &pa[0], &pb[bk_rng_below(&s->rng, b->ntree[1] ? 2 : 1)], &t[0]);
 	}
 	if (bk_rng_unit(&s->rng) < MUTATION_RATE)
 		return bk_expr_mutate(g, &s->rng, &pa[which], &t[which]);
@@ -421,12 +426,14 @@ static int gen_neighbours(bk_search *s, bk_gen_batch *b, size_t cap)
 			uint64_t done = (uint64_t)bi * 3 + (uint64_t)pass + 1;
 			if (bk_hashset_has(&s->nb_done, done))
 				continue;
-			int m = pass == 0   ? bk_expr_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB)
-			        : pass == 1 ? bk_expr_input_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB)
-			                    : bk_expr_mix_neighbours(&s->tree_g, &best->tree[0], nb, MAXNB);
+			bk_expr bt[2];
+			bk_cand_trees(best, bt);
+			int m = pass == 0   ? bk_expr_neighbours(&s->tree_g, &bt[0], nb, MAXNB)
+			        : pass == 1 ? bk_expr_input_neighbours(&s->tree_g, &bt[0], nb, MAXNB)
+			                    : bk_expr_mix_neighbours(&s->tree_g, &bt[0], nb, MAXNB);
 			int j = 0;
 			for (; j < m && b->n < cap; j++) {
-				bk_expr t[2] = {nb[j], best->tree[1]};
+				bk_expr t[2] = {nb[j], bt[1]};
 				int r = bk_gen_prepare(s, t, &b->c[b->n]);
 				if (r < 0) {
 					free(nb);

@@ -3,6 +3,7 @@
  * mix(B, S, f0) as seeds (halves.h).
  */
 #include "search/halves.h"
+#include "search/cand.h"
 
 #include "search/pareto.h"
 
@@ -57,8 +58,10 @@ static int half_search(const bk_search_options *so, const bk_target_options *scr
 			for (size_t i = 0; i < n; i++) {
 				const bk_cand *c = bk_search_at(S, idx[i]);
 				bk_half *h = &out[(*nout)++];
-				h->tree = c->tree[0];
-				h->np = bk_expr_nparams(&c->tree[0]);
+				bk_expr t[2];
+				bk_cand_trees(c, t);
+				h->tree = t[0];
+				h->np = bk_expr_nparams(&t[0]);
 				memcpy(h->p, c->p, sizeof h->p);
 				h->err = c->err; /* rounded (search.h): no choice below hinges on a last bit */
 			}

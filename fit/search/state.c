@@ -149,8 +149,10 @@ static void put_cand(const bk_search *s, FILE *f, const bk_cand *c)
 	fprintf(f, " %d %d", c->ops.simple, c->ops.complex);
 	for (int j = 0; j < c->np; j++)
 		fprintf(f, " %a", c->p[j]);
-	put_tree(f, &c->tree[0]);
-	put_tree(f, &c->tree[1]);
+	bk_expr t[2];
+	bk_cand_trees(c, t);
+	put_tree(f, &t[0]);
+	put_tree(f, &t[1]);
 	int seed = -1;
 	for (int k = 0; c->seed_name && k < s->o.nseeds; k++)
 		if (c->seed_name == s->seed_name[k])
@@ -173,7 +175,7 @@ static int check_cand(const bk_search *s, bk_cand *c, int seed, reader *r, const
 	int pair = s->o.shape == BK_SHAPE_PAIR;
 	if (c->found_at < 1 || c->island < 0 || c->island >= s->o.islands)
 		return fail(r, "%s: found at fit %ld of island %d (of %d)", what, c->found_at, c->island, s->o.islands);
-	if (!pair && c->tree[1].n != 0)
+	if (!pair && c->ntree[1] != 0)
 		return fail(r, "%s: a second tree, and the candidates of this search have one", what);
 	if ((c->text_b != NULL) != pair)
 		return fail(r, "%s: %s text B", what, pair ? "no" : "a");
@@ -183,7 +185,9 @@ static int check_cand(const bk_search *s, bk_cand *c, int seed, reader *r, const
 			return fail(r, "%s: not the text of seed %d", what, seed + 1);
 	} else {
 		char a[4200], b[4200];
-		if (bk_cand_text(s, c->tree, a, b, sizeof a) || strcmp(a, c->text) || (pair && strcmp(b, c->text_b)))
+		bk_expr t[2];
+		bk_cand_trees(c, t);
+		if (bk_cand_text(s, t, a, b, sizeof a) || strcmp(a, c->text) || (pair && strcmp(b, c->text_b)))
 			return fail(r, "%s: its text is not that of its trees", what);
 	}
 	bk_cand t;
@@ -231,15 +235,18 @@ static int get_cand(const bk_search *s, reader *r, bk_cand *c, size_t i)
 		if (fscanf(f, " %la", &c->p[j]) != 1)
 			return fail(r, "%s: parameter %d unreadable", what, j);
 	char tw[64];
+	bk_expr t[2];
 	snprintf(tw, sizeof tw, "%s: tree 1", what);
-	if (get_tree(r, &c->tree[0], 0, tw))
+	if (get_tree(r, &t[0], 0, tw))
 		return -1;
 	snprintf(tw, sizeof tw, "%s: tree 2", what);
-	if (get_tree(r, &c->tree[1], 1, tw))
+	if (get_tree(r, &t[1], 1, tw))
 		return -1;
 	if (fscanf(f, " %d %d", &seed, &has_b) != 2 || seed < -1 || seed >= s->o.nseeds || has_b < 0 || has_b > 1 ||
 	    fgetc(f) != '\n')
 		return fail(r, "%s: seed (-1 to %d) or text count unreadable", what, s->o.nseeds - 1);
+	if (bk_cand_set_trees(c, t, 1))
+		return fail(r, "%s: out of memory", what);
 	c->seed_name = seed >= 0 ? s->seed_name[seed] : NULL;
 	c->text = get_text(r, what);
 	c->text_b = c->text && has_b ? get_text(r, what) : NULL;

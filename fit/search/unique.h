@@ -74,6 +74,11 @@
 int bk_unique_init(bk_search *s);
 void bk_unique_free(bk_search *s);
 
+/* One value as the fingerprint hashes it: NaN, +inf, -inf and zero (either
+ * sign) as classes of their own, any other value rounded to 32 significant
+ * bits, half to even (frexp's m times 2^32, nearbyint), with its exponent. */
+uint64_t bk_unique_quantum(double v);
+
 /* The fingerprint of the forms a (and b, a pair's B; NULL otherwise), or 0
  * when one does not evaluate (never a real fingerprint: those are made
  * non-zero). The generation parses a candidate once, for its cost, its
