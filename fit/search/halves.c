@@ -3,7 +3,6 @@
  * mix(B, S, f0) as seeds (halves.h).
  */
 #include "search/halves.h"
-#include "search/cand.h"
 
 #include "search/pareto.h"
 
