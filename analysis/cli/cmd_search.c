@@ -440,7 +440,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--smith", .kind = CLI_STR, .metavar = "MODEL", .help = "env: correlated (default), separable, schlick", .dest = &a.t.smith},
 		{.name = "--ior", .kind = CLI_NUM, .metavar = "N", .help = "f: real index (default 1.5)", .dest = &a.t.ior, .lo = 0, .hi = 1e6, .lo_open = 1},
 		{.name = "--k", .kind = CLI_NUM, .metavar = "K", .help = "f: extinction coefficient (conductor)", .dest = &a.t.k, .lo = 0, .hi = 1e6},
-		{.name = "--evals", .kind = CLI_INT, .metavar = "N", .help = "budget: candidate fits (default 20000; reproducible); every candidate is kept: about 1 KB of memory a fit (f to 8 nodes: 1.85 million fits in 1.39 GB)", .dest = &a.evals, .lo = 1, .hi = 1e9},
+		{.name = "--evals", .kind = CLI_INT, .metavar = "N", .help = "budget: candidate fits (default 20000; reproducible); every candidate is kept: under 1 KB of memory a fit (f to 8 nodes: 1.85 million fits in 1,387 MiB)", .dest = &a.evals, .lo = 1, .hi = 1e9},
 		{.name = "--seconds", .kind = CLI_NUM, .metavar = "S", .help = "also stop after S seconds (not reproducible)", .dest = &a.seconds, .lo = 0, .hi = 1e7, .lo_open = 1},
 		{.name = "--seed", .kind = CLI_INT, .metavar = "S", .help = "seed of the generator (default 1)", .dest = &a.seed, .lo = 0, .hi = 4294967295.0},
 		{.name = "--threads", .kind = CLI_INT, .metavar = "N", .help = "fitting threads (default: all cores); the result does not depend on it", .dest = &a.threads, .lo = 1, .hi = 64},
