@@ -482,7 +482,8 @@ build/bench_search: $(call obj,build/obj,analysis/bench/bench_search.c $(FIT_SRC
 # bench_recovery: the planted suite and the catalog's rediscovery (issue 22;
 # --quick for a minute's subset); make bench runs each search on to 100,000 fits
 # (--beyond: only the runs not yet recovered go on), which reports the same budget's
-# figures and where the recovery stands at issue 38's budget
+# figures and where the recovery stands at issue 38's budget; then the unseen suite
+# (analysis/bench/unseen.txt: forms drawn at random by unseen.py, not chosen by hand)
 build/bench_recovery: $(call obj,build/obj,analysis/bench/bench_recovery.c $(ANA_SRC) $(FIT_SRC)) $(LIB)
 	$(CXX) $(OPT) $^ $(LIBS) -o $@
 
@@ -508,6 +509,7 @@ bench: $(BENCH) build/bench_ir build/bench_fit build/bench_search build/bench_sp
 	build/bench_speed
 	python3 analysis/bench/bench_vf2d_time.py $(TOOL) $(BENCH_OLD_TOOL)
 	nice build/bench_recovery --beyond 100000
+	nice build/bench_recovery --file analysis/bench/unseen.txt --beyond 100000
 	build/bench_enum
 	build/bench_enum --audit --max 6
 	sh analysis/bench/bench_search_mpi.sh $(MPI_TOOL) $(TOOL)

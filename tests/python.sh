@@ -20,7 +20,10 @@
 #     the library's message, the one the CLI prints;
 #   - cffi's sizes and offsets of the structures the module fills or reads are
 #     the C compiler's (a program of the installed headers prints them).
-# Negative controls, each showing a check can fail: the comparison rejects the
+# - and first, without the module: analysis/bench/unseen.txt (bench_recovery's
+#   unseen suite) is analysis/bench/unseen.py's output, byte for byte.
+# Negative controls, each showing a check can fail: unseen.py at another seed
+# draws another suite; the comparison rejects the
 # f16 value of another point and a fit of another form; the layout check
 # rejects one wrong offset; the search's
 # early-stop check rejects the unstopped run; the import fails, naming them,
@@ -35,11 +38,18 @@ trap 'rm -rf "$T"' EXIT
 CSVGET=$ROOT/build/csvget
 . "$ROOT/tests/lib.sh"
 PY=/usr/bin/python3
+# bench_recovery's unseen suite is analysis/bench/unseen.py's output, byte for
+# byte (drawn, not written by hand); control: another seed draws other forms
+pre=0
+$PY "$ROOT/analysis/bench/unseen.py" | cmp -s - "$ROOT/analysis/bench/unseen.txt" && pre=$((pre + 1)) ||
+	{ echo "FAIL: analysis/bench/unseen.txt is not analysis/bench/unseen.py's output"; exit 1; }
+$PY "$ROOT/analysis/bench/unseen.py" --seed 1 | cmp -s - "$ROOT/analysis/bench/unseen.txt" &&
+	{ echo "FAIL: unseen.py --seed 1 drew the committed suite"; exit 1; } || pre=$((pre + 1))
 if ! $PY -c 'import cffi, numpy, pandas' 2>/dev/null; then
 	echo "python.sh: skipped: /usr/bin/python3 without cffi, numpy or pandas (apt-get install python3-cffi python3-numpy python3-pandas)"
 	exit 0
 fi
-pass=0 fail=0
+pass=$pre fail=0
 ok() { pass=$((pass + 1)); }
 bad() { fail=$((fail + 1)); echo "FAIL: $*"; }
 
