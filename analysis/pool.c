@@ -5,7 +5,13 @@
 #include "pool.h"
 
 #include <pthread.h>
+#include <stdatomic.h>
 #include <unistd.h>
+
+/* The threads inside some pool's work() now, process-wide, and how deep this
+ * thread is in pools' jobs (a pool run from a job is nested: pool.h). */
+static atomic_int busy;
+static _Thread_local int depth;
 
 typedef struct pool {
 	int n, next, stop, failed;
@@ -18,12 +24,14 @@ typedef struct pool {
 static void *work(void *arg)
 {
 	pool *P = arg;
+	atomic_fetch_add(&busy, 1);
+	depth++;
 	for (;;) {
 		pthread_mutex_lock(&P->mu);
 		int i = P->stop ? P->n : P->next++;
 		pthread_mutex_unlock(&P->mu);
 		if (i >= P->n)
-			return NULL;
+			break;
 		int rc = P->job(P->ctx, i);
 		pthread_mutex_lock(&P->mu);
 		if (rc)
@@ -32,6 +40,9 @@ static void *work(void *arg)
 			P->after(P->ctx, i, rc);
 		pthread_mutex_unlock(&P->mu);
 	}
+	depth--;
+	atomic_fetch_sub(&busy, 1);
+	return NULL;
 }
 
 int bk_pool_run(int n, int threads, bk_pool_job job, bk_pool_after after, void *ctx)
@@ -42,6 +53,11 @@ int bk_pool_run(int n, int threads, bk_pool_job job, bk_pool_after after, void *
 	int nt = threads < 1 ? 1 : threads > BK_POOL_MAX_THREADS ? BK_POOL_MAX_THREADS : threads;
 	if (nt > n)
 		nt = n;
+	if (depth > 0) { /* nested: this thread and the cores no pool's thread is on */
+		int idle = bk_pool_cores(BK_POOL_MAX_THREADS) - atomic_load(&busy);
+		if (nt > 1 + (idle > 0 ? idle : 0))
+			nt = 1 + (idle > 0 ? idle : 0);
+	}
 	pthread_t th[BK_POOL_MAX_THREADS];
 	int started = 0;
 	while (started < nt - 1 && pthread_create(&th[started], NULL, work, &P) == 0)

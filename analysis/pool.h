@@ -15,7 +15,11 @@
  *     jobs failed from its own results, in index order.
  * The calling thread works too; a thread that cannot start only makes the
  * run slower. Pools nest (a job may run a pool of its own): all state is
- * the call's.
+ * the call's but one count, of the threads running pools' jobs now; a
+ * nested pool starts threads only for the cores none of those is on (scene:
+ * sets on the cores, each refitting its forms on the cores the other sets
+ * left idle), so its thread count is a most, not a promise: by the contract
+ * above, the results are the same whatever it comes to.
  *
  * fit/search/screen.c's screening crew is not this pool: its workers start
  * before the batch is made and fit what is published so far, and the

@@ -12,6 +12,7 @@
 #include "fit.h"
 #include "lutcache.h"
 #include "lutrows.h"
+#include "pool.h"
 #include "search.h"
 #include "search/catalogmap.h"
 #include "search/refit.h"
@@ -88,7 +89,7 @@ typedef struct domain {
 	int ns;
 	int kept;        /* s[0] is the env memo's (read only, not freed here) */
 	bk_precision prec;
-	double key[MEMO_KEY]; /* what the refit's samples (s[ns - 1]) are built from (refits_find) */
+	double key[MEMO_KEY]; /* what the refit's samples (s[ns - 1]) are built from (refits_at) */
 } domain;
 
 static void domain_free(domain *d)
@@ -275,19 +276,21 @@ static double score(const domain *d, bk_scene_term term, const bk_form *f, const
  * each set refits the catalog's forms on its domain: the same fit, the same
  * bits, once per scene. A refit's result is a function of the samples (made
  * from d->key: domain_build), the term, the form's text and the start, so it
- * is kept, process-wide until bk_scene_forget, and read by any thread (two
- * threads that ask the same refit at once both fit it: the same bits). */
+ * is kept, process-wide until bk_scene_forget, and read by any thread (a
+ * thread that asks a refit another is making waits for it: refit). */
 typedef struct refit_entry {
 	double key[MEMO_KEY], start[BK_MAX_PARAMS], p[BK_MAX_PARAMS];
 	int term, rc;
+	int done; /* 0 while a thread fits it: another one asking waits (refit) */
 	char *text;
 } refit_entry;
 
 static struct {
 	pthread_mutex_t mu;
+	pthread_cond_t cv; /* a refit was made */
 	refit_entry *e;
 	int n, cap;
-} refits = {PTHREAD_MUTEX_INITIALIZER, NULL, 0, 0};
+} refits = {PTHREAD_MUTEX_INITIALIZER, PTHREAD_COND_INITIALIZER, NULL, 0, 0};
 
 static void refits_forget(void)
 {
@@ -300,50 +303,38 @@ static void refits_forget(void)
 	pthread_mutex_unlock(&refits.mu);
 }
 
-/* The kept refit of (d, term, text, start) into *rc and p; 0 if none. */
-static int refits_find(const domain *d, bk_scene_term term, const char *text, const double *start, int *rc, double *p)
+/* The entry of (d, term, text, start), or -1; under refits.mu. */
+static int refits_at(const domain *d, bk_scene_term term, const char *text, const double *start)
 {
-	int found = 0;
-	pthread_mutex_lock(&refits.mu);
-	for (int k = 0; k < refits.n && !found; k++) {
+	for (int k = 0; k < refits.n; k++) {
 		const refit_entry *e = &refits.e[k];
 		if (e->term == (int)term && !memcmp(e->key, d->key, sizeof e->key) &&
-		    !memcmp(e->start, start, sizeof e->start) && !strcmp(e->text, text)) {
-			*rc = e->rc;
-			if (!e->rc)
-				memcpy(p, e->p, sizeof e->p);
-			found = 1;
-		}
+		    !memcmp(e->start, start, sizeof e->start) && !strcmp(e->text, text))
+			return k;
 	}
-	pthread_mutex_unlock(&refits.mu);
-	return found;
+	return -1;
 }
 
-/* Keeps a refit's outcome (nothing if memory runs out: it is fitted again). */
-static void refits_keep(const domain *d, bk_scene_term term, const char *text, const double *start, int rc,
-                        const double *p)
+/* A new entry for (d, term, text, start), being made; -1 when out of memory
+ * (the refit is then made and not kept). Under refits.mu. */
+static int refits_claim(const domain *d, bk_scene_term term, const char *text, const double *start)
 {
-	pthread_mutex_lock(&refits.mu);
 	if (refits.n == refits.cap) {
 		int cap = refits.cap ? 2 * refits.cap : 64;
 		refit_entry *e = realloc(refits.e, (size_t)cap * sizeof *e);
-		if (!e) {
-			pthread_mutex_unlock(&refits.mu);
-			return;
-		}
+		if (!e)
+			return -1;
 		refits.e = e;
 		refits.cap = cap;
 	}
 	refit_entry *e = &refits.e[refits.n];
-	if ((e->text = strdup(text))) {
-		memcpy(e->key, d->key, sizeof e->key);
-		memcpy(e->start, start, sizeof e->start);
-		memcpy(e->p, p, sizeof e->p);
-		e->term = (int)term;
-		e->rc = rc;
-		refits.n++;
-	}
-	pthread_mutex_unlock(&refits.mu);
+	memset(e, 0, sizeof *e);
+	if (!(e->text = strdup(text)))
+		return -1;
+	memcpy(e->key, d->key, sizeof e->key);
+	memcpy(e->start, start, sizeof e->start);
+	e->term = (int)term;
+	return refits.n++;
 }
 
 static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, const double *start, double *p);
@@ -351,21 +342,41 @@ static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, cons
 /* Least squares on the set's domain (the last sample set: vf at the low end
  * of f0, where most dielectrics are), from the published constants; for env
  * minimax, the error it is scored on. text: f's text (the memo's key). p is
- * left as it was where the refit fails. */
+ * left as it was where the refit fails. Each refit is made once: a thread
+ * that asks one another thread is making waits for it (the sets of scenes
+ * that share a domain ask the same refits at the same moment: refits_list). */
 static int refit(const domain *d, bk_scene_term term, const bk_form *f, const char *text, const double *start,
                  double *p)
 {
 	double s0[BK_MAX_PARAMS];
 	memcpy(s0, start, sizeof s0); /* start may be p itself */
-	int rc;
-	if (refits_find(d, term, text, s0, &rc, p))
+	pthread_mutex_lock(&refits.mu);
+	int k;
+	while ((k = refits_at(d, term, text, s0)) >= 0 && !refits.e[k].done)
+		pthread_cond_wait(&refits.cv, &refits.mu);
+	if (k >= 0) {
+		int rc = refits.e[k].rc;
+		if (!rc)
+			memcpy(p, refits.e[k].p, sizeof refits.e[k].p);
+		pthread_mutex_unlock(&refits.mu);
 		return rc;
+	}
+	k = refits_claim(d, term, text, s0);
+	pthread_mutex_unlock(&refits.mu);
 	double q[BK_MAX_PARAMS];
 	memcpy(q, p, sizeof q);
-	rc = refit_run(d, term, f, s0, q);
+	int rc = refit_run(d, term, f, s0, q);
 	if (!rc)
 		memcpy(p, q, sizeof q);
-	refits_keep(d, term, text, s0, rc, q);
+	pthread_mutex_lock(&refits.mu);
+	if (k >= 0) {
+		refit_entry *e = &refits.e[k];
+		e->rc = rc;
+		memcpy(e->p, q, sizeof e->p);
+		e->done = 1;
+		pthread_cond_broadcast(&refits.cv);
+	}
+	pthread_mutex_unlock(&refits.mu);
 	return rc;
 }
 
@@ -389,6 +400,77 @@ static int refit_run(const domain *d, bk_scene_term term, const bk_form *f, cons
 		bk_fit_options o = bk_refit_albedo_options();
 		bk_albfit_run(af, p, 1, &o, NULL);
 		bk_albfit_free(af);
+	}
+	return 0;
+}
+
+/* ---- refits ahead, on threads -------------------------------------------------- */
+
+/* A set's candidates are refitted on its domain one after the other by
+ * add_form (the catalog's forms of a term, the short search's front):
+ * independent fits, most of a set's time, on one thread where the scene
+ * has one set. So a list of them is fitted first on the online cores, each
+ * kept by refit's memo; add_form then finds every one made, the same bits
+ * (a refit is a function of its key), and the candidates, their order and
+ * the output are as before. */
+typedef struct refits_list {
+	const bk_scene_set *set;
+	const domain *d;
+	bk_scene_term term;
+	char **text;           /* the forms as add_form is given them (owned) */
+	const double **start;  /* their constants (add_form's params) */
+	bk_progress_fn progress; /* called under the pool's lock */
+	const char *label;
+	int n, done;
+} refits_list;
+
+/* Form i's refit, as add_form asks it (f0 folded where the set has one); a
+ * failure is met again, and reported, where add_form asks. */
+static int refit_ahead(void *ctx, int i)
+{
+	const refits_list *R = ctx;
+	char *t = R->set->needs.fixed_f0 ? bk_scene_fold_f0(R->text[i], R->set->needs.f0) : strdup(R->text[i]);
+	bk_form_error fe;
+	bk_form *f = t ? bk_form_parse(t, &fe) : NULL;
+	if (f && bk_form_nparams(f)) {
+		double p[BK_MAX_PARAMS];
+		memcpy(p, R->start[i], sizeof p);
+		refit(R->d, R->term, f, t, R->start[i], p);
+	}
+	bk_form_free(f);
+	free(t);
+	return 0;
+}
+
+static void refit_ahead_done(void *ctx, int i, int rc)
+{
+	refits_list *R = ctx;
+	(void)i, (void)rc;
+	if (R->progress)
+		R->progress((void *)R->label, ++R->done, R->n);
+}
+
+/* Fits R's forms ahead (above) and frees its texts. Out of memory on the
+ * way: nothing is lost but the time, add_form fits what is not kept. */
+static void refits_run(refits_list *R)
+{
+	bk_pool_run(R->n, bk_pool_cores(BK_POOL_MAX_THREADS), refit_ahead, refit_ahead_done, R);
+	for (int i = 0; i < R->n; i++)
+		free(R->text[i]);
+	free(R->text);
+	free(R->start);
+}
+
+/* A list of at most n forms, empty; 0, or -1 out of memory. */
+static int refits_new(refits_list *R, const bk_scene_set *set, const domain *d, bk_scene_term term, int n)
+{
+	memset(R, 0, sizeof *R);
+	R->set = set, R->d = d, R->term = term;
+	R->text = calloc((size_t)n + 1, sizeof *R->text);
+	R->start = calloc((size_t)n + 1, sizeof *R->start);
+	if (!R->text || !R->start) {
+		free(R->text), free(R->start);
+		return -1;
 	}
 	return 0;
 }
@@ -738,6 +820,15 @@ static int short_search(pool *P, const bk_scene *sc, const bk_scene_set *set, co
 	if (S) {
 		rc = bk_search_run(S, NULL, NULL, err, sizeof err) < 0 ? -1 : 0;
 		size_t idx[64], nf = rc ? 0 : bk_search_front(S, idx, 64);
+		refits_list R;
+		if (!refits_new(&R, set, d, BK_SCENE_TERM_VF, (int)nf)) {
+			for (size_t i = 0; i < nf; i++) {
+				const bk_cand *c = bk_search_at(S, idx[i]);
+				if (!c->seed_name && c->cost < max_cost && (R.text[R.n] = strdup(c->text)))
+					R.start[R.n++] = c->p;
+			}
+			refits_run(&R);
+		}
 		for (size_t i = 0; i < nf; i++) {
 			const bk_cand *c = bk_search_at(S, idx[i]);
 			if (c->seed_name || c->cost >= max_cost)
@@ -1152,9 +1243,21 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 		budget = g.err;
 	/* the candidates */
 	bk_target_kind k = term_kind(term);
-	int ncat = 0, done_cat = 0;
+	int ncat = 0;
 	for (size_t i = 0; i < bk_catalog_count(); i++)
 		ncat += bk_catmap_answers(k, 1, bk_catalog_at(i)); /* D and cloth returned above */
+	refits_list R;
+	if (refits_new(&R, set, &d, term, ncat)) {
+		snprintf(err, errlen, "%s: out of memory", bk_scene_term_name(term));
+		goto done;
+	}
+	R.progress = progress, R.label = lab_cat;
+	for (size_t i = 0; i < bk_catalog_count(); i++) {
+		const bk_catalog_entry *e = bk_catalog_at(i);
+		if (bk_catmap_answers(k, 1, e) && (R.text[R.n] = bk_catmap_form(k, 1, e)))
+			R.start[R.n++] = e->defaults;
+	}
+	refits_run(&R);
 	for (size_t i = 0; i < bk_catalog_count(); i++) {
 		const bk_catalog_entry *e = bk_catalog_at(i);
 		/* the catalog's forms of the term, each as one form (f0 A + B for env) */
@@ -1167,8 +1270,6 @@ int bk_scene_choose(const bk_scene *sc, const bk_scene_set *set, bk_scene_term t
 			snprintf(err, errlen, "%s: out of memory", e->name);
 			goto done;
 		}
-		if (progress)
-			progress(lab_cat, ++done_cat, ncat);
 	}
 	if (term == BK_SCENE_TERM_VF && add_form(&P, sc, set, &d, term, "exact", gen.source, BK_SCENE_GENERIC_VF, NULL))
 		goto done;

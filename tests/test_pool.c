@@ -2,10 +2,12 @@
  * test_pool.c — the analysis floor's worker pool (analysis/pool.h): every
  * job once, results by index the same bits for any thread count, jobs
  * handed out in index order, a failing job stops the handing out, after()
- * once per job; each check beside a control that shows it can fail.
+ * once per job, a nested pool starts threads only for idle cores; each
+ * check beside a control that shows it can fail.
  */
 #include <criterion/criterion.h>
 #include <pthread.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -165,4 +167,54 @@ Test(pool, cores_are_capped)
 	int c = bk_pool_cores(BK_POOL_MAX_THREADS);
 	cr_assert(c >= 1 && c <= BK_POOL_MAX_THREADS);
 	cr_assert_geq(bk_pool_cores(1000), c);
+}
+
+/* A pool run from a job (nested) starts threads only for the cores no pool
+ * thread is on (pool.h): with every core running an outer job at once (a
+ * barrier holds them together), each inner pool asking 8 threads runs its
+ * jobs on its own thread alone; with one outer thread, the inner pool gets
+ * the other cores (the control: the cap lets threads through where cores
+ * are idle). */
+typedef struct nest {
+	pthread_barrier_t all_in; /* every outer job started */
+	int inner_threads[BK_POOL_MAX_THREADS];
+	int wait;
+} nest;
+
+static int nested_job(void *ctx, int k)
+{
+	nest *Q = ctx;
+	if (Q->wait)
+		pthread_barrier_wait(&Q->all_in);
+	/* no assertion here, off the test's thread: what is seen is kept, and
+	 * the test checks it (-1: the inner pool failed) */
+	run *R = calloc(1, sizeof *R);
+	if (R) {
+		start(R, -1, 10);
+		Q->inner_threads[k] = bk_pool_run(8, 8, job, NULL, R) ? -1 : distinct_threads(R, 8);
+	}
+	if (Q->wait)
+		pthread_barrier_wait(&Q->all_in); /* no outer job ends before every inner pool has */
+	free(R);
+	return 0;
+}
+
+Test(pool, a_nested_pool_takes_only_the_idle_cores)
+{
+	int c = bk_pool_cores(BK_POOL_MAX_THREADS);
+	static nest Q;
+	memset(&Q, 0, sizeof Q);
+	Q.wait = 1;
+	cr_assert_eq(pthread_barrier_init(&Q.all_in, NULL, (unsigned)c), 0);
+	cr_assert_eq(bk_pool_run(c, c, nested_job, NULL, &Q), 0);
+	pthread_barrier_destroy(&Q.all_in);
+	for (int k = 0; k < c; k++)
+		cr_assert_eq(Q.inner_threads[k], 1, "outer job %d of %d: its inner pool ran on %d threads", k, c,
+		             Q.inner_threads[k]);
+	/* control: one outer thread; its inner pool may take every other core */
+	memset(&Q, 0, sizeof Q);
+	cr_assert_eq(bk_pool_run(1, 1, nested_job, NULL, &Q), 0);
+	cr_assert_leq(Q.inner_threads[0], c);
+	if (c >= 2)
+		cr_assert_geq(Q.inner_threads[0], 2, "idle cores left unused: %d thread", Q.inner_threads[0]);
 }
