@@ -7,8 +7,8 @@
  *      screening grid, the default grammar or the line's --ops, at most 4
  *      parameters and 24 nodes, enumeration to 5 nodes and 5,000 fits, then
  *      generations of 256, no seeds), at a budget of EVALS fits on THREADS
- *      threads, for seeds 1 .. SEEDS;
- *      With --file analysis/bench/unseen.txt, the unseen suite: forms drawn at
+ *      threads, for seeds 1 .. SEEDS. With --file
+ *      analysis/bench/unseen.txt, the unseen suite instead: forms drawn at
  *      random from the grammar by analysis/bench/unseen.py, which nobody chose
  *      or tuned the search on (issue 38's independent suite). Each form's line
  *      ends with its size in nodes (nodes_of), and the summary says whether
@@ -128,9 +128,10 @@ typedef struct result {
 } result;
 
 /* The form's size as the search measures it (bk_expr_size of the canonical
- * tree over the target's inputs), each literal but 1 and -1 a free parameter, as the
- * search would have to write it: the size the enumeration must reach to
- * certify it. -1 when the tree cannot hold the form. */
+ * tree over the target's inputs), each literal but 1 and -1 a free
+ * parameter, as the search would have to write it: the size the
+ * enumeration must reach to certify it. -1 when the tree cannot hold the
+ * form. */
 static int nodes_of(const char *text, unsigned inputs)
 {
 	bk_form_error fe;
