@@ -202,17 +202,31 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 	m->f[1] = !m->text_b ? NULL : c ? bk_form_dup(c->form_b) : bk_form_parse(m->text_b, &fe);
 	if (!m->f[0] || (m->text_b && !m->f[1]))
 		return -1;
+	/* the pair as the shader computes it, f0*(A) + (B): a form of its own
+	 * (its sharing counted once); one tree: the member's form */
+	bk_form *w = NULL;
+	if (m->text_b && c) {
+		w = bk_form_dup(c->form_pair);
+	} else if (m->text_b) {
+		char *whole = bk_pair_dup(m->text, m->text_b);
+		w = whole ? bk_form_parse(whole, &fe) : NULL;
+		free(whole);
+	}
+	if (m->text_b && !w)
+		return -1;
+	bk_form_count(w ? w : m->f[0], &m->ops);
+	m->cost = bk_ops_cost(&m->ops, so->simple_cost, so->complex_cost);
+	bk_form_free(w);
 	bk_fit_spec *sp = &m->spec;
 	bk_refit_spec(sp, F->s, m->f[0], m->f[1], start);
 	sp->relative = so->relative;
 	sp->minimax = so->objective == BK_OBJ_MAX;
 	if (fit && sp->np > 0) {
 		if (bk_fit_run(sp, &m->res) < 0) {
-			if (!m->c)
-				return -1;
-			/* a screening member the full fitter cannot start from (not finite
-			 * on the denser grid: a pole between the screening samples) is
-			 * dropped, not the search */
+			/* a member the full fitter cannot fit from any start (not finite
+			 * on the denser grid: a pole between the screening samples; a
+			 * --start or catalog form whose every start fails) is a row not
+			 * analysed, not the search's failure */
 			memset(&m->res, 0, sizeof m->res);
 			memcpy(m->res.p, start, sizeof m->res.p);
 			m->status = 1;
@@ -258,21 +272,6 @@ static int score_member(const bk_sfront *F, member *m, const double *start, int 
 		m->prec.rmse = m->prec.max_abs = m->prec.max_rel = HUGE_VAL;
 		m->err = m->f16_max = HUGE_VAL;
 	}
-	/* the pair as the shader computes it, f0*(A) + (B): a form of its own
-	 * (its sharing counted once); one tree: the member's form */
-	bk_form *w = NULL;
-	if (m->text_b && c) {
-		w = bk_form_dup(c->form_pair);
-	} else if (m->text_b) {
-		char *whole = bk_pair_dup(m->text, m->text_b);
-		w = whole ? bk_form_parse(whole, &fe) : NULL;
-		free(whole);
-	}
-	if (m->text_b && !w)
-		return -1;
-	bk_form_count(w ? w : m->f[0], &m->ops);
-	m->cost = bk_ops_cost(&m->ops, so->simple_cost, so->complex_cost);
-	bk_form_free(w);
 	stability(m, finite);
 	return rc;
 }

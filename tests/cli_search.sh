@@ -51,6 +51,20 @@ expect_error "start pole on the full grid" 1 "the form is NaN or infinite at 1 o
 	tiny --start '1/(LoH - 0.001953125)' --out "$T/h1"
 # the negative control: a pole between the samples of both grids is a form
 if tiny --start '1/(LoH - 0.5)' --out "$T/h1ok" >/dev/null 2>"$T/err"; then ok; else bad "finite start refused: $(cat "$T/err")"; fi
+# a --start form the full refit cannot fit from any start (log2(p1 - NoV) on
+# this target: every start ends in a non-finite residual) is a row "not
+# analysed" at its own cost, not the search's failure (it exited 1 before:
+# "out of memory or a failed refit of the front"); its row at the start's
+# constants keeps its error
+"$BK" search --target form --target-form 'rsqrt(NoV*NoV + 0.05)' --domain NoV=0:1 --start 'p0 * log2(p1 - NoV)' \
+	--enum-size 0 --evals 1 --threads 1 --quiet --out "$T/h1refit" >/dev/null 2>"$T/err" && ok ||
+	bad "a start the refit cannot fit failed the search: $(cat "$T/err")"
+cost=$("$BK" ops --csv 'p0 * log2(p1 - NoV)' | sed -n 's/^cost,//p')
+[ "$(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" stability_half)" = "not analysed" ] &&
+	[ "$(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" cost)" = "$cost" ] && ok ||
+	bad "the start's refit row: $(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" stability_half), cost $(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" cost) (ops: $cost)"
+e=$(csv_where "$T/h1refit/catalog.csv" name "start 1" error)
+awk -v e="$e" 'BEGIN { exit !(e + 0 > 0 && e != "inf") }' && ok || bad "the start's row at its constants: error '$e'"
 # a published form not finite in half at the smallest LoH: its catalog row says
 # so (error inf, "not finite"), never an error over the samples where it is
 # finite; the row of a form that stays finite keeps its number

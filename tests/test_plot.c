@@ -526,9 +526,14 @@ Test(plot, every_front_point_of_the_committed_search_is_labelled_or_keyed)
 		{"published", BK_PLOT_POINTS, BK_PLOT_TRIANGLE, 0, 0xc0392b, C.n, C.x, C.y, NULL, NULL, NULL},
 		{NULL, BK_PLOT_POINTS, BK_PLOT_CIRCLE, 0, 0x1f5fbf, F.n, F.x, F.y, F.lab, NULL, NULL},
 	};
-	/* as bk_swrite_plot draws it: 7 x 4.2 in, log error against cost */
+	/* as bk_swrite_plot draws it: 7 x 4.2 in, log error against cost, each
+	 * axis grown to the points (a front reaching below 1e-3 is drawn whole) */
 	bk_plot p = {BK_PLOT_DOUBLE_W, 4.2, "search on vf2d", "a note", NULL, {"cost", 0, 0, 15, 0, 0, NULL},
 	             {"error", 1, 1e-3, 1, 0, 0, NULL}, s, 3, NULL};
+	for (int k = 0; k < 2; k++) {
+		bk_plot_axis_grow(&p.x, s[k].x, s[k].n);
+		bk_plot_axis_grow(&p.y, s[k].y, s[k].n);
+	}
 	cr_expect_eq(label_faults(&p, F.n), 0, "7 x 4.2 in");
 	/* and the same front in a single column: still every point
 	 * labelled or keyed (numbers fit where names do not) */

@@ -606,7 +606,7 @@ Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
 	snprintf(bad_input, sizeof bad_input, " %d:99999:", BK_OP_INPUT);
 	char more[64];
 	snprintf(more, sizeof more, "\nstate %ld\n", evals + 100);
-	const char *evolution = "\nstage neighbours+children\n"; /* where the small search ends */
+	const char *evolution = "\nstage neighbours+semantic+children\n"; /* where the small search ends */
 	char *pos0 = strstr(text, "\nposition ");
 	cr_assert(strstr(text, evolution) && pos0, "no evolution stage or enumeration position:\n%.400s", text);
 	char position[64];
@@ -626,10 +626,10 @@ Test(search, damaged_checkpoints_are_refused_with_what_is_wrong)
 	} damage[] = {
 		{input, bad_input, "input out of range"},
 		{evolution, "\nstage sevens\n",
-		 "stage sevens: not one of this search's (seeds, enumeration, neighbours+children, done)"},
+		 "stage sevens: not one of this search's (seeds, enumeration, neighbours+semantic+children, done)"},
 		{evolution, "\nstage seeds\n", "before its stage"},
 		{"\ngenerator enumeration\n", "\ngenerator zebra\n",
-		 "generator zebra: not in this search's schedule (seeds, enumeration, neighbours, children)"},
+		 "generator zebra: not in this search's schedule (seeds, enumeration, neighbours, semantic, children)"},
 		{"\ngenerator seeds\n", "\ngenerator children\n", "generator children where this search's schedule has seeds"},
 		{"\ngenerator children\n", "\n", "no generator line for children"},
 		{"\ngenerator children\n", "\ngenerator children\ngenerator zebra\n", "generator zebra: not in this search's"},

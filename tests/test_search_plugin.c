@@ -151,7 +151,7 @@ Test(search_plugin, a_planted_generator_is_fitted_first_and_named_in_checkpoints
 	/* a search without the generator refuses it, naming the generator */
 	L = made(&o, NULL);
 	cr_assert_eq(load(L, text, len, err, sizeof err), -1);
-	cr_assert_str_eq(err, "generator planted: not in this search's schedule (seeds, enumeration, neighbours, children)");
+	cr_assert_str_eq(err, "generator planted: not in this search's schedule (seeds, enumeration, neighbours, semantic, children)");
 	bk_search_free(L);
 	/* and the search with it refuses the control's, which lacks it */
 	planted_gen z = {0};
@@ -179,7 +179,7 @@ Test(search_plugin, an_unknown_stage_is_refused)
 	size_t len;
 	char *text = saved(S, &len), err[512];
 	cr_assert_eq(load(L, text, len, err, sizeof err), -1);
-	cr_assert_str_eq(err, "stage planted: not one of this search's (seeds, enumeration, neighbours+children, done)");
+	cr_assert_str_eq(err, "stage planted: not one of this search's (seeds, enumeration, neighbours+semantic+children, done)");
 	free(text);
 	bk_search_free(L);
 	bk_search_free(S);

@@ -44,6 +44,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->exempt_seeds = INT_MAX;
 	o->island = 0;
 	o->islands = 1;
+	o->semantic = BK_SEARCH_SEMANTIC;
 }
 
 /* ---- a step: schedule -> screen -> merge ---------------------------------- */
@@ -228,6 +229,8 @@ int bk_search_options_valid(const bk_search_options *o, char *why, size_t len)
 			return BAD("seeds[%d]: NULL", k);
 	if (o->islands < 1 || o->island < 0 || o->island >= o->islands)
 		return BAD("island, islands: must be 0 <= island < islands, got %d of %d", o->island, o->islands);
+	if (!(o->semantic >= 0 && o->semantic <= 0.5))
+		return BAD("semantic: must be in [0, 0.5], got %g", o->semantic);
 	return 1;
 }
 

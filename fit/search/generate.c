@@ -270,6 +270,22 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 
 int bk_gen_prepare(bk_search *s, const bk_expr *t, bk_cand *c) { return prepare(s, t, c, -1); }
 
+int bk_gen_take(bk_search *s, bk_gen_batch *b, const bk_expr *t, const double *start)
+{
+	int r = bk_gen_prepare(s, t, &b->c[b->n]);
+	if (r <= 0)
+		return r;
+	if (start) { /* kept with the batch until it is fitted */
+		for (int j = 0; j < BK_MAX_PARAMS; j++)
+			b->inherit[b->n][j] = j < b->c[b->n].np ? start[j] : 1.0;
+		b->start[b->n] = b->inherit[b->n];
+	}
+	b->n++;
+	if (b->made)
+		b->made(b->made_ctx, b->n);
+	return 1;
+}
+
 /* ---- children ------------------------------------------------------------- */
 
 /* Whether level L is on the front: its best beats every cheaper level's

@@ -58,4 +58,11 @@ int bk_gen_child(bk_search *s, bk_expr *t);
  * memory. */
 int bk_gen_prepare(bk_search *s, const bk_expr *t, bk_cand *c);
 
+/* The candidate of trees t (canonical) into batch b, its first fit from
+ * start (as many values as it has parameters; NULL: the default starts),
+ * the screening told it is whole (b->made): what bk_search_offer takes
+ * after its checks, and what the semantic generator offers. 1 taken, 0 not
+ * (seen before, over a limit), -1 out of memory; b must have room. */
+int bk_gen_take(bk_search *s, bk_gen_batch *b, const bk_expr *t, const double *start);
+
 #endif

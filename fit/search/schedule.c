@@ -5,6 +5,7 @@
  * fit/search.h).
  */
 #include "search/schedule.h"
+#include "search/semantic.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -131,14 +132,21 @@ int bk_search_schedule_add(bk_search *s, int stage, int join, double share, cons
 int bk_schedule_default(bk_search *s)
 {
 	char err[160];
-	bk_search_generator seeds = bk_gen_seeds;
+	bk_search_generator seeds = bk_gen_seeds, sem;
 	seeds.room = (size_t)s->o.nseeds; /* every seed in one batch */
-	return bk_search_schedule_add(s, 0, 0, 1, &seeds, err, sizeof err) ||
-	               bk_search_schedule_add(s, 1, 0, 1, &bk_gen_enumeration, err, sizeof err) ||
-	               bk_search_schedule_add(s, 2, 0, NEIGHBOUR_SHARE, &bk_gen_neighbours, err, sizeof err) ||
-	               bk_search_schedule_add(s, 2, 1, 1, &bk_gen_children, err, sizeof err)
-	           ? -1
-	           : 0;
+	if (bk_search_schedule_add(s, 0, 0, 1, &seeds, err, sizeof err) ||
+	    bk_search_schedule_add(s, 1, 0, 1, &bk_gen_enumeration, err, sizeof err) ||
+	    bk_search_schedule_add(s, 2, 0, NEIGHBOUR_SHARE, &bk_gen_neighbours, err, sizeof err))
+		return -1;
+	if (s->o.semantic > 0) { /* after the neighbours, up to its part of the generation */
+		if (bk_sem_generator(&sem))
+			return -1;
+		if (bk_search_schedule_add(s, 2, 1, NEIGHBOUR_SHARE + s->o.semantic, &sem, err, sizeof err)) {
+			sem.free(sem.state);
+			return -1;
+		}
+	}
+	return bk_search_schedule_add(s, 2, 1, 1, &bk_gen_children, err, sizeof err) ? -1 : 0;
 }
 
 void bk_schedule_free(bk_search *s)
@@ -220,18 +228,7 @@ int bk_search_offer(bk_search_sink *k, const bk_expr t0[2], const double *start)
 			return 0;
 	if (pair && t[1].n == 0 && bk_expr_nparams(&t[0]) > s->feat_g.max_params)
 		return 0; /* a shared feature leaves A and B their parameters (as the enumeration's) */
-	int r = bk_gen_prepare(s, t, &b->c[b->n]);
-	if (r <= 0)
-		return r;
-	if (start) { /* kept with the batch until it is fitted */
-		for (int j = 0; j < BK_MAX_PARAMS; j++)
-			b->inherit[b->n][j] = j < b->c[b->n].np ? start[j] : 1.0;
-		b->start[b->n] = b->inherit[b->n];
-	}
-	b->n++;
-	if (b->made)
-		b->made(b->made_ctx, b->n);
-	return 1;
+	return bk_gen_take(s, b, t, start);
 }
 
 /* ---- checkpoint lines ------------------------------------------------------ */

@@ -10,6 +10,7 @@
  *               make, their checkpoint lines; offering a candidate
  *   generate.c  the built-in generators: seeds, enumeration, neighbours,
  *               children
+ *   semantic.c  the semantic generator (semantic backpropagation)
  *   screen.c    fitting and scoring a batch on threads
  *   archive.c   the MAP-Elites levels, the merge, the front
  *   state.c     checkpoints and migrants (save, load, export, import)

@@ -31,7 +31,7 @@ uint64_t bk_state_fingerprint(const bk_search *s, int own)
 	int ints[] = {o->shape, o->scale, o->objective, o->relative, o->precision, o->nonneg, o->env_bound, o->enum_size,
 	              o->generation, o->per_level, o->starts, o->grammar.inputs, o->grammar.max_params,
 	              o->grammar.max_size, o->grammar.nconsts, o->nseeds, o->islands};
-	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost};
+	double dbl[] = {o->max_cost, o->simple_cost, o->complex_cost, o->semantic};
 	h = bk_hash_bytes(h, ints, sizeof ints);
 	h = bk_hash_bytes(h, dbl, sizeof dbl);
 	if (o->inherit) /* hashed only when on: checkpoints made before the option stay valid */
