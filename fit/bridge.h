@@ -38,6 +38,13 @@ inline int enum_value(const void *field)
 	return v;
 }
 
+/* The message of a solve that stopped at the edge of where the form is
+ * finite: its last trial steps were rejected for non-finite residuals and the
+ * step shrank below the parameter tolerance (NO_CONVERGENCE; both solvers). */
+constexpr const char *kEdgeMessage =
+    "stopped at the edge of where the form is finite: the last trial steps gave non-finite residuals and were "
+    "rejected";
+
 } // namespace bk_bridge
 
 #endif

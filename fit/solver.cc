@@ -14,9 +14,17 @@
  *     active bounds held (see solve_with_bound_guard);
  *   - glog writes to stderr even with logging_type = SILENT, so it is silenced
  *     once per process (quiet_glog);
- *   - a NaN residual only makes Ceres reject the step, and it may then report
- *     CONVERGENCE at the edge of the NaN region, so any callback failure or
- *     non-finite value aborts the solve and is reported as FAILURE.
+ *   - a cost function that returns false at a trial point (residuals only,
+ *     no Jacobian asked for) makes Ceres reject the step and shrink the trust
+ *     region; at the start or at a point it accepts (Jacobian asked for) it
+ *     fails the solve. So a trial point where a residual is not finite (a
+ *     step into sqrt of a negative, a pole) is a rejected step, as in
+ *     tiny.cc: the fit goes on from the accepted point. Ceres may then report
+ *     CONVERGENCE at the edge of the region where the form is finite (the
+ *     trust region or the step shrank to nothing there): that is reported as
+ *     NO_CONVERGENCE, with bridge.h's message (TrialWatch). Any callback
+ *     failure, and any non-finite value where a Jacobian is asked for,
+ *     aborts the solve and is reported as FAILURE.
  */
 #include "solver.h"
 #include "bridge.h"
@@ -41,6 +49,7 @@ namespace {
 
 using bk_bridge::say;
 using bk_bridge::enum_value;
+using bk_bridge::kEdgeMessage;
 
 constexpr int kMaxParams = 16;
 constexpr int kMaxIterations = 100000;
@@ -140,6 +149,10 @@ public:
 	bool is_set() const { return set_.load(std::memory_order_acquire); }
 	const char *text() const { return text_; }
 
+	/* a trial point rejected for a non-finite residual (no failure) */
+	void note_trial() { trials_.fetch_add(1, std::memory_order_relaxed); }
+	long trials() const { return trials_.load(std::memory_order_relaxed); }
+
 	void note(const char *fmt, ...) __attribute__((format(printf, 2, 3)))
 	{
 		std::lock_guard<std::mutex> lock(mutex_);
@@ -154,6 +167,7 @@ public:
 
 private:
 	std::atomic<bool> set_{false};
+	std::atomic<long> trials_{0};
 	std::mutex mutex_;
 	char text_[160] = "";
 };
@@ -183,7 +197,10 @@ public:
 			robustify(loss_, c_, m, np, r, jac);
 		for (int i = 0; i < m; i++)
 			if (!std::isfinite(r[i])) {
-				fail_->note("non-finite residual: block %d, residual %d", block_, i);
+				if (jac == nullptr) /* a trial point: the step is rejected (see the header) */
+					fail_->note_trial();
+				else
+					fail_->note("non-finite residual: block %d, residual %d", block_, i);
 				return false;
 			}
 		for (int k = 0; jac != nullptr && k < m * np; k++)
@@ -204,17 +221,28 @@ private:
 };
 
 /* Stops Ceres at the end of the iteration in which an evaluation failed
- * (termination USER_FAILURE, parameters not updated). */
+ * (termination USER_FAILURE, parameters not updated), and watches whether
+ * the solve's last steps were rejected for non-finite residuals: at_edge()
+ * after a solve, when the last iteration Ceres reported was such a step or a
+ * trial was rejected after it (Ceres stops on a tolerance inside an
+ * iteration, before its callbacks). */
 class AbortOnFailure final : public ceres::IterationCallback {
 public:
 	explicit AbortOnFailure(const FailureRecord *fail) : fail_(fail) {}
-	ceres::CallbackReturnType operator()(const ceres::IterationSummary &) override
+	ceres::CallbackReturnType operator()(const ceres::IterationSummary &it) override
 	{
+		long t = fail_->trials();
+		last_rejected_ = t != seen_ && !it.step_is_successful;
+		seen_ = t;
 		return fail_->is_set() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
 	}
+	void start() { seen_ = fail_->trials(), last_rejected_ = false; }
+	bool at_edge() const { return last_rejected_ || fail_->trials() != seen_; }
 
 private:
 	const FailureRecord *fail_;
+	long seen_ = 0;
+	bool last_rejected_ = false;
 };
 
 /* ---- validation ----------------------------------------------------------------- */
@@ -336,7 +364,12 @@ public:
 		so.minimizer_progress_to_stdout = false;
 		so.callbacks.push_back(&abort_);
 		ceres::Solver::Summary s;
+		abort_.start();
 		ceres::Solve(so, &problem, &s);
+		if (s.termination_type == ceres::CONVERGENCE && abort_.at_edge()) {
+			s.termination_type = ceres::NO_CONVERGENCE;
+			s.message = kEdgeMessage;
+		}
 		return s;
 	}
 

@@ -8,11 +8,21 @@
  * Facts this file relies on (ceres/tiny_solver.h of Ceres 2.1, Debian 12; read
  * there, it is short):
  *   - the functor's return value is ignored ("TODO: deal with failure"): a
- *     false return leaves stale residuals in use, and a NaN residual only makes
- *     it reject the step and shrink the trust region, over and over. So any
- *     callback failure or non-finite value throws EvalFailure out of the
- *     functor and out of Solve (whose state is all in the solver object, freed
- *     on the way), caught here: FAILURE, with bk_solve's messages;
+ *     false return leaves stale residuals in use. So a callback failure, or a
+ *     non-finite value at the start or at a point it accepts, throws
+ *     EvalFailure out of the functor and out of Solve (whose state is all in
+ *     the solver object, freed on the way), caught here: FAILURE, with
+ *     bk_solve's messages;
+ *   - a NaN residual at a trial point makes its rho NaN, which fails
+ *     `rho > 0` and the reject branch's cost-change test alike: the step is
+ *     rejected and the trust region shrinks, as Ceres does with a cost
+ *     function that fails at a trial point. So a trial whose residuals are
+ *     not all finite (a step into sqrt or rsqrt of a negative, a pole) has
+ *     every residual set to NaN and is rejected: the fit goes on from the
+ *     accepted point with a shorter step (solver.cc does the same). Where
+ *     those rejections end the solve (the step shrinks below the parameter
+ *     tolerance right after one), the point is at the edge of where the form
+ *     is finite, not at a minimum: NO_CONVERGENCE, said so (report);
  *   - the Jacobian it asks for is column-major (residuals x parameters), and
  *     it asks for it (jacobian != NULL) exactly at the start and at each point
  *     it accepts, right before testing the gradient and, on the next step, the
@@ -96,6 +106,7 @@
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <limits>
 #include <new>
 #include <vector>
 #ifdef __SSE2__
@@ -106,6 +117,7 @@ namespace {
 
 using bk_bridge::say;
 using bk_bridge::enum_value;
+using bk_bridge::kEdgeMessage;
 
 /*
  * Eigen's cache sizes, pinned before main. Where the residuals' count is
@@ -229,6 +241,7 @@ struct State {
 	double *solver_jac = nullptr; /* TinySolver's Jacobian, from its first Update */
 	double *trial_at = nullptr;   /* where the last trial's Jacobian is */
 	const double *trial_rs = nullptr; /* and its values: TinySolver's array (see the header) */
+	bool last_trial_nonfinite = false; /* the last trial was rejected for a non-finite residual */
 	std::vector<double> held; /* the held parameters' columns of one block (tested, not used) */
 };
 
@@ -288,6 +301,7 @@ public:
 	bool operator()(const double *xf, double *r, double *jac) const
 	{
 		int np = p_.np;
+		bool trial = xf != nullptr && jac == nullptr; /* not the start (nor solve's every-held call) */
 		for (int k = 0; k < nfree_; k++) {
 			if (!std::isfinite(xf[k]))
 				fail("linear solver failed: non-finite step in parameter %d", free_[k]);
@@ -303,8 +317,11 @@ public:
 			}
 			st_->trial_valid = false;
 		}
+		if (trial)
+			st_->last_trial_nonfinite = false;
 		if (cols_ != nullptr) {
-			by_cols(r, jac, reuse, keep);
+			if (!by_cols(r, jac, reuse, keep, trial))
+				return reject(r);
 			st_->trial_valid = keep;
 			if (jac != nullptr)
 				accepted(r, jac);
@@ -323,6 +340,8 @@ public:
 				if (rc != 0)
 					fail("callback failed: block %d returned %d", b, rc);
 			}
+			if (trial && !all_finite(rb, (size_t)mb))
+				return reject(r);
 			check_residuals(b, rb, mb);
 			if (keep) {
 				std::copy(rb, rb + mb, st_->trial_r.data() + row);
@@ -349,6 +368,16 @@ public:
 	}
 
 private:
+	/* A trial point with a residual that is not finite: every residual NaN,
+	 * so that TinySolver rejects the step (see the header). */
+	bool reject(double *r) const
+	{
+		std::fill(r, r + m_, std::numeric_limits<double>::quiet_NaN());
+		st_->trial_valid = false;
+		st_->last_trial_nonfinite = true;
+		return true;
+	}
+
 	/* The residuals' non-finite check and message, as bk_solve's. */
 	static void check_residuals(int b, const double *rb, int mb)
 	{
@@ -366,9 +395,10 @@ private:
 	 * The same checks as the row-major path, in the same order: per block the
 	 * callback's failure, then the residuals, then (where a Jacobian is used:
 	 * now, or at the trial's acceptance) the Jacobian, its first non-finite
-	 * entry named in row-major order as there.
+	 * entry named in row-major order as there. False: a trial whose
+	 * residuals are not all finite (rejected by the caller, see the header).
 	 */
-	void by_cols(double *r, double *jac, bool reuse, bool keep) const
+	bool by_cols(double *r, double *jac, bool reuse, bool keep, bool trial) const
 	{
 		size_t m = (size_t)m_;
 		if (reuse) {
@@ -379,7 +409,7 @@ private:
 				fail("%s", st_->trial_why);
 			if (st_->trial_at != jac) /* not where TinySolver reads it (see below) */
 				std::copy(st_->trial_at, st_->trial_at + m * (size_t)nfree_, jac);
-			return;
+			return true;
 		}
 		if (jac != nullptr)
 			st_->solver_jac = jac;
@@ -403,6 +433,8 @@ private:
 			for (int k = 0; k < nfree_; k++)
 				cp[free_[k]] = dst != nullptr ? dst + (size_t)k * m + row : nullptr;
 			int rc = cols_(p_.ctx, b, st_->x, rb, dst != nullptr ? cp : nullptr);
+			if (rc == BK_COLS_RES_NONFINITE && trial)
+				return false;
 			if (rc == BK_COLS_RES_NONFINITE) /* the first is named; the callback tested them all */
 				check_residuals(b, rb, mb);
 			if (rc != 0 && rc != BK_COLS_JAC_NONFINITE)
@@ -424,6 +456,7 @@ private:
 		}
 		if (keep)
 			st_->trial_rs = r;
+		return true;
 	}
 
 	/* A point TinySolver starts from or accepted: record it and set the
@@ -455,10 +488,15 @@ private:
 
 /* The summary's termination and message from TinySolver's status. */
 template <class Tiny>
-void report(const Tiny &t, const bk_fit_options &o, bk_fit_summary *s)
+void report(const Tiny &t, const bk_fit_options &o, const State &st, bk_fit_summary *s)
 {
 	const typename Tiny::Summary &ts = t.summary;
 	s->termination = BK_TERM_CONVERGENCE;
+	if (ts.status == Tiny::RELATIVE_STEP_SIZE_TOO_SMALL && st.last_trial_nonfinite) {
+		s->termination = BK_TERM_NO_CONVERGENCE;
+		say(s->message, sizeof s->message, "%s", kEdgeMessage);
+		return;
+	}
 	switch (ts.status) {
 	case Tiny::GRADIENT_TOO_SMALL:
 		say(s->message, sizeof s->message,
@@ -527,7 +565,7 @@ void solve_n(const bk_problem &p, const bk_fit_options &o, State *st, bk_fit_sum
 	s->initial_cost = tiny.summary.initial_cost;
 	s->final_cost = tiny.summary.final_cost;
 	s->iterations = std::min(tiny.summary.iterations, o.max_iterations);
-	report(tiny, o, s);
+	report(tiny, o, *st, s);
 }
 
 /* Free parameters up to which TinySolver is instantiated with a fixed count

@@ -51,15 +51,17 @@ expect_error "start pole on the full grid" 1 "the form is NaN or infinite at 1 o
 	tiny --start '1/(LoH - 0.001953125)' --out "$T/h1"
 # the negative control: a pole between the samples of both grids is a form
 if tiny --start '1/(LoH - 0.5)' --out "$T/h1ok" >/dev/null 2>"$T/err"; then ok; else bad "finite start refused: $(cat "$T/err")"; fi
-# a --start form the full refit cannot fit from any start (log2(p1 - NoV) on
-# this target: every start ends in a non-finite residual) is a row "not
+# a --start form the full refit cannot fit from any start is a row "not
 # analysed" at its own cost, not the search's failure (it exited 1 before:
 # "out of memory or a failed refit of the front"); its row at the start's
-# constants keeps its error
-"$BK" search --target form --target-form 'rsqrt(NoV*NoV + 0.05)' --domain NoV=0:1 --start 'p0 * log2(p1 - NoV)' \
-	--enum-size 0 --evals 1 --threads 1 --quiet --out "$T/h1refit" >/dev/null 2>"$T/err" && ok ||
-	bad "a start the refit cannot fit failed the search: $(cat "$T/err")"
-cost=$("$BK" ops --csv 'p0 * log2(p1 - NoV)' | sed -n 's/^cost,//p')
+# constants keeps its error. sqrt(p1 sq(LoH - c)) at c = 0.001953125, a
+# centre of the full grid and of no screening grid: 0 there, and its
+# derivative in p1 0/0, so the refit fails at every start (a step into NaN
+# no longer does: it is rejected, fit/tiny.cc)
+form='p0 * LoH + sqrt(p1 * sq(LoH - 0.001953125))'
+"$BK" search --target f --start "$form" --enum-size 0 --evals 1 --threads 1 --quiet --out "$T/h1refit" \
+	>/dev/null 2>"$T/err" && ok || bad "a start the refit cannot fit failed the search: $(cat "$T/err")"
+cost=$("$BK" ops --csv "$form" | sed -n 's/^cost,//p')
 [ "$(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" stability_half)" = "not analysed" ] &&
 	[ "$(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" cost)" = "$cost" ] && ok ||
 	bad "the start's refit row: $(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" stability_half), cost $(csv_where "$T/h1refit/catalog.csv" name "start 1 (refit)" cost) (ops: $cost)"

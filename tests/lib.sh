@@ -79,6 +79,10 @@ csv_drop() { "$CSVGET" --drop "$@"; }
 # fixed timeout burnt its CPU seconds for nothing once the lines were there.
 until_lines() {
 	_lib_n=$1 _lib_k=$(($2 * 20)) _lib_err=$3; shift 3
+	# emptied here, not only by CMD's redirection: the loop may test ERR
+	# before the child has opened it, and an ERR left by an earlier command
+	# would count (its lines seen, CMD stopped before it wrote a line)
+	: >"$_lib_err"
 	"$@" >/dev/null 2>"$_lib_err" &
 	_lib_pid=$!
 	while [ "$_lib_k" -gt 0 ] && kill -0 "$_lib_pid" 2>/dev/null &&

@@ -50,6 +50,45 @@ static int failing_rosenbrock(void *ctx, int block, const double *p, double *r, 
 	return 0;
 }
 
+/* A pole beside the answer: r_i = p0 (p1 + x_i^2)^(-1/2) - y_i with
+ * y_i = (x_i^2 - 0.09)^(-1/2) at 32 points x_i in [0.3162, 1] (up to 10 at the
+ * left end): the answer is (1, -0.09), and a step from (1, 1) lands where
+ * p1 + x^2 < 0 for some x (NaN residuals there). Counts its calls that gave
+ * a NaN residual (the trials to be rejected). */
+typedef struct pole {
+	int nan_calls;
+} pole;
+
+static double pole_x(int i) { return 0.3162 + (1 - 0.3162) * i / 31.0; }
+
+static int pole_fn(void *ctx, int block, const double *p, double *r, double *jac)
+{
+	pole *q = ctx;
+	int bad = 0;
+	(void)block;
+	for (int i = 0; i < 32; i++) {
+		double x = pole_x(i), u = p[1] + x * x, s = 1 / sqrt(u); /* NaN where u < 0 */
+		r[i] = p[0] * s - 1 / sqrt(x * x - 0.09);
+		bad |= isnan(r[i]);
+		if (jac != NULL)
+			jac[2 * i] = s, jac[2 * i + 1] = -0.5 * p[0] * s / u;
+	}
+	q->nan_calls += bad;
+	return 0;
+}
+
+/* A wall before the answer: r = p0 - 2 where p0 <= 1, NaN beyond (as
+ * p0 - 2 + 0 sqrt(1 - p0)): the least squares would go to 2 and can only
+ * reach the wall at 1. */
+static int wall_fn(void *ctx, int block, const double *p, double *r, double *jac)
+{
+	(void)ctx, (void)block;
+	r[0] = p[0] <= 1 ? p[0] - 2 : NAN;
+	if (jac != NULL)
+		jac[0] = p[0] <= 1 ? 1 : NAN;
+	return 0;
+}
+
 /* Runs solve (bk_solve or bk_solve_tiny) with stdout and stderr redirected to
  * temporary files and asserts both stayed empty: the bridge never prints
  * (glog included). */
@@ -73,6 +112,36 @@ static int solve_silently_with(solve_fn solve, const bk_problem *p, const bk_fit
 	cr_assert_eq(nout, 0, "%ld bytes written to stdout", nout);
 	cr_assert_eq(nerr, 0, "%ld bytes written to stderr", nerr);
 	return rc;
+}
+
+/* The pole and the wall through solve (silently): a trial step into NaN is
+ * rejected and the fit goes on to (1, -0.09) (the premise: a trial did give
+ * NaN); at the wall the solve stops at p0 <= 1, within 1e-6 of it, and says
+ * it stopped at the edge (NO_CONVERGENCE, not CONVERGENCE at a point that is
+ * no minimum, nor FAILURE). */
+static inline void check_pole_and_wall(solve_fn solve, const char *who)
+{
+	int size32[] = {32}, size1[] = {1};
+	pole q = {0};
+	bk_problem p = {2, 1, size32, pole_fn, &q, NULL, NULL, NULL};
+	bk_fit_options o = BK_FIT_OPTIONS_INIT;
+	o.function_tolerance = 1e-12;
+	double x[2] = {1, 1};
+	bk_fit_summary s;
+	cr_assert_eq(solve_silently_with(solve, &p, &o, x, &s), 0, "%s: %s", who, s.message);
+	cr_assert_gt(q.nan_calls, 0, "%s: the premise: a trial step gave NaN", who);
+	cr_assert_eq(s.termination, BK_TERM_CONVERGENCE, "%s: %s", who, s.message);
+	cr_assert(fabs(x[0] - 1) < 1e-9 && fabs(x[1] + 0.09) < 1e-9, "%s: %.17g %.17g", who, x[0], x[1]);
+	bk_problem w = {1, 1, size1, wall_fn, NULL, NULL, NULL, NULL};
+	double y[1] = {0};
+	o = (bk_fit_options)BK_FIT_OPTIONS_INIT;
+	cr_assert_eq(solve_silently_with(solve, &w, &o, y, &s), 0, "%s: %s", who, s.message);
+	cr_assert_eq(s.termination, BK_TERM_NO_CONVERGENCE, "%s: %s", who, s.message);
+	cr_assert_str_eq(s.message,
+	                 "stopped at the edge of where the form is finite: the last trial steps gave non-finite "
+	                 "residuals and were rejected",
+	                 "%s", who);
+	cr_assert(y[0] <= 1 && y[0] > 1 - 1e-6, "%s: %.17g", who, y[0]);
 }
 
 #endif

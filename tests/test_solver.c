@@ -611,6 +611,11 @@ Test(solver, callback_failure_is_failure)
 }
 
 /* And a healthy solve prints nothing either (glog is quiet on success too). */
+Test(solver, a_trial_into_nan_is_rejected)
+{
+	check_pole_and_wall(bk_solve, "bk_solve");
+}
+
 Test(solver, healthy_solve_is_silent)
 {
 	bk_problem p = exp_problem(&g_exp, 100);

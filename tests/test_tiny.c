@@ -570,6 +570,12 @@ Test(tiny, a_non_finite_residual_is_found_at_any_place)
 		}
 }
 
+Test(tiny, a_trial_into_nan_is_rejected)
+{
+	check_pole_and_wall(bk_solve_tiny, "bk_solve_tiny");
+	check_pole_and_wall(bk_solve_tiny_reusing, "bk_solve_tiny_reusing");
+}
+
 /* And a healthy solve prints nothing either. */
 Test(tiny, healthy_solve_is_silent)
 {

@@ -144,10 +144,12 @@ void bk_screen_one(const bk_search *s, bk_cand *c, const double *seed_p)
 		if (c->np) {
 			if (bk_fit_problem_solve(pb, p, NULL, &sum))
 				continue;
-			/* a trial step into a pole (sqrt or log2 of a negative, 1/0) fails
-			 * the solve, which hands back its last good point: the fit goes on
-			 * from there (afresh, so from a more damped step), and the point
-			 * stands as this start's result if it fails again */
+			/* a trial step into a pole (sqrt or log2 of a negative, 1/0) is
+			 * rejected inside the solve (fit/tiny.cc); a point it accepts
+			 * whose Jacobian is not finite fails the solve, which hands back
+			 * its last good point: the fit goes on from there (afresh, so
+			 * from a more damped step), and the point stands as this start's
+			 * result if it fails again */
 			for (int retry = 0; retry < RETRIES && sum.termination == BK_TERM_FAILURE && isfinite(sum.final_cost) &&
 			                    sum.final_cost < sum.initial_cost;
 			     retry++) {

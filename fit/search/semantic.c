@@ -407,24 +407,22 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 			continue;
 		/* what is wanted of node i, and how near its own values are */
 		/* (m <= SEM_PROBES_MAX: the library is empty otherwise, and sem_make
-		 * walks nothing.) A free probe's wanted value is written 0 here, and
-		 * the operands below are inverted from that 0 where they should be
-		 * free too: a defect found in review, left as it is so that the
-		 * recovery figures measured with it stand (the stop's note). */
-		double wi[SEM_PROBES_MAX];
+		 * walks nothing.) A free probe weighs nothing in the least squares,
+		 * which read its wanted value as 0 (dz); di keeps it free (NaN), so
+		 * that the operands below are free there too. */
+		double wi[SEM_PROBES_MAX], dz[SEM_PROBES_MAX];
 		double W = 0, sd = 0, sdd = 0;
 		size_t free_ = 0;
 		for (size_t j = 0; j < m; j++) {
 			int ok = isfinite(di[j]) && isfinite(v[(size_t)i * m + j]);
 			wi[j] = ok ? w[j] : 0;
 			free_ += !ok;
-			double dj = ok ? di[j] : 0;
-			di[j] = dj;
-			W += wi[j], sd += wi[j] * dj, sdd += wi[j] * dj * dj;
+			dz[j] = ok ? di[j] : 0;
+			W += wi[j], sd += wi[j] * dz[j], sdd += wi[j] * dz[j] * dz[j];
 		}
 		if (m - free_ < SEM_MIN_PROBES || !(W > 0))
 			continue;
-		wanted q = {di, wi, W, sd, sdd};
+		wanted q = {dz, wi, W, sd, sdd};
 		/* the node's own values as a library tree would be judged (a
 		 * probe where it is not finite weighs nothing: 0 there) */
 		double own[SEM_PROBES_MAX], mean = 0, norm = 0, a0, a1;
