@@ -48,7 +48,10 @@ int bk_fit_options_valid(const bk_fit_options *o, char *why, size_t len);
 /* Values of one block's residuals, and (when jacobian is not NULL) their
  * derivatives, row-major: jacobian[i * np + j] = d residual_i / d param_j.
  * Must be thread-safe when num_threads > 1. Return 0, or non-zero to make the
- * solve fail (e.g. a non-finite value: the caller decides). */
+ * solve fail. A residual that is not finite fails the solve at the start or
+ * at a point it accepts (jacobian asked for), and makes a trial point's step
+ * rejected (jacobian NULL: the trust region shrinks, the solve goes on); a
+ * solve that then stops on its step size at that edge is NO_CONVERGENCE. */
 typedef int (*bk_residual_fn)(void *ctx, int block, const double *params, double *residuals,
                               double *jacobian);
 
@@ -69,7 +72,7 @@ int bk_problem_valid(const bk_problem *p, const double *params, char *why, size_
 
 typedef enum bk_termination {
 	BK_TERM_CONVERGENCE,    /* a tolerance was met */
-	BK_TERM_NO_CONVERGENCE, /* iteration or time limit */
+	BK_TERM_NO_CONVERGENCE, /* iteration or time limit, or stopped at the edge of where the residuals are finite */
 	BK_TERM_FAILURE         /* the solver or the callback failed */
 } bk_termination;
 

@@ -7,7 +7,10 @@
 #     17, f32 9, f16 5: the same value once rounded to the CLI's digits and to
 #     the precision), and f64 is the talk's f0/(4 LoH^2 (r + 0.5)) by hand;
 #   - a front member (read_front, member) evaluated in f64 is `brdfkit eval
-#     FRONT.csv:MEMBER` (results/search/vf2d/front.csv, committed);
+#     FRONT.csv:MEMBER` (results/search/vf2d/front.csv, committed); eval's
+#     vs= (f16 against a target, each mad in the order farther from it) is
+#     never nearer the target than plain f16 for a one-mad form, and differs
+#     from it somewhere (the control); vs outside f16 is refused;
 #   - fit() of p0 + p1 LoH + p2 LoH^2 to exp(-2 LoH) on [0, 1], and of the
 #     catalog's vf_talk_r to the built-in vf2d target: rmse and constants are
 #     brdfkit fit's, read from its metrics.csv and coefficients.csv by column
@@ -155,6 +158,21 @@ m = brdfkit.member(front, "search_vf2d_6")
 c = cli(os.path.join(T, "member"))["f64"]
 check("front member", same("f64", m.eval(LoH=0.6, r=0.3, f0=0.04), c), "%r vs %s" % (m.eval(LoH=0.6, r=0.3, f0=0.04), c))
 check("front columns by name", {"name", "form", "cost", "max_abs"} <= set(front.columns) and front.attrs["comments"])
+# f16 as a front scores it (vs=, bk_form_eval_half_vs): a mad in the order
+# farther from the target, so with one mad never nearer it than bk_form_eval's
+# order at any sample; the control: the two orders differ somewhere
+xs = np.linspace(0.32, 1, 4001)
+y = np.exp(-2 * xs)
+g = brdfkit.Form("p0*LoH + p1")
+plain = g.eval([-0.8642, 0.9876], LoH=xs, precision="f16")
+worse = g.eval([-0.8642, 0.9876], LoH=xs, precision="f16", vs=y)
+check("vs: never nearer the target", np.all(np.abs(worse - y) >= np.abs(plain - y)))
+check("control: vs takes the other order somewhere", np.any(worse != plain))
+try:
+    g.eval([1, 0], LoH=xs, vs=y)
+    check("vs in f64 refused", False, "no error")
+except ValueError as e:
+    check("vs in f64 refused", "only with precision f16" in str(e), str(e))
 
 def near(a, text):  # the CLI prints 9 significant digits
     return abs(a - float(text)) <= 1e-8 * abs(float(text))

@@ -514,7 +514,9 @@ Test(plot, every_front_point_of_the_committed_search_is_labelled_or_keyed)
 	static pts F, C;
 	read_pts(&F, "results/search/vf2d/front.csv", "cost", "max_abs");
 	read_pts(&C, "results/search/vf2d/catalog.csv", "cost", "max_abs");
-	cr_assert_eq(F.n, 10, "the committed front has 10 members");
+	/* the premise: a front as crowded as the one that showed the defect
+	 * (10 members then; the count moves with the search) */
+	cr_assert_geq(F.n, 8, "the committed front has %d members", F.n);
 	for (int i = 1; i < F.n; i++) /* in cost order, as bk_swrite_plot's staircase takes it */
 		for (int j = i; j > 0 && F.x[j] < F.x[j - 1]; j--) {
 			double t = F.x[j]; F.x[j] = F.x[j - 1]; F.x[j - 1] = t;

@@ -49,13 +49,19 @@ class Form:
         form.name = name
         return form
 
-    def eval(self, params=None, precision="f64", **inputs):
+    def eval(self, params=None, precision="f64", vs=None, **inputs):
         """The form's values where the inputs (scalars or arrays, broadcast
         together) are, in precision f64, f32 or f16 (every operation rounded,
         as bk_form_eval): a float64 array of their shape. a defaults to r*r
-        when r is given, as brdfkit eval does."""
+        when r is given, as brdfkit eval does. With vs (f16 only: values of
+        a target, broadcast with the inputs), each mad and mix in the order
+        farther from vs, as bk_form_eval_half_vs: the values whose error
+        against vs is the one a front's f16_max_abs states, whichever order
+        a driver takes."""
         if precision not in PRECISIONS:
             raise ValueError("precision '%s': f64, f32 or f16" % precision)
+        if vs is not None and precision != "f16":
+            raise ValueError("vs: only with precision f16 (the order of a mad matters in half alone)")
         if "r" in inputs and "a" not in inputs:
             r = np.asarray(inputs["r"], dtype=np.float64)
             inputs["a"] = r * r
@@ -64,7 +70,10 @@ class Form:
         missing = [n for n in self.inputs if n not in inputs]
         if missing:
             raise ValueError("form %s reads %s: not given" % (self.text, ", ".join(missing)))
-        arrays = np.broadcast_arrays(*[np.asarray(inputs[n], dtype=np.float64) for n in self.inputs]) if self.inputs else []
+        given = [np.asarray(inputs[n], dtype=np.float64) for n in self.inputs]
+        if vs is not None:  # broadcast with the inputs (a form may read none of the arrays)
+            given.append(np.asarray(vs, dtype=np.float64))
+        arrays = np.broadcast_arrays(*given) if given else []
         shape = arrays[0].shape if arrays else ()
         cols = {n: np.ascontiguousarray(a).ravel() for n, a in zip(self.inputs, arrays)}
         size = int(np.prod(shape)) if shape else 1
@@ -78,8 +87,13 @@ class Form:
         for n, c in cols.items():
             inp[INPUTS.index(n)] = ffi.cast("double *", ffi.from_buffer(c))
         out = np.empty(size, dtype=np.float64)
-        rc = lib.bk_form_eval(self._f, PRECISIONS[precision], size, inp, pc,
-                              ffi.cast("double *", ffi.from_buffer(out)))
+        if vs is not None:
+            y = np.ascontiguousarray(arrays[-1]).ravel()
+            rc = lib.bk_form_eval_half_vs(self._f, size, inp, pc, ffi.cast("double *", ffi.from_buffer(y)),
+                                          ffi.cast("double *", ffi.from_buffer(out)))
+        else:
+            rc = lib.bk_form_eval(self._f, PRECISIONS[precision], size, inp, pc,
+                                  ffi.cast("double *", ffi.from_buffer(out)))
         if rc:
             raise ValueError("bk_form_eval failed on %s" % self.text)
         return out.reshape(shape)
