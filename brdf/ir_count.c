@@ -48,20 +48,20 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
 /*
  * The cost models. The aco- weights are what `brdfkit gpucost --calibrate
  * --chips CHIP` prints given the front.csv of each search in results/search
- * (fp32, the 39 catalog forms and the 109 members of make results' nine
+ * (fp32, the 39 catalog forms and the 121 members of make results' nine
  * double search fronts, ms and sheen included since issue 41, Mesa 22.3.6
  * RADV/ACO, Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration
  * and fails if the driver's answer moves away from them. ACO issues a
- * transcendental as one instruction, hence complex weights of 1.5-2.2, not
+ * transcendental as one instruction, hence complex weights of 1.5-2.3, not
  * the IR's 4: that 4 prices throughput on a mobile GPU's one-per-cycle unit,
  * which an instruction count does not see.
  */
 static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
-	{"aco-polaris10", 1.068, 1.716},         /* GCN 4, gfx8 */
-	{"aco-vega10", 1.068, 1.716},            /* GCN 5, gfx9 */
-	{"aco-navi21", 1.006, 1.519},            /* RDNA 2, gfx10.3 */
-	{"aco-gfx1100", 1.011, 2.16},            /* RDNA 3, gfx11 */
+	{"aco-polaris10", 1.063, 1.662},         /* GCN 4, gfx8 */
+	{"aco-vega10", 1.063, 1.662},            /* GCN 5, gfx9 */
+	{"aco-navi21", 1.002, 1.553},            /* RDNA 2, gfx10.3 */
+	{"aco-gfx1100", 1.003, 2.292},           /* RDNA 3, gfx11 */
 };
 
 const bk_cost_model *bk_cost_model_find(const char *name)

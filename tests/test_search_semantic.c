@@ -12,6 +12,14 @@
  * step from it and none is the target, and the children are too few to
  * find it by chance. The negative control: the same search with
  * semantic = 0 has no such fit in that generation.
+ *
+ * And a pair: the planted 0.3/(0.7 LoH^2 + 1.3 LoH + 0.2) and the same
+ * seed: the values wanted of its LoH are affine in 0.7 LoH^2 + 1.3 LoH,
+ * which no library tree scaled and offset is (LoH (LoH + 1.857) has no
+ * literal 1.857; LoH (LoH + 2) comes near), but sq(LoH) and LoH together
+ * are, at any constants of the seed: p0/(p1 + (p2 sq(LoH) + p3 LoH)), the
+ * planted form, in one generation. Controls: semantic = 0, and (by hand)
+ * the pairs left out (SEM_PAIR_POOL 0).
  */
 #include "fixture_search.h"
 
@@ -19,18 +27,26 @@
 #include <math.h>
 #include <string.h>
 
-#define TARGET "0.3/(LoH*LoH + r*r)"
+/* A planted target, the one seed a subtree away, and the generations
+ * after it (no enumeration). */
+typedef struct plant {
+	const char *target, *seed;
+	double loh_lo;
+	int with_r, nx, np, size, generations;
+} plant;
 
-static void options(bk_samples *sm, bk_search_options *o, double semantic)
+static const plant SUBTREE = {"0.3/(LoH*LoH + r*r)", "p0/(p1 + LoH)", 0.1, 1, 8, 3, 12, 1};
+static const plant PAIR = {"0.3/(0.7*LoH*LoH + 1.3*LoH + 0.2)", "p0/(p1 + LoH)", 0.1, 0, 64, 4, 16, 1};
+
+static void options(const plant *pl, bk_samples *sm, bk_search_options *o, double semantic)
 {
-	static const char *seed[] = {"p0/(p1 + LoH)"};
-	fx_planted(TARGET, 0.1, 1, 8, sm);
-	fx_plain_options(o, sm, 1u << BK_IN_LOH | 1u << BK_IN_R | 1u << BK_IN_A, 3, 12);
+	fx_planted(pl->target, pl->loh_lo, pl->with_r, pl->nx, sm);
+	fx_plain_options(o, sm, 1u << BK_IN_LOH | (pl->with_r ? 1u << BK_IN_R | 1u << BK_IN_A : 0), pl->np, pl->size);
 	o->enum_size = 0;
-	o->seeds = seed;
+	o->seeds = &pl->seed;
 	o->nseeds = 1;
 	o->generation = 16;
-	o->evals = 1 + 16; /* the seed, then one generation */
+	o->evals = 1 + 16 * pl->generations; /* the seed, then the generations */
 	o->semantic = semantic;
 }
 
@@ -46,17 +62,17 @@ static double best_of(const bk_search *s, const char **text)
 	return best;
 }
 
-/* The least error after the seed and one generation, its text in text. */
-static double run(double semantic, char *text, size_t len)
+/* The least error after the seed and the generations, its text in text. */
+static double run(const plant *pl, double semantic, char *text, size_t len)
 {
 	bk_samples sm;
 	bk_search_options o;
 	char err[256];
-	options(&sm, &o, semantic);
+	options(pl, &sm, &o, semantic);
 	bk_search *s = bk_search_new(&o, err, sizeof err);
 	cr_assert(s, "%s", err);
 	cr_assert_eq(bk_search_drive(s, NULL, err, sizeof err), 0, "%s", err);
-	cr_assert_leq(bk_search_evals(s), 17);
+	cr_assert_leq(bk_search_evals(s), 1 + 16 * pl->generations);
 	const char *t = "";
 	double e = best_of(s, &t);
 	snprintf(text, len, "%s", t);
@@ -68,10 +84,18 @@ static double run(double semantic, char *text, size_t len)
 Test(search_semantic, the_missing_subtree_is_found_in_one_generation)
 {
 	char with[512], without[512];
-	double e = run(BK_SEARCH_SEMANTIC, with, sizeof with), c = run(0, without, sizeof without);
+	double e = run(&SUBTREE, BK_SEARCH_SEMANTIC, with, sizeof with), c = run(&SUBTREE, 0, without, sizeof without);
 	cr_assert_lt(e, 1e-6, "the semantic generator's generation reaches %g: %s", e, with);
 	/* the control: without it the same generation is nowhere near */
 	cr_assert_gt(c, 1e-3, "without the semantic generator the generation reaches %g: %s", c, without);
+}
+
+Test(search_semantic, a_pair_of_library_trees_is_found)
+{
+	char with[512], without[512];
+	double e = run(&PAIR, BK_SEARCH_SEMANTIC, with, sizeof with), c = run(&PAIR, 0, without, sizeof without);
+	cr_assert_lt(e, 1e-6, "the semantic generator's generations reach %g: %s", e, with);
+	cr_assert_gt(c, 1e-3, "without the semantic generator the generations reach %g: %s", c, without);
 }
 
 Test(search_semantic, a_share_out_of_range_is_refused_by_name)
@@ -79,7 +103,7 @@ Test(search_semantic, a_share_out_of_range_is_refused_by_name)
 	bk_samples sm;
 	bk_search_options o;
 	char why[256];
-	options(&sm, &o, 0.6);
+	options(&SUBTREE, &sm, &o, 0.6);
 	cr_assert_eq(bk_search_options_valid(&o, why, sizeof why), 0);
 	cr_assert_str_eq(why, "semantic: must be in [0, 0.5], got 0.6");
 	o.semantic = NAN;

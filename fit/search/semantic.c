@@ -17,6 +17,14 @@
 #define SEM_LIB_MAX 32768
 /* Library trees offered at each subtree, the nearest first. */
 #define SEM_PER_SITE 2
+/* And the pair p' g + p'' h that comes nearest together, where it halves
+ * the nearest single's residual: a subtree such as p2 sq(x) + p3 x, which
+ * no one library tree scaled is. Its two come from a pool: the
+ * SEM_PAIR_SMALL first trees of the library (the smallest: the enumeration
+ * goes by size) and the SEM_PAIR_POOL nearest alone (the parts of a pair
+ * need not be near alone: sq(x) and x are not). */
+#define SEM_PAIR_POOL 12
+#define SEM_PAIR_SMALL 32
 /* A subtree is worth replacing only where at least this many probes say
  * what it should be. */
 #define SEM_MIN_PROBES 16
@@ -262,6 +270,31 @@ static double line_residual(const wanted *q, const double *z, size_t m, double *
 	return r > 0 ? r : 0;
 }
 
+/* The weighted least squares of d on 1, z1, z2: its residual sum, and the
+ * plane in c[0..2] (d ~ c0 + c1 z1 + c2 z2); HUGE_VAL where z1 and z2 are
+ * (nearly) collinear under the weights. */
+static double plane_residual(const wanted *q, const double *z1, const double *z2, size_t m, double c[3])
+{
+	double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0, sd1 = 0, sd2 = 0;
+	for (size_t i = 0; i < m; i++) {
+		double w = q->w[i], a = z1[i], b = z2[i];
+		s1 += w * a, s2 += w * b;
+		s11 += w * a * a, s22 += w * b * b, s12 += w * a * b;
+		sd1 += w * a * q->d[i], sd2 += w * b * q->d[i];
+	}
+	/* centred by the weighted means: a 2 x 2 system */
+	double W = q->W, v11 = s11 - s1 * s1 / W, v22 = s22 - s2 * s2 / W, v12 = s12 - s1 * s2 / W;
+	double u1 = sd1 - q->sd * s1 / W, u2 = sd2 - q->sd * s2 / W;
+	double det = v11 * v22 - v12 * v12;
+	if (!(v11 > 1e-12 && v22 > 1e-12 && det > 1e-9 * v11 * v22))
+		return HUGE_VAL;
+	c[1] = (u1 * v22 - u2 * v12) / det;
+	c[2] = (u2 * v11 - u1 * v12) / det;
+	c[0] = (q->sd - c[1] * s1 - c[2] * s2) / W;
+	double r = q->sdd - q->sd * q->sd / W - (c[1] * u1 + c[2] * u2);
+	return r > 0 ? r : 0;
+}
+
 /* ---- the offers ------------------------------------------------------------- */
 
 /* e with every subtree at the positions at[0..nat) replaced by the nodes
@@ -289,9 +322,39 @@ static int replace_at(const bk_expr *e, const int *at, int nat, const bk_enode *
 	return 0;
 }
 
+/* Offers e with the subtrees at at[] replaced by the nodes t[0..len), its
+ * new constants numbered from e's count on, starting from e's fitted
+ * constants and the new ones' values in t. 1 taken, 0 not (a form made
+ * before), 2 outside the grammar's limits (a spelling with fewer constants
+ * may do), -1 out of memory. */
+static int offer_tree(bk_search *s, bk_search_sink *k, const bk_expr *e, const double *p, int np, const int *at,
+                      int nat, const bk_enode *t, int len)
+{
+	int q = bk_expr_nparams(e);
+	bk_expr x[2];
+	memset(x, 0, sizeof x);
+	if (replace_at(e, at, nat, t, len, &x[0]))
+		return 2;
+	for (int i = 0; i < x[0].n; i++) /* the fitted constants as start values */
+		if (x[0].node[i].op == BK_OP_PARAM && x[0].node[i].slot < np && x[0].node[i].slot < q)
+			x[0].node[i].k = p[x[0].node[i].slot];
+	if (bk_expr_canon_in(&x[0], s->tree_g.inputs) || bk_expr_nparams(&x[0]) > s->tree_g.max_params ||
+	    bk_expr_size(&x[0]) > s->tree_g.max_size)
+		return 2;
+	double start[BK_MAX_PARAMS];
+	for (int j = 0; j < BK_MAX_PARAMS; j++)
+		start[j] = 1.0;
+	for (int i = 0; i < x[0].n; i++)
+		if (x[0].node[i].op == BK_OP_PARAM && x[0].node[i].k != 0 && isfinite(x[0].node[i].k))
+			start[x[0].node[i].slot] = x[0].node[i].k;
+	char why[128];
+	if (bk_expr_valid(&x[0], why, sizeof why))
+		return 2;
+	return bk_gen_take(s, k->b, x, start);
+}
+
 /* Offers e with the subtrees at at[] replaced by c0 + c1 g (fewer new
- * constants where the grammar's limits leave no room for two), starting
- * from e's fitted constants and c0, c1. 1 taken, 0 not, -1 out of memory. */
+ * constants where the grammar's limits leave no room for two). */
 static int offer_site(bk_search *s, bk_search_sink *k, const bk_expr *e, const double *p, int np, const int *at,
                  int nat, const lib_tree *g, double c0, double c1)
 {
@@ -312,28 +375,67 @@ static int offer_site(bk_search *s, bk_search_sink *k, const bk_expr *e, const d
 			continue;
 		memcpy(t + len, g->node, sizeof *t * (size_t)g->n);
 		len += g->n;
-		bk_expr x[2];
-		memset(x, 0, sizeof x);
-		if (replace_at(e, at, nat, t, len, &x[0]))
-			continue;
-		for (int i = 0; i < x[0].n; i++) /* the fitted constants as start values */
-			if (x[0].node[i].op == BK_OP_PARAM && x[0].node[i].slot < np && x[0].node[i].slot < q)
-				x[0].node[i].k = p[x[0].node[i].slot];
-		if (bk_expr_canon_in(&x[0], s->tree_g.inputs) || bk_expr_nparams(&x[0]) > s->tree_g.max_params ||
-		    bk_expr_size(&x[0]) > s->tree_g.max_size)
-			continue;
-		double start[BK_MAX_PARAMS];
-		for (int j = 0; j < BK_MAX_PARAMS; j++)
-			start[j] = 1.0;
-		for (int i = 0; i < x[0].n; i++)
-			if (x[0].node[i].op == BK_OP_PARAM && x[0].node[i].k != 0 && isfinite(x[0].node[i].k))
-				start[x[0].node[i].slot] = x[0].node[i].k;
-		char why[128];
-		if (bk_expr_valid(&x[0], why, sizeof why))
-			continue;
-		return bk_gen_take(s, k->b, x, start);
+		int r = offer_tree(s, k, e, p, np, at, nat, t, len);
+		if (r != 2) /* taken, made before (not spelled again), or out of memory */
+			return r;
 	}
 	return 0;
+}
+
+/* Offers e with the subtrees at at[] replaced by c0 + c1 g + c2 h, or
+ * c1 g + c2 h where the grammar's limits leave no room for three. */
+static int offer_pair(bk_search *s, bk_search_sink *k, const bk_expr *e, const double *p, int np, const int *at,
+                      int nat, const lib_tree *g, const lib_tree *h, const double c[3])
+{
+	for (int form = 0; form < 2; form++) {
+		bk_enode t[BK_EXPR_MAX];
+		int len = 0, q = bk_expr_nparams(e);
+		if (q + 3 - form > BK_MAX_PARAMS || 6 + g->n + h->n > BK_EXPR_MAX)
+			continue;
+		if (form == 0) { /* p + (p' g + p'' h) */
+			t[len++] = (bk_enode){BK_OP_ADD, 0, 0};
+			t[len++] = (bk_enode){BK_OP_PARAM, q, c[0]};
+		}
+		int j = q + (form == 0);
+		t[len++] = (bk_enode){BK_OP_ADD, 0, 0};
+		t[len++] = (bk_enode){BK_OP_MUL, 0, 0};
+		t[len++] = (bk_enode){BK_OP_PARAM, j, c[1]};
+		memcpy(t + len, g->node, sizeof *t * (size_t)g->n);
+		len += g->n;
+		t[len++] = (bk_enode){BK_OP_MUL, 0, 0};
+		t[len++] = (bk_enode){BK_OP_PARAM, j + 1, c[2]};
+		memcpy(t + len, h->node, sizeof *t * (size_t)h->n);
+		len += h->n;
+		int r = offer_tree(s, k, e, p, np, at, nat, t, len);
+		if (r != 2) /* taken, made before (not spelled again), or out of memory */
+			return r;
+	}
+	return 0;
+}
+
+/* An offer of a walk: at node site, library tree la scaled and offset
+ * (c0 + c1 g), or la and lb together (pair: c0 + c1 g + c2 h); score, the
+ * share of the wanted values' variance it leaves. */
+typedef struct sem_offer {
+	int site;
+	size_t la, lb;
+	double c[3];
+	double score;
+	int pair;
+} sem_offer;
+
+static int offer_order(const void *a, const void *b)
+{
+	const sem_offer *x = a, *y = b;
+	if (x->score != y->score)
+		return x->score < y->score ? -1 : 1;
+	if (x->site != y->site)
+		return x->site < y->site ? -1 : 1;
+	if (x->pair != y->pair)
+		return x->pair - y->pair;
+	if (x->la != y->la)
+		return x->la < y->la ? -1 : 1;
+	return x->lb < y->lb ? -1 : x->lb > y->lb;
 }
 
 /* Walks c: for each subtree, the values wanted of it and the library trees
@@ -382,8 +484,9 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		if (s->o.relative)
 			w[j] = y != 0 ? w[j] / (y * y) : 0;
 	}
-	int ret = 1;
-	for (int i = 1; i < n && ret == 1; i++) {
+	int ret = 1, noffers = 0;
+	sem_offer offers[BK_EXPR_MAX * (SEM_PER_SITE + 1)];
+	for (int i = 1; i < n; i++) {
 		double *di = d + (size_t)i * m;
 		int pa = parent[i];
 		int op = e->node[pa].op;
@@ -438,9 +541,19 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		/* the SEM_PER_SITE nearest library trees, the earlier at a tie */
 		size_t best[SEM_PER_SITE];
 		double br[SEM_PER_SITE], b0[SEM_PER_SITE], b1[SEM_PER_SITE];
-		int nb = 0;
+		int nb = 0, npool = 0;
+		size_t pool[SEM_PAIR_POOL + SEM_PAIR_SMALL];
+		double pr[SEM_PAIR_POOL];
 		for (size_t l = 0; l < S->nlib; l++) {
 			double c0, c1, r = line_residual(&q, S->z + l * m, m, &c0, &c1);
+			if (r < HUGE_VAL) { /* the pool of the nearest, the earlier at a tie */
+				int at = npool < SEM_PAIR_POOL ? npool++ : SEM_PAIR_POOL;
+				for (; at > 0 && r < pr[at - 1]; at--)
+					if (at < SEM_PAIR_POOL)
+						pool[at] = pool[at - 1], pr[at] = pr[at - 1];
+				if (at < SEM_PAIR_POOL)
+					pool[at] = l, pr[at] = r;
+			}
 			if (!(r < now * 0.5))
 				continue;
 			int at = nb < SEM_PER_SITE ? nb++ : SEM_PER_SITE;
@@ -454,24 +567,65 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		}
 		/* the positions the replacement takes: node i and its copies in
 		 * the second operand of each sq above it */
+		double var = q.sdd - q.sd * q.sd / q.W; /* of the wanted values: the scores' scale */
+		if (!(var > 0))
+			continue;
+		for (int b = 0; b < nb; b++) {
+			size_t l = best[b];
+			sem_offer *f = &offers[noffers++];
+			*f = (sem_offer){i, l, l, {b0[b] - b1[b] * S->mu[l] / S->nu[l], b1[b] / S->nu[l], 0}, br[b] / var, 0};
+		}
+		/* the pair of the pool nearest together, where it halves the
+		 * nearest single's residual (and so the node's own) */
+		double bestr = HUGE_VAL, bc[3] = {0, 0, 0}, cc[3] = {0, 0, 0};
+		int ga = -1, gb = -1, nsingle = npool;
+		for (size_t l = 0; l < S->nlib && l < SEM_PAIR_SMALL; l++) { /* and the smallest, once */
+			int in = 0;
+			for (int a = 0; a < nsingle; a++)
+				in |= pool[a] == l;
+			if (!in)
+				pool[npool++] = l;
+		}
+		for (int a = 0; a < npool; a++)
+			for (int b = a + 1; b < npool; b++) {
+				double r = plane_residual(&q, S->z + pool[a] * m, S->z + pool[b] * m, m, cc);
+				if (r < bestr)
+					bestr = r, ga = a, gb = b, memcpy(bc, cc, sizeof bc);
+			}
+		if (ga >= 0 && nsingle > 0 && bestr < 0.5 * fmin(pr[0], now)) {
+			size_t la = pool[ga], lb = pool[gb];
+			sem_offer *f = &offers[noffers++];
+			*f = (sem_offer){i, la, lb,
+			                 {bc[0] - bc[1] * S->mu[la] / S->nu[la] - bc[2] * S->mu[lb] / S->nu[lb],
+			                  bc[1] / S->nu[la], bc[2] / S->nu[lb]},
+			                 bestr / var, 1};
+		}
+	}
+	/* the offers, the best explained first (the least share of the wanted
+	 * values' variance left), the earlier site and the single first at a
+	 * tie: a small share of a generation goes where the match is closest,
+	 * not to the sites nearest the root */
+	qsort(offers, (size_t)noffers, sizeof *offers, offer_order);
+	for (int o = 0; o < noffers && ret == 1; o++) {
+		if (k->b->n >= k->b->want) {
+			ret = 0;
+			break;
+		}
+		const sem_offer *f = &offers[o];
+		/* the positions the replacement takes: the node and its copies in
+		 * the second operand of each sq above it */
 		int pos[BK_EXPR_MAX], npos = 1;
-		pos[0] = i;
-		for (int a = parent[i], below = i; a >= 0; below = a, a = parent[a])
+		pos[0] = f->site;
+		for (int a = parent[f->site], below = f->site; a >= 0; below = a, a = parent[a])
 			if (is_sq(e, a) && which[below] == 0) {
 				int l = bk_expr_span(e, a + 1);
 				for (int k2 = npos - 1; k2 >= 0 && npos < BK_EXPR_MAX; k2--)
 					pos[npos++] = pos[k2] + l;
 			}
-		for (int b = 0; b < nb && ret == 1; b++) {
-			if (k->b->n >= k->b->want) {
-				ret = 0;
-				break;
-			}
-			size_t l = best[b];
-			double c1 = b1[b] / S->nu[l], c0 = b0[b] - b1[b] * S->mu[l] / S->nu[l];
-			if (offer_site(s, k, e, c->p, c->np, pos, npos, &S->lib[l], c0, c1) < 0)
-				ret = -1;
-		}
+		int r = f->pair ? offer_pair(s, k, e, c->p, c->np, pos, npos, &S->lib[f->la], &S->lib[f->lb], f->c)
+		                : offer_site(s, k, e, c->p, c->np, pos, npos, &S->lib[f->la], f->c[0], f->c[1]);
+		if (r < 0)
+			ret = -1;
 	}
 	free(v), free(d), free(w);
 	return ret;

@@ -11,7 +11,13 @@
  * that sample is left free). The subtree is then replaced by the tree of a
  * library (every parameter-free tree of the grammar up to SEM_LIB_SIZE
  * nodes) whose values, scaled and offset, come nearest to those wanted,
- * written p + p'*g and fitted from the constants the inversion gave.
+ * written p + p'*g and fitted from the constants the inversion gave; or by
+ * two of them, p + p'*g + p''*h, where together they leave less than half
+ * of what the nearest one alone leaves (a subtree p2 sq(x) + p3 x is no one
+ * library tree scaled). A walk's offers go out the best explained first
+ * (the least share of the wanted values' variance left), not root first:
+ * a generation's share is small, and the sites nearest the root took it
+ * all before.
  *
  * Why: in the recovery suite's missed runs the right structure is one
  * subtree away from a level's best (GGX's a/sq(mix(1, a, sq(NoH))) from a

@@ -18,10 +18,9 @@
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float search_vf_1(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+static inline float search_vf_1(float NoV, float NoH, float LoH, float r, float f0)
 {
 	(void)NoV;
-	(void)NoL;
 	(void)NoH;
 	(void)LoH;
 	(void)r;

@@ -15,7 +15,7 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-highp float search_vf_1(highp float NoV, highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
+highp float search_vf_1(highp float NoV, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
 	const highp float search_vf_1_p0 = 5.976684;
 	highp float t2 = f0 * search_vf_1_p0;

@@ -15,7 +15,7 @@
  *   mul 1
  *   simple 1, complex 0, cost 1 (simple = 1, complex = 4)
  */
-float search_vf_1(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+float search_vf_1(float NoV, float NoH, float LoH, float r, float f0)
 {
 	const float search_vf_1_p0 = 5.976684;
 	float t2 = f0 * search_vf_1_p0;

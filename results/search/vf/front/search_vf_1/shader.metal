@@ -20,7 +20,7 @@
 #include <metal_stdlib>
 using namespace metal;
 
-float search_vf_1(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+float search_vf_1(float NoV, float NoH, float LoH, float r, float f0)
 {
     float t2 = f0 * 5.976684093475341796875;
     return t2;

@@ -21,11 +21,10 @@
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
 #include <math.h>
-static inline float seed_v_kelemen_hable(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+static inline float seed_v_kelemen_hable(float NoV, float NoH, float LoH, float r, float f0)
 {
 	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	(void)NoV;
-	(void)NoL;
 	(void)NoH;
 	const float seed_v_kelemen_hable_p0 = 0.3190556f;
 	float t2 = LoH * LoH;

@@ -18,7 +18,7 @@
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-highp float seed_v_kelemen_hable(highp float NoV, highp float NoL, highp float NoH, highp float LoH, highp float r, highp float f0)
+highp float seed_v_kelemen_hable(highp float NoV, highp float NoH, highp float LoH, highp float r, highp float f0)
 {
 	highp float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	const highp float seed_v_kelemen_hable_p0 = 0.3190556;

@@ -18,7 +18,7 @@
  *   div 1
  *   simple 12, complex 1, cost 16 (simple = 1, complex = 4)
  */
-float seed_v_kelemen_hable(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+float seed_v_kelemen_hable(float NoV, float NoH, float LoH, float r, float f0)
 {
 	float a = r * r; /* alpha from the signature's r: one mul beyond the op counts above */
 	const float seed_v_kelemen_hable_p0 = 0.3190556;

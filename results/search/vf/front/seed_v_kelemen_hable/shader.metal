@@ -23,7 +23,7 @@
 #include <metal_stdlib>
 using namespace metal;
 
-float seed_v_kelemen_hable(float NoV, float NoL, float NoH, float LoH, float r, float f0)
+float seed_v_kelemen_hable(float NoV, float NoH, float LoH, float r, float f0)
 {
     float a = r * r;
     float t2 = LoH * LoH;
