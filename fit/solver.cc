@@ -22,7 +22,7 @@
  *     tiny.cc: the fit goes on from the accepted point. Ceres may then report
  *     CONVERGENCE at the edge of the region where the form is finite (the
  *     trust region or the step shrank to nothing there): that is reported as
- *     NO_CONVERGENCE, with bridge.h's message (TrialWatch). Any callback
+ *     NO_CONVERGENCE, with bridge.h's message (AbortOnFailure::at_edge). Any callback
  *     failure, and any non-finite value where a Jacobian is asked for,
  *     aborts the solve and is reported as FAILURE.
  */

@@ -270,18 +270,32 @@ static double line_residual(const wanted *q, const double *z, size_t m, double *
 	return r > 0 ? r : 0;
 }
 
-/* The weighted least squares of d on 1, z1, z2: its residual sum, and the
- * plane in c[0..2] (d ~ c0 + c1 z1 + c2 z2); HUGE_VAL where z1 and z2 are
- * (nearly) collinear under the weights. */
-static double plane_residual(const wanted *q, const double *z1, const double *z2, size_t m, double c[3])
+/* One regressor's weighted sums under q: of w z, w z z and w z d. */
+typedef struct zsums {
+	double s, ss, sd;
+} zsums;
+
+static zsums sums_of(const wanted *q, const double *z, size_t m)
 {
-	double s1 = 0, s2 = 0, s11 = 0, s22 = 0, s12 = 0, sd1 = 0, sd2 = 0;
+	zsums t = {0, 0, 0};
 	for (size_t i = 0; i < m; i++) {
-		double w = q->w[i], a = z1[i], b = z2[i];
-		s1 += w * a, s2 += w * b;
-		s11 += w * a * a, s22 += w * b * b, s12 += w * a * b;
-		sd1 += w * a * q->d[i], sd2 += w * b * q->d[i];
+		double w = q->w[i], a = z[i];
+		t.s += w * a, t.ss += w * a * a, t.sd += w * a * q->d[i];
 	}
+	return t;
+}
+
+/* The weighted least squares of d on 1, z1, z2 (their sums t1, t2, made
+ * once per tree, not once per pair): its residual sum, and the plane in
+ * c[0..2] (d ~ c0 + c1 z1 + c2 z2); HUGE_VAL where z1 and z2 are (nearly)
+ * collinear under the weights. */
+static double plane_residual(const wanted *q, const double *z1, const double *z2, const zsums *t1,
+                             const zsums *t2, size_t m, double c[3])
+{
+	double s12 = 0;
+	for (size_t i = 0; i < m; i++)
+		s12 += q->w[i] * z1[i] * z2[i];
+	double s1 = t1->s, s2 = t2->s, s11 = t1->ss, s22 = t2->ss, sd1 = t1->sd, sd2 = t2->sd;
 	/* centred by the weighted means: a 2 x 2 system */
 	double W = q->W, v11 = s11 - s1 * s1 / W, v22 = s22 - s2 * s2 / W, v12 = s12 - s1 * s2 / W;
 	double u1 = sd1 - q->sd * s1 / W, u2 = sd2 - q->sd * s2 / W;
@@ -565,8 +579,6 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 			if (at < SEM_PER_SITE)
 				best[at] = l, br[at] = r, b0[at] = c0, b1[at] = c1;
 		}
-		/* the positions the replacement takes: node i and its copies in
-		 * the second operand of each sq above it */
 		double var = q.sdd - q.sd * q.sd / q.W; /* of the wanted values: the scores' scale */
 		if (!(var > 0))
 			continue;
@@ -579,6 +591,8 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 		 * nearest single's residual (and so the node's own) */
 		double bestr = HUGE_VAL, bc[3] = {0, 0, 0}, cc[3] = {0, 0, 0};
 		int ga = -1, gb = -1, nsingle = npool;
+		if (nsingle == 0) /* no single to halve: no pair is offered */
+			continue;
 		for (size_t l = 0; l < S->nlib && l < SEM_PAIR_SMALL; l++) { /* and the smallest, once */
 			int in = 0;
 			for (int a = 0; a < nsingle; a++)
@@ -586,13 +600,16 @@ static int walk_best(sem_state *S, bk_search *s, const bk_cand *c, bk_search_sin
 			if (!in)
 				pool[npool++] = l;
 		}
+		zsums ts[SEM_PAIR_POOL + SEM_PAIR_SMALL];
+		for (int a = 0; a < npool; a++)
+			ts[a] = sums_of(&q, S->z + pool[a] * m, m);
 		for (int a = 0; a < npool; a++)
 			for (int b = a + 1; b < npool; b++) {
-				double r = plane_residual(&q, S->z + pool[a] * m, S->z + pool[b] * m, m, cc);
+				double r = plane_residual(&q, S->z + pool[a] * m, S->z + pool[b] * m, &ts[a], &ts[b], m, cc);
 				if (r < bestr)
 					bestr = r, ga = a, gb = b, memcpy(bc, cc, sizeof bc);
 			}
-		if (ga >= 0 && nsingle > 0 && bestr < 0.5 * fmin(pr[0], now)) {
+		if (ga >= 0 && bestr < 0.5 * fmin(pr[0], now)) {
 			size_t la = pool[ga], lb = pool[gb];
 			sem_offer *f = &offers[noffers++];
 			*f = (sem_offer){i, la, lb,
