@@ -696,9 +696,13 @@ results-stability:
 	$(TOOL) stability --all --out results/stability --link-prefix stability/
 # the search for closed forms: fixed budgets and seeds, so the fronts are
 # reproducible; each front is refitted in full and compared with the catalog
-# vf and env have no half search: one run each (env's as vf2d's below)
-results-search-vf:
-	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
+# vf and env have no half search: one run each (env's as vf2d's below); vf's is
+# seeded with vf2d's front as well (--start-forms: the talk's V x F in LoH and r
+# is vf's too): alone, its front moved x2.5 both ways with changes to the path
+# (cost 8: 0.066 at 8cacf125, 0.18 at 1f7aafd1); seeded, 0.066 at seeds 1-3
+results-search-vf: results-search-vf2d
+	$(TOOL) search --target vf --objective albedo --evals $(SEARCH_EVALS_VF) --start-forms results/search/vf2d/front.csv \
+	  --gpu $(GPU_CHIPS) --out results/search/vf --link-prefix search/vf/
 results-search-env:
 	$(TOOL) search --target env --evals $(SEARCH_EVALS) --quiet --out build/evolved/env >/dev/null
 	$(TOOL) search --target env $(ENUM_ENV) --start-front build/evolved/env/front.csv --gpu $(GPU_CHIPS) \

@@ -58,10 +58,10 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
  */
 static const bk_cost_model cost_models[] = {
 	{"ir", BK_COST_SIMPLE, BK_COST_COMPLEX}, /* the talk: many simple ops per cycle, only one complex */
-	{"aco-polaris10", 1.063, 1.662},         /* GCN 4, gfx8 */
-	{"aco-vega10", 1.063, 1.662},            /* GCN 5, gfx9 */
-	{"aco-navi21", 1.002, 1.553},            /* RDNA 2, gfx10.3 */
-	{"aco-gfx1100", 1.003, 2.292},           /* RDNA 3, gfx11 */
+	{"aco-polaris10", 1.064, 1.666},         /* GCN 4, gfx8 */
+	{"aco-vega10", 1.064, 1.666},            /* GCN 5, gfx9 */
+	{"aco-navi21", 1.004, 1.553},            /* RDNA 2, gfx10.3 */
+	{"aco-gfx1100", 1.005, 2.293},           /* RDNA 3, gfx11 */
 };
 
 const bk_cost_model *bk_cost_model_find(const char *name)

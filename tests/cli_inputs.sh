@@ -84,6 +84,18 @@ refused 1 "seed other target" "--start-front vV/front.csv: a front of target vf2
 refused 1 "seed other domain" "--start-front fX/front.csv: a front of target f on another domain or with other options: it says '...in [0, 0.5] (N cell centres)'" $H --start-front fX/front.csv --out h11
 refused 1 "seed a catalog" "--start-front fA/catalog.csv: a catalog of brdfkit search (its published forms), not a front" $H --start-front fA/catalog.csv --out h12
 for ok_front in fA fN fM fH; do runs "seed from $ok_front" $H --start-front $ok_front/front.csv --out h13; done
+# --start-forms: the forms of any target's front; the members that do not fit
+# this target are left out and counted. vV is vf2d's front: its members that
+# read r or a (counted here from its form column) do not fit f (LoH and f0)
+n=$("$CSVGET" vV/front.csv form | wc -l)
+m=$("$CSVGET" vV/front.csv form | grep -cE '(^|[^A-Za-z0-9_])(r|a)([^A-Za-z0-9_]|$)')
+[ "$m" -gt 0 ] && [ "$m" -lt "$n" ] || bad "--start-forms premise: vV's front has $m of $n members reading r or a"
+$H --start-forms vV/front.csv --out h14 >out 2>err && ok || bad "--start-forms vf2d's front on f: exit $?, $(cat err)"
+grep -qE -- "^search: --start-forms vV/front.csv: $n members, [0-9]+ new seeds beside the [0-9]+ before, $m left out as not fitting target f \\(the first, line [0-9]+, [^:]+: the form reads an input the target does not provide\\)\$" err &&
+	ok || bad "--start-forms: not '$n members ... $m left out': $(cat err)"
+# a front none of whose members fits: refused, the first member named
+refused 1 "--start-forms nothing fits" "--start-forms rfront.csv: none of its 1 members fits target f (line $L, x: the form reads an input the target does not provide)" $BK $S --target f --start-forms rfront.csv --out h15
+refused 1 "--start-forms a catalog" "--start-forms fA/catalog.csv: a catalog of brdfkit search (its published forms), not a front" $H --start-forms fA/catalog.csv --out h16
 # report --summary: front.csv and catalog.csv of one search
 mkdir mixT mixM mixP
 cp fA/catalog.csv fA/section.html mixT/ && cp vV/front.csv mixT/

@@ -461,6 +461,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--cost-model", .kind = CLI_STR, .metavar = "NAME", .help = "named weights: ir (the default) or aco-polaris10, aco-vega10, aco-navi21, aco-gfx1100 (fitted to AMD's instruction counts)", .dest = &a.cost_model},
 		{.name = "--start", .kind = CLI_FORM, .metavar = "NAME|FORM", .help = "seed the search with this (default: every catalog form of the target)", .dest = a.start, .repeat = MAX_SEEDS},
 		{.name = "--start-front", .kind = CLI_STR, .metavar = "FILE", .help = "also seed the search with every member of a front.csv of brdfkit search (columns form, form_b, parameters), after the catalog's (or --start's) seeds; its '# target:' line must state this target and domain (the grid may differ), its objective and precision may (a double front seeds a half search and back); may be given up to 8 times (make results merges a target's double and half fronts so), a form on two fronts seeded once", .dest = a.start_front, .repeat = MAX_START_FRONTS},
+		{.name = "--start-forms", .kind = CLI_STR, .metavar = "FILE", .help = "also seed the search with the forms of a front.csv of any target (vf2d's for vf), each at its constants and refitted here; its '# target:' line is not read, and members that do not fit this target (an input it lacks, another shape, NaN on its samples) are left out and counted; up to 8 times", .dest = a.start_forms, .repeat = MAX_START_FRONTS},
 		{.name = "--vs-front", .kind = CLI_STR, .metavar = "FILE", .help = "with --precision half: the double front.csv of the same target, samples and objective (its '#' lines are checked) beside this front in section.html, and DIR/vs_double.csv (at each cost <= 16 the best of each, their ratio, pass = ratio <= 1.25)", .dest = &a.vs_front},
 		{.name = "--fetch-cost", .kind = CLI_NUM, .metavar = "K", .help = "env: add compare's DFG LUT rows at cost K + 1 (a fetch priced as K simple ops; the talk's tiers: 16, 32, 48, 64)", .dest = &a.fetch_cost, .lo = 0, .hi = 1e6},
 		{.name = "--no-constraints", .kind = CLI_FLAG, .help = "allow negative values (and env A + B > 1)", .dest = &a.no_constraints},
@@ -507,6 +508,7 @@ static int search_main(int argc, char **argv)
 	J.cmd = &cmd;
 	a.nstart = cli_seen(&cmd, "--start");
 	a.nstart_front = cli_seen(&cmd, "--start-front");
+	a.nstart_forms = cli_seen(&cmd, "--start-forms");
 	if (!a.threads) {
 		long n = sysconf(_SC_NPROCESSORS_ONLN);
 		a.threads = n < 1 ? 1 : n > 64 ? 64 : n;
@@ -622,7 +624,7 @@ done:
 	bk_halves_free(&hv);
 	bk_seeds_free(&sd);
 	for (int i = 0; i < MAX_START_FRONTS; i++)
-		bk_frontcsv_free(&J.start_fc[i]);
+		bk_frontcsv_free(&J.start_fc[i]), bk_frontcsv_free(&J.forms_fc[i]);
 	bk_frontcsv_free(&J.vs_fc);
 	bk_sfront_free(&J.F);
 	bk_search_free(J.S);

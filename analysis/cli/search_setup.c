@@ -282,32 +282,45 @@ static const char *front_row_unfit(const job *J, const bk_frontcsv_row *w, char 
 	return msg;
 }
 
-/* --start-front FILE (each time given): every member of a front.csv
- * (columns by name, frontcsv.h) as a seed at its constants, after the
- * published seeds; one whose texts are a seed's already is that seed (a form
- * on two fronts, or on a front and in the catalog, is fitted once). A
- * front's member is written under the run's own names (search_front.c), so
- * its name only has to differ from the published seeds' (which keep theirs:
- * the constraints exempt them by name). 0, or 1 after the message. */
-static int add_front_seeds(job *J, bk_seeds *sd, int i)
+/* --start-front FILE and --start-forms FILE (each time given): every member
+ * of a front.csv (columns by name, frontcsv.h) as a seed at its constants,
+ * after the published seeds; one whose texts are a seed's already is that
+ * seed (a form on two fronts, or on a front and in the catalog, is fitted
+ * once). A front's member is written under the run's own names
+ * (search_front.c), so its name only has to differ from the published
+ * seeds' (which keep theirs: the constraints exempt them by name).
+ * --start-front takes a front of this target and domain, and a member that
+ * does not fit it is an error; --start-forms takes the forms of any
+ * target's front (vf2d's for vf: the talk's V x F in LoH and r is vf's too),
+ * its '# target:' line unread, and leaves out the members that do not fit
+ * this one (an input it lacks, another shape, NaN on its samples), counted;
+ * none fitting is an error. 0, or 1 after the message. */
+static int add_front_seeds(job *J, bk_seeds *sd, const char *opt, const char *path, bk_frontcsv *fc, int same)
 {
 	char err[700];
-	const char *path = J->a->start_front[i];
-	bk_frontcsv *fc = &J->start_fc[i];
-	int before = sd->n;
+	int before = sd->n, left = 0, first_left = -1;
+	char first_why[300] = "";
 	/* a seed is a start: the objective and precision it was searched with
-	 * may differ (a double front seeds a half search and back), the target
-	 * and its domain may not (its forms would answer another question) */
+	 * may differ (a double front seeds a half search and back); with
+	 * --start-front the target and its domain may not (its forms would
+	 * answer another question) */
 	if (bk_frontcsv_read(path, BK_FRONTCSV_FORMS, fc, err, sizeof err) ||
-	    bk_frontcsv_head_check(&fc->head, path, BK_FRONTCSV_FRONT, "this search's", J->screen.description, 0, NULL,
-	                           NULL, err, sizeof err))
-		return cli_fail("search", "--start-front %s", err);
+	    bk_frontcsv_head_check(&fc->head, path, BK_FRONTCSV_FRONT, "this search's",
+	                           same ? J->screen.description : NULL, 0, NULL, NULL, err, sizeof err))
+		return cli_fail("search", "%s %s", opt, err);
 	for (int r = 0; r < fc->n; r++) {
 		const bk_frontcsv_row *w = &fc->row[r];
 		char why[300];
 		const char *msg = front_row_unfit(J, w, why, sizeof why);
-		if (msg)
-			return cli_fail("search", "--start-front %s:%d: %.60s: %s", path, w->line, w->name, msg);
+		if (msg && same)
+			return cli_fail("search", "%s %s:%d: %.60s: %s", opt, path, w->line, w->name, msg);
+		if (msg) {
+			if (left++ == 0) {
+				first_left = r;
+				snprintf(first_why, sizeof first_why, "%s", msg);
+			}
+			continue;
+		}
 		int dup = 0;
 		char slug[80], other[80];
 		bk_slug(w->name, slug, sizeof slug);
@@ -317,26 +330,34 @@ static int add_front_seeds(job *J, bk_seeds *sd, int i)
 		for (int q = 0; q < r; q++) { /* a file's names are its members' (FILE.csv:NAME): one each */
 			bk_slug(fc->row[q].name, other, sizeof other);
 			if (!strcmp(slug, other))
-				return cli_fail("search", "--start-front %s:%d: the name '%.60s' is on line %d already", path,
-				                w->line, w->name, fc->row[q].line);
+				return cli_fail("search", "%s %s:%d: the name '%.60s' is on line %d already", opt, path, w->line,
+				                w->name, fc->row[q].line);
 		}
 		for (int k = 0; k < J->ncatalog && !dup; k++) {
 			if (!sd->name[k])
 				continue;
 			bk_slug(sd->name[k], other, sizeof other);
 			if (!strcmp(slug, other))
-				return cli_fail("search", "--start-front %s:%d: the name '%.60s' is a published seed's", path,
-				                w->line, w->name);
+				return cli_fail("search", "%s %s:%d: the name '%.60s' is a published seed's", opt, path, w->line,
+				                w->name);
 		}
 		if (dup)
 			continue;
 		if (bk_seeds_add_forms(sd, w->form, w->form_b, w->name, w->p, w->f, w->f_b))
-			return cli_fail("search", "--start-front %s: more than %d seeds with the %d published ones", path,
-			                MAX_SEEDS, J->ncatalog);
+			return cli_fail("search", "%s %s: more than %d seeds with the %d published ones", opt, path, MAX_SEEDS,
+			                J->ncatalog);
 		sd->from_front[sd->n - 1] = 1;
 	}
-	fprintf(stderr, "search: --start-front %s: %d members, %d new seeds beside the %d before\n", path, fc->n,
+	if (left && left == fc->n)
+		return cli_fail("search", "%s %s: none of its %d members fits target %s (line %d, %.60s: %s)", opt, path,
+		                fc->n, bk_target_name(J->kind), fc->row[first_left].line, fc->row[first_left].name,
+		                first_why);
+	fprintf(stderr, "search: %s %s: %d members, %d new seeds beside the %d before", opt, path, fc->n,
 	        sd->n - before, before);
+	if (left)
+		fprintf(stderr, ", %d left out as not fitting target %s (the first, line %d, %.60s: %s)", left,
+		        bk_target_name(J->kind), fc->row[first_left].line, fc->row[first_left].name, first_why);
+	fputc('\n', stderr);
 	return 0;
 }
 
@@ -388,7 +409,9 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 	int rc = search_check_starts(J, sd, &J->screen);
 	J->ncatalog = sd->n;
 	for (int i = 0; !rc && i < J->a->nstart_front; i++)
-		rc = add_front_seeds(J, sd, i);
+		rc = add_front_seeds(J, sd, "--start-front", J->a->start_front[i], &J->start_fc[i], 1);
+	for (int i = 0; !rc && i < J->a->nstart_forms; i++)
+		rc = add_front_seeds(J, sd, "--start-forms", J->a->start_forms[i], &J->forms_fc[i], 0);
 	bk_seeds_apply(sd, &J->so);
 	/* the published seeds alone are kept whatever the constraints say (a
 	 * front's members are starts like any other) */
@@ -472,6 +495,7 @@ static const cli_rule rules[] = {
 	EVERYWHERE("--cost-model", "ir"),
 	EVERYWHERE("--start", NULL), /* a start is checked against the target's inputs */
 	EVERYWHERE("--start-front", NULL), /* its members are checked against the target's inputs and shape */
+	EVERYWHERE("--start-forms", NULL), /* those that do not fit the target are left out */
 	EVERYWHERE("--vs-front", NULL),    /* with --precision half: checked in search_main */
 	EVERYWHERE("--inherit", NULL),
 	EVERYWHERE("--link-prefix", "x/"),

@@ -21,7 +21,7 @@
 
 #define MAX_SEEDS BK_SEEDS_MAX
 #define MAX_FRONT BK_SFRONT_MAX
-#define MAX_START_FRONTS 8 /* --start-front given this many times at most */
+#define MAX_START_FRONTS 8 /* --start-front (and --start-forms) given this many times at most */
 
 typedef struct search_cli {
 	fitargs t; /* the target options, as fit reads them */
@@ -30,6 +30,8 @@ typedef struct search_cli {
 	int nstart;
 	const char *start_front[MAX_START_FRONTS]; /* --start-front FILE, each time given */
 	int nstart_front;
+	const char *start_forms[MAX_START_FRONTS]; /* --start-forms FILE, each time given */
+	int nstart_forms;
 	const char *vs_front; /* --vs-front FILE */
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
@@ -55,6 +57,7 @@ typedef struct job {
 	int nchips;
 	char chipbuf[512], driver[256];
 	bk_frontcsv start_fc[MAX_START_FRONTS]; /* --start-front's rows: the seeds point at their texts */
+	bk_frontcsv forms_fc[MAX_START_FRONTS]; /* --start-forms' rows, likewise */
 	bk_frontcsv vs_fc;    /* --vs-front's rows */
 	int ncatalog;         /* seeds before those: published (or --start), exempt from the constraints */
 	bk_search_cert cert;  /* how far the run is complete, all islands together */
