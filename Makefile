@@ -567,12 +567,13 @@ GPU_CHIPS = polaris10,vega10,navi21,gfx1100
 
 # make results runs its independent commands RESULTS_JOBS at a time (each
 # writes its own files; the searches' fronts do not depend on their threads),
-# longest first, so that the two cores stay busy to the end; their lines
+# longest first, so that the two cores stay busy to the end (vf's search waits for
+# vf2d's three: that chain, about 200 s, starts first); their lines
 # interleave whole (make -Oline: each progress line as it comes, named by its
 # command: "search:", "scene:", ...). What needs the fronts (the
 # gpucost calibration, the page) runs after them.
 RESULTS_JOBS = 2
-RESULTS_RUNS = results-scenes results-search-env_mix results-search-env_f0 results-search-vf \
+RESULTS_RUNS = results-search-vf results-scenes results-search-env_mix results-search-env_f0 \
   results-search-vf2d results-search-env results-compare-env results-search-f_gold \
   results-search-f_glass results-search-f_gold_half results-search-f_glass_half results-compare-spec \
   results-stability results-compare-vf results-albedo \
