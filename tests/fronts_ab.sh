@@ -4,7 +4,8 @@
 # first search, half search, merged front), not the last step alone. From
 # its --dry-run: every front has a step that writes it; every --start-front
 # a step reads is a front an earlier step wrote (no step reads what the
-# pipeline did not make, none runs before what it reads); every step has the
+# pipeline did not make, none runs before what it reads; --start-forms
+# likewise: vf's reads vf2d's front); every step has the
 # seed and one thread, and no --gpu or --link-prefix; and each front's last
 # step is, its paths aside, the command the committed
 # results/search/NAME/front.csv says made it (the Makefile and the results
@@ -53,7 +54,7 @@ def bare(argv):
         if skip:
             skip = 0
             continue
-        if a in ("--out", "--start-front", "--gpu", "--link-prefix", "--seed", "--threads"):
+        if a in ("--out", "--start-front", "--start-forms", "--gpu", "--link-prefix", "--seed", "--threads"):
             skip = 1
             continue
         out.append(a)
@@ -63,7 +64,7 @@ def faults(d, steps):
     f = []
     made = set()
     for argv in steps:
-        for sf in opt(argv, "--start-front"):
+        for sf in opt(argv, "--start-front") + opt(argv, "--start-forms"):
             if os.path.dirname(sf) not in made:
                 f.append("a step reads %s before any step made it" % sf)
             if not sf.startswith(d + "/"):
@@ -81,9 +82,10 @@ def faults(d, steps):
         want = committed(n)
         if want is None or bare(mine[0]) != bare(want):
             f.append("%s: the last step is not the committed front's command" % n)
-        if len(opt(mine[0], "--start-front")) != len(opt(want or [], "--start-front")):
-            f.append("%s: it reads %d fronts, the committed run %d" % (n, len(opt(mine[0], "--start-front")),
-                                                                          len(opt(want or [], "--start-front"))))
+        for o in ("--start-front", "--start-forms"):
+            if len(opt(mine[0], o)) != len(opt(want or [], o)):
+                f.append("%s: it reads %d fronts by %s, the committed run %d" % (n, len(opt(mine[0], o)), o,
+                                                                                len(opt(want or [], o))))
     return f
 
 p = pipelines(sys.argv[1])
