@@ -634,7 +634,7 @@ results-runs: $(RESULTS_RUNS)
 # after the runs they read, beside the last ones (the two cores stay busy):
 # the IR's cost model against AMD's compiler, per chip, from the double
 # fronts (the weights of the named models aco-CHIP: brdf/ir_count.c;
-# tests/gpucost.sh checks they agree); the rendered comparisons' turn is
+# tests/gpucost.sh checks they fit as well as today's calibration); the rendered comparisons' turn is
 # results-render-after, below RENDER_FRONTS
 DOUBLE_SEARCHES = vf2d vf env env_f0 env_mix f_glass f_gold ms sheen
 results-gpucost: $(DOUBLE_SEARCHES:%=results-search-%)

@@ -48,10 +48,12 @@ double bk_ops_cost(const bk_ops *ops, double simple_cost, double complex_cost)
 /*
  * The cost models. The aco- weights are what `brdfkit gpucost --calibrate
  * --chips CHIP` prints given the front.csv of each search in results/search
- * (fp32, the 39 catalog forms and the 121 members of make results' nine
+ * (fp32, the 39 catalog forms and the 124 members of make results' nine
  * double search fronts, ms and sheen included since issue 41, Mesa 22.3.6
  * RADV/ACO, Debian 12), rounded to 4 digits; tests/gpucost.sh reruns the calibration
- * and fails if the driver's answer moves away from them. ACO issues a
+ * and fails if they fit its counts worse than its own weights by over 0.1 %
+ * of the rms residual (a weight 5 % off does; a front's change in the third
+ * decimal does not). ACO issues a
  * transcendental as one instruction, hence complex weights of 1.5-2.3, not
  * the IR's 4: that 4 prices throughput on a mobile GPU's one-per-cycle unit,
  * which an instruction count does not see.
