@@ -10,7 +10,8 @@
 # step is, its paths aside, the command the committed
 # results/search/NAME/front.csv says made it (the Makefile and the results
 # agree). Controls: the same checks catch a pipeline with its half search
-# left out, and one with a step's argument changed.
+# left out, one with vf's step (it reads vf2d's front) run first, and one with
+# a step's argument changed.
 # usage: sh tests/fronts_ab.sh path/to/brdfkit   (from the repository root)
 set -u
 BK=${1:?usage: fronts_ab.sh path/to/brdfkit}
@@ -106,6 +107,14 @@ for side in ("old", "new"):
         ok += 1
     else:
         print("FAIL: control: a pipeline without its half searches passes"); bad += 1
+    # and vf's step, which reads vf2d's front by --start-forms, run first
+    vf = [a for a in steps if opt(a, "--out") == [os.path.join(d, "results", "vf")]]
+    early = vf + [a for a in steps if a not in vf]
+    sf = opt(vf[0], "--start-forms") if vf else []
+    if sf and any(sf[0] in x for x in faults(d, early)):
+        ok += 1
+    else:
+        print("FAIL: control: a step reading --start-forms before its front is made passes"); bad += 1
     changed = [list(a) for a in steps]
     last = [a for a in changed if opt(a, "--out") == [os.path.join(d, "results", "f_gold")]][0]
     last[last.index("--evals") + 1] = "7"
