@@ -343,16 +343,25 @@ static int build_env(const bk_target_options *o, bk_samples *s, bk_progress_fn p
 	return 0;
 }
 
-/* ms: the single-scattering GGX directional albedo with F = 1,
+/* ms and sheen: one directional albedo E per (NoV, r) cell, no f0.
+ *
+ * ms: the single-scattering GGX directional albedo with F = 1,
  *     E(NoV, r) = ∫ D V NoL dω_l = A + B,
  * the split sum's two halves added (f0 = 1 in f0 A + B): one integral per
  * cell, the DFG's. Multiple-scattering compensation (Kulla & Conty 2017,
  * Turquin 2019, Filament) reads 1 - E(μ) and E_avg = 2 ∫ E μ dμ; a fit of E
  * gives both (E_avg by the same quadrature an engine's 1-D table uses), so
- * one component, not two with shared parameters (see brdfkit-fit(1)). */
-static int build_ms(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
-                    char *err, size_t errlen)
+ * one component, not two with shared parameters (see brdfkit-fit(1)).
+ *
+ * sheen: the directional albedo of the Charlie sheen lobe (Estevez & Kulla
+ * 2017's D, Neubelt & Pettineo 2013's V, F = 1), bk_sheen_albedo, the
+ * channel Filament bakes for cloth beside A and B; a = r^2 in D. It is what
+ * a layered material scales the layer below by (1 - sheen albedo). Its
+ * reference cell is E alone (the second value is not read). */
+static int build_albedo(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx, char *err,
+                        size_t errlen)
 {
+	int ms = o->kind == BK_TARGET_MS;
 	size_t n = (size_t)o->nx * o->nr, i = 0;
 	if (alloc(s, n, err, errlen))
 		return -1;
@@ -365,48 +374,8 @@ static int build_ms(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 				bk_samples_free(s);
 				return -1;
 			}
-			double E = A + B; /* bk_ms_E's sum */
-			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* E has no f0 (F = 1) */
-			s->y[i] = E;
-			s->w[i] = 1.0;
-			s->cell[i] = j * o->nx + k;
-		}
-		if (progress)
-			progress(ctx, j + 1, o->nr);
-	}
-	s->n = n;
-	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
-	normalise_rows(s, 0, n, o->nr, o->nx);
-	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
-	snprintf(s->description, sizeof s->description,
-	         "ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (%s Smith, F = 1), "
-	         "the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV "
-	         "in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
-	         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
-	return 0;
-}
-
-/* sheen: the directional albedo of the Charlie sheen lobe (Estevez & Kulla
- * 2017's D, Neubelt & Pettineo 2013's V, F = 1), bk_sheen_albedo, the
- * channel Filament bakes for cloth beside A and B; a = r^2 in D. It is what
- * a layered material scales the layer below by (1 - sheen albedo). */
-static int build_sheen(const bk_target_options *o, bk_samples *s, bk_progress_fn progress, void *ctx,
-                       char *err, size_t errlen)
-{
-	size_t n = (size_t)o->nx * o->nr, i = 0;
-	if (alloc(s, n, err, errlen))
-		return -1;
-	double x_lo = o->x_lo > 0 ? o->x_lo : 0.0;
-	for (int j = 0; j < o->nr; j++) {
-		double r = centre(o->r_lo, o->r_hi, j, o->nr);
-		for (int k = 0; k < o->nx; k++, i++) {
-			double NoV = centre(x_lo, o->x_hi, k, o->nx), E, zero;
-			if (ref_at(o, i, &E, &zero, err, errlen)) {
-				bk_samples_free(s);
-				return -1;
-			}
 			put(s, i, NoV, NAN, NAN, NAN, r, NAN); /* F = 1: no f0 */
-			s->y[i] = E;
+			s->y[i] = ms ? A + B : A;               /* ms: bk_ms_E's sum */
 			s->w[i] = 1.0;
 			s->cell[i] = j * o->nx + k;
 		}
@@ -417,11 +386,18 @@ static int build_sheen(const bk_target_options *o, bk_samples *s, bk_progress_fn
 	s->provides = 1u << BK_IN_NOV | 1u << BK_IN_R | 1u << BK_IN_A;
 	normalise_rows(s, 0, n, o->nr, o->nx);
 	plane(s, o->nx, o->nr, x_lo, o->x_hi, o->r_lo, o->r_hi, "NoV", "r");
-	snprintf(s->description, sizeof s->description,
-	         "sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL "
-	         "(Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference "
-	         "integrator at tol 1e-8, on NoV in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
-	         x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	if (ms)
+		snprintf(s->description, sizeof s->description,
+		         "ms: single-scattering GGX directional albedo E = A + B = integral of D V NoL (%s Smith, F = 1), "
+		         "the input of multiple-scattering compensation (1 - E), reference integrator at tol 1e-8, on NoV "
+		         "in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+		         bk_smith_name(o->smith), x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
+	else
+		snprintf(s->description, sizeof s->description,
+		         "sheen: directional albedo of the Charlie sheen lobe = integral of D_charlie(a = r^2) V_neubelt NoL "
+		         "(Estevez & Kulla 2017, Neubelt & Pettineo 2013, F = 1), Filament's cloth DFG channel, reference "
+		         "integrator at tol 1e-8, on NoV in [%g, %g] x r in [%g, %g] (%dx%d cell centres)",
+		         x_lo, o->x_hi, o->r_lo, o->r_hi, o->nx, o->nr);
 	return 0;
 }
 
@@ -711,8 +687,8 @@ int bk_target_build(const bk_target_options *o, bk_samples *s, bk_progress_fn pr
 	case BK_TARGET_D: rc = build_d(o, s, err, errlen); break;
 	case BK_TARGET_F: rc = build_f(o, s, err, errlen); break;
 	case BK_TARGET_FORM: rc = build_form(o, s, err, errlen); break;
-	case BK_TARGET_MS: rc = build_ms(o, s, progress, ctx, err, errlen); break;
-	case BK_TARGET_SHEEN: rc = build_sheen(o, s, progress, ctx, err, errlen); break;
+	case BK_TARGET_MS:
+	case BK_TARGET_SHEEN: rc = build_albedo(o, s, progress, ctx, err, errlen); break;
 	case BK_TARGET_TABLE:
 	case BK_TARGET_MERL: rc = build_table(o, s, err, errlen); break;
 	default: snprintf(err, errlen, "unknown target"); return -1;

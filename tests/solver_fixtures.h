@@ -79,13 +79,14 @@ static int pole_fn(void *ctx, int block, const double *p, double *r, double *jac
 
 /* A wall before the answer: r = p0 - 2 where p0 <= 1, NaN beyond (as
  * p0 - 2 + 0 sqrt(1 - p0)): the least squares would go to 2 and can only
- * reach the wall at 1. */
+ * reach the wall at 1. ctx: the wall's place instead of 1 (NULL: 1). */
 static int wall_fn(void *ctx, int block, const double *p, double *r, double *jac)
 {
-	(void)ctx, (void)block;
-	r[0] = p[0] <= 1 ? p[0] - 2 : NAN;
+	double edge = ctx != NULL ? *(const double *)ctx : 1;
+	(void)block;
+	r[0] = p[0] <= edge ? p[0] - 2 : NAN;
 	if (jac != NULL)
-		jac[0] = p[0] <= 1 ? 1 : NAN;
+		jac[0] = p[0] <= edge ? 1 : NAN;
 	return 0;
 }
 
@@ -142,6 +143,25 @@ static inline void check_pole_and_wall(solve_fn solve, const char *who)
 	                 "residuals and were rejected",
 	                 "%s", who);
 	cr_assert(y[0] <= 1 && y[0] > 1 - 1e-6, "%s: %.17g", who, y[0]);
+	/* The controls: each check above can fail. From near the answer no
+	 * trial reaches the pole (the premise's count stays 0), and the fit
+	 * still lands on it; with the wall beyond the answer (at 3) the solve
+	 * converges at 2, no edge named, not at the wall. */
+	pole near = {0};
+	p.ctx = &near;
+	double xn[2] = {0.99, -0.085};
+	o = (bk_fit_options)BK_FIT_OPTIONS_INIT;
+	o.function_tolerance = 1e-12;
+	cr_assert_eq(solve_silently_with(solve, &p, &o, xn, &s), 0, "%s: %s", who, s.message);
+	cr_assert_eq(near.nan_calls, 0, "%s: control: %d NaN trials from near the answer", who, near.nan_calls);
+	cr_assert(fabs(xn[0] - 1) < 1e-9 && fabs(xn[1] + 0.09) < 1e-9, "%s: %.17g %.17g", who, xn[0], xn[1]);
+	double far = 3, z[1] = {0};
+	w.ctx = &far;
+	o = (bk_fit_options)BK_FIT_OPTIONS_INIT;
+	cr_assert_eq(solve_silently_with(solve, &w, &o, z, &s), 0, "%s: %s", who, s.message);
+	cr_assert_eq(s.termination, BK_TERM_CONVERGENCE, "%s: control: %s", who, s.message);
+	cr_assert(strstr(s.message, "edge") == NULL, "%s: control: %s", who, s.message);
+	cr_assert(fabs(z[0] - 2) < 1e-9, "%s: control: %.17g", who, z[0]);
 }
 
 #endif
