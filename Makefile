@@ -604,11 +604,11 @@ results: deps
 	@mkdir -p results/fits results/compare results/search results/gpucost build/evolved
 	rm -rf $(RESULTS_TABLES) && mkdir -p $(RESULTS_TABLES)
 	$(MAKE) --no-print-directory -j$(RESULTS_JOBS) -Oline results-runs
-	# (results/search/moved: what the last change to the search, issue 38's certified
-	# fronts, moved, written once by analysis/bench/fronts_moved.py against the fronts
-	# before it (7ccfb46d), with seeds.csv, fronts_ab.py's tallies of the same change at
-	# seeds 1-3, each side its own make results; kept, not rebuilt; last written with
-	# db10c009's binary, the twin test's four vectors)
+	# (results/search/moved: what the search's changes since issue 38's certified
+	# fronts moved, written by analysis/bench/fronts_moved.py against the fronts
+	# before them (7ccfb46d) and the committed ones, with seeds.csv, fronts_ab.py's
+	# tallies of the certificate's change at seeds 1-3 (db10c009's binary against
+	# 7ccfb46d's, each side its own make results); kept, not rebuilt)
 	# the first screen: per target the best published form against the search's front
 	# (report --summary reads catalog.csv and front.csv by column name), double then half
 	$(TOOL) report --out results/index.html \

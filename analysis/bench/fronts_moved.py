@@ -1,10 +1,11 @@
 #!/usr/bin/env python3
-"""fronts_moved.py: what a change to the search moved in make results' fronts.
+"""fronts_moved.py: what the changes to the search since a commit moved in make results' fronts.
 
   python3 analysis/bench/fronts_moved.py OLD_COMMIT [--seeds AB.csv] > results/search/moved/section.html
 
 For each committed search front, the best error at cost <= c of the front
-at OLD_COMMIT (git show) and of the one in the work tree, for every cost c
+at OLD_COMMIT (git show) and of the one in the work tree (named by HEAD's
+commit when it is HEAD's), for every cost c
 either front has a member at: better, worse or the same (within 0.1 %).
 Rows are read by column name (name, cost, error); the catalog's rows are not
 members of the search's front and are left out. Writes a page section
@@ -55,7 +56,8 @@ def seeds_table(path):
     for r in rs:
         if r["seed"] != "all" and r["seed"] not in seeds:
             seeds.append(r["seed"])
-    out = ["<p>The same seven searches at seeds %s, the binaries before and after, side by side: "
+    out = ["<p>The same seven searches at seeds %s, two binaries side by side (named below; their "
+           "commit may be older than the fronts above): "
            "cost levels better / worse / the same, and the geometric mean of after/before over them "
            "(below 1: better). <code>%s</code></p>" % (html.escape(", ".join(seeds)), html.escape(said)), "<table>",
            "<tr><th>search</th>%s<th>all seeds</th></tr>" % "".join("<th>seed %s</th>" % html.escape(s) for s in seeds)]
@@ -78,15 +80,23 @@ def main():
     elif len(args) != 1:
         sys.exit("usage: fronts_moved.py OLD_COMMIT [--seeds AB.csv]")
     old_commit = args[0]
+    # "after" is the work tree's fronts: named by the commit that holds them
+    # when they are committed, else as the work tree on that commit
+    head = subprocess.run(["git", "rev-parse", "--short=8", "HEAD"], capture_output=True, text=True,
+                          check=True).stdout.strip()
+    clean = subprocess.run(["git", "diff", "--quiet", "HEAD", "--"] +
+                           ["results/search/%s/front.csv" % n for n in SEARCHES]).returncode == 0
+    after = ("as committed at %s" % head) if clean else ("the work tree's, on commit %s" % head)
     out = ['<section id="search-moved">',
-           "<h2>What the last change to the search moved in the fronts</h2>",
-           "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after, "
+           "<h2>What the search's changes since commit %s moved in the fronts</h2>" % html.escape(old_commit),
+           "<p>Best error at cost &lt;= c of each committed search front before (commit %s) and after (%s), "
            "same commands, budgets and seeds. The search is stochastic at a fixed budget: a change to "
            "canonical texts, starts or generation, or to the last bit of a function its fits evaluate, "
            "reorders what it tries, so fronts move both ways (earlier changes: git log of this file's "
            "output, results/search/moved/section.html). "
            "<code>python3 analysis/bench/fronts_moved.py %s%s</code></p>"
-           % (html.escape(old_commit), html.escape(old_commit), html.escape(" --seeds " + seeds if seeds else ""))]
+           % (html.escape(old_commit), html.escape(after), html.escape(old_commit),
+              html.escape(" --seeds " + seeds if seeds else ""))]
     if seeds:
         out.extend(seeds_table(seeds))
     for n in SEARCHES:
