@@ -94,6 +94,19 @@ typedef enum bk_shape {
 	                   B likewise with its own three (Karis' structure, s paid once) */
 } bk_shape;
 
+/* The ranks of one search that split its fits (bk_search_options.split):
+ * the same search as one process, byte for byte, on any number of them
+ * (against islands, which each run a search of their own). share is
+ * collective: every rank calls it once per step, in the same order, with the
+ * batch's n results of recsize bytes each, having written those of index i
+ * with i % size == rank; it fills in the others from the ranks that wrote
+ * them. Returns 0, or -1 on every rank (then the step fails). */
+typedef struct bk_search_split {
+	int rank, size;
+	int (*share)(void *ctx, void *rec, size_t recsize, size_t n);
+	void *ctx;
+} bk_search_split;
+
 typedef struct bk_search_options {
 	const bk_samples *screen; /* the screening samples (target.h, bk_target_build) */
 	bk_shape shape;           /* how trees become the fitted form */
@@ -140,6 +153,11 @@ typedef struct bk_search_options {
 	int island, islands;      /* this search is island `island` of `islands` (an
 	                             MPI rank of a run): it enumerates only its share
 	                             of the trees (every islands-th, from island) */
+	/* ranks that split each step's fits (NULL: this process fits them all):
+	 * every rank runs the same search, fits the candidates of the batch
+	 * whose index is rank mod size, and the results are shared before the
+	 * merge, so each holds what one process would (bk_search_split) */
+	const struct bk_search_split *split;
 	double semantic;          /* the part of a generation the `semantic` generator may fill
 	                             after the neighbours (semantic backpropagation into a
 	                             library of small trees: search/semantic.h), in [0, 0.5];

@@ -150,6 +150,53 @@ else
 fi
 [ ! -e "$T/bout" ] && [ -d "$T/bad.1" ] && [ ! -e "$T/bad.1.prev" ] && ok || bad "unwritable checkpoint: files moved or written"
 
+# --split-fits: the ranks run one search and each fits its share of every
+# step (fit/search.h, bk_search_split), so 2 and 3 ranks write the files of
+# one process, every byte but the command lines, the certificate included;
+# the control: the same ranks as islands write other ones
+split() { # split NP OUT [options]: the one-process run's options on NP ranks
+	np=$1 out=$2; shift 2
+	$MPIRUN -np "$np" "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --out "$out" --split-fits "$@"
+}
+plain() { # plain OUT [options]: the same search on one process
+	out=$1; shift
+	$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --out "$out" "$@"
+}
+plain "$T/s1" --evals 4000 --enum-size 4 --threads 2 >/dev/null 2>&1
+for np in 2 3; do
+	split $np "$T/s$np" --evals 4000 --enum-size 4 --threads 1 >/dev/null 2>"$T/err"
+	for f in front.csv candidates.csv catalog.csv; do
+		same "$T/s1" "$T/s$np" $f && ok || bad "--split-fits on $np ranks and one process differ in $f: $(head -3 "$T/err")"
+	done
+	[ "$(cert_of "$T/s$np")" = "$(cert_of "$T/s1")" ] && [ "$(cert_of "$T/s1" | cut -d' ' -f1)" = 4 ] && ok ||
+		bad "--split-fits on $np ranks: certificate '$(cert_of "$T/s$np")', one process '$(cert_of "$T/s1")' (want 4 nodes)"
+done
+search 2 "$T/i2" --evals 4000 --enum-size 4 --threads 1 >/dev/null 2>&1
+expect_fail "2 islands write one process's candidates" same "$T/s1" "$T/i2" candidates.csv
+# its checkpoint is one process's: a split job stopped at its budget and
+# resumed by one process to a larger one writes the files of one process
+# that ran the larger budget at once (and the other way round)
+split 2 "$T/sa" --evals 2000 --threads 1 --checkpoint "$T/sck" --every 500 >/dev/null 2>&1
+plain "$T/sb" --evals 4000 --checkpoint "$T/sck" --resume "$T/sck" >/dev/null 2>"$T/err"
+plain "$T/sc" --evals 4000 >/dev/null 2>&1
+for f in front.csv candidates.csv; do
+	same "$T/sc" "$T/sb" $f && ok || bad "a split job's checkpoint resumed by one process differs in $f: $(head -3 "$T/err")"
+done
+plain "$T/sd" --evals 2000 --checkpoint "$T/pck" >/dev/null 2>&1
+split 3 "$T/se" --evals 4000 --threads 1 --resume "$T/pck" >/dev/null 2>"$T/err"
+for f in front.csv candidates.csv; do
+	same "$T/sc" "$T/se" $f && ok || bad "one process's checkpoint resumed by 3 split ranks differs in $f: $(head -3 "$T/err")"
+done
+# the islands' options are refused with it, and it without ranks; one line, exit 2
+for o in "--migrate 500" "--migrants 3" "--merge-fronts"; do
+	split 2 "$T/z" --evals 2000 $o >/dev/null 2>"$T/err"; rc=$?
+	[ $rc = 2 ] && [ ! -e "$T/z" ] && grep -q -- "${o%% *}" "$T/err" && ok || bad "--split-fits with $o: exit $rc: $(head -2 "$T/err")"
+done
+plain "$T/z" --evals 2000 --split-fits >/dev/null 2>"$T/err"; rc=$?
+[ $rc = 2 ] && grep -q -- "--split-fits" "$T/err" && ok || bad "--split-fits on one process: exit $rc: $(head -2 "$T/err")"
+
 # a budget the islands cannot share
 if search 3 "$T/y" --evals 2 >/dev/null 2>"$T/err"; then bad "--evals 2 on 3 ranks: exit 0"
 else grep -q -- "--evals 2: fewer fits than the 3 islands" "$T/err" && ok || bad "--evals 2 on 3 ranks: $(head -3 "$T/err")"; fi

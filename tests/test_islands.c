@@ -7,6 +7,7 @@
  */
 #include "fixture_search.h"
 #include <criterion/criterion.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -178,4 +179,160 @@ Test(islands, seeds_of_the_islands)
 	cr_expect_eq(bk_islands_seed(1, 1), 1703865447ul);
 	cr_expect_eq(bk_islands_seed(1, 2), 4214379870ul);
 	cr_expect_eq(bk_islands_seed(7, 1), 4097599004ul);
+}
+
+/* ---- ranks that split one search's fits (bk_search_split) ----------------- */
+
+/* Two "ranks" as two threads: the fake share meets at a barrier, each copies
+ * the records it wrote into a common array, and each takes the other's. */
+typedef struct fake_split {
+	pthread_barrier_t bar;
+	unsigned char *common;
+	size_t cap;
+	pthread_mutex_t mu;
+	int fail; /* a rank's share fails */
+} fake_split;
+
+typedef struct rank_run {
+	fake_split *f;
+	bk_search_split sp;
+	const bk_samples *s;
+	bk_search *S;
+	int rc;
+	char err[256];
+} rank_run;
+
+static int fake_share(void *ctx, void *rec, size_t recsize, size_t n)
+{
+	rank_run *r = ctx;
+	fake_split *f = r->f;
+	pthread_mutex_lock(&f->mu);
+	if (f->cap < n * recsize) {
+		unsigned char *c = realloc(f->common, n * recsize);
+		cr_assert(c);
+		f->common = c;
+		f->cap = n * recsize;
+	}
+	pthread_mutex_unlock(&f->mu);
+	pthread_barrier_wait(&f->bar);
+	for (size_t i = (size_t)r->sp.rank; i < n; i += 2)
+		memcpy(f->common + i * recsize, (unsigned char *)rec + i * recsize, recsize);
+	pthread_barrier_wait(&f->bar);
+	for (size_t i = (size_t)(1 - r->sp.rank); i < n; i += 2)
+		memcpy((unsigned char *)rec + i * recsize, f->common + i * recsize, recsize);
+	pthread_barrier_wait(&f->bar); /* neither grows common while the other reads it */
+	return f->fail ? -1 : 0;
+}
+
+static void *rank_main(void *arg)
+{
+	rank_run *r = arg;
+	bk_search_options o; /* island()'s, with the enumeration and the split */
+	bk_search_defaults(&o);
+	o.screen = r->s;
+	o.shape = BK_SHAPE_PLAIN;
+	cr_assert_eq(bk_grammar_parse_ops("+,*,/,sq", &o.grammar.ops, r->err, sizeof r->err), 0);
+	o.grammar.inputs = 1u << BK_IN_LOH | 1u << BK_IN_R;
+	o.grammar.consts[0] = 1;
+	o.grammar.nconsts = 1;
+	o.grammar.max_params = 2;
+	o.grammar.max_size = 12;
+	o.threads = 2;
+	o.evals = 1500;
+	o.generation = 64;
+	o.enum_size = 4;
+	o.seed = 7;
+	o.split = &r->sp;
+	r->S = bk_search_new(&o, r->err, sizeof r->err);
+	r->rc = r->S ? bk_search_run(r->S, NULL, NULL, r->err, sizeof r->err) : -9;
+	return NULL;
+}
+
+/* What a fit gave each candidate, and when: the same on both. */
+static int same_search(const bk_search *a, const bk_search *b)
+{
+	if (bk_search_count(a) != bk_search_count(b))
+		return 0;
+	for (size_t i = 0; i < bk_search_count(a); i++) {
+		const bk_cand *x = bk_search_at(a, i), *y = bk_search_at(b, i);
+		if (strcmp(x->text, y->text) || x->status != y->status || x->found_at != y->found_at ||
+		    memcmp(&x->err, &y->err, sizeof x->err) || memcmp(x->p, y->p, sizeof x->p))
+			return 0;
+	}
+	return 1;
+}
+
+static void split_run(const bk_samples *s, int fail, rank_run r[2])
+{
+	static fake_split f;
+	memset(&f, 0, sizeof f);
+	pthread_barrier_init(&f.bar, NULL, 2);
+	pthread_mutex_init(&f.mu, NULL);
+	f.fail = fail;
+	pthread_t th[2];
+	for (int k = 0; k < 2; k++) {
+		r[k] = (rank_run){&f, {k, 2, fake_share, &r[k]}, s, NULL, 0, ""};
+		cr_assert_eq(pthread_create(&th[k], NULL, rank_main, &r[k]), 0);
+	}
+	for (int k = 0; k < 2; k++)
+		pthread_join(th[k], NULL);
+	pthread_barrier_destroy(&f.bar);
+	pthread_mutex_destroy(&f.mu);
+	free(f.common);
+}
+
+/* A share with no other rank: rank 0 of 2 fitting its half alone (the
+ * other half as the generation left it), the control's. */
+static int alone_share(void *ctx, void *rec, size_t recsize, size_t n)
+{
+	(void)ctx;
+	(void)rec;
+	(void)recsize;
+	(void)n;
+	return 0;
+}
+
+/* Two ranks splitting the fits hold the search of one process (2 threads),
+ * candidate by candidate: its text, status, fit number, error and
+ * constants; the control: rank 0 of 2 whose share brings nothing from the
+ * other rank holds another search, and the comparison fails. */
+Test(islands, split_fits_hold_one_process_search)
+{
+	bk_samples s;
+	planted(&s);
+	rank_run one[1];
+	fake_split none;
+	memset(&none, 0, sizeof none);
+	one[0] = (rank_run){&none, {0, 1, fake_share, &one[0]}, &s, NULL, 0, ""};
+	rank_main(&one[0]);
+	cr_assert_geq(one[0].rc, 0, "%s", one[0].err);
+	cr_assert_gt(bk_search_count(one[0].S), 500);
+	rank_run r[2];
+	split_run(&s, 0, r);
+	for (int k = 0; k < 2; k++) {
+		cr_assert_geq(r[k].rc, 0, "rank %d: %s", k, r[k].err);
+		cr_expect(same_search(one[0].S, r[k].S), "rank %d of 2 differs from one process", k);
+		bk_search_free(r[k].S);
+	}
+	rank_run lone = {&none, {0, 2, alone_share, NULL}, &s, NULL, 0, ""};
+	rank_main(&lone);
+	cr_expect(lone.rc < 0 || !same_search(one[0].S, lone.S), "control: rank 0 of 2 without the other's fits");
+	bk_search_free(lone.S);
+	bk_search_free(one[0].S);
+	bk_samples_free(&s);
+}
+
+/* A failed share fails the step on every rank, the message saying so. */
+Test(islands, split_share_failure_fails_the_step)
+{
+	bk_samples s;
+	planted(&s);
+	rank_run r[2];
+	split_run(&s, 1, r);
+	for (int k = 0; k < 2; k++) {
+		cr_expect_eq(r[k].rc, -1, "rank %d: %d", k, r[k].rc);
+		cr_expect(strstr(r[k].err, "sharing a step's fits among the 2 ranks failed"), "rank %d: %s", k, r[k].err);
+		bk_search_free(r[k].S);
+	}
+	bk_samples_free(&s);
 }

@@ -16,6 +16,11 @@
 #     figures mix that with the parallel speed-up. At equal fits per island the
 #     fits/s is the machine's own scaling (--enum-max 1000 per rank, so that
 #     every island enumerates as many trees as the one rank does).
+#   - split: the strong budget with --split-fits, the ranks running one search
+#     and each fitting its share of every step: the front is one process's
+#     (checked, byte for byte), so the speed-up is the whole story; every rank
+#     still makes and fingerprints every candidate, the part that does not
+#     shrink with the ranks (Amdahl's serial fraction, printed from 2 ranks).
 # Then the bytes of one migration and of the final merge, and the merge's time.
 # README "On a cluster" extrapolates these to 64 and 1,024 ranks.
 # usage: sh analysis/bench/bench_search_mpi.sh build/brdfkit-mpi build/brdfkit
@@ -53,6 +58,10 @@ for rep in $(seq 1 "$REPS"); do
 		run "s$np.$rep" "$np" "$EVALS"
 		cp "$T/o.keep/front.csv" "$T/front$np.csv"
 		run "w$np.$rep" "$np" "$((PER * np))" "--enum-max $((1000 * np))"
+		if [ "$np" -gt 1 ]; then
+			run "p$np.$rep" "$np" "$EVALS" --split-fits
+			grep -v '^# command' "$T/o.keep/front.csv" >"$T/split$np.csv"
+		fi
 	done
 done
 
@@ -77,6 +86,17 @@ for np in 1 2 4; do
 	printf '  %-6s %10.0f %8.2fx %9.1f %14s %15s %14s %10s\n' "$np" "$r" "$(echo "$r $base" | awk '{ print $1 / $2 }')" \
 		"$(med wall "e.s$np")" "$(best "$T/front$np.csv" 8)" "$(best "$T/front$np.csv" 12)" "${mb:--}" "${ms:--}"
 done
+printf '\n  split (--split-fits): %s fits of one search\n  %-6s %10s %9s %9s %22s\n' "$EVALS" ranks "fits/s" speed-up \
+	"wall s" "front.csv"
+grep -v '^# command' "$T/front1.csv" >"$T/split1.csv"
+base=$(med rate "e.s1")
+for np in 2 4; do
+	r=$(med rate "e.p$np")
+	printf '  %-6s %10.0f %8.2fx %9.1f %22s\n' "$np" "$r" "$(echo "$r $base" | awk '{ print $1 / $2 }')" \
+		"$(med wall "e.p$np")" "$(cmp -s "$T/split1.csv" "$T/split$np.csv" && echo "one process's" || echo "DIFFERS from 1 rank's")"
+done
+echo "$(med rate e.p2) $base" | awk '{ s = $1 / $2; f = 2 / s - 1; printf "  serial fraction from 2 ranks: %.3f (Amdahl: at most %.1fx; 64 ranks %.1fx)\n", f, 1 / f, 1 / (f + (1 - f) / 64) }'
+
 printf '\n  weak: %s fits per rank (fits/s of the search phase; fits per wall second of the whole job)\n  %-6s %10s %9s %9s %13s %9s\n' "$PER" ranks "fits/s" speed-up "wall s" "fits/wall-s" speed-up
 base="" wbase=""
 for np in 1 2 4; do

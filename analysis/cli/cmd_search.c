@@ -119,7 +119,11 @@ static void progress(const job *J, int final)
 }
 
 /* What the run does between steps: a stop asked for, progress, checkpoints
- * every --every fits (a failed one stops the run), --seconds. */
+ * every --every fits (a failed one stops the run), --seconds. With
+ * --split-fits on several ranks every rank runs this after every step:
+ * rank 0 alone writes the checkpoint (each holds the same search), and the
+ * stop is agreed (a signal, a clock or a failed save of one rank stops all
+ * of them after the same step). */
 typedef struct run_state {
 	job *J;
 	double last;
@@ -132,19 +136,21 @@ static int after_step(void *ctx, const bk_search *S)
 {
 	run_state *r = ctx;
 	job *J = r->J;
-	if (stop_asked)
-		return 1;
+	int split = isl_size() > 1, stop = stop_asked;
 	double now = bk_clock_now();
-	if (now - r->last >= (isatty(2) ? 0.25 : PROGRESS_EVERY)) {
+	if (!stop && now - r->last >= (isatty(2) ? 0.25 : PROGRESS_EVERY)) {
 		progress(J, 0);
 		r->last = now;
 	}
-	if (J->a->checkpoint && r->next_ck > 0 && bk_search_evals(S) >= r->next_ck) {
-		if ((r->ck_failed = ck_search_save(S, J->a->checkpoint, r->err, sizeof r->err) != 0))
-			return 1;
+	if (!stop && J->a->checkpoint && r->next_ck > 0 && bk_search_evals(S) >= r->next_ck) {
+		if (isl_rank() == 0)
+			r->ck_failed = ck_search_save(S, J->a->checkpoint, r->err, sizeof r->err) != 0;
+		if (split)
+			r->ck_failed = isl_any(r->ck_failed);
 		r->next_ck = (bk_search_evals(S) / J->a->every + 1) * J->a->every;
 	}
-	return J->a->seconds > 0 && now - J->seconds >= J->a->seconds;
+	stop = stop || r->ck_failed || (J->a->seconds > 0 && now - J->seconds >= J->a->seconds);
+	return split ? isl_any(stop) : stop;
 }
 
 /* The run's certificate (fit/search.h): this process's, or over the islands
@@ -153,7 +159,7 @@ static int after_step(void *ctx, const bk_search *S)
 static void certify(job *J)
 {
 	bk_search_certificate(J->S, &J->cert);
-	if (isl_size() == 1)
+	if (!J->islands) /* one process, or --split-fits: each rank holds the whole search */
 		return;
 	int c = 0;
 	while (c < BK_EXPR_MAX && !isl_any(J->cert.complete_size < c + 1))
@@ -189,15 +195,16 @@ static int run_search(job *J)
 	run_state st = {J, J->seconds, J->a->every > 0 ? (bk_search_evals(J->S) / J->a->every + 1) * J->a->every : -1, 0, ""};
 	int rc = bk_search_run(J->S, after_step, &st, err, sizeof err);
 	sigaction(SIGINT, &old, NULL);
-	J->interrupted = stop_asked;
-	if (st.ck_failed)
-		return cli_fail("search", "--checkpoint %s", st.err);
+	J->interrupted = isl_size() > 1 ? isl_any(stop_asked) : stop_asked; /* split: a signal to any rank */
+	if (st.ck_failed) /* split: rank 0's message (the others' stderr is /dev/null) */
+		return cli_fail("search", "--checkpoint %s", *st.err ? st.err : "failed on rank 0");
 	if (rc < 0)
 		return cli_fail("search", "%s", err);
 	progress(J, 1);
 	certify(J);
-	if (J->a->checkpoint && ck_search_save(J->S, J->a->checkpoint, err, sizeof err))
-		return cli_fail("search", "--checkpoint %s", err);
+	int failed = J->a->checkpoint && isl_rank() == 0 && ck_search_save(J->S, J->a->checkpoint, err, sizeof err);
+	if (isl_size() > 1 ? isl_any(failed) : failed)
+		return cli_fail("search", "--checkpoint %s", failed ? err : "failed on rank 0");
 	return 0;
 }
 
@@ -473,6 +480,7 @@ static int search_main(int argc, char **argv)
 		{.name = "--migrate", .kind = CLI_INT, .metavar = "M", .help = "MPI: fits per island between migrations (default 2000)", .dest = &a.migrate, .lo = 1, .hi = 1e9},
 		{.name = "--merge-fronts", .kind = CLI_FLAG, .help = "MPI: rank 0 takes each island's front, not all its candidates (the same front.csv; fewer rows in candidates.csv)", .dest = &a.merge_fronts},
 		{.name = "--migrants", .kind = CLI_INT, .metavar = "N", .help = "MPI: front members each island sends round the ring (default 8)", .dest = &a.migrants, .lo = 0, .hi = MAX_FRONT},
+		{.name = "--split-fits", .kind = CLI_FLAG, .help = "MPI: the ranks run one search and split each step's fits (the same files as one process, whatever the ranks)", .dest = &a.split_fits},
 	};
 	cli_cmd cmd = {"search", "Searches closed forms for a target: candidates over the formula IR, each fitted,\n"
 	               "the Pareto front of error against GPU cost refitted in full. Writes front.csv,\n"
@@ -489,6 +497,9 @@ static int search_main(int argc, char **argv)
 	               "MPI job with its front, send SIGUSR1 to mpirun (it passes it to every rank); SIGINT or\n"
 	               "SIGTERM to mpirun kill the ranks at once (Open MPI's rule): no front, exit 1, the\n"
 	               "checkpoints of the last round kept for --resume.\n"
+	               "With --split-fits the K ranks run one search instead and fit each step's candidates in\n"
+	               "turn: the same files as one process (but the command line) for any K and --threads; the\n"
+	               "checkpoint is FILE, written by rank 0, and resumes on any K or in one process.\n"
 	               "With --precision half each member's error is the form's as the IR's f16 evaluation (the\n"
 	               "emitted code's) computes it, and a refitted member whose stability in half is not \"as is\"\n"
 	               "or \"with guards\" (brdfkit stability) is left off the front as an inadmissible one is;\n"
@@ -555,7 +566,7 @@ static int search_main(int argc, char **argv)
 	int R = isl_rank(), K = isl_size();
 	/* the checkpoint paths first: one inside --out is named as such, not as
 	 * an entry --out does not list */
-	J.ck = (ck_islands){a.checkpoint, a.resume, a.out, a.migrate, a.migrants};
+	J.ck = (ck_islands){a.checkpoint, a.resume, a.out, a.migrate, a.migrants, J.islands};
 	if ((rc = ck_islands_check(&J.ck)))
 		return rc;
 	rc = R == 0 && bk_out_dir_check(a.out, err, sizeof err) ? cli_fail("search", "--out %s", err) : 0;
@@ -606,9 +617,9 @@ static int search_main(int argc, char **argv)
 		bk_halves_seed(&hv, &sd, &J.so);
 		J.so.exempt_seeds = J.ncatalog; /* the published seeds only: not --start-front's, nor the compositions */
 	}
-	if ((rc = K > 1 ? run_islands(&J) : run_search(&J)) || R > 0)
+	if ((rc = J.islands ? run_islands(&J) : run_search(&J)) || R > 0)
 		goto done;
-	if (K == 1)
+	if (!J.islands)
 		J.total_evals = bk_search_evals(J.S) + hv.evals;
 	size_t one;
 	if (bk_search_front(J.S, &one, 1) == 0) { /* nothing to write: say why instead of an empty front */

@@ -41,6 +41,12 @@ int isl_ring(const char *buf, size_t n, char **in, size_t *nin);
  * so rank 0 holds one rank's bytes at a time. Returns 0 when every take
  * returned 0 (on rank 0; elsewhere when the sends went), else -1. */
 int isl_gather(const char *buf, size_t n, int (*take)(void *ctx, int rank, const char *in, size_t n), void *ctx);
+/* The ranks that split one search's fits (fit/search.h, bk_search_split):
+ * rec holds n records of recsize bytes, this rank's (index i with
+ * i % isl_size() == isl_rank()) written; the others are filled in from the
+ * ranks that wrote them (MPI_Allgatherv). rec NULL says this rank failed.
+ * 0, or -1 on every rank (a rank's failure, or n not alike). */
+int isl_share(void *rec, size_t recsize, size_t n);
 /* One line per rank to rank 0: msg[r] (rank 0's array of isl_size() x 256). */
 void isl_gather_text(const char *mine, char (*all)[256]);
 /* Reductions over all ranks. */

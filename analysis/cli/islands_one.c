@@ -46,6 +46,12 @@ int isl_gather(const char *buf, size_t n, int (*take)(void *ctx, int rank, const
 }
 
 void isl_gather_text(const char *mine, char (*all)[256]) { snprintf(all[0], 256, "%s", mine); }
+int isl_share(void *rec, size_t recsize, size_t n) /* one rank wrote them all */
+{
+	(void)recsize;
+	(void)n;
+	return rec ? 0 : -1;
+}
 long isl_sum(long v) { return v; }
 long isl_min(long v) { return v; }
 long isl_max(long v) { return v; }

@@ -370,24 +370,27 @@ int ck_islands_check(const ck_islands *J)
 {
 	const ck_islands *a = J;
 	char err[8800] = "", path[4096], prev[4112]; /* room for two paths in a message */
-	int K = isl_size(), bad = 0;
+	int K = isl_size(), bad = 0, own = a->islands; /* FILE.RANK: each island its own */
+	/* one search on every rank (--split-fits): FILE, which rank 0 alone
+	 * writes and every rank reads */
+	int writes = own || isl_rank() == 0;
 	for (int pass = 0; pass < 2; pass++) {
 		const char *base = pass ? a->resume : a->checkpoint;
 		island_path(base ? base : "", isl_rank(), "", path, sizeof path);
 		island_path(base ? base : "", isl_rank(), ".prev", prev, sizeof prev);
-		if (base && pass == 0)
-			bad = K > 1 ? ck_check_write(path, a->out, err, sizeof err) || ck_check_write(prev, a->out, err, sizeof err)
-			            : ck_check_write(base, a->out, err, sizeof err);
-		else if (base)
-			bad = K > 1 ? ck_check_read(path, a->out, 0, err, sizeof err) || ck_check_read(prev, a->out, 0, err, sizeof err)
-			            : ck_check_read(base, a->out, 1, err, sizeof err);
+		if (base && pass == 0 && writes)
+			bad = own ? ck_check_write(path, a->out, err, sizeof err) || ck_check_write(prev, a->out, err, sizeof err)
+			          : ck_check_write(base, a->out, err, sizeof err);
+		else if (base && pass == 1)
+			bad = own ? ck_check_read(path, a->out, 0, err, sizeof err) || ck_check_read(prev, a->out, 0, err, sizeof err)
+			          : ck_check_read(base, a->out, 1, err, sizeof err);
 		const char *what = pass ? "--resume" : "--checkpoint";
 		if (K > 1 && isl_any(bad))
 			return ck_islands_fail(what, bad ? err : "");
 		if (bad)
 			return cli_fail("search", "%s %s", what, err);
-		if (base) /* the rank's own (bk_out_open cleans its path at each save too) */
-			bk_out_clean(K > 1 ? path : base);
+		if (base && writes) /* the rank's own (bk_out_open cleans its path at each save too) */
+			bk_out_clean(own ? path : base);
 	}
 	return 0;
 }

@@ -48,6 +48,7 @@ int ck_search_save(const bk_search *S, const char *path, char *err, size_t errle
 typedef struct ck_islands {
 	const char *checkpoint, *resume, *out;
 	long migrate, migrants;
+	int islands; /* the ranks are islands (FILE.RANK); 0: one search, FILE (rank 0 writes it) */
 } ck_islands;
 
 /* Every rank's failure text (empty: none) printed by rank 0, one line each.

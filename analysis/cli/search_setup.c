@@ -119,6 +119,12 @@ int search_env_halves(const job *J)
 
 /* ---- set-up ----------------------------------------------------------------- */
 
+int search_share_fits(void *ctx, void *rec, size_t recsize, size_t n)
+{
+	(void)ctx;
+	return isl_share(rec, recsize, n);
+}
+
 int search_setup(job *J)
 {
 	search_cli *a = J->a;
@@ -128,6 +134,16 @@ int search_setup(job *J)
 	/* islands: --evals is the budget of the whole run, shared out; island 0
 	 * keeps --seed, so one rank is the run brdfkit makes */
 	int K = isl_size(), R = isl_rank();
+	/* --split-fits: every rank runs the one search and fits its share of
+	 * each step (fit/search.h, bk_search_split); the islands' options are
+	 * refused there (the table below, decided from argv alike on every rank) */
+	J->islands = K > 1 && !a->split_fits;
+	if (!J->islands) {
+		K = 1;
+		R = 0;
+		J->split = (bk_search_split){isl_rank(), isl_size(), search_share_fits, NULL};
+		so->split = &J->split;
+	}
 	if (a->evals < K) /* decided alike on every rank: no rank may leave alone */
 		return cli_usage(cmd, "--evals %ld: fewer fits than the %d islands", a->evals, K);
 	so->islands = K;
@@ -424,8 +440,9 @@ int search_setup_seeds(job *J, bk_seeds *sd)
 /* The target kind; the env candidates (one form for the other targets; env:
  * split pairs A, B, or one form in f0, or mix: that seeded by two searches run
  * first); whether --checkpoint is given; whether anything is enumerated;
- * whether --cost-model names the weights; one process or the islands of an MPI
- * job (mpirun alone reaches them: no setup of the walk can). */
+ * whether --cost-model names the weights; one process, the islands of an MPI
+ * job or its ranks splitting one search (mpirun alone reaches those two: no
+ * setup of the walk can). */
 enum { DIM_TARGET, DIM_CANDS, DIM_CHECKPOINT, DIM_ENUM, DIM_MODEL, DIM_PROCS };
 enum { CANDS_ONE, CANDS_PAIR, CANDS_F0, CANDS_MIX };
 static const cli_dim dims[] = {
@@ -434,7 +451,7 @@ static const cli_dim dims[] = {
 	{"checkpoint", {"none", "file"}, {" without --checkpoint FILE", NULL}},
 	{"enumeration", {"none", "some"}, {" with --enum-size 0", NULL}},
 	{"weights", {"given", "model"}, {NULL, " with --cost-model"}},
-	{"processes", {"one", "islands"}, {" on one process", cli_unreached}},
+	{"processes", {"one", "islands", "split"}, {" on one process", cli_unreached, cli_unreached}},
 };
 #define EVERYWHERE(opt, example) {opt, NULL, CLI_EVERYWHERE, 0, NULL, example}
 #define CANDS_ON(c) (1u << CANDS_##c)
@@ -473,6 +490,8 @@ static const cli_rule rules[] = {
 	{"--migrate", NULL, DIM_PROCS, 1u << 1, ISLANDS, "500"},
 	{"--merge-fronts", NULL, DIM_PROCS, 1u << 1, ISLANDS, NULL},
 	{"--migrants", NULL, DIM_PROCS, 1u << 1, ISLANDS, "3"},
+	{"--split-fits", NULL, DIM_PROCS, 1u << 2,
+	 "it has the ranks of an MPI job split one search's fits: mpirun -np K brdfkit-mpi search ...", NULL},
 #undef ISLANDS
 	EVERYWHERE("--target", NULL),
 	EVERYWHERE("--out", NULL),
@@ -527,6 +546,6 @@ int search_check_applicable(const job *J)
 	const search_cli *a = J->a;
 	int cands = J->kind != BK_TARGET_ENV ? CANDS_ONE : search_env_halves(J) ? CANDS_MIX : search_env_in_f0(J) ? CANDS_F0 : CANDS_PAIR;
 	int ctx[] = {(int)J->kind, cands, a->checkpoint != NULL, a->enum_size > 0, a->cost_model != NULL,
-	             isl_size() > 1};
+	             isl_size() == 1 ? 0 : a->split_fits ? 2 : 1};
 	return cli_applicable(J->cmd, ctx);
 }

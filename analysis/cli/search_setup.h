@@ -35,7 +35,7 @@ typedef struct search_cli {
 	const char *vs_front; /* --vs-front FILE */
 	long evals, seed, threads, max_params, max_size, enum_size, enum_max, every, generation, migrate, migrants;
 	double seconds, max_cost, fetch_cost;
-	int relative, no_constraints, merge_fronts, inherit;
+	int relative, no_constraints, merge_fronts, inherit, split_fits;
 } search_cli;
 
 typedef struct job {
@@ -61,6 +61,8 @@ typedef struct job {
 	bk_frontcsv vs_fc;    /* --vs-front's rows */
 	int ncatalog;         /* seeds before those: published (or --start), exempt from the constraints */
 	bk_search_cert cert;  /* how far the run is complete, all islands together */
+	int islands;          /* MPI ranks as islands (each its own search); not with --split-fits */
+	bk_search_split split; /* --split-fits: the ranks' share of each step's fits */
 } job;
 
 /* --env-form f0 (or mix): env candidates are one form in f0. */
@@ -68,8 +70,11 @@ int search_env_in_f0(const job *J);
 /* --env-form mix: that, seeded by the halves' compositions (fit/search/halves.h). */
 int search_env_halves(const job *J);
 /* The search's options from the command line (islands: the budget and the
- * enumeration shared out, each island its seed). */
+ * enumeration shared out, each island its seed; --split-fits: one search,
+ * each rank fitting its share of every step). */
 int search_setup(job *J);
+/* bk_search_split's share over the ranks (islands.h, isl_share). */
+int search_share_fits(void *ctx, void *rec, size_t recsize, size_t n);
 /* The inputs a candidate may read: --inputs, or what the target provides. */
 int search_setup_inputs(job *J);
 /* The seeds: the catalog's (no --start) or --start's, then --start-front's

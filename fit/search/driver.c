@@ -45,6 +45,7 @@ void bk_search_defaults(bk_search_options *o)
 	o->island = 0;
 	o->islands = 1;
 	o->semantic = BK_SEARCH_SEMANTIC;
+	o->split = NULL;
 }
 
 /* ---- a step: schedule -> screen -> merge ---------------------------------- */
@@ -96,14 +97,19 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		b.made_ctx = &crew;
 		rc = bk_schedule_make(s, &b);
 		merging m = {s, &b, 0};
-		bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m);
-		rc = rc ? rc : m.rc;
+		int shared = bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m);
+		rc = rc ? rc : shared ? -2 : m.rc;
 	}
 	for (size_t i = 0; i < b.n; i++)
 		bk_cand_free(&b.c[i]);
 	free(b.c);
 	free(b.start);
 	free(b.inherit);
+	if (rc == -2) {
+		snprintf(err, errlen, "sharing a step's fits among the %d ranks failed after %ld fits", s->o.split->size,
+		         s->evals);
+		return -1;
+	}
 	if (rc < 0) {
 		snprintf(err, errlen, "out of memory after %ld fits", s->evals);
 		return -1;
@@ -229,6 +235,12 @@ int bk_search_options_valid(const bk_search_options *o, char *why, size_t len)
 			return BAD("seeds[%d]: NULL", k);
 	if (o->islands < 1 || o->island < 0 || o->island >= o->islands)
 		return BAD("island, islands: must be 0 <= island < islands, got %d of %d", o->island, o->islands);
+	if (o->split && (o->split->size < 1 || o->split->rank < 0 || o->split->rank >= o->split->size ||
+	                 !o->split->share))
+		return BAD("split: must have 0 <= rank < size and a share function, got rank %d of %d%s", o->split->rank,
+		           o->split->size, o->split->share ? "" : ", no share");
+	if (o->split && o->split->size > 1 && o->islands > 1)
+		return BAD("split, islands: ranks split the fits of one search or run islands, not both");
 	if (!(o->semantic >= 0 && o->semantic <= 0.5))
 		return BAD("semantic: must be in [0, 0.5], got %g", o->semantic);
 	return 1;

@@ -275,11 +275,20 @@ static void finished(bk_screen_crew *w, size_t i)
  * candidates it has made. What a candidate's fit reads of s (the options,
  * the samples, the seeds' names) neither the generation nor the merge
  * writes. */
+/* Split among ranks (bk_search_split), this process fits the candidates
+ * R, R + K, R + 2K, ...: the j-th it takes is R + jK. */
+static int split_size(const bk_search *s) { return s->o.split ? s->o.split->size : 1; }
+static size_t own(const bk_screen_crew *w, size_t j)
+{
+	const bk_search_split *sp = w->s->o.split;
+	return sp ? (size_t)sp->rank + j * (size_t)sp->size : j;
+}
+
 static void *worker(void *arg)
 {
 	bk_screen_crew *w = arg;
 	for (;;) {
-		size_t i = atomic_fetch_add(&w->next, 1);
+		size_t i = own(w, atomic_fetch_add(&w->next, 1));
 		pthread_mutex_lock(&w->mu);
 		while (i >= w->ready && !w->closed)
 			pthread_cond_wait(&w->cv, &w->mu);
@@ -346,7 +355,51 @@ static size_t hand_on(bk_screen_crew *w, size_t from, size_t n, int wait, void (
 	return to;
 }
 
-void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx)
+/* What a fit writes into its candidate (bk_screen_one), as the ranks
+ * that split a batch send it to each other: bytes, between processes of one
+ * job (one build, one machine kind). */
+typedef struct fit_result {
+	double p[BK_MAX_PARAMS];
+	double err, rmse, max_abs, albedo_max_abs;
+	int status, starts_run, start_won;
+} fit_result;
+
+/* The split's exchange: this rank's results out, the others' in. rec NULL
+ * (out of memory) still calls share, which fails on every rank then. */
+static int share_results(bk_screen_crew *w, size_t n)
+{
+	const bk_search_split *sp = w->s->o.split;
+	fit_result *rec = calloc(n ? n : 1, sizeof *rec);
+	for (size_t j = 0, i; rec && (i = own(w, j)) < n; j++) {
+		const bk_cand *c = &w->c[i];
+		memcpy(rec[i].p, c->p, sizeof rec[i].p);
+		rec[i].err = c->err;
+		rec[i].rmse = c->rmse;
+		rec[i].max_abs = c->max_abs;
+		rec[i].albedo_max_abs = c->albedo_max_abs;
+		rec[i].status = (int)c->status;
+		rec[i].starts_run = c->starts_run;
+		rec[i].start_won = c->start_won;
+	}
+	int rc = sp->share(sp->ctx, rec, sizeof *rec, n);
+	for (size_t i = 0; rc == 0 && i < n; i++) {
+		if ((int)(i % (size_t)sp->size) == sp->rank)
+			continue;
+		bk_cand *c = &w->c[i];
+		memcpy(c->p, rec[i].p, sizeof c->p);
+		c->err = rec[i].err;
+		c->rmse = rec[i].rmse;
+		c->max_abs = rec[i].max_abs;
+		c->albedo_max_abs = rec[i].albedo_max_abs;
+		c->status = (bk_cand_status)rec[i].status;
+		c->starts_run = rec[i].starts_run;
+		c->start_won = rec[i].start_won;
+	}
+	free(rec);
+	return rc ? -1 : 0;
+}
+
+int bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx)
 {
 	bk_screen_ready(w, n);
 	pthread_mutex_lock(&w->mu);
@@ -357,19 +410,24 @@ void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i
 	 * and between its fits hands on, in order, what is fitted: the merge
 	 * then runs beside the other threads' last fits, not after them */
 	size_t handed = 0;
-	for (size_t i; (i = atomic_fetch_add(&w->next, 1)) < n;) {
+	int alone = split_size(w->s) == 1, rc = 0;
+	for (size_t i; (i = own(w, atomic_fetch_add(&w->next, 1))) < n;) {
 		bk_screen_one(w->s, &w->c[i], w->seed_p[i]);
 		finished(w, i);
-		if (each && w->done)
+		if (alone && each && w->done)
 			handed = hand_on(w, handed, n, 0, each, ctx);
 	}
-	if (each && w->done)
+	if (alone && each && w->done)
 		handed = hand_on(w, handed, n, 1, each, ctx);
 	for (int t = 0; t < w->started; t++)
 		pthread_join(w->th[t], NULL);
-	for (size_t i = handed; each && i < n; i++) /* without done: after the join */
+	/* split: the batch is whole once every rank's results are in */
+	if (!alone)
+		rc = share_results(w, n);
+	for (size_t i = handed; rc == 0 && each && i < n; i++) /* without done, or split: after the join */
 		each(ctx, i);
 	pthread_cond_destroy(&w->cv);
 	pthread_mutex_destroy(&w->mu);
 	free(w->done);
+	return rc;
 }

@@ -47,6 +47,9 @@ typedef struct bk_screen_crew {
 } bk_screen_crew;
 void bk_screen_begin(bk_screen_crew *w, const bk_search *s, bk_cand *c, const double *const *seed_p, size_t cap);
 void bk_screen_ready(bk_screen_crew *w, size_t n);
-void bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx);
+/* Split among ranks (bk_search_options.split), this process fits only its
+ * share of the batch, and end shares the results (bk_search_split) before
+ * it hands any on: 0, or -1 when the sharing failed (nothing handed on). */
+int bk_screen_end(bk_screen_crew *w, size_t n, void (*each)(void *ctx, size_t i), void *ctx);
 
 #endif

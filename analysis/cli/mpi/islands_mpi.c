@@ -151,6 +151,36 @@ int isl_gather(const char *buf, size_t n, int (*take)(void *ctx, int rank, const
 	return isl_any(failed) ? -1 : 0;
 }
 
+int isl_share(void *rec, size_t recsize, size_t n)
+{
+	size_t K = (size_t)size_, R = (size_t)rank_, mine = n / K + (R < n % K);
+	int *count = malloc(sizeof(int) * K), *displ = malloc(sizeof(int) * K);
+	char *out = malloc(mine * recsize + 1), *in = malloc(n * recsize + 1);
+	/* agreed first: a rank's failure, the batch's length alike, the bytes
+	 * within MPI's int counts */
+	long v[3] = {!rec || !count || !displ || !out || !in || n * recsize > INT_MAX, (long)n, -(long)n}, all[3];
+	MPI_Allreduce(v, all, 3, MPI_LONG, MPI_MAX, MPI_COMM_WORLD);
+	int rc = all[0] || all[1] != -all[2] ? -1 : 0;
+	if (rc == 0) {
+		for (size_t j = 0; j < mine; j++)
+			memcpy(out + j * recsize, (char *)rec + (R + j * K) * recsize, recsize);
+		for (size_t r = 0, at = 0; r < K; r++) {
+			count[r] = (int)((n / K + (r < n % K)) * recsize);
+			displ[r] = (int)at;
+			at += (size_t)count[r];
+		}
+		MPI_Allgatherv(out, count[R], MPI_BYTE, in, count, displ, MPI_BYTE, MPI_COMM_WORLD);
+		for (size_t r = 0; r < K; r++)
+			for (size_t j = 0; r != R && r + j * K < n; j++)
+				memcpy((char *)rec + (r + j * K) * recsize, in + (size_t)displ[r] + j * recsize, recsize);
+	}
+	free(count);
+	free(displ);
+	free(out);
+	free(in);
+	return rc;
+}
+
 void isl_gather_text(const char *mine, char (*all)[256])
 {
 	char line[256];
