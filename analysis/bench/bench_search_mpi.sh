@@ -20,7 +20,9 @@
 #     and each fitting its share of every step: the front is one process's
 #     (checked, byte for byte), so the speed-up is the whole story; every rank
 #     still makes and fingerprints every candidate, the part that does not
-#     shrink with the ranks (Amdahl's serial fraction, printed from 2 ranks).
+#     shrink with the ranks (Amdahl's serial fraction, printed from 2 ranks);
+#     and the certified enumeration alone (ENUM_SIZE nodes), where that part
+#     is largest.
 # Then the bytes of one migration and of the final merge, and the merge's time.
 # README "On a cluster" extrapolates these to 64 and 1,024 ranks.
 # usage: sh analysis/bench/bench_search_mpi.sh build/brdfkit-mpi build/brdfkit
@@ -30,6 +32,8 @@ BK=${2:?usage: bench_search_mpi.sh build/brdfkit-mpi build/brdfkit}
 EVALS=${EVALS:-20000}
 PER=${PER:-6000}
 REPS=${REPS:-3}
+ENUM_SIZE=${ENUM_SIZE:-6}   # vf2d to 6 nodes: 48,804 unique forms fitted
+ENUM_EVALS=${ENUM_EVALS:-49000}
 T=$(mktemp -d /tmp/bk_bench_mpi_XXXXXX)
 trap 'rm -rf "$T"' EXIT
 MPIRUN="mpirun"
@@ -62,6 +66,12 @@ for rep in $(seq 1 "$REPS"); do
 			run "p$np.$rep" "$np" "$EVALS" --split-fits
 			grep -v '^# command' "$T/o.keep/front.csv" >"$T/split$np.csv"
 		fi
+	done
+	# the certified enumeration alone (to ENUM_SIZE nodes, its fits and no
+	# more), one process and split over 2 ranks
+	for np in 1 2; do
+		run "q$np.$rep" "$np" "$ENUM_EVALS" "--enum-size $ENUM_SIZE --enum-max 1000000$([ "$np" = 1 ] || echo ' --split-fits')"
+		grep -v '^# command' "$T/o.keep/front.csv" >"$T/enum$np.csv"
 	done
 done
 
@@ -96,6 +106,12 @@ for np in 2 4; do
 		"$(med wall "e.p$np")" "$(cmp -s "$T/split1.csv" "$T/split$np.csv" && echo "one process's" || echo "DIFFERS from 1 rank's")"
 done
 echo "$(med rate e.p2) $base" | awk '{ s = $1 / $2; f = 2 / s - 1; printf "  serial fraction from 2 ranks: %.3f (Amdahl: at most %.1fx; 64 ranks %.1fx)\n", f, 1 / f, 1 / (f + (1 - f) / 64) }'
+r1=$(med rate e.q1) r2=$(med rate e.q2)
+printf '\n  split in the certified enumeration alone (to %s nodes, %s fits): 1 rank %.0f fits/s, 2 ranks %.0f, %.2fx; front.csv %s\n' \
+	"$ENUM_SIZE" "$ENUM_EVALS" "$r1" "$r2" "$(echo "$r2 $r1" | awk '{ print $1 / $2 }')" \
+	"$(cmp -s "$T/enum1.csv" "$T/enum2.csv" && echo "one process's" || echo "DIFFERS from 1 rank's")"
+grep -o 'up to [0-9]* nodes' "$T/enum2.csv" | head -1 | sed 's/^/  certificate: every unique form /'
+echo "$r2 $r1" | awk '{ s = $1 / $2; f = 2 / s - 1; printf "  serial fraction from 2 ranks: %.3f (every rank draws and fingerprints every tree: Amdahl at most %.1fx)\n", f, 1 / f }'
 
 printf '\n  weak: %s fits per rank (fits/s of the search phase; fits per wall second of the whole job)\n  %-6s %10s %9s %9s %13s %9s\n' "$PER" ranks "fits/s" speed-up "wall s" "fits/wall-s" speed-up
 base="" wbase=""
