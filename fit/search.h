@@ -94,13 +94,15 @@ typedef enum bk_shape {
 	                   B likewise with its own three (Karis' structure, s paid once) */
 } bk_shape;
 
-/* The ranks of one search that split its fits (bk_search_options.split):
- * the same search as one process, byte for byte, on any number of them
- * (against islands, which each run a search of their own). share is
- * collective: every rank calls it once per step, in the same order, with the
- * batch's n results of recsize bytes each, having written those of index i
- * with i % size == rank; it fills in the others from the ranks that wrote
- * them. Returns 0, or -1 on every rank (then the step fails). */
+/* The ranks of one search that split its fits (bk_search_options.split)
+ * and its enumeration's fingerprints: the same search as one process, byte
+ * for byte, on any number of them (against islands, which each run a search
+ * of their own). share is collective: every rank calls it at the same
+ * points, in the same order (once a step for its fits, once a window of the
+ * enumeration's trees looked at ahead), with n records of recsize bytes,
+ * having written those of index i with i % size == rank; it fills in the
+ * others from the ranks that wrote them. Returns 0, or -1 on every rank
+ * (then the step fails). */
 typedef struct bk_search_split {
 	int rank, size;
 	int (*share)(void *ctx, void *rec, size_t recsize, size_t n);

@@ -189,6 +189,19 @@ split 3 "$T/se" --evals 4000 --threads 1 --resume "$T/pck" >/dev/null 2>"$T/err"
 for f in front.csv candidates.csv; do
 	same "$T/sc" "$T/se" $f && ok || bad "one process's checkpoint resumed by 3 split ranks differs in $f: $(head -3 "$T/err")"
 done
+# a pair's enumeration (env: each tree taken three times, as A, as B and as a
+# shared feature), looked at ahead by the split ranks a window at a time,
+# resumed from one process's checkpoint in the middle of a tree's three
+# (position 3806: its premise checked) writes the straight run's files
+E="--target env --enum-size 5 --enum-max 200000 --quiet --nx 16 --nr 16 --threads 1"
+$BK search $E --evals 5000 --out "$T/pa" >/dev/null 2>&1
+$BK search $E --evals 2100 --checkpoint "$T/pck3" --out "$T/pb" >/dev/null 2>&1
+pos=$(sed -n 's/^position //p' "$T/pck3")
+[ -n "$pos" ] && [ $((pos % 3)) != 0 ] && ok || bad "premise: the pair's checkpoint at position '$pos', not within a tree's three"
+$MPIRUN -np 2 "$BKM" search $E --evals 5000 --split-fits --resume "$T/pck3" --out "$T/pc" >/dev/null 2>"$T/err"
+for f in front.csv candidates.csv; do
+	same "$T/pa" "$T/pc" $f && ok || bad "a pair's checkpoint resumed by 2 split ranks differs in $f: $(head -3 "$T/err")"
+done
 # the islands' options are refused with it, and it without ranks; one line, exit 2
 for o in "--migrate 500" "--migrants 3" "--merge-fronts"; do
 	split 2 "$T/z" --evals 2000 $o >/dev/null 2>"$T/err"; rc=$?

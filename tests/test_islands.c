@@ -198,7 +198,7 @@ typedef struct fake_split {
 	unsigned char *common;
 	size_t cap;
 	pthread_mutex_t mu;
-	int fail; /* a rank's share fails */
+	int fail; /* the share fails from this call on (1: the first; 0: never) */
 } fake_split;
 
 typedef struct rank_run {
@@ -206,7 +206,7 @@ typedef struct rank_run {
 	bk_search_split sp;
 	const bk_samples *s;
 	bk_search *S;
-	int rc;
+	int rc, calls;
 	char err[256];
 } rank_run;
 
@@ -230,7 +230,8 @@ static int fake_share(void *ctx, void *rec, size_t recsize, size_t n)
 	for (size_t i = (size_t)(1 - r->sp.rank); i < n; i += 2)
 		memcpy((unsigned char *)rec + i * recsize, f->common + i * recsize, recsize);
 	pthread_barrier_wait(&f->bar); /* neither grows common while the other reads it */
-	return f->fail ? -1 : 0;
+	r->calls++;
+	return f->fail && r->calls >= f->fail ? -1 : 0;
 }
 
 static void *rank_main(void *arg)
@@ -274,7 +275,7 @@ static void split_run(const bk_samples *s, int fail, rank_run r[2])
 	f.fail = fail;
 	pthread_t th[2];
 	for (int k = 0; k < 2; k++) {
-		r[k] = (rank_run){&f, {k, 2, fake_share, &r[k]}, s, NULL, 0, ""};
+		r[k] = (rank_run){&f, {k, 2, fake_share, &r[k]}, s, NULL, 0, 0, ""};
 		cr_assert_eq(pthread_create(&th[k], NULL, rank_main, &r[k]), 0);
 	}
 	for (int k = 0; k < 2; k++)
@@ -306,7 +307,7 @@ Test(islands, split_fits_hold_one_process_search)
 	rank_run one[1];
 	fake_split none;
 	memset(&none, 0, sizeof none);
-	one[0] = (rank_run){&none, {0, 1, fake_share, &one[0]}, &s, NULL, 0, ""};
+	one[0] = (rank_run){&none, {0, 1, fake_share, &one[0]}, &s, NULL, 0, 0, ""};
 	rank_main(&one[0]);
 	cr_assert_geq(one[0].rc, 0, "%s", one[0].err);
 	cr_assert_gt(bk_search_count(one[0].S), 500);
@@ -317,7 +318,7 @@ Test(islands, split_fits_hold_one_process_search)
 		cr_expect(same_search(one[0].S, r[k].S), "rank %d of 2 differs from one process", k);
 		bk_search_free(r[k].S);
 	}
-	rank_run lone = {&none, {0, 2, alone_share, NULL}, &s, NULL, 0, ""};
+	rank_run lone = {&none, {0, 2, alone_share, NULL}, &s, NULL, 0, 0, ""};
 	rank_main(&lone);
 	cr_expect(lone.rc >= 0 && !same_search(one[0].S, lone.S), "control: rank 0 of 2 without the other's fits: %d %s",
 	          lone.rc, lone.err);
@@ -326,17 +327,27 @@ Test(islands, split_fits_hold_one_process_search)
 	bk_samples_free(&s);
 }
 
-/* A failed share fails the step on every rank, the message saying so. */
+/* A failed share fails the step on every rank, the message saying so:
+ * from the first, second and third call on (the seeds' fits, the
+ * enumeration's first trees looked at ahead, their fits; a search that ran
+ * whole makes more than three calls, its premise). */
 Test(islands, split_share_failure_fails_the_step)
 {
 	bk_samples s;
 	planted(&s);
 	rank_run r[2];
-	split_run(&s, 1, r);
-	for (int k = 0; k < 2; k++) {
-		cr_expect_eq(r[k].rc, -1, "rank %d: %d", k, r[k].rc);
-		cr_expect(strstr(r[k].err, "sharing a step's fits among the 2 ranks failed"), "rank %d: %s", k, r[k].err);
+	split_run(&s, 0, r);
+	cr_assert_gt(r[0].calls, 3, "premise: %d calls", r[0].calls);
+	for (int k = 0; k < 2; k++)
 		bk_search_free(r[k].S);
+	for (int from = 1; from <= 3; from++) {
+		split_run(&s, from, r);
+		for (int k = 0; k < 2; k++) {
+			cr_expect_eq(r[k].rc, -1, "from call %d, rank %d: %d", from, k, r[k].rc);
+			cr_expect(strstr(r[k].err, "sharing a step's work among the 2 ranks failed"), "from call %d, rank %d: %s",
+			          from, k, r[k].err);
+			bk_search_free(r[k].S);
+		}
 	}
 	bk_samples_free(&s);
 }

@@ -19,10 +19,10 @@
 #   - split: the strong budget with --split-fits, the ranks running one search
 #     and each fitting its share of every step: the front is one process's
 #     (checked, byte for byte), so the speed-up is the whole story; every rank
-#     still makes and fingerprints every candidate, the part that does not
+#     still makes every candidate, the part that does not
 #     shrink with the ranks (Amdahl's serial fraction, printed from 2 ranks);
-#     and the certified enumeration alone (ENUM_SIZE nodes), where that part
-#     is largest.
+#     and the certified enumeration alone (ENUM_SIZE nodes), whose
+#     fingerprints the ranks split too (fit/search/generate.c, look_ahead).
 # Then the bytes of one migration and of the final merge, and the merge's time.
 # README "On a cluster" extrapolates these to 64 and 1,024 ranks.
 # usage: sh analysis/bench/bench_search_mpi.sh build/brdfkit-mpi build/brdfkit
@@ -111,7 +111,7 @@ printf '\n  split in the certified enumeration alone (to %s nodes, %s fits): 1 r
 	"$ENUM_SIZE" "$ENUM_EVALS" "$r1" "$r2" "$(echo "$r2 $r1" | awk '{ print $1 / $2 }')" \
 	"$(cmp -s "$T/enum1.csv" "$T/enum2.csv" && echo "one process's" || echo "DIFFERS from 1 rank's")"
 grep -o 'up to [0-9]* nodes' "$T/enum2.csv" | head -1 | sed 's/^/  certificate: every unique form /'
-echo "$r2 $r1" | awk '{ s = $1 / $2; f = 2 / s - 1; printf "  serial fraction from 2 ranks: %.3f (every rank draws and fingerprints every tree: Amdahl at most %.1fx)\n", f, 1 / f }'
+echo "$r2 $r1" | awk '{ s = $1 / $2; f = 2 / s - 1; printf "  serial fraction from 2 ranks: %.3f (every rank draws every tree: Amdahl at most %.1fx)\n", f, 1 / f }'
 
 printf '\n  weak: %s fits per rank (fits/s of the search phase; fits per wall second of the whole job)\n  %-6s %10s %9s %9s %13s %9s\n' "$PER" ranks "fits/s" speed-up "wall s" "fits/wall-s" speed-up
 base="" wbase=""

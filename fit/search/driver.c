@@ -105,8 +105,8 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 	free(b.c);
 	free(b.start);
 	free(b.inherit);
-	if (rc == -2) {
-		snprintf(err, errlen, "sharing a step's fits among the %d ranks failed after %ld fits", s->o.split->size,
+	if (rc == -2 || (rc < 0 && s->look_failed)) { /* the fits' results, or the enumeration's look ahead */
+		snprintf(err, errlen, "sharing a step's work among the %d ranks failed after %ld fits", s->o.split->size,
 		         s->evals);
 		return -1;
 	}
@@ -332,6 +332,8 @@ void bk_search_free(bk_search *s)
 	free(s->seed_name);
 	free(s->seed_p);
 	bk_expr_enum_free(s->gen);
+	free(s->look);
+	free(s->look_tree);
 	bk_unique_free(s);
 	bk_schedule_free(s);
 	free(s);

@@ -95,11 +95,27 @@ static int gen_seeds(bk_search *s, bk_gen_batch *b)
 
 /* ---- the enumeration ------------------------------------------------------ */
 
-static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size);
+/* What an enumerated position's candidate is before anything that depends
+ * on the order (prepare's checks of the cache and the twins): its text's
+ * key, and once parsed within the budget its cost and fingerprint. Sent
+ * between the ranks that split a search as bytes (one build, one job). */
+typedef struct bk_enum_look {
+	uint64_t key, fp;
+	double cost;
+	int32_t stage; /* 0 no text; 1 a text, not parsed or over the budget; 2 fingerprinted */
+	int32_t pad;
+} bk_enum_look;
+
+static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size, const bk_enum_look *look);
+static int look_ahead(bk_search *s, size_t pos, const bk_expr *tree);
 #define DEDUP_SAMPLE 64
 
 int bk_gen_enum_tree(bk_search *s, size_t idx, bk_expr *t)
 {
+	if (idx >= s->look_t0 && idx - s->look_t0 < s->look_nt) { /* drawn ahead (look_ahead) */
+		*t = s->look_tree[idx - s->look_t0];
+		return 1;
+	}
 	while (s->drawn <= idx && s->gen && s->drawn < (size_t)BK_SEARCH_ENUM_DRAWN) {
 		int r = bk_expr_enum_next(s->gen, &s->cur);
 		if (r < 0)
@@ -149,7 +165,13 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 			if (bk_expr_nparams(&t[0]) > s->feat_g.max_params)
 				continue;
 		}
-		int r = prepare(s, t, &b->c[b->n], size);
+		const bk_enum_look *look = NULL;
+		if (s->o.split && s->o.split->size > 1 && !s->twin_audit) {
+			if (!(k >= s->look_p0 && k - s->look_p0 < s->look_np) && look_ahead(s, k, &tree))
+				return -1;
+			look = &s->look[k - s->look_p0];
+		}
+		int r = prepare(s, t, &b->c[b->n], size, look);
 		if (r < 0)
 			return -1;
 		b->n += (size_t)r;
@@ -205,19 +227,132 @@ static int scaled(bk_expr *t, unsigned inputs)
 	return 0;
 }
 
-/* Candidate c from trees t0 (bk_gen_prepare); with size >= 0, an
- * enumerated one of that size, left out when it is a twin of a model fitted
- * before at no greater cost (unique.h), and counted. */
-static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
+/* The trees prepare fits for t0: each with room for it scaled by a
+ * parameter, where the search scales (a pair's shared feature is affine in
+ * itself already). */
+static void shaped(const bk_search *s, const bk_expr *t0, bk_expr *t)
 {
-	char a[4200], b[4200];
-	memset(c, 0, sizeof *c);
-	bk_expr t[2] = {t0[0], t0[1]};
-	int feature = s->o.shape == BK_SHAPE_PAIR && t[1].n == 0; /* affine in its feature already */
+	t[0] = t0[0];
+	t[1] = t0[1];
+	int feature = s->o.shape == BK_SHAPE_PAIR && t[1].n == 0;
 	for (int h = 0; s->o.scale && !feature && h < (s->o.shape == BK_SHAPE_PAIR ? 2 : 1); h++) {
 		bk_expr w = t[h];
 		if (scaled(&w, s->tree_g.inputs) == 0 && bk_expr_nparams(&w) <= s->tree_g.max_params) /* room for the scale */
 			t[h] = w;
+	}
+}
+
+/* The fingerprint of c's forms, its CPU time measured (bench_enum) at one
+ * call in DEDUP_SAMPLE: the thread's clock is a system call. */
+static uint64_t fingerprint(bk_search *s, const bk_cand *c)
+{
+	struct timespec t0, t1;
+	int timed = s->dedup_calls++ % DEDUP_SAMPLE == 0;
+	if (timed)
+		clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
+	uint64_t fp = bk_unique_fingerprint_of(s, c->form, c->form_b);
+	if (timed) {
+		clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
+		s->dedup_seconds += DEDUP_SAMPLE * ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
+	}
+	return fp;
+}
+
+/* What look_ahead records of trees t: prepare's order-free part. */
+static void look_at(bk_search *s, const bk_expr *t0, bk_enum_look *l)
+{
+	char a[4200], b[4200];
+	bk_expr t[2];
+	shaped(s, t0, t);
+	memset(l, 0, sizeof *l);
+	if (bk_cand_text(s, t, a, b, sizeof a))
+		return;
+	l->key = bk_cand_key(a, b);
+	l->stage = 1;
+	bk_cand c;
+	memset(&c, 0, sizeof c);
+	if (bk_cand_parse(s, &c, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL))
+		return;
+	if (c.cost <= s->o.max_cost && c.np <= s->o.grammar.max_params) {
+		l->cost = c.cost;
+		l->fp = fingerprint(s, &c);
+		l->stage = 2;
+	}
+	bk_cand_free_forms(&c);
+}
+
+/* The trees of the enumeration after tree (the one of position pos, taken
+ * now) drawn ahead, LOOK_TREES in all at most, and the positions from pos
+ * to their last looked at: this rank the i-th of them with i % size ==
+ * rank, the others' by the split's share. Every rank calls it at the same
+ * position (the enumeration's order is each one's), the share being
+ * collective. 0, or -1 (out of memory, or the share failed: on every rank). */
+#define LOOK_TREES 1024
+static int look_ahead(bk_search *s, size_t pos, const bk_expr *tree)
+{
+	const bk_search_split *sp = s->o.split;
+	size_t kinds = s->o.shape == BK_SHAPE_PAIR ? 3 : 1, t0 = pos / kinds, nt = 1;
+	int r = 1;
+	s->look_t0 = t0;
+	s->look_nt = 0; /* the window being made: its trees come from the enumerator */
+	s->look_np = 0;
+	if (!s->look_tree && !(s->look_tree = malloc(LOOK_TREES * sizeof *s->look_tree)))
+		r = -1;
+	else
+		s->look_tree[0] = *tree;
+	while (r > 0 && nt < LOOK_TREES && (r = bk_gen_enum_tree(s, t0 + nt, &s->look_tree[nt])) > 0)
+		nt++;
+	size_t n = (t0 + nt) * kinds - pos;
+	free(s->look);
+	s->look = r < 0 ? NULL : calloc(n, sizeof *s->look);
+	/* out of memory here: the share is still called (with NULL), so that it
+	 * fails on every rank, not leave the others waiting */
+	for (size_t i = (size_t)sp->rank; s->look && i < n; i += (size_t)sp->size) {
+		size_t k = pos + i;
+		bk_expr t[2] = {s->look_tree[k / kinds - t0], lone_param()};
+		if (k % kinds == 1) { /* as gen_enum makes them */
+			t[1] = t[0];
+			t[0] = lone_param();
+		} else if (k % kinds == 2) {
+			t[1].n = 0;
+		}
+		look_at(s, t, &s->look[i]);
+	}
+	if (sp->share(sp->ctx, s->look, sizeof *s->look, n)) {
+		s->look_failed = 1;
+		return -1;
+	}
+	if (!s->look)
+		return -1;
+	s->look_nt = nt;
+	s->look_p0 = pos;
+	s->look_np = n;
+	return 0;
+}
+
+/* Candidate c from trees t0 (bk_gen_prepare); with size >= 0, an
+ * enumerated one of that size, left out when it is a twin of a model fitted
+ * before at no greater cost (unique.h), and counted. With look (the split's
+ * enumeration: look_ahead) what needs no order is read from it, not made. */
+static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size, const bk_enum_look *look)
+{
+	char a[4200], b[4200];
+	memset(c, 0, sizeof *c);
+	bk_expr t[2];
+	shaped(s, t0, t);
+	if (look) { /* in the order of the checks below */
+		int fresh = look->stage ? bk_hashset_add(&s->seen, look->key) : 0;
+		if (fresh <= 0 || look->stage < 2)
+			return fresh < 0 ? -1 : 0;
+		int twin = bk_unique_twin(s, look->fp, look->cost);
+		if (twin)
+			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);
+		/* a model to fit: its text and forms made again (they were, on the
+		 * rank that looked at it); failing now, only for want of memory */
+		if (bk_cand_text(s, t, a, b, sizeof a) || bk_cand_parse(s, c, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL))
+			return -1;
+		s->enum_fitted[size]++;
+		goto keep;
 	}
 	if (bk_cand_text(s, t, a, b, sizeof a))
 		return 0;
@@ -234,18 +369,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		return 0;
 	}
 	if (size >= 0) {
-		/* the deduplication's CPU time (bench_enum), timed at one fingerprint in
-		 * DEDUP_SAMPLE: the thread's clock is a system call */
-		struct timespec t0, t1;
-		int timed = s->dedup_calls++ % DEDUP_SAMPLE == 0;
-		if (timed)
-			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t0);
-		uint64_t fp = bk_unique_fingerprint_of(s, c->form, c->form_b);
-		if (timed) {
-			clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t1);
-			s->dedup_seconds +=
-			        DEDUP_SAMPLE * ((double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec));
-		}
+		uint64_t fp = fingerprint(s, c);
 		int twin = bk_unique_twin(s, fp, c->cost);
 		if (s->twin_audit && twin >= 0)
 			s->twin_audit(s->twin_audit_ctx, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL, fp, twin);
@@ -255,6 +379,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 		}
 		s->enum_fitted[size]++;
 	}
+keep:
 	c->text = strdup(a);
 	c->text_b = s->o.shape == BK_SHAPE_PAIR ? strdup(b) : NULL;
 	if (!c->text || (s->o.shape == BK_SHAPE_PAIR && !c->text_b)) {
@@ -268,7 +393,7 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size)
 	return 1;
 }
 
-int bk_gen_prepare(bk_search *s, const bk_expr *t, bk_cand *c) { return prepare(s, t, c, -1); }
+int bk_gen_prepare(bk_search *s, const bk_expr *t, bk_cand *c) { return prepare(s, t, c, -1, NULL); }
 
 int bk_gen_take(bk_search *s, bk_gen_batch *b, const bk_expr *t, const double *start)
 {
