@@ -154,16 +154,14 @@ fi
 # step (fit/search.h, bk_search_split), so 2 and 3 ranks write the files of
 # one process, every byte but the command lines, the certificate included;
 # the control: the same ranks as islands write other ones
-split() { # split NP OUT [options]: the one-process run's options on NP ranks
+form() { # form NP OUT [options]: the split's search, on one process (NP 1) or split over NP ranks
 	np=$1 out=$2; shift 2
-	$MPIRUN -np "$np" "$BKM" search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
-		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --out "$out" --split-fits "$@"
+	if [ "$np" = 1 ]; then set -- "$BK" search "$@"; else set -- $MPIRUN -np "$np" "$BKM" search --split-fits "$@"; fi
+	"$@" --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
+		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --out "$out"
 }
-plain() { # plain OUT [options]: the same search on one process
-	out=$1; shift
-	$BK search --target form --target-form "$PLANT" --domain LoH=0.3162:1,r=0:1 \
-		--start 'p0/(LoH*LoH + p1)' --ops '+,*,/,sq' --max-params 2 --out "$out" "$@"
-}
+plain() { form 1 "$@"; }   # plain OUT [options]
+split() { form "$@"; }     # split NP OUT [options]
 plain "$T/s1" --evals 4000 --enum-size 4 --threads 2 >/dev/null 2>&1
 for np in 2 3; do
 	split $np "$T/s$np" --evals 4000 --enum-size 4 --threads 1 >/dev/null 2>"$T/err"

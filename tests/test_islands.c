@@ -224,14 +224,14 @@ static int fake_share(void *ctx, void *rec, size_t recsize, size_t n)
 	}
 	pthread_mutex_unlock(&f->mu);
 	pthread_barrier_wait(&f->bar);
-	for (size_t i = (size_t)r->sp.rank; i < n; i += 2)
+	for (size_t i = (size_t)r->sp.rank; rec && i < n; i += 2)
 		memcpy(f->common + i * recsize, (unsigned char *)rec + i * recsize, recsize);
 	pthread_barrier_wait(&f->bar);
-	for (size_t i = (size_t)(1 - r->sp.rank); i < n; i += 2)
+	for (size_t i = (size_t)(1 - r->sp.rank); rec && i < n; i += 2)
 		memcpy((unsigned char *)rec + i * recsize, f->common + i * recsize, recsize);
 	pthread_barrier_wait(&f->bar); /* neither grows common while the other reads it */
 	r->calls++;
-	return f->fail && r->calls >= f->fail ? -1 : 0;
+	return !rec || (f->fail && r->calls >= f->fail) ? -1 : 0; /* rec NULL: this rank failed (both, in this fake) */
 }
 
 static void *rank_main(void *arg)

@@ -119,7 +119,8 @@ int search_env_halves(const job *J)
 
 /* ---- set-up ----------------------------------------------------------------- */
 
-int search_share_fits(void *ctx, void *rec, size_t recsize, size_t n)
+/* bk_search_split's share over the ranks (islands.h, isl_share). */
+static int share_fits(void *ctx, void *rec, size_t recsize, size_t n)
 {
 	(void)ctx;
 	return isl_share(rec, recsize, n);
@@ -141,7 +142,7 @@ int search_setup(job *J)
 	if (!J->islands) {
 		K = 1;
 		R = 0;
-		J->split = (bk_search_split){isl_rank(), isl_size(), search_share_fits, NULL};
+		J->split = (bk_search_split){isl_rank(), isl_size(), share_fits, NULL};
 		so->split = &J->split;
 	}
 	if (a->evals < K) /* decided alike on every rank: no rank may leave alone */

@@ -73,8 +73,6 @@ int search_env_halves(const job *J);
  * enumeration shared out, each island its seed; --split-fits: one search,
  * each rank fitting its share of every step). */
 int search_setup(job *J);
-/* bk_search_split's share over the ranks (islands.h, isl_share). */
-int search_share_fits(void *ctx, void *rec, size_t recsize, size_t n);
 /* The inputs a candidate may read: --inputs, or what the target provides. */
 int search_setup_inputs(job *J);
 /* The seeds: the catalog's (no --start) or --start's, then --start-front's

@@ -97,15 +97,16 @@ int bk_search_step(bk_search *s, char *err, size_t errlen)
 		b.made_ctx = &crew;
 		rc = bk_schedule_make(s, &b);
 		merging m = {s, &b, 0};
-		int shared = bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m);
-		rc = rc ? rc : shared ? -2 : m.rc;
+		if (bk_screen_end(&crew, rc == 0 ? b.n : 0, merge_one, &m))
+			s->share_failed = 1;
+		rc = rc ? rc : s->share_failed ? -1 : m.rc;
 	}
 	for (size_t i = 0; i < b.n; i++)
 		bk_cand_free(&b.c[i]);
 	free(b.c);
 	free(b.start);
 	free(b.inherit);
-	if (rc == -2 || (rc < 0 && s->look_failed)) { /* the fits' results, or the enumeration's look ahead */
+	if (rc < 0 && s->share_failed) {
 		snprintf(err, errlen, "sharing a step's work among the %d ranks failed after %ld fits", s->o.split->size,
 		         s->evals);
 		return -1;

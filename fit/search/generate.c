@@ -134,6 +134,21 @@ int bk_gen_enum_tree(bk_search *s, size_t idx, bk_expr *t)
 	return 1;
 }
 
+/* The trees of position k's candidate, tree taken as its kind: alone; for
+ * a pair (three positions a tree) (T, p), (p, T), and T as a shared feature
+ * (its B empty). */
+static void kind_trees(const bk_expr *tree, size_t k, size_t kinds, bk_expr *t)
+{
+	t[0] = *tree;
+	t[1] = lone_param();
+	if (k % kinds == 1) {
+		t[1] = t[0];
+		t[0] = lone_param();
+	} else if (k % kinds == 2) {
+		t[1].n = 0;
+	}
+}
+
 /* The next trees of the enumeration, this island's share. 1 when it is
  * over, 0 when it has more, -1 when out of memory. */
 static int gen_enum(bk_search *s, bk_gen_batch *b)
@@ -156,15 +171,10 @@ static int gen_enum(bk_search *s, bk_gen_batch *b)
 		if (s->enum_leave_out && s->enum_leave_out(s->enum_leave_ctx, &tree))
 			continue;
 		s->enum_drawn[size]++;
-		bk_expr t[2] = {tree, lone_param()};
-		if (k % kinds == 1) { /* pairs: (T, p), (p, T), and T as a shared feature */
-			t[1] = t[0];
-			t[0] = lone_param();
-		} else if (k % kinds == 2) {
-			t[1].n = 0;
-			if (bk_expr_nparams(&t[0]) > s->feat_g.max_params)
-				continue;
-		}
+		bk_expr t[2];
+		kind_trees(&tree, k, kinds, t);
+		if (k % kinds == 2 && bk_expr_nparams(&t[0]) > s->feat_g.max_params)
+			continue;
 		const bk_enum_look *look = NULL;
 		if (s->o.split && s->o.split->size > 1 && !s->twin_audit) {
 			if (!(k >= s->look_p0 && k - s->look_p0 < s->look_np) && look_ahead(s, k, &tree))
@@ -309,17 +319,12 @@ static int look_ahead(bk_search *s, size_t pos, const bk_expr *tree)
 	 * fails on every rank, not leave the others waiting */
 	for (size_t i = (size_t)sp->rank; s->look && i < n; i += (size_t)sp->size) {
 		size_t k = pos + i;
-		bk_expr t[2] = {s->look_tree[k / kinds - t0], lone_param()};
-		if (k % kinds == 1) { /* as gen_enum makes them */
-			t[1] = t[0];
-			t[0] = lone_param();
-		} else if (k % kinds == 2) {
-			t[1].n = 0;
-		}
+		bk_expr t[2];
+		kind_trees(&s->look_tree[k / kinds - t0], k, kinds, t);
 		look_at(s, t, &s->look[i]);
 	}
 	if (sp->share(sp->ctx, s->look, sizeof *s->look, n)) {
-		s->look_failed = 1;
+		s->share_failed = 1;
 		return -1;
 	}
 	if (!s->look)
@@ -339,7 +344,6 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size, const 
 	char a[4200], b[4200];
 	memset(c, 0, sizeof *c);
 	bk_expr t[2];
-	shaped(s, t0, t);
 	if (look) { /* in the order of the checks below */
 		int fresh = look->stage ? bk_hashset_add(&s->seen, look->key) : 0;
 		if (fresh <= 0 || look->stage < 2)
@@ -347,13 +351,15 @@ static int prepare(bk_search *s, const bk_expr *t0, bk_cand *c, int size, const 
 		int twin = bk_unique_twin(s, look->fp, look->cost);
 		if (twin)
 			return twin < 0 ? -1 : (s->enum_twins[size]++, 0);
-		/* a model to fit: its text and forms made again (they were, on the
-		 * rank that looked at it); failing now, only for want of memory */
+		/* a model to fit: its trees, text and forms made again (they were,
+		 * on the rank that looked at it); failing now, only for want of memory */
+		shaped(s, t0, t);
 		if (bk_cand_text(s, t, a, b, sizeof a) || bk_cand_parse(s, c, a, s->o.shape == BK_SHAPE_PAIR ? b : NULL))
 			return -1;
 		s->enum_fitted[size]++;
 		goto keep;
 	}
+	shaped(s, t0, t);
 	if (bk_cand_text(s, t, a, b, sizeof a))
 		return 0;
 	int fresh = bk_hashset_add(&s->seen, bk_cand_key(a, b));

@@ -94,13 +94,13 @@ struct bk_search {
 	double dedup_seconds; /* CPU time of the fingerprints (not in checkpoints: a measurement) */
 	long dedup_calls;
 	int enum_cut; /* the enumerator ended at its most trees kept (expr.h) */
+	int share_failed; /* split over ranks: a share failed (a step's fits or a window looked at ahead) */
 	/* split over ranks (--split-fits): the enumeration's next trees drawn
 	 * ahead (look_tree: those of index look_t0 on, look_nt of them) and what
 	 * each position's candidate is before anything that depends on the order
 	 * (look: positions look_p0 on, look_np of them), each rank having
 	 * fingerprinted its share (generate.c, look_ahead) */
 	struct bk_enum_look *look;
-	int look_failed; /* a window's share failed (the step fails saying so) */
 	bk_expr *look_tree;
 	size_t look_t0, look_nt, look_p0, look_np;
 	/* a white-box tests' hook: a tree of the enumeration for which it returns
